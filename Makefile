@@ -1,0 +1,44 @@
+# DeepContact top-level driver. Every target installs what it needs first (idempotent),
+# so `make bench` and `make test` work on a fresh Debian machine.
+BUILD      ?= build
+BUILD_TYPE ?= Release
+JOBS       ?= $(shell nproc)
+CMAKE_ARGS ?=
+DC          = $(BUILD)/bench/deepcontact
+
+.PHONY: all deps configure build test bench bench-quick model sanitize fuzz clean
+
+all: build
+
+deps:
+	./scripts/install-deps.sh
+
+configure: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_ARGS)
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+# The whole test suite (unit, relationship and CLI tests) through ctest.
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The main job: the default benchmark on the seed scene; the report lands in results/.
+bench: build
+	$(DC) bench --out results
+
+bench-quick: build
+	$(DC) bench --quick --out results-quick
+
+# Retrain the shipped default model (docs/learning.md gives the exact pipeline).
+model: build
+	./scripts/train-default-model.sh
+
+# The test suite once under AddressSanitizer + UndefinedBehaviorSanitizer.
+sanitize: deps
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDC_SANITIZE=ON -DDC_BENCHMARKS=OFF $(CMAKE_ARGS)
+	cmake --build build-asan -j $(JOBS)
+	cd build-asan && ctest --output-on-failure -j $(JOBS)
+
+clean:
+	rm -rf $(BUILD) build-asan

@@ -1,0 +1,32 @@
+#pragma once
+// The state of all circles, stored as parallel arrays (structure of arrays) because the
+// solver and the grid transfer stream over one field at a time.
+#include <cstddef>
+#include <vector>
+
+#include "dc/engine/vec2.hpp"
+
+namespace dc {
+
+struct BodyState {
+  // Kinematic state (SI units).
+  std::vector<Vec2> position;    ///< centre x_k [m]
+  std::vector<double> angle;     ///< orientation θ_k [rad]
+  std::vector<Vec2> velocity;    ///< linear velocity v_k [m/s]
+  std::vector<double> omega;     ///< angular velocity ω_k [rad/s]
+  // Constant properties.
+  std::vector<double> radius;    ///< r_k [m]
+  std::vector<double> density;   ///< ρ_k [kg/m²] (areal density, 2D)
+  std::vector<double> mass;      ///< m_k = ρ π r² [kg]
+  std::vector<double> inertia;   ///< I_k = ½ m r² [kg·m²]
+  std::vector<double> inv_mass;  ///< 1/m_k [1/kg]
+  std::vector<double> inv_inertia;  ///< 1/I_k [1/(kg·m²)]
+
+  [[nodiscard]] std::size_t size() const { return position.size(); }
+
+  /// Appends one circle; computes mass and inertia from radius and density.
+  void add(Vec2 x, double r, double rho, Vec2 v = {}, double theta = 0.0, double w = 0.0);
+  void reserve(std::size_t n);
+};
+
+}  // namespace dc

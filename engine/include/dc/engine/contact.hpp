@@ -1,0 +1,62 @@
+#pragma once
+// Contacts between circles and between a circle and a wall.
+//
+// A Contact is the persistent description of one touching (or nearly touching) pair in a
+// step: its feature key, geometry, and the impulse-free force λ = [λ_n, λ_t] it carried
+// when solved. The per-step solver rows are derived from it (see Assembly); the contact
+// owns its solved forces so warm starters can match them by key in the next step.
+#include <compare>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "dc/engine/vec2.hpp"
+
+namespace dc {
+
+/// Wall identifiers: walls appear as negative "body" indices in contacts and files.
+enum class Wall : int { Left = -1, Right = -2, Bottom = -3, Top = -4 };
+
+/// Name of a wall id ("left", ...), or "body" for non-negative ids.
+const char* wall_name(int id);
+
+/// Persistent feature key of a contact. For two circles: a < b are the body indices.
+/// For a circle and a wall: a is the wall id (negative), b the body index. Keys order
+/// contacts deterministically (wall contacts first, then pairs in index order).
+struct ContactKey {
+  int a = 0;
+  int b = 0;
+
+  static ContactKey pair(int i, int j) { return i < j ? ContactKey{i, j} : ContactKey{j, i}; }
+  static ContactKey wall(Wall w, int body) { return ContactKey{static_cast<int>(w), body}; }
+  [[nodiscard]] bool is_wall() const { return a < 0; }
+  [[nodiscard]] std::uint64_t packed() const {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+           static_cast<std::uint32_t>(b);
+  }
+  friend auto operator<=>(const ContactKey&, const ContactKey&) = default;
+  friend bool operator==(const ContactKey&, const ContactKey&) = default;
+};
+
+struct ContactKeyHash {
+  std::size_t operator()(const ContactKey& k) const noexcept {
+    // splitmix64 finaliser: cheap and well mixed for sequential indices.
+    std::uint64_t z = k.packed() + 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<std::size_t>(z ^ (z >> 31));
+  }
+};
+
+struct Contact {
+  ContactKey key;
+  int body_a = 0;       ///< first body, or wall id (< 0); the normal points from a to b
+  int body_b = 0;       ///< second body (always a circle, ≥ 0)
+  Vec2 point;           ///< contact point p [m]: midway between the two surfaces
+  Vec2 normal;          ///< unit normal n from a to b (from the wall into the body)
+  double gap = 0.0;     ///< signed distance between surfaces [m]; < 0 is penetration
+  double lambda_n = 0;  ///< solved normal force [N] (after the step's solve)
+  double lambda_t = 0;  ///< solved friction force along t = perp(n) [N]
+};
+
+}  // namespace dc

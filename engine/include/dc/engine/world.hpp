@@ -1,0 +1,101 @@
+#pragma once
+// The 2D impulse engine: circles in an axis-aligned box, stepped by semi-implicit Euler
+// with a velocity-level contact LCP (DESIGN §2). A step is a sequence of named stages
+// (Box2D style), each callable on its own so that a benchmark can solve the identical LCP
+// with several initial guesses:
+//
+//   collide()    broad phase (uniform grid) + narrow phase → contacts sorted by key
+//   assemble()   J (sparse), M⁻¹, A = J M⁻¹ Jᵀ Δt (sparse, row-major), b, bounds
+//   [solve]      any LcpSolver, from any λ⁰ (the warm start)
+//   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ),  x ← x + Δt v,  θ ← θ + Δt ω;
+//                stores λ in the contacts (kept as previous_contacts() for warm starts)
+//
+// step() runs all stages and returns a per-stage profile.
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "dc/engine/body_state.hpp"
+#include "dc/engine/contact.hpp"
+#include "dc/engine/lcp_problem.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/world_def.hpp"
+
+namespace dc {
+
+/// Wall-clock milliseconds spent in each stage of one step.
+struct StepProfile {
+  double collide_ms = 0;
+  double assemble_ms = 0;
+  double warmstart_ms = 0;
+  double solve_ms = 0;
+  double integrate_ms = 0;
+};
+
+struct StepReport {
+  int contacts = 0;
+  int rows = 0;
+  SolveResult solve;
+  StepProfile profile;
+};
+
+class World {
+ public:
+  /// Validates `def`, generates the seeded circles and adds the explicit ones.
+  /// Throws ConfigError (bad values, overlapping or out-of-box explicit bodies, or a
+  /// generator that cannot place `count` circles without overlap).
+  explicit World(WorldDef def);
+  /// A world with a given body state (e.g. restored from a file); validates `def` only.
+  World(WorldDef def, BodyState bodies);
+
+  [[nodiscard]] const WorldDef& def() const { return def_; }
+  [[nodiscard]] const BodyState& bodies() const { return bodies_; }
+  BodyState& bodies() { return bodies_; }
+  [[nodiscard]] int step_index() const { return step_; }
+  [[nodiscard]] double time() const { return step_ * def_.time.dt; }
+
+  // ---- stages ----------------------------------------------------------------------
+  const std::vector<Contact>& collide();
+  const LcpProblem& assemble();
+  void integrate(const Eigen::VectorXd& lambda);
+
+  // ---- results of the stages ---------------------------------------------------------
+  [[nodiscard]] const std::vector<Contact>& contacts() const { return contacts_; }
+  /// Contacts of the previous step with their solved λ (the built-in warm start's memory).
+  [[nodiscard]] const std::vector<Contact>& previous_contacts() const { return previous_; }
+  [[nodiscard]] const LcpProblem& problem() const { return problem_; }
+  [[nodiscard]] bool has_friction_rows() const { return def_.contact.friction > 0; }
+  /// Row of the normal / tangent constraint of contact c (tangent: −1 when μ = 0).
+  [[nodiscard]] int normal_row(int c) const { return has_friction_rows() ? 2 * c : c; }
+  [[nodiscard]] int tangent_row(int c) const { return has_friction_rows() ? 2 * c + 1 : -1; }
+  /// Packs per-contact (λ_n, λ_t) into the row vector of the current problem.
+  [[nodiscard]] Eigen::VectorXd pack(const std::vector<double>& lambda_n,
+                                     const std::vector<double>& lambda_t) const;
+
+  // ---- one whole step ----------------------------------------------------------------
+  /// Returns λ⁰ for the current (collided, assembled) problem; empty function = zeros.
+  using InitialGuess = std::function<Eigen::VectorXd(const World&)>;
+  StepReport step(const LcpSolver& solver, const SolverOptions& options,
+                  const InitialGuess& guess = {});
+
+  // ---- diagnostics -------------------------------------------------------------------
+  [[nodiscard]] double kinetic_energy() const;    ///< Σ ½ m v² + ½ I ω² [J]
+  [[nodiscard]] double potential_energy() const;  ///< Σ −m g·x [J]
+  [[nodiscard]] double max_penetration() const;   ///< max(0, −min gap) over current contacts [m]
+
+ private:
+  WorldDef def_;
+  BodyState bodies_;
+  int step_ = 0;
+  std::vector<Contact> contacts_;
+  std::vector<Contact> previous_;
+  LcpProblem problem_;
+};
+
+/// Generated (seeded Gaussian, rejection-sampled) plus explicit circles of a definition.
+BodyState make_bodies(const WorldDef& def);
+
+/// Stable 64-bit FNV-1a hash of the full body state (bit patterns), for determinism tests.
+std::uint64_t state_hash(const BodyState& bodies);
+
+}  // namespace dc

@@ -1,0 +1,82 @@
+#pragma once
+// The configuration of a world, Box2D-style: plain structs whose member initialisers ARE
+// the documented defaults. The defaults reproduce the seed scene of the thesis
+// (DESIGN §3): 100 circles of radius 1 in a 30 × 30 box, Δt = 0.01 s, 600 steps,
+// 3000 PGS sweeps. Every field maps 1:1 to a TOML key `[section] key` (docs/scenes.md).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dc/engine/vec2.hpp"
+
+namespace dc {
+
+struct WorldSection {
+  double width = 30.0;            ///< box extent along x [m]; the box is [0, width] × [0, height]
+  double height = 30.0;           ///< box extent along y [m]
+  Vec2 gravity{0.0, -9.81};       ///< gravitational acceleration [m/s²]
+  /// Which walls exist: left (x = 0), right (x = width), bottom (y = 0), top (y = height).
+  std::array<bool, 4> walls{true, true, true, true};
+};
+
+struct TimeSection {
+  double dt = 0.01;   ///< time step Δt [s]
+  int steps = 600;    ///< number of steps a simulation runs
+};
+
+struct ContactSection {
+  double friction = 0.5;     ///< Coulomb coefficient μ (0 ⇒ no tangent rows at all)
+  double restitution = 0.0;  ///< e: target separating normal velocity −e·v_n (for approach > threshold)
+  double baumgarte = 0.2;    ///< β: fraction of penetration beyond slop removed per step
+  double slop = 0.005;       ///< allowed penetration [m] before Baumgarte acts
+  /// Speculative margin [m]: pairs closer than margin + (|v_a|+|v_b|)·Δt get a contact
+  /// row, so fast bodies cannot tunnel; the row only acts once the gap would close.
+  double margin = 0.02;
+  /// Approach speed [m/s] below which restitution is ignored (resting contact stays quiet).
+  double restitution_threshold = 1.0;
+};
+
+struct SolverSection {
+  std::string name = "pgs";  ///< LCP solver (see make_solver: pgs, pgs-assembled, psor, jacobi, lemke, newton)
+  int sweeps = 3000;         ///< maximum sweeps per step (the seed's fixed 3000)
+  double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance [N]; 0 ⇒ always run `sweeps` sweeps
+  double omega = 1.0;        ///< relaxation for psor (1 = PGS)
+};
+
+struct BodiesSection {
+  int count = 100;               ///< generated circles (0 = none)
+  double radius = 1.0;           ///< radius of generated circles [m]
+  double density = 1.0;          ///< areal density [kg/m²]
+  Vec2 mean{15.0, 15.0};         ///< mean of the 2D Gaussian of initial centres [m]
+  double sigma = 4.65;           ///< standard deviation per axis [m] (seed: 1.2·√15)
+  std::uint64_t seed = 1;        ///< seed of the GSL mt19937 stream that places them
+  int max_attempts = 1000000;    ///< rejection-sampling budget before giving up (error)
+};
+
+/// One explicitly placed circle (`[[body]]` in TOML), added after the generated ones.
+struct BodyDef {
+  Vec2 position;
+  Vec2 velocity;
+  double angle = 0.0;
+  double omega = 0.0;
+  double radius = 1.0;
+  double density = 1.0;
+};
+
+struct WorldDef {
+  WorldSection world;
+  TimeSection time;
+  ContactSection contact;
+  SolverSection solver;
+  BodiesSection bodies;
+  std::vector<BodyDef> body;   ///< explicit circles
+
+  /// Throws ConfigError naming the first invalid key (non-finite, non-positive, ...).
+  void validate() const;
+};
+
+/// The seed scene (identical to WorldDef{}; spelled out for readability at call sites).
+inline WorldDef default_world_def() { return WorldDef{}; }
+
+}  // namespace dc

@@ -1,0 +1,80 @@
+#include "dc/engine/lcp_problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "dc/engine/error.hpp"
+
+namespace dc {
+
+LcpProblem LcpProblem::standard(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  if (A.rows() != A.cols() || A.rows() != b.size())
+    throw InvalidArgument("LcpProblem::standard: A must be n×n and b of size n (A is " +
+                          std::to_string(A.rows()) + "×" + std::to_string(A.cols()) +
+                          ", b has " + std::to_string(b.size()) + ")");
+  LcpProblem p;
+  p.A = A.sparseView(0.0, 0.0);  // keep explicit zeros out, but no tolerance-based pruning
+  p.A.makeCompressed();
+  p.b = b;
+  const auto n = b.size();
+  p.lo = Eigen::VectorXd::Zero(n);
+  p.hi = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
+  p.normal_row.assign(static_cast<size_t>(n), -1);
+  p.mu = Eigen::VectorXd::Zero(n);
+  return p;
+}
+
+void LcpProblem::validate() const {
+  const int n = rows();
+  auto fail = [](const std::string& m) { throw InvalidArgument("LCP problem: " + m); };
+  if (A.rows() != n || A.cols() != n)
+    fail("A is " + std::to_string(A.rows()) + "×" + std::to_string(A.cols()) + " but b has " +
+         std::to_string(n) + " entries");
+  if (lo.size() != n || hi.size() != n || mu.size() != n || static_cast<int>(normal_row.size()) != n)
+    fail("bounds, mu and normal_row must have one entry per row");
+  for (int k = 0; k < A.outerSize(); ++k)
+    for (SparseRowMatrix::InnerIterator it(A, k); it; ++it)
+      if (!std::isfinite(it.value()))
+        fail("A(" + std::to_string(it.row()) + "," + std::to_string(it.col()) + ") is not finite");
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(b[i])) fail("b(" + std::to_string(i) + ") is not finite");
+    const int nr = normal_row[static_cast<size_t>(i)];
+    if (nr >= 0) {
+      if (nr >= n || normal_row[static_cast<size_t>(nr)] >= 0)
+        fail("friction row " + std::to_string(i) + " is coupled to row " + std::to_string(nr) +
+             ", which is not a normal row");
+      if (!(mu[i] >= 0) || !std::isfinite(mu[i]))
+        fail("friction coefficient of row " + std::to_string(i) + " must be finite and ≥ 0");
+    } else {
+      if (std::isnan(lo[i]) || std::isnan(hi[i]) || lo[i] > hi[i] || lo[i] == INFINITY ||
+          hi[i] == -INFINITY)
+        fail("row " + std::to_string(i) + " has invalid bounds [" + std::to_string(lo[i]) + ", " +
+             std::to_string(hi[i]) + "]");
+    }
+  }
+  if (J.rows() > 0) {
+    if (J.rows() != n) fail("J has " + std::to_string(J.rows()) + " rows, expected " + std::to_string(n));
+    if (inv_mass.size() != J.cols()) fail("inv_mass must have one entry per column of J");
+    if (!(dt > 0)) fail("dt must be > 0 when J is given");
+  }
+}
+
+Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda) {
+  return p.A * lambda + p.b;
+}
+
+double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda) {
+  const Eigen::VectorXd w = lcp_velocity(p, lambda);
+  double r = 0.0;
+  for (int i = 0; i < p.rows(); ++i) {
+    const double l = p.lower(i, lambda), h = p.upper(i, lambda);
+    const double proj = std::clamp(lambda[i] - w[i], l, std::max(l, h));
+    const double e = std::abs(lambda[i] - proj);
+    if (std::isnan(e)) return std::numeric_limits<double>::infinity();
+    r = std::max(r, e);
+  }
+  return r;
+}
+
+}  // namespace dc

@@ -1,0 +1,70 @@
+#include "dc/engine/world_def.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "dc/engine/error.hpp"
+
+namespace dc {
+namespace {
+
+[[noreturn]] void bad(const std::string& key, const std::string& expected, double got) {
+  std::ostringstream os;
+  os << key << ": expected " << expected << ", got " << got;
+  throw ConfigError(os.str());
+}
+void finite(const std::string& key, double v) {
+  if (!std::isfinite(v)) bad(key, "a finite number", v);
+}
+void positive(const std::string& key, double v) {
+  finite(key, v);
+  if (!(v > 0)) bad(key, "a number > 0", v);
+}
+void non_negative(const std::string& key, double v) {
+  finite(key, v);
+  if (!(v >= 0)) bad(key, "a number >= 0", v);
+}
+
+}  // namespace
+
+void WorldDef::validate() const {
+  positive("[world] width", world.width);
+  positive("[world] height", world.height);
+  finite("[world] gravity[0]", world.gravity.x);
+  finite("[world] gravity[1]", world.gravity.y);
+  positive("[time] dt", time.dt);
+  if (time.steps < 0) bad("[time] steps", "an integer >= 0", time.steps);
+  non_negative("[contact] friction", contact.friction);
+  non_negative("[contact] restitution", contact.restitution);
+  if (contact.restitution > 1) bad("[contact] restitution", "a number in [0, 1]", contact.restitution);
+  non_negative("[contact] baumgarte", contact.baumgarte);
+  if (contact.baumgarte > 1) bad("[contact] baumgarte", "a number in [0, 1]", contact.baumgarte);
+  non_negative("[contact] slop", contact.slop);
+  non_negative("[contact] margin", contact.margin);
+  non_negative("[contact] restitution_threshold", contact.restitution_threshold);
+  if (solver.sweeps < 1) bad("[solver] sweeps", "an integer >= 1", solver.sweeps);
+  non_negative("[solver] tolerance", solver.tolerance);
+  positive("[solver] omega", solver.omega);
+  if (solver.omega >= 2) bad("[solver] omega", "a number in (0, 2)", solver.omega);
+  if (bodies.count < 0) bad("[bodies] count", "an integer >= 0", bodies.count);
+  positive("[bodies] radius", bodies.radius);
+  positive("[bodies] density", bodies.density);
+  finite("[bodies] mean[0]", bodies.mean.x);
+  finite("[bodies] mean[1]", bodies.mean.y);
+  non_negative("[bodies] sigma", bodies.sigma);
+  if (bodies.max_attempts < 1) bad("[bodies] max_attempts", "an integer >= 1", bodies.max_attempts);
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    const std::string k = "[[body]] #" + std::to_string(i + 1) + " ";
+    const BodyDef& b = body[i];
+    finite(k + "position[0]", b.position.x);
+    finite(k + "position[1]", b.position.y);
+    finite(k + "velocity[0]", b.velocity.x);
+    finite(k + "velocity[1]", b.velocity.y);
+    finite(k + "angle", b.angle);
+    finite(k + "omega", b.omega);
+    positive(k + "radius", b.radius);
+    positive(k + "density", b.density);
+  }
+}
+
+}  // namespace dc

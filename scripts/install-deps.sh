@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Installs exactly the Debian packages DeepContact needs to build, test, benchmark and plot.
+# Idempotent: packages already present are skipped, and apt is not touched at all when
+# everything is installed. Run as root (or with sudo available).
+#
+#   scripts/install-deps.sh            build + test + bench dependencies
+#   scripts/install-deps.sh --torch    also python3-torch (only for bench/torch_compare.py)
+#   scripts/install-deps.sh --fuzz     also clang + libFuzzer runtime (fuzz harnesses)
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config git
+  libeigen3-dev      # dense/sparse linear algebra (J, A, GEMM for the CNN)
+  libccd-dev         # general convex collision (reserved for non-circle shapes)
+  libgsl-dev         # portable random streams (scene generation, weight init)
+  libhdf5-dev        # trajectories, data sets, models, bench results (C and C++ API)
+  libcli11-dev       # command line of the deepcontact executable
+  libtomlplusplus-dev # scene files
+  libgtest-dev libgmock-dev googletest # unit tests
+  libbenchmark-dev   # micro-benchmarks of the hot kernels
+  libomp-dev         # OpenMP runtime headers (g++ uses libgomp; clang needs libomp)
+  python3 python3-numpy python3-matplotlib python3-h5py # report plots
+)
+for arg in "$@"; do
+  case "$arg" in
+    --torch) packages+=(python3-torch) ;;
+    --fuzz) packages+=(clang libclang-rt-dev) ;;
+    *) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
+  esac
+done
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

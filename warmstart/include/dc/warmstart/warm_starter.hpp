@@ -1,0 +1,79 @@
+#pragma once
+// The WarmStarter abstraction (DESIGN §4): given the step's contacts (with persistent keys),
+// the body state and the assembled LCP, return an initial guess λ⁰ in the problem's row
+// order; optionally observe the solved λ after the step. The caller times
+// initial_guess(); a starter that needs the oracle λ* (copy, sph) reports the oracle's own
+// cost separately via oracle_ms() so the bench can show it apart.
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dc/engine/world.hpp"
+
+namespace dc {
+
+/// What a warm starter sees in one step.
+struct StepView {
+  const World& world;  ///< bodies, contacts() of this step, previous_contacts(), problem()
+  /// This step's tightly solved λ* when the caller already has it (the bench computes it
+  /// once per step and shares it); nullptr ⇒ oracle starters solve it themselves.
+  const Eigen::VectorXd* oracle = nullptr;
+};
+
+class WarmStarter {
+ public:
+  virtual ~WarmStarter() = default;
+  /// Full name including options, e.g. "copy:2".
+  [[nodiscard]] virtual std::string name() const = 0;
+  /// λ⁰ for view.world.problem(); size = problem rows, finite, within the bounds' signs.
+  virtual Eigen::VectorXd initial_guess(const StepView& view) = 0;
+  /// Called after the step's solve with the solved λ (before integration).
+  virtual void observe(const StepView& /*view*/, const Eigen::VectorXd& /*solved*/) {}
+  /// True when the starter uses this step's solution (an oracle / upper bound, not a method).
+  [[nodiscard]] virtual bool uses_oracle() const { return false; }
+  /// Milliseconds the last initial_guess() spent computing the oracle itself (0 if shared).
+  [[nodiscard]] virtual double oracle_ms() const { return 0.0; }
+};
+
+/// Everything a factory may need to build a starter; the same for every starter of a run.
+struct WarmStartEnv {
+  std::uint64_t seed = 12345;   ///< seed for starters with randomness (random)
+  std::string model_path;       ///< cnn: model file ("" = the shipped default)
+};
+
+/// "name" or "name:arg" as written on the command line.
+struct WarmStartSpec {
+  std::string name;
+  std::string arg;  ///< text after the first ':' ("" when none)
+  static WarmStartSpec parse(const std::string& text);
+  [[nodiscard]] std::string full() const { return arg.empty() ? name : name + ":" + arg; }
+};
+
+using WarmStarterFactory =
+    std::function<std::unique_ptr<WarmStarter>(const WarmStartSpec&, const WarmStartEnv&)>;
+
+/// Name → factory. Not global: build one (default_warm_starters()), add your own with
+/// add(), and hand it to the bench. Unknown names are ConfigErrors listing the valid ones.
+class WarmStarterRegistry {
+ public:
+  void add(const std::string& name, std::string help, WarmStarterFactory factory);
+  [[nodiscard]] std::unique_ptr<WarmStarter> make(const std::string& text,
+                                                  const WarmStartEnv& env = {}) const;
+  [[nodiscard]] bool contains(const std::string& name) const { return entries_.count(name) > 0; }
+  [[nodiscard]] std::vector<std::string> names() const;
+  [[nodiscard]] std::string help() const;  ///< one line per starter
+
+ private:
+  struct Entry { std::string help; WarmStarterFactory factory; };
+  std::map<std::string, Entry> entries_;
+};
+
+/// The registry with every starter of this library: zero, builtin, copy[:D], sph,
+/// sph-prev, random, bad (the learning library adds cnn).
+WarmStarterRegistry default_warm_starters();
+
+}  // namespace dc
