@@ -18,11 +18,15 @@ struct WorldSection {
   Vec2 gravity{0.0, -9.81};       ///< gravitational acceleration [m/s²]
   /// Which walls exist: left (x = 0), right (x = width), bottom (y = 0), top (y = height).
   std::array<bool, 4> walls{true, true, true, true};
+
+  friend bool operator==(const WorldSection&, const WorldSection&) = default;
 };
 
 struct TimeSection {
   double dt = 0.01;   ///< time step Δt [s]
   int steps = 600;    ///< number of steps a simulation runs
+
+  friend bool operator==(const TimeSection&, const TimeSection&) = default;
 };
 
 struct ContactSection {
@@ -35,6 +39,8 @@ struct ContactSection {
   double margin = 0.02;
   /// Approach speed [m/s] below which restitution is ignored (resting contact stays quiet).
   double restitution_threshold = 1.0;
+
+  friend bool operator==(const ContactSection&, const ContactSection&) = default;
 };
 
 struct SolverSection {
@@ -42,6 +48,8 @@ struct SolverSection {
   int sweeps = 3000;         ///< maximum sweeps per step (the seed's fixed 3000)
   double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance [N]; 0 ⇒ always run `sweeps` sweeps
   double omega = 1.0;        ///< relaxation for psor (1 = PGS)
+
+  friend bool operator==(const SolverSection&, const SolverSection&) = default;
 };
 
 struct BodiesSection {
@@ -52,6 +60,8 @@ struct BodiesSection {
   double sigma = 4.65;           ///< standard deviation per axis [m] (seed: 1.2·√15)
   std::uint64_t seed = 1;        ///< seed of the GSL mt19937 stream that places them
   int max_attempts = 1000000;    ///< rejection-sampling budget before giving up (error)
+
+  friend bool operator==(const BodiesSection&, const BodiesSection&) = default;
 };
 
 /// One explicitly placed circle (`[[body]]` in TOML), added after the generated ones.
@@ -62,6 +72,8 @@ struct BodyDef {
   double omega = 0.0;
   double radius = 1.0;
   double density = 1.0;
+
+  friend bool operator==(const BodyDef&, const BodyDef&) = default;
 };
 
 struct WorldDef {
@@ -74,6 +86,9 @@ struct WorldDef {
 
   /// Throws ConfigError naming the first invalid key (non-finite, non-positive, ...).
   void validate() const;
+
+  /// Field-by-field equality (tests, round trips of scene files).
+  friend bool operator==(const WorldDef&, const WorldDef&) = default;
 };
 
 /// The seed scene (identical to WorldDef{}; spelled out for readability at call sites).
