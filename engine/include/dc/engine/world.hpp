@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "dc/engine/body_state.hpp"
+#include "dc/engine/broad_phase.hpp"
 #include "dc/engine/contact.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/lcp_solver.hpp"
@@ -90,6 +91,7 @@ class World {
   std::vector<Contact> contacts_;
   std::vector<Contact> previous_;
   LcpProblem problem_;
+  UniformGridBroadPhase broad_phase_;
 };
 
 /// Generated (seeded Gaussian, rejection-sampled) plus explicit circles of a definition.

@@ -1,0 +1,28 @@
+#pragma once
+// Assembly of the step's contact LCP (DESIGN §2), explicitly, as the seed writes it:
+//
+//   J (sparse, rows × 3n):  normal row   [ −nᵀ, −(r_a × n),  nᵀ, (r_b × n) ]
+//                           tangent row  [ −tᵀ, −(r_a × t),  tᵀ, (r_b × t) ]   (only if μ > 0)
+//   M⁻¹ = diag(1/m_1, 1/m_1, 1/I_1, …)
+//   A = J M⁻¹ Jᵀ Δt                     [m/(N·s)]  (λ is a force [N])
+//   b = J (u + Δt M⁻¹ F_ext) + stabilisation   [m/s]
+//
+// Row order: contact c owns rows (2c, 2c+1) with friction, row c without. Stabilisation of
+// normal rows (all configurable in ContactSection):
+//   gap g > 0 (speculative):   b_n += g / Δt
+//   gap g ≤ 0 (Baumgarte):     b_n += β · min(0, g + slop) / Δt
+//   restitution e > 0 and approach J_n u < −threshold:   b_n += e · J_n u
+#include <vector>
+
+#include "dc/engine/body_state.hpp"
+#include "dc/engine/contact.hpp"
+#include "dc/engine/lcp_problem.hpp"
+#include "dc/engine/world_def.hpp"
+
+namespace dc {
+
+/// Fills `out` (A, b, bounds, J, inv_mass, dt) for the given contacts; reuses its storage.
+void assemble_lcp(const BodyState& bodies, const std::vector<Contact>& contacts,
+                  const WorldDef& def, LcpProblem& out);
+
+}  // namespace dc

@@ -1,0 +1,30 @@
+#pragma once
+// Broad phase: a uniform grid over the bodies' bounding boxes. Each body k covers the
+// square of half-extent reach_k = r_k + s_k around its centre (s_k is its speculative
+// reach, see narrow_phase.hpp). The cell size is the largest box extent, so a body
+// overlaps at most 2 × 2 cells and finding all overlapping pairs costs O(n) for bodies of
+// similar size (a scene mixing very different radii degrades towards O(n·k) where k is
+// the number of small bodies per large cell — documented in docs/engine.md).
+//
+// Pairs are reported once each, as (i < j), sorted, so the result does not depend on the
+// order of insertion or the grid layout.
+#include <utility>
+#include <vector>
+
+#include "dc/engine/body_state.hpp"
+
+namespace dc {
+
+class UniformGridBroadPhase {
+ public:
+  /// Candidate pairs whose boxes (centre ± reach) overlap. `reach` has one entry per body.
+  void find_pairs(const std::vector<Vec2>& centres, const std::vector<double>& reach,
+                  std::vector<std::pair<int, int>>& pairs);
+
+ private:
+  // Reused buffers (no allocation in steady state).
+  std::vector<int> cell_start_, cell_items_, body_cells_;
+  std::vector<long long> cell_of_entry_;
+};
+
+}  // namespace dc

@@ -1,0 +1,89 @@
+#include "dc/engine/assembly.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace dc {
+
+void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
+                  LcpProblem& out) {
+  const int nb = static_cast<int>(s.size());
+  const int nc = static_cast<int>(contacts.size());
+  const bool friction = def.contact.friction > 0;
+  const int per = friction ? 2 : 1;
+  const int rows = per * nc;
+  const double dt = def.time.dt;
+  const ContactSection& cs = def.contact;
+
+  out.dt = dt;
+  out.inv_mass.resize(3 * nb);
+  for (int k = 0; k < nb; ++k) {
+    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
+    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
+  }
+
+  // J: at most 6 non-zeros per row (3 per circle); walls contribute no columns.
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(static_cast<size_t>(rows) * 6);
+  out.b.resize(rows);
+  out.lo.resize(rows);
+  out.hi.resize(rows);
+  out.mu.resize(rows);
+  out.normal_row.assign(static_cast<size_t>(rows), -1);
+
+  const Vec2 g = def.world.gravity;
+  for (int c = 0; c < nc; ++c) {
+    const Contact& ct = contacts[static_cast<size_t>(c)];
+    const Vec2 n = ct.normal, t = perp(n);
+    const int rn = per * c, rt = rn + 1;
+    double vn = 0, vt = 0;       // J u       (relative velocity before the step)
+    double vn_f = 0, vt_f = 0;   // J Δt M⁻¹ F_ext  (gravity only: Δt·g on linear dofs)
+    auto add_body = [&](int body, double sign) {
+      const auto k = static_cast<size_t>(body);
+      const Vec2 r = ct.point - s.position[k];
+      const double rn_x = cross(r, n), rt_x = cross(r, t);
+      trip.emplace_back(rn, 3 * body, sign * n.x);
+      trip.emplace_back(rn, 3 * body + 1, sign * n.y);
+      trip.emplace_back(rn, 3 * body + 2, sign * rn_x);
+      vn += sign * (dot(n, s.velocity[k]) + rn_x * s.omega[k]);
+      vn_f += sign * dt * dot(n, g);
+      if (friction) {
+        trip.emplace_back(rt, 3 * body, sign * t.x);
+        trip.emplace_back(rt, 3 * body + 1, sign * t.y);
+        trip.emplace_back(rt, 3 * body + 2, sign * rt_x);
+        vt += sign * (dot(t, s.velocity[k]) + rt_x * s.omega[k]);
+        vt_f += sign * dt * dot(t, g);
+      }
+    };
+    if (ct.body_a >= 0) add_body(ct.body_a, -1.0);
+    add_body(ct.body_b, +1.0);
+
+    double bn = vn + vn_f;
+    if (ct.gap > 0) {
+      bn += ct.gap / dt;  // speculative: may close at most the open gap this step
+    } else {
+      bn += cs.baumgarte * std::min(0.0, ct.gap + cs.slop) / dt;
+    }
+    if (cs.restitution > 0 && vn < -cs.restitution_threshold) bn += cs.restitution * vn;
+    out.b[rn] = bn;
+    out.lo[rn] = 0.0;
+    out.hi[rn] = std::numeric_limits<double>::infinity();
+    out.mu[rn] = 0.0;
+    if (friction) {
+      out.b[rt] = vt + vt_f;
+      out.lo[rt] = -std::numeric_limits<double>::infinity();  // effective bounds: ±μ λ_n
+      out.hi[rt] = std::numeric_limits<double>::infinity();
+      out.mu[rt] = cs.friction;
+      out.normal_row[static_cast<size_t>(rt)] = rn;
+    }
+  }
+  out.J.resize(rows, 3 * nb);
+  out.J.setFromTriplets(trip.begin(), trip.end());
+  out.J.makeCompressed();
+  // A = J M⁻¹ Jᵀ Δt, kept row-major and sparse (rows couple only through shared bodies).
+  const SparseRowMatrix JM = out.J * (out.inv_mass * dt).asDiagonal();
+  out.A = (JM * SparseRowMatrix(out.J.transpose())).pruned(0.0);
+  out.A.makeCompressed();
+}
+
+}  // namespace dc

@@ -1,0 +1,56 @@
+#include "dc/engine/narrow_phase.hpp"
+
+#include <cmath>
+
+namespace dc {
+
+double speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt) {
+  return 0.5 * c.margin + length(s.velocity[static_cast<size_t>(k)]) * dt;
+}
+
+std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double threshold) {
+  const auto ia = static_cast<size_t>(a), ib = static_cast<size_t>(b);
+  const Vec2 d = s.position[ib] - s.position[ia];
+  const double rsum = s.radius[ia] + s.radius[ib];
+  const double dist2 = length_squared(d);
+  // Cheap reject before the square root.
+  const double reach = rsum + threshold;
+  if (dist2 >= reach * reach) return std::nullopt;
+  const double dist = std::sqrt(dist2);
+  Contact c;
+  c.key = ContactKey::pair(a, b);
+  c.body_a = a;
+  c.body_b = b;
+  c.normal = dist > 1e-12 * rsum ? (1.0 / dist) * d : Vec2{0.0, 1.0};
+  c.gap = dist - rsum;
+  // Midway between the two surfaces along the normal.
+  c.point = s.position[ia] + (s.radius[ia] + 0.5 * c.gap) * c.normal;
+  return c;
+}
+
+std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double width, double height,
+                                   double threshold) {
+  const auto i = static_cast<size_t>(k);
+  const Vec2 x = s.position[i];
+  const double r = s.radius[i];
+  Vec2 n;
+  double dist = 0;  // centre distance to the wall plane, positive inside the box
+  switch (w) {
+    case Wall::Left: n = {1, 0}; dist = x.x; break;
+    case Wall::Right: n = {-1, 0}; dist = width - x.x; break;
+    case Wall::Bottom: n = {0, 1}; dist = x.y; break;
+    case Wall::Top: n = {0, -1}; dist = height - x.y; break;
+  }
+  const double gap = dist - r;
+  if (gap >= threshold) return std::nullopt;
+  Contact c;
+  c.key = ContactKey::wall(w, k);
+  c.body_a = static_cast<int>(w);
+  c.body_b = k;
+  c.normal = n;
+  c.gap = gap;
+  c.point = x - (r + 0.5 * gap) * n;
+  return c;
+}
+
+}  // namespace dc

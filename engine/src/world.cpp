@@ -1,0 +1,176 @@
+#include "dc/engine/world.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "dc/engine/assembly.hpp"
+#include "dc/engine/broad_phase.hpp"
+#include "dc/engine/error.hpp"
+#include "dc/engine/narrow_phase.hpp"
+
+namespace dc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+World::World(WorldDef def) : def_(std::move(def)) { bodies_ = make_bodies(def_); }
+
+World::World(WorldDef def, BodyState bodies) : def_(std::move(def)), bodies_(std::move(bodies)) {
+  def_.validate();
+  const std::size_t n = bodies_.size();
+  if (bodies_.angle.size() != n || bodies_.velocity.size() != n || bodies_.omega.size() != n ||
+      bodies_.radius.size() != n || bodies_.mass.size() != n || bodies_.inv_mass.size() != n ||
+      bodies_.inertia.size() != n || bodies_.inv_inertia.size() != n)
+    throw InvalidArgument("World: body state arrays have inconsistent sizes");
+}
+
+const std::vector<Contact>& World::collide() {
+  const int n = static_cast<int>(bodies_.size());
+  const double dt = def_.time.dt;
+  contacts_.clear();
+
+  std::vector<double> reach(static_cast<size_t>(n)), spec(static_cast<size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    spec[static_cast<size_t>(k)] = speculative_reach(bodies_, k, def_.contact, dt);
+    reach[static_cast<size_t>(k)] = bodies_.radius[static_cast<size_t>(k)] + spec[static_cast<size_t>(k)];
+  }
+
+  // Walls first (their keys sort first), body by body, in wall-id order left..top.
+  static constexpr Wall kWalls[4] = {Wall::Left, Wall::Right, Wall::Bottom, Wall::Top};
+  for (int w = 3; w >= 0; --w) {  // keys: top (−4) < bottom (−3) < right (−2) < left (−1)
+    if (!def_.world.walls[static_cast<size_t>(w)]) continue;
+    for (int k = 0; k < n; ++k)
+      if (auto c = circle_wall(bodies_, k, kWalls[w], def_.world.width, def_.world.height,
+                               2 * spec[static_cast<size_t>(k)]))
+        contacts_.push_back(*c);
+  }
+  std::vector<std::pair<int, int>> pairs;
+  broad_phase_.find_pairs(bodies_.position, reach, pairs);
+  for (const auto& [a, b] : pairs)
+    if (auto c = circle_circle(bodies_, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)]))
+      contacts_.push_back(*c);
+  // Wall contacts were appended in key order and pairs are sorted: contacts_ is sorted.
+  return contacts_;
+}
+
+const LcpProblem& World::assemble() {
+  assemble_lcp(bodies_, contacts_, def_, problem_);
+  return problem_;
+}
+
+Eigen::VectorXd World::pack(const std::vector<double>& lambda_n,
+                            const std::vector<double>& lambda_t) const {
+  const int nc = static_cast<int>(contacts_.size());
+  if (static_cast<int>(lambda_n.size()) != nc || (has_friction_rows() && static_cast<int>(lambda_t.size()) != nc))
+    throw InvalidArgument("World::pack: need one λ_n (and λ_t) per contact");
+  Eigen::VectorXd out(has_friction_rows() ? 2 * nc : nc);
+  for (int c = 0; c < nc; ++c) {
+    out[normal_row(c)] = lambda_n[static_cast<size_t>(c)];
+    if (has_friction_rows()) out[tangent_row(c)] = lambda_t[static_cast<size_t>(c)];
+  }
+  return out;
+}
+
+void World::integrate(const Eigen::VectorXd& lambda) {
+  const int rows = problem_.rows();
+  if (lambda.size() != rows)
+    throw InvalidArgument("World::integrate: λ has " + std::to_string(lambda.size()) +
+                          " entries, the problem has " + std::to_string(rows) + " rows");
+  if (static_cast<int>(contacts_.size()) * (has_friction_rows() ? 2 : 1) != rows)
+    throw InvalidArgument("World::integrate: call collide() and assemble() before integrate()");
+  const double dt = def_.time.dt;
+  const int n = static_cast<int>(bodies_.size());
+  // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
+  Eigen::VectorXd impulse = Eigen::VectorXd::Zero(3 * n);
+  if (rows > 0) impulse = problem_.J.transpose() * lambda * dt;
+  const Vec2 g = def_.world.gravity;
+  for (int k = 0; k < n; ++k) {
+    const auto i = static_cast<size_t>(k);
+    bodies_.velocity[i] += dt * g + bodies_.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
+    bodies_.omega[i] += bodies_.inv_inertia[i] * impulse[3 * k + 2];
+    bodies_.position[i] += dt * bodies_.velocity[i];
+    bodies_.angle[i] += dt * bodies_.omega[i];
+  }
+  for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
+    contacts_[static_cast<size_t>(c)].lambda_n = lambda[normal_row(c)];
+    contacts_[static_cast<size_t>(c)].lambda_t = has_friction_rows() ? lambda[tangent_row(c)] : 0.0;
+  }
+  previous_ = contacts_;
+  ++step_;
+}
+
+StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
+                       const InitialGuess& guess) {
+  StepReport rep;
+  auto t0 = Clock::now();
+  collide();
+  rep.profile.collide_ms = ms_since(t0);
+  t0 = Clock::now();
+  assemble();
+  rep.profile.assemble_ms = ms_since(t0);
+  rep.contacts = static_cast<int>(contacts_.size());
+  rep.rows = problem_.rows();
+
+  t0 = Clock::now();
+  Eigen::VectorXd lambda0 = guess ? guess(*this) : Eigen::VectorXd::Zero(rep.rows);
+  rep.profile.warmstart_ms = ms_since(t0);
+  if (lambda0.size() != rep.rows)
+    throw InvalidArgument("World::step: the initial guess has " + std::to_string(lambda0.size()) +
+                          " entries, the problem has " + std::to_string(rep.rows) + " rows");
+
+  t0 = Clock::now();
+  rep.solve = solver.solve(problem_, lambda0, options);
+  rep.profile.solve_ms = ms_since(t0);
+  if (rep.solve.status == SolveStatus::InvalidInput)
+    throw InvalidArgument("World::step: the solver rejected the problem: " + rep.solve.message);
+
+  t0 = Clock::now();
+  integrate(rep.solve.lambda);
+  rep.profile.integrate_ms = ms_since(t0);
+  return rep;
+}
+
+double World::kinetic_energy() const {
+  double e = 0;
+  for (std::size_t k = 0; k < bodies_.size(); ++k)
+    e += 0.5 * bodies_.mass[k] * length_squared(bodies_.velocity[k]) +
+         0.5 * bodies_.inertia[k] * bodies_.omega[k] * bodies_.omega[k];
+  return e;
+}
+
+double World::potential_energy() const {
+  double e = 0;
+  for (std::size_t k = 0; k < bodies_.size(); ++k) e -= bodies_.mass[k] * dot(def_.world.gravity, bodies_.position[k]);
+  return e;
+}
+
+double World::max_penetration() const {
+  double p = 0;
+  for (const Contact& c : contacts_) p = std::max(p, -c.gap);
+  return p;
+}
+
+std::uint64_t state_hash(const BodyState& s) {
+  std::uint64_t h = 1469598103934665603ULL;  // FNV-1a offset basis
+  auto mix = [&](double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int i = 0; i < 8; ++i) {
+      h ^= (bits >> (8 * i)) & 0xffU;
+      h *= 1099511628211ULL;  // FNV prime
+    }
+  };
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    mix(s.position[k].x); mix(s.position[k].y); mix(s.angle[k]);
+    mix(s.velocity[k].x); mix(s.velocity[k].y); mix(s.omega[k]);
+  }
+  return h;
+}
+
+}  // namespace dc

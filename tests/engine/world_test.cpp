@@ -1,0 +1,225 @@
+// Relationships the engine must satisfy (DESIGN §2–3): physical sanity values, assembly
+// identities, broad phase ≡ brute force, determinism, conservation laws.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "dc/engine/broad_phase.hpp"
+#include "dc/engine/error.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/rng.hpp"
+#include "dc/engine/world.hpp"
+
+namespace dc {
+namespace {
+
+WorldDef single_circle_on_floor(double mu) {
+  WorldDef d;
+  d.bodies.count = 0;
+  d.contact.friction = mu;
+  BodyDef b;
+  b.position = {15.0, 1.0};  // resting exactly on the floor (gap 0)
+  d.body.push_back(b);
+  return d;
+}
+
+SolverOptions tight(int sweeps = 2000) {
+  SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.tolerance = 1e-12;
+  return o;
+}
+
+TEST(World, RestingCircleCarriesItsWeight) {
+  for (double mu : {0.0, 0.5}) {
+    World w(single_circle_on_floor(mu));
+    const auto solver = make_solver("pgs");
+    for (int s = 0; s < 50; ++s) w.step(*solver, tight());
+    ASSERT_EQ(w.contacts().size(), 1u);
+    const double m = std::numbers::pi;  // ρ = 1, r = 1
+    EXPECT_NEAR(w.contacts()[0].lambda_n, m * 9.81, 1e-6 * m * 9.81) << "mu=" << mu;
+    EXPECT_NEAR(w.contacts()[0].lambda_t, 0.0, 1e-9);
+    EXPECT_NEAR(w.bodies().position[0].y, 1.0, 1e-9);
+    EXPECT_NEAR(w.bodies().velocity[0].y, 0.0, 1e-9);
+  }
+}
+
+TEST(World, AssembledMatrixEqualsJMinvJtDt) {
+  World w{WorldDef{}};
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 50;
+  for (int s = 0; s < 150; ++s) w.step(*solver, o);  // let them fall and touch
+  w.collide();
+  const LcpProblem& p = w.assemble();
+  ASSERT_GT(p.rows(), 20);
+  const Eigen::MatrixXd J(p.J);
+  const Eigen::MatrixXd A = J * p.inv_mass.asDiagonal() * J.transpose() * p.dt;
+  EXPECT_LE((Eigen::MatrixXd(p.A) - A).cwiseAbs().maxCoeff(), 1e-12 * A.cwiseAbs().maxCoeff());
+  // Friction rows are coupled to the normal row just before them.
+  for (int c = 0; c < static_cast<int>(w.contacts().size()); ++c) {
+    EXPECT_EQ(p.normal_row[static_cast<size_t>(w.tangent_row(c))], w.normal_row(c));
+    EXPECT_EQ(p.mu[w.tangent_row(c)], w.def().contact.friction);
+  }
+  // b is the relative velocity after a free step plus stabilisation: compare one contact.
+  const Contact& c0 = w.contacts()[0];
+  EXPECT_TRUE(c0.key.is_wall() || c0.key.a < c0.key.b);
+}
+
+TEST(World, NoTangentRowsWithoutFriction) {
+  WorldDef d;
+  d.contact.friction = 0.0;
+  World w(d);
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 20;
+  for (int s = 0; s < 150; ++s) w.step(*solver, o);
+  w.collide();
+  const LcpProblem& p = w.assemble();
+  EXPECT_EQ(p.rows(), static_cast<int>(w.contacts().size()));
+  for (int r : p.normal_row) EXPECT_EQ(r, -1);
+}
+
+TEST(World, ContactsAreSortedByKeyAndUnique) {
+  World w{WorldDef{}};
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 30;
+  for (int s = 0; s < 200; ++s) w.step(*solver, o);
+  const auto& cs = w.collide();
+  ASSERT_GT(cs.size(), 50u);
+  for (std::size_t i = 1; i < cs.size(); ++i) EXPECT_LT(cs[i - 1].key, cs[i].key);
+  for (const Contact& c : cs) {
+    EXPECT_NEAR(length(c.normal), 1.0, 1e-12);
+    if (!c.key.is_wall()) EXPECT_LT(c.key.a, c.key.b);
+  }
+}
+
+TEST(World, BroadPhaseFindsExactlyTheBruteForcePairs) {
+  Rng rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int n = 1 + static_cast<int>(rng.uniform_int(300));
+    std::vector<Vec2> x(static_cast<size_t>(n));
+    std::vector<double> r(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) {
+      x[static_cast<size_t>(k)] = {rng.uniform(0, 40), rng.uniform(0, 25)};
+      r[static_cast<size_t>(k)] = rng.uniform(0.05, trial % 3 == 0 ? 4.0 : 1.0);
+    }
+    std::vector<std::pair<int, int>> got, want;
+    UniformGridBroadPhase bp;
+    bp.find_pairs(x, r, got);
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) {
+        const auto ia = static_cast<size_t>(a), ib = static_cast<size_t>(b);
+        if (std::abs(x[ia].x - x[ib].x) <= r[ia] + r[ib] && std::abs(x[ia].y - x[ib].y) <= r[ia] + r[ib])
+          want.emplace_back(a, b);
+      }
+    EXPECT_EQ(got, want) << "trial " << trial << " n=" << n;
+  }
+}
+
+TEST(World, GenerationIsSeededAndValid) {
+  WorldDef d;
+  const BodyState a = make_bodies(d), b = make_bodies(d);
+  EXPECT_EQ(state_hash(a), state_hash(b));
+  d.bodies.seed = 2;
+  EXPECT_NE(state_hash(make_bodies(d)), state_hash(a));
+  ASSERT_EQ(a.size(), 100u);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_GE(a.position[i].x, 1.0);
+    EXPECT_LE(a.position[i].x, 29.0);
+    EXPECT_GE(a.position[i].y, 1.0);
+    EXPECT_LE(a.position[i].y, 29.0);
+    for (std::size_t j = 0; j < i; ++j) EXPECT_GE(length(a.position[i] - a.position[j]), 2.0);
+  }
+}
+
+TEST(World, ExplicitBodiesAreCheckedAndNamed) {
+  WorldDef d;
+  d.bodies.count = 0;
+  BodyDef b;
+  b.position = {5, 5};
+  d.body = {b, b};
+  try {
+    World w(d);
+    FAIL() << "overlap accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("#2 at (5, 5)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("overlaps [[body]] #1"), std::string::npos) << e.what();
+  }
+  d.body = {b};
+  d.body[0].position = {0.5, 5};
+  EXPECT_THROW(World{d}, ConfigError);
+  d.body[0].position = {5, 5};
+  d.bodies.count = 500;  // cannot fit 500 unit circles in a Gaussian blob of σ = 0.1
+  d.bodies.sigma = 0.1;
+  d.bodies.max_attempts = 2000;
+  EXPECT_THROW(World{d}, ConfigError);
+}
+
+TEST(World, TwoIdenticalRunsAreBitEqual) {
+  auto run = [] {
+    World w{WorldDef{}};
+    const auto solver = make_solver("pgs");
+    SolverOptions o;
+    o.max_sweeps = 100;
+    for (int s = 0; s < 120; ++s) w.step(*solver, o);
+    return state_hash(w.bodies());
+  };
+  EXPECT_EQ(run(), run());
+}
+
+TEST(World, FreeBodiesConserveLinearMomentum) {
+  WorldDef d;
+  d.world.walls = {false, false, false, false};
+  d.world.gravity = {0, 0};
+  d.bodies.count = 40;
+  d.bodies.sigma = 3.0;
+  BodyDef fast;
+  fast.position = {2.0, 15.0};
+  fast.velocity = {30.0, 0.5};
+  fast.radius = 1.5;
+  d.body.push_back(fast);
+  World w(d);
+  auto momentum = [&] {
+    Vec2 p;
+    for (std::size_t k = 0; k < w.bodies().size(); ++k) p += w.bodies().mass[k] * w.bodies().velocity[k];
+    return p;
+  };
+  const Vec2 p0 = momentum();
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 200;
+  int touched = 0;
+  for (int s = 0; s < 100; ++s) touched += w.step(*solver, o).contacts > 0;
+  EXPECT_GT(touched, 10);
+  const Vec2 p1 = momentum();
+  const double scale = w.bodies().mass.back() * 30.0;
+  EXPECT_NEAR(p1.x, p0.x, 1e-9 * scale);
+  EXPECT_NEAR(p1.y, p0.y, 1e-9 * scale);
+}
+
+TEST(World, EnergyDoesNotGrowWithoutRestitution) {
+  World w{WorldDef{}};
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 500;
+  o.tolerance = 1e-6;
+  double e0 = w.kinetic_energy() + w.potential_energy();
+  double worst = 0;
+  for (int s = 0; s < 300; ++s) {
+    w.step(*solver, o);
+    const double e = w.kinetic_energy() + w.potential_energy();
+    worst = std::max(worst, e - e0);
+    e0 = std::min(e0, e);
+  }
+  // Baumgarte pushes penetrating bodies apart, which can add a little energy; bound it by a
+  // small fraction of the potential energy scale (m g H for one body).
+  EXPECT_LT(worst, 0.05 * std::numbers::pi * 9.81 * 30);
+}
+
+}  // namespace
+}  // namespace dc
