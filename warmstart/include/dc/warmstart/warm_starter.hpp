@@ -72,6 +72,10 @@ class WarmStarterRegistry {
   std::map<std::string, Entry> entries_;
 };
 
+/// Clamps λ into the problem's bounds (λ_n ≥ 0, |λ_t| ≤ μ λ_n, fixed bounds elsewhere) and
+/// replaces non-finite entries by 0, so any guess is a valid PGS starting point.
+void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
+
 /// The registry with every starter of this library: zero, builtin, copy[:D], sph,
 /// sph-prev, random, bad (the learning library adds cnn).
 WarmStarterRegistry default_warm_starters();

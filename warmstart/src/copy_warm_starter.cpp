@@ -1,0 +1,61 @@
+// copy[:D]: this step's λ*, solved beforehand to tight tolerance (the oracle, an upper
+// bound on any predictor). copy:D rounds λ* to D decimals [N] to measure how sensitive
+// PGS is to the accuracy of the guess. The oracle's cost is reported by oracle_ms().
+#include <chrono>
+#include <cmath>
+
+#include "dc/engine/error.hpp"
+#include "dc/warmstart/oracle.hpp"
+#include "starters.hpp"
+
+namespace dc {
+namespace {
+
+class CopyWarmStarter final : public WarmStarter {
+ public:
+  explicit CopyWarmStarter(int decimals) : decimals_(decimals) {}
+  std::string name() const override { return decimals_ < 0 ? "copy" : "copy:" + std::to_string(decimals_); }
+  bool uses_oracle() const override { return true; }
+  double oracle_ms() const override { return oracle_ms_; }
+
+  Eigen::VectorXd initial_guess(const StepView& v) override {
+    Eigen::VectorXd out;
+    oracle_ms_ = 0;
+    if (v.oracle) {
+      out = *v.oracle;
+    } else {
+      const auto t0 = std::chrono::steady_clock::now();
+      out = solve_oracle(v.world.problem()).lambda;
+      oracle_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+    if (decimals_ >= 0) {
+      const double scale = std::pow(10.0, decimals_);
+      for (int i = 0; i < out.size(); ++i) out[i] = std::round(out[i] * scale) / scale;
+      project_feasible(v.world.problem(), out);
+    }
+    return out;
+  }
+
+ private:
+  int decimals_;  // −1: exact copy
+  double oracle_ms_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  int d = -1;
+  if (!spec.arg.empty()) {
+    std::size_t used = 0;
+    try {
+      d = std::stoi(spec.arg, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != spec.arg.size() || d < 0 || d > 15)
+      throw ConfigError("warm starter '" + spec.full() + "': decimals must be an integer in 0..15");
+  }
+  return std::make_unique<CopyWarmStarter>(d);
+}
+
+}  // namespace dc

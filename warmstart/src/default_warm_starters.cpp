@@ -1,0 +1,18 @@
+#include "starters.hpp"
+
+namespace dc {
+
+WarmStarterRegistry default_warm_starters() {
+  WarmStarterRegistry r;
+  r.add("zero", "lambda0 = 0 (baseline)", make_zero_warm_starter);
+  r.add("builtin", "previous step's lambda of the contact with the same key, 0 if new",
+        make_builtin_warm_starter);
+  r.add("copy", "this step's tightly solved lambda* (oracle); copy:D rounds it to D decimals",
+        make_copy_warm_starter);
+  r.add("random", "negative control: lambda_n ~ U(0,5)s, lambda_t ~ U(-2,2)s, s = mean weight",
+        make_random_warm_starter);
+  r.add("bad", "negative control: lambda_n = 50 s (a large constant)", make_bad_warm_starter);
+  return r;
+}
+
+}  // namespace dc

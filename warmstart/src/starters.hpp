@@ -1,0 +1,19 @@
+#pragma once
+// Private: factories of the starters in this library (registered by default_warm_starters).
+#include "dc/engine/error.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace dc {
+
+inline void reject_argument(const WarmStartSpec& spec) {
+  if (!spec.arg.empty())
+    throw ConfigError("warm starter '" + spec.name + "' takes no argument (got '" + spec.full() + "')");
+}
+
+std::unique_ptr<WarmStarter> make_zero_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_builtin_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_random_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_bad_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+
+}  // namespace dc
