@@ -9,6 +9,10 @@ WarmStarterRegistry default_warm_starters() {
         make_builtin_warm_starter);
   r.add("copy", "this step's tightly solved lambda* (oracle); copy:D rounds it to D decimals",
         make_copy_warm_starter);
+  r.add("sph", "this step's lambda* -> SPH grid -> back at the contacts (oracle grid); sph:KERNEL:D:H[:NORM]",
+        make_sph_warm_starter);
+  r.add("sph-prev", "previous step's lambda -> SPH grid -> this step's contacts; sph-prev:KERNEL:D:H[:NORM]",
+        make_sph_prev_warm_starter);
   r.add("random", "negative control: lambda_n ~ U(0,5)s, lambda_t ~ U(-2,2)s, s = mean weight",
         make_random_warm_starter);
   r.add("bad", "negative control: lambda_n = 50 s (a large constant)", make_bad_warm_starter);

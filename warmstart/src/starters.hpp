@@ -15,5 +15,7 @@ std::unique_ptr<WarmStarter> make_builtin_warm_starter(const WarmStartSpec&, con
 std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_random_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_bad_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_sph_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_sph_prev_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 
 }  // namespace dc

@@ -1,0 +1,25 @@
+#pragma once
+// Grid-based warm starters built on the SPH transfer (DESIGN §4):
+//   sph       this step's λ* → grid (kernel W, spacing d, support h) → back at the contact
+//             points: the best any grid-based predictor (the CNN) can do; uses the oracle.
+//   sph-prev  the previous step's solved λ at the previous contact points → grid → this
+//             step's contact points: a non-oracle grid starter (the "SPH of the past").
+// Options: `sph:KERNEL:D:H[:NORMALISATION]`, e.g. `sph:spiky:0.25:0.25`, `sph:poly6:0.5:0.5:legacy`.
+#include <string>
+
+#include "dc/warmstart/sph_transfer.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace dc {
+
+/// The setting the bench's `sph` uses by default (chosen by `deepcontact sph-study`).
+SphTransferDef default_sph_setting(double width, double height);
+
+/// Parses "KERNEL:D:H[:NORMALISATION]" onto `def` (empty text leaves it unchanged).
+void parse_sph_setting(const std::string& text, SphTransferDef& def);
+
+/// Channels (λ_n, λ_t) of the contacts of `world` at their points, particle-major.
+void contact_lambda_channels(const std::vector<Contact>& contacts, std::vector<Vec2>& points,
+                             std::vector<double>& values);
+
+}  // namespace dc

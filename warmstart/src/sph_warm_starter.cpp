@@ -1,0 +1,149 @@
+#include "dc/warmstart/sph_warm_starter.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "dc/engine/error.hpp"
+#include "dc/warmstart/oracle.hpp"
+#include "starters.hpp"
+
+namespace dc {
+
+SphTransferDef default_sph_setting(double width, double height) {
+  SphTransferDef d;
+  d.grid.width = width;
+  d.grid.height = height;
+  d.grid.spacing = 0.5;
+  d.grid.channels = 2;
+  d.kernel = SphKernelType::Poly6;
+  d.support = 0.5;
+  d.normalisation = SphNormalisation::Shepard;
+  return d;
+}
+
+void parse_sph_setting(const std::string& text, SphTransferDef& def) {
+  if (text.empty()) return;
+  std::vector<std::string> parts;
+  std::stringstream ss(text);
+  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+  if (parts.size() < 3 || parts.size() > 4)
+    throw ConfigError("sph setting '" + text + "': expected KERNEL:D:H[:NORMALISATION]");
+  def.kernel = parse_sph_kernel(parts[0]);
+  auto number = [&](const std::string& s, const char* what) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(s, &used);
+      if (used == s.size() && v > 0 && std::isfinite(v)) return v;
+    } catch (const std::exception&) {
+    }
+    throw ConfigError("sph setting '" + text + "': " + what + " must be a number > 0");
+  };
+  def.grid.spacing = number(parts[1], "D");
+  def.support = number(parts[2], "H");
+  if (parts.size() == 4) def.normalisation = parse_sph_normalisation(parts[3]);
+  try {
+    def.validate();
+  } catch (const std::exception& e) {
+    throw ConfigError("sph setting '" + text + "': " + e.what());
+  }
+}
+
+void contact_lambda_channels(const std::vector<Contact>& contacts, std::vector<Vec2>& points,
+                             std::vector<double>& values) {
+  points.clear();
+  values.clear();
+  for (const Contact& c : contacts) {
+    points.push_back(c.point);
+    values.push_back(c.lambda_n);
+    values.push_back(c.lambda_t);
+  }
+}
+
+namespace {
+
+/// Writes per-contact (λ_n, λ_t) read back from the grid into the row vector.
+Eigen::VectorXd to_rows(const World& w, std::span<const double> v) {
+  Eigen::VectorXd out(w.problem().rows());
+  for (int c = 0; c < static_cast<int>(w.contacts().size()); ++c) {
+    out[w.normal_row(c)] = v[2 * static_cast<size_t>(c)];
+    if (w.has_friction_rows()) out[w.tangent_row(c)] = v[2 * static_cast<size_t>(c) + 1];
+  }
+  project_feasible(w.problem(), out);
+  return out;
+}
+
+class SphWarmStarter final : public WarmStarter {
+ public:
+  SphWarmStarter(const SphTransferDef& def, std::string arg, bool previous)
+      : def_(def), arg_(std::move(arg)), previous_(previous) {}
+  std::string name() const override {
+    const std::string base = previous_ ? "sph-prev" : "sph";
+    return arg_.empty() ? base : base + ":" + arg_;
+  }
+  bool uses_oracle() const override { return !previous_; }
+  double oracle_ms() const override { return oracle_ms_; }
+
+  Eigen::VectorXd initial_guess(const StepView& v) override {
+    const World& w = v.world;
+    oracle_ms_ = 0;
+    targets_.clear();
+    for (const Contact& c : w.contacts()) targets_.push_back(c.point);
+    if (previous_) {
+      contact_lambda_channels(w.previous_contacts(), points_, values_);
+    } else {
+      Eigen::VectorXd star;
+      if (v.oracle) {
+        star = *v.oracle;
+      } else {
+        const auto t0 = std::chrono::steady_clock::now();
+        star = solve_oracle(w.problem()).lambda;
+        oracle_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      }
+      points_ = targets_;
+      values_.assign(2 * targets_.size(), 0.0);
+      for (int c = 0; c < static_cast<int>(targets_.size()); ++c) {
+        values_[2 * static_cast<size_t>(c)] = star[w.normal_row(c)];
+        if (w.has_friction_rows()) values_[2 * static_cast<size_t>(c) + 1] = star[w.tangent_row(c)];
+      }
+    }
+    if (targets_.empty()) return Eigen::VectorXd::Zero(w.problem().rows());
+    if (points_.empty()) return Eigen::VectorXd::Zero(w.problem().rows());
+    // The grid covers the scene's box: (re)build the transfer when the box changes.
+    if (!transfer_ || transfer_->def().grid.width != w.def().world.width ||
+        transfer_->def().grid.height != w.def().world.height) {
+      SphTransferDef d = def_;
+      d.grid.width = w.def().world.width;
+      d.grid.height = w.def().world.height;
+      transfer_.emplace(d);
+    }
+    transfer_->splat(points_, values_);
+    return to_rows(w, transfer_->gather(transfer_->grid(), targets_));
+  }
+
+ private:
+  SphTransferDef def_;
+  std::optional<SphTransfer> transfer_;
+  std::string arg_;
+  bool previous_;
+  double oracle_ms_ = 0;
+  std::vector<Vec2> points_, targets_;
+  std::vector<double> values_;
+};
+
+}  // namespace
+
+std::unique_ptr<WarmStarter> make_sph_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  SphTransferDef def = default_sph_setting(30.0, 30.0);  // box replaced by the scene's
+  parse_sph_setting(spec.arg, def);
+  return std::make_unique<SphWarmStarter>(def, spec.arg, false);
+}
+
+std::unique_ptr<WarmStarter> make_sph_prev_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  SphTransferDef def = default_sph_setting(30.0, 30.0);
+  parse_sph_setting(spec.arg, def);
+  return std::make_unique<SphWarmStarter>(def, spec.arg, true);
+}
+
+}  // namespace dc
