@@ -1,0 +1,72 @@
+#pragma once
+// Conv2d: k×k convolution (cross-correlation, like every DL framework) with stride s and
+// "same" padding, optional fused ReLU.
+//
+// Shapes: x [N, Cin, H, W] → y [N, Cout, Ho, Wo] with Ho = ⌈H/s⌉, Wo = ⌈W/s⌉. The total
+// padding per axis is max((Ho−1)·s + k − H, 0), split as ⌊·/2⌋ before and the rest after
+// (TensorFlow's "SAME"; for odd k and s ∈ {1, 2} on odd sizes it equals PyTorch's
+// padding = (k−1)/2).
+//
+//   y[n, o, oy, ox] = b[o] + Σ_{c, ky, kx} w[o, c, ky, kx] · x[n, c, oy·s + ky − pt, ox·s + kx − pl]
+//
+// Implementation (im2col + GEMM): for a tile of P output pixels the patch matrix
+// X_col (P × K, K = Cin·k², column (c,ky,kx) holds the shifted input plane) is built in a
+// per-thread scratch buffer, then Y_tile (P × Cout) = X_col · Wᵀ with Wᵀ the weight tensor
+// [Cout, Cin, k, k] viewed as a column-major K × Cout matrix. Because a sample of y is a
+// column-major (Ho·Wo) × Cout matrix, the GEMM result lands in place. Tiles are a few
+// output rows so that X_col stays in L2.
+//
+// Backward:  dWᵀ += X_colᵀ · dY   (K × Cout),   db += Σ_p dY[p, :],
+//            dX_col = dY · W      (P × K), scattered back (col2im, adjoint of im2col).
+// Threads: forward runs OpenMP over (sample, tile) items; backward over samples, each
+// thread accumulating its own dW which are then summed in thread order — deterministic
+// for a fixed thread count.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dc/learning/layer.hpp"
+
+namespace dc {
+
+class Conv2d final : public Layer {
+ public:
+  /// Throws InvalidArgument for non-positive channels, even or non-positive kernel, stride < 1.
+  Conv2d(int in_channels, int out_channels, int kernel = 3, int stride = 1, bool relu = false);
+
+  [[nodiscard]] std::string type() const override { return "conv"; }
+  [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] Shape output_shape(const Shape& in) const override;
+  void forward(const Tensor& x, Tensor& y, bool training) override;
+  void backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor* dx) override;
+  std::vector<ParamRef> parameters() override;
+  void initialize(const Initializer& init, Rng& rng) override;
+
+  [[nodiscard]] int in_channels() const { return cin_; }
+  [[nodiscard]] int out_channels() const { return cout_; }
+  [[nodiscard]] int kernel() const { return k_; }
+  [[nodiscard]] int stride() const { return s_; }
+  [[nodiscard]] bool relu() const { return relu_; }
+  Tensor& weight() { return weight_; }  ///< [Cout, Cin, k, k]
+  Tensor& bias() { return bias_; }      ///< [1, Cout, 1, 1]
+
+ private:
+  struct Geometry {
+    int h, w, ho, wo, pad_top, pad_left, rows_per_tile;
+  };
+  [[nodiscard]] Geometry geometry(const Shape& in) const;
+  void im2col(const float* x, const Geometry& g, int oy0, int oy1, float* col) const;
+  void col2im(const float* col, const Geometry& g, int oy0, int oy1, float* dx) const;
+
+  int cin_, cout_, k_, s_;
+  bool relu_;
+  Tensor weight_, bias_, dweight_, dbias_;
+  // Per-thread scratch, grown on demand and reused across calls (index = OpenMP thread).
+  std::vector<Eigen::VectorXf> col_;    ///< X_col / dX_col of one tile (P × K)
+  std::vector<Eigen::VectorXf> dyr_;    ///< dY masked by the fused ReLU (P × Cout)
+  std::vector<Eigen::MatrixXf> dw_;     ///< dWᵀ accumulators (K × Cout)
+  std::vector<Eigen::VectorXf> db_;     ///< db accumulators (Cout)
+};
+
+}  // namespace dc

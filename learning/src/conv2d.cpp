@@ -1,0 +1,246 @@
+#include "dc/learning/conv2d.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "dc/engine/error.hpp"
+#include "dc/learning/initializer.hpp"
+#include "omp_util.hpp"
+
+namespace dc {
+
+namespace {
+// Target size of one X_col tile in floats (256 KiB): fits L2 together with Wᵀ and the
+// output tile, so the GEMM streams from cache instead of memory.
+constexpr long kTileFloats = 64 * 1024;
+// Below this many multiply-adds a call runs on one thread: a parallel region costs a few
+// µs even on an idle machine, and much more when the cores are shared.
+constexpr double kParallelMacs = 2e5;
+
+using MatMap = Eigen::Map<Eigen::MatrixXf>;
+using CMatMap = Eigen::Map<const Eigen::MatrixXf>;
+using StridedMap = Eigen::Map<Eigen::MatrixXf, 0, Eigen::OuterStride<>>;
+using CStridedMap = Eigen::Map<const Eigen::MatrixXf, 0, Eigen::OuterStride<>>;
+
+template <class T>
+void grow(std::vector<T>& v, std::size_t threads) {
+  if (v.size() < threads) v.resize(threads);
+}
+void grow(Eigen::VectorXf& v, Eigen::Index n) {
+  if (v.size() < n) v.resize(n);
+}
+}  // namespace
+
+Conv2d::Conv2d(int in_channels, int out_channels, int kernel, int stride, bool relu)
+    : cin_(in_channels), cout_(out_channels), k_(kernel), s_(stride), relu_(relu) {
+  if (cin_ <= 0 || cout_ <= 0) throw InvalidArgument("Conv2d: channel counts must be positive");
+  if (k_ <= 0 || k_ % 2 == 0) throw InvalidArgument("Conv2d: kernel must be odd and positive, got " + std::to_string(k_));
+  if (s_ < 1) throw InvalidArgument("Conv2d: stride must be >= 1, got " + std::to_string(s_));
+  weight_ = Tensor(cout_, cin_, k_, k_);
+  dweight_ = Tensor(cout_, cin_, k_, k_);
+  bias_ = Tensor(1, cout_, 1, 1);
+  dbias_ = Tensor(1, cout_, 1, 1);
+}
+
+std::string Conv2d::describe() const {
+  return "conv " + std::to_string(cin_) + "->" + std::to_string(cout_) + " k" + std::to_string(k_) + " s" +
+         std::to_string(s_) + (relu_ ? " relu" : "");
+}
+
+Shape Conv2d::output_shape(const Shape& in) const {
+  if (in.c != cin_)
+    throw InvalidArgument("Conv2d (" + describe() + "): input has " + std::to_string(in.c) + " channels");
+  if (in.h <= 0 || in.w <= 0) throw InvalidArgument("Conv2d: empty input " + in.str());
+  return {in.n, cout_, detail::ceil_div(in.h, s_), detail::ceil_div(in.w, s_)};
+}
+
+Conv2d::Geometry Conv2d::geometry(const Shape& in) const {
+  const Shape out = output_shape(in);
+  Geometry g{};
+  g.h = in.h;
+  g.w = in.w;
+  g.ho = out.h;
+  g.wo = out.w;
+  // "same" padding: total = max((Ho−1)·s + k − H, 0), the smaller half before.
+  g.pad_top = std::max((g.ho - 1) * s_ + k_ - g.h, 0) / 2;
+  g.pad_left = std::max((g.wo - 1) * s_ + k_ - g.w, 0) / 2;
+  const long K = static_cast<long>(cin_) * k_ * k_;
+  g.rows_per_tile = static_cast<int>(std::clamp<long>(kTileFloats / (K * g.wo), 1, g.ho));
+  return g;
+}
+
+// X_col for output rows [oy0, oy1): column (c, ky, kx) is the input plane c shifted by
+// (ky − pt, kx − pl) and subsampled by s, zero outside the image. P = (oy1−oy0)·Wo rows.
+void Conv2d::im2col(const float* x, const Geometry& g, int oy0, int oy1, float* col) const {
+  const int P = (oy1 - oy0) * g.wo;
+  for (int c = 0; c < cin_; ++c) {
+    const float* plane = x + static_cast<std::size_t>(c) * g.h * g.w;
+    for (int ky = 0; ky < k_; ++ky) {
+      for (int kx = 0; kx < k_; ++kx) {
+        float* dst = col + static_cast<std::size_t>((c * k_ + ky) * k_ + kx) * P;
+        const int dxoff = kx - g.pad_left;
+        // ox range whose source column ix = ox·s + dxoff lies inside [0, W).
+        const int ox_lo = std::clamp(detail::ceil_div(-dxoff, s_), 0, g.wo);
+        const int ox_hi = std::clamp(detail::floor_div(g.w - 1 - dxoff, s_) + 1, ox_lo, g.wo);
+        for (int oy = oy0; oy < oy1; ++oy, dst += g.wo) {
+          const int iy = oy * s_ + ky - g.pad_top;
+          if (iy < 0 || iy >= g.h) {
+            std::memset(dst, 0, sizeof(float) * g.wo);
+            continue;
+          }
+          const float* src = plane + static_cast<std::size_t>(iy) * g.w + dxoff;
+          for (int ox = 0; ox < ox_lo; ++ox) dst[ox] = 0.0f;
+          if (s_ == 1) {
+            std::memcpy(dst + ox_lo, src + ox_lo, sizeof(float) * (ox_hi - ox_lo));
+          } else {
+            for (int ox = ox_lo; ox < ox_hi; ++ox) dst[ox] = src[ox * s_];
+          }
+          for (int ox = ox_hi; ox < g.wo; ++ox) dst[ox] = 0.0f;
+        }
+      }
+    }
+  }
+}
+
+// Adjoint of im2col: dx[c, iy, ix] += dX_col[p, (c, ky, kx)] for every in-image source.
+void Conv2d::col2im(const float* col, const Geometry& g, int oy0, int oy1, float* dx) const {
+  const int P = (oy1 - oy0) * g.wo;
+  for (int c = 0; c < cin_; ++c) {
+    float* plane = dx + static_cast<std::size_t>(c) * g.h * g.w;
+    for (int ky = 0; ky < k_; ++ky) {
+      for (int kx = 0; kx < k_; ++kx) {
+        const float* src = col + static_cast<std::size_t>((c * k_ + ky) * k_ + kx) * P;
+        const int dxoff = kx - g.pad_left;
+        const int ox_lo = std::clamp(detail::ceil_div(-dxoff, s_), 0, g.wo);
+        const int ox_hi = std::clamp(detail::floor_div(g.w - 1 - dxoff, s_) + 1, ox_lo, g.wo);
+        for (int oy = oy0; oy < oy1; ++oy, src += g.wo) {
+          const int iy = oy * s_ + ky - g.pad_top;
+          if (iy < 0 || iy >= g.h) continue;
+          float* dst = plane + static_cast<std::size_t>(iy) * g.w + dxoff;
+          if (s_ == 1) {
+            for (int ox = ox_lo; ox < ox_hi; ++ox) dst[ox] += src[ox];
+          } else {
+            for (int ox = ox_lo; ox < ox_hi; ++ox) dst[ox * s_] += src[ox];
+          }
+        }
+      }
+    }
+  }
+}
+
+void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
+  const Geometry g = geometry(x.shape());
+  const int N = x.n();
+  y.resize({N, cout_, g.ho, g.wo});
+  const int K = cin_ * k_ * k_;
+  const int rpt = g.rows_per_tile;
+  const int ntiles = (g.ho + rpt - 1) / rpt;
+  const int items = N * ntiles;
+  const double macs = double(N) * g.ho * g.wo * K * cout_;
+  const int T = macs >= kParallelMacs ? detail::max_threads() : 1;
+  grow(col_, static_cast<std::size_t>(T));
+  for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
+  const CMatMap Wt(weight_.data(), K, cout_);
+  const Eigen::Map<const Eigen::RowVectorXf> b(bias_.data(), cout_);
+  const int plane = g.ho * g.wo;
+
+  // One work item = one tile of one sample; items write disjoint rows of y. With a
+  // single item the region is skipped and Eigen may parallelise the GEMM itself.
+#pragma omp parallel for schedule(static) num_threads(T) if (T > 1 && items > 1)
+  for (int it = 0; it < items; ++it) {
+    const int n = it / ntiles;
+    const int oy0 = (it % ntiles) * rpt;
+    const int oy1 = std::min(g.ho, oy0 + rpt);
+    const int P = (oy1 - oy0) * g.wo;
+    float* col = col_[detail::thread_id()].data();
+    im2col(x.sample(n), g, oy0, oy1, col);
+    StridedMap Y(y.sample(n) + static_cast<std::size_t>(oy0) * g.wo, P, cout_, Eigen::OuterStride<>(plane));
+    Y.noalias() = CMatMap(col, P, K) * Wt;
+    Y.rowwise() += b;
+    if (relu_) Y = Y.cwiseMax(0.0f);
+  }
+}
+
+void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor* dx) {
+  const Geometry g = geometry(x.shape());
+  const int N = x.n();
+  require_shape(dy.shape(), {N, cout_, g.ho, g.wo}, "Conv2d::backward dy");
+  require_shape(y.shape(), dy.shape(), "Conv2d::backward y");
+  if (dx != nullptr) dx->resize(x.shape());
+  const int K = cin_ * k_ * k_;
+  const int rpt = g.rows_per_tile;
+  const int plane = g.ho * g.wo;
+  // One sample per work item (col2im of neighbouring tiles overlaps within a sample).
+  // Batch 1 runs outside a parallel region so that Eigen can parallelise its GEMMs.
+  const double macs = double(N) * g.ho * g.wo * K * cout_;
+  const int T = N > 1 && macs >= kParallelMacs ? detail::max_threads() : 1;
+  grow(col_, static_cast<std::size_t>(T));
+  grow(dyr_, static_cast<std::size_t>(T));
+  grow(dw_, static_cast<std::size_t>(T));
+  grow(db_, static_cast<std::size_t>(T));
+  for (int t = 0; t < T; ++t) {
+    grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
+    if (relu_) grow(dyr_[t], static_cast<Eigen::Index>(rpt) * g.wo * cout_);
+    dw_[t].setZero(K, cout_);
+    db_[t].setZero(cout_);
+  }
+  const CMatMap Wt(weight_.data(), K, cout_);
+
+#pragma omp parallel num_threads(T) if (T > 1)
+  {
+    const int tid = detail::thread_id();
+    Eigen::MatrixXf& dW = dw_[tid];
+    Eigen::VectorXf& db = db_[tid];
+    float* col = col_[tid].data();
+#pragma omp for schedule(static)
+    for (int n = 0; n < N; ++n) {
+      float* dxs = dx != nullptr ? dx->sample(n) : nullptr;
+      if (dxs != nullptr) std::memset(dxs, 0, sizeof(float) * x.shape().sample_count());
+      for (int oy0 = 0; oy0 < g.ho; oy0 += rpt) {
+        const int oy1 = std::min(g.ho, oy0 + rpt);
+        const int P = (oy1 - oy0) * g.wo;
+        const std::size_t off = static_cast<std::size_t>(oy0) * g.wo;
+        CStridedMap dY(dy.sample(n) + off, P, cout_, Eigen::OuterStride<>(plane));
+        const float* dyp = dy.sample(n) + off;
+        Eigen::Index dy_stride = plane;
+        if (relu_) {
+          // d/dz relu(z) = [y > 0]; masking dY once serves dW, db and dX.
+          MatMap masked(dyr_[tid].data(), P, cout_);
+          CStridedMap Y(y.sample(n) + off, P, cout_, Eigen::OuterStride<>(plane));
+          masked = (Y.array() > 0.0f).select(dY, 0.0f);
+          dyp = masked.data();
+          dy_stride = P;
+        }
+        CStridedMap G(dyp, P, cout_, Eigen::OuterStride<>(dy_stride));
+        im2col(x.sample(n), g, oy0, oy1, col);
+        MatMap C(col, P, K);
+        dW.noalias() += C.transpose() * G;
+        db.noalias() += G.colwise().sum().transpose();
+        if (dxs != nullptr) {
+          C.noalias() = G * Wt.transpose();
+          col2im(col, g, oy0, oy1, dxs);
+        }
+      }
+    }
+  }
+  // Fixed-order reduction over threads → bit-equal results for a fixed thread count.
+  MatMap dWt(dweight_.data(), K, cout_);
+  Eigen::Map<Eigen::VectorXf> dB(dbias_.data(), cout_);
+  dWt = dw_[0];
+  dB = db_[0];
+  for (int t = 1; t < T; ++t) {
+    dWt += dw_[t];
+    dB += db_[t];
+  }
+}
+
+std::vector<ParamRef> Conv2d::parameters() {
+  return {{"weight", &weight_, &dweight_, true}, {"bias", &bias_, &dbias_, false}};
+}
+
+void Conv2d::initialize(const Initializer& init, Rng& rng) {
+  init.fill(weight_, cin_ * k_ * k_, cout_ * k_ * k_, rng);
+  bias_.set_zero();
+}
+
+}  // namespace dc
