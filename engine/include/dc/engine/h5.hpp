@@ -1,0 +1,238 @@
+#pragma once
+// A small RAII layer on the HDF5 C API, shared by every HDF5 writer and reader of the
+// project (trajectories, data sets, models, bench results; layouts in docs/formats.md).
+//
+//   auto out = dc::AtomicH5File("results.h5");            // writes results.h5.tmp
+//   out->write<double>("/bodies/position", xs, {steps, n, 2});
+//   out->create_dataset<float>("/samples/lambda", {0, 64}, {.extendible = true, .deflate = 4});
+//   out->append_rows<float>("/samples/lambda", row);       // grows the first axis
+//   out->set_attribute("/", "format", "deepcontact-results");
+//   out.commit();                                          // flush, close, rename → results.h5
+//
+//   const auto in = dc::H5File::open_read("results.h5");
+//   auto xs = in.read<double>("/bodies/position", {dc::kH5Any, n, 2});  // checks the shape
+//
+// Conventions (docs/formats.md, "HDF5 conventions"):
+//   * Object paths are absolute ("/a/b/c"; a leading '/' may be omitted). Creating a
+//     dataset or group creates the missing intermediate groups.
+//   * Elements are double, float, int32, int64 or uint8, stored little-endian
+//     (IEEE F64LE/F32LE, STD I32LE/I64LE/U8LE), row-major (C order), as h5py/numpy expect.
+//   * Writes require the stored type to be exactly T (no silent narrowing); reads also
+//     accept stored types that convert to T without loss (float32 → double, int32 → int64,
+//     uint8 → any), so files written by h5py with a wider-than-needed dtype still load.
+//   * Shape 0-rank ({}) is a scalar dataset. An extendible dataset has an unlimited first
+//     axis, is chunked, and grows with append_rows() (also across close/reopen: resume).
+//
+// Errors: every failing HDF5 call throws dc::IoError with one line naming the file, the
+// object path and the operation, plus HDF5's innermost reason when it has one, e.g.
+//   "results.h5: /bodies/position: dataset has shape (3,5) but (3,5,2) was expected".
+// Contract violations by the caller (buffer size ≠ product of the shape, compression level
+// outside 0..9, using a closed file) throw dc::InvalidArgument.
+//
+// HDF5's automatic error-stack printing is switched off for the duration of each call of
+// this helper (saved and restored by a scope guard), so users see exceptions, not stderr
+// noise, and code outside the helper keeps whatever setting it had. Debian's libhdf5 is
+// built thread-safe, where that setting is per thread, so the guard does not race with
+// other threads. Objects of this layer are not themselves synchronised: use one H5File per
+// thread (HDF5 serialises the calls internally anyway).
+#include <hdf5.h>
+
+#include <concepts>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dc {
+
+/// The element types the helper reads and writes.
+template <class T>
+concept H5Element = std::same_as<T, double> || std::same_as<T, float> || std::same_as<T, std::int32_t> ||
+                    std::same_as<T, std::int64_t> || std::same_as<T, std::uint8_t>;
+
+/// Stored element type of a dataset or attribute.
+enum class H5Type { Float64, Float32, Int32, Int64, UInt8 };
+
+/// "float64", "float32", "int32", "int64", "uint8" (numpy's names).
+const char* to_string(H5Type t);
+
+using H5Shape = std::vector<hsize_t>;
+
+/// Wildcard extent in an expected shape: {kH5Any, n, 2} accepts any number of rows.
+inline constexpr hsize_t kH5Any = ~hsize_t{0};
+
+/// "(3,5,2)"; kH5Any prints as "*", a scalar as "()".
+std::string to_string(const H5Shape& shape);
+
+/// How a dataset is laid out on disk.
+struct H5DatasetOptions {
+  /// Unlimited first axis, so append_rows()/resize_rows() can grow it. Implies chunking.
+  bool extendible = false;
+  /// Rows (first-axis extent) per chunk; 0 = automatic (≈ 256 KiB chunks). Chunking is
+  /// used only when extendible or compressed; the other axes are never split.
+  hsize_t chunk_rows = 0;
+  /// gzip (deflate) level 1–9 with the byte-shuffle filter in front; 0 = uncompressed.
+  int deflate = 0;
+};
+
+/// How strings are stored: variable-length (h5py `str`, the default) or fixed-length,
+/// NUL-padded (numpy `S<n>`). Reads accept both.
+enum class H5StringKind { Variable, Fixed };
+
+/// An open HDF5 file. Move-only; the destructor closes it (errors ignored — call close()
+/// to see them). All object paths are relative to the root group.
+class H5File {
+ public:
+  /// Creates `path`, truncating an existing file.
+  static H5File create(const std::string& path);
+  /// Opens an existing file read-only. Missing, non-HDF5 or truncated files → IoError.
+  static H5File open_read(const std::string& path);
+  /// Opens an existing file for reading and writing (e.g. to append rows and resume).
+  static H5File open_rw(const std::string& path);
+
+  H5File(H5File&& other) noexcept;
+  H5File& operator=(H5File&& other) noexcept;
+  H5File(const H5File&) = delete;
+  H5File& operator=(const H5File&) = delete;
+  ~H5File();
+
+  [[nodiscard]] const std::string& path() const { return path_; }
+  [[nodiscard]] bool is_open() const { return id_ >= 0; }
+  [[nodiscard]] bool writable() const { return writable_; }
+  /// The raw HDF5 file id, for the rare call this layer does not wrap. Owned by this object.
+  [[nodiscard]] hid_t id() const { return id_; }
+
+  /// Writes all buffered data to disk (H5Fflush, global scope).
+  void flush();
+  /// Closes the file; later calls (other than close) throw InvalidArgument.
+  void close();
+
+  // ---- groups and objects --------------------------------------------------------------
+  /// True if a group or dataset exists at `path` (false also when a parent is missing).
+  [[nodiscard]] bool exists(std::string_view path) const;
+  [[nodiscard]] bool is_group(std::string_view path) const;
+  [[nodiscard]] bool is_dataset(std::string_view path) const;
+  /// Creates the group and any missing parents; an existing group is fine.
+  void create_group(std::string_view path);
+  /// Names of the direct children of a group, in name order.
+  [[nodiscard]] std::vector<std::string> children(std::string_view group) const;
+  /// Unlinks a group or dataset (e.g. to replace it). The space is not reclaimed in place.
+  void remove(std::string_view path);
+
+  // ---- numeric datasets ----------------------------------------------------------------
+  /// Creates a dataset of T with the given shape (rows may be 0 when extendible). An
+  /// existing object at `path` is an error: remove() it first to replace it.
+  template <H5Element T>
+  void create_dataset(std::string_view path, const H5Shape& shape, const H5DatasetOptions& options = {});
+  /// create_dataset + write all of `data` (row-major, size = product of `shape`).
+  template <H5Element T>
+  void write(std::string_view path, std::span<const T> data, const H5Shape& shape,
+             const H5DatasetOptions& options = {});
+  template <H5Element T>
+  void write(std::string_view path, const std::vector<T>& data, const H5Shape& shape,
+             const H5DatasetOptions& options = {}) {
+    write<T>(path, std::span<const T>(data), shape, options);
+  }
+  /// Appends whole rows to an extendible dataset: `data.size()` must be a multiple of the
+  /// row size (product of the shape without its first axis). Returns the new row count.
+  template <H5Element T>
+  hsize_t append_rows(std::string_view path, std::span<const T> data);
+  template <H5Element T>
+  hsize_t append_rows(std::string_view path, const std::vector<T>& data) {
+    return append_rows<T>(path, std::span<const T>(data));
+  }
+  /// Overwrites rows [first_row, first_row + data.size()/row size) of an existing dataset.
+  template <H5Element T>
+  void write_rows(std::string_view path, hsize_t first_row, std::span<const T> data);
+  /// Sets the first-axis extent of an extendible dataset (shrinking drops rows: resume
+  /// after a crash by cutting back to the last consistent row).
+  void resize_rows(std::string_view path, hsize_t rows);
+
+  [[nodiscard]] H5Shape shape(std::string_view path) const;
+  [[nodiscard]] H5Type type(std::string_view path) const;
+  /// IoError unless the dataset's shape matches `expected` (kH5Any matches any extent).
+  void require_shape(std::string_view path, const H5Shape& expected) const;
+
+  /// The whole dataset, row-major.
+  template <H5Element T>
+  [[nodiscard]] std::vector<T> read(std::string_view path) const;
+  /// The whole dataset after require_shape(path, expected).
+  template <H5Element T>
+  [[nodiscard]] std::vector<T> read(std::string_view path, const H5Shape& expected) const;
+  /// Rows [first_row, first_row + count) (a hyperslab along the first axis), row-major.
+  template <H5Element T>
+  [[nodiscard]] std::vector<T> read_rows(std::string_view path, hsize_t first_row, hsize_t count) const;
+
+  // ---- string datasets (1-D) -----------------------------------------------------------
+  void write_strings(std::string_view path, const std::vector<std::string>& values,
+                     H5StringKind kind = H5StringKind::Variable);
+  [[nodiscard]] std::vector<std::string> read_strings(std::string_view path) const;
+
+  // ---- attributes on "/" (the file), a group or a dataset --------------------------------
+  [[nodiscard]] bool has_attribute(std::string_view object, std::string_view name) const;
+  /// Creates or replaces a string attribute (UTF-8).
+  void set_attribute(std::string_view object, std::string_view name, std::string_view value,
+                     H5StringKind kind = H5StringKind::Variable);
+  void set_attribute(std::string_view object, std::string_view name, const char* value,
+                     H5StringKind kind = H5StringKind::Variable) {
+    set_attribute(object, name, std::string_view(value), kind);
+  }
+  /// Creates or replaces a scalar numeric attribute.
+  template <H5Element T>
+  void set_attribute(std::string_view object, std::string_view name, T value);
+  /// Creates or replaces a 1-D numeric attribute.
+  template <H5Element T>
+  void set_attribute_array(std::string_view object, std::string_view name, std::span<const T> values);
+  [[nodiscard]] std::string attribute_string(std::string_view object, std::string_view name) const;
+  /// A scalar (or one-element) numeric attribute.
+  template <H5Element T>
+  [[nodiscard]] T attribute(std::string_view object, std::string_view name) const;
+  template <H5Element T>
+  [[nodiscard]] std::vector<T> attribute_array(std::string_view object, std::string_view name) const;
+  /// Names of the attributes of an object.
+  [[nodiscard]] std::vector<std::string> attribute_names(std::string_view object) const;
+
+ private:
+  H5File(std::string path, hid_t id, bool writable);
+  static H5File open(const std::string& path, bool writable);
+  void require_open() const;
+  void require_writable(std::string_view object) const;
+  [[noreturn]] void fail(std::string_view object, const std::string& what) const;
+
+  std::string path_;
+  hid_t id_ = -1;
+  bool writable_ = false;
+};
+
+/// A file written under `path + ".tmp"` and renamed onto `path` by commit(), so readers
+/// never see a half-written file and a crash leaves the old `path` intact. Destroying it
+/// without commit() deletes the temporary file. Two writers of the same path at once are
+/// not supported (they would share the temporary name).
+class AtomicH5File {
+ public:
+  /// Creates `path.tmp` (truncating a stale one from an earlier crash).
+  explicit AtomicH5File(std::string path);
+  AtomicH5File(const AtomicH5File&) = delete;
+  AtomicH5File& operator=(const AtomicH5File&) = delete;
+  ~AtomicH5File();
+
+  /// The file being written; InvalidArgument after commit().
+  H5File& file();
+  H5File* operator->() { return &file(); }
+  /// Flushes, closes and renames the temporary onto `path` (replacing an existing file).
+  void commit();
+
+  [[nodiscard]] const std::string& path() const { return path_; }
+  [[nodiscard]] const std::string& tmp_path() const { return tmp_; }
+  [[nodiscard]] bool committed() const { return committed_; }
+
+ private:
+  std::string path_;
+  std::string tmp_;
+  std::optional<H5File> file_;
+  bool committed_ = false;
+};
+
+}  // namespace dc
