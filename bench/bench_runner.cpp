@@ -27,6 +27,9 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
                                  Eigen::VectorXd& scratch) {
   const LcpProblem& p = world.problem();
   const StepView view{world, share_oracle ? &oracle : nullptr};
+  rec.seed.push_back(world.def().bodies.seed);
+  rec.step.push_back(world.step_index());
+  rec.rows.push_back(p.rows());
 
   auto t0 = Clock::now();
   Eigen::VectorXd lambda0 = ws.initial_guess(view);

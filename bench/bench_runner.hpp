@@ -38,6 +38,9 @@ struct BenchOptions {
 struct StarterRecord {
   std::string name;
   bool uses_oracle = false;
+  std::vector<std::uint64_t> seed;    ///< scene seed of each evaluated step
+  std::vector<int> step;              ///< step number of each evaluated step
+  std::vector<int> rows;              ///< LCP rows of each evaluated step
   std::vector<int> sweeps_to_tol;     ///< first k with θ_k ≤ tol; −1 = never within `sweeps`
   std::vector<double> warmstart_ms;   ///< time of initial_guess() less its own oracle solve
   std::vector<double> oracle_ms;      ///< oracle time the starter spent itself (0 if shared)

@@ -1,13 +1,94 @@
-// PLACEHOLDER until its issue lands: the subcommand exists but refuses to run.
+// deepcontact bench: compare warm starters on the same scenes (issue 3, DESIGN §6).
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
 
+#include "bench_report.hpp"
+#include "bench_runner.hpp"
+#include "cli_common.hpp"
 #include "commands.hpp"
 #include "dc/engine/error.hpp"
+#include "progress_bar.hpp"
 
 namespace dc::cli {
-void add_bench_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("bench", "(not yet implemented)");
-  cmd->allow_extras();
-  cmd->callback([] { throw dc::ConfigError("'bench' is not implemented yet"); });
+namespace {
+
+struct BenchArgs {
+  SceneArgs scene;
+  std::string warmstarts;
+  std::string seeds = "1..3";
+  int sweeps = 0;
+  double tol = 1e-2;
+  std::string mode = "paired";
+  std::string out;
+  std::string solver = "pgs";
+  std::string model;
+  int steps = 0;
+  bool quick = false;
+  bool list = false;
+};
+
+void run(const BenchArgs& a) {
+  WarmStarterRegistry registry = full_warm_starter_registry();
+  if (a.list) {
+    std::printf("%s", registry.help().c_str());
+    return;
+  }
+  bench::BenchOptions o;
+  o.scene = a.scene.load();
+  o.seeds = parse_seed_range(a.quick && a.seeds == "1..3" ? "1" : a.seeds);
+  if (a.steps > 0) o.scene.time.steps = a.steps;
+  else if (a.quick) o.scene.time.steps = std::min(o.scene.time.steps, 250);
+  o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
+  o.tolerance = a.tol;
+  o.solver = a.solver;
+  o.env.model_path = a.model;
+  if (a.mode == "paired") o.mode = bench::Mode::Paired;
+  else if (a.mode == "rollout") o.mode = bench::Mode::Rollout;
+  else throw ConfigError("--mode must be 'paired' or 'rollout', got '" + a.mode + "'");
+  o.warmstarts = a.warmstarts.empty() ? default_bench_starters(registry, a.quick) : split_list(a.warmstarts);
+
+  std::unique_ptr<ProgressBar> bar;
+  const bench::BenchResults r = bench::run_bench(o, registry, [&](long done, long total, const std::string& note) {
+    if (!bar) bar = std::make_unique<ProgressBar>("bench", total);
+    bar->advance(1, note);
+    (void)done;
+  });
+  if (bar) bar->finish();
+  const auto summary = bench::summarise(r);
+  std::printf("%s", bench::format_table(r, summary, false).c_str());
+  std::printf("(%zu evaluated steps, %d without contacts skipped; medians over steps; * = oracle starter; %.1f s)\n",
+              r.starters.empty() ? 0 : r.starters[0].sweeps_to_tol.size(), r.skipped_steps, r.wall_seconds);
+  if (!a.out.empty()) {
+    const auto files = bench::write_report(r, a.out);
+    std::printf("report: %s/report.md (%zu files)\n", a.out.c_str(), files.size());
+  }
 }
+
+}  // namespace
+
+void add_bench_command(CLI::App& app) {
+  auto args = std::make_shared<BenchArgs>();
+  auto* cmd = app.add_subcommand("bench", "Compare warm starters on the same scenes and write a report");
+  args->scene.add_options(*cmd);
+  cmd->add_option("--warmstarts", args->warmstarts,
+                  "Comma-separated starters, e.g. zero,builtin,copy:2,sph (default: every available one; --list)");
+  cmd->add_option("--seeds", args->seeds, "Scene seeds: A..B, or A,B,C (evaluation seeds)")->capture_default_str();
+  cmd->add_option("--sweeps", args->sweeps, "PGS sweeps per step (default: the scene's [solver] sweeps, 3000)");
+  cmd->add_option("--tol", args->tol, "Convergence threshold on theta [N] (1e-2 N = 1e-4 N*s at dt = 0.01)")
+      ->capture_default_str();
+  cmd->add_option("--mode", args->mode, "paired (identical LCPs for every starter) or rollout (own trajectories)")
+      ->capture_default_str();
+  cmd->add_option("--out", args->out, "Write summary.json, results.h5, plots and report.md into this directory");
+  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-assembled, psor, jacobi)")
+      ->capture_default_str();
+  cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
+  cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
+  cmd->add_flag("--quick", args->quick, "A short run (one seed, 250 steps, fewer starters): about a minute");
+  cmd->add_flag("--list", args->list, "List the available warm starters and exit");
+  cmd->callback([args] { run(*args); });
+}
+
 }  // namespace dc::cli

@@ -1,0 +1,28 @@
+#pragma once
+// The bench report: the stdout table, summary.json, results.h5 (raw per-step figures),
+// PNG plots (bench/plots/bench_plots.py) and report.md embedding them. Layouts: docs/bench.md.
+#include <string>
+#include <vector>
+
+#include "bench_runner.hpp"
+#include "provenance.hpp"
+
+namespace dc::bench {
+
+/// The earlier theses' median iterations to θ ≤ 1e-4 N·s (DESIGN §6), or "" if none.
+std::string thesis_reference(const std::string& starter);
+
+/// Plain-text table (also used in report.md as a Markdown table when `markdown`).
+std::string format_table(const BenchResults& r, const std::vector<StarterSummary>& s, bool markdown);
+
+std::string summary_json(const BenchResults& r, const std::vector<StarterSummary>& s, const Provenance& p);
+
+/// Writes results.h5 atomically (tmp + rename).
+void write_results_h5(const BenchResults& r, const Provenance& p, const std::string& path);
+
+/// Writes everything into `dir` (created). Plots are made by python3 + matplotlib; if that
+/// fails, a warning is printed and report.md says which plots are missing. Returns the list
+/// of files written.
+std::vector<std::string> write_report(const BenchResults& r, const std::string& dir);
+
+}  // namespace dc::bench
