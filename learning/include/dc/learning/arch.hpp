@@ -1,0 +1,72 @@
+#pragma once
+// Architecture description: the text form of a Network, stored verbatim in model files and
+// accepted by `train --arch FILE`.
+//
+// Format (TOML). A file is a name plus an ordered array of [[layer]] tables; each layer is
+// one graph node and may only read nodes defined before it:
+//
+//   name = "unet61"                 # free text
+//   [[layer]]
+//   name   = "e1"                   # unique; default "layer<i>"; "input" is the net input
+//   type   = "conv"                 # conv | relu | dropout | dense | upsample
+//   input  = "input"                # node name, or a list → concatenated along channels;
+//                                   # default: the previous layer (the input for the first)
+//   out    = 16                     # conv: output channels (input channels are inferred)
+//   kernel = 3                      # conv: odd kernel size            (default 3)
+//   stride = 1                      # conv: stride                     (default 1)
+//   relu   = true                   # conv/dense: fused ReLU           (default false)
+//   # dropout: rate = 0.1
+//   # dense:   out = 64  or  out = [2, 61, 61]  (output sample shape C, H, W)
+//   # upsample: match = "e1" (take H×W of that node) or size = [61, 61]; default 2H×2W
+//
+// The last layer is the network output. Shapes are resolved when a Network is built for
+// a concrete input (C, H, W), so one arch serves 4–7 input channels and any grid size.
+#include <array>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dc {
+
+/// One [[layer]] entry. Fields not used by a type keep their defaults.
+struct LayerSpec {
+  std::string name;
+  std::string type;                 ///< conv | relu | dropout | dense | upsample
+  std::vector<std::string> inputs;  ///< empty = previous layer; ≥ 2 = channel concat
+  int out = 0;                      ///< conv: channels; dense: features (if out_shape empty)
+  std::vector<int> out_shape;       ///< dense: [C, H, W] output sample shape
+  int kernel = 3;                   ///< conv
+  int stride = 1;                   ///< conv
+  bool relu = false;                ///< conv, dense
+  double rate = 0.0;                ///< dropout
+  std::string match;                ///< upsample: copy H×W of this node
+  std::array<int, 2> size{0, 0};    ///< upsample: explicit output H×W (0 = 2×)
+};
+
+struct ArchSpec {
+  std::string name;
+  std::vector<LayerSpec> layers;
+
+  /// Parse the TOML text; `source` names the file in messages. Throws ConfigError with a
+  /// one-line message naming the layer and key (unknown type or key, wrong value type,
+  /// duplicate or unknown node name, missing required key).
+  static ArchSpec parse(std::string_view text, std::string_view source = "<arch>");
+  /// Read and parse a file; throws IoError if it cannot be read, ConfigError if invalid.
+  static ArchSpec load(const std::filesystem::path& path);
+  /// Canonical TOML text; parse(to_toml()) reproduces the spec.
+  [[nodiscard]] std::string to_toml() const;
+};
+
+/// The default small U-Net (≈ 40 k weights for 4 input channels, 2 outputs):
+///   e1 conv→16 s1 relu [H]      e2 conv→32 s2 relu [⌈H/2⌉]   e3 conv→32 s2 relu [⌈H/4⌉]
+///   drop dropout 0.1 → u2 upsample(match e2) → d2 conv([u2,e2])→32 relu
+///   u1 upsample(match e1) → d1 conv([u1,e1])→16 relu → out conv→out_channels (linear)
+ArchSpec default_arch(int out_channels = 2, double dropout = 0.1);
+
+/// The seed's dense-head network: conv→32 s2 relu, conv→32 s2 relu, dropout, dense to
+/// [out_channels, out_h, out_w]. For 61×61 that is 32·16·16 = 8192 → 7442 outputs,
+/// ≈ 61 M weights (the thesis' net had 64.5 M; its exact layer list is not recorded).
+ArchSpec seed_dense_arch(int out_channels = 2, int out_h = 61, int out_w = 61, double dropout = 0.1);
+
+}  // namespace dc

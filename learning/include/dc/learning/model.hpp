@@ -1,0 +1,47 @@
+#pragma once
+// Model: everything needed to turn a raw feature grid into a raw label grid — the network,
+// the per-channel standardisation of inputs and outputs, and the grid it was trained for.
+// Persisted by save_model / load_model (model_file.hpp).
+#include <string>
+#include <vector>
+
+#include "dc/learning/channel_stats.hpp"
+#include "dc/learning/network.hpp"
+
+namespace dc {
+
+/// The grid a model was trained on (DESIGN §4): spacing d, kernel support h, kernel name,
+/// node counts, and the channel names of features (input) and labels (output), in order.
+struct ModelGrid {
+  double d = 0.5;
+  double h = 0.5;
+  std::string kernel = "poly6";
+  int nx = 61;
+  int ny = 61;
+  std::vector<std::string> feature_channels{"m", "v_x", "v_y", "omega"};
+  std::vector<std::string> label_channels{"lambda_n", "lambda_t"};
+};
+
+class Model {
+ public:
+  /// Network for inputs [in_channels, grid.ny, grid.nx]; stats start as the identity.
+  /// Throws ConfigError when the arch does not fit, InvalidArgument when the channel name
+  /// lists do not match the network's input/output channels (empty lists are filled with
+  /// "f0", "f1", … / "l0", …).
+  Model(ArchSpec arch, ModelGrid grid, int in_channels);
+
+  /// Raw features [N, C_in, ny, nx] → raw labels [N, C_out, ny, nx] (inference mode).
+  Tensor predict(const Tensor& features);
+
+  [[nodiscard]] const ModelGrid& grid() const { return grid_; }
+  Network& network() { return net_; }
+  ChannelStats input_stats;   ///< standardisation of features (C_in entries)
+  ChannelStats output_stats;  ///< standardisation of labels (C_out entries)
+
+ private:
+  ModelGrid grid_;
+  Network net_;
+  Tensor scratch_;
+};
+
+}  // namespace dc

@@ -1,0 +1,30 @@
+#pragma once
+// Model files (HDF5, via dc::H5File). Layout, format version 1:
+//
+//   /                      attrs  format = "deepcontact-cnn-model", format_version = 1 (int32),
+//                                 input_shape = [C_in, ny, nx], output_shape = [C_out, ny, nx] (int32)
+//   /arch                  string dataset: the ArchSpec TOML text (arch.hpp)
+//   /weights/<node>/<p>    float32, shape of the parameter tensor: conv weight [Cout, Cin, k, k],
+//                          conv bias [1, Cout, 1, 1], dense weight [O, D, 1, 1], bias [1, O, 1, 1]
+//   /normalisation/{input_mean,input_std,output_mean,output_std}   float32 [C]
+//   /grid                  group attrs d, h (float64), kernel (string), nx, ny (int32);
+//   /grid/feature_channels, /grid/label_channels   1-D string datasets
+//
+// save_model writes "<path>.tmp" and renames it onto <path> when complete.
+#include <filesystem>
+
+#include "dc/learning/model.hpp"
+
+namespace dc {
+
+inline constexpr int kModelFormatVersion = 1;
+
+/// Throws IoError (one line) if the file cannot be written.
+void save_model(Model& model, const std::filesystem::path& path);
+
+/// Throws IoError with a one-line message for a missing, non-HDF5 or truncated file, a
+/// different format version, a missing dataset or attribute, a weight of the wrong shape,
+/// or an arch text that does not parse/build.
+Model load_model(const std::filesystem::path& path);
+
+}  // namespace dc

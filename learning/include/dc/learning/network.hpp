@@ -1,0 +1,73 @@
+#pragma once
+// Network: a small directed acyclic graph of layers built from an ArchSpec for a concrete
+// input sample shape (C, H, W). Node i runs layer i on the output of its input node, or on
+// the channel concatenation of several input nodes (skip connections); the last node is
+// the output. The graph owns all activations and their gradients, so layers never copy
+// them (see layer.hpp), and buffers are reused across calls of equal batch size.
+//
+// Backward walks the nodes in reverse; a node output read by several consumers (e.g. an
+// encoder feature map feeding both the next conv and a skip concat) sums their
+// gradients in consumer order. The input gradient of the network is not computed.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dc/learning/arch.hpp"
+#include "dc/learning/layer.hpp"
+
+namespace dc {
+
+class Initializer;
+class Rng;
+
+class Network {
+ public:
+  /// Build for input samples of shape [·, in.c, in.h, in.w]. Throws ConfigError when the
+  /// arch does not fit the input (channel/size mismatch, bad upsample target, ...).
+  Network(ArchSpec arch, const Shape& in);
+
+  Network(const Network&) = delete;
+  Network& operator=(const Network&) = delete;
+  Network(Network&&) noexcept = default;
+  Network& operator=(Network&&) noexcept = default;
+
+  /// Forward a batch [N, C, H, W]; the returned reference stays valid until the next call.
+  const Tensor& forward(const Tensor& x, bool training);
+  /// Backward from dL/dy of the last forward; overwrites every parameter gradient.
+  void backward(const Tensor& dy);
+
+  /// All parameters, named "<node>/weight" etc., in node order (stable: the model file
+  /// and the optimiser rely on it).
+  std::vector<ParamRef> parameters();
+  [[nodiscard]] std::size_t parameter_count();
+  /// Draw all weights with `init` from rng, in node order; biases zero.
+  void initialize(const Initializer& init, Rng& rng);
+  /// Bind the random stream used by every dropout layer in training (null unbinds).
+  void set_rng(Rng* rng);
+
+  [[nodiscard]] const ArchSpec& arch() const { return arch_; }
+  [[nodiscard]] Shape input_shape() const { return in_; }    ///< n = 1
+  [[nodiscard]] Shape output_shape() const { return out_; }  ///< n = 1
+  [[nodiscard]] std::size_t size() const { return nodes_.size(); }
+  [[nodiscard]] Layer& layer(std::size_t i) { return *nodes_.at(i).layer; }
+  [[nodiscard]] const std::string& node_name(std::size_t i) const { return arch_.layers.at(i).name; }
+  /// One line per node: name, layer, input(s), output shape, parameter count.
+  [[nodiscard]] std::string summary();
+
+ private:
+  struct Node {
+    std::unique_ptr<Layer> layer;
+    std::vector<int> inputs;  ///< node indices; −1 = network input
+    Shape out;                ///< sample shape (n = 1)
+  };
+  const Tensor& input_of(std::size_t i, const Tensor& x);
+
+  ArchSpec arch_;
+  Shape in_, out_;
+  std::vector<Node> nodes_;
+  std::vector<Tensor> act_, grad_, cat_;  ///< per node: output, dL/doutput, concat input
+  Tensor dcat_, scratch_, dummy_;
+  const Tensor* last_x_ = nullptr;  ///< input of the last forward (for backward)
+};
+
+}  // namespace dc

@@ -1,0 +1,33 @@
+#include "dc/learning/model.hpp"
+
+#include "dc/engine/error.hpp"
+
+namespace dc {
+
+namespace {
+void fill_names(std::vector<std::string>& names, int count, const char* prefix, const char* what) {
+  if (names.empty())
+    for (int i = 0; i < count; ++i) names.push_back(prefix + std::to_string(i));
+  if (static_cast<int>(names.size()) != count)
+    throw InvalidArgument(std::string("Model: ") + what + " lists " + std::to_string(names.size()) +
+                          " channel names but the network has " + std::to_string(count) + " channels");
+}
+}  // namespace
+
+Model::Model(ArchSpec arch, ModelGrid grid, int in_channels)
+    : grid_(std::move(grid)), net_(std::move(arch), Shape{1, in_channels, grid_.ny, grid_.nx}) {
+  fill_names(grid_.feature_channels, in_channels, "f", "feature_channels");
+  fill_names(grid_.label_channels, net_.output_shape().c, "l", "label_channels");
+  input_stats = ChannelStats::identity(in_channels);
+  output_stats = ChannelStats::identity(net_.output_shape().c);
+}
+
+Tensor Model::predict(const Tensor& features) {
+  scratch_ = features;
+  input_stats.apply(scratch_);
+  Tensor out = net_.forward(scratch_, false);
+  output_stats.invert(out);
+  return out;
+}
+
+}  // namespace dc

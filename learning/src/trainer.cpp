@@ -1,0 +1,191 @@
+#include "dc/learning/trainer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <set>
+
+#include "dc/engine/error.hpp"
+#include "dc/engine/rng.hpp"
+#include "dc/learning/initializer.hpp"
+#include "dc/learning/lr_schedule.hpp"
+#include "dc/learning/mse_loss.hpp"
+#include "dc/learning/optimizer.hpp"
+
+namespace dc {
+
+void TrainDef::validate() const {
+  if (epochs < 1) throw ConfigError("train: epochs must be >= 1, got " + std::to_string(epochs));
+  if (batch_size < 1) throw ConfigError("train: batch_size must be >= 1, got " + std::to_string(batch_size));
+  if (!(learning_rate > 0.0)) throw ConfigError("train: learning_rate must be > 0");
+  if (!(momentum >= 0.0 && momentum < 1.0)) throw ConfigError("train: momentum must be in [0, 1)");
+  if (!(weight_decay >= 0.0)) throw ConfigError("train: weight_decay must be >= 0");
+  if (!(validation_fraction >= 0.0 && validation_fraction < 1.0))
+    throw ConfigError("train: validation_fraction must be in [0, 1)");
+  (void)make_lr_schedule(schedule, learning_rate, epochs);
+  (void)make_initializer(init);
+}
+
+Trainer::Trainer(TrainDef def) : def_(std::move(def)) { def_.validate(); }
+
+std::vector<int> Trainer::pick_validation_simulations(std::span<const TrainingSample> data, double fraction,
+                                                      Rng& rng) {
+  std::set<int> ids;
+  for (const TrainingSample& s : data) ids.insert(s.simulation);
+  std::vector<int> all(ids.begin(), ids.end());
+  const int S = static_cast<int>(all.size());
+  if (fraction <= 0.0 || S < 2) return {};
+  const int k = std::clamp(static_cast<int>(std::floor(fraction * S + 0.5)), 1, S - 1);
+  // Partial Fisher–Yates: the first k positions become a uniform random subset.
+  for (int i = 0; i < k; ++i) {
+    const int j = i + static_cast<int>(rng.uniform_int(static_cast<std::uint64_t>(S - i)));
+    std::swap(all[static_cast<std::size_t>(i)], all[static_cast<std::size_t>(j)]);
+  }
+  std::vector<int> val(all.begin(), all.begin() + k);
+  std::sort(val.begin(), val.end());
+  return val;
+}
+
+namespace {
+
+// Standardised copies of a subset, packed as [N, C, H, W] so minibatches are memcpy's.
+struct Packed {
+  Tensor x, y, w;  // w empty if no sample has weights
+  int n = 0;
+};
+
+Packed pack(std::span<const TrainingSample> data, const std::vector<std::size_t>& idx, const ChannelStats& in,
+            const ChannelStats& out, const Shape& xs, const Shape& ys, int wc) {
+  Packed p;
+  p.n = static_cast<int>(idx.size());
+  p.x.resize(xs.with_batch(p.n));
+  p.y.resize(ys.with_batch(p.n));
+  if (wc > 0) p.w.resize({p.n, wc, ys.h, ys.w});
+  for (int k = 0; k < p.n; ++k) {
+    const TrainingSample& s = data[idx[static_cast<std::size_t>(k)]];
+    std::memcpy(p.x.sample(k), s.features.data(), sizeof(float) * xs.sample_count());
+    std::memcpy(p.y.sample(k), s.labels.data(), sizeof(float) * ys.sample_count());
+    if (wc > 0) {
+      const std::size_t len = static_cast<std::size_t>(wc) * ys.plane();
+      if (s.weights.empty()) std::fill(p.w.sample(k), p.w.sample(k) + len, 1.0f);
+      else std::memcpy(p.w.sample(k), s.weights.data(), sizeof(float) * len);
+    }
+  }
+  if (p.n > 0) {
+    in.apply(p.x);
+    out.apply(p.y);
+  }
+  return p;
+}
+
+void gather(const Tensor& src, const std::vector<std::size_t>& order, std::size_t first, int count, Tensor& dst) {
+  const std::size_t len = src.shape().sample_count();
+  dst.resize(src.shape().with_batch(count));
+  for (int k = 0; k < count; ++k)
+    std::memcpy(dst.sample(k), src.sample(static_cast<int>(order[first + static_cast<std::size_t>(k)])),
+                sizeof(float) * len);
+}
+
+}  // namespace
+
+TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const Callback& on_epoch) {
+  if (data.empty()) throw InvalidArgument("Trainer::train: empty data set");
+  Network& net = model.network();
+  const Shape xs = net.input_shape(), ys = net.output_shape();
+  int wc = 0;  // weight channels (0: unweighted)
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const TrainingSample& s = data[i];
+    const std::string where = "Trainer::train: sample " + std::to_string(i);
+    require_shape(s.features.shape(), xs, where + " features");
+    require_shape(s.labels.shape(), ys, where + " labels");
+    if (!s.weights.empty()) {
+      const int c = s.weights.c();
+      if (!(s.weights.shape() == ys) && !(s.weights.shape() == Shape{1, 1, ys.h, ys.w}))
+        throw InvalidArgument(where + " weights: shape " + s.weights.shape().str() + " fits neither labels nor C = 1");
+      if (wc != 0 && c != wc) throw InvalidArgument(where + " weights: channel count differs from earlier samples");
+      wc = c;
+    }
+  }
+
+  Rng rng(def_.seed);
+  TrainResult result;
+  result.validation_simulations = pick_validation_simulations(data, def_.validation_fraction, rng);
+  const std::set<int> val_ids(result.validation_simulations.begin(), result.validation_simulations.end());
+  std::vector<std::size_t> tr_idx, va_idx;
+  std::set<int> tr_ids;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    if (val_ids.count(data[i].simulation)) {
+      va_idx.push_back(i);
+    } else {
+      tr_idx.push_back(i);
+      tr_ids.insert(data[i].simulation);
+    }
+  }
+  result.train_simulations.assign(tr_ids.begin(), tr_ids.end());
+
+  // Standardisation from the training split only.
+  std::vector<const Tensor*> fx, fy;
+  for (std::size_t i : tr_idx) {
+    fx.push_back(&data[i].features);
+    fy.push_back(&data[i].labels);
+  }
+  model.input_stats = ChannelStats::compute(fx);
+  model.output_stats = ChannelStats::compute(fy);
+  const Packed train = pack(data, tr_idx, model.input_stats, model.output_stats, xs, ys, wc);
+  const Packed val = pack(data, va_idx, model.input_stats, model.output_stats, xs, ys, wc);
+
+  if (def_.initialize) net.initialize(*make_initializer(def_.init), rng);
+  net.set_rng(&rng);
+  Sgd sgd(SgdDef{def_.momentum, def_.weight_decay});
+  const auto schedule = make_lr_schedule(def_.schedule, def_.learning_rate, def_.epochs);
+  std::vector<ParamRef> params = net.parameters();
+  const MseLoss mse;
+  std::vector<std::size_t> order(static_cast<std::size_t>(train.n));
+  Tensor xb, yb, wb, grad;
+
+  for (int epoch = 0; epoch < def_.epochs; ++epoch) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    for (std::size_t i = order.size(); i > 1; --i)  // Fisher–Yates
+      std::swap(order[i - 1], order[rng.uniform_int(i)]);
+    const double lr = schedule->rate(epoch);
+    double loss_sum = 0.0;
+    for (std::size_t first = 0; first < order.size(); first += static_cast<std::size_t>(def_.batch_size)) {
+      const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(def_.batch_size), order.size() - first));
+      gather(train.x, order, first, b, xb);
+      gather(train.y, order, first, b, yb);
+      if (wc > 0) gather(train.w, order, first, b, wb);
+      const Tensor& pred = net.forward(xb, true);
+      loss_sum += b * mse(pred, yb, wc > 0 ? &wb : nullptr, &grad);
+      net.backward(grad);
+      sgd.step(params, lr);
+    }
+    EpochReport rep;
+    rep.epoch = epoch;
+    rep.learning_rate = lr;
+    rep.train_loss = loss_sum / std::max(1, train.n);
+    rep.validation_loss = std::numeric_limits<double>::quiet_NaN();
+    if (val.n > 0) {
+      double vsum = 0.0;
+      std::vector<std::size_t> vorder(static_cast<std::size_t>(val.n));
+      for (std::size_t i = 0; i < vorder.size(); ++i) vorder[i] = i;
+      for (std::size_t first = 0; first < vorder.size(); first += static_cast<std::size_t>(def_.batch_size)) {
+        const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(def_.batch_size), vorder.size() - first));
+        gather(val.x, vorder, first, b, xb);
+        gather(val.y, vorder, first, b, yb);
+        if (wc > 0) gather(val.w, vorder, first, b, wb);
+        vsum += b * mse(net.forward(xb, false), yb, wc > 0 ? &wb : nullptr);
+      }
+      rep.validation_loss = vsum / val.n;
+    }
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.history.push_back(rep);
+    if (on_epoch && !on_epoch(rep)) break;
+  }
+  net.set_rng(nullptr);
+  return result;
+}
+
+}  // namespace dc

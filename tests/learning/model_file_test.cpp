@@ -1,0 +1,138 @@
+// Model files: save → load reproduces outputs bit for bit; damaged, truncated, foreign
+// and other-version files throw dc::IoError with a one-line message.
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "dc/engine/error.hpp"
+#include "dc/engine/h5.hpp"
+#include "dc/learning/initializer.hpp"
+#include "dc/learning/model_file.hpp"
+#include "grad_check.hpp"
+
+namespace dc {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ModelFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dc_model_file_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static Model make_model() {
+    ModelGrid g;
+    g.d = 0.25;
+    g.h = 0.25;
+    g.kernel = "spiky";
+    g.nx = 15;
+    g.ny = 13;
+    g.feature_channels = {"m", "v_x", "v_y", "omega", "n_x"};
+    Model m(default_arch(), g, 5);
+    Rng rng(5);
+    m.network().initialize(HeNormal(), rng);
+    for (ParamRef& p : m.network().parameters())
+      if (!p.decay) test::fill_gaussian(*p.value, rng, 0.1);
+    m.input_stats = {{1, 2, 3, 4, 5}, {0.5f, 1, 2, 3, 4}};
+    m.output_stats = {{-1, 1}, {2, 3}};
+    return m;
+  }
+
+  void expect_io_error(const fs::path& p, const std::string& needle) {
+    try {
+      (void)load_model(p);
+      ADD_FAILURE() << "no IoError for " << p;
+    } catch (const IoError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(ModelFile, SaveLoadGivesIdenticalOutputs) {
+  Model a = make_model();
+  const fs::path p = dir_ / "m.h5";
+  save_model(a, p);
+  EXPECT_TRUE(fs::exists(p));
+  EXPECT_FALSE(fs::exists(dir_ / "m.h5.tmp"));
+  Model b = load_model(p);
+  EXPECT_EQ(b.network().arch().to_toml(), a.network().arch().to_toml());
+  EXPECT_EQ(b.grid().kernel, "spiky");
+  EXPECT_EQ(b.grid().d, 0.25);
+  EXPECT_EQ(b.grid().nx, 15);
+  EXPECT_EQ(b.grid().ny, 13);
+  EXPECT_EQ(b.grid().feature_channels, a.grid().feature_channels);
+  EXPECT_EQ(b.grid().label_channels, a.grid().label_channels);
+  EXPECT_EQ(b.input_stats.std, a.input_stats.std);
+  EXPECT_EQ(b.output_stats.mean, a.output_stats.mean);
+  Tensor x(3, 5, 13, 15);
+  Rng rng(6);
+  test::fill_gaussian(x, rng);
+  const Tensor ya = a.predict(x), yb = b.predict(x);
+  ASSERT_EQ(ya.shape(), (Shape{3, 2, 13, 15}));
+  EXPECT_EQ(std::memcmp(ya.data(), yb.data(), sizeof(float) * ya.size()), 0);
+  // Overwriting an existing file works (rename onto it).
+  save_model(b, p);
+  EXPECT_NO_THROW((void)load_model(p));
+}
+
+TEST_F(ModelFile, DamagedFilesThrowIoError) {
+  Model a = make_model();
+  const fs::path good = dir_ / "good.h5";
+  save_model(a, good);
+  auto copy = [&](const std::string& name) {
+    const fs::path p = dir_ / name;
+    fs::copy_file(good, p, fs::copy_options::overwrite_existing);
+    return p;
+  };
+  {
+    const fs::path p = copy("version.h5");
+    H5File::open_rw(p.string()).set_attribute<std::int32_t>("/", "format_version", 2);
+    expect_io_error(p, "version 2");
+  }
+  {
+    const fs::path p = copy("missing.h5");
+    H5File::open_rw(p.string()).remove("/weights/d2/weight");
+    expect_io_error(p, "/weights/d2/weight");
+  }
+  {
+    const fs::path p = copy("shape.h5");
+    H5File f = H5File::open_rw(p.string());
+    f.remove("/weights/e1/bias");
+    f.write<float>("/weights/e1/bias", std::vector<float>(15, 0.0f), {1, 15, 1, 1});
+    f.close();
+    expect_io_error(p, "/weights/e1/bias");
+  }
+  {
+    const fs::path p = copy("arch.h5");
+    H5File f = H5File::open_rw(p.string());
+    f.remove("/arch");
+    f.write_strings("/arch", {"[[layer]]\ntype = \"pool\"\n"});
+    f.close();
+    expect_io_error(p, "unknown layer type");
+  }
+  {
+    const fs::path p = dir_ / "text.h5";
+    std::ofstream(p) << "this is not an HDF5 file\n";
+    expect_io_error(p, p.filename().string());
+  }
+  {
+    const fs::path p = dir_ / "truncated.h5";
+    std::ifstream in(good, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+    expect_io_error(p, p.filename().string());
+  }
+  expect_io_error(dir_ / "does-not-exist.h5", "does-not-exist.h5");
+}
+
+}  // namespace
+}  // namespace dc
