@@ -1,0 +1,125 @@
+#include "solvers/solver_common.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+#include "dc/engine/error.hpp"
+
+namespace dc::solvers {
+
+double rhs_scale(const LcpProblem& p) {
+  double s = 1.0;
+  for (int i = 0; i < p.b.size(); ++i) s = std::max(s, std::abs(p.b[i]));
+  return s;
+}
+
+std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+                                       const std::string& solver, Eigen::VectorXd& lambda) {
+  const int n = p.rows();
+  auto invalid = [&](const std::string& msg) {
+    SolveResult r;
+    r.status = SolveStatus::InvalidInput;
+    r.lambda = Eigen::VectorXd::Zero(std::max(0, n));
+    if (lambda0.size() == n && lambda0.allFinite()) r.lambda = lambda0;
+    r.message = solver + ": " + msg;
+    r.residual = std::numeric_limits<double>::infinity();
+    return r;
+  };
+  try {
+    p.validate();
+  } catch (const InvalidArgument& e) {
+    return invalid(e.what());
+  }
+  if (lambda0.size() == 0) {
+    lambda = Eigen::VectorXd::Zero(n);
+  } else if (lambda0.size() != n) {
+    return invalid("initial guess has " + std::to_string(lambda0.size()) + " entries, the problem " +
+                   std::to_string(n) + " rows");
+  } else if (!lambda0.allFinite()) {
+    return invalid("initial guess has a non-finite entry");
+  } else {
+    lambda = lambda0;
+  }
+  return std::nullopt;
+}
+
+void finish(const LcpProblem& p, SolveResult& r) {
+  if (!r.lambda.allFinite()) {
+    // Defensive: a solver must never hand back NaN/Inf. Replace by zero and say so.
+    r.lambda = Eigen::VectorXd::Zero(p.rows());
+    if (r.status == SolveStatus::Converged || r.status == SolveStatus::SweepLimit)
+      r.status = SolveStatus::Failed;
+    r.message += (r.message.empty() ? "" : "; ") + std::string("non-finite solution replaced by zero");
+  }
+  r.residual = natural_residual(p, r.lambda);
+}
+
+RowBounds::RowBounds(const LcpProblem& p) {
+  const int n = p.rows();
+  lo_fixed.resize(static_cast<size_t>(n));
+  hi_fixed.resize(static_cast<size_t>(n));
+  mu.resize(static_cast<size_t>(n));
+  coupled.resize(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const auto u = static_cast<size_t>(i);
+    if (p.is_friction_row(i)) {
+      lo_fixed[u] = 0.0;
+      hi_fixed[u] = 0.0;
+      mu[u] = p.mu[i];
+      coupled[u] = p.normal_row[u];
+    } else {
+      lo_fixed[u] = p.lo[i];
+      hi_fixed[u] = p.hi[i];
+      mu[u] = 0.0;
+      coupled[u] = i;
+    }
+  }
+}
+
+CheckpointCursor::CheckpointCursor(const SolverOptions& o) : o_(o) {
+  if (!o.on_checkpoint) return;
+  for (int k : o.checkpoints)
+    if (k >= 1) ks_.push_back(k);
+  std::sort(ks_.begin(), ks_.end());
+  ks_.erase(std::unique(ks_.begin(), ks_.end()), ks_.end());
+}
+
+void CheckpointCursor::after(int k, const Eigen::VectorXd& lambda) {
+  while (next_ < ks_.size() && ks_[next_] < k) ++next_;
+  if (next_ < ks_.size() && ks_[next_] == k) {
+    o_.on_checkpoint(k, lambda);
+    ++next_;
+  }
+}
+
+void CheckpointCursor::flush_final(const Eigen::VectorXd& lambda) {
+  for (; next_ < ks_.size(); ++next_) o_.on_checkpoint(ks_[next_], lambda);
+}
+
+void report_singular_rows(const LcpProblem& p, const std::vector<int>& singular, SolveResult& r) {
+  if (singular.empty()) return;
+  const Eigen::VectorXd w = lcp_velocity(p, r.lambda);
+  const double thresh = 1e-12 * rhs_scale(p);
+  std::string bad, all;
+  int nbad = 0;
+  for (int i : singular) {
+    const double l = p.lower(i, r.lambda), h = p.upper(i, r.lambda);
+    const double e = std::abs(r.lambda[i] - std::clamp(r.lambda[i] - w[i], l, std::max(l, h)));
+    if (!(e <= thresh)) {
+      if (nbad++ < 5) bad += (bad.empty() ? "" : ",") + std::to_string(i);
+    }
+    if (all.size() < 60) all += (all.empty() ? "" : ",") + std::to_string(i);
+  }
+  std::string msg;
+  if (nbad > 0 && r.status != SolveStatus::Diverged) {
+    r.status = SolveStatus::Failed;
+    msg = std::to_string(nbad) + " row(s) with non-positive diagonal A_ii are not complementary (rows " +
+          bad + (nbad > 5 ? ",..." : "") + "); they were moved to the bound their residual points at";
+  } else {
+    msg = std::to_string(singular.size()) + " row(s) with non-positive diagonal A_ii (rows " + all +
+          ") were moved to the bound their residual points at, not divided by";
+  }
+  r.message += (r.message.empty() ? "" : "; ") + msg;
+}
+
+}  // namespace dc::solvers

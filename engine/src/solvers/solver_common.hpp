@@ -1,0 +1,119 @@
+#pragma once
+// Private helpers shared by the LCP solver family (engine/src/solvers/*.cpp): input checks,
+// the checkpoint cursor, the generic sweep driver of the iterative methods and the row
+// bounds in the branch-free form the sweep kernels use. Not part of the public API.
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dc/engine/lcp_problem.hpp"
+#include "dc/engine/lcp_solver.hpp"
+
+namespace dc::solvers {
+
+/// max(1, ‖b‖∞): the scale the exact tolerances are relative to.
+double rhs_scale(const LcpProblem& p);
+
+/// Validates the problem and the initial guess. On success returns std::nullopt and sets
+/// `lambda` to λ⁰ (an empty λ⁰ means zero). On failure returns a result with status
+/// InvalidInput, λ = λ⁰ (or zero) and the validation message.
+std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+                                       const std::string& solver, Eigen::VectorXd& lambda);
+
+/// Fills residual (natural map) and guards against a non-finite λ in a finished result.
+void finish(const LcpProblem& p, SolveResult& r);
+
+/// Row bounds in branch-free form: for row i with coupling row c_i,
+///   lo_i = lo_fixed_i − μ_i·max(0, λ_{c_i}),   hi_i = hi_fixed_i + μ_i·max(0, λ_{c_i}).
+/// Normal/standard rows have μ_i = 0 and c_i = i (the term vanishes, λ is finite);
+/// friction rows have fixed parts 0 and c_i = normal_row[i], which reproduces ±μλ_n.
+struct RowBounds {
+  std::vector<double> lo_fixed, hi_fixed, mu;
+  std::vector<int> coupled;
+  explicit RowBounds(const LcpProblem& p);
+};
+
+/// Calls options.on_checkpoint(k, λ) for every k in options.checkpoints, once each, in
+/// order; robust against unsorted, duplicate or non-positive entries (those are skipped).
+class CheckpointCursor {
+ public:
+  explicit CheckpointCursor(const SolverOptions& o);
+  /// After sweep k.
+  void after(int k, const Eigen::VectorXd& lambda);
+  /// A solver that stopped early at tolerance: the remaining checkpoints see the final λ
+  /// (a larger budget would not have been used).
+  void flush_final(const Eigen::VectorXd& lambda);
+
+ private:
+  std::vector<int> ks_;
+  size_t next_ = 0;
+  const SolverOptions& o_;
+};
+
+/// Rows whose diagonal A_ii is not > 0 (or whose 1/A_ii is not finite). The sweep kernels
+/// never divide by them: such a row moves to the bound its residual points at, λ_i ← lo_i
+/// if r_i > 0, λ_i ← hi_i if r_i < 0 (the limit of λ_i − r_i/A_ii for A_ii → 0⁺), and stays
+/// where it is when that bound is infinite or r_i = 0.
+inline double singular_row_update(double old, double r, double lo, double hi) {
+  if (r > 0) return std::isfinite(lo) ? lo : old;
+  if (r < 0) return std::isfinite(hi) ? hi : old;
+  return old;
+}
+
+/// After the sweeps: if rows were singular and are not complementary at the returned λ
+/// (natural residual of the row above 1e-12·max(1,‖b‖∞) and above the tolerance), the
+/// status becomes Failed and the message names them; otherwise the message mentions them.
+void report_singular_rows(const LcpProblem& p, const std::vector<int>& singular, SolveResult& r);
+
+/// Generic driver of the sweep methods (PGS, PSOR, Jacobi). `sweep(λ, nonfinite)` performs
+/// one sweep in place, returns θ_k = max_i |λ_i^k − λ_i^{k−1}| and sets nonfinite when an
+/// update produced a non-finite value. The driver records θ, calls checkpoints, stops at
+/// the tolerance, detects divergence (non-finite iterate → restore the previous sweep's λ;
+/// θ_k > 1e12·max(θ_1, 1e-300) → iterates grow without bound) and fills the result.
+template <class Sweep>
+SolveResult run_sweeps(const LcpProblem& /*p*/, Eigen::VectorXd lambda, const SolverOptions& o,
+                       Sweep&& sweep) {
+  SolveResult res;
+  res.status = SolveStatus::SweepLimit;
+  const int max_sweeps = std::max(0, o.max_sweeps);
+  if (o.record_theta) res.theta.reserve(static_cast<size_t>(std::min(max_sweeps, 1 << 20)));
+  CheckpointCursor cp(o);
+  Eigen::VectorXd last = lambda;
+  double theta1 = 0.0;
+  int done = 0;
+  for (int k = 1; k <= max_sweeps; ++k) {
+    last = lambda;  // n doubles per sweep: the price of returning the last finite iterate
+    bool nonfinite = false;
+    const double theta = sweep(lambda, nonfinite);
+    if (nonfinite || !std::isfinite(theta)) {
+      lambda = last;
+      res.status = SolveStatus::Diverged;
+      res.message = "iterate became non-finite in sweep " + std::to_string(k) +
+                    "; returning the iterate of sweep " + std::to_string(k - 1);
+      break;
+    }
+    done = k;
+    if (o.record_theta) res.theta.push_back(theta);
+    if (k == 1) theta1 = theta;
+    cp.after(k, lambda);
+    if (o.tolerance > 0 && theta <= o.tolerance) {
+      res.status = SolveStatus::Converged;
+      cp.flush_final(lambda);
+      break;
+    }
+    if (theta > 1e12 * std::max(theta1, 1e-300) && k > 1) {
+      res.status = SolveStatus::Diverged;
+      res.message = "iterates grow without bound (theta grew from " + std::to_string(theta1) +
+                    " to " + std::to_string(theta) + " by sweep " + std::to_string(k) + ")";
+      break;
+    }
+  }
+  res.sweeps = done;
+  res.lambda = std::move(lambda);
+  return res;
+}
+
+}  // namespace dc::solvers

@@ -1,0 +1,38 @@
+// Names → solvers (make_solver, solver_names) and SolveStatus names.
+#include <string>
+
+#include "dc/engine/error.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "solvers/solvers.hpp"
+
+namespace dc {
+
+const char* to_string(SolveStatus s) {
+  switch (s) {
+    case SolveStatus::Converged: return "converged";
+    case SolveStatus::SweepLimit: return "sweep_limit";
+    case SolveStatus::Diverged: return "diverged";
+    case SolveStatus::Infeasible: return "infeasible";
+    case SolveStatus::Failed: return "failed";
+    case SolveStatus::InvalidInput: return "invalid_input";
+  }
+  return "unknown";
+}
+
+std::vector<std::string> solver_names() {
+  return {"pgs", "pgs-assembled", "psor", "jacobi", "lemke", "newton"};
+}
+
+std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
+  if (name == "pgs") return solvers::make_pgs_matrix_free();
+  if (name == "pgs-assembled") return solvers::make_pgs_assembled();
+  if (name == "psor") return solvers::make_psor();
+  if (name == "jacobi") return solvers::make_jacobi();
+  if (name == "lemke") return solvers::make_lemke();
+  if (name == "newton") return solvers::make_newton();
+  std::string valid;
+  for (const auto& n : solver_names()) valid += (valid.empty() ? "" : ", ") + n;
+  throw ConfigError("unknown LCP solver '" + std::string(name) + "' (valid: " + valid + ")");
+}
+
+}  // namespace dc

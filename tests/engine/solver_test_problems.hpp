@@ -1,0 +1,128 @@
+#pragma once
+// Random LCP problems for the solver tests (tests/engine/solver_*_test.cpp): a portable
+// 64-bit generator (no std::*_distribution), SPD matrices and contact-like problems
+// A = J M⁻¹ Jᵀ Δt built like the engine builds them (DESIGN §2).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "dc/engine/lcp_problem.hpp"
+
+namespace dc::test {
+
+/// splitmix64: tiny, portable, good enough for test data.
+class TestRng {
+ public:
+  explicit TestRng(uint64_t seed) : s_(seed) {}
+  uint64_t next() {
+    uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform(double a = 0.0, double b = 1.0) {
+    return a + (b - a) * static_cast<double>(next() >> 11) * 0x1.0p-53;
+  }
+  int below(int n) { return static_cast<int>(next() % static_cast<uint64_t>(n)); }
+
+ private:
+  uint64_t s_;
+};
+
+/// Random symmetric positive definite n×n matrix (well conditioned) and q with mixed signs.
+inline LcpProblem random_spd(int n, TestRng& rng) {
+  Eigen::MatrixXd B(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) B(i, j) = rng.uniform(-1, 1);
+  Eigen::MatrixXd A = B * B.transpose() + n * 0.1 * Eigen::MatrixXd::Identity(n, n);
+  Eigen::VectorXd q(n);
+  for (int i = 0; i < n; ++i) q[i] = rng.uniform(-1, 1);
+  return LcpProblem::standard(A, q);
+}
+
+/// Contact-like problem: `bodies` circles (radius 1, density 1: m = π, I = m/2), `contacts`
+/// random pairs (a few against walls: one body only), a normal row per contact and, with
+/// friction, a tangent row coupled to it (μ = 0.5). A = J M⁻¹ Jᵀ Δt, Δt = 0.01.
+/// b = J v + s like the engine's b = J(u + Δt M⁻¹F) + speculative margin: random body
+/// velocities v and a separation margin s ≥ 0 on half of the normal rows. With b in
+/// range(J) + nonnegative cone the LCP is solvable even when A is rank-deficient (more
+/// rows than body dofs); a random b would make such problems infeasible.
+inline LcpProblem random_contact(int bodies, int contacts, bool friction, TestRng& rng, double mu = 0.5) {
+  const int rows_per = friction ? 2 : 1;
+  const int n = contacts * rows_per;
+  std::vector<Eigen::Triplet<double>> trip;
+  LcpProblem p;
+  p.b.resize(n);
+  p.lo = Eigen::VectorXd::Zero(n);
+  p.hi = Eigen::VectorXd::Constant(n, INFINITY);
+  p.mu = Eigen::VectorXd::Zero(n);
+  p.normal_row.assign(static_cast<size_t>(n), -1);
+  auto cross = [](double rx, double ry, double nx, double ny) { return rx * ny - ry * nx; };
+  for (int c = 0; c < contacts; ++c) {
+    const int a = rng.below(bodies);
+    int b = rng.below(bodies);
+    const bool wall = (c % 5 == 4) || b == a;  // every 5th contact is a wall contact
+    const double ang = rng.uniform(0, 2 * M_PI);
+    const double nx = std::cos(ang), ny = std::sin(ang), tx = -ny, ty = nx;
+    // contact point on the surface of a, in direction n: r_a = n, r_b = −n (touching circles)
+    const double rax = nx + rng.uniform(-0.05, 0.05), ray = ny + rng.uniform(-0.05, 0.05);
+    const double rbx = -nx, rby = -ny;
+    const int rn = c * rows_per;
+    auto add_row = [&](int row, double dx, double dy) {
+      if (!wall) {
+        trip.emplace_back(row, 3 * a + 0, -dx);
+        trip.emplace_back(row, 3 * a + 1, -dy);
+        trip.emplace_back(row, 3 * a + 2, -cross(rax, ray, dx, dy));
+        trip.emplace_back(row, 3 * b + 0, dx);
+        trip.emplace_back(row, 3 * b + 1, dy);
+        trip.emplace_back(row, 3 * b + 2, cross(rbx, rby, dx, dy));
+      } else {  // wall (static) is "a", the body is b := a
+        trip.emplace_back(row, 3 * a + 0, dx);
+        trip.emplace_back(row, 3 * a + 1, dy);
+        trip.emplace_back(row, 3 * a + 2, cross(rbx, rby, dx, dy));
+      }
+    };
+    add_row(rn, nx, ny);
+    p.b[rn] = std::max(0.0, rng.uniform(-0.5, 0.5));  // margin s; J v added below
+    if (friction) {
+      add_row(rn + 1, tx, ty);
+      p.b[rn + 1] = 0.0;
+      p.normal_row[static_cast<size_t>(rn + 1)] = rn;
+      p.mu[rn + 1] = mu;
+      p.lo[rn + 1] = -INFINITY;
+    }
+  }
+  p.J.resize(n, 3 * bodies);
+  p.J.setFromTriplets(trip.begin(), trip.end());
+  p.J.makeCompressed();
+  p.inv_mass.resize(3 * bodies);
+  for (int k = 0; k < bodies; ++k) {
+    const double m = M_PI * rng.uniform(0.5, 2.0);
+    p.inv_mass[3 * k] = p.inv_mass[3 * k + 1] = 1.0 / m;
+    p.inv_mass[3 * k + 2] = 1.0 / (0.5 * m);
+  }
+  p.dt = 0.01;
+  Eigen::VectorXd v(3 * bodies);
+  for (int k = 0; k < bodies; ++k) {
+    v[3 * k] = rng.uniform(-1, 1);
+    v[3 * k + 1] = rng.uniform(-2, 0.5);  // mostly falling
+    v[3 * k + 2] = rng.uniform(-1, 1);
+  }
+  p.b += p.J * v;
+  const SparseRowMatrix Minv_Jt_dt = (p.inv_mass.asDiagonal() * SparseRowMatrix(p.J.transpose())) * p.dt;
+  p.A = p.J * Minv_Jt_dt;
+  p.A.makeCompressed();
+  return p;
+}
+
+/// Drop J (a problem as if read from a file).
+inline LcpProblem without_jacobian(LcpProblem p) {
+  p.J = SparseRowMatrix();
+  p.inv_mass.resize(0);
+  p.dt = 0.0;
+  return p;
+}
+
+}  // namespace dc::test
