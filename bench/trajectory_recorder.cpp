@@ -1,0 +1,79 @@
+#include "trajectory_recorder.hpp"
+
+#include "dc/engine/error.hpp"
+#include "dc/engine/h5.hpp"
+
+namespace dc::cli {
+
+TrajectoryRecorder::TrajectoryRecorder(const World& world) : n_(world.bodies().size()) {
+  const BodyState& s = world.bodies();
+  radius_ = s.radius;
+  mass_ = s.mass;
+  record_state(s);
+  step_offset_.push_back(0);
+}
+
+void TrajectoryRecorder::record_state(const BodyState& s) {
+  if (s.size() != n_) throw InvalidArgument("TrajectoryRecorder: the number of bodies changed");
+  for (std::size_t k = 0; k < n_; ++k) {
+    position_.push_back(s.position[k].x);
+    position_.push_back(s.position[k].y);
+    angle_.push_back(s.angle[k]);
+    velocity_.push_back(s.velocity[k].x);
+    velocity_.push_back(s.velocity[k].y);
+    omega_.push_back(s.omega[k]);
+  }
+}
+
+void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
+  for (const Contact& c : w.contacts()) {
+    body_a_.push_back(c.body_a);
+    body_b_.push_back(c.body_b);
+    point_.push_back(c.point.x);
+    point_.push_back(c.point.y);
+    normal_.push_back(c.normal.x);
+    normal_.push_back(c.normal.y);
+    gap_.push_back(c.gap);
+    lambda_.push_back(c.lambda_n);
+    lambda_.push_back(c.lambda_t);
+  }
+  step_offset_.push_back(static_cast<std::int64_t>(body_a_.size()));
+  sweeps_.push_back(r.solve.sweeps);
+  status_.push_back(static_cast<std::int32_t>(r.solve.status));
+  theta_final_.push_back(r.solve.theta.empty() ? 0.0 : r.solve.theta.back());
+  residual_.push_back(r.solve.residual);
+  record_state(w.bodies());
+}
+
+void TrajectoryRecorder::write(const std::string& path, const std::string& scene,
+                               const std::string& warmstart) const {
+  const hsize_t S = sweeps_.size(), n = n_, C = body_a_.size();
+  const H5DatasetOptions z{.extendible = false, .chunk_rows = 0, .deflate = 4};
+  const auto opt = [&](hsize_t rows) { return rows > 0 ? z : H5DatasetOptions{}; };
+  AtomicH5File out(path);
+  H5File& f = out.file();
+  f.set_attribute("/", "format", "deepcontact-trajectory");
+  f.set_attribute<std::int32_t>("/", "format_version", 1);
+  f.set_attribute("/", "scene", scene);
+  f.set_attribute("/", "warmstart", warmstart);
+  f.write<double>("/bodies/position", position_, {S + 1, n, 2}, opt(S + 1));
+  f.write<double>("/bodies/angle", angle_, {S + 1, n}, opt(S + 1));
+  f.write<double>("/bodies/velocity", velocity_, {S + 1, n, 2}, opt(S + 1));
+  f.write<double>("/bodies/omega", omega_, {S + 1, n}, opt(S + 1));
+  f.write<double>("/bodies/radius", radius_, {n});
+  f.write<double>("/bodies/mass", mass_, {n});
+  f.write<std::int64_t>("/contacts/step_offset", step_offset_, {S + 1});
+  f.write<std::int32_t>("/contacts/body_a", body_a_, {C}, opt(C));
+  f.write<std::int32_t>("/contacts/body_b", body_b_, {C}, opt(C));
+  f.write<double>("/contacts/point", point_, {C, 2}, opt(C));
+  f.write<double>("/contacts/normal", normal_, {C, 2}, opt(C));
+  f.write<double>("/contacts/gap", gap_, {C}, opt(C));
+  f.write<double>("/contacts/lambda", lambda_, {C, 2}, opt(C));
+  f.write<std::int32_t>("/solver/sweeps", sweeps_, {S});
+  f.write<std::int32_t>("/solver/status", status_, {S});
+  f.write<double>("/solver/theta_final", theta_final_, {S});
+  f.write<double>("/solver/residual", residual_, {S});
+  out.commit();
+}
+
+}  // namespace dc::cli

@@ -1,0 +1,36 @@
+#pragma once
+// Records a simulation for `deepcontact simulate` and writes the HDF5 trajectory
+// (layout: docs/formats.md, "Trajectory"). State k = 0..S is the state before step k+1;
+// the contacts and λ of step k (solved from state k) are rows
+// [step_offset[k], step_offset[k+1]) of the /contacts datasets (step_offset[S] = C).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dc/engine/world.hpp"
+
+namespace dc::cli {
+
+class TrajectoryRecorder {
+ public:
+  /// Records state 0 of `world`.
+  explicit TrajectoryRecorder(const World& world);
+  /// After world.step(): records the step's contacts (with solved λ), solver figures and
+  /// the new state.
+  void record_step(const World& world, const StepReport& report);
+  /// Writes the file atomically (tmp + rename). `scene` is the TOML text of the scene.
+  void write(const std::string& path, const std::string& scene, const std::string& warmstart) const;
+
+  [[nodiscard]] int steps() const { return static_cast<int>(sweeps_.size()); }
+  [[nodiscard]] std::size_t contacts() const { return body_a_.size(); }
+
+ private:
+  void record_state(const BodyState& s);
+  std::size_t n_;
+  std::vector<double> position_, angle_, velocity_, omega_, radius_, mass_;
+  std::vector<std::int64_t> step_offset_;
+  std::vector<std::int32_t> body_a_, body_b_, sweeps_, status_;
+  std::vector<double> point_, normal_, gap_, lambda_, theta_final_, residual_;
+};
+
+}  // namespace dc::cli
