@@ -14,8 +14,10 @@ namespace {
 // output tile, so the GEMM streams from cache instead of memory.
 constexpr long kTileFloats = 64 * 1024;
 // Below this many multiply-adds a call runs on one thread: a parallel region costs a few
-// µs even on an idle machine, and much more when the cores are shared.
-constexpr double kParallelMacs = 2e5;
+// µs even on an idle machine, and much more when the cores are shared. It is also below
+// the size at which Eigen would parallelise a single GEMM itself (work ≥ 2·50 000), so
+// Eigen never opens nested parallel regions here: all threading is ours.
+constexpr double kParallelMacs = 1e5;
 
 using MatMap = Eigen::Map<Eigen::MatrixXf>;
 using CMatMap = Eigen::Map<const Eigen::MatrixXf>;
@@ -144,8 +146,8 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   const Eigen::Map<const Eigen::RowVectorXf> b(bias_.data(), cout_);
   const int plane = g.ho * g.wo;
 
-  // One work item = one tile of one sample; items write disjoint rows of y. With a
-  // single item the region is skipped and Eigen may parallelise the GEMM itself.
+  // One work item = one tile of one sample; items write disjoint rows of y. Inside the
+  // region Eigen's GEMMs run single-threaded (it checks omp_get_num_threads()).
 #pragma omp parallel for schedule(static) num_threads(T) if (T > 1 && items > 1)
   for (int it = 0; it < items; ++it) {
     const int n = it / ntiles;
@@ -169,21 +171,34 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   if (dx != nullptr) dx->resize(x.shape());
   const int K = cin_ * k_ * k_;
   const int rpt = g.rows_per_tile;
+  const int ntiles = (g.ho + rpt - 1) / rpt;
   const int plane = g.ho * g.wo;
-  // One sample per work item (col2im of neighbouring tiles overlaps within a sample).
-  // Batch 1 runs outside a parallel region so that Eigen can parallelise its GEMMs.
   const double macs = double(N) * g.ho * g.wo * K * cout_;
-  const int T = N > 1 && macs >= kParallelMacs ? detail::max_threads() : 1;
+  const int T = macs >= kParallelMacs ? detail::max_threads() : 1;
+  // Work split. With at least as many samples as threads, one item = one sample and each
+  // thread scatters dX into its own samples. With fewer (batch 1 inference-style calls),
+  // one item = one tile and each thread scatters into a private dX (tiles of one sample
+  // overlap in col2im), summed afterwards. Either way the assignment of items to threads
+  // is static and every reduction runs in thread order: deterministic for a fixed T.
+  const bool by_sample = N >= T;
+  const int items = by_sample ? N : N * ntiles;
+  const std::size_t xsize = x.size();
   grow(col_, static_cast<std::size_t>(T));
   grow(dyr_, static_cast<std::size_t>(T));
   grow(dw_, static_cast<std::size_t>(T));
   grow(db_, static_cast<std::size_t>(T));
+  grow(dxp_, static_cast<std::size_t>(T));
   for (int t = 0; t < T; ++t) {
     grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
     if (relu_) grow(dyr_[t], static_cast<Eigen::Index>(rpt) * g.wo * cout_);
     dw_[t].setZero(K, cout_);
     db_[t].setZero(cout_);
+    if (!by_sample && dx != nullptr) {
+      grow(dxp_[t], static_cast<Eigen::Index>(xsize));
+      dxp_[t].head(static_cast<Eigen::Index>(xsize)).setZero();
+    }
   }
+  if (by_sample && dx != nullptr) dx->set_zero();
   const CMatMap Wt(weight_.data(), K, cout_);
 
 #pragma omp parallel num_threads(T) if (T > 1)
@@ -192,22 +207,25 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
     Eigen::MatrixXf& dW = dw_[tid];
     Eigen::VectorXf& db = db_[tid];
     float* col = col_[tid].data();
+    float* dx_base = dx == nullptr ? nullptr : (by_sample ? dx->data() : dxp_[tid].data());
 #pragma omp for schedule(static)
-    for (int n = 0; n < N; ++n) {
-      float* dxs = dx != nullptr ? dx->sample(n) : nullptr;
-      if (dxs != nullptr) std::memset(dxs, 0, sizeof(float) * x.shape().sample_count());
-      for (int oy0 = 0; oy0 < g.ho; oy0 += rpt) {
+    for (int it = 0; it < items; ++it) {
+      const int n = by_sample ? it : it / ntiles;
+      const int t_lo = by_sample ? 0 : it % ntiles;
+      const int t_hi = by_sample ? ntiles : t_lo + 1;
+      float* dxs = dx_base == nullptr ? nullptr : dx_base + static_cast<std::size_t>(n) * x.shape().sample_count();
+      for (int tile = t_lo; tile < t_hi; ++tile) {
+        const int oy0 = tile * rpt;
         const int oy1 = std::min(g.ho, oy0 + rpt);
         const int P = (oy1 - oy0) * g.wo;
         const std::size_t off = static_cast<std::size_t>(oy0) * g.wo;
-        CStridedMap dY(dy.sample(n) + off, P, cout_, Eigen::OuterStride<>(plane));
         const float* dyp = dy.sample(n) + off;
         Eigen::Index dy_stride = plane;
         if (relu_) {
           // d/dz relu(z) = [y > 0]; masking dY once serves dW, db and dX.
           MatMap masked(dyr_[tid].data(), P, cout_);
           CStridedMap Y(y.sample(n) + off, P, cout_, Eigen::OuterStride<>(plane));
-          masked = (Y.array() > 0.0f).select(dY, 0.0f);
+          masked = (Y.array() > 0.0f).select(CStridedMap(dyp, P, cout_, Eigen::OuterStride<>(plane)), 0.0f);
           dyp = masked.data();
           dy_stride = P;
         }
@@ -223,7 +241,7 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
       }
     }
   }
-  // Fixed-order reduction over threads → bit-equal results for a fixed thread count.
+  // Fixed-order reductions over threads → bit-equal results for a fixed thread count.
   MatMap dWt(dweight_.data(), K, cout_);
   Eigen::Map<Eigen::VectorXf> dB(dbias_.data(), cout_);
   dWt = dw_[0];
@@ -231,6 +249,11 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   for (int t = 1; t < T; ++t) {
     dWt += dw_[t];
     dB += db_[t];
+  }
+  if (!by_sample && dx != nullptr) {
+    auto out = dx->flat();
+    out = dxp_[0].head(static_cast<Eigen::Index>(xsize));
+    for (int t = 1; t < T; ++t) out += dxp_[t].head(static_cast<Eigen::Index>(xsize));
   }
 }
 

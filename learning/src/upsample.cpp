@@ -29,7 +29,7 @@ void Upsample2x::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   y.resize(out);
   const int planes = x.n() * x.c();
   const int H = x.h(), W = x.w(), Ho = out.h, Wo = out.w;
-#pragma omp parallel for schedule(static) if (planes >= 64)
+#pragma omp parallel for schedule(static) if (static_cast<long>(planes) * Ho * Wo >= (1L << 17))
   for (int p = 0; p < planes; ++p) {
     const float* src = x.data() + static_cast<std::size_t>(p) * H * W;
     float* dst = y.data() + static_cast<std::size_t>(p) * Ho * Wo;
@@ -52,7 +52,7 @@ void Upsample2x::backward(const Tensor& x, const Tensor& /*y*/, const Tensor& dy
   dx->resize(x.shape());
   const int planes = x.n() * x.c();
   const int H = x.h(), W = x.w(), Ho = out.h, Wo = out.w;
-#pragma omp parallel for schedule(static) if (planes >= 64)
+#pragma omp parallel for schedule(static) if (static_cast<long>(planes) * Ho * Wo >= (1L << 17))
   for (int p = 0; p < planes; ++p) {
     const float* g = dy.data() + static_cast<std::size_t>(p) * Ho * Wo;
     float* d = dx->data() + static_cast<std::size_t>(p) * H * W;

@@ -18,9 +18,10 @@
 //
 // Backward:  dWᵀ += X_colᵀ · dY   (K × Cout),   db += Σ_p dY[p, :],
 //            dX_col = dY · W      (P × K), scattered back (col2im, adjoint of im2col).
-// Threads: forward runs OpenMP over (sample, tile) items; backward over samples, each
-// thread accumulating its own dW which are then summed in thread order — deterministic
-// for a fixed thread count.
+// Threads: forward runs OpenMP over (sample, tile) items; backward over samples (or over
+// tiles with thread-private dX when the batch is smaller than the thread count), each
+// thread accumulating its own dW, summed in thread order — deterministic for a fixed
+// thread count.
 #include <string>
 #include <vector>
 
@@ -67,6 +68,7 @@ class Conv2d final : public Layer {
   std::vector<Eigen::VectorXf> dyr_;    ///< dY masked by the fused ReLU (P × Cout)
   std::vector<Eigen::MatrixXf> dw_;     ///< dWᵀ accumulators (K × Cout)
   std::vector<Eigen::VectorXf> db_;     ///< db accumulators (Cout)
+  std::vector<Eigen::VectorXf> dxp_;    ///< private dX when tiles of one sample are split
 };
 
 }  // namespace dc
