@@ -17,8 +17,11 @@ SphTransferDef default_sph_setting(double width, double height) {
   d.grid.height = height;
   d.grid.spacing = 0.5;
   d.grid.channels = 2;
+  // The best setting of `deepcontact sph-study --seeds 1..2` (docs/sph.md): poly6 with
+  // h = 0.71·d, the smallest support that still reaches a node from every point of a cell
+  // (h ≥ d·√2/2), so neighbouring contacts overlap least and the Shepard round trip is exact.
   d.kernel = SphKernelType::Poly6;
-  d.support = 0.5;
+  d.support = 0.355;
   d.normalisation = SphNormalisation::Shepard;
   return d;
 }

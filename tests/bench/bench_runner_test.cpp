@@ -1,0 +1,122 @@
+// The bench's relationships on a small settling scene: the oracle copy converges at once,
+// the ordering copy < builtin < zero holds, paired mode evaluates identical steps for every
+// starter, and the report files hold what docs/bench.md promises.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bench_report.hpp"
+#include "bench_runner.hpp"
+#include "cli_helpers.hpp"
+#include "dc/engine/error.hpp"
+#include "dc/engine/h5.hpp"
+
+namespace dc {
+namespace {
+
+bench::BenchOptions small_pile() {
+  bench::BenchOptions o;
+  o.scene.bodies.count = 24;
+  o.scene.bodies.mean = {15.0, 5.0};
+  o.scene.bodies.sigma = 3.0;
+  o.scene.time.steps = 160;
+  o.sweeps = 600;
+  o.seeds = {3};
+  o.warmstarts = {"zero", "builtin", "copy", "sph", "sph-prev"};
+  return o;
+}
+
+const bench::StarterSummary& get(const std::vector<bench::StarterSummary>& s, const std::string& n) {
+  for (const auto& x : s)
+    if (x.name == n) return x;
+  throw std::runtime_error("no starter " + n);
+}
+
+TEST(BenchRunner, PairedOrderingOnASettlingPile) {
+  const auto r = bench::run_bench(small_pile(), default_warm_starters());
+  ASSERT_EQ(r.starters.size(), 5u);
+  const std::size_t steps = r.starters[0].sweeps_to_tol.size();
+  ASSERT_GT(steps, 100u);
+  for (const auto& rec : r.starters) {
+    EXPECT_EQ(rec.sweeps_to_tol.size(), steps);
+    EXPECT_EQ(rec.step, r.starters[0].step) << "paired: identical steps";
+    EXPECT_EQ(rec.theta.size(), steps * 600);
+    EXPECT_EQ(rec.residual.size(), steps * r.budgets.size());
+  }
+  const auto s = bench::summarise(r);
+  EXPECT_LE(get(s, "copy").median_sweeps_to_tol, 2);
+  EXPECT_LT(get(s, "copy").median_sweeps_to_tol, get(s, "builtin").median_sweeps_to_tol);
+  EXPECT_LT(get(s, "builtin").median_sweeps_to_tol, get(s, "zero").median_sweeps_to_tol);
+  EXPECT_LT(get(s, "sph").median_sweeps_to_tol, get(s, "builtin").median_sweeps_to_tol);
+  // The trade: more sweeps never leave a (much) larger residual for the same starter.
+  const auto& z = r.starters[0];
+  const std::size_t B = r.budgets.size();
+  double first = 0, last = 0;
+  for (std::size_t i = 0; i < steps; ++i) {
+    first += z.residual[i * B];
+    last += z.residual[i * B + B - 1];
+  }
+  EXPECT_LT(last, first);
+}
+
+TEST(BenchRunner, RolloutModeRunsEachStarterOnItsOwnTrajectory) {
+  auto o = small_pile();
+  o.mode = bench::Mode::Rollout;
+  o.scene.time.steps = 60;
+  o.warmstarts = {"zero", "builtin"};
+  const auto r = bench::run_bench(o, default_warm_starters());
+  ASSERT_EQ(r.starters.size(), 2u);
+  EXPECT_GT(r.starters[0].sweeps_to_tol.size(), 0u);
+  EXPECT_GT(r.starters[1].sweeps_to_tol.size(), 0u);
+}
+
+TEST(BenchRunner, UnknownStarterAndBadOptionsAreConfigErrors) {
+  auto o = small_pile();
+  o.warmstarts = {"zero", "nope"};
+  EXPECT_THROW(bench::run_bench(o, default_warm_starters()), ConfigError);
+  o.warmstarts = {"copy:x"};
+  EXPECT_THROW(bench::run_bench(o, default_warm_starters()), ConfigError);
+  o.warmstarts = {"zero"};
+  o.tolerance = 0;
+  EXPECT_THROW(bench::run_bench(o, default_warm_starters()), ConfigError);
+}
+
+TEST(BenchRunner, DefaultBudgetsAreSortedAndEndAtTheSweeps) {
+  for (int n : {1, 7, 100, 3000}) {
+    const auto b = bench::default_budgets(n);
+    ASSERT_FALSE(b.empty());
+    EXPECT_EQ(b.front(), 1);
+    EXPECT_EQ(b.back(), n);
+    for (std::size_t i = 1; i < b.size(); ++i) EXPECT_LT(b[i - 1], b[i]);
+  }
+}
+
+TEST(BenchReport, WritesSummaryResultsAndReport) {
+  auto o = small_pile();
+  o.scene.time.steps = 90;
+  o.warmstarts = {"zero", "builtin", "copy:2"};
+  const auto r = bench::run_bench(o, default_warm_starters());
+  test::TempDir dir;
+  const auto files = bench::write_report(r, dir.path().string());
+  std::ifstream js(dir.file("summary.json"));
+  std::stringstream ss;
+  ss << js.rdbuf();
+  const std::string j = ss.str();
+  for (const char* key : {"\"warmstarters\"", "\"zero\"", "\"copy:2\"", "\"median_sweeps_to_tol\"",
+                          "\"unconverged_share\"", "\"warmstart_ms\"", "\"solve_ms\"", "\"total_ms\"", "\"scene\"",
+                          "\"seeds\"", "\"git\"", "\"build\""})
+    EXPECT_NE(j.find(key), std::string::npos) << key;
+  const H5File f = H5File::open_read(dir.file("results.h5"));
+  const hsize_t n = r.starters[0].sweeps_to_tol.size();
+  f.require_shape("/warmstarters/builtin/theta", {n, 600});
+  f.require_shape("/warmstarters/copy:2/residual", {n, r.budgets.size()});
+  EXPECT_EQ(f.read_strings("/warmstarter_names"), (std::vector<std::string>{"zero", "builtin", "copy:2"}));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("report.md")));
+  for (const char* png : {"convergence.png", "sweeps_per_step.png", "time_breakdown.png", "pareto.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir.file(png))) << png << " (python3-matplotlib/h5py installed?)";
+}
+
+}  // namespace
+}  // namespace dc

@@ -1,0 +1,75 @@
+// deepcontact simulate: the trajectory file holds what docs/formats.md promises, and bad
+// input gives a one-line error with a non-zero exit status.
+#include <gtest/gtest.h>
+
+#include "cli_helpers.hpp"
+#include "dc/engine/h5.hpp"
+#include "dc/engine/scene.hpp"
+
+namespace dc {
+namespace {
+
+TEST(SimulateCli, WritesTheDocumentedTrajectory) {
+  test::TempDir dir;
+  const std::string out = dir.file("run.h5");
+  const auto r = test::run_cli("simulate --set bodies.count=12 --set bodies.mean=[15.0,4.0] --set bodies.sigma=3.0 "
+                               "--set solver.sweeps=300 --steps 60 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Simulated 12 circles for 60 steps"), std::string::npos) << r.out;
+  const H5File f = H5File::open_read(out);
+  f.require_shape("/bodies/position", {61, 12, 2});
+  f.require_shape("/bodies/velocity", {61, 12, 2});
+  f.require_shape("/bodies/angle", {61, 12});
+  f.require_shape("/bodies/omega", {61, 12});
+  f.require_shape("/bodies/radius", {12});
+  f.require_shape("/bodies/mass", {12});
+  f.require_shape("/solver/sweeps", {60});
+  f.require_shape("/solver/theta_final", {60});
+  f.require_shape("/solver/residual", {60});
+  const auto off = f.read<std::int64_t>("/contacts/step_offset", {61});
+  EXPECT_EQ(off.front(), 0);
+  for (std::size_t k = 1; k < off.size(); ++k) EXPECT_GE(off[k], off[k - 1]);
+  const auto C = static_cast<hsize_t>(off.back());
+  ASSERT_GT(C, 0u) << "the bodies should reach the floor within 60 steps";
+  f.require_shape("/contacts/body_a", {C});
+  f.require_shape("/contacts/body_b", {C});
+  f.require_shape("/contacts/point", {C, 2});
+  f.require_shape("/contacts/normal", {C, 2});
+  f.require_shape("/contacts/gap", {C});
+  f.require_shape("/contacts/lambda", {C, 2});
+  const auto a = f.read<std::int32_t>("/contacts/body_a");
+  const auto b = f.read<std::int32_t>("/contacts/body_b");
+  bool saw_floor = false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_GE(a[i], -4);
+    EXPECT_LT(a[i], 12);
+    EXPECT_GE(b[i], 0);
+    EXPECT_LT(b[i], 12);
+    if (a[i] >= 0) EXPECT_LT(a[i], b[i]);
+    saw_floor |= a[i] == -3;  // bottom wall
+  }
+  EXPECT_TRUE(saw_floor);
+  const auto lam = f.read<double>("/contacts/lambda");
+  for (std::size_t i = 0; i < C; ++i) EXPECT_GE(lam[2 * i], 0.0);
+  // The scene attribute is the complete scene and parses back to what ran.
+  const WorldDef d = parse_scene(f.attribute_string("/", "scene"));
+  EXPECT_EQ(d.bodies.count, 12);
+  EXPECT_EQ(d.solver.sweeps, 300);
+  EXPECT_EQ(d.time.steps, 60);
+}
+
+TEST(SimulateCli, BadInputIsOneLineAndNonZero) {
+  test::TempDir dir;
+  for (const std::string& args : std::vector<std::string>{"--set contact.frictoin=0.3", "--set time.dt=nan", "--set bodies.radius=-1",
+                                 "--scene " + dir.file("missing.toml"), "--set bodies.count=x"}) {
+    const auto r = test::run_cli("simulate --steps 1 " + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(test::count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_EQ(r.err.find("terminate"), std::string::npos) << r.err;
+  }
+  const auto r = test::run_cli("simulate --steps 1 --set contact.frictoin=0.3");
+  EXPECT_NE(r.err.find("frictoin"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace dc
