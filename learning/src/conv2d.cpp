@@ -73,35 +73,41 @@ Conv2d::Geometry Conv2d::geometry(const Shape& in) const {
 
 // X_col for output rows [oy0, oy1): column (c, ky, kx) is the input plane c shifted by
 // (ky − pt, kx − pl) and subsampled by s, zero outside the image. P = (oy1−oy0)·Wo rows.
-void Conv2d::im2col(const float* x, const Geometry& g, int oy0, int oy1, float* col) const {
-  const int P = (oy1 - oy0) * g.wo;
-  for (int c = 0; c < cin_; ++c) {
-    const float* plane = x + static_cast<std::size_t>(c) * g.h * g.w;
-    for (int ky = 0; ky < k_; ++ky) {
-      for (int kx = 0; kx < k_; ++kx) {
-        float* dst = col + static_cast<std::size_t>((c * k_ + ky) * k_ + kx) * P;
-        const int dxoff = kx - g.pad_left;
+// Free of Conv2d state so that it also builds the patches of dY for the stride-1 dX.
+static void im2col_planes(const float* x, int channels, int h, int w, int k, int s, int pad_top, int pad_left, int wo,
+                   int oy0, int oy1, float* col) {
+  const int P = (oy1 - oy0) * wo;
+  for (int c = 0; c < channels; ++c) {
+    const float* plane = x + static_cast<std::size_t>(c) * h * w;
+    for (int ky = 0; ky < k; ++ky) {
+      for (int kx = 0; kx < k; ++kx) {
+        float* dst = col + static_cast<std::size_t>((c * k + ky) * k + kx) * P;
+        const int dxoff = kx - pad_left;
         // ox range whose source column ix = ox·s + dxoff lies inside [0, W).
-        const int ox_lo = std::clamp(detail::ceil_div(-dxoff, s_), 0, g.wo);
-        const int ox_hi = std::clamp(detail::floor_div(g.w - 1 - dxoff, s_) + 1, ox_lo, g.wo);
-        for (int oy = oy0; oy < oy1; ++oy, dst += g.wo) {
-          const int iy = oy * s_ + ky - g.pad_top;
-          if (iy < 0 || iy >= g.h) {
-            std::memset(dst, 0, sizeof(float) * g.wo);
+        const int ox_lo = std::clamp(detail::ceil_div(-dxoff, s), 0, wo);
+        const int ox_hi = std::clamp(detail::floor_div(w - 1 - dxoff, s) + 1, ox_lo, wo);
+        for (int oy = oy0; oy < oy1; ++oy, dst += wo) {
+          const int iy = oy * s + ky - pad_top;
+          if (iy < 0 || iy >= h) {
+            std::memset(dst, 0, sizeof(float) * wo);
             continue;
           }
-          const float* src = plane + static_cast<std::size_t>(iy) * g.w + dxoff;
+          const float* src = plane + static_cast<std::size_t>(iy) * w + dxoff;
           for (int ox = 0; ox < ox_lo; ++ox) dst[ox] = 0.0f;
-          if (s_ == 1) {
+          if (s == 1) {
             std::memcpy(dst + ox_lo, src + ox_lo, sizeof(float) * (ox_hi - ox_lo));
           } else {
-            for (int ox = ox_lo; ox < ox_hi; ++ox) dst[ox] = src[ox * s_];
+            for (int ox = ox_lo; ox < ox_hi; ++ox) dst[ox] = src[ox * s];
           }
-          for (int ox = ox_hi; ox < g.wo; ++ox) dst[ox] = 0.0f;
+          for (int ox = ox_hi; ox < wo; ++ox) dst[ox] = 0.0f;
         }
       }
     }
   }
+}
+
+void Conv2d::im2col(const float* x, const Geometry& g, int oy0, int oy1, float* col) const {
+  im2col_planes(x, cin_, g.h, g.w, k_, s_, g.pad_top, g.pad_left, g.wo, oy0, oy1, col);
 }
 
 // Adjoint of im2col: dx[c, iy, ix] += dX_col[p, (c, ky, kx)] for every in-image source.
@@ -170,36 +176,59 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   require_shape(y.shape(), dy.shape(), "Conv2d::backward y");
   if (dx != nullptr) dx->resize(x.shape());
   const int K = cin_ * k_ * k_;
+  const int Kf = cout_ * k_ * k_;  // patch length of dY for the stride-1 dX
   const int rpt = g.rows_per_tile;
   const int ntiles = (g.ho + rpt - 1) / rpt;
   const int plane = g.ho * g.wo;
+  const std::size_t dy_sample = static_cast<std::size_t>(cout_) * plane;
   const double macs = double(N) * g.ho * g.wo * K * cout_;
   const int T = macs >= kParallelMacs ? detail::max_threads() : 1;
-  // Work split. With at least as many samples as threads, one item = one sample and each
-  // thread scatters dX into its own samples. With fewer (batch 1 inference-style calls),
-  // one item = one tile and each thread scatters into a private dX (tiles of one sample
-  // overlap in col2im), summed afterwards. Either way the assignment of items to threads
-  // is static and every reduction runs in thread order: deterministic for a fixed T.
+  // dX. For stride 1 it is itself a "same" convolution of dY with the kernel flipped in
+  // space and transposed in channels, padded by k−1−pt (= pt for odd k):
+  //   dx[c, iy, ix] = Σ_{o, ky', kx'} Wf[(o, ky', kx'), c] · dy[o, iy + ky' − pt, ix + kx' − pl],
+  //   Wf[(o, ky', kx'), c] = w[o, c, k−1−ky', k−1−kx'],
+  // so each dX tile is one GEMM (P × Cout·k²)·(Cout·k² × Cin) written in place: no dX_col of
+  // P × Cin·k² and no scatter. Other strides use dX_col = dY·W and col2im.
+  const bool flip = s_ == 1;
+  // Work split. With at least as many samples as threads, one item = one sample. With
+  // fewer (batch 1), one item = one tile; col2im tiles of one sample overlap, so then
+  // each thread scatters into a private dX, summed afterwards. Either way items go to
+  // threads statically and reductions run in thread order: deterministic for fixed T.
   const bool by_sample = N >= T;
   const int items = by_sample ? N : N * ntiles;
+  const bool private_dx = dx != nullptr && !by_sample && !flip;
   const std::size_t xsize = x.size();
-  grow(col_, static_cast<std::size_t>(T));
-  grow(dyr_, static_cast<std::size_t>(T));
+  for (auto* v : {&col_, &dyr_, &dxp_}) grow(*v, static_cast<std::size_t>(T));
   grow(dw_, static_cast<std::size_t>(T));
   grow(db_, static_cast<std::size_t>(T));
-  grow(dxp_, static_cast<std::size_t>(T));
   for (int t = 0; t < T; ++t) {
-    grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
-    if (relu_) grow(dyr_[t], static_cast<Eigen::Index>(rpt) * g.wo * cout_);
+    grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * std::max(K, flip ? Kf : 0));
+    if (relu_ && by_sample) grow(dyr_[t], static_cast<Eigen::Index>(dy_sample));
     dw_[t].setZero(K, cout_);
     db_[t].setZero(cout_);
-    if (!by_sample && dx != nullptr) {
+    if (private_dx) {
       grow(dxp_[t], static_cast<Eigen::Index>(xsize));
       dxp_[t].head(static_cast<Eigen::Index>(xsize)).setZero();
     }
   }
-  if (by_sample && dx != nullptr) dx->set_zero();
+  if (dx != nullptr && !flip && by_sample) dx->set_zero();
+  // d/dz relu(z) = [y > 0]: dY is masked once per sample (it is read by neighbouring
+  // tiles of the stride-1 dX). When splitting tiles, mask the whole (small) batch first.
+  if (relu_ && !by_sample) {
+    grow(dyr_[0], static_cast<Eigen::Index>(dy.size()));
+    Eigen::Map<Eigen::VectorXf>(dyr_[0].data(), static_cast<Eigen::Index>(dy.size())) =
+        (y.flat().array() > 0.0f).select(dy.flat(), 0.0f);
+  }
   const CMatMap Wt(weight_.data(), K, cout_);
+  if (flip && dx != nullptr) {
+    wflip_.resize(Kf, cin_);
+    for (int o = 0; o < cout_; ++o)
+      for (int c = 0; c < cin_; ++c)
+        for (int ky = 0; ky < k_; ++ky)
+          for (int kx = 0; kx < k_; ++kx)
+            wflip_((o * k_ + (k_ - 1 - ky)) * k_ + (k_ - 1 - kx), c) = weight_(o, c, ky, kx);
+  }
+  const int fpad_top = k_ - 1 - g.pad_top, fpad_left = k_ - 1 - g.pad_left;
 
 #pragma omp parallel num_threads(T) if (T > 1)
   {
@@ -207,34 +236,39 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
     Eigen::MatrixXf& dW = dw_[tid];
     Eigen::VectorXf& db = db_[tid];
     float* col = col_[tid].data();
-    float* dx_base = dx == nullptr ? nullptr : (by_sample ? dx->data() : dxp_[tid].data());
+    float* dx_base = dx == nullptr ? nullptr : (private_dx ? dxp_[tid].data() : dx->data());
 #pragma omp for schedule(static)
     for (int it = 0; it < items; ++it) {
       const int n = by_sample ? it : it / ntiles;
       const int t_lo = by_sample ? 0 : it % ntiles;
       const int t_hi = by_sample ? ntiles : t_lo + 1;
+      const float* gs = dy.sample(n);  // dL/dz of sample n, [Cout, Ho, Wo]
+      if (relu_ && by_sample) {
+        float* m = dyr_[tid].data();
+        const float* ys = y.sample(n);
+        for (std::size_t i = 0; i < dy_sample; ++i) m[i] = ys[i] > 0.0f ? gs[i] : 0.0f;
+        gs = m;
+      } else if (relu_) {
+        gs = dyr_[0].data() + static_cast<std::size_t>(n) * dy_sample;
+      }
       float* dxs = dx_base == nullptr ? nullptr : dx_base + static_cast<std::size_t>(n) * x.shape().sample_count();
       for (int tile = t_lo; tile < t_hi; ++tile) {
         const int oy0 = tile * rpt;
         const int oy1 = std::min(g.ho, oy0 + rpt);
         const int P = (oy1 - oy0) * g.wo;
         const std::size_t off = static_cast<std::size_t>(oy0) * g.wo;
-        const float* dyp = dy.sample(n) + off;
-        Eigen::Index dy_stride = plane;
-        if (relu_) {
-          // d/dz relu(z) = [y > 0]; masking dY once serves dW, db and dX.
-          MatMap masked(dyr_[tid].data(), P, cout_);
-          CStridedMap Y(y.sample(n) + off, P, cout_, Eigen::OuterStride<>(plane));
-          masked = (Y.array() > 0.0f).select(CStridedMap(dyp, P, cout_, Eigen::OuterStride<>(plane)), 0.0f);
-          dyp = masked.data();
-          dy_stride = P;
-        }
-        CStridedMap G(dyp, P, cout_, Eigen::OuterStride<>(dy_stride));
+        CStridedMap G(gs + off, P, cout_, Eigen::OuterStride<>(plane));
         im2col(x.sample(n), g, oy0, oy1, col);
         MatMap C(col, P, K);
         dW.noalias() += C.transpose() * G;
         db.noalias() += G.colwise().sum().transpose();
-        if (dxs != nullptr) {
+        if (dxs == nullptr) continue;
+        if (flip) {
+          // Input rows [oy0, oy1) (stride 1: the input grid is the output grid).
+          im2col_planes(gs, cout_, g.ho, g.wo, k_, 1, fpad_top, fpad_left, g.w, oy0, oy1, col);
+          StridedMap DX(dxs + off, P, cin_, Eigen::OuterStride<>(g.h * g.w));
+          DX.noalias() = MatMap(col, P, Kf) * wflip_;
+        } else {
           C.noalias() = G * Wt.transpose();
           col2im(col, g, oy0, oy1, dxs);
         }
@@ -250,7 +284,7 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
     dWt += dw_[t];
     dB += db_[t];
   }
-  if (!by_sample && dx != nullptr) {
+  if (private_dx) {
     auto out = dx->flat();
     out = dxp_[0].head(static_cast<Eigen::Index>(xsize));
     for (int t = 1; t < T; ++t) out += dxp_[t].head(static_cast<Eigen::Index>(xsize));

@@ -17,7 +17,9 @@
 // output rows so that X_col stays in L2.
 //
 // Backward:  dWᵀ += X_colᵀ · dY   (K × Cout),   db += Σ_p dY[p, :],
-//            dX_col = dY · W      (P × K), scattered back (col2im, adjoint of im2col).
+//            stride 1: dX = "same" conv of dY with the flipped, channel-transposed kernel
+//                      (one GEMM per tile, P × Cout·k² times Cout·k² × Cin, written in place);
+//            stride s > 1: dX_col = dY · W (P × K), scattered back (col2im, adjoint of im2col).
 // Threads: forward runs OpenMP over (sample, tile) items; backward over samples (or over
 // tiles with thread-private dX when the batch is smaller than the thread count), each
 // thread accumulating its own dW, summed in thread order — deterministic for a fixed
@@ -69,6 +71,7 @@ class Conv2d final : public Layer {
   std::vector<Eigen::MatrixXf> dw_;     ///< dWᵀ accumulators (K × Cout)
   std::vector<Eigen::VectorXf> db_;     ///< db accumulators (Cout)
   std::vector<Eigen::VectorXf> dxp_;    ///< private dX when tiles of one sample are split
+  Eigen::MatrixXf wflip_;               ///< flipped, channel-transposed kernel (Cout·k² × Cin)
 };
 
 }  // namespace dc
