@@ -1,13 +1,116 @@
-// PLACEHOLDER until its issue lands: the subcommand exists but refuses to run.
+// `deepcontact lcp solve FILE.dat [--solver NAME] [--sweeps N] [--tol T]`: solve one LCP
+// from a Siconos numerics .dat file (dense storage, docs/lcp.md) and print the result as
+// JSON on stdout:
+//
+//     {"z": [...], "w": [...], "status": "converged", "sweeps": k, "residual": r,
+//      "solver": "lemke", "message": "..."}
+//
+// numbers with %.17g (round-trip exact). Exit status: 0 when solved (status converged),
+// 3 when the solver proved the problem infeasible, 1 for any other status (sweep_limit,
+// diverged, failed, invalid_input) and for errors (unreadable/malformed file, unknown
+// solver: one line on stderr from main()).
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "commands.hpp"
+#include "dc/engine/dat_file.hpp"
 #include "dc/engine/error.hpp"
+#include "dc/engine/lcp_solver.hpp"
 
 namespace dc::cli {
-void add_lcp_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("lcp", "(not yet implemented)");
-  cmd->allow_extras();
-  cmd->callback([] { throw dc::ConfigError("'lcp' is not implemented yet"); });
+namespace {
+
+struct LcpSolveArgs {
+  std::string file;
+  std::string solver = "lemke";
+  int sweeps = 3000;
+  double tol = 1e-10;
+};
+
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";  // JSON has no Inf/NaN
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
 }
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string json_array(const Eigen::VectorXd& v) {
+  std::string out = "[";
+  for (int i = 0; i < v.size(); ++i) out += (i ? ", " : "") + json_number(v[i]);
+  return out + "]";
+}
+
+void run_lcp_solve(const LcpSolveArgs& a) {
+  const auto solver = make_solver(a.solver);  // ConfigError for an unknown name
+  if (a.sweeps < 0) throw ConfigError("--sweeps must be >= 0");
+  if (!(a.tol >= 0) || !std::isfinite(a.tol)) throw ConfigError("--tol must be finite and >= 0");
+  const LcpProblem p = read_lcp_dat(a.file);
+  SolverOptions o;
+  o.max_sweeps = a.sweeps;
+  o.tolerance = a.tol;
+  o.record_theta = false;
+  const SolveResult r = solver->solve(p, Eigen::VectorXd(), o);
+  const Eigen::VectorXd w = lcp_velocity(p, r.lambda);
+  std::string out = "{\"z\": " + json_array(r.lambda) + ", \"w\": " + json_array(w) +
+                    ", \"status\": " + json_string(to_string(r.status)) +
+                    ", \"sweeps\": " + std::to_string(r.sweeps) + ", \"residual\": " + json_number(r.residual) +
+                    ", \"solver\": " + json_string(a.solver) + ", \"message\": " + json_string(r.message) + "}\n";
+  std::fputs(out.c_str(), stdout);
+  std::fflush(stdout);
+  switch (r.status) {
+    case SolveStatus::Converged: exit_status() = 0; break;
+    case SolveStatus::Infeasible: exit_status() = 3; break;
+    default: exit_status() = 1; break;
+  }
+}
+
+}  // namespace
+
+void add_lcp_command(CLI::App& app) {
+  auto* lcp = app.add_subcommand("lcp", "Linear complementarity problems from files (Siconos .dat)");
+  lcp->require_subcommand(1);
+  auto args = std::make_shared<LcpSolveArgs>();
+  auto* solve = lcp->add_subcommand(
+      "solve",
+      "Solve w = M z + q, z >= 0, w >= 0, z'w = 0 read from a Siconos numerics .dat file (dense storage 0) "
+      "and print {\"z\", \"w\", \"status\", \"sweeps\", \"residual\"} as JSON. Exit status: 0 converged, "
+      "3 infeasible (lemke ray termination), 1 otherwise or on error. See docs/lcp.md.");
+  solve->add_option("file", args->file, "LCP file in Siconos .dat format (n, 0, n, n, n<TAB>n, M column-major, q)")
+      ->required();
+  std::string names;
+  for (const auto& n : solver_names()) names += (names.empty() ? "" : ", ") + n;
+  solve->add_option("--solver", args->solver, "Solver: " + names + " (exact: lemke, newton)")
+      ->capture_default_str();
+  solve->add_option("--sweeps", args->sweeps, "Sweep/iteration limit (pivots for lemke are capped at 50n)")
+      ->capture_default_str();
+  solve->add_option("--tol", args->tol,
+                    "Iterative solvers: stop when max change per sweep <= tol (0 = run all sweeps); "
+                    "lemke/newton solve to 1e-9*max(1,|q|inf)")
+      ->capture_default_str();
+  solve->callback([args] { run_lcp_solve(*args); });
+}
+
 }  // namespace dc::cli

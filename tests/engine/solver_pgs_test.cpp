@@ -49,7 +49,7 @@ TEST_P(SolverPgsIterates, MatrixFreeMatchesAssembledFromWarmStart) {
   EXPECT_LE(max_abs(mf.lambda - as.lambda), 1e-10 * std::max(1.0, max_abs(as.lambda)));
 }
 
-INSTANTIATE_TEST_SUITE_P(Friction, SolverPgsIterates, ::testing::Values(false, true));
+INSTANTIATE_TEST_SUITE_P(SolverPgsFriction, SolverPgsIterates, ::testing::Values(false, true));
 
 TEST(SolverPgs, PsorWithOmegaOneIsPgsAssembledBitForBit) {
   test::TestRng rng(3);
