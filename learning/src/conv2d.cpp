@@ -152,9 +152,13 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   const Eigen::Map<const Eigen::RowVectorXf> b(bias_.data(), cout_);
   const int plane = g.ho * g.wo;
 
-  // One work item = one tile of one sample; items write disjoint rows of y. Inside the
-  // region Eigen's GEMMs run single-threaded (it checks omp_get_num_threads()).
-#pragma omp parallel for schedule(static) num_threads(T) if (T > 1 && items > 1)
+  // One work item = one tile of one sample; items write disjoint rows of y and each is
+  // computed the same way whichever thread takes it, so dynamic scheduling (robust when a
+  // thread is descheduled on a shared machine) keeps the result deterministic. Inside the
+  // region Eigen's GEMMs run single-threaded (it checks omp_get_num_threads()); the region
+  // is entered even for a single item so that Eigen never picks its multi-threaded
+  // blocking, which would change the summation order with the thread count.
+#pragma omp parallel for schedule(dynamic, 1) num_threads(T) if (T > 1)
   for (int it = 0; it < items; ++it) {
     const int n = it / ntiles;
     const int oy0 = (it % ntiles) * rpt;
@@ -190,34 +194,35 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   // so each dX tile is one GEMM (P × Cout·k²)·(Cout·k² × Cin) written in place: no dX_col of
   // P × Cin·k² and no scatter. Other strides use dX_col = dY·W and col2im.
   const bool flip = s_ == 1;
-  // Work split. With at least as many samples as threads, one item = one sample. With
-  // fewer (batch 1), one item = one tile; col2im tiles of one sample overlap, so then
-  // each thread scatters into a private dX, summed afterwards. Either way items go to
-  // threads statically and reductions run in thread order: deterministic for fixed T.
-  const bool by_sample = N >= T;
-  const int items = by_sample ? N : N * ntiles;
-  const bool private_dx = dx != nullptr && !by_sample && !flip;
-  const std::size_t xsize = x.size();
-  for (auto* v : {&col_, &dyr_, &dxp_}) grow(*v, static_cast<std::size_t>(T));
-  grow(dw_, static_cast<std::size_t>(T));
-  grow(db_, static_cast<std::size_t>(T));
+  // Work split into groups, each with its own dW/db accumulator; groups are summed in
+  // group order afterwards. A batch (N ≥ 2) is cut into ≤ 16 runs of consecutive
+  // samples; a single sample into its row tiles. The grouping depends on N only, and
+  // each group is computed identically by whichever thread takes it, so the result is
+  // deterministic for any thread count, and dynamic scheduling lets a running thread take
+  // over the work of a descheduled one. For a single sample with stride ≠ 1 the tiles
+  // write dX_col rows of one shared P × K buffer and col2im runs once afterwards.
+  const bool by_sample = N >= 2;
+  const int groups = by_sample ? std::min(N, 16) : ntiles;
+  const bool shared_col = dx != nullptr && !by_sample && !flip;
+  grow(col_, static_cast<std::size_t>(T));
+  grow(dyr_, static_cast<std::size_t>(T));
+  grow(dw_, static_cast<std::size_t>(groups));
+  grow(db_, static_cast<std::size_t>(groups));
   for (int t = 0; t < T; ++t) {
     grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * std::max(K, flip ? Kf : 0));
     if (relu_ && by_sample) grow(dyr_[t], static_cast<Eigen::Index>(dy_sample));
-    dw_[t].setZero(K, cout_);
-    db_[t].setZero(cout_);
-    if (private_dx) {
-      grow(dxp_[t], static_cast<Eigen::Index>(xsize));
-      dxp_[t].head(static_cast<Eigen::Index>(xsize)).setZero();
-    }
   }
+  for (int q = 0; q < groups; ++q) {
+    dw_[q].setZero(K, cout_);
+    db_[q].setZero(cout_);
+  }
+  if (shared_col) grow(dxcol_, static_cast<Eigen::Index>(plane) * K);
   if (dx != nullptr && !flip && by_sample) dx->set_zero();
   // d/dz relu(z) = [y > 0]: dY is masked once per sample (it is read by neighbouring
-  // tiles of the stride-1 dX). When splitting tiles, mask the whole (small) batch first.
+  // tiles of the stride-1 dX). For a single sample, mask it before the tiles start.
   if (relu_ && !by_sample) {
-    grow(dyr_[0], static_cast<Eigen::Index>(dy.size()));
-    Eigen::Map<Eigen::VectorXf>(dyr_[0].data(), static_cast<Eigen::Index>(dy.size())) =
-        (y.flat().array() > 0.0f).select(dy.flat(), 0.0f);
+    grow(dymask_, static_cast<Eigen::Index>(dy.size()));
+    dymask_.head(static_cast<Eigen::Index>(dy.size())) = (y.flat().array() > 0.0f).select(dy.flat(), 0.0f);
   }
   const CMatMap Wt(weight_.data(), K, cout_);
   if (flip && dx != nullptr) {
@@ -230,18 +235,18 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   }
   const int fpad_top = k_ - 1 - g.pad_top, fpad_left = k_ - 1 - g.pad_left;
 
-#pragma omp parallel num_threads(T) if (T > 1)
-  {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(T) if (T > 1)
+  for (int q = 0; q < groups; ++q) {
     const int tid = detail::thread_id();
-    Eigen::MatrixXf& dW = dw_[tid];
-    Eigen::VectorXf& db = db_[tid];
+    Eigen::MatrixXf& dW = dw_[q];
+    Eigen::VectorXf& db = db_[q];
     float* col = col_[tid].data();
-    float* dx_base = dx == nullptr ? nullptr : (private_dx ? dxp_[tid].data() : dx->data());
-#pragma omp for schedule(static)
-    for (int it = 0; it < items; ++it) {
-      const int n = by_sample ? it : it / ntiles;
-      const int t_lo = by_sample ? 0 : it % ntiles;
-      const int t_hi = by_sample ? ntiles : t_lo + 1;
+    // Group q: samples [n_lo, n_hi) with all tiles, or tile q of sample 0.
+    const int n_lo = by_sample ? static_cast<int>(static_cast<long>(N) * q / groups) : 0;
+    const int n_hi = by_sample ? static_cast<int>(static_cast<long>(N) * (q + 1) / groups) : 1;
+    for (int n = n_lo; n < n_hi; ++n) {
+      const int t_lo = by_sample ? 0 : q;
+      const int t_hi = by_sample ? ntiles : q + 1;
       const float* gs = dy.sample(n);  // dL/dz of sample n, [Cout, Ho, Wo]
       if (relu_ && by_sample) {
         float* m = dyr_[tid].data();
@@ -249,9 +254,9 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
         for (std::size_t i = 0; i < dy_sample; ++i) m[i] = ys[i] > 0.0f ? gs[i] : 0.0f;
         gs = m;
       } else if (relu_) {
-        gs = dyr_[0].data() + static_cast<std::size_t>(n) * dy_sample;
+        gs = dymask_.data();
       }
-      float* dxs = dx_base == nullptr ? nullptr : dx_base + static_cast<std::size_t>(n) * x.shape().sample_count();
+      float* dxs = dx == nullptr ? nullptr : dx->sample(n);
       for (int tile = t_lo; tile < t_hi; ++tile) {
         const int oy0 = tile * rpt;
         const int oy1 = std::min(g.ho, oy0 + rpt);
@@ -268,6 +273,8 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
           im2col_planes(gs, cout_, g.ho, g.wo, k_, 1, fpad_top, fpad_left, g.w, oy0, oy1, col);
           StridedMap DX(dxs + off, P, cin_, Eigen::OuterStride<>(g.h * g.w));
           DX.noalias() = MatMap(col, P, Kf) * wflip_;
+        } else if (shared_col) {
+          StridedMap(dxcol_.data() + off, P, K, Eigen::OuterStride<>(plane)).noalias() = G * Wt.transpose();
         } else {
           C.noalias() = G * Wt.transpose();
           col2im(col, g, oy0, oy1, dxs);
@@ -275,19 +282,18 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
       }
     }
   }
-  // Fixed-order reductions over threads → bit-equal results for a fixed thread count.
+  if (shared_col) {
+    dx->set_zero();
+    col2im(dxcol_.data(), g, 0, g.ho, dx->data());
+  }
+  // Fixed-order reduction over groups.
   MatMap dWt(dweight_.data(), K, cout_);
   Eigen::Map<Eigen::VectorXf> dB(dbias_.data(), cout_);
   dWt = dw_[0];
   dB = db_[0];
-  for (int t = 1; t < T; ++t) {
-    dWt += dw_[t];
-    dB += db_[t];
-  }
-  if (private_dx) {
-    auto out = dx->flat();
-    out = dxp_[0].head(static_cast<Eigen::Index>(xsize));
-    for (int t = 1; t < T; ++t) out += dxp_[t].head(static_cast<Eigen::Index>(xsize));
+  for (int q = 1; q < groups; ++q) {
+    dWt += dw_[q];
+    dB += db_[q];
   }
 }
 

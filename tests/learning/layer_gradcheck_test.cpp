@@ -2,7 +2,10 @@
 // gradients. Piecewise-linear layers without kinks near the sample point are exactly
 // linear there, so a large step (ε = 0.25) leaves only float rounding and the tolerance
 // can be tight (1e-3); layers with ReLU use ε = 1e-3 on inputs kept away from 0.
+#include <cstring>
+
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "dc/engine/error.hpp"
 #include "dc/learning/concat.hpp"
@@ -142,6 +145,37 @@ TEST(ConvGrad, MatchesDirectConvolution) {
             }
         EXPECT_NEAR(y(0, o, oy, ox), s, 1e-5) << o << " " << oy << " " << ox;
       }
+}
+
+TEST(ConvGrad, ResultsDoNotDependOnTheThreadCount) {
+  // Work groups depend on the batch size only and are summed in group order, so 1 and 2
+  // threads must agree bit for bit (batch 1 exercises the tile split, incl. the shared
+  // dX_col of stride 2; batch 5 the sample groups).
+  for (int stride : {1, 2})
+    for (int batch : {1, 5}) {
+      Conv2d conv(8, 12, 3, stride, true);
+      init_layer(conv, 33);
+      Tensor x(batch, 8, 31, 29);
+      Rng rng(34);
+      fill_gaussian(x, rng);
+      auto run = [&](int threads, Tensor& y, Tensor& dx, Tensor& dw) {
+        const int saved = omp_get_max_threads();
+        omp_set_num_threads(threads);
+        conv.forward(x, y, false);
+        Tensor r(y.shape());
+        Rng rr(35);
+        fill_gaussian(r, rr);
+        conv.backward(x, y, r, &dx);
+        dw = *conv.parameters()[0].grad;
+        omp_set_num_threads(saved);
+      };
+      Tensor y1, dx1, dw1, y2, dx2, dw2;
+      run(1, y1, dx1, dw1);
+      run(2, y2, dx2, dw2);
+      EXPECT_EQ(std::memcmp(y1.data(), y2.data(), sizeof(float) * y1.size()), 0) << stride << " " << batch;
+      EXPECT_EQ(std::memcmp(dx1.data(), dx2.data(), sizeof(float) * dx1.size()), 0) << stride << " " << batch;
+      EXPECT_EQ(std::memcmp(dw1.data(), dw2.data(), sizeof(float) * dw1.size()), 0) << stride << " " << batch;
+    }
 }
 
 TEST(ConvGrad, RejectsWrongChannelCount) {

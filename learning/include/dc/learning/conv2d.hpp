@@ -20,10 +20,11 @@
 //            stride 1: dX = "same" conv of dY with the flipped, channel-transposed kernel
 //                      (one GEMM per tile, P × Cout·k² times Cout·k² × Cin, written in place);
 //            stride s > 1: dX_col = dY · W (P × K), scattered back (col2im, adjoint of im2col).
-// Threads: forward runs OpenMP over (sample, tile) items; backward over samples (or over
-// tiles with thread-private dX when the batch is smaller than the thread count), each
-// thread accumulating its own dW, summed in thread order — deterministic for a fixed
-// thread count.
+// Threads: forward runs OpenMP over (sample, tile) items; backward over groups of
+// samples (or over the tiles of a single sample), each group with its own dW accumulator,
+// summed in group order. Groups depend on the batch size only and are scheduled
+// dynamically: the result is deterministic for any thread count, and a thread that is
+// descheduled on a busy machine does not hold the others up.
 #include <string>
 #include <vector>
 
@@ -65,12 +66,13 @@ class Conv2d final : public Layer {
   int cin_, cout_, k_, s_;
   bool relu_;
   Tensor weight_, bias_, dweight_, dbias_;
-  // Per-thread scratch, grown on demand and reused across calls (index = OpenMP thread).
+  // Scratch, grown on demand and reused across calls (col_/dyr_ indexed by OpenMP thread).
   std::vector<Eigen::VectorXf> col_;    ///< X_col / dX_col of one tile (P × K)
   std::vector<Eigen::VectorXf> dyr_;    ///< dY masked by the fused ReLU (P × Cout)
-  std::vector<Eigen::MatrixXf> dw_;     ///< dWᵀ accumulators (K × Cout)
-  std::vector<Eigen::VectorXf> db_;     ///< db accumulators (Cout)
-  std::vector<Eigen::VectorXf> dxp_;    ///< private dX when tiles of one sample are split
+  std::vector<Eigen::MatrixXf> dw_;     ///< dWᵀ accumulators (K × Cout), one per work group
+  std::vector<Eigen::VectorXf> db_;     ///< db accumulators (Cout), one per work group
+  Eigen::VectorXf dxcol_;               ///< whole-sample dX_col (batch 1, stride > 1)
+  Eigen::VectorXf dymask_;              ///< ReLU-masked dY (batch 1)
   Eigen::MatrixXf wflip_;               ///< flipped, channel-transposed kernel (Cout·k² × Cin)
 };
 
