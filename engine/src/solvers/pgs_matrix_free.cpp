@@ -7,7 +7,7 @@
 // λ_i ← λ_i + δ it restores the invariant with Δu += (M⁻¹ J_iᵀ Δt) δ. Each contact row
 // touches at most two bodies, so one row costs 6 multiply-adds for r_i, a clamp and 6 for
 // the update. The "prepare" stage packs every row into a compact struct (two body offsets,
-// the 6 coefficients of J_i, the 6 of M⁻¹J_iᵀΔt, 1/A_ii, bounds) so the sweep is a tight
+// the 6 coefficients of J_i/A_ii, the 6 of M⁻¹J_iᵀΔt, b_i/A_ii, bounds) so the sweep is a tight
 // scalar loop over contiguous memory. Rows touching one body (wall contacts) point their
 // second body at a dummy zero body at the end of Δu, which keeps the loop branch-free.
 //
@@ -25,10 +25,10 @@ namespace dc::solvers {
 namespace {
 
 struct PackedRow {
-  std::array<double, 6> j;   // J_i on (body a: v_x, v_y, ω, body b: v_x, v_y, ω)
+  std::array<double, 6> j;   // J_i / A_ii on (body a: v_x, v_y, ω, body b: v_x, v_y, ω)
   std::array<double, 6> mj;  // M⁻¹ J_iᵀ Δt on the same 6 entries [(m/s)/(N)]
-  double inv_diag;           // 1/A_ii, 0 for a singular row
-  double b;                  // b_i [m/s]
+  double b;                  // b_i / A_ii [N]
+  bool singular;             // A_ii ≤ 0: j and b are unscaled, see singular_row_update
   double lo_fixed, hi_fixed; // fixed bounds (0, 0 for friction rows)
   double mu;                 // μ for friction rows, 0 otherwise
   int a, bb;                 // offsets of the bodies in Δu (3·body); bb may be the dummy body
@@ -74,11 +74,15 @@ std::string pack_rows(const LcpProblem& p, std::vector<PackedRow>& rows, std::ve
     }
     if (r.a < 0) r.a = dummy_offset;
     if (r.bb < 0) r.bb = dummy_offset;
+    // Pre-scale J_i and b_i by 1/A_ii: the step r_i/A_ii then costs no multiply on the
+    // row-to-row dependency chain (same iterate as pgs-assembled up to round-off).
     const double inv = 1.0 / diag;
-    r.inv_diag = (diag > 0 && std::isfinite(inv)) ? inv : 0.0;
-    if (r.inv_diag == 0.0) singular.push_back(i);
+    r.singular = !(diag > 0 && std::isfinite(inv));
+    const double scale = r.singular ? 1.0 : inv;
+    if (r.singular) singular.push_back(i);
+    for (double& v : r.j) v *= scale;
     const auto u = static_cast<size_t>(i);
-    r.b = p.b[i];
+    r.b = p.b[i] * scale;
     r.lo_fixed = bounds.lo_fixed[u];
     r.hi_fixed = bounds.hi_fixed[u];
     r.mu = bounds.mu[u];
@@ -131,12 +135,16 @@ class PgsMatrixFreeSolver final : public LcpSolver {
       for (int i = 0; i < n; ++i, ++row) {
         double* ua = u + row->a;
         double* ub = u + row->bb;
-        const double res = row->b + row->j[0] * ua[0] + row->j[1] * ua[1] + row->j[2] * ua[2] +
-                           row->j[3] * ub[0] + row->j[4] * ub[1] + row->j[5] * ub[2];
+        // Pairwise (tree) sum: the row-to-row dependency chain through Δu is the cost of
+        // Gauss–Seidel, and a left-to-right sum of 7 terms would put 6 serial adds on it.
+        const double s0 = row->j[0] * ua[0] + row->j[1] * ua[1];
+        const double s1 = row->j[2] * ua[2] + row->j[3] * ub[0];
+        const double s2 = row->j[4] * ub[1] + row->j[5] * ub[2];
+        const double res = (row->b + s0) + (s1 + s2);
         const double old = lam[i];
         const double t = row->mu * std::max(0.0, lam[row->coupled]);
         const double lo = row->lo_fixed - t, hi = row->hi_fixed + t;
-        double x = row->inv_diag > 0 ? old - res * row->inv_diag : singular_row_update(old, res, lo, hi);
+        double x = !row->singular ? old - res : singular_row_update(old, res, lo, hi);
         x = std::min(std::max(x, lo), hi);
         const double d = x - old;
         bad |= !std::isfinite(x);
