@@ -1,0 +1,112 @@
+#pragma once
+// Feature and label images of one simulation step on the SPH grid of the box (DESIGN §4, §5;
+// docs/formats.md "Data set"). The CNN maps the feature image to the label image; the label
+// image read back at the contact points (SphTransfer::gather, Shepard) is the warm start.
+//
+// Grid and kernel: those of an SphTransferDef (default: default_sph_setting(W, H), i.e. the
+// setting the bench's `sph` starter uses — poly6, d = h = 0.5 ⇒ 61 × 61 on 30 × 30). With
+// W(r) = W(|x_node − q|, h) [1/m²] the channels are, at every node x:
+//
+//   mass             Σ_k W(|x − x_k|) m_k                       [kg/m²]  (a mass density)
+//   vx, vy           Σ_k W v_k / Σ_k W   (0 where Σ_k W = 0)    [m/s]    (Shepard average)
+//   omega            Σ_k W ω_k / Σ_k W   (0 where Σ_k W = 0)    [rad/s]
+//   contact_density  Σ_c W(|x − p_c|)                           [1/m²]   (this step's contact
+//                                                                         points, known before the solve)
+//   nx, ny           Σ_c W n_c / Σ_c W   (0 where Σ_c W = 0)    [1]      (contact normals)
+//
+// over bodies k (centres x_k) and this step's contacts c (points p_c, normals n_c). The
+// default feature set is mass, vx, vy, omega, contact_density.
+//
+// Labels (2 channels, λ_n then λ_t): the Shepard NUMERATOR grids
+//
+//   G_n(x) = Σ_c W(|x − p_c|) λ_n,c,   G_t(x) = Σ_c W(|x − p_c|) λ_t,c        [N/m²]
+//
+// exactly what SphTransfer::splat produces in Shepard mode, so SphTransfer::gather(G, p)
+// (which divides by the interpolated weight field of the query points p, rebuilt from the
+// points alone) reads λ back at the contacts — the `sph` warm starter's numbers.
+//
+// Storage: NCHW float32 exactly as SphGrid, channel-major, row j = y = j·d, column i = x = i·d,
+// j = 0 is y = 0 (the bottom of the box; no flip, no transpose): value(c, j, i) at
+// (c·ny + j)·nx + i. The values are computed in double and rounded once to float.
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dc/engine/body_state.hpp"
+#include "dc/engine/contact.hpp"
+#include "dc/warmstart/sph_grid.hpp"
+#include "dc/warmstart/sph_kernel.hpp"
+#include "dc/warmstart/sph_transfer.hpp"
+
+namespace dc {
+
+/// One feature channel (see the file comment for the formulas).
+enum class FeatureChannel { Mass, Vx, Vy, Omega, ContactDensity, Nx, Ny };
+
+/// "mass", "vx", "vy", "omega", "contact_density", "nx", "ny".
+const char* to_string(FeatureChannel c);
+/// Inverse of to_string; ConfigError listing the valid names otherwise.
+FeatureChannel parse_feature_channel(std::string_view name);
+/// A comma-separated list of channel names (no duplicates, at least one); ConfigError otherwise.
+std::vector<FeatureChannel> parse_feature_channels(const std::string& list);
+/// Names of a channel list, in order.
+std::vector<std::string> feature_channel_names(std::span<const FeatureChannel> channels);
+/// mass, vx, vy, omega, contact_density.
+std::vector<FeatureChannel> default_feature_channels();
+/// "lambda_n", "lambda_t".
+std::vector<std::string> label_channel_names();
+
+/// What a FeatureImageBuilder computes. `sph.grid.channels` and `sph.normalisation` are
+/// ignored (the builder sets them): feature fields are Shepard averages and labels are
+/// Shepard numerators by definition.
+struct FeatureImageDef {
+  SphTransferDef sph;                                              ///< box, d, kernel, h
+  std::vector<FeatureChannel> channels = default_feature_channels();
+  /// The default setting (default_sph_setting) on a W × H box with the default channels.
+  static FeatureImageDef for_box(double width, double height);
+  /// Throws ConfigError naming the field (bad grid/kernel, empty or duplicate channels).
+  void validate() const;
+};
+
+/// Builds feature and label images; owns its scratch grids (no allocation after the first
+/// step of a given size). Not thread-safe: use one per thread.
+class FeatureImageBuilder {
+ public:
+  /// Validates `def` and allocates the grids.
+  explicit FeatureImageBuilder(FeatureImageDef def);
+
+  [[nodiscard]] const FeatureImageDef& def() const { return def_; }
+  [[nodiscard]] int nx() const { return nx_; }  ///< columns (x)
+  [[nodiscard]] int ny() const { return ny_; }  ///< rows (y)
+  [[nodiscard]] int feature_channels() const { return static_cast<int>(def_.channels.size()); }
+  static constexpr int kLabelChannels = 2;
+  [[nodiscard]] std::size_t feature_size() const { return feature_channels() * plane(); }  ///< Cf·ny·nx
+  [[nodiscard]] std::size_t label_size() const { return kLabelChannels * plane(); }       ///< 2·ny·nx
+  [[nodiscard]] std::size_t plane() const { return static_cast<std::size_t>(nx_) * ny_; }
+
+  /// The feature image of a step: bodies as they are before the solve, and this step's
+  /// contacts (positions and normals only). `out` must hold feature_size() floats.
+  /// Throws InvalidArgument on a size mismatch or non-finite input.
+  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<float> out);
+
+  /// The label image: Shepard numerators of (λ_n, λ_t) at the contact points. `lambda` is
+  /// contact-major (λ_n,c, λ_t,c) pairs, 2·contacts.size() values. `out` must hold
+  /// label_size() floats.
+  void labels(std::span<const Contact> contacts, std::span<const double> lambda, std::span<float> out);
+
+ private:
+  FeatureImageDef def_;
+  SphKernel kernel_;
+  int nx_ = 0, ny_ = 0;
+  SphGrid body_grid_;     // 4 channels: Σ W m, Σ W vx, Σ W vy, Σ W ω
+  SphGrid body_weight_;   // Σ W over body centres
+  SphGrid contact_grid_;  // 2 channels: Σ W nx, Σ W ny
+  SphGrid contact_weight_;
+  SphTransfer label_transfer_;  // Shepard, 2 channels: the labels are its splat()
+  std::vector<Vec2> points_;
+  std::vector<double> values_;
+};
+
+}  // namespace dc

@@ -1,0 +1,193 @@
+#include "dc/learning/feature_image.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dc/engine/error.hpp"
+#include "dc/warmstart/sph_splat.hpp"
+#include "dc/warmstart/sph_warm_starter.hpp"
+
+namespace dc {
+
+namespace {
+
+constexpr FeatureChannel kAllChannels[] = {FeatureChannel::Mass,  FeatureChannel::Vx,
+                                           FeatureChannel::Vy,    FeatureChannel::Omega,
+                                           FeatureChannel::ContactDensity, FeatureChannel::Nx,
+                                           FeatureChannel::Ny};
+
+SphTransferDef normalised_label_def(SphTransferDef d) {
+  d.grid.channels = FeatureImageBuilder::kLabelChannels;
+  d.normalisation = SphNormalisation::Shepard;
+  return d;
+}
+
+SphGridDef with_channels(SphGridDef g, int channels) {
+  g.channels = channels;
+  return g;
+}
+
+bool uses_contact_fields(const std::vector<FeatureChannel>& cs) {
+  return std::any_of(cs.begin(), cs.end(), [](FeatureChannel c) {
+    return c == FeatureChannel::ContactDensity || c == FeatureChannel::Nx || c == FeatureChannel::Ny;
+  });
+}
+
+}  // namespace
+
+const char* to_string(FeatureChannel c) {
+  switch (c) {
+    case FeatureChannel::Mass: return "mass";
+    case FeatureChannel::Vx: return "vx";
+    case FeatureChannel::Vy: return "vy";
+    case FeatureChannel::Omega: return "omega";
+    case FeatureChannel::ContactDensity: return "contact_density";
+    case FeatureChannel::Nx: return "nx";
+    case FeatureChannel::Ny: return "ny";
+  }
+  return "?";
+}
+
+FeatureChannel parse_feature_channel(std::string_view name) {
+  for (FeatureChannel c : kAllChannels)
+    if (name == to_string(c)) return c;
+  std::string valid;
+  for (FeatureChannel c : kAllChannels) valid += std::string(valid.empty() ? "" : ", ") + to_string(c);
+  throw ConfigError("unknown feature channel '" + std::string(name) + "' (valid: " + valid + ")");
+}
+
+std::vector<FeatureChannel> parse_feature_channels(const std::string& list) {
+  std::vector<FeatureChannel> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    std::string item = list.substr(start, comma - start);
+    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
+    if (b == std::string::npos) throw ConfigError("feature channels '" + list + "': empty item");
+    const FeatureChannel c = parse_feature_channel(item.substr(b, e - b + 1));
+    if (std::find(out.begin(), out.end(), c) != out.end())
+      throw ConfigError("feature channels '" + list + "': '" + to_string(c) + "' listed twice");
+    out.push_back(c);
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<std::string> feature_channel_names(std::span<const FeatureChannel> channels) {
+  std::vector<std::string> out;
+  for (FeatureChannel c : channels) out.emplace_back(to_string(c));
+  return out;
+}
+
+std::vector<FeatureChannel> default_feature_channels() {
+  return {FeatureChannel::Mass, FeatureChannel::Vx, FeatureChannel::Vy, FeatureChannel::Omega,
+          FeatureChannel::ContactDensity};
+}
+
+std::vector<std::string> label_channel_names() { return {"lambda_n", "lambda_t"}; }
+
+FeatureImageDef FeatureImageDef::for_box(double width, double height) {
+  FeatureImageDef d;
+  d.sph = default_sph_setting(width, height);
+  return d;
+}
+
+void FeatureImageDef::validate() const {
+  try {
+    normalised_label_def(sph).validate();
+  } catch (const std::exception& e) {
+    throw ConfigError(std::string("feature image grid: ") + e.what());
+  }
+  if (channels.empty()) throw ConfigError("feature image: no feature channels");
+  for (std::size_t a = 0; a < channels.size(); ++a)
+    for (std::size_t b = a + 1; b < channels.size(); ++b)
+      if (channels[a] == channels[b])
+        throw ConfigError(std::string("feature image: channel '") + to_string(channels[a]) + "' listed twice");
+}
+
+FeatureImageBuilder::FeatureImageBuilder(FeatureImageDef def)
+    : def_((def.validate(), std::move(def))),
+      kernel_(def_.sph.kernel, def_.sph.support),
+      label_transfer_(normalised_label_def(def_.sph)) {
+  def_.sph = normalised_label_def(def_.sph);
+  body_grid_ = SphGrid(with_channels(def_.sph.grid, 4));
+  body_weight_ = SphGrid(with_channels(def_.sph.grid, 1));
+  if (uses_contact_fields(def_.channels)) {
+    contact_grid_ = SphGrid(with_channels(def_.sph.grid, 2));
+    contact_weight_ = SphGrid(with_channels(def_.sph.grid, 1));
+  }
+  nx_ = body_grid_.nx();
+  ny_ = body_grid_.ny();
+}
+
+void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Contact> contacts,
+                                   std::span<float> out) {
+  if (out.size() != feature_size())
+    throw InvalidArgument("FeatureImageBuilder::features: output holds " + std::to_string(out.size()) +
+                          " floats, expected " + std::to_string(feature_size()));
+  // Bodies: one splat of (m, vx, vy, ω) at the centres plus the weight field S = Σ W.
+  const std::size_t n = bodies.size();
+  points_.assign(bodies.position.begin(), bodies.position.end());
+  values_.resize(4 * n);
+  for (std::size_t k = 0; k < n; ++k) {
+    values_[4 * k + 0] = bodies.mass[k];
+    values_[4 * k + 1] = bodies.velocity[k].x;
+    values_[4 * k + 2] = bodies.velocity[k].y;
+    values_[4 * k + 3] = bodies.omega[k];
+  }
+  splat_to_grid(kernel_, points_, values_, body_grid_, &body_weight_);
+
+  // Contacts: (nx, ny) at the points plus their weight field (the contact density).
+  const bool contact_fields = uses_contact_fields(def_.channels);
+  if (contact_fields) {
+    points_.clear();
+    values_.clear();
+    for (const Contact& c : contacts) {
+      points_.push_back(c.point);
+      values_.push_back(c.normal.x);
+      values_.push_back(c.normal.y);
+    }
+    splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
+  }
+
+  const std::size_t P = plane();
+  const std::span<const double> S = body_weight_.channel(0);
+  for (std::size_t ci = 0; ci < def_.channels.size(); ++ci) {
+    float* dst = out.data() + ci * P;
+    // Shepard average of grid channel `g` over the weight field `w`: 0 where no support.
+    auto shepard = [&](const SphGrid& grid, int g, std::span<const double> w) {
+      const std::span<const double> num = grid.channel(g);
+      for (std::size_t p = 0; p < P; ++p) dst[p] = w[p] > 0 ? static_cast<float>(num[p] / w[p]) : 0.0f;
+    };
+    auto copy = [&](std::span<const double> src) {
+      for (std::size_t p = 0; p < P; ++p) dst[p] = static_cast<float>(src[p]);
+    };
+    switch (def_.channels[ci]) {
+      case FeatureChannel::Mass: copy(body_grid_.channel(0)); break;
+      case FeatureChannel::Vx: shepard(body_grid_, 1, S); break;
+      case FeatureChannel::Vy: shepard(body_grid_, 2, S); break;
+      case FeatureChannel::Omega: shepard(body_grid_, 3, S); break;
+      case FeatureChannel::ContactDensity: copy(contact_weight_.channel(0)); break;
+      case FeatureChannel::Nx: shepard(contact_grid_, 0, contact_weight_.channel(0)); break;
+      case FeatureChannel::Ny: shepard(contact_grid_, 1, contact_weight_.channel(0)); break;
+    }
+  }
+}
+
+void FeatureImageBuilder::labels(std::span<const Contact> contacts, std::span<const double> lambda,
+                                 std::span<float> out) {
+  if (out.size() != label_size())
+    throw InvalidArgument("FeatureImageBuilder::labels: output holds " + std::to_string(out.size()) +
+                          " floats, expected " + std::to_string(label_size()));
+  if (lambda.size() != 2 * contacts.size())
+    throw InvalidArgument("FeatureImageBuilder::labels: " + std::to_string(lambda.size()) +
+                          " lambda values for " + std::to_string(contacts.size()) + " contacts (expected 2 each)");
+  points_.clear();
+  for (const Contact& c : contacts) points_.push_back(c.point);
+  // SphTransfer::splat in Shepard mode: G = Σ W λ (the numerator), exactly the sph starter's grid.
+  const SphGrid& g = label_transfer_.splat(points_, lambda);
+  const std::span<const double> src = g.data();
+  for (std::size_t p = 0; p < src.size(); ++p) out[p] = static_cast<float>(src[p]);
+}
+
+}  // namespace dc

@@ -1,0 +1,260 @@
+// deepcontact generate as a process: thread-count independence, kill -9 + --resume and
+// SIGINT + --resume give the same datasets as an uninterrupted run, and bad inputs fail with
+// a one-line error.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <map>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "dc/engine/h5.hpp"
+#include "dc/learning/data_set.hpp"
+
+namespace dc {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A tiny family (10–14 circles in a 12 × 12 box, 60 steps) so one simulation takes well
+/// under a second but long enough to be interrupted between simulations.
+const std::string kFamily =
+    " --set world.width=12 --set world.height=12 --set bodies.mean=[6.0,6.0] --set bodies.sigma=2.0"
+    " --count 10..14 --steps 60 --seed 5";
+
+struct Dir {
+  fs::path path;
+  Dir() {
+    path = fs::temp_directory_path() / ("dc_generate_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Dir() { fs::remove_all(path); }
+  [[nodiscard]] std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int status = -1;
+  std::string err;
+};
+
+/// Runs `deepcontact ARGS` to completion; stderr captured.
+Result run_cli(const Dir& dir, const std::string& args) {
+  const std::string err = dir / "stderr.txt";
+  const std::string cmd = std::string(DC_CLI) + " " + args + " >/dev/null 2>" + err;
+  const int rc = std::system(cmd.c_str());
+  Result r;
+  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.err = slurp(err);
+  return r;
+}
+
+/// Starts `deepcontact ARGS` in the background with stderr to `err`; returns its pid.
+pid_t spawn_cli(const std::string& args, const std::string& err) {
+  const std::string cmd = "exec " + std::string(DC_CLI) + " " + args + " >/dev/null 2>" + err;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+/// Waits until `err` contains `needle` (true) or the child exited / 60 s passed (false).
+bool wait_for(const std::string& err, const std::string& needle, pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (slurp(err).find(needle) != std::string::npos) return true;
+    int st = 0;
+    if (::waitpid(pid, &st, WNOHANG) == pid) return slurp(err).find(needle) != std::string::npos;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+int wait_exit(pid_t pid) {
+  int st = 0;
+  if (::waitpid(pid, &st, 0) != pid) return -2;
+  if (WIFSIGNALED(st)) return -WTERMSIG(st);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+std::string attribute_text(const H5File& f, const std::string& name) {
+  try {
+    return f.attribute_string("/", name);
+  } catch (const std::exception&) {
+  }
+  try {
+    std::string s;
+    for (auto v : f.attribute_array<double>("/", name)) s += std::to_string(v) + ",";
+    return s;
+  } catch (const std::exception&) {
+  }
+  std::string s;
+  for (auto v : f.attribute_array<std::int64_t>("/", name)) s += std::to_string(v) + ",";
+  return s;
+}
+
+/// Same root attributes and, recursively, the same datasets (shape, type, every element).
+void expect_same_file(const std::string& pa, const std::string& pb) {
+  const H5File a = H5File::open_read(pa), b = H5File::open_read(pb);
+  ASSERT_EQ(a.attribute_names("/"), b.attribute_names("/"));
+  for (const auto& n : a.attribute_names("/")) EXPECT_EQ(attribute_text(a, n), attribute_text(b, n)) << n;
+  std::function<void(const std::string&)> walk = [&](const std::string& group) {
+    const auto names = a.children(group);
+    ASSERT_EQ(names, b.children(group)) << group;
+    for (const auto& n : names) {
+      const std::string p = (group == "/" ? "/" : group + "/") + n;
+      if (a.is_group(p)) {
+        walk(p);
+        continue;
+      }
+      ASSERT_EQ(a.shape(p), b.shape(p)) << p;
+      ASSERT_EQ(a.type(p), b.type(p)) << p;
+      switch (a.type(p)) {
+        case H5Type::Float32: EXPECT_EQ(a.read<float>(p), b.read<float>(p)) << p; break;
+        case H5Type::Float64: EXPECT_EQ(a.read<double>(p), b.read<double>(p)) << p; break;
+        case H5Type::Int32: EXPECT_EQ(a.read<std::int32_t>(p), b.read<std::int32_t>(p)) << p; break;
+        case H5Type::Int64: EXPECT_EQ(a.read<std::int64_t>(p), b.read<std::int64_t>(p)) << p; break;
+        case H5Type::UInt8: EXPECT_EQ(a.read<std::uint8_t>(p), b.read<std::uint8_t>(p)) << p; break;
+      }
+    }
+  };
+  walk("/");
+}
+
+/// The uninterrupted reference of `sims` simulations of the family (one per test binary run).
+std::string reference(int sims) {
+  static std::map<int, std::string> made;
+  if (auto it = made.find(sims); it != made.end()) return it->second;
+  const fs::path dir = fs::temp_directory_path() / ("dc_generate_cli_ref_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string out = (dir / ("ref" + std::to_string(sims) + ".h5")).string();
+  const std::string cmd = std::string(DC_CLI) + " generate --sims " + std::to_string(sims) + kFamily +
+                          " --threads 1 --out " + out + " >/dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  made[sims] = out;
+  static const struct Cleanup {
+    fs::path d;
+    ~Cleanup() { fs::remove_all(d); }
+  } cleanup{dir};
+  return out;
+}
+
+int one_line(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(GenerateCli, ThreadCountDoesNotChangeTheFile) {
+  Dir dir;
+  const std::string out2 = dir / "t2.h5";
+  const Result r = run_cli(dir, "generate --sims 3" + kFamily + " --threads 2 --out " + out2);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(out2 + ".partial"));
+  expect_same_file(reference(3), out2);
+  const DataSetReader data(out2);
+  ASSERT_EQ(data.simulations().size(), 3u);
+  EXPECT_EQ(data.simulations()[2].seed, 7u);
+  EXPECT_EQ(data.feature_channels(), 5);
+  EXPECT_EQ(data.nx(), 25);
+}
+
+TEST(GenerateCli, KillNineThenResumeEqualsAnUninterruptedRun) {
+  Dir dir;
+  const std::string out = dir / "killed.h5", err = dir / "err.txt";
+  const std::string args = "generate --sims 6" + kFamily + " --threads 1 --log-completed --out " + out;
+  const pid_t pid = spawn_cli(args, err);
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+  ::kill(pid, SIGKILL);
+  EXPECT_EQ(wait_exit(pid), -SIGKILL) << "the run finished before it could be killed";
+  ASSERT_TRUE(fs::exists(out + ".partial"));
+  EXPECT_FALSE(fs::exists(out));
+  {
+    const DataSetReader partial(out + ".partial");
+    EXPECT_GE(partial.simulations().size(), 1u);
+    EXPECT_LT(partial.simulations().size(), 6u);
+  }
+  // Without --resume the partial file is never overwritten.
+  const Result refused = run_cli(dir, args);
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE(refused.err.find("--resume"), std::string::npos) << refused.err;
+  EXPECT_EQ(one_line(refused.err), 1) << refused.err;
+
+  const Result resumed = run_cli(dir, args + " --resume");
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+  expect_same_file(reference(6), out);
+}
+
+TEST(GenerateCli, SigintExitsNonZeroAndLeavesAResumablePartialFile) {
+  Dir dir;
+  const std::string out = dir / "int.h5", err = dir / "err.txt";
+  const std::string args = "generate --sims 6" + kFamily + " --threads 2 --log-completed --out " + out;
+  const pid_t pid = spawn_cli(args, err);
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+  ::kill(pid, SIGINT);
+  const int status = wait_exit(pid);
+  EXPECT_NE(status, 0);
+  if (status == 130) {  // interrupted before the end (the usual case)
+    EXPECT_NE(slurp(err).find("--resume"), std::string::npos) << slurp(err);
+    ASSERT_TRUE(fs::exists(out + ".partial"));
+    EXPECT_GE(DataSetReader(out + ".partial").simulations().size(), 1u);
+    const Result resumed = run_cli(dir, args + " --resume");
+    ASSERT_EQ(resumed.status, 0) << resumed.err;
+    expect_same_file(reference(6), out);
+  }
+}
+
+TEST(GenerateCli, ResumeWithOtherParametersIsRefused) {
+  Dir dir;
+  const std::string out = dir / "p.h5", err = dir / "err.txt";
+  const std::string args = "generate --sims 6" + kFamily + " --threads 1 --log-completed --out " + out;
+  const pid_t pid = spawn_cli(args, err);
+  ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+  ::kill(pid, SIGKILL);
+  wait_exit(pid);
+  ASSERT_TRUE(fs::exists(out + ".partial"));
+  const Result r = run_cli(dir, "generate --sims 6" + kFamily + " --count 10..15 --resume --out " + out);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--count"), std::string::npos) << r.err;
+  EXPECT_EQ(one_line(r.err), 1) << r.err;
+}
+
+TEST(GenerateCli, BadInputsFailWithOneLine) {
+  Dir dir;
+  const std::string out = dir / "bad.h5";
+  for (const std::string bad : {"--sims 0", "--sims 2 --count 5..2", "--sims 2 --count abc",
+                                 "--sims 2 --channels mass,speed", "--sims 2 --grid poly6:0:0.5",
+                                 "--sims 2 --resume", "--sims 2 --oracle lemke"}) {
+    const Result r = run_cli(dir, "generate " + bad + " --steps 5 --out " + out);
+    EXPECT_NE(r.status, 0) << bad;
+    EXPECT_EQ(one_line(r.err), 1) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << bad;
+  }
+  // An existing OUT needs --force.
+  { std::ofstream(out) << "x"; }
+  const Result r = run_cli(dir, "generate --sims 1 --steps 5 --out " + out);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_EQ(one_line(r.err), 1) << r.err;
+}
+
+}  // namespace
+}  // namespace dc

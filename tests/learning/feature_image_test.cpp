@@ -1,0 +1,185 @@
+// Feature and label images: orientation (asymmetric single body / single contact), Shepard
+// fields, units, channel selection, and label → gather == the sph warm starter.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dc/engine/error.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/learning/feature_image.hpp"
+#include "dc/warmstart/oracle.hpp"
+#include "dc/warmstart/sph_warm_starter.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace dc {
+namespace {
+
+/// (j, i) of the largest value of channel c.
+std::pair<int, int> argmax(std::span<const float> img, int c, int ny, int nx) {
+  const float* p = img.data() + static_cast<std::size_t>(c) * ny * nx;
+  const auto k = std::max_element(p, p + static_cast<std::size_t>(ny) * nx) - p;
+  return {static_cast<int>(k / nx), static_cast<int>(k % nx)};
+}
+
+float at(std::span<const float> img, int c, int j, int i, int ny, int nx) {
+  return img[(static_cast<std::size_t>(c) * ny + j) * nx + i];
+}
+
+TEST(FeatureImage, DefaultGridFollowsTheSphSettingAndChannelsAreDocumented) {
+  const FeatureImageBuilder b(FeatureImageDef::for_box(30, 30));
+  const SphTransferDef sph = default_sph_setting(30, 30);
+  EXPECT_EQ(b.def().sph.kernel, sph.kernel);
+  EXPECT_EQ(b.def().sph.support, sph.support);
+  EXPECT_EQ(b.def().sph.grid.spacing, sph.grid.spacing);
+  EXPECT_EQ(b.nx(), sph_node_count(30, sph.grid.spacing));
+  EXPECT_EQ(b.ny(), sph_node_count(30, sph.grid.spacing));
+  const auto names = feature_channel_names(default_feature_channels());
+  EXPECT_EQ(names, (std::vector<std::string>{"mass", "vx", "vy", "omega", "contact_density"}));
+  EXPECT_EQ(label_channel_names(), (std::vector<std::string>{"lambda_n", "lambda_t"}));
+}
+
+TEST(FeatureImage, AsymmetricSingleBodyPinsAxesAndShepardFieldsReturnTheBodyValues) {
+  FeatureImageBuilder b(FeatureImageDef::for_box(30, 30));
+  const double d = b.def().sph.grid.spacing;
+  BodyState s;
+  s.add({3.2, 7.9}, 1.0, 2.0, {1.5, -2.5}, 0.3, 0.7);
+  std::vector<float> img(b.feature_size());
+  b.features(s, {}, img);
+  const int ny = b.ny(), nx = b.nx();
+  const auto [j, i] = argmax(img, 0, ny, nx);
+  EXPECT_EQ(j, static_cast<int>(std::lround(7.9 / d)));  // row = y
+  EXPECT_EQ(i, static_cast<int>(std::lround(3.2 / d)));  // column = x
+  // Shepard fields: exactly the body's values wherever the kernel reaches, 0 elsewhere.
+  EXPECT_NEAR(at(img, 1, j, i, ny, nx), 1.5f, 1e-6);
+  EXPECT_NEAR(at(img, 2, j, i, ny, nx), -2.5f, 1e-6);
+  EXPECT_NEAR(at(img, 3, j, i, ny, nx), 0.7f, 1e-6);
+  EXPECT_EQ(at(img, 1, i, j, ny, nx), 0.0f);  // the transposed node is far away
+  EXPECT_EQ(at(img, 0, i, j, ny, nx), 0.0f);
+  // Mass density: Σ_k W m_k at the nearest node equals W(|node − x|) m.
+  const SphKernel W(b.def().sph.kernel, b.def().sph.support);
+  const double r = std::hypot(i * d - 3.2, j * d - 7.9);
+  EXPECT_NEAR(at(img, 0, j, i, ny, nx), W(r) * s.mass[0], 1e-5 * W(r) * s.mass[0]);
+  // No contacts ⇒ contact density 0 everywhere.
+  for (std::size_t p = 0; p < b.plane(); ++p) EXPECT_EQ(img[4 * b.plane() + p], 0.0f);
+}
+
+TEST(FeatureImage, MassChannelIsADensityThatIntegratesToTheMass) {
+  FeatureImageDef def = FeatureImageDef::for_box(10, 10);
+  def.sph.grid.spacing = 0.05;  // d ≪ h: Σ G d² → m
+  def.sph.support = 0.5;
+  def.channels = {FeatureChannel::Mass};
+  FeatureImageBuilder b(def);
+  BodyState s;
+  s.add({4.03, 6.71}, 1.0, 1.0);
+  std::vector<float> img(b.feature_size());
+  b.features(s, {}, img);
+  double sum = 0;
+  for (float v : img) sum += v;
+  EXPECT_NEAR(sum * 0.05 * 0.05, s.mass[0], 0.01 * s.mass[0]);
+}
+
+TEST(FeatureImage, ContactChannelsAndChannelOrder) {
+  FeatureImageDef def = FeatureImageDef::for_box(30, 30);
+  def.channels = {FeatureChannel::Ny, FeatureChannel::ContactDensity, FeatureChannel::Nx};
+  FeatureImageBuilder b(def);
+  const double d = def.sph.grid.spacing;
+  Contact c;
+  c.point = {20.3, 4.1};
+  c.normal = {0.6, 0.8};
+  std::vector<Contact> cs{c};
+  BodyState none;
+  std::vector<float> img(b.feature_size());
+  b.features(none, cs, img);
+  const int ny = b.ny(), nx = b.nx();
+  const auto [j, i] = argmax(img, 1, ny, nx);
+  EXPECT_EQ(j, static_cast<int>(std::lround(4.1 / d)));
+  EXPECT_EQ(i, static_cast<int>(std::lround(20.3 / d)));
+  EXPECT_NEAR(at(img, 0, j, i, ny, nx), 0.8f, 1e-6);  // channel 0 is ny
+  EXPECT_NEAR(at(img, 2, j, i, ny, nx), 0.6f, 1e-6);  // channel 2 is nx
+}
+
+TEST(FeatureImage, LabelsAreShepardNumeratorsOrientedLikeTheFeatures) {
+  FeatureImageBuilder b(FeatureImageDef::for_box(30, 30));
+  const double d = b.def().sph.grid.spacing;
+  Contact c;
+  c.point = {11.2, 25.7};
+  std::vector<Contact> cs{c};
+  const std::vector<double> lambda{40.0, -12.0};
+  std::vector<float> img(b.label_size());
+  b.labels(cs, lambda, img);
+  const int ny = b.ny(), nx = b.nx();
+  const auto [j, i] = argmax(img, 0, ny, nx);
+  EXPECT_EQ(j, static_cast<int>(std::lround(25.7 / d)));
+  EXPECT_EQ(i, static_cast<int>(std::lround(11.2 / d)));
+  const SphKernel W(b.def().sph.kernel, b.def().sph.support);
+  const double w = W(std::hypot(i * d - 11.2, j * d - 25.7));
+  EXPECT_NEAR(at(img, 0, j, i, ny, nx), w * 40.0, 1e-5 * w * 40);
+  EXPECT_NEAR(at(img, 1, j, i, ny, nx), w * -12.0, 1e-5 * w * 12);
+}
+
+TEST(FeatureImage, LabelGatheredAtTheContactsEqualsTheSphWarmStarter) {
+  WorldDef def;
+  def.bodies.count = 20;
+  def.bodies.seed = 7;
+  World world(def);
+  // Let the pile form so that there are many touching contacts.
+  const auto pgs = make_solver("pgs");
+  SolverOptions opt;
+  opt.max_sweeps = 200;
+  for (int s = 0; s < 150; ++s) world.step(*pgs, opt);
+  world.collide();
+  world.assemble();
+  const auto& contacts = world.contacts();
+  ASSERT_GT(contacts.size(), 5u);
+  const Eigen::VectorXd star = solve_oracle(world.problem()).lambda;
+
+  FeatureImageBuilder b(FeatureImageDef::for_box(def.world.width, def.world.height));
+  std::vector<double> lambda;
+  for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
+    lambda.push_back(star[world.normal_row(c)]);
+    lambda.push_back(star[world.tangent_row(c)]);
+  }
+  std::vector<float> img(b.label_size());
+  b.labels(contacts, lambda, img);
+
+  // Label (float32) → grid → Shepard gather at the contact points.
+  SphTransfer transfer(b.def().sph);
+  SphGrid grid(b.def().sph.grid);
+  ASSERT_EQ(grid.size(), img.size());
+  for (std::size_t k = 0; k < img.size(); ++k) grid.data()[k] = img[k];
+  std::vector<Vec2> points;
+  for (const Contact& c : contacts) points.push_back(c.point);
+  const auto back = transfer.gather(grid, points);
+  std::vector<double> ln, lt;
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    ln.push_back(back[2 * c]);
+    lt.push_back(back[2 * c + 1]);
+  }
+  Eigen::VectorXd ours = world.pack(ln, lt);
+  project_feasible(world.problem(), ours);
+
+  auto sph = default_warm_starters().make("sph");
+  const Eigen::VectorXd theirs = sph->initial_guess(StepView{world, &star});
+  ASSERT_EQ(ours.size(), theirs.size());
+  const double scale = std::max(1.0, star.cwiseAbs().maxCoeff());
+  for (int r = 0; r < ours.size(); ++r) EXPECT_NEAR(ours[r], theirs[r], 1e-5 * scale) << "row " << r;
+}
+
+TEST(FeatureImage, BadChannelListsAndSizesAreErrors) {
+  EXPECT_THROW(parse_feature_channels("mass,speed"), ConfigError);
+  EXPECT_THROW(parse_feature_channels("mass,mass"), ConfigError);
+  EXPECT_THROW(parse_feature_channels(""), ConfigError);
+  EXPECT_EQ(parse_feature_channels("nx, ny").size(), 2u);
+  FeatureImageDef def = FeatureImageDef::for_box(30, 30);
+  def.channels.clear();
+  EXPECT_THROW(FeatureImageBuilder{def}, ConfigError);
+  FeatureImageBuilder b(FeatureImageDef::for_box(30, 30));
+  std::vector<float> small(10);
+  BodyState s;
+  EXPECT_THROW(b.features(s, {}, small), InvalidArgument);
+  EXPECT_THROW(b.labels({}, std::vector<double>{1.0}, small), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace dc
