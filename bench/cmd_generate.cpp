@@ -103,15 +103,25 @@ DataSetParams make_params(const GenerateArgs& a) {
   p.seed = a.seed;
   std::tie(p.count_min, p.count_max) = parse_count(a.count);
   p.image = FeatureImageDef::for_box(p.scene.world.width, p.scene.world.height);
-  if (!a.grid.empty()) {
-    parse_sph_setting(a.grid, p.image.sph);
-    if (p.image.sph.normalisation != SphNormalisation::Shepard)
-      throw ConfigError("--grid '" + a.grid + "': labels are Shepard numerators; only the shepard normalisation is allowed");
-  }
-  if (!a.channels.empty()) p.image.channels = parse_feature_channels(a.channels);
+  // Library errors get the option's name in front, so the one-line message says what to fix.
+  const auto option = [](const char* name, const auto& parse) {
+    try {
+      parse();
+    } catch (const std::exception& e) {
+      throw ConfigError(std::string(name) + ": " + e.what());
+    }
+  };
+  if (!a.grid.empty())
+    option("--grid", [&] {
+      parse_sph_setting(a.grid, p.image.sph);
+      if (p.image.sph.normalisation != SphNormalisation::Shepard)
+        throw ConfigError("labels are Shepard numerators; only the shepard normalisation is allowed");
+    });
+  if (!a.channels.empty()) option("--channels", [&] { p.image.channels = parse_feature_channels(a.channels); });
   p.oracle.method = a.oracle;
   p.oracle.theta = a.oracle_tolerance;
   p.oracle.sweeps = a.oracle_sweeps;
+  option("--oracle", [&] { p.oracle.validate(); });
   p.validate();
   return p;
 }

@@ -34,9 +34,10 @@ std::string DataSetOracle::describe() const {
 
 void DataSetOracle::validate() const {
   if (method != "newton" && method != "pgs")
-    throw ConfigError("oracle method '" + method + "': expected newton or pgs");
-  if (!(theta > 0) || !std::isfinite(theta)) throw ConfigError("oracle tolerance must be a number > 0");
-  if (sweeps < 1) throw ConfigError("oracle sweeps must be ≥ 1");
+    throw ConfigError("oracle method '" + method + "': expected pgs or newton");
+  if (!(theta > 0) || !std::isfinite(theta))
+    throw ConfigError("oracle tolerance (--oracle-tolerance) must be a number > 0");
+  if (sweeps < 1) throw ConfigError("oracle sweeps (--oracle-sweeps) must be >= 1");
 }
 
 void DataSetParams::validate() const {

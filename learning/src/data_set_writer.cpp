@@ -103,11 +103,15 @@ void DataSetWriter::append(const SimulationRecord& r) {
   rows("/contacts/gap", r.gap);
   rows("/contacts/lambda_star", r.lambda_star);
   // 2. the simulation's /sims row, seed LAST: it is what makes the simulation count.
-  f.append_rows<std::int32_t>(kSimsBodies, std::vector<std::int32_t>{r.bodies});
-  f.append_rows<std::int64_t>(kSimsSamples, std::vector<std::int64_t>{static_cast<std::int64_t>(n)});
-  f.append_rows<std::int64_t>(kSimsContacts, std::vector<std::int64_t>{static_cast<std::int64_t>(C)});
-  f.append_rows<double>(kSimsResidual, std::vector<double>{r.max_residual});
-  f.append_rows<std::int64_t>(kSimsSeed, std::vector<std::int64_t>{static_cast<std::int64_t>(r.seed)});
+  const std::int32_t bodies[] = {r.bodies};
+  const std::int64_t samples[] = {static_cast<std::int64_t>(n)}, contacts[] = {static_cast<std::int64_t>(C)};
+  const double residual[] = {r.max_residual};
+  const std::int64_t seed[] = {static_cast<std::int64_t>(r.seed)};
+  f.append_rows<std::int32_t>(kSimsBodies, bodies);
+  f.append_rows<std::int64_t>(kSimsSamples, samples);
+  f.append_rows<std::int64_t>(kSimsContacts, contacts);
+  f.append_rows<double>(kSimsResidual, residual);
+  f.append_rows<std::int64_t>(kSimsSeed, seed);
   f.flush();
   ++completed_;
   samples_ += static_cast<std::int64_t>(n);

@@ -25,11 +25,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A tiny family (10–14 circles in a 12 × 12 box, 60 steps) so one simulation takes well
-/// under a second but long enough to be interrupted between simulations.
-const std::string kFamily =
-    " --set world.width=12 --set world.height=12 --set bodies.mean=[6.0,6.0] --set bodies.sigma=2.0"
-    " --count 10..14 --steps 60 --seed 5";
+/// A tiny family (10–14 circles in a 12 × 12 box): 60 steps take ≈ 0.05 s per simulation,
+/// kSlow's 250 steps ≈ 0.25 s — long enough to be killed reliably between simulations.
+const std::string kScene =
+    " --set world.width=12 --set world.height=12 --set bodies.mean=[6.0,6.0] --set bodies.sigma=2.0 --seed 5";
+const std::string kFamily = kScene + " --count 10..14 --steps 60";
+const std::string kSlow = kScene + " --count 10..14 --steps 250";
 
 struct Dir {
   fs::path path;
@@ -140,17 +141,18 @@ void expect_same_file(const std::string& pa, const std::string& pb) {
   walk("/");
 }
 
-/// The uninterrupted reference of `sims` simulations of the family (one per test binary run).
-std::string reference(int sims) {
-  static std::map<int, std::string> made;
-  if (auto it = made.find(sims); it != made.end()) return it->second;
+/// The uninterrupted reference run of `sims` simulations of `family` (made once per binary run).
+std::string reference(int sims, const std::string& family) {
+  static std::map<std::string, std::string> made;
+  const std::string key = std::to_string(sims) + family;
+  if (auto it = made.find(key); it != made.end()) return it->second;
   const fs::path dir = fs::temp_directory_path() / ("dc_generate_cli_ref_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const std::string out = (dir / ("ref" + std::to_string(sims) + ".h5")).string();
-  const std::string cmd = std::string(DC_CLI) + " generate --sims " + std::to_string(sims) + kFamily +
+  const std::string out = (dir / ("ref" + std::to_string(made.size()) + ".h5")).string();
+  const std::string cmd = std::string(DC_CLI) + " generate --sims " + std::to_string(sims) + family +
                           " --threads 1 --out " + out + " >/dev/null 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  made[sims] = out;
+  made[key] = out;
   static const struct Cleanup {
     fs::path d;
     ~Cleanup() { fs::remove_all(d); }
@@ -166,7 +168,7 @@ TEST(GenerateCli, ThreadCountDoesNotChangeTheFile) {
   const Result r = run_cli(dir, "generate --sims 3" + kFamily + " --threads 2 --out " + out2);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_FALSE(fs::exists(out2 + ".partial"));
-  expect_same_file(reference(3), out2);
+  expect_same_file(reference(3, kFamily), out2);
   const DataSetReader data(out2);
   ASSERT_EQ(data.simulations().size(), 3u);
   EXPECT_EQ(data.simulations()[2].seed, 7u);
@@ -177,7 +179,7 @@ TEST(GenerateCli, ThreadCountDoesNotChangeTheFile) {
 TEST(GenerateCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   Dir dir;
   const std::string out = dir / "killed.h5", err = dir / "err.txt";
-  const std::string args = "generate --sims 6" + kFamily + " --threads 1 --log-completed --out " + out;
+  const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
   const pid_t pid = spawn_cli(args, err);
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
@@ -199,39 +201,38 @@ TEST(GenerateCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   const Result resumed = run_cli(dir, args + " --resume");
   ASSERT_EQ(resumed.status, 0) << resumed.err;
   EXPECT_FALSE(fs::exists(out + ".partial"));
-  expect_same_file(reference(6), out);
+  expect_same_file(reference(6, kSlow), out);
 }
 
 TEST(GenerateCli, SigintExitsNonZeroAndLeavesAResumablePartialFile) {
   Dir dir;
   const std::string out = dir / "int.h5", err = dir / "err.txt";
-  const std::string args = "generate --sims 6" + kFamily + " --threads 2 --log-completed --out " + out;
+  const std::string args = "generate --sims 6" + kSlow + " --threads 2 --log-completed --out " + out;
   const pid_t pid = spawn_cli(args, err);
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
   ::kill(pid, SIGINT);
   const int status = wait_exit(pid);
-  EXPECT_NE(status, 0);
-  if (status == 130) {  // interrupted before the end (the usual case)
-    EXPECT_NE(slurp(err).find("--resume"), std::string::npos) << slurp(err);
-    ASSERT_TRUE(fs::exists(out + ".partial"));
-    EXPECT_GE(DataSetReader(out + ".partial").simulations().size(), 1u);
-    const Result resumed = run_cli(dir, args + " --resume");
-    ASSERT_EQ(resumed.status, 0) << resumed.err;
-    expect_same_file(reference(6), out);
-  }
+  ASSERT_EQ(status, 130) << slurp(err);  // 128 + SIGINT, after committing what was finished
+  EXPECT_NE(slurp(err).find("--resume"), std::string::npos) << slurp(err);
+  ASSERT_TRUE(fs::exists(out + ".partial"));
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_GE(DataSetReader(out + ".partial").simulations().size(), 1u);
+  const Result resumed = run_cli(dir, args + " --resume");
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  expect_same_file(reference(6, kSlow), out);
 }
 
 TEST(GenerateCli, ResumeWithOtherParametersIsRefused) {
   Dir dir;
   const std::string out = dir / "p.h5", err = dir / "err.txt";
-  const std::string args = "generate --sims 6" + kFamily + " --threads 1 --log-completed --out " + out;
+  const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
   const pid_t pid = spawn_cli(args, err);
   ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
   ::kill(pid, SIGKILL);
   wait_exit(pid);
   ASSERT_TRUE(fs::exists(out + ".partial"));
-  const Result r = run_cli(dir, "generate --sims 6" + kFamily + " --count 10..15 --resume --out " + out);
+  const Result r = run_cli(dir, "generate --sims 6" + kScene + " --count 10..15 --steps 250 --resume --out " + out);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("--count"), std::string::npos) << r.err;
   EXPECT_EQ(one_line(r.err), 1) << r.err;
