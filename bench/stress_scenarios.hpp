@@ -1,0 +1,170 @@
+#pragma once
+// Extreme scenes (DeepContact issue 5): the scene builders and the instrumented stepping loop
+// shared by tests/engine/extreme_scene_test.cpp (light versions, asserted) and
+// `deepcontact stress` (heavier sweeps, tabulated). Everything here is deterministic; the
+// only non-deterministic number is wall time.
+//
+// What a run measures (RunStats) and why each measure is defined the way it is:
+//  * penetration: the largest overlap of two circles or of a circle and a wall, computed
+//    from the body state after each step by an independent geometric check (not from the
+//    engine's own contact list, which only holds pairs within the speculative margin);
+//  * energy growth: max over t of E_t − min_{s≤t} E_s with E = kinetic + potential. With
+//    e = 0 the exact dynamics never gain energy, semi-implicit Euler loses ½ m g² Δt² per
+//    free step, so any growth is injected by the solver (Baumgarte pushing penetrations
+//    apart, or an unconverged λ). Measured against the running minimum, so a slowly
+//    leaking loss followed by a kick is still caught;
+//  * momentum drift: max_t |P_t − P_0| relative to Σ m |v_0| (meaningful only without walls
+//    and gravity, where every contact force acts in equal and opposite pairs);
+//  * solver statuses per step with rows, median sweeps and the worst natural-map residual.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dc/engine/body_state.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/engine/world_def.hpp"
+
+namespace dc::stress {
+
+// ---- measurements -------------------------------------------------------------------------
+
+/// Largest overlap [m] in `bodies`: max(0, r_a + r_b − |x_a − x_b|) over circle pairs and
+/// max(0, r − distance to wall) over the walls that exist. Uses the uniform-grid broad phase,
+/// so it is O(n) like a step. Throws InvalidArgument for a non-finite position.
+double max_overlap(const BodyState& bodies, const WorldSection& box);
+
+/// True when every number of the state is finite.
+bool state_finite(const BodyState& bodies);
+
+/// Σ m_k v_k [kg·m/s].
+Vec2 linear_momentum(const BodyState& bodies);
+
+/// Solver options of a scene's [solver] section.
+SolverOptions solver_options(const WorldDef& def);
+
+struct RunConfig {
+  int steps = 100;
+  /// The last `rest_window` steps count as "at rest": rest_penetration is taken over them.
+  int rest_window = 0;
+  /// Warm starter from dc_warmstart ("zero", "builtin", ...); builtin is the engine's
+  /// usual mode and keeps the fine-Δt sweeps affordable.
+  std::string warmstart = "builtin";
+  /// Stop at the first non-finite number (state or λ) instead of running on garbage.
+  bool stop_on_nonfinite = true;
+  /// Before stepping, time World::collide() this many times and keep the minimum
+  /// (RunStats::collide_min_ms; 0 = don't): the broad-phase scaling measure, robust against
+  /// the noise of a shared machine.
+  int collide_repeats = 0;
+};
+
+struct RunStats {
+  int steps = 0;                 ///< steps actually run
+  double wall_s = 0;             ///< wall time of the whole run [s]
+  double collide_ms = 0;         ///< total time in World::collide (broad + narrow phase) [ms]
+  double collide_min_ms = 0;     ///< min over RunConfig::collide_repeats calls of collide() [ms]
+  double max_penetration = 0;    ///< worst overlap after any step [m]
+  double rest_penetration = 0;   ///< worst overlap over the last rest_window steps [m]
+  double energy0 = 0;            ///< E before the first step [J]
+  double max_energy_growth = 0;  ///< max_t (E_t − min_{s≤t} E_s) [J]
+  /// Σ_k m_k · max_t |v_k(t)| [kg·m/s]: the momentum the run could have lost or gained
+  /// (the initial Σ m |v| is 0 for bodies pushed apart from rest).
+  double momentum_scale = 0;
+  double momentum_drift = 0;     ///< max_t |P_t − P_0| [kg·m/s]
+  double max_speed = 0;          ///< largest |v| seen [m/s]
+  bool nonfinite = false;        ///< a NaN/Inf appeared in the state or in λ
+  int solves = 0;                ///< steps with at least one row
+  int converged = 0, sweep_limit = 0, diverged = 0, failed = 0, infeasible = 0, invalid = 0;
+  double median_sweeps = 0;      ///< over the steps with rows
+  double max_residual = 0;       ///< worst natural-map residual of the returned λ [N]
+  int max_rows = 0;              ///< largest LCP of the run
+  /// Set when a returned result was inconsistent: residual ≠ natural_residual(λ), a NaN
+  /// residual, or a wrongly sized λ (the "no garbage" contract of LcpSolver).
+  std::string garbage;
+};
+
+/// Steps `world` with `solver`/`options` and the named warm starter, measuring as it goes.
+/// Never throws for a numerical failure: a non-finite value ends the run with nonfinite set.
+RunStats run_world(World& world, const LcpSolver& solver, const SolverOptions& options,
+                   const RunConfig& config);
+
+// ---- scene builders ------------------------------------------------------------------------
+// Each returns a complete, valid WorldDef (explicit [[body]] circles unless stated), with
+// [time] steps set to a sensible default for the test; callers may change any field.
+
+/// Two light circles on the floor, wedged between the walls of a 4 m wide box, and a third
+/// circle resting on both (the pyramid of three). ratio = ρ_heavy / ρ_light = m ratio.
+/// heavy_on_top: the top circle is heavy; otherwise the two bottom circles are.
+WorldDef pyramid_mass_ratio(double ratio, bool heavy_on_top);
+
+/// A vertical stack of two circles on the floor (exactly touching), top/bottom mass ratio.
+WorldDef stack_mass_ratio(double top_over_bottom);
+
+/// `count` generated circles (r = 1) falling into a 12 m wide box: the Δt sweeps.
+WorldDef small_pile(int count, double dt, std::uint64_t seed = 3);
+
+/// A column of n circles (r = 1, explicit bodies) with 1 mm gaps, centred in a 10 m wide box
+/// tall enough to hold it, friction μ.
+WorldDef column(int n, double mu = 0.5);
+
+/// `count` generated circles of radius 1, uniformly spread at areal coverage 0.25 for every
+/// count (box side grows with √count): the broad-phase scaling scene.
+WorldDef many_bodies(int count);
+
+/// The small pyramid-and-pile scene scaled by s: box, radii, positions, slop, margin,
+/// restitution threshold and gravity × s, Δt unchanged. With time unchanged every length,
+/// velocity and acceleration scales by s, masses by s² (ρ fixed), forces by s³, and the
+/// contact LCP is the same problem in scaled units, so positions / s must agree.
+WorldDef scaled_scene(double s);
+
+/// The seed scene with `count` circles and friction μ.
+WorldDef friction_scene(double mu, int count = 30);
+
+/// Circles exactly touching: a row of four on the floor (centre distance 2r exactly, each
+/// on the floor with gap 0) and one exactly on top of the second.
+WorldDef exactly_touching();
+
+/// Circles in all four corners, each touching both walls, plus one thrown into the lower
+/// left corner diagonally at 20 m/s.
+WorldDef corners();
+
+/// A world definition for the coincident-centre state (coincident_state): two walls-free
+/// sections can be chosen; explicit bodies are not used (World(def, state)).
+WorldDef coincident_def(bool walls_and_gravity);
+/// `copies` circles of radius 1 sharing the centre (15, 15) (not constructible from a scene
+/// file, whose explicit bodies must not overlap).
+BodyState coincident_state(int copies, double density_ratio = 1.0);
+
+/// No walls, no gravity: `count` generated circles plus one heavy fast projectile (density
+/// ratio `ratio`) fired into them: linear momentum must be conserved.
+WorldDef free_collision(int count, double ratio, double mu);
+
+// ---- the stress table ---------------------------------------------------------------------
+
+/// One row of `deepcontact stress`.
+struct Scenario {
+  std::string family;   ///< "mass ratio", "dt", "column", ...
+  std::string params;   ///< the parameters that vary, e.g. "ratio=1e6 heavy on top"
+  WorldDef def;
+  std::optional<BodyState> state;  ///< explicit initial state (coincident centres)
+  RunConfig run;
+  // Thresholds of the verdict (documented in docs/robustness.md):
+  double penetration_tol = 0;      ///< rest penetration must be ≤ slop + this [m]
+  double energy_tol = 0;           ///< energy growth must be ≤ this [J]
+  bool check_momentum = false;     ///< drift must be ≤ 1e-9 · momentum scale
+  /// Broad-phase scaling row: compare collide_min_ms against the row `linear_ref` (index
+  /// into the scenario list, −1 = none) and require ≤ 2 × (count ratio) (docs/robustness.md:
+  /// 2.5k → 10k bodies crosses the L1-TLB/L2 size on this machine and costs ~6.5× for 4×).
+  int linear_ref = -1;
+};
+
+/// The scenario list of `deepcontact stress` (quick = a reduced set for smoke runs).
+std::vector<Scenario> stress_scenarios(bool quick);
+
+/// Verdict of one row: "held" or "limit reached: <what>".
+/// `ref_s`/`ref_r`: the row named by s.linear_ref and its result (nullptr = no scaling check).
+std::string verdict(const Scenario& s, const RunStats& r, const Scenario* ref_s = nullptr,
+                    const RunStats* ref_r = nullptr);
+
+}  // namespace dc::stress
