@@ -76,8 +76,10 @@ const std::vector<Column>& columns() {
        [](const Row& r) { return r.scenario->energy_tol >= 1e299 ? std::string("-") : num("%.3g", r.scenario->energy_tol); }},
       {"momentum_drift_rel",
        [](const Row& r) {
-         return r.stats.momentum_scale > 0 ? num("%.2g", r.stats.momentum_drift / r.stats.momentum_scale)
-                                           : std::string("-");
+         // Only meaningful without walls and gravity (the momentum rows).
+         return r.scenario->check_momentum && r.stats.momentum_scale > 0
+                    ? num("%.2g", r.stats.momentum_drift / r.stats.momentum_scale)
+                    : std::string("-");
        }},
       {"nan", [](const Row& r) { return std::string(r.stats.nonfinite ? "yes" : "no"); }},
       {"converged", [](const Row& r) { return pct(r.stats.converged, r.stats.solves); }},

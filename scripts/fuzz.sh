@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses of tests/fuzz/ (clang, ASan + UBSan, in build-fuzz/) and runs
+# each for SECONDS seconds (default 60), starting from its seed corpus in
+# tests/fuzz/corpus/<harness>/ (read-only: new inputs go to build-fuzz/fuzz-work/).
+#
+#   scripts/fuzz.sh [SECONDS] [HARNESS...]      e.g. scripts/fuzz.sh 60, scripts/fuzz.sh 10 dat
+#
+# Prints per harness: wall time, executions (from libFuzzer's final "#N DONE" line), exec/s,
+# coverage, and crashes (crash-*/leak-*/timeout-*/oom-* artefacts, kept under
+# build-fuzz/fuzz-work/<harness>/artifacts/ — turn each into a regression test, never commit it).
+# Exit status: 0 when no harness found anything, 1 otherwise, 2 when the build failed.
+# Environment: JOBS (build parallelism, default 2), DC_FUZZ_BUILD (build dir), FUZZ_ARGS
+# (extra libFuzzer flags).
+set -uo pipefail
+
+SECS=${1:-60}
+shift || true
+ALL=(scene dat model dataset)
+if [ $# -gt 0 ]; then HARNESSES=("$@"); else HARNESSES=("${ALL[@]}"); fi
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+BUILD=${DC_FUZZ_BUILD:-$ROOT/build-fuzz}
+JOBS=${JOBS:-2}
+WORK=$BUILD/fuzz-work
+
+if ! command -v clang++ >/dev/null; then
+  echo "fuzz.sh: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2
+  exit 2
+fi
+echo "fuzz.sh: building harnesses in $BUILD (-j$JOBS)"
+if ! cmake -S "$ROOT" -B "$BUILD" -DDC_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
+      -DDC_TESTS=OFF -DDC_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >"$BUILD.configure.log" 2>&1; then
+  echo "fuzz.sh: configure failed, see $BUILD.configure.log" >&2
+  exit 2
+fi
+targets=()
+for h in "${HARNESSES[@]}"; do targets+=("fuzz_$h"); done
+if ! cmake --build "$BUILD" -j "$JOBS" --target "${targets[@]}" >"$BUILD.build.log" 2>&1; then
+  tail -30 "$BUILD.build.log" >&2
+  echo "fuzz.sh: build failed, see $BUILD.build.log" >&2
+  exit 2
+fi
+
+# Leaks are findings too (LeakSanitizer is on under ASan).
+status=0
+summary=()
+for h in "${HARNESSES[@]}"; do
+  bin=$BUILD/tests/fuzz/fuzz_$h
+  corpus=$WORK/$h/corpus
+  artifacts=$WORK/$h/artifacts
+  log=$WORK/$h/fuzz.log
+  mkdir -p "$corpus" "$artifacts"
+  echo "fuzz.sh: $h for ${SECS}s (log: $log)"
+  t0=$(date +%s.%N)
+  # -timeout: an input running > 10 s is a hang; -rss_limit_mb: a reader allocating what the
+  # file announces rather than what it holds shows up as an OOM finding.
+  # shellcheck disable=SC2086
+  "$bin" -max_total_time="$SECS" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$artifacts/" ${FUZZ_ARGS:-} "$corpus" "$ROOT/tests/fuzz/corpus/$h" >"$log" 2>&1
+  rc=$?
+  t1=$(date +%s.%N)
+  wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.0f", b - a }')
+  done_line=$(grep -E '^#[0-9]+[[:space:]]+DONE' "$log" | tail -1)
+  execs=$(sed -nE 's/^#([0-9]+)[[:space:]]+DONE.*/\1/p' <<<"$done_line")
+  rate=$(sed -nE 's/.*exec\/s: ([0-9]+).*/\1/p' <<<"$done_line")
+  cov=$(sed -nE 's/.*cov: ([0-9]+).*/\1/p' <<<"$done_line")
+  if [ -z "$execs" ]; then  # stopped by a finding: take the last status line instead
+    execs=$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')
+  fi
+  crashes=$(find "$artifacts" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) | wc -l)
+  [ "$rc" -ne 0 ] || [ "$crashes" -ne 0 ] && status=1
+  summary+=("$(printf '%-8s %6ss %12s %8s %6s %8s %s' "$h" "$wall" "${execs:-?}" "${rate:-?}" "${cov:-?}" "$crashes" \
+    "$([ "$rc" -eq 0 ] && echo ok || echo "exit $rc: $(grep -m1 -E 'ERROR|SUMMARY|deadly|violated' "$log" | cut -c1-80)")")")
+done
+
+echo
+printf '%-8s %7s %12s %8s %6s %8s %s\n' harness time executions exec/s cov crashes result
+for line in "${summary[@]}"; do echo "$line"; done
+exit $status

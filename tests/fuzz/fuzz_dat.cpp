@@ -1,0 +1,45 @@
+// libFuzzer harness: the Siconos .dat LCP reader (dc::parse_lcp_dat), and the solvers on
+// whatever small problem it accepts.
+//
+// Properties: parsing throws only IoError; an accepted problem passes LcpProblem::validate;
+// for n ≤ 12 every solver returns a λ of the right size, finite, with a non-NaN residual,
+// within a bounded number of sweeps (the LcpSolver contract "no solver loops forever or
+// returns NaN").
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "dc/engine/dat_file.hpp"
+#include "dc/engine/error.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "fuzz_common.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  dc::LcpProblem p;
+  try {
+    p = dc::parse_lcp_dat(text, "fuzz.dat");
+  } catch (const dc::IoError&) {
+    return 0;
+  }
+  try {
+    p.validate();
+  } catch (const dc::InvalidArgument&) {
+    dc::fuzz::property_failed("parse_lcp_dat accepted a problem that does not validate");
+  }
+  if (p.rows() > 12) return 0;
+  dc::SolverOptions o;
+  o.max_sweeps = 60;
+  o.tolerance = 1e-10;
+  o.record_theta = false;
+  for (const char* name : {"lemke", "newton", "pgs", "psor", "jacobi"}) {
+    o.omega = std::string_view(name) == "jacobi" ? 0.5 : 1.0;
+    const dc::SolveResult r = dc::make_solver(name)->solve(p, Eigen::VectorXd(), o);
+    if (r.lambda.size() != p.rows()) dc::fuzz::property_failed("solver returned a wrongly sized lambda");
+    if (!r.lambda.allFinite()) dc::fuzz::property_failed("solver returned a non-finite lambda");
+    if (std::isnan(r.residual)) dc::fuzz::property_failed("solver returned a NaN residual");
+  }
+  return 0;
+}
