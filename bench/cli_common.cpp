@@ -1,10 +1,12 @@
 #include "cli_common.hpp"
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <sstream>
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/learning/cnn_warm_starter.hpp"
 
 namespace dc::cli {
 
@@ -59,15 +61,22 @@ std::vector<std::string> split_list(const std::string& text) {
   return out;
 }
 
+/// The shipped model (docs/learning.md "Default model"), found through the source tree the
+/// executable was built from.
+static std::filesystem::path shipped_model() { return std::filesystem::path(DC_SOURCE_DIR) / "models" / "default.h5"; }
+
 WarmStarterRegistry full_warm_starter_registry() {
   WarmStarterRegistry r = default_warm_starters();
+  add_cnn_warm_starters(r, shipped_model());
   return r;
 }
 
 std::vector<std::string> default_bench_starters(const WarmStarterRegistry& registry, bool quick) {
   std::vector<std::string> out = {"zero", "builtin", "copy", "copy:2", "copy:0", "sph", "sph-prev", "random", "bad"};
   if (quick) out = {"zero", "builtin", "copy", "sph", "sph-prev"};
-  if (registry.contains("cnn")) out.push_back("cnn");
+  // cnn only when the shipped model is there (a checkout without it still benches the rest;
+  // `--warmstarts cnn --model F` selects another model explicitly).
+  if (registry.contains("cnn") && std::filesystem::exists(shipped_model())) out.push_back("cnn");
   return out;
 }
 

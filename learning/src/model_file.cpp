@@ -21,7 +21,9 @@ std::vector<std::int32_t> chw(const Shape& s) { return {s.c, s.h, s.w}; }
 
 }  // namespace
 
-void save_model(Model& model, const std::filesystem::path& path) {
+void save_model(Model& model, const std::filesystem::path& path) { save_model(model, path, {}); }
+
+void save_model(Model& model, const std::filesystem::path& path, const std::function<void(H5File&)>& extra) {
   AtomicH5File out(path.string());
   H5File& f = out.file();
   Network& net = model.network();
@@ -49,6 +51,7 @@ void save_model(Model& model, const std::filesystem::path& path) {
   f.set_attribute<std::int32_t>("/grid", "ny", g.ny);
   f.write_strings("/grid/feature_channels", g.feature_channels);
   f.write_strings("/grid/label_channels", g.label_channels);
+  if (extra) extra(f);
   out.commit();
 }
 

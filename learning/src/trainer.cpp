@@ -7,6 +7,8 @@
 #include <limits>
 #include <set>
 
+#include <gsl/gsl_rng.h>
+
 #include "dc/engine/error.hpp"
 #include "dc/engine/rng.hpp"
 #include "dc/learning/initializer.hpp"
@@ -91,6 +93,13 @@ void gather(const Tensor& src, const std::vector<std::size_t>& order, std::size_
 }  // namespace
 
 TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const Callback& on_epoch) {
+  const StateCallback cb = on_epoch ? StateCallback([&](const EpochReport& r, const TrainState&) { return on_epoch(r); })
+                                    : StateCallback();
+  return train(model, data, cb, nullptr, {});
+}
+
+TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const StateCallback& on_epoch,
+                           const TrainState* resume, const std::function<bool()>& keep_going) {
   if (data.empty()) throw InvalidArgument("Trainer::train: empty data set");
   Network& net = model.network();
   const Shape xs = net.input_shape(), ys = net.output_shape();
@@ -112,6 +121,9 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   Rng rng(def_.seed);
   TrainResult result;
   result.validation_simulations = pick_validation_simulations(data, def_.validation_fraction, rng);
+  if (resume && resume->validation_simulations != result.validation_simulations)
+    throw InvalidArgument("Trainer::train: resume state belongs to another train/validation split "
+                          "(different data set, seed or validation fraction)");
   const std::set<int> val_ids(result.validation_simulations.begin(), result.validation_simulations.end());
   std::vector<std::size_t> tr_idx, va_idx;
   std::set<int> tr_ids;
@@ -136,23 +148,58 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   const Packed train = pack(data, tr_idx, model.input_stats, model.output_stats, xs, ys, wc);
   const Packed val = pack(data, va_idx, model.input_stats, model.output_stats, xs, ys, wc);
 
-  if (def_.initialize) net.initialize(*make_initializer(def_.init), rng);
-  net.set_rng(&rng);
   Sgd sgd(SgdDef{def_.momentum, def_.weight_decay});
-  const auto schedule = make_lr_schedule(def_.schedule, def_.learning_rate, def_.epochs);
   std::vector<ParamRef> params = net.parameters();
+  int first_epoch = 0;
+  if (resume) {
+    // The weights are the model's (loaded from the checkpoint); the stream and the momentum
+    // continue from where the saved run finished its last epoch.
+    gsl_rng* raw = rng.raw();
+    if (resume->rng_type != gsl_rng_name(raw) || resume->rng_state.size() != gsl_rng_size(raw))
+      throw InvalidArgument("Trainer::train: resume state has a random stream of another type or size");
+    std::memcpy(gsl_rng_state(raw), resume->rng_state.data(), resume->rng_state.size());
+    if (!resume->velocity.empty()) {
+      if (resume->velocity.size() != params.size())
+        throw InvalidArgument("Trainer::train: resume state has " + std::to_string(resume->velocity.size()) +
+                              " momentum buffers for " + std::to_string(params.size()) + " parameters");
+      std::vector<Eigen::VectorXf> v(params.size());
+      for (std::size_t i = 0; i < params.size(); ++i) {
+        if (resume->velocity[i].size() != params[i].value->size())
+          throw InvalidArgument("Trainer::train: resume momentum of " + params[i].name + " has the wrong size");
+        v[i] = Eigen::Map<const Eigen::VectorXf>(resume->velocity[i].data(),
+                                                  static_cast<Eigen::Index>(resume->velocity[i].size()));
+      }
+      sgd.set_velocity(std::move(v));
+    }
+    if (resume->epochs_done < 0 || static_cast<std::size_t>(resume->epochs_done) != resume->history.size())
+      throw InvalidArgument("Trainer::train: resume state's history does not match its epoch count");
+    first_epoch = resume->epochs_done;
+    result.history = resume->history;
+  } else if (def_.initialize) {
+    net.initialize(*make_initializer(def_.init), rng);
+  }
+  net.set_rng(&rng);
+  const auto schedule = make_lr_schedule(def_.schedule, def_.learning_rate, def_.epochs);
   const MseLoss mse;
   std::vector<std::size_t> order(static_cast<std::size_t>(train.n));
   Tensor xb, yb, wb, grad;
+  TrainState state;  // handed to the callback after every epoch
+  state.validation_simulations = result.validation_simulations;
+  state.rng_type = gsl_rng_name(rng.raw());
 
-  for (int epoch = 0; epoch < def_.epochs; ++epoch) {
+  for (int epoch = first_epoch; epoch < def_.epochs; ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     for (std::size_t i = order.size(); i > 1; --i)  // Fisher–Yates
       std::swap(order[i - 1], order[rng.uniform_int(i)]);
     const double lr = schedule->rate(epoch);
     double loss_sum = 0.0;
+    bool stopped = false;
     for (std::size_t first = 0; first < order.size(); first += static_cast<std::size_t>(def_.batch_size)) {
+      if (keep_going && !keep_going()) {  // abandon the unfinished epoch (the caller keeps the last state)
+        stopped = true;
+        break;
+      }
       const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(def_.batch_size), order.size() - first));
       gather(train.x, order, first, b, xb);
       gather(train.y, order, first, b, yb);
@@ -162,6 +209,7 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
       net.backward(grad);
       sgd.step(params, lr);
     }
+    if (stopped) break;
     EpochReport rep;
     rep.epoch = epoch;
     rep.learning_rate = lr;
@@ -182,7 +230,15 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
     }
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(rep);
-    if (on_epoch && !on_epoch(rep)) break;
+    if (on_epoch) {
+      state.epochs_done = epoch + 1;
+      state.history = result.history;
+      const auto* bytes = static_cast<const std::uint8_t*>(gsl_rng_state(rng.raw()));
+      state.rng_state.assign(bytes, bytes + gsl_rng_size(rng.raw()));
+      state.velocity.clear();
+      for (const Eigen::VectorXf& v : sgd.velocity()) state.velocity.emplace_back(v.data(), v.data() + v.size());
+      if (!on_epoch(rep, state)) break;
+    }
   }
   net.set_rng(nullptr);
   return result;

@@ -12,7 +12,9 @@
 //
 // save_model writes "<path>.tmp" and renames it onto <path> when complete.
 #include <filesystem>
+#include <functional>
 
+#include "dc/engine/h5.hpp"
 #include "dc/learning/model.hpp"
 
 namespace dc {
@@ -21,6 +23,11 @@ inline constexpr int kModelFormatVersion = 1;
 
 /// Throws IoError (one line) if the file cannot be written.
 void save_model(Model& model, const std::filesystem::path& path);
+
+/// save_model, with `extra(file)` called before the atomic rename so that additional
+/// objects (e.g. `/training` provenance, or a checkpoint's `/train_state`) land in the same
+/// atomic write. load_model ignores objects it does not know.
+void save_model(Model& model, const std::filesystem::path& path, const std::function<void(H5File&)>& extra);
 
 /// Throws IoError with a one-line message for a missing, non-HDF5 or truncated file, a
 /// different format version, a missing dataset or attribute, a weight of the wrong shape,

@@ -38,6 +38,11 @@ class Sgd final : public Optimizer {
   [[nodiscard]] std::string name() const override { return "sgd"; }
   void step(std::span<const ParamRef> params, double lr) override;
   void reset() override { velocity_.clear(); }
+  /// Momentum buffers, one per parameter in list order (empty before the first step or
+  /// without momentum). For checkpointing: set_velocity() of a saved value makes the next
+  /// step() continue exactly as the saved run would have.
+  [[nodiscard]] const std::vector<Eigen::VectorXf>& velocity() const { return velocity_; }
+  void set_velocity(std::vector<Eigen::VectorXf> v) { velocity_ = std::move(v); }
 
  private:
   SgdDef def_;

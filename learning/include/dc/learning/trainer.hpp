@@ -61,6 +61,21 @@ struct TrainResult {
   std::vector<int> train_simulations, validation_simulations;
 };
 
+/// What a training run needs besides the model's weights to continue exactly where it
+/// stopped (checkpoint/resume, `deepcontact train --resume`): the epochs done, their
+/// reports, the run's random stream and the SGD momentum buffers after the last finished
+/// epoch. With the same data, TrainDef and thread count, a run resumed from this state
+/// continues bit-identically to an uninterrupted one (the split and the standardisation
+/// are recomputed: they are deterministic functions of the seed and the data).
+struct TrainState {
+  int epochs_done = 0;
+  std::vector<EpochReport> history;
+  std::string rng_type;                        ///< GSL generator name ("mt19937")
+  std::vector<std::uint8_t> rng_state;         ///< raw GSL generator state (gsl_rng_state)
+  std::vector<std::vector<float>> velocity;    ///< momentum per parameter (empty: none yet)
+  std::vector<int> validation_simulations;     ///< the split the state belongs to
+};
+
 class Trainer {
  public:
   explicit Trainer(TrainDef def);
@@ -69,6 +84,19 @@ class Trainer {
   /// Train `model` in place (weights and input/output statistics). Throws InvalidArgument
   /// if the data set is empty or a sample's shapes do not fit the model.
   TrainResult train(Model& model, std::span<const TrainingSample> data, const Callback& on_epoch = {});
+
+  /// Called after every epoch with the report and the state to checkpoint (valid during
+  /// the call only); return false to stop.
+  using StateCallback = std::function<bool(const EpochReport&, const TrainState&)>;
+  /// As above; with `resume` (a state saved by an earlier run with the same data and
+  /// TrainDef, and `model` holding that run's weights) it skips the initialisation,
+  /// restores the random stream and the momentum, and continues at epoch
+  /// resume->epochs_done; the returned history includes the resumed epochs. Throws
+  /// InvalidArgument when the state does not fit (another split, parameter sizes, rng).
+  /// `keep_going` (optional) is polled before every minibatch; when it returns false the
+  /// unfinished epoch is abandoned (neither reported nor in the history) and train returns.
+  TrainResult train(Model& model, std::span<const TrainingSample> data, const StateCallback& on_epoch,
+                    const TrainState* resume, const std::function<bool()>& keep_going = {});
 
   /// Simulation ids for validation: ⌊f·S + ½⌋ of the S distinct ids (at least 1 when f > 0
   /// and S ≥ 2, at most S − 1), drawn with rng. Returned sorted.

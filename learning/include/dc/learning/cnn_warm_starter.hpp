@@ -1,0 +1,92 @@
+#pragma once
+// The learned warm starters (DESIGN §4, issue 4; docs/learning.md "The cnn warm starter"):
+//
+//   cnn         body state + this step's contacts → feature image (FeatureImageBuilder, the
+//               data set's builder and settings) → Model::predict → label grid (λ_n, λ_t
+//               Shepard numerators) → SphTransfer::gather at the contact points (Shepard:
+//               divided by the interpolated kernel-weight field of the points) → projected
+//               into the bounds. Exactly the `sph` starter's read-back, with the predicted
+//               grid in place of the oracle's splat.
+//   cnn-hybrid  builtin (the previous step's λ by key) for persistent contacts, the cnn
+//               prediction for contacts that are new this step; steps without new contacts
+//               skip the network altogether. A non-oracle starter.
+//
+// Model selection: `cnn:PATH` / `cnn-hybrid:PATH`, else WarmStartEnv::model_path, else the
+// default passed to add_cnn_warm_starters (the CLI passes DC_SOURCE_DIR/models/default.h5,
+// the shipped model). A missing or unreadable model is an IoError when the starter is made.
+//
+// The model file stores the grid (d, h, kernel, nx, ny) and the feature channel names it was
+// trained on; the starter rebuilds the feature image with exactly those, on the scene's box,
+// and refuses (ConfigError) a scene whose box gives another node count.
+//
+// Cost: initial_guess() is the whole cost the bench times (feature image + inference +
+// gather); last_timing() splits the last call, total_timing() sums all calls.
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dc/learning/feature_image.hpp"
+#include "dc/learning/model.hpp"
+#include "dc/warmstart/sph_transfer.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace dc {
+
+/// Milliseconds spent in the parts of initial_guess().
+struct CnnTiming {
+  double features_ms = 0;   ///< feature image from bodies and contacts
+  double inference_ms = 0;  ///< Model::predict (standardise, network, de-standardise)
+  double gather_ms = 0;     ///< Shepard read-back at the contacts, projection
+  long calls = 0;           ///< initial_guess() calls (total_timing) that ran the network
+};
+
+class CnnWarmStarter final : public WarmStarter {
+ public:
+  /// `name` is the full starter name ("cnn", "cnn:PATH", "cnn-hybrid"). `inference_threads`
+  /// bounds the OpenMP threads of predict() (set around the call and restored): a batch-1
+  /// pass of the small U-Net is ~20 fork–joins of < 1 ms each, which one thread runs
+  /// fastest on a loaded machine (docs/learning.md "Speed").
+  CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads = 1);
+  /// load_model(path) (IoError with the path) then the constructor above.
+  static std::unique_ptr<CnnWarmStarter> load(const std::filesystem::path& path, std::string name, bool hybrid,
+                                              int inference_threads = 1);
+
+  [[nodiscard]] std::string name() const override { return name_; }
+  /// λ⁰ in the problem's row order, finite, projected into the bounds. Throws ConfigError
+  /// when the scene's box does not give the model's grid.
+  Eigen::VectorXd initial_guess(const StepView& view) override;
+
+  /// The gather path alone: λ⁰ of `world`'s contacts read back from a raw label grid
+  /// `labels` [1, 2, ny, nx] (NCHW, the data set's layout) with the Shepard read-back,
+  /// projected. initial_guess() is features → predict → this.
+  Eigen::VectorXd guess_from_labels(const World& world, const Tensor& labels);
+
+  [[nodiscard]] const CnnTiming& last_timing() const { return last_; }
+  [[nodiscard]] const CnnTiming& total_timing() const { return total_; }
+  [[nodiscard]] Model& model() { return model_; }
+
+ private:
+  /// (Re)builds the feature builder and transfer for the scene's box; checks the grid.
+  void prepare(const World& world);
+
+  Model model_;
+  std::string name_;
+  bool hybrid_;
+  int threads_;
+  std::vector<FeatureChannel> channels_;
+  std::optional<FeatureImageBuilder> builder_;
+  std::optional<SphTransfer> transfer_;
+  double box_w_ = -1, box_h_ = -1;
+  Tensor features_;
+  SphGrid grid_;
+  std::vector<Vec2> points_;
+  CnnTiming last_, total_;
+};
+
+/// Registers "cnn" and "cnn-hybrid" (see the file comment) with `default_model` as the
+/// model when neither the argument nor WarmStartEnv::model_path names one.
+void add_cnn_warm_starters(WarmStarterRegistry& registry, std::filesystem::path default_model);
+
+}  // namespace dc

@@ -1,0 +1,180 @@
+#include "dc/learning/cnn_warm_starter.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "dc/engine/error.hpp"
+#include "dc/learning/model_file.hpp"
+#include "dc/warmstart/sph_warm_starter.hpp"
+
+namespace dc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+/// Sets the calling thread's OpenMP team size for its next parallel regions and restores
+/// the previous value on exit (an ICV of this thread, not process state).
+class OmpThreads {
+ public:
+  explicit OmpThreads(int n) : previous_(omp_get_max_threads()) {
+    if (n > 0) omp_set_num_threads(n);
+  }
+  ~OmpThreads() { omp_set_num_threads(previous_); }
+  OmpThreads(const OmpThreads&) = delete;
+  OmpThreads& operator=(const OmpThreads&) = delete;
+
+ private:
+  int previous_;
+};
+
+}  // namespace
+
+CnnWarmStarter::CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads)
+    : model_(std::move(model)), name_(std::move(name)), hybrid_(hybrid), threads_(inference_threads) {
+  const ModelGrid& g = model_.grid();
+  try {
+    for (const std::string& c : g.feature_channels) channels_.push_back(parse_feature_channel(c));
+  } catch (const ConfigError& e) {
+    throw ConfigError(name_ + ": the model's feature channels cannot be built: " + e.what());
+  }
+  if (g.label_channels != label_channel_names())
+    throw ConfigError(name_ + ": the model's label channels are not lambda_n, lambda_t");
+  (void)parse_sph_kernel(g.kernel);  // ConfigError for an unknown kernel, before the first step
+}
+
+std::unique_ptr<CnnWarmStarter> CnnWarmStarter::load(const std::filesystem::path& path, std::string name, bool hybrid,
+                                                     int inference_threads) {
+  if (!std::filesystem::exists(path))
+    throw IoError(name + ": model file " + path.string() +
+                  " does not exist (train one with 'make model' or pass cnn:PATH / --model)");
+  return std::make_unique<CnnWarmStarter>(load_model(path), std::move(name), hybrid, inference_threads);
+}
+
+void CnnWarmStarter::prepare(const World& world) {
+  const double W = world.def().world.width, H = world.def().world.height;
+  if (builder_ && W == box_w_ && H == box_h_) return;
+  const ModelGrid& g = model_.grid();
+  // The data set's builder settings: default_sph_setting's Shepard transfer on this box with
+  // the model's d, h and kernel, and the model's channels.
+  FeatureImageDef def = FeatureImageDef::for_box(W, H);
+  def.sph.grid.spacing = g.d;
+  def.sph.support = g.h;
+  def.sph.kernel = parse_sph_kernel(g.kernel);
+  def.channels = channels_;
+  builder_.emplace(def);
+  if (builder_->nx() != g.nx || builder_->ny() != g.ny) {
+    const int nx = builder_->nx(), ny = builder_->ny();
+    builder_.reset();
+    throw ConfigError(name_ + ": the model was trained on a " + std::to_string(g.nx) + " x " + std::to_string(g.ny) +
+                      " grid, but this scene's " + std::to_string(W) + " x " + std::to_string(H) +
+                      " box gives " + std::to_string(nx) + " x " + std::to_string(ny) + " at d = " + std::to_string(g.d));
+  }
+  SphTransferDef t = def.sph;
+  t.grid.channels = FeatureImageBuilder::kLabelChannels;
+  t.normalisation = SphNormalisation::Shepard;
+  transfer_.emplace(t);
+  grid_ = SphGrid(t.grid);
+  features_ = Tensor(1, builder_->feature_channels(), g.ny, g.nx);
+  box_w_ = W;
+  box_h_ = H;
+}
+
+Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& labels) {
+  prepare(w);
+  require_shape(labels.shape(), Shape{1, FeatureImageBuilder::kLabelChannels, grid_.ny(), grid_.nx()},
+                name_ + ": label grid");
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
+  const auto& contacts = w.contacts();
+  if (contacts.empty()) return out;
+  // Same layout (c·ny + j)·nx + i on both sides: a straight float → double copy.
+  const std::span<double> dst = grid_.data();
+  for (std::size_t i = 0; i < dst.size(); ++i) dst[i] = labels[i];
+  points_.clear();
+  for (const Contact& c : contacts) points_.push_back(c.point);
+  const std::span<const double> v = transfer_->gather(grid_, points_);
+  for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
+    out[w.normal_row(c)] = v[2 * static_cast<std::size_t>(c)];
+    if (w.has_friction_rows()) out[w.tangent_row(c)] = v[2 * static_cast<std::size_t>(c) + 1];
+  }
+  project_feasible(w.problem(), out);
+  return out;
+}
+
+Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
+  const World& w = view.world;
+  last_ = {};
+  const auto& cur = w.contacts();
+  if (cur.empty()) return Eigen::VectorXd::Zero(w.problem().rows());
+
+  // Hybrid: which contacts persist from the previous step (both lists are sorted by key).
+  std::vector<int> prev_of;  // index into previous_contacts(), −1 for a new contact
+  bool any_new = !hybrid_;
+  if (hybrid_) {
+    const auto& prev = w.previous_contacts();
+    prev_of.assign(cur.size(), -1);
+    std::size_t j = 0;
+    for (std::size_t c = 0; c < cur.size(); ++c) {
+      while (j < prev.size() && prev[j].key < cur[c].key) ++j;
+      if (j < prev.size() && prev[j].key == cur[c].key) prev_of[c] = static_cast<int>(j);
+      else any_new = true;
+    }
+  }
+
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
+  if (any_new) {
+    auto t0 = Clock::now();
+    prepare(w);
+    builder_->features(w.bodies(), cur, std::span<float>(features_.data(), features_.size()));
+    last_.features_ms = ms_since(t0);
+    t0 = Clock::now();
+    Tensor labels;
+    {
+      const OmpThreads scope(threads_);
+      labels = model_.predict(features_);
+    }
+    last_.inference_ms = ms_since(t0);
+    t0 = Clock::now();
+    out = guess_from_labels(w, labels);
+    last_.gather_ms = ms_since(t0);
+    last_.calls = 1;
+  }
+  if (hybrid_) {
+    const auto& prev = w.previous_contacts();
+    for (std::size_t c = 0; c < cur.size(); ++c) {
+      if (prev_of[c] < 0) continue;
+      const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];
+      out[w.normal_row(static_cast<int>(c))] = p.lambda_n;
+      if (w.has_friction_rows()) out[w.tangent_row(static_cast<int>(c))] = p.lambda_t;
+    }
+    project_feasible(w.problem(), out);
+  }
+  total_.features_ms += last_.features_ms;
+  total_.inference_ms += last_.inference_ms;
+  total_.gather_ms += last_.gather_ms;
+  total_.calls += last_.calls;
+  return out;
+}
+
+void add_cnn_warm_starters(WarmStarterRegistry& registry, std::filesystem::path default_model) {
+  const auto factory = [default_model](bool hybrid) {
+    return [default_model, hybrid](const WarmStartSpec& spec, const WarmStartEnv& env) -> std::unique_ptr<WarmStarter> {
+      const std::filesystem::path path =
+          !spec.arg.empty() ? std::filesystem::path(spec.arg)
+                            : (!env.model_path.empty() ? std::filesystem::path(env.model_path) : default_model);
+      return CnnWarmStarter::load(path, spec.full(), hybrid);
+    };
+  };
+  registry.add("cnn",
+               "learned: body state -> feature grid -> CNN -> label grid -> back at the contacts; cnn:MODEL.h5 "
+               "(default: --model or the shipped models/default.h5)",
+               factory(false));
+  registry.add("cnn-hybrid", "builtin for persistent contacts, cnn for new ones (network skipped when none is new); "
+                             "cnn-hybrid:MODEL.h5",
+               factory(true));
+}
+
+}  // namespace dc

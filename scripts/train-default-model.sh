@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Retrains the shipped default CNN model, models/default.h5 (docs/learning.md "Default model").
+# `make model` runs this after building. The pipeline, exactly:
+#
+#   1. deepcontact generate: M seed-scene simulations (50..100 circles, 600 steps each) with
+#      scene seeds 1000..1000+M-1 — disjoint from the bench's evaluation seeds 1..3.
+#   2. deepcontact train: the default small U-Net on every 4th step of each simulation
+#      (consecutive steps are nearly identical), validation = 20 % of the simulations.
+#
+# Sized for a 2-core machine: about 8 min of generation and 10 min of training (figures in
+# docs/learning.md). Environment overrides: BUILD (build dir, default build), SIMS, EPOCHS,
+# EVERY, THREADS; DATA (the data set path) and OUT (the model path).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+BUILD=${BUILD:-build}
+DC="$BUILD/bench/deepcontact"
+SIMS=${SIMS:-16}
+EPOCHS=${EPOCHS:-15}
+EVERY=${EVERY:-4}
+THREADS=${THREADS:-$(nproc)}
+DATA=${DATA:-$BUILD/data/default-train-s1000-m$SIMS.h5}
+OUT=${OUT:-models/default.h5}
+
+[ -x "$DC" ] || { echo "train-default-model.sh: $DC not found; run 'make build' first" >&2; exit 1; }
+mkdir -p "$(dirname "$DATA")" "$(dirname "$OUT")"
+
+start=$(date +%s)
+if [ -f "$DATA" ]; then
+  echo "== data set $DATA exists; reusing it"
+elif [ -f "$DATA.partial" ]; then
+  echo "== resuming the interrupted data set $DATA.partial"
+  "$DC" generate --sims "$SIMS" --seed 1000 --threads "$THREADS" --out "$DATA" --resume
+else
+  echo "== generating $SIMS simulations (seeds 1000..$((1000 + SIMS - 1))) into $DATA"
+  "$DC" generate --sims "$SIMS" --seed 1000 --threads "$THREADS" --out "$DATA"
+fi
+gen_done=$(date +%s)
+
+RESUME=()
+[ -f "$OUT.ckpt" ] && RESUME=(--resume) && echo "== resuming the interrupted training from $OUT.ckpt"
+echo "== training $OUT"
+"$DC" train --data "$DATA" --out "$OUT" --force "${RESUME[@]}" \
+  --epochs "$EPOCHS" --every "$EVERY" --batch 32 --lr 5e-3 --momentum 0.9 --weight-decay 1e-4 \
+  --val 0.2 --seed 1 --threads "$THREADS"
+end=$(date +%s)
+# The loss curve belongs next to the data set (a build output), not in the repository.
+LOSS="$(dirname "$DATA")/$(basename "$OUT" .h5).loss"
+mv -f "$OUT.loss.csv" "$LOSS.csv"
+if [ -f "$OUT.loss.png" ]; then mv -f "$OUT.loss.png" "$LOSS.png"; fi
+echo "== done: generation $((gen_done - start)) s, training $((end - gen_done)) s -> $OUT" \
+     "(loss curve: $LOSS.csv/.png)"

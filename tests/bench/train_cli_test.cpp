@@ -1,0 +1,248 @@
+// deepcontact train as a process, on a tiny generated data set (3 simulations of 10–14
+// circles in a 12 × 12 box, 120 steps — every 3rd used —, 25 × 25 grid): a short run writes a loadable model
+// with the data set's grid, the loss CSV/PNG; kill -9 and SIGINT followed by --resume
+// complete and give the bit-identical model of an uninterrupted run; bad inputs fail with a
+// one-line message and a non-zero status.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "dc/engine/h5.hpp"
+#include "dc/learning/data_set.hpp"
+#include "dc/learning/model_file.hpp"
+
+namespace dc {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kFamily =
+    " --set world.width=12 --set world.height=12 --set bodies.mean=[6.0,6.0] --set bodies.sigma=2.0 --seed 5"
+    " --count 10..14 --steps 120 --threads 1";
+// Small, fast, single-threaded (bit-equality needs equal thread counts).
+const std::string kTrain = " --batch 8 --every 3 --threads 1 --seed 3 --no-plot";
+
+struct Dir {
+  fs::path path;
+  Dir() {
+    path = fs::temp_directory_path() / ("dc_train_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Dir() { fs::remove_all(path); }
+  [[nodiscard]] std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int status = -1;
+  std::string out, err;
+};
+
+Result run_cli(const Dir& dir, const std::string& args) {
+  const std::string out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string(DC_CLI) + " " + args + " >" + out + " 2>" + err;
+  const int rc = std::system(cmd.c_str());
+  Result r;
+  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+/// The tiny data sets, generated once per test binary run.
+std::string data_set(bool with_density = true) {
+  static const fs::path dir = [] {
+    const fs::path d = fs::temp_directory_path() / ("dc_train_cli_data_" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  static const struct Cleanup {
+    fs::path d;
+    ~Cleanup() { fs::remove_all(d); }
+  } cleanup{dir};
+  const std::string out = (dir / (with_density ? "data.h5" : "nodensity.h5")).string();
+  if (!fs::exists(out)) {
+    const std::string cmd = std::string(DC_CLI) + " generate --sims 3" + kFamily +
+                            (with_density ? "" : " --channels mass,vx,vy,omega") + " --out " + out + " >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+  return out;
+}
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+/// Every parameter of two model files, bit for bit.
+void expect_same_weights(const std::string& a, const std::string& b) {
+  Model ma = load_model(a), mb = load_model(b);
+  const auto pa = ma.network().parameters(), pb = mb.network().parameters();
+  ASSERT_EQ(pa.size(), pb.size());
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    ASSERT_EQ(pa[i].value->size(), pb[i].value->size());
+    EXPECT_EQ(0, std::memcmp(pa[i].value->data(), pb[i].value->data(), sizeof(float) * pa[i].value->size()))
+        << pa[i].name;
+  }
+  EXPECT_EQ(ma.input_stats.mean, mb.input_stats.mean);
+  EXPECT_EQ(ma.output_stats.std, mb.output_stats.std);
+}
+
+/// Starts `deepcontact ARGS` with stdout to `log`; returns its pid.
+pid_t spawn_cli(const std::string& args, const std::string& log) {
+  const std::string cmd = "exec " + std::string(DC_CLI) + " " + args + " >" + log + " 2>&1";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+/// Waits until `log` contains `needle` (true) or the child exited / 60 s passed (false).
+bool wait_for(const std::string& log, const std::string& needle, pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (slurp(log).find(needle) != std::string::npos) return true;
+    int st = 0;
+    if (::waitpid(pid, &st, WNOHANG) == pid) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+int wait_exit(pid_t pid) {
+  int st = 0;
+  if (::waitpid(pid, &st, 0) != pid) return -2;
+  if (WIFSIGNALED(st)) return -WTERMSIG(st);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+TEST(TrainCli, ShortRunWritesAModelForTheDataSetsGrid) {
+  Dir dir;
+  const std::string model = dir / "m.h5";
+  const Result r = run_cli(dir, "train --data " + data_set() + " --out " + model + " --epochs 2 --batch 8 --every 3 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("epoch   1/2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("epoch   2/2"), std::string::npos) << r.out;
+  Model m = load_model(model);
+  EXPECT_EQ(m.grid().nx, 25);
+  EXPECT_EQ(m.grid().ny, 25);
+  EXPECT_EQ(m.grid().feature_channels, DataSetReader(data_set()).feature_channel_names());
+  EXPECT_EQ(m.grid().label_channels, (std::vector<std::string>{"lambda_n", "lambda_t"}));
+  EXPECT_EQ(m.network().input_shape().c, 5);
+  // Standardisation is learned (not the identity) and stored.
+  EXPECT_NE(m.output_stats.std[0], 1.0f);
+  EXPECT_EQ(lines(slurp(model + ".loss.csv")), 3);  // header + 2 epochs
+  if (fs::exists("/usr/bin/python3")) EXPECT_TRUE(fs::exists(model + ".loss.png")) << r.err;
+  EXPECT_FALSE(fs::exists(model + ".ckpt"));  // finished: no checkpoint left behind
+  // An existing model is not overwritten without --force.
+  const Result again = run_cli(dir, "train --data " + data_set() + " --out " + model + " --epochs 1");
+  EXPECT_NE(again.status, 0);
+  EXPECT_EQ(lines(again.err), 1) << again.err;
+}
+
+TEST(TrainCli, ContactWeightRunsAndNeedsTheDensityChannel) {
+  Dir dir;
+  Result r = run_cli(dir, "train --data " + data_set() + " --out " + (dir / "w.h5") + " --epochs 1 --contact-weight 4" +
+                              kTrain);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("contact weight 4"), std::string::npos) << r.out;
+  // The weight needs the contact_density channel.
+  r = run_cli(dir, "train --data " + data_set(false) + " --out " + (dir / "x.h5") + " --epochs 1 --contact-weight 4" +
+                       kTrain);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("contact_density"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+}
+
+TEST(TrainCli, KillNineThenResumeEqualsAnUninterruptedRun) {
+  Dir dir;
+  const std::string args = "train --data " + data_set() + " --epochs 8" + kTrain;
+  const Result ref = run_cli(dir, args + " --out " + (dir / "ref.h5"));
+  ASSERT_EQ(ref.status, 0) << ref.err;
+
+  const std::string out = dir / "killed.h5", log = dir / "log.txt";
+  const pid_t pid = spawn_cli(args + " --out " + out, log);
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(wait_for(log, "epoch   2/8", pid)) << slurp(log);
+  ::kill(pid, SIGKILL);
+  EXPECT_EQ(wait_exit(pid), -SIGKILL) << "the run finished before it could be killed";
+  ASSERT_TRUE(fs::exists(out + ".ckpt"));
+  ASSERT_TRUE(fs::exists(out));  // the best model so far is always on disk
+  (void)load_model(out);
+
+  const Result resumed = run_cli(dir, args + " --out " + out + " --resume");
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resuming after epoch"), std::string::npos) << resumed.out;
+  EXPECT_NE(resumed.out.find("epoch   8/8"), std::string::npos) << resumed.out;
+  EXPECT_EQ(lines(slurp(out + ".loss.csv")), 9);
+  expect_same_weights(dir / "ref.h5", out);
+  EXPECT_EQ(slurp(dir / "ref.h5.loss.csv").substr(0, 60), slurp(out + ".loss.csv").substr(0, 60));
+}
+
+TEST(TrainCli, SigintStopsCleanlyAndResumeCompletes) {
+  Dir dir;
+  const std::string args = "train --data " + data_set() + " --epochs 8" + kTrain;
+  const Result ref = run_cli(dir, args + " --out " + (dir / "ref.h5"));
+  ASSERT_EQ(ref.status, 0) << ref.err;
+  const std::string out = dir / "int.h5", log = dir / "log.txt";
+  const pid_t pid = spawn_cli(args + " --out " + out, log);
+  ASSERT_TRUE(wait_for(log, "epoch   1/8", pid)) << slurp(log);
+  ::kill(pid, SIGINT);
+  EXPECT_EQ(wait_exit(pid), 130) << slurp(log);
+  EXPECT_NE(slurp(log).find("--resume"), std::string::npos) << slurp(log);
+  const Result resumed = run_cli(dir, args + " --out " + out + " --resume");
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  expect_same_weights(dir / "ref.h5", out);
+}
+
+TEST(TrainCli, BadInputsFailWithOneLine) {
+  Dir dir;
+  const auto expect_error = [&](const std::string& args, const std::string& needle) {
+    const Result r = run_cli(dir, args);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_EQ(lines(r.err), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
+  };
+  const std::string out = " --out " + (dir / "m.h5");
+  expect_error("train --data " + (dir / "missing.h5") + out, "missing.h5");
+  { std::ofstream(dir / "text.h5") << "not a data set\n"; }
+  expect_error("train --data " + (dir / "text.h5") + out, "text.h5");
+  expect_error("train --data " + data_set() + out + " --resume", "--resume");
+  expect_error("train --data " + data_set() + out + " --epochs 0", "epochs");
+  expect_error("train --data " + data_set() + out + " --schedule sometimes", "schedule");
+  expect_error("train --data " + data_set() + out + " --arch nothere.toml", "--arch");
+
+  // A checkpoint of another run (other lr), then one of another format version.
+  const std::string base = "train --data " + data_set() + " --epochs 6" + kTrain + out;
+  const pid_t pid = spawn_cli(base, dir / "log.txt");
+  ASSERT_TRUE(wait_for(dir / "log.txt", "epoch   1/6", pid)) << slurp(dir / "log.txt");
+  ::kill(pid, SIGKILL);
+  (void)wait_exit(pid);
+  ASSERT_TRUE(fs::exists(dir / "m.h5.ckpt"));
+  expect_error(base + " --resume --lr 0.1", "lr");
+  {
+    H5File f = H5File::open_rw(dir / "m.h5.ckpt");
+    f.set_attribute<std::int32_t>("/", "format_version", 99);
+  }
+  expect_error(base + " --resume", "version");
+}
+
+}  // namespace
+}  // namespace dc

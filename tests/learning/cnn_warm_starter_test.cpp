@@ -1,0 +1,208 @@
+// The cnn / cnn-hybrid warm starters: a finite, feasible guess of the right size from a
+// tiny random model on a tiny scene; the gather path reads the data-set builder's label
+// grid of λ* back exactly as the `sph` starter does; the hybrid keeps builtin's values for
+// persistent contacts; model selection and grid checks fail with clear errors.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "dc/engine/error.hpp"
+#include "dc/engine/rng.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/learning/cnn_warm_starter.hpp"
+#include "dc/learning/initializer.hpp"
+#include "dc/learning/model_file.hpp"
+#include "dc/warmstart/oracle.hpp"
+
+namespace dc {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// 12 circles falling in a 12 × 12 box (25 × 25 grid at d = 0.5).
+WorldDef tiny_scene(double box = 12.0) {
+  WorldDef d;
+  d.world.width = d.world.height = box;
+  d.bodies.count = 12;
+  d.bodies.mean = {box / 2, box / 2};
+  d.bodies.sigma = 2.0;
+  d.bodies.seed = 3;
+  return d;
+}
+
+/// Steps `world` with the oracle until a step has ≥ 5 contacts and a previous step with
+/// contacts; leaves it collided and assembled. Returns this step's λ*.
+Eigen::VectorXd advance_to_contacts(World& world) {
+  for (int s = 0; s < 400; ++s) {
+    world.collide();
+    const LcpProblem& p = world.assemble();
+    const Eigen::VectorXd star = solve_oracle(p).lambda;
+    if (world.contacts().size() >= 5 && !world.previous_contacts().empty()) return star;
+    world.integrate(star);
+  }
+  ADD_FAILURE() << "no contacts within 400 steps";
+  return {};
+}
+
+/// A tiny random model for the data set's default image setting on `box`.
+Model tiny_model(double box = 12.0) {
+  const FeatureImageDef img = FeatureImageDef::for_box(box, box);
+  const FeatureImageBuilder b(img);
+  ModelGrid g;
+  g.d = img.sph.grid.spacing;
+  g.h = img.sph.support;
+  g.kernel = to_string(img.sph.kernel);
+  g.nx = b.nx();
+  g.ny = b.ny();
+  g.feature_channels = feature_channel_names(img.channels);
+  g.label_channels = label_channel_names();
+  Model m(ArchSpec::parse(R"(
+name = "tiny"
+[[layer]]
+type = "conv"
+out = 4
+relu = true
+[[layer]]
+type = "conv"
+out = 2
+)"),
+          g, b.feature_channels());
+  Rng rng(11);
+  m.network().initialize(*make_initializer("he_normal"), rng);
+  // Output de-standardisation scaled up so the guesses are clearly non-zero.
+  m.output_stats.mean = {5.0f, 0.0f};
+  m.output_stats.std = {10.0f, 3.0f};
+  return m;
+}
+
+void expect_feasible(const World& w, const Eigen::VectorXd& lam) {
+  const LcpProblem& p = w.problem();
+  ASSERT_EQ(lam.size(), p.rows());
+  ASSERT_TRUE(lam.allFinite());
+  for (int i = 0; i < p.rows(); ++i) {
+    EXPECT_GE(lam[i], p.lower(i, lam) - 1e-12) << "row " << i;
+    EXPECT_LE(lam[i], p.upper(i, lam) + 1e-12) << "row " << i;
+  }
+}
+
+TEST(CnnWarmStarter, TinyModelGivesAFiniteFeasibleGuessOfTheRightSize) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  CnnWarmStarter cnn(tiny_model(), "cnn", false);
+  const Eigen::VectorXd lam = cnn.initial_guess(StepView{world, nullptr});
+  expect_feasible(world, lam);
+  EXPECT_GT(lam.cwiseAbs().maxCoeff(), 0.0);  // the network's output reaches the contacts
+  EXPECT_EQ(cnn.last_timing().calls, 1);
+  EXPECT_GT(cnn.last_timing().inference_ms, 0.0);
+  // Deterministic: the same state gives the same guess.
+  EXPECT_EQ(cnn.initial_guess(StepView{world, nullptr}), lam);
+}
+
+TEST(CnnWarmStarter, GatherOfTheBuildersLabelGridEqualsTheSphStarter) {
+  World world(tiny_scene());
+  const Eigen::VectorXd star = advance_to_contacts(world);
+  // The label image exactly as `deepcontact generate` writes it (float32 Shepard numerators).
+  FeatureImageBuilder builder(FeatureImageDef::for_box(12.0, 12.0));
+  std::vector<double> nt;
+  for (int c = 0; c < static_cast<int>(world.contacts().size()); ++c) {
+    nt.push_back(star[world.normal_row(c)]);
+    nt.push_back(star[world.tangent_row(c)]);
+  }
+  Tensor labels(1, 2, builder.ny(), builder.nx());
+  builder.labels(world.contacts(), nt, std::span<float>(labels.data(), labels.size()));
+
+  CnnWarmStarter cnn(tiny_model(), "cnn", false);
+  const Eigen::VectorXd from_grid = cnn.guess_from_labels(world, labels);
+  const Eigen::VectorXd sph = default_warm_starters().make("sph")->initial_guess(StepView{world, &star});
+  ASSERT_EQ(from_grid.size(), sph.size());
+  // Equal up to the float32 rounding of the stored grid.
+  const double scale = std::max(1.0, star.cwiseAbs().maxCoeff());
+  for (int i = 0; i < sph.size(); ++i) EXPECT_NEAR(from_grid[i], sph[i], 1e-6 * scale) << "row " << i;
+  EXPECT_GT(sph.cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(CnnWarmStarter, HybridKeepsBuiltinForPersistentContacts) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  CnnWarmStarter hybrid(tiny_model(), "cnn-hybrid", true);
+  CnnWarmStarter cnn(tiny_model(), "cnn", false);
+  const Eigen::VectorXd h = hybrid.initial_guess(StepView{world, nullptr});
+  const Eigen::VectorXd c = cnn.initial_guess(StepView{world, nullptr});
+  const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{world, nullptr});
+  expect_feasible(world, h);
+  const auto& cur = world.contacts();
+  const auto& prev = world.previous_contacts();
+  int persistent = 0;
+  for (int k = 0; k < static_cast<int>(cur.size()); ++k) {
+    const bool old = std::any_of(prev.begin(), prev.end(), [&](const Contact& p) { return p.key == cur[k].key; });
+    persistent += old;
+    // Persistent: builtin's value. New: the cnn's (the tangent may be re-projected onto the
+    // hybrid's λ_n, which for a new contact is the cnn's λ_n too).
+    EXPECT_EQ(h[world.normal_row(k)], old ? b[world.normal_row(k)] : c[world.normal_row(k)]) << "contact " << k;
+  }
+  EXPECT_GT(persistent, 0);
+}
+
+TEST(CnnWarmStarter, HybridSkipsTheNetworkWhenNoContactIsNew) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  // Run until a step whose contacts all persist.
+  CnnWarmStarter hybrid(tiny_model(), "cnn-hybrid", true);
+  auto builtin = default_warm_starters().make("builtin");
+  for (int s = 0; s < 300; ++s) {
+    const Eigen::VectorXd h = hybrid.initial_guess(StepView{world, nullptr});
+    if (hybrid.last_timing().calls == 0 && !world.contacts().empty()) {
+      EXPECT_EQ(h, builtin->initial_guess(StepView{world, nullptr}));
+      return;
+    }
+    world.integrate(solve_oracle(world.problem()).lambda);
+    world.collide();
+    world.assemble();
+  }
+  FAIL() << "no step with only persistent contacts";
+}
+
+TEST(CnnWarmStarter, RegistrySelectsTheModelAndReportsErrors) {
+  const fs::path dir = fs::temp_directory_path() / ("dc_cnn_ws_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  Model m = tiny_model();
+  save_model(m, dir / "tiny.h5");
+
+  WarmStarterRegistry r = default_warm_starters();
+  add_cnn_warm_starters(r, dir / "default-missing.h5");
+  ASSERT_TRUE(r.contains("cnn"));
+  ASSERT_TRUE(r.contains("cnn-hybrid"));
+  // Default model missing → IoError naming it.
+  try {
+    (void)r.make("cnn");
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("default-missing.h5"), std::string::npos) << e.what();
+  }
+  // cnn:PATH and WarmStartEnv::model_path.
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  auto a = r.make("cnn:" + (dir / "tiny.h5").string());
+  EXPECT_EQ(a->name(), "cnn:" + (dir / "tiny.h5").string());
+  WarmStartEnv env;
+  env.model_path = (dir / "tiny.h5").string();
+  auto b = r.make("cnn", env);
+  EXPECT_EQ(a->initial_guess(StepView{world, nullptr}), b->initial_guess(StepView{world, nullptr}));
+  // A model for another grid (30 × 30 box → 61 × 61) on the 12 × 12 scene → ConfigError.
+  Model big = tiny_model(30.0);
+  save_model(big, dir / "big.h5");
+  auto c = r.make("cnn:" + (dir / "big.h5").string());
+  EXPECT_THROW((void)c->initial_guess(StepView{world, nullptr}), ConfigError);
+  // Not a model file → IoError.
+  { std::ofstream(dir / "junk.h5") << "not hdf5"; }
+  EXPECT_THROW((void)r.make("cnn:" + (dir / "junk.h5").string()), IoError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dc
