@@ -180,7 +180,12 @@ bool read_string_values(hid_t stored, hid_t space, hsize_t n, ReadFn read, std::
     H5Tset_size(mem.get(), H5T_VARIABLE);
     H5Tset_cset(mem.get(), H5Tget_cset(stored));
     std::vector<char*> ptrs(n, nullptr);
-    if (read(mem.get(), static_cast<void*>(ptrs.data())) < 0) return false;
+    if (read(mem.get(), static_cast<void*>(ptrs.data())) < 0) {
+      // A read that fails part-way (a damaged heap object in a truncated or corrupt file)
+      // has already allocated the strings before it: free them (null entries are skipped).
+      H5Dvlen_reclaim(mem.get(), space, H5P_DEFAULT, ptrs.data());
+      return false;
+    }
     out.clear();
     for (char* p : ptrs) out.emplace_back(p != nullptr ? p : "");
     // The library allocated each string; give them back.

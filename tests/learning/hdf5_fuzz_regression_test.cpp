@@ -1,0 +1,49 @@
+// Regression tests for inputs the libFuzzer harnesses (tests/fuzz/) found. Each feeds the
+// saved input to the reader and requires the documented outcome: a one-line IoError (or a
+// successful load), never a crash. Under `make sanitize` these also catch the memory errors
+// and leaks themselves (a leak inside libhdf5's own H5Fopen error path is suppressed via
+// tests/fuzz/lsan-suite.supp; scripts/ci-extra.sh sets LSAN_OPTIONS).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "dc/engine/error.hpp"
+#include "dc/learning/data_set.hpp"
+
+namespace dc {
+namespace {
+
+std::string regression(const std::string& name) { return std::string(DC_SOURCE_DIR) + "/tests/fuzz/regressions/" + name; }
+
+template <class Fn>
+void expect_one_line_io_error_or_success(Fn&& fn, const std::string& what) {
+  try {
+    fn();
+  } catch (const IoError& e) {
+    const std::string msg = e.what();
+    EXPECT_FALSE(msg.empty()) << what;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << what << ": " << msg;
+  }
+}
+
+// fuzz_dataset: a damaged variable-length string heap object made H5Dread fail part-way;
+// H5File::read_strings returned without freeing the strings HDF5 had already allocated
+// (23 leaked allocations per read). Fixed in engine/src/h5.cpp (reclaim on failure).
+TEST(FuzzRegression, DataSetWithDamagedStringHeapIsAnIoErrorWithoutLeaks) {
+  expect_one_line_io_error_or_success(
+      [] {
+        const DataSetReader r(regression("dataset-vlen-string-leak.h5"));
+        (void)r.samples();
+      },
+      "dataset-vlen-string-leak.h5");
+}
+
+// NOT a test here: tests/fuzz/regressions/model-hdf5-global-heap-overread.h5 (found by
+// fuzz_model) makes libhdf5 1.10.8 itself read past a heap buffer in H5HG_read while
+// load_model reads the /arch string, and that over-read can crash the process (SIGSEGV in a
+// Release build). It is a defect inside HDF5 that no check in our reader can pre-empt (the
+// damaged length is only seen by HDF5's global-heap code), documented in docs/robustness.md
+// ("HDF5 files are trusted input"); the input is kept for when the HDF5 dependency changes.
+
+}  // namespace
+}  // namespace dc
