@@ -9,12 +9,21 @@
 // prints it with an "s" suffix because it is an inverted rate; the number is ns). Each benchmark iteration is one
 // solve of S sweeps (tolerance 0, θ not recorded), so validation and the "prepare" stage are
 // included once per S sweeps; S = 1 shows that fixed overhead, S = 200 the sweep cost.
+//
+// BM_PgsBaseline is a benchmark-only copy of the row-by-row kernel that "pgs" used before
+// the contact-block kernels (commit b7fdc08), timed in the same process for a before/after
+// comparison on a noisy shared machine; every benchmark also reports max_diff_vs_baseline,
+// max_i |λ_i − λ_i(baseline)| after the same sweeps (0: the iterates are bit-identical).
+// BM_SeedScene* time one full 3000-sweep solve of the seed scene's settled pile (default
+// WorldDef, 400 steps of "pgs" with 200 sweeps, then collide + assemble).
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/world.hpp"
 
 namespace {
 
@@ -92,27 +101,166 @@ dc::LcpProblem pile(int bodies, int order) {
   return p;
 }
 
-void run(benchmark::State& state, const char* solver_name) {
-  const dc::LcpProblem p = pile(static_cast<int>(state.range(0)), static_cast<int>(state.range(2)));
-  const int sweeps = static_cast<int>(state.range(1));
+// ---- baseline: the row-by-row matrix-free kernel of commit b7fdc08 ----------------------
+// A benchmark-only copy of the previous "pgs" sweep (one packed 152-byte row per LCP row,
+// the tangent row reading λ_n and Δu back from memory, wall rows writing a shared dummy
+// body), kept so that old and new kernels are timed in the same process under the same
+// load. Fixed sweeps only; it keeps the per-sweep costs of the real driver (the copy of λ
+// for the last finite iterate, allFinite over Δu) so that the comparison is fair.
+namespace baseline {
+
+struct PackedRow {
+  std::array<double, 6> j, mj;
+  double b;
+  bool singular;
+  double lo_fixed, hi_fixed, mu;
+  int a, bb, coupled;
+};
+
+Eigen::VectorXd solve(const dc::LcpProblem& p, int sweeps) {
+  const int n = p.rows();
+  const int dummy = static_cast<int>(p.J.cols());
+  std::vector<PackedRow> rows(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    PackedRow& r = rows[static_cast<size_t>(i)];
+    r.j.fill(0.0);
+    r.mj.fill(0.0);
+    r.a = r.bb = -1;
+    for (dc::SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+      const int col = static_cast<int>(it.col()), off = 3 * (col / 3);
+      int slot;
+      if (r.a < 0 || r.a == off) {
+        r.a = off;
+        slot = col % 3;
+      } else {
+        r.bb = off;
+        slot = 3 + col % 3;
+      }
+      r.j[static_cast<size_t>(slot)] += it.value();
+    }
+    double diag = 0.0;
+    for (int s = 0; s < 6; ++s) {
+      const int off = s < 3 ? r.a : r.bb;
+      if (off < 0) continue;
+      r.mj[static_cast<size_t>(s)] = r.j[static_cast<size_t>(s)] * p.inv_mass[off + s % 3] * p.dt;
+      diag += r.j[static_cast<size_t>(s)] * r.mj[static_cast<size_t>(s)];
+    }
+    if (r.a < 0) r.a = dummy;
+    if (r.bb < 0) r.bb = dummy;
+    const double inv = 1.0 / diag;
+    r.singular = !(diag > 0 && std::isfinite(inv));
+    const double scale = r.singular ? 1.0 : inv;
+    for (double& v : r.j) v *= scale;
+    r.b = p.b[i] * scale;
+    const bool fr = p.is_friction_row(i);
+    r.lo_fixed = fr ? 0.0 : p.lo[i];
+    r.hi_fixed = fr ? 0.0 : p.hi[i];
+    r.mu = fr ? p.mu[i] : 0.0;
+    r.coupled = fr ? p.normal_row[static_cast<size_t>(i)] : i;
+  }
+  std::vector<double> du(static_cast<size_t>(dummy + 3), 0.0);
+  Eigen::VectorXd l = Eigen::VectorXd::Zero(n), last;
+  for (int k = 0; k < sweeps; ++k) {
+    last = l;
+    double* __restrict lam = l.data();
+    double* __restrict u = du.data();
+    const PackedRow* __restrict row = rows.data();
+    double theta = 0.0;
+    bool bad = false;
+    for (int i = 0; i < n; ++i, ++row) {
+      double* ua = u + row->a;
+      double* ub = u + row->bb;
+      const double s0 = row->j[0] * ua[0] + row->j[1] * ua[1];
+      const double s1 = row->j[2] * ua[2] + row->j[3] * ub[0];
+      const double s2 = row->j[4] * ub[1] + row->j[5] * ub[2];
+      const double res = (row->b + s0) + (s1 + s2);
+      const double old = lam[i];
+      const double t = row->mu * std::max(0.0, lam[row->coupled]);
+      const double lo = row->lo_fixed - t, hi = row->hi_fixed + t;
+      double x = old - res;  // (the singular branch is never taken on these problems)
+      x = std::min(std::max(x, lo), hi);
+      const double d = x - old;
+      bad |= !std::isfinite(x);
+      lam[i] = x;
+      ua[0] += row->mj[0] * d;
+      ua[1] += row->mj[1] * d;
+      ua[2] += row->mj[2] * d;
+      ub[0] += row->mj[3] * d;
+      ub[1] += row->mj[4] * d;
+      ub[2] += row->mj[5] * d;
+      theta = std::max(theta, std::abs(d));
+    }
+    u[dummy] = u[dummy + 1] = u[dummy + 2] = 0.0;
+    if (bad || !std::isfinite(theta) || !Eigen::Map<const Eigen::VectorXd>(u, dummy).allFinite()) break;
+  }
+  return l;
+}
+
+}  // namespace baseline
+
+/// The seed scene's problem after the pile has settled: the default WorldDef (100 circles
+/// of r = 1 in the 30 × 30 box, μ = 0.5, Δt = 0.01), 400 steps of "pgs" with 200 sweeps,
+/// then collide + assemble once more. Built on first use and immutable afterwards (Google
+/// Benchmark calls a benchmark function several times; stepping the world each time would
+/// dominate the run).
+const dc::LcpProblem& seed_scene_problem() {
+  static const dc::LcpProblem problem = [] {
+    dc::World world(dc::default_world_def());
+    const auto solver = dc::make_solver("pgs");
+    dc::SolverOptions o;
+    o.max_sweeps = 200;
+    o.tolerance = 0.0;
+    o.record_theta = false;
+    for (int k = 0; k < 400; ++k) world.step(*solver, o);
+    world.collide();
+    world.assemble();
+    return world.problem();
+  }();
+  return problem;
+}
+
+/// Times one solve of `sweeps` sweeps from λ⁰ = 0 per benchmark iteration and reports
+/// ns_per_row_sweep; max_diff_vs_baseline = max_i |λ_i − λ_i(baseline kernel)| after the
+/// same sweeps (0 means bit-identical iterates up to the sign of zero).
+template <class Solve>
+void time_solve(benchmark::State& state, const dc::LcpProblem& p, int sweeps, Solve&& solve) {
+  const Eigen::VectorXd check = solve();
+  for (auto _ : state) {
+    Eigen::VectorXd l = solve();
+    benchmark::DoNotOptimize(l.data());
+  }
+  state.counters["rows"] = p.rows();
+  state.counters["max_diff_vs_baseline"] = (check - baseline::solve(p, sweeps)).cwiseAbs().maxCoeff();
+  state.counters["ns_per_row_sweep"] = benchmark::Counter(
+      1e-9 * static_cast<double>(p.rows()) * sweeps * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void run_solver(benchmark::State& state, const dc::LcpProblem& p, int sweeps, const char* solver_name) {
   const auto solver = dc::make_solver(solver_name);
   dc::SolverOptions o;
   o.max_sweeps = sweeps;
   o.tolerance = 0.0;
   o.record_theta = false;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
-  for (auto _ : state) {
-    dc::SolveResult r = solver->solve(p, zero, o);
-    benchmark::DoNotOptimize(r.lambda.data());
-  }
-  state.counters["rows"] = p.rows();
-  state.counters["ns_per_row_sweep"] = benchmark::Counter(
-      1e-9 * static_cast<double>(p.rows()) * sweeps * static_cast<double>(state.iterations()),
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  time_solve(state, p, sweeps, [&] { return solver->solve(p, zero, o).lambda; });
 }
 
-void BM_PgsMatrixFree(benchmark::State& s) { run(s, "pgs"); }
-void BM_PgsAssembled(benchmark::State& s) { run(s, "pgs-assembled"); }
+dc::LcpProblem pile_of(const benchmark::State& s) {
+  return pile(static_cast<int>(s.range(0)), static_cast<int>(s.range(2)));
+}
+
+void BM_PgsMatrixFree(benchmark::State& s) {
+  run_solver(s, pile_of(s), static_cast<int>(s.range(1)), "pgs");
+}
+void BM_PgsAssembled(benchmark::State& s) {
+  run_solver(s, pile_of(s), static_cast<int>(s.range(1)), "pgs-assembled");
+}
+void BM_PgsBaseline(benchmark::State& s) {
+  const dc::LcpProblem p = pile_of(s);
+  const int sweeps = static_cast<int>(s.range(1));
+  time_solve(s, p, sweeps, [&] { return baseline::solve(p, sweeps); });
+}
 
 void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "sweeps", "order"});
@@ -121,8 +269,23 @@ void sizes(benchmark::internal::Benchmark* b) {
   for (int bodies : {100, 1000}) b->Args({bodies, 200, 1});
 }
 
+// The seed scene: one full 3000-sweep solve (the thesis' fixed budget) per iteration.
+constexpr int kSeedSweeps = 3000;
+void BM_SeedScenePgs(benchmark::State& s) { run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs"); }
+void BM_SeedScenePgsBaseline(benchmark::State& s) {
+  const dc::LcpProblem& p = seed_scene_problem();
+  time_solve(s, p, kSeedSweeps, [&] { return baseline::solve(p, kSeedSweeps); });
+}
+void BM_SeedScenePgsAssembled(benchmark::State& s) {
+  run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs-assembled");
+}
+
 BENCHMARK(BM_PgsMatrixFree)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsBaseline)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PgsAssembled)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsBaseline)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsAssembled)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -6,15 +6,66 @@
 // so that the row residual is r_i = A_i·λ + b_i = J_i·Δu + b_i, and after a row update
 // λ_i ← λ_i + δ it restores the invariant with Δu += (M⁻¹ J_iᵀ Δt) δ. Each contact row
 // touches at most two bodies, so one row costs 6 multiply-adds for r_i, a clamp and 6 for
-// the update. The "prepare" stage packs every row into a compact struct (two body offsets,
-// the 6 coefficients of J_i/A_ii, the 6 of M⁻¹J_iᵀΔt, b_i/A_ii, bounds) so the sweep is a tight
-// scalar loop over contiguous memory. Rows touching one body (wall contacts) point their
-// second body at a dummy zero body at the end of Δu, which keeps the loop branch-free.
+// the update. J_i and b_i are pre-scaled by 1/A_ii in a "prepare" stage, so the step
+// λ_i − r_i/A_ii costs no multiply or divide on the row-to-row dependency chain.
 //
-// It produces the iterates of pgs-assembled up to round-off (A_ii and r_i are summed in a
-// different order); tests/engine/solver_pgs_test.cpp checks that.
+// Cost model (why the kernels look as they do). A sweep is latency-bound, not
+// throughput-bound: row i+1 cannot start before the Δu entries that row i wrote are
+// available, and the chain load Δu → 6 FMAs in a tree → subtract → clamp → δ → FMA → store
+// is ≈ 25 cycles per row on this class of core, ≈ 8 ns, which is what the row-by-row kernel
+// measured (the throughput of 12 FMAs + 20 loads per row would allow ≈ 2 ns). So the
+// kernels shorten that chain while performing the same floating-point operations in the
+// same order (finite iterates are those of the previous row-by-row kernel bit for bit, up
+// to the sign of zero, and therefore those of pgs-assembled to round-off; micro_pgs
+// reports the difference as max_diff_vs_baseline):
+//
+//  * A contact with friction (normal row i with bounds [0, ∞) immediately followed by its
+//    tangent row i+1, both on the same two bodies) is solved as one block: the 6 velocity
+//    entries of its two bodies are loaded once, updated by the normal row, read by the
+//    tangent row from registers, and stored once. The tangent row takes its friction bound
+//    ±μ max(0, λ_n) from the register holding the fresh λ_n. This removes one
+//    store→load forwarding of Δu (≈ 7–8 cycles on Zen) and one of λ_n per contact from
+//    the chain, and halves loads/stores.
+//  * Wall contacts have one body. Instead of one shared dummy body that is read and
+//    written (which chained every wall contact of a sweep to the previous one through
+//    memory), the missing body is read from a "zero" body that is never written and
+//    written to a "sink" body that is never read: its coefficients are exact zeros, so
+//    J·0 adds +0 and the discarded update is 0·δ — same values, no false dependency.
+//  * Rows without friction whose bounds are [0, ∞) (μ = 0 scenes, standard LCPs from
+//    assembled problems) use a kernel with the clamp max(y, 0) (a branch, see below) and
+//    no bound loads.
+//  * Everything else (singular rows A_ii ≤ 0, friction rows not right after their normal
+//    row, rows with other fixed bounds, rows whose tangent touches other bodies than the
+//    normal) goes through the general row kernel, unchanged from the previous version.
+//  * The clamps of normal rows and the λ_n = 0 case of tangent rows are predictable
+//    branches, not min/max: for an inactive
+//    contact (λ_n stays 0, typical for speculative and separating contacts) the branch
+//    predictor supplies λ_n = 0 and λ_t = 0 (bound ±μ·0) without waiting for the
+//    residuals, so such a contact leaves the chain except for its FMA updates of Δu.
+//    The values are those of max(y, 0) and clamp(y, −0, 0) (up to the sign of zero); a
+//    NaN residual still sets the non-finite flag. Measured 2–20 % faster than the
+//    branch-free tangent clamp (7 % on the seed scene); forcing the normal clamp
+//    branch-free (maxsd) was 25–40 % slower.
+//  The prepare stage cuts the row sequence into runs of one kind ("segments") in row
+//  order, so the Gauss–Seidel order is exactly the seed's, and each run is a loop over
+//  contiguous structs.
+//
+// Tried and rejected (measured with bench/micro_pgs): carrying body a of consecutive
+// contacts in registers (select loaded-or-carried by bit masks) made every contact depend
+// on the previous one through the select — it serialised independent contacts and was
+// 50–60 % slower; computing the tangent residual as r_t⁰ + (A_tn/A_tt)·δ_n to take the
+// normal update off the tangent's chain changed the iterates at round-off level (≤ 1e-12 N
+// after 200 sweeps) and gave no measurable gain. Not done: skipping the exact-zero angular
+// terms of circle normal rows would not apply to real scenes (for body pairs r × n comes
+// out ~1e-17, not 0, because the contact point is rounded) and saves throughput, which is
+// not the bottleneck.
+//
+// θ_k = max |Δλ| and the non-finite flag are accumulated off the dependency chain; after
+// each sweep Δu is checked with allFinite (O(bodies)) because a velocity that overflowed
+// would make later residuals meaningless even while λ stays finite (clamped).
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,71 +75,318 @@
 namespace dc::solvers {
 namespace {
 
+/// One row of J packed on its (at most) two bodies, before it is sorted into a kernel.
 struct PackedRow {
-  std::array<double, 6> j;   // J_i / A_ii on (body a: v_x, v_y, ω, body b: v_x, v_y, ω)
-  std::array<double, 6> mj;  // M⁻¹ J_iᵀ Δt on the same 6 entries [(m/s)/(N)]
-  double b;                  // b_i / A_ii [N]
-  bool singular;             // A_ii ≤ 0: j and b are unscaled, see singular_row_update
-  double lo_fixed, hi_fixed; // fixed bounds (0, 0 for friction rows)
-  double mu;                 // μ for friction rows, 0 otherwise
-  int a, bb;                 // offsets of the bodies in Δu (3·body); bb may be the dummy body
-  int coupled;               // normal row of a friction row, the row itself otherwise
+  std::array<double, 6> j{};   // J_i / A_ii on (body a: v_x, v_y, ω, body b: v_x, v_y, ω)
+  std::array<double, 6> mj{};  // M⁻¹ J_iᵀ Δt on the same 6 entries [(m/s)/N]
+  double b = 0.0;              // b_i / A_ii [N]
+  bool singular = false;       // A_ii ≤ 0: j and b are unscaled, see singular_row_update
+  int a = -1, bb = -1;         // offsets (3·body) of the two bodies, −1 if absent
 };
 
-/// Packs J, M⁻¹, Δt into rows. Returns an error message when a row of J touches more than
-/// two bodies (the matrix-free form assumes pairwise contacts).
-std::string pack_rows(const LcpProblem& p, std::vector<PackedRow>& rows, std::vector<int>& singular,
-                      int& dummy_offset) {
+/// General row: any bounds (fixed or friction-coupled), singular rows.
+struct GeneralRow {
+  std::array<double, 6> j, mj;
+  double b;
+  double lo_fixed, hi_fixed;  // fixed bounds (0, 0 for friction rows)
+  double mu;                  // μ for friction rows, 0 otherwise
+  int la, lb;                 // Δu offsets the row reads (lb: zero body when absent)
+  int sa, sb;                 // Δu offsets the row writes (sb: sink body when absent)
+  int row, coupled;           // its row; normal row of a friction row, the row itself otherwise
+  bool singular;
+};
+
+/// Normal row with bounds [0, ∞), not singular.
+struct NormalRow {
+  std::array<double, 6> j, mj;
+  double b;
+  int la, lb, sa, sb;
+};
+
+/// Contact with friction: normal row (bounds [0, ∞)) and its tangent row right after it,
+/// both on the same bodies, both non-singular.
+struct ContactBlock {
+  std::array<double, 6> jn, mjn, jt, mjt;
+  double bn, bt, mu;
+  int la, lb, sa, sb;
+};
+
+enum class Kind { General, Normal, Contact };
+
+/// A run of consecutive rows [row, row + rows) handled by one kernel; `first` indexes the
+/// kernel's array.
+struct Segment {
+  Kind kind;
+  int row, rows, first, count;
+};
+
+struct Prepared {
+  std::vector<GeneralRow> general;
+  std::vector<NormalRow> normal;
+  std::vector<ContactBlock> contact;
+  std::vector<Segment> segments;
+  std::vector<int> singular;
+  int body_entries = 0;  // 3·bodies; the zero body follows at body_entries, the sink after it
+};
+
+/// Packs row i of J. Returns false when it touches more than two bodies.
+bool pack_row(const LcpProblem& p, int i, PackedRow& r) {
+  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+    const int col = static_cast<int>(it.col());
+    const int body_off = 3 * (col / 3), comp = col % 3;
+    int slot;
+    if (r.a < 0 || r.a == body_off) {
+      r.a = body_off;
+      slot = comp;
+    } else if (r.bb < 0 || r.bb == body_off) {
+      r.bb = body_off;
+      slot = 3 + comp;
+    } else {
+      return false;
+    }
+    r.j[static_cast<size_t>(slot)] += it.value();
+  }
+  double diag = 0.0;  // A_ii = Σ_s J_is (M⁻¹ J_iᵀ Δt)_s, summed in slot order
+  for (int s = 0; s < 6; ++s) {
+    const int off = s < 3 ? r.a : r.bb;
+    if (off < 0) continue;
+    const double im = p.inv_mass[off + s % 3];
+    r.mj[static_cast<size_t>(s)] = r.j[static_cast<size_t>(s)] * im * p.dt;
+    diag += r.j[static_cast<size_t>(s)] * r.mj[static_cast<size_t>(s)];
+  }
+  const double inv = 1.0 / diag;
+  r.singular = !(diag > 0 && std::isfinite(inv));
+  const double scale = r.singular ? 1.0 : inv;
+  for (double& v : r.j) v *= scale;
+  r.b = p.b[i] * scale;
+  return true;
+}
+
+/// Normal row with the fixed bounds [0, ∞) (standard complementarity).
+bool is_plain_normal(const LcpProblem& p, int i) {
+  return !p.is_friction_row(i) && p.lo[i] == 0.0 && p.hi[i] == std::numeric_limits<double>::infinity();
+}
+
+/// Builds the segments. Returns an error message when a row of J touches more than two
+/// bodies (the matrix-free form assumes pairwise contacts).
+std::string prepare(const LcpProblem& p, Prepared& out) {
   const int n = p.rows();
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
-  dummy_offset = 3 * bodies;
-  const RowBounds bounds(p);
-  rows.resize(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    PackedRow& r = rows[static_cast<size_t>(i)];
-    r.j.fill(0.0);
-    r.mj.fill(0.0);
-    r.a = r.bb = -1;
-    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
-      const int col = static_cast<int>(it.col());
-      const int body_off = 3 * (col / 3), comp = col % 3;
-      int slot;
-      if (r.a < 0 || r.a == body_off) {
-        r.a = body_off;
-        slot = comp;
-      } else if (r.bb < 0 || r.bb == body_off) {
-        r.bb = body_off;
-        slot = 3 + comp;
-      } else {
-        return "row " + std::to_string(i) + " of J touches more than two bodies";
+  out.body_entries = 3 * bodies;
+  const int zero = out.body_entries, sink = out.body_entries + 3;
+  auto load_a = [&](const PackedRow& r) { return r.a < 0 ? zero : r.a; };
+  auto load_b = [&](const PackedRow& r) { return r.bb < 0 ? zero : r.bb; };
+  auto store_a = [&](const PackedRow& r) { return r.a < 0 ? sink : r.a; };
+  auto store_b = [&](const PackedRow& r) { return r.bb < 0 ? sink : r.bb; };
+  auto add = [&](Kind kind, int row, int rows, int index) {
+    if (!out.segments.empty() && out.segments.back().kind == kind) {
+      out.segments.back().rows += rows;
+      ++out.segments.back().count;
+    } else {
+      out.segments.push_back({kind, row, rows, index, 1});
+    }
+  };
+  out.contact.reserve(static_cast<size_t>(n / 2));
+  for (int i = 0; i < n;) {
+    PackedRow r;
+    if (!pack_row(p, i, r)) return "row " + std::to_string(i) + " of J touches more than two bodies";
+    if (r.singular) out.singular.push_back(i);
+    if (!r.singular && is_plain_normal(p, i) && i + 1 < n && p.normal_row[static_cast<size_t>(i + 1)] == i) {
+      PackedRow t;
+      if (!pack_row(p, i + 1, t))
+        return "row " + std::to_string(i + 1) + " of J touches more than two bodies";
+      if (!t.singular && load_a(t) == load_a(r) && load_b(t) == load_b(r)) {
+        add(Kind::Contact, i, 2, static_cast<int>(out.contact.size()));
+        // Filled in place (a braced temporary was copied with `rep movs`, 232 bytes).
+        ContactBlock& cb = out.contact.emplace_back();
+        cb.jn = r.j;
+        cb.mjn = r.mj;
+        cb.jt = t.j;
+        cb.mjt = t.mj;
+        cb.bn = r.b;
+        cb.bt = t.b;
+        cb.mu = p.mu[i + 1];
+        cb.la = load_a(r);
+        cb.lb = load_b(r);
+        cb.sa = store_a(r);
+        cb.sb = store_b(r);
+        i += 2;
+        continue;
       }
-      r.j[static_cast<size_t>(slot)] += it.value();
     }
-    double diag = 0.0;
-    for (int s = 0; s < 6; ++s) {
-      const int off = s < 3 ? r.a : r.bb;
-      if (off < 0) continue;
-      const double im = p.inv_mass[off + s % 3];
-      r.mj[static_cast<size_t>(s)] = r.j[static_cast<size_t>(s)] * im * p.dt;
-      diag += r.j[static_cast<size_t>(s)] * r.mj[static_cast<size_t>(s)];
+    if (!r.singular && is_plain_normal(p, i)) {
+      add(Kind::Normal, i, 1, static_cast<int>(out.normal.size()));
+      out.normal.push_back({r.j, r.mj, r.b, load_a(r), load_b(r), store_a(r), store_b(r)});
+    } else {
+      const bool fr = p.is_friction_row(i);
+      add(Kind::General, i, 1, static_cast<int>(out.general.size()));
+      out.general.push_back({r.j, r.mj, r.b, fr ? 0.0 : p.lo[i], fr ? 0.0 : p.hi[i], fr ? p.mu[i] : 0.0,
+                             load_a(r), load_b(r), store_a(r), store_b(r), i,
+                             fr ? p.normal_row[static_cast<size_t>(i)] : i, r.singular});
     }
-    if (r.a < 0) r.a = dummy_offset;
-    if (r.bb < 0) r.bb = dummy_offset;
-    // Pre-scale J_i and b_i by 1/A_ii: the step r_i/A_ii then costs no multiply on the
-    // row-to-row dependency chain (same iterate as pgs-assembled up to round-off).
-    const double inv = 1.0 / diag;
-    r.singular = !(diag > 0 && std::isfinite(inv));
-    const double scale = r.singular ? 1.0 : inv;
-    if (r.singular) singular.push_back(i);
-    for (double& v : r.j) v *= scale;
-    const auto u = static_cast<size_t>(i);
-    r.b = p.b[i] * scale;
-    r.lo_fixed = bounds.lo_fixed[u];
-    r.hi_fixed = bounds.hi_fixed[u];
-    r.mu = bounds.mu[u];
-    r.coupled = bounds.coupled[u];
+    ++i;
   }
   return {};
+}
+
+/// Running θ and non-finite flag of one sweep.
+struct SweepAcc {
+  double theta = 0.0;
+  bool bad = false;
+};
+
+void sweep_general(const GeneralRow* __restrict row, int count, double* __restrict lam,
+                   double* __restrict u, SweepAcc& acc) {
+  double theta = acc.theta;
+  bool bad = acc.bad;
+  for (int k = 0; k < count; ++k, ++row) {
+    const double* ua = u + row->la;
+    const double* ub = u + row->lb;
+    const double a0 = ua[0], a1 = ua[1], a2 = ua[2], b0 = ub[0], b1 = ub[1], b2 = ub[2];
+    // Pairwise (tree) sum: a left-to-right sum of 7 terms would put 6 serial adds on the
+    // dependency chain.
+    const double s0 = row->j[0] * a0 + row->j[1] * a1;
+    const double s1 = row->j[2] * a2 + row->j[3] * b0;
+    const double s2 = row->j[4] * b1 + row->j[5] * b2;
+    const double res = (row->b + s0) + (s1 + s2);
+    const int i = row->row;
+    const double old = lam[i];
+    const double t = row->mu * std::max(0.0, lam[row->coupled]);
+    const double lo = row->lo_fixed - t, hi = row->hi_fixed + t;
+    double x = !row->singular ? old - res : singular_row_update(old, res, lo, hi);
+    x = std::min(std::max(x, lo), hi);  // NaN propagates (x is the first argument)
+    const double d = x - old;
+    bad |= !std::isfinite(x);
+    lam[i] = x;
+    double* sa = u + row->sa;
+    double* sb = u + row->sb;
+    sa[0] = a0 + row->mj[0] * d;
+    sa[1] = a1 + row->mj[1] * d;
+    sa[2] = a2 + row->mj[2] * d;
+    sb[0] = b0 + row->mj[3] * d;
+    sb[1] = b1 + row->mj[4] * d;
+    sb[2] = b2 + row->mj[5] * d;
+    theta = std::max(theta, std::abs(d));
+  }
+  acc.theta = theta;
+  acc.bad = bad;
+}
+
+void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict lam,
+                  double* __restrict u, SweepAcc& acc) {
+  double theta = acc.theta;
+  bool bad = acc.bad;
+  for (int k = 0; k < count; ++k, ++row) {
+    const double* ua = u + row->la;
+    const double* ub = u + row->lb;
+    const double a0 = ua[0], a1 = ua[1], a2 = ua[2], b0 = ub[0], b1 = ub[1], b2 = ub[2];
+    const double s0 = row->j[0] * a0 + row->j[1] * a1;
+    const double s1 = row->j[2] * a2 + row->j[3] * b0;
+    const double s2 = row->j[4] * b1 + row->j[5] * b2;
+    const double res = (row->b + s0) + (s1 + s2);
+    const double old = lam[k];
+    // Bounds [0, ∞): min(max(y, 0), ∞) = max(y, 0) (NaN propagates), as a branch.
+    const double y = old - res;
+    double x;
+    if (y < 0.0) {
+      x = 0.0;
+    } else {
+      x = y;
+      bad |= !std::isfinite(y);
+    }
+    const double d = x - old;
+    lam[k] = x;
+    double* sa = u + row->sa;
+    double* sb = u + row->sb;
+    sa[0] = a0 + row->mj[0] * d;
+    sa[1] = a1 + row->mj[1] * d;
+    sa[2] = a2 + row->mj[2] * d;
+    sb[0] = b0 + row->mj[3] * d;
+    sb[1] = b1 + row->mj[4] * d;
+    sb[2] = b2 + row->mj[5] * d;
+    theta = std::max(theta, std::abs(d));
+  }
+  acc.theta = theta;
+  acc.bad = bad;
+}
+
+// GCC's SLP vectoriser packs pairs of the 6 velocity entries into vectors and extracts
+// them again with shuffles, which puts extra latency on the chain: measured 3–8 % slower.
+[[gnu::optimize("no-tree-slp-vectorize")]] void sweep_contacts(const ContactBlock* __restrict c,
+                                                                int count, double* __restrict lam,
+                                                                double* __restrict u, SweepAcc& acc) {
+  double theta = acc.theta;
+  bool bad = acc.bad;
+  for (int k = 0; k < count; ++k, ++c, lam += 2) {
+    const double* ua = u + c->la;
+    const double* ub = u + c->lb;
+    double a0 = ua[0], a1 = ua[1], a2 = ua[2], b0 = ub[0], b1 = ub[1], b2 = ub[2];
+    double xn;
+    // Normal row: r_n = J_n·Δu + b_n (scaled by 1/A_nn), λ_n ← max(0, λ_n − r_n).
+    {
+      const double s0 = c->jn[0] * a0 + c->jn[1] * a1;
+      const double s1 = c->jn[2] * a2 + c->jn[3] * b0;
+      const double s2 = c->jn[4] * b1 + c->jn[5] * b2;
+      const double res = (c->bn + s0) + (s1 + s2);
+      const double old = lam[0];
+      const double y = old - res;
+      if (y < 0.0) {  // = std::max(y, 0.0), as a branch: see the cost model at the top
+        xn = 0.0;
+      } else {
+        xn = y;
+        bad |= !std::isfinite(y);
+      }
+      const double d = xn - old;
+      lam[0] = xn;
+      a0 += c->mjn[0] * d;
+      a1 += c->mjn[1] * d;
+      a2 += c->mjn[2] * d;
+      b0 += c->mjn[3] * d;
+      b1 += c->mjn[4] * d;
+      b2 += c->mjn[5] * d;
+      theta = std::max(theta, std::abs(d));
+    }
+    // Tangent row on the updated velocities, bounds ±μ max(0, λ_n) with the fresh λ_n.
+    {
+      const double s0 = c->jt[0] * a0 + c->jt[1] * a1;
+      const double s1 = c->jt[2] * a2 + c->jt[3] * b0;
+      const double s2 = c->jt[4] * b1 + c->jt[5] * b2;
+      const double res = (c->bt + s0) + (s1 + s2);
+      const double old = lam[1];
+      const double t = c->mu * std::max(0.0, xn);
+      const double y = old - res;
+      // clamp(y, −t, t) = min(max(y, −t), t). With t = 0 (λ_n = 0: contact inactive)
+      // that is ±0 for every finite y, so a predictable branch hands back 0 without
+      // waiting for y: the row leaves the dependency chain (see the cost model).
+      double x;
+      if (t > 0.0) {
+        x = std::min(std::max(y, -t), t);
+        bad |= !std::isfinite(x);
+      } else {
+        x = 0.0;
+        bad |= !std::isfinite(y);
+      }
+      const double d = x - old;
+      lam[1] = x;
+      a0 += c->mjt[0] * d;
+      a1 += c->mjt[1] * d;
+      a2 += c->mjt[2] * d;
+      b0 += c->mjt[3] * d;
+      b1 += c->mjt[4] * d;
+      b2 += c->mjt[5] * d;
+      theta = std::max(theta, std::abs(d));
+    }
+    double* sa = u + c->sa;
+    double* sb = u + c->sb;
+    sa[0] = a0;
+    sa[1] = a1;
+    sa[2] = a2;
+    sb[0] = b0;
+    sb[1] = b1;
+    sb[2] = b2;
+  }
+  acc.theta = theta;
+  acc.bad = bad;
 }
 
 class PgsMatrixFreeSolver final : public LcpSolver {
@@ -108,10 +406,8 @@ class PgsMatrixFreeSolver final : public LcpSolver {
     Eigen::VectorXd lambda;
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
 
-    std::vector<PackedRow> rows;
-    std::vector<int> singular;
-    int dummy = 0;
-    if (std::string err = pack_rows(p, rows, singular, dummy); !err.empty()) {
+    Prepared prep;
+    if (std::string err = prepare(p, prep); !err.empty()) {
       SolveResult r;
       r.status = SolveStatus::InvalidInput;
       r.lambda = lambda;
@@ -119,52 +415,35 @@ class PgsMatrixFreeSolver final : public LcpSolver {
       finish(p, r);
       return r;
     }
-    // Δu = M⁻¹ Jᵀ λ⁰ Δt, plus the dummy body (always zero: its coefficients are zero).
-    std::vector<double> du(static_cast<size_t>(dummy + 3), 0.0);
+    // Δu = M⁻¹ Jᵀ λ⁰ Δt, then the zero body (never written) and the sink body (never read).
+    const int nu = prep.body_entries;
+    std::vector<double> du(static_cast<size_t>(nu + 6), 0.0);
     {
       const Eigen::VectorXd jt = p.J.transpose() * lambda;
       for (int c = 0; c < jt.size(); ++c) du[static_cast<size_t>(c)] = p.inv_mass[c] * jt[c] * p.dt;
     }
-    const int n = p.rows();
     SolveResult r = run_sweeps(p, std::move(lambda), o, [&](Eigen::VectorXd& l, bool& nonfinite) {
-      double* __restrict lam = l.data();
-      double* __restrict u = du.data();
-      const PackedRow* __restrict row = rows.data();
-      double theta = 0.0;
-      bool bad = false;
-      for (int i = 0; i < n; ++i, ++row) {
-        double* ua = u + row->a;
-        double* ub = u + row->bb;
-        // Pairwise (tree) sum: the row-to-row dependency chain through Δu is the cost of
-        // Gauss–Seidel, and a left-to-right sum of 7 terms would put 6 serial adds on it.
-        const double s0 = row->j[0] * ua[0] + row->j[1] * ua[1];
-        const double s1 = row->j[2] * ua[2] + row->j[3] * ub[0];
-        const double s2 = row->j[4] * ub[1] + row->j[5] * ub[2];
-        const double res = (row->b + s0) + (s1 + s2);
-        const double old = lam[i];
-        const double t = row->mu * std::max(0.0, lam[row->coupled]);
-        const double lo = row->lo_fixed - t, hi = row->hi_fixed + t;
-        double x = !row->singular ? old - res : singular_row_update(old, res, lo, hi);
-        x = std::min(std::max(x, lo), hi);
-        const double d = x - old;
-        bad |= !std::isfinite(x);
-        lam[i] = x;
-        ua[0] += row->mj[0] * d;
-        ua[1] += row->mj[1] * d;
-        ua[2] += row->mj[2] * d;
-        ub[0] += row->mj[3] * d;
-        ub[1] += row->mj[4] * d;
-        ub[2] += row->mj[5] * d;
-        theta = std::max(theta, std::abs(d));
+      double* lam = l.data();
+      double* u = du.data();
+      SweepAcc acc;
+      for (const Segment& s : prep.segments) {
+        switch (s.kind) {
+          case Kind::Contact:
+            sweep_contacts(prep.contact.data() + s.first, s.count, lam + s.row, u, acc);
+            break;
+          case Kind::Normal:
+            sweep_normal(prep.normal.data() + s.first, s.count, lam + s.row, u, acc);
+            break;
+          case Kind::General:
+            sweep_general(prep.general.data() + s.first, s.count, lam, u, acc);
+            break;
+        }
       }
-      // A body velocity that overflowed would make later residuals meaningless even
-      // while λ stays finite (clamped); treat it as divergence.
-      u[dummy] = u[dummy + 1] = u[dummy + 2] = 0.0;
-      if (!std::isfinite(theta) || !Eigen::Map<const Eigen::VectorXd>(u, dummy).allFinite()) bad = true;
-      nonfinite = nonfinite || bad;
-      return theta;
+      if (!std::isfinite(acc.theta) || !Eigen::Map<const Eigen::VectorXd>(u, nu).allFinite()) acc.bad = true;
+      nonfinite = nonfinite || acc.bad;
+      return acc.theta;
     });
-    report_singular_rows(p, singular, r);
+    report_singular_rows(p, prep.singular, r);
     finish(p, r);
     return r;
   }
