@@ -11,6 +11,7 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
                                        const std::vector<double>& reach,
                                        std::vector<std::pair<int, int>>& pairs) {
   pairs.clear();
+  pair_tests_ = 0;
   const int n = static_cast<int>(centres.size());
   if (n < 2) return;
   if (static_cast<int>(reach.size()) != n)
@@ -72,6 +73,7 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
       const int a = cell_items_[static_cast<size_t>(p)];
       for (int q = p + 1; q < e; ++q) {
         const int b = cell_items_[static_cast<size_t>(q)];
+        ++pair_tests_;
         const double ra = reach[a], rb = reach[b];
         const double lx = std::max(centres[a].x - ra, centres[b].x - rb);
         const double ly = std::max(centres[a].y - ra, centres[b].y - rb);

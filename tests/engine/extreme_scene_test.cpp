@@ -18,6 +18,8 @@
 // coincident centres), the test asserts the documented behaviour instead.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -196,21 +198,26 @@ double collide_time(World& w, int repeats) {
 }
 
 TEST(ExtremeScene, TenThousandBodiesAndALinearBroadPhase) {
-  // Same areal density at every count, so a linear broad phase costs the same per body.
-  // Measured on the 2-core dev machine (min of 15 calls): 2.5k → 10k costs 6.5–7× for 4×
-  // the bodies, because 10k bodies' grid (~650 KB, touched at random) no longer fits the
-  // L1 TLB / a shared core's L2 while 2.5k's does; 10k → 40k, both past that step, costs
-  // 4.7–4.9×. A quadratic broad phase would cost 16× per step. Hence: ≤ 8× across the cache
-  // step and ≤ 6× beyond it (docs/robustness.md).
+  // Same areal density at every count, so a linear broad phase does the same work per body.
+  // The assertion counts the broad phase's box-overlap tests (load-independent); wall times
+  // are printed for information only, because CI machines are shared and noisy (measured on
+  // the 2-core dev machine, min of 15 calls: 2.5k → 10k costs 6.5–7× for 4× the bodies —
+  // a cache step — and 10k → 40k 4.7–4.9×; docs/robustness.md). A quadratic broad phase
+  // would do 4× the tests per body for 4× the bodies.
   World small(stress::many_bodies(2500));
   World big(stress::many_bodies(10000));
   World huge(stress::many_bodies(40000));
   ASSERT_EQ(big.bodies().size(), 10000u);
-  const double t_small = collide_time(small, 15), t_big = collide_time(big, 15), t_huge = collide_time(huge, 9);
-  EXPECT_LE(t_big, 8.0 * t_small) << "collide: " << t_small * 1e3 << " ms for 2500 bodies, " << t_big * 1e3
-                                  << " ms for 10000";
-  EXPECT_LE(t_huge, 6.0 * t_big) << "collide: " << t_big * 1e3 << " ms for 10000 bodies, " << t_huge * 1e3
-                                 << " ms for 40000";
+  const double t_small = collide_time(small, 5), t_big = collide_time(big, 5), t_huge = collide_time(huge, 3);
+  auto tests_per_body = [](const World& w) {
+    return static_cast<double>(w.broad_phase().last_pair_tests()) / static_cast<double>(w.bodies().size());
+  };
+  const double p_small = tests_per_body(small), p_big = tests_per_body(big), p_huge = tests_per_body(huge);
+  std::printf("collide: %.3f ms (2500), %.3f ms (10000), %.3f ms (40000); pair tests per body %.2f, %.2f, %.2f\n",
+              t_small * 1e3, t_big * 1e3, t_huge * 1e3, p_small, p_big, p_huge);
+  EXPECT_GT(p_small, 0.0);
+  EXPECT_LE(p_big, 1.5 * p_small);
+  EXPECT_LE(p_huge, 1.5 * p_big);
   const stress::RunStats r = run(big, 3, 0, "zero");
   expect_finite_and_consistent(r, "10000 bodies");
   EXPECT_EQ(r.steps, 3);

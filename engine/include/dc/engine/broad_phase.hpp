@@ -21,7 +21,12 @@ class UniformGridBroadPhase {
   void find_pairs(const std::vector<Vec2>& centres, const std::vector<double>& reach,
                   std::vector<std::pair<int, int>>& pairs);
 
+  /// Box-overlap tests the last find_pairs() performed: the broad phase's work, a
+  /// load-independent measure of its cost (linear in n for bodies of similar size).
+  [[nodiscard]] std::size_t last_pair_tests() const { return pair_tests_; }
+
  private:
+  std::size_t pair_tests_ = 0;
   // Reused buffers (no allocation in steady state).
   std::vector<int> cell_start_, cell_items_, body_cells_;
   std::vector<long long> cell_of_entry_;

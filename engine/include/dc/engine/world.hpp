@@ -65,6 +65,8 @@ class World {
   /// Contacts of the previous step with their solved λ (the built-in warm start's memory).
   [[nodiscard]] const std::vector<Contact>& previous_contacts() const { return previous_; }
   [[nodiscard]] const LcpProblem& problem() const { return problem_; }
+  /// The broad phase (its last_pair_tests() measures the last collide()'s work).
+  [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
   [[nodiscard]] bool has_friction_rows() const { return def_.contact.friction > 0; }
   /// Row of the normal / tangent constraint of contact c (tangent: −1 when μ = 0).
   [[nodiscard]] int normal_row(int c) const { return has_friction_rows() ? 2 * c : c; }
