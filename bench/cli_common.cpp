@@ -73,7 +73,7 @@ WarmStarterRegistry full_warm_starter_registry() {
 
 std::vector<std::string> default_bench_starters(const WarmStarterRegistry& registry, bool quick) {
   std::vector<std::string> out = {"zero", "builtin", "copy", "copy:2", "copy:0", "sph", "sph-prev", "random", "bad"};
-  if (quick) out = {"zero", "builtin", "copy", "sph", "sph-prev"};
+  if (quick) out = {"zero", "builtin", "copy", "sph"};
   // cnn only when the shipped model is there (a checkout without it still benches the rest;
   // `--warmstarts cnn --model F` selects another model explicitly).
   if (registry.contains("cnn") && std::filesystem::exists(shipped_model())) out.push_back("cnn");

@@ -10,21 +10,22 @@
 namespace dc {
 
 struct OracleOptions {
-  std::string solver = "newton";  ///< exact/Newton-type method tried first
-  double tolerance = 1e-9;        ///< natural-map residual accepted from it [N], relative to max(1, ‖λ‖∞)
-  int polish_sweeps = 20000;      ///< PGS sweeps of the fallback/polish stage
-  double polish_theta = 1e-12;    ///< PGS stopping θ of the fallback [N]
+  std::string solver = "newton";  ///< exact/Newton-type method of stage 2
+  double tolerance = 1e-9;        ///< natural-map residual accepted [N], relative to max(1, ‖λ‖∞)
+  int polish_sweeps = 20000;      ///< PGS sweep cap of stage 1
+  double polish_theta = 1e-11;    ///< PGS stopping θ of stage 1 [N]
 };
 
 struct OracleSolution {
   Eigen::VectorXd lambda;
   double residual = 0;     ///< natural-map residual of lambda [N]
-  std::string method;      ///< which stage produced it ("newton", "newton+pgs", "pgs")
+  std::string method;      ///< which stage produced it ("pgs", "pgs+newton", "empty")
   bool accurate = false;   ///< residual within tolerance
 };
 
-/// Solves `p` tightly: the Newton-type method first (from `guess` if given), then a
-/// matrix-free PGS polish from its result when the residual is not yet within tolerance.
+/// Solves `p` tightly: stage 1 is matrix-free PGS from `guess` (zeros if null) until
+/// θ ≤ polish_theta; when its natural residual is not within tolerance, stage 2 runs the
+/// Newton-type method from that iterate and the more accurate of the two is returned.
 OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess = nullptr,
                             const OracleOptions& options = {});
 
