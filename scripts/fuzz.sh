@@ -55,7 +55,9 @@ export LSAN_OPTIONS="suppressions=$ROOT/tests/fuzz/lsan.supp${LSAN_OPTIONS:+:$LS
 # the library, reported but not failing the run) or "ours" (fails the run).
 classify() {  # classify BIN ARTEFACT → prints hdf5 or ours
   local first
-  first=$("$1" "$2" 2>&1 | grep -E '^ *#[0-9]+ ' | grep -m1 -E "libhdf5|$ROOT/" || true)
+  # Source frames of our libraries (not the fuzz binary's own path, which ASan prints for
+  # interceptors such as memcpy called from HDF5).
+  first=$("$1" "$2" 2>&1 | grep -E '^ *#[0-9]+ ' | grep -m1 -E "libhdf5|$ROOT/(engine|warmstart|learning|bench|tests/fuzz)/[^ ]*\.(cpp|hpp)" || true)
   if grep -q libhdf5 <<<"$first"; then echo hdf5; else echo ours; fi
 }
 
@@ -72,10 +74,10 @@ for h in "${HARNESSES[@]}"; do
   case $h in model|dataset) mode=(-fork=1 -ignore_crashes=1) ;; esac
   echo "fuzz.sh: $h for ${SECS}s (log: $log)"
   t0=$(date +%s.%N)
-  # -timeout: an input running > 10 s is a hang; -rss_limit_mb: a reader allocating what the
+  # -timeout: an input running > 30 s is a hang (HDF5 inputs with the slow unwinder take seconds); -rss_limit_mb: a reader allocating what the
   # file announces rather than what it holds shows up as an OOM finding.
   # shellcheck disable=SC2086
-  "$bin" -max_total_time="$SECS" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "${mode[@]}" \
+  "$bin" -max_total_time="$SECS" -timeout=30 -rss_limit_mb=2048 -print_final_stats=1 "${mode[@]}" \
     -artifact_prefix="$artifacts/" ${FUZZ_ARGS:-} "$corpus" "$ROOT/tests/fuzz/corpus/$h" >"$log" 2>&1
   rc=$?
   t1=$(date +%s.%N)

@@ -171,6 +171,19 @@ Handle string_type(H5StringKind kind, std::size_t size) {
   return t;
 }
 
+/// A damaged file can announce any extent, and a reader that allocates what the header says
+/// (rather than what the file holds) turns a flipped byte into a multi-terabyte allocation.
+/// Deflate expands at most ~1032:1, so no honest dataset or attribute holds more than ~1100×
+/// the file's size (+1 MiB of slack for small files and fill values). Computed in long double:
+/// the product of a damaged extent may overflow hsize_t.
+bool plausible_allocation(hid_t file, const H5Shape& dims, std::size_t element_size) {
+  hsize_t file_size = 0;
+  if (H5Fget_filesize(file, &file_size) < 0) return true;  // cannot tell: HDF5 decides
+  long double bytes = static_cast<long double>(element_size);
+  for (const hsize_t d : dims) bytes *= static_cast<long double>(d);
+  return bytes <= 1100.0L * static_cast<long double>(file_size) + 1048576.0L;
+}
+
 /// Reads `n` strings from a dataset or attribute with stored string type `stored`.
 /// `read(mem_type, buffer)` performs the H5Dread/H5Aread.
 template <class ReadFn>
@@ -598,6 +611,8 @@ std::vector<T> H5File::read(std::string_view path) const {
     fail(path, std::string("dataset holds ") + (d.type ? to_string(*d.type) : "an unsupported type") + " but " +
                    to_string(type_of<T>()) + " was requested");
   }
+  if (!plausible_allocation(id_, d.dims, sizeof(T)))
+    fail(path, "dataset shape " + to_string(d.dims) + " is more than the file can hold (damaged file?)");
   std::vector<T> out(static_cast<std::size_t>(product(d.dims)));
   if (!out.empty() && H5Dread(d.ds.get(), memory_type(type_of<T>()), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     fail(path, "cannot read dataset");
@@ -626,6 +641,8 @@ std::vector<T> H5File::read_rows(std::string_view path, hsize_t first_row, hsize
   }
   H5Shape block = d.dims;
   block[0] = count;
+  if (!plausible_allocation(id_, block, sizeof(T)))
+    fail(path, "dataset shape " + to_string(d.dims) + " is more than the file can hold (damaged file?)");
   std::vector<T> out(static_cast<std::size_t>(product(block)));
   if (out.empty()) return out;
   H5Shape start(d.dims.size(), 0);
@@ -680,6 +697,8 @@ std::vector<std::string> H5File::read_strings(std::string_view path) const {
   if (n < 0) fail(path, "cannot query dataspace");
   std::vector<std::string> out;
   if (n == 0) return out;
+  if (!plausible_allocation(id_, {static_cast<hsize_t>(n)}, std::max<std::size_t>(H5Tget_size(type.get()), 1)))
+    fail(path, std::to_string(n) + " strings are more than the file can hold (damaged file?)");
   auto read = [&](hid_t mem, void* buf) { return H5Dread(ds.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf); };
   if (!read_string_values(type.get(), space.get(), static_cast<hsize_t>(n), read, out)) fail(path, "cannot read strings");
   return out;
@@ -829,6 +848,8 @@ std::vector<T> H5File::attribute_array(std::string_view object, std::string_view
     fail(object, attr_label(name) + " holds " + (stored ? to_string(*stored) : "a non-numeric type") + " but " +
                      to_string(type_of<T>()) + " was requested");
   }
+  if (!plausible_allocation(id_, {a.count}, sizeof(T)))
+    fail(object, attr_label(name) + " claims " + std::to_string(a.count) + " values, more than the file can hold");
   std::vector<T> out(static_cast<std::size_t>(a.count));
   if (!out.empty() && H5Aread(a.attr.get(), memory_type(type_of<T>()), out.data()) < 0)
     fail(object, "cannot read " + attr_label(name));

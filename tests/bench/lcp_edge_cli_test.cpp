@@ -137,7 +137,9 @@ TEST_F(LcpEdgeCli, ZeroRowAndZeroDiagonalWithASolution) {
     const Outcome diag = solve("zero_diag", mat({{0, 1}, {1, 2}}), vec({1, -1}), s, "--tol 1e-12 --sweeps 5000");
     expect_consistent(diag, 2, s + " zero diagonal");
     EXPECT_EQ(diag.status, "converged") << s << ": " << diag.out;
-    if (diag.z.size() == 2) EXPECT_NEAR(diag.z[1], 0.5, 1e-8) << s;
+    if (diag.z.size() == 2) {
+      EXPECT_NEAR(diag.z[1], 0.5, 1e-8) << s;
+    }
   }
 }
 
@@ -194,7 +196,9 @@ TEST_F(LcpEdgeCli, ValuesNearOverflow) {
     const Outcome o = solve("big", mat({{1e300, 0}, {0, 1e300}}), vec({-1e300, -1e299}), s, "--tol 1e-12");
     expect_consistent(o, 2, s);
     EXPECT_EQ(o.status, "converged") << s << ": " << o.out;
-    if (o.z.size() == 2) EXPECT_NEAR(o.z[0], 1.0, 1e-9) << s;
+    if (o.z.size() == 2) {
+      EXPECT_NEAR(o.z[0], 1.0, 1e-9) << s;
+    }
   }
   // Products overflow inside the iterations: any status is acceptable, NaN/Inf output is not.
   for (const auto& s : kSolvers) {

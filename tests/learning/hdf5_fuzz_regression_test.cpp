@@ -9,6 +9,7 @@
 
 #include "dc/engine/error.hpp"
 #include "dc/learning/data_set.hpp"
+#include "dc/learning/model_file.hpp"
 
 namespace dc {
 namespace {
@@ -36,6 +37,15 @@ TEST(FuzzRegression, DataSetWithDamagedStringHeapIsAnIoErrorWithoutLeaks) {
         (void)r.samples();
       },
       "dataset-vlen-string-leak.h5");
+}
+
+// fuzz_model: a damaged dataspace made /arch claim ~2^45 strings; H5File::read_strings
+// allocated a pointer per claimed string (a multi-terabyte request → bad_alloc / abort).
+// Fixed in engine/src/h5.cpp: every read refuses extents the file cannot plausibly hold.
+TEST(FuzzRegression, ModelClaimingAHugeStringCountIsAnIoError) {
+  EXPECT_THROW((void)load_model(regression("model-huge-string-count.h5")), IoError);
+  expect_one_line_io_error_or_success([] { (void)load_model(regression("model-huge-string-count.h5")); },
+                                      "model-huge-string-count.h5");
 }
 
 // NOT a test here: tests/fuzz/regressions/model-hdf5-global-heap-overread.h5 (found by
