@@ -175,9 +175,14 @@ RowCounts committed_rows(const H5File& f) {
   for (hsize_t i = 0; i < k; ++i) {
     if (bodies[i] < 0 || samples[i] < 0 || contacts[i] < 0)
       throw IoError(f.path() + ": /sims: negative count in row " + std::to_string(i));
-    r.samples += samples[i];
-    r.body_rows += static_cast<std::int64_t>(bodies[i]) * samples[i];
-    r.contact_rows += contacts[i];
+    // A damaged /sims row can claim any count: sum with overflow checks (fuzz_dataset
+    // found int64 overflow here), so a corrupt file is an IoError, never undefined behaviour.
+    std::int64_t body_rows = 0;
+    if (__builtin_mul_overflow(static_cast<std::int64_t>(bodies[i]), samples[i], &body_rows) ||
+        __builtin_add_overflow(r.samples, samples[i], &r.samples) ||
+        __builtin_add_overflow(r.body_rows, body_rows, &r.body_rows) ||
+        __builtin_add_overflow(r.contact_rows, contacts[i], &r.contact_rows))
+      throw IoError(f.path() + ": /sims: counts in row " + std::to_string(i) + " overflow (corrupt data set)");
   }
   return r;
 }

@@ -57,3 +57,22 @@ TEST(FuzzRegression, ModelClaimingAHugeStringCountIsAnIoError) {
 
 }  // namespace
 }  // namespace dc
+
+namespace dc {
+namespace {
+
+// fuzz_dataset: a damaged /sims row claimed counts whose product overflowed int64 in
+// committed_rows (UBSan: signed-integer overflow). Fixed in learning/src/data_set_layout.cpp
+// (overflow-checked sums → IoError).
+TEST(FuzzRegression, DataSetWithOverflowingSimulationCountsIsAnIoError) {
+  for (const char* name : {"dataset-sims-count-overflow-1.h5", "dataset-sims-count-overflow-2.h5"})
+    expect_one_line_io_error_or_success(
+        [&] {
+          const DataSetReader r(regression(name));
+          (void)r.samples();
+        },
+        name);
+}
+
+}  // namespace
+}  // namespace dc
