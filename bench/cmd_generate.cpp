@@ -30,6 +30,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "sigint_guard.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
@@ -38,30 +39,6 @@
 namespace dc::cli {
 namespace {
 
-// The one documented piece of global mutable state: set by the SIGINT handler, polled by
-// the workers between steps and by the writer between simulations.
-volatile std::sig_atomic_t g_interrupted = 0;
-
-extern "C" void on_sigint(int) { g_interrupted = 1; }
-
-/// Installs on_sigint for SIGINT while alive; restores the previous disposition afterwards.
-class SigintGuard {
- public:
-  SigintGuard() {
-    g_interrupted = 0;
-    struct sigaction sa {};
-    sa.sa_handler = on_sigint;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = 0;
-    sigaction(SIGINT, &sa, &previous_);
-  }
-  ~SigintGuard() { sigaction(SIGINT, &previous_, nullptr); }
-  SigintGuard(const SigintGuard&) = delete;
-  SigintGuard& operator=(const SigintGuard&) = delete;
-
- private:
-  struct sigaction previous_ {};
-};
 
 struct GenerateArgs {
   SceneArgs scene;
@@ -154,7 +131,7 @@ void run(const GenerateArgs& a) {
   int workers_done = 0;                // workers that left their loop (guarded by mutex)
   std::atomic<int> next{first};
   std::atomic<bool> failed{false};
-  const auto keep_going = [&] { return g_interrupted == 0 && !failed.load(std::memory_order_relaxed); };
+  const auto keep_going = [&] { return !interrupted() && !failed.load(std::memory_order_relaxed); };
   const int max_ahead = 2 * threads;
   long steps_done = 0;
   double worst_residual = 0;           // over the simulations written by this run [N]

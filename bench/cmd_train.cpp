@@ -29,6 +29,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "sigint_guard.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/engine/h5.hpp"
 #include "dc/learning/arch.hpp"
@@ -44,30 +45,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The one documented piece of global mutable state: set by the SIGINT handler, polled by
-// the trainer between minibatches.
-volatile std::sig_atomic_t g_interrupted = 0;
-
-extern "C" void on_train_sigint(int) { g_interrupted = 1; }
-
-/// Installs on_train_sigint for SIGINT while alive; restores the previous disposition.
-class SigintGuard {
- public:
-  SigintGuard() {
-    g_interrupted = 0;
-    struct sigaction sa {};
-    sa.sa_handler = on_train_sigint;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = 0;
-    sigaction(SIGINT, &sa, &previous_);
-  }
-  ~SigintGuard() { sigaction(SIGINT, &previous_, nullptr); }
-  SigintGuard(const SigintGuard&) = delete;
-  SigintGuard& operator=(const SigintGuard&) = delete;
-
- private:
-  struct sigaction previous_ {};
-};
 
 struct TrainArgs {
   std::string data;
@@ -384,10 +361,10 @@ void run(const TrainArgs& a) {
     bar.advance(1, line);
     std::printf("%s\n", line);
     std::fflush(stdout);
-    return g_interrupted == 0;
+    return !interrupted();
   };
   const TrainResult result =
-      trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return g_interrupted == 0; });
+      trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return !interrupted(); });
   bar.finish();
 
   const int done = static_cast<int>(result.history.size());
