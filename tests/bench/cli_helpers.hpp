@@ -1,6 +1,10 @@
 #pragma once
 // Helpers for tests that run the deepcontact executable (DC_CLI) as a child process.
 #include <array>
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <thread>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -57,6 +61,51 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+/// The whole content of a text file ("" if it cannot be read).
+inline std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// What a background child's `log` file receives.
+enum class ChildLog { StderrOnly, StdoutAndStderr };
+
+/// Starts `DC_CLI ARGS` in the background (stdout to /dev/null unless logged); returns its pid.
+inline pid_t spawn_cli(const std::string& args, const std::string& log, ChildLog what) {
+  const std::string redirect =
+      what == ChildLog::StderrOnly ? " >/dev/null 2>" + log : " >" + log + " 2>&1";
+  const std::string cmd = "exec " + std::string(DC_CLI) + " " + args + redirect;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+/// Waits until `log` contains `needle` (true) or the child exited / 60 s passed; a child that
+/// exited is reaped here, so a later wait_exit() returns −2 for it.
+inline bool wait_for(const std::string& log, const std::string& needle, pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (slurp(log).find(needle) != std::string::npos) return true;
+    int st = 0;
+    if (::waitpid(pid, &st, WNOHANG) == pid) return slurp(log).find(needle) != std::string::npos;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+/// Exit status of the child; −signal if it was killed, −2 if it was already reaped.
+inline int wait_exit(pid_t pid) {
+  int st = 0;
+  if (::waitpid(pid, &st, 0) != pid) return -2;
+  if (WIFSIGNALED(st)) return -WTERMSIG(st);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
 
 inline int count_lines(const std::string& s) {
   int n = 0;

@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 
+#include "cli_helpers.hpp"
 #include "dc/engine/h5.hpp"
 #include "dc/learning/data_set.hpp"
 
@@ -24,6 +25,11 @@ namespace dc {
 namespace {
 
 namespace fs = std::filesystem;
+using test::ChildLog;
+using test::slurp;
+using test::spawn_cli;
+using test::wait_exit;
+using test::wait_for;
 
 /// A tiny family (10–14 circles in a 12 × 12 box): 60 steps take ≈ 0.05 s per simulation,
 /// kSlow's 250 steps ≈ 0.25 s — long enough to be killed reliably between simulations.
@@ -44,13 +50,6 @@ struct Dir {
   [[nodiscard]] std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 struct Result {
   int status = -1;
   std::string err;
@@ -65,36 +64,6 @@ Result run_cli(const Dir& dir, const std::string& args) {
   r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
   r.err = slurp(err);
   return r;
-}
-
-/// Starts `deepcontact ARGS` in the background with stderr to `err`; returns its pid.
-pid_t spawn_cli(const std::string& args, const std::string& err) {
-  const std::string cmd = "exec " + std::string(DC_CLI) + " " + args + " >/dev/null 2>" + err;
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  return pid;
-}
-
-/// Waits until `err` contains `needle` (true) or the child exited / 60 s passed (false).
-bool wait_for(const std::string& err, const std::string& needle, pid_t pid) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (slurp(err).find(needle) != std::string::npos) return true;
-    int st = 0;
-    if (::waitpid(pid, &st, WNOHANG) == pid) return slurp(err).find(needle) != std::string::npos;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return false;
-}
-
-int wait_exit(pid_t pid) {
-  int st = 0;
-  if (::waitpid(pid, &st, 0) != pid) return -2;
-  if (WIFSIGNALED(st)) return -WTERMSIG(st);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
 std::string attribute_text(const H5File& f, const std::string& name) {
@@ -180,7 +149,7 @@ TEST(GenerateCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   Dir dir;
   const std::string out = dir / "killed.h5", err = dir / "err.txt";
   const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
-  const pid_t pid = spawn_cli(args, err);
+  const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
   ::kill(pid, SIGKILL);
@@ -208,7 +177,7 @@ TEST(GenerateCli, SigintExitsNonZeroAndLeavesAResumablePartialFile) {
   Dir dir;
   const std::string out = dir / "int.h5", err = dir / "err.txt";
   const std::string args = "generate --sims 6" + kSlow + " --threads 2 --log-completed --out " + out;
-  const pid_t pid = spawn_cli(args, err);
+  const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
   ::kill(pid, SIGINT);
@@ -227,7 +196,7 @@ TEST(GenerateCli, ResumeWithOtherParametersIsRefused) {
   Dir dir;
   const std::string out = dir / "p.h5", err = dir / "err.txt";
   const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
-  const pid_t pid = spawn_cli(args, err);
+  const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
   ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
   ::kill(pid, SIGKILL);
   wait_exit(pid);

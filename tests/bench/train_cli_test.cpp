@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 
+#include "cli_helpers.hpp"
 #include "dc/engine/h5.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/learning/model_file.hpp"
@@ -25,6 +26,11 @@ namespace dc {
 namespace {
 
 namespace fs = std::filesystem;
+using test::ChildLog;
+using test::slurp;
+using test::spawn_cli;
+using test::wait_exit;
+using test::wait_for;
 
 const std::string kFamily =
     " --set world.width=12 --set world.height=12 --set bodies.mean=[6.0,6.0] --set bodies.sigma=2.0 --seed 5"
@@ -43,13 +49,6 @@ struct Dir {
   ~Dir() { fs::remove_all(path); }
   [[nodiscard]] std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 struct Result {
   int status = -1;
@@ -103,36 +102,6 @@ void expect_same_weights(const std::string& a, const std::string& b) {
   EXPECT_EQ(ma.output_stats.std, mb.output_stats.std);
 }
 
-/// Starts `deepcontact ARGS` with stdout to `log`; returns its pid.
-pid_t spawn_cli(const std::string& args, const std::string& log) {
-  const std::string cmd = "exec " + std::string(DC_CLI) + " " + args + " >" + log + " 2>&1";
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  return pid;
-}
-
-/// Waits until `log` contains `needle` (true) or the child exited / 60 s passed (false).
-bool wait_for(const std::string& log, const std::string& needle, pid_t pid) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (slurp(log).find(needle) != std::string::npos) return true;
-    int st = 0;
-    if (::waitpid(pid, &st, WNOHANG) == pid) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return false;
-}
-
-int wait_exit(pid_t pid) {
-  int st = 0;
-  if (::waitpid(pid, &st, 0) != pid) return -2;
-  if (WIFSIGNALED(st)) return -WTERMSIG(st);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
 TEST(TrainCli, ShortRunWritesAModelForTheDataSetsGrid) {
   Dir dir;
   const std::string model = dir / "m.h5";
@@ -178,7 +147,7 @@ TEST(TrainCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   ASSERT_EQ(ref.status, 0) << ref.err;
 
   const std::string out = dir / "killed.h5", log = dir / "log.txt";
-  const pid_t pid = spawn_cli(args + " --out " + out, log);
+  const pid_t pid = spawn_cli(args + " --out " + out, log, ChildLog::StdoutAndStderr);
   ASSERT_GT(pid, 0);
   ASSERT_TRUE(wait_for(log, "epoch   2/8", pid)) << slurp(log);
   ::kill(pid, SIGKILL);
@@ -202,7 +171,7 @@ TEST(TrainCli, SigintStopsCleanlyAndResumeCompletes) {
   const Result ref = run_cli(dir, args + " --out " + (dir / "ref.h5"));
   ASSERT_EQ(ref.status, 0) << ref.err;
   const std::string out = dir / "int.h5", log = dir / "log.txt";
-  const pid_t pid = spawn_cli(args + " --out " + out, log);
+  const pid_t pid = spawn_cli(args + " --out " + out, log, ChildLog::StdoutAndStderr);
   ASSERT_TRUE(wait_for(log, "epoch   1/8", pid)) << slurp(log);
   ::kill(pid, SIGINT);
   EXPECT_EQ(wait_exit(pid), 130) << slurp(log);
@@ -231,7 +200,7 @@ TEST(TrainCli, BadInputsFailWithOneLine) {
 
   // A checkpoint of another run (other lr), then one of another format version.
   const std::string base = "train --data " + data_set() + " --epochs 6" + kTrain + out;
-  const pid_t pid = spawn_cli(base, dir / "log.txt");
+  const pid_t pid = spawn_cli(base, dir / "log.txt", ChildLog::StdoutAndStderr);
   ASSERT_TRUE(wait_for(dir / "log.txt", "epoch   1/6", pid)) << slurp(dir / "log.txt");
   ::kill(pid, SIGKILL);
   (void)wait_exit(pid);
