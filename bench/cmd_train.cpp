@@ -62,6 +62,7 @@ struct TrainArgs {
   int every = 1;
   std::string schedule = TrainDef{}.schedule;
   double contact_weight = 0.0;
+  bool residual = false;  // train on λ* − λ_prev (ModelGrid::label_kind = "residual")
   bool resume = false;
   bool force = false;
   bool no_plot = false;
@@ -95,7 +96,8 @@ std::vector<std::pair<std::string, std::string>> run_identity(const TrainArgs& a
           {"seed", std::to_string(a.seed)},
           {"every", std::to_string(a.every)},
           {"schedule", a.schedule},
-          {"contact_weight", num(a.contact_weight)}};
+          {"contact_weight", num(a.contact_weight)},
+          {"residual", a.residual ? "1" : "0"}};
 }
 
 ArchSpec select_arch(const TrainArgs& a, int label_channels, int ny, int nx) {
@@ -107,14 +109,22 @@ ArchSpec select_arch(const TrainArgs& a, int label_channels, int ny, int nx) {
 }
 
 /// Every `every`-th sample of every completed simulation, with the optional contact weight
-/// map 1 + W·[contact_density > 0] (one channel, shared by λ_n and λ_t).
-std::vector<TrainingSample> load_samples(const DataSetReader& r, int every, double contact_weight) {
-  int density = -1;
+/// map 1 + W·[contact_density > 0] (one channel, shared by λ_n and λ_t). `residual`: the
+/// labels become label − (lambda_prev_n, lambda_prev_t) feature channels, the splat of
+/// λ* − λ_prev (feature_image.hpp).
+std::vector<TrainingSample> load_samples(const DataSetReader& r, int every, double contact_weight, bool residual) {
   const auto& names = r.feature_channel_names();
-  for (std::size_t c = 0; c < names.size(); ++c)
-    if (names[c] == "contact_density") density = static_cast<int>(c);
+  const auto channel = [&](const char* name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+  };
+  const int density = channel("contact_density");
   if (contact_weight > 0 && density < 0)
     throw ConfigError("--contact-weight needs a contact_density feature channel; " + r.path() + " has none");
+  const int prev_n = channel("lambda_prev_n"), prev_t = channel("lambda_prev_t");
+  if (residual && (prev_n < 0 || prev_t < 0))
+    throw ConfigError("--residual needs the feature channels lambda_prev_n and lambda_prev_t; " + r.path() +
+                      " has none (generate it with --channels including them)");
   std::vector<TrainingSample> out;
   for (const DataSetSimulation& sim : r.simulations()) {
     std::vector<std::int64_t> rows;
@@ -127,6 +137,14 @@ std::vector<TrainingSample> load_samples(const DataSetReader& r, int every, doub
       t.labels = Tensor(1, l.c(), l.h(), l.w());
       std::memcpy(t.features.data(), f.sample(static_cast<int>(k)), f.shape().sample_count() * sizeof(float));
       std::memcpy(t.labels.data(), l.sample(static_cast<int>(k)), l.shape().sample_count() * sizeof(float));
+      if (residual) {
+        const std::size_t P = f.shape().plane();
+        for (int c = 0; c < 2; ++c) {
+          const float* prev = t.features.data() + static_cast<std::size_t>(c == 0 ? prev_n : prev_t) * P;
+          float* lab = t.labels.data() + static_cast<std::size_t>(c) * P;
+          for (std::size_t q = 0; q < P; ++q) lab[q] -= prev[q];
+        }
+      }
       if (contact_weight > 0) {
         t.weights = Tensor(1, 1, f.h(), f.w());
         const float* cd = t.features.data() + static_cast<std::size_t>(density) * f.shape().plane();
@@ -278,7 +296,7 @@ void run(const TrainArgs& a) {
 
   const auto t_load = std::chrono::steady_clock::now();
   const DataSetReader reader(a.data);
-  const std::vector<TrainingSample> samples = load_samples(reader, a.every, a.contact_weight);
+  const std::vector<TrainingSample> samples = load_samples(reader, a.every, a.contact_weight, a.residual);
   const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
 
   // The model carries the data set's grid and channel names, so the cnn starter can check
@@ -292,6 +310,7 @@ void run(const TrainArgs& a) {
   grid.ny = reader.ny();
   grid.feature_channels = reader.feature_channel_names();
   grid.label_channels = reader.label_channel_names();
+  grid.label_kind = a.residual ? "residual" : "absolute";
   const ArchSpec arch = select_arch(a, reader.label_channels(), reader.ny(), reader.nx());
   const auto id = run_identity(a, reader, arch.to_toml());
 
@@ -301,7 +320,7 @@ void run(const TrainArgs& a) {
     Model loaded = load_model(ckpt);  // other version / truncated → IoError
     const ModelGrid& g = loaded.grid();
     if (g.nx != grid.nx || g.ny != grid.ny || g.feature_channels != grid.feature_channels ||
-        g.label_channels != grid.label_channels || g.d != grid.d || g.h != grid.h || g.kernel != grid.kernel)
+        g.label_channels != grid.label_channels || g.label_kind != grid.label_kind || g.d != grid.d || g.h != grid.h || g.kernel != grid.kernel)
       throw ConfigError("--resume: " + ckpt.string() + " holds a model for another grid or channel set than " + a.data);
     if (loaded.network().arch().to_toml() != arch.to_toml())
       throw ConfigError("--resume: " + ckpt.string() + " holds another architecture than --arch selects");
@@ -315,11 +334,11 @@ void run(const TrainArgs& a) {
 
   std::printf("train: %zu samples (every %d of %lld) from %zu simulations of %s, %d x %d grid, %d feature channels; "
               "%zu weights (%s), %d epochs, batch %d, lr %g (%s), momentum %g, weight decay %g, dropout %g, "
-              "contact weight %g, %d thread%s; loaded in %.1f s\n",
+              "contact weight %g, %s labels, %d thread%s; loaded in %.1f s\n",
               samples.size(), a.every, static_cast<long long>(reader.samples()), reader.simulations().size(),
               a.data.c_str(), grid.nx, grid.ny, reader.feature_channels(), model->network().parameter_count(),
               arch.name.c_str(), a.epochs, a.batch, a.lr, a.schedule.c_str(), a.momentum, a.weight_decay,
-              a.dropout, a.contact_weight, threads, threads == 1 ? "" : "s", load_s);
+              a.dropout, a.contact_weight, grid.label_kind.c_str(), threads, threads == 1 ? "" : "s", load_s);
   if (resume) std::printf("train: resuming after epoch %d from %s\n", resume->epochs_done, ckpt.string().c_str());
   std::fflush(stdout);
 
@@ -431,6 +450,9 @@ void add_train_command(CLI::App& app) {
   cmd->add_option("--contact-weight", args->contact_weight,
                   "Loss weight 1 + W at nodes with contact density > 0 (needs the contact_density channel)")
       ->capture_default_str();
+  cmd->add_flag("--residual", args->residual,
+               "Learn the correction lambda* - lambda_prev of the builtin warm start (needs the lambda_prev_n, "
+               "lambda_prev_t feature channels; docs/learning.md)");
   cmd->add_flag("--resume", args->resume, "Continue an interrupted run from OUT.ckpt (same data and options)");
   cmd->add_flag("--force", args->force, "Replace an existing OUT");
   cmd->add_flag("--no-plot", args->no_plot, "Skip the loss-curve PNG");

@@ -403,6 +403,13 @@ void H5File::remove(std::string_view path) {
   if (H5Ldelete(id_, object_name(path).c_str(), H5P_DEFAULT) < 0) fail(path, "cannot remove object");
 }
 
+void H5File::remove_attribute(std::string_view object, std::string_view name) {
+  require_writable(object);
+  const ErrorSilencer quiet;
+  if (H5Adelete_by_name(id_, object_name(object).c_str(), std::string(name).c_str(), H5P_DEFAULT) < 0)
+    fail(object, "cannot remove attribute " + std::string(name));
+}
+
 // ---- numeric datasets ---------------------------------------------------------------------
 
 template <H5Element T>

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 
 #include "dc/engine/error.hpp"
@@ -83,7 +84,7 @@ void CnnWarmStarter::prepare(const World& world) {
   box_h_ = H;
 }
 
-Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& labels) {
+Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& labels, bool project) {
   prepare(w);
   require_shape(labels.shape(), Shape{1, FeatureImageBuilder::kLabelChannels, grid_.ny(), grid_.nx()},
                 name_ + ": label grid");
@@ -100,7 +101,7 @@ Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& 
     out[w.normal_row(c)] = v[2 * static_cast<std::size_t>(c)];
     if (w.has_friction_rows()) out[w.tangent_row(c)] = v[2 * static_cast<std::size_t>(c) + 1];
   }
-  project_feasible(w.problem(), out);
+  if (project) project_feasible(w.problem(), out);
   return out;
 }
 
@@ -110,25 +111,19 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
   const auto& cur = w.contacts();
   if (cur.empty()) return Eigen::VectorXd::Zero(w.problem().rows());
 
-  // Hybrid: which contacts persist from the previous step (both lists are sorted by key).
-  std::vector<int> prev_of;  // index into previous_contacts(), −1 for a new contact
-  bool any_new = !hybrid_;
-  if (hybrid_) {
-    const auto& prev = w.previous_contacts();
-    prev_of.assign(cur.size(), -1);
-    std::size_t j = 0;
-    for (std::size_t c = 0; c < cur.size(); ++c) {
-      while (j < prev.size() && prev[j].key < cur[c].key) ++j;
-      if (j < prev.size() && prev[j].key == cur[c].key) prev_of[c] = static_cast<int>(j);
-      else any_new = true;
-    }
-  }
+  // Which contacts persist from the previous step (index into previous_contacts(), −1 new):
+  // needed by the hybrid policy and by a residual model (λ⁰ = λ_prev + correction).
+  const auto& prev = w.previous_contacts();
+  const bool residual = model_.grid().label_kind == "residual";
+  std::vector<int> prev_of;
+  if (hybrid_ || residual) prev_of = match_contacts_by_key(prev, cur);
+  const bool any_new = !hybrid_ || std::find(prev_of.begin(), prev_of.end(), -1) != prev_of.end();
 
   Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
   if (any_new) {
     auto t0 = Clock::now();
     prepare(w);
-    builder_->features(w.bodies(), cur, std::span<float>(features_.data(), features_.size()));
+    builder_->features(w.bodies(), cur, prev, std::span<float>(features_.data(), features_.size()));
     last_.features_ms = ms_since(t0);
     t0 = Clock::now();
     Tensor labels;
@@ -138,12 +133,20 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
     }
     last_.inference_ms = ms_since(t0);
     t0 = Clock::now();
-    out = guess_from_labels(w, labels);
+    out = guess_from_labels(w, labels, !residual);
+    if (residual) {
+      for (std::size_t c = 0; c < cur.size(); ++c) {
+        if (prev_of[c] < 0) continue;
+        const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];
+        out[w.normal_row(static_cast<int>(c))] += p.lambda_n;
+        if (w.has_friction_rows()) out[w.tangent_row(static_cast<int>(c))] += p.lambda_t;
+      }
+      project_feasible(w.problem(), out);
+    }
     last_.gather_ms = ms_since(t0);
     last_.calls = 1;
   }
   if (hybrid_) {
-    const auto& prev = w.previous_contacts();
     for (std::size_t c = 0; c < cur.size(); ++c) {
       if (prev_of[c] < 0) continue;
       const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];

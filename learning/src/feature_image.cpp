@@ -14,7 +14,9 @@ namespace {
 constexpr FeatureChannel kAllChannels[] = {FeatureChannel::Mass,  FeatureChannel::Vx,
                                            FeatureChannel::Vy,    FeatureChannel::Omega,
                                            FeatureChannel::ContactDensity, FeatureChannel::Nx,
-                                           FeatureChannel::Ny};
+                                           FeatureChannel::Ny,    FeatureChannel::LambdaPrevN,
+                                           FeatureChannel::LambdaPrevT, FeatureChannel::VrelN,
+                                           FeatureChannel::VrelT, FeatureChannel::Gap};
 
 SphTransferDef normalised_label_def(SphTransferDef d) {
   d.grid.channels = FeatureImageBuilder::kLabelChannels;
@@ -33,6 +35,21 @@ bool uses_contact_fields(const std::vector<FeatureChannel>& cs) {
   });
 }
 
+bool uses_contact_values(const std::vector<FeatureChannel>& cs) {
+  return std::any_of(cs.begin(), cs.end(), [](FeatureChannel c) {
+    return c == FeatureChannel::LambdaPrevN || c == FeatureChannel::LambdaPrevT || c == FeatureChannel::VrelN ||
+           c == FeatureChannel::VrelT || c == FeatureChannel::Gap;
+  });
+}
+
+/// Velocity of the material point p of body k [m/s]: v + ω × (p − x); 0 for a wall (k < 0).
+Vec2 point_velocity(const BodyState& s, int k, Vec2 p) {
+  if (k < 0) return {0.0, 0.0};
+  const auto i = static_cast<std::size_t>(k);
+  const Vec2 r = p - s.position[i];
+  return s.velocity[i] + Vec2{-s.omega[i] * r.y, s.omega[i] * r.x};
+}
+
 }  // namespace
 
 const char* to_string(FeatureChannel c) {
@@ -44,6 +61,11 @@ const char* to_string(FeatureChannel c) {
     case FeatureChannel::ContactDensity: return "contact_density";
     case FeatureChannel::Nx: return "nx";
     case FeatureChannel::Ny: return "ny";
+    case FeatureChannel::LambdaPrevN: return "lambda_prev_n";
+    case FeatureChannel::LambdaPrevT: return "lambda_prev_t";
+    case FeatureChannel::VrelN: return "vrel_n";
+    case FeatureChannel::VrelT: return "vrel_t";
+    case FeatureChannel::Gap: return "gap";
   }
   return "?";
 }
@@ -84,6 +106,18 @@ std::vector<FeatureChannel> default_feature_channels() {
           FeatureChannel::ContactDensity};
 }
 
+std::vector<FeatureChannel> residual_feature_channels() {
+  return {FeatureChannel::Mass,        FeatureChannel::Vx,          FeatureChannel::Vy,
+          FeatureChannel::Omega,       FeatureChannel::ContactDensity, FeatureChannel::LambdaPrevN,
+          FeatureChannel::LambdaPrevT, FeatureChannel::VrelN,       FeatureChannel::VrelT,
+          FeatureChannel::Gap};
+}
+
+bool has_lambda_prev_channels(std::span<const FeatureChannel> cs) {
+  return std::find(cs.begin(), cs.end(), FeatureChannel::LambdaPrevN) != cs.end() &&
+         std::find(cs.begin(), cs.end(), FeatureChannel::LambdaPrevT) != cs.end();
+}
+
 std::vector<std::string> label_channel_names() { return {"lambda_n", "lambda_t"}; }
 
 FeatureImageDef FeatureImageDef::for_box(double width, double height) {
@@ -116,12 +150,13 @@ FeatureImageBuilder::FeatureImageBuilder(FeatureImageDef def)
     contact_grid_ = SphGrid(with_channels(def_.sph.grid, 2));
     contact_weight_ = SphGrid(with_channels(def_.sph.grid, 1));
   }
+  if (uses_contact_values(def_.channels)) contact_values_ = SphGrid(with_channels(def_.sph.grid, 5));
   nx_ = body_grid_.nx();
   ny_ = body_grid_.ny();
 }
 
 void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Contact> contacts,
-                                   std::span<float> out) {
+                                   std::span<const Contact> previous, std::span<float> out) {
   if (out.size() != feature_size())
     throw InvalidArgument("FeatureImageBuilder::features: output holds " + std::to_string(out.size()) +
                           " floats, expected " + std::to_string(feature_size()));
@@ -150,6 +185,30 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
   }
 
+  // Per-contact values (numerators, like the labels): builtin λ, relative velocity, gap.
+  if (uses_contact_values(def_.channels)) {
+    const auto uses = [&](FeatureChannel c) {
+      return std::find(def_.channels.begin(), def_.channels.end(), c) != def_.channels.end();
+    };
+    const bool want_prev = uses(FeatureChannel::LambdaPrevN) || uses(FeatureChannel::LambdaPrevT);
+    const std::vector<int> match = want_prev ? match_contacts_by_key(previous, contacts)
+                                             : std::vector<int>(contacts.size(), -1);
+    points_.clear();
+    values_.clear();
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+      const Contact& ct = contacts[c];
+      const Contact* p = match[c] >= 0 ? &previous[static_cast<std::size_t>(match[c])] : nullptr;
+      const Vec2 u = point_velocity(bodies, ct.body_b, ct.point) - point_velocity(bodies, ct.body_a, ct.point);
+      points_.push_back(ct.point);
+      values_.push_back(p ? p->lambda_n : 0.0);
+      values_.push_back(p ? p->lambda_t : 0.0);
+      values_.push_back(dot(u, ct.normal));
+      values_.push_back(dot(u, perp(ct.normal)));
+      values_.push_back(ct.gap);
+    }
+    splat_to_grid(kernel_, points_, values_, contact_values_, nullptr);
+  }
+
   const std::size_t P = plane();
   const std::span<const double> S = body_weight_.channel(0);
   for (std::size_t ci = 0; ci < def_.channels.size(); ++ci) {
@@ -170,6 +229,11 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       case FeatureChannel::ContactDensity: copy(contact_weight_.channel(0)); break;
       case FeatureChannel::Nx: shepard(contact_grid_, 0, contact_weight_.channel(0)); break;
       case FeatureChannel::Ny: shepard(contact_grid_, 1, contact_weight_.channel(0)); break;
+      case FeatureChannel::LambdaPrevN: copy(contact_values_.channel(0)); break;
+      case FeatureChannel::LambdaPrevT: copy(contact_values_.channel(1)); break;
+      case FeatureChannel::VrelN: copy(contact_values_.channel(2)); break;
+      case FeatureChannel::VrelT: copy(contact_values_.channel(3)); break;
+      case FeatureChannel::Gap: copy(contact_values_.channel(4)); break;
     }
   }
 }

@@ -1,5 +1,7 @@
 #include "dc/learning/model.hpp"
 
+#include <algorithm>
+
 #include "dc/engine/error.hpp"
 
 namespace dc {
@@ -14,12 +16,24 @@ void fill_names(std::vector<std::string>& names, int count, const char* prefix, 
 }
 }  // namespace
 
+void validate_label_kind(const std::string& kind) {
+  if (kind != "absolute" && kind != "residual")
+    throw ConfigError("label kind '" + kind + "': expected 'absolute' or 'residual'");
+}
+
 Model::Model(ArchSpec arch, ModelGrid grid, int in_channels)
     : grid_(std::move(grid)), net_(std::move(arch), Shape{1, in_channels, grid_.ny, grid_.nx}) {
+  validate_label_kind(grid_.label_kind);
   fill_names(grid_.feature_channels, in_channels, "f", "feature_channels");
   fill_names(grid_.label_channels, net_.output_shape().c, "l", "label_channels");
   input_stats = ChannelStats::identity(in_channels);
   output_stats = ChannelStats::identity(net_.output_shape().c);
+  if (grid_.label_kind == "residual") {
+    const auto& f = grid_.feature_channels;
+    for (const char* need : {"lambda_prev_n", "lambda_prev_t"})
+      if (std::find(f.begin(), f.end(), need) == f.end())
+        throw ConfigError(std::string("Model: a residual model needs the feature channel ") + need);
+  }
 }
 
 Tensor Model::predict(const Tensor& features) {

@@ -49,6 +49,7 @@ void save_model(Model& model, const std::filesystem::path& path, const std::func
   f.set_attribute("/grid", "kernel", g.kernel);
   f.set_attribute<std::int32_t>("/grid", "nx", g.nx);
   f.set_attribute<std::int32_t>("/grid", "ny", g.ny);
+  f.set_attribute("/grid", "label_kind", g.label_kind);
   f.write_strings("/grid/feature_channels", g.feature_channels);
   f.write_strings("/grid/label_channels", g.label_channels);
   if (extra) extra(f);
@@ -61,9 +62,9 @@ Model load_model(const std::filesystem::path& path) {
   if (!f.has_attribute("/", "format_version"))
     throw IoError(file + ": not a DeepContact model file (no format_version attribute)");
   const auto version = f.attribute<std::int32_t>("/", "format_version");
-  if (version != kModelFormatVersion)
-    throw IoError(file + ": model format version " + std::to_string(version) + ", this build reads version " +
-                  std::to_string(kModelFormatVersion));
+  if (version < kModelFormatVersionOldest || version > kModelFormatVersion)
+    throw IoError(file + ": model format version " + std::to_string(version) + ", this build reads versions " +
+                  std::to_string(kModelFormatVersionOldest) + " to " + std::to_string(kModelFormatVersion));
   const auto in = f.attribute_array<std::int32_t>("/", "input_shape");
   if (in.size() != 3) throw IoError(file + ": attribute input_shape must have 3 entries (C, H, W)");
   const auto arch_text = f.read_strings("/arch");
@@ -82,6 +83,10 @@ Model load_model(const std::filesystem::path& path) {
   g.ny = f.attribute<std::int32_t>("/grid", "ny");
   g.feature_channels = f.read_strings("/grid/feature_channels");
   g.label_channels = f.read_strings("/grid/label_channels");
+  if (version >= 2) {
+    if (!f.has_attribute("/grid", "label_kind")) throw IoError(file + ": /grid has no label_kind attribute");
+    g.label_kind = f.attribute_string("/grid", "label_kind");
+  }
   if (in[1] != g.ny || in[2] != g.nx)
     throw IoError(file + ": input_shape " + std::to_string(in[1]) + "x" + std::to_string(in[2]) +
                   " does not match the grid " + std::to_string(g.ny) + "x" + std::to_string(g.nx));

@@ -98,6 +98,43 @@ TEST(World, ContactsAreSortedByKeyAndUnique) {
   }
 }
 
+// match_contacts_by_key against a brute-force search, on consecutive steps of a real scene;
+// lists out of key order are refused.
+TEST(World, MatchContactsByKeyEqualsBruteForce) {
+  WorldDef def;
+  def.bodies.count = 60;
+  World w(def);
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 30;
+  int persistent = 0, fresh = 0;
+  for (int s = 0; s < 200; ++s) {
+    w.collide();
+    const LcpProblem& p = w.assemble();
+    const auto& cur = w.contacts();
+    const auto& prev = w.previous_contacts();
+    const std::vector<int> m = match_contacts_by_key(prev, cur);
+    ASSERT_EQ(m.size(), cur.size());
+    for (std::size_t c = 0; c < cur.size(); ++c) {
+      int want = -1;
+      for (std::size_t j = 0; j < prev.size(); ++j)
+        if (prev[j].key == cur[c].key) want = static_cast<int>(j);
+      ASSERT_EQ(m[c], want) << "step " << s << " contact " << c;
+      (want >= 0 ? persistent : fresh) += 1;
+    }
+    w.integrate(solver->solve(p, Eigen::VectorXd::Zero(p.rows()), o).lambda);
+  }
+  EXPECT_GT(persistent, 100);
+  EXPECT_GT(fresh, 10);
+  Contact a, b;
+  a.key = ContactKey::pair(0, 1);
+  b.key = ContactKey::pair(0, 2);
+  const std::vector<Contact> sorted{a, b}, unsorted{b, a};
+  EXPECT_EQ(match_contacts_by_key(sorted, sorted), (std::vector<int>{0, 1}));
+  EXPECT_THROW(match_contacts_by_key(unsorted, sorted), InvalidArgument);
+  EXPECT_THROW(match_contacts_by_key(sorted, unsorted), InvalidArgument);
+}
+
 TEST(World, BroadPhaseFindsExactlyTheBruteForcePairs) {
   Rng rng(7);
   for (int trial = 0; trial < 20; ++trial) {

@@ -49,9 +49,11 @@ Eigen::VectorXd advance_to_contacts(World& world) {
   return {};
 }
 
-/// A tiny random model for the data set's default image setting on `box`.
-Model tiny_model(double box = 12.0) {
-  const FeatureImageDef img = FeatureImageDef::for_box(box, box);
+/// A tiny random model for the data set's default image setting on `box` (or the residual
+/// model's channels and label kind).
+Model tiny_model(double box = 12.0, bool residual = false) {
+  FeatureImageDef img = FeatureImageDef::for_box(box, box);
+  if (residual) img.channels = residual_feature_channels();
   const FeatureImageBuilder b(img);
   ModelGrid g;
   g.d = img.sph.grid.spacing;
@@ -61,6 +63,7 @@ Model tiny_model(double box = 12.0) {
   g.ny = b.ny();
   g.feature_channels = feature_channel_names(img.channels);
   g.label_channels = label_channel_names();
+  if (residual) g.label_kind = "residual";
   Model m(ArchSpec::parse(R"(
 name = "tiny"
 [[layer]]
@@ -124,6 +127,44 @@ TEST(CnnWarmStarter, GatherOfTheBuildersLabelGridEqualsTheSphStarter) {
   const double scale = std::max(1.0, star.cwiseAbs().maxCoeff());
   for (int i = 0; i < sph.size(); ++i) EXPECT_NEAR(from_grid[i], sph[i], 1e-6 * scale) << "row " << i;
   EXPECT_GT(sph.cwiseAbs().maxCoeff(), 0.0);
+}
+
+// A residual model adds its read-back to builtin: with a network that predicts exactly 0
+// the guess IS builtin's; with a non-zero output it differs from builtin by the read-back of
+// the predicted grid (guess_from_labels), projected.
+TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{world, nullptr});
+  ASSERT_GT(b.cwiseAbs().maxCoeff(), 0.0);
+
+  Model zero = tiny_model(12.0, true);
+  for (const ParamRef& p : zero.network().parameters()) p.value->flat().setZero();
+  zero.output_stats.mean = {0.0f, 0.0f};
+  CnnWarmStarter z(std::move(zero), "cnn", false);
+  EXPECT_EQ(z.initial_guess(StepView{world, nullptr}), b);
+
+  CnnWarmStarter r(tiny_model(12.0, true), "cnn", false);
+  const Eigen::VectorXd g = r.initial_guess(StepView{world, nullptr});
+  expect_feasible(world, g);
+  // Rebuild the same prediction by hand: features (with the previous contacts) → predict.
+  FeatureImageDef img = FeatureImageDef::for_box(12, 12);
+  img.channels = residual_feature_channels();
+  FeatureImageBuilder builder(img);
+  Tensor f(1, builder.feature_channels(), builder.ny(), builder.nx());
+  builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
+                   std::span<float>(f.data(), f.size()));
+  const Tensor labels = r.model().predict(f);
+  Eigen::VectorXd want = b + r.guess_from_labels(world, labels, false);
+  project_feasible(world.problem(), want);
+  ASSERT_EQ(g.size(), want.size());
+  for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(g[i], want[i], 1e-9 * (1 + std::abs(want[i]))) << "row " << i;
+  EXPECT_GT((g - b).cwiseAbs().maxCoeff(), 1e-6);  // the correction is not empty
+
+  // A residual model without the lambda_prev channels cannot be built.
+  ModelGrid bad = tiny_model(12.0, false).grid();
+  bad.label_kind = "residual";
+  EXPECT_THROW(Model(ArchSpec::parse("name = \"x\"\n[[layer]]\ntype = \"conv\"\nout = 2\n"), bad, 5), ConfigError);
 }
 
 TEST(CnnWarmStarter, HybridKeepsBuiltinForPersistentContacts) {

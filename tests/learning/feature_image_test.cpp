@@ -99,6 +99,127 @@ TEST(FeatureImage, ContactChannelsAndChannelOrder) {
   EXPECT_NEAR(at(img, 2, j, i, ny, nx), 0.6f, 1e-6);  // channel 2 is nx
 }
 
+// Per-contact channels: the previous λ matched by key (0 for a new contact), the relative
+// velocity of the contact points (with the ω × r terms, wall at rest) and the gap, all as
+// Shepard numerators at the contact point, so label − lambda_prev = splat(λ* − λ_prev).
+TEST(FeatureImage, PerContactChannelsAreNumeratorsOfBuiltinLambdaRelativeVelocityAndGap) {
+  FeatureImageDef def = FeatureImageDef::for_box(30, 30);
+  def.channels = {FeatureChannel::LambdaPrevN, FeatureChannel::LambdaPrevT, FeatureChannel::VrelN,
+                  FeatureChannel::VrelT, FeatureChannel::Gap};
+  FeatureImageBuilder b(def);
+  const double d = def.sph.grid.spacing;
+  const SphKernel W(def.sph.kernel, def.sph.support);
+  // Body 0 at (20.3, 5.1) with a floor contact at (20.3, 4.1) below it (r = 1); bodies 1 and 2
+  // at (6, 21.2) and (8, 21.2) touching at (7, 21.2), normal +x (from 1 to 2).
+  BodyState s;
+  auto add = [&](Vec2 x, Vec2 v, double w) { s.add(x, 1.0, 1.0, v, 0.0, w); };
+  add({20.3, 5.1}, {0.5, -2.0}, 3.0);
+  add({6.0, 21.2}, {1.0, 0.25}, 0.0);
+  add({8.0, 21.2}, {-1.0, 0.75}, -2.0);
+  Contact floor;  // wall a = bottom, b = body 0; normal from the wall into the body
+  floor.key = ContactKey::wall(Wall::Bottom, 0);
+  floor.body_a = static_cast<int>(Wall::Bottom);
+  floor.body_b = 0;
+  floor.point = {20.3, 4.1};
+  floor.normal = {0, 1};
+  floor.gap = -0.02;
+  Contact pair;
+  pair.key = ContactKey::pair(1, 2);
+  pair.body_a = 1;
+  pair.body_b = 2;
+  pair.point = {7.0, 21.2};
+  pair.normal = {1, 0};
+  pair.gap = 0.01;
+  const std::vector<Contact> cur{floor, pair};  // key order: wall contacts first
+  Contact old_floor = floor;                   // persists, with last step's λ
+  old_floor.lambda_n = 30.0;
+  old_floor.lambda_t = -4.0;
+  Contact gone;  // a contact that does not persist
+  gone.key = ContactKey::pair(0, 2);
+  gone.lambda_n = 99;
+  const std::vector<Contact> prev{old_floor, gone};
+  std::vector<float> img(b.feature_size());
+  b.features(s, cur, prev, img);
+  const int ny = b.ny(), nx = b.nx();
+
+  // Floor contact: node nearest (20.3, 4.1).
+  int j = static_cast<int>(std::lround(4.1 / d)), i = static_cast<int>(std::lround(20.3 / d));
+  double w = W(std::hypot(i * d - 20.3, j * d - 4.1));
+  ASSERT_GT(w, 0);
+  // u_b at the point: v + ω × r with r = (0, −1): ω × r = (−ω r_y, ω r_x) = (3, 0) → (3.5, −2).
+  EXPECT_NEAR(at(img, 0, j, i, ny, nx), w * 30.0, 1e-5 * w * 30);
+  EXPECT_NEAR(at(img, 1, j, i, ny, nx), w * -4.0, 1e-5 * w * 4);
+  EXPECT_NEAR(at(img, 2, j, i, ny, nx), w * -2.0, 1e-5 * w * 2);  // vrel_n = u·n = −2 (approaching)
+  EXPECT_NEAR(at(img, 3, j, i, ny, nx), w * -3.5, 1e-5 * w * 3.5);  // t = perp(n) = (−1, 0)
+  EXPECT_NEAR(at(img, 4, j, i, ny, nx), w * -0.02, 1e-5);
+
+  // Pair contact: new (λ_prev = 0). u_b − u_a: body 2 at r = (−1, 0): (−1, 0.75) + (0, −2·−1)
+  // = (−1, 2.75); body 1 at r = (1, 0), ω = 0: (1, 0.25). Difference (−2, 2.5): n = (1, 0),
+  // t = (0, 1) → vrel_n = −2, vrel_t = 2.5.
+  j = static_cast<int>(std::lround(21.2 / d));
+  i = static_cast<int>(std::lround(7.0 / d));
+  w = W(std::hypot(i * d - 7.0, j * d - 21.2));
+  ASSERT_GT(w, 0);
+  EXPECT_EQ(at(img, 0, j, i, ny, nx), 0.0f);
+  EXPECT_EQ(at(img, 1, j, i, ny, nx), 0.0f);
+  EXPECT_NEAR(at(img, 2, j, i, ny, nx), w * -2.0, 1e-5 * w * 2);
+  EXPECT_NEAR(at(img, 3, j, i, ny, nx), w * 2.5, 1e-5 * w * 2.5);
+  EXPECT_NEAR(at(img, 4, j, i, ny, nx), w * 0.01, 1e-6);
+
+  // Without previous contacts every contact is new: the lambda_prev channels vanish.
+  b.features(s, cur, img);
+  EXPECT_TRUE(std::all_of(img.begin(), img.begin() + 2 * ny * nx, [](float v) { return v == 0.0f; }));
+  // Unsorted contact lists are refused (the key matching is a merge).
+  const std::vector<Contact> unsorted{pair, floor};
+  EXPECT_THROW(b.features(s, unsorted, prev, img), InvalidArgument);
+}
+
+// On a real step, label − lambda_prev (numerators) read back at the contacts is λ* − λ_prev:
+// the residual target decodes to the correction the cnn starter adds to builtin.
+TEST(FeatureImage, ResidualLabelReadsBackAsLambdaStarMinusBuiltin) {
+  WorldDef def;
+  def.bodies.count = 40;
+  def.bodies.seed = 5;
+  World world(def);
+  Eigen::VectorXd star;
+  for (int s = 0; s < 250; ++s) {
+    world.collide();
+    star = solve_oracle(world.assemble()).lambda;
+    if (s >= 200 && world.contacts().size() > 20) break;
+    world.integrate(star);
+  }
+  ASSERT_GT(world.contacts().size(), 20u);
+  FeatureImageDef img = FeatureImageDef::for_box(30, 30);
+  img.channels = {FeatureChannel::LambdaPrevN, FeatureChannel::LambdaPrevT};
+  FeatureImageBuilder b(img);
+  const auto& cs = world.contacts();
+  std::vector<double> lam(2 * cs.size());
+  for (int c = 0; c < static_cast<int>(cs.size()); ++c) {
+    lam[2 * c] = star[world.normal_row(c)];
+    lam[2 * c + 1] = star[world.tangent_row(c)];
+  }
+  std::vector<float> feat(b.feature_size()), label(b.label_size());
+  b.features(world.bodies(), cs, world.previous_contacts(), feat);
+  b.labels(cs, lam, label);
+  SphTransferDef t = b.def().sph;
+  SphTransfer transfer(t);
+  SphGrid g(t.grid);
+  for (std::size_t k = 0; k < label.size(); ++k) g.data()[k] = double(label[k]) - double(feat[k]);
+  std::vector<Vec2> pts;
+  for (const Contact& c : cs) pts.push_back(c.point);
+  const std::span<const double> back = transfer.gather(g, pts);
+  const Eigen::VectorXd builtin = default_warm_starters().make("builtin")->initial_guess(StepView{world, nullptr});
+  double scale = 1;
+  for (double v : lam) scale = std::max(scale, std::abs(v));
+  int changed = 0;
+  for (int c = 0; c < static_cast<int>(cs.size()); ++c) {
+    const double want = star[world.normal_row(c)] - builtin[world.normal_row(c)];
+    changed += std::abs(want) > 1e-3 * scale;
+    EXPECT_NEAR(back[2 * c], want, 1e-5 * scale) << "contact " << c;
+  }
+  EXPECT_GT(changed, 0);  // a non-trivial correction
+}
+
 TEST(FeatureImage, LabelsAreShepardNumeratorsOrientedLikeTheFeatures) {
   FeatureImageBuilder b(FeatureImageDef::for_box(30, 30));
   const double d = b.def().sph.grid.spacing;

@@ -95,8 +95,33 @@ TEST_F(ModelFile, DamagedFilesThrowIoError) {
   };
   {
     const fs::path p = copy("version.h5");
-    H5File::open_rw(p.string()).set_attribute<std::int32_t>("/", "format_version", 2);
-    expect_io_error(p, "version 2");
+    H5File::open_rw(p.string()).set_attribute<std::int32_t>("/", "format_version", kModelFormatVersion + 1);
+    expect_io_error(p, "version " + std::to_string(kModelFormatVersion + 1));
+  }
+  {
+    const fs::path p = copy("version0.h5");
+    H5File::open_rw(p.string()).set_attribute<std::int32_t>("/", "format_version", 0);
+    expect_io_error(p, "version 0");
+  }
+  {
+    const fs::path p = copy("nokind.h5");  // version 2 requires label_kind
+    H5File::open_rw(p.string()).remove_attribute("/grid", "label_kind");
+    expect_io_error(p, "label_kind");
+  }
+  {
+    const fs::path p = copy("badkind.h5");
+    H5File::open_rw(p.string()).set_attribute("/grid", "label_kind", std::string("relative"));
+    expect_io_error(p, "relative");
+  }
+  {
+    // A version-1 file has no label_kind: it still loads, as an absolute model.
+    const fs::path p = copy("v1.h5");
+    {
+      H5File f = H5File::open_rw(p.string());
+      f.set_attribute<std::int32_t>("/", "format_version", 1);
+      f.remove_attribute("/grid", "label_kind");
+    }
+    EXPECT_EQ(load_model(p).grid().label_kind, "absolute");
   }
   {
     const fs::path p = copy("missing.h5");

@@ -8,7 +8,9 @@
 #include <compare>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "dc/engine/vec2.hpp"
 
@@ -58,5 +60,11 @@ struct Contact {
   double lambda_n = 0;  ///< solved normal force [N] (after the step's solve)
   double lambda_t = 0;  ///< solved friction force along t = perp(n) [N]
 };
+
+/// For each contact of `current`, the index of the contact with the same key in `previous`,
+/// or −1 if it is new this step: the persistent-contact matching behind the `builtin` warm
+/// start. Both lists must be sorted by key (World keeps them so); one merge pass, O(C).
+/// Throws InvalidArgument naming the list if one is not sorted by key.
+std::vector<int> match_contacts_by_key(std::span<const Contact> previous, std::span<const Contact> current);
 
 }  // namespace dc

@@ -191,6 +191,8 @@ class H5File {
   [[nodiscard]] T attribute(std::string_view object, std::string_view name) const;
   template <H5Element T>
   [[nodiscard]] std::vector<T> attribute_array(std::string_view object, std::string_view name) const;
+  /// Deletes an attribute; IoError if the object or the attribute does not exist.
+  void remove_attribute(std::string_view object, std::string_view name);
   /// Names of the attributes of an object.
   [[nodiscard]] std::vector<std::string> attribute_names(std::string_view object) const;
 

@@ -6,7 +6,10 @@
 //               Shepard numerators) → SphTransfer::gather at the contact points (Shepard:
 //               divided by the interpolated kernel-weight field of the points) → projected
 //               into the bounds. Exactly the `sph` starter's read-back, with the predicted
-//               grid in place of the oracle's splat.
+//               grid in place of the oracle's splat. A RESIDUAL model (ModelGrid::label_kind,
+//               model.hpp) predicts the splat of λ* − λ_prev from features that include the
+//               builtin guess (lambda_prev_n/t): then λ⁰ = λ_prev (by key, 0 if new) + the
+//               read-back, projected — builtin plus a learned correction.
 //   cnn-hybrid  builtin (the previous step's λ by key) for persistent contacts, the cnn
 //               prediction for contacts that are new this step; steps without new contacts
 //               skip the network altogether. A non-oracle starter.
@@ -58,10 +61,11 @@ class CnnWarmStarter final : public WarmStarter {
   /// when the scene's box does not give the model's grid.
   Eigen::VectorXd initial_guess(const StepView& view) override;
 
-  /// The gather path alone: λ⁰ of `world`'s contacts read back from a raw label grid
-  /// `labels` [1, 2, ny, nx] (NCHW, the data set's layout) with the Shepard read-back,
-  /// projected. initial_guess() is features → predict → this.
-  Eigen::VectorXd guess_from_labels(const World& world, const Tensor& labels);
+  /// The gather path alone: the values of `world`'s contacts read back from a raw label grid
+  /// `labels` [1, 2, ny, nx] (NCHW, the data set's layout) with the Shepard read-back, in row
+  /// order, projected into the bounds when `project`. initial_guess() is features → predict
+  /// → this (+ λ_prev for a residual model, then projected).
+  Eigen::VectorXd guess_from_labels(const World& world, const Tensor& labels, bool project = true);
 
   [[nodiscard]] const CnnTiming& last_timing() const { return last_; }
   [[nodiscard]] const CnnTiming& total_timing() const { return total_; }

@@ -13,9 +13,22 @@
 //   contact_density  Σ_c W(|x − p_c|)                           [1/m²]   (this step's contact
 //                                                                         points, known before the solve)
 //   nx, ny           Σ_c W n_c / Σ_c W   (0 where Σ_c W = 0)    [1]      (contact normals)
+//   lambda_prev_n,   Σ_c W λ_prev,c                              [N/m²]   (the builtin warm start on
+//   lambda_prev_t                                                          the grid: the previous step's
+//                                                                          solved λ of the contact with the
+//                                                                          same key, 0 for a new contact)
+//   vrel_n, vrel_t   Σ_c W (u_b − u_a)·n_c, ·t_c                 [m/s/m²] (relative velocity of the two
+//                                                                          contact points before the solve,
+//                                                                          u = v + ω × (p_c − x); a wall's
+//                                                                          u is 0; t = perp(n))
+//   gap              Σ_c W g_c                                   [m/m²]   (signed gap, < 0 penetration)
 //
 // over bodies k (centres x_k) and this step's contacts c (points p_c, normals n_c). The
-// default feature set is mass, vx, vy, omega, contact_density.
+// per-contact channels lambda_prev_*, vrel_*, gap are Shepard NUMERATORS like the labels
+// (same kernel, same points): a label minus lambda_prev is the splat of λ* − λ_prev, the
+// target of a residual model (model.hpp, ModelGrid::label_kind). vrel and gap are what the
+// LCP's b is made of (b_n = vrel_n + Δt g·n + gap terms, engine/src/assembly.cpp).
+// The default feature set is mass, vx, vy, omega, contact_density.
 //
 // Labels (2 channels, λ_n then λ_t): the Shepard NUMERATOR grids
 //
@@ -43,9 +56,10 @@
 namespace dc {
 
 /// One feature channel (see the file comment for the formulas).
-enum class FeatureChannel { Mass, Vx, Vy, Omega, ContactDensity, Nx, Ny };
+enum class FeatureChannel { Mass, Vx, Vy, Omega, ContactDensity, Nx, Ny, LambdaPrevN, LambdaPrevT, VrelN, VrelT, Gap };
 
-/// "mass", "vx", "vy", "omega", "contact_density", "nx", "ny".
+/// "mass", "vx", "vy", "omega", "contact_density", "nx", "ny", "lambda_prev_n", "lambda_prev_t",
+/// "vrel_n", "vrel_t", "gap".
 const char* to_string(FeatureChannel c);
 /// Inverse of to_string; ConfigError listing the valid names otherwise.
 FeatureChannel parse_feature_channel(std::string_view name);
@@ -55,6 +69,11 @@ std::vector<FeatureChannel> parse_feature_channels(const std::string& list);
 std::vector<std::string> feature_channel_names(std::span<const FeatureChannel> channels);
 /// mass, vx, vy, omega, contact_density.
 std::vector<FeatureChannel> default_feature_channels();
+/// The channels of a residual model (the shipped one): mass, vx, vy, omega, contact_density,
+/// lambda_prev_n, lambda_prev_t, vrel_n, vrel_t, gap.
+std::vector<FeatureChannel> residual_feature_channels();
+/// True if `channels` holds lambda_prev_n and lambda_prev_t (what a residual model needs).
+bool has_lambda_prev_channels(std::span<const FeatureChannel> channels);
 /// "lambda_n", "lambda_t".
 std::vector<std::string> label_channel_names();
 
@@ -86,10 +105,17 @@ class FeatureImageBuilder {
   [[nodiscard]] std::size_t label_size() const { return kLabelChannels * plane(); }       ///< 2·ny·nx
   [[nodiscard]] std::size_t plane() const { return static_cast<std::size_t>(nx_) * ny_; }
 
-  /// The feature image of a step: bodies as they are before the solve, and this step's
-  /// contacts (positions and normals only). `out` must hold feature_size() floats.
-  /// Throws InvalidArgument on a size mismatch or non-finite input.
-  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<float> out);
+  /// The feature image of a step: bodies as they are before the solve, this step's contacts
+  /// (key, point, normal, gap; not their λ) and the previous step's solved contacts
+  /// (`previous`: key-sorted, with λ; only read by the lambda_prev channels, empty = every
+  /// contact is new). `out` must hold feature_size() floats. Throws InvalidArgument on a size
+  /// mismatch, unsorted contact lists or non-finite input.
+  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
+                std::span<float> out);
+  /// The same with no previous contacts.
+  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<float> out) {
+    features(bodies, contacts, {}, out);
+  }
 
   /// The label image: Shepard numerators of (λ_n, λ_t) at the contact points. `lambda` is
   /// contact-major (λ_n,c, λ_t,c) pairs, 2·contacts.size() values. `out` must hold
@@ -104,6 +130,7 @@ class FeatureImageBuilder {
   SphGrid body_weight_;   // Σ W over body centres
   SphGrid contact_grid_;  // 2 channels: Σ W nx, Σ W ny
   SphGrid contact_weight_;
+  SphGrid contact_values_;  // 5 channels: Σ W λ_prev,n, Σ W λ_prev,t, Σ W vrel_n, Σ W vrel_t, Σ W gap
   SphTransfer label_transfer_;  // Shepard, 2 channels: the labels are its splat()
   std::vector<Vec2> points_;
   std::vector<double> values_;

@@ -20,7 +20,15 @@ struct ModelGrid {
   int ny = 61;
   std::vector<std::string> feature_channels{"m", "v_x", "v_y", "omega"};
   std::vector<std::string> label_channels{"lambda_n", "lambda_t"};
+  /// What the label grid means. "absolute": the Shepard numerators of λ* (the data set's
+  /// labels). "residual": the numerators of λ* − λ_prev, i.e. the data set's labels minus the
+  /// feature channels lambda_prev_n, lambda_prev_t (which the model must then have); the
+  /// warm start is λ_prev (by key) plus the read-back of the predicted grid.
+  std::string label_kind = "absolute";
 };
+
+/// "absolute" or "residual"; ConfigError otherwise.
+void validate_label_kind(const std::string& kind);
 
 class Model {
  public:

@@ -1,5 +1,6 @@
 #pragma once
-// Model files (HDF5, via dc::H5File). Layout, format version 1:
+// Model files (HDF5, via dc::H5File). Layout, format version 2 (version 1 files, which lack
+// /grid label_kind, still load as "absolute" models):
 //
 //   /                      attrs  format = "deepcontact-cnn-model", format_version = 1 (int32),
 //                                 input_shape = [C_in, ny, nx], output_shape = [C_out, ny, nx] (int32)
@@ -7,7 +8,8 @@
 //   /weights/<node>/<p>    float32, shape of the parameter tensor: conv weight [Cout, Cin, k, k],
 //                          conv bias [1, Cout, 1, 1], dense weight [O, D, 1, 1], bias [1, O, 1, 1]
 //   /normalisation/{input_mean,input_std,output_mean,output_std}   float32 [C]
-//   /grid                  group attrs d, h (float64), kernel (string), nx, ny (int32);
+//   /grid                  group attrs d, h (float64), kernel (string), nx, ny (int32),
+//                          label_kind (string, "absolute" | "residual"; version ≥ 2);
 //   /grid/feature_channels, /grid/label_channels   1-D string datasets
 //
 // save_model writes "<path>.tmp" and renames it onto <path> when complete.
@@ -19,7 +21,9 @@
 
 namespace dc {
 
-inline constexpr int kModelFormatVersion = 1;
+inline constexpr int kModelFormatVersion = 2;
+/// The oldest format version load_model still reads.
+inline constexpr int kModelFormatVersionOldest = 1;
 
 /// Throws IoError (one line) if the file cannot be written.
 void save_model(Model& model, const std::filesystem::path& path);
