@@ -66,8 +66,12 @@ Result run_cli(const Dir& dir, const std::string& args) {
   return r;
 }
 
-/// The tiny data sets, generated once per test binary run.
-std::string data_set(bool with_density = true) {
+/// The tiny data sets, generated once per test binary run: the default channels, without
+/// contact_density, or the residual model's channels (with lambda_prev_n/t).
+enum class Channels { Default, NoDensity, Residual };
+std::string data_set(Channels kind);
+std::string data_set(bool with_density = true) { return data_set(with_density ? Channels::Default : Channels::NoDensity); }
+std::string data_set(Channels kind) {
   static const fs::path dir = [] {
     const fs::path d = fs::temp_directory_path() / ("dc_train_cli_data_" + std::to_string(::getpid()));
     fs::create_directories(d);
@@ -77,10 +81,15 @@ std::string data_set(bool with_density = true) {
     fs::path d;
     ~Cleanup() { fs::remove_all(d); }
   } cleanup{dir};
-  const std::string out = (dir / (with_density ? "data.h5" : "nodensity.h5")).string();
+  const char* name = kind == Channels::Default ? "data.h5" : kind == Channels::NoDensity ? "nodensity.h5" : "residual.h5";
+  const char* channels = kind == Channels::Default     ? ""
+                         : kind == Channels::NoDensity ? " --channels mass,vx,vy,omega"
+                                                       : " --channels mass,vx,vy,omega,contact_density,lambda_prev_n,"
+                                                         "lambda_prev_t,vrel_n,vrel_t,gap";
+  const std::string out = (dir / name).string();
   if (!fs::exists(out)) {
-    const std::string cmd = std::string(DC_CLI) + " generate --sims 3" + kFamily +
-                            (with_density ? "" : " --channels mass,vx,vy,omega") + " --out " + out + " >/dev/null 2>&1";
+    const std::string cmd =
+        std::string(DC_CLI) + " generate --sims 3" + kFamily + channels + " --out " + out + " >/dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   return out;
@@ -137,6 +146,27 @@ TEST(TrainCli, ContactWeightRunsAndNeedsTheDensityChannel) {
                        kTrain);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("contact_density"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+}
+
+// --residual trains on label − lambda_prev and says so in the model; it needs those channels.
+TEST(TrainCli, ResidualNeedsTheLambdaPrevChannelsAndIsStoredInTheModel) {
+  Dir dir;
+  Result r = run_cli(dir, "train --data " + data_set(Channels::Residual) + " --out " + (dir / "r.h5") +
+                              " --epochs 1 --residual --contact-weight 4" + kTrain);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("residual labels"), std::string::npos) << r.out;
+  Model m = load_model(dir / "r.h5");
+  EXPECT_EQ(m.grid().label_kind, "residual");
+  EXPECT_EQ(m.network().input_shape().c, 10);
+  // The same data without --residual gives an absolute model.
+  r = run_cli(dir, "train --data " + data_set(Channels::Residual) + " --out " + (dir / "a.h5") + " --epochs 1" + kTrain);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(load_model(dir / "a.h5").grid().label_kind, "absolute");
+  // A data set without lambda_prev channels: one-line error naming them.
+  r = run_cli(dir, "train --data " + data_set() + " --out " + (dir / "x.h5") + " --epochs 1 --residual" + kTrain);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("lambda_prev_n"), std::string::npos) << r.err;
   EXPECT_EQ(lines(r.err), 1) << r.err;
 }
 

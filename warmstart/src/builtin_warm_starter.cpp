@@ -1,6 +1,6 @@
 // builtin: the previous step's solved λ of the contact with the same key, 0 for new
 // contacts — the persistent-contact warm start of Box2D and of the theses' "built-in".
-// Both contact lists are sorted by key, so matching is one merge pass, O(C).
+// Matching: match_contacts_by_key (one merge pass over the key-sorted lists, O(C)).
 #include "starters.hpp"
 
 namespace dc {
@@ -14,13 +14,12 @@ class BuiltinWarmStarter final : public WarmStarter {
     const auto& cur = w.contacts();
     const auto& prev = w.previous_contacts();
     Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
-    std::size_t j = 0;
+    const std::vector<int> match = match_contacts_by_key(prev, cur);
     for (std::size_t c = 0; c < cur.size(); ++c) {
-      while (j < prev.size() && prev[j].key < cur[c].key) ++j;
-      if (j < prev.size() && prev[j].key == cur[c].key) {
-        out[w.normal_row(static_cast<int>(c))] = prev[j].lambda_n;
-        if (w.has_friction_rows()) out[w.tangent_row(static_cast<int>(c))] = prev[j].lambda_t;
-      }
+      if (match[c] < 0) continue;
+      const Contact& p = prev[static_cast<std::size_t>(match[c])];
+      out[w.normal_row(static_cast<int>(c))] = p.lambda_n;
+      if (w.has_friction_rows()) out[w.tangent_row(static_cast<int>(c))] = p.lambda_t;
     }
     project_feasible(w.problem(), out);
     return out;
