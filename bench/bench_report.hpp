@@ -17,6 +17,11 @@ std::string format_table(const BenchResults& r, const std::vector<StarterSummary
 
 std::string summary_json(const BenchResults& r, const std::vector<StarterSummary>& s, const Provenance& p);
 
+/// The HDF5 group of a starter under /warmstarters: its name with '%' → "%25" and '/' →
+/// "%2F" (a model path in "cnn:models/x.h5" would otherwise nest groups). The exact name is
+/// the group's `name` attribute; /warmstarter_groups lists the groups in table order.
+std::string starter_group_name(const std::string& name);
+
 /// Writes results.h5 atomically (tmp + rename).
 void write_results_h5(const BenchResults& r, const Provenance& p, const std::string& path);
 

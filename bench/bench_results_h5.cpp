@@ -5,6 +5,16 @@
 
 namespace dc::bench {
 
+std::string starter_group_name(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    if (c == '%') out += "%25";
+    else if (c == '/') out += "%2F";
+    else out += c;
+  }
+  return out;
+}
+
 void write_results_h5(const BenchResults& r, const Provenance& p, const std::string& path) {
   AtomicH5File out(path);
   H5File& f = out.file();
@@ -41,14 +51,16 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
     f.write<double>("/steps/oracle_residual", r.oracle_residual, {S});
   }
 
-  std::vector<std::string> names;
+  std::vector<std::string> names, groups;
   const H5DatasetOptions compressed{.extendible = false, .chunk_rows = 0, .deflate = 4};
   for (const StarterRecord& rec : r.starters) {
     names.push_back(rec.name);
-    const std::string g = "/warmstarters/" + rec.name;
+    groups.push_back(starter_group_name(rec.name));
+    const std::string g = "/warmstarters/" + groups.back();
     const hsize_t n = rec.sweeps_to_tol.size(), B = r.budgets.size(), K = static_cast<hsize_t>(r.options.sweeps);
     f.create_group(g);
     f.set_attribute<std::int32_t>(g, "uses_oracle", rec.uses_oracle ? 1 : 0);
+    f.set_attribute(g, "name", rec.name);
     std::vector<std::int64_t> s(rec.seed.begin(), rec.seed.end());
     std::vector<std::int32_t> st(rec.step.begin(), rec.step.end()), rw(rec.rows.begin(), rec.rows.end()),
         tt(rec.sweeps_to_tol.begin(), rec.sweeps_to_tol.end());
@@ -71,6 +83,7 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
     f.write<double>(g + "/energy_error", rec.energy_error, {n, B});
   }
   f.write_strings("/warmstarter_names", names);
+  f.write_strings("/warmstarter_groups", groups);
   out.commit();
 }
 

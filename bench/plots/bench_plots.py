@@ -25,6 +25,11 @@ def load(path):
     return f, order
 
 
+def group(f, name):
+    """The /warmstarters group of a starter: its name with '%' -> %25 and '/' -> %2F."""
+    return f["warmstarters"][name.replace("%", "%25").replace("/", "%2F")]
+
+
 def style(i):
     cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     return dict(color=cycle[i % len(cycle)])
@@ -34,7 +39,7 @@ def convergence(f, names, out, tol, sweeps):
     fig, ax = plt.subplots(figsize=(8, 5.5))
     k = np.arange(1, sweeps + 1)
     for i, n in enumerate(names):
-        th = f["warmstarters"][n]["theta"][()].astype(np.float64)
+        th = group(f, n)["theta"][()].astype(np.float64)
         th = np.maximum(th, 1e-16)  # exact zeros (converged) drawn at the floor of the log axis
         q1, med, q3 = np.percentile(th, [25, 50, 75], axis=0)
         ax.plot(k, med, label=n, lw=1.5, **style(i))
@@ -55,7 +60,7 @@ def convergence(f, names, out, tol, sweeps):
 def sweeps_per_step(f, names, out, sweeps):
     fig, ax = plt.subplots(figsize=(9, 5))
     for i, n in enumerate(names):
-        g = f["warmstarters"][n]
+        g = group(f, n)
         s = g["sweeps_to_tol"][()].astype(np.float64)
         s[s < 0] = np.nan  # never converged: gap in the line, counted in the table
         x = np.arange(len(s))
@@ -76,7 +81,7 @@ def time_breakdown(f, names, out):
     paired = f.attrs["mode"] == "paired" if not isinstance(f.attrs["mode"], bytes) else f.attrs["mode"] == b"paired"
     shared_oracle = np.median(f["steps"]["oracle_ms"][()]) if "steps" in f and len(f["steps"]["oracle_ms"]) else 0.0
     for n in names:
-        g = f["warmstarters"][n]
+        g = group(f, n)
         ws.append(np.median(g["warmstart_ms"][()]))
         sv.append(np.median(g["solve_ms"][()]))
         uses = bool(g.attrs["uses_oracle"])
@@ -109,7 +114,7 @@ def pareto(f, names, out):
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
     for ax, (key, label, logy) in zip(axes.flat, panels):
         for i, n in enumerate(names):
-            g = f["warmstarters"][n]
+            g = group(f, n)
             v = g[key][()]
             if key == "energy_error":
                 v = np.abs(v)
@@ -137,7 +142,7 @@ def main():
     out = sys.argv[2]
     tol = float(f.attrs["tolerance"])
     sweeps = int(f.attrs["sweeps"])
-    if len(f["budgets"]) == 0 or len(names) == 0 or f["warmstarters"][names[0]]["theta"].shape[0] == 0:
+    if len(f["budgets"]) == 0 or len(names) == 0 or group(f, names[0])["theta"].shape[0] == 0:
         print("bench_plots: nothing to plot (no evaluated steps)", file=sys.stderr)
         return 1
     convergence(f, names, out, tol, sweeps)

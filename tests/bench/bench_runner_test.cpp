@@ -93,6 +93,13 @@ TEST(BenchRunner, DefaultBudgetsAreSortedAndEndAtTheSweeps) {
   }
 }
 
+// A starter argument may be a path ("cnn:models/x.h5"): its group must not nest.
+TEST(BenchReport, StarterGroupNamesEscapeSlashesAndPercent) {
+  EXPECT_EQ(bench::starter_group_name("builtin"), "builtin");
+  EXPECT_EQ(bench::starter_group_name("cnn:models/a.h5"), "cnn:models%2Fa.h5");
+  EXPECT_EQ(bench::starter_group_name("copy:%/"), "copy:%25%2F");
+}
+
 TEST(BenchReport, WritesSummaryResultsAndReport) {
   auto o = small_pile();
   o.scene.time.steps = 90;
@@ -113,6 +120,8 @@ TEST(BenchReport, WritesSummaryResultsAndReport) {
   f.require_shape("/warmstarters/builtin/theta", {n, 600});
   f.require_shape("/warmstarters/copy:2/residual", {n, r.budgets.size()});
   EXPECT_EQ(f.read_strings("/warmstarter_names"), (std::vector<std::string>{"zero", "builtin", "copy:2"}));
+  EXPECT_EQ(f.read_strings("/warmstarter_groups"), (std::vector<std::string>{"zero", "builtin", "copy:2"}));
+  EXPECT_EQ(f.attribute_string("/warmstarters/copy:2", "name"), "copy:2");
   EXPECT_TRUE(std::filesystem::exists(dir.file("report.md")));
   for (const char* png : {"convergence.png", "sweeps_per_step.png", "time_breakdown.png", "pareto.png"})
     EXPECT_TRUE(std::filesystem::exists(dir.file(png))) << png << " (python3-matplotlib/h5py installed?)";
