@@ -262,7 +262,7 @@ void add_generate_command(CLI::App& app) {
   cmd->add_flag("--resume", args->resume, "Continue an interrupted run from OUT.partial (same parameters)");
   cmd->add_flag("--force", args->force, "Replace an existing OUT");
   cmd->add_option("--grid", args->grid,
-                  "SPH grid KERNEL:D:H (default: the bench's sph setting, poly6:0.5:0.5 -> 61 x 61 on 30 x 30)");
+                  "SPH grid KERNEL:D:H (default: the bench's sph setting, poly6:0.5:0.355 -> 61 x 61 on 30 x 30)");
   cmd->add_option("--channels", args->channels,
                   "Feature channels, comma-separated from mass,vx,vy,omega,contact_density,nx,ny,lambda_prev_n,"
                   "lambda_prev_t,vrel_n,vrel_t,gap "

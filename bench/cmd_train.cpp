@@ -63,6 +63,7 @@ struct TrainArgs {
   std::string schedule = TrainDef{}.schedule;
   double contact_weight = 0.0;
   bool residual = false;  // train on λ* − λ_prev (ModelGrid::label_kind = "residual")
+  double label_scale = 0.0;  // asinh compression of the labels (ModelGrid::label_scale)
   bool resume = false;
   bool force = false;
   bool no_plot = false;
@@ -97,7 +98,8 @@ std::vector<std::pair<std::string, std::string>> run_identity(const TrainArgs& a
           {"every", std::to_string(a.every)},
           {"schedule", a.schedule},
           {"contact_weight", num(a.contact_weight)},
-          {"residual", a.residual ? "1" : "0"}};
+          {"residual", a.residual ? "1" : "0"},
+          {"label_scale", num(a.label_scale)}};
 }
 
 ArchSpec select_arch(const TrainArgs& a, int label_channels, int ny, int nx) {
@@ -112,7 +114,8 @@ ArchSpec select_arch(const TrainArgs& a, int label_channels, int ny, int nx) {
 /// map 1 + W·[contact_density > 0] (one channel, shared by λ_n and λ_t). `residual`: the
 /// labels become label − (lambda_prev_n, lambda_prev_t) feature channels, the splat of
 /// λ* − λ_prev (feature_image.hpp).
-std::vector<TrainingSample> load_samples(const DataSetReader& r, int every, double contact_weight, bool residual) {
+std::vector<TrainingSample> load_samples(const DataSetReader& r, int every, double contact_weight, bool residual,
+                                         double label_scale) {
   const auto& names = r.feature_channel_names();
   const auto channel = [&](const char* name) {
     const auto it = std::find(names.begin(), names.end(), name);
@@ -145,6 +148,7 @@ std::vector<TrainingSample> load_samples(const DataSetReader& r, int every, doub
           for (std::size_t q = 0; q < P; ++q) lab[q] -= prev[q];
         }
       }
+      compress_labels(t.labels, label_scale);
       if (contact_weight > 0) {
         t.weights = Tensor(1, 1, f.h(), f.w());
         const float* cd = t.features.data() + static_cast<std::size_t>(density) * f.shape().plane();
@@ -256,6 +260,7 @@ double plain_mse(Model& model, std::span<const TrainingSample> data, const std::
       std::memcpy(y.sample(k), s.labels.data(), s.labels.size() * sizeof(float));
     }
     Tensor pred = model.predict(x);
+    compress_labels(pred, model.grid().label_scale);  // back to the network's label space
     model.output_stats.apply(pred);
     model.output_stats.apply(y);
     sum += b * mse(pred, y);
@@ -270,6 +275,8 @@ void run(const TrainArgs& a) {
   if (a.every < 1) throw ConfigError("--every must be >= 1");
   if (!(a.contact_weight >= 0) || !std::isfinite(a.contact_weight))
     throw ConfigError("--contact-weight must be a finite number >= 0");
+  if (!(a.label_scale >= 0) || !std::isfinite(a.label_scale))
+    throw ConfigError("--label-scale must be a finite number >= 0");
   if (!(a.dropout >= 0 && a.dropout < 1)) throw ConfigError("--dropout must be in [0, 1)");
   const fs::path out = a.out, ckpt = a.out + ".ckpt";
   if (a.resume && !fs::exists(ckpt))
@@ -296,7 +303,7 @@ void run(const TrainArgs& a) {
 
   const auto t_load = std::chrono::steady_clock::now();
   const DataSetReader reader(a.data);
-  const std::vector<TrainingSample> samples = load_samples(reader, a.every, a.contact_weight, a.residual);
+  const std::vector<TrainingSample> samples = load_samples(reader, a.every, a.contact_weight, a.residual, a.label_scale);
   const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
 
   // The model carries the data set's grid and channel names, so the cnn starter can check
@@ -311,6 +318,7 @@ void run(const TrainArgs& a) {
   grid.feature_channels = reader.feature_channel_names();
   grid.label_channels = reader.label_channel_names();
   grid.label_kind = a.residual ? "residual" : "absolute";
+  grid.label_scale = a.label_scale;
   const ArchSpec arch = select_arch(a, reader.label_channels(), reader.ny(), reader.nx());
   const auto id = run_identity(a, reader, arch.to_toml());
 
@@ -320,7 +328,7 @@ void run(const TrainArgs& a) {
     Model loaded = load_model(ckpt);  // other version / truncated → IoError
     const ModelGrid& g = loaded.grid();
     if (g.nx != grid.nx || g.ny != grid.ny || g.feature_channels != grid.feature_channels ||
-        g.label_channels != grid.label_channels || g.label_kind != grid.label_kind || g.d != grid.d || g.h != grid.h || g.kernel != grid.kernel)
+        g.label_channels != grid.label_channels || g.label_kind != grid.label_kind || g.label_scale != grid.label_scale || g.d != grid.d || g.h != grid.h || g.kernel != grid.kernel)
       throw ConfigError("--resume: " + ckpt.string() + " holds a model for another grid or channel set than " + a.data);
     if (loaded.network().arch().to_toml() != arch.to_toml())
       throw ConfigError("--resume: " + ckpt.string() + " holds another architecture than --arch selects");
@@ -332,13 +340,18 @@ void run(const TrainArgs& a) {
     fs::remove(ckpt, ec);  // a stale checkpoint of another run must not be resumed later
   }
 
+  // --dropout only shapes the built-in architectures; an arch file states its own.
+  const bool builtin_arch = a.arch.empty() || a.arch == "default" || a.arch == "seed-dense";
+  char dropout_buf[32];
+  std::snprintf(dropout_buf, sizeof dropout_buf, "%g", a.dropout);
+  const std::string dropout_text = builtin_arch ? dropout_buf : "as in the arch file";
   std::printf("train: %zu samples (every %d of %lld) from %zu simulations of %s, %d x %d grid, %d feature channels; "
-              "%zu weights (%s), %d epochs, batch %d, lr %g (%s), momentum %g, weight decay %g, dropout %g, "
-              "contact weight %g, %s labels, %d thread%s; loaded in %.1f s\n",
+              "%zu weights (%s), %d epochs, batch %d, lr %g (%s), momentum %g, weight decay %g, dropout %s, "
+              "contact weight %g, %s labels (asinh scale %g), %d thread%s; loaded in %.1f s\n",
               samples.size(), a.every, static_cast<long long>(reader.samples()), reader.simulations().size(),
               a.data.c_str(), grid.nx, grid.ny, reader.feature_channels(), model->network().parameter_count(),
               arch.name.c_str(), a.epochs, a.batch, a.lr, a.schedule.c_str(), a.momentum, a.weight_decay,
-              a.dropout, a.contact_weight, grid.label_kind.c_str(), threads, threads == 1 ? "" : "s", load_s);
+              dropout_text.c_str(), a.contact_weight, grid.label_kind.c_str(), a.label_scale, threads, threads == 1 ? "" : "s", load_s);
   if (resume) std::printf("train: resuming after epoch %d from %s\n", resume->epochs_done, ckpt.string().c_str());
   std::fflush(stdout);
 
@@ -453,6 +466,10 @@ void add_train_command(CLI::App& app) {
   cmd->add_flag("--residual", args->residual,
                "Learn the correction lambda* - lambda_prev of the builtin warm start (needs the lambda_prev_n, "
                "lambda_prev_t feature channels; docs/learning.md)");
+  cmd->add_option("--label-scale", args->label_scale,
+                  "Learn asinh(label / S) instead of the label (0 = off): small forces keep their precision next "
+                  "to impacts; the model stores S and inverts it")
+      ->capture_default_str();
   cmd->add_flag("--resume", args->resume, "Continue an interrupted run from OUT.ckpt (same data and options)");
   cmd->add_flag("--force", args->force, "Replace an existing OUT");
   cmd->add_flag("--no-plot", args->no_plot, "Skip the loss-curve PNG");

@@ -3,13 +3,17 @@
 # `make model` runs this after building. The pipeline, exactly:
 #
 #   1. deepcontact generate: M seed-scene simulations (50..100 circles, 600 steps each) with
-#      scene seeds 1000..1000+M-1 — disjoint from the bench's evaluation seeds 1..3.
-#   2. deepcontact train: the default small U-Net on every 4th step of each simulation
-#      (consecutive steps are nearly identical), validation = 20 % of the simulations.
+#      scene seeds 1000..1000+M-1 — disjoint from the bench's evaluation seeds 1..3 — with the
+#      residual feature channels (the builtin warm start, relative velocity and gap at the
+#      contacts on the grid; docs/learning.md "Residual models").
+#   2. deepcontact train: the 5-level U-Net models/arch/unet-deep.toml as a RESIDUAL model
+#      (learns λ* − λ_prev, asinh-compressed with scale 10, loss weight 11 at contact nodes) on
+#      every 4th step of each simulation (consecutive steps are nearly identical), validation =
+#      20 % of the simulations.
 #
-# Sized for a 2-core machine: 16 x 600 steps = 9588 samples, of which 2398 are used (1.1 min
-# of generation CPU time, 4.9 min of training CPU time with 2 threads; on the shared dev box
-# 9 + 20 min of wall time, on an idle one about 1 + 3 min — docs/learning.md "Default model").
+# Sized for a 2-core machine: 32 x 600 steps = 19176 samples, of which 4795 are used; on an
+# idle 2-core box about 1 min of generation and 16 x ~16 s of training (docs/learning.md
+# "Default model" has the measured times).
 # THREADS is fixed (not nproc) because a training is bit-reproducible only for the same
 # thread count; the data set does not depend on it. Environment overrides: BUILD (build dir,
 # default build), SIMS, EPOCHS, EVERY, THREADS; DATA (the data set path), OUT (the model).
@@ -18,11 +22,12 @@ cd "$(dirname "$0")/.."
 
 BUILD=${BUILD:-build}
 DC="$BUILD/bench/deepcontact"
-SIMS=${SIMS:-16}
-EPOCHS=${EPOCHS:-12}
+SIMS=${SIMS:-32}
+EPOCHS=${EPOCHS:-16}
 EVERY=${EVERY:-4}
 THREADS=${THREADS:-2}
-DATA=${DATA:-$BUILD/data/default-train-s1000-m$SIMS.h5}
+DATA=${DATA:-$BUILD/data/default-train-residual-s1000-m$SIMS.h5}
+CHANNELS=mass,vx,vy,omega,contact_density,lambda_prev_n,lambda_prev_t,vrel_n,vrel_t,gap
 OUT=${OUT:-models/default.h5}
 
 [ -x "$DC" ] || { echo "train-default-model.sh: $DC not found; run 'make build' first" >&2; exit 1; }
@@ -33,10 +38,10 @@ if [ -f "$DATA" ]; then
   echo "== data set $DATA exists; reusing it"
 elif [ -f "$DATA.partial" ]; then
   echo "== resuming the interrupted data set $DATA.partial"
-  "$DC" generate --sims "$SIMS" --seed 1000 --threads "$THREADS" --out "$DATA" --resume
+  "$DC" generate --sims "$SIMS" --seed 1000 --threads "$THREADS" --channels "$CHANNELS" --out "$DATA" --resume
 else
   echo "== generating $SIMS simulations (seeds 1000..$((1000 + SIMS - 1))) into $DATA"
-  "$DC" generate --sims "$SIMS" --seed 1000 --threads "$THREADS" --out "$DATA"
+  "$DC" generate --sims "$SIMS" --seed 1000 --threads "$THREADS" --channels "$CHANNELS" --out "$DATA"
 fi
 gen_done=$(date +%s)
 
@@ -44,6 +49,7 @@ RESUME=()
 [ -f "$OUT.ckpt" ] && RESUME=(--resume) && echo "== resuming the interrupted training from $OUT.ckpt"
 echo "== training $OUT"
 "$DC" train --data "$DATA" --out "$OUT" --force "${RESUME[@]}" \
+  --arch models/arch/unet-deep.toml --residual --label-scale 10 --contact-weight 10 \
   --epochs "$EPOCHS" --every "$EVERY" --batch 32 --lr 5e-3 --momentum 0.9 --weight-decay 1e-4 \
   --val 0.2 --seed 1 --threads "$THREADS"
 end=$(date +%s)

@@ -1,6 +1,7 @@
 #include "dc/learning/model.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "dc/engine/error.hpp"
 
@@ -24,6 +25,8 @@ void validate_label_kind(const std::string& kind) {
 Model::Model(ArchSpec arch, ModelGrid grid, int in_channels)
     : grid_(std::move(grid)), net_(std::move(arch), Shape{1, in_channels, grid_.ny, grid_.nx}) {
   validate_label_kind(grid_.label_kind);
+  if (!(grid_.label_scale >= 0) || !std::isfinite(grid_.label_scale))
+    throw ConfigError("Model: label_scale must be a finite number >= 0");
   fill_names(grid_.feature_channels, in_channels, "f", "feature_channels");
   fill_names(grid_.label_channels, net_.output_shape().c, "l", "label_channels");
   input_stats = ChannelStats::identity(in_channels);
@@ -41,7 +44,20 @@ Tensor Model::predict(const Tensor& features) {
   input_stats.apply(scratch_);
   Tensor out = net_.forward(scratch_, false);
   output_stats.invert(out);
+  expand_labels(out, grid_.label_scale);
   return out;
+}
+
+void compress_labels(Tensor& labels, double scale) {
+  if (scale <= 0) return;
+  const float inv = static_cast<float>(1.0 / scale);
+  for (float& v : labels.flat()) v = std::asinh(v * inv);
+}
+
+void expand_labels(Tensor& labels, double scale) {
+  if (scale <= 0) return;
+  const float s = static_cast<float>(scale);
+  for (float& v : labels.flat()) v = s * std::sinh(v);
 }
 
 }  // namespace dc

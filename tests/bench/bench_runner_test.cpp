@@ -61,6 +61,19 @@ TEST(BenchRunner, PairedOrderingOnASettlingPile) {
   EXPECT_LT(last, first);
 }
 
+// copy-noise:R: R = 0 is the copy, and more relative noise costs more sweeps.
+TEST(BenchRunner, CopyNoiseCostsSweepsMonotonicallyInTheNoise) {
+  auto o = small_pile();
+  o.warmstarts = {"copy", "copy-noise:0", "copy-noise:0.001", "copy-noise:0.3"};
+  const auto r = bench::run_bench(o, default_warm_starters());
+  EXPECT_EQ(r.starters[0].sweeps_to_tol, r.starters[1].sweeps_to_tol);
+  const auto s = bench::summarise(r);
+  EXPECT_LE(get(s, "copy").median_sweeps_to_tol, get(s, "copy-noise:0.001").median_sweeps_to_tol);
+  EXPECT_LT(get(s, "copy-noise:0.001").median_sweeps_to_tol, get(s, "copy-noise:0.3").median_sweeps_to_tol);
+  for (const char* bad : {"copy-noise", "copy-noise:-1", "copy-noise:x", "copy-noise:0.1x"})
+    EXPECT_THROW((void)default_warm_starters().make(bad), ConfigError) << bad;
+}
+
 TEST(BenchRunner, RolloutModeRunsEachStarterOnItsOwnTrajectory) {
   auto o = small_pile();
   o.mode = bench::Mode::Rollout;

@@ -1,5 +1,6 @@
 // Model files: save → load reproduces outputs bit for bit; damaged, truncated, foreign
 // and other-version files throw dc::IoError with a one-line message.
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -84,6 +85,38 @@ TEST_F(ModelFile, SaveLoadGivesIdenticalOutputs) {
   EXPECT_NO_THROW((void)load_model(p));
 }
 
+// label_scale: stored and reloaded; predict() returns s·sinh of the scale-0 model's output,
+// and compress_labels inverts expand_labels.
+TEST_F(ModelFile, LabelScaleIsStoredAndPredictExpandsTheOutput) {
+  Model plain = make_model();
+  Model scaled = make_model();
+  ModelGrid g = scaled.grid();
+  g.label_scale = 7.5;
+  Model withscale(scaled.network().arch(), g, 5);
+  const auto src = scaled.network().parameters(), dst = withscale.network().parameters();
+  for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
+  withscale.input_stats = scaled.input_stats;
+  withscale.output_stats = scaled.output_stats;
+  const fs::path p = dir_ / "s.h5";
+  save_model(withscale, p);
+  Model back = load_model(p);
+  EXPECT_EQ(back.grid().label_scale, 7.5);
+  EXPECT_EQ(back.grid().label_kind, "absolute");
+  Tensor x(2, 5, 13, 15);
+  Rng rng(9);
+  test::fill_gaussian(x, rng);
+  const Tensor y0 = plain.predict(x), ys = back.predict(x);
+  ASSERT_EQ(y0.size(), ys.size());
+  for (std::size_t i = 0; i < y0.size(); ++i)
+    ASSERT_NEAR(ys[i], 7.5f * std::sinh(y0[i]), 1e-4f * (1 + std::abs(ys[i]))) << i;
+  Tensor t = ys;
+  compress_labels(t, 7.5);
+  for (std::size_t i = 0; i < y0.size(); ++i) ASSERT_NEAR(t[i], y0[i], 1e-4f * (1 + std::abs(y0[i]))) << i;
+  ModelGrid bad = g;
+  bad.label_scale = -1;
+  EXPECT_THROW(Model(scaled.network().arch(), bad, 5), ConfigError);
+}
+
 TEST_F(ModelFile, DamagedFilesThrowIoError) {
   Model a = make_model();
   const fs::path good = dir_ / "good.h5";
@@ -109,6 +142,11 @@ TEST_F(ModelFile, DamagedFilesThrowIoError) {
     expect_io_error(p, "label_kind");
   }
   {
+    const fs::path p = copy("noscale.h5");
+    H5File::open_rw(p.string()).remove_attribute("/grid", "label_scale");
+    expect_io_error(p, "label_scale");
+  }
+  {
     const fs::path p = copy("badkind.h5");
     H5File::open_rw(p.string()).set_attribute("/grid", "label_kind", std::string("relative"));
     expect_io_error(p, "relative");
@@ -120,6 +158,7 @@ TEST_F(ModelFile, DamagedFilesThrowIoError) {
       H5File f = H5File::open_rw(p.string());
       f.set_attribute<std::int32_t>("/", "format_version", 1);
       f.remove_attribute("/grid", "label_kind");
+      f.remove_attribute("/grid", "label_scale");
     }
     EXPECT_EQ(load_model(p).grid().label_kind, "absolute");
   }

@@ -9,6 +9,10 @@ WarmStarterRegistry default_warm_starters() {
         make_builtin_warm_starter);
   r.add("copy", "this step's tightly solved lambda* (oracle); copy:D rounds it to D decimals",
         make_copy_warm_starter);
+  r.add("copy-noise",
+        "oracle with relative Gaussian noise: lambda* x (1 + R xi), xi ~ N(0,1); copy-noise:R (the accuracy a "
+        "predictor must reach)",
+        make_copy_noise_warm_starter);
   r.add("sph", "this step's lambda* -> SPH grid -> back at the contacts (oracle grid); sph:KERNEL:D:H[:NORM]",
         make_sph_warm_starter);
   r.add("sph-prev", "previous step's lambda -> SPH grid -> this step's contacts; sph-prev:KERNEL:D:H[:NORM]",

@@ -13,6 +13,7 @@ inline void reject_argument(const WarmStartSpec& spec) {
 std::unique_ptr<WarmStarter> make_zero_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_builtin_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_copy_noise_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_random_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_bad_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_sph_warm_starter(const WarmStartSpec&, const WarmStartEnv&);

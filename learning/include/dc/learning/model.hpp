@@ -25,7 +25,17 @@ struct ModelGrid {
   /// feature channels lambda_prev_n, lambda_prev_t (which the model must then have); the
   /// warm start is λ_prev (by key) plus the read-back of the predicted grid.
   std::string label_kind = "absolute";
+  /// Output compression s ≥ 0 [label units]. s > 0: the network learns y = asinh(label / s)
+  /// (standardised), so that small labels keep their precision next to heavy-tailed large
+  /// ones (impacts carry 10³ N against a 50 N resting load); Model::predict returns
+  /// s·sinh(y). 0 = labels as they are.
+  double label_scale = 0.0;
 };
+
+/// The label compression of a model (ModelGrid::label_scale): asinh(v / s) and its inverse,
+/// elementwise; the identity for s = 0.
+void compress_labels(Tensor& labels, double scale);
+void expand_labels(Tensor& labels, double scale);
 
 /// "absolute" or "residual"; ConfigError otherwise.
 void validate_label_kind(const std::string& kind);

@@ -9,7 +9,8 @@
 //                          conv bias [1, Cout, 1, 1], dense weight [O, D, 1, 1], bias [1, O, 1, 1]
 //   /normalisation/{input_mean,input_std,output_mean,output_std}   float32 [C]
 //   /grid                  group attrs d, h (float64), kernel (string), nx, ny (int32),
-//                          label_kind (string, "absolute" | "residual"; version ≥ 2);
+//                          label_kind (string, "absolute" | "residual"), label_scale (float64,
+//                          asinh compression of the labels, 0 = none) — both version ≥ 2;
 //   /grid/feature_channels, /grid/label_channels   1-D string datasets
 //
 // save_model writes "<path>.tmp" and renames it onto <path> when complete.
