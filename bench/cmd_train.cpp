@@ -64,6 +64,7 @@ struct TrainArgs {
   double contact_weight = 0.0;
   bool residual = false;  // train on λ* − λ_prev (ModelGrid::label_kind = "residual")
   double label_scale = 0.0;  // asinh compression of the labels (ModelGrid::label_scale)
+  double deadzone = 0.0;     // ModelGrid::correction_deadzone [N] (residual models)
   bool resume = false;
   bool force = false;
   bool no_plot = false;
@@ -99,7 +100,8 @@ std::vector<std::pair<std::string, std::string>> run_identity(const TrainArgs& a
           {"schedule", a.schedule},
           {"contact_weight", num(a.contact_weight)},
           {"residual", a.residual ? "1" : "0"},
-          {"label_scale", num(a.label_scale)}};
+          {"label_scale", num(a.label_scale)},
+          {"deadzone", num(a.deadzone)}};
 }
 
 ArchSpec select_arch(const TrainArgs& a, int label_channels, int ny, int nx) {
@@ -275,6 +277,8 @@ void run(const TrainArgs& a) {
   if (a.every < 1) throw ConfigError("--every must be >= 1");
   if (!(a.contact_weight >= 0) || !std::isfinite(a.contact_weight))
     throw ConfigError("--contact-weight must be a finite number >= 0");
+  if (!(a.deadzone >= 0) || !std::isfinite(a.deadzone)) throw ConfigError("--deadzone must be a finite number >= 0");
+  if (a.deadzone > 0 && !a.residual) throw ConfigError("--deadzone applies to residual models only (add --residual)");
   if (!(a.label_scale >= 0) || !std::isfinite(a.label_scale))
     throw ConfigError("--label-scale must be a finite number >= 0");
   if (!(a.dropout >= 0 && a.dropout < 1)) throw ConfigError("--dropout must be in [0, 1)");
@@ -319,6 +323,7 @@ void run(const TrainArgs& a) {
   grid.label_channels = reader.label_channel_names();
   grid.label_kind = a.residual ? "residual" : "absolute";
   grid.label_scale = a.label_scale;
+  grid.correction_deadzone = a.deadzone;
   const ArchSpec arch = select_arch(a, reader.label_channels(), reader.ny(), reader.nx());
   const auto id = run_identity(a, reader, arch.to_toml());
 
@@ -469,6 +474,10 @@ void add_train_command(CLI::App& app) {
   cmd->add_option("--label-scale", args->label_scale,
                   "Learn asinh(label / S) instead of the label (0 = off): small forces keep their precision next "
                   "to impacts; the model stores S and inverts it")
+      ->capture_default_str();
+  cmd->add_option("--deadzone", args->deadzone,
+                  "Residual models: soft threshold [N] on the predicted correction (stored in the model; "
+                  "corrections within the network's noise leave builtin alone)")
       ->capture_default_str();
   cmd->add_flag("--resume", args->resume, "Continue an interrupted run from OUT.ckpt (same data and options)");
   cmd->add_flag("--force", args->force, "Replace an existing OUT");

@@ -135,6 +135,10 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
     t0 = Clock::now();
     out = guess_from_labels(w, labels, !residual);
     if (residual) {
+      // Soft threshold: corrections within the network's noise level leave builtin alone.
+      const double tau = model_.grid().correction_deadzone;
+      if (tau > 0)
+        for (double& d : out) d = d > tau ? d - tau : (d < -tau ? d + tau : 0.0);
       for (std::size_t c = 0; c < cur.size(); ++c) {
         if (prev_of[c] < 0) continue;
         const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];

@@ -27,6 +27,8 @@ Model::Model(ArchSpec arch, ModelGrid grid, int in_channels)
   validate_label_kind(grid_.label_kind);
   if (!(grid_.label_scale >= 0) || !std::isfinite(grid_.label_scale))
     throw ConfigError("Model: label_scale must be a finite number >= 0");
+  if (!(grid_.correction_deadzone >= 0) || !std::isfinite(grid_.correction_deadzone))
+    throw ConfigError("Model: correction_deadzone must be a finite number >= 0");
   fill_names(grid_.feature_channels, in_channels, "f", "feature_channels");
   fill_names(grid_.label_channels, net_.output_shape().c, "l", "label_channels");
   input_stats = ChannelStats::identity(in_channels);

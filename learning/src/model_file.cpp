@@ -51,6 +51,7 @@ void save_model(Model& model, const std::filesystem::path& path, const std::func
   f.set_attribute<std::int32_t>("/grid", "ny", g.ny);
   f.set_attribute("/grid", "label_kind", g.label_kind);
   f.set_attribute<double>("/grid", "label_scale", g.label_scale);
+  f.set_attribute<double>("/grid", "correction_deadzone", g.correction_deadzone);
   f.write_strings("/grid/feature_channels", g.feature_channels);
   f.write_strings("/grid/label_channels", g.label_channels);
   if (extra) extra(f);
@@ -89,6 +90,9 @@ Model load_model(const std::filesystem::path& path) {
     g.label_kind = f.attribute_string("/grid", "label_kind");
     if (!f.has_attribute("/grid", "label_scale")) throw IoError(file + ": /grid has no label_scale attribute");
     g.label_scale = f.attribute<double>("/grid", "label_scale");
+    if (!f.has_attribute("/grid", "correction_deadzone"))
+      throw IoError(file + ": /grid has no correction_deadzone attribute");
+    g.correction_deadzone = f.attribute<double>("/grid", "correction_deadzone");
   }
   if (in[1] != g.ny || in[2] != g.nx)
     throw IoError(file + ": input_shape " + std::to_string(in[1]) + "x" + std::to_string(in[2]) +

@@ -161,6 +161,25 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(g[i], want[i], 1e-9 * (1 + std::abs(want[i]))) << "row " << i;
   EXPECT_GT((g - b).cwiseAbs().maxCoeff(), 1e-6);  // the correction is not empty
 
+  // The dead zone soft-thresholds every row's correction before it is added to builtin.
+  const Eigen::VectorXd raw = r.guess_from_labels(world, labels, false);
+  const double tau = 0.5 * raw.cwiseAbs().maxCoeff();
+  Model dz = tiny_model(12.0, true);
+  ModelGrid dg = dz.grid();
+  dg.correction_deadzone = tau;
+  Model dzm(dz.network().arch(), dg, dz.network().input_shape().c);
+  const auto src = r.model().network().parameters(), dst = dzm.network().parameters();
+  for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
+  dzm.input_stats = r.model().input_stats;
+  dzm.output_stats = r.model().output_stats;
+  CnnWarmStarter d(std::move(dzm), "cnn", false);
+  Eigen::VectorXd want_dz = b;
+  for (int i = 0; i < raw.size(); ++i)
+    want_dz[i] += raw[i] > tau ? raw[i] - tau : (raw[i] < -tau ? raw[i] + tau : 0.0);
+  project_feasible(world.problem(), want_dz);
+  const Eigen::VectorXd got_dz = d.initial_guess(StepView{world, nullptr});
+  for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(got_dz[i], want_dz[i], 1e-9 * (1 + std::abs(want_dz[i]))) << "row " << i;
+
   // A residual model without the lambda_prev channels cannot be built.
   ModelGrid bad = tiny_model(12.0, false).grid();
   bad.label_kind = "residual";

@@ -92,6 +92,7 @@ TEST_F(ModelFile, LabelScaleIsStoredAndPredictExpandsTheOutput) {
   Model scaled = make_model();
   ModelGrid g = scaled.grid();
   g.label_scale = 7.5;
+  g.correction_deadzone = 2.5;
   Model withscale(scaled.network().arch(), g, 5);
   const auto src = scaled.network().parameters(), dst = withscale.network().parameters();
   for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
@@ -101,6 +102,7 @@ TEST_F(ModelFile, LabelScaleIsStoredAndPredictExpandsTheOutput) {
   save_model(withscale, p);
   Model back = load_model(p);
   EXPECT_EQ(back.grid().label_scale, 7.5);
+  EXPECT_EQ(back.grid().correction_deadzone, 2.5);
   EXPECT_EQ(back.grid().label_kind, "absolute");
   Tensor x(2, 5, 13, 15);
   Rng rng(9);
@@ -142,6 +144,11 @@ TEST_F(ModelFile, DamagedFilesThrowIoError) {
     expect_io_error(p, "label_kind");
   }
   {
+    const fs::path p = copy("nodeadzone.h5");
+    H5File::open_rw(p.string()).remove_attribute("/grid", "correction_deadzone");
+    expect_io_error(p, "correction_deadzone");
+  }
+  {
     const fs::path p = copy("noscale.h5");
     H5File::open_rw(p.string()).remove_attribute("/grid", "label_scale");
     expect_io_error(p, "label_scale");
@@ -159,6 +166,7 @@ TEST_F(ModelFile, DamagedFilesThrowIoError) {
       f.set_attribute<std::int32_t>("/", "format_version", 1);
       f.remove_attribute("/grid", "label_kind");
       f.remove_attribute("/grid", "label_scale");
+      f.remove_attribute("/grid", "correction_deadzone");
     }
     EXPECT_EQ(load_model(p).grid().label_kind, "absolute");
   }

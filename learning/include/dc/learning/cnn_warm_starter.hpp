@@ -9,7 +9,8 @@
 //               grid in place of the oracle's splat. A RESIDUAL model (ModelGrid::label_kind,
 //               model.hpp) predicts the splat of λ* − λ_prev from features that include the
 //               builtin guess (lambda_prev_n/t): then λ⁰ = λ_prev (by key, 0 if new) + the
-//               read-back, projected — builtin plus a learned correction.
+//               read-back soft-thresholded by the model's correction_deadzone τ
+//               (sign(δ)·max(|δ| − τ, 0)), projected — builtin plus a learned correction.
 //   cnn-hybrid  builtin (the previous step's λ by key) for persistent contacts, the cnn
 //               prediction for contacts that are new this step; steps without new contacts
 //               skip the network altogether. A non-oracle starter.

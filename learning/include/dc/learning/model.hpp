@@ -30,6 +30,11 @@ struct ModelGrid {
   /// ones (impacts carry 10³ N against a 50 N resting load); Model::predict returns
   /// s·sinh(y). 0 = labels as they are.
   double label_scale = 0.0;
+  /// Residual models: soft threshold τ ≥ 0 [N] on the read-back correction of every row,
+  /// δ ← sign(δ)·max(|δ| − τ, 0), before it is added to λ_prev. A correction within the
+  /// network's noise level leaves builtin's value alone: on a settled pile builtin is exact
+  /// and a 1–2 % correction noise would cost it ~50 sweeps (docs/learning.md). 0 = off.
+  double correction_deadzone = 0.0;
 };
 
 /// The label compression of a model (ModelGrid::label_scale): asinh(v / s) and its inverse,

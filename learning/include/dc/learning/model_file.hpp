@@ -10,7 +10,8 @@
 //   /normalisation/{input_mean,input_std,output_mean,output_std}   float32 [C]
 //   /grid                  group attrs d, h (float64), kernel (string), nx, ny (int32),
 //                          label_kind (string, "absolute" | "residual"), label_scale (float64,
-//                          asinh compression of the labels, 0 = none) — both version ≥ 2;
+//                          asinh compression of the labels, 0 = none), correction_deadzone
+//                          (float64 [N], residual models' soft threshold) — version ≥ 2;
 //   /grid/feature_channels, /grid/label_channels   1-D string datasets
 //
 // save_model writes "<path>.tmp" and renames it onto <path> when complete.
