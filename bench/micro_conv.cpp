@@ -2,11 +2,17 @@
 //   conv2d_forward / conv2d_backward   61×61, 16→32 channels, k3, stride 1 or 2, batch 1 or 32
 //   unet_small/infer_b1                 default U-Net (4 in, 2 out, 61×61) inference, batch 1
 //   unet_small/train_step_b32           forward + weighted-free MSE + backward + SGD step, batch 32
+//   unet_deep/infer_b1, unet_deep_slim/infer_b1
+//                                       the arch files models/arch/unet-deep{,-slim}.toml with the
+//                                       residual model's 10 input channels (the shipped model's
+//                                       network), inference, batch 1
 // Threads: OpenMP, set with OMP_NUM_THREADS (bench/torch_compare.py runs 1 and 2). Times are
 // wall-clock (UseRealTime) because the work is spread over threads; "samples/s" counters
 // give throughput. bench/torch_compare.py parses the unet_small entries of
 // --benchmark_format=json to compare against PyTorch.
 #include <benchmark/benchmark.h>
+
+#include <string>
 
 #include "dc/engine/rng.hpp"
 #include "dc/learning/arch.hpp"
@@ -72,6 +78,21 @@ void BM_UnetInfer(benchmark::State& state) {
   state.counters["params"] = static_cast<double>(net.parameter_count());
 }
 BENCHMARK(BM_UnetInfer)->Name("unet_small/infer_b1")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_ArchFileInfer(benchmark::State& state, const char* file) {
+  dc::Rng rng(2);
+  dc::Network net(dc::ArchSpec::load(std::string(DC_SOURCE_DIR) + "/models/arch/" + file), dc::Shape{1, 10, 61, 61});
+  net.initialize(dc::HeNormal(), rng);
+  dc::Tensor x(1, 10, 61, 61);
+  fill(x, rng);
+  for (auto _ : state) benchmark::DoNotOptimize(net.forward(x, false).data());
+  state.counters["samples/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["params"] = static_cast<double>(net.parameter_count());
+}
+BENCHMARK_CAPTURE(BM_ArchFileInfer, deep, "unet-deep.toml")
+    ->Name("unet_deep/infer_b1")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ArchFileInfer, slim, "unet-deep-slim.toml")
+    ->Name("unet_deep_slim/infer_b1")->UseRealTime()->Unit(benchmark::kMillisecond);
 
 void BM_UnetTrainStep(benchmark::State& state) {
   const int batch = 32;
