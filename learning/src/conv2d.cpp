@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cstring>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 #include "dc/engine/error.hpp"
 #include "dc/learning/initializer.hpp"
 #include "omp_util.hpp"
@@ -106,6 +110,209 @@ static void im2col_planes(const float* x, int channels, int h, int w, int k, int
   }
 }
 
+
+// Direct stride-1 convolution (no X_col, no GEMM packing). Used where AVX-512 is available
+// and an output row fits in at most 4 vectors of 16 floats (Wo ≤ 64).
+//
+// The input rows a tile needs are copied once into a zero-padded buffer xp [C][R][Wp]
+// (padded row r = input row oy0 + r − p, column p + ix = input column ix, zeros around;
+// Wp leaves room for the last vector of every shifted row), and the weights are packed as
+// wpk [Cout/OB][C][k][k][OB]. Each output row × OB output channels is accumulated in
+// OB·VB zmm registers over (c, ky, kx): one unaligned load of the shifted input row per
+// vector and one broadcast weight per channel. The summation order of an output element
+// is (c, ky, kx) whatever the tile or thread: deterministic.
+namespace {
+constexpr int kLanes = 16;
+constexpr int kMaxVec = 4;  // Wo ≤ 64
+
+bool direct_available(int s, int wo) {
+#if defined(__AVX512F__)
+  return s == 1 && wo <= kLanes * kMaxVec;
+#else
+  (void)s;
+  (void)wo;
+  return false;
+#endif
+}
+int vec_count(int wo) { return (wo + kLanes - 1) / kLanes; }
+// Output channels per register block: OB·VB ≤ 24 accumulators.
+int block_channels(int wo) {
+  const int vb = vec_count(wo);
+  return vb >= 4 ? 4 : (vb == 3 ? 8 : 8);
+}
+int padded_width(int wo, int k) { return vec_count(wo) * kLanes + k - 1; }
+
+// wpk[(b·C + c)·k² + tap][j] = w(o = b·OB + j, c, tap), zero for o ≥ Cout.
+// w(o, c, tap) = src[o·so + (c·k² + tap)·sc].
+void pack_weights(const float* src, long so, long sc, int cout, int cin, int kk, int ob, std::vector<float>& wpk) {
+  const int nb = (cout + ob - 1) / ob;
+  wpk.assign(static_cast<std::size_t>(nb) * cin * kk * ob, 0.0f);
+  for (int o = 0; o < cout; ++o)
+    for (int ct = 0; ct < cin * kk; ++ct)
+      wpk[(static_cast<std::size_t>(o / ob) * cin * kk + ct) * ob + o % ob] = src[o * so + ct * sc];
+}
+
+// Copies input rows [r0 − p, r0 − p + R) of x [C][H][W] into xp [C][R][Wp] at column p,
+// zero elsewhere. mask (optional, same layout as x): element kept where mask > 0.
+void pad_rows(const float* x, const float* mask, int C, int H, int W, int p, int r0, int R, int Wp, float* xp) {
+  for (int c = 0; c < C; ++c) {
+    for (int r = 0; r < R; ++r) {
+      float* dst = xp + (static_cast<std::size_t>(c) * R + r) * Wp;
+      const int iy = r0 - p + r;
+      if (iy < 0 || iy >= H) {
+        std::memset(dst, 0, sizeof(float) * Wp);
+        continue;
+      }
+      std::memset(dst, 0, sizeof(float) * p);
+      const std::size_t off = (static_cast<std::size_t>(c) * H + iy) * W;
+      if (mask == nullptr) {
+        std::memcpy(dst + p, x + off, sizeof(float) * W);
+      } else {
+        for (int ix = 0; ix < W; ++ix) dst[p + ix] = mask[off + ix] > 0.0f ? x[off + ix] : 0.0f;
+      }
+      std::memset(dst + p + W, 0, sizeof(float) * (Wp - p - W));
+    }
+  }
+}
+
+#if defined(__AVX512F__)
+// KS: the kernel size if known at compile time (fully unrolled taps), 0 = use k.
+template <int VB, int OB, int KS>
+void direct_rows(const float* xp, int C, int R, int Wp, int kdyn, const float* wpk, int cout, const float* bias,
+                 bool relu, float* y, int ho, int wo, int oy0, int nrows) {
+  const int k = KS > 0 ? KS : kdyn;
+  const int nb = (cout + OB - 1) / OB;
+  const int kk = k * k;
+  for (int j = 0; j < nrows; ++j) {
+    for (int b = 0; b < nb; ++b) {
+      __m512 acc[OB][VB];
+      for (int o = 0; o < OB; ++o)
+        for (int v = 0; v < VB; ++v) acc[o][v] = _mm512_setzero_ps();
+      const float* wb = wpk + static_cast<std::size_t>(b) * C * kk * OB;
+      for (int c = 0; c < C; ++c) {
+        for (int ky = 0; ky < k; ++ky) {
+          const float* xr = xp + (static_cast<std::size_t>(c) * R + j + ky) * Wp;
+          const float* wr = wb + static_cast<std::size_t>(c * kk + ky * k) * OB;
+          for (int kx = 0; kx < k; ++kx, wr += OB) {
+            __m512 xv[VB];
+            for (int v = 0; v < VB; ++v) xv[v] = _mm512_loadu_ps(xr + kx + v * kLanes);
+            for (int o = 0; o < OB; ++o) {
+              const __m512 wv = _mm512_set1_ps(wr[o]);
+              for (int v = 0; v < VB; ++v) acc[o][v] = _mm512_fmadd_ps(wv, xv[v], acc[o][v]);
+            }
+          }
+        }
+      }
+      const int on = std::min(OB, cout - b * OB);
+      for (int o = 0; o < on; ++o) {
+        const int oc = b * OB + o;
+        float* yr = y + (static_cast<std::size_t>(oc) * ho + oy0 + j) * wo;
+        const __m512 bv = _mm512_set1_ps(bias == nullptr ? 0.0f : bias[oc]);
+        for (int v = 0; v < VB; ++v) {
+          __m512 r = bias == nullptr ? acc[o][v] : _mm512_add_ps(acc[o][v], bv);
+          if (relu) r = _mm512_max_ps(r, _mm512_setzero_ps());
+          const int n = std::min(kLanes, wo - v * kLanes);
+          _mm512_mask_storeu_ps(yr + v * kLanes, static_cast<__mmask16>((1u << n) - 1u), r);
+        }
+      }
+    }
+  }
+}
+#endif
+
+// Output rows [oy0, oy0 + nrows) of y [cout][ho][wo] from the padded rows in xp.
+void direct_tile(const float* xp, int C, int R, int Wp, int k, const float* wpk, int cout, const float* bias, bool relu,
+                 float* y, int ho, int wo, int oy0, int nrows) {
+#if defined(__AVX512F__)
+#define DC_ROWS(VB, OB)                                                                          \
+  if (k == 3)                                                                                   \
+    direct_rows<VB, OB, 3>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);      \
+  else                                                                                          \
+    direct_rows<VB, OB, 0>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);
+  switch (vec_count(wo)) {
+    case 1: DC_ROWS(1, 8) break;
+    case 2: DC_ROWS(2, 8) break;
+    case 3: DC_ROWS(3, 8) break;
+    default: DC_ROWS(4, 4) break;
+  }
+#undef DC_ROWS
+#else
+  (void)xp, (void)C, (void)R, (void)Wp, (void)k, (void)wpk, (void)cout, (void)bias, (void)relu;
+  (void)y, (void)ho, (void)wo, (void)oy0, (void)nrows;
+#endif
+}
+
+
+#if defined(__AVX512F__)
+// dWᵀ (K × Cout, column-major, K = C·9) += Σ_pixels dY ⊗ shifted x for a 3×3 stride-1 conv
+// over a whole sample: xp [C][Ho+2][Wp] padded input (p = 1), dyz [Cout][Ho][VB·16] dY with
+// zero lanes beyond Wo. Per (c, ky) and OB output channels, 3·OB vector accumulators (one
+// per kx) run over all rows; each lane sum is reduced once at the end.
+template <int VB, int OB>
+void direct_dw3(const float* xp, int C, int Wp, const float* dyz, int cout, int ho, float* dw) {
+  const int K = C * 9;
+  const int L = VB * kLanes;
+  const int Hp = ho + 2;
+  for (int c = 0; c < C; ++c) {
+    for (int ky = 0; ky < 3; ++ky) {
+      for (int ob = 0; ob < cout / OB; ++ob) {
+        __m512 acc[OB][3];
+        for (int o = 0; o < OB; ++o)
+          for (int kx = 0; kx < 3; ++kx) acc[o][kx] = _mm512_setzero_ps();
+        const float* d0 = dyz + static_cast<std::size_t>(ob) * OB * ho * L;
+        for (int j = 0; j < ho; ++j) {
+          const float* xr = xp + (static_cast<std::size_t>(c) * Hp + j + ky) * Wp;
+          const float* dr = d0 + static_cast<std::size_t>(j) * L;
+          for (int v = 0; v < VB; ++v) {
+            const __m512 x0 = _mm512_loadu_ps(xr + v * kLanes);
+            const __m512 x1 = _mm512_loadu_ps(xr + 1 + v * kLanes);
+            const __m512 x2 = _mm512_loadu_ps(xr + 2 + v * kLanes);
+            for (int o = 0; o < OB; ++o) {
+              const __m512 d = _mm512_loadu_ps(dr + static_cast<std::size_t>(o) * ho * L + v * kLanes);
+              acc[o][0] = _mm512_fmadd_ps(d, x0, acc[o][0]);
+              acc[o][1] = _mm512_fmadd_ps(d, x1, acc[o][1]);
+              acc[o][2] = _mm512_fmadd_ps(d, x2, acc[o][2]);
+            }
+          }
+        }
+        for (int o = 0; o < OB; ++o)
+          for (int kx = 0; kx < 3; ++kx)
+            dw[(c * 9 + ky * 3 + kx) + static_cast<std::size_t>(ob * OB + o) * K] += _mm512_reduce_add_ps(acc[o][kx]);
+      }
+    }
+  }
+}
+#endif
+
+void direct_dw_sample(const float* xp, int C, int Wp, const float* dyz, int cout, int ho, int wo, float* dw) {
+#if defined(__AVX512F__)
+  const int ob = cout % 8 == 0 ? 8 : cout % 4 == 0 ? 4 : cout % 2 == 0 ? 2 : 1;
+#define DC_DW(VB)                                                        \
+  switch (ob) {                                                          \
+    case 8: direct_dw3<VB, 8>(xp, C, Wp, dyz, cout, ho, dw); break;      \
+    case 4: direct_dw3<VB, 4>(xp, C, Wp, dyz, cout, ho, dw); break;      \
+    case 2: direct_dw3<VB, 2>(xp, C, Wp, dyz, cout, ho, dw); break;      \
+    default: direct_dw3<VB, 1>(xp, C, Wp, dyz, cout, ho, dw); break;     \
+  }
+  switch (vec_count(wo)) {
+    case 1: DC_DW(1) break;
+    case 2: DC_DW(2) break;
+    case 3: DC_DW(3) break;
+    default: DC_DW(4) break;
+  }
+#undef DC_DW
+#else
+  (void)xp, (void)C, (void)Wp, (void)dyz, (void)cout, (void)ho, (void)wo, (void)dw;
+#endif
+}
+
+// Output rows per direct tile: the padded buffer C·(rows + k − 1)·Wp stays ≤ kTileFloats.
+int direct_rows_per_tile(int C, int k, int wp, int ho) {
+  const long r = kTileFloats / (static_cast<long>(C) * wp) - (k - 1);
+  return static_cast<int>(std::clamp<long>(r, 1, ho));
+}
+}  // namespace
+
 void Conv2d::im2col(const float* x, const Geometry& g, int oy0, int oy1, float* col) const {
   im2col_planes(x, cin_, g.h, g.w, k_, s_, g.pad_top, g.pad_left, g.wo, oy0, oy1, col);
 }
@@ -148,6 +355,26 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   const int T = macs >= kParallelMacs ? detail::max_threads() : 1;
   grow(col_, static_cast<std::size_t>(T));
   for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
+  if (direct_available(s_, g.wo)) {
+    // Stride 1: "same" padding is (k−1)/2 on every side.
+    const int p = (k_ - 1) / 2;
+    const int Wp = padded_width(g.wo, k_);
+    pack_weights(weight_.data(), K, 1, cout_, cin_, k_ * k_, block_channels(g.wo), wpk_);
+    const int drpt = direct_rows_per_tile(cin_, k_, Wp, g.ho);
+    const int dtiles = (g.ho + drpt - 1) / drpt;
+    for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(cin_) * (drpt + k_ - 1) * Wp);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(T) if (T > 1)
+    for (int it = 0; it < N * dtiles; ++it) {
+      const int n = it / dtiles;
+      const int oy0 = (it % dtiles) * drpt;
+      const int nrows = std::min(g.ho, oy0 + drpt) - oy0;
+      const int R = nrows + k_ - 1;
+      float* xp = col_[detail::thread_id()].data();
+      pad_rows(x.sample(n), nullptr, cin_, g.h, g.w, p, oy0, R, Wp, xp);
+      direct_tile(xp, cin_, R, Wp, k_, wpk_.data(), cout_, bias_.data(), relu_, y.sample(n), g.ho, g.wo, oy0, nrows);
+    }
+    return;
+  }
   const CMatMap Wt(weight_.data(), K, cout_);
   const Eigen::Map<const Eigen::RowVectorXf> b(bias_.data(), cout_);
   const int plane = g.ho * g.wo;
@@ -194,6 +421,12 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   // so each dX tile is one GEMM (P × Cout·k²)·(Cout·k² × Cin) written in place: no dX_col of
   // P × Cin·k² and no scatter. Other strides use dX_col = dY·W and col2im.
   const bool flip = s_ == 1;
+  const bool direct = flip && dx != nullptr && direct_available(s_, g.wo);
+  const int Wp = padded_width(g.wo, k_);
+  const bool by_sample = N >= 2;
+  // dW directly from a padded copy of the whole sample (3×3, stride 1, a batch).
+  const bool direct_dw = flip && k_ == 3 && by_sample && direct_available(s_, g.wo);
+  const int L = vec_count(g.wo) * kLanes;
   // Work split into groups, each with its own dW/db accumulator; groups are summed in
   // group order afterwards. A batch (N ≥ 2) is cut into ≤ 16 runs of consecutive
   // samples; a single sample into its row tiles. The grouping depends on N only, and
@@ -201,15 +434,22 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   // deterministic for any thread count, and dynamic scheduling lets a running thread take
   // over the work of a descheduled one. For a single sample with stride ≠ 1 the tiles
   // write dX_col rows of one shared P × K buffer and col2im runs once afterwards.
-  const bool by_sample = N >= 2;
   const int groups = by_sample ? std::min(N, 16) : ntiles;
   const bool shared_col = dx != nullptr && !by_sample && !flip;
   grow(col_, static_cast<std::size_t>(T));
   grow(dyr_, static_cast<std::size_t>(T));
   grow(dw_, static_cast<std::size_t>(groups));
   grow(db_, static_cast<std::size_t>(groups));
+  if (direct) grow(pad_, static_cast<std::size_t>(T));
   for (int t = 0; t < T; ++t) {
-    grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * std::max(K, flip ? Kf : 0));
+    grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * std::max(K, flip && !direct ? Kf : 0));
+    if (direct) grow(pad_[t], static_cast<Eigen::Index>(cout_) * (rpt + k_ - 1) * Wp);
+    if (direct_dw) {
+      grow(xpad_, static_cast<std::size_t>(T));
+      grow(dyz_, static_cast<std::size_t>(T));
+      grow(xpad_[t], static_cast<Eigen::Index>(cin_) * (g.h + 2) * Wp);
+      grow(dyz_[t], static_cast<Eigen::Index>(cout_) * g.ho * L);
+    }
     if (relu_ && by_sample) grow(dyr_[t], static_cast<Eigen::Index>(dy_sample));
   }
   for (int q = 0; q < groups; ++q) {
@@ -232,6 +472,7 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
         for (int ky = 0; ky < k_; ++ky)
           for (int kx = 0; kx < k_; ++kx)
             wflip_((o * k_ + (k_ - 1 - ky)) * k_ + (k_ - 1 - kx), c) = weight_(o, c, ky, kx);
+    if (direct) pack_weights(wflip_.data(), Kf, 1, cin_, cout_, k_ * k_, block_channels(g.wo), wpkf_);
   }
   const int fpad_top = k_ - 1 - g.pad_top, fpad_left = k_ - 1 - g.pad_left;
 
@@ -257,18 +498,37 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
         gs = dymask_.data();
       }
       float* dxs = dx == nullptr ? nullptr : dx->sample(n);
+      if (direct_dw) {
+        float* xp = xpad_[tid].data();
+        float* dz = dyz_[tid].data();
+        pad_rows(x.sample(n), nullptr, cin_, g.h, g.w, 1, 0, g.h + 2, Wp, xp);
+        for (int r = 0; r < cout_ * g.ho; ++r) {
+          std::memcpy(dz + static_cast<std::size_t>(r) * L, gs + static_cast<std::size_t>(r) * g.wo, sizeof(float) * g.wo);
+          std::memset(dz + static_cast<std::size_t>(r) * L + g.wo, 0, sizeof(float) * (L - g.wo));
+        }
+        direct_dw_sample(xp, cin_, Wp, dz, cout_, g.ho, g.wo, dW.data());
+        db.noalias() += CStridedMap(gs, plane, cout_, Eigen::OuterStride<>(plane)).colwise().sum().transpose();
+      }
       for (int tile = t_lo; tile < t_hi; ++tile) {
         const int oy0 = tile * rpt;
         const int oy1 = std::min(g.ho, oy0 + rpt);
         const int P = (oy1 - oy0) * g.wo;
         const std::size_t off = static_cast<std::size_t>(oy0) * g.wo;
         CStridedMap G(gs + off, P, cout_, Eigen::OuterStride<>(plane));
-        im2col(x.sample(n), g, oy0, oy1, col);
         MatMap C(col, P, K);
-        dW.noalias() += C.transpose() * G;
-        db.noalias() += G.colwise().sum().transpose();
+        if (!direct_dw) {
+          im2col(x.sample(n), g, oy0, oy1, col);
+          dW.noalias() += C.transpose() * G;
+          db.noalias() += G.colwise().sum().transpose();
+        }
         if (dxs == nullptr) continue;
-        if (flip) {
+        if (direct) {
+          // dX rows [oy0, oy1) from dY rows [oy0 − p, oy1 + p): the same direct kernel.
+          const int R = (oy1 - oy0) + k_ - 1;
+          float* dyp = pad_[tid].data();
+          pad_rows(gs, nullptr, cout_, g.ho, g.wo, fpad_top, oy0, R, Wp, dyp);
+          direct_tile(dyp, cout_, R, Wp, k_, wpkf_.data(), cin_, nullptr, false, dxs, g.h, g.w, oy0, oy1 - oy0);
+        } else if (flip) {
           // Input rows [oy0, oy1) (stride 1: the input grid is the output grid).
           im2col_planes(gs, cout_, g.ho, g.wo, k_, 1, fpad_top, fpad_left, g.w, oy0, oy1, col);
           StridedMap DX(dxs + off, P, cin_, Eigen::OuterStride<>(g.h * g.w));

@@ -9,7 +9,10 @@
 //
 //   y[n, o, oy, ox] = b[o] + Σ_{c, ky, kx} w[o, c, ky, kx] · x[n, c, oy·s + ky − pt, ox·s + kx − pl]
 //
-// Implementation (im2col + GEMM): for a tile of P output pixels the patch matrix
+// Implementation, stride 1 with AVX-512 and Wo ≤ 64 (the default U-Net's 61×61 and 31×31
+// layers): direct convolution from a zero-padded copy of the tile's input rows, each output
+// row × a few channels accumulated in registers (no X_col, no GEMM packing); dX likewise
+// from padded dY rows with the flipped kernel. Otherwise (im2col + GEMM): for a tile of P output pixels the patch matrix
 // X_col (P × K, K = Cin·k², column (c,ky,kx) holds the shifted input plane) is built in a
 // per-thread scratch buffer, then Y_tile (P × Cout) = X_col · Wᵀ with Wᵀ the weight tensor
 // [Cout, Cin, k, k] viewed as a column-major K × Cout matrix. Because a sample of y is a
@@ -74,6 +77,12 @@ class Conv2d final : public Layer {
   Eigen::VectorXf dxcol_;               ///< whole-sample dX_col (batch 1, stride > 1)
   Eigen::VectorXf dymask_;              ///< ReLU-masked dY (batch 1)
   Eigen::MatrixXf wflip_;               ///< flipped, channel-transposed kernel (Cout·k² × Cin)
+  // Direct stride-1 path (AVX-512, Wo ≤ 64; see conv2d.cpp): packed weights and padded rows.
+  std::vector<float> wpk_;              ///< weights [Cout/OB][Cin][k][k][OB]
+  std::vector<float> wpkf_;             ///< flipped kernel for dX [Cin/OB][Cout][k][k][OB]
+  std::vector<Eigen::VectorXf> pad_;    ///< zero-padded dY rows of one tile, per thread
+  std::vector<Eigen::VectorXf> xpad_;   ///< zero-padded input sample (direct dW), per thread
+  std::vector<Eigen::VectorXf> dyz_;    ///< dY rows widened to whole vectors (direct dW), per thread
 };
 
 }  // namespace dc
