@@ -195,7 +195,12 @@ void direct_rows(const float* xp, int C, int R, int Wp, int kdyn, const float* w
           const float* wr = wb + static_cast<std::size_t>(c * kk + ky * k) * OB;
           for (int kx = 0; kx < k; ++kx, wr += OB) {
             __m512 xv[VB];
-            for (int v = 0; v < VB; ++v) xv[v] = _mm512_loadu_ps(xr + kx + v * kLanes);
+            for (int v = 0; v < VB; ++v) {
+              xv[v] = _mm512_loadu_ps(xr + kx + v * kLanes);
+              // Keep the loaded row in a register: without this GCC folds the load into
+              // each of the OB FMAs (OB unaligned loads instead of one; load-bound).
+              __asm__("" : "+v"(xv[v]));
+            }
             for (int o = 0; o < OB; ++o) {
               const __m512 wv = _mm512_set1_ps(wr[o]);
               for (int v = 0; v < VB; ++v) acc[o][v] = _mm512_fmadd_ps(wv, xv[v], acc[o][v]);
@@ -264,11 +269,13 @@ void direct_dw3(const float* xp, int C, int Wp, const float* dyz, int cout, int 
           const float* xr = xp + (static_cast<std::size_t>(c) * Hp + j + ky) * Wp;
           const float* dr = d0 + static_cast<std::size_t>(j) * L;
           for (int v = 0; v < VB; ++v) {
-            const __m512 x0 = _mm512_loadu_ps(xr + v * kLanes);
-            const __m512 x1 = _mm512_loadu_ps(xr + 1 + v * kLanes);
-            const __m512 x2 = _mm512_loadu_ps(xr + 2 + v * kLanes);
+            __m512 x0 = _mm512_loadu_ps(xr + v * kLanes);
+            __m512 x1 = _mm512_loadu_ps(xr + 1 + v * kLanes);
+            __m512 x2 = _mm512_loadu_ps(xr + 2 + v * kLanes);
+            __asm__("" : "+v"(x0), "+v"(x1), "+v"(x2));  // one load each (see direct_rows)
             for (int o = 0; o < OB; ++o) {
-              const __m512 d = _mm512_loadu_ps(dr + static_cast<std::size_t>(o) * ho * L + v * kLanes);
+              __m512 d = _mm512_loadu_ps(dr + static_cast<std::size_t>(o) * ho * L + v * kLanes);
+              __asm__("" : "+v"(d));
               acc[o][0] = _mm512_fmadd_ps(d, x0, acc[o][0]);
               acc[o][1] = _mm512_fmadd_ps(d, x1, acc[o][1]);
               acc[o][2] = _mm512_fmadd_ps(d, x2, acc[o][2]);
