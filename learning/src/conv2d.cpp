@@ -136,9 +136,10 @@ bool direct_available(int s, int wo) {
 }
 int vec_count(int wo) { return (wo + kLanes - 1) / kLanes; }
 // Output channels per register block: OB·VB ≤ 24 accumulators.
-int block_channels(int wo) {
-  const int vb = vec_count(wo);
-  return vb >= 4 ? 4 : (vb == 3 ? 8 : 8);
+// (A layer with ≤ 2 output channels, like the U-Net's head, uses blocks of 2.)
+int block_channels(int wo, int cout) {
+  if (cout <= 2) return 2;
+  return vec_count(wo) >= 4 ? 4 : 8;
 }
 int padded_width(int wo, int k) { return vec_count(wo) * kLanes + k - 1; }
 
@@ -234,6 +235,15 @@ void direct_tile(const float* xp, int C, int R, int Wp, int k, const float* wpk,
     direct_rows<VB, OB, 3>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);      \
   else                                                                                          \
     direct_rows<VB, OB, 0>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);
+  if (cout <= 2) {
+    switch (vec_count(wo)) {
+      case 1: DC_ROWS(1, 2) break;
+      case 2: DC_ROWS(2, 2) break;
+      case 3: DC_ROWS(3, 2) break;
+      default: DC_ROWS(4, 2) break;
+    }
+    return;
+  }
   switch (vec_count(wo)) {
     case 1: DC_ROWS(1, 8) break;
     case 2: DC_ROWS(2, 8) break;
@@ -250,13 +260,13 @@ void direct_tile(const float* xp, int C, int R, int Wp, int k, const float* wpk,
 
 #if defined(__AVX512F__)
 // dWᵀ (K × Cout, column-major, K = C·9) += Σ_pixels dY ⊗ shifted x for a 3×3 stride-1 conv
-// over a whole sample: xp [C][Ho+2][Wp] padded input (p = 1), dyz [Cout][Ho][VB·16] dY with
-// zero lanes beyond Wo. Per (c, ky) and OB output channels, 3·OB vector accumulators (one
+// over a whole sample: xp [C][Ho+2][Wp] padded input (p = 1); dY[o, j, lane] at
+// dy[o·dy_plane + j·dy_row + lane], zero for lanes ≥ Wo up to VB·16. Per (c, ky) and OB output channels, 3·OB vector accumulators (one
 // per kx) run over all rows; each lane sum is reduced once at the end.
 template <int VB, int OB>
-void direct_dw3(const float* xp, int C, int Wp, const float* dyz, int cout, int ho, float* dw) {
+void direct_dw3(const float* xp, int C, int Wp, const float* dy, long dy_plane, int dy_row, int cout, int ho,
+                float* dw) {
   const int K = C * 9;
-  const int L = VB * kLanes;
   const int Hp = ho + 2;
   for (int c = 0; c < C; ++c) {
     for (int ky = 0; ky < 3; ++ky) {
@@ -264,17 +274,17 @@ void direct_dw3(const float* xp, int C, int Wp, const float* dyz, int cout, int 
         __m512 acc[OB][3];
         for (int o = 0; o < OB; ++o)
           for (int kx = 0; kx < 3; ++kx) acc[o][kx] = _mm512_setzero_ps();
-        const float* d0 = dyz + static_cast<std::size_t>(ob) * OB * ho * L;
+        const float* d0 = dy + static_cast<std::size_t>(ob) * OB * dy_plane;
         for (int j = 0; j < ho; ++j) {
           const float* xr = xp + (static_cast<std::size_t>(c) * Hp + j + ky) * Wp;
-          const float* dr = d0 + static_cast<std::size_t>(j) * L;
+          const float* dr = d0 + static_cast<std::size_t>(j) * dy_row;
           for (int v = 0; v < VB; ++v) {
             __m512 x0 = _mm512_loadu_ps(xr + v * kLanes);
             __m512 x1 = _mm512_loadu_ps(xr + 1 + v * kLanes);
             __m512 x2 = _mm512_loadu_ps(xr + 2 + v * kLanes);
             __asm__("" : "+v"(x0), "+v"(x1), "+v"(x2));  // one load each (see direct_rows)
             for (int o = 0; o < OB; ++o) {
-              __m512 d = _mm512_loadu_ps(dr + static_cast<std::size_t>(o) * ho * L + v * kLanes);
+              __m512 d = _mm512_loadu_ps(dr + static_cast<std::size_t>(o) * dy_plane + v * kLanes);
               __asm__("" : "+v"(d));
               acc[o][0] = _mm512_fmadd_ps(d, x0, acc[o][0]);
               acc[o][1] = _mm512_fmadd_ps(d, x1, acc[o][1]);
@@ -291,15 +301,16 @@ void direct_dw3(const float* xp, int C, int Wp, const float* dyz, int cout, int 
 }
 #endif
 
-void direct_dw_sample(const float* xp, int C, int Wp, const float* dyz, int cout, int ho, int wo, float* dw) {
+void direct_dw_sample(const float* xp, int C, int Wp, const float* dy, long dy_plane, int dy_row, int cout, int ho,
+                      int wo, float* dw) {
 #if defined(__AVX512F__)
   const int ob = cout % 8 == 0 ? 8 : cout % 4 == 0 ? 4 : cout % 2 == 0 ? 2 : 1;
 #define DC_DW(VB)                                                        \
   switch (ob) {                                                          \
-    case 8: direct_dw3<VB, 8>(xp, C, Wp, dyz, cout, ho, dw); break;      \
-    case 4: direct_dw3<VB, 4>(xp, C, Wp, dyz, cout, ho, dw); break;      \
-    case 2: direct_dw3<VB, 2>(xp, C, Wp, dyz, cout, ho, dw); break;      \
-    default: direct_dw3<VB, 1>(xp, C, Wp, dyz, cout, ho, dw); break;     \
+    case 8: direct_dw3<VB, 8>(xp, C, Wp, dy, dy_plane, dy_row, cout, ho, dw); break;      \
+    case 4: direct_dw3<VB, 4>(xp, C, Wp, dy, dy_plane, dy_row, cout, ho, dw); break;      \
+    case 2: direct_dw3<VB, 2>(xp, C, Wp, dy, dy_plane, dy_row, cout, ho, dw); break;      \
+    default: direct_dw3<VB, 1>(xp, C, Wp, dy, dy_plane, dy_row, cout, ho, dw); break;     \
   }
   switch (vec_count(wo)) {
     case 1: DC_DW(1) break;
@@ -309,7 +320,7 @@ void direct_dw_sample(const float* xp, int C, int Wp, const float* dyz, int cout
   }
 #undef DC_DW
 #else
-  (void)xp, (void)C, (void)Wp, (void)dyz, (void)cout, (void)ho, (void)wo, (void)dw;
+  (void)xp, (void)C, (void)Wp, (void)dy, (void)dy_plane, (void)dy_row, (void)cout, (void)ho, (void)wo, (void)dw;
 #endif
 }
 
@@ -366,7 +377,7 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
     // Stride 1: "same" padding is (k−1)/2 on every side.
     const int p = (k_ - 1) / 2;
     const int Wp = padded_width(g.wo, k_);
-    pack_weights(weight_.data(), K, 1, cout_, cin_, k_ * k_, block_channels(g.wo), wpk_);
+    pack_weights(weight_.data(), K, 1, cout_, cin_, k_ * k_, block_channels(g.wo, cout_), wpk_);
     const int drpt = direct_rows_per_tile(cin_, k_, Wp, g.ho);
     const int dtiles = (g.ho + drpt - 1) / drpt;
     for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(cin_) * (drpt + k_ - 1) * Wp);
@@ -433,7 +444,6 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   const bool by_sample = N >= 2;
   // dW directly from a padded copy of the whole sample (3×3, stride 1, a batch).
   const bool direct_dw = flip && k_ == 3 && by_sample && direct_available(s_, g.wo);
-  const int L = vec_count(g.wo) * kLanes;
   // Work split into groups, each with its own dW/db accumulator; groups are summed in
   // group order afterwards. A batch (N ≥ 2) is cut into ≤ 16 runs of consecutive
   // samples; a single sample into its row tiles. The grouping depends on N only, and
@@ -455,7 +465,7 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
       grow(xpad_, static_cast<std::size_t>(T));
       grow(dyz_, static_cast<std::size_t>(T));
       grow(xpad_[t], static_cast<Eigen::Index>(cin_) * (g.h + 2) * Wp);
-      grow(dyz_[t], static_cast<Eigen::Index>(cout_) * g.ho * L);
+      grow(dyz_[t], static_cast<Eigen::Index>(cout_) * (g.ho + 2) * Wp);
     }
     if (relu_ && by_sample) grow(dyr_[t], static_cast<Eigen::Index>(dy_sample));
   }
@@ -479,7 +489,7 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
         for (int ky = 0; ky < k_; ++ky)
           for (int kx = 0; kx < k_; ++kx)
             wflip_((o * k_ + (k_ - 1 - ky)) * k_ + (k_ - 1 - kx), c) = weight_(o, c, ky, kx);
-    if (direct) pack_weights(wflip_.data(), Kf, 1, cin_, cout_, k_ * k_, block_channels(g.wo), wpkf_);
+    if (direct) pack_weights(wflip_.data(), Kf, 1, cin_, cout_, k_ * k_, block_channels(g.wo, cin_), wpkf_);
   }
   const int fpad_top = k_ - 1 - g.pad_top, fpad_left = k_ - 1 - g.pad_left;
 
@@ -508,13 +518,14 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
       if (direct_dw) {
         float* xp = xpad_[tid].data();
         float* dz = dyz_[tid].data();
+        // Padded x and dY of the whole sample (p = 1): dY's padding leaves zero lanes
+        // beyond Wo (Wp = VB·16 + 2), as direct_dw3 needs; the same buffer feeds dX.
         pad_rows(x.sample(n), nullptr, cin_, g.h, g.w, 1, 0, g.h + 2, Wp, xp);
-        for (int r = 0; r < cout_ * g.ho; ++r) {
-          std::memcpy(dz + static_cast<std::size_t>(r) * L, gs + static_cast<std::size_t>(r) * g.wo, sizeof(float) * g.wo);
-          std::memset(dz + static_cast<std::size_t>(r) * L + g.wo, 0, sizeof(float) * (L - g.wo));
-        }
-        direct_dw_sample(xp, cin_, Wp, dz, cout_, g.ho, g.wo, dW.data());
+        pad_rows(gs, nullptr, cout_, g.ho, g.wo, 1, 0, g.ho + 2, Wp, dz);
+        direct_dw_sample(xp, cin_, Wp, dz + Wp + 1, static_cast<long>(g.ho + 2) * Wp, Wp, cout_, g.ho, g.wo, dW.data());
         db.noalias() += CStridedMap(gs, plane, cout_, Eigen::OuterStride<>(plane)).colwise().sum().transpose();
+        if (dxs != nullptr) direct_tile(dz, cout_, g.ho + 2, Wp, k_, wpkf_.data(), cin_, nullptr, false, dxs, g.h, g.w, 0, g.h);
+        continue;
       }
       for (int tile = t_lo; tile < t_hi; ++tile) {
         const int oy0 = tile * rpt;
