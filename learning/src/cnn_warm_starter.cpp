@@ -176,8 +176,8 @@ void add_cnn_warm_starters(WarmStarterRegistry& registry, std::filesystem::path 
     };
   };
   registry.add("cnn",
-               "learned: body state -> feature grid -> CNN -> label grid -> back at the contacts; cnn:MODEL.h5 "
-               "(default: --model or the shipped models/default.h5)",
+               "learned: body state (+ builtin for a residual model) -> feature grid -> CNN -> label grid -> "
+               "back at the contacts (+ builtin); cnn:MODEL.h5 (default: --model or the shipped models/default.h5)",
                factory(false));
   registry.add("cnn-hybrid", "builtin for persistent contacts, cnn for new ones (network skipped when none is new); "
                              "cnn-hybrid:MODEL.h5",
