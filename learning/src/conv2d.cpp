@@ -178,7 +178,11 @@ void pad_rows(const float* x, const float* mask, int C, int H, int W, int p, int
 
 #if defined(__AVX512F__)
 // KS: the kernel size if known at compile time (fully unrolled taps), 0 = use k.
-template <int VB, int OB, int KS>
+// S: stride 1 or 2. For stride 2 the padded rows are split into column phases,
+// xp [C][R][S][Wp] with phase φ index i = padded column S·i + φ, so that tap kx of output
+// column ox reads phase kx % S at index ox + kx / S: contiguous again. Output row j reads
+// padded row S·j + ky.
+template <int VB, int OB, int KS, int S>
 void direct_rows(const float* xp, int C, int R, int Wp, int kdyn, const float* wpk, int cout, const float* bias,
                  bool relu, float* y, int ho, int wo, int oy0, int nrows) {
   const int k = KS > 0 ? KS : kdyn;
@@ -192,12 +196,13 @@ void direct_rows(const float* xp, int C, int R, int Wp, int kdyn, const float* w
       const float* wb = wpk + static_cast<std::size_t>(b) * C * kk * OB;
       for (int c = 0; c < C; ++c) {
         for (int ky = 0; ky < k; ++ky) {
-          const float* xr = xp + (static_cast<std::size_t>(c) * R + j + ky) * Wp;
+          const float* xr = xp + (static_cast<std::size_t>(c) * R + j * S + ky) * S * Wp;
           const float* wr = wb + static_cast<std::size_t>(c * kk + ky * k) * OB;
           for (int kx = 0; kx < k; ++kx, wr += OB) {
             __m512 xv[VB];
+            const float* xk = xr + (kx % S) * Wp + kx / S;
             for (int v = 0; v < VB; ++v) {
-              xv[v] = _mm512_loadu_ps(xr + kx + v * kLanes);
+              xv[v] = _mm512_loadu_ps(xk + v * kLanes);
               // Keep the loaded row in a register: without this GCC folds the load into
               // each of the OB FMAs (OB unaligned loads instead of one; load-bound).
               __asm__("" : "+v"(xv[v]));
@@ -228,13 +233,15 @@ void direct_rows(const float* xp, int C, int R, int Wp, int kdyn, const float* w
 
 // Output rows [oy0, oy0 + nrows) of y [cout][ho][wo] from the padded rows in xp.
 void direct_tile(const float* xp, int C, int R, int Wp, int k, const float* wpk, int cout, const float* bias, bool relu,
-                 float* y, int ho, int wo, int oy0, int nrows) {
+                 float* y, int ho, int wo, int oy0, int nrows, int stride = 1) {
 #if defined(__AVX512F__)
 #define DC_ROWS(VB, OB)                                                                          \
-  if (k == 3)                                                                                   \
-    direct_rows<VB, OB, 3>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);      \
+  if (stride == 2)                                                                              \
+    direct_rows<VB, OB, 3, 2>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);   \
+  else if (k == 3)                                                                              \
+    direct_rows<VB, OB, 3, 1>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);   \
   else                                                                                          \
-    direct_rows<VB, OB, 0>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);
+    direct_rows<VB, OB, 0, 1>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);
   if (cout <= 2) {
     switch (vec_count(wo)) {
       case 1: DC_ROWS(1, 2) break;
@@ -253,8 +260,29 @@ void direct_tile(const float* xp, int C, int R, int Wp, int k, const float* wpk,
 #undef DC_ROWS
 #else
   (void)xp, (void)C, (void)R, (void)Wp, (void)k, (void)wpk, (void)cout, (void)bias, (void)relu;
-  (void)y, (void)ho, (void)wo, (void)oy0, (void)nrows;
+  (void)y, (void)ho, (void)wo, (void)oy0, (void)nrows, (void)stride;
 #endif
+}
+
+// Stride-2 padded rows for direct_rows<…, 2>: xp [C][R][2][Wp], padded row r = input row
+// r0 + r, phase φ index i = input column 2i + φ − pl; zero outside the image.
+void pad_rows_s2(const float* x, int C, int H, int W, int pl, int r0, int R, int Wp, float* xp) {
+  for (int c = 0; c < C; ++c) {
+    for (int r = 0; r < R; ++r) {
+      float* dst = xp + (static_cast<std::size_t>(c) * R + r) * 2 * Wp;
+      const int iy = r0 + r;
+      if (iy < 0 || iy >= H) {
+        std::memset(dst, 0, sizeof(float) * 2 * Wp);
+        continue;
+      }
+      const float* src = x + (static_cast<std::size_t>(c) * H + iy) * W;
+      for (int ph = 0; ph < 2; ++ph, dst += Wp)
+        for (int i = 0; i < Wp; ++i) {
+          const int ix = 2 * i + ph - pl;
+          dst[i] = ix >= 0 && ix < W ? src[ix] : 0.0f;
+        }
+    }
+  }
 }
 
 
@@ -373,6 +401,26 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   const int T = macs >= kParallelMacs ? detail::max_threads() : 1;
   grow(col_, static_cast<std::size_t>(T));
   for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
+  if (s_ == 2 && k_ == 3 && direct_available(1, g.wo)) {
+    // Stride 2 (3×3): the same kernel on column-phase-split padded rows.
+    const int Wp = vec_count(g.wo) * kLanes + 1;
+    pack_weights(weight_.data(), K, 1, cout_, cin_, 9, block_channels(g.wo, cout_), wpk_);
+    // Rows per tile: C·(2·rows + 1)·2·Wp ≤ kTileFloats.
+    const int drpt = static_cast<int>(std::clamp<long>((kTileFloats / (2L * cin_ * Wp) - 1) / 2, 1, g.ho));
+    const int dtiles = (g.ho + drpt - 1) / drpt;
+    for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(cin_) * (2 * drpt + 1) * 2 * Wp);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(T) if (T > 1)
+    for (int it = 0; it < N * dtiles; ++it) {
+      const int n = it / dtiles;
+      const int oy0 = (it % dtiles) * drpt;
+      const int nrows = std::min(g.ho, oy0 + drpt) - oy0;
+      const int R = 2 * (nrows - 1) + 3;
+      float* xp = col_[detail::thread_id()].data();
+      pad_rows_s2(x.sample(n), cin_, g.h, g.w, g.pad_left, 2 * oy0 - g.pad_top, R, Wp, xp);
+      direct_tile(xp, cin_, R, Wp, 3, wpk_.data(), cout_, bias_.data(), relu_, y.sample(n), g.ho, g.wo, oy0, nrows, 2);
+    }
+    return;
+  }
   if (direct_available(s_, g.wo)) {
     // Stride 1: "same" padding is (k−1)/2 on every side.
     const int p = (k_ - 1) / 2;

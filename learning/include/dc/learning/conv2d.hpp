@@ -12,7 +12,10 @@
 // Implementation, stride 1 with AVX-512 and Wo ≤ 64 (the default U-Net's 61×61 and 31×31
 // layers): direct convolution from a zero-padded copy of the tile's input rows, each output
 // row × a few channels accumulated in registers (no X_col, no GEMM packing); dX likewise
-// from padded dY rows with the flipped kernel. Otherwise (im2col + GEMM): for a tile of P output pixels the patch matrix
+// from padded dY rows with the flipped kernel; dW (3×3, batch ≥ 2) from padded x and dY of
+// a whole sample with vector accumulators. The forward of a 3×3 stride-2 conv uses the same
+// kernel on padded rows split into even/odd column phases (its backward stays im2col).
+// Otherwise (im2col + GEMM): for a tile of P output pixels the patch matrix
 // X_col (P × K, K = Cin·k², column (c,ky,kx) holds the shifted input plane) is built in a
 // per-thread scratch buffer, then Y_tile (P × Cout) = X_col · Wᵀ with Wᵀ the weight tensor
 // [Cout, Cin, k, k] viewed as a column-major K × Cout matrix. Because a sample of y is a
