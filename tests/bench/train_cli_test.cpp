@@ -227,6 +227,9 @@ TEST(TrainCli, BadInputsFailWithOneLine) {
   expect_error("train --data " + data_set() + out + " --epochs 0", "epochs");
   expect_error("train --data " + data_set() + out + " --schedule sometimes", "schedule");
   expect_error("train --data " + data_set() + out + " --arch nothere.toml", "--arch");
+  expect_error("train --data " + data_set() + out + " --label-scale -1", "--label-scale");
+  expect_error("train --data " + data_set() + out + " --deadzone 5", "--residual");
+  expect_error("train --data " + data_set(Channels::Residual) + out + " --residual --deadzone -2", "--deadzone");
 
   // A checkpoint of another run (other lr), then one of another format version.
   const std::string base = "train --data " + data_set() + " --epochs 6" + kTrain + out;
