@@ -56,6 +56,8 @@ class TempDir {
   TempDir(const TempDir&) = delete;
   TempDir& operator=(const TempDir&) = delete;
   [[nodiscard]] std::string file(const std::string& name) const { return (path_ / name).string(); }
+  /// Same as file(): `dir / "x.h5"`.
+  [[nodiscard]] std::string operator/(const std::string& name) const { return file(name); }
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
 
  private:

@@ -38,33 +38,11 @@ const std::string kScene =
 const std::string kFamily = kScene + " --count 10..14 --steps 60";
 const std::string kSlow = kScene + " --count 10..14 --steps 250";
 
-struct Dir {
-  fs::path path;
-  Dir() {
-    path = fs::temp_directory_path() / ("dc_generate_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Dir() { fs::remove_all(path); }
-  [[nodiscard]] std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+using test::TempDir;
+using Dir = TempDir;
 
-struct Result {
-  int status = -1;
-  std::string err;
-};
+using Result = test::CliResult;
 
-/// Runs `deepcontact ARGS` to completion; stderr captured.
-Result run_cli(const Dir& dir, const std::string& args) {
-  const std::string err = dir / "stderr.txt";
-  const std::string cmd = std::string(DC_CLI) + " " + args + " >/dev/null 2>" + err;
-  const int rc = std::system(cmd.c_str());
-  Result r;
-  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  r.err = slurp(err);
-  return r;
-}
 
 std::string attribute_text(const H5File& f, const std::string& name) {
   try {
@@ -134,8 +112,8 @@ int one_line(const std::string& s) { return static_cast<int>(std::count(s.begin(
 TEST(GenerateCli, ThreadCountDoesNotChangeTheFile) {
   Dir dir;
   const std::string out2 = dir / "t2.h5";
-  const Result r = run_cli(dir, "generate --sims 3" + kFamily + " --threads 2 --out " + out2);
-  ASSERT_EQ(r.status, 0) << r.err;
+  const Result r = test::run_cli("generate --sims 3" + kFamily + " --threads 2 --out " + out2);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(out2 + ".partial"));
   expect_same_file(reference(3, kFamily), out2);
   const DataSetReader data(out2);
@@ -162,13 +140,13 @@ TEST(GenerateCli, KillNineThenResumeEqualsAnUninterruptedRun) {
     EXPECT_LT(partial.simulations().size(), 6u);
   }
   // Without --resume the partial file is never overwritten.
-  const Result refused = run_cli(dir, args);
-  EXPECT_NE(refused.status, 0);
+  const Result refused = test::run_cli(args);
+  EXPECT_NE(refused.exit_code, 0);
   EXPECT_NE(refused.err.find("--resume"), std::string::npos) << refused.err;
   EXPECT_EQ(one_line(refused.err), 1) << refused.err;
 
-  const Result resumed = run_cli(dir, args + " --resume");
-  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  const Result resumed = test::run_cli(args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_FALSE(fs::exists(out + ".partial"));
   expect_same_file(reference(6, kSlow), out);
 }
@@ -187,8 +165,8 @@ TEST(GenerateCli, SigintExitsNonZeroAndLeavesAResumablePartialFile) {
   ASSERT_TRUE(fs::exists(out + ".partial"));
   EXPECT_FALSE(fs::exists(out));
   EXPECT_GE(DataSetReader(out + ".partial").simulations().size(), 1u);
-  const Result resumed = run_cli(dir, args + " --resume");
-  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  const Result resumed = test::run_cli(args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   expect_same_file(reference(6, kSlow), out);
 }
 
@@ -201,8 +179,8 @@ TEST(GenerateCli, ResumeWithOtherParametersIsRefused) {
   ::kill(pid, SIGKILL);
   wait_exit(pid);
   ASSERT_TRUE(fs::exists(out + ".partial"));
-  const Result r = run_cli(dir, "generate --sims 6" + kScene + " --count 10..15 --steps 250 --resume --out " + out);
-  EXPECT_NE(r.status, 0);
+  const Result r = test::run_cli("generate --sims 6" + kScene + " --count 10..15 --steps 250 --resume --out " + out);
+  EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--count"), std::string::npos) << r.err;
   EXPECT_EQ(one_line(r.err), 1) << r.err;
 }
@@ -213,15 +191,15 @@ TEST(GenerateCli, BadInputsFailWithOneLine) {
   for (const std::string bad : {"--sims 0", "--sims 2 --count 5..2", "--sims 2 --count abc",
                                  "--sims 2 --channels mass,speed", "--sims 2 --grid poly6:0:0.5",
                                  "--sims 2 --resume", "--sims 2 --oracle lemke"}) {
-    const Result r = run_cli(dir, "generate " + bad + " --steps 5 --out " + out);
-    EXPECT_NE(r.status, 0) << bad;
+    const Result r = test::run_cli("generate " + bad + " --steps 5 --out " + out);
+    EXPECT_NE(r.exit_code, 0) << bad;
     EXPECT_EQ(one_line(r.err), 1) << bad << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << bad;
   }
   // An existing OUT needs --force.
   { std::ofstream(out) << "x"; }
-  const Result r = run_cli(dir, "generate --sims 1 --steps 5 --out " + out);
-  EXPECT_NE(r.status, 0);
+  const Result r = test::run_cli("generate --sims 1 --steps 5 --out " + out);
+  EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
   EXPECT_EQ(one_line(r.err), 1) << r.err;
 }

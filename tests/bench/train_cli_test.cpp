@@ -38,33 +38,11 @@ const std::string kFamily =
 // Small, fast, single-threaded (bit-equality needs equal thread counts).
 const std::string kTrain = " --batch 8 --every 3 --threads 1 --seed 3 --no-plot";
 
-struct Dir {
-  fs::path path;
-  Dir() {
-    path = fs::temp_directory_path() / ("dc_train_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Dir() { fs::remove_all(path); }
-  [[nodiscard]] std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+using test::TempDir;
+using Dir = TempDir;
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
+using Result = test::CliResult;
 
-Result run_cli(const Dir& dir, const std::string& args) {
-  const std::string out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(DC_CLI) + " " + args + " >" + out + " 2>" + err;
-  const int rc = std::system(cmd.c_str());
-  Result r;
-  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
 
 /// The tiny data sets, generated once per test binary run: the default channels, without
 /// contact_density, or the residual model's channels (with lambda_prev_n/t).
@@ -114,8 +92,8 @@ void expect_same_weights(const std::string& a, const std::string& b) {
 TEST(TrainCli, ShortRunWritesAModelForTheDataSetsGrid) {
   Dir dir;
   const std::string model = dir / "m.h5";
-  const Result r = run_cli(dir, "train --data " + data_set() + " --out " + model + " --epochs 2 --batch 8 --every 3 --threads 1");
-  ASSERT_EQ(r.status, 0) << r.err;
+  const Result r = test::run_cli("train --data " + data_set() + " --out " + model + " --epochs 2 --batch 8 --every 3 --threads 1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("epoch   1/2"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("epoch   2/2"), std::string::npos) << r.out;
   Model m = load_model(model);
@@ -130,21 +108,21 @@ TEST(TrainCli, ShortRunWritesAModelForTheDataSetsGrid) {
   if (fs::exists("/usr/bin/python3")) EXPECT_TRUE(fs::exists(model + ".loss.png")) << r.err;
   EXPECT_FALSE(fs::exists(model + ".ckpt"));  // finished: no checkpoint left behind
   // An existing model is not overwritten without --force.
-  const Result again = run_cli(dir, "train --data " + data_set() + " --out " + model + " --epochs 1");
-  EXPECT_NE(again.status, 0);
+  const Result again = test::run_cli("train --data " + data_set() + " --out " + model + " --epochs 1");
+  EXPECT_NE(again.exit_code, 0);
   EXPECT_EQ(lines(again.err), 1) << again.err;
 }
 
 TEST(TrainCli, ContactWeightRunsAndNeedsTheDensityChannel) {
   Dir dir;
-  Result r = run_cli(dir, "train --data " + data_set() + " --out " + (dir / "w.h5") + " --epochs 1 --contact-weight 4" +
+  Result r = test::run_cli("train --data " + data_set() + " --out " + (dir / "w.h5") + " --epochs 1 --contact-weight 4" +
                               kTrain);
-  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("contact weight 4"), std::string::npos) << r.out;
   // The weight needs the contact_density channel.
-  r = run_cli(dir, "train --data " + data_set(false) + " --out " + (dir / "x.h5") + " --epochs 1 --contact-weight 4" +
+  r = test::run_cli("train --data " + data_set(false) + " --out " + (dir / "x.h5") + " --epochs 1 --contact-weight 4" +
                        kTrain);
-  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("contact_density"), std::string::npos) << r.err;
   EXPECT_EQ(lines(r.err), 1) << r.err;
 }
@@ -152,20 +130,20 @@ TEST(TrainCli, ContactWeightRunsAndNeedsTheDensityChannel) {
 // --residual trains on label − lambda_prev and says so in the model; it needs those channels.
 TEST(TrainCli, ResidualNeedsTheLambdaPrevChannelsAndIsStoredInTheModel) {
   Dir dir;
-  Result r = run_cli(dir, "train --data " + data_set(Channels::Residual) + " --out " + (dir / "r.h5") +
+  Result r = test::run_cli("train --data " + data_set(Channels::Residual) + " --out " + (dir / "r.h5") +
                               " --epochs 1 --residual --contact-weight 4" + kTrain);
-  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("residual labels"), std::string::npos) << r.out;
   Model m = load_model(dir / "r.h5");
   EXPECT_EQ(m.grid().label_kind, "residual");
   EXPECT_EQ(m.network().input_shape().c, 10);
   // The same data without --residual gives an absolute model.
-  r = run_cli(dir, "train --data " + data_set(Channels::Residual) + " --out " + (dir / "a.h5") + " --epochs 1" + kTrain);
-  ASSERT_EQ(r.status, 0) << r.err;
+  r = test::run_cli("train --data " + data_set(Channels::Residual) + " --out " + (dir / "a.h5") + " --epochs 1" + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(load_model(dir / "a.h5").grid().label_kind, "absolute");
   // A data set without lambda_prev channels: one-line error naming them.
-  r = run_cli(dir, "train --data " + data_set() + " --out " + (dir / "x.h5") + " --epochs 1 --residual" + kTrain);
-  EXPECT_NE(r.status, 0);
+  r = test::run_cli("train --data " + data_set() + " --out " + (dir / "x.h5") + " --epochs 1 --residual" + kTrain);
+  EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("lambda_prev_n"), std::string::npos) << r.err;
   EXPECT_EQ(lines(r.err), 1) << r.err;
 }
@@ -173,8 +151,8 @@ TEST(TrainCli, ResidualNeedsTheLambdaPrevChannelsAndIsStoredInTheModel) {
 TEST(TrainCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   Dir dir;
   const std::string args = "train --data " + data_set() + " --epochs 8" + kTrain;
-  const Result ref = run_cli(dir, args + " --out " + (dir / "ref.h5"));
-  ASSERT_EQ(ref.status, 0) << ref.err;
+  const Result ref = test::run_cli(args + " --out " + (dir / "ref.h5"));
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
 
   const std::string out = dir / "killed.h5", log = dir / "log.txt";
   const pid_t pid = spawn_cli(args + " --out " + out, log, ChildLog::StdoutAndStderr);
@@ -186,8 +164,8 @@ TEST(TrainCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   ASSERT_TRUE(fs::exists(out));  // the best model so far is always on disk
   (void)load_model(out);
 
-  const Result resumed = run_cli(dir, args + " --out " + out + " --resume");
-  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  const Result resumed = test::run_cli(args + " --out " + out + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.out.find("resuming after epoch"), std::string::npos) << resumed.out;
   EXPECT_NE(resumed.out.find("epoch   8/8"), std::string::npos) << resumed.out;
   EXPECT_EQ(lines(slurp(out + ".loss.csv")), 9);
@@ -198,24 +176,24 @@ TEST(TrainCli, KillNineThenResumeEqualsAnUninterruptedRun) {
 TEST(TrainCli, SigintStopsCleanlyAndResumeCompletes) {
   Dir dir;
   const std::string args = "train --data " + data_set() + " --epochs 8" + kTrain;
-  const Result ref = run_cli(dir, args + " --out " + (dir / "ref.h5"));
-  ASSERT_EQ(ref.status, 0) << ref.err;
+  const Result ref = test::run_cli(args + " --out " + (dir / "ref.h5"));
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
   const std::string out = dir / "int.h5", log = dir / "log.txt";
   const pid_t pid = spawn_cli(args + " --out " + out, log, ChildLog::StdoutAndStderr);
   ASSERT_TRUE(wait_for(log, "epoch   1/8", pid)) << slurp(log);
   ::kill(pid, SIGINT);
   EXPECT_EQ(wait_exit(pid), 130) << slurp(log);
   EXPECT_NE(slurp(log).find("--resume"), std::string::npos) << slurp(log);
-  const Result resumed = run_cli(dir, args + " --out " + out + " --resume");
-  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  const Result resumed = test::run_cli(args + " --out " + out + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   expect_same_weights(dir / "ref.h5", out);
 }
 
 TEST(TrainCli, BadInputsFailWithOneLine) {
   Dir dir;
   const auto expect_error = [&](const std::string& args, const std::string& needle) {
-    const Result r = run_cli(dir, args);
-    EXPECT_NE(r.status, 0) << args;
+    const Result r = test::run_cli(args);
+    EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_EQ(lines(r.err), 1) << args << "\n" << r.err;
     EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
   };
