@@ -6,7 +6,7 @@
 #      scene seeds 1000..1000+M-1 — disjoint from the bench's evaluation seeds 1..3 — with the
 #      residual feature channels (the builtin warm start, relative velocity and gap at the
 #      contacts on the grid; docs/learning.md "Residual models").
-#   2. deepcontact train: the 5-level U-Net models/arch/unet-deep.toml as a RESIDUAL model
+#   2. deepcontact train: the 5-level U-Net models/arch/unet-deep-slim.toml as a RESIDUAL model
 #      (learns λ* − λ_prev, asinh-compressed with scale 10, loss weight 11 at contact nodes,
 #      corrections below DEADZONE N ignored at inference) on
 #      every 4th step of each simulation (consecutive steps are nearly identical), validation =
@@ -56,7 +56,7 @@ RESUME=()
 [ -f "$OUT.ckpt" ] && RESUME=(--resume) && echo "== resuming the interrupted training from $OUT.ckpt"
 echo "== training $OUT"
 "$DC" train --data "$DATA" --out "$OUT" --force "${RESUME[@]}" \
-  --arch models/arch/unet-deep.toml --residual --label-scale 10 --contact-weight 10 --deadzone "$DEADZONE" \
+  --arch models/arch/unet-deep-slim.toml --residual --label-scale 10 --contact-weight 10 --deadzone "$DEADZONE" \
   --epochs "$EPOCHS" --every "$EVERY" --batch 32 --lr 5e-3 --momentum 0.9 --weight-decay 1e-4 \
   --val 0.2 --seed 1 --threads "$THREADS"
 end=$(date +%s)
