@@ -113,11 +113,6 @@ std::vector<FeatureChannel> residual_feature_channels() {
           FeatureChannel::Gap};
 }
 
-bool has_lambda_prev_channels(std::span<const FeatureChannel> cs) {
-  return std::find(cs.begin(), cs.end(), FeatureChannel::LambdaPrevN) != cs.end() &&
-         std::find(cs.begin(), cs.end(), FeatureChannel::LambdaPrevT) != cs.end();
-}
-
 std::vector<std::string> label_channel_names() { return {"lambda_n", "lambda_t"}; }
 
 FeatureImageDef FeatureImageDef::for_box(double width, double height) {

@@ -72,8 +72,6 @@ std::vector<FeatureChannel> default_feature_channels();
 /// The channels of a residual model (the shipped one): mass, vx, vy, omega, contact_density,
 /// lambda_prev_n, lambda_prev_t, vrel_n, vrel_t, gap.
 std::vector<FeatureChannel> residual_feature_channels();
-/// True if `channels` holds lambda_prev_n and lambda_prev_t (what a residual model needs).
-bool has_lambda_prev_channels(std::span<const FeatureChannel> channels);
 /// "lambda_n", "lambda_t".
 std::vector<std::string> label_channel_names();
 
