@@ -37,6 +37,11 @@ TEST(FeatureImage, DefaultGridFollowsTheSphSettingAndChannelsAreDocumented) {
   const auto names = feature_channel_names(default_feature_channels());
   EXPECT_EQ(names, (std::vector<std::string>{"mass", "vx", "vy", "omega", "contact_density"}));
   EXPECT_EQ(label_channel_names(), (std::vector<std::string>{"lambda_n", "lambda_t"}));
+  // Every channel name parses back to its channel (the residual set covers the new ones).
+  for (FeatureChannel c : residual_feature_channels()) EXPECT_EQ(parse_feature_channel(to_string(c)), c);
+  for (FeatureChannel c : {FeatureChannel::Nx, FeatureChannel::Ny}) EXPECT_EQ(parse_feature_channel(to_string(c)), c);
+  EXPECT_EQ(parse_feature_channels("gap, lambda_prev_n,vrel_t"),
+            (std::vector<FeatureChannel>{FeatureChannel::Gap, FeatureChannel::LambdaPrevN, FeatureChannel::VrelT}));
 }
 
 TEST(FeatureImage, AsymmetricSingleBodyPinsAxesAndShepardFieldsReturnTheBodyValues) {
