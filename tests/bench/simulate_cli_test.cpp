@@ -45,7 +45,9 @@ TEST(SimulateCli, WritesTheDocumentedTrajectory) {
     EXPECT_LT(a[i], 12);
     EXPECT_GE(b[i], 0);
     EXPECT_LT(b[i], 12);
-    if (a[i] >= 0) EXPECT_LT(a[i], b[i]);
+    if (a[i] >= 0) {
+      EXPECT_LT(a[i], b[i]);
+    }
     saw_floor |= a[i] == -3;  // bottom wall
   }
   EXPECT_TRUE(saw_floor);

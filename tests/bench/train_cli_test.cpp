@@ -105,7 +105,9 @@ TEST(TrainCli, ShortRunWritesAModelForTheDataSetsGrid) {
   // Standardisation is learned (not the identity) and stored.
   EXPECT_NE(m.output_stats.std[0], 1.0f);
   EXPECT_EQ(lines(slurp(model + ".loss.csv")), 3);  // header + 2 epochs
-  if (fs::exists("/usr/bin/python3")) EXPECT_TRUE(fs::exists(model + ".loss.png")) << r.err;
+  if (fs::exists("/usr/bin/python3")) {
+    EXPECT_TRUE(fs::exists(model + ".loss.png")) << r.err;
+  }
   EXPECT_FALSE(fs::exists(model + ".ckpt"));  // finished: no checkpoint left behind
   // An existing model is not overwritten without --force.
   const Result again = test::run_cli("train --data " + data_set() + " --out " + model + " --epochs 1");

@@ -94,7 +94,9 @@ TEST(World, ContactsAreSortedByKeyAndUnique) {
   for (std::size_t i = 1; i < cs.size(); ++i) EXPECT_LT(cs[i - 1].key, cs[i].key);
   for (const Contact& c : cs) {
     EXPECT_NEAR(length(c.normal), 1.0, 1e-12);
-    if (!c.key.is_wall()) EXPECT_LT(c.key.a, c.key.b);
+    if (!c.key.is_wall()) {
+      EXPECT_LT(c.key.a, c.key.b);
+    }
   }
 }
 
