@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <functional>
 #include <map>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +17,7 @@
 #include <thread>
 
 #include "cli_helpers.hpp"
+#include "h5_compare.hpp"
 #include "dc/engine/h5.hpp"
 #include "dc/learning/data_set.hpp"
 
@@ -65,27 +65,7 @@ void expect_same_file(const std::string& pa, const std::string& pb) {
   const H5File a = H5File::open_read(pa), b = H5File::open_read(pb);
   ASSERT_EQ(a.attribute_names("/"), b.attribute_names("/"));
   for (const auto& n : a.attribute_names("/")) EXPECT_EQ(attribute_text(a, n), attribute_text(b, n)) << n;
-  std::function<void(const std::string&)> walk = [&](const std::string& group) {
-    const auto names = a.children(group);
-    ASSERT_EQ(names, b.children(group)) << group;
-    for (const auto& n : names) {
-      const std::string p = (group == "/" ? "/" : group + "/") + n;
-      if (a.is_group(p)) {
-        walk(p);
-        continue;
-      }
-      ASSERT_EQ(a.shape(p), b.shape(p)) << p;
-      ASSERT_EQ(a.type(p), b.type(p)) << p;
-      switch (a.type(p)) {
-        case H5Type::Float32: EXPECT_EQ(a.read<float>(p), b.read<float>(p)) << p; break;
-        case H5Type::Float64: EXPECT_EQ(a.read<double>(p), b.read<double>(p)) << p; break;
-        case H5Type::Int32: EXPECT_EQ(a.read<std::int32_t>(p), b.read<std::int32_t>(p)) << p; break;
-        case H5Type::Int64: EXPECT_EQ(a.read<std::int64_t>(p), b.read<std::int64_t>(p)) << p; break;
-        case H5Type::UInt8: EXPECT_EQ(a.read<std::uint8_t>(p), b.read<std::uint8_t>(p)) << p; break;
-      }
-    }
-  };
-  walk("/");
+  test::expect_same_datasets(a, b);
 }
 
 /// The uninterrupted reference run of `sims` simulations of `family` (made once per binary run).
