@@ -8,7 +8,6 @@
 #include "dc/engine/error.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/oracle.hpp"
-#include "step_outcome.hpp"
 
 namespace dc::bench {
 namespace {
@@ -24,7 +23,7 @@ double ms_since(Clock::time_point t0) {
 Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::VectorXd& oracle,
                                  bool share_oracle, const LcpSolver& solver, const BenchOptions& o,
                                  const std::vector<int>& budgets, StarterRecord& rec,
-                                 Eigen::VectorXd& scratch) {
+                                 StepOutcome& outcome) {
   const LcpProblem& p = world.problem();
   const StepView view{world, share_oracle ? &oracle : nullptr};
   rec.seed.push_back(world.def().bodies.seed);
@@ -44,7 +43,8 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
   rec.initial_error.push_back(p.rows() ? (lambda0 - oracle).cwiseAbs().maxCoeff() : 0.0);
 
   // Reference energy after a step with λ*, for the energy error of each budget.
-  const double e_star = evaluate_step(world, oracle, scratch).energy;
+  world.predict(oracle, outcome);
+  const double e_star = outcome.energy();
 
   // 1. Convergence run: fixed sweeps, θ recorded, trade sampled at the budgets.
   SolverOptions fixed;
@@ -57,9 +57,9 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
     const auto c0 = Clock::now();
     rec.residual.push_back(natural_residual(p, lam));
     rec.lambda_error.push_back((lam - oracle).cwiseAbs().maxCoeff());
-    const StepOutcome so = evaluate_step(world, lam, scratch);
-    rec.penetration.push_back(so.penetration);
-    rec.energy_error.push_back(so.energy - e_star);
+    world.predict(lam, outcome);
+    rec.penetration.push_back(outcome.max_penetration());
+    rec.energy_error.push_back(outcome.energy() - e_star);
     callback_ms += ms_since(c0);
   };
   const std::size_t trade_before = rec.residual.size();
@@ -73,9 +73,9 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
     if (rec.residual.size() == trade_before) {
       rec.residual.push_back(natural_residual(p, fr.lambda));
       rec.lambda_error.push_back((fr.lambda - oracle).cwiseAbs().maxCoeff());
-      const StepOutcome so = evaluate_step(world, fr.lambda, scratch);
-      rec.penetration.push_back(so.penetration);
-      rec.energy_error.push_back(so.energy - e_star);
+      world.predict(fr.lambda, outcome);
+      rec.penetration.push_back(outcome.max_penetration());
+      rec.energy_error.push_back(outcome.energy() - e_star);
     } else {
       rec.residual.push_back(rec.residual[last]);
       rec.lambda_error.push_back(rec.lambda_error[last]);
@@ -146,7 +146,7 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
   const long total = static_cast<long>(o.seeds.size()) * steps *
                      (o.mode == Mode::Paired ? 1 : static_cast<long>(o.warmstarts.size()));
   long done = 0;
-  Eigen::VectorXd scratch;
+  StepOutcome outcome;  // reused by every evaluation
 
   for (const std::uint64_t seed : o.seeds) {
     WorldDef def = o.scene;
@@ -161,7 +161,8 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
       const auto oracle_starter = default_warm_starters().make("builtin");
       for (int s = 0; s < steps; ++s) {
         ref.collide();
-        const LcpProblem& p = ref.assemble();
+        ref.assemble();
+        const LcpProblem& p = solver->needs_assembled_matrix() ? ref.ensure_assembled_matrix() : ref.problem();
         if (p.rows() == 0) {
           ++r.skipped_steps;
           ref.integrate(Eigen::VectorXd());
@@ -177,7 +178,7 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
           r.step_index.push_back(s);
           r.step_rows.push_back(p.rows());
           for (std::size_t i = 0; i < starters.size(); ++i)
-            evaluate_starter(ref, *starters[i], os.lambda, true, *solver, o, r.budgets, r.starters[i], scratch);
+            evaluate_starter(ref, *starters[i], os.lambda, true, *solver, o, r.budgets, r.starters[i], outcome);
           ref.integrate(os.lambda);
         }
         if (progress) progress(++done, total, "seed " + std::to_string(seed) + " step " + std::to_string(s + 1));
@@ -187,7 +188,8 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
         World w(def);
         for (int s = 0; s < steps; ++s) {
           w.collide();
-          const LcpProblem& p = w.assemble();
+          w.assemble();
+          const LcpProblem& p = solver->needs_assembled_matrix() ? w.ensure_assembled_matrix() : w.problem();
           if (p.rows() == 0) {
             if (i == 0) ++r.skipped_steps;
             w.integrate(Eigen::VectorXd());
@@ -199,7 +201,7 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
             }
             // In rollout mode each starter computes its own oracle (reported as its cost).
             const Eigen::VectorXd lam =
-                evaluate_starter(w, *starters[i], os.lambda, false, *solver, o, r.budgets, r.starters[i], scratch);
+                evaluate_starter(w, *starters[i], os.lambda, false, *solver, o, r.budgets, r.starters[i], outcome);
             w.integrate(lam);
           }
           if (progress) progress(++done, total, r.starters[i].name + " seed " + std::to_string(seed));

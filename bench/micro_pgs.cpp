@@ -82,6 +82,7 @@ dc::LcpProblem pile(int bodies, int order) {
     }
     p.normal_row[static_cast<size_t>(rn + 1)] = rn;
     p.mu[rn + 1] = mu;
+    p.constraints.add(k.b >= 0 ? k.a : -1, k.b >= 0 ? k.b : k.a, mu);  // rows (rn, rn + 1)
   }
   p.J.resize(n, 3 * bodies);
   p.J.setFromTriplets(trip.begin(), trip.end());
@@ -214,7 +215,7 @@ const dc::LcpProblem& seed_scene_problem() {
     for (int k = 0; k < 400; ++k) world.step(*solver, o);
     world.collide();
     world.assemble();
-    return world.problem();
+    return world.ensure_assembled_matrix();  // A for BM_SeedScenePgsAssembled
   }();
   return problem;
 }

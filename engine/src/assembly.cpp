@@ -5,21 +5,28 @@
 
 namespace dc {
 
+double friction_of(const Contact& /*contact*/, const ContactSection& section) { return section.friction; }
+
 void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
                   LcpProblem& out) {
   const int nb = static_cast<int>(s.size());
   const int nc = static_cast<int>(contacts.size());
-  const bool friction = def.contact.friction > 0;
-  const int per = friction ? 2 : 1;
-  const int rows = per * nc;
   const double dt = def.time.dt;
   const ContactSection& cs = def.contact;
 
+  // The constraint structure first: it says which rows each contact owns.
+  ContactConstraints& con = out.constraints;
+  con.clear();
+  con.reserve(static_cast<size_t>(nc));
+  for (const Contact& ct : contacts)
+    con.add(ct.body_a >= 0 ? ct.body_a : -1, ct.body_b, friction_of(ct, cs), ct.key.feature);
+  const int rows = con.rows();
+
   out.dt = dt;
   out.inv_mass.resize(3 * nb);
-  for (int k = 0; k < nb; ++k) {
-    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
-    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
+  for (int b = 0; b < nb; ++b) {
+    out.inv_mass[3 * b] = out.inv_mass[3 * b + 1] = s.inv_mass[static_cast<size_t>(b)];
+    out.inv_mass[3 * b + 2] = s.inv_inertia[static_cast<size_t>(b)];
   }
 
   // J: at most 6 non-zeros per row (3 per circle); walls contribute no columns.
@@ -35,7 +42,9 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
   for (int c = 0; c < nc; ++c) {
     const Contact& ct = contacts[static_cast<size_t>(c)];
     const Vec2 n = ct.normal, t = perp(n);
-    const int rn = per * c, rt = rn + 1;
+    const ContactConstraint& kc = con[c];
+    const int rn = kc.normal_row, rt = kc.tangent_row;
+    const bool friction = kc.has_friction();
     double vn = 0, vt = 0;       // J u       (relative velocity before the step)
     double vn_f = 0, vt_f = 0;   // J Δt M⁻¹ F_ext  (gravity only: Δt·g on linear dofs)
     auto add_body = [&](int body, double sign) {
@@ -58,6 +67,7 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
     if (ct.body_a >= 0) add_body(ct.body_a, -1.0);
     add_body(ct.body_b, +1.0);
 
+    // b of the normal row: relative velocity + gravity + stabilisation + restitution.
     double bn = vn + vn_f;
     if (ct.gap > 0) {
       bn += ct.gap / dt;  // speculative: may close at most the open gap this step
@@ -73,17 +83,15 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
       out.b[rt] = vt + vt_f;
       out.lo[rt] = -std::numeric_limits<double>::infinity();  // effective bounds: ±μ λ_n
       out.hi[rt] = std::numeric_limits<double>::infinity();
-      out.mu[rt] = cs.friction;
+      out.mu[rt] = kc.mu;
       out.normal_row[static_cast<size_t>(rt)] = rn;
     }
   }
   out.J.resize(rows, 3 * nb);
   out.J.setFromTriplets(trip.begin(), trip.end());
   out.J.makeCompressed();
-  // A = J M⁻¹ Jᵀ Δt, kept row-major and sparse (rows couple only through shared bodies).
-  const SparseRowMatrix JM = out.J * (out.inv_mass * dt).asDiagonal();
-  out.A = (JM * SparseRowMatrix(out.J.transpose())).pruned(0.0);
-  out.A.makeCompressed();
+  // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix).
+  out.A = SparseRowMatrix();
 }
 
 }  // namespace dc

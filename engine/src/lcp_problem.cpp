@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "dc/engine/error.hpp"
 
@@ -28,7 +29,9 @@ LcpProblem LcpProblem::standard(const Eigen::MatrixXd& A, const Eigen::VectorXd&
 void LcpProblem::validate() const {
   const int n = rows();
   auto fail = [](const std::string& m) { throw InvalidArgument("LCP problem: " + m); };
-  if (A.rows() != n || A.cols() != n)
+  const bool matrix_free = A.rows() == 0 && A.cols() == 0 && n > 0;  // A formed on demand
+  if (matrix_free && !has_jacobian()) fail("neither A nor J is given");
+  if (!matrix_free && (A.rows() != n || A.cols() != n))
     fail("A is " + std::to_string(A.rows()) + "×" + std::to_string(A.cols()) + " but b has " +
          std::to_string(n) + " entries");
   if (lo.size() != n || hi.size() != n || mu.size() != n || static_cast<int>(normal_row.size()) != n)
@@ -58,9 +61,50 @@ void LcpProblem::validate() const {
     if (inv_mass.size() != J.cols()) fail("inv_mass must have one entry per column of J");
     if (!(dt > 0)) fail("dt must be > 0 when J is given");
   }
+  validate_constraints();
+}
+
+void LcpProblem::validate_constraints() const {
+  if (constraints.empty()) return;
+  const int n = rows();
+  auto fail = [](const std::string& m) { throw InvalidArgument("LCP problem: " + m); };
+  if (constraints.rows() != n)
+    fail("the contacts own " + std::to_string(constraints.rows()) + " rows, the problem has " + std::to_string(n));
+  const int bodies = static_cast<int>(J.cols() / 3);
+  std::vector<char> owned(static_cast<size_t>(n), 0);
+  for (int c = 0; c < constraints.size(); ++c) {
+    const ContactConstraint& k = constraints[c];
+    const std::string name = "contact " + std::to_string(c);
+    if (J.rows() > 0 && (k.body_b >= bodies || k.body_a >= bodies))
+      fail(name + " acts on a body beyond the " + std::to_string(bodies) + " bodies of J");
+    for (const int r : {k.normal_row, k.tangent_row}) {
+      if (r < 0) continue;
+      if (r >= n || owned[static_cast<size_t>(r)]++)
+        fail(name + ": row " + std::to_string(r) + " is out of range or owned by another contact");
+    }
+    if (k.normal_row < 0 || normal_row[static_cast<size_t>(k.normal_row)] >= 0)
+      fail(name + ": its normal row is missing or is a friction row");
+    if (k.has_friction() != (k.mu > 0)) fail(name + ": a tangent row needs mu > 0 and mu > 0 a tangent row");
+    if (k.has_friction() && (normal_row[static_cast<size_t>(k.tangent_row)] != k.normal_row || mu[k.tangent_row] != k.mu))
+      fail(name + ": tangent row " + std::to_string(k.tangent_row) + " is not coupled to its normal row with its mu");
+  }
+}
+
+void LcpProblem::ensure_assembled_matrix() {
+  if (has_assembled_matrix() || !has_jacobian()) return;
+  // A = J M⁻¹ Jᵀ Δt, kept row-major and sparse (rows couple only through shared bodies).
+  const SparseRowMatrix JM = J * (inv_mass * dt).asDiagonal();
+  A = (JM * SparseRowMatrix(J.transpose())).pruned(0.0);
+  A.makeCompressed();
 }
 
 Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda) {
+  if (p.has_jacobian()) {
+    // Δu = Δt M⁻¹ Jᵀ λ per dof, as the matrix-free PGS keeps it; then w = J Δu + b.
+    Eigen::VectorXd du = p.J.transpose() * lambda;
+    for (int c = 0; c < du.size(); ++c) du[c] = p.inv_mass[c] * du[c] * p.dt;
+    return p.J * du + p.b;
+  }
   return p.A * lambda + p.b;
 }
 

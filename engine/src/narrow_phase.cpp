@@ -3,6 +3,20 @@
 #include <cmath>
 
 namespace dc {
+namespace {
+
+/// Unit normal of wall w (from the wall into the box) and the distance of x to the wall's
+/// plane, positive inside the box [m].
+void wall_plane(Vec2 x, Wall w, double width, double height, Vec2& n, double& dist) {
+  switch (w) {
+    case Wall::Left: n = {1, 0}; dist = x.x; break;
+    case Wall::Right: n = {-1, 0}; dist = width - x.x; break;
+    case Wall::Bottom: n = {0, 1}; dist = x.y; break;
+    case Wall::Top: n = {0, -1}; dist = height - x.y; break;
+  }
+}
+
+}  // namespace
 
 double speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt) {
   return 0.5 * c.margin + length(s.velocity[static_cast<size_t>(k)]) * dt;
@@ -35,12 +49,7 @@ std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double wid
   const double r = s.radius[i];
   Vec2 n;
   double dist = 0;  // centre distance to the wall plane, positive inside the box
-  switch (w) {
-    case Wall::Left: n = {1, 0}; dist = x.x; break;
-    case Wall::Right: n = {-1, 0}; dist = width - x.x; break;
-    case Wall::Bottom: n = {0, 1}; dist = x.y; break;
-    case Wall::Top: n = {0, -1}; dist = height - x.y; break;
-  }
+  wall_plane(x, w, width, height, n, dist);
   const double gap = dist - r;
   if (gap >= threshold) return std::nullopt;
   Contact c;
@@ -51,6 +60,20 @@ std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double wid
   c.gap = gap;
   c.point = x - (r + 0.5 * gap) * n;
   return c;
+}
+
+double contact_gap(const BodyState& s, const Contact& c, double width, double height) {
+  const auto ib = static_cast<size_t>(c.body_b);
+  if (c.body_a >= 0) {
+    // As circle_circle: |x_b − x_a| − (r_a + r_b).
+    const auto ia = static_cast<size_t>(c.body_a);
+    const double rsum = s.radius[ia] + s.radius[ib];
+    return std::sqrt(length_squared(s.position[ib] - s.position[ia])) - rsum;
+  }
+  Vec2 n;
+  double dist = 0;
+  wall_plane(s.position[ib], static_cast<Wall>(c.body_a), width, height, n, dist);
+  return dist - s.radius[ib];
 }
 
 }  // namespace dc

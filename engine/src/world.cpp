@@ -64,17 +64,18 @@ const LcpProblem& World::assemble() {
   return problem_;
 }
 
+const LcpProblem& World::ensure_assembled_matrix() {
+  problem_.ensure_assembled_matrix();
+  return problem_;
+}
+
 Eigen::VectorXd World::pack(const std::vector<double>& lambda_n,
                             const std::vector<double>& lambda_t) const {
-  const int nc = static_cast<int>(contacts_.size());
-  if (static_cast<int>(lambda_n.size()) != nc || (has_friction_rows() && static_cast<int>(lambda_t.size()) != nc))
-    throw InvalidArgument("World::pack: need one λ_n (and λ_t) per contact");
-  Eigen::VectorXd out(has_friction_rows() ? 2 * nc : nc);
-  for (int c = 0; c < nc; ++c) {
-    out[normal_row(c)] = lambda_n[static_cast<size_t>(c)];
-    if (has_friction_rows()) out[tangent_row(c)] = lambda_t[static_cast<size_t>(c)];
-  }
-  return out;
+  return problem_.constraints.scatter(lambda_n, lambda_t);
+}
+
+void World::predict(const Eigen::VectorXd& lambda, StepOutcome& out) const {
+  predict_step(bodies_, contacts_, problem_, def_, lambda, out);
 }
 
 void World::integrate(const Eigen::VectorXd& lambda) {
@@ -82,24 +83,14 @@ void World::integrate(const Eigen::VectorXd& lambda) {
   if (lambda.size() != rows)
     throw InvalidArgument("World::integrate: λ has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(rows) + " rows");
-  if (static_cast<int>(contacts_.size()) * (has_friction_rows() ? 2 : 1) != rows)
+  const ContactConstraints& cons = problem_.constraints;
+  if (cons.size() != static_cast<int>(contacts_.size()) || cons.rows() != rows)
     throw InvalidArgument("World::integrate: call collide() and assemble() before integrate()");
-  const double dt = def_.time.dt;
-  const int n = static_cast<int>(bodies_.size());
-  // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
-  Eigen::VectorXd impulse = Eigen::VectorXd::Zero(3 * n);
-  if (rows > 0) impulse = problem_.J.transpose() * lambda * dt;
-  const Vec2 g = def_.world.gravity;
-  for (int k = 0; k < n; ++k) {
-    const auto i = static_cast<size_t>(k);
-    bodies_.velocity[i] += dt * g + bodies_.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
-    bodies_.omega[i] += bodies_.inv_inertia[i] * impulse[3 * k + 2];
-    bodies_.position[i] += dt * bodies_.velocity[i];
-    bodies_.angle[i] += dt * bodies_.omega[i];
-  }
+  Eigen::VectorXd impulse;
+  integrate_bodies(problem_, lambda, def_.world.gravity, def_.time.dt, bodies_, impulse);
   for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
-    contacts_[static_cast<size_t>(c)].lambda_n = lambda[normal_row(c)];
-    contacts_[static_cast<size_t>(c)].lambda_t = has_friction_rows() ? lambda[tangent_row(c)] : 0.0;
+    contacts_[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
+    contacts_[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
   }
   previous_ = contacts_;
   ++step_;
@@ -113,6 +104,7 @@ StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
   rep.profile.collide_ms = ms_since(t0);
   t0 = Clock::now();
   assemble();
+  if (solver.needs_assembled_matrix()) problem_.ensure_assembled_matrix();
   rep.profile.assemble_ms = ms_since(t0);
   rep.contacts = static_cast<int>(contacts_.size());
   rep.rows = problem_.rows();
@@ -136,19 +128,9 @@ StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
   return rep;
 }
 
-double World::kinetic_energy() const {
-  double e = 0;
-  for (std::size_t k = 0; k < bodies_.size(); ++k)
-    e += 0.5 * bodies_.mass[k] * length_squared(bodies_.velocity[k]) +
-         0.5 * bodies_.inertia[k] * bodies_.omega[k] * bodies_.omega[k];
-  return e;
-}
+double World::kinetic_energy() const { return dc::kinetic_energy(bodies_); }
 
-double World::potential_energy() const {
-  double e = 0;
-  for (std::size_t k = 0; k < bodies_.size(); ++k) e -= bodies_.mass[k] * dot(def_.world.gravity, bodies_.position[k]);
-  return e;
-}
+double World::potential_energy() const { return dc::potential_energy(bodies_, def_.world.gravity); }
 
 double World::max_penetration() const {
   double p = 0;

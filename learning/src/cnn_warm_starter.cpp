@@ -96,11 +96,7 @@ Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& 
   for (std::size_t i = 0; i < dst.size(); ++i) dst[i] = labels[i];
   points_.clear();
   for (const Contact& c : contacts) points_.push_back(c.point);
-  const std::span<const double> v = transfer_->gather(grid_, points_);
-  for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
-    out[w.normal_row(c)] = v[2 * static_cast<std::size_t>(c)];
-    if (w.has_friction_rows()) out[w.tangent_row(c)] = v[2 * static_cast<std::size_t>(c) + 1];
-  }
+  out = w.constraints().scatter(transfer_->gather(grid_, points_));
   if (project) project_feasible(w.problem(), out);
   return out;
 }
@@ -142,8 +138,9 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
       for (std::size_t c = 0; c < cur.size(); ++c) {
         if (prev_of[c] < 0) continue;
         const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];
-        out[w.normal_row(static_cast<int>(c))] += p.lambda_n;
-        if (w.has_friction_rows()) out[w.tangent_row(static_cast<int>(c))] += p.lambda_t;
+        const int k = static_cast<int>(c);
+        const ContactConstraints& cons = w.constraints();
+        cons.put(k, cons.lambda_n(out, k) + p.lambda_n, cons.lambda_t(out, k) + p.lambda_t, out);
       }
       project_feasible(w.problem(), out);
     }
@@ -154,8 +151,7 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
     for (std::size_t c = 0; c < cur.size(); ++c) {
       if (prev_of[c] < 0) continue;
       const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];
-      out[w.normal_row(static_cast<int>(c))] = p.lambda_n;
-      if (w.has_friction_rows()) out[w.tangent_row(static_cast<int>(c))] = p.lambda_t;
+      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
     }
     project_feasible(w.problem(), out);
   }

@@ -118,11 +118,7 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
                                "), step " + std::to_string(s) + ": the oracle returned a non-finite lambda");
     if (!(residual <= rec.max_residual)) rec.max_residual = residual;
 
-    lambda_nt.resize(2 * contacts.size());
-    for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
-      lambda_nt[2 * static_cast<std::size_t>(c)] = lambda[world.normal_row(c)];
-      lambda_nt[2 * static_cast<std::size_t>(c) + 1] = world.has_friction_rows() ? lambda[world.tangent_row(c)] : 0.0;
-    }
+    world.constraints().gather(lambda, lambda_nt);  // (λ_n, λ_t) per contact
     const std::size_t l0 = rec.labels.size();
     rec.labels.resize(l0 + images.label_size());
     images.labels(contacts, lambda_nt, std::span<float>(rec.labels).subspan(l0));

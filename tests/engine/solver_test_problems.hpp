@@ -44,14 +44,21 @@ inline LcpProblem random_spd(int n, TestRng& rng) {
 
 /// Contact-like problem: `bodies` circles (radius 1, density 1: m = π, I = m/2), `contacts`
 /// random pairs (a few against walls: one body only), a normal row per contact and, with
-/// friction, a tangent row coupled to it (μ = 0.5). A = J M⁻¹ Jᵀ Δt, Δt = 0.01.
+/// friction, a tangent row right after it coupled to it (μ = 0.5; needs μ > 0), except for
+/// every `frictionless_every`-th contact (0 = none), which has μ = 0 and no tangent row.
+/// A = J M⁻¹ Jᵀ Δt, Δt = 0.01. The problem carries its contact constraints, as an assembled
+/// one does.
 /// b = J v + s like the engine's b = J(u + Δt M⁻¹F) + speculative margin: random body
 /// velocities v and a separation margin s ≥ 0 on half of the normal rows. With b in
 /// range(J) + nonnegative cone the LCP is solvable even when A is rank-deficient (more
 /// rows than body dofs); a random b would make such problems infeasible.
-inline LcpProblem random_contact(int bodies, int contacts, bool friction, TestRng& rng, double mu = 0.5) {
-  const int rows_per = friction ? 2 : 1;
-  const int n = contacts * rows_per;
+inline LcpProblem random_contact(int bodies, int contacts, bool friction, TestRng& rng, double mu = 0.5,
+                                 int frictionless_every = 0) {
+  auto mu_of = [&](int c) {
+    return friction && !(frictionless_every > 0 && c % frictionless_every == frictionless_every - 1) ? mu : 0.0;
+  };
+  int n = 0;
+  for (int c = 0; c < contacts; ++c) n += mu_of(c) > 0 ? 2 : 1;
   std::vector<Eigen::Triplet<double>> trip;
   LcpProblem p;
   p.b.resize(n);
@@ -69,7 +76,8 @@ inline LcpProblem random_contact(int bodies, int contacts, bool friction, TestRn
     // contact point on the surface of a, in direction n: r_a = n, r_b = −n (touching circles)
     const double rax = nx + rng.uniform(-0.05, 0.05), ray = ny + rng.uniform(-0.05, 0.05);
     const double rbx = -nx, rby = -ny;
-    const int rn = c * rows_per;
+    const ContactConstraint& k = p.constraints[p.constraints.add(wall ? -1 : a, wall ? a : b, mu_of(c))];
+    const int rn = k.normal_row;
     auto add_row = [&](int row, double dx, double dy) {
       if (!wall) {
         trip.emplace_back(row, 3 * a + 0, -dx);
@@ -86,12 +94,13 @@ inline LcpProblem random_contact(int bodies, int contacts, bool friction, TestRn
     };
     add_row(rn, nx, ny);
     p.b[rn] = std::max(0.0, rng.uniform(-0.5, 0.5));  // margin s; J v added below
-    if (friction) {
-      add_row(rn + 1, tx, ty);
-      p.b[rn + 1] = 0.0;
-      p.normal_row[static_cast<size_t>(rn + 1)] = rn;
-      p.mu[rn + 1] = mu;
-      p.lo[rn + 1] = -INFINITY;
+    if (k.has_friction()) {
+      const int rt = k.tangent_row;
+      add_row(rt, tx, ty);
+      p.b[rt] = 0.0;
+      p.normal_row[static_cast<size_t>(rt)] = rn;
+      p.mu[rt] = k.mu;
+      p.lo[rt] = -INFINITY;
     }
   }
   p.J.resize(n, 3 * bodies);
@@ -117,9 +126,10 @@ inline LcpProblem random_contact(int bodies, int contacts, bool friction, TestRn
   return p;
 }
 
-/// Drop J (a problem as if read from a file).
+/// Drop J and the constraints (a problem as if read from a file).
 inline LcpProblem without_jacobian(LcpProblem p) {
   p.J = SparseRowMatrix();
+  p.constraints.clear();
   p.inv_mass.resize(0);
   p.dt = 0.0;
   return p;

@@ -54,7 +54,8 @@ TEST(World, AssembledMatrixEqualsJMinvJtDt) {
   o.max_sweeps = 50;
   for (int s = 0; s < 150; ++s) w.step(*solver, o);  // let them fall and touch
   w.collide();
-  const LcpProblem& p = w.assemble();
+  EXPECT_FALSE(w.assemble().has_assembled_matrix());  // A only on demand
+  const LcpProblem& p = w.ensure_assembled_matrix();
   ASSERT_GT(p.rows(), 20);
   const Eigen::MatrixXd J(p.J);
   const Eigen::MatrixXd A = J * p.inv_mass.asDiagonal() * J.transpose() * p.dt;

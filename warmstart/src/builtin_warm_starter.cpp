@@ -18,8 +18,7 @@ class BuiltinWarmStarter final : public WarmStarter {
     for (std::size_t c = 0; c < cur.size(); ++c) {
       if (match[c] < 0) continue;
       const Contact& p = prev[static_cast<std::size_t>(match[c])];
-      out[w.normal_row(static_cast<int>(c))] = p.lambda_n;
-      if (w.has_friction_rows()) out[w.tangent_row(static_cast<int>(c))] = p.lambda_t;
+      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
     }
     project_feasible(w.problem(), out);
     return out;

@@ -29,9 +29,9 @@ class RandomWarmStarter final : public WarmStarter {
     const World& w = v.world;
     const double s = scene_force_scale(w);
     Eigen::VectorXd out(w.problem().rows());
-    for (int c = 0; c < static_cast<int>(w.contacts().size()); ++c) {
-      out[w.normal_row(c)] = rng_.uniform(0.0, 5.0) * s;
-      if (w.has_friction_rows()) out[w.tangent_row(c)] = rng_.uniform(-2.0, 2.0) * s;
+    for (const ContactConstraint& k : w.constraints()) {  // λ_t drawn only for rows that exist
+      out[k.normal_row] = rng_.uniform(0.0, 5.0) * s;
+      if (k.has_friction()) out[k.tangent_row] = rng_.uniform(-2.0, 2.0) * s;
     }
     project_feasible(w.problem(), out);
     return out;
@@ -48,7 +48,7 @@ class BadWarmStarter final : public WarmStarter {
     const World& w = v.world;
     Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
     const double s = 50.0 * scene_force_scale(w);
-    for (int c = 0; c < static_cast<int>(w.contacts().size()); ++c) out[w.normal_row(c)] = s;
+    for (const ContactConstraint& k : w.constraints()) out[k.normal_row] = s;
     return out;
   }
 };

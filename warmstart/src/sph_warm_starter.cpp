@@ -68,11 +68,7 @@ namespace {
 
 /// Writes per-contact (λ_n, λ_t) read back from the grid into the row vector.
 Eigen::VectorXd to_rows(const World& w, std::span<const double> v) {
-  Eigen::VectorXd out(w.problem().rows());
-  for (int c = 0; c < static_cast<int>(w.contacts().size()); ++c) {
-    out[w.normal_row(c)] = v[2 * static_cast<size_t>(c)];
-    if (w.has_friction_rows()) out[w.tangent_row(c)] = v[2 * static_cast<size_t>(c) + 1];
-  }
+  Eigen::VectorXd out = w.constraints().scatter(v);
   project_feasible(w.problem(), out);
   return out;
 }
@@ -105,11 +101,7 @@ class SphWarmStarter final : public WarmStarter {
         oracle_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       }
       points_ = targets_;
-      values_.assign(2 * targets_.size(), 0.0);
-      for (int c = 0; c < static_cast<int>(targets_.size()); ++c) {
-        values_[2 * static_cast<size_t>(c)] = star[w.normal_row(c)];
-        if (w.has_friction_rows()) values_[2 * static_cast<size_t>(c) + 1] = star[w.tangent_row(c)];
-      }
+      w.constraints().gather(star, values_);
     }
     if (targets_.empty()) return Eigen::VectorXd::Zero(w.problem().rows());
     if (points_.empty()) return Eigen::VectorXd::Zero(w.problem().rows());

@@ -36,8 +36,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 class LemkeSolver final : public LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "lemke"; }
-  [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+  [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) const override {
+    std::optional<LcpProblem> local;
+    const LcpProblem& p = with_assembled_matrix(problem, local);
     Eigen::VectorXd lambda;
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
     const int n = p.rows();

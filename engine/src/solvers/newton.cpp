@@ -25,8 +25,10 @@ namespace {
 class NewtonSolver final : public LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "newton"; }
-  [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+  [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) const override {
+    std::optional<LcpProblem> local;
+    const LcpProblem& p = with_assembled_matrix(problem, local);
     Eigen::VectorXd lambda;
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
     const int n = p.rows();

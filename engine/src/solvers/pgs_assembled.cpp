@@ -6,9 +6,11 @@
 
 namespace dc::solvers {
 
-SolveResult solve_assembled_gauss_seidel(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+SolveResult solve_assembled_gauss_seidel(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                          const SolverOptions& o, double omega,
                                          const std::string& name) {
+  std::optional<LcpProblem> local;
+  const LcpProblem& p = with_assembled_matrix(problem, local);
   Eigen::VectorXd lambda;
   if (auto bad = check_input(p, lambda0, name, lambda)) return *bad;
   const AssembledSweep kernel(p);

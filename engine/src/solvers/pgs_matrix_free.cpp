@@ -19,8 +19,10 @@
 // to the sign of zero, and therefore those of pgs-assembled to round-off; micro_pgs
 // reports the difference as max_diff_vs_baseline):
 //
+//  The kernels are chosen from the problem's contact constraints (LcpProblem::constraints:
+//  the rows, bodies and μ of each contact), never guessed from the sparsity of J.
 //  * A contact with friction (normal row i with bounds [0, ∞) immediately followed by its
-//    tangent row i+1, both on the same two bodies) is solved as one block: the 6 velocity
+//    tangent row i+1; both act on the contact's two bodies) is solved as one block: the 6 velocity
 //    entries of its two bodies are loaded once, updated by the normal row, read by the
 //    tangent row from registers, and stored once. The tangent row takes its friction bound
 //    ±μ max(0, λ_n) from the register holding the fresh λ_n. This removes one
@@ -31,12 +33,12 @@
 //    memory), the missing body is read from a "zero" body that is never written and
 //    written to a "sink" body that is never read: its coefficients are exact zeros, so
 //    J·0 adds +0 and the discarded update is 0·δ — same values, no false dependency.
-//  * Rows without friction whose bounds are [0, ∞) (μ = 0 scenes, standard LCPs from
-//    assembled problems) use a kernel with the clamp max(y, 0) (a branch, see below) and
-//    no bound loads.
+//  * Normal rows of contacts without friction (μ = 0) whose bounds are [0, ∞) use a kernel
+//    with the clamp max(y, 0) (a branch, see below) and no bound loads.
 //  * Everything else (singular rows A_ii ≤ 0, friction rows not right after their normal
-//    row, rows with other fixed bounds, rows whose tangent touches other bodies than the
-//    normal) goes through the general row kernel, unchanged from the previous version.
+//    row, rows with other fixed bounds, and every row of a problem built with J but without
+//    constraint structure) goes through the general row kernel, unchanged from the previous
+//    version.
 //  * The clamps of normal rows and the λ_n = 0 case of tangent rows are predictable
 //    branches, not min/max: for an inactive
 //    contact (λ_n stays 0, typical for speculative and separating contacts) the branch
@@ -129,17 +131,45 @@ struct Prepared {
   int body_entries = 0;  // 3·bodies; the zero body follows at body_entries, the sink after it
 };
 
-/// Packs row i of J. Returns false when it touches more than two bodies.
-bool pack_row(const LcpProblem& p, int i, PackedRow& r) {
+/// Δu offsets of the bodies a contact's rows act on, in slot order: the lower body index
+/// first (the order of the row's entries in J, so the row sums run in the same order as for a
+/// row read from J alone), −1 for an absent body (wall).
+void contact_slots(const ContactConstraint& k, int& a, int& bb) {
+  const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+  const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+  a = 3 * first;
+  bb = second < 0 ? -1 : 3 * second;
+}
+
+/// For a problem without constraint structure: the Δu offsets of the (at most two) bodies row
+/// i of J touches, lowest first. Returns false when it touches more than two.
+bool row_bodies(const LcpProblem& p, int i, int& a, int& bb) {
+  a = bb = -1;
+  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+    const int body_off = 3 * (static_cast<int>(it.col()) / 3);
+    if (a < 0 || a == body_off) {
+      a = body_off;
+    } else if (bb < 0 || bb == body_off) {
+      bb = body_off;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Packs row i of J on the bodies at Δu offsets a (slots 0–2) and bb (slots 3–5; −1 absent).
+/// Returns false when the row has an entry on another body.
+bool pack_row(const LcpProblem& p, int i, int a, int bb, PackedRow& r) {
+  r.a = a;
+  r.bb = bb;
   for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
     const int col = static_cast<int>(it.col());
     const int body_off = 3 * (col / 3), comp = col % 3;
     int slot;
-    if (r.a < 0 || r.a == body_off) {
-      r.a = body_off;
+    if (body_off == r.a) {
       slot = comp;
-    } else if (r.bb < 0 || r.bb == body_off) {
-      r.bb = body_off;
+    } else if (r.bb >= 0 && body_off == r.bb) {
       slot = 3 + comp;
     } else {
       return false;
@@ -167,8 +197,12 @@ bool is_plain_normal(const LcpProblem& p, int i) {
   return !p.is_friction_row(i) && p.lo[i] == 0.0 && p.hi[i] == std::numeric_limits<double>::infinity();
 }
 
-/// Builds the segments. Returns an error message when a row of J touches more than two
-/// bodies (the matrix-free form assumes pairwise contacts).
+/// Builds the segments from the problem's contact constraints: a contact whose tangent row
+/// follows its normal row becomes a ContactBlock, a frictionless contact a NormalRow, and
+/// every other row (singular, other bounds, tangent rows elsewhere) a GeneralRow. A problem
+/// without constraint structure (built by hand with J) runs every row in the general kernel.
+/// Returns an error message when a row of J acts on a body that is not one of its contact's,
+/// or (without constraints) on more than two bodies.
 std::string prepare(const LcpProblem& p, Prepared& out) {
   const int n = p.rows();
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
@@ -186,16 +220,36 @@ std::string prepare(const LcpProblem& p, Prepared& out) {
       out.segments.push_back({kind, row, rows, index, 1});
     }
   };
-  out.contact.reserve(static_cast<size_t>(n / 2));
+  const ContactConstraints& cons = p.constraints;
+  std::vector<int> owner(static_cast<size_t>(n), -1);  // contact of each row (validated: one)
+  for (int c = 0; c < cons.size(); ++c) {
+    owner[static_cast<size_t>(cons[c].normal_row)] = c;
+    if (cons[c].has_friction()) owner[static_cast<size_t>(cons[c].tangent_row)] = c;
+  }
+  auto pack = [&](int i, PackedRow& r) -> std::string {
+    const int c = owner[static_cast<size_t>(i)];
+    int a = -1, bb = -1;
+    if (c >= 0) {
+      contact_slots(cons[c], a, bb);
+    } else if (!row_bodies(p, i, a, bb)) {
+      return "row " + std::to_string(i) + " of J touches more than two bodies";
+    }
+    if (!pack_row(p, i, a, bb, r))
+      return "row " + std::to_string(i) + " of J acts on a body other than the two bodies of its contact " +
+             std::to_string(c);
+    return {};
+  };
+  out.contact.reserve(static_cast<size_t>(cons.size()));
   for (int i = 0; i < n;) {
     PackedRow r;
-    if (!pack_row(p, i, r)) return "row " + std::to_string(i) + " of J touches more than two bodies";
+    if (std::string err = pack(i, r); !err.empty()) return err;
     if (r.singular) out.singular.push_back(i);
-    if (!r.singular && is_plain_normal(p, i) && i + 1 < n && p.normal_row[static_cast<size_t>(i + 1)] == i) {
+    const int c = owner[static_cast<size_t>(i)];
+    const bool plain_normal = c >= 0 && cons[c].normal_row == i && !r.singular && is_plain_normal(p, i);
+    if (plain_normal && cons[c].tangent_row == i + 1) {
       PackedRow t;
-      if (!pack_row(p, i + 1, t))
-        return "row " + std::to_string(i + 1) + " of J touches more than two bodies";
-      if (!t.singular && load_a(t) == load_a(r) && load_b(t) == load_b(r)) {
+      if (std::string err = pack(i + 1, t); !err.empty()) return err;
+      if (!t.singular) {
         add(Kind::Contact, i, 2, static_cast<int>(out.contact.size()));
         // Filled in place (a braced temporary was copied with `rep movs`, 232 bytes).
         ContactBlock& cb = out.contact.emplace_back();
@@ -205,7 +259,7 @@ std::string prepare(const LcpProblem& p, Prepared& out) {
         cb.mjt = t.mj;
         cb.bn = r.b;
         cb.bt = t.b;
-        cb.mu = p.mu[i + 1];
+        cb.mu = cons[c].mu;
         cb.la = load_a(r);
         cb.lb = load_b(r);
         cb.sa = store_a(r);
@@ -214,7 +268,7 @@ std::string prepare(const LcpProblem& p, Prepared& out) {
         continue;
       }
     }
-    if (!r.singular && is_plain_normal(p, i)) {
+    if (plain_normal) {
       add(Kind::Normal, i, 1, static_cast<int>(out.normal.size()));
       out.normal.push_back({r.j, r.mj, r.b, load_a(r), load_b(r), store_a(r), store_b(r)});
     } else {
@@ -393,6 +447,7 @@ class PgsMatrixFreeSolver final : public LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "pgs"; }
   [[nodiscard]] bool needs_jacobian() const override { return true; }
+  [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) const override {
     if (!p.has_jacobian()) {

@@ -7,6 +7,13 @@
 
 namespace dc::solvers {
 
+const LcpProblem& with_assembled_matrix(const LcpProblem& p, std::optional<LcpProblem>& local) {
+  if (p.has_assembled_matrix() || !p.has_jacobian()) return p;
+  local.emplace(p);
+  local->ensure_assembled_matrix();
+  return *local;
+}
+
 double rhs_scale(const LcpProblem& p) {
   double s = 1.0;
   for (int i = 0; i < p.b.size(); ++i) s = std::max(s, std::abs(p.b[i]));

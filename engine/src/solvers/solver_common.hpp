@@ -14,6 +14,10 @@
 
 namespace dc::solvers {
 
+/// The problem with A present: `p` itself when it has A (or has no J to form it from),
+/// otherwise a copy of p in `local` with A = J M⁻¹ Jᵀ Δt formed. For the assembled solvers.
+const LcpProblem& with_assembled_matrix(const LcpProblem& p, std::optional<LcpProblem>& local);
+
 /// max(1, ‖b‖∞): the scale the exact tolerances are relative to.
 double rhs_scale(const LcpProblem& p);
 

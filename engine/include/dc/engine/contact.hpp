@@ -23,14 +23,19 @@ enum class Wall : int { Left = -1, Right = -2, Bottom = -3, Top = -4 };
 const char* wall_name(int id);
 
 /// Persistent feature key of a contact. For two circles: a < b are the body indices.
-/// For a circle and a wall: a is the wall id (negative), b the body index. Keys order
-/// contacts deterministically (wall contacts first, then pairs in index order).
+/// For a circle and a wall: a is the wall id (negative), b the body index. `feature` tells
+/// several contact points of one pair apart (e.g. the two points of a polygon edge on a
+/// face); circles have one point per pair, feature 0. Keys order contacts deterministically
+/// (wall contacts first, then pairs in index order, then by feature).
 struct ContactKey {
   int a = 0;
   int b = 0;
+  int feature = 0;
 
-  static ContactKey pair(int i, int j) { return i < j ? ContactKey{i, j} : ContactKey{j, i}; }
-  static ContactKey wall(Wall w, int body) { return ContactKey{static_cast<int>(w), body}; }
+  static ContactKey pair(int i, int j, int feature = 0) {
+    return i < j ? ContactKey{i, j, feature} : ContactKey{j, i, feature};
+  }
+  static ContactKey wall(Wall w, int body, int feature = 0) { return ContactKey{static_cast<int>(w), body, feature}; }
   [[nodiscard]] bool is_wall() const { return a < 0; }
   [[nodiscard]] std::uint64_t packed() const {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
@@ -43,7 +48,8 @@ struct ContactKey {
 struct ContactKeyHash {
   std::size_t operator()(const ContactKey& k) const noexcept {
     // splitmix64 finaliser: cheap and well mixed for sequential indices.
-    std::uint64_t z = k.packed() + 0x9e3779b97f4a7c15ULL;
+    std::uint64_t z = k.packed() + 0x9e3779b97f4a7c15ULL +
+                      static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.feature)) * 0xd6e8feb86659fd93ULL;
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
     return static_cast<std::size_t>(z ^ (z >> 31));

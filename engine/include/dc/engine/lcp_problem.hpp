@@ -9,18 +9,27 @@
 // normal_row[i] < 0 have the fixed bounds lo_i, hi_i (lo = 0, hi = +∞ for normal rows and
 // for standard LCPs read from files).
 //
-// A problem assembled from a world also carries J and M⁻¹ (so that A = J M⁻¹ Jᵀ Δt) which
-// the matrix-free solvers use instead of A; a problem read from a file has only A and b.
+// A problem assembled from a world carries J, M⁻¹ and Δt and its contact constraints (which
+// rows belong to which contact and bodies); the matrix-free solvers work on those. Its
+// A = J M⁻¹ Jᵀ Δt is NOT formed by assembly: whoever needs A (the assembled solvers, export
+// to a .dat file, a test) calls ensure_assembled_matrix() first — World::step and the bench
+// do so when their solver says needs_assembled_matrix(). An assembled solver handed a
+// problem without A forms it for that one solve (correct, but paid per call). A problem read
+// from a file has only A and b (no J, no constraints).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
+
+#include "dc/engine/contact_constraints.hpp"
 
 namespace dc {
 
 using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
 struct LcpProblem {
-  SparseRowMatrix A;           ///< n × n, row-major [m/(N·s)] for contact problems
+  /// n × n, row-major [m/(N·s)] for contact problems; 0 × 0 until ensure_assembled_matrix()
+  /// for a problem assembled from a world.
+  SparseRowMatrix A;
   Eigen::VectorXd b;           ///< n [m/s]
   Eigen::VectorXd lo;          ///< n, fixed lower bounds (ignored for friction rows)
   Eigen::VectorXd hi;          ///< n, fixed upper bounds (+∞ allowed; ignored for friction rows)
@@ -31,9 +40,18 @@ struct LcpProblem {
   SparseRowMatrix J;           ///< n × 3·bodies, columns (v_x, v_y, ω) per body
   Eigen::VectorXd inv_mass;    ///< 3·bodies, diagonal of M⁻¹
   double dt = 0.0;             ///< Δt [s] with A = J M⁻¹ Jᵀ Δt
+  /// Rows, bodies and μ of each contact (empty when the problem came from a file). When not
+  /// empty its rows() equals rows() and it agrees with normal_row and mu (validate()).
+  ContactConstraints constraints;
 
   [[nodiscard]] int rows() const { return static_cast<int>(b.size()); }
   [[nodiscard]] bool has_jacobian() const { return J.rows() == rows() && J.rows() > 0 && dt > 0; }
+  /// True when A is present (always for problems from files; after ensure_assembled_matrix()
+  /// for assembled ones).
+  [[nodiscard]] bool has_assembled_matrix() const { return A.rows() == rows() && A.cols() == rows(); }
+  /// Forms A = J M⁻¹ Jᵀ Δt (sparse, row-major, exact zeros pruned) when it is absent and J is
+  /// present; otherwise does nothing. Explicit and non-const on purpose: no hidden cache.
+  void ensure_assembled_matrix();
   [[nodiscard]] bool is_friction_row(int i) const { return normal_row[static_cast<size_t>(i)] >= 0; }
 
   /// Effective bounds of row i at the current iterate λ.
@@ -50,8 +68,13 @@ struct LcpProblem {
   static LcpProblem standard(const Eigen::MatrixXd& A, const Eigen::VectorXd& b);
 
   /// Throws InvalidArgument if sizes disagree, an entry is non-finite, a bound pair is
-  /// inverted, or a friction row points at a non-normal row.
+  /// inverted, a friction row points at a non-normal row, neither A nor J is present, or the
+  /// constraints disagree with the rows (a row owned by no or two contacts, a tangent row not
+  /// coupled to its contact's normal row, a μ that differs from mu, a body outside J).
   void validate() const;
+
+ private:
+  void validate_constraints() const;
 };
 
 /// Natural-map residual, the step-length-independent accuracy measure of DESIGN §2:
@@ -59,7 +82,8 @@ struct LcpProblem {
 /// Zero exactly at a solution; units of λ [N].
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda);
 
-/// w = A λ + b.
+/// w = A λ + b. A problem with J is evaluated matrix-free, w = J (Δt M⁻¹ Jᵀ λ) + b (O(nnz J),
+/// A need not be formed; equal to A λ + b up to round-off), a problem from a file with A.
 Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda);
 
 }  // namespace dc

@@ -53,6 +53,10 @@ class LcpSolver {
   [[nodiscard]] virtual std::string name() const = 0;
   /// True when the solver needs LcpProblem::J (matrix-free variants).
   [[nodiscard]] virtual bool needs_jacobian() const { return false; }
+  /// True when the solver works on A = J M⁻¹ Jᵀ Δt: callers that solve an assembled problem
+  /// repeatedly call LcpProblem::ensure_assembled_matrix() first (World::step and the bench
+  /// do); handed a problem without A, such a solver forms it for that solve only.
+  [[nodiscard]] virtual bool needs_assembled_matrix() const { return true; }
   [[nodiscard]] virtual SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                           const SolverOptions& options) const = 0;
 };

@@ -26,4 +26,9 @@ std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double th
 std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double width, double height,
                                    double threshold);
 
+/// Signed gap [m] of contact c's pair (two circles, or a circle and the wall c.body_a of the
+/// width × height box) at the positions of `s`, computed as circle_circle / circle_wall do.
+/// Used to measure what a step did to this step's contacts (StepOutcome).
+double contact_gap(const BodyState& s, const Contact& c, double width, double height);
+
 }  // namespace dc

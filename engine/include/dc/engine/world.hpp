@@ -5,12 +5,14 @@
 // with several initial guesses:
 //
 //   collide()    broad phase (uniform grid) + narrow phase → contacts sorted by key
-//   assemble()   J (sparse), M⁻¹, A = J M⁻¹ Jᵀ Δt (sparse, row-major), b, bounds
+//   assemble()   contact constraints (rows of each contact), J (sparse), M⁻¹, b, bounds;
+//                A = J M⁻¹ Jᵀ Δt only on demand (ensure_assembled_matrix())
 //   [solve]      any LcpSolver, from any λ⁰ (the warm start)
-//   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ),  x ← x + Δt v,  θ ← θ + Δt ω;
-//                stores λ in the contacts (kept as previous_contacts() for warm starts)
+//   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ),  x ← x + Δt v,  θ ← θ + Δt ω
+//                (integrate_bodies, step_outcome.hpp); stores λ in the contacts (kept as
+//                previous_contacts() for warm starts)
 //
-// step() runs all stages and returns a per-stage profile.
+// step() runs all stages (forming A when the solver needs it) and returns a per-stage profile.
 #include <Eigen/Core>
 #include <functional>
 #include <vector>
@@ -20,6 +22,7 @@
 #include "dc/engine/contact.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/step_outcome.hpp"
 #include "dc/engine/world_def.hpp"
 
 namespace dc {
@@ -58,6 +61,8 @@ class World {
   // ---- stages ----------------------------------------------------------------------
   const std::vector<Contact>& collide();
   const LcpProblem& assemble();
+  /// Forms A of the assembled problem if it is not formed yet (for assembled solvers, export).
+  const LcpProblem& ensure_assembled_matrix();
   void integrate(const Eigen::VectorXd& lambda);
 
   // ---- results of the stages ---------------------------------------------------------
@@ -67,13 +72,17 @@ class World {
   [[nodiscard]] const LcpProblem& problem() const { return problem_; }
   /// The broad phase (its last_pair_tests() measures the last collide()'s work).
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
-  [[nodiscard]] bool has_friction_rows() const { return def_.contact.friction > 0; }
-  /// Row of the normal / tangent constraint of contact c (tangent: −1 when μ = 0).
-  [[nodiscard]] int normal_row(int c) const { return has_friction_rows() ? 2 * c : c; }
-  [[nodiscard]] int tangent_row(int c) const { return has_friction_rows() ? 2 * c + 1 : -1; }
-  /// Packs per-contact (λ_n, λ_t) into the row vector of the current problem.
+  /// Rows, bodies and μ of each current contact (of the last assemble()).
+  [[nodiscard]] const ContactConstraints& constraints() const { return problem_.constraints; }
+  /// Row of the normal / tangent constraint of contact c (tangent: −1 when its μ = 0).
+  [[nodiscard]] int normal_row(int c) const { return constraints()[c].normal_row; }
+  [[nodiscard]] int tangent_row(int c) const { return constraints()[c].tangent_row; }
+  /// Packs per-contact (λ_n, λ_t) into the row vector of the current problem
+  /// (ContactConstraints::scatter; λ_t may be empty when no contact has friction).
   [[nodiscard]] Eigen::VectorXd pack(const std::vector<double>& lambda_n,
                                      const std::vector<double>& lambda_t) const;
+  /// What integrate(λ) would do, without doing it (predict_step on the current step).
+  void predict(const Eigen::VectorXd& lambda, StepOutcome& out) const;
 
   // ---- one whole step ----------------------------------------------------------------
   /// Returns λ⁰ for the current (collided, assembled) problem; empty function = zeros.
