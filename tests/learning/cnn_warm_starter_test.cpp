@@ -111,11 +111,7 @@ TEST(CnnWarmStarter, GatherOfTheBuildersLabelGridEqualsTheSphStarter) {
   const Eigen::VectorXd star = advance_to_contacts(world);
   // The label image exactly as `deepcontact generate` writes it (float32 Shepard numerators).
   FeatureImageBuilder builder(FeatureImageDef::for_box(12.0, 12.0));
-  std::vector<double> nt;
-  for (int c = 0; c < static_cast<int>(world.contacts().size()); ++c) {
-    nt.push_back(star[world.normal_row(c)]);
-    nt.push_back(star[world.tangent_row(c)]);
-  }
+  const std::vector<double> nt = world.constraints().gather(star);
   Tensor labels(1, 2, builder.ny(), builder.nx());
   builder.labels(world.contacts(), nt, std::span<float>(labels.data(), labels.size()));
 

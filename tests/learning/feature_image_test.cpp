@@ -198,11 +198,7 @@ TEST(FeatureImage, ResidualLabelReadsBackAsLambdaStarMinusBuiltin) {
   img.channels = {FeatureChannel::LambdaPrevN, FeatureChannel::LambdaPrevT};
   FeatureImageBuilder b(img);
   const auto& cs = world.contacts();
-  std::vector<double> lam(2 * cs.size());
-  for (int c = 0; c < static_cast<int>(cs.size()); ++c) {
-    lam[2 * c] = star[world.normal_row(c)];
-    lam[2 * c + 1] = star[world.tangent_row(c)];
-  }
+  const std::vector<double> lam = world.constraints().gather(star);
   std::vector<float> feat(b.feature_size()), label(b.label_size());
   b.features(world.bodies(), cs, world.previous_contacts(), feat);
   b.labels(cs, lam, label);
@@ -261,11 +257,7 @@ TEST(FeatureImage, LabelGatheredAtTheContactsEqualsTheSphWarmStarter) {
   const Eigen::VectorXd star = solve_oracle(world.problem()).lambda;
 
   FeatureImageBuilder b(FeatureImageDef::for_box(def.world.width, def.world.height));
-  std::vector<double> lambda;
-  for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
-    lambda.push_back(star[world.normal_row(c)]);
-    lambda.push_back(star[world.tangent_row(c)]);
-  }
+  const std::vector<double> lambda = world.constraints().gather(star);
   std::vector<float> img(b.label_size());
   b.labels(contacts, lambda, img);
 
@@ -277,12 +269,7 @@ TEST(FeatureImage, LabelGatheredAtTheContactsEqualsTheSphWarmStarter) {
   std::vector<Vec2> points;
   for (const Contact& c : contacts) points.push_back(c.point);
   const auto back = transfer.gather(grid, points);
-  std::vector<double> ln, lt;
-  for (std::size_t c = 0; c < contacts.size(); ++c) {
-    ln.push_back(back[2 * c]);
-    lt.push_back(back[2 * c + 1]);
-  }
-  Eigen::VectorXd ours = world.pack(ln, lt);
+  Eigen::VectorXd ours = world.constraints().scatter(back);
   project_feasible(world.problem(), ours);
 
   auto sph = default_warm_starters().make("sph");
