@@ -24,9 +24,9 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
 
   out.dt = dt;
   out.inv_mass.resize(3 * nb);
-  for (int b = 0; b < nb; ++b) {
-    out.inv_mass[3 * b] = out.inv_mass[3 * b + 1] = s.inv_mass[static_cast<size_t>(b)];
-    out.inv_mass[3 * b + 2] = s.inv_inertia[static_cast<size_t>(b)];
+  for (int k = 0; k < nb; ++k) {
+    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
+    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
   }
 
   // J: at most 6 non-zeros per row (3 per circle); walls contribute no columns.

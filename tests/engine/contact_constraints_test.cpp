@@ -18,6 +18,16 @@ namespace {
 
 double max_abs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
+/// A world of `def` after `steps` steps of `solver` with `sweeps` sweeps (the pile has formed).
+World stepped(const WorldDef& def, const char* solver, int steps, int sweeps) {
+  World w(def);
+  const auto s = make_solver(solver);
+  SolverOptions o;
+  o.max_sweeps = sweeps;
+  for (int k = 0; k < steps; ++k) w.step(*s, o);
+  return w;
+}
+
 SolveResult run(const char* name, const LcpProblem& p, int sweeps) {
   SolverOptions o;
   o.max_sweeps = sweeps;
@@ -133,11 +143,7 @@ TEST(ContactConstraints, WorldAssemblesOneEntryPerContact) {
   for (const double mu : {0.5, 0.0}) {
     WorldDef d;
     d.contact.friction = mu;
-    World w(d);
-    const auto solver = make_solver("pgs");
-    SolverOptions o;
-    o.max_sweeps = 30;
-    for (int s = 0; s < 120; ++s) w.step(*solver, o);
+    World w = stepped(d, "pgs", 120, 30);
     w.collide();
     const LcpProblem& p = w.assemble();
     EXPECT_FALSE(p.has_assembled_matrix());
@@ -169,13 +175,9 @@ TEST(ContactConstraints, WorldAssemblesOneEntryPerContact) {
 }
 
 TEST(ContactConstraints, StepWithAnAssembledSolverFormsA) {
-  World w{WorldDef{}};
-  const auto solver = make_solver("pgs-assembled");
-  EXPECT_TRUE(solver->needs_assembled_matrix());
+  EXPECT_TRUE(make_solver("pgs-assembled")->needs_assembled_matrix());
   EXPECT_FALSE(make_solver("pgs")->needs_assembled_matrix());
-  SolverOptions o;
-  o.max_sweeps = 20;
-  for (int s = 0; s < 120; ++s) w.step(*solver, o);
+  const World w = stepped(WorldDef{}, "pgs-assembled", 120, 20);
   ASSERT_GT(w.problem().rows(), 0);
   EXPECT_TRUE(w.problem().has_assembled_matrix());
 }
