@@ -95,6 +95,29 @@ TEST(ContactConstraints, GatherAndScatterAreInverse) {
   EXPECT_THROW((void)k.gather(Eigen::VectorXd::Zero(k.rows() + 1)), InvalidArgument);
 }
 
+// A pair may own several points: the key is (pair, feature), and warm-start matching keeps
+// them apart.
+TEST(ContactConstraints, FeatureIdSeparatesPointsOfOnePair) {
+  const ContactKey p0 = ContactKey::pair(2, 1), p1 = ContactKey::pair(1, 2, 1);
+  EXPECT_EQ(p0, (ContactKey{1, 2, 0}));
+  EXPECT_LT(p0, p1);
+  EXPECT_LT(p1, ContactKey::pair(1, 3));
+  EXPECT_NE(ContactKeyHash{}(p0), ContactKeyHash{}(p1));
+  std::vector<Contact> prev(2), cur(3);
+  prev[0].key = p0;
+  prev[1].key = p1;
+  cur[0].key = ContactKey::wall(Wall::Left, 1);
+  cur[1].key = p1;
+  cur[2].key = p0;
+  std::swap(cur[1], cur[2]);  // key order: wall, (1,2,0), (1,2,1)
+  EXPECT_EQ(match_contacts_by_key(prev, cur), (std::vector<int>{-1, 0, 1}));
+  ContactConstraints k;
+  k.add(1, 2, 0.5, 0);
+  k.add(1, 2, 0.5, 1);
+  EXPECT_EQ(k[1].feature, 1);
+  EXPECT_EQ(k[1].normal_row, 2);
+}
+
 // Contacts with μ = 0 (normal kernel) between contacts with friction (contact blocks): the
 // matrix-free PGS must follow pgs-assembled, also without A formed.
 TEST(ContactConstraints, MatrixFreePgsWithMixedFrictionMatchesAssembled) {
