@@ -247,8 +247,10 @@ TEST(DataSet, BadParametersAreConfigErrors) {
   p.count_max = 10;
   EXPECT_THROW(SimulationGenerator{p}, ConfigError);
   p = small_params();
-  p.oracle.method = "lemke";
+  p.oracle.tolerance = 0;
   EXPECT_THROW(SimulationGenerator{p}, ConfigError);
+  EXPECT_THROW((void)parse_oracle_kind("lemke"), ConfigError);
+  EXPECT_EQ(parse_oracle_kind(to_string(OracleKind::Newton)), OracleKind::Newton);
   p = small_params();
   p.image = FeatureImageDef::for_box(30, 30);  // grid box ≠ scene box
   EXPECT_THROW(SimulationGenerator{p}, ConfigError);
