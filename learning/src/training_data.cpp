@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -47,21 +46,15 @@ std::vector<TrainingSample> load_training_samples(const DataSetReader& r, const 
     std::vector<std::int64_t> rows;
     for (std::int64_t k = 0; k < sim.samples; k += def.every) rows.push_back(sim.sample_begin + k);
     if (rows.empty()) continue;
-    const Tensor f = r.features(rows), l = r.labels(rows);
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      TrainingSample t;
-      t.features = Tensor(1, f.c(), f.h(), f.w());
-      t.labels = Tensor(1, l.c(), l.h(), l.w());
-      std::memcpy(t.features.data(), f.sample(static_cast<int>(k)), f.shape().sample_count() * sizeof(float));
-      std::memcpy(t.labels.data(), l.sample(static_cast<int>(k)), l.shape().sample_count() * sizeof(float));
+    for (TrainingSample& t : r.training_samples(rows, sim.index)) {
       training_labels(t.labels, t.features, channels, def.labels);
       if (def.contact_weight > 0) {
-        t.weights = Tensor(1, 1, f.h(), f.w());
-        const float* cd = t.features.data() + static_cast<std::size_t>(density) * f.shape().plane();
-        for (std::size_t p = 0; p < f.shape().plane(); ++p)
+        const std::size_t P = t.features.shape().plane();
+        t.weights = Tensor(1, 1, t.features.h(), t.features.w());
+        const float* cd = t.features.data() + static_cast<std::size_t>(density) * P;
+        for (std::size_t p = 0; p < P; ++p)
           t.weights[p] = 1.0f + (cd[p] > 0.0f ? static_cast<float>(def.contact_weight) : 0.0f);
       }
-      t.simulation = sim.index;
       out.push_back(std::move(t));
     }
   }

@@ -199,6 +199,8 @@ class DataSetReader {
   [[nodiscard]] Tensor labels(std::span<const std::int64_t> samples) const;
   /// Training examples (features, labels, simulation id) of the listed simulations.
   [[nodiscard]] std::vector<TrainingSample> training_samples(std::span<const int> simulations) const;
+  /// Training examples of the listed sample rows (in that order), all marked as `simulation`.
+  [[nodiscard]] std::vector<TrainingSample> training_samples(std::span<const std::int64_t> rows, int simulation) const;
   /// The contacts of one sample, with λ*.
   [[nodiscard]] SampleContacts contacts(std::int64_t sample) const;
 
