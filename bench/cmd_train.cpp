@@ -71,14 +71,6 @@ struct TrainArgs {
   bool no_plot = false;
 };
 
-ArchSpec select_arch(const TrainArgs& a, int label_channels, int ny, int nx) {
-  if (a.arch.empty() || a.arch == "default") return default_arch(label_channels, a.dropout);
-  if (a.arch == "seed-dense") return seed_dense_arch(label_channels, ny, nx, a.dropout);
-  if (!fs::exists(a.arch))
-    throw ConfigError("--arch '" + a.arch + "': not 'default', 'seed-dense' or an existing TOML file");
-  return ArchSpec::load(a.arch);
-}
-
 /// The sample selection and label definition the options ask for.
 TrainingSampleDef sample_def(const TrainArgs& a) {
   TrainingSampleDef d;
@@ -128,7 +120,7 @@ void run(const TrainArgs& a) {
   // The model carries the data set's feature image and label definition, so the cnn starter
   // builds the same feature image and inverts the same labels.
   const ModelGrid grid = model_grid_for(reader, samples_def.labels);
-  const ArchSpec arch = select_arch(a, reader.label_channels(), reader.ny(), reader.nx());
+  const ArchSpec arch = select_arch(a.arch, reader.label_channels(), reader.ny(), reader.nx(), a.dropout);
   const RunIdentity id = training_run_identity(reader, arch.to_toml(), def, samples_def);
 
   std::unique_ptr<Model> model;
@@ -145,7 +137,7 @@ void run(const TrainArgs& a) {
   }
 
   // --dropout only shapes the built-in architectures; an arch file states its own.
-  const bool builtin_arch = a.arch.empty() || a.arch == "default" || a.arch == "seed-dense";
+  const bool builtin_arch = is_builtin_arch(a.arch);
   char dropout_buf[32];
   std::snprintf(dropout_buf, sizeof dropout_buf, "%g", a.dropout);
   const std::string dropout_text = builtin_arch ? dropout_buf : "as in the arch file";
@@ -160,28 +152,15 @@ void run(const TrainArgs& a) {
   if (resume) std::printf("train: resuming after epoch %d from %s\n", resume->epochs_done, ckpt.string().c_str());
   std::fflush(stdout);
 
-  // Best so far (of the resumed history, if any): OUT already holds that model.
-  double best = std::numeric_limits<double>::infinity();
-  int best_epoch = -1;
-  if (resume)
-    for (const EpochReport& e : resume->history)
-      if (epoch_score(e) < best) best = epoch_score(e), best_epoch = e.epoch;
+  // OUT (best so far; a resumed run's OUT already holds it), OUT.ckpt, OUT.loss.csv.
+  TrainingOutputs files(out, id, a.data, resume ? &*resume : nullptr);
 
   const SigintGuard sigint;
   ProgressBar bar("train", a.epochs);
   if (resume) bar.advance(resume->epochs_done);
   Trainer trainer(def);
   const auto on_epoch = [&](const EpochReport& e, const TrainState& st) {
-    const bool improved = epoch_score(e) < best;
-    if (improved) {
-      best = epoch_score(e);
-      best_epoch = e.epoch;
-      save_trained_model(*model, out, id, a.data, e);
-    }
-    // The checkpoint after OUT: a kill in between redoes this epoch, which saves the same
-    // model again.
-    save_checkpoint(*model, ckpt, st, id);
-    write_text_atomic(a.out + ".loss.csv", loss_csv(st.history));
+    const bool improved = files.record_epoch(*model, e, st);
     char line[256];
     std::snprintf(line, sizeof line, "epoch %3d/%d  train %.6f  val %.6f  lr %.3g  %.1f s%s", e.epoch + 1, a.epochs,
                   e.train_loss, e.validation_loss, e.learning_rate, e.seconds, improved ? "  *best" : "");
@@ -203,7 +182,7 @@ void run(const TrainArgs& a) {
     exit_status() = 130;
     return;
   }
-  write_text_atomic(a.out + ".loss.csv", loss_csv(result.history));
+  files.finish(result.history);
   if (!a.no_plot) {
     const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/loss_curve.py";
     const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
@@ -212,7 +191,7 @@ void run(const TrainArgs& a) {
       std::fprintf(stderr, "deepcontact train: warning: the loss-curve plot failed (%s)\n", cmd.c_str());
   }
 
-  if (best_epoch < 0) throw ConfigError("training diverged (loss is not finite); try a smaller --lr");
+  if (files.best_epoch() < 0) throw ConfigError("training diverged (loss is not finite); try a smaller --lr");
   // Report the best model in plain (unweighted) standardised MSE, the unit of the theses'
   // 0.005–0.006, whatever --contact-weight was.
   Model best_model = load_model(out);
@@ -220,11 +199,11 @@ void run(const TrainArgs& a) {
   const double va = standardised_mse(best_model, samples, result.validation_simulations, true);
   double total_s = 0;
   for (const EpochReport& e : result.history) total_s += e.seconds;
-  std::error_code ec;
-  fs::remove(ckpt, ec);  // finished: nothing left to resume
+  files.remove_checkpoint();  // finished: nothing left to resume
   std::printf("train: best epoch %d of %d (%s loss %.6f); plain standardised MSE of the best model: train %.6f, "
               "validation %.6f (%zu validation simulations); %.1f s of training -> %s (%s.loss.csv, %s.loss.png)\n",
-              best_epoch + 1, a.epochs, std::isnan(result.history.back().validation_loss) ? "train" : "validation", best,
+              files.best_epoch() + 1, a.epochs, std::isnan(result.history.back().validation_loss) ? "train" : "validation",
+              files.best_score(),
               tr, va, result.validation_simulations.size(), total_s, a.out.c_str(), a.out.c_str(), a.out.c_str());
 }
 

@@ -2,6 +2,7 @@
 #include "dc/learning/train_checkpoint.hpp"
 
 #include <cstdio>
+#include <limits>
 
 #include "dc/engine/error.hpp"
 #include "dc/learning/model_file.hpp"
@@ -121,6 +122,38 @@ void save_trained_model(Model& model, const std::filesystem::path& path, const R
 
 void save_checkpoint(Model& model, const std::filesystem::path& path, const TrainState& state, const RunIdentity& id) {
   save_model(model, path, [&](H5File& f) { write_train_state(f, state, id); });
+}
+
+TrainingOutputs::TrainingOutputs(std::filesystem::path out, RunIdentity id, std::string data, const TrainState* resumed)
+    : out_(std::move(out)),
+      checkpoint_(out_.string() + ".ckpt"),
+      id_(std::move(id)),
+      data_(std::move(data)),
+      best_(std::numeric_limits<double>::infinity()) {
+  if (resumed)
+    for (const EpochReport& e : resumed->history)
+      if (epoch_score(e) < best_) best_ = epoch_score(e), best_epoch_ = e.epoch;
+}
+
+bool TrainingOutputs::record_epoch(Model& model, const EpochReport& e, const TrainState& state) {
+  const bool improved = epoch_score(e) < best_;
+  if (improved) {
+    best_ = epoch_score(e);
+    best_epoch_ = e.epoch;
+    save_trained_model(model, out_, id_, data_, e);
+  }
+  save_checkpoint(model, checkpoint_, state, id_);
+  write_text_atomic(loss_csv_path(), loss_csv(state.history));
+  return improved;
+}
+
+void TrainingOutputs::finish(const std::vector<EpochReport>& history) {
+  write_text_atomic(loss_csv_path(), loss_csv(history));
+}
+
+void TrainingOutputs::remove_checkpoint() {
+  std::error_code ec;
+  std::filesystem::remove(checkpoint_, ec);
 }
 
 }  // namespace dc

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "dc/engine/error.hpp"
@@ -133,6 +135,54 @@ TEST_F(TrainCheckpoint, SamplesCarryTheLabelDefinitionsTargets) {
   bad = abs;
   bad.every = 0;
   EXPECT_THROW((void)load_training_samples(r, bad), ConfigError);
+}
+
+// OUT is rewritten only when an epoch improves; OUT.ckpt and the CSV after every epoch; a
+// resumed run starts from the best of its history.
+TEST_F(TrainCheckpoint, OutputsKeepTheBestModelAndTheLatestState) {
+  const DataSetReader r(data());
+  const ArchSpec arch = default_arch(2, 0.0);
+  Model model(arch, model_grid_for(r, LabelDef{}), r.feature_channels());
+  const RunIdentity id = training_run_identity(r, arch.to_toml(), TrainDef{}, TrainingSampleDef{});
+  const fs::path out = dir_ / "best.h5";
+  TrainingOutputs files(out, id, data(), nullptr);
+  EXPECT_EQ(files.best_epoch(), -1);
+  EXPECT_EQ(files.checkpoint_path(), fs::path(out.string() + ".ckpt"));
+  TrainState st;
+  st.rng_type = "mt19937";
+  const double losses[] = {2.0, 1.0, 3.0};
+  for (int e = 0; e < 3; ++e) {
+    const EpochReport rep{e, 9.0, losses[e], 0.01, 0.1};
+    st.history.push_back(rep);
+    st.epochs_done = e + 1;
+    EXPECT_EQ(files.record_epoch(model, rep, st), e < 2) << e;
+    const H5File best = H5File::open_read(out.string());
+    EXPECT_EQ(best.attribute<std::int32_t>("/training", "epoch"), e < 1 ? 1 : 2);  // unchanged by epoch 3
+    EXPECT_EQ(read_train_state(H5File::open_read(files.checkpoint_path().string()), id).epochs_done, e + 1);
+  }
+  EXPECT_EQ(files.best_epoch(), 1);
+  EXPECT_EQ(files.best_score(), 1.0);
+  EXPECT_EQ(H5File::open_read(out.string()).attribute_string("/training", "data"), data());
+  const TrainingOutputs resumed(out, id, data(), &st);
+  EXPECT_EQ(resumed.best_epoch(), 1);
+  files.finish(st.history);
+  const std::string csv = [&] {
+    std::ifstream in(files.loss_csv_path());
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  EXPECT_EQ(csv, loss_csv(st.history));
+  files.remove_checkpoint();
+  EXPECT_FALSE(fs::exists(files.checkpoint_path()));
+  EXPECT_TRUE(fs::exists(out));
+}
+
+TEST(TrainingData, ArchitecturesByName) {
+  EXPECT_TRUE(is_builtin_arch(""));
+  EXPECT_TRUE(is_builtin_arch("seed-dense"));
+  EXPECT_FALSE(is_builtin_arch("my.toml"));
+  EXPECT_EQ(select_arch("default", 2, 61, 61, 0.2).to_toml(), default_arch(2, 0.2).to_toml());
+  EXPECT_EQ(select_arch("seed-dense", 2, 21, 21, 0.0).to_toml(), seed_dense_arch(2, 21, 21, 0.0).to_toml());
+  EXPECT_THROW((void)select_arch("/no/such/arch.toml", 2, 61, 61, 0.1), ConfigError);
 }
 
 TEST(TrainingData, LossCsvAndScores) {

@@ -61,4 +61,35 @@ void save_trained_model(Model& model, const std::filesystem::path& path, const R
 /// Saves `model` and its state to `path` atomically (save_model + write_train_state).
 void save_checkpoint(Model& model, const std::filesystem::path& path, const TrainState& state, const RunIdentity& id);
 
+/// The files a training run keeps up to date after every epoch, in this order: OUT (the best
+/// model so far, save_trained_model; only when the epoch improves on it), OUT.ckpt (the
+/// latest state, save_checkpoint) and OUT.loss.csv. A kill between two writes redoes the
+/// epoch, which saves the same model again; every write is atomic (tmp + rename).
+class TrainingOutputs {
+ public:
+  /// `resumed`: the state a resumed run starts from (its history fixes the best so far,
+  /// which OUT already holds), or nullptr.
+  TrainingOutputs(std::filesystem::path out, RunIdentity id, std::string data, const TrainState* resumed);
+  /// Writes the files for epoch `e` with state `state`; true when `e` is the new best
+  /// (epoch_score strictly lower).
+  bool record_epoch(Model& model, const EpochReport& e, const TrainState& state);
+  /// The run completed: the final loss CSV.
+  void finish(const std::vector<EpochReport>& history);
+  /// Removes OUT.ckpt (the run is complete and reported: nothing left to resume).
+  void remove_checkpoint();
+
+  [[nodiscard]] const std::filesystem::path& model_path() const { return out_; }
+  [[nodiscard]] const std::filesystem::path& checkpoint_path() const { return checkpoint_; }
+  [[nodiscard]] std::filesystem::path loss_csv_path() const { return out_.string() + ".loss.csv"; }
+  [[nodiscard]] double best_score() const { return best_; }  ///< +inf before the first epoch
+  [[nodiscard]] int best_epoch() const { return best_epoch_; }  ///< 0-based; −1: none (diverged)
+
+ private:
+  std::filesystem::path out_, checkpoint_;
+  RunIdentity id_;
+  std::string data_;
+  double best_;
+  int best_epoch_ = -1;
+};
+
 }  // namespace dc
