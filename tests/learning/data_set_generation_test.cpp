@@ -12,6 +12,7 @@
 #include "dc/engine/h5.hpp"
 #include "dc/learning/data_set_generation.hpp"
 #include "h5_compare.hpp"
+#include "learning/small_data_set.hpp"
 
 namespace dc {
 namespace {
@@ -27,16 +28,7 @@ struct TempDir {
 
 DataSetGenerationDef small(const std::string& out, int threads) {
   DataSetGenerationDef d;
-  DataSetParams& p = d.params;
-  p.scene.world.width = 12;
-  p.scene.world.height = 12;
-  p.scene.bodies.mean = {6, 6};
-  p.scene.bodies.sigma = 2;
-  p.scene.time.steps = 30;
-  p.image = FeatureImageDef::for_box(12, 12);
-  p.seed = 5;
-  p.count_min = 8;
-  p.count_max = 12;
+  d.params = test::small_data_set_params(12, 30, 5, 8, 12);
   d.out = out;
   d.simulations = 4;
   d.threads = threads;

@@ -16,6 +16,7 @@
 #include "dc/learning/model_file.hpp"
 #include "dc/learning/train_checkpoint.hpp"
 #include "dc/learning/training_data.hpp"
+#include "learning/small_data_set.hpp"
 
 namespace dc {
 namespace {
@@ -29,16 +30,8 @@ class TrainCheckpoint : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("dc_train_checkpoint_test_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
     DataSetGenerationDef d;
-    DataSetParams& p = d.params;
-    p.scene.world.width = 10;
-    p.scene.world.height = 10;
-    p.scene.bodies.mean = {5, 5};
-    p.scene.bodies.sigma = 1.5;
-    p.scene.time.steps = 25;
-    p.image = FeatureImageDef::for_box(10, 10);
-    p.image.channels = residual_feature_channels();
-    p.count_min = 6;
-    p.count_max = 8;
+    d.params = test::small_data_set_params(12, 40, 11, 10, 14);
+    d.params.image.channels = residual_feature_channels();
     d.out = (dir_ / "data.h5").string();
     d.simulations = 2;
     d.threads = 1;
