@@ -8,6 +8,8 @@
 //   SimulationGenerator (data_generator.cpp)   runs simulation i of a data set → SimulationRecord
 //   DataSetWriter       (data_set_writer.cpp)  appends records in simulation order; resumable
 //   DataSetReader       (data_set_reader.cpp)  opens, validates, and loads samples/simulations
+// and generate_data_set (data_set_generation.hpp) runs the first two over a whole data set:
+// parallel simulations, in-order writing, resume.
 //
 // Crash safety ("nothing lost"): the writer appends a simulation's sample, body and contact
 // rows, then its /sims row — /sims/seed last of all, the commit mark — and flushes. The
