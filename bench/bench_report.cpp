@@ -5,10 +5,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/scene.hpp"
+#include "json_writer.hpp"
 
 namespace dc::bench {
 namespace {
@@ -99,45 +101,56 @@ std::string format_table(const BenchResults& r, const std::vector<StarterSummary
 
 std::string summary_json(const BenchResults& r, const std::vector<StarterSummary>& s, const Provenance& p) {
   const StarterSummary* zero = find(s, "zero");
-  std::ostringstream os;
-  os << "{\n  \"warmstarters\": {\n";
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const auto& x = s[i];
+  // A sweep count above the budget means "never reached the tolerance": null.
+  const auto sweeps_or_null = [&](double v) { return v > r.options.sweeps ? std::nullopt : std::optional<double>(v); };
+  JsonWriter j;
+  j.begin_object(JsonWriter::Layout::Lines);
+  j.key("warmstarters").begin_object(JsonWriter::Layout::Lines);
+  for (const auto& x : s) {
     const bool never = x.median_sweeps_to_tol > r.options.sweeps;
-    os << "    \"" << json_escape(x.name) << "\": {"
-       << "\"median_sweeps_to_tol\": " << (never ? "null" : json_number(x.median_sweeps_to_tol))
-       << ", \"q1_sweeps_to_tol\": " << (x.sweeps_to_tol.q1 > r.options.sweeps ? "null" : json_number(x.sweeps_to_tol.q1))
-       << ", \"q3_sweeps_to_tol\": " << (x.sweeps_to_tol.q3 > r.options.sweeps ? "null" : json_number(x.sweeps_to_tol.q3))
-       << ", \"unconverged_share\": " << json_number(x.unconverged_share)
-       << ", \"warmstart_ms\": " << json_number(x.warmstart_ms)
-       << ", \"oracle_ms\": " << json_number(x.uses_oracle ? x.oracle_ms : 0.0)
-       << ", \"solve_ms\": " << json_number(x.solve_ms)
-       << ", \"total_ms\": " << json_number(x.total_ms)
-       << ", \"ns_per_row_sweep\": " << json_number(x.ns_per_row_sweep)
-       << ", \"initial_error\": " << json_number(x.initial_error)
-       << ", \"uses_oracle\": " << (x.uses_oracle ? "true" : "false")
-       << ", \"sweeps_ratio_to_zero\": "
-       << (zero && zero->median_sweeps_to_tol > 0 && !never ? json_number(x.median_sweeps_to_tol / zero->median_sweeps_to_tol) : "null")
-       << ", \"total_ratio_to_zero\": " << (zero && zero->total_ms > 0 ? json_number(x.total_ms / zero->total_ms) : "null")
-       << ", \"theses\": \"" << thesis_reference(x.name) << "\"}" << (i + 1 < s.size() ? "," : "") << "\n";
+    j.key(x.name).begin_object();
+    j.key("median_sweeps_to_tol").value(sweeps_or_null(x.median_sweeps_to_tol));
+    j.key("q1_sweeps_to_tol").value(sweeps_or_null(x.sweeps_to_tol.q1));
+    j.key("q3_sweeps_to_tol").value(sweeps_or_null(x.sweeps_to_tol.q3));
+    j.key("unconverged_share").value(x.unconverged_share);
+    j.key("warmstart_ms").value(x.warmstart_ms);
+    j.key("oracle_ms").value(x.uses_oracle ? x.oracle_ms : 0.0);
+    j.key("solve_ms").value(x.solve_ms);
+    j.key("total_ms").value(x.total_ms);
+    j.key("ns_per_row_sweep").value(x.ns_per_row_sweep);
+    j.key("initial_error").value(x.initial_error);
+    j.key("uses_oracle").value(x.uses_oracle);
+    j.key("sweeps_ratio_to_zero");
+    if (zero && zero->median_sweeps_to_tol > 0 && !never)
+      j.value(x.median_sweeps_to_tol / zero->median_sweeps_to_tol);
+    else
+      j.null();
+    j.key("total_ratio_to_zero");
+    if (zero && zero->total_ms > 0)
+      j.value(x.total_ms / zero->total_ms);
+    else
+      j.null();
+    j.key("theses").value(thesis_reference(x.name));
+    j.end_object();
   }
-  os << "  },\n";
-  os << "  \"scene\": \"" << json_escape(scene_to_toml(r.options.scene)) << "\",\n";
-  os << "  \"seeds\": [";
-  for (std::size_t i = 0; i < r.options.seeds.size(); ++i) os << (i ? ", " : "") << r.options.seeds[i];
-  os << "],\n";
-  os << "  \"mode\": \"" << (r.options.mode == Mode::Paired ? "paired" : "rollout") << "\",\n";
-  os << "  \"solver\": \"" << json_escape(r.options.solver) << "\",\n";
-  os << "  \"sweeps\": " << r.options.sweeps << ",\n";
-  os << "  \"tolerance\": " << json_number(r.options.tolerance) << ",\n";
-  os << "  \"evaluated_steps\": " << (r.starters.empty() ? 0 : r.starters[0].sweeps_to_tol.size()) << ",\n";
-  os << "  \"skipped_steps_without_contacts\": " << r.skipped_steps << ",\n";
-  os << "  \"wall_seconds\": " << json_number(r.wall_seconds) << ",\n";
-  os << "  \"git\": \"" << json_escape(p.git) << "\",\n";
-  os << "  \"build\": \"" << json_escape(p.build) << "\",\n";
-  os << "  \"machine\": \"" << json_escape(p.machine) << "\",\n";
-  os << "  \"date\": \"" << p.date_utc << "\"\n}\n";
-  return os.str();
+  j.end_object();
+  j.key("scene").value(scene_to_toml(r.options.scene));
+  j.key("seeds").begin_array();
+  for (const std::uint64_t seed : r.options.seeds) j.value(seed);
+  j.end_array();
+  j.key("mode").value(r.options.mode == Mode::Paired ? "paired" : "rollout");
+  j.key("solver").value(r.options.solver);
+  j.key("sweeps").value(r.options.sweeps);
+  j.key("tolerance").value(r.options.tolerance);
+  j.key("evaluated_steps").value(r.starters.empty() ? std::size_t{0} : r.starters[0].sweeps_to_tol.size());
+  j.key("skipped_steps_without_contacts").value(r.skipped_steps);
+  j.key("wall_seconds").value(r.wall_seconds);
+  j.key("git").value(p.git);
+  j.key("build").value(p.build);
+  j.key("machine").value(p.machine);
+  j.key("date").value(p.date_utc);
+  j.end_object();
+  return j.str();
 }
 
 std::vector<std::string> write_report(const BenchResults& r, const std::string& dir_text) {

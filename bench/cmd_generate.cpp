@@ -2,30 +2,15 @@
 // "Data set"). M simulations of a seed family, each step with contacts solved tightly and
 // recorded as (feature image, label image, body state, contacts with λ*).
 //
-// Threads: simulations run in parallel on OpenMP worker threads (each one a pure function of
-// its index, so the results do not depend on the thread count); ONE writer thread appends
-// them to the file strictly in simulation order, so the file's datasets are identical for any
-// --threads. Finished simulations wait in memory for their turn; a worker does not start a
-// simulation more than 2·T ahead of the writer, which bounds that memory.
-//
-// Nothing lost: the file is OUT.partial until all M simulations are in, then renamed to OUT.
-// Each simulation is committed by its /sims row (written last) and a flush, so a crash loses
-// at most the simulations in flight; --resume continues from the last committed one.
-// SIGINT sets a flag (the handler does nothing else); workers poll it between steps, the
-// writer commits what is finished, and the command exits with status 130 and says how to resume.
+// The pipeline (parallel simulations, in-order writing, OUT.partial, resume) is
+// generate_data_set (dc/learning/data_set_generation.hpp); this command parses the options,
+// prints progress and the summary, and turns SIGINT into keep_going = false (exit status 130,
+// with how to resume).
 #include <CLI/CLI.hpp>
-#include <omp.h>
 
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
-#include <csignal>
 #include <cstdio>
 #include <exception>
-#include <filesystem>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 
 #include "cli_common.hpp"
@@ -33,6 +18,7 @@
 #include "sigint_guard.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/learning/data_set.hpp"
+#include "dc/learning/data_set_generation.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 #include "progress_bar.hpp"
 
@@ -53,8 +39,8 @@ struct GenerateArgs {
   std::string out;
   std::string grid;
   std::string channels;
-  std::string oracle = DataSetOracle{}.method;
-  double oracle_tolerance = DataSetOracle{}.theta;
+  std::string oracle = to_string(DataSetOracle{}.method);
+  double oracle_tolerance = DataSetOracle{}.tolerance;
   int oracle_sweeps = DataSetOracle{}.sweeps;
 };
 
@@ -95,152 +81,62 @@ DataSetParams make_params(const GenerateArgs& a) {
         throw ConfigError("labels are Shepard numerators; only the shepard normalisation is allowed");
     });
   if (!a.channels.empty()) option("--channels", [&] { p.image.channels = parse_feature_channels(a.channels); });
-  p.oracle.method = a.oracle;
-  p.oracle.theta = a.oracle_tolerance;
-  p.oracle.sweeps = a.oracle_sweeps;
-  option("--oracle", [&] { p.oracle.validate(); });
+  option("--oracle", [&] {
+    p.oracle.method = parse_oracle_kind(a.oracle);
+    p.oracle.tolerance = a.oracle_tolerance;
+    p.oracle.sweeps = a.oracle_sweeps;
+    p.oracle.validate();
+  });
   p.validate();
   return p;
 }
 
 void run(const GenerateArgs& a) {
-  if (a.sims < 1) throw ConfigError("--sims must be >= 1 (got " + std::to_string(a.sims) + ")");
-  if (a.out.empty()) throw ConfigError("--out is required");
-  if (a.threads < 0) throw ConfigError("--threads must be >= 1");
-  const DataSetParams params = make_params(a);
-  const std::string partial = a.out + ".partial";
-  namespace fs = std::filesystem;
-  if (fs::exists(a.out) && !a.force) throw ConfigError(a.out + " exists; use --force to replace it");
-  if (a.resume && !fs::exists(partial))
-    throw ConfigError("--resume: " + partial + " does not exist (nothing to resume; run without --resume)");
-  if (!a.resume && fs::exists(partial))
-    throw ConfigError(partial + " exists (an interrupted run): add --resume to continue it, or delete it");
+  DataSetGenerationDef def;  // generate_data_set checks --sims, --out, --threads and the files
+  def.params = make_params(a);
+  def.out = a.out;
+  def.simulations = a.sims;
+  def.threads = a.threads;
+  def.resume = a.resume;
+  def.force = a.force;
 
-  const SimulationGenerator generator(params);
-  DataSetWriter writer = a.resume ? DataSetWriter::resume(partial, params) : DataSetWriter::create(partial, params);
-  const int first = writer.completed_simulations();
-  const int threads = a.threads > 0 ? a.threads : std::max(1, omp_get_max_threads());
   const SigintGuard sigint;
-  const auto t0 = std::chrono::steady_clock::now();
-
-  std::mutex mutex;                    // guards ready, failure, written
-  std::condition_variable changed;     // a simulation finished / was written / a worker quit
-  std::map<int, SimulationRecord> ready;
-  std::exception_ptr failure;
-  int written = first;
-  int workers_done = 0;                // workers that left their loop (guarded by mutex)
-  std::atomic<int> next{first};
-  std::atomic<bool> failed{false};
-  const auto keep_going = [&] { return !interrupted() && !failed.load(std::memory_order_relaxed); };
-  const int max_ahead = 2 * threads;
-  long steps_done = 0;
-  double worst_residual = 0;           // over the simulations written by this run [N]
-  ProgressBar bar("generate", a.sims - first);
-
-  const auto fail = [&](std::exception_ptr e) {
-    std::lock_guard lock(mutex);
-    if (!failure) failure = e;
-    failed = true;
-    changed.notify_all();
+  std::optional<ProgressBar> bar;
+  DataSetGenerationHooks hooks;
+  hooks.keep_going = [] { return !interrupted(); };
+  hooks.on_start = [&](int first, int) { bar.emplace("generate", a.sims - first); };
+  hooks.on_committed = [&](const SimulationRecord& rec) {
+    if (a.log_completed) {
+      std::fprintf(stderr, "completed %d samples %zu\n", rec.index, rec.samples());
+      std::fflush(stderr);
+    }
+    bar->advance(1, "sim " + std::to_string(rec.index) + ": " + std::to_string(rec.bodies) + " bodies");
   };
-  // Appends ready simulations in order; called by the writer thread only.
-  const auto write_ready = [&](std::unique_lock<std::mutex>& lock) {
-    for (auto it = ready.find(written); it != ready.end(); it = ready.find(written)) {
-      SimulationRecord rec = std::move(it->second);
-      ready.erase(it);
-      lock.unlock();
-      writer.append(rec);  // rows, /sims (seed last), flush
-      if (a.log_completed) {
-        std::fprintf(stderr, "completed %d samples %zu\n", rec.index, rec.samples());
-        std::fflush(stderr);
-      }
-      bar.advance(1, "sim " + std::to_string(rec.index) + ": " + std::to_string(rec.bodies) + " bodies");
-      lock.lock();
-      ++written;
-      steps_done += params.scene.time.steps;
-      worst_residual = std::max(worst_residual, rec.max_residual);
-      changed.notify_all();
-    }
-  };
-  // One simulation on the calling thread; false when the loop should stop.
-  const auto work_one = [&]() -> bool {
-    const int i = next.fetch_add(1);
-    if (i >= a.sims || !keep_going()) return false;
-    {
-      std::unique_lock lock(mutex);
-      changed.wait(lock, [&] { return i < written + max_ahead || !keep_going(); });
-    }
-    std::optional<SimulationRecord> rec = generator.run(i, keep_going);
-    if (!rec) return false;  // interrupted or another thread failed: drop the partial simulation
-    std::lock_guard lock(mutex);
-    ready.emplace(i, std::move(*rec));
-    changed.notify_all();
-    return true;
-  };
-
-  // T workers plus one writer thread (thread 0). If OpenMP grants a single thread, it
-  // alternates: one simulation, then write it.
-#pragma omp parallel num_threads(threads + 1)
-  {
-    const int id = omp_get_thread_num(), team = omp_get_num_threads();
-    try {
-      if (team == 1) {
-        for (;;) {
-          const bool more = work_one();
-          std::unique_lock lock(mutex);
-          write_ready(lock);
-          if (!more) break;
-        }
-      } else if (id == 0) {
-        std::unique_lock lock(mutex);
-        for (;;) {
-          write_ready(lock);
-          if (written >= a.sims || failed) break;
-          if (workers_done == team - 1 && ready.find(written) == ready.end()) break;
-          changed.wait(lock);
-        }
-      } else {
-        while (work_one()) {
-        }
-      }
-    } catch (...) {
-      fail(std::current_exception());
-    }
-    if (team > 1 && id != 0) {
-      std::lock_guard lock(mutex);
-      ++workers_done;
-      changed.notify_all();
-    }
-  }
-  bar.finish();
-  if (failure) std::rethrow_exception(failure);
-  const int done = writer.completed_simulations();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (done < a.sims) {
-    writer.close();
+  const DataSetGenerationReport r = generate_data_set(def, hooks);
+  if (bar) bar->finish();
+  if (!r.finished) {
     std::fprintf(stderr,
                  "deepcontact: interrupted: %d of %d simulations are saved in %s; run the same command with "
                  "--resume to continue\n",
-                 done, a.sims, partial.c_str());
+                 r.completed, a.sims, r.path.c_str());
     exit_status() = 130;
     return;
   }
-  const std::int64_t samples = writer.samples();
-  writer.close();
-  fs::rename(partial, a.out);
-  const int fresh = done - first;
+  const DataSetParams& params = def.params;
+  const int fresh = r.completed - r.first;
+  const double wall = r.wall_seconds;
   std::printf(
       "Generated %d simulation%s (%d new, seeds %llu..%llu, %d..%d bodies, %d steps each) with %d thread%s in %.2f s "
       "(%.0f steps/s, %.2f s per simulation): %lld samples of %d feature channels on a %d x %d grid, lambda* by "
       "%s with worst natural-map residual %.3g N -> %s\n",
-      done, done == 1 ? "" : "s", fresh, static_cast<unsigned long long>(params.seed),
-      static_cast<unsigned long long>(params.seed + static_cast<std::uint64_t>(done) - 1), params.count_min,
-      params.count_max, params.scene.time.steps, threads, threads == 1 ? "" : "s", wall,
-      wall > 0 ? static_cast<double>(steps_done) / wall : 0.0, fresh > 0 ? wall / fresh : 0.0,
-      static_cast<long long>(samples), static_cast<int>(params.image.channels.size()),
+      r.completed, r.completed == 1 ? "" : "s", fresh, static_cast<unsigned long long>(params.seed),
+      static_cast<unsigned long long>(params.seed + static_cast<std::uint64_t>(r.completed) - 1), params.count_min,
+      params.count_max, params.scene.time.steps, r.threads, r.threads == 1 ? "" : "s", wall,
+      wall > 0 ? static_cast<double>(r.steps) / wall : 0.0, fresh > 0 ? wall / fresh : 0.0,
+      static_cast<long long>(r.samples), static_cast<int>(params.image.channels.size()),
       sph_node_count(params.image.sph.grid.height, params.image.sph.grid.spacing),
       sph_node_count(params.image.sph.grid.width, params.image.sph.grid.spacing), params.oracle.describe().c_str(),
-      worst_residual, a.out.c_str());
+      r.worst_residual, r.path.c_str());
 }
 
 }  // namespace

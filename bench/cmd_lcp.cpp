@@ -5,19 +5,21 @@
 //     {"z": [...], "w": [...], "status": "converged", "sweeps": k, "residual": r,
 //      "solver": "lemke", "message": "..."}
 //
-// numbers with %.17g (round-trip exact). Exit status: 0 when solved (status converged),
+// numbers with %.17g (round-trip exact), non-finite as null (JsonWriter, json_writer.hpp). Exit status: 0 when solved (status converged),
 // 3 when the solver proved the problem infeasible, 1 for any other status (sweep_limit,
 // diverged, failed, invalid_input) and for errors (unreadable/malformed file, unknown
 // solver: one line on stderr from main()).
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <span>
 #include <string>
 
 #include "commands.hpp"
 #include "dc/engine/dat_file.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
+#include "json_writer.hpp"
 
 namespace dc::cli {
 namespace {
@@ -28,40 +30,6 @@ struct LcpSolveArgs {
   int sweeps = 3000;
   double tol = 1e-10;
 };
-
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";  // JSON has no Inf/NaN
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
-std::string json_array(const Eigen::VectorXd& v) {
-  std::string out = "[";
-  for (int i = 0; i < v.size(); ++i) out += (i ? ", " : "") + json_number(v[i]);
-  return out + "]";
-}
 
 void run_lcp_solve(const LcpSolveArgs& a) {
   const auto solver = make_solver(a.solver);  // ConfigError for an unknown name
@@ -74,10 +42,17 @@ void run_lcp_solve(const LcpSolveArgs& a) {
   o.record_theta = false;
   const SolveResult r = solver->solve(p, Eigen::VectorXd(), o);
   const Eigen::VectorXd w = lcp_velocity(p, r.lambda);
-  std::string out = "{\"z\": " + json_array(r.lambda) + ", \"w\": " + json_array(w) +
-                    ", \"status\": " + json_string(to_string(r.status)) +
-                    ", \"sweeps\": " + std::to_string(r.sweeps) + ", \"residual\": " + json_number(r.residual) +
-                    ", \"solver\": " + json_string(a.solver) + ", \"message\": " + json_string(r.message) + "}\n";
+  JsonWriter j;
+  j.begin_object();
+  j.key("z").array(std::span<const double>(r.lambda.data(), static_cast<std::size_t>(r.lambda.size())));
+  j.key("w").array(std::span<const double>(w.data(), static_cast<std::size_t>(w.size())));
+  j.key("status").value(to_string(r.status));
+  j.key("sweeps").value(r.sweeps);
+  j.key("residual").value(r.residual);
+  j.key("solver").value(a.solver);
+  j.key("message").value(r.message);
+  j.end_object();
+  const std::string out = j.str();
   std::fputs(out.c_str(), stdout);
   std::fflush(stdout);
   switch (r.status) {

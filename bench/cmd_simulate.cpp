@@ -29,11 +29,7 @@ void run(const SimulateArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   World world(def);
   const auto solver = make_solver(def.solver.name);
-  SolverOptions opt;
-  opt.max_sweeps = def.solver.sweeps;
-  opt.tolerance = def.solver.tolerance;
-  opt.omega = def.solver.omega;
-  opt.record_theta = true;
+  const SolverOptions opt = solver_options(def.solver);  // θ recorded
   const WarmStarterRegistry registry = full_warm_starter_registry();
   auto starter = registry.make(a.warmstart);
 

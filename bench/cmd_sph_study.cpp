@@ -215,10 +215,8 @@ void run(const StudyArgs& a) {
   for (const double d : spacings) SphGridDef{def.world.width, def.world.height, d, 2}.validate();
 
   const auto solver = make_solver(def.solver.name);
-  SolverOptions opt;
-  opt.max_sweeps = a.sweeps > 0 ? a.sweeps : def.solver.sweeps;
-  opt.tolerance = def.solver.tolerance;
-  opt.omega = def.solver.omega;
+  SolverOptions opt = solver_options(def.solver);
+  if (a.sweeps > 0) opt.max_sweeps = a.sweeps;
   opt.record_theta = false;
 
   const auto t_sim = std::chrono::steady_clock::now();

@@ -14,9 +14,4 @@ struct Provenance {
 
 Provenance collect_provenance();
 
-/// Minimal JSON string escaping (quotes, backslash, control characters).
-std::string json_escape(const std::string& s);
-/// A double as JSON: full precision, NaN/Inf as null.
-std::string json_number(double v);
-
 }  // namespace dc::bench

@@ -79,10 +79,7 @@ Vec2 linear_momentum(const BodyState& s) {
 }
 
 SolverOptions solver_options(const WorldDef& def) {
-  SolverOptions o;
-  o.max_sweeps = def.solver.sweeps;
-  o.tolerance = def.solver.tolerance;
-  o.omega = def.solver.omega;
+  SolverOptions o = dc::solver_options(def.solver);
   o.record_theta = false;
   return o;
 }

@@ -275,4 +275,14 @@ ArchSpec seed_dense_arch(int out_channels, int out_h, int out_w, double drop) {
   return a;
 }
 
+bool is_builtin_arch(const std::string& name) { return name.empty() || name == "default" || name == "seed-dense"; }
+
+ArchSpec select_arch(const std::string& name, int out_channels, int out_h, int out_w, double dropout) {
+  if (name.empty() || name == "default") return default_arch(out_channels, dropout);
+  if (name == "seed-dense") return seed_dense_arch(out_channels, out_h, out_w, dropout);
+  if (!std::filesystem::exists(name))
+    throw ConfigError("--arch '" + name + "': not 'default', 'seed-dense' or an existing TOML file");
+  return ArchSpec::load(name);
+}
+
 }  // namespace dc

@@ -36,15 +36,8 @@ class OmpThreads {
 
 CnnWarmStarter::CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads)
     : model_(std::move(model)), name_(std::move(name)), hybrid_(hybrid), threads_(inference_threads) {
-  const ModelGrid& g = model_.grid();
-  try {
-    for (const std::string& c : g.feature_channels) channels_.push_back(parse_feature_channel(c));
-  } catch (const ConfigError& e) {
-    throw ConfigError(name_ + ": the model's feature channels cannot be built: " + e.what());
-  }
-  if (g.label_channels != label_channel_names())
+  if (model_.grid().label_channels != label_channel_names())
     throw ConfigError(name_ + ": the model's label channels are not lambda_n, lambda_t");
-  (void)parse_sph_kernel(g.kernel);  // ConfigError for an unknown kernel, before the first step
 }
 
 std::unique_ptr<CnnWarmStarter> CnnWarmStarter::load(const std::filesystem::path& path, std::string name, bool hybrid,
@@ -59,27 +52,24 @@ void CnnWarmStarter::prepare(const World& world) {
   const double W = world.def().world.width, H = world.def().world.height;
   if (builder_ && W == box_w_ && H == box_h_) return;
   const ModelGrid& g = model_.grid();
-  // The data set's builder settings: default_sph_setting's Shepard transfer on this box with
-  // the model's d, h and kernel, and the model's channels.
-  FeatureImageDef def = FeatureImageDef::for_box(W, H);
-  def.sph.grid.spacing = g.d;
-  def.sph.support = g.h;
-  def.sph.kernel = parse_sph_kernel(g.kernel);
-  def.channels = channels_;
+  // The model's feature image (kernel, d, h, channels) on this scene's box.
+  FeatureImageDef def = g.image;
+  def.sph.grid.width = W;
+  def.sph.grid.height = H;
   builder_.emplace(def);
-  if (builder_->nx() != g.nx || builder_->ny() != g.ny) {
+  if (builder_->nx() != g.nx() || builder_->ny() != g.ny()) {
     const int nx = builder_->nx(), ny = builder_->ny();
     builder_.reset();
-    throw ConfigError(name_ + ": the model was trained on a " + std::to_string(g.nx) + " x " + std::to_string(g.ny) +
-                      " grid, but this scene's " + std::to_string(W) + " x " + std::to_string(H) +
-                      " box gives " + std::to_string(nx) + " x " + std::to_string(ny) + " at d = " + std::to_string(g.d));
+    throw ConfigError(name_ + ": the model was trained on a " + std::to_string(g.nx()) + " x " + std::to_string(g.ny()) +
+                      " grid, but this scene's " + std::to_string(W) + " x " + std::to_string(H) + " box gives " +
+                      std::to_string(nx) + " x " + std::to_string(ny) + " at d = " + std::to_string(def.sph.grid.spacing));
   }
   SphTransferDef t = def.sph;
   t.grid.channels = FeatureImageBuilder::kLabelChannels;
   t.normalisation = SphNormalisation::Shepard;
   transfer_.emplace(t);
   grid_ = SphGrid(t.grid);
-  features_ = Tensor(1, builder_->feature_channels(), g.ny, g.nx);
+  features_ = Tensor(1, builder_->feature_channels(), g.ny(), g.nx());
   box_w_ = W;
   box_h_ = H;
 }
@@ -110,7 +100,7 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
   // Which contacts persist from the previous step (index into previous_contacts(), −1 new):
   // needed by the hybrid policy and by a residual model (λ⁰ = λ_prev + correction).
   const auto& prev = w.previous_contacts();
-  const bool residual = model_.grid().label_kind == "residual";
+  const bool residual = model_.grid().labels.kind == LabelKind::Residual;
   std::vector<int> prev_of;
   if (hybrid_ || residual) prev_of = match_contacts_by_key(prev, cur);
   const bool any_new = !hybrid_ || std::find(prev_of.begin(), prev_of.end(), -1) != prev_of.end();
@@ -132,9 +122,7 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
     out = guess_from_labels(w, labels, !residual);
     if (residual) {
       // Soft threshold: corrections within the network's noise level leave builtin alone.
-      const double tau = model_.grid().correction_deadzone;
-      if (tau > 0)
-        for (double& d : out) d = d > tau ? d - tau : (d < -tau ? d + tau : 0.0);
+      apply_deadzone(std::span<double>(out.data(), static_cast<std::size_t>(out.size())), model_.grid().labels.deadzone);
       for (std::size_t c = 0; c < cur.size(); ++c) {
         if (prev_of[c] < 0) continue;
         const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];

@@ -19,23 +19,35 @@
 
 namespace dc {
 
+const char* to_string(OracleKind kind) {
+  switch (kind) {
+    case OracleKind::Pgs: return "pgs";
+    case OracleKind::Newton: return "newton";
+  }
+  return "?";
+}
+
+OracleKind parse_oracle_kind(std::string_view text) {
+  for (const OracleKind k : {OracleKind::Pgs, OracleKind::Newton})
+    if (text == to_string(k)) return k;
+  throw ConfigError("oracle method '" + std::string(text) + "': expected pgs or newton");
+}
+
 std::string DataSetOracle::describe() const {
-  // Shortest round-trip text of θ (e.g. "1e-09"), so equal settings give equal text.
+  // Shortest round-trip text of the tolerance (e.g. "1e-09"), so equal settings give equal text.
   char buf[64];
-  const auto end = std::to_chars(buf, buf + sizeof buf, theta).ptr;
+  const auto end = std::to_chars(buf, buf + sizeof buf, tolerance).ptr;
   const std::string t(buf, end);
   std::ostringstream s;
-  if (method == "pgs")
+  if (method == OracleKind::Pgs)
     s << "pgs theta=" << t << " sweeps=" << sweeps << " warmstart=builtin";
   else
-    s << method << " tol=" << t << " polish_sweeps=" << sweeps << " warmstart=builtin";
+    s << to_string(method) << " tol=" << t << " polish_sweeps=" << sweeps << " warmstart=builtin";
   return s.str();
 }
 
 void DataSetOracle::validate() const {
-  if (method != "newton" && method != "pgs")
-    throw ConfigError("oracle method '" + method + "': expected pgs or newton");
-  if (!(theta > 0) || !std::isfinite(theta))
+  if (!(tolerance > 0) || !std::isfinite(tolerance))
     throw ConfigError("oracle tolerance (--oracle-tolerance) must be a number > 0");
   if (sweeps < 1) throw ConfigError("oracle sweeps (--oracle-sweeps) must be >= 1");
 }
@@ -75,10 +87,10 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
   const auto pgs = make_solver("pgs");
   SolverOptions pgs_options;
   pgs_options.max_sweeps = params_.oracle.sweeps;
-  pgs_options.tolerance = params_.oracle.theta;
+  pgs_options.tolerance = params_.oracle.tolerance;
   pgs_options.record_theta = false;
   OracleOptions oracle_options;
-  oracle_options.tolerance = params_.oracle.theta;
+  oracle_options.tolerance = params_.oracle.tolerance;
   oracle_options.polish_sweeps = params_.oracle.sweeps;
 
   SimulationRecord rec;
@@ -104,7 +116,7 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
     const Eigen::VectorXd guess = builtin->initial_guess(StepView{world, nullptr});
     Eigen::VectorXd lambda;
     double residual = 0;
-    if (params_.oracle.method == "pgs") {
+    if (params_.oracle.method == OracleKind::Pgs) {
       SolveResult r = pgs->solve(problem, guess, pgs_options);
       lambda = std::move(r.lambda);
       residual = r.residual;

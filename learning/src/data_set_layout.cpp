@@ -50,8 +50,8 @@ void write_params(H5File& f, const DataSetParams& p) {
   f.set_attribute("/", "label_channels", join(label_channel_names()));
   f.set_attribute("/", "label_kind", "shepard-numerator");
   f.set_attribute("/", "oracle", p.oracle.describe());
-  f.set_attribute("/", "oracle_method", p.oracle.method);
-  f.set_attribute<double>("/", "oracle_tolerance", p.oracle.theta);
+  f.set_attribute("/", "oracle_method", to_string(p.oracle.method));
+  f.set_attribute<double>("/", "oracle_tolerance", p.oracle.tolerance);
   f.set_attribute<std::int32_t>("/", "oracle_sweeps", p.oracle.sweeps);
 }
 
@@ -84,8 +84,8 @@ DataSetParams read_params(const H5File& f) {
     p.image.sph.grid.channels = FeatureImageBuilder::kLabelChannels;
     p.image.sph.normalisation = SphNormalisation::Shepard;
     p.image.channels = parse_feature_channels(f.attribute_string("/", "feature_channels"));
-    p.oracle.method = f.attribute_string("/", "oracle_method");
-    p.oracle.theta = f.attribute<double>("/", "oracle_tolerance");
+    p.oracle.method = parse_oracle_kind(f.attribute_string("/", "oracle_method"));
+    p.oracle.tolerance = f.attribute<double>("/", "oracle_tolerance");
     p.oracle.sweeps = f.attribute<std::int32_t>("/", "oracle_sweeps");
     p.validate();
   } catch (const IoError&) {

@@ -145,17 +145,22 @@ std::vector<TrainingSample> DataSetReader::training_samples(std::span<const int>
   std::vector<TrainingSample> out;
   for (int s : simulations) {
     const int one[] = {s};
-    const std::vector<std::int64_t> rows = samples_of(one);
-    const Tensor f = features(rows), l = labels(rows);
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-      TrainingSample t;
-      t.features = Tensor(1, f.c(), f.h(), f.w());
-      t.labels = Tensor(1, l.c(), l.h(), l.w());
-      std::memcpy(t.features.data(), f.sample(static_cast<int>(r)), f.shape().sample_count() * sizeof(float));
-      std::memcpy(t.labels.data(), l.sample(static_cast<int>(r)), l.shape().sample_count() * sizeof(float));
-      t.simulation = s;
-      out.push_back(std::move(t));
-    }
+    for (TrainingSample& t : training_samples(samples_of(one), s)) out.push_back(std::move(t));
+  }
+  return out;
+}
+
+std::vector<TrainingSample> DataSetReader::training_samples(std::span<const std::int64_t> rows, int simulation) const {
+  std::vector<TrainingSample> out;
+  const Tensor f = features(rows), l = labels(rows);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    TrainingSample t;
+    t.features = Tensor(1, f.c(), f.h(), f.w());
+    t.labels = Tensor(1, l.c(), l.h(), l.w());
+    std::memcpy(t.features.data(), f.sample(static_cast<int>(r)), f.shape().sample_count() * sizeof(float));
+    std::memcpy(t.labels.data(), l.sample(static_cast<int>(r)), l.shape().sample_count() * sizeof(float));
+    t.simulation = simulation;
+    out.push_back(std::move(t));
   }
   return out;
 }

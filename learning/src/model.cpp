@@ -1,6 +1,5 @@
 #include "dc/learning/model.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include "dc/engine/error.hpp"
@@ -15,30 +14,31 @@ void fill_names(std::vector<std::string>& names, int count, const char* prefix, 
     throw InvalidArgument(std::string("Model: ") + what + " lists " + std::to_string(names.size()) +
                           " channel names but the network has " + std::to_string(count) + " channels");
 }
+
+/// The grid checked before the network is sized by it.
+ModelGrid validated(ModelGrid g) {
+  try {
+    g.image.validate();
+    g.labels.validate();
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("Model: ") + e.what());
+  }
+  if (g.labels.kind == LabelKind::Residual) (void)lambda_prev_channels(g.image.channels, "Model");
+  return g;
+}
 }  // namespace
 
-void validate_label_kind(const std::string& kind) {
-  if (kind != "absolute" && kind != "residual")
-    throw ConfigError("label kind '" + kind + "': expected 'absolute' or 'residual'");
-}
+int ModelGrid::nx() const { return sph_node_count(image.sph.grid.width, image.sph.grid.spacing); }
+int ModelGrid::ny() const { return sph_node_count(image.sph.grid.height, image.sph.grid.spacing); }
 
 Model::Model(ArchSpec arch, ModelGrid grid, int in_channels)
-    : grid_(std::move(grid)), net_(std::move(arch), Shape{1, in_channels, grid_.ny, grid_.nx}) {
-  validate_label_kind(grid_.label_kind);
-  if (!(grid_.label_scale >= 0) || !std::isfinite(grid_.label_scale))
-    throw ConfigError("Model: label_scale must be a finite number >= 0");
-  if (!(grid_.correction_deadzone >= 0) || !std::isfinite(grid_.correction_deadzone))
-    throw ConfigError("Model: correction_deadzone must be a finite number >= 0");
-  fill_names(grid_.feature_channels, in_channels, "f", "feature_channels");
+    : grid_(validated(std::move(grid))), net_(std::move(arch), Shape{1, in_channels, grid_.ny(), grid_.nx()}) {
+  if (static_cast<int>(grid_.image.channels.size()) != in_channels)
+    throw InvalidArgument("Model: the feature image has " + std::to_string(grid_.image.channels.size()) +
+                          " channels but the network reads " + std::to_string(in_channels));
   fill_names(grid_.label_channels, net_.output_shape().c, "l", "label_channels");
   input_stats = ChannelStats::identity(in_channels);
   output_stats = ChannelStats::identity(net_.output_shape().c);
-  if (grid_.label_kind == "residual") {
-    const auto& f = grid_.feature_channels;
-    for (const char* need : {"lambda_prev_n", "lambda_prev_t"})
-      if (std::find(f.begin(), f.end(), need) == f.end())
-        throw ConfigError(std::string("Model: a residual model needs the feature channel ") + need);
-  }
 }
 
 Tensor Model::predict(const Tensor& features) {
@@ -46,20 +46,8 @@ Tensor Model::predict(const Tensor& features) {
   input_stats.apply(scratch_);
   Tensor out = net_.forward(scratch_, false);
   output_stats.invert(out);
-  expand_labels(out, grid_.label_scale);
+  expand_labels(out, grid_.labels.scale);
   return out;
-}
-
-void compress_labels(Tensor& labels, double scale) {
-  if (scale <= 0) return;
-  const float inv = static_cast<float>(1.0 / scale);
-  for (float& v : labels.flat()) v = std::asinh(v * inv);
-}
-
-void expand_labels(Tensor& labels, double scale) {
-  if (scale <= 0) return;
-  const float s = static_cast<float>(scale);
-  for (float& v : labels.flat()) v = s * std::sinh(v);
 }
 
 }  // namespace dc

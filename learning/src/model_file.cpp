@@ -1,5 +1,6 @@
 #include "dc/learning/model_file.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -44,15 +45,15 @@ void save_model(Model& model, const std::filesystem::path& path, const std::func
   vec("output_std", model.output_stats.std);
   const ModelGrid& g = model.grid();
   f.create_group("/grid");
-  f.set_attribute<double>("/grid", "d", g.d);
-  f.set_attribute<double>("/grid", "h", g.h);
-  f.set_attribute("/grid", "kernel", g.kernel);
-  f.set_attribute<std::int32_t>("/grid", "nx", g.nx);
-  f.set_attribute<std::int32_t>("/grid", "ny", g.ny);
-  f.set_attribute("/grid", "label_kind", g.label_kind);
-  f.set_attribute<double>("/grid", "label_scale", g.label_scale);
-  f.set_attribute<double>("/grid", "correction_deadzone", g.correction_deadzone);
-  f.write_strings("/grid/feature_channels", g.feature_channels);
+  f.set_attribute<double>("/grid", "d", g.image.sph.grid.spacing);
+  f.set_attribute<double>("/grid", "h", g.image.sph.support);
+  f.set_attribute("/grid", "kernel", to_string(g.image.sph.kernel));
+  f.set_attribute<std::int32_t>("/grid", "nx", g.nx());
+  f.set_attribute<std::int32_t>("/grid", "ny", g.ny());
+  f.set_attribute("/grid", "label_kind", to_string(g.labels.kind));
+  f.set_attribute<double>("/grid", "label_scale", g.labels.scale);
+  f.set_attribute<double>("/grid", "correction_deadzone", g.labels.deadzone);
+  f.write_strings("/grid/feature_channels", feature_channel_names(g.image.channels));
   f.write_strings("/grid/label_channels", g.label_channels);
   if (extra) extra(f);
   out.commit();
@@ -77,26 +78,44 @@ Model load_model(const std::filesystem::path& path) {
   } catch (const ConfigError& e) {
     throw IoError(std::string(e.what()));
   }
+  // Stored texts become types here; an unknown kernel, channel or label kind is an IoError
+  // naming the file and the object.
+  const auto parsed = [&](const char* where, const auto& parse) {
+    try {
+      return parse();
+    } catch (const ConfigError& e) {
+      throw IoError(file + ": " + where + ": " + e.what());
+    }
+  };
+  const double d = f.attribute<double>("/grid", "d");
+  const int nx = f.attribute<std::int32_t>("/grid", "nx"), ny = f.attribute<std::int32_t>("/grid", "ny");
+  if (!(d > 0) || !std::isfinite(d) || nx < 1 || ny < 1)
+    throw IoError(file + ": /grid: d must be a finite number > 0 and nx, ny >= 1");
   ModelGrid g;
-  g.d = f.attribute<double>("/grid", "d");
-  g.h = f.attribute<double>("/grid", "h");
-  g.kernel = f.attribute_string("/grid", "kernel");
-  g.nx = f.attribute<std::int32_t>("/grid", "nx");
-  g.ny = f.attribute<std::int32_t>("/grid", "ny");
-  g.feature_channels = f.read_strings("/grid/feature_channels");
+  // The file stores node counts, not the box: (n − 1)·d gives n nodes (sph_node_count).
+  g.image.sph.grid.width = (nx - 1) * d;
+  g.image.sph.grid.height = (ny - 1) * d;
+  g.image.sph.grid.spacing = d;
+  g.image.sph.support = f.attribute<double>("/grid", "h");
+  g.image.sph.kernel = parsed("/grid kernel", [&] { return parse_sph_kernel(f.attribute_string("/grid", "kernel")); });
+  g.image.channels.clear();
+  for (const std::string& name : f.read_strings("/grid/feature_channels"))
+    g.image.channels.push_back(parsed("/grid/feature_channels", [&] { return parse_feature_channel(name); }));
   g.label_channels = f.read_strings("/grid/label_channels");
   if (version >= 2) {
     if (!f.has_attribute("/grid", "label_kind")) throw IoError(file + ": /grid has no label_kind attribute");
-    g.label_kind = f.attribute_string("/grid", "label_kind");
+    g.labels.kind = parsed("/grid label_kind", [&] { return parse_label_kind(f.attribute_string("/grid", "label_kind")); });
     if (!f.has_attribute("/grid", "label_scale")) throw IoError(file + ": /grid has no label_scale attribute");
-    g.label_scale = f.attribute<double>("/grid", "label_scale");
+    g.labels.scale = f.attribute<double>("/grid", "label_scale");
     if (!f.has_attribute("/grid", "correction_deadzone"))
       throw IoError(file + ": /grid has no correction_deadzone attribute");
-    g.correction_deadzone = f.attribute<double>("/grid", "correction_deadzone");
+    g.labels.deadzone = f.attribute<double>("/grid", "correction_deadzone");
   }
-  if (in[1] != g.ny || in[2] != g.nx)
+  if (g.nx() != nx || g.ny() != ny)
+    throw IoError(file + ": /grid: nx, ny do not fit the spacing d");
+  if (in[1] != g.ny() || in[2] != g.nx())
     throw IoError(file + ": input_shape " + std::to_string(in[1]) + "x" + std::to_string(in[2]) +
-                  " does not match the grid " + std::to_string(g.ny) + "x" + std::to_string(g.nx));
+                  " does not match the grid " + std::to_string(g.ny()) + "x" + std::to_string(g.nx()));
   auto build = [&]() {
     try {
       return Model(std::move(arch), g, in[0]);

@@ -97,9 +97,9 @@ TEST(TrainCli, ShortRunWritesAModelForTheDataSetsGrid) {
   EXPECT_NE(r.out.find("epoch   1/2"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("epoch   2/2"), std::string::npos) << r.out;
   Model m = load_model(model);
-  EXPECT_EQ(m.grid().nx, 25);
-  EXPECT_EQ(m.grid().ny, 25);
-  EXPECT_EQ(m.grid().feature_channels, DataSetReader(data_set()).feature_channel_names());
+  EXPECT_EQ(m.grid().nx(), 25);
+  EXPECT_EQ(m.grid().ny(), 25);
+  EXPECT_EQ(feature_channel_names(m.grid().image.channels), DataSetReader(data_set()).feature_channel_names());
   EXPECT_EQ(m.grid().label_channels, (std::vector<std::string>{"lambda_n", "lambda_t"}));
   EXPECT_EQ(m.network().input_shape().c, 5);
   // Standardisation is learned (not the identity) and stored.
@@ -137,12 +137,12 @@ TEST(TrainCli, ResidualNeedsTheLambdaPrevChannelsAndIsStoredInTheModel) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("residual labels"), std::string::npos) << r.out;
   Model m = load_model(dir / "r.h5");
-  EXPECT_EQ(m.grid().label_kind, "residual");
+  EXPECT_EQ(m.grid().labels.kind, LabelKind::Residual);
   EXPECT_EQ(m.network().input_shape().c, 10);
   // The same data without --residual gives an absolute model.
   r = test::run_cli("train --data " + data_set(Channels::Residual) + " --out " + (dir / "a.h5") + " --epochs 1" + kTrain);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(load_model(dir / "a.h5").grid().label_kind, "absolute");
+  EXPECT_EQ(load_model(dir / "a.h5").grid().labels.kind, LabelKind::Absolute);
   // A data set without lambda_prev channels: one-line error naming them.
   r = test::run_cli("train --data " + data_set() + " --out " + (dir / "x.h5") + " --epochs 1 --residual" + kTrain);
   EXPECT_NE(r.exit_code, 0);

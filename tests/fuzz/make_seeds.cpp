@@ -132,9 +132,9 @@ int main(int argc, char** argv) {
     };
     for (const auto& [name, text] : archs) {
       dc::ModelGrid g;
-      g.nx = 6;
-      g.ny = 5;
-      g.feature_channels = {"m", "v_x", "v_y", "omega"};
+      g.image = dc::FeatureImageDef::for_box(2.5, 2.0);  // 6 x 5 nodes at d = 0.5
+      g.image.channels = {dc::FeatureChannel::Mass, dc::FeatureChannel::Vx, dc::FeatureChannel::Vy,
+                          dc::FeatureChannel::Omega};
       dc::Model m(dc::ArchSpec::parse(text, name), g, 4);
       dc::Rng rng(3);
       m.network().initialize(dc::HeNormal(), rng);

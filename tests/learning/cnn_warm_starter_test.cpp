@@ -56,14 +56,9 @@ Model tiny_model(double box = 12.0, bool residual = false) {
   if (residual) img.channels = residual_feature_channels();
   const FeatureImageBuilder b(img);
   ModelGrid g;
-  g.d = img.sph.grid.spacing;
-  g.h = img.sph.support;
-  g.kernel = to_string(img.sph.kernel);
-  g.nx = b.nx();
-  g.ny = b.ny();
-  g.feature_channels = feature_channel_names(img.channels);
+  g.image = img;
   g.label_channels = label_channel_names();
-  if (residual) g.label_kind = "residual";
+  if (residual) g.labels.kind = LabelKind::Residual;
   Model m(ArchSpec::parse(R"(
 name = "tiny"
 [[layer]]
@@ -162,7 +157,7 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   const double tau = 0.5 * raw.cwiseAbs().maxCoeff();
   Model dz = tiny_model(12.0, true);
   ModelGrid dg = dz.grid();
-  dg.correction_deadzone = tau;
+  dg.labels.deadzone = tau;
   Model dzm(dz.network().arch(), dg, dz.network().input_shape().c);
   const auto src = r.model().network().parameters(), dst = dzm.network().parameters();
   for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
@@ -178,7 +173,7 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
 
   // A residual model without the lambda_prev channels cannot be built.
   ModelGrid bad = tiny_model(12.0, false).grid();
-  bad.label_kind = "residual";
+  bad.labels.kind = LabelKind::Residual;
   EXPECT_THROW(Model(ArchSpec::parse("name = \"x\"\n[[layer]]\ntype = \"conv\"\nout = 2\n"), bad, 5), ConfigError);
 }
 

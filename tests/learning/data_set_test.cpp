@@ -10,6 +10,7 @@
 #include "dc/engine/h5.hpp"
 #include "dc/learning/data_set.hpp"
 #include "h5_compare.hpp"
+#include "learning/small_data_set.hpp"
 
 namespace dc {
 namespace {
@@ -17,19 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A small family: 10–14 circles in a 12 × 12 box, 40 steps, d = h = 0.5 (25 × 25 grid).
-DataSetParams small_params() {
-  DataSetParams p;
-  p.scene.world.width = 12;
-  p.scene.world.height = 12;
-  p.scene.bodies.mean = {6, 6};
-  p.scene.bodies.sigma = 2;
-  p.scene.time.steps = 40;
-  p.image = FeatureImageDef::for_box(12, 12);
-  p.seed = 11;
-  p.count_min = 10;
-  p.count_max = 14;
-  return p;
-}
+DataSetParams small_params() { return test::small_data_set_params(12, 40, 11, 10, 14); }
 
 std::string temp_path(const std::string& name) {
   return (fs::temp_directory_path() / ("dc_data_set_test_" + std::to_string(::getpid()) + "_" + name)).string();
@@ -247,8 +236,10 @@ TEST(DataSet, BadParametersAreConfigErrors) {
   p.count_max = 10;
   EXPECT_THROW(SimulationGenerator{p}, ConfigError);
   p = small_params();
-  p.oracle.method = "lemke";
+  p.oracle.tolerance = 0;
   EXPECT_THROW(SimulationGenerator{p}, ConfigError);
+  EXPECT_THROW((void)parse_oracle_kind("lemke"), ConfigError);
+  EXPECT_EQ(parse_oracle_kind(to_string(OracleKind::Newton)), OracleKind::Newton);
   p = small_params();
   p.image = FeatureImageDef::for_box(30, 30);  // grid box ≠ scene box
   EXPECT_THROW(SimulationGenerator{p}, ConfigError);

@@ -28,12 +28,13 @@ class ModelFile : public ::testing::Test {
 
   static Model make_model() {
     ModelGrid g;
-    g.d = 0.25;
-    g.h = 0.25;
-    g.kernel = "spiky";
-    g.nx = 15;
-    g.ny = 13;
-    g.feature_channels = {"m", "v_x", "v_y", "omega", "n_x"};
+    g.image.sph.grid.spacing = 0.25;
+    g.image.sph.grid.width = 3.5;  // 15 x 13 nodes
+    g.image.sph.grid.height = 3.0;
+    g.image.sph.support = 0.25;
+    g.image.sph.kernel = SphKernelType::Spiky;
+    g.image.channels = {FeatureChannel::Mass, FeatureChannel::Vx, FeatureChannel::Vy, FeatureChannel::Omega,
+                        FeatureChannel::Nx};
     Model m(default_arch(), g, 5);
     Rng rng(5);
     m.network().initialize(HeNormal(), rng);
@@ -58,6 +59,25 @@ class ModelFile : public ::testing::Test {
   fs::path dir_;
 };
 
+// The default grid is a valid one: the data set's default feature image (61 x 61 on the
+// seed's box, default channels, poly6), absolute labels named lambda_n, lambda_t.
+TEST(ModelGrid, DefaultIsTheDataSetsDefaultImage) {
+  const ModelGrid g;
+  EXPECT_NO_THROW(g.image.validate());
+  const FeatureImageBuilder b(g.image);
+  EXPECT_EQ(g.nx(), b.nx());
+  EXPECT_EQ(g.ny(), b.ny());
+  EXPECT_EQ(g.nx(), 61);
+  EXPECT_EQ(g.image.channels, default_feature_channels());
+  EXPECT_EQ(g.image.sph.kernel, FeatureImageDef::for_box(30, 30).sph.kernel);
+  EXPECT_EQ(g.label_channels, label_channel_names());
+  EXPECT_EQ(g.labels, LabelDef{});
+  const Model m(default_arch(), g, b.feature_channels());
+  EXPECT_EQ(m.grid().nx(), 61);
+  // The channel count must match the network's input.
+  EXPECT_THROW(Model(default_arch(), g, b.feature_channels() + 1), InvalidArgument);
+}
+
 TEST_F(ModelFile, SaveLoadGivesIdenticalOutputs) {
   Model a = make_model();
   const fs::path p = dir_ / "m.h5";
@@ -66,11 +86,12 @@ TEST_F(ModelFile, SaveLoadGivesIdenticalOutputs) {
   EXPECT_FALSE(fs::exists(dir_ / "m.h5.tmp"));
   Model b = load_model(p);
   EXPECT_EQ(b.network().arch().to_toml(), a.network().arch().to_toml());
-  EXPECT_EQ(b.grid().kernel, "spiky");
-  EXPECT_EQ(b.grid().d, 0.25);
-  EXPECT_EQ(b.grid().nx, 15);
-  EXPECT_EQ(b.grid().ny, 13);
-  EXPECT_EQ(b.grid().feature_channels, a.grid().feature_channels);
+  EXPECT_EQ(b.grid().image.sph.kernel, SphKernelType::Spiky);
+  EXPECT_EQ(b.grid().image.sph.grid.spacing, 0.25);
+  EXPECT_EQ(b.grid().image.sph.support, 0.25);
+  EXPECT_EQ(b.grid().nx(), 15);
+  EXPECT_EQ(b.grid().ny(), 13);
+  EXPECT_EQ(b.grid().image.channels, a.grid().image.channels);
   EXPECT_EQ(b.grid().label_channels, a.grid().label_channels);
   EXPECT_EQ(b.input_stats.std, a.input_stats.std);
   EXPECT_EQ(b.output_stats.mean, a.output_stats.mean);
@@ -91,8 +112,8 @@ TEST_F(ModelFile, LabelScaleIsStoredAndPredictExpandsTheOutput) {
   Model plain = make_model();
   Model scaled = make_model();
   ModelGrid g = scaled.grid();
-  g.label_scale = 7.5;
-  g.correction_deadzone = 2.5;
+  g.labels.scale = 7.5;
+  g.labels.deadzone = 2.5;
   Model withscale(scaled.network().arch(), g, 5);
   const auto src = scaled.network().parameters(), dst = withscale.network().parameters();
   for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
@@ -101,9 +122,9 @@ TEST_F(ModelFile, LabelScaleIsStoredAndPredictExpandsTheOutput) {
   const fs::path p = dir_ / "s.h5";
   save_model(withscale, p);
   Model back = load_model(p);
-  EXPECT_EQ(back.grid().label_scale, 7.5);
-  EXPECT_EQ(back.grid().correction_deadzone, 2.5);
-  EXPECT_EQ(back.grid().label_kind, "absolute");
+  EXPECT_EQ(back.grid().labels.scale, 7.5);
+  EXPECT_EQ(back.grid().labels.deadzone, 2.5);
+  EXPECT_EQ(back.grid().labels.kind, LabelKind::Absolute);
   Tensor x(2, 5, 13, 15);
   Rng rng(9);
   test::fill_gaussian(x, rng);
@@ -115,7 +136,7 @@ TEST_F(ModelFile, LabelScaleIsStoredAndPredictExpandsTheOutput) {
   compress_labels(t, 7.5);
   for (std::size_t i = 0; i < y0.size(); ++i) ASSERT_NEAR(t[i], y0[i], 1e-4f * (1 + std::abs(y0[i]))) << i;
   ModelGrid bad = g;
-  bad.label_scale = -1;
+  bad.labels.scale = -1;
   EXPECT_THROW(Model(scaled.network().arch(), bad, 5), ConfigError);
 }
 
@@ -168,7 +189,22 @@ TEST_F(ModelFile, DamagedFilesThrowIoError) {
       f.remove_attribute("/grid", "label_scale");
       f.remove_attribute("/grid", "correction_deadzone");
     }
-    EXPECT_EQ(load_model(p).grid().label_kind, "absolute");
+    EXPECT_EQ(load_model(p).grid().labels.kind, LabelKind::Absolute);
+  }
+  {
+    // Stored names become types on load: an unknown channel or kernel is a one-line IoError.
+    const fs::path p = copy("badchannel.h5");
+    {
+      H5File f = H5File::open_rw(p.string());
+      f.remove("/grid/feature_channels");
+      f.write_strings("/grid/feature_channels", {"mass", "vx", "vy", "omega", "speed"});
+    }
+    expect_io_error(p, "speed");
+  }
+  {
+    const fs::path p = copy("badkernel.h5");
+    H5File::open_rw(p.string()).set_attribute("/grid", "kernel", std::string("gauss"));
+    expect_io_error(p, "gauss");
   }
   {
     const fs::path p = copy("missing.h5");

@@ -43,12 +43,14 @@ std::vector<TrainingSample> make_data(int n, int cin, int cout, int size, int si
   return data;
 }
 
+/// A size × size grid (d = 0.5) reading the first `cin` feature channels; `cout` unnamed
+/// output channels.
 ModelGrid grid_for(int size, int cin, int cout) {
   ModelGrid g;
-  g.nx = g.ny = size;
-  g.feature_channels.clear();
+  g.image = FeatureImageDef::for_box(0.5 * (size - 1), 0.5 * (size - 1));
+  const auto all = residual_feature_channels();
+  g.image.channels.assign(all.begin(), all.begin() + cin);
   g.label_channels.clear();
-  (void)cin;
   (void)cout;
   return g;
 }

@@ -38,6 +38,13 @@ struct SolverOptions {
   std::function<void(int sweep, const Eigen::VectorXd& lambda)> on_checkpoint;
 };
 
+struct SolverSection;  // world_def.hpp
+
+/// The options a scene's `[solver]` section asks for (docs/scenes.md): max_sweeps = sweeps,
+/// tolerance and omega copied, every other field at its default (θ recorded, no
+/// checkpoints). The one place that maps the persisted section to the solver's options.
+SolverOptions solver_options(const SolverSection& solver);
+
 struct SolveResult {
   Eigen::VectorXd lambda;
   SolveStatus status = SolveStatus::Failed;

@@ -69,4 +69,12 @@ ArchSpec default_arch(int out_channels = 2, double dropout = 0.1);
 /// ≈ 61 M weights (the thesis' net had 64.5 M; its exact layer list is not recorded).
 ArchSpec seed_dense_arch(int out_channels = 2, int out_h = 61, int out_w = 61, double dropout = 0.1);
 
+/// True for the names of the built-in architectures: "" and "default" (default_arch),
+/// "seed-dense" (seed_dense_arch).
+bool is_builtin_arch(const std::string& name);
+/// The architecture `deepcontact train --arch` names: a built-in one (with `out_channels`,
+/// the output size for seed-dense, and `dropout`) or an existing TOML file (ArchSpec::load,
+/// which states its own dropout). ConfigError for anything else.
+ArchSpec select_arch(const std::string& name_or_file, int out_channels, int out_h, int out_w, double dropout);
+
 }  // namespace dc

@@ -6,7 +6,7 @@
 //               Shepard numerators) → SphTransfer::gather at the contact points (Shepard:
 //               divided by the interpolated kernel-weight field of the points) → projected
 //               into the bounds. Exactly the `sph` starter's read-back, with the predicted
-//               grid in place of the oracle's splat. A RESIDUAL model (ModelGrid::label_kind,
+//               grid in place of the oracle's splat. A RESIDUAL model (ModelGrid::labels, labels.hpp;
 //               model.hpp) predicts the splat of λ* − λ_prev from features that include the
 //               builtin guess (lambda_prev_n/t): then λ⁰ = λ_prev (by key, 0 if new) + the
 //               read-back soft-thresholded by the model's correction_deadzone τ
@@ -80,7 +80,6 @@ class CnnWarmStarter final : public WarmStarter {
   std::string name_;
   bool hybrid_;
   int threads_;
-  std::vector<FeatureChannel> channels_;
   std::optional<FeatureImageBuilder> builder_;
   std::optional<SphTransfer> transfer_;
   double box_w_ = -1, box_h_ = -1;

@@ -8,6 +8,8 @@
 //   SimulationGenerator (data_generator.cpp)   runs simulation i of a data set → SimulationRecord
 //   DataSetWriter       (data_set_writer.cpp)  appends records in simulation order; resumable
 //   DataSetReader       (data_set_reader.cpp)  opens, validates, and loads samples/simulations
+// and generate_data_set (data_set_generation.hpp) runs the first two over a whole data set:
+// parallel simulations, in-order writing, resume.
 //
 // Crash safety ("nothing lost"): the writer appends a simulation's sample, body and contact
 // rows, then its /sims row — /sims/seed last of all, the commit mark — and flushes. The
@@ -19,6 +21,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dc/engine/h5.hpp"
@@ -33,17 +36,30 @@ namespace dc {
 inline constexpr const char* kDataSetFormat = "deepcontact-dataset";
 inline constexpr int kDataSetFormatVersion = 1;
 
-/// How λ* of each step is computed (stored as the root attribute `oracle`).
+/// The method that computes λ* (stored as the root attribute `oracle_method`).
+enum class OracleKind {
+  /// Matrix-free PGS from the builtin warm start (previous step's λ by key) until θ ≤
+  /// tolerance or `sweeps` sweeps — ≈ 7 ms per step of the seed scene, worst natural-map
+  /// residual ≈ 5e-5 N. The default.
+  Pgs,
+  /// solve_oracle (minimum-map Newton, then a PGS polish when needed) from the builtin warm
+  /// start — residual ≈ 2e-7 N but ≈ 35 ms per step, too slow for data generation (issue 4
+  /// allows the PGS route above 10 ms per step).
+  Newton,
+};
+/// "pgs" / "newton".
+const char* to_string(OracleKind kind);
+/// Inverse of to_string; ConfigError "oracle method 'x': expected pgs or newton" otherwise.
+OracleKind parse_oracle_kind(std::string_view text);
+
+/// How λ* of each step is computed (stored as the root attributes oracle, oracle_method,
+/// oracle_tolerance, oracle_sweeps).
 struct DataSetOracle {
-  /// "pgs" (the default): matrix-free PGS from the builtin warm start (previous step's λ by
-  /// key) until θ ≤ theta or `sweeps` sweeps — ≈ 7 ms per step of the seed scene, worst
-  /// natural-map residual ≈ 5e-5 N. "newton": solve_oracle (minimum-map Newton, then a PGS
-  /// polish when needed) from the builtin warm start — residual ≈ 2e-7 N but ≈ 35 ms per
-  /// step, too slow for data generation (issue 4 allows the PGS route above 10 ms per step).
-  std::string method = "pgs";
-  double theta = 1e-9;   ///< pgs: stopping θ [N]; newton: accepted residual (relative to max(1, ‖λ‖∞))
-  int sweeps = 5000;     ///< pgs: sweep cap; newton: polish sweeps
-  /// "newton tol=1e-09 sweeps=20000" — the attribute text (compared on resume).
+  OracleKind method = OracleKind::Pgs;
+  /// pgs: stopping θ [N]; newton: accepted natural residual (relative to max(1, ‖λ‖∞)).
+  double tolerance = 1e-9;
+  int sweeps = 5000;  ///< pgs: sweep cap; newton: polish sweeps
+  /// "pgs theta=1e-09 sweeps=5000 warmstart=builtin" — the attribute text (compared on resume).
   [[nodiscard]] std::string describe() const;
   /// ConfigError naming the field.
   void validate() const;
@@ -185,6 +201,8 @@ class DataSetReader {
   [[nodiscard]] Tensor labels(std::span<const std::int64_t> samples) const;
   /// Training examples (features, labels, simulation id) of the listed simulations.
   [[nodiscard]] std::vector<TrainingSample> training_samples(std::span<const int> simulations) const;
+  /// Training examples of the listed sample rows (in that order), all marked as `simulation`.
+  [[nodiscard]] std::vector<TrainingSample> training_samples(std::span<const std::int64_t> rows, int simulation) const;
   /// The contacts of one sample, with λ*.
   [[nodiscard]] SampleContacts contacts(std::int64_t sample) const;
 

@@ -26,7 +26,7 @@
 // over bodies k (centres x_k) and this step's contacts c (points p_c, normals n_c). The
 // per-contact channels lambda_prev_*, vrel_*, gap are Shepard NUMERATORS like the labels
 // (same kernel, same points): a label minus lambda_prev is the splat of λ* − λ_prev, the
-// target of a residual model (model.hpp, ModelGrid::label_kind). vrel and gap are what the
+// target of a residual model (labels.hpp, LabelKind::Residual). vrel and gap are what the
 // LCP's b is made of (b_n = vrel_n + Δt g·n + gap terms, engine/src/assembly.cpp).
 // The default feature set is mass, vx, vy, omega, contact_density.
 //

@@ -6,51 +6,38 @@
 #include <vector>
 
 #include "dc/learning/channel_stats.hpp"
+#include "dc/learning/feature_image.hpp"
+#include "dc/learning/labels.hpp"
 #include "dc/learning/network.hpp"
 
 namespace dc {
 
-/// The grid a model was trained on (DESIGN §4): spacing d, kernel support h, kernel name,
-/// node counts, and the channel names of features (input) and labels (output), in order.
+/// The grid a model was trained on (DESIGN §4) and what its input and output mean:
+/// the feature image it reads (kernel, node spacing, support, channels), its output channel
+/// names and the label definition. The default is a valid model grid: the data set's
+/// default feature image on the seed's 30 × 30 box (61 × 61 nodes), absolute labels.
 struct ModelGrid {
-  double d = 0.5;
-  double h = 0.5;
-  std::string kernel = "poly6";
-  int nx = 61;
-  int ny = 61;
-  std::vector<std::string> feature_channels{"m", "v_x", "v_y", "omega"};
-  std::vector<std::string> label_channels{"lambda_n", "lambda_t"};
-  /// What the label grid means. "absolute": the Shepard numerators of λ* (the data set's
-  /// labels). "residual": the numerators of λ* − λ_prev, i.e. the data set's labels minus the
-  /// feature channels lambda_prev_n, lambda_prev_t (which the model must then have); the
-  /// warm start is λ_prev (by key) plus the read-back of the predicted grid.
-  std::string label_kind = "absolute";
-  /// Output compression s ≥ 0 [label units]. s > 0: the network learns y = asinh(label / s)
-  /// (standardised), so that small labels keep their precision next to heavy-tailed large
-  /// ones (impacts carry 10³ N against a 50 N resting load); Model::predict returns
-  /// s·sinh(y). 0 = labels as they are.
-  double label_scale = 0.0;
-  /// Residual models: soft threshold τ ≥ 0 [N] on the read-back correction of every row,
-  /// δ ← sign(δ)·max(|δ| − τ, 0), before it is added to λ_prev. A correction within the
-  /// network's noise level leaves builtin's value alone: on a settled pile builtin is exact
-  /// and a 1–2 % correction noise would cost it ~50 sweeps (docs/learning.md). 0 = off.
-  double correction_deadzone = 0.0;
+  /// The feature image of the training data: image.sph.kernel, image.sph.grid.spacing (d),
+  /// image.sph.support (h), image.channels, on the training box image.sph.grid.width/height.
+  /// The cnn starter rebuilds it on the scene's box and requires the same node counts.
+  /// A loaded model's box is (nx − 1)·d × (ny − 1)·d: the file stores node counts only.
+  FeatureImageDef image = FeatureImageDef::for_box(30.0, 30.0);
+  /// Output channel names, in order ("lambda_n", "lambda_t" for a warm-start model; an empty
+  /// list is filled with "l0", "l1", …).
+  std::vector<std::string> label_channels = label_channel_names();
+  /// What the label grid means (absolute or residual, asinh scale, dead zone).
+  LabelDef labels;
+  [[nodiscard]] int nx() const;  ///< nodes along x of image (columns)
+  [[nodiscard]] int ny() const;  ///< nodes along y (rows)
 };
-
-/// The label compression of a model (ModelGrid::label_scale): asinh(v / s) and its inverse,
-/// elementwise; the identity for s = 0.
-void compress_labels(Tensor& labels, double scale);
-void expand_labels(Tensor& labels, double scale);
-
-/// "absolute" or "residual"; ConfigError otherwise.
-void validate_label_kind(const std::string& kind);
 
 class Model {
  public:
-  /// Network for inputs [in_channels, grid.ny, grid.nx]; stats start as the identity.
-  /// Throws ConfigError when the arch does not fit, InvalidArgument when the channel name
-  /// lists do not match the network's input/output channels (empty lists are filled with
-  /// "f0", "f1", … / "l0", …).
+  /// Network for inputs [in_channels, grid.ny(), grid.nx()]; stats start as the identity.
+  /// Throws ConfigError when the arch does not fit or the grid is invalid (image, labels,
+  /// a residual model without the lambda_prev channels), InvalidArgument when the number
+  /// of feature channels is not in_channels or the label names do not match the network's
+  /// output channels.
   Model(ArchSpec arch, ModelGrid grid, int in_channels);
 
   /// Raw features [N, C_in, ny, nx] → raw labels [N, C_out, ny, nx] (inference mode).

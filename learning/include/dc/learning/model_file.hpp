@@ -2,7 +2,7 @@
 // Model files (HDF5, via dc::H5File). Layout, format version 2 (version 1 files, which lack
 // /grid label_kind, still load as "absolute" models):
 //
-//   /                      attrs  format = "deepcontact-cnn-model", format_version = 1 (int32),
+//   /                      attrs  format = "deepcontact-cnn-model", format_version = 2 (int32),
 //                                 input_shape = [C_in, ny, nx], output_shape = [C_out, ny, nx] (int32)
 //   /arch                  string dataset: the ArchSpec TOML text (arch.hpp)
 //   /weights/<node>/<p>    float32, shape of the parameter tensor: conv weight [Cout, Cin, k, k],
@@ -13,6 +13,9 @@
 //                          asinh compression of the labels, 0 = none), correction_deadzone
 //                          (float64 [N], residual models' soft threshold) — version ≥ 2;
 //   /grid/feature_channels, /grid/label_channels   1-D string datasets
+//
+// In memory the grid is typed (ModelGrid: FeatureImageDef, LabelDef); load_model parses the
+// stored names and rejects an unknown kernel, feature channel or label kind (IoError).
 //
 // save_model writes "<path>.tmp" and renames it onto <path> when complete.
 #include <filesystem>

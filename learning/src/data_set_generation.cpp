@@ -1,0 +1,141 @@
+// generate_data_set: the ordered parallel pipeline (data_set_generation.hpp).
+#include "dc/learning/data_set_generation.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+
+#include "dc/engine/error.hpp"
+
+namespace dc {
+
+DataSetGenerationReport generate_data_set(const DataSetGenerationDef& def, const DataSetGenerationHooks& hooks) {
+  namespace fs = std::filesystem;
+  if (def.simulations < 1) throw ConfigError("--sims must be >= 1 (got " + std::to_string(def.simulations) + ")");
+  if (def.out.empty()) throw ConfigError("--out is required");
+  if (def.threads < 0) throw ConfigError("--threads must be >= 1");
+  def.params.validate();
+  const std::string partial = def.out + ".partial";
+  if (fs::exists(def.out) && !def.force) throw ConfigError(def.out + " exists; use --force to replace it");
+  if (def.resume && !fs::exists(partial))
+    throw ConfigError("--resume: " + partial + " does not exist (nothing to resume; run without --resume)");
+  if (!def.resume && fs::exists(partial))
+    throw ConfigError(partial + " exists (an interrupted run): add --resume to continue it, or delete it");
+
+  const SimulationGenerator generator(def.params);
+  DataSetWriter writer =
+      def.resume ? DataSetWriter::resume(partial, def.params) : DataSetWriter::create(partial, def.params);
+  DataSetGenerationReport report;
+  report.first = writer.completed_simulations();
+  report.threads = def.threads > 0 ? def.threads : std::max(1, omp_get_max_threads());
+  const int sims = def.simulations, threads = report.threads;
+  if (hooks.on_start) hooks.on_start(report.first, threads);
+  const auto t0 = std::chrono::steady_clock::now();
+
+  std::mutex mutex;                 // guards ready, failure, written, workers_done, report
+  std::condition_variable changed;  // a simulation finished / was written / a worker quit
+  std::map<int, SimulationRecord> ready;
+  std::exception_ptr failure;
+  int written = report.first;
+  int workers_done = 0;  // workers that left their loop
+  std::atomic<int> next{report.first};
+  std::atomic<bool> failed{false};
+  const auto keep_going = [&] {
+    return !failed.load(std::memory_order_relaxed) && (!hooks.keep_going || hooks.keep_going());
+  };
+  const int max_ahead = 2 * threads;
+
+  const auto fail = [&](std::exception_ptr e) {
+    std::lock_guard lock(mutex);
+    if (!failure) failure = e;
+    failed = true;
+    changed.notify_all();
+  };
+  // Appends ready simulations in order; called by the writer thread only.
+  const auto write_ready = [&](std::unique_lock<std::mutex>& lock) {
+    for (auto it = ready.find(written); it != ready.end(); it = ready.find(written)) {
+      SimulationRecord rec = std::move(it->second);
+      ready.erase(it);
+      lock.unlock();
+      writer.append(rec);  // rows, /sims (seed last), flush
+      if (hooks.on_committed) hooks.on_committed(rec);
+      lock.lock();
+      ++written;
+      report.steps += def.params.scene.time.steps;
+      report.worst_residual = std::max(report.worst_residual, rec.max_residual);
+      changed.notify_all();
+    }
+  };
+  // One simulation on the calling thread; false when the loop should stop.
+  const auto work_one = [&]() -> bool {
+    const int i = next.fetch_add(1);
+    if (i >= sims || !keep_going()) return false;
+    {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return i < written + max_ahead || !keep_going(); });
+    }
+    std::optional<SimulationRecord> rec = generator.run(i, keep_going);
+    if (!rec) return false;  // interrupted or another thread failed: drop the partial simulation
+    std::lock_guard lock(mutex);
+    ready.emplace(i, std::move(*rec));
+    changed.notify_all();
+    return true;
+  };
+
+  // T workers plus one writer thread (thread 0). If OpenMP grants a single thread, it
+  // alternates: one simulation, then write it.
+#pragma omp parallel num_threads(threads + 1)
+  {
+    const int id = omp_get_thread_num(), team = omp_get_num_threads();
+    try {
+      if (team == 1) {
+        for (;;) {
+          const bool more = work_one();
+          std::unique_lock lock(mutex);
+          write_ready(lock);
+          if (!more) break;
+        }
+      } else if (id == 0) {
+        std::unique_lock lock(mutex);
+        for (;;) {
+          write_ready(lock);
+          if (written >= sims || failed) break;
+          if (workers_done == team - 1 && ready.find(written) == ready.end()) break;
+          changed.wait(lock);
+        }
+      } else {
+        while (work_one()) {
+        }
+      }
+    } catch (...) {
+      fail(std::current_exception());
+    }
+    if (team > 1 && id != 0) {
+      std::lock_guard lock(mutex);
+      ++workers_done;
+      changed.notify_all();
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  report.completed = writer.completed_simulations();
+  report.samples = writer.samples();
+  report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  writer.close();
+  report.finished = report.completed >= sims;
+  report.path = partial;
+  if (report.finished) {
+    fs::rename(partial, def.out);
+    report.path = def.out;
+  }
+  return report;
+}
+
+}  // namespace dc
