@@ -20,6 +20,7 @@ struct Bounce {
   double impact_speed = 0;   ///< largest downward speed before the bounce [m/s]
   double rebound_speed = 0;  ///< first upward speed after it [m/s]
   int steps_in_contact = 0;  ///< steps with a contact whose λ_n > 0
+  double flight_drift = 0;   ///< |v_y − (rebound − g t)| over the 0.05 s after the bounce [m/s]
 };
 
 /// Drops a disc from height `h` above the floor (restitution e) and measures its first impact.
@@ -37,6 +38,13 @@ Bounce drop(double h, double e, double dt) {
     const double vy = w.bodies().velocity[0].y;
     if (vy > 1e-6 && out.impact_speed > 0) {
       out.rebound_speed = vy;
+      // Then free flight: the contact, still within its margin for a few steps, must not push.
+      const int flight = static_cast<int>(std::lround(0.05 / dt));
+      for (int f = 1; f <= flight; ++f) {
+        w.step(*pgs, tight_options());
+        const double expected = out.rebound_speed + f * dt * d.world.gravity.y;
+        out.flight_drift = std::max(out.flight_drift, std::abs(w.bodies().velocity[0].y - expected));
+      }
       return out;
     }
     out.impact_speed = std::max(out.impact_speed, -vy);
@@ -52,6 +60,7 @@ TEST(Bounce, ReboundIsRestitutionTimesImpactSpeed) {
       ASSERT_GT(b.impact_speed, 8.0) << "dt=" << dt << " e=" << e;  // √(2 g 4) ≈ 8.86 m/s
       EXPECT_NEAR(b.rebound_speed, e * b.impact_speed, 0.02 * e * b.impact_speed)
           << "dt=" << dt << " e=" << e;
+      EXPECT_LT(b.flight_drift, 1e-9) << "dt=" << dt << " e=" << e;
     }
   }
 }
