@@ -37,6 +37,15 @@ World three_discs() {
   return World(d);
 }
 
+/// three_discs() after one tight step, collided and assembled again: the next step's problem.
+World three_discs_next_step() {
+  World w = three_discs();
+  w.step(*make_solver("pgs"), tight());
+  w.collide();
+  w.assemble();
+  return w;
+}
+
 TEST(BuiltinWarmStart, PersistingContactsGetTheirLambdaNewOnesZero) {
   World w = three_discs();
   const auto pgs = make_solver("pgs");
@@ -73,11 +82,8 @@ TEST(BuiltinWarmStart, FirstStepIsZero) {
 }
 
 TEST(CopyWarmStart, ReturnsTheSharedOracleOrSolvesItAccurately) {
-  World w = three_discs();
-  const auto pgs = make_solver("pgs");
-  w.step(*pgs, tight());
-  w.collide();
-  const LcpProblem& p = w.assemble();
+  const World w = three_discs_next_step();
+  const LcpProblem& p = w.problem();
   const auto copy = default_warm_starters().make("copy");
   EXPECT_TRUE(copy->uses_oracle());
   Eigen::VectorXd shared = Eigen::VectorXd::Constant(p.rows(), 0.125);
@@ -88,11 +94,8 @@ TEST(CopyWarmStart, ReturnsTheSharedOracleOrSolvesItAccurately) {
 }
 
 TEST(CopyWarmStart, DecimalsRoundTheOracle) {
-  World w = three_discs();
-  const auto pgs = make_solver("pgs");
-  w.step(*pgs, tight());
-  w.collide();
-  const LcpProblem& p = w.assemble();
+  const World w = three_discs_next_step();
+  const LcpProblem& p = w.problem();
   const Eigen::VectorXd star = solve_oracle(p).lambda;
   for (int d : {0, 1, 3}) {
     const auto copy = default_warm_starters().make("copy:" + std::to_string(d));
