@@ -5,6 +5,7 @@
 // with several initial guesses:
 //
 //   collide()    broad phase (uniform grid) + narrow phase → contacts sorted by key
+//                (with e > 0 also each contact's approach velocity, restitution.hpp)
 //   assemble()   J (sparse), M⁻¹, A = J M⁻¹ Jᵀ Δt (sparse, row-major), b, bounds
 //   [solve]      any LcpSolver, from any λ⁰ (the warm start)
 //   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ),  x ← x + Δt v,  θ ← θ + Δt ω;
