@@ -1,5 +1,6 @@
 #include "dc/engine/assembly.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -74,7 +75,9 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
     } else {
       bn += cs.baumgarte * std::min(0.0, ct.gap + cs.slop) / dt;
     }
-    if (cs.restitution > 0 && vn < -cs.restitution_threshold) bn += cs.restitution * vn;
+    // Restitution (restitution.hpp): aim at −e·v_a, v_a the stored approach velocity.
+    if (cs.restitution > 0 && ct.restitution_due && ct.approach_velocity < -cs.restitution_threshold)
+      bn = std::min(bn, vn + vn_f + cs.restitution * ct.approach_velocity);
     out.b[rn] = bn;
     out.lo[rn] = 0.0;
     out.hi[rn] = std::numeric_limits<double>::infinity();

@@ -8,6 +8,7 @@
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/engine/narrow_phase.hpp"
+#include "dc/engine/restitution.hpp"
 
 namespace dc {
 namespace {
@@ -56,6 +57,7 @@ const std::vector<Contact>& World::collide() {
     if (auto c = circle_circle(bodies_, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)]))
       contacts_.push_back(*c);
   // Wall contacts were appended in key order and pairs are sorted: contacts_ is sorted.
+  if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
   return contacts_;
 }
 

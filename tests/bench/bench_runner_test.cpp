@@ -50,6 +50,18 @@ TEST(BenchRunner, PairedOrderingOnASettlingPile) {
   EXPECT_LT(get(s, "copy").median_sweeps_to_tol, get(s, "builtin").median_sweeps_to_tol);
   EXPECT_LT(get(s, "builtin").median_sweeps_to_tol, get(s, "zero").median_sweeps_to_tol);
   EXPECT_LT(get(s, "sph").median_sweeps_to_tol, get(s, "builtin").median_sweeps_to_tol);
+  // sph-prev smooths the previous step's λ through the grid (no oracle): at the first contact
+  // step it has nothing to smooth (the zero guess), afterwards a guess of its own, far from
+  // the oracle quality of sph.
+  const auto& zero_rec = r.starters[0];
+  const auto& prev_rec = r.starters[4];
+  ASSERT_EQ(prev_rec.name, "sph-prev");
+  EXPECT_FALSE(prev_rec.uses_oracle);
+  EXPECT_EQ(prev_rec.sweeps_to_tol[0], zero_rec.sweeps_to_tol[0]);
+  EXPECT_EQ(prev_rec.initial_error[0], zero_rec.initial_error[0]);
+  EXPECT_NE(prev_rec.initial_error, zero_rec.initial_error);
+  EXPECT_GT(get(s, "sph-prev").median_sweeps_to_tol, 5 * get(s, "sph").median_sweeps_to_tol);
+  EXPECT_GT(get(s, "sph-prev").initial_error, 1e3 * get(s, "sph").initial_error);
   // The trade: more sweeps never leave a (much) larger residual for the same starter.
   const auto& z = r.starters[0];
   const std::size_t B = r.budgets.size();
@@ -78,11 +90,36 @@ TEST(BenchRunner, RolloutModeRunsEachStarterOnItsOwnTrajectory) {
   auto o = small_pile();
   o.mode = bench::Mode::Rollout;
   o.scene.time.steps = 60;
-  o.warmstarts = {"zero", "builtin"};
+  o.warmstarts = {"zero", "builtin", "zero"};
   const auto r = bench::run_bench(o, default_warm_starters());
-  ASSERT_EQ(r.starters.size(), 2u);
-  EXPECT_GT(r.starters[0].sweeps_to_tol.size(), 0u);
-  EXPECT_GT(r.starters[1].sweeps_to_tol.size(), 0u);
+  ASSERT_EQ(r.starters.size(), 3u);
+  const auto &zero = r.starters[0], &builtin = r.starters[1], &zero2 = r.starters[2];
+  const std::size_t n = zero.sweeps_to_tol.size();
+  ASSERT_GT(n, 10u);
+  EXPECT_EQ(zero.step, r.step_index);
+  // The same starter on the same scene drives the same trajectory, bit for bit.
+  EXPECT_EQ(zero2.step, zero.step);
+  EXPECT_EQ(zero2.rows, zero.rows);
+  EXPECT_EQ(zero2.sweeps_to_tol, zero.sweeps_to_tol);
+  EXPECT_EQ(zero2.initial_error, zero.initial_error);
+  // builtin has nothing to remember at the first contact step: there it is the zero guess.
+  ASSERT_FALSE(builtin.step.empty());
+  EXPECT_EQ(builtin.step[0], zero.step[0]);
+  EXPECT_EQ(builtin.sweeps_to_tol[0], zero.sweeps_to_tol[0]);
+  EXPECT_EQ(builtin.initial_error[0], zero.initial_error[0]);
+  // Afterwards it starts closer and needs fewer sweeps.
+  const auto s = bench::summarise(r);
+  EXPECT_LT(get(s, "builtin").median_sweeps_to_tol, get(s, "zero").median_sweeps_to_tol);
+  EXPECT_LT(get(s, "builtin").initial_error, get(s, "zero").initial_error);
+  // Rollout is not the paired reference trajectory (advanced with λ*): zero's ‖λ*‖ = its
+  // initial error agrees at the first contact step and then drifts apart.
+  auto paired = o;
+  paired.mode = bench::Mode::Paired;
+  paired.warmstarts = {"zero"};
+  const auto rp = bench::run_bench(paired, default_warm_starters());
+  ASSERT_EQ(rp.starters[0].step[0], zero.step[0]);
+  EXPECT_EQ(rp.starters[0].initial_error[0], zero.initial_error[0]);
+  EXPECT_NE(rp.starters[0].initial_error, zero.initial_error);
 }
 
 TEST(BenchRunner, UnknownStarterAndBadOptionsAreConfigErrors) {

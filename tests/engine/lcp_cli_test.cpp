@@ -11,6 +11,7 @@
 
 #include "dc/engine/dat_file.hpp"
 #include "dc/engine/lcp_problem.hpp"
+#include "dc/engine/lcp_solver.hpp"
 
 namespace dc {
 namespace {
@@ -94,8 +95,36 @@ TEST(LcpCli, SolvesAFileAndPrintsJson) {
 }
 
 TEST(LcpCli, ShippedExampleSolves) {
-  const CliRun r = run_cli(std::string("lcp solve \"") + DC_SOURCE_DIR + "/tests/data/lcp/contact_12.dat\"");
+  // The printed z must solve the file's LCP (w = M z + q, z ≥ 0, w ≥ 0, z ∘ w = 0) and agree
+  // with an independent pivoting solve of the same file.
+  const std::string path = std::string(DC_SOURCE_DIR) + "/tests/data/lcp/contact_12.dat";
+  const CliRun r = run_cli("lcp solve \"" + path + "\"");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(json_field(r.out, "status"), "\"converged\"") << r.out;
+  const LcpProblem p = read_lcp_dat(path);
+  const auto z = json_array(r.out, "z"), w = json_array(r.out, "w");
+  ASSERT_EQ(z.size(), 12u) << r.out;
+  ASSERT_EQ(w.size(), 12u) << r.out;
+  const Eigen::VectorXd zv = Eigen::Map<const Eigen::VectorXd>(z.data(), 12);
+  const Eigen::VectorXd wv = p.A * zv + p.b;
+  const double scale = p.b.cwiseAbs().maxCoeff();
+  SolverOptions o;
+  o.exact_tolerance = 1e-12;
+  const SolveResult known = make_solver("lemke")->solve(p, Eigen::VectorXd(), o);
+  ASSERT_EQ(known.status, SolveStatus::Converged) << known.message;
+  const Eigen::VectorXd w_known = lcp_velocity(p, known.lambda);
+  int active = 0;
+  for (int i = 0; i < 12; ++i) {
+    const auto k = static_cast<size_t>(i);
+    EXPECT_NEAR(w[k], wv[i], 1e-9 * scale) << "row " << i;  // w printed is M z + q
+    EXPECT_GE(z[k], 0.0) << "row " << i;
+    EXPECT_GE(w[k], -1e-6 * scale) << "row " << i;
+    EXPECT_LE(std::min(z[k], w[k] / scale), 1e-6 * std::max(1.0, zv.cwiseAbs().maxCoeff())) << "row " << i;
+    EXPECT_NEAR(z[k], known.lambda[i], 1e-5 * std::max(1.0, known.lambda.cwiseAbs().maxCoeff())) << "row " << i;
+    EXPECT_NEAR(w[k], w_known[i], 1e-6 * scale) << "row " << i;
+    active += z[k] > 0 ? 1 : 0;
+  }
+  EXPECT_GT(active, 0);  // a contact problem with load: not the trivial z = 0
 }
 
 TEST(LcpCli, InfeasibleExitsWith3AndSweepLimitWith1) {

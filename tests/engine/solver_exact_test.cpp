@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <chrono>
 
 #include "dc/engine/lcp_solver.hpp"
 #include "engine/solver_test_problems.hpp"
@@ -156,17 +155,14 @@ TEST(SolverExact, FrictionSolutionRespectsTheCone) {
   }
 }
 
-TEST(SolverExact, NewtonIsFastOnBenchSizedFrictionProblems) {
-  // The copy oracle's workload: 100 bodies, ~200 contacts with friction (400 rows).
+TEST(SolverExact, NewtonSolvesBenchSizedFrictionProblems) {
+  // The copy oracle's workload: 100 bodies, ~200 contacts with friction (400 rows). Its speed
+  // belongs in the bench (no wall-time assertions in tests); here: it converges.
   test::TestRng rng(500);
   const LcpProblem p = test::random_contact(100, 200, true, rng);
-  const auto t0 = std::chrono::steady_clock::now();
   const SolveResult r = run("newton", p);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(r.status, SolveStatus::Converged) << r.message;
   EXPECT_LE(r.residual, bound(p));
-  RecordProperty("newton_ms", std::to_string(ms));
-  EXPECT_LT(ms, 2000.0);  // generous: a shared 2-core machine; typical is tens of ms
 }
 
 }  // namespace

@@ -13,7 +13,8 @@
 // Stabilisation of normal rows (all configurable in ContactSection):
 //   gap g > 0 (speculative):   b_n += g / Δt
 //   gap g ≤ 0 (Baumgarte):     b_n += β · min(0, g + slop) / Δt
-//   restitution e > 0 and approach J_n u < −threshold:   b_n += e · J_n u
+//   restitution e > 0, bounce due and stored approach v_a < −threshold:
+//                              b_n = min(b_n, J_n u + J_n Δt M⁻¹ F_ext + e · v_a)   (restitution.hpp)
 #include <vector>
 
 #include "dc/engine/body_state.hpp"

@@ -65,6 +65,11 @@ struct Contact {
   double gap = 0.0;     ///< signed distance between surfaces [m]; < 0 is penetration
   double lambda_n = 0;  ///< solved normal force [N] (after the step's solve)
   double lambda_t = 0;  ///< solved friction force along t = perp(n) [N]
+  /// Restitution memory (restitution.hpp), kept by World::collide only when e > 0: the
+  /// relative normal velocity J_n u [m/s] this contact approached with (< 0: closing) …
+  double approach_velocity = 0;
+  /// … and whether this step's normal row aims at the bounce −e·approach_velocity.
+  bool restitution_due = false;
 };
 
 /// For each contact of `current`, the index of the contact with the same key in `previous`,

@@ -5,6 +5,7 @@
 // with several initial guesses:
 //
 //   collide()    broad phase (uniform grid) + narrow phase → contacts sorted by key
+//                (with e > 0 also each contact's approach velocity, restitution.hpp)
 //   assemble()   contact constraints (rows of each contact), J (sparse), M⁻¹, b, bounds;
 //                A = J M⁻¹ Jᵀ Δt only on demand (ensure_assembled_matrix())
 //   [solve]      any LcpSolver, from any λ⁰ (the warm start)

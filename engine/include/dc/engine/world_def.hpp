@@ -31,13 +31,19 @@ struct TimeSection {
 
 struct ContactSection {
   double friction = 0.5;     ///< Coulomb coefficient μ (0 ⇒ no tangent rows at all)
-  double restitution = 0.0;  ///< e: target separating normal velocity −e·v_n (for approach > threshold)
+  /// e: a contact that hits with relative normal velocity v_a (stored when its row first acts,
+  /// DESIGN §8, restitution.hpp) leaves with −e·v_a, if |v_a| > restitution_threshold.
+  double restitution = 0.0;
   double baumgarte = 0.2;    ///< β: fraction of penetration beyond slop removed per step
   double slop = 0.005;       ///< allowed penetration [m] before Baumgarte acts
   /// Speculative margin [m]: pairs closer than margin + (|v_a|+|v_b|)·Δt get a contact
   /// row, so fast bodies cannot tunnel; the row only acts once the gap would close.
   double margin = 0.02;
-  /// Approach speed [m/s] below which restitution is ignored (resting contact stays quiet).
+  /// Approach speed [m/s] at or below which an impact is perfectly inelastic (no bounce).
+  /// Compared with |v_a|, the relative normal speed the contact had when its row first acted
+  /// (not the current, already-stopped velocity). It keeps resting and slowly settling contacts
+  /// quiet: a body resting under gravity re-approaches at only ~|g|·Δt per step (0.1 m/s at the
+  /// defaults), so any threshold above that stops the jitter a tiny bounce would cause.
   double restitution_threshold = 1.0;
 
   friend bool operator==(const ContactSection&, const ContactSection&) = default;
