@@ -35,9 +35,10 @@ def group(f, name):
     return f["warmstarters"][name.replace("%", "%25").replace("/", "%2F")]
 
 
-# Ten colours × four dash patterns: neighbours in the table differ in both, and up to 40
-# starters get distinct (colour, dash) pairs.
-COLOURS = list(plt.get_cmap("tab10").colors)
+# Sixteen distinct colours (tab10 and six more) × four dash patterns: the first sixteen
+# starters differ in colour, neighbours in the table also in dash, and (colour, dash) pairs
+# stay distinct up to 64 starters.
+COLOURS = list(plt.get_cmap("tab10").colors) + ["black", "navy", "#e7298a", "#b8860b", "#66a61e", "teal"]
 DASHES = ["-", "--", "-.", ":"]
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
 
