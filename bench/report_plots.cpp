@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <sys/wait.h>
 
 namespace dc::bench {
 namespace fs = std::filesystem;
@@ -67,7 +68,8 @@ PlotRun make_report_plots(const fs::path& dir) {
   for (const std::string& word : {python_interpreter(), script, (dir / "results.h5").string(), dir.string()})
     cmd += "'" + word + "' ";
   cmd += ">'" + run.log + "' 2>&1";
-  run.exit_code = std::system(cmd.c_str());
+  const int status = std::system(cmd.c_str());
+  run.exit_code = status == -1 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   for (const auto& p : report_plot_files()) {
     PlotStatus s;
     s.file = p;

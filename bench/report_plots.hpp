@@ -20,7 +20,7 @@ struct PlotStatus {
 
 struct PlotRun {
   std::vector<PlotStatus> plots;  ///< every plot of the report, in report order
-  int exit_code = 0;              ///< of the plot script (as std::system reports it)
+  int exit_code = 0;              ///< of the plot script (128 + signal if killed, −1 if not started)
   std::string log;                ///< DIR/plots.log
   [[nodiscard]] std::vector<std::string> missing() const;
 };
