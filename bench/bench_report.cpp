@@ -13,7 +13,6 @@
 #include "dc/engine/scene.hpp"
 
 namespace dc::bench {
-namespace {
 
 std::string fmt(const char* f, double v) {
   if (!std::isfinite(v)) return "n/a";
@@ -21,6 +20,8 @@ std::string fmt(const char* f, double v) {
   std::snprintf(b, sizeof b, f, v);
   return b;
 }
+
+namespace {
 
 const StarterSummary* find(const std::vector<StarterSummary>& s, const std::string& name) {
   for (const auto& x : s)

@@ -56,6 +56,14 @@ struct StarterReplicates {
   std::vector<double> median_sweeps, mean_sweeps, median_total, mean_total;
 };
 
+std::vector<double> quotient(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> q(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) q[i] = a[i] / b[i];
+  return q;
+}
+
+}  // namespace
+
 double quantile_sorted(const std::vector<double>& v, double p) {
   const double pos = p * static_cast<double>(v.size() - 1);
   const auto lo = static_cast<std::size_t>(std::floor(pos));
@@ -64,14 +72,6 @@ double quantile_sorted(const std::vector<double>& v, double p) {
   if (std::isinf(v[lo]) || std::isinf(v[hi])) return t < 0.5 ? v[lo] : v[hi];
   return v[lo] + t * (v[hi] - v[lo]);
 }
-
-std::vector<double> quotient(const std::vector<double>& a, const std::vector<double>& b) {
-  std::vector<double> q(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) q[i] = a[i] / b[i];
-  return q;
-}
-
-}  // namespace
 
 double median_of(std::vector<double> v) {
   if (v.empty()) return kNaN;

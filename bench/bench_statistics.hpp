@@ -65,6 +65,10 @@ struct Replicates {
 /// draw in a replicate). Throws InvalidArgument on ragged columns or empty groups.
 Replicates hierarchical_bootstrap(const GroupedColumns& x, int resamples, Rng& rng);
 
+/// The p-quantile (0 ≤ p ≤ 1) of sorted, non-empty `v` by linear interpolation between order
+/// statistics at position p·(n − 1); next to an infinite value, the nearer order statistic.
+double quantile_sorted(const std::vector<double>& v, double p);
+
 /// Median (mean of the two middle values for an even count) and mean; NaN if empty.
 double median_of(std::vector<double> v);
 double mean_of(const std::vector<double>& v);

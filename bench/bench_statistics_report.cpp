@@ -4,29 +4,23 @@
 #include <cstdio>
 #include <sstream>
 
+#include "bench_report.hpp"
 #include "provenance.hpp"
 
 namespace dc::bench {
 namespace {
 
-std::string num(const char* f, double v) {
-  if (!std::isfinite(v)) return "n/a";
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 /// A sweep count; above the run's sweeps it means "never converged".
-std::string sweeps_cell(double v, int sweeps) { return v > sweeps ? "never" : num("%.1f", v); }
+std::string sweeps_cell(double v, int sweeps) { return v > sweeps ? "never" : fmt("%.1f", v); }
 
 std::string interval_cell(const Interval& x, const char* f, int sweeps = -1) {
-  auto one = [&](double v) { return sweeps > 0 ? sweeps_cell(v, sweeps) : num(f, v); };
+  auto one = [&](double v) { return sweeps > 0 ? sweeps_cell(v, sweeps) : fmt(f, v); };
   return one(x.estimate) + " [" + one(x.lo) + ", " + one(x.hi) + "]";
 }
 
 std::string seed_list(const std::vector<double>& v, const char* f, int sweeps = -1) {
   std::string out;
-  for (const double x : v) out += (out.empty() ? "" : " · ") + (sweeps > 0 ? sweeps_cell(x, sweeps) : num(f, x));
+  for (const double x : v) out += (out.empty() ? "" : " · ") + (sweeps > 0 ? sweeps_cell(x, sweeps) : fmt(f, x));
   return out;
 }
 
@@ -63,7 +57,7 @@ std::string statistics_markdown(const BenchStatistics& s) {
   const int sweeps = s.sweeps;
   std::ostringstream md;
   md << "## Uncertainty\n\n";
-  md << "Bootstrap " << num("%.0f", 100 * s.def.level) << " % intervals (percentile method, "
+  md << "Bootstrap " << fmt("%.0f", 100 * s.def.level) << " % intervals (percentile method, "
      << s.def.resamples << " resamples, dc::Rng seed " << s.def.seed
      << "): each resample draws the scene seeds with replacement, then, within every drawn seed, its steps with "
         "replacement (hierarchical bootstrap). "
@@ -86,7 +80,7 @@ std::string statistics_markdown(const BenchStatistics& s) {
   for (const auto seed : s.seeds) md << ' ' << seed;
   md << ".\n\n";
   if (!s.ratios.empty()) {
-    md << "Ratios (starter / reference) with " << num("%.0f", 100 * s.def.level)
+    md << "Ratios (starter / reference) with " << fmt("%.0f", 100 * s.def.level)
        << " % intervals; *not distinguishable* = the interval contains 1.\n\n";
     md << "| starter | / | median sweeps | mean sweeps | median total ms | mean total ms | sweeps | total |\n";
     md << "|---|---|---:|---:|---:|---:|---|---|\n";
