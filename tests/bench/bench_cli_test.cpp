@@ -67,5 +67,18 @@ TEST(BenchCli, AnIncompleteReportExitsNonZeroWithOneLineNamingTheMissingPlots) {
   EXPECT_NE(md.find("pareto.png missing"), std::string::npos) << md;
 }
 
+// Without contacts there is nothing to plot: every plot says why, and the report is complete.
+TEST(BenchCli, PlotsThatDoNotApplySaySoInTheReport) {
+  test::TempDir dir;
+  const auto r = test::run_cli("bench --scene " + std::string(DC_SOURCE_DIR) +
+                               "/scenes/small.toml --set bodies.count=0 --steps 10 --seeds 1..1 --mode rollout "
+                               "--warmstarts zero,builtin --out " + dir.path().string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = test::slurp(dir.file("report.md"));
+  for (const char* png : kPlots)
+    EXPECT_NE(md.find(std::string(png) + " does not apply to this run: no evaluated steps"), std::string::npos)
+        << png << "\n" << md;
+}
+
 }  // namespace
 }  // namespace dc
