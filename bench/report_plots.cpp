@@ -39,7 +39,8 @@ std::string caption(const std::string& file, Mode mode) {
     return "Median sweeps to tol and median total time per step with their bootstrap 95 % intervals (bars) and the "
            "median of each seed (dots); see *Uncertainty*.";
   if (file == "convergence.png")
-    return "Convergence θ_k against sweep k: median and quartiles over steps (log scale).";
+    return "Convergence θ_k against sweep k: median over steps, shaded quartiles when at most 6 starters ran "
+           "(log scale).";
   if (file == "sweeps_per_step.png")
     return paired ? "Sweeps until θ ≤ tol along the reference trajectory (running median over 15 steps; seeds one "
                     "after another; never-converged steps count as sweeps + 1)."
