@@ -1,4 +1,6 @@
 #include "bench_report.hpp"
+#include "bench_statistics_report.hpp"
+#include "report_plots.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -13,7 +15,6 @@
 #include "json_writer.hpp"
 
 namespace dc::bench {
-namespace {
 
 std::string fmt(const char* f, double v) {
   if (!std::isfinite(v)) return "n/a";
@@ -21,6 +22,8 @@ std::string fmt(const char* f, double v) {
   std::snprintf(b, sizeof b, f, v);
   return b;
 }
+
+namespace {
 
 const StarterSummary* find(const std::vector<StarterSummary>& s, const std::string& name) {
   for (const auto& x : s)
@@ -99,7 +102,8 @@ std::string format_table(const BenchResults& r, const std::vector<StarterSummary
   return os.str();
 }
 
-std::string summary_json(const BenchResults& r, const std::vector<StarterSummary>& s, const Provenance& p) {
+std::string summary_json(const BenchResults& r, const std::vector<StarterSummary>& s, const Provenance& p,
+                         const BenchStatistics* stats) {
   const StarterSummary* zero = find(s, "zero");
   // A sweep count above the budget means "never reached the tolerance": null.
   const auto sweeps_or_null = [&](double v) { return v > r.options.sweeps ? std::nullopt : std::optional<double>(v); };
@@ -134,6 +138,10 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
     j.end_object();
   }
   j.end_object();
+  if (stats) {
+    j.key("statistics");
+    statistics_json(j, *stats);
+  }
   j.key("scene").value(scene_to_toml(r.options.scene));
   j.key("seeds").begin_array();
   for (const std::uint64_t seed : r.options.seeds) j.value(seed);
@@ -163,27 +171,14 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   const auto summary = summarise(r);
   std::vector<std::string> files;
 
-  write_text(dir / "summary.json", summary_json(r, summary, prov));
+  const BenchStatistics stats = bench_statistics(r);
+  write_text(dir / "summary.json", summary_json(r, summary, prov, &stats));
   files.push_back((dir / "summary.json").string());
-  write_results_h5(r, prov, (dir / "results.h5").string());
+  write_results_h5(r, prov, (dir / "results.h5").string(), &stats);
   files.push_back((dir / "results.h5").string());
-
-  // Plots: python3 (Debian's, which has matplotlib and h5py) over results.h5.
-  const std::vector<std::string> plots = {"convergence.png", "sweeps_per_step.png", "time_breakdown.png",
-                                          "pareto.png"};
-  for (const auto& p : plots) fs::remove(dir / p, ec);
-  const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/bench_plots.py";
-  const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string cmd = py + " '" + script + "' '" + (dir / "results.h5").string() + "' '" + dir.string() + "'";
-  const int rc = std::system(cmd.c_str());
-  std::vector<std::string> missing;
-  for (const auto& p : plots) {
-    if (fs::exists(dir / p)) files.push_back((dir / p).string());
-    else missing.push_back(p);
-  }
-  if (rc != 0 || !missing.empty())
-    std::fprintf(stderr, "deepcontact bench: warning: plotting failed (exit %d); missing:%s\n", rc,
-                 [&] { std::string m; for (auto& x : missing) m += " " + x; return m; }().c_str());
+  const PlotRun plots = make_report_plots(dir);
+  for (const auto& p : plots.plots)
+    if (p.state == PlotStatus::State::Written) files.push_back((dir / p.file).string());
 
   std::ostringstream md;
   const int steps = r.starters.empty() ? 0 : static_cast<int>(r.starters[0].sweeps_to_tol.size());
@@ -197,23 +192,20 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
         "shown apart and is not included in total). `/zero` is the ratio to the zero warm start. "
         "`theses` gives the earlier theses' median iterations to 1e-4 N·s (Box2D impulses, r = 0.5; DESIGN §6).\n\n";
   md << format_table(r, summary, true) << "\n";
-  md << "## Plots\n\n";
-  const std::vector<std::pair<std::string, std::string>> captions = {
-      {"convergence.png", "Convergence θ_k against sweep k: median and quartiles over steps (log scale)."},
-      {"sweeps_per_step.png", "Sweeps until θ ≤ tol, per step of the trajectory."},
-      {"time_breakdown.png", "Median time per step: warm start, PGS sweeps until tol, and the oracle (apart)."},
-      {"pareto.png", "Speed/accuracy trade: residual, λ error, penetration and energy error against time per step "
-                     "for sweep budgets 1…N."}};
-  for (const auto& [file, cap] : captions) {
-    if (fs::exists(dir / file)) md << "![" << file << "](" << file << ")\n\n" << cap << "\n\n";
-    else md << "*(" << file << " missing: plotting failed — see stderr)*\n\n";
-  }
+  md << statistics_markdown(stats);
+  md << plots_markdown(plots, r.options.mode);
   md << "## Reproducibility\n\n";
   md << "- git: `" << prov.git << "`\n- build: " << prov.build << "\n- machine: " << prov.machine
      << "\n- date: " << prov.date_utc << "\n- raw per-step figures: `results.h5` (layout in docs/bench.md)\n\n";
   md << "## Scene\n\n```toml\n" << scene_to_toml(r.options.scene) << "```\n";
   write_text(dir / "report.md", md.str());
   files.push_back((dir / "report.md").string());
+  if (const auto missing = plots.missing(); !missing.empty()) {
+    std::string m;
+    for (const auto& x : missing) m += (m.empty() ? "" : ", ") + x;
+    throw IoError(dir_text + "/report.md incomplete: missing " + m + " (plot script exit " +
+                  std::to_string(plots.exit_code) + "; its output: " + plots.log + ")");
+  }
   return files;
 }
 

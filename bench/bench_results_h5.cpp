@@ -1,5 +1,6 @@
 // results.h5 of a bench run (layout: docs/bench.md).
 #include "bench_report.hpp"
+#include "bench_statistics_report.hpp"
 #include "dc/engine/h5.hpp"
 #include "dc/engine/scene.hpp"
 
@@ -15,7 +16,8 @@ std::string starter_group_name(const std::string& name) {
   return out;
 }
 
-void write_results_h5(const BenchResults& r, const Provenance& p, const std::string& path) {
+void write_results_h5(const BenchResults& r, const Provenance& p, const std::string& path,
+                      const BenchStatistics* stats) {
   AtomicH5File out(path);
   H5File& f = out.file();
   f.set_attribute("/", "format", "deepcontact-bench-results");
@@ -84,7 +86,72 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
   }
   f.write_strings("/warmstarter_names", names);
   f.write_strings("/warmstarter_groups", groups);
+  if (stats) write_statistics_h5(f, *stats);
   out.commit();
+}
+
+}  // namespace dc::bench
+
+namespace dc::bench {
+
+void write_statistics_h5(H5File& f, const BenchStatistics& s) {
+  const std::string g = "/statistics";
+  f.create_group(g);
+  f.set_attribute(g, "method", "hierarchical percentile bootstrap: seeds with replacement, then steps within each "
+                               "drawn seed");
+  f.set_attribute<std::int32_t>(g, "resamples", s.def.resamples);
+  f.set_attribute<double>(g, "level", s.def.level);
+  f.set_attribute<std::int64_t>(g, "rng_seed", static_cast<std::int64_t>(s.def.seed));
+  f.set_attribute<std::int32_t>(g, "paired", s.paired ? 1 : 0);
+  f.set_attribute<std::int32_t>(g, "never_counts_as", s.sweeps + 1);
+  const std::vector<std::int64_t> seeds(s.seeds.begin(), s.seeds.end());
+  f.write<std::int64_t>(g + "/seeds", seeds, {seeds.size()});
+  // (estimate, lo, hi) per row.
+  auto triples = [&](const std::string& path, std::size_t n, auto&& get) {
+    std::vector<double> v;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Interval x = get(i);
+      v.insert(v.end(), {x.estimate, x.lo, x.hi});
+    }
+    f.write<double>(g + "/" + path, v, {n, 3});
+  };
+  const std::size_t W = s.starters.size(), G = s.seeds.size(), R = s.ratios.size();
+  if (W > 0) {
+    std::vector<std::string> names;
+    std::vector<double> seed_sweeps, seed_total;
+    for (const auto& x : s.starters) {
+      names.push_back(x.name);
+      seed_sweeps.insert(seed_sweeps.end(), x.sweeps.seed_medians.begin(), x.sweeps.seed_medians.end());
+      seed_total.insert(seed_total.end(), x.total_ms.seed_medians.begin(), x.total_ms.seed_medians.end());
+    }
+    f.write_strings(g + "/starters", names);
+    triples("median_sweeps_to_tol", W, [&](std::size_t i) { return s.starters[i].sweeps.median; });
+    triples("mean_sweeps_to_tol", W, [&](std::size_t i) { return s.starters[i].sweeps.mean; });
+    triples("median_total_ms", W, [&](std::size_t i) { return s.starters[i].total_ms.median; });
+    triples("mean_total_ms", W, [&](std::size_t i) { return s.starters[i].total_ms.mean; });
+    if (G > 0) {
+      f.write<double>(g + "/seed_median_sweeps_to_tol", seed_sweeps, {W, G});
+      f.write<double>(g + "/seed_median_total_ms", seed_total, {W, G});
+    }
+  }
+  if (R > 0) {
+    std::vector<std::string> num, ref;
+    std::vector<std::int32_t> dist_sweeps, dist_total;
+    for (const auto& q : s.ratios) {
+      num.push_back(q.name);
+      ref.push_back(q.reference);
+      dist_sweeps.push_back(q.sweeps_distinguishable() ? 1 : 0);
+      dist_total.push_back(q.total_distinguishable() ? 1 : 0);
+    }
+    f.write_strings(g + "/ratio_name", num);
+    f.write_strings(g + "/ratio_reference", ref);
+    triples("ratio_median_sweeps_to_tol", R, [&](std::size_t i) { return s.ratios[i].median_sweeps; });
+    triples("ratio_mean_sweeps_to_tol", R, [&](std::size_t i) { return s.ratios[i].mean_sweeps; });
+    triples("ratio_median_total_ms", R, [&](std::size_t i) { return s.ratios[i].median_total_ms; });
+    triples("ratio_mean_total_ms", R, [&](std::size_t i) { return s.ratios[i].mean_total_ms; });
+    f.write<std::int32_t>(g + "/ratio_sweeps_distinguishable", dist_sweeps, {R});
+    f.write<std::int32_t>(g + "/ratio_total_distinguishable", dist_total, {R});
+  }
 }
 
 }  // namespace dc::bench

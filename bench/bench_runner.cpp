@@ -8,6 +8,7 @@
 #include "dc/engine/error.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/oracle.hpp"
+#include "bench_statistics.hpp"
 
 namespace dc::bench {
 namespace {
@@ -220,14 +221,7 @@ Quartiles quartiles(std::vector<double> v) {
     return q;
   }
   std::sort(v.begin(), v.end());
-  auto at = [&](double f) {
-    const double pos = f * static_cast<double>(v.size() - 1);
-    const auto lo = static_cast<std::size_t>(std::floor(pos));
-    const std::size_t hi = std::min(lo + 1, v.size() - 1);
-    const double t = pos - static_cast<double>(lo);
-    if (std::isinf(v[lo]) || std::isinf(v[hi])) return t < 0.5 ? v[lo] : v[hi];
-    return v[lo] + t * (v[hi] - v[lo]);
-  };
+  auto at = [&](double f) { return quantile_sorted(v, f); };
   q.q1 = at(0.25);
   q.median = at(0.5);
   q.q3 = at(0.75);

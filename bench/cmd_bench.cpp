@@ -18,7 +18,7 @@ namespace {
 struct BenchArgs {
   SceneArgs scene;
   std::string warmstarts;
-  std::string seeds = "1..3";
+  std::string seeds = "1..8";  // enough for zero vs builtin and cnn to separate, ~9 min idle (docs/bench.md)
   int sweeps = 0;
   double tol = 1e-2;
   std::string mode = "paired";
@@ -38,7 +38,7 @@ void run(const BenchArgs& a) {
   }
   bench::BenchOptions o;
   o.scene = a.scene.load();
-  o.seeds = parse_seed_range(a.quick && a.seeds == "1..3" ? "1" : a.seeds);
+  o.seeds = parse_seed_range(a.quick && a.seeds == "1..8" ? "1" : a.seeds);
   if (a.steps > 0) o.scene.time.steps = a.steps;
   o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
   o.tolerance = a.tol;

@@ -3,7 +3,7 @@
 # `make model` runs this after building. The pipeline, exactly:
 #
 #   1. deepcontact generate: M seed-scene simulations (50..100 circles, 600 steps each) with
-#      scene seeds 1000..1000+M-1 — disjoint from the bench's evaluation seeds 1..3 — with the
+#      scene seeds 1000..1000+M-1 — disjoint from the bench's evaluation seeds 1..8 — with the
 #      residual feature channels (the builtin warm start, relative velocity and gap at the
 #      contacts on the grid; docs/learning.md "Residual models").
 #   2. deepcontact train: the 5-level U-Net models/arch/unet-deep-slim.toml as a RESIDUAL model

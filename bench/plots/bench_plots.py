@@ -3,14 +3,19 @@
 
     python3 bench/plots/bench_plots.py results/results.h5 results/
 
-convergence.png      theta_k vs k: median and quartiles over steps, log-log
-sweeps_per_step.png  sweeps until theta <= tol along the trajectory
+intervals.png        median sweeps to tol and total ms with bootstrap 95 % intervals, per-seed medians
+convergence.png      theta_k vs k: median (quartile bands for <= 6 starters) over steps, log-log
+sweeps_per_step.png  sweeps until theta <= tol along the trajectory (running median)
 time_breakdown.png   median ms per step: warm start, sweeps to tol, oracle (apart)
 pareto.png           speed/accuracy trade for sweep budgets 1..N (4 panels)
+
+A plot that does not apply to the run is not drawn: NAME.na holds one line saying why. A
+plot that fails prints its traceback, the others are still drawn, and the exit status is 1.
 Layout of results.h5: docs/bench.md.
 """
 import sys
 import os
+import traceback
 
 import h5py
 import matplotlib
@@ -30,63 +35,105 @@ def group(f, name):
     return f["warmstarters"][name.replace("%", "%25").replace("/", "%2F")]
 
 
+# Sixteen distinct colours (tab10 and six more) × four dash patterns: the first sixteen
+# starters differ in colour, neighbours in the table also in dash, and (colour, dash) pairs
+# stay distinct up to 64 starters.
+COLOURS = list(plt.get_cmap("tab10").colors) + ["black", "navy", "#e7298a", "#b8860b", "#66a61e", "teal"]
+DASHES = ["-", "--", "-.", ":"]
+MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
+
+
 def style(i):
-    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    return dict(color=cycle[i % len(cycle)])
+    return dict(color=COLOURS[i % len(COLOURS)], ls=DASHES[(i + i // len(COLOURS)) % len(DASHES)])
+
+
+def legend_outside(ax, n):
+    """The legend right of the axes, so it never covers data (one column up to 14 names)."""
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+              ncol=1 if n <= 14 else 2, frameon=False)
+
+
+def text_attr(f, key):
+    v = f.attrs[key]
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def save(fig, out, name, dpi=120):
+    fig.savefig(os.path.join(out, name), dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
 
 
 def convergence(f, names, out, tol, sweeps):
     fig, ax = plt.subplots(figsize=(8, 5.5))
     k = np.arange(1, sweeps + 1)
+    bands = len(names) <= 6
     for i, n in enumerate(names):
         th = group(f, n)["theta"][()].astype(np.float64)
         th = np.maximum(th, 1e-16)  # exact zeros (converged) drawn at the floor of the log axis
         q1, med, q3 = np.percentile(th, [25, 50, 75], axis=0)
         ax.plot(k, med, label=n, lw=1.5, **style(i))
-        ax.fill_between(k, q1, q3, alpha=0.15, **style(i))
+        if bands:  # a dozen overlapping bands hide every line: only for a few starters
+            ax.fill_between(k, q1, q3, alpha=0.12, color=style(i)["color"], lw=0)
     ax.axhline(tol, color="k", ls="--", lw=1, label=f"tol = {tol:g} N")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("PGS sweep k")
     ax.set_ylabel(r"$\theta_k = \max_i |\lambda_i^k - \lambda_i^{k-1}|$  [N]")
-    ax.set_title("Convergence (median, shaded: quartiles over steps)")
+    ax.set_title("Convergence (median" + (", shaded: quartiles" if bands else "") + " over steps)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, ncol=2)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "convergence.png"), dpi=120)
-    plt.close(fig)
+    legend_outside(ax, len(names) + 1)
+    save(fig, out, "convergence.png")
 
 
-def sweeps_per_step(f, names, out, sweeps):
-    fig, ax = plt.subplots(figsize=(9, 5))
+def running_median(v, w):
+    """Median over a centred window of w points (shorter at the ends)."""
+    h = w // 2
+    return np.array([np.median(v[max(0, i - h):i + h + 1]) for i in range(len(v))])
+
+
+def sweeps_per_step(f, names, out, sweeps, window=15):
+    fig, ax = plt.subplots(figsize=(11, 5))
+    seeds = [int(s) for s in f.attrs["seeds"]]
+    span = 1 + max(int(np.max(group(f, n)["step"][()])) if len(group(f, n)["step"]) else 0 for n in names)
     for i, n in enumerate(names):
         g = group(f, n)
         s = g["sweeps_to_tol"][()].astype(np.float64)
-        s[s < 0] = np.nan  # never converged: gap in the line, counted in the table
-        x = np.arange(len(s))
-        ax.plot(x, s, lw=0.8, label=n, **style(i))
+        s[s < 0] = sweeps + 1  # never converged: counted as sweeps + 1, as in the table
+        seed = g["seed"][()]
+        x = np.array([seeds.index(int(a)) for a in seed]) * span + g["step"][()]
+        for j, sd in enumerate(seeds):  # one line per seed: the running median never spans two
+            m = seed == sd
+            if m.any():
+                ax.plot(x[m], running_median(s[m], window), lw=1.1, label=n if j == 0 else None,
+                        marker=MARKERS[i % len(MARKERS)], markevery=max(1, int(m.sum()) // 6), ms=4, **style(i))
+    for j, sd in enumerate(seeds):
+        if j:
+            ax.axvline(j * span, color="gray", lw=0.6, ls=":")
+        ax.text(j * span + 0.01 * span, 1.02, f"seed {sd}", transform=ax.get_xaxis_transform(), fontsize=7)
+    ax.axhline(sweeps + 1, color="k", lw=0.6, ls=":")
     ax.set_yscale("log")
-    ax.set_xlabel("evaluated step (all seeds, in order)")
-    ax.set_ylabel("sweeps until θ ≤ tol")
-    ax.set_title(f"Sweeps to tolerance per step (gaps: not reached within {sweeps})")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, ncol=2)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "sweeps_per_step.png"), dpi=120)
-    plt.close(fig)
+    ax.set_xlabel("step (the seeds one after another)")
+    ax.set_ylabel(f"sweeps until θ ≤ tol (running median of {window})")
+    ax.grid(True, which="major", alpha=0.3)
+    ax.set_title(f"Sweeps to tolerance per step (dotted line at {sweeps + 1}: not reached within {sweeps})",
+                 pad=14)
+    legend_outside(ax, len(names))
+    save(fig, out, "sweeps_per_step.png")
 
 
 def time_breakdown(f, names, out):
     ws, sv, orc = [], [], []
-    paired = f.attrs["mode"] == "paired" if not isinstance(f.attrs["mode"], bytes) else f.attrs["mode"] == b"paired"
-    shared_oracle = np.median(f["steps"]["oracle_ms"][()]) if "steps" in f and len(f["steps"]["oracle_ms"]) else 0.0
+    paired = text_attr(f, "mode") == "paired"
+    # The shared oracle exists in paired mode only (rollout: each oracle starter solves its own).
+    has_shared = "steps" in f and "oracle_ms" in f["steps"] and len(f["steps"]["oracle_ms"]) > 0
+    shared_oracle = float(np.median(f["steps"]["oracle_ms"][()])) if has_shared else 0.0
     for n in names:
         g = group(f, n)
         ws.append(np.median(g["warmstart_ms"][()]))
         sv.append(np.median(g["solve_ms"][()]))
         uses = bool(g.attrs["uses_oracle"])
         own = np.median(g["oracle_ms"][()])
-        orc.append((shared_oracle if paired else own) if uses else 0.0)
+        orc.append((shared_oracle if paired and has_shared else own) if uses else 0.0)
     y = np.arange(len(names))
     fig, ax = plt.subplots(figsize=(8, 0.5 * len(names) + 1.8))
     ax.barh(y, ws, label="warm start", color="tab:orange")
@@ -105,10 +152,8 @@ def time_breakdown(f, names, out):
     ax.set_xlabel("median time per step [ms]")
     ax.set_title("Contact-solution time per step")
     ax.grid(True, axis="x", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "time_breakdown.png"), dpi=120)
-    plt.close(fig)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    save(fig, out, "time_breakdown.png")
 
 
 def pareto(f, names, out):
@@ -126,18 +171,57 @@ def pareto(f, names, out):
                 v = np.abs(v)
             med = np.median(v, axis=0)
             t = np.median(g["warmstart_ms"][()]) + budgets * np.median(g["sweep_ms"][()])
-            ax.plot(t, np.maximum(med, 1e-16), marker=".", ms=4, lw=1.2, label=n, **style(i))
+            ax.plot(t, np.maximum(med, 1e-16), marker=MARKERS[i % len(MARKERS)], ms=3, lw=1.2, label=n, **style(i))
         ax.set_xscale("log")
         if logy:
             ax.set_yscale("log")
         ax.set_xlabel("time per step: warm start + B sweeps [ms]")
         ax.set_ylabel(label + " (median)")
         ax.grid(True, which="both", alpha=0.3)
-    axes.flat[0].legend(fontsize=7, ncol=2)
+    handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.suptitle(f"Speed/accuracy trade, sweep budgets B = {budgets[0]}…{budgets[-1]}")
+    fig.tight_layout(rect=(0, 0, 0.85, 1))
+    fig.legend(handles, labels, fontsize=8, loc="upper left", bbox_to_anchor=(0.86, 0.95), frameon=False)
+    save(fig, out, "pareto.png", dpi=110)
+
+
+def intervals(f, names, out):
+    st = f["statistics"]
+    order = [n.decode() if isinstance(n, bytes) else str(n) for n in st["starters"][()]]
+    never = int(st.attrs["never_counts_as"])
+    seeds = [int(x) for x in st["seeds"][()]]
+    fig, axes = plt.subplots(1, 2, figsize=(12, 0.42 * len(order) + 2.2), sharey=True)
+    panels = [(axes[0], "median_sweeps_to_tol", "seed_median_sweeps_to_tol", "median sweeps to tol"),
+              (axes[1], "median_total_ms", "seed_median_total_ms", "median total ms per step (warm start + solve)")]
+    y = np.arange(len(order))
+    for ax, key, seed_key, label in panels:
+        est = st[key][()]
+        per_seed = st[seed_key][()] if seed_key in st else np.empty((len(order), 0))
+        for i in range(len(order)):
+            c = style(i)["color"]
+            ax.scatter(per_seed[i], np.full(per_seed.shape[1], y[i]) + 0.18, s=9, color=c, alpha=0.6, lw=0)
+            lo, hi = est[i, 1], est[i, 2]
+            ax.errorbar([est[i, 0]], [y[i]], xerr=[[est[i, 0] - lo], [hi - est[i, 0]]], fmt="o", ms=4, color=c,
+                        capsize=3, lw=1.4)
+        if key.endswith("sweeps_to_tol"):
+            ax.axvline(never, color="k", lw=0.6, ls=":")
+        ax.set_xscale("log")
+        ax.set_xlabel(label)
+        ax.grid(True, which="both", axis="x", alpha=0.3)
+    axes[0].set_yticks(y)
+    axes[0].set_yticklabels(order)
+    axes[0].invert_yaxis()
+    paired = bool(st.attrs["paired"])
+    fig.suptitle(f"Medians with bootstrap {100 * float(st.attrs['level']):.0f} % intervals "
+                 f"({int(st.attrs['resamples'])} {'paired ' if paired else ''}hierarchical resamples; "
+                 f"dots: seeds {', '.join(map(str, seeds))})", fontsize=10)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "pareto.png"), dpi=110)
-    plt.close(fig)
+    save(fig, out, "intervals.png")
+
+
+def not_applicable(out, png, why):
+    with open(os.path.join(out, png[:-4] + ".na"), "w") as fh:
+        fh.write(why + "\n")
 
 
 def main():
@@ -148,13 +232,29 @@ def main():
     out = sys.argv[2]
     tol = float(f.attrs["tolerance"])
     sweeps = int(f.attrs["sweeps"])
-    if len(f["budgets"]) == 0 or len(names) == 0 or group(f, names[0])["theta"].shape[0] == 0:
-        print("bench_plots: nothing to plot (no evaluated steps)", file=sys.stderr)
+    plots = [("intervals.png", lambda: intervals(f, names, out)),
+             ("convergence.png", lambda: convergence(f, names, out, tol, sweeps)),
+             ("sweeps_per_step.png", lambda: sweeps_per_step(f, names, out, sweeps)),
+             ("time_breakdown.png", lambda: time_breakdown(f, names, out)),
+             ("pareto.png", lambda: pareto(f, names, out))]
+    empty = len(names) == 0 or all(group(f, n)["theta"].shape[0] == 0 for n in names)
+    failed = []
+    for png, draw in plots:
+        if empty:
+            not_applicable(out, png, "no evaluated steps (no step had a contact)")
+            continue
+        if png == "intervals.png" and "statistics" not in f:
+            not_applicable(out, png, "results.h5 has no /statistics group")
+            continue
+        try:
+            draw()
+        except Exception:  # one failed plot must not cost the others
+            print(f"bench_plots: {png} failed:", file=sys.stderr)
+            traceback.print_exc()
+            failed.append(png)
+    if failed:
+        print("bench_plots: failed: " + ", ".join(failed), file=sys.stderr)
         return 1
-    convergence(f, names, out, tol, sweeps)
-    sweeps_per_step(f, names, out, sweeps)
-    time_breakdown(f, names, out)
-    pareto(f, names, out)
     return 0
 
 

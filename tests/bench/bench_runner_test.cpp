@@ -173,7 +173,9 @@ TEST(BenchReport, WritesSummaryResultsAndReport) {
   EXPECT_EQ(f.read_strings("/warmstarter_groups"), (std::vector<std::string>{"zero", "builtin", "copy:2"}));
   EXPECT_EQ(f.attribute_string("/warmstarters/copy:2", "name"), "copy:2");
   EXPECT_TRUE(std::filesystem::exists(dir.file("report.md")));
-  for (const char* png : {"convergence.png", "sweeps_per_step.png", "time_breakdown.png", "pareto.png"})
+  f.require_shape("/statistics/median_sweeps_to_tol", {3, 3});
+  f.require_shape("/statistics/ratio_median_sweeps_to_tol", {4, 3});  // copy:2, builtin / zero; zero, copy:2 / builtin
+  for (const char* png : {"intervals.png", "convergence.png", "sweeps_per_step.png", "time_breakdown.png", "pareto.png"})
     EXPECT_TRUE(std::filesystem::exists(dir.file(png))) << png << " (python3-matplotlib/h5py installed?)";
 }
 
