@@ -9,6 +9,7 @@
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/io/atomic_file.hpp"
 
 namespace dc::bench {
 namespace {
@@ -27,17 +28,7 @@ const StarterSummary* find(const std::vector<StarterSummary>& s, const std::stri
 }
 
 void write_text(const std::filesystem::path& path, const std::string& text) {
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw IoError(tmp + ": cannot open for writing");
-    f << text;
-    f.flush();
-    if (!f) throw IoError(tmp + ": write failed (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw IoError(path.string() + ": cannot rename into place: " + ec.message());
+  write_file_atomically(path.string(), text);
 }
 
 std::string sweeps_text(const StarterSummary& s, int sweeps) {
@@ -150,10 +141,12 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   const auto summary = summarise(r);
   std::vector<std::string> files;
 
-  write_text(dir / "summary.json", summary_json(r, summary, prov));
-  files.push_back((dir / "summary.json").string());
+  // Each file is written to a temporary and renamed; the large results.h5 first, so that on a
+  // full disk its failure leaves both earlier files (a consistent pair) untouched.
   write_results_h5(r, prov, (dir / "results.h5").string());
   files.push_back((dir / "results.h5").string());
+  write_text(dir / "summary.json", summary_json(r, summary, prov));
+  files.push_back((dir / "summary.json").string());
 
   // Plots: python3 (Debian's, which has matplotlib and h5py) over results.h5.
   const std::vector<std::string> plots = {"convergence.png", "sweeps_per_step.png", "time_breakdown.png",

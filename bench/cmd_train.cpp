@@ -31,7 +31,8 @@
 #include "commands.hpp"
 #include "sigint_guard.hpp"
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/atomic_file.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/arch.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/learning/model_file.hpp"
@@ -166,15 +167,7 @@ std::vector<TrainingSample> load_samples(const DataSetReader& r, int every, doub
 }
 
 /// Writes `text` to `path` atomically (tmp + rename).
-void write_atomic(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream o(tmp, std::ios::trunc);
-    o << text;
-    if (!o) throw IoError(tmp.string() + ": cannot write");
-  }
-  fs::rename(tmp, path);
-}
+void write_atomic(const fs::path& path, const std::string& text) { write_file_atomically(path.string(), text); }
 
 std::string loss_csv(const std::vector<EpochReport>& history) {
   std::ostringstream s;

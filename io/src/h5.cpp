@@ -4,7 +4,9 @@
 // to stderr; we turn failures into one-line IoErrors instead) and closes every id it
 // opens through Handle, so no HDF5 object outlives the call that opened it — that keeps
 // H5Fclose's default "weak" close degree from ever leaving a file silently open.
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
+
+#include <hdf5.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -12,8 +14,14 @@
 #include <utility>
 
 #include "dc/engine/error.hpp"
+#include "dc/io/atomic_file.hpp"
 
 namespace dc {
+
+// h5.hpp declares HDF5's two integer types itself so that it need not include <hdf5.h>.
+static_assert(std::is_same_v<dc::hsize_t, ::hsize_t>, "dc::hsize_t must be HDF5's hsize_t");
+static_assert(std::is_same_v<std::int64_t, ::hid_t>, "H5File::Id (std::int64_t) must be HDF5's hid_t");
+
 namespace {
 
 /// Switches HDF5's automatic error printing off for one scope and restores the previous
@@ -245,7 +253,7 @@ std::string to_string(const H5Shape& shape) {
 
 // ---- H5File: lifetime ---------------------------------------------------------------------
 
-H5File::H5File(std::string path, hid_t id, bool writable) : path_(std::move(path)), id_(id), writable_(writable) {}
+H5File::H5File(std::string path, Id id, bool writable) : path_(std::move(path)), id_(id), writable_(writable) {}
 
 H5File::H5File(H5File&& o) noexcept
     : path_(std::move(o.path_)), id_(std::exchange(o.id_, -1)), writable_(o.writable_) {}
@@ -911,17 +919,41 @@ DC_H5_INSTANTIATE(std::int64_t)
 DC_H5_INSTANTIATE(std::uint8_t)
 #undef DC_H5_INSTANTIATE
 
+std::int64_t h5_open_object_count() {
+  const ErrorSilencer quiet;
+  const ssize_t n = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL);
+  if (n < 0) throw IoError(with_reason("HDF5: cannot count the open objects"));
+  return static_cast<std::int64_t>(n);
+}
+
 // ---- AtomicH5File -------------------------------------------------------------------------
 
-AtomicH5File::AtomicH5File(std::string path)
-    : path_(std::move(path)), tmp_(path_ + ".tmp"), file_(H5File::create(tmp_)) {}
-
-AtomicH5File::~AtomicH5File() {
-  if (committed_) return;
-  file_.reset();  // closes the temporary (errors ignored) before it is deleted
-  std::error_code ec;
-  std::filesystem::remove(tmp_, ec);
+H5File H5File::create_in_memory(const std::string& label) {
+  const ErrorSilencer quiet;
+  const Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  // Grow the image in 1 MiB steps; backing_store = 0: HDF5 never touches the disk.
+  if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0) < 0)
+    throw IoError(label + ": " + with_reason("cannot set up an in-memory HDF5 file"));
+  const hid_t id = H5Fcreate(label.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  if (id < 0) throw IoError(label + ": " + with_reason("cannot create an in-memory HDF5 file"));
+  return H5File(label, id, true);
 }
+
+std::string H5File::file_image() {
+  require_open();
+  const ErrorSilencer quiet;
+  if (H5Fflush(id_, H5F_SCOPE_GLOBAL) < 0) fail("/", "flush failed");  // the image is what is on "disk"
+  const ssize_t size = H5Fget_file_image(id_, nullptr, 0);
+  if (size < 0) fail("/", "cannot take the file image");
+  std::string image(static_cast<std::size_t>(size), '\0');
+  if (size > 0 && H5Fget_file_image(id_, image.data(), image.size()) != size) fail("/", "cannot take the file image");
+  return image;
+}
+
+AtomicH5File::AtomicH5File(std::string path)
+    : path_(std::move(path)), tmp_(path_ + ".tmp"), file_(H5File::create_in_memory(path_)) {}
+
+AtomicH5File::~AtomicH5File() = default;  // an uncommitted file only ever existed in memory
 
 H5File& AtomicH5File::file() {
   if (committed_ || !file_) throw InvalidArgument(path_ + ": atomic HDF5 file already committed");
@@ -930,12 +962,10 @@ H5File& AtomicH5File::file() {
 
 void AtomicH5File::commit() {
   H5File& f = file();
-  f.flush();
+  const std::string image = f.file_image();
   f.close();
   file_.reset();
-  std::error_code ec;
-  std::filesystem::rename(tmp_, path_, ec);
-  if (ec) throw IoError(path_ + ": cannot rename " + tmp_ + " onto it: " + ec.message());
+  write_file_atomically(path_, image);  // tmp_ + rename; removes tmp_ on failure
   committed_ = true;
 }
 
