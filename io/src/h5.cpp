@@ -7,6 +7,8 @@
 #include "dc/io/h5.hpp"
 
 #include <hdf5.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -62,6 +64,52 @@ std::string hdf5_reason() {
 std::string with_reason(std::string what) {
   if (const std::string reason = hdf5_reason(); !reason.empty()) what += " (HDF5: " + reason + ")";
   return what;
+}
+
+/// True if HDF5's error stack records a failed low-level read/write/truncate (H5E_IO): on a
+/// writable file, a full disk (ENOSPC) or a file-size limit (EFBIG). Leaves the stack as is.
+bool io_failed_on_stack() {
+  bool found = false;
+  auto walk = [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+    if (e->maj_num == H5E_IO) *static_cast<bool*>(data) = true;
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk, &found);
+  return found;
+}
+
+/// After a failed write, libhdf5 1.10.8 can no longer close the file: H5Fclose retries the
+/// writes, fails, and leaves a dangling id on which the library's own cleanup at exit then
+/// crashes (SIGSEGV). So the file's descriptor is pointed at an anonymous in-memory file
+/// (memfd): what the close still writes lands there and vanishes, the close succeeds, and
+/// the file on disk stays as a crash at the moment of the failure would have left it (the
+/// readers refuse such a file with an IoError; `generate --resume` cuts it back). Only for
+/// the default sec2 driver, whose handle is the POSIX descriptor.
+void abandon_writes(hid_t file) {
+  const hid_t fapl = H5Fget_access_plist(file);
+  if (fapl < 0) return;
+  const hid_t driver = H5Pget_driver(fapl);
+  H5Pclose(fapl);
+  void* handle = nullptr;
+  if (driver != H5FD_SEC2 || H5Fget_vfd_handle(file, H5P_DEFAULT, &handle) < 0 || handle == nullptr) return;
+  const int sink = ::memfd_create("dc-abandoned-hdf5", MFD_CLOEXEC);
+  if (sink < 0) return;
+  ::dup2(sink, *static_cast<int*>(handle));  // closes the disk file, keeps the descriptor number
+  ::close(sink);
+}
+
+/// Closes a file id, first flushing a writable one so that a full disk shows up where the
+/// file can still be abandoned. Returns HDF5's reason when the flush or the close failed.
+std::optional<std::string> close_file(hid_t id, bool writable) {
+  std::optional<std::string> error;
+  if (writable && H5Fflush(id, H5F_SCOPE_GLOBAL) < 0) {
+    const bool io = io_failed_on_stack();
+    error = with_reason("flush failed");  // before abandon_writes' calls reset the stack
+    if (io) abandon_writes(id);
+  }
+  if (H5Fclose(id) < 0 && !error) error = with_reason("close failed");
+  H5Eclear2(H5E_DEFAULT);
+  return error;
 }
 
 /// Owns one HDF5 id and closes it with the matching H5?close.
@@ -262,7 +310,7 @@ H5File& H5File::operator=(H5File&& o) noexcept {
   if (this != &o) {
     if (id_ >= 0) {
       const ErrorSilencer quiet;
-      H5Fclose(id_);
+      (void)close_file(id_, writable_);
     }
     path_ = std::move(o.path_);
     id_ = std::exchange(o.id_, -1);
@@ -274,13 +322,15 @@ H5File& H5File::operator=(H5File&& o) noexcept {
 H5File::~H5File() {
   if (id_ >= 0) {
     const ErrorSilencer quiet;
-    H5Fclose(id_);
-    H5Eclear2(H5E_DEFAULT);
+    (void)close_file(id_, writable_);
   }
 }
 
 void H5File::fail(std::string_view object, const std::string& what) const {
-  throw IoError(path_ + ": " + object_name(object) + ": " + with_reason(what));
+  const bool io = writable_ && id_ >= 0 && io_failed_on_stack();
+  const std::string message = path_ + ": " + object_name(object) + ": " + with_reason(what);
+  if (io) abandon_writes(id_);
+  throw IoError(message);
 }
 
 void H5File::require_open() const {
@@ -328,8 +378,7 @@ void H5File::flush() {
 void H5File::close() {
   if (id_ < 0) return;
   const ErrorSilencer quiet;
-  const herr_t rc = H5Fclose(std::exchange(id_, -1));
-  if (rc < 0) fail("/", "close failed");
+  if (const auto error = close_file(std::exchange(id_, -1), writable_)) throw IoError(path_ + ": /: " + *error);
 }
 
 // ---- objects ------------------------------------------------------------------------------

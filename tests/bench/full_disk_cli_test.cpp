@@ -4,6 +4,7 @@
 // under the final names bit-for-bit intact, and leaves no temporary file behind.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -71,6 +72,38 @@ TEST(FullDiskCli, GenerateKeepsTheEarlierDataSet) {
   const std::string out = dir / "data.h5";
   expect_full_disk_is_clean("generate --sims 2 --count 10..12 --steps 20 --threads 1" + kScene + " --out " + out,
                             " --force", {out}, dir.path(), Exit::NonZero);
+}
+
+// A real full filesystem (ENOSPC): a small tmpfs mounted in a private mount namespace
+// (`unshare --user --map-root-user --mount`, no privileges needed where user namespaces are
+// enabled; skipped elsewhere). Here the data-set writer abandons the failed file (its
+// descriptor moved to a memfd) and the process exits with its one-line error and status 1.
+TEST(FullDiskCli, GenerateOnAFullFilesystemExitsWithOneLine) {
+  const test::TempDir dir;
+  const std::string earlier = dir / "earlier.h5";
+  const std::string args = "generate --sims 2 --count 10..12 --steps 20 --threads 1" + kScene;
+  const auto first = test::run_cli(args + " --out " + earlier);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const auto size = fs::file_size(earlier);
+  // Room for the earlier file and half of another: the new OUT.partial cannot complete.
+  const std::string mnt = dir / "mnt", out = mnt + "/data.h5", status = dir / "status", err = dir / "err";
+  fs::create_directories(mnt);
+  const std::string script = "mount -t tmpfs -o size=" + std::to_string(size + size / 2 + 8192) + " tmpfs " + mnt +
+                             " || exit 0; cp " + earlier + " " + out + " && " + DC_CLI + " " + args +
+                             " --force --out " + out + " >/dev/null 2>" + err + "; echo $? > " + status +
+                             "; cmp -s " + earlier + " " + out + " && echo intact >> " + status + "; ls -a " + mnt +
+                             " >> " + status;
+  const int rc = std::system(("unshare --user --map-root-user --mount sh -c '" + script + "' 2>/dev/null").c_str());
+  if (rc != 0 || !fs::exists(status)) GTEST_SKIP() << "cannot mount a tmpfs in a user namespace here";
+  const std::string report = test::slurp_file(status);
+  EXPECT_EQ(report.rfind("1\nintact\n", 0), 0u) << report;
+  EXPECT_EQ(report.find(".tmp"), std::string::npos) << report;
+  // The error is the first line. libhdf5 1.10.8 may add its own "infinite loop closing
+  // library" at exit: the failed write leaks a block inside the library (no id of ours is
+  // open; see Hdf5OpenObjects.* and docs/robustness.md), so the line count is not asserted.
+  const std::string message = test::slurp_file(err);
+  EXPECT_EQ(message.rfind("deepcontact: error: ", 0), 0u) << message;
+  EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
 }
 
 TEST(FullDiskCli, BenchKeepsTheEarlierResults) {
