@@ -2,12 +2,12 @@
 // A small RAII layer on the HDF5 C API, shared by every HDF5 writer and reader of the
 // project (trajectories, data sets, models, bench results; layouts in docs/formats.md).
 //
-//   auto out = dc::AtomicH5File("results.h5");            // writes results.h5.tmp
+//   auto out = dc::AtomicH5File("results.h5");            // built in memory
 //   out->write<double>("/bodies/position", xs, {steps, n, 2});
 //   out->create_dataset<float>("/samples/lambda", {0, 64}, {.extendible = true, .deflate = 4});
 //   out->append_rows<float>("/samples/lambda", row);       // grows the first axis
 //   out->set_attribute("/", "format", "deepcontact-results");
-//   out.commit();                                          // flush, close, rename → results.h5
+//   out.commit();                                          // results.h5.tmp, renamed → results.h5
 //
 //   const auto in = dc::H5File::open_read("results.h5");
 //   auto xs = in.read<double>("/bodies/position", {dc::kH5Any, n, 2});  // checks the shape
@@ -89,6 +89,12 @@ enum class H5StringKind { Variable, Fixed };
 
 /// An open HDF5 file. Move-only; the destructor closes it (errors ignored — call close()
 /// to see them). All object paths are relative to the root group.
+///
+/// Full disk: when a write of a writable file fails at the system level (ENOSPC, EFBIG),
+/// the IoError is thrown and the file is abandoned — its descriptor is moved to an anonymous
+/// memfd, so that libhdf5 1.10.8, which cannot otherwise close such a file (and crashes at
+/// exit on it), can close it. The file on disk then stays as a crash at that moment would
+/// leave it; later writes through this object are discarded.
 class H5File {
  public:
   /// Creates `path`, truncating an existing file.
