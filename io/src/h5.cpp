@@ -71,7 +71,7 @@ H5File::~H5File() {
 }
 
 void H5File::fail(std::string_view object, const std::string& what) const {
-  const bool io = writable_ && id_ >= 0 && io_failed_on_stack();
+  const bool io = writable_ && id_ >= 0 && write_failed_on_stack();
   const std::string message = path_ + ": " + object_name(object) + ": " + with_reason(what);
   if (io) abandon_writes(id_);
   throw IoError(message);

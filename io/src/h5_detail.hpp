@@ -57,12 +57,12 @@ inline std::string with_reason(std::string what) {
   return what;
 }
 
-/// True if HDF5's error stack records a failed low-level read/write/truncate (H5E_IO): on a
-/// writable file, a full disk (ENOSPC) or a file-size limit (EFBIG). Leaves the stack as is.
-inline bool io_failed_on_stack() {
+/// True if HDF5's error stack records a failed low-level write (H5E_IO/H5E_WRITEERROR): a
+/// full disk (ENOSPC) or a file-size limit (EFBIG). Leaves the stack as it is.
+inline bool write_failed_on_stack() {
   bool found = false;
   auto walk = [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
-    if (e->maj_num == H5E_IO) *static_cast<bool*>(data) = true;
+    if (e->maj_num == H5E_IO && e->min_num == H5E_WRITEERROR) *static_cast<bool*>(data) = true;
     return 0;
   };
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk, &found);
@@ -94,7 +94,7 @@ inline void abandon_writes(hid_t file) {
 inline std::optional<std::string> close_file(hid_t id, bool writable) {
   std::optional<std::string> error;
   if (writable && H5Fflush(id, H5F_SCOPE_GLOBAL) < 0) {
-    const bool io = io_failed_on_stack();
+    const bool io = write_failed_on_stack();
     error = with_reason("flush failed");  // before abandon_writes' calls reset the stack
     if (io) abandon_writes(id);
   }
