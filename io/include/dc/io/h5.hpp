@@ -260,8 +260,8 @@ class AtomicH5File {
   bool committed_ = false;
 };
 
-/// Number of HDF5 objects (files, groups, datasets, named datatypes, attributes) open in
-/// this process right now: H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL). Every H5File call
+/// Number of HDF5 objects (files, groups, datasets, attributes) open in this process right
+/// now: H5Fget_obj_count(H5F_OBJ_ALL, FILE | DATASET | GROUP | ATTR). Every H5File call
 /// closes what it opens, so with no H5File open this is 0; tests use it to prove that a
 /// reader's error path leaked nothing (a leaked id keeps its file open and makes HDF5 print
 /// "infinite loop closing library" at exit).
