@@ -12,6 +12,7 @@
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/io/atomic_file.hpp"
 #include "json_writer.hpp"
 
 namespace dc::bench {
@@ -32,17 +33,7 @@ const StarterSummary* find(const std::vector<StarterSummary>& s, const std::stri
 }
 
 void write_text(const std::filesystem::path& path, const std::string& text) {
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw IoError(tmp + ": cannot open for writing");
-    f << text;
-    f.flush();
-    if (!f) throw IoError(tmp + ": write failed (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw IoError(path.string() + ": cannot rename into place: " + ec.message());
+  write_file_atomically(path.string(), text);
 }
 
 std::string sweeps_text(const StarterSummary& s, int sweeps) {
@@ -172,10 +163,12 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   std::vector<std::string> files;
 
   const BenchStatistics stats = bench_statistics(r);
-  write_text(dir / "summary.json", summary_json(r, summary, prov, &stats));
-  files.push_back((dir / "summary.json").string());
+  // Each file is written to a temporary and renamed; the large results.h5 first, so that on a
+  // full disk its failure leaves both earlier files (a consistent pair) untouched.
   write_results_h5(r, prov, (dir / "results.h5").string(), &stats);
   files.push_back((dir / "results.h5").string());
+  write_text(dir / "summary.json", summary_json(r, summary, prov, &stats));
+  files.push_back((dir / "summary.json").string());
   const PlotRun plots = make_report_plots(dir);
   for (const auto& p : plots.plots)
     if (p.state == PlotStatus::State::Written) files.push_back((dir / p.file).string());

@@ -1,8 +1,8 @@
 // results.h5 of a bench run (layout: docs/bench.md).
 #include "bench_report.hpp"
 #include "bench_statistics_report.hpp"
-#include "dc/engine/h5.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc::bench {
 

@@ -10,8 +10,8 @@
 #include "dc/engine/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
+#include "dc/io/trajectory_recorder.hpp"
 #include "progress_bar.hpp"
-#include "trajectory_recorder.hpp"
 
 namespace dc::cli {
 namespace {

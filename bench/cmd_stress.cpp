@@ -19,6 +19,7 @@
 #include "commands.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/engine/world.hpp"
+#include "dc/io/atomic_file.hpp"
 #include "stress_scenarios.hpp"
 
 namespace dc::cli {
@@ -138,16 +139,7 @@ std::string to_markdown(const std::vector<Row>& rows, bool quick, double total_s
 }
 
 void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.flush();
-    if (!f) throw IoError(tmp.string() + ": cannot write");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw IoError(path.string() + ": cannot rename the finished file into place: " + ec.message());
+  write_file_atomically(path.string(), text);
 }
 
 void run(const StressArgs& a) {

@@ -31,7 +31,7 @@
 #include "commands.hpp"
 #include "sigint_guard.hpp"
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/arch.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/learning/model_file.hpp"

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc::test {
 

@@ -3,7 +3,7 @@
 // reading the parameters back (docs/formats.md "Data set" is the public description).
 #include <string>
 
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/data_set.hpp"
 
 namespace dc::dataset {

@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc {
 

@@ -1,6 +1,8 @@
 // The training checkpoint's /train_state and the run identity (train_checkpoint.hpp).
 #include "dc/learning/train_checkpoint.hpp"
 
+#include "dc/io/atomic_file.hpp"
+
 #include <cstdio>
 #include <limits>
 
@@ -143,12 +145,12 @@ bool TrainingOutputs::record_epoch(Model& model, const EpochReport& e, const Tra
     save_trained_model(model, out_, id_, data_, e);
   }
   save_checkpoint(model, checkpoint_, state, id_);
-  write_text_atomic(loss_csv_path(), loss_csv(state.history));
+  write_file_atomically(loss_csv_path().string(), loss_csv(state.history));
   return improved;
 }
 
 void TrainingOutputs::finish(const std::vector<EpochReport>& history) {
-  write_text_atomic(loss_csv_path(), loss_csv(history));
+  write_file_atomically(loss_csv_path().string(), loss_csv(history));
 }
 
 void TrainingOutputs::remove_checkpoint() {

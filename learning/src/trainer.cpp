@@ -7,8 +7,6 @@
 #include <limits>
 #include <set>
 
-#include <gsl/gsl_rng.h>
-
 #include "dc/engine/error.hpp"
 #include "dc/engine/rng.hpp"
 #include "dc/learning/initializer.hpp"
@@ -154,10 +152,9 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   if (resume) {
     // The weights are the model's (loaded from the checkpoint); the stream and the momentum
     // continue from where the saved run finished its last epoch.
-    gsl_rng* raw = rng.raw();
-    if (resume->rng_type != gsl_rng_name(raw) || resume->rng_state.size() != gsl_rng_size(raw))
+    if (resume->rng_type != rng.algorithm() || resume->rng_state.size() != rng.save_state().size())
       throw InvalidArgument("Trainer::train: resume state has a random stream of another type or size");
-    std::memcpy(gsl_rng_state(raw), resume->rng_state.data(), resume->rng_state.size());
+    rng.restore_state(resume->rng_type, resume->rng_state);
     if (!resume->velocity.empty()) {
       if (resume->velocity.size() != params.size())
         throw InvalidArgument("Trainer::train: resume state has " + std::to_string(resume->velocity.size()) +
@@ -185,7 +182,7 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   Tensor xb, yb, wb, grad;
   TrainState state;  // handed to the callback after every epoch
   state.validation_simulations = result.validation_simulations;
-  state.rng_type = gsl_rng_name(rng.raw());
+  state.rng_type = rng.algorithm();
 
   for (int epoch = first_epoch; epoch < def_.epochs; ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -233,8 +230,7 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
     if (on_epoch) {
       state.epochs_done = epoch + 1;
       state.history = result.history;
-      const auto* bytes = static_cast<const std::uint8_t*>(gsl_rng_state(rng.raw()));
-      state.rng_state.assign(bytes, bytes + gsl_rng_size(rng.raw()));
+      state.rng_state = rng.save_state();
       state.velocity.clear();
       for (const Eigen::VectorXf& v : sgd.velocity()) state.velocity.emplace_back(v.data(), v.data() + v.size());
       if (!on_epoch(rep, state)) break;

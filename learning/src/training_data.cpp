@@ -111,16 +111,4 @@ std::string loss_csv(const std::vector<EpochReport>& history) {
   return s.str();
 }
 
-void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream o(tmp, std::ios::trunc);
-    o << text;
-    if (!o) throw IoError(tmp.string() + ": cannot write");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw IoError(path.string() + ": cannot rename " + tmp.string() + " onto it: " + ec.message());
-}
-
 }  // namespace dc

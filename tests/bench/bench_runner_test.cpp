@@ -11,7 +11,7 @@
 #include "bench_runner.hpp"
 #include "cli_helpers.hpp"
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc {
 namespace {

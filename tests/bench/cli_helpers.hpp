@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <csignal>
 #include <string>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -41,6 +43,40 @@ inline CliResult run_cli(const std::string& args) {
   return r;
 }
 
+/// The bytes of a file ("" if it cannot be read).
+inline std::string slurp_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs `DC_CLI <args>` as run_cli() does, but in a child whose files may not grow past
+/// `max_file_bytes` (setrlimit(RLIMIT_FSIZE)) and which ignores SIGXFSZ, so a write beyond
+/// the limit fails with EFBIG as on a full disk instead of killing the process. stdout goes
+/// to /dev/null (not limited); stderr is captured (it stays far below the limit).
+inline CliResult run_cli_with_file_limit(const std::string& args, std::size_t max_file_bytes) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string err_file = (dir / ("dc_cli_fsize_err_" + std::to_string(::getpid()) + ".txt")).string();
+  const std::string cmd = "exec " + std::string(DC_CLI) + " " + args + " >/dev/null 2>" + err_file;
+  CliResult r;
+  const pid_t pid = ::fork();
+  if (pid < 0) return r;
+  if (pid == 0) {
+    const rlimit limit{static_cast<rlim_t>(max_file_bytes), static_cast<rlim_t>(max_file_bytes)};
+    std::signal(SIGXFSZ, SIG_IGN);  // an ignored signal stays ignored across exec
+    if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) ::_exit(126);
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  int status = 0;
+  if (::waitpid(pid, &status, 0) != pid) return r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.err = slurp_file(err_file);
+  std::filesystem::remove(err_file);
+  return r;
+}
+
 /// A fresh temporary directory, removed when the object dies.
 class TempDir {
  public:
@@ -65,12 +101,7 @@ class TempDir {
 };
 
 /// The whole content of a text file ("" if it cannot be read).
-inline std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+inline std::string slurp(const std::string& path) { return slurp_file(path); }
 
 /// What a background child's `log` file receives.
 enum class ChildLog { StderrOnly, StdoutAndStderr };

@@ -18,7 +18,7 @@
 
 #include "cli_helpers.hpp"
 #include "h5_compare.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/data_set.hpp"
 
 namespace dc {

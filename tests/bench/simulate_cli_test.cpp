@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "cli_helpers.hpp"
-#include "dc/engine/h5.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc {
 namespace {

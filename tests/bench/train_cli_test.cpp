@@ -18,7 +18,7 @@
 #include <thread>
 
 #include "cli_helpers.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/learning/model_file.hpp"
 

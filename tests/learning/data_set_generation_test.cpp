@@ -9,7 +9,7 @@
 #include <string>
 
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/data_set_generation.hpp"
 #include "h5_compare.hpp"
 #include "learning/small_data_set.hpp"

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/data_set.hpp"
 #include "h5_compare.hpp"
 #include "learning/small_data_set.hpp"

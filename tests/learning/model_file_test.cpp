@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/model_file.hpp"
 #include "grad_check.hpp"

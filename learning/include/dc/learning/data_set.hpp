@@ -24,9 +24,9 @@
 #include <string_view>
 #include <vector>
 
-#include "dc/engine/h5.hpp"
 #include "dc/engine/vec2.hpp"
 #include "dc/engine/world_def.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/feature_image.hpp"
 #include "dc/learning/tensor.hpp"
 #include "dc/learning/trainer.hpp"

@@ -21,7 +21,7 @@
 #include <filesystem>
 #include <functional>
 
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/model.hpp"
 
 namespace dc {

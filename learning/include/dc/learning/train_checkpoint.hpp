@@ -20,7 +20,7 @@
 #include <utility>
 #include <vector>
 
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/learning/model.hpp"
 #include "dc/learning/trainer.hpp"

@@ -70,8 +70,8 @@ struct TrainResult {
 struct TrainState {
   int epochs_done = 0;
   std::vector<EpochReport> history;
-  std::string rng_type;                        ///< GSL generator name ("mt19937")
-  std::vector<std::uint8_t> rng_state;         ///< raw GSL generator state (gsl_rng_state)
+  std::string rng_type;                        ///< Rng::algorithm() ("mt19937")
+  std::vector<std::uint8_t> rng_state;         ///< Rng::save_state() (GSL's state block)
   std::vector<std::vector<float>> velocity;    ///< momentum per parameter (empty: none yet)
   std::vector<int> validation_simulations;     ///< the split the state belongs to
 };

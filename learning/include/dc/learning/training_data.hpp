@@ -49,7 +49,4 @@ double epoch_score(const EpochReport& e);
 /// "epoch,train_loss,validation_loss,learning_rate,seconds" and one row per epoch (1-based).
 std::string loss_csv(const std::vector<EpochReport>& history);
 
-/// Writes `text` to `path` atomically (PATH.tmp, then rename); IoError when it cannot.
-void write_text_atomic(const std::filesystem::path& path, const std::string& text);
-
 }  // namespace dc

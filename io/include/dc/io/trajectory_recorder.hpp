@@ -1,5 +1,5 @@
 #pragma once
-// Records a simulation for `deepcontact simulate` and writes the HDF5 trajectory
+// Records a simulation (e.g. `deepcontact simulate --out`) and writes the HDF5 trajectory
 // (layout: docs/formats.md, "Trajectory"). State k = 0..S is the state before step k+1;
 // the contacts and λ of step k (solved from state k) are rows
 // [step_offset[k], step_offset[k+1]) of the /contacts datasets (step_offset[S] = C).
@@ -9,7 +9,7 @@
 
 #include "dc/engine/world.hpp"
 
-namespace dc::cli {
+namespace dc {
 
 class TrajectoryRecorder {
  public:
@@ -33,4 +33,4 @@ class TrajectoryRecorder {
   std::vector<double> point_, normal_, gap_, lambda_, theta_final_, residual_;
 };
 
-}  // namespace dc::cli
+}  // namespace dc

@@ -1,9 +1,9 @@
-#include "trajectory_recorder.hpp"
+#include "dc/io/trajectory_recorder.hpp"
 
 #include "dc/engine/error.hpp"
-#include "dc/engine/h5.hpp"
+#include "dc/io/h5.hpp"
 
-namespace dc::cli {
+namespace dc {
 
 TrajectoryRecorder::TrajectoryRecorder(const World& world) : n_(world.bodies().size()) {
   const BodyState& s = world.bodies();
@@ -76,4 +76,4 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   out.commit();
 }
 
-}  // namespace dc::cli
+}  // namespace dc

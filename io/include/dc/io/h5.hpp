@@ -2,12 +2,12 @@
 // A small RAII layer on the HDF5 C API, shared by every HDF5 writer and reader of the
 // project (trajectories, data sets, models, bench results; layouts in docs/formats.md).
 //
-//   auto out = dc::AtomicH5File("results.h5");            // writes results.h5.tmp
+//   auto out = dc::AtomicH5File("results.h5");            // built in memory
 //   out->write<double>("/bodies/position", xs, {steps, n, 2});
 //   out->create_dataset<float>("/samples/lambda", {0, 64}, {.extendible = true, .deflate = 4});
 //   out->append_rows<float>("/samples/lambda", row);       // grows the first axis
 //   out->set_attribute("/", "format", "deepcontact-results");
-//   out.commit();                                          // flush, close, rename → results.h5
+//   out.commit();                                          // results.h5.tmp, renamed → results.h5
 //
 //   const auto in = dc::H5File::open_read("results.h5");
 //   auto xs = in.read<double>("/bodies/position", {dc::kH5Any, n, 2});  // checks the shape
@@ -35,8 +35,10 @@
 // built thread-safe, where that setting is per thread, so the guard does not race with
 // other threads. Objects of this layer are not themselves synchronised: use one H5File per
 // thread (HDF5 serialises the calls internally anyway).
-#include <hdf5.h>
-
+//
+// Part of dc_io, which links HDF5 PRIVATE: this header does not include <hdf5.h>, and an
+// open file is held as an opaque id (HDF5's hid_t is a 64-bit integer; io/src/h5.cpp checks
+// that both hsize_t and hid_t match the types declared here).
 #include <concepts>
 #include <cstdint>
 #include <optional>
@@ -57,6 +59,10 @@ enum class H5Type { Float64, Float32, Int32, Int64, UInt8 };
 
 /// "float64", "float32", "int32", "int64", "uint8" (numpy's names).
 const char* to_string(H5Type t);
+
+/// An extent, row index or row count: HDF5's `hsize_t` (unsigned 64-bit), declared here under
+/// the same name so that code using this layer reads like HDF5 code without <hdf5.h>.
+using hsize_t = unsigned long long;
 
 using H5Shape = std::vector<hsize_t>;
 
@@ -83,6 +89,12 @@ enum class H5StringKind { Variable, Fixed };
 
 /// An open HDF5 file. Move-only; the destructor closes it (errors ignored — call close()
 /// to see them). All object paths are relative to the root group.
+///
+/// Full disk: when a write of a writable file fails at the system level (ENOSPC, EFBIG),
+/// the IoError is thrown and the file is abandoned — its descriptor is moved to an anonymous
+/// memfd, so that libhdf5 1.10.8, which cannot otherwise close such a file (and crashes at
+/// exit on it), can close it. The file on disk then stays as a crash at that moment would
+/// leave it; later writes through this object are discarded.
 class H5File {
  public:
   /// Creates `path`, truncating an existing file.
@@ -101,8 +113,6 @@ class H5File {
   [[nodiscard]] const std::string& path() const { return path_; }
   [[nodiscard]] bool is_open() const { return id_ >= 0; }
   [[nodiscard]] bool writable() const { return writable_; }
-  /// The raw HDF5 file id, for the rare call this layer does not wrap. Owned by this object.
-  [[nodiscard]] hid_t id() const { return id_; }
 
   /// Writes all buffered data to disk (H5Fflush, global scope).
   void flush();
@@ -197,24 +207,36 @@ class H5File {
   [[nodiscard]] std::vector<std::string> attribute_names(std::string_view object) const;
 
  private:
-  H5File(std::string path, hid_t id, bool writable);
+  /// HDF5's hid_t (an int64_t since HDF5 1.10); -1 when closed.
+  using Id = std::int64_t;
+
+  H5File(std::string path, Id id, bool writable);
   static H5File open(const std::string& path, bool writable);
   void require_open() const;
   void require_writable(std::string_view object) const;
   [[noreturn]] void fail(std::string_view object, const std::string& what) const;
+  /// For AtomicH5File: a new file held in memory only, and the bytes of such a file.
+  friend class AtomicH5File;
+  static H5File create_in_memory(const std::string& label);
+  [[nodiscard]] std::string file_image();
 
   std::string path_;
-  hid_t id_ = -1;
+  Id id_ = -1;
   bool writable_ = false;
 };
 
-/// A file written under `path + ".tmp"` and renamed onto `path` by commit(), so readers
-/// never see a half-written file and a crash leaves the old `path` intact. Destroying it
-/// without commit() deletes the temporary file. Two writers of the same path at once are
-/// not supported (they would share the temporary name).
+/// A file that appears under `path` complete or not at all. It is built in memory (HDF5's
+/// core driver, no backing store); commit() takes the finished image and writes it with
+/// dc::write_file_atomically (to `path + ".tmp"`, then renamed onto `path`), so readers never
+/// see a half-written file and a crash or a full disk leaves the old `path` intact.
+/// Building in memory also keeps failing disk writes out of libhdf5: 1.10.8 cannot close a
+/// file whose writes failed (H5Fclose fails and the id dangles; the library's own cleanup at
+/// exit then crashes). Costs the file's size in memory until commit(). Destroying it
+/// without commit() discards everything. Two writers of the same path at once are not
+/// supported (they would share the temporary name).
 class AtomicH5File {
  public:
-  /// Creates `path.tmp` (truncating a stale one from an earlier crash).
+  /// Starts an empty file in memory; nothing is written to disk before commit().
   explicit AtomicH5File(std::string path);
   AtomicH5File(const AtomicH5File&) = delete;
   AtomicH5File& operator=(const AtomicH5File&) = delete;
@@ -223,7 +245,8 @@ class AtomicH5File {
   /// The file being written; InvalidArgument after commit().
   H5File& file();
   H5File* operator->() { return &file(); }
-  /// Flushes, closes and renames the temporary onto `path` (replacing an existing file).
+  /// Writes the finished file to `path.tmp` and renames it onto `path` (replacing an existing
+  /// file). On IoError (e.g. disk full) `path` is unchanged and no temporary is left.
   void commit();
 
   [[nodiscard]] const std::string& path() const { return path_; }
@@ -236,5 +259,12 @@ class AtomicH5File {
   std::optional<H5File> file_;
   bool committed_ = false;
 };
+
+/// Number of HDF5 objects (files, groups, datasets, attributes) open in this process right
+/// now: H5Fget_obj_count(H5F_OBJ_ALL, FILE | DATASET | GROUP | ATTR). Every H5File call
+/// closes what it opens, so with no H5File open this is 0; tests use it to prove that a
+/// reader's error path leaked nothing (a leaked id keeps its file open and makes HDF5 print
+/// "infinite loop closing library" at exit).
+[[nodiscard]] std::int64_t h5_open_object_count();
 
 }  // namespace dc
