@@ -25,6 +25,9 @@ if [[ ! -x "$NATIVE_DC" ]]; then
   echo "check-determinism: $NATIVE_DC not found; build the native tree first (make build)" >&2
   exit 2
 fi
+if grep -q '^DC_NATIVE:BOOL=OFF' "$NATIVE/CMakeCache.txt" 2>/dev/null; then
+  echo "check-determinism: WARNING: $NATIVE is a -DDC_NATIVE=OFF build; the check compares two portable builds" >&2
+fi
 echo "check-determinism: CPU: $(lscpu | sed -n 's/^Model name: *//p' | head -1)"
 
 t0=$(date +%s)
