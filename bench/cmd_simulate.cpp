@@ -21,6 +21,7 @@ struct SimulateArgs {
   int steps = -1;
   std::string out;
   std::string warmstart = "builtin";
+  bool hash = false;  // print only the final state's hash
 };
 
 void run(const SimulateArgs& a) {
@@ -61,16 +62,23 @@ void run(const SimulateArgs& a) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::sort(sweeps.begin(), sweeps.end());
   const double e1 = world.kinetic_energy() + world.potential_energy();
-  std::printf(
-      "Simulated %zu circles for %d steps (%.3g s of simulated time, dt = %g s) in %.2f s wall: %zu contacts "
-      "solved in all, at most %d in one step; solver '%s' with the '%s' warm start used a median of %d "
-      "sweeps per step with contacts (max %d%s), worst natural-map residual %.3g N; max penetration %.3g m; "
-      "total energy %.6g J -> %.6g J.%s%s\n",
-      world.bodies().size(), def.time.steps, def.time.steps * def.time.dt, def.time.dt, wall, rec.contacts(),
-      max_contacts, def.solver.name.c_str(), a.warmstart.c_str(), sweeps.empty() ? 0 : sweeps[sweeps.size() / 2],
-      sweeps.empty() ? 0 : sweeps.back(),
-      def.solver.tolerance > 0 ? (", " + std::to_string(nonconverged) + " steps did not reach the tolerance").c_str() : "",
-      worst_residual, max_pen, e0, e1, a.out.empty() ? "" : " Trajectory: ", a.out.c_str());
+  // FNV-1a over the bit patterns of the final positions, angles, velocities and ω: equal on
+  // every build and x86-64 CPU for the same scene (docs/reproducibility.md).
+  const auto hash = static_cast<unsigned long long>(state_hash(world.bodies()));
+  if (a.hash) {
+    std::printf("%016llx\n", hash);
+  } else {
+    std::printf(
+        "Simulated %zu circles for %d steps (%.3g s of simulated time, dt = %g s) in %.2f s wall: %zu contacts "
+        "solved in all, at most %d in one step; solver '%s' with the '%s' warm start used a median of %d "
+        "sweeps per step with contacts (max %d%s), worst natural-map residual %.3g N; max penetration %.3g m; "
+        "total energy %.6g J -> %.6g J; final state hash %016llx.%s%s\n",
+        world.bodies().size(), def.time.steps, def.time.steps * def.time.dt, def.time.dt, wall, rec.contacts(),
+        max_contacts, def.solver.name.c_str(), a.warmstart.c_str(), sweeps.empty() ? 0 : sweeps[sweeps.size() / 2],
+        sweeps.empty() ? 0 : sweeps.back(),
+        def.solver.tolerance > 0 ? (", " + std::to_string(nonconverged) + " steps did not reach the tolerance").c_str() : "",
+        worst_residual, max_pen, e0, e1, hash, a.out.empty() ? "" : " Trajectory: ", a.out.c_str());
+  }
   if (!a.out.empty()) rec.write(a.out, scene_to_toml(def), a.warmstart);
 }
 
@@ -85,6 +93,8 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "Write the trajectory to this HDF5 file (atomically)");
   cmd->add_option("--warmstart", args->warmstart, "Warm starter used by the solver (see `bench --list`)")
       ->capture_default_str();
+  cmd->add_flag("--hash", args->hash,
+                "Print only the final state's hash (16 hex digits; equal on every build, docs/reproducibility.md)");
   cmd->callback([args] { run(*args); });
 }
 

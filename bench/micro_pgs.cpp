@@ -171,9 +171,9 @@ Eigen::VectorXd solve(const dc::LcpProblem& p, int sweeps) {
     for (int i = 0; i < n; ++i, ++row) {
       double* ua = u + row->a;
       double* ub = u + row->bb;
-      const double s0 = row->j[0] * ua[0] + row->j[1] * ua[1];
-      const double s1 = row->j[2] * ua[2] + row->j[3] * ub[0];
-      const double s2 = row->j[4] * ub[1] + row->j[5] * ub[2];
+      const double s0 = std::fma(row->j[0], ua[0], row->j[1] * ua[1]);
+      const double s1 = std::fma(row->j[2], ua[2], row->j[3] * ub[0]);
+      const double s2 = std::fma(row->j[4], ub[1], row->j[5] * ub[2]);
       const double res = (row->b + s0) + (s1 + s2);
       const double old = lam[i];
       const double t = row->mu * std::max(0.0, lam[row->coupled]);
@@ -183,12 +183,12 @@ Eigen::VectorXd solve(const dc::LcpProblem& p, int sweeps) {
       const double d = x - old;
       bad |= !std::isfinite(x);
       lam[i] = x;
-      ua[0] += row->mj[0] * d;
-      ua[1] += row->mj[1] * d;
-      ua[2] += row->mj[2] * d;
-      ub[0] += row->mj[3] * d;
-      ub[1] += row->mj[4] * d;
-      ub[2] += row->mj[5] * d;
+      ua[0] = std::fma(row->mj[0], d, ua[0]);
+      ua[1] = std::fma(row->mj[1], d, ua[1]);
+      ua[2] = std::fma(row->mj[2], d, ua[2]);
+      ub[0] = std::fma(row->mj[3], d, ub[0]);
+      ub[1] = std::fma(row->mj[4], d, ub[1]);
+      ub[2] = std::fma(row->mj[5], d, ub[2]);
       theta = std::max(theta, std::abs(d));
     }
     u[dummy] = u[dummy + 1] = u[dummy + 2] = 0.0;

@@ -4,6 +4,7 @@
 
 #include "cli_helpers.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/engine/world.hpp"
 #include "dc/io/h5.hpp"
 
 namespace dc {
@@ -58,6 +59,48 @@ TEST(SimulateCli, WritesTheDocumentedTrajectory) {
   EXPECT_EQ(d.bodies.count, 12);
   EXPECT_EQ(d.solver.sweeps, 300);
   EXPECT_EQ(d.time.steps, 60);
+}
+
+// --hash prints state_hash of the final state, which is the last state of the written
+// trajectory read back bit for bit, and two runs of the same scene print the same hash.
+TEST(SimulateCli, HashIsThatOfTheLastTrajectoryStateAndRepeats) {
+  test::TempDir dir;
+  const std::string out = dir.file("run.h5");
+  const std::string scene =
+      "simulate --set bodies.count=12 --set bodies.mean=[15.0,4.0] --set bodies.sigma=3.0 --set solver.sweeps=300 "
+      "--steps 60 ";
+  const auto r = test::run_cli(scene + "--hash --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(r.out.size(), 17u) << r.out;  // 16 hex digits and a newline, nothing else
+  const std::uint64_t printed = std::stoull(r.out, nullptr, 16);
+
+  const H5File f = H5File::open_read(out);
+  const auto pos = f.read_rows<double>("/bodies/position", 60, 1);
+  const auto vel = f.read_rows<double>("/bodies/velocity", 60, 1);
+  const auto ang = f.read_rows<double>("/bodies/angle", 60, 1);
+  const auto om = f.read_rows<double>("/bodies/omega", 60, 1);
+  ASSERT_EQ(pos.size(), 24u);
+  BodyState last;
+  for (std::size_t k = 0; k < 12; ++k) {
+    last.position.push_back({pos[2 * k], pos[2 * k + 1]});
+    last.velocity.push_back({vel[2 * k], vel[2 * k + 1]});
+    last.angle.push_back(ang[k]);
+    last.omega.push_back(om[k]);
+  }
+  EXPECT_EQ(state_hash(last), printed);
+  // The state moved: the first state's hash differs from the last one's.
+  BodyState first = last;
+  const auto pos0 = f.read_rows<double>("/bodies/position", 0, 1);
+  for (std::size_t k = 0; k < 12; ++k) first.position[k] = {pos0[2 * k], pos0[2 * k + 1]};
+  EXPECT_NE(state_hash(first), printed);
+
+  const auto again = test::run_cli(scene + "--hash");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.out, r.out);
+  // The summary line carries the same hash.
+  const auto summary = test::run_cli(scene);
+  ASSERT_EQ(summary.exit_code, 0) << summary.err;
+  EXPECT_NE(summary.out.find("final state hash " + r.out.substr(0, 16)), std::string::npos) << summary.out;
 }
 
 TEST(SimulateCli, BadInputIsOneLineAndNonZero) {

@@ -115,7 +115,8 @@ TEST(AssemblyValues, AAndBEqualHandComputedImpulseResponses) {
         << "b row " << i;
 
   // A: column j = Δt · point-velocity change of every row per unit impulse of row j.
-  const Eigen::MatrixXd A(p.A);
+  // A is formed on demand (the matrix-free pgs never needs it): form it here.
+  const Eigen::MatrixXd A(w.ensure_assembled_matrix().A);
   for (int j = 0; j < 6; ++j) {
     const HandRow& rj = rows[static_cast<size_t>(j)];
     std::vector<Vec2> dv(2, Vec2{0.0, 0.0});

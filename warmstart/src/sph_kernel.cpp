@@ -24,14 +24,22 @@ constexpr KernelName kNames[] = {
     {SphKernelType::SpikyLegacy3d, "spiky-legacy3d"},
 };
 
+// h^n by repeated multiplication: std::pow's last bit may depend on the CPU's libm variant
+// (docs/reproducibility.md); n ≤ 9 products are deterministic under -ffp-contract=off.
+double int_pow(double h, int n) {
+  double r = 1.0;
+  for (int k = 0; k < n; ++k) r *= h;
+  return r;
+}
+
 // Normalisation constant of each kernel at support h (see the header for the formulas).
 double constant_of(SphKernelType type, double h) {
   switch (type) {
-    case SphKernelType::Poly6: return 4.0 / (kPi * std::pow(h, 8));
-    case SphKernelType::Spiky: return 10.0 / (kPi * std::pow(h, 5));
+    case SphKernelType::Poly6: return 4.0 / (kPi * int_pow(h, 8));
+    case SphKernelType::Spiky: return 10.0 / (kPi * int_pow(h, 5));
     case SphKernelType::Cubic: return 40.0 / (7.0 * kPi * h * h);
-    case SphKernelType::Poly6Legacy3d: return 315.0 / (64.0 * kPi * std::pow(h, 9));
-    case SphKernelType::SpikyLegacy3d: return 15.0 / (kPi * std::pow(h, 6));
+    case SphKernelType::Poly6Legacy3d: return 315.0 / (64.0 * kPi * int_pow(h, 9));
+    case SphKernelType::SpikyLegacy3d: return 15.0 / (kPi * int_pow(h, 6));
   }
   throw InvalidArgument("sph kernel: unknown kernel type");
 }

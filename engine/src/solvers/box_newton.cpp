@@ -20,6 +20,15 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+/// Σ_i a_i b_i left to right. Eigen's dot/squaredNorm sum in SIMD-packet order (2, 4 or 8
+/// lanes by -march), which would make the Armijo tests build-dependent (docs/reproducibility.md).
+template <class A, class B>
+double dot_in_order(const A& a, const B& b) {
+  double s = 0.0;
+  for (Eigen::Index i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  return s;
+}
+
 class BoxNewton {
  public:
   BoxNewton(const BoxNewtonSystem& s) : s_(s), n_(static_cast<int>(s.c.size())) {
@@ -42,7 +51,7 @@ class BoxNewton {
   }
   // q(λ) = ½λᵀAλ + cᵀλ = λᵀ(½(w − c) + c) with w = Aλ + c.
   double objective(const Eigen::VectorXd& l, const Eigen::VectorXd& w) const {
-    return l.dot(0.5 * (w - s_.c) + s_.c);
+    return dot_in_order(l, 0.5 * (w - s_.c) + s_.c);
   }
 
   // One projected Gauss–Seidel sweep with the fixed bounds; returns max |Δλ|.
@@ -176,7 +185,7 @@ BoxNewtonOutcome box_newton(const BoxNewtonSystem& s, Eigen::VectorXd& lambda, d
           bn.project(trial);
           const double rt = bn.eval(trial, wt, ht);
           const double qt = bn.objective(trial, wt);
-          const double decrease = w.dot(trial - lambda);  // ∇q·(λ(α) − λ), w = ∇q
+          const double decrease = dot_in_order(w, trial - lambda);  // ∇q·(λ(α) − λ), w = ∇q
           if (std::isfinite(rt) &&
               (rt <= 0.5 * res || qt <= q0 + 1e-4 * std::min(0.0, decrease) + 1e-15 * std::abs(q0))) {
             lambda.swap(trial);
@@ -191,11 +200,11 @@ BoxNewtonOutcome box_newton(const BoxNewtonSystem& s, Eigen::VectorXd& lambda, d
       if (!stepped) ++failures;  // the PGS sweep still made progress
     } else {
       if (bn.direction(lambda, w, h, delta, why)) {
-        const double f = h.squaredNorm();
+        const double f = dot_in_order(h, h);
         for (double alpha = 1.0; alpha > 1e-10; alpha *= 0.5) {
           trial = lambda + alpha * delta;
           const double rt = bn.eval(trial, wt, ht);
-          if (std::isfinite(rt) && ht.squaredNorm() <= (1.0 - 2e-4 * alpha) * f) {
+          if (std::isfinite(rt) && dot_in_order(ht, ht) <= (1.0 - 2e-4 * alpha) * f) {
             lambda.swap(trial);
             w.swap(wt);
             h.swap(ht);

@@ -283,13 +283,23 @@ std::string prepare(const LcpProblem& p, Prepared& out) {
   return {};
 }
 
+// The multiply-adds on the chain are explicit std::fma (exactly rounded by IEEE on every
+// CPU, so deterministic, docs/reproducibility.md). A build without FMA in its target
+// (-DDC_NATIVE=OFF) gets an FMA clone of each kernel chosen at load time on FMA CPUs;
+// only a CPU without FMA runs the default clone, whose fma() is glibc's exact software one.
+#if defined(__x86_64__) && !defined(__FMA__) && defined(__GNUC__)
+#define DC_PGS_FMA_CLONES __attribute__((target_clones("fma", "default")))
+#else
+#define DC_PGS_FMA_CLONES
+#endif
+
 /// Running θ and non-finite flag of one sweep.
 struct SweepAcc {
   double theta = 0.0;
   bool bad = false;
 };
 
-void sweep_general(const GeneralRow* __restrict row, int count, double* __restrict lam,
+DC_PGS_FMA_CLONES void sweep_general(const GeneralRow* __restrict row, int count, double* __restrict lam,
                    double* __restrict u, SweepAcc& acc) {
   double theta = acc.theta;
   bool bad = acc.bad;
@@ -299,9 +309,9 @@ void sweep_general(const GeneralRow* __restrict row, int count, double* __restri
     const double a0 = ua[0], a1 = ua[1], a2 = ua[2], b0 = ub[0], b1 = ub[1], b2 = ub[2];
     // Pairwise (tree) sum: a left-to-right sum of 7 terms would put 6 serial adds on the
     // dependency chain.
-    const double s0 = row->j[0] * a0 + row->j[1] * a1;
-    const double s1 = row->j[2] * a2 + row->j[3] * b0;
-    const double s2 = row->j[4] * b1 + row->j[5] * b2;
+    const double s0 = std::fma(row->j[0], a0, row->j[1] * a1);
+    const double s1 = std::fma(row->j[2], a2, row->j[3] * b0);
+    const double s2 = std::fma(row->j[4], b1, row->j[5] * b2);
     const double res = (row->b + s0) + (s1 + s2);
     const int i = row->row;
     const double old = lam[i];
@@ -314,19 +324,19 @@ void sweep_general(const GeneralRow* __restrict row, int count, double* __restri
     lam[i] = x;
     double* sa = u + row->sa;
     double* sb = u + row->sb;
-    sa[0] = a0 + row->mj[0] * d;
-    sa[1] = a1 + row->mj[1] * d;
-    sa[2] = a2 + row->mj[2] * d;
-    sb[0] = b0 + row->mj[3] * d;
-    sb[1] = b1 + row->mj[4] * d;
-    sb[2] = b2 + row->mj[5] * d;
+    sa[0] = std::fma(row->mj[0], d, a0);
+    sa[1] = std::fma(row->mj[1], d, a1);
+    sa[2] = std::fma(row->mj[2], d, a2);
+    sb[0] = std::fma(row->mj[3], d, b0);
+    sb[1] = std::fma(row->mj[4], d, b1);
+    sb[2] = std::fma(row->mj[5], d, b2);
     theta = std::max(theta, std::abs(d));
   }
   acc.theta = theta;
   acc.bad = bad;
 }
 
-void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict lam,
+DC_PGS_FMA_CLONES void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict lam,
                   double* __restrict u, SweepAcc& acc) {
   double theta = acc.theta;
   bool bad = acc.bad;
@@ -334,9 +344,9 @@ void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict
     const double* ua = u + row->la;
     const double* ub = u + row->lb;
     const double a0 = ua[0], a1 = ua[1], a2 = ua[2], b0 = ub[0], b1 = ub[1], b2 = ub[2];
-    const double s0 = row->j[0] * a0 + row->j[1] * a1;
-    const double s1 = row->j[2] * a2 + row->j[3] * b0;
-    const double s2 = row->j[4] * b1 + row->j[5] * b2;
+    const double s0 = std::fma(row->j[0], a0, row->j[1] * a1);
+    const double s1 = std::fma(row->j[2], a2, row->j[3] * b0);
+    const double s2 = std::fma(row->j[4], b1, row->j[5] * b2);
     const double res = (row->b + s0) + (s1 + s2);
     const double old = lam[k];
     // Bounds [0, ∞): min(max(y, 0), ∞) = max(y, 0) (NaN propagates), as a branch.
@@ -352,12 +362,12 @@ void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict
     lam[k] = x;
     double* sa = u + row->sa;
     double* sb = u + row->sb;
-    sa[0] = a0 + row->mj[0] * d;
-    sa[1] = a1 + row->mj[1] * d;
-    sa[2] = a2 + row->mj[2] * d;
-    sb[0] = b0 + row->mj[3] * d;
-    sb[1] = b1 + row->mj[4] * d;
-    sb[2] = b2 + row->mj[5] * d;
+    sa[0] = std::fma(row->mj[0], d, a0);
+    sa[1] = std::fma(row->mj[1], d, a1);
+    sa[2] = std::fma(row->mj[2], d, a2);
+    sb[0] = std::fma(row->mj[3], d, b0);
+    sb[1] = std::fma(row->mj[4], d, b1);
+    sb[2] = std::fma(row->mj[5], d, b2);
     theta = std::max(theta, std::abs(d));
   }
   acc.theta = theta;
@@ -366,7 +376,7 @@ void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict
 
 // GCC's SLP vectoriser packs pairs of the 6 velocity entries into vectors and extracts
 // them again with shuffles, which puts extra latency on the chain: measured 3–8 % slower.
-[[gnu::optimize("no-tree-slp-vectorize")]] void sweep_contacts(const ContactBlock* __restrict c,
+[[gnu::optimize("no-tree-slp-vectorize")]] DC_PGS_FMA_CLONES void sweep_contacts(const ContactBlock* __restrict c,
                                                                 int count, double* __restrict lam,
                                                                 double* __restrict u, SweepAcc& acc) {
   double theta = acc.theta;
@@ -378,9 +388,9 @@ void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict
     double xn;
     // Normal row: r_n = J_n·Δu + b_n (scaled by 1/A_nn), λ_n ← max(0, λ_n − r_n).
     {
-      const double s0 = c->jn[0] * a0 + c->jn[1] * a1;
-      const double s1 = c->jn[2] * a2 + c->jn[3] * b0;
-      const double s2 = c->jn[4] * b1 + c->jn[5] * b2;
+      const double s0 = std::fma(c->jn[0], a0, c->jn[1] * a1);
+      const double s1 = std::fma(c->jn[2], a2, c->jn[3] * b0);
+      const double s2 = std::fma(c->jn[4], b1, c->jn[5] * b2);
       const double res = (c->bn + s0) + (s1 + s2);
       const double old = lam[0];
       const double y = old - res;
@@ -392,19 +402,19 @@ void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict
       }
       const double d = xn - old;
       lam[0] = xn;
-      a0 += c->mjn[0] * d;
-      a1 += c->mjn[1] * d;
-      a2 += c->mjn[2] * d;
-      b0 += c->mjn[3] * d;
-      b1 += c->mjn[4] * d;
-      b2 += c->mjn[5] * d;
+      a0 = std::fma(c->mjn[0], d, a0);
+      a1 = std::fma(c->mjn[1], d, a1);
+      a2 = std::fma(c->mjn[2], d, a2);
+      b0 = std::fma(c->mjn[3], d, b0);
+      b1 = std::fma(c->mjn[4], d, b1);
+      b2 = std::fma(c->mjn[5], d, b2);
       theta = std::max(theta, std::abs(d));
     }
     // Tangent row on the updated velocities, bounds ±μ max(0, λ_n) with the fresh λ_n.
     {
-      const double s0 = c->jt[0] * a0 + c->jt[1] * a1;
-      const double s1 = c->jt[2] * a2 + c->jt[3] * b0;
-      const double s2 = c->jt[4] * b1 + c->jt[5] * b2;
+      const double s0 = std::fma(c->jt[0], a0, c->jt[1] * a1);
+      const double s1 = std::fma(c->jt[2], a2, c->jt[3] * b0);
+      const double s2 = std::fma(c->jt[4], b1, c->jt[5] * b2);
       const double res = (c->bt + s0) + (s1 + s2);
       const double old = lam[1];
       const double t = c->mu * std::max(0.0, xn);
@@ -422,12 +432,12 @@ void sweep_normal(const NormalRow* __restrict row, int count, double* __restrict
       }
       const double d = x - old;
       lam[1] = x;
-      a0 += c->mjt[0] * d;
-      a1 += c->mjt[1] * d;
-      a2 += c->mjt[2] * d;
-      b0 += c->mjt[3] * d;
-      b1 += c->mjt[4] * d;
-      b2 += c->mjt[5] * d;
+      a0 = std::fma(c->mjt[0], d, a0);
+      a1 = std::fma(c->mjt[1], d, a1);
+      a2 = std::fma(c->mjt[2], d, a2);
+      b0 = std::fma(c->mjt[3], d, b0);
+      b1 = std::fma(c->mjt[4], d, b1);
+      b2 = std::fma(c->mjt[5], d, b2);
       theta = std::max(theta, std::abs(d));
     }
     double* sa = u + c->sa;

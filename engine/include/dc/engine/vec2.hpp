@@ -24,7 +24,9 @@ constexpr double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
 constexpr double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 /// Left perpendicular (−y, x): the contact tangent t = perp(n) of DESIGN §2.
 constexpr Vec2 perp(Vec2 a) { return {-a.y, a.x}; }
-inline double length(Vec2 a) { return std::hypot(a.x, a.y); }
+/// √(x² + y²) with IEEE sqrt (exactly rounded on every CPU), not std::hypot, whose libm
+/// implementation may differ between C libraries (docs/reproducibility.md).
+inline double length(Vec2 a) { return std::sqrt(a.x * a.x + a.y * a.y); }
 constexpr double length_squared(Vec2 a) { return dot(a, a); }
 
 }  // namespace dc

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# The determinism check of docs/reproducibility.md (issue 16): the same scene must give the
+# same final state, bit for bit, with the native build (-march=native, what `make build`
+# and `make test` produce) and with a portable build (-DDC_NATIVE=OFF, x86-64 baseline:
+# SSE2, no FMA, no AVX). The portable binary is also run with glibc's libm forced to its
+# non-FMA, non-AVX2 code paths (GLIBC_TUNABLES), which is what a CPU without FMA would
+# execute: glibc's exp/log/pow give different last bits there.
+#
+#   scripts/check-determinism.sh [NATIVE_BUILD_DIR]      (default: build)
+#
+# Environment: PORTABLE_BUILD (default build-portable), JOBS (default: nproc), CMAKE_ARGS
+# (passed to the portable configure, e.g. -DCMAKE_CXX_COMPILER_LAUNCHER=ccache).
+# Builds only the `deepcontact` target of the portable tree (no tests, no benchmarks).
+# Prints the CPU model and a table of hashes; exits 1 if any hash differs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+NATIVE=${1:-build}
+PORTABLE=${PORTABLE_BUILD:-build-portable}
+JOBS=${JOBS:-$(nproc)}
+NATIVE_DC="$NATIVE/bench/deepcontact"
+PORTABLE_DC="$PORTABLE/bench/deepcontact"
+NO_FMA_LIBM="glibc.cpu.hwcaps=-AVX2,-FMA"
+
+if [[ ! -x "$NATIVE_DC" ]]; then
+  echo "check-determinism: $NATIVE_DC not found; build the native tree first (make build)" >&2
+  exit 2
+fi
+if grep -q '^DC_NATIVE:BOOL=OFF' "$NATIVE/CMakeCache.txt" 2>/dev/null; then
+  echo "check-determinism: WARNING: $NATIVE is a -DDC_NATIVE=OFF build; the check compares two portable builds" >&2
+fi
+echo "check-determinism: CPU: $(lscpu | sed -n 's/^Model name: *//p' | head -1)"
+
+t0=$(date +%s)
+# shellcheck disable=SC2086  # CMAKE_ARGS is a list of arguments
+cmake -S . -B "$PORTABLE" -DCMAKE_BUILD_TYPE=Release -DDC_NATIVE=OFF -DDC_TESTS=OFF -DDC_BENCHMARKS=OFF \
+  ${CMAKE_ARGS:-} > /dev/null
+cmake --build "$PORTABLE" -j "$JOBS" --target deepcontact > "$PORTABLE/check-determinism-build.log" 2>&1 || {
+  tail -n 30 "$PORTABLE/check-determinism-build.log" >&2
+  echo "check-determinism: the portable build failed (log: $PORTABLE/check-determinism-build.log)" >&2
+  exit 1
+}
+t1=$(date +%s)
+echo "check-determinism: portable build of deepcontact: $((t1 - t0)) s"
+
+# name | simulate arguments. Together they cover friction and μ = 0, generated and explicit
+# bodies, other sizes and box, fixed sweeps and tolerance mode, the builtin, sph and copy
+# warm starters, and the Newton oracle (box_newton) as the stepping solver.
+scenes=(
+  "seed (600 steps, 3000 sweeps)|"
+  "frictionless (mu = 0)|--scene scenes/frictionless.toml --steps 200"
+  "column (explicit bodies)|--scene scenes/column.toml --steps 200"
+  "generate-like (73 x r=0.6 m, 20 m box, sph, tol)|--set bodies.count=73 --set bodies.radius=0.6 --set bodies.seed=7 \
+--set world.width=20.0 --set world.height=20.0 --set bodies.mean=[10.0,8.0] --set bodies.sigma=3.0 \
+--set solver.tolerance=0.01 --steps 150 --warmstart sph"
+  "small (newton solver, copy)|--scene scenes/small.toml --set solver.name=newton --warmstart copy"
+)
+
+fail=0
+printf '%-50s %-17s %-17s %-17s\n' "scene" "native" "portable" "portable+no-FMA libm"
+for entry in "${scenes[@]}"; do
+  name=${entry%%|*}
+  read -r -a args <<< "${entry#*|}"
+  hn=$("$NATIVE_DC" simulate "${args[@]}" --hash)
+  hp=$("$PORTABLE_DC" simulate "${args[@]}" --hash)
+  hl=$(GLIBC_TUNABLES=$NO_FMA_LIBM "$PORTABLE_DC" simulate "${args[@]}" --hash)
+  mark=""
+  if [[ "$hn" != "$hp" || "$hn" != "$hl" ]]; then
+    mark="  <-- DIFFERS"
+    fail=1
+  fi
+  printf '%-50s %-17s %-17s %-17s%s\n' "$name" "$hn" "$hp" "$hl" "$mark"
+done
+echo "check-determinism: hashes computed in $(($(date +%s) - t1)) s"
+if ((fail)); then
+  echo "check-determinism: FAILED: the native and the portable build give different trajectories" \
+       "(docs/reproducibility.md)" >&2
+  exit 1
+fi
+echo "check-determinism: OK: every scene has the same final-state hash on all builds"
