@@ -80,12 +80,12 @@ TEST(DatFile, MalformedFilesThrowIoError) {
   expect_io_error(head + "1 3\n2 4\n-1 nan", "not finite");                 // NaN
   expect_io_error(head + "1 inf\n2 4\n-1 -2", "not finite");                // Inf
   expect_io_error(head + "1 3\n2 4\n-1 1e999", "out of the double range");  // overflow
-  expect_io_error(head + "1 3\n2 4\n-1 -2 7", "unexpected content");        // trailing data
   expect_io_error("0\n0\n0\n0\n0\t0\n", "must be positive");                // n = 0
   expect_io_error("-3\n0\n", "must be positive");                           // n < 0
   expect_io_error("2000000\n0\n2000000\n2000000\n2000000\t2000000\n1 2", "exceeds the limit");
   expect_io_error("90000\n0\n90000\n90000\n90000\t90000\n1 2 3", "too short");  // no huge allocation
-  expect_io_error("2\n1\n2\n2\n2\t2\n1 3\n2 4\n-1 -2", "storage type 1");   // sparse block storage
+  expect_io_error("2\n2\n2\n2\n1 3\n2 4\n-1 -2", "storage type 2");           // compressed sparse: not supported
+  expect_io_error(head + "1 3\n2 4\n-1 -2x", "not a number");              // a remark glued to q is a bad number
   expect_io_error("2\n0\n2\n3\n2\t3\n1 3\n2 4\n-1 -2", "2x3");              // not square
   expect_io_error("2\n0\n2\n2\n2\t3\n1 3\n2 4\n-1 -2", "repeated size");    // inconsistent size line
   expect_io_error("2.5\n0\n", "integer");                                   // non-integer size
