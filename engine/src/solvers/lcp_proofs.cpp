@@ -102,36 +102,40 @@ BasisEnumeration enumerate_complementary_bases(const Eigen::MatrixXd& M, const E
     e.detail = "no enumeration for n > " + std::to_string(kEnumerateMaxN);
     return e;
   }
-  std::vector<int> idx;
-  idx.reserve(static_cast<size_t>(n));
+  // Bounded-size (stack) matrices: 2ⁿ small factorisations without a heap allocation each.
+  constexpr int kMax = kEnumerateMaxN;
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMax, kMax>;
+  using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMax, 1>;
+  int idx[kMax];
+  SmallVec z(n), w(n);
   for (unsigned long mask = 0; mask < (1ul << n); ++mask) {
     ++e.bases;
-    idx.clear();
+    int m = 0;
     for (int i = 0; i < n; ++i)
-      if (mask & (1ul << i)) idx.push_back(i);
-    const int m = static_cast<int>(idx.size());
-    Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+      if (mask & (1ul << i)) idx[m++] = i;
+    z.setZero();
     if (m > 0) {
-      Eigen::MatrixXd Maa(m, m);
-      Eigen::VectorXd qa(m);
+      Small Maa(m, m);
+      SmallVec qa(m);
       for (int a = 0; a < m; ++a) {
-        qa[a] = -q[idx[static_cast<size_t>(a)]];
-        for (int b = 0; b < m; ++b) Maa(a, b) = M(idx[static_cast<size_t>(a)], idx[static_cast<size_t>(b)]);
+        qa[a] = -q[idx[a]];
+        for (int b = 0; b < m; ++b) Maa(a, b) = M(idx[a], idx[b]);
       }
-      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Maa);
+      const Eigen::PartialPivLU<Small> lu(Maa);
       if (!(lu.rcond() >= 1e-10)) {
         ++e.singular;
         continue;
       }
-      const Eigen::VectorXd za = lu.solve(qa);
-      for (int a = 0; a < m; ++a) z[idx[static_cast<size_t>(a)]] = za[a];
+      const SmallVec za = lu.solve(qa);
+      for (int a = 0; a < m; ++a) z[idx[a]] = za[a];
     }
-    const Eigen::VectorXd w = M * z + q;
+    w.noalias() = M * z;
+    w += q;
     double viol = 0.0;  // how far the basic solution is from z ≥ 0, w ≥ 0
     for (int i = 0; i < n; ++i) viol = std::max(viol, (mask & (1ul << i)) ? -z[i] : -w[i]);
     const double scale = 1.0 + z.cwiseAbs().maxCoeff();
     if (viol <= 1e-6 * scale) {
-      if (viol <= 1e-9 * scale && accept(z.cwiseMax(0.0))) {
+      if (viol <= 1e-9 * scale && accept(Eigen::VectorXd(z.cwiseMax(0.0)))) {
         e.solved = true;
         e.z = z.cwiseMax(0.0);
         e.detail = "enumeration found a solution at basis " + std::to_string(e.bases) + " of 2^" + std::to_string(n);
