@@ -1,14 +1,18 @@
 // `deepcontact lcp solve FILE.dat [--solver NAME] [--sweeps N] [--tol T]`: solve one LCP
-// from a Siconos numerics .dat file (dense storage, docs/lcp.md) and print the result as
-// JSON on stdout:
+// from a Siconos numerics .dat file (dense or sparse-block storage, docs/lcp.md) and print
+// the result as JSON on stdout:
 //
 //     {"z": [...], "w": [...], "status": "converged", "sweeps": k, "residual": r,
-//      "solver": "lemke", "message": "..."}
+//      "solver": "lemke", "message": "...", "comment": "..."}
 //
-// numbers with %.17g (round-trip exact), non-finite as null (JsonWriter, json_writer.hpp). Exit status: 0 when solved (status converged),
-// 3 when the solver proved the problem infeasible, 1 for any other status (sweep_limit,
-// diverged, failed, invalid_input) and for errors (unreadable/malformed file, unknown
-// solver: one line on stderr from main()).
+// numbers with %.17g (round-trip exact), non-finite as null (JsonWriter, json_writer.hpp);
+// "comment" is the remark after q (empty if none; stderr says it was ignored). Exit status: 0 when solved (status converged), 3 when the
+// solver proved the problem infeasible, 1 for any other status (sweep_limit, diverged,
+// failed, invalid_input) and for errors (unreadable/malformed file, unknown solver: one
+// line on stderr from main()).
+//
+// `deepcontact lcp convert IN.dat OUT.dat [--storage 0|1] [--block B]` rewrites a file in
+// dense (0) or sparse-block (1, square blocks of B rows) storage.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -35,7 +39,11 @@ void run_lcp_solve(const LcpSolveArgs& a) {
   const auto solver = make_solver(a.solver);  // ConfigError for an unknown name
   if (a.sweeps < 0) throw ConfigError("--sweeps must be >= 0");
   if (!(a.tol >= 0) || !std::isfinite(a.tol)) throw ConfigError("--tol must be finite and >= 0");
-  const LcpProblem p = read_lcp_dat(a.file);
+  const DatFile f = read_dat_file(a.file);
+  const LcpProblem& p = f.problem;
+  if (!f.comment.empty())
+    std::fprintf(stderr, "deepcontact: note: %s: the text after q was ignored (reported as \"comment\")\n",
+                 a.file.c_str());
   SolverOptions o;
   o.max_sweeps = a.sweeps;
   o.tolerance = a.tol;
@@ -51,6 +59,7 @@ void run_lcp_solve(const LcpSolveArgs& a) {
   j.key("residual").value(r.residual);
   j.key("solver").value(a.solver);
   j.key("message").value(r.message);
+  j.key("comment").value(f.comment);
   j.end_object();
   const std::string out = j.str();
   std::fputs(out.c_str(), stdout);
@@ -62,6 +71,24 @@ void run_lcp_solve(const LcpSolveArgs& a) {
   }
 }
 
+struct LcpConvertArgs {
+  std::string in, out;
+  int storage = 0;
+  int block = 0;
+};
+
+void run_lcp_convert(const LcpConvertArgs& a) {
+  if (a.storage != 0 && a.storage != 1) throw ConfigError("--storage must be 0 (dense) or 1 (sparse block)");
+  if (a.block < 0) throw ConfigError("--block must be >= 1");
+  const DatFile f = read_dat_file(a.in);
+  if (a.storage == 0)
+    write_lcp_dat(a.out, Eigen::MatrixXd(f.problem.A), f.problem.b);
+  else
+    write_lcp_dat_blocks(a.out, f.problem.A, f.problem.b, a.block > 0 ? a.block : f.problem.rows());
+  if (!f.comment.empty())
+    std::fprintf(stderr, "deepcontact: note: %s: the text after q was not copied\n", a.in.c_str());
+}
+
 }  // namespace
 
 void add_lcp_command(CLI::App& app) {
@@ -70,10 +97,11 @@ void add_lcp_command(CLI::App& app) {
   auto args = std::make_shared<LcpSolveArgs>();
   auto* solve = lcp->add_subcommand(
       "solve",
-      "Solve w = M z + q, z >= 0, w >= 0, z'w = 0 read from a Siconos numerics .dat file (dense storage 0) "
-      "and print {\"z\", \"w\", \"status\", \"sweeps\", \"residual\"} as JSON. Exit status: 0 converged, "
-      "3 infeasible (lemke ray termination), 1 otherwise or on error. See docs/lcp.md.");
-  solve->add_option("file", args->file, "LCP file in Siconos .dat format (n, 0, n, n, n<TAB>n, M column-major, q)")
+      "Solve w = M z + q, z >= 0, w >= 0, z'w = 0 read from a Siconos numerics .dat file (storage 0 = dense "
+      "or 1 = sparse block) and print {\"z\", \"w\", \"status\", \"sweeps\", \"residual\", \"comment\"} as "
+      "JSON. Exit status: 0 converged, 3 infeasible (proved: Farkas certificate or exhaustive enumeration), "
+      "1 otherwise or on error. See docs/lcp.md.");
+  solve->add_option("file", args->file, "LCP file in Siconos .dat format (n, storage, n, n, M, q[, remark])")
       ->required();
   std::string names;
   for (const auto& n : solver_names()) names += (names.empty() ? "" : ", ") + n;
@@ -86,6 +114,16 @@ void add_lcp_command(CLI::App& app) {
                     "lemke/newton solve to 1e-9*max(1,|q|inf)")
       ->capture_default_str();
   solve->callback([args] { run_lcp_solve(*args); });
+
+  auto cargs = std::make_shared<LcpConvertArgs>();
+  auto* convert = lcp->add_subcommand("convert", "Rewrite a Siconos .dat LCP file in dense (0) or sparse-block (1) storage");
+  convert->add_option("in", cargs->in, "input .dat file")->required();
+  convert->add_option("out", cargs->out, "output .dat file")->required();
+  convert->add_option("--storage", cargs->storage, "0 = dense, 1 = sparse block (Siconos SparseBlockStructuredMatrix)")
+      ->capture_default_str();
+  convert->add_option("--block", cargs->block, "storage 1: rows/columns per square block (0 = one block of n)")
+      ->capture_default_str();
+  convert->callback([cargs] { run_lcp_convert(*cargs); });
 }
 
 }  // namespace dc::cli

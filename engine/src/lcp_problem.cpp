@@ -10,12 +10,16 @@
 namespace dc {
 
 LcpProblem LcpProblem::standard(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  return standard(SparseRowMatrix(A.sparseView(0.0, 0.0)), b);  // explicit zeros out, no pruning
+}
+
+LcpProblem LcpProblem::standard(const SparseRowMatrix& A, const Eigen::VectorXd& b) {
   if (A.rows() != A.cols() || A.rows() != b.size())
     throw InvalidArgument("LcpProblem::standard: A must be n×n and b of size n (A is " +
                           std::to_string(A.rows()) + "×" + std::to_string(A.cols()) +
                           ", b has " + std::to_string(b.size()) + ")");
   LcpProblem p;
-  p.A = A.sparseView(0.0, 0.0);  // keep explicit zeros out, but no tolerance-based pruning
+  p.A = A;
   p.A.makeCompressed();
   p.b = b;
   const auto n = b.size();

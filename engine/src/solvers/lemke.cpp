@@ -2,36 +2,147 @@
 //
 //     w = M z + q,   z ≥ 0,  w ≥ 0,  zᵀw = 0        (M = A, q = b; all lo = 0, hi = ∞)
 //
-// on a dense tableau [ I | −M | −d | q ] with covering vector d = 1 and artificial z₀.
-// Start: if q ≥ 0, z = 0 solves it (0 pivots). Otherwise z₀ enters at the row of the most
-// negative q_i; then the complement of each leaving variable enters. Ratio test with
-// lexicographic tie-breaking (rows of B⁻¹ divided by the pivot column entry — B⁻¹ is the
-// tableau's w block), which prevents cycling on degenerate problems such as rank-deficient
-// contact matrices; z₀ leaves as soon as it ties. Terminations:
-//   * z₀ leaves the basis     → solution; refined (see below) → Converged / Failed
-//   * no positive pivot entry → secondary ray → Infeasible (for copositive-plus M, e.g.
-//                                symmetric PSD, this proves the LCP has no solution)
-//   * pivot cap 50·n + 10     → Failed
-// The problem is scaled first: symmetric Jacobi scaling M̃ = S M S, q̃ = S q with
-// S = diag(1/√M_ii) (1 where M_ii ≤ 0) makes badly scaled problems (diagonal spanning
-// 1e-4…1e4) well scaled — z = S z̃ maps solutions one to one — and then M̃/‖M̃‖max,
-// q̃/‖q̃‖∞ so values near overflow do no harm.
+// Scaling first: symmetric Jacobi scaling M̃ = S M S, q̃ = S q with S = diag(1/√M_ii) (1 where
+// M_ii ≤ 0) makes badly scaled problems (diagonal spanning 1e-4…1e4) well scaled — z = S z̃
+// maps solutions one to one — and then M̃/‖M̃‖max, q̃/‖q̃‖∞ so values near overflow do no harm.
 //
-// Refinement: the tableau accumulates round-off in O(n) pivots. With S = the basic z's, the
-// solution satisfies M_SS z_S = −q_S, z_{S̄} = 0; one LU solve of that system plus two steps
-// of iterative refinement recovers full accuracy. If the complementarity error
-// max_i |min(z_i, w_i)| is still above exact_tolerance·max(1,‖q‖∞), newton polishes.
+// First attempt: the pivoting of lemke_pivoting.hpp with covering vector d = 1 (pivot cap
+// 50·n + 10). When z₀ leaves, the solution is refined: with S = the basic z's it satisfies
+// M_SS z_S = −q_S, z_{S̄} = 0; one LU solve of that system plus two steps of iterative
+// refinement recover full accuracy; if the complementarity error max_i |min(z_i, w_i)| is
+// still above exact_tolerance·max(1,‖q‖∞), newton polishes. Converged only when that
+// residual, evaluated on the original problem, is within the tolerance.
+//
+// Ray termination proves infeasibility only for copositive-plus M; Lemke's method also rays
+// out on problems that have solutions (e.g. tests/data/lcp/nonsym_three_solutions.dat). So
+// when the first attempt does not end in a verified solution, the solver goes on, in order:
+//   1. a Farkas certificate (lcp_proofs.hpp; n ≤ 500): found and verified → Infeasible;
+//   2. three other covering vectors d (deterministic, entries in [0.1, 1]);
+//   3. n ≤ 16: the 2ⁿ complementary bases — a feasible one → Converged; all nonsingular and
+//      none feasible → Infeasible (a proof; lcp_proofs.hpp);
+//   4. n ≤ 200: newton from four starts (0, the scale vector, two deterministic random ones);
+// and reports Failed, naming what was tried, if none of them solves or proves anything.
+// `sweeps` counts the pivots of all Lemke runs plus the newton iterations spent.
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
+#include "solvers/lcp_proofs.hpp"
+#include "solvers/lemke_pivoting.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 
 namespace dc::solvers {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kNewtonFallbackMaxN = 200;
+
+/// splitmix64 in [lo, hi): the deterministic covering vectors and starts (no global state).
+class Mix {
+ public:
+  explicit Mix(uint64_t seed) : s_(seed) {}
+  double uniform(double lo, double hi) {
+    uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return lo + (hi - lo) * static_cast<double>(z >> 11) * 0x1.0p-53;
+  }
+
+ private:
+  uint64_t s_;
+};
+
+/// The scaled problem and the map back: z = S z'·qscale/mscale.
+struct Scaled {
+  Eigen::VectorXd S;
+  Eigen::MatrixXd M;  ///< S A S / mscale
+  Eigen::VectorXd q;  ///< S b / qscale
+  double mscale = 1.0, qscale = 1.0;
+  [[nodiscard]] Eigen::VectorXd original(const Eigen::VectorXd& zs) const {
+    return S.cwiseProduct(zs.cwiseMax(0.0)) * (qscale / mscale);
+  }
+};
+
+Scaled scale(const LcpProblem& p) {
+  const int n = p.rows();
+  Scaled s;
+  s.S.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double d = p.A.coeff(i, i);
+    s.S[i] = (d > 0 && std::isfinite(1.0 / std::sqrt(d))) ? 1.0 / std::sqrt(d) : 1.0;
+  }
+  const Eigen::MatrixXd M = s.S.asDiagonal() * Eigen::MatrixXd(p.A) * s.S.asDiagonal();
+  const Eigen::VectorXd q = s.S.cwiseProduct(p.b);
+  const double mmax = M.cwiseAbs().maxCoeff();
+  s.mscale = (mmax > 0 && std::isfinite(mmax)) ? mmax : 1.0;
+  const double qmax = q.cwiseAbs().maxCoeff();
+  s.qscale = (qmax > 0 && std::isfinite(qmax)) ? qmax : 1.0;
+  s.M = M / s.mscale;
+  s.q = q / s.qscale;
+  return s;
+}
+
+/// One Lemke run with covering vector d, then refinement; `z`/`res` get the best point.
+struct Attempt {
+  bool solved = false;  ///< verified: residual ≤ target
+  Eigen::VectorXd z;
+  double res = std::numeric_limits<double>::infinity();
+  int pivots = 0, newton_steps = 0;
+  std::string why;  ///< how the pivoting ended
+  bool polished = false;
+};
+
+Attempt attempt(const LcpProblem& p, const Scaled& s, const Eigen::VectorXd& d, double target,
+                const SolverOptions& o) {
+  const int n = p.rows();
+  Attempt a;
+  const LemkePivoting lp = lemke_pivoting(s.M, s.q, d, 50 * n + 10);
+  a.pivots = lp.pivots;
+  a.why = lp.why;
+  if (lp.outcome != LemkePivoting::Outcome::Solved) return a;
+  a.z = s.original(lp.z);
+  a.res = natural_residual(p, a.z);
+  if (const int m = static_cast<int>(lp.active.size()); m > 0) {  // refine on the active set
+    Eigen::MatrixXd Mss(m, m);
+    Eigen::VectorXd qs(m);
+    for (int i = 0; i < m; ++i) {
+      qs[i] = -s.q[lp.active[static_cast<size_t>(i)]];
+      for (int j = 0; j < m; ++j) Mss(i, j) = s.M(lp.active[static_cast<size_t>(i)], lp.active[static_cast<size_t>(j)]);
+    }
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Mss);
+    Eigen::VectorXd zs = lu.solve(qs);
+    for (int step = 0; step < 2; ++step) zs += lu.solve(qs - Mss * zs);
+    if (zs.allFinite()) {
+      Eigen::VectorXd full = Eigen::VectorXd::Zero(n);
+      for (int i = 0; i < m; ++i) full[lp.active[static_cast<size_t>(i)]] = zs[i];
+      const Eigen::VectorXd zr = s.original(full);
+      if (const double rr = natural_residual(p, zr); rr < a.res) {
+        a.res = rr;
+        a.z = zr;
+      }
+    }
+  }
+  if (!(a.res <= target)) {
+    SolverOptions po;
+    po.exact_tolerance = o.exact_tolerance;
+    po.record_theta = false;
+    po.max_sweeps = 200;
+    const SolveResult polished = newton_solve(p, a.z, po, false);
+    a.newton_steps = polished.sweeps;
+    if (polished.residual < a.res) {
+      a.res = polished.residual;
+      a.z = polished.lambda;
+      a.polished = true;
+    }
+  }
+  a.solved = a.res <= target;
+  if (!a.solved)
+    a.why = "complementarity error " + std::to_string(a.res) + " above tolerance " + std::to_string(target) +
+            " after refinement";
+  return a;
+}
 
 class LemkeSolver final : public LcpSolver {
  public:
@@ -43,185 +154,100 @@ class LemkeSolver final : public LcpSolver {
     Eigen::VectorXd lambda;
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
     const int n = p.rows();
-    for (int i = 0; i < n; ++i)
-      if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != kInf) {
-        SolveResult r;
-        r.status = SolveStatus::InvalidInput;
-        r.lambda = lambda;
-        r.message = "lemke: row " + std::to_string(i) +
-                    " is not a standard LCP row (needs lo = 0, hi = inf, no friction); use newton";
-        finish(p, r);
-        return r;
-      }
+    if (const int i = first_nonstandard_row(p); i >= 0) {
+      SolveResult r;
+      r.status = SolveStatus::InvalidInput;
+      r.lambda = lambda;
+      r.message = "lemke: row " + std::to_string(i) +
+                  " is not a standard LCP row (needs lo = 0, hi = inf, no friction); use newton";
+      finish(p, r);
+      return r;
+    }
     SolveResult r;
     const double target = o.exact_tolerance * rhs_scale(p);
     CheckpointCursor cp(o);
-    if (n == 0 || p.b.minCoeff() >= 0) {  // z = 0 is a solution
-      r.status = SolveStatus::Converged;
-      r.lambda = Eigen::VectorXd::Zero(n);
-      r.sweeps = 0;
-      cp.flush_final(r.lambda);
+    auto done = [&](SolveStatus status, const Eigen::VectorXd& z, std::string message) {
+      r.status = status;
+      r.lambda = z;
+      r.message = std::move(message);
+      if (status == SolveStatus::Converged) cp.flush_final(z);
       finish(p, r);
       return r;
-    }
-    Eigen::VectorXd S(n);
-    for (int i = 0; i < n; ++i) {
-      const double d = p.A.coeff(i, i);
-      S[i] = (d > 0 && std::isfinite(1.0 / std::sqrt(d))) ? 1.0 / std::sqrt(d) : 1.0;
-    }
-    const Eigen::MatrixXd M = S.asDiagonal() * Eigen::MatrixXd(p.A) * S.asDiagonal();
-    const Eigen::VectorXd q = S.cwiseProduct(p.b);
-    const double mmax = M.cwiseAbs().maxCoeff();
-    const double mscale = (mmax > 0 && std::isfinite(mmax)) ? mmax : 1.0;
-    const double qscale = q.cwiseAbs().maxCoeff();  // > 0 here (some q_i < 0)
-    // Scaled problem: M' = M̃/mscale, q' = q̃/qscale, z = S z'·qscale/mscale.
-    const int cols = 2 * n + 2, z0col = 2 * n, rhs = 2 * n + 1;
-    using Tableau = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    Tableau T = Tableau::Zero(n, cols);  // row-major: pivots are row operations
-    T.leftCols(n).setIdentity();
-    T.middleCols(n, n) = -M / mscale;
-    T.col(z0col).setConstant(-1.0);
-    T.col(rhs) = q / qscale;
-    std::vector<int> basis(static_cast<size_t>(n));
-    for (int i = 0; i < n; ++i) basis[static_cast<size_t>(i)] = i;  // w_i basic
-
-    auto pivot = [&](int row, int col) {
-      const double piv = T(row, col);
-      T.row(row) /= piv;
-      for (int i = 0; i < n; ++i)
-        if (const double f = T(i, col); i != row && f != 0.0) T.row(i) -= f * T.row(row);
-      T.col(col).setZero();
-      T(row, col) = 1.0;
-      basis[static_cast<size_t>(row)] = col;
     };
+    if (n == 0 || p.b.minCoeff() >= 0) return done(SolveStatus::Converged, Eigen::VectorXd::Zero(n), "");
 
-    int first = 0;
-    for (int i = 1; i < n; ++i)
-      if (T(i, rhs) < T(first, rhs)) first = i;  // lowest index among ties
-    int leaving = basis[static_cast<size_t>(first)];
-    pivot(first, z0col);
-    int pivots = 1;
-    const int cap = 50 * n + 10;
-    bool solved = false;
-    std::string why;
-    while (true) {
-      if (pivots >= cap) {
-        why = "pivot cap " + std::to_string(cap) + " reached";
-        break;
+    const Scaled s = scale(p);
+    const Attempt first = attempt(p, s, Eigen::VectorXd::Ones(n), target, o);
+    r.sweeps = first.pivots + first.newton_steps;
+    if (first.solved) return done(SolveStatus::Converged, first.z, first.polished ? "lemke: refined by newton polish" : "");
+
+    // No verified solution: prove infeasibility or find a solution another way.
+    std::string head = "lemke: covering vector 1: " + first.why;
+    if (first.why.rfind("ray", 0) == 0) head += " (proves nothing unless M is copositive-plus)";
+    Eigen::VectorXd best = first.z.size() == n ? first.z : Eigen::VectorXd::Zero(n);
+    double best_res = first.z.size() == n ? first.res : natural_residual(p, best);
+
+    const FarkasCertificate cert = find_farkas_certificate(s.M, s.q);
+    if (cert.found) {
+      std::string detail;  // the certificate for the scaled problem is S⁻¹-scaled for the original
+      if (check_farkas_certificate(Eigen::MatrixXd(p.A), p.b, s.S.cwiseProduct(cert.y), detail))
+        return done(SolveStatus::Infeasible, Eigen::VectorXd::Zero(n), head + "; infeasible: " + detail);
+    }
+    std::string tried = cert.detail;
+
+    Mix mix(0x5eed1e3eull + static_cast<uint64_t>(n));
+    std::string covering;
+    for (int k = 0; k < 3; ++k) {
+      Eigen::VectorXd d(n);
+      for (int i = 0; i < n; ++i) d[i] = mix.uniform(0.1, 1.0);
+      const Attempt a = attempt(p, s, d, target, o);
+      r.sweeps += a.pivots + a.newton_steps;
+      if (a.solved)
+        return done(SolveStatus::Converged, a.z,
+                    head + "; solved with random covering vector " + std::to_string(k + 1));
+      if (a.z.size() == n && a.res < best_res) {
+        best_res = a.res;
+        best = a.z;
       }
-      const int entering = leaving < n ? leaving + n : leaving - n;  // complement
-      const Eigen::VectorXd col = T.col(entering);
-      const double tol = 1e-12 * std::max(1.0, col.cwiseAbs().maxCoeff());
-      int best = -1;
-      double best_ratio = kInf;
-      for (int i = 0; i < n; ++i) {
-        if (col[i] <= tol) continue;
-        const double ratio = T(i, rhs) / col[i];
-        if (best < 0 || ratio < best_ratio - 1e-12 * std::max(1.0, std::abs(best_ratio))) {
-          best = i;
-          best_ratio = ratio;
-        } else if (ratio <= best_ratio + 1e-12 * std::max(1.0, std::abs(best_ratio))) {
-          // Tie: z₀ leaves first; otherwise lexicographic minimum of B⁻¹ rows / col_i.
-          const bool i_z0 = basis[static_cast<size_t>(i)] == z0col;
-          const bool b_z0 = basis[static_cast<size_t>(best)] == z0col;
-          if (b_z0) continue;
-          if (i_z0) {
-            best = i;
-            best_ratio = std::min(best_ratio, ratio);
-            continue;
-          }
-          for (int j = 0; j < n; ++j) {
-            const double a = T(i, j) / col[i], b = T(best, j) / col[best];
-            if (a < b - 1e-14) {
-              best = i;
-              best_ratio = std::min(best_ratio, ratio);
-              break;
-            }
-            if (a > b + 1e-14) break;
-          }
+      covering += (k ? ", " : "") + a.why;
+    }
+    tried += "; 3 other covering vectors (" + covering + ")";
+
+    if (n <= kEnumerateMaxN) {
+      const BasisEnumeration e = enumerate_complementary_bases(s.M, s.q, [&](const Eigen::VectorXd& zs) {
+        const Eigen::VectorXd z = s.original(zs);
+        return natural_residual(p, z) <= target;
+      });
+      if (e.solved) return done(SolveStatus::Converged, s.original(e.z), head + "; " + e.detail);
+      if (e.proves_none)
+        return done(SolveStatus::Infeasible, Eigen::VectorXd::Zero(n), head + "; " + cert.detail + "; infeasible: " + e.detail);
+      tried += "; " + e.detail;
+    }
+
+    if (n <= kNewtonFallbackMaxN) {
+      SolverOptions no;
+      no.exact_tolerance = o.exact_tolerance;
+      no.record_theta = false;
+      no.max_sweeps = 500;
+      double newton_best = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 4; ++k) {
+        Eigen::VectorXd start = Eigen::VectorXd::Zero(n);
+        if (k == 1) start = s.original(Eigen::VectorXd::Ones(n));
+        if (k >= 2)
+          for (int i = 0; i < n; ++i) start[i] = s.S[i] * mix.uniform(0, 2) * (s.qscale / s.mscale);
+        const SolveResult nr = newton_solve(p, start, no, false);
+        r.sweeps += nr.sweeps;
+        if (nr.status == SolveStatus::Converged)
+          return done(SolveStatus::Converged, nr.lambda, head + "; solved by newton from start " + std::to_string(k + 1));
+        newton_best = std::min(newton_best, nr.residual);
+        if (nr.residual < best_res) {
+          best_res = nr.residual;
+          best = nr.lambda;
         }
       }
-      if (best < 0) {
-        r.status = SolveStatus::Infeasible;
-        why = "ray termination after " + std::to_string(pivots) +
-              " pivots: no solution found (for copositive-plus M, e.g. symmetric PSD, the LCP is infeasible)";
-        break;
-      }
-      leaving = basis[static_cast<size_t>(best)];
-      pivot(best, entering);
-      ++pivots;
-      if (!T.allFinite()) {
-        why = "tableau became non-finite";
-        break;
-      }
-      if (leaving == z0col) {
-        solved = true;
-        break;
-      }
+      tried += "; newton from 4 starts (best residual " + std::to_string(newton_best) + ")";
     }
-    r.sweeps = pivots;
-    if (!solved) {
-      if (r.status != SolveStatus::Infeasible) r.status = SolveStatus::Failed;
-      r.lambda = Eigen::VectorXd::Zero(n);
-      r.message = "lemke: " + why;
-      finish(p, r);
-      return r;
-    }
-    // Read the solution, then refine on the active set S (the basic z's).
-    Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
-    std::vector<int> act;  // the active set: indices of basic z's
-    for (int i = 0; i < n; ++i) {
-      const int v = basis[static_cast<size_t>(i)];
-      if (v >= n && v < 2 * n) {
-        z[v - n] = S[v - n] * std::max(0.0, T(i, rhs)) * qscale / mscale;
-        act.push_back(v - n);
-      }
-    }
-    double res = natural_residual(p, z);
-    if (!act.empty()) {
-      const int m = static_cast<int>(act.size());
-      Eigen::MatrixXd Mss(m, m);
-      Eigen::VectorXd qs(m);
-      for (int a = 0; a < m; ++a) {
-        qs[a] = -q[act[static_cast<size_t>(a)]] / qscale;
-        for (int b = 0; b < m; ++b) Mss(a, b) = M(act[static_cast<size_t>(a)], act[static_cast<size_t>(b)]) / mscale;
-      }
-      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Mss);
-      Eigen::VectorXd zs = lu.solve(qs);
-      for (int step = 0; step < 2; ++step) zs += lu.solve(qs - Mss * zs);
-      if (zs.allFinite()) {
-        Eigen::VectorXd zr = Eigen::VectorXd::Zero(n);
-        for (int a = 0; a < m; ++a) {
-          const int j = act[static_cast<size_t>(a)];
-          zr[j] = S[j] * std::max(0.0, zs[a]) * qscale / mscale;
-        }
-        const double rr = natural_residual(p, zr);
-        if (rr < res) {
-          res = rr;
-          z = zr;
-        }
-      }
-    }
-    if (!(res <= target)) {
-      SolverOptions po;
-      po.exact_tolerance = o.exact_tolerance;
-      po.record_theta = false;
-      po.max_sweeps = 200;
-      const SolveResult polished = make_newton()->solve(p, z, po);
-      if (polished.residual < res) {
-        res = polished.residual;
-        z = polished.lambda;
-        r.message = "lemke: refined by newton polish";
-      }
-    }
-    r.lambda = z;
-    r.status = res <= target ? SolveStatus::Converged : SolveStatus::Failed;
-    if (r.status == SolveStatus::Failed)
-      r.message = "lemke: complementarity error " + std::to_string(res) + " above tolerance " +
-                  std::to_string(target) + " after refinement";
-    if (r.status == SolveStatus::Converged) cp.flush_final(z);
-    finish(p, r);
-    return r;
+    return done(SolveStatus::Failed, best, head + "; no solution and no proof of infeasibility: " + tried);
   }
 };
 

@@ -11,11 +11,13 @@
 // step limit) a PGS polish of up to 20000 sweeps continues from the best iterate and the
 // message says so; the status is Converged if the polish reaches the tolerance, Failed if
 // not. `sweeps` counts Newton iterations plus polish sweeps; θ_k is the max change of λ in
-// iteration/sweep k.
+// iteration/sweep k. Failing proves nothing: the status is Infeasible only when a standard
+// LCP (n ≤ 500) has a verified Farkas certificate (lcp_proofs.hpp), never otherwise.
 #include <cmath>
 
 #include "solvers/assembled_sweep.hpp"
 #include "solvers/box_newton.hpp"
+#include "solvers/lcp_proofs.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 
@@ -24,6 +26,8 @@ namespace {
 
 class NewtonSolver final : public LcpSolver {
  public:
+  /// seek_certificate: see newton_solve (solvers.hpp).
+  explicit NewtonSolver(bool seek_certificate) : seek_certificate_(seek_certificate) {}
   [[nodiscard]] std::string name() const override { return "newton"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) const override {
@@ -137,15 +141,29 @@ class NewtonSolver final : public LcpSolver {
       }
     }
     if (r.status == SolveStatus::Converged) cp.flush_final(lambda);
+    if (r.status == SolveStatus::Failed && seek_certificate_ && n <= kFarkasMaxN && first_nonstandard_row(p) < 0) {
+      // Failing proves nothing; a verified Farkas certificate proves that there is no solution.
+      const FarkasCertificate cert = find_farkas_certificate(Eigen::MatrixXd(p.A), p.b);
+      if (cert.found) r.status = SolveStatus::Infeasible;
+      r.message += (cert.found ? "; infeasible: " : "; ") + cert.detail;
+    }
     r.sweeps = steps;
     r.lambda = lambda;
     finish(p, r);
     return r;
   }
+
+ private:
+  bool seek_certificate_;
 };
 
 }  // namespace
 
-std::unique_ptr<LcpSolver> make_newton() { return std::make_unique<NewtonSolver>(); }
+SolveResult newton_solve(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o,
+                         bool seek_certificate) {
+  return NewtonSolver(seek_certificate).solve(p, lambda0, o);
+}
+
+std::unique_ptr<LcpSolver> make_newton() { return std::make_unique<NewtonSolver>(true); }
 
 }  // namespace dc::solvers

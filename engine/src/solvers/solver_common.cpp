@@ -20,6 +20,12 @@ double rhs_scale(const LcpProblem& p) {
   return s;
 }
 
+int first_nonstandard_row(const LcpProblem& p) {
+  for (int i = 0; i < p.rows(); ++i)
+    if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity()) return i;
+  return -1;
+}
+
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                        const std::string& solver, Eigen::VectorXd& lambda) {
   const int n = p.rows();

@@ -21,6 +21,9 @@ const LcpProblem& with_assembled_matrix(const LcpProblem& p, std::optional<LcpPr
 /// max(1, ‖b‖∞): the scale the exact tolerances are relative to.
 double rhs_scale(const LcpProblem& p);
 
+/// The first row that is not a standard LCP row (lo = 0, hi = +∞, no friction), or −1.
+int first_nonstandard_row(const LcpProblem& p);
+
 /// Validates the problem and the initial guess. On success returns std::nullopt and sets
 /// `lambda` to λ⁰ (an empty λ⁰ means zero). On failure returns a result with status
 /// InvalidInput, λ = λ⁰ (or zero) and the validation message.

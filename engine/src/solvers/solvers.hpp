@@ -12,6 +12,13 @@ std::unique_ptr<LcpSolver> make_jacobi();           // "jacobi"         jacobi.c
 std::unique_ptr<LcpSolver> make_lemke();            // "lemke"          lemke.cpp
 std::unique_ptr<LcpSolver> make_newton();           // "newton"         newton.cpp
 
+/// The newton solver as a function. With `seek_certificate`, a standard LCP (lo = 0,
+/// hi = ∞, no friction; n ≤ kFarkasMaxN) that newton fails on is checked for a Farkas
+/// certificate of infeasibility (lcp_proofs.hpp): found → Infeasible. Without it (lemke's
+/// polish and fallback starts, which search for the certificate themselves) never Infeasible.
+SolveResult newton_solve(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o,
+                         bool seek_certificate);
+
 /// The assembled PGS/PSOR iteration as a function (also used by pgs without J and by the
 /// PGS polish of newton).
 SolveResult solve_assembled_gauss_seidel(const LcpProblem& p, const Eigen::VectorXd& lambda0,

@@ -66,6 +66,7 @@ struct LcpProblem {
 
   /// Standard LCP (lo = 0, hi = +∞, no friction) from dense or sparse A and b.
   static LcpProblem standard(const Eigen::MatrixXd& A, const Eigen::VectorXd& b);
+  static LcpProblem standard(const SparseRowMatrix& A, const Eigen::VectorXd& b);
 
   /// Throws InvalidArgument if sizes disagree, an entry is non-finite, a bound pair is
   /// inverted, a friction row points at a non-normal row, neither A nor J is present, or the

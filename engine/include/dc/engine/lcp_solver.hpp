@@ -19,7 +19,8 @@ enum class SolveStatus {
   SweepLimit,    ///< ran the maximum number of sweeps without meeting the tolerance
                  ///< (the normal outcome in fixed-sweep mode, tolerance = 0)
   Diverged,      ///< iterates became non-finite or grew without bound; λ is the last finite iterate
-  Infeasible,    ///< the problem has no solution (e.g. Lemke ray termination)
+  Infeasible,    ///< proved to have no solution (verified Farkas certificate or exhaustive
+                 ///< enumeration; docs/lcp.md), never merely because a method gave up
   Failed,        ///< the method broke down (singular pivot, line search failure, ...)
   InvalidInput,  ///< the problem violates LcpProblem::validate or the solver's requirements
 };

@@ -1,0 +1,107 @@
+#include "solvers/lemke_pivoting.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dc::solvers {
+
+LemkePivoting lemke_pivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const Eigen::VectorXd& d,
+                             int cap) {
+  const int n = static_cast<int>(q.size());
+  LemkePivoting r;
+  r.z = Eigen::VectorXd::Zero(n);
+  if (n == 0 || q.minCoeff() >= 0) {  // z = 0 is a solution
+    r.outcome = LemkePivoting::Outcome::Solved;
+    return r;
+  }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const int cols = 2 * n + 2, z0col = 2 * n, rhs = 2 * n + 1;
+  using Tableau = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  Tableau T = Tableau::Zero(n, cols);  // row-major: pivots are row operations
+  T.leftCols(n).setIdentity();
+  T.middleCols(n, n) = -M;
+  T.col(z0col) = -d;
+  T.col(rhs) = q;
+  std::vector<int> basis(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) basis[static_cast<size_t>(i)] = i;  // w_i basic
+
+  auto pivot = [&](int row, int col) {
+    const double piv = T(row, col);
+    T.row(row) /= piv;
+    for (int i = 0; i < n; ++i)
+      if (const double f = T(i, col); i != row && f != 0.0) T.row(i) -= f * T.row(row);
+    T.col(col).setZero();
+    T(row, col) = 1.0;
+    basis[static_cast<size_t>(row)] = col;
+  };
+
+  int first = 0;
+  for (int i = 1; i < n; ++i)
+    if (q[i] / d[i] < q[first] / d[first]) first = i;  // lowest index among ties
+  int leaving = basis[static_cast<size_t>(first)];
+  pivot(first, z0col);
+  r.pivots = 1;
+  while (true) {
+    if (r.pivots >= cap) {
+      r.why = "pivot cap " + std::to_string(cap) + " reached";
+      return r;
+    }
+    const int entering = leaving < n ? leaving + n : leaving - n;  // complement
+    const Eigen::VectorXd col = T.col(entering);
+    const double tol = 1e-12 * std::max(1.0, col.cwiseAbs().maxCoeff());
+    int best = -1;
+    double best_ratio = kInf;
+    for (int i = 0; i < n; ++i) {
+      if (col[i] <= tol) continue;
+      const double ratio = T(i, rhs) / col[i];
+      if (best < 0 || ratio < best_ratio - 1e-12 * std::max(1.0, std::abs(best_ratio))) {
+        best = i;
+        best_ratio = ratio;
+      } else if (ratio <= best_ratio + 1e-12 * std::max(1.0, std::abs(best_ratio))) {
+        // Tie: z₀ leaves first; otherwise lexicographic minimum of B⁻¹ rows / col_i.
+        const bool i_z0 = basis[static_cast<size_t>(i)] == z0col;
+        const bool b_z0 = basis[static_cast<size_t>(best)] == z0col;
+        if (b_z0) continue;
+        if (i_z0) {
+          best = i;
+          best_ratio = std::min(best_ratio, ratio);
+          continue;
+        }
+        for (int j = 0; j < n; ++j) {
+          const double a = T(i, j) / col[i], b = T(best, j) / col[best];
+          if (a < b - 1e-14) {
+            best = i;
+            best_ratio = std::min(best_ratio, ratio);
+            break;
+          }
+          if (a > b + 1e-14) break;
+        }
+      }
+    }
+    if (best < 0) {
+      r.outcome = LemkePivoting::Outcome::Ray;
+      r.why = "ray termination after " + std::to_string(r.pivots) + " pivots";
+      return r;
+    }
+    leaving = basis[static_cast<size_t>(best)];
+    pivot(best, entering);
+    ++r.pivots;
+    if (!T.allFinite()) {
+      r.why = "tableau became non-finite";
+      return r;
+    }
+    if (leaving == z0col) break;
+  }
+  r.outcome = LemkePivoting::Outcome::Solved;
+  for (int i = 0; i < n; ++i) {
+    const int v = basis[static_cast<size_t>(i)];
+    if (v >= n && v < 2 * n) {
+      r.z[v - n] = std::max(0.0, T(i, rhs));
+      r.active.push_back(v - n);
+    }
+  }
+  return r;
+}
+
+}  // namespace dc::solvers
