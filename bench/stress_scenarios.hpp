@@ -41,7 +41,8 @@ bool state_finite(const BodyState& bodies);
 /// Σ m_k v_k [kg·m/s].
 Vec2 linear_momentum(const BodyState& bodies);
 
-/// Solver options of a scene's [solver] section.
+/// dc::solver_options(def.solver) without per-sweep θ recording (the stress runs read only
+/// each step's status, residual and sweeps).
 SolverOptions solver_options(const WorldDef& def);
 
 struct RunConfig {
