@@ -11,7 +11,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   libeigen3-dev      # dense/sparse linear algebra (J, A, GEMM for the CNN)
-  libccd-dev         # general convex collision (reserved for non-circle shapes)
+  libccd-dev         # general convex collision (polygon and ellipse pairs, engine/src/ccd_narrow.cpp)
   libgsl-dev         # portable random streams (scene generation, weight init)
   libhdf5-dev        # trajectories, data sets, models, bench results (C and C++ API)
   libcli11-dev       # command line of the deepcontact executable

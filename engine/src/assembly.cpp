@@ -19,8 +19,11 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
   ContactConstraints& con = out.constraints;
   con.clear();
   con.reserve(static_cast<size_t>(nc));
+  // A static or kinematic body_a (infinite mass) owns no columns: a one-body row, like a wall.
+  const bool motion_types = !s.shapes.empty();
   for (const Contact& ct : contacts)
-    con.add(ct.body_a >= 0 ? ct.body_a : -1, ct.body_b, friction_of(ct, cs), ct.key.feature);
+    con.add(ct.body_a >= 0 && (!motion_types || s.shapes.is_dynamic(static_cast<size_t>(ct.body_a))) ? ct.body_a : -1,
+            ct.body_b, friction_of(ct, cs), ct.key.feature);
   const int rows = con.rows();
 
   out.dt = dt;
@@ -65,7 +68,16 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
         vt_f += sign * dt * dot(t, g);
       }
     };
-    if (ct.body_a >= 0) add_body(ct.body_a, -1.0);
+    if (kc.body_a >= 0) {
+      add_body(ct.body_a, -1.0);
+    } else if (ct.body_a >= 0) {
+      // Static / kinematic body_a: no columns, no gravity; its velocity at the point enters b
+      // as a moving boundary's (relative velocity J u with the boundary's u).
+      const auto k = static_cast<size_t>(ct.body_a);
+      const Vec2 r = ct.point - s.position[k];
+      vn -= dot(n, s.velocity[k]) + cross(r, n) * s.omega[k];
+      vt -= dot(t, s.velocity[k]) + cross(r, t) * s.omega[k];
+    }
     add_body(ct.body_b, +1.0);
 
     // b of the normal row: relative velocity + gravity + stabilisation + restitution.

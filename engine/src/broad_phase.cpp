@@ -16,19 +16,44 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
   if (n < 2) return;
   if (static_cast<int>(reach.size()) != n)
     throw InvalidArgument("UniformGridBroadPhase: reach must have one entry per body");
+  for (int k = 0; k < n; ++k)
+    if (!std::isfinite(centres[k].x) || !std::isfinite(centres[k].y) || !std::isfinite(reach[k]))
+      throw InvalidArgument("UniformGridBroadPhase: body " + std::to_string(k) +
+                            " has a non-finite position or radius");
+  find(
+      n, [&](int k) { return Vec2{centres[k].x - reach[k], centres[k].y - reach[k]}; },
+      [&](int k) { return Vec2{centres[k].x + reach[k], centres[k].y + reach[k]}; },
+      [&](int k) { return 2 * reach[k]; }, pairs);
+}
 
+void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const std::vector<Vec2>& hi,
+                                           std::vector<std::pair<int, int>>& pairs) {
+  pairs.clear();
+  pair_tests_ = 0;
+  const int n = static_cast<int>(lo.size());
+  if (n < 2) return;
+  if (static_cast<int>(hi.size()) != n)
+    throw InvalidArgument("UniformGridBroadPhase: need one upper corner per box");
+  for (int k = 0; k < n; ++k)
+    if (!std::isfinite(lo[k].x) || !std::isfinite(lo[k].y) || !std::isfinite(hi[k].x) || !std::isfinite(hi[k].y))
+      throw InvalidArgument("UniformGridBroadPhase: body " + std::to_string(k) + " has a non-finite bounding box");
+  find(
+      n, [&](int k) { return lo[k]; }, [&](int k) { return hi[k]; },
+      [&](int k) { return std::max(hi[k].x - lo[k].x, hi[k].y - lo[k].y); }, pairs);
+}
+
+template <class Lo, class Hi, class Extent>
+void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent& extent,
+                                 std::vector<std::pair<int, int>>& pairs) {
   // Grid extent: bounding box of all boxes; cell = largest box extent (≥ tiny > 0).
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY, cell = 0;
   for (int k = 0; k < n; ++k) {
-    const double r = reach[k];
-    if (!std::isfinite(centres[k].x) || !std::isfinite(centres[k].y) || !std::isfinite(r))
-      throw InvalidArgument("UniformGridBroadPhase: body " + std::to_string(k) +
-                            " has a non-finite position or radius");
-    xmin = std::min(xmin, centres[k].x - r);
-    ymin = std::min(ymin, centres[k].y - r);
-    xmax = std::max(xmax, centres[k].x + r);
-    ymax = std::max(ymax, centres[k].y + r);
-    cell = std::max(cell, 2 * r);
+    const Vec2 l = lo(k), h = hi(k);
+    xmin = std::min(xmin, l.x);
+    ymin = std::min(ymin, l.y);
+    xmax = std::max(xmax, h.x);
+    ymax = std::max(ymax, h.y);
+    cell = std::max(cell, extent(k));
   }
   cell = std::max(cell, 1e-12 * std::max({1.0, xmax - xmin, ymax - ymin}));
   // Cap the number of cells at ~4n so memory stays linear even for sparse, spread scenes.
@@ -46,8 +71,9 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
   cell_of_entry_.clear();
   body_cells_.clear();
   for (int k = 0; k < n; ++k) {
-    const long long i0 = cx(centres[k].x - reach[k]), i1 = cx(centres[k].x + reach[k]);
-    const long long j0 = cy(centres[k].y - reach[k]), j1 = cy(centres[k].y + reach[k]);
+    const Vec2 l = lo(k), h = hi(k);
+    const long long i0 = cx(l.x), i1 = cx(h.x);
+    const long long j0 = cy(l.y), j1 = cy(h.y);
     for (long long j = j0; j <= j1; ++j)
       for (long long i = i0; i <= i1; ++i) {
         cell_of_entry_.push_back(j * nx + i);
@@ -74,11 +100,11 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
       for (int q = p + 1; q < e; ++q) {
         const int b = cell_items_[static_cast<size_t>(q)];
         ++pair_tests_;
-        const double ra = reach[a], rb = reach[b];
-        const double lx = std::max(centres[a].x - ra, centres[b].x - rb);
-        const double ly = std::max(centres[a].y - ra, centres[b].y - rb);
-        const double hx = std::min(centres[a].x + ra, centres[b].x + rb);
-        const double hy = std::min(centres[a].y + ra, centres[b].y + rb);
+        const Vec2 la = lo(a), lb = lo(b), ha = hi(a), hb = hi(b);
+        const double lx = std::max(la.x, lb.x);
+        const double ly = std::max(la.y, lb.y);
+        const double hx = std::min(ha.x, hb.x);
+        const double hy = std::min(ha.y, hb.y);
         if (lx > hx || ly > hy) continue;
         if (cy(ly) * nx + cx(lx) != c) continue;
         pairs.emplace_back(std::min(a, b), std::max(a, b));

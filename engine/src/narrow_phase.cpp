@@ -62,8 +62,27 @@ std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double wid
   return c;
 }
 
+namespace {
+
+/// Gap of a contact with a non-circle: n·(p_b − p_a) from the witness anchors, p = x + R(θ) anchor.
+double anchored_gap(const BodyState& s, const Contact& c) {
+  auto world_point = [&](int body, Vec2 anchor) {
+    const auto k = static_cast<size_t>(body);
+    const double cs = std::cos(s.angle[k]), sn = std::sin(s.angle[k]);
+    return s.position[k] + Vec2{cs * anchor.x - sn * anchor.y, sn * anchor.x + cs * anchor.y};
+  };
+  const Vec2 pb = world_point(c.body_b, c.anchor_b);
+  const Vec2 pa = c.body_a >= 0 ? world_point(c.body_a, c.anchor_a) : c.anchor_a;
+  return dot(c.normal, pb - pa);
+}
+
+}  // namespace
+
 double contact_gap(const BodyState& s, const Contact& c, double width, double height) {
   const auto ib = static_cast<size_t>(c.body_b);
+  if (!s.shapes.empty() && (s.shapes.kind[ib] != ShapeKind::Circle ||
+                            (c.body_a >= 0 && s.shapes.kind[static_cast<size_t>(c.body_a)] != ShapeKind::Circle)))
+    return anchored_gap(s, c);
   if (c.body_a >= 0) {
     // As circle_circle: |x_b − x_a| − (r_a + r_b).
     const auto ia = static_cast<size_t>(c.body_a);

@@ -192,6 +192,16 @@ std::array<bool, 4> read_walls(const toml::node& n, const Origin& o, std::string
   return walls;
 }
 
+/// An array of [x, y] pairs (polygon vertices).
+std::vector<Vec2> read_points(const toml::node& n, const Origin& o, std::string_view key) {
+  const auto* a = n.as_array();
+  if (a == nullptr) fail(o, &n.source(), key, std::string("expected an array of [x, y] pairs, got ") + type_name(n));
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < a->size(); ++i)
+    out.push_back(read_vec2((*a)[i], o, std::string(key) + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
 /// Reads `node` into the field `ref` points at; shared by sections and [[body]] keys.
 template <class Owner>
 void assign(Owner& owner, const scene_detail::Ref<Owner>& ref, const toml::node& node, const Origin& o,
@@ -205,6 +215,8 @@ void assign(Owner& owner, const scene_detail::Ref<Owner>& ref, const toml::node&
         else if constexpr (std::is_same_v<F, std::uint64_t>) field = read_seed(node, o, key);
         else if constexpr (std::is_same_v<F, std::string>) field = read_string(node, o, key);
         else if constexpr (std::is_same_v<F, Vec2>) field = read_vec2(node, o, key);
+        else if constexpr (std::is_same_v<F, std::optional<Vec2>>) field = read_vec2(node, o, key);
+        else if constexpr (std::is_same_v<F, std::vector<Vec2>>) field = read_points(node, o, key);
         else field = read_walls(node, o, key);
       },
       ref);
@@ -363,6 +375,13 @@ std::string format_value(Owner& owner, const scene_detail::Ref<Owner>& ref, std:
           return format_string(field);
         } else if constexpr (std::is_same_v<F, Vec2>) {
           return concat({"[", format_double(field.x), ", ", format_double(field.y), "]"});
+        } else if constexpr (std::is_same_v<F, std::optional<Vec2>>) {
+          return field ? concat({"[", format_double(field->x), ", ", format_double(field->y), "]"}) : std::string();
+        } else if constexpr (std::is_same_v<F, std::vector<Vec2>>) {
+          std::string out = "[";
+          for (std::size_t i = 0; i < field.size(); ++i)
+            out += concat({i ? ", [" : "[", format_double(field[i].x), ", ", format_double(field[i].y), "]"});
+          return out + "]";
         } else {
           std::string out = "[";
           const auto& names = scene_detail::wall_names();
@@ -486,8 +505,10 @@ std::string scene_to_toml(const WorldDef& def_in) {
   }
   for (std::size_t i = 0; i < def.body.size(); ++i) {
     os << "\n[[body]]\n";
-    for (const BodyKey& k : scene_detail::body_keys())
-      os << k.key << " = " << format_value(def.body[i], k.ref, "[[body]] " + std::string(k.key)) << "\n";
+    for (const BodyKey& k : scene_detail::body_keys()) {
+      const std::string v = format_value(def.body[i], k.ref, "[[body]] " + std::string(k.key));
+      if (!v.empty()) os << k.key << " = " << v << "\n";  // an absent optional key (pivot) is not written
+    }
   }
   return os.str();
 }

@@ -49,6 +49,14 @@ std::span<const SectionKey> section_keys() {
        "seed of the GSL mt19937 stream that places them"},
       {"bodies", "max_attempts", Kind::Int, DC_FIELD(int, WorldDef, bodies.max_attempts),
        "rejection-sampling budget before giving up (error)"},
+      {"bodies", "shape", Kind::String, DC_FIELD(std::string, WorldDef, bodies.shape),
+       "circle, box, polygon or ellipse (non-circles get a random angle)"},
+      {"bodies", "size", Kind::Vec2, DC_FIELD(Vec2, WorldDef, bodies.size), "box: width, height [m]"},
+      {"bodies", "sides", Kind::Int, DC_FIELD(int, WorldDef, bodies.sides),
+       "regular polygon: sides 3..16 (circumradius = radius); 0 = use vertices"},
+      {"bodies", "vertices", Kind::Points, DC_FIELD(std::vector<Vec2>, WorldDef, bodies.vertices),
+       "polygon: convex, counter-clockwise [[x, y], ...] [m]"},
+      {"bodies", "semi_axes", Kind::Vec2, DC_FIELD(Vec2, WorldDef, bodies.semi_axes), "ellipse: a, b [m]"},
   };
   return keys;
 }
@@ -61,6 +69,13 @@ std::span<const BodyKey> body_keys() {
       {"omega", Kind::Number, DC_FIELD(double, BodyDef, omega)},
       {"radius", Kind::Number, DC_FIELD(double, BodyDef, radius)},
       {"density", Kind::Number, DC_FIELD(double, BodyDef, density)},
+      {"shape", Kind::String, DC_FIELD(std::string, BodyDef, shape)},
+      {"size", Kind::Vec2, DC_FIELD(Vec2, BodyDef, size)},
+      {"sides", Kind::Int, DC_FIELD(int, BodyDef, sides)},
+      {"vertices", Kind::Points, DC_FIELD(std::vector<Vec2>, BodyDef, vertices)},
+      {"semi_axes", Kind::Vec2, DC_FIELD(Vec2, BodyDef, semi_axes)},
+      {"motion", Kind::String, DC_FIELD(std::string, BodyDef, motion)},
+      {"pivot", Kind::OptionalVec2, DC_FIELD(std::optional<Vec2>, BodyDef, pivot)},
   };
   return keys;
 }

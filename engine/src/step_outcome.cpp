@@ -1,12 +1,46 @@
 #include "dc/engine/step_outcome.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/narrow_phase.hpp"
 
 namespace dc {
+namespace {
+
+/// integrate_bodies for a scene with a shape table: dynamic bodies as in the circle loop;
+/// static bodies stay; kinematic bodies move with their prescribed v, ω, or rotate about their
+/// pivot p: x ← p + R(ω Δt)(x − p), v = ω × (x − p).
+void integrate_with_motion(const Eigen::VectorXd& impulse, Vec2 g, double dt, BodyState& s) {
+  const int n = static_cast<int>(s.size());
+  for (int k = 0; k < n; ++k) {
+    const auto i = static_cast<size_t>(k);
+    switch (s.shapes.motion[i]) {
+      case Motion::Dynamic:
+        s.velocity[i] += dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
+        s.omega[i] += s.inv_inertia[i] * impulse[3 * k + 2];
+        s.position[i] += dt * s.velocity[i];
+        s.angle[i] += dt * s.omega[i];
+        break;
+      case Motion::Static: break;
+      case Motion::Kinematic:
+        if (s.shapes.has_pivot[i]) {
+          const Vec2 p = s.shapes.pivot[i], r = s.position[i] - p;
+          const double c = std::cos(s.omega[i] * dt), sn = std::sin(s.omega[i] * dt);
+          s.position[i] = p + Vec2{c * r.x - sn * r.y, sn * r.x + c * r.y};
+          s.velocity[i] = s.omega[i] * perp(s.position[i] - p);
+        } else {
+          s.position[i] += dt * s.velocity[i];
+        }
+        s.angle[i] += dt * s.omega[i];
+        break;
+    }
+  }
+}
+
+}  // namespace
 
 void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
                       Eigen::VectorXd& impulse) {
@@ -22,6 +56,10 @@ void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g
     impulse = p.J.transpose() * lambda * dt;
   } else {
     impulse = Eigen::VectorXd::Zero(3 * n);
+  }
+  if (!s.shapes.empty()) {
+    integrate_with_motion(impulse, g, dt, s);
+    return;
   }
   for (int k = 0; k < n; ++k) {
     const auto i = static_cast<size_t>(k);

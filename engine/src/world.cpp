@@ -27,11 +27,17 @@ World::World(WorldDef def, BodyState bodies) : def_(std::move(def)), bodies_(std
   const std::size_t n = bodies_.size();
   if (bodies_.angle.size() != n || bodies_.velocity.size() != n || bodies_.omega.size() != n ||
       bodies_.radius.size() != n || bodies_.mass.size() != n || bodies_.inv_mass.size() != n ||
-      bodies_.inertia.size() != n || bodies_.inv_inertia.size() != n)
+      bodies_.inertia.size() != n || bodies_.inv_inertia.size() != n ||
+      (!bodies_.shapes.empty() && bodies_.shapes.size() != n))
     throw InvalidArgument("World: body state arrays have inconsistent sizes");
 }
 
 const std::vector<Contact>& World::collide() {
+  if (!bodies_.shapes.empty()) {  // shapes or static/kinematic bodies (shape_narrow_phase.hpp)
+    shape_narrow_phase_.collide(bodies_, def_, broad_phase_, contacts_);
+    if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
+    return contacts_;
+  }
   const int n = static_cast<int>(bodies_.size());
   const double dt = def_.time.dt;
   contacts_.clear();

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "dc/engine/error.hpp"
+#include "dc/engine/shape.hpp"
 
 namespace dc {
 namespace {
@@ -53,6 +54,8 @@ void WorldDef::validate() const {
   finite("[bodies] mean[1]", bodies.mean.y);
   non_negative("[bodies] sigma", bodies.sigma);
   if (bodies.max_attempts < 1) bad("[bodies] max_attempts", "an integer >= 1", bodies.max_attempts);
+  (void)build_shape(bodies.shape, bodies.radius, bodies.size, bodies.sides, bodies.vertices, bodies.semi_axes,
+                    "[bodies] ");
   for (std::size_t i = 0; i < body.size(); ++i) {
     const std::string k = "[[body]] #" + std::to_string(i + 1) + " ";
     const BodyDef& b = body[i];
@@ -64,6 +67,13 @@ void WorldDef::validate() const {
     finite(k + "omega", b.omega);
     positive(k + "radius", b.radius);
     positive(k + "density", b.density);
+    (void)build_shape(b.shape, b.radius, b.size, b.sides, b.vertices, b.semi_axes, k);
+    const Motion m = parse_motion(b.motion, k + "motion");
+    if (b.pivot) {
+      finite(k + "pivot[0]", b.pivot->x);
+      finite(k + "pivot[1]", b.pivot->y);
+      if (m != Motion::Kinematic) throw ConfigError(k + "pivot: only a kinematic body has a pivot");
+    }
   }
 }
 

@@ -1,5 +1,7 @@
 #include "dc/io/trajectory_recorder.hpp"
 
+#include <cmath>
+
 #include "dc/engine/error.hpp"
 #include "dc/io/h5.hpp"
 
@@ -9,6 +11,8 @@ TrajectoryRecorder::TrajectoryRecorder(const World& world) : n_(world.bodies().s
   const BodyState& s = world.bodies();
   radius_ = s.radius;
   mass_ = s.mass;
+  shapes_ = s.shapes;
+  if (shapes_.empty()) shapes_.add_circles(n_);  // a circle-only scene: all kind 0, motion 0
   record_state(s);
   step_offset_.push_back(0);
 }
@@ -36,6 +40,7 @@ void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
     gap_.push_back(c.gap);
     lambda_.push_back(c.lambda_n);
     lambda_.push_back(c.lambda_t);
+    feature_.push_back(c.key.feature);
   }
   step_offset_.push_back(static_cast<std::int64_t>(body_a_.size()));
   sweeps_.push_back(r.solve.sweeps);
@@ -53,7 +58,7 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   AtomicH5File out(path);
   H5File& f = out.file();
   f.set_attribute("/", "format", "deepcontact-trajectory");
-  f.set_attribute<std::int32_t>("/", "format_version", 1);
+  f.set_attribute<std::int32_t>("/", "format_version", kTrajectoryFormatVersion);
   f.set_attribute("/", "scene", scene);
   f.set_attribute("/", "warmstart", warmstart);
   f.write<double>("/bodies/position", position_, {S + 1, n, 2}, opt(S + 1));
@@ -62,6 +67,30 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   f.write<double>("/bodies/omega", omega_, {S + 1, n}, opt(S + 1));
   f.write<double>("/bodies/radius", radius_, {n});
   f.write<double>("/bodies/mass", mass_, {n});
+  // Shape table (format_version 2): kind and motion per body, polygon vertices (body frame,
+  // centroid at the origin) as rows [vertex_offset[k], vertex_offset[k+1]), ellipse semi-axes.
+  std::vector<std::uint8_t> kind(n), motion(n);
+  std::vector<double> verts, semi, pivot;
+  for (std::size_t k = 0; k < n_; ++k) {
+    kind[k] = static_cast<std::uint8_t>(shapes_.kind[k]);
+    motion[k] = static_cast<std::uint8_t>(shapes_.motion[k]);
+    semi.push_back(shapes_.semi_axes[k].x);
+    semi.push_back(shapes_.semi_axes[k].y);
+    pivot.push_back(shapes_.has_pivot[k] ? shapes_.pivot[k].x : NAN);
+    pivot.push_back(shapes_.has_pivot[k] ? shapes_.pivot[k].y : NAN);
+  }
+  for (const Vec2 v : shapes_.vertices) {
+    verts.push_back(v.x);
+    verts.push_back(v.y);
+  }
+  const std::vector<std::int64_t> offsets(shapes_.vertex_offset.begin(), shapes_.vertex_offset.end());
+  const hsize_t V = shapes_.vertices.size();
+  f.write<std::uint8_t>("/bodies/shape/kind", kind, {n});
+  f.write<std::uint8_t>("/bodies/shape/motion", motion, {n});
+  f.write<std::int64_t>("/bodies/shape/vertex_offset", offsets, {n + 1});
+  f.write<double>("/bodies/shape/vertices", verts, {V, 2});
+  f.write<double>("/bodies/shape/semi_axes", semi, {n, 2});
+  f.write<double>("/bodies/shape/pivot", pivot, {n, 2});
   f.write<std::int64_t>("/contacts/step_offset", step_offset_, {S + 1});
   f.write<std::int32_t>("/contacts/body_a", body_a_, {C}, opt(C));
   f.write<std::int32_t>("/contacts/body_b", body_b_, {C}, opt(C));
@@ -69,6 +98,7 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   f.write<double>("/contacts/normal", normal_, {C, 2}, opt(C));
   f.write<double>("/contacts/gap", gap_, {C}, opt(C));
   f.write<double>("/contacts/lambda", lambda_, {C, 2}, opt(C));
+  f.write<std::int32_t>("/contacts/feature", feature_, {C}, opt(C));
   f.write<std::int32_t>("/solver/sweeps", sweeps_, {S});
   f.write<std::int32_t>("/solver/status", status_, {S});
   f.write<double>("/solver/theta_final", theta_final_, {S});

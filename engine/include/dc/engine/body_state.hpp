@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "dc/engine/shape.hpp"
 #include "dc/engine/vec2.hpp"
 
 namespace dc {
@@ -21,11 +22,23 @@ struct BodyState {
   std::vector<double> inertia;   ///< I_k = ½ m r² [kg·m²]
   std::vector<double> inv_mass;  ///< 1/m_k [1/kg]
   std::vector<double> inv_inertia;  ///< 1/I_k [1/(kg·m²)]
+  /// Shapes and motion types (shape.hpp). Empty while every body is a dynamic circle (the
+  /// seed's case: the engine then runs its circle-only path); filled for all bodies as soon
+  /// as one body is added with add_shaped(). radius is then the bounding radius.
+  ShapeTable shapes;
 
   [[nodiscard]] std::size_t size() const { return position.size(); }
 
   /// Appends one circle; computes mass and inertia from radius and density.
   void add(Vec2 x, double r, double rho, Vec2 v = {}, double theta = 0.0, double w = 0.0);
+  /// Appends a body of any shape and motion. Static and kinematic bodies get mass, inertia
+  /// and their inverses 0 (infinite mass: no columns in J, no energy); dynamic ones get them
+  /// from the shape and density. A kinematic body keeps `v` and `w` as its prescribed motion
+  /// (with a pivot: rotation about it at ω; v is then set from ω × (x − pivot)).
+  void add_shaped(const ShapeDef& shape, Motion motion, Vec2 x, double rho, Vec2 v = {}, double theta = 0.0,
+                  double w = 0.0, bool has_pivot = false, Vec2 pivot = {});
+  /// True when body k obeys the LCP (always, for a scene without a shape table).
+  [[nodiscard]] bool is_dynamic(std::size_t k) const { return shapes.empty() || shapes.is_dynamic(k); }
   void reserve(std::size_t n);
 };
 

@@ -21,11 +21,19 @@ class UniformGridBroadPhase {
   void find_pairs(const std::vector<Vec2>& centres, const std::vector<double>& reach,
                   std::vector<std::pair<int, int>>& pairs);
 
+  /// Candidate pairs whose axis-aligned boxes [lo_k, hi_k] overlap: the shapes' real boxes
+  /// (rotation and speculative reach included by the caller). Same grid, same guarantees.
+  void find_box_pairs(const std::vector<Vec2>& lo, const std::vector<Vec2>& hi,
+                      std::vector<std::pair<int, int>>& pairs);
+
   /// Box-overlap tests the last find_pairs() performed: the broad phase's work, a
   /// load-independent measure of its cost (linear in n for bodies of similar size).
   [[nodiscard]] std::size_t last_pair_tests() const { return pair_tests_; }
 
  private:
+  /// The grid search over boxes given by accessors (the circle and the box entry points).
+  template <class Lo, class Hi, class Extent>
+  void find(int n, const Lo& lo, const Hi& hi, const Extent& extent, std::vector<std::pair<int, int>>& pairs);
   std::size_t pair_tests_ = 0;
   // Reused buffers (no allocation in steady state).
   std::vector<int> cell_start_, cell_items_, body_cells_;

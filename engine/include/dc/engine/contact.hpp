@@ -70,6 +70,10 @@ struct Contact {
   double approach_velocity = 0;
   /// … and whether this step's normal row aims at the bounce −e·approach_velocity.
   bool restitution_due = false;
+  /// Witness points on each surface in the body frames of a and b (a wall's: the world point
+  /// on its plane); set by the shape narrow phase, where contact_gap() re-measures the gap of a
+  /// pair with a non-circle as n·(p_b − p_a) from them. Unused for circle pairs.
+  Vec2 anchor_a, anchor_b;
 };
 
 /// For each contact of `current`, the index of the contact with the same key in `previous`,

@@ -23,6 +23,7 @@
 #include "dc/engine/contact.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/engine/step_outcome.hpp"
 #include "dc/engine/world_def.hpp"
 
@@ -104,6 +105,7 @@ class World {
   std::vector<Contact> previous_;
   LcpProblem problem_;
   UniformGridBroadPhase broad_phase_;
+  ShapeNarrowPhase shape_narrow_phase_;  ///< collide() of scenes with a shape table
 };
 
 /// Generated (seeded Gaussian, rejection-sampled) plus explicit circles of a definition.

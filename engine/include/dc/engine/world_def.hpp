@@ -5,6 +5,7 @@
 // 3000 PGS sweeps. Every field maps 1:1 to a TOML key `[section] key` (docs/scenes.md).
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,18 +67,32 @@ struct BodiesSection {
   double sigma = 4.65;           ///< standard deviation per axis [m] (seed: 1.2·√15)
   std::uint64_t seed = 1;        ///< seed of the GSL mt19937 stream that places them
   int max_attempts = 1000000;    ///< rejection-sampling budget before giving up (error)
+  // Shape of the generated bodies (as [[body]]; shape.hpp). Non-circles are placed by their
+  // bounding circle and get a uniformly random angle (drawn after the position).
+  std::string shape = "circle";  ///< "circle" | "box" | "polygon" | "ellipse"
+  Vec2 size{1.0, 1.0};           ///< box: width, height [m]
+  int sides = 0;                 ///< regular polygon: sides (3..16), circumradius = radius
+  std::vector<Vec2> vertices;    ///< explicit convex polygon, body frame, CCW [m]
+  Vec2 semi_axes{1.0, 0.5};      ///< ellipse: a, b [m]
 
   friend bool operator==(const BodiesSection&, const BodiesSection&) = default;
 };
 
-/// One explicitly placed circle (`[[body]]` in TOML), added after the generated ones.
+/// One explicitly placed body (`[[body]]` in TOML), added after the generated ones.
 struct BodyDef {
-  Vec2 position;
-  Vec2 velocity;
-  double angle = 0.0;
-  double omega = 0.0;
-  double radius = 1.0;
-  double density = 1.0;
+  Vec2 position;                 ///< centre of mass [m] (a polygon's vertices are shifted to it)
+  Vec2 velocity;                 ///< [m/s]; a kinematic body's prescribed velocity
+  double angle = 0.0;            ///< [rad]
+  double omega = 0.0;            ///< [rad/s]; a kinematic body's prescribed angular velocity
+  double radius = 1.0;           ///< circle radius; regular polygon circumradius [m]
+  double density = 1.0;          ///< areal density [kg/m²]
+  std::string shape = "circle";  ///< "circle" | "box" | "polygon" | "ellipse"
+  Vec2 size{1.0, 1.0};           ///< box: width, height [m]
+  int sides = 0;                 ///< regular polygon: number of sides (3..16); 0 = not regular
+  std::vector<Vec2> vertices;    ///< explicit convex polygon, body frame, CCW [m]
+  Vec2 semi_axes{1.0, 0.5};      ///< ellipse: a, b [m]
+  std::string motion = "dynamic";  ///< "dynamic" | "static" | "kinematic"
+  std::optional<Vec2> pivot;     ///< kinematic: rotate about this world point at omega [m]
 
   friend bool operator==(const BodyDef&, const BodyDef&) = default;
 };

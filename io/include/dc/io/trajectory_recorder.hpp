@@ -11,6 +11,9 @@
 
 namespace dc {
 
+/// Version of the trajectory layout written (2: shape table /bodies/shape/*, /contacts/feature).
+inline constexpr std::int32_t kTrajectoryFormatVersion = 2;
+
 class TrajectoryRecorder {
  public:
   /// Records state 0 of `world`.
@@ -29,7 +32,8 @@ class TrajectoryRecorder {
   std::size_t n_;
   std::vector<double> position_, angle_, velocity_, omega_, radius_, mass_;
   std::vector<std::int64_t> step_offset_;
-  std::vector<std::int32_t> body_a_, body_b_, sweeps_, status_;
+  std::vector<std::int32_t> body_a_, body_b_, sweeps_, status_, feature_;
+  ShapeTable shapes_;
   std::vector<double> point_, normal_, gap_, lambda_, theta_final_, residual_;
 };
 
