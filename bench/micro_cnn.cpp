@@ -7,11 +7,16 @@
 //                                     builtin warm start), then collide + assemble. Counters:
 //                                     features_ms, inference_ms, gather_ms (the starter's own
 //                                     split, mean per call), contacts.
+//   cnn_warm_start_parts/…            the same three parts timed separately in thread CPU µs
+//                                     (cpu_us_features, cpu_us_network = standardise + network
+//                                     at the stencil nodes, cpu_us_readback = label conversion
+//                                     + Shepard gather + projection).
 //   cnn_warm_start_predict_all/…      the same with the read-back of before issue 11: predict()
 //                                     converts all 2·61·61 outputs (de-standardise, s·sinh).
 //   cnn_layers/<model>/step:<k>       Model::predict's parts: standardise, every network node
 //                                     (conv incl. its concatenation, upsample, ...), de-standardise;
-//                                     one counter per node in µs (mean per call).
+//                                     one counter per node in thread CPU µs (mean per call),
+//                                     the whole output computed (Network::forward).
 //
 // Models: DC_CNN_MODELS = comma-separated model files (name = file stem), default the shipped
 // DC_SOURCE_DIR/models/default.h5. Time: CPU time of the one thread (OMP_NUM_THREADS is
@@ -20,7 +25,7 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
-#include <chrono>
+#include <ctime>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -34,6 +39,7 @@
 #include "dc/learning/cnn_warm_starter.hpp"
 #include "dc/learning/labels.hpp"
 #include "dc/learning/model_file.hpp"
+#include "dc/warmstart/sph_grid.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 
 namespace {
@@ -67,6 +73,59 @@ const dc::World& seed_world(int steps) {
     w->assemble();
   }
   return *w;
+}
+
+/// CPU time of this thread [ms]: the per-part counters stay meaningful on a loaded machine.
+double cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
+}
+
+/// features → network_output_at → guess_from_output, each part timed in CPU ms: the
+/// starter's initial_guess without the residual add (its own split is wall time).
+void BM_CnnWarmStartParts(benchmark::State& state, std::string path, int steps) {
+  const dc::World& world = seed_world(steps);
+  auto starter = dc::CnnWarmStarter::load(path, "cnn", false);
+  omp_set_num_threads(1);
+  dc::Model& model = starter->model();
+  dc::FeatureImageDef def = model.grid().image;
+  def.sph.grid.width = world.def().world.width;
+  def.sph.grid.height = world.def().world.height;
+  dc::FeatureImageBuilder builder(def);
+  dc::Tensor features(1, builder.feature_channels(), builder.ny(), builder.nx());
+  const bool residual = model.grid().labels.kind == dc::LabelKind::Residual;
+  // The stencil nodes, as the starter lists them (its own list is private).
+  std::vector<int> pixels;
+  {
+    dc::SphGrid g(dc::SphGridDef{def.sph.grid.width, def.sph.grid.height, def.sph.grid.spacing, 1});
+    std::vector<char> seen(static_cast<std::size_t>(g.nx() * g.ny()), 0);
+    for (const dc::Contact& c : world.contacts()) {
+      const dc::BilinearStencil st = g.stencil(c.point);
+      for (int j : {st.j0, st.j1})
+        for (int i : {st.i0, st.i1})
+          if (!seen[static_cast<std::size_t>(j * g.nx() + i)]++) pixels.push_back(j * g.nx() + i);
+    }
+  }
+  double f = 0, n = 0, r = 0;
+  for (auto _ : state) {
+    const double t0 = cpu_ms();
+    builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
+                     std::span<float>(features.data(), features.size()));
+    const double t1 = cpu_ms();
+    const dc::Tensor& y = model.network_output_at(features, pixels);
+    const double t2 = cpu_ms();
+    benchmark::DoNotOptimize(starter->guess_from_output(world, y, !residual).data());
+    const double t3 = cpu_ms();
+    f += t1 - t0;
+    n += t2 - t1;
+    r += t3 - t2;
+  }
+  const double it = static_cast<double>(state.iterations());
+  state.counters["cpu_us_features"] = 1e3 * f / it;
+  state.counters["cpu_us_network"] = 1e3 * n / it;
+  state.counters["cpu_us_readback"] = 1e3 * r / it;
+  state.counters["stencil_nodes"] = static_cast<double>(pixels.size());
 }
 
 void BM_CnnWarmStart(benchmark::State& state, std::string path, int steps) {
@@ -121,23 +180,20 @@ void BM_CnnLayers(benchmark::State& state, std::string path, int steps) {
   dc::Network& net = model.network();
   std::vector<double> node_ms, sum(net.size(), 0.0);
   double standardise = 0, destandardise = 0;
-  using Clock = std::chrono::steady_clock;
-  const auto ms = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-  };
+  dc::Tensor y;
   for (auto _ : state) {
-    const auto t0 = Clock::now();
+    const double t0 = cpu_ms();
     x = features;
     model.input_stats.apply(x);
-    const auto t1 = Clock::now();
-    dc::Tensor y = net.forward(x, false, &node_ms);
-    const auto t2 = Clock::now();
+    const double t1 = cpu_ms();
+    y = net.forward(x, false, &node_ms);
+    const double t2 = cpu_ms();
     model.output_stats.invert(y);
     dc::expand_labels(y, model.grid().labels.scale);
     benchmark::DoNotOptimize(y.data());
-    const auto t3 = Clock::now();
-    standardise += ms(t0, t1);
-    destandardise += ms(t2, t3);
+    const double t3 = cpu_ms();
+    standardise += t1 - t0;
+    destandardise += t3 - t2;
     for (std::size_t i = 0; i < node_ms.size(); ++i) sum[i] += node_ms[i];
   }
   const double n = static_cast<double>(state.iterations());
@@ -164,6 +220,8 @@ int main(int argc, char** argv) {
     for (int steps : {150, 400}) {
       const std::string tail = "/" + stem + "/step:" + std::to_string(steps);
       benchmark::RegisterBenchmark(("cnn_warm_start" + tail).c_str(), BM_CnnWarmStart, path, steps)
+          ->Unit(benchmark::kMicrosecond);
+      benchmark::RegisterBenchmark(("cnn_warm_start_parts" + tail).c_str(), BM_CnnWarmStartParts, path, steps)
           ->Unit(benchmark::kMicrosecond);
       benchmark::RegisterBenchmark(("cnn_warm_start_predict_all" + tail).c_str(), BM_CnnWarmStartPredictAll, path,
                                    steps)

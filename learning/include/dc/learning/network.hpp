@@ -33,8 +33,8 @@ class Network {
   Network& operator=(Network&&) noexcept = default;
 
   /// Forward a batch [N, C, H, W]; the returned reference stays valid until the next call.
-  /// `node_ms` (optional, for profiling) receives the wall milliseconds of each node
-  /// (its concatenation included), resized to size().
+  /// `node_ms` (optional, for profiling) receives the CPU milliseconds of the calling thread
+  /// in each node (its concatenation included; a one-thread figure), resized to size().
   const Tensor& forward(const Tensor& x, bool training, std::vector<double>* node_ms = nullptr);
   /// Inference of one sample [1, C, H, W] at selected output pixels only (indices y·W + x of
   /// the output plane; the cnn starter reads ~500 of 61·61). When the last node is a 1×1,
