@@ -6,18 +6,20 @@
 #      scene seeds 1000..1000+M-1 — disjoint from the bench's evaluation seeds 1..8 — with the
 #      residual feature channels (the builtin warm start, relative velocity and gap at the
 #      contacts on the grid; docs/learning.md "Residual models").
-#   2. deepcontact train: the 5-level U-Net models/arch/unet-deep-slim.toml as a RESIDUAL model
+#   2. deepcontact train: the cheap U-Net models/arch/unet-fast.toml (stride-2 first layer, a
+#      31 -> 16 -> 8 -> 4 U-Net and a 1x1 head at 61 x 61; issue 11) as a RESIDUAL model
 #      (learns λ* − λ_prev, asinh-compressed with scale 10, loss weight 11 at contact nodes,
 #      corrections below DEADZONE N ignored at inference) on
 #      every 4th step of each simulation (consecutive steps are nearly identical), validation =
 #      20 % of the simulations.
 #
 # Sized for a 2-core machine: 32 x 600 steps = 19176 samples, of which 4795 are used; on an
-# idle 2-core box about 1 min of generation and 16 x ~16 s of training (docs/learning.md
-# "Default model" has the measured times).
+# idle 2-core box about 1.5 min of generation and a few seconds per epoch of training
+# (docs/learning.md "Default model" has the measured times). ARCH overrides the architecture
+# (the model shipped before issue 11 was ARCH=models/arch/unet-deep-slim.toml).
 # THREADS is fixed (not nproc) because a training is bit-reproducible only for the same
 # thread count; the data set does not depend on it. Environment overrides: BUILD (build dir,
-# default build), SIMS, EPOCHS, EVERY, THREADS, DEADZONE; DATA (the data set path), OUT (the model).
+# default build), SIMS, EPOCHS, EVERY, THREADS, DEADZONE, ARCH; DATA (the data set path), OUT (the model).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,6 +32,7 @@ THREADS=${THREADS:-2}
 # The dead zone [N] of the residual correction, chosen on validation seeds 500..501 (neither
 # training nor evaluation seeds; docs/learning.md "Default model").
 DEADZONE=${DEADZONE:-20}
+ARCH=${ARCH:-models/arch/unet-fast.toml}
 DATA=${DATA:-$BUILD/data/default-train-residual-s1000-m$SIMS.h5}
 CHANNELS=mass,vx,vy,omega,contact_density,lambda_prev_n,lambda_prev_t,vrel_n,vrel_t,gap
 # h = d = 0.5, not the sph starter's h = 0.355: the read-back divides by the kernel-weight
@@ -56,7 +59,7 @@ RESUME=()
 [ -f "$OUT.ckpt" ] && RESUME=(--resume) && echo "== resuming the interrupted training from $OUT.ckpt"
 echo "== training $OUT"
 "$DC" train --data "$DATA" --out "$OUT" --force "${RESUME[@]}" \
-  --arch models/arch/unet-deep-slim.toml --residual --label-scale 10 --contact-weight 10 --deadzone "$DEADZONE" \
+  --arch "$ARCH" --residual --label-scale 10 --contact-weight 10 --deadzone "$DEADZONE" \
   --epochs "$EPOCHS" --every "$EVERY" --batch 32 --lr 5e-3 --momentum 0.9 --weight-decay 1e-4 \
   --val 0.2 --seed 1 --threads "$THREADS"
 end=$(date +%s)

@@ -170,6 +170,8 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
   // Contacts: (nx, ny) at the points plus their weight field (the contact density).
   const bool contact_fields = uses_contact_fields(def_.channels);
   if (contact_fields) {
+    const bool normals = std::find(def_.channels.begin(), def_.channels.end(), FeatureChannel::Nx) != def_.channels.end() ||
+                         std::find(def_.channels.begin(), def_.channels.end(), FeatureChannel::Ny) != def_.channels.end();
     points_.clear();
     values_.clear();
     for (const Contact& c : contacts) {
@@ -177,7 +179,11 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(c.normal.x);
       values_.push_back(c.normal.y);
     }
-    splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
+    // The contact density alone (the residual model's channels) needs no normal field.
+    if (normals)
+      splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
+    else
+      splat_weights(kernel_, points_, contact_weight_);
   }
 
   // Per-contact values (numerators, like the labels): builtin λ, relative velocity, gap.

@@ -42,12 +42,31 @@ Model::Model(ArchSpec arch, ModelGrid grid, int in_channels)
 }
 
 Tensor Model::predict(const Tensor& features) {
-  scratch_ = features;
-  input_stats.apply(scratch_);
-  Tensor out = net_.forward(scratch_, false);
+  Tensor out = network_output(features);
   output_stats.invert(out);
   expand_labels(out, grid_.labels.scale);
   return out;
+}
+
+const Tensor& Model::network_output(const Tensor& features) {
+  scratch_ = features;
+  input_stats.apply(scratch_);
+  return net_.forward(scratch_, false);
+}
+
+const Tensor& Model::network_output_at(const Tensor& features, std::span<const int> pixels) {
+  scratch_ = features;
+  input_stats.apply(scratch_);
+  net_.forward_at(scratch_, pixels, out_);
+  return out_;
+}
+
+float Model::label_value(int c, float y) const {
+  const auto i = static_cast<std::size_t>(c);
+  // The operations of ChannelStats::invert and expand_labels, in the same float order.
+  const float v = y * output_stats.std[i] + output_stats.mean[i];
+  const double scale = grid_.labels.scale;
+  return scale > 0 ? static_cast<float>(scale) * std::sinh(v) : v;
 }
 
 }  // namespace dc

@@ -1,5 +1,8 @@
 #include "dc/learning/network.hpp"
 
+#include <algorithm>
+#include <ctime>
+#include <cmath>
 #include <map>
 #include <sstream>
 
@@ -12,6 +15,16 @@
 #include "dc/learning/upsample.hpp"
 
 namespace dc {
+
+namespace {
+/// CPU time of the calling thread [ms] (profiling on a loaded machine: wall time would
+/// count the time the thread was descheduled).
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
+}
+}  // namespace
 
 Network::Network(ArchSpec arch, const Shape& in) : arch_(std::move(arch)), in_{1, in.c, in.h, in.w} {
   if (in_.c <= 0 || in_.h <= 0 || in_.w <= 0) throw ConfigError("network: empty input shape " + in_.str());
@@ -80,9 +93,11 @@ const Tensor& Network::input_of(std::size_t i, const Tensor& x) {
   return cat_[i];
 }
 
-const Tensor& Network::forward(const Tensor& x, bool training) {
+const Tensor& Network::forward(const Tensor& x, bool training, std::vector<double>* node_ms) {
   require_shape(x.shape(), in_.with_batch(x.n()), "Network::forward input");
+  if (node_ms) node_ms->assign(nodes_.size(), 0.0);
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const double t0 = node_ms ? thread_cpu_ms() : 0.0;
     Node& node = nodes_[i];
     if (node.inputs.size() > 1) {
       std::vector<const Tensor*> ins;
@@ -90,9 +105,79 @@ const Tensor& Network::forward(const Tensor& x, bool training) {
       concat_channels(ins, cat_[i]);
     }
     node.layer->forward(input_of(i, x), act_[i], training);
+    if (node_ms) (*node_ms)[i] = thread_cpu_ms() - t0;
   }
   last_x_ = &x;
   return act_.back();
+}
+
+bool Network::forward_at(const Tensor& x, std::span<const int> pixels, Tensor& out) {
+  require_shape(x.shape(), in_, "Network::forward_at input");
+  const std::size_t last = nodes_.size() - 1;
+  auto* head = dynamic_cast<Conv2d*>(nodes_[last].layer.get());
+  if (head == nullptr || head->kernel() != 1 || head->stride() != 1) {
+    out = forward(x, false);
+    return false;
+  }
+  // Upsample nodes read only by the head are not materialised: the head reads their source.
+  std::vector<int> consumers(nodes_.size(), 0);
+  for (const Node& n : nodes_)
+    for (int j : n.inputs)
+      if (j >= 0) ++consumers[static_cast<std::size_t>(j)];
+  std::vector<char> virtual_up(nodes_.size(), 0);
+  for (int j : nodes_[last].inputs)
+    if (j >= 0 && consumers[static_cast<std::size_t>(j)] == 1 &&
+        nodes_[static_cast<std::size_t>(j)].layer->type() == "upsample" &&
+        nodes_[static_cast<std::size_t>(j)].inputs.size() == 1)
+      virtual_up[static_cast<std::size_t>(j)] = 1;
+  for (std::size_t i = 0; i < last; ++i) {
+    if (virtual_up[i]) continue;
+    Node& node = nodes_[i];
+    if (node.inputs.size() > 1) {
+      std::vector<const Tensor*> ins;
+      for (int j : node.inputs) ins.push_back(j < 0 ? &x : &act_[static_cast<std::size_t>(j)]);
+      concat_channels(ins, cat_[i]);
+    }
+    node.layer->forward(input_of(i, x), act_[i], false);
+  }
+  // The head's input channels as (plane base, width, nearest-upsampled?) triples.
+  struct Source {
+    const float* data;
+    int plane, w;
+    bool up;
+  };
+  std::vector<Source> src;
+  for (int j : nodes_[last].inputs) {
+    const bool up = j >= 0 && virtual_up[static_cast<std::size_t>(j)];
+    const int k = up ? nodes_[static_cast<std::size_t>(j)].inputs[0] : j;
+    const Tensor& t = k < 0 ? x : act_[static_cast<std::size_t>(k)];
+    for (int c = 0; c < t.c(); ++c)
+      src.push_back({t.data() + static_cast<std::size_t>(c) * t.shape().plane(), t.h() * t.w(), t.w(), up});
+  }
+  out.resize(out_);
+  const int W = out_.w, P = out_.h * out_.w, cin = static_cast<int>(src.size()), cout = out_.c;
+  const float* wt = head->weight().data();  // [Cout, Cin, 1, 1]
+  const float* b = head->bias().data();
+  std::vector<float> v(static_cast<std::size_t>(cin));
+  for (const int p : pixels) {
+    if (p < 0 || p >= P) throw InvalidArgument("Network::forward_at: pixel " + std::to_string(p) + " outside the output");
+    const int Y = p / W, X = p % W;
+    for (int c = 0; c < cin; ++c) {
+      const Source& s = src[static_cast<std::size_t>(c)];
+      v[static_cast<std::size_t>(c)] = s.up ? s.data[(Y / 2) * s.w + X / 2] : s.data[Y * s.w + X];
+    }
+    // The direct kernel's order: fused multiply-adds over the channels from 0, then + bias.
+    for (int o = 0; o < cout; ++o) {
+      float acc = 0.0f;
+      const float* wo = wt + static_cast<std::size_t>(o) * cin;
+      for (int c = 0; c < cin; ++c) acc = std::fma(wo[c], v[static_cast<std::size_t>(c)], acc);
+      float r = acc + b[o];
+      if (head->relu()) r = std::max(r, 0.0f);
+      out[static_cast<std::size_t>(o) * P + static_cast<std::size_t>(p)] = r;
+    }
+  }
+  last_x_ = nullptr;  // no backward after a sparse pass
+  return true;
 }
 
 void Network::backward(const Tensor& dy) {

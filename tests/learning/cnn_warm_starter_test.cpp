@@ -177,6 +177,39 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   EXPECT_THROW(Model(ArchSpec::parse("name = \"x\"\n[[layer]]\ntype = \"conv\"\nout = 2\n"), bad, 5), ConfigError);
 }
 
+// The starter converts only the nodes its read-back reads (guess_from_output); that must be
+// exactly the read-back of the whole predicted label grid, with label compression (s·sinh),
+// over consecutive steps (the per-call node marks must not leak stale values).
+TEST(CnnWarmStarter, ReadBackOfTheStencilNodesEqualsTheWholePredictedGrid) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  Model base = tiny_model(12.0, true);
+  ModelGrid g = base.grid();
+  g.labels.scale = 10.0;
+  Model m(base.network().arch(), g, base.network().input_shape().c);
+  Rng rng(5);
+  m.network().initialize(*make_initializer("he_normal"), rng);
+  m.output_stats = base.output_stats;
+  CnnWarmStarter cnn(std::move(m), "cnn", false);
+  FeatureImageDef img = g.image;
+  FeatureImageBuilder builder(img);
+  Tensor f(1, builder.feature_channels(), builder.ny(), builder.nx());
+  for (int step = 0; step < 3; ++step) {
+    builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
+                     std::span<float>(f.data(), f.size()));
+    const Tensor labels = cnn.model().predict(f);
+    const Eigen::VectorXd whole = cnn.guess_from_labels(world, labels, true);
+    const Tensor y = cnn.model().network_output(f);
+    const Eigen::VectorXd sparse = cnn.guess_from_output(world, y, true);
+    EXPECT_EQ(sparse, whole) << "step " << step;
+    EXPECT_GT(whole.cwiseAbs().maxCoeff(), 0.0);
+    const Eigen::VectorXd star = solve_oracle(world.problem()).lambda;
+    world.integrate(star);
+    world.collide();
+    world.assemble();
+  }
+}
+
 TEST(CnnWarmStarter, HybridKeepsBuiltinForPersistentContacts) {
   World world(tiny_scene());
   advance_to_contacts(world);

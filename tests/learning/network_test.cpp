@@ -3,6 +3,10 @@
 // dropout and the weighted MSE loss.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 #include "dc/engine/error.hpp"
 #include "dc/learning/arch.hpp"
 #include "dc/learning/initializer.hpp"
@@ -196,6 +200,115 @@ out = 2
   EXPECT_LE(bad, checked / 50) << bad << " of " << checked << " entries off";
   // Every parameter tensor received a non-zero gradient (all paths are connected).
   for (std::size_t k = 0; k < params.size(); ++k) EXPECT_GT(grads[k].flat().norm(), 0.0f) << params[k].name;
+}
+
+
+// The shape of models/arch/unet-fast.toml in small: a stride-2 encoder, a decoder at half
+// resolution, a nearest upsampling to the input's size and a 1×1 head over [upsampled, raw input].
+ArchSpec fast_head_arch(bool head_relu) {
+  return ArchSpec::parse(std::string(R"(
+name = "fast-head"
+[[layer]]
+name = "e1"
+type = "conv"
+out = 4
+stride = 2
+relu = true
+[[layer]]
+name = "e2"
+type = "conv"
+out = 5
+stride = 2
+relu = true
+[[layer]]
+name = "u1"
+type = "upsample"
+match = "e1"
+[[layer]]
+name = "d1"
+type = "conv"
+input = ["u1", "e1"]
+out = 4
+relu = true
+[[layer]]
+name = "u0"
+type = "upsample"
+match = "input"
+[[layer]]
+name = "out"
+type = "conv"
+input = ["u0", "input"]
+out = 2
+kernel = 1
+)") + (head_relu ? "relu = true\n" : ""));
+}
+
+TEST(NetworkGrad, HalfResolutionUnetWithFullResolutionOneByOneHead) {
+  Network net(fast_head_arch(false), Shape{1, 3, 11, 9});
+  EXPECT_EQ(net.output_shape(), (Shape{1, 2, 11, 9}));
+  Rng rng(111);
+  net.initialize(HeNormal(), rng);
+  for (ParamRef& p : net.parameters())
+    if (!p.decay) fill_gaussian(*p.value, rng, 0.05);
+  Tensor x(2, 3, 11, 9), t(2, 2, 11, 9);
+  fill_gaussian(x, rng);
+  fill_gaussian(t, rng);
+  MseLoss mse;
+  auto loss = [&](Tensor* grad) { return mse(net.forward(x, true), t, nullptr, grad); };
+  Tensor g;
+  loss(&g);
+  net.backward(g);
+  std::vector<Tensor> grads;
+  auto params = net.parameters();
+  for (const ParamRef& p : params) grads.push_back(*p.grad);
+  int checked = 0, bad = 0;
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    const auto st = check_gradient(params[k].name, *params[k].value, grads[k], [&] { return loss(nullptr); },
+                                   1e-3, 2e-2, rng, 25, 2);
+    checked += st.checked;
+    bad += st.bad;
+  }
+  EXPECT_LE(bad, checked / 50) << bad << " of " << checked << " entries off";
+  for (std::size_t k = 0; k < params.size(); ++k) EXPECT_GT(grads[k].flat().norm(), 0.0f) << params[k].name;
+}
+
+// forward_at evaluates the 1×1 head (and the upsampling only it reads) at the listed pixels:
+// the values there are forward()'s. Any other last layer falls back to forward().
+TEST(NetworkForwardAt, SparseHeadEqualsTheDenseForwardAtTheListedPixels) {
+  for (const bool relu : {false, true}) {
+    Network net(fast_head_arch(relu), Shape{1, 3, 13, 11});
+    Rng rng(7);
+    net.initialize(HeNormal(), rng);
+    for (ParamRef& p : net.parameters())
+      if (!p.decay) fill_gaussian(*p.value, rng, 0.1);
+    Tensor x(1, 3, 13, 11);
+    fill_gaussian(x, rng);
+    const Tensor dense = net.forward(x, false);
+    const int P = 13 * 11;
+    std::vector<int> pixels;
+    for (int p = 0; p < P; p += 3) pixels.push_back(p);
+    pixels.push_back(P - 1);  // the odd last row and column of the nearest upsampling
+    Tensor sparse;
+    EXPECT_TRUE(net.forward_at(x, pixels, sparse));
+    ASSERT_EQ(sparse.shape(), dense.shape());
+    for (int c = 0; c < 2; ++c)
+      for (int p : pixels) {
+        const float want = dense[static_cast<std::size_t>(c * P + p)];
+        EXPECT_NEAR(sparse[static_cast<std::size_t>(c * P + p)], want, 1e-5f * (1.0f + std::abs(want)))
+            << "relu " << relu << " channel " << c << " pixel " << p;
+      }
+    EXPECT_THROW(net.forward_at(x, std::vector<int>{P}, sparse), InvalidArgument);
+  }
+  // A 3×3 head: no sparse path, the dense forward.
+  Network net(ArchSpec::parse("name = \"k3\"\n[[layer]]\ntype = \"conv\"\nout = 2\n"), Shape{1, 3, 7, 7});
+  Rng rng(8);
+  net.initialize(HeNormal(), rng);
+  Tensor x(1, 3, 7, 7), y;
+  fill_gaussian(x, rng);
+  EXPECT_FALSE(net.forward_at(x, std::vector<int>{0, 5}, y));
+  EXPECT_EQ(y.shape(), (Shape{1, 2, 7, 7}));
+  const Tensor dense = net.forward(x, false);
+  for (std::size_t i = 0; i < y.size(); ++i) EXPECT_EQ(y[i], dense[i]);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // Model: everything needed to turn a raw feature grid into a raw label grid — the network,
 // the per-channel standardisation of inputs and outputs, and the grid it was trained for.
 // Persisted by save_model / load_model (model_file.hpp).
+#include <span>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,18 @@ class Model {
   Model(ArchSpec arch, ModelGrid grid, int in_channels);
 
   /// Raw features [N, C_in, ny, nx] → raw labels [N, C_out, ny, nx] (inference mode).
+  /// Equals label_value() of network_output() at every node.
   Tensor predict(const Tensor& features);
+  /// The network's output for raw features, in standardised (and compressed) label units:
+  /// features standardised, then the network in inference mode. The reference stays valid
+  /// until the next call. The cnn starter de-standardises only the nodes it reads back.
+  const Tensor& network_output(const Tensor& features);
+  /// The same at selected output pixels only (Network::forward_at: the other pixels are
+  /// unspecified).
+  const Tensor& network_output_at(const Tensor& features, std::span<const int> pixels);
+  /// The raw label of output channel c from the network's output value y at one node:
+  /// expand(y·std_c + mean_c) — exactly what predict() computes there (float arithmetic).
+  [[nodiscard]] float label_value(int c, float y) const;
 
   [[nodiscard]] const ModelGrid& grid() const { return grid_; }
   Network& network() { return net_; }
@@ -51,7 +63,7 @@ class Model {
  private:
   ModelGrid grid_;
   Network net_;
-  Tensor scratch_;
+  Tensor scratch_, out_;
 };
 
 }  // namespace dc

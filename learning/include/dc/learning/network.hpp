@@ -9,6 +9,7 @@
 // encoder feature map feeding both the next conv and a skip concat) sums their
 // gradients in consumer order. The input gradient of the network is not computed.
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,18 @@ class Network {
   Network& operator=(Network&&) noexcept = default;
 
   /// Forward a batch [N, C, H, W]; the returned reference stays valid until the next call.
-  const Tensor& forward(const Tensor& x, bool training);
+  /// `node_ms` (optional, for profiling) receives the CPU milliseconds of the calling thread
+  /// in each node (its concatenation included; a one-thread figure), resized to size().
+  const Tensor& forward(const Tensor& x, bool training, std::vector<double>* node_ms = nullptr);
+  /// Inference of one sample [1, C, H, W] at selected output pixels only (indices y·W + x of
+  /// the output plane; the cnn starter reads ~500 of 61·61). When the last node is a 1×1,
+  /// stride-1 conv, it and the nearest upsamplings read by it alone are evaluated at
+  /// `pixels` only (a "per-node head" at full resolution costs no full-resolution buffers);
+  /// every other node runs as in forward(). Otherwise this is forward(). `out` is resized to
+  /// the output shape; the listed pixels hold forward()'s values (same float operations; the
+  /// AVX-512 build gives the same bits, the portable GEMM path may differ in the last bits),
+  /// the others are unspecified. Returns true when the sparse path ran.
+  bool forward_at(const Tensor& x, std::span<const int> pixels, Tensor& out);
   /// Backward from dL/dy of the last forward; overwrites every parameter gradient.
   void backward(const Tensor& dy);
 
