@@ -40,6 +40,7 @@
 #include "dc/learning/training_data.hpp"
 #include "dc/warmstart/sph_kernel.hpp"
 #include "progress_bar.hpp"
+#include "train_through_pgs.hpp"
 
 namespace dc::cli {
 namespace {
@@ -69,6 +70,7 @@ struct TrainArgs {
   bool resume = false;
   bool force = false;
   bool no_plot = false;
+  PgsTrainOptions pgs;  // --loss pgs-* (train_through_pgs.hpp)
 };
 
 /// The sample selection and label definition the options ask for.
@@ -85,6 +87,11 @@ TrainingSampleDef sample_def(const TrainArgs& a) {
 void run(const TrainArgs& a) {
   if (a.data.empty()) throw ConfigError("--data is required");
   if (a.out.empty()) throw ConfigError("--out is required");
+  if (a.pgs.loss != "regression") {
+    run_train_through_pgs(a.pgs, {a.data, a.out, a.epochs, a.batch, a.threads, a.every, a.lr, a.momentum,
+                                  a.weight_decay, a.val, a.deadzone, a.seed, a.force});
+    return;
+  }
   if (a.threads < 0) throw ConfigError("--threads must be >= 1");
   const TrainingSampleDef samples_def = sample_def(a);
   samples_def.validate();
@@ -251,6 +258,7 @@ void add_train_command(CLI::App& app) {
   cmd->add_flag("--resume", args->resume, "Continue an interrupted run from OUT.ckpt (same data and options)");
   cmd->add_flag("--force", args->force, "Replace an existing OUT");
   cmd->add_flag("--no-plot", args->no_plot, "Skip the loss-curve PNG");
+  add_pgs_train_options(cmd, args->pgs);
   cmd->callback([args] { run(*args); });
 }
 

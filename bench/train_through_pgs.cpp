@@ -1,0 +1,140 @@
+// deepcontact train --loss pgs-*: replay the data set's simulations to get each kept step's
+// LCP (pgs_samples.hpp), start from the --init residual model, and train it through k
+// unrolled PGS sweeps (pgs_trainer.hpp). Output: OUT (the best validation epoch, atomically),
+// OUT.loss.csv (epoch,train_objective,validation_objective,validation_improved,seconds).
+#include "train_through_pgs.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "sigint_guard.hpp"
+#include "dc/engine/error.hpp"
+#include "dc/io/atomic_file.hpp"
+#include "dc/learning/data_set.hpp"
+#include "dc/learning/model_file.hpp"
+#include "dc/learning/pgs_trainer.hpp"
+
+namespace dc::cli {
+
+namespace fs = std::filesystem;
+
+void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o) {
+  cmd->add_option("--loss", o.loss,
+                  "regression (MSE on the label grids, the default) or pgs-residual / pgs-distance: train a "
+                  "residual --init model through --unroll PGS sweeps (docs/learning.md 'Training through PGS')")
+      ->capture_default_str();
+  cmd->add_option("--unroll", o.unroll, "pgs-*: PGS sweeps unrolled per sample")->capture_default_str();
+  cmd->add_option("--init", o.init, "pgs-*: the residual model to start from (arch, grid, statistics)");
+  cmd->add_option("--time-limit", o.time_limit, "pgs-*: stop training after this many seconds (0 = none)")
+      ->capture_default_str();
+  cmd->add_option("--pgs-floor", o.floor, "pgs-*: f [N] of the objective log(L + rows f^2)")->capture_default_str();
+}
+
+namespace {
+
+/// The init model's network and statistics in a model whose dead zone is `deadzone`.
+Model with_deadzone(Model& init, double deadzone) {
+  ModelGrid g = init.grid();
+  g.labels.deadzone = deadzone;
+  Model m(init.network().arch(), g, init.network().input_shape().c);
+  std::vector<ParamRef> src = init.network().parameters(), dst = m.network().parameters();
+  for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
+  m.input_stats = init.input_stats;
+  m.output_stats = init.output_stats;
+  return m;
+}
+
+}  // namespace
+
+void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
+  PgsTrainDef def;
+  def.loss = parse_pgs_loss(o.loss);
+  def.unroll = o.unroll;
+  def.epochs = c.epochs;
+  def.batch = c.batch;
+  def.learning_rate = c.lr;
+  def.momentum = c.momentum;
+  def.weight_decay = c.weight_decay;
+  def.validation_fraction = c.val;
+  def.seed = c.seed;
+  def.time_limit = o.time_limit;
+  def.floor = o.floor;
+  def.validate();
+  if (o.init.empty()) throw ConfigError("--loss " + o.loss + " needs --init MODEL (a residual model of this data set)");
+  if (c.every < 1) throw ConfigError("--every must be >= 1");
+  if (!(c.deadzone >= 0)) throw ConfigError("--deadzone must be >= 0");
+  if (fs::exists(c.out) && !c.force) throw ConfigError(c.out + " exists; use --force to replace it");
+  if (!fs::exists(c.data)) throw IoError(c.data + ": no such file");
+  if (c.threads > 0) omp_set_num_threads(c.threads);
+
+  const DataSetReader reader(c.data);
+  Model init = load_model(o.init);
+  if (init.grid().nx() != reader.nx() || init.grid().ny() != reader.ny() ||
+      init.network().input_shape().c != reader.feature_channels())
+    throw ConfigError("--init " + o.init + ": its grid or feature channels differ from " + c.data + "'s");
+  Model model = with_deadzone(init, c.deadzone);
+
+  std::vector<int> sims;
+  for (const DataSetSimulation& s : reader.simulations()) sims.push_back(s.index);
+  const SigintGuard sigint;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<PgsSample> samples =
+      collect_pgs_samples(reader.params(), sims, c.every, [] { return !interrupted(); });
+  if (interrupted()) {
+    std::fprintf(stderr, "deepcontact: interrupted while replaying the simulations; nothing written\n");
+    return;
+  }
+  const double replay_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("train: %s, unroll %d: replayed %zu simulations of %s -> %zu samples (every %d) in %.1f s; "
+              "start %s, dead zone %g N, %d epochs, batch %d, lr %g, time limit %g s\n",
+              to_string(def.loss), def.unroll, sims.size(), c.data.c_str(), samples.size(), c.every, replay_s,
+              o.init.c_str(), c.deadzone, def.epochs, def.batch, def.learning_rate, def.time_limit);
+  std::fflush(stdout);
+
+  std::vector<std::size_t> val_idx;
+  {
+    const std::vector<int> val = pgs_validation_simulations(samples, def);
+    for (std::size_t i = 0; i < samples.size(); ++i)
+      if (std::find(val.begin(), val.end(), samples[i].simulation) != val.end()) val_idx.push_back(i);
+    const auto [j0, better0] = pgs_objective_mean(model, samples, val_idx, def);
+    std::printf("train: the --init model: validation objective %.4f (%.0f %% of steps better than builtin after %d "
+                "sweeps; 0 = builtin, log-units of the loss)\n", j0, 100 * better0, def.unroll);
+    std::fflush(stdout);
+  }
+  std::ostringstream csv;
+  csv << "epoch,train_objective,validation_objective,validation_improved,seconds\n";
+  double best = INFINITY;
+  int best_epoch = -1;
+  double total_s = 0;
+  const auto on_epoch = [&](const PgsEpochReport& r) {
+    const double score = std::isnan(r.validation_objective) ? r.train_objective : r.validation_objective;
+    const bool improved = score < best;
+    if (improved) {
+      best = score;
+      best_epoch = r.epoch;
+      save_model(model, c.out);
+    }
+    total_s += r.seconds;
+    csv << r.epoch + 1 << ',' << r.train_objective << ',' << r.validation_objective << ',' << r.validation_improved
+        << ',' << r.seconds << '\n';
+    write_file_atomically(c.out + ".loss.csv", csv.str());
+    std::printf("epoch %3d/%d  train %.4f  val %.4f (%.0f %% better than builtin)  %.1f s%s\n", r.epoch + 1,
+                def.epochs, r.train_objective, r.validation_objective, 100 * r.validation_improved, r.seconds,
+                improved ? "  *best" : "");
+    std::fflush(stdout);
+    return !interrupted();
+  };
+  const std::vector<PgsEpochReport> reports =
+      train_through_pgs(model, samples, def, on_epoch, [] { return !interrupted(); });
+  if (best_epoch < 0) throw ConfigError("training through PGS made no finished epoch (time limit too short?)");
+  std::printf("train: best epoch %d of %zu (objective %.4f); %.1f s of training -> %s (%s.loss.csv)\n",
+              best_epoch + 1, reports.size(), best, total_s, c.out.c_str(), c.out.c_str());
+}
+
+}  // namespace dc::cli
