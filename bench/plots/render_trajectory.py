@@ -39,11 +39,12 @@ class RenderError(Exception):
     """A usage or input problem; main() prints it as one line."""
 
 
-FIGSIZE = 5.0        # inches (square figure; 500 × 500 px at the default dpi)
+FIGSIZE = (5.6, 5.0)  # inches (560 × 500 px at the default dpi; even, as yuv420p MP4 wants)
 DPI = 100
 MAX_FPS = 50.0       # GIF frame delays below 20 ms are not honoured by viewers
 TARGET_FPS = 25.0    # the default --every aims at real time at this frame rate
-FORCE_LENGTH = 2.0   # [m]: the segment length of the force scale's top (≈ one body diameter)
+FORCE_LENGTH = 1.8   # [m]: the segment length of the force scale's top (≈ one body diameter)
+MIN_FORCE_LENGTH = 0.3  # [m]: shortest segment, so that every contact with λ_n > 0 shows
 BODY_FACE = "#9ecae1"
 BODY_EDGE = "#08306b"
 WALL_COLOR = "#444444"
@@ -150,8 +151,10 @@ class Scene:
         from matplotlib.collections import LineCollection
 
         self.traj = traj
-        self.fig, self.ax = plt.subplots(figsize=(FIGSIZE, FIGSIZE), dpi=dpi)
-        ax = self.ax
+        self.fig = plt.figure(figsize=FIGSIZE, dpi=dpi)
+        # Fixed boxes (the equal-aspect scene shrinks inside its box): nothing is clipped.
+        self.ax = ax = self.fig.add_axes([0.11, 0.09, 0.72, 0.88])
+        cax = self.fig.add_axes([0.855, 0.17, 0.028, 0.72])
         w, h = traj.width, traj.height
         pad = 0.03 * max(w, h)
         ax.set_xlim(-pad, w + pad)
@@ -170,19 +173,23 @@ class Scene:
         lam_n = traj.contacts["lambda"][:, 0] if len(traj.contacts["lambda"]) else np.zeros(1)
         positive = lam_n[lam_n > 0]
         # One scale for the whole run (frames compare): the 99th percentile of λ_n spans
-        # FORCE_LENGTH, larger forces are drawn longer and in the top colour.
+        # FORCE_LENGTH (longer for larger forces, which get the top colour); length ∝ λ_n, but
+        # at least MIN_FORCE_LENGTH.
         self.lam_top = float(np.percentile(positive, 99)) if positive.size else 1.0
-        self.cmap = plt.get_cmap("plasma")
-        self.forces = LineCollection([], linewidths=1.6, zorder=4, capstyle="round")
+        from matplotlib.colors import LinearSegmentedColormap
+
+        # Orange → dark red: visible on the light bodies and distinct from their outlines.
+        base = plt.get_cmap("YlOrRd")
+        self.cmap = LinearSegmentedColormap.from_list("forces", base(np.linspace(0.4, 1.0, 64)))
+        self.forces = LineCollection([], linewidths=2.0, zorder=4, capstyle="round")
         ax.add_collection(self.forces)
         sm = plt.cm.ScalarMappable(cmap=self.cmap, norm=plt.Normalize(0, self.lam_top))
-        cb = self.fig.colorbar(sm, ax=ax, fraction=0.040, pad=0.02)
+        cb = self.fig.colorbar(sm, cax=cax)
         cb.set_label("contact force λ_n [N]", fontsize=8)
         cb.ax.tick_params(labelsize=7)
         self.label = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", ha="left", fontsize=9,
                              family="monospace", zorder=5,
                              bbox=dict(boxstyle="round,pad=0.25", facecolor="white", alpha=0.85, edgecolor="none"))
-        self.fig.tight_layout()
 
     def draw(self, k):
         t = self.traj
@@ -192,7 +199,8 @@ class Scene:
         lam = c["lambda"][:, 0]
         on = lam > 0
         p, n, lam = c["point"][on], c["normal"][on], lam[on]
-        half = 0.5 * FORCE_LENGTH * (lam / self.lam_top)[:, None] * n
+        length = np.maximum(FORCE_LENGTH * lam / self.lam_top, MIN_FORCE_LENGTH)
+        half = 0.5 * length[:, None] * n
         self.forces.set_segments(np.stack([p - half, p + half], axis=1))
         self.forces.set_color(self.cmap(np.clip(lam / self.lam_top, 0, 1)))
         self.label.set_text(f"t = {t.time(k):6.2f} s   step {k}/{t.steps}\n{int(on.sum()):4d} contacts with λ_n > 0")
@@ -240,9 +248,16 @@ def frame_list(traj, every):
 def write_gif(scene, frames, fps, out, progress):
     from PIL import Image
 
+    # One palette for all frames (from the first), no dithering: small files, no flicker.
     images = []
+    palette = None
     for k in frames:
-        images.append(Image.fromarray(scene.draw(k)).quantize(colors=128, method=Image.Quantize.MEDIANCUT))
+        rgb = Image.fromarray(scene.draw(k))
+        if palette is None:
+            palette = rgb.quantize(colors=96, method=Image.Quantize.MEDIANCUT)
+            images.append(palette)
+        else:
+            images.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
         progress.advance()
     duration = max(20, int(round(1000.0 / fps)))
     images[0].save(out, save_all=True, append_images=images[1:], duration=duration, loop=0)

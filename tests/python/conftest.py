@@ -10,7 +10,7 @@ SOURCE = pathlib.Path(os.environ.get("DC_SOURCE_DIR", pathlib.Path(__file__).res
 CLI = os.environ.get("DC_CLI", str(SOURCE / "build" / "bench" / "deepcontact"))
 
 # A small scene that still piles up (contacts with friction, a few hundred rows).
-SMALL = {"bodies.count": 25, "bodies.sigma": 3.0, "time.steps": 80, "solver.sweeps": 200}
+SMALL = {"bodies.count": 25, "bodies.sigma": 3.0, "bodies.mean": [15.0, 7.0], "time.steps": 80, "solver.sweeps": 200}
 
 
 def set_args(overrides):

@@ -6,7 +6,7 @@ import pytest
 
 from conftest import SMALL
 
-BENCH = dict(seeds=(1,), steps=70, sweeps=300, set={"bodies.count": 25, "bodies.sigma": 3.0})
+BENCH = dict(seeds=(1,), steps=70, sweeps=300, set={"bodies.count": 25, "bodies.sigma": 3.0, "bodies.mean": [15.0, 7.0]})
 
 
 class PyBuiltin:
