@@ -1,5 +1,6 @@
 #include "bench_report.hpp"
 #include "bench_statistics_report.hpp"
+#include "render_frame.hpp"
 #include "report_plots.hpp"
 
 #include <cmath>
@@ -187,6 +188,7 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   md << format_table(r, summary, true) << "\n";
   md << statistics_markdown(stats);
   md << plots_markdown(plots, r.options.mode);
+  md << reference_frame_markdown(r, dir, files);
   md << "## Reproducibility\n\n";
   md << "- git: `" << prov.git << "`\n- build: " << prov.build << "\n- machine: " << prov.machine
      << "\n- date: " << prov.date_utc << "\n- raw per-step figures: `results.h5` (layout in docs/bench.md)\n\n";

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "dc/engine/error.hpp"
+#include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "bench_statistics.hpp"
@@ -159,6 +160,11 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
 
     if (o.mode == Mode::Paired) {
       World ref(def);
+      const bool record = seed == o.seeds.front();  // the report shows a frame of it
+      if (record) {
+        r.reference = std::make_shared<TrajectoryRecorder>(ref);
+        r.reference_scene = scene_to_toml(def);
+      }
       const auto oracle_starter = default_warm_starters().make("builtin");
       for (int s = 0; s < steps; ++s) {
         ref.collide();
@@ -167,6 +173,11 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
         if (p.rows() == 0) {
           ++r.skipped_steps;
           ref.integrate(Eigen::VectorXd());
+          if (record) {
+            StepReport nothing;  // no contacts: nothing to solve
+            nothing.solve.status = SolveStatus::Converged;
+            r.reference->record_step(ref, nothing);
+          }
         } else {
           // One shared oracle per step, started from the previous step's λ* matched by key
           // (cheaper; the oracle's cost is reported apart and never enters a total).
@@ -181,6 +192,14 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
           for (std::size_t i = 0; i < starters.size(); ++i)
             evaluate_starter(ref, *starters[i], os.lambda, true, *solver, o, r.budgets, r.starters[i], outcome);
           ref.integrate(os.lambda);
+          if (record) {
+            StepReport rep;
+            rep.contacts = static_cast<int>(ref.contacts().size());
+            rep.rows = p.rows();
+            rep.solve.status = os.accurate ? SolveStatus::Converged : SolveStatus::SweepLimit;
+            rep.solve.residual = os.residual;
+            r.reference->record_step(ref, rep);
+          }
         }
         if (progress) progress(++done, total, "seed " + std::to_string(seed) + " step " + std::to_string(s + 1));
       }

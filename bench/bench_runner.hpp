@@ -11,10 +11,12 @@
 //   rollout every starter drives its own simulation with its fixed-sweep λ, as the theses did.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "dc/engine/world_def.hpp"
+#include "dc/io/trajectory_recorder.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc::bench {
@@ -66,6 +68,10 @@ struct BenchResults {
   int skipped_steps = 0;              ///< steps without contacts (nothing to solve)
   std::vector<StarterRecord> starters;
   double wall_seconds = 0;
+  /// Paired mode: the reference trajectory of the first seed (advanced with λ*) and its
+  /// scene as TOML, for the report's frame (render_frame.hpp); null in rollout mode.
+  std::shared_ptr<TrajectoryRecorder> reference;
+  std::string reference_scene;
 };
 
 /// Progress callback: (done, total, note).

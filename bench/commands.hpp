@@ -14,6 +14,7 @@ void add_sph_study_command(CLI::App& app);  // cmd_sph_study.cpp
 void add_generate_command(CLI::App& app);   // cmd_generate.cpp
 void add_train_command(CLI::App& app);      // cmd_train.cpp
 void add_stress_command(CLI::App& app);     // cmd_stress.cpp
+void add_render_command(CLI::App& app);     // cmd_render.cpp
 
 /// Exit status a subcommand asks main() to return (0 = success). Set by commands whose
 /// outcome is not an error but still not a success (e.g. `lcp solve` on an infeasible problem).

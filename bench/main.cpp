@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   dc::cli::add_generate_command(app);
   dc::cli::add_train_command(app);
   dc::cli::add_stress_command(app);
+  dc::cli::add_render_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

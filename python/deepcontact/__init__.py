@@ -1,0 +1,103 @@
+"""DeepContact from Python: the engine, the LCP solvers, warm starters (also written in
+Python) and the warm-start bench. See docs/python.md.
+
+    import deepcontact as dc
+    w = dc.World(set={"bodies.count": 20})
+    for _ in range(100):
+        report = w.step(warmstart="builtin")
+    print(w.bodies.position[:3], report.sweeps)
+"""
+from ._core import (  # noqa: F401  (the C++ core, deepcontact/_core*.so)
+    ConfigError,
+    InvalidArgument,
+    IoError,
+    Problem,
+    Result,
+    StepView,
+    World,
+    read_lcp_dat,
+    solve,
+    solvers,
+    warmstarters,
+    write_lcp_dat,
+)
+from ._core import bench as _bench
+
+
+class Fields(dict):
+    """A dict of numpy arrays with attribute access: ``w.bodies.position`` is
+    ``w.bodies["position"]``; ``getattr(c, "lambda")`` or ``c["lambda"]`` for the keyword."""
+
+    __slots__ = ()
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __dir__(self):
+        return list(self.keys())
+
+
+class WarmStarter:
+    """Base class of warm starters written in Python.
+
+    Override ``initial_guess(view)`` (return λ⁰, one float per row of
+    ``view.world.problem``: ``len == view.rows``), optionally ``name()`` (default: the class
+    name), ``observe(view, solved)`` (called after each step's solve with the solved λ) and
+    ``uses_oracle()`` (True when the guess uses ``view.oracle``, this step's λ*; such a
+    starter is an upper bound, marked ``*`` in bench reports). ``view.world`` is a read-only
+    :class:`World` valid during the call only.
+    """
+
+    def name(self):
+        return type(self).__name__
+
+    def initial_guess(self, view):  # pragma: no cover - abstract
+        raise NotImplementedError(f"{type(self).__name__}.initial_guess(view) is not implemented")
+
+    def observe(self, view, solved):
+        pass
+
+    def uses_oracle(self):
+        return False
+
+
+_DEFAULT_SEEDS = (1, 2)
+
+
+def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="paired", out=None, *,
+          set={}, sweeps=None, tol=1e-2, solver="pgs", steps=None, model="", progress=False):
+    """Run the warm-start benchmark of ``deepcontact bench`` and return its summary as a dict
+    (the content of summary.json; with ``out`` the whole report is written there too).
+
+    warmstarts: names ("zero", "builtin", "copy:2", …; None = the CLI's default list) and/or
+    Python warm starters. An instance is used for every seed; a class (or factory) is called
+    once per seed for a fresh starter, as the C++ ones are. seeds: an iterable of ints, an int,
+    or "A..B". quick: as ``--quick`` (one seed unless ``seeds`` is given, the short starter
+    list). sweeps/tol/solver/steps/model/set: as the CLI's options. The GIL is released
+    while C++ runs (Python starters take it for their calls).
+    """
+    if quick and seeds is _DEFAULT_SEEDS:
+        seeds = (1,)
+    return _bench(scene=scene, set=set, warmstarts=warmstarts, seeds=seeds, quick=quick, mode=mode, out=out,
+                  sweeps=sweeps, tol=tol, solver=solver, steps=steps, model=model, progress=progress)
+
+
+from .trajectory import Trajectory, read_trajectory  # noqa: E402,F401
+
+
+def render(trajectory, out, frame=None, every=None, progress=True):
+    """Draw a trajectory file (``deepcontact render``): a GIF/MP4 of every ``every``-th
+    step, or with ``frame=K`` one PNG of state K with the forces of step K."""
+    from . import render_trajectory
+
+    return render_trajectory.render(str(trajectory), str(out), frame=frame, every=every, progress=progress)
+
+
+__all__ = [
+    "ConfigError", "InvalidArgument", "IoError", "Problem", "Result", "StepView", "World", "Fields",
+    "WarmStarter", "bench", "read_lcp_dat", "write_lcp_dat", "solve", "solvers", "warmstarters",
+    "Trajectory", "read_trajectory", "render",
+]

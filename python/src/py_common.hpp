@@ -1,0 +1,107 @@
+#pragma once
+// Shared pieces of the Python module (deepcontact._core): numpy views and copies of the
+// engine's arrays, scipy.sparse CSR matrices of Eigen's row-major sparse matrices, and the
+// Python-side wrappers of the engine objects (world, problem, solve result).
+//
+// Ownership: a numpy array that views C++ memory has the Python object that owns that memory
+// as its base, so the memory lives as long as the array. Memory that the next engine stage
+// replaces (this step's contacts, a warm-starter view's world) is copied instead.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dc/engine/lcp_problem.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/vec2.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace dc::py {
+
+namespace pyb = pybind11;
+
+// ---- numpy --------------------------------------------------------------------------
+/// 1-D float64 array viewing `n` doubles at `data`, kept alive by `base` (copied when base
+/// is None).
+pyb::array_t<double> view(const double* data, std::size_t n, pyb::handle base);
+/// (n, 2) float64 array of Vec2s (a view when base is not None).
+pyb::array_t<double> view(const std::vector<Vec2>& v, pyb::handle base);
+pyb::array_t<double> view(const std::vector<double>& v, pyb::handle base);
+pyb::array_t<double> view(const Eigen::VectorXd& v, pyb::handle base);
+/// Copy of a vector into a new array.
+pyb::array_t<double> copy(const Eigen::VectorXd& v);
+/// A float64 vector from any array-like (ValueError naming `what` for a wrong shape).
+Eigen::VectorXd to_vector(pyb::handle obj, const std::string& what);
+/// scipy.sparse.csr_matrix viewing a compressed row-major matrix (kept alive by `base`).
+pyb::object csr_view(const SparseRowMatrix& m, pyb::handle base);
+/// Any scipy.sparse matrix or dense array-like → row-major sparse (ValueError on bad input).
+SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what);
+/// A deepcontact.Fields (dict with attribute access) — the package defines the class.
+pyb::object make_fields();
+
+// ---- wrapped engine objects -------------------------------------------------------
+/// deepcontact.Problem: an LCP (owned; a copy of the world's problem of that step).
+struct PyProblem {
+  std::shared_ptr<LcpProblem> p;
+};
+
+/// A Python Problem owning (a copy of) `p`, its sparse matrices compressed for CSR views.
+pyb::object problem_to_python(LcpProblem p);
+
+/// deepcontact.Result: the outcome of a solve.
+struct PyResult {
+  SolveResult r;
+};
+
+/// deepcontact.World. Owns its dc::World, or (view.world inside a warm-starter call)
+/// borrows one read-only for the duration of that call; afterwards the borrowed object
+/// raises instead of reading freed memory.
+struct PyWorld {
+  std::unique_ptr<World> owned;
+  const World* borrowed = nullptr;
+  /// Named warm starters step() has used (kept across steps: some observe the solution).
+  std::map<std::string, std::unique_ptr<WarmStarter>> starters;
+
+  [[nodiscard]] const World& get() const;
+  World& mutable_world();
+};
+
+/// The Python view of a dc::StepView: a borrowed World plus a copy of the oracle λ*.
+/// Call expire() when the C++ call it belongs to returns.
+struct PyStepView {
+  std::shared_ptr<PyWorld> world;
+  pyb::object oracle;  ///< numpy copy or None
+  void expire() { world->borrowed = nullptr; }
+};
+
+/// Per-contact fields (Fields of numpy arrays) of a list of contacts; with rows of the
+/// current problem when `constraints` matches them.
+pyb::object contact_fields(std::span<const Contact> contacts, const ContactConstraints* constraints);
+
+/// A scene from World(scene=…, set=…): None = the seed scene, a path (str or os.PathLike) of
+/// a TOML file, or TOML text; `set` maps "section.key" to a value (Python numbers, str,
+/// bools and lists become TOML) or is a list of "section.key=value" strings as on the
+/// command line. Validated; errors are the CLI's ConfigErrors.
+WorldDef scene_from_python(pyb::handle scene, pyb::handle set);
+
+// ---- warm starters written in Python ----------------------------------------------
+/// A dc::WarmStarter that calls a Python object (duck-typed: initial_guess(view), optional
+/// name(), observe(view, solved), uses_oracle()). Safe to call without the GIL: it takes the
+/// GIL for every call into Python.
+std::unique_ptr<WarmStarter> make_python_warm_starter(pyb::handle obj);
+/// The registry of the CLI (every C++ starter, including cnn with the shipped model).
+WarmStarterRegistry cli_registry();
+
+// ---- registration (one file each) -------------------------------------------------
+void bind_errors(pyb::module_& m);
+void bind_problem(pyb::module_& m);
+void bind_world(pyb::module_& m);
+void bind_bench(pyb::module_& m);
+
+}  // namespace dc::py

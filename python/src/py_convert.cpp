@@ -1,0 +1,89 @@
+// numpy / scipy.sparse conversions of the module (py_common.hpp).
+#include <pybind11/eigen.h>
+
+#include "dc/engine/error.hpp"
+#include "py_common.hpp"
+
+namespace dc::py {
+
+pyb::array_t<double> view(const double* data, std::size_t n, pyb::handle base) {
+  const auto size = static_cast<pyb::ssize_t>(n);
+  if (base.is_none()) return pyb::array_t<double>(size, data);  // no base: numpy copies
+  return pyb::array_t<double>({size}, {static_cast<pyb::ssize_t>(sizeof(double))}, data, base);
+}
+
+pyb::array_t<double> view(const std::vector<Vec2>& v, pyb::handle base) {
+  static_assert(sizeof(Vec2) == 2 * sizeof(double), "Vec2 must be two packed doubles");
+  const auto n = static_cast<pyb::ssize_t>(v.size());
+  const double* data = v.empty() ? nullptr : &v.front().x;
+  std::vector<pyb::ssize_t> shape{n, 2}, strides{static_cast<pyb::ssize_t>(sizeof(Vec2)),
+                                                 static_cast<pyb::ssize_t>(sizeof(double))};
+  if (base.is_none() || v.empty()) return pyb::array_t<double>(shape, strides, data);
+  return pyb::array_t<double>(shape, strides, data, base);
+}
+
+pyb::array_t<double> view(const std::vector<double>& v, pyb::handle base) {
+  return view(v.data(), v.size(), v.empty() ? pyb::none() : base);
+}
+
+pyb::array_t<double> view(const Eigen::VectorXd& v, pyb::handle base) {
+  return view(v.data(), static_cast<std::size_t>(v.size()), v.size() == 0 ? pyb::none() : base);
+}
+
+pyb::array_t<double> copy(const Eigen::VectorXd& v) { return view(v, pyb::none()); }
+
+Eigen::VectorXd to_vector(pyb::handle obj, const std::string& what) {
+  auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(obj);
+  if (!a) throw pyb::value_error(what + ": expected an array of numbers");
+  if (a.ndim() != 1) throw pyb::value_error(what + ": expected a 1-D array, got " + std::to_string(a.ndim()) + "-D");
+  Eigen::VectorXd v(a.shape(0));
+  std::copy(a.data(), a.data() + a.shape(0), v.data());
+  return v;
+}
+
+pyb::object csr_view(const SparseRowMatrix& m, pyb::handle base) {
+  if (!m.isCompressed()) throw InvalidArgument("csr_view: matrix is not compressed");
+  const auto rows = static_cast<pyb::ssize_t>(m.rows()), nnz = static_cast<pyb::ssize_t>(m.nonZeros());
+  pyb::array_t<int> indptr({rows + 1}, {static_cast<pyb::ssize_t>(sizeof(int))}, m.outerIndexPtr(), base);
+  pyb::array_t<int> indices({nnz}, {static_cast<pyb::ssize_t>(sizeof(int))}, m.innerIndexPtr(), base);
+  pyb::array_t<double> data({nnz}, {static_cast<pyb::ssize_t>(sizeof(double))}, m.valuePtr(), base);
+  auto csr = pyb::module_::import("scipy.sparse").attr("csr_matrix");
+  return csr(pyb::make_tuple(data, indices, indptr), pyb::arg("shape") = pyb::make_tuple(m.rows(), m.cols()),
+             pyb::arg("copy") = false);
+}
+
+SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what) {
+  auto sp = pyb::module_::import("scipy.sparse");
+  pyb::object csr;
+  if (sp.attr("issparse")(obj).cast<bool>()) {
+    csr = sp.attr("csr_matrix")(obj);
+  } else {
+    auto np = pyb::module_::import("numpy");
+    pyb::object dense = np.attr("asarray")(obj, pyb::arg("dtype") = np.attr("float64"));
+    if (dense.attr("ndim").cast<int>() != 2) throw pyb::value_error(what + ": expected a 2-D matrix");
+    csr = sp.attr("csr_matrix")(dense);
+  }
+  csr.attr("sum_duplicates")();
+  csr.attr("sort_indices")();
+  const auto shape = csr.attr("shape").cast<std::pair<long, long>>();
+  auto indptr = pyb::array_t<long long, pyb::array::c_style | pyb::array::forcecast>::ensure(csr.attr("indptr"));
+  auto indices = pyb::array_t<long long, pyb::array::c_style | pyb::array::forcecast>::ensure(csr.attr("indices"));
+  auto data = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(csr.attr("data"));
+  SparseRowMatrix m(shape.first, shape.second);
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(static_cast<std::size_t>(data.size()));
+  for (long r = 0; r < shape.first; ++r)
+    for (long long k = indptr.at(r); k < indptr.at(r + 1); ++k)
+      t.emplace_back(static_cast<int>(r), static_cast<int>(indices.at(k)), data.at(k));
+  m.setFromTriplets(t.begin(), t.end());
+  m.makeCompressed();
+  return m;
+}
+
+pyb::object make_fields() {
+  // deepcontact/__init__.py defines Fields before it is usable; cached after the first call.
+  static pyb::handle cls = pyb::object(pyb::module_::import("deepcontact").attr("Fields")).release();
+  return cls();
+}
+
+}  // namespace dc::py

@@ -1,0 +1,296 @@
+// deepcontact.World, deepcontact.StepView and the scene arguments.
+#include <pybind11/stl.h>
+
+#include <filesystem>
+
+#include "dc/engine/error.hpp"
+#include "dc/engine/scene.hpp"
+#include "py_common.hpp"
+
+namespace dc::py {
+
+const World& PyWorld::get() const {
+  if (owned) return *owned;
+  if (!borrowed)
+    throw InvalidArgument("this World is a warm-starter view that has expired (view.world is valid only during "
+                          "the initial_guess/observe call)");
+  return *borrowed;
+}
+
+World& PyWorld::mutable_world() {
+  if (!owned) throw InvalidArgument("view.world is read-only (a warm starter may not step the world)");
+  return *owned;
+}
+
+namespace {
+
+/// A Python value as TOML text for apply_override.
+std::string toml_value(pyb::handle v) {
+  if (pyb::isinstance<pyb::bool_>(v)) return v.cast<bool>() ? "true" : "false";
+  if (pyb::isinstance<pyb::int_>(v)) return pyb::str(v).cast<std::string>();
+  if (pyb::isinstance<pyb::float_>(v)) return pyb::repr(v).cast<std::string>();
+  if (pyb::isinstance<pyb::str>(v)) {
+    std::string out = "\"";
+    for (char c : v.cast<std::string>()) {
+      if (c == '"' || c == '\\') out += '\\';
+      out += c;
+    }
+    return out + "\"";
+  }
+  if (pyb::isinstance<pyb::sequence>(v) || pyb::hasattr(v, "tolist")) {
+    pyb::object seq = pyb::hasattr(v, "tolist") ? v.attr("tolist")() : pyb::reinterpret_borrow<pyb::object>(v);
+    std::string out = "[";
+    bool first = true;
+    for (auto item : seq) {
+      out += (first ? "" : ", ") + toml_value(item);
+      first = false;
+    }
+    return out + "]";
+  }
+  if (pyb::hasattr(v, "item")) return toml_value(v.attr("item")());  // numpy scalars
+  throw pyb::type_error("set: cannot write " + pyb::repr(v).cast<std::string>() + " as a TOML value");
+}
+
+}  // namespace
+
+WorldDef scene_from_python(pyb::handle scene, pyb::handle set) {
+  WorldDef d;
+  if (!scene.is_none()) {
+    auto os = pyb::module_::import("os");
+    const bool pathlike = pyb::isinstance(scene, os.attr("PathLike"));
+    const std::string text = pyb::str(pathlike ? os.attr("fspath")(scene) : scene).cast<std::string>();
+    // A path unless it is clearly TOML text (a newline, '=' or '['), like --scene F.
+    const bool is_text = !pathlike && text.find_first_of("\n=[") != std::string::npos;
+    d = is_text ? parse_scene(text, "<scene>") : load_scene(text);
+  }
+  if (!set.is_none()) {
+    if (pyb::isinstance<pyb::dict>(set)) {
+      for (auto [k, v] : set.cast<pyb::dict>()) apply_override(d, pyb::str(k).cast<std::string>() + "=" + toml_value(v));
+    } else {
+      for (auto item : set) apply_override(d, pyb::str(item).cast<std::string>());
+    }
+  }
+  d.validate();
+  return d;
+}
+
+pyb::object contact_fields(std::span<const Contact> cs, const ContactConstraints* k) {
+  const auto n = static_cast<pyb::ssize_t>(cs.size());
+  pyb::array_t<int> body_a(n), body_b(n), key({n, pyb::ssize_t{3}});
+  pyb::array_t<double> point({n, pyb::ssize_t{2}}), normal({n, pyb::ssize_t{2}}), gap(n), lam({n, pyb::ssize_t{2}}),
+      approach(n);
+  auto a = body_a.mutable_unchecked<1>();
+  auto b = body_b.mutable_unchecked<1>();
+  auto ky = key.mutable_unchecked<2>();
+  auto p = point.mutable_unchecked<2>();
+  auto nr = normal.mutable_unchecked<2>();
+  auto g = gap.mutable_unchecked<1>();
+  auto l = lam.mutable_unchecked<2>();
+  auto ap = approach.mutable_unchecked<1>();
+  for (pyb::ssize_t i = 0; i < n; ++i) {
+    const Contact& c = cs[static_cast<std::size_t>(i)];
+    a(i) = c.body_a;
+    b(i) = c.body_b;
+    ky(i, 0) = c.key.a;
+    ky(i, 1) = c.key.b;
+    ky(i, 2) = c.key.feature;
+    p(i, 0) = c.point.x;
+    p(i, 1) = c.point.y;
+    nr(i, 0) = c.normal.x;
+    nr(i, 1) = c.normal.y;
+    g(i) = c.gap;
+    l(i, 0) = c.lambda_n;
+    l(i, 1) = c.lambda_t;
+    ap(i) = c.approach_velocity;
+  }
+  pyb::object f = make_fields();
+  f["body_a"] = body_a;
+  f["body_b"] = body_b;
+  f["key"] = key;
+  f["point"] = point;
+  f["normal"] = normal;
+  f["gap"] = gap;
+  f["lambda"] = lam;
+  f["approach_velocity"] = approach;
+  if (k && k->size() == static_cast<int>(n)) {
+    pyb::array_t<int> normal_row(n), tangent_row(n);
+    auto r0 = normal_row.mutable_unchecked<1>();
+    auto r1 = tangent_row.mutable_unchecked<1>();
+    for (pyb::ssize_t i = 0; i < n; ++i) {
+      r0(i) = (*k)[static_cast<int>(i)].normal_row;
+      r1(i) = (*k)[static_cast<int>(i)].tangent_row;
+    }
+    f["normal_row"] = normal_row;
+    f["tangent_row"] = tangent_row;
+  }
+  return f;
+}
+
+namespace {
+
+pyb::object body_fields(const PyWorld& self, pyb::handle owner) {
+  const BodyState& s = self.get().bodies();
+  const pyb::handle base = self.owned ? owner : pyb::none();  // a borrowed world's arrays are copies
+  pyb::object f = make_fields();
+  f["position"] = view(s.position, base);
+  f["angle"] = view(s.angle, base);
+  f["velocity"] = view(s.velocity, base);
+  f["omega"] = view(s.omega, base);
+  f["mass"] = view(s.mass, base);
+  f["radius"] = view(s.radius, base);
+  f["density"] = view(s.density, base);
+  f["inertia"] = view(s.inertia, base);
+  f["inv_mass"] = view(s.inv_mass, base);
+  f["inv_inertia"] = view(s.inv_inertia, base);
+  return f;
+}
+
+/// The contacts of the world's current step, with their rows once assembled.
+pyb::object current_contacts(const World& w) {
+  const bool assembled = w.constraints().size() == static_cast<int>(w.contacts().size());
+  return contact_fields(w.contacts(), assembled ? &w.constraints() : nullptr);
+}
+
+pyb::object step(PyWorld& self, pyb::object solver_name, pyb::object warmstart, pyb::object sweeps, pyb::object tol) {
+  World& w = self.mutable_world();
+  const std::string name = solver_name.is_none() ? w.def().solver.name : solver_name.cast<std::string>();
+  const auto solver = make_solver(name);
+  SolverOptions opt = solver_options(w.def().solver);  // as `deepcontact simulate`
+  if (!sweeps.is_none()) opt.max_sweeps = sweeps.cast<int>();
+  if (!tol.is_none()) opt.tolerance = tol.cast<double>();
+  if (opt.max_sweeps < 0) throw ConfigError("sweeps must be >= 0");
+  if (!(opt.tolerance >= 0) || !std::isfinite(opt.tolerance)) throw ConfigError("tol must be finite and >= 0");
+  std::unique_ptr<WarmStarter> python_starter;
+  WarmStarter* ws = nullptr;
+  if (pyb::isinstance<pyb::str>(warmstart)) {
+    const auto spec = warmstart.cast<std::string>();
+    auto& slot = self.starters[spec];
+    if (!slot) slot = cli_registry().make(spec);
+    ws = slot.get();
+  } else if (!warmstart.is_none()) {
+    python_starter = make_python_warm_starter(warmstart);
+    ws = python_starter.get();
+  }
+  StepReport r;
+  {
+    pyb::gil_scoped_release release;
+    r = w.step(*solver, opt, [&](const World& ww) {
+      return ws ? ws->initial_guess(StepView{ww, nullptr}) : Eigen::VectorXd::Zero(ww.problem().rows()).eval();
+    });
+    if (ws) ws->observe(StepView{w, nullptr}, r.solve.lambda);
+  }
+  pyb::object f = make_fields();
+  f["contacts"] = r.contacts;
+  f["rows"] = r.rows;
+  pyb::object result = pyb::cast(PyResult{std::move(r.solve)});
+  f["solve"] = result;
+  for (const char* k : {"lam", "status", "sweeps", "theta", "residual"}) f[k] = result.attr(k);
+  pyb::dict prof;
+  prof["collide_ms"] = r.profile.collide_ms;
+  prof["assemble_ms"] = r.profile.assemble_ms;
+  prof["warmstart_ms"] = r.profile.warmstart_ms;
+  prof["solve_ms"] = r.profile.solve_ms;
+  prof["integrate_ms"] = r.profile.integrate_ms;
+  f["profile"] = prof;
+  return f;
+}
+
+}  // namespace
+
+void bind_world(pyb::module_& m) {
+  pyb::class_<PyWorld, std::shared_ptr<PyWorld>>(
+      m, "World",
+      "The 2D impulse engine (dc::World). World(scene=None, set={}): scene = a TOML path or text (None = the seed "
+      "scene), set = the --set overrides.")
+      .def(pyb::init([](pyb::object scene, pyb::object set) {
+             WorldDef d = scene_from_python(scene, set);
+             auto w = std::make_shared<PyWorld>();
+             pyb::gil_scoped_release release;
+             w->owned = std::make_unique<World>(std::move(d));
+             return w;
+           }),
+           pyb::arg("scene") = pyb::none(), pyb::arg("set") = pyb::dict())
+      .def("collide",
+           [](PyWorld& self) {
+             World& w = self.mutable_world();
+             {
+               pyb::gil_scoped_release release;
+               w.collide();
+             }
+             return contact_fields(w.contacts(), nullptr);
+           },
+           "Broad + narrow phase; returns this step's contacts.")
+      .def("assemble",
+           [](PyWorld& self) {
+             World& w = self.mutable_world();
+             {
+               pyb::gil_scoped_release release;
+               w.assemble();
+             }
+             return problem_to_python(w.problem());
+           },
+           "Contact rows, J, M⁻¹, b and bounds; returns the Problem (A formed when .A is read).")
+      .def("integrate",
+           [](PyWorld& self, pyb::object lam) {
+             World& w = self.mutable_world();
+             const Eigen::VectorXd l = lam.is_none() ? Eigen::VectorXd::Zero(w.problem().rows()).eval()
+                                                     : to_vector(lam, "lam");
+             if (l.size() != w.problem().rows())
+               throw InvalidArgument("integrate: λ has " + std::to_string(l.size()) + " entries, the problem has " +
+                                     std::to_string(w.problem().rows()) + " rows");
+             pyb::gil_scoped_release release;
+             w.integrate(l);
+           },
+           pyb::arg("lam"), "Advance the bodies with the contact forces λ (one per problem row).")
+      .def("step", &step, pyb::arg("solver") = "pgs", pyb::arg("warmstart") = "builtin", pyb::arg("sweeps") = 3000,
+           pyb::arg("tol") = 0.0,
+           "One whole step (collide, assemble, warm start, solve, integrate), as `deepcontact simulate` does it. "
+           "warmstart: a starter name or a Python starter object; None for solver/sweeps/tol = the scene's "
+           "[solver] value. Returns a report (contacts, rows, solve, lam, status, sweeps, theta, residual, "
+           "profile).")
+      .def_property_readonly("bodies", [](pyb::object self) { return body_fields(self.cast<PyWorld&>(), self); },
+                             "Body state as numpy arrays (views into the world: they follow the simulation).")
+      .def_property_readonly("contacts", [](const PyWorld& self) { return current_contacts(self.get()); })
+      .def_property_readonly("previous_contacts",
+                             [](const PyWorld& self) { return contact_fields(self.get().previous_contacts(), nullptr); })
+      .def_property_readonly("problem", [](const PyWorld& self) { return problem_to_python(self.get().problem()); },
+                             "The current step's Problem (a copy: the next assemble() replaces the world's).")
+      .def_property_readonly("rows", [](const PyWorld& self) { return self.get().problem().rows(); })
+      .def_property_readonly("time", [](const PyWorld& self) { return self.get().time(); })
+      .def_property_readonly("step_index", [](const PyWorld& self) { return self.get().step_index(); })
+      .def_property_readonly("scene", [](const PyWorld& self) { return scene_to_toml(self.get().def()); },
+                             "The complete scene as TOML.")
+      .def_property_readonly("hash",
+                             [](const PyWorld& self) {
+                               char buf[17];
+                               std::snprintf(buf, sizeof buf, "%016llx",
+                                             static_cast<unsigned long long>(state_hash(self.get().bodies())));
+                               return std::string(buf);
+                             },
+                             "The final-state hash `deepcontact simulate --hash` prints (16 hex digits).")
+      .def("kinetic_energy", [](const PyWorld& self) { return self.get().kinetic_energy(); })
+      .def("potential_energy", [](const PyWorld& self) { return self.get().potential_energy(); })
+      .def("max_penetration", [](const PyWorld& self) { return self.get().max_penetration(); })
+      .def("pack",
+           [](const PyWorld& self, const std::vector<double>& lambda_n, const std::vector<double>& lambda_t) {
+             return copy(self.get().pack(lambda_n, lambda_t));
+           },
+           pyb::arg("lambda_n"), pyb::arg("lambda_t") = std::vector<double>{},
+           "Per-contact (λ_n, λ_t) → the row vector of the current problem.")
+      .def_property_readonly("is_view", [](const PyWorld& self) { return !self.owned; })
+      .def("__repr__", [](const PyWorld& self) {
+        if (!self.owned && !self.borrowed) return std::string("<deepcontact.World (expired view)>");
+        const World& w = self.get();
+        return "<deepcontact.World bodies=" + std::to_string(w.bodies().size()) +
+               " step=" + std::to_string(w.step_index()) + " t=" + std::to_string(w.time()) + ">";
+      });
+
+  pyb::class_<PyStepView, std::shared_ptr<PyStepView>>(
+      m, "StepView", "What a warm starter sees: .world (read-only, valid during the call) and .oracle (λ* or None).")
+      .def_property_readonly("world", [](const PyStepView& v) { return v.world; })
+      .def_property_readonly("oracle", [](const PyStepView& v) { return v.oracle; })
+      .def_property_readonly("rows", [](const PyStepView& v) { return v.world->get().problem().rows(); },
+                             "Rows of this step's problem (= len of the λ⁰ to return).");
+}
+
+}  // namespace dc::py

@@ -1,0 +1,72 @@
+"""`deepcontact render` and the trajectory reader."""
+import shutil
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from conftest import SMALL, cli_error, run_cli, set_args
+
+
+@pytest.fixture(scope="module")
+def run_h5(tmp_path_factory):
+    path = tmp_path_factory.mktemp("render") / "run.h5"
+    run_cli("simulate", *set_args(SMALL), "--out", path)
+    return path
+
+
+def test_reader_matches_the_world(dc, run_h5):
+    t = dc.read_trajectory(run_h5)
+    w = dc.World(set=SMALL)
+    assert np.array_equal(t.position[0], w.bodies.position)
+    for k in range(10):
+        w.step(sweeps=SMALL["solver.sweeps"])
+        c = t.step_contacts(k)
+        assert np.array_equal(c["lambda"], w.contacts["lambda"]) and np.array_equal(c["point"], w.contacts.point)
+        assert np.array_equal(t.position[k + 1], w.bodies.position)
+    assert t.width == 30.0 and t.walls == ["left", "right", "bottom", "top"] and t.dt == 0.01
+    assert t.shapes is None  # circle-only file
+    assert len(t.step_contacts(t.steps)["gap"]) == 0
+
+
+def test_frame_png(run_h5, tmp_path):
+    out = tmp_path / "f.png"
+    p = run_cli("render", run_h5, "--frame", 60, "--out", out)
+    assert "1 frame" in p.stdout
+    im = Image.open(out)
+    assert im.size[0] >= 400 and im.size[1] >= 400
+
+
+def test_gif_has_one_frame_per_every_steps(run_h5, tmp_path):
+    out = tmp_path / "r.gif"
+    run_cli("render", run_h5, "--out", out, "--every", 10)
+    im = Image.open(out)
+    assert im.n_frames == SMALL["time.steps"] // 10 + 1  # states 0, 10, …, 80
+
+
+@pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg not installed")
+def test_mp4(run_h5, tmp_path):
+    out = tmp_path / "r.mp4"
+    run_cli("render", run_h5, "--out", out, "--every", 20)
+    assert out.read_bytes()[4:8] == b"ftyp"
+
+
+def test_bad_input_gives_one_line(run_h5, tmp_path):
+    assert "an animation must be .gif or .mp4" in cli_error("render", run_h5, "--out", tmp_path / "x.png")
+    assert "--frame 999" in cli_error("render", run_h5, "--frame", 999, "--out", tmp_path / "x.png")
+    missing = tmp_path / "nope.h5"
+    assert str(missing) in cli_error("render", missing, "--out", tmp_path / "x.gif")
+    assert "ffmpeg" in cli_error_without_ffmpeg(run_h5, tmp_path)
+
+
+def cli_error_without_ffmpeg(run_h5, tmp_path):
+    import os
+    import subprocess
+
+    from conftest import CLI
+
+    env = dict(os.environ, PATH="/nonexistent")
+    p = subprocess.run([CLI, "render", str(run_h5), "--out", str(tmp_path / "x.mp4")], capture_output=True,
+                       text=True, env=env)
+    assert p.returncode == 1
+    return p.stderr.strip().splitlines()[-1]
