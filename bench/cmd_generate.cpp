@@ -147,9 +147,9 @@ void run(const GenerateArgs& a) {
       sph_node_count(params.image.sph.grid.height, params.image.sph.grid.spacing),
       sph_node_count(params.image.sph.grid.width, params.image.sph.grid.spacing), params.oracle.describe().c_str(),
       r.worst_residual, r.path.c_str());
-  std::printf("generate: of the %.2f s, the writer spent %.2f s appending to the file and %.2f s waiting for other "
-              "ranks' simulations\n",
-              wall, r.write_seconds, r.receive_seconds);
+  std::printf("generate: of the %.2f s, the writer spent %.2f s (%.2f s CPU) appending to the file and %.2f s "
+              "waiting for other ranks' simulations\n",
+              wall, r.write_seconds, r.write_cpu_seconds, r.receive_seconds);
 }
 
 }  // namespace

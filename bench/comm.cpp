@@ -9,6 +9,9 @@
 #include "dc/engine/error.hpp"
 
 #ifdef DC_HAVE_MPI
+// The C API only: OpenMPI's and MPICH's deprecated C++ bindings would need libmpi_cxx.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
 #endif
 

@@ -71,7 +71,7 @@ $PY scripts/h5_compare.py "$work/bench1/results.h5" "$work/bench2/results.h5" --
   --ignore '^/statistics/.*(time|total|ms)'
 $PY - "$work/bench1/summary.json" "$work/bench2/summary.json" <<'PYEOF'
 import json, re, sys
-timing = re.compile(r"(_ms|ns_per_row|seconds|date|git|machine|build|provenance)")
+timing = re.compile(r"(_ms|ns_per_row|seconds|date|git|machine|build|provenance|total)")  # timings and ratios of timings
 def strip(x):
     if isinstance(x, dict):
         return {k: strip(v) for k, v in x.items() if not timing.search(k)}

@@ -13,9 +13,18 @@
 #include <mutex>
 #include <optional>
 
+#include <ctime>
+
 #include "dc/engine/error.hpp"
 
 namespace dc {
+namespace {
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+}  // namespace
 
 DataSetGenerationReport generate_data_set(const DataSetGenerationDef& def, const DataSetGenerationHooks& hooks,
                                           const DataSetPartition& part) {
@@ -98,12 +107,14 @@ DataSetGenerationReport generate_data_set(const DataSetGenerationDef& def, const
       }
       lock.unlock();
       const auto w0 = std::chrono::steady_clock::now();
+      const double c0 = thread_cpu_seconds();
       if (shipper) {
         part.ship(*rec);
       } else {
         writer->append(*rec);  // rows, /sims (seed last), flush
       }
       report.write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+      report.write_cpu_seconds += thread_cpu_seconds() - c0;
       if (!shipper && hooks.on_committed) hooks.on_committed(*rec);
       lock.lock();
       ++written;

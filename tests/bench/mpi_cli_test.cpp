@@ -9,6 +9,7 @@
 
 #include "cli_helpers.hpp"
 #include "comm.hpp"
+#include "dc/engine/error.hpp"
 #include "h5_compare.hpp"
 #include "dc/io/h5.hpp"
 #include "mpi_generate.hpp"

@@ -78,25 +78,25 @@ ModelGrid grid_for(int size) {
   return g;
 }
 
-struct Run {
+struct TrainRun {
   std::vector<float> weights;
   TrainResult result;
 };
 
-Run train(const std::vector<TrainingSample>& data, const TrainDef& def, const DataParallelGroup* group) {
+TrainRun train(const std::vector<TrainingSample>& data, const TrainDef& def, const DataParallelGroup* group) {
   Model model(default_arch(2, 0.2), grid_for(13), 2);
   Trainer t(def);
   t.set_data_parallel(group);
-  Run r;
+  TrainRun r;
   r.result = t.train(model, data);
   for (const ParamRef& p : model.network().parameters())
     r.weights.insert(r.weights.end(), p.value->data(), p.value->data() + p.value->size());
   return r;
 }
 
-std::vector<Run> train_parallel(int k, const std::vector<TrainingSample>& data, const TrainDef& def) {
+std::vector<TrainRun> train_parallel(int k, const std::vector<TrainingSample>& data, const TrainDef& def) {
   ThreadGroup group(k);
-  std::vector<Run> runs(static_cast<std::size_t>(k));
+  std::vector<TrainRun> runs(static_cast<std::size_t>(k));
   std::vector<std::thread> threads;
   for (int r = 0; r < k; ++r)
     threads.emplace_back([&, r] {
@@ -122,8 +122,8 @@ void expect_like_one_process(int k, int batch, bool weighted) {
   def.epochs = 2;
   def.batch_size = batch;
   def.seed = 5;
-  const Run one = train(data, def, nullptr);
-  const std::vector<Run> many = train_parallel(k, data, def);
+  const TrainRun one = train(data, def, nullptr);
+  const std::vector<TrainRun> many = train_parallel(k, data, def);
   for (int r = 1; r < k; ++r)  // every process holds the same weights
     EXPECT_EQ(std::memcmp(many[0].weights.data(), many[static_cast<std::size_t>(r)].weights.data(),
                           sizeof(float) * one.weights.size()), 0) << "rank " << r;
@@ -151,8 +151,8 @@ TEST(DataParallel, GroupOfOneIsTheOneProcessRun) {
   TrainDef def;
   def.epochs = 1;
   def.batch_size = 4;
-  const std::vector<Run> solo = train_parallel(1, data, def);
-  const Run plain = train(data, def, nullptr);
+  const std::vector<TrainRun> solo = train_parallel(1, data, def);
+  const TrainRun plain = train(data, def, nullptr);
   EXPECT_EQ(std::memcmp(solo[0].weights.data(), plain.weights.data(), sizeof(float) * plain.weights.size()), 0);
 }
 

@@ -71,6 +71,7 @@ struct DataSetGenerationReport {
   double worst_residual = 0;  ///< worst natural-map residual of λ* over this run's simulations [N]
   double wall_seconds = 0;    ///< of the simulations and writing
   double write_seconds = 0;   ///< of it, the writer thread in DataSetWriter::append (or in ship)
+  double write_cpu_seconds = 0;  ///< CPU time of the writer thread in those calls (wall inflates under load)
   double receive_seconds = 0; ///< of it, the writer waiting for other processes' simulations (partition)
 };
 
