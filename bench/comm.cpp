@@ -1,7 +1,9 @@
 // Comm over MPI (DC_HAVE_MPI) or serial (comm.hpp).
 #include "comm.hpp"
 
+#include <chrono>
 #include <cstdio>
+#include <thread>
 #include <cstdlib>
 #include <limits>
 #include <string>
@@ -99,15 +101,30 @@ std::vector<Bytes> Comm::gather(const Bytes& mine, int root) const {
   return out;
 }
 
+// Point-to-point waits poll with a short sleep instead of MPI's busy wait: the waiting
+// thread (generate's writer) shares its rank's cores with that rank's simulation workers,
+// and a busy wait would take a core from them (measured: docs/cluster.md).
+static void idle_wait() { std::this_thread::sleep_for(std::chrono::microseconds(500)); }
+
 void Comm::send(const Bytes& data, int dest, int tag) const {
   if (!parallel()) throw InvalidArgument("Comm::send: no other rank");
-  MPI_Send(data.data(), checked_count(data.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD);
+  MPI_Request request;
+  MPI_Isend(data.data(), checked_count(data.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD, &request);
+  for (int done = 0;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    idle_wait();
+  }
 }
 
 Bytes Comm::receive(int source, int tag) const {
   if (!parallel()) throw InvalidArgument("Comm::receive: no other rank");
   MPI_Status status;
-  MPI_Probe(source, tag, MPI_COMM_WORLD, &status);
+  for (int found = 0;;) {
+    MPI_Iprobe(source, tag, MPI_COMM_WORLD, &found, &status);
+    if (found) break;
+    idle_wait();
+  }
   int n = 0;
   MPI_Get_count(&status, MPI_BYTE, &n);
   Bytes data(static_cast<std::size_t>(n));

@@ -19,7 +19,7 @@ timed() {  # label, command...
   tail -1 "$work/time.txt"
   grep -E "writer spent|rank 0 ran|written in|data-parallel|samples \(every" "$work/out.txt" || true
 }
-echo "CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores; load: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc --all) cores; load: $(cut -d' ' -f1-3 /proc/loadavg)"
 timed "generate --sims 16 K=1" "$DC" generate --sims 16 --steps "$STEPS" --threads 1 --out "$work/g1.h5"
 timed "generate --sims 16 K=2" "${MPIRUN[@]}" -n 2 "$DC" generate --sims 16 --steps "$STEPS" --threads 1 --out "$work/g2.h5"
 timed "bench --quick --seeds 1..4 K=1" "$DC" bench --quick --seeds 1..4 --steps "$STEPS" --out "$work/b1"

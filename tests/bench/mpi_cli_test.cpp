@@ -1,7 +1,8 @@
 // Issue 14: the deepcontact commands across MPI ranks. The messages of `generate` carry
-// every field of a simulation; `generate` under `mpirun -n 2` writes the one-process file
-// (also when resuming a one-process run), and `bench` gathers the one-process figures. The
-// CLI cases need the build's MPI launcher (DC_TEST_MPIRUN) and are skipped without it.
+// every field of a simulation; `generate` under `mpirun -n 2` writes the one-process file.
+// The CLI case needs the build's MPI launcher (DC_TEST_MPIRUN) and is compiled out without
+// it. bench (its report's plots cost a minute under load), train and the kill/resume cases
+// are in scripts/check-mpi.sh (CI).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -120,24 +121,6 @@ TEST(MpiCli, GenerateOnTwoRanksWritesTheOneProcessFile) {
   test::expect_same_datasets(H5File::open_read(dir / "one.h5"), H5File::open_read(dir / "two.h5"));
 }
 
-TEST(MpiCli, BenchOnTwoRanksGathersTheOneProcessFigures) {
-  TempDir dir;
-  const std::string args = "bench --warmstarts zero,builtin,copy --seeds 1..3 --steps 12 --sweeps 200 --set "
-                           "bodies.count=20 --out ";
-  ASSERT_EQ(run_sh(std::string(DC_CLI) + " " + args + dir / "one >/dev/null 2>&1"), 0);
-  ASSERT_EQ(run_sh(mpirun(2) + args + dir / "two >" + dir / "log 2>&1"), 0) << test::slurp_file(dir / "log");
-  const H5File a = H5File::open_read(dir / "one/results.h5"), b = H5File::open_read(dir / "two/results.h5");
-  for (const char* p : {"/steps/index", "/steps/rows"}) EXPECT_EQ(a.read<std::int32_t>(p), b.read<std::int32_t>(p)) << p;
-  EXPECT_EQ(a.read<std::int64_t>("/steps/seed"), b.read<std::int64_t>("/steps/seed"));
-  EXPECT_EQ(a.read<double>("/steps/oracle_residual"), b.read<double>("/steps/oracle_residual"));
-  for (const char* g : {"zero", "builtin", "copy"}) {
-    const std::string w = std::string("/warmstarters/") + g;
-    EXPECT_EQ(a.read<std::int32_t>(w + "/sweeps_to_tol"), b.read<std::int32_t>(w + "/sweeps_to_tol")) << g;
-    EXPECT_EQ(a.read<float>(w + "/theta"), b.read<float>(w + "/theta")) << g;
-    for (const char* d : {"residual", "lambda_error", "penetration", "energy_error", "initial_error"})
-      EXPECT_EQ(a.read<double>(w + "/" + d), b.read<double>(w + "/" + d)) << g << " " << d;
-  }
-}
 #endif
 
 }  // namespace
