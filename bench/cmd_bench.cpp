@@ -1,5 +1,6 @@
 // deepcontact bench: compare warm starters on the same scenes (issue 3, DESIGN §6).
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -8,7 +9,9 @@
 #include "bench_report.hpp"
 #include "bench_runner.hpp"
 #include "cli_common.hpp"
+#include "comm.hpp"
 #include "commands.hpp"
+#include "mpi_bench.hpp"
 #include "dc/engine/error.hpp"
 #include "progress_bar.hpp"
 
@@ -50,19 +53,27 @@ void run(const BenchArgs& a) {
   o.warmstarts = a.warmstarts.empty() ? default_bench_starters(registry, a.quick) : split_list(a.warmstarts);
 
   std::unique_ptr<ProgressBar> bar;
-  const bench::BenchResults r = bench::run_bench(o, registry, [&](long done, long total, const std::string& note) {
+  // Across MPI ranks each runs a block of the seeds and rank 0 reports (mpi_bench.hpp).
+  DistributedBenchTimes times;
+  const bench::BenchResults r = run_bench_across_ranks(o, registry, [&](long done, long total, const std::string& note) {
     if (!bar) bar = std::make_unique<ProgressBar>("bench", total);
     bar->advance(1, note);
     (void)done;
-  });
+  }, &times);
   if (bar) bar->finish();
+  if (!world().is_root()) return;
+  if (world().parallel())
+    std::printf("bench: %d ranks; rank 0 ran its seeds in %.2f s, then waited for, gathered and merged the others' "
+                "in %.2f s\n", world().size(), times.run_seconds, times.gather_seconds);
   const auto summary = bench::summarise(r);
   std::printf("%s", bench::format_table(r, summary, false).c_str());
   std::printf("(%zu evaluated steps, %d without contacts skipped; medians over steps; * = oracle starter; %.1f s)\n",
               r.starters.empty() ? 0 : r.starters[0].sweeps_to_tol.size(), r.skipped_steps, r.wall_seconds);
   if (!a.out.empty()) {
+    const auto tw = std::chrono::steady_clock::now();
     const auto files = bench::write_report(r, a.out);
-    std::printf("report: %s/report.md (%zu files)\n", a.out.c_str(), files.size());
+    std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files.size(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - tw).count());
   }
 }
 

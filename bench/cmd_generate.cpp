@@ -14,12 +14,14 @@
 #include <optional>
 
 #include "cli_common.hpp"
+#include "comm.hpp"
 #include "commands.hpp"
 #include "sigint_guard.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/learning/data_set_generation.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
+#include "mpi_generate.hpp"
 #include "progress_bar.hpp"
 
 namespace dc::cli {
@@ -104,7 +106,8 @@ void run(const GenerateArgs& a) {
   std::optional<ProgressBar> bar;
   DataSetGenerationHooks hooks;
   hooks.keep_going = [] { return !interrupted(); };
-  hooks.on_start = [&](int first, int) { bar.emplace("generate", a.sims - first); };
+  const Comm& comm = world();  // across MPI ranks: rank 0 writes, all simulate (mpi_generate.hpp)
+  if (comm.is_root()) hooks.on_start = [&](int first, int) { bar.emplace("generate", a.sims - first); };
   hooks.on_committed = [&](const SimulationRecord& rec) {
     if (a.log_completed) {
       std::fprintf(stderr, "completed %d samples %zu\n", rec.index, rec.samples());
@@ -112,31 +115,41 @@ void run(const GenerateArgs& a) {
     }
     bar->advance(1, "sim " + std::to_string(rec.index) + ": " + std::to_string(rec.bodies) + " bodies");
   };
-  const DataSetGenerationReport r = generate_data_set(def, hooks);
+  const DataSetGenerationReport r = generate_data_set(def, hooks, generate_partition(comm));
   if (bar) bar->finish();
+  if (!comm.is_root()) {
+    if (!r.finished) send_generate_stop(comm);  // rank 0 commits what it has and ends the job
+    return;
+  }
   if (!r.finished) {
     std::fprintf(stderr,
                  "deepcontact: interrupted: %d of %d simulations are saved in %s; run the same command with "
                  "--resume to continue\n",
                  r.completed, a.sims, r.path.c_str());
     exit_status() = 130;
+    if (comm.parallel()) comm.abort(130);  // the other ranks may be waiting to send
     return;
   }
   const DataSetParams& params = def.params;
   const int fresh = r.completed - r.first;
   const double wall = r.wall_seconds;
   std::printf(
-      "Generated %d simulation%s (%d new, seeds %llu..%llu, %d..%d bodies, %d steps each) with %d thread%s in %.2f s "
+      "Generated %d simulation%s (%d new, seeds %llu..%llu, %d..%d bodies, %d steps each) with %s%d thread%s in %.2f s "
       "(%.0f steps/s, %.2f s per simulation): %lld samples of %d feature channels on a %d x %d grid, lambda* by "
       "%s with worst natural-map residual %.3g N -> %s\n",
       r.completed, r.completed == 1 ? "" : "s", fresh, static_cast<unsigned long long>(params.seed),
       static_cast<unsigned long long>(params.seed + static_cast<std::uint64_t>(r.completed) - 1), params.count_min,
-      params.count_max, params.scene.time.steps, r.threads, r.threads == 1 ? "" : "s", wall,
+      params.count_max, params.scene.time.steps,
+      comm.parallel() ? (std::to_string(comm.size()) + " ranks x ").c_str() : "", r.threads,
+      r.threads == 1 ? "" : "s", wall,
       wall > 0 ? static_cast<double>(r.steps) / wall : 0.0, fresh > 0 ? wall / fresh : 0.0,
       static_cast<long long>(r.samples), static_cast<int>(params.image.channels.size()),
       sph_node_count(params.image.sph.grid.height, params.image.sph.grid.spacing),
       sph_node_count(params.image.sph.grid.width, params.image.sph.grid.spacing), params.oracle.describe().c_str(),
       r.worst_residual, r.path.c_str());
+  std::printf("generate: of the %.2f s, the writer spent %.2f s (%.2f s CPU) appending to the file and %.2f s "
+              "waiting for other ranks' simulations\n",
+              wall, r.write_seconds, r.write_cpu_seconds, r.receive_seconds);
 }
 
 }  // namespace

@@ -28,7 +28,9 @@
 #include <memory>
 #include <optional>
 
+#include "comm.hpp"
 #include "commands.hpp"
+#include "mpi_train.hpp"
 #include "sigint_guard.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/io/h5.hpp"
@@ -116,6 +118,10 @@ void run(const TrainArgs& a) {
   } catch (const ConfigError& e) {
     throw ConfigError(std::string(e.what()) + " (see deepcontact train --help)");
   }
+  // Across MPI ranks (mpi_train.hpp): every rank trains on a shard of every batch; rank 0
+  // alone writes and prints.
+  const Comm& comm = world();
+  const bool root = comm.is_root();
   if (a.threads > 0) omp_set_num_threads(a.threads);
   const int threads = a.threads > 0 ? a.threads : omp_get_max_threads();
 
@@ -140,7 +146,7 @@ void run(const TrainArgs& a) {
   } else {
     model = std::make_unique<Model>(arch, grid, reader.feature_channels());
     std::error_code ec;
-    fs::remove(ckpt, ec);  // a stale checkpoint of another run must not be resumed later
+    if (root) fs::remove(ckpt, ec);  // a stale checkpoint of another run must not be resumed later
   }
 
   // --dropout only shapes the built-in architectures; an arch file states its own.
@@ -148,6 +154,7 @@ void run(const TrainArgs& a) {
   char dropout_buf[32];
   std::snprintf(dropout_buf, sizeof dropout_buf, "%g", a.dropout);
   const std::string dropout_text = builtin_arch ? dropout_buf : "as in the arch file";
+  if (root)
   std::printf("train: %zu samples (every %d of %lld) from %zu simulations of %s, %d x %d grid, %d feature channels; "
               "%zu weights (%s), %d epochs, batch %d, lr %g (%s), momentum %g, weight decay %g, dropout %s, "
               "contact weight %g, %s labels (asinh scale %g), %d thread%s; loaded in %.1f s\n",
@@ -156,16 +163,26 @@ void run(const TrainArgs& a) {
               arch.name.c_str(), a.epochs, a.batch, a.lr, a.schedule.c_str(), a.momentum, a.weight_decay,
               dropout_text.c_str(), a.contact_weight, to_string(grid.labels.kind), a.label_scale, threads,
               threads == 1 ? "" : "s", load_s);
-  if (resume) std::printf("train: resuming after epoch %d from %s\n", resume->epochs_done, ckpt.string().c_str());
+  if (root && resume) std::printf("train: resuming after epoch %d from %s\n", resume->epochs_done, ckpt.string().c_str());
+  if (root && comm.parallel())
+    std::printf("train: data-parallel over %d ranks (each a shard of every batch of %d)\n", comm.size(), a.batch);
   std::fflush(stdout);
 
+  const SigintGuard sigint;
+  Trainer trainer(def);
+  const CommGroup group(comm);
+  trainer.set_data_parallel(&group);
+  if (!root) {  // train in step with rank 0 (same weights, same stop decisions), write nothing
+    const auto on_epoch = [&](const EpochReport&, const TrainState&) { return !any_rank(comm, interrupted()); };
+    (void)trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return !interrupted(); });
+    require_identical_weights(comm, *model);
+    return;
+  }
   // OUT (best so far; a resumed run's OUT already holds it), OUT.ckpt, OUT.loss.csv.
   TrainingOutputs files(out, id, a.data, resume ? &*resume : nullptr);
 
-  const SigintGuard sigint;
   ProgressBar bar("train", a.epochs);
   if (resume) bar.advance(resume->epochs_done);
-  Trainer trainer(def);
   const auto on_epoch = [&](const EpochReport& e, const TrainState& st) {
     const bool improved = files.record_epoch(*model, e, st);
     char line[256];
@@ -174,11 +191,12 @@ void run(const TrainArgs& a) {
     bar.advance(1, line);
     std::printf("%s\n", line);
     std::fflush(stdout);
-    return !interrupted();
+    return !any_rank(comm, interrupted());
   };
   const TrainResult result =
       trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return !interrupted(); });
   bar.finish();
+  require_identical_weights(comm, *model);
 
   const int done = static_cast<int>(result.history.size());
   if (done < a.epochs) {

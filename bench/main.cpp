@@ -5,6 +5,7 @@
 #include <exception>
 #include <new>
 
+#include "comm.hpp"
 #include "commands.hpp"
 #include "dc/engine/error.hpp"
 
@@ -16,6 +17,7 @@ int& exit_status() {
 }  // namespace dc::cli
 
 int main(int argc, char** argv) {
+  const dc::cli::MpiSession mpi(argc, argv);  // MPI only under mpirun/srun (docs/cluster.md)
   CLI::App app{
       "DeepContact: how much can a warm start speed up the contact solver of a rigid-body "
       "simulator, and what does it cost?"};
@@ -37,8 +39,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "deepcontact: error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "deepcontact: error: %s\n", e.what());
-    return 1;
+    const dc::cli::Comm& comm = dc::cli::world();
+    if (!comm.parallel()) {
+      std::fprintf(stderr, "deepcontact: error: %s\n", e.what());
+      return 1;
+    }
+    // Across ranks the others may wait for this one in a collective: end the whole job (what
+    // is on disk is consistent; generate and train resume from it).
+    std::fprintf(stderr, "deepcontact: error: rank %d: %s\n", comm.rank(), e.what());
+    comm.abort(1);
   }
   return dc::cli::exit_status();
 }

@@ -19,6 +19,7 @@ packages=(
   libgtest-dev libgmock-dev googletest # unit tests
   libbenchmark-dev   # micro-benchmarks of the hot kernels
   libomp-dev         # OpenMP runtime headers (g++ uses libgomp; clang needs libomp)
+  openmpi-bin libopenmpi-dev # MPI: generate, bench and train across ranks (mpirun/srun; docs/cluster.md)
   python3 python3-numpy python3-matplotlib python3-h5py # report plots
   python3-dev python3-pybind11 pybind11-dev python3-scipy python3-pytest # the Python module (python/) and its tests
   python3-pil ffmpeg # deepcontact render: GIF (Pillow) and MP4 (ffmpeg)

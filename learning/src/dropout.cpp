@@ -21,7 +21,14 @@ void Dropout::forward(const Tensor& x, Tensor& y, bool training) {
   if (rng_ == nullptr) throw InvalidArgument("Dropout: training forward needs a dc::Rng (set_rng)");
   mask_.resize(x.shape());
   const float keep_scale = static_cast<float>(1.0 / (1.0 - p_));
+  const std::size_t per = x.n() > 0 ? mask_.size() / static_cast<std::size_t>(x.n()) : 0;
+  const int total = window_total_ > 0 ? window_total_ : x.n(), offset = window_total_ > 0 ? window_offset_ : 0;
+  if (offset < 0 || offset + x.n() > total)
+    throw InvalidArgument("Dropout: batch window [" + std::to_string(offset) + ", " + std::to_string(offset + x.n()) +
+                          ") outside a batch of " + std::to_string(total));
+  for (std::size_t i = 0; i < static_cast<std::size_t>(offset) * per; ++i) (void)rng_->uniform();
   for (std::size_t i = 0; i < mask_.size(); ++i) mask_[i] = rng_->uniform() >= p_ ? keep_scale : 0.0f;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(total - offset - x.n()) * per; ++i) (void)rng_->uniform();
   y.flat() = x.flat().cwiseProduct(mask_.flat());
 }
 

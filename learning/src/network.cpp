@@ -255,6 +255,11 @@ void Network::set_rng(Rng* rng) {
     if (auto* d = dynamic_cast<Dropout*>(node.layer.get())) d->set_rng(rng);
 }
 
+void Network::set_batch_window(int offset, int total) {
+  for (Node& node : nodes_)
+    if (auto* d = dynamic_cast<Dropout*>(node.layer.get())) d->set_batch_window(offset, total);
+}
+
 std::string Network::summary() {
   std::ostringstream os;
   os << "arch '" << arch_.name << "', input " << in_.c << "x" << in_.h << "x" << in_.w << "\n";

@@ -181,6 +181,55 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   std::vector<std::size_t> order(static_cast<std::size_t>(train.n));
   Tensor xb, yb, wb, grad;
   TrainState state;  // handed to the callback after every epoch
+
+  // Data-parallel minibatch (data_parallel.hpp): this process's shard forward and backward,
+  // then one sum over the group of [den·∇ for every parameter, num, den, stop votes].
+  // Returns the whole batch's loss; `stop` = some process's keep_going said no.
+  const bool parallel = group_ != nullptr && group_->size() > 1;
+  std::size_t grad_count = 0;
+  for (const ParamRef& p : params) grad_count += p.grad->size();
+  std::vector<double> reduce;
+  const auto parallel_batch = [&](int b, std::size_t first, bool& stop) -> double {
+    const int K = group_->size(), r = group_->rank();
+    const int lo = static_cast<int>(static_cast<long>(b) * r / K), hi = static_cast<int>(static_cast<long>(b) * (r + 1) / K);
+    // An empty shard (b < K) still runs one sample with weight 0: its dropout layers must
+    // draw the batch's masks like everyone else's.
+    const bool empty = hi == lo;
+    const int offset = empty ? 0 : lo, count = empty ? 1 : hi - lo;
+    gather(train.x, order, first + static_cast<std::size_t>(offset), count, xb);
+    gather(train.y, order, first + static_cast<std::size_t>(offset), count, yb);
+    if (wc > 0) gather(train.w, order, first + static_cast<std::size_t>(offset), count, wb);
+    net.set_batch_window(offset, b);
+    const Tensor& pred = net.forward(xb, true);
+    net.set_batch_window(0, 0);
+    const double loss = mse(pred, yb, wc > 0 ? &wb : nullptr, &grad);
+    net.backward(grad);
+    // The shard's MSE denominator: Σ of the weight of every prediction element.
+    double den = 0.0;
+    if (!empty) {
+      if (wc == 0) {
+        den = static_cast<double>(pred.size());
+      } else {
+        for (std::size_t i = 0; i < wb.size(); ++i) den += wb[i];
+        if (wc == 1 && ys.c != 1) den *= ys.c;
+      }
+    }
+    reduce.assign(grad_count + 3, 0.0);
+    std::size_t k = 0;
+    for (const ParamRef& p : params)
+      for (std::size_t i = 0; i < p.grad->size(); ++i) reduce[k++] = den * static_cast<double>((*p.grad)[i]);
+    reduce[k] = den * loss;
+    reduce[k + 1] = den;
+    reduce[k + 2] = keep_going && !keep_going() ? 1.0 : 0.0;
+    group_->sum(reduce);
+    stop = reduce[k + 2] > 0.0;
+    const double total = reduce[k + 1];
+    const double scale = total > 0.0 ? 1.0 / total : 0.0;
+    k = 0;
+    for (const ParamRef& p : params)
+      for (std::size_t i = 0; i < p.grad->size(); ++i) (*p.grad)[i] = static_cast<float>(reduce[k++] * scale);
+    return reduce[k] * scale;
+  };
   state.validation_simulations = result.validation_simulations;
   state.rng_type = rng.algorithm();
 
@@ -193,11 +242,21 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
     double loss_sum = 0.0;
     bool stopped = false;
     for (std::size_t first = 0; first < order.size(); first += static_cast<std::size_t>(def_.batch_size)) {
-      if (keep_going && !keep_going()) {  // abandon the unfinished epoch (the caller keeps the last state)
+      if (!parallel && keep_going && !keep_going()) {  // abandon the unfinished epoch (the caller keeps the last state)
         stopped = true;
         break;
       }
       const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(def_.batch_size), order.size() - first));
+      if (parallel) {
+        bool stop = false;
+        loss_sum += b * parallel_batch(b, first, stop);
+        if (stop) {
+          stopped = true;
+          break;
+        }
+        sgd.step(params, lr);
+        continue;
+      }
       gather(train.x, order, first, b, xb);
       gather(train.y, order, first, b, yb);
       if (wc > 0) gather(train.w, order, first, b, wb);

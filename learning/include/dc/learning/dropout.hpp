@@ -22,6 +22,14 @@ class Dropout final : public Layer {
   void backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor* dx) override;
 
   void set_rng(Rng* rng) { rng_ = rng; }
+  /// Data-parallel training (data_parallel.hpp): the batch this process sees is samples
+  /// [offset, offset + N) of a batch of `total`; a training forward draws the masks of all
+  /// `total` samples (in element order, as one process would) and keeps its window's, so
+  /// every process's masks and random stream equal the one-process run's. total = 0: off.
+  void set_batch_window(int offset, int total) {
+    window_offset_ = offset;
+    window_total_ = total;
+  }
   [[nodiscard]] double rate() const { return p_; }
   [[nodiscard]] const Tensor& mask() const { return mask_; }  ///< last training mask (empty: identity)
 
@@ -30,6 +38,7 @@ class Dropout final : public Layer {
   Rng* rng_;
   Tensor mask_;
   bool identity_ = true;  ///< last forward was the identity (inference or p = 0)
+  int window_offset_ = 0, window_total_ = 0;
 };
 
 }  // namespace dc

@@ -56,6 +56,8 @@ class Network {
   void initialize(const Initializer& init, Rng& rng);
   /// Bind the random stream used by every dropout layer in training (null unbinds).
   void set_rng(Rng* rng);
+  /// Dropout::set_batch_window on every dropout layer (data-parallel training).
+  void set_batch_window(int offset, int total);
 
   [[nodiscard]] const ArchSpec& arch() const { return arch_; }
   [[nodiscard]] Shape input_shape() const { return in_; }    ///< n = 1

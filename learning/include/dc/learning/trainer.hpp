@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "dc/learning/data_parallel.hpp"
 #include "dc/learning/model.hpp"
 
 namespace dc {
@@ -103,8 +104,13 @@ class Trainer {
   static std::vector<int> pick_validation_simulations(std::span<const TrainingSample> data, double fraction,
                                                       Rng& rng);
 
+  /// Data-parallel training across a process group (data_parallel.hpp); nullptr or a
+  /// group of size 1 = this process alone (the default). The group must outlive train().
+  void set_data_parallel(const DataParallelGroup* group) { group_ = group; }
+
  private:
   TrainDef def_;
+  const DataParallelGroup* group_ = nullptr;
 };
 
 }  // namespace dc
