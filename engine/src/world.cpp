@@ -58,7 +58,9 @@ const std::vector<Contact>& World::collide() {
         contacts_.push_back(*c);
   }
   std::vector<std::pair<int, int>> pairs;
+  const auto t0 = Clock::now();
   broad_phase_.find_pairs(bodies_.position, reach, pairs);
+  broad_phase_ms_ = ms_since(t0);
   for (const auto& [a, b] : pairs)
     if (auto c = circle_circle(bodies_, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)]))
       contacts_.push_back(*c);
@@ -110,6 +112,7 @@ StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
   auto t0 = Clock::now();
   collide();
   rep.profile.collide_ms = ms_since(t0);
+  rep.profile.broad_phase_ms = broad_phase_ms_;
   t0 = Clock::now();
   assemble();
   if (solver.needs_assembled_matrix()) problem_.ensure_assembled_matrix();

@@ -1,6 +1,7 @@
 #include "dc/io/trajectory_recorder.hpp"
 
 #include <cmath>
+#include <chrono>
 
 #include "dc/engine/error.hpp"
 #include "dc/io/h5.hpp"
@@ -30,6 +31,7 @@ void TrajectoryRecorder::record_state(const BodyState& s) {
 }
 
 void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
+  const auto t0 = std::chrono::steady_clock::now();
   for (const Contact& c : w.contacts()) {
     body_a_.push_back(c.body_a);
     body_b_.push_back(c.body_b);
@@ -48,6 +50,10 @@ void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
   theta_final_.push_back(r.solve.theta.empty() ? 0.0 : r.solve.theta.back());
   residual_.push_back(r.solve.residual);
   record_state(w.bodies());
+  const StepProfile& p = r.profile;
+  const double record_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  profile_.insert(profile_.end(), {1e-3 * p.collide_ms, 1e-3 * p.assemble_ms, 1e-3 * p.warmstart_ms,
+                                   1e-3 * p.solve_ms, 1e-3 * p.integrate_ms, record_s, 1e-3 * p.broad_phase_ms});
 }
 
 void TrajectoryRecorder::write(const std::string& path, const std::string& scene,
@@ -103,6 +109,9 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   f.write<std::int32_t>("/solver/status", status_, {S});
   f.write<double>("/solver/theta_final", theta_final_, {S});
   f.write<double>("/solver/residual", residual_, {S});
+  f.write<double>("/solver/profile", profile_, {S, static_cast<hsize_t>(kProfileWidth)});
+  f.set_attribute("/solver/profile", "columns", kProfileColumns);
+  f.set_attribute("/solver/profile", "units", "s");
   out.commit();
 }
 

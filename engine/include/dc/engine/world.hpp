@@ -29,13 +29,20 @@
 
 namespace dc {
 
-/// Wall-clock milliseconds spent in each stage of one step.
+/// Wall-clock milliseconds (steady_clock) spent in each stage of one World::step. Timing
+/// only: nothing the step computes depends on it. The trajectory stores it per step as
+/// /solver/profile (docs/formats.md), the recorder's own time added as a further column.
 struct StepProfile {
-  double collide_ms = 0;
-  double assemble_ms = 0;
-  double warmstart_ms = 0;
-  double solve_ms = 0;
-  double integrate_ms = 0;
+  double collide_ms = 0;      ///< collide(): broad phase + narrow phase (+ approach velocities)
+  double broad_phase_ms = 0;  ///< of which the broad phase (UniformGridBroadPhase::find_pairs)
+  double assemble_ms = 0;     ///< assemble() (+ ensure_assembled_matrix() when the solver needs A)
+  double warmstart_ms = 0;    ///< the initial guess λ⁰
+  double solve_ms = 0;        ///< the LCP solver
+  double integrate_ms = 0;    ///< integrate(λ): bodies, λ stored in the contacts, previous contacts
+  /// Sum of the stages (broad_phase_ms is part of collide_ms) [ms].
+  [[nodiscard]] double total_ms() const {
+    return collide_ms + assemble_ms + warmstart_ms + solve_ms + integrate_ms;
+  }
 };
 
 struct StepReport {
@@ -74,6 +81,8 @@ class World {
   [[nodiscard]] const LcpProblem& problem() const { return problem_; }
   /// The broad phase (its last_pair_tests() measures the last collide()'s work).
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
+  /// Wall-clock time of the broad phase in the last collide() [ms] (timing only).
+  [[nodiscard]] double last_broad_phase_ms() const { return broad_phase_ms_; }
   /// Rows, bodies and μ of each current contact (of the last assemble()).
   [[nodiscard]] const ContactConstraints& constraints() const { return problem_.constraints; }
   /// Row of the normal / tangent constraint of contact c (tangent: −1 when its μ = 0).
@@ -106,6 +115,7 @@ class World {
   LcpProblem problem_;
   UniformGridBroadPhase broad_phase_;
   ShapeNarrowPhase shape_narrow_phase_;  ///< collide() of scenes with a shape table
+  double broad_phase_ms_ = 0;
 };
 
 /// Generated (seeded Gaussian, rejection-sampled) plus explicit circles of a definition.

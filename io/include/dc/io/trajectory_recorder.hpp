@@ -18,14 +18,20 @@ class TrajectoryRecorder {
  public:
   /// Records state 0 of `world`.
   explicit TrajectoryRecorder(const World& world);
-  /// After world.step(): records the step's contacts (with solved λ), solver figures and
-  /// the new state.
+  /// After world.step(): records the step's contacts (with solved λ), solver figures, the
+  /// step's profile (report.profile plus the time of this call) and the new state.
   void record_step(const World& world, const StepReport& report);
   /// Writes the file atomically (tmp + rename). `scene` is the TOML text of the scene.
   void write(const std::string& path, const std::string& scene, const std::string& warmstart) const;
 
   [[nodiscard]] int steps() const { return static_cast<int>(sweeps_.size()); }
   [[nodiscard]] std::size_t contacts() const { return body_a_.size(); }
+  /// Columns of /solver/profile, in order (docs/formats.md); values in seconds.
+  static constexpr const char* kProfileColumns =
+      "collide,assemble,warm_start,solve,integrate,record,broad_phase";
+  static constexpr int kProfileWidth = 7;
+  /// Row-major (steps × kProfileWidth) per-stage wall-clock seconds of the recorded steps.
+  [[nodiscard]] const std::vector<double>& profile() const { return profile_; }
 
  private:
   void record_state(const BodyState& s);
@@ -34,7 +40,7 @@ class TrajectoryRecorder {
   std::vector<std::int64_t> step_offset_;
   std::vector<std::int32_t> body_a_, body_b_, sweeps_, status_, feature_;
   ShapeTable shapes_;
-  std::vector<double> point_, normal_, gap_, lambda_, theta_final_, residual_;
+  std::vector<double> point_, normal_, gap_, lambda_, theta_final_, residual_, profile_;
 };
 
 }  // namespace dc
