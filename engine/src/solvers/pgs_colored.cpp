@@ -8,16 +8,19 @@
 // coefficient), 27 × 8 doubles of coefficients and 4 × 8 body offsets, 1.9 kB; the batches
 // are stored colour after colour, so a sweep streams them in order. λ is kept in a permuted
 // vector during the sweeps (16 entries per batch: 8 λ_n, then 8 λ_t), mapped back to the
-// row order at checkpoints and at the end. Δu (M⁻¹ Jᵀ λ Δt) keeps "pgs"'s layout, 3 doubles
-// per body, followed by a zero body that absent bodies (walls, bodies with M⁻¹ = 0, padding
-// lanes) are read from.
+// row order at checkpoints and at the end. Δu (M⁻¹ Jᵀ λ Δt) is stored 4 doubles per body
+// (Δv_x, Δv_y, Δω, 0: 32 bytes, 64-byte aligned array), followed by a zero body that absent
+// bodies (walls, bodies with M⁻¹ = 0, padding lanes) are read from and never written to.
 //
-// Gather/scatter. Box2D v3 stores its float body state padded to 32 bytes and gathers with
-// 8 aligned loads + an 8 × 8 transpose. Here a body is 3 doubles and a lane group needs 3
-// values × 2 bodies: hardware gathers (vgatherdpd, 6 per batch) and masked scatters
-// (vscatterdpd, 6 per batch, lanes of absent bodies masked off, so nothing is written to a
-// shared dummy — no false sharing between threads). Bodies of one colour are distinct, so
-// the scatters never collide. (Measured in bench/micro_pgs.cpp; see docs/solvers.md.)
+// Gather/scatter (where this design wins or loses). Like Box2D v3 (float body state padded
+// to 32 bytes, 8 loads + a transpose), a lane group loads its 8 bodies with 8 aligned 256-bit
+// loads and transposes them into 3 registers (v_x, v_y, ω: 4 inserts, 4 unpacks, 3
+// two-source permutes), and writes them back with the inverse transpose and 8 masked 256-bit
+// stores (lanes of absent bodies masked off: nothing is written to a shared dummy, so no
+// false sharing between threads). The first version used hardware gathers/scatters
+// (vgatherdpd/vscatterdpd, 6 + 6 per batch): on Zen 4 the scatters alone made it only 1.35×
+// faster than the scalar lane loop (bench/micro_pgs.cpp). Bodies of one colour are distinct,
+// so the stores of a batch never collide.
 //
 // Lane arithmetic = scalar arithmetic. The scalar kernel (the fallback of builds without
 // AVX-512, and PgsColoredDef::simd = false) performs per lane exactly the operations of the
@@ -29,6 +32,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -54,14 +58,15 @@ using solvers::check_input;
 using solvers::finish;
 using solvers::run_sweeps;
 
-constexpr int W = 8;  // lanes per batch (AVX-512: 8 doubles)
+constexpr int W = 8;        // lanes per batch (AVX-512: 8 doubles)
+constexpr int kStride = 4;  // doubles per body in Δu (v_x, v_y, ω, padding)
 
 struct alignas(64) Batch {
   double jn[6][W], mjn[6][W], jt[6][W], mjt[6][W];  // J_i/A_ii and M⁻¹J_iᵀΔt per slot
   double bn[W], bt[W], mu[W];                       // b_i/A_ii [N], μ
-  std::int32_t la[W], lb[W];                        // Δu offsets read (zero body if absent)
+  std::int32_t la[W], lb[W];                        // Δu offsets (4·body; zero body if absent)
   std::int32_t sa[W], sb[W];                        // Δu offsets written, −1 if absent
-  std::uint8_t ma = 0, mb = 0;                      // lane masks of sa ≥ 0, sb ≥ 0
+  std::uint8_t ka[W], kb[W];                        // 0xF when sa/sb ≥ 0, else 0 (SIMD store masks)
   int count = 0;                                    // lanes in use (the rest: zero padding)
 };
 static_assert(sizeof(Batch) % 64 == 0);
@@ -77,7 +82,7 @@ struct Prepared {
   std::vector<Batch> batches;
   std::vector<Range> ranges;
   std::vector<int> row_of;  // permuted slot → LCP row (−1: padding or no tangent row)
-  int body_entries = 0;     // 3·bodies; the zero body follows
+  int body_entries = 0;     // kStride·bodies; the zero body follows
 };
 
 /// One packed row (slot order: body a v_x, v_y, ω, body b v_x, v_y, ω), as pgs's pack_row.
@@ -122,7 +127,7 @@ std::string prepare(const LcpProblem& p, ContactColorer& colorer, Prepared& out)
   const ContactConstraints& cons = p.constraints;
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
-  out.body_entries = 3 * bodies;
+  out.body_entries = kStride * bodies;
   const int zero = out.body_entries;
   std::vector<std::uint8_t> dynamic(static_cast<size_t>(bodies), 0);
   for (int k = 0; k < bodies; ++k)
@@ -159,7 +164,8 @@ std::string prepare(const LcpProblem& p, ContactColorer& colorer, Prepared& out)
     const ContactConstraint& k = cons[c];
     const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
     const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
-    const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;
+    const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;  // columns of J
+    const int ua = kStride * first, ub = second < 0 ? -1 : kStride * second;  // entries of Δu
     const Packed n = pack(p, k.normal_row, a, bb);
     if (!n.ok) return "contact " + std::to_string(c) + "'s normal row is singular or acts on another body";
     Packed t;
@@ -177,12 +183,12 @@ std::string prepare(const LcpProblem& p, ContactColorer& colorer, Prepared& out)
     B.bt[lane] = t.b;
     B.mu[lane] = k.has_friction() ? k.mu : 0.0;
     const bool da = dynamic[static_cast<size_t>(first)] != 0, db = second >= 0 && dynamic[static_cast<size_t>(second)] != 0;
-    B.la[lane] = da ? a : zero;
-    B.lb[lane] = db ? bb : zero;
-    B.sa[lane] = da ? a : -1;
-    B.sb[lane] = db ? bb : -1;
-    if (da) B.ma = static_cast<std::uint8_t>(B.ma | (1u << lane));
-    if (db) B.mb = static_cast<std::uint8_t>(B.mb | (1u << lane));
+    B.la[lane] = da ? ua : zero;
+    B.lb[lane] = db ? ub : zero;
+    B.sa[lane] = da ? ua : -1;
+    B.sb[lane] = db ? ub : -1;
+    B.ka[lane] = da ? 0xF : 0;
+    B.kb[lane] = db ? 0xF : 0;
     B.count = lane + 1;
     const size_t base = static_cast<size_t>(&B - out.batches.data()) * 2 * W;
     out.row_of[base + static_cast<size_t>(lane)] = k.normal_row;
@@ -199,6 +205,7 @@ std::string prepare(const LcpProblem& p, ContactColorer& colorer, Prepared& out)
       for (int r = 0; r < W; ++r) {  // padding lanes: zero coefficients, zero body, no stores
         B.la[r] = B.lb[r] = zero;
         B.sa[r] = B.sb[r] = -1;
+        B.ka[r] = B.kb[r] = 0;
       }
       for (int lane = 0; lane < (overflow ? 1 : W) && s < s1; ++lane, ++s) {
         if (std::string err = put(order[static_cast<size_t>(s)], B, lane); !err.empty()) return err;
@@ -299,6 +306,52 @@ struct Acc {
 }
 
 #if DC_PGS_COLORED_AVX512
+/// Loads the bodies at Δu offsets off[0..7] (4 doubles each, 32-byte aligned) and
+/// transposes them: x = (v_x of the 8 lanes), y = (v_y …), w = (ω …).
+inline void load_bodies(const double* __restrict u, const std::int32_t* off, __m512d& x, __m512d& y, __m512d& w) {
+  auto row = [&](int k) { return _mm256_loadu_pd(u + off[k]); };
+  const __m512d z0 = _mm512_insertf64x4(_mm512_castpd256_pd512(row(0)), row(4), 1);  // b0 | b4
+  const __m512d z1 = _mm512_insertf64x4(_mm512_castpd256_pd512(row(1)), row(5), 1);
+  const __m512d z2 = _mm512_insertf64x4(_mm512_castpd256_pd512(row(2)), row(6), 1);
+  const __m512d z3 = _mm512_insertf64x4(_mm512_castpd256_pd512(row(3)), row(7), 1);
+  const __m512d lo01 = _mm512_unpacklo_pd(z0, z1);  // x0 x1 w0 w1 | x4 x5 w4 w5
+  const __m512d hi01 = _mm512_unpackhi_pd(z0, z1);  // y0 y1 p0 p1 | y4 y5 p4 p5
+  const __m512d lo23 = _mm512_unpacklo_pd(z2, z3);
+  const __m512d hi23 = _mm512_unpackhi_pd(z2, z3);
+  const __m512i first = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13);
+  const __m512i second = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+  x = _mm512_permutex2var_pd(lo01, first, lo23);
+  w = _mm512_permutex2var_pd(lo01, second, lo23);
+  y = _mm512_permutex2var_pd(hi01, first, hi23);
+}
+
+/// The inverse of load_bodies: writes (x_k, y_k, w_k, 0) to u + off[k] where mask[k] = 0xF.
+inline void store_bodies(double* __restrict u, const std::int32_t* off, const std::uint8_t* mask, __m512d x, __m512d y,
+                         __m512d w) {
+  const __m512d zero = _mm512_setzero_pd();
+  const __m512d t0 = _mm512_unpacklo_pd(x, y);     // x0 y0 | x2 y2 | x4 y4 | x6 y6
+  const __m512d t1 = _mm512_unpackhi_pd(x, y);     // x1 y1 | x3 y3 | …
+  const __m512d t2 = _mm512_unpacklo_pd(w, zero);  // w0 0 | w2 0 | …
+  const __m512d t3 = _mm512_unpackhi_pd(w, zero);  // w1 0 | w3 0 | …
+  const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 2, 3, 10, 11);
+  const __m512i hi = _mm512_setr_epi64(4, 5, 12, 13, 6, 7, 14, 15);
+  const __m512d r02 = _mm512_permutex2var_pd(t0, lo, t2);  // body 0 | body 2
+  const __m512d r46 = _mm512_permutex2var_pd(t0, hi, t2);
+  const __m512d r13 = _mm512_permutex2var_pd(t1, lo, t3);
+  const __m512d r57 = _mm512_permutex2var_pd(t1, hi, t3);
+  auto put = [&](int k, __m256d v) {
+    _mm256_mask_storeu_pd(u + off[k], static_cast<__mmask8>(mask[k]), v);
+  };
+  put(0, _mm512_castpd512_pd256(r02));
+  put(2, _mm512_extractf64x4_pd(r02, 1));
+  put(1, _mm512_castpd512_pd256(r13));
+  put(3, _mm512_extractf64x4_pd(r13, 1));
+  put(4, _mm512_castpd512_pd256(r46));
+  put(6, _mm512_extractf64x4_pd(r46, 1));
+  put(5, _mm512_castpd512_pd256(r57));
+  put(7, _mm512_extractf64x4_pd(r57, 1));
+}
+
 /// AVX-512 kernel: batches [b0, b1), 8 lanes at a time, the scalar kernel's operations per lane.
 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, double* __restrict lam, double* __restrict u,
                   Acc& acc) {
@@ -314,14 +367,9 @@ void sweep_avx512(const Batch* __restrict batches, int b0, int b1, double* __res
     const Batch& B = batches[bi];
     double* ln = lam + static_cast<size_t>(bi) * 2 * W;
     double* lt = ln + W;
-    const __m256i la = _mm256_load_si256(reinterpret_cast<const __m256i*>(B.la));
-    const __m256i lb = _mm256_load_si256(reinterpret_cast<const __m256i*>(B.lb));
-    __m512d a0 = _mm512_i32gather_pd(la, u + 0, 8);
-    __m512d a1 = _mm512_i32gather_pd(la, u + 1, 8);
-    __m512d a2 = _mm512_i32gather_pd(la, u + 2, 8);
-    __m512d v0 = _mm512_i32gather_pd(lb, u + 0, 8);
-    __m512d v1 = _mm512_i32gather_pd(lb, u + 1, 8);
-    __m512d v2 = _mm512_i32gather_pd(lb, u + 2, 8);
+    __m512d a0, a1, a2, v0, v1, v2;
+    load_bodies(u, B.la, a0, a1, a2);
+    load_bodies(u, B.lb, v0, v1, v2);
     auto L = [](const double* x) { return _mm512_load_pd(x); };
     __m512d xn;
     {
@@ -369,14 +417,8 @@ void sweep_avx512(const Batch* __restrict batches, int b0, int b1, double* __res
       v2 = _mm512_fmadd_pd(L(B.mjt[5]), d, v2);
       theta = _mm512_max_pd(theta, absv(d));
     }
-    const __m256i sa = _mm256_load_si256(reinterpret_cast<const __m256i*>(B.sa));
-    const __m256i sb = _mm256_load_si256(reinterpret_cast<const __m256i*>(B.sb));
-    _mm512_mask_i32scatter_pd(u + 0, B.ma, sa, a0, 8);
-    _mm512_mask_i32scatter_pd(u + 1, B.ma, sa, a1, 8);
-    _mm512_mask_i32scatter_pd(u + 2, B.ma, sa, a2, 8);
-    _mm512_mask_i32scatter_pd(u + 0, B.mb, sb, v0, 8);
-    _mm512_mask_i32scatter_pd(u + 1, B.mb, sb, v1, 8);
-    _mm512_mask_i32scatter_pd(u + 2, B.mb, sb, v2, 8);
+    store_bodies(u, B.la, B.ka, a0, a1, a2);
+    store_bodies(u, B.lb, B.kb, v0, v1, v2);
   }
   acc.theta = _mm512_reduce_max_pd(theta);
   acc.bad = acc.bad || bad != 0;
@@ -395,6 +437,19 @@ void sweep_batches(const Batch* batches, int b0, int b1, double* lam, double* u,
   (void)simd;
 #endif
   sweep_scalar(batches, b0, b1, lam, u, acc);
+}
+
+/// True when no entry of x[0..n) is ±∞ or NaN: an OR over the exponent bits (integer ops, so
+/// the compiler vectorises it; Eigen's allFinite took 14 % of a 1000-body sweep).
+bool all_finite(const double* x, int n) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t any = 0;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t b;
+    std::memcpy(&b, x + i, sizeof b);
+    any |= static_cast<std::uint64_t>((b & kExp) == kExp);
+  }
+  return any == 0;
 }
 
 class PgsColoredSolver final : public LcpSolver {
@@ -423,12 +478,13 @@ class PgsColoredSolver final : public LcpSolver {
       return r;
     }
 
-    // Permuted λ (16 per batch) and Δu = M⁻¹ Jᵀ λ⁰ Δt followed by the zero body.
+    // Permuted λ (16 per batch) and Δu = M⁻¹ Jᵀ λ⁰ Δt (kStride per body) and the zero body.
     const int nu = prep.body_entries;
-    std::vector<double> du(static_cast<size_t>(nu + 3), 0.0);
+    std::vector<double, Eigen::aligned_allocator<double>> du(static_cast<size_t>(nu + kStride), 0.0);
     {
       const Eigen::VectorXd jt = p.J.transpose() * lambda;
-      for (int c = 0; c < jt.size(); ++c) du[static_cast<size_t>(c)] = p.inv_mass[c] * jt[c] * p.dt;
+      for (int c = 0; c < jt.size(); ++c)
+        du[static_cast<size_t>(kStride * (c / 3) + c % 3)] = p.inv_mass[c] * jt[c] * p.dt;
     }
     const size_t np = prep.row_of.size();
     Eigen::VectorXd lp = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(np));
@@ -456,7 +512,7 @@ class PgsColoredSolver final : public LcpSolver {
       } else {
         sweep_parallel(prep, lam, u, simd, threads, acc);
       }
-      if (!std::isfinite(acc.theta) || !Eigen::Map<const Eigen::VectorXd>(u, nu).allFinite()) acc.bad = true;
+      if (!std::isfinite(acc.theta) || !all_finite(u, nu)) acc.bad = true;
       nonfinite = nonfinite || acc.bad;
       return acc.theta;
     });
