@@ -16,13 +16,23 @@
 // max_i |λ_i − λ_i(baseline)| after the same sweeps (0: the iterates are bit-identical).
 // BM_SeedScene* time one full 3000-sweep solve of the seed scene's settled pile (default
 // WorldDef, 400 steps of "pgs" with 200 sweeps, then collide + assemble).
+//
+// pgs-colored (colour-ordered PGS, dc/engine/pgs_colored.hpp): BM_PgsColored* run its AVX-512
+// kernel (simd = 1; the scalar kernel on builds without AVX-512) and its scalar kernel
+// (simd = 0) on the same problems, and 1 or 2 OpenMP threads (BM_PgsColoredThreads);
+// max_diff_vs_scalar = max_i |λ_i(SIMD) − λ_i(scalar)| after the same sweeps (0: bit-equal).
+// BM_ContactColoring* time the colouring alone (ns per contact), from scratch and reusing
+// the previous call's colours. The side-by-side table of docs/solvers.md is one run of
+//   build/bench/micro_pgs --benchmark_filter='200/0|SeedScene|Coloring' --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
 
 #include <array>
 #include <cmath>
 #include <vector>
 
+#include "dc/engine/contact_coloring.hpp"
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 
 namespace {
@@ -267,7 +277,57 @@ void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "sweeps", "order"});
   for (int bodies : {100, 1000})
     for (int sweeps : {1, 200}) b->Args({bodies, sweeps, 0});
+  b->Args({10000, 200, 0});
   for (int bodies : {100, 1000}) b->Args({bodies, 200, 1});
+}
+
+// ---- pgs-colored ------------------------------------------------------------------------
+void run_colored(benchmark::State& state, const dc::LcpProblem& p, int sweeps, bool simd, int threads) {
+  dc::PgsColoredDef def;
+  def.simd = simd;
+  def.threads = threads;
+  def.min_batches_per_thread = 1;
+  const auto solver = dc::make_pgs_colored(def);
+  dc::PgsColoredDef scalar_def;
+  scalar_def.simd = false;
+  dc::SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
+  const Eigen::VectorXd scalar = dc::make_pgs_colored(scalar_def)->solve(p, zero, o).lambda;
+  time_solve(state, p, sweeps, [&] { return solver->solve(p, zero, o).lambda; });
+  state.counters["max_diff_vs_scalar"] = (solver->solve(p, zero, o).lambda - scalar).cwiseAbs().maxCoeff();
+  state.counters["simd_kernel"] = simd && dc::pgs_colored_has_simd();
+}
+void BM_PgsColored(benchmark::State& s) {
+  run_colored(s, pile_of(s), static_cast<int>(s.range(1)), s.range(3) != 0, 1);
+}
+void colored_sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies", "sweeps", "order", "simd"});
+  for (int simd : {1, 0})
+    for (int bodies : {100, 1000, 10000}) b->Args({bodies, 200, 0, simd});
+  b->Args({1000, 1, 0, 1});
+}
+/// 1 vs 2 threads on the 10,000-body pile (AVX-512 kernel).
+void BM_PgsColoredThreads(benchmark::State& s) {
+  run_colored(s, pile(static_cast<int>(s.range(0)), 0), static_cast<int>(s.range(1)), true,
+              static_cast<int>(s.range(2)));
+}
+
+/// The colouring alone: ns per contact (counter ns_per_contact), from scratch (reuse = 0) or
+/// reusing the previous call's colours (reuse = 1: every contact persists).
+void BM_ContactColoring(benchmark::State& s) {
+  const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+  const std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
+  dc::ContactColorer colorer(s.range(1) != 0);
+  (void)colorer.color(p.constraints, dyn);
+  for (auto _ : s) benchmark::DoNotOptimize(colorer.color(p.constraints, dyn).colors);
+  s.counters["colors"] = colorer.last().colors;
+  s.counters["reused"] = colorer.last().reused;
+  s.counters["ns_per_contact"] = benchmark::Counter(
+      1e-9 * p.constraints.size() * static_cast<double>(s.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 // The seed scene: one full 3000-sweep solve (the thesis' fixed budget) per iteration.
@@ -277,6 +337,10 @@ void BM_SeedScenePgsBaseline(benchmark::State& s) {
   const dc::LcpProblem& p = seed_scene_problem();
   time_solve(s, p, kSeedSweeps, [&] { return baseline::solve(p, kSeedSweeps); });
 }
+void BM_SeedScenePgsColored(benchmark::State& s) { run_colored(s, seed_scene_problem(), kSeedSweeps, true, 1); }
+void BM_SeedScenePgsColoredScalar(benchmark::State& s) {
+  run_colored(s, seed_scene_problem(), kSeedSweeps, false, 1);
+}
 void BM_SeedScenePgsAssembled(benchmark::State& s) {
   run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs-assembled");
 }
@@ -284,7 +348,23 @@ void BM_SeedScenePgsAssembled(benchmark::State& s) {
 BENCHMARK(BM_PgsMatrixFree)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PgsBaseline)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PgsAssembled)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsColored)->Apply(colored_sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsColoredThreads)
+    ->ArgNames({"bodies", "sweeps", "threads"})
+    ->Args({10000, 100, 1})
+    ->Args({10000, 100, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ContactColoring)
+    ->ArgNames({"bodies", "reuse"})
+    ->Args({1000, 0})
+    ->Args({1000, 1})
+    ->Args({10000, 0})
+    ->Args({10000, 1})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsColored)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsColoredScalar)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsBaseline)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsAssembled)->Unit(benchmark::kMillisecond);
 

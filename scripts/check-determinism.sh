@@ -44,7 +44,8 @@ echo "check-determinism: portable build of deepcontact: $((t1 - t0)) s"
 
 # name | simulate arguments. Together they cover friction and μ = 0, generated and explicit
 # bodies, other sizes and box, fixed sweeps and tolerance mode, the builtin, sph and copy
-# warm starters, and the Newton oracle (box_newton) as the stepping solver.
+# warm starters, the Newton oracle (box_newton) as the stepping solver, and pgs-colored (its
+# AVX-512 kernel in the native build, its scalar kernel in the portable one: bit-equal).
 scenes=(
   "seed (600 steps, 3000 sweeps)|"
   "frictionless (mu = 0)|--scene scenes/frictionless.toml --steps 200"
@@ -53,6 +54,7 @@ scenes=(
 --set world.width=20.0 --set world.height=20.0 --set bodies.mean=[10.0,8.0] --set bodies.sigma=3.0 \
 --set solver.tolerance=0.01 --steps 150 --warmstart sph"
   "small (newton solver, copy)|--scene scenes/small.toml --set solver.name=newton --warmstart copy"
+  "seed, pgs-colored (AVX-512 vs scalar kernel)|--set solver.name=pgs-colored --steps 300"
 )
 
 fail=0

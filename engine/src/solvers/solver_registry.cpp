@@ -1,8 +1,10 @@
 // Names → solvers (make_solver, solver_names) and SolveStatus names.
+#include <charconv>
 #include <string>
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/pgs_colored.hpp"
 #include "solvers/solvers.hpp"
 
 namespace dc {
@@ -20,11 +22,22 @@ const char* to_string(SolveStatus s) {
 }
 
 std::vector<std::string> solver_names() {
-  return {"pgs", "pgs-assembled", "psor", "jacobi", "lemke", "newton"};
+  return {"pgs", "pgs-colored", "pgs-assembled", "psor", "jacobi", "lemke", "newton"};
 }
 
 std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
   if (name == "pgs") return solvers::make_pgs_matrix_free();
+  if (name == "pgs-colored") return solvers::make_pgs_colored();
+  if (name.starts_with("pgs-colored:")) {  // "pgs-colored:<threads>" (OpenMP threads, ≥ 1)
+    const std::string_view t = name.substr(12);
+    int threads = 0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), threads);
+    if (ec != std::errc() || end != t.data() + t.size() || threads < 1)
+      throw ConfigError("LCP solver '" + std::string(name) + "': expected pgs-colored:<threads>, threads >= 1");
+    PgsColoredDef def;
+    def.threads = threads;
+    return make_pgs_colored(def);
+  }
   if (name == "pgs-assembled") return solvers::make_pgs_assembled();
   if (name == "psor") return solvers::make_psor();
   if (name == "jacobi") return solvers::make_jacobi();

@@ -6,6 +6,7 @@
 
 namespace dc::solvers {
 std::unique_ptr<LcpSolver> make_pgs_matrix_free();  // "pgs"            pgs_matrix_free.cpp
+std::unique_ptr<LcpSolver> make_pgs_colored();      // "pgs-colored"    pgs_colored.cpp
 std::unique_ptr<LcpSolver> make_pgs_assembled();    // "pgs-assembled"  pgs_assembled.cpp
 std::unique_ptr<LcpSolver> make_psor();             // "psor"           psor.cpp
 std::unique_ptr<LcpSolver> make_jacobi();           // "jacobi"         jacobi.cpp

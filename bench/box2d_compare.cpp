@@ -1,0 +1,237 @@
+// box2d_compare: the same scene in Box2D 2.4.1 (Debian's libbox2d-dev) and in DeepContact,
+// the same steps and the same number of velocity iterations (our sweeps), timed in one
+// process. Built only when CMake finds Box2D (bench/CMakeLists.txt).
+//
+//   build/bench/box2d_compare [--scene scenes/seed.toml] [--steps N] [--iterations K]
+//                             [--solver pgs|pgs-colored|…] [--scenario circles|box-stack|box-pyramid]
+//
+// Reported (CPU time of this thread, getrusage-free clock_gettime(CLOCK_THREAD_CPUTIME_ID)):
+//  * Box2D: the whole run's CPU time; ns per contact point per velocity iteration: the run's
+//    CPU time × the velocity iterations' share of the step (b2Profile::solveVelocity /
+//    b2Profile::step, Box2D's own wall-clock timers, whose ratio survives preemption better
+//    than their values), and the whole step's CPU time per point-iteration (upper bound). A
+//    point is two rows (normal + tangent), so the per-row figure is half the per-point one.
+//  * ours: the whole run's CPU time, and the solver's CPU time per row per sweep (a timing
+//    wrapper around the solver's solve call), with the builtin warm start as `simulate` uses.
+//
+// The scene is read with our loader, so both engines get the same bodies (positions, radii,
+// densities, velocities), gravity, box, Δt, μ and e. Box2D keeps its own contact model
+// (soft position correction, b2_linearSlop = 0.005 = our slop, restitution threshold 1 m/s
+// = ours); sleeping is off in Box2D (our engine has none), position iterations default to 3.
+// Scenarios box-stack and box-pyramid are Box2D-only until our engine has boxes: they print
+// Box2D's figures and say that our side is not available.
+#include <box2d/box2d.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/scene.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace {
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+struct Args {
+  std::string scene = std::string(DC_SOURCE_DIR) + "/scenes/seed.toml";
+  int steps = -1;       // −1: the scene's
+  int iterations = -1;  // −1: the scene's solver.sweeps
+  int position_iterations = 3;
+  std::string solver;   // "": the scene's
+  std::string scenario = "circles";
+  bool skip_ours = false;
+  bool skip_box2d = false;
+};
+
+/// Static box walls [0, W] × [0, H] as two-sided edges (only the walls the scene enables).
+void add_walls(b2World& w, const dc::WorldDef& def) {
+  b2BodyDef bd;
+  b2Body* ground = w.CreateBody(&bd);
+  const float W = static_cast<float>(def.world.width), H = static_cast<float>(def.world.height);
+  const b2Vec2 corners[4][2] = {{{0, 0}, {0, H}}, {{W, 0}, {W, H}}, {{0, 0}, {W, 0}}, {{0, H}, {W, H}}};
+  for (int k = 0; k < 4; ++k) {  // left, right, bottom, top (WorldSection::walls order)
+    if (!def.world.walls[static_cast<size_t>(k)]) continue;
+    b2EdgeShape e;
+    e.SetTwoSided(corners[k][0], corners[k][1]);
+    b2FixtureDef fd;
+    fd.shape = &e;
+    fd.friction = static_cast<float>(def.contact.friction);
+    fd.restitution = static_cast<float>(def.contact.restitution);
+    ground->CreateFixture(&fd);
+  }
+}
+
+b2Body* add_dynamic(b2World& w, const b2Shape& shape, b2Vec2 x, float angle, b2Vec2 v, float omega, float density,
+                    const dc::WorldDef& def) {
+  b2BodyDef bd;
+  bd.type = b2_dynamicBody;
+  bd.position = x;
+  bd.angle = angle;
+  bd.linearVelocity = v;
+  bd.angularVelocity = omega;
+  b2Body* b = w.CreateBody(&bd);
+  b2FixtureDef fd;
+  fd.shape = &shape;
+  fd.density = density;
+  fd.friction = static_cast<float>(def.contact.friction);
+  fd.restitution = static_cast<float>(def.contact.restitution);
+  b->CreateFixture(&fd);
+  return b;
+}
+
+/// The scene's bodies (circles), or a box stack / pyramid (1 × 1 boxes) on the floor.
+void populate(b2World& w, const dc::WorldDef& def, const std::string& scenario) {
+  add_walls(w, def);
+  if (scenario == "circles") {
+    const dc::World ours(def);  // generates the seeded circles exactly as a simulation does
+    const dc::BodyState& s = ours.bodies();
+    for (size_t k = 0; k < s.size(); ++k) {
+      b2CircleShape c;
+      c.m_radius = static_cast<float>(s.radius[k]);
+      const float density = static_cast<float>(s.mass[k] / (M_PI * s.radius[k] * s.radius[k]));
+      add_dynamic(w, c, {static_cast<float>(s.position[k].x), static_cast<float>(s.position[k].y)},
+                  static_cast<float>(s.angle[k]), {static_cast<float>(s.velocity[k].x), static_cast<float>(s.velocity[k].y)},
+                  static_cast<float>(s.omega[k]), density, def);
+    }
+    return;
+  }
+  b2PolygonShape box;
+  box.SetAsBox(0.5f, 0.5f);
+  const float cx = static_cast<float>(def.world.width / 2);
+  if (scenario == "box-stack") {
+    for (int k = 0; k < 20; ++k) add_dynamic(w, box, {cx, 0.5f + 1.0f * k}, 0, {0, 0}, 0, 1.0f, def);
+  } else if (scenario == "box-pyramid") {
+    const int base = 20;
+    for (int row = 0; row < base; ++row)
+      for (int k = 0; k < base - row; ++k)
+        add_dynamic(w, box, {cx + (k - 0.5f * (base - row - 1)) * 1.0f, 0.5f + 1.0f * row}, 0, {0, 0}, 0, 1.0f, def);
+  } else {
+    throw CLI::ValidationError("--scenario", "expected circles, box-stack or box-pyramid, got '" + scenario + "'");
+  }
+}
+
+struct Box2dRun {
+  double cpu_s = 0, solve_velocity_ms = 0, step_ms = 0;
+  long points = 0;  // Σ over steps of touching contact points
+};
+
+Box2dRun run_box2d(const dc::WorldDef& def, const Args& a, int steps, int iterations) {
+  b2World w(b2Vec2(static_cast<float>(def.world.gravity.x), static_cast<float>(def.world.gravity.y)));
+  w.SetAllowSleeping(false);
+  populate(w, def, a.scenario);
+  Box2dRun r;
+  const double t0 = thread_cpu_s();
+  for (int s = 0; s < steps; ++s) {
+    w.Step(static_cast<float>(def.time.dt), iterations, a.position_iterations);
+    const b2Profile& p = w.GetProfile();
+    r.solve_velocity_ms += p.solveVelocity;
+    r.step_ms += p.step;
+    for (b2Contact* c = w.GetContactList(); c; c = c->GetNext())
+      if (c->IsTouching() && c->IsEnabled()) r.points += c->GetManifold()->pointCount;
+  }
+  r.cpu_s = thread_cpu_s() - t0;
+  return r;
+}
+
+/// Times the wrapped solver's solve calls (thread CPU time) and counts rows × sweeps.
+class TimedSolver final : public dc::LcpSolver {
+ public:
+  explicit TimedSolver(std::unique_ptr<dc::LcpSolver> s) : s_(std::move(s)) {}
+  [[nodiscard]] std::string name() const override { return s_->name(); }
+  [[nodiscard]] bool needs_jacobian() const override { return s_->needs_jacobian(); }
+  [[nodiscard]] bool needs_assembled_matrix() const override { return s_->needs_assembled_matrix(); }
+  [[nodiscard]] dc::SolveResult solve(const dc::LcpProblem& p, const Eigen::VectorXd& l0,
+                                      const dc::SolverOptions& o) const override {
+    const double t0 = thread_cpu_s();
+    dc::SolveResult r = s_->solve(p, l0, o);
+    cpu_s += thread_cpu_s() - t0;
+    row_sweeps += static_cast<double>(p.rows()) * r.sweeps;
+    return r;
+  }
+  mutable double cpu_s = 0, row_sweeps = 0;
+
+ private:
+  std::unique_ptr<dc::LcpSolver> s_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  CLI::App app{"Box2D 2.4.1 vs DeepContact on the same scene, same steps and velocity iterations"};
+  app.add_option("--scene", a.scene, "Scene file (TOML; default scenes/seed.toml)");
+  app.add_option("--steps", a.steps, "Steps (default: the scene's time.steps)");
+  app.add_option("--iterations", a.iterations, "Velocity iterations = our sweeps (default: the scene's solver.sweeps)");
+  app.add_option("--position-iterations", a.position_iterations, "Box2D position iterations (default 3)");
+  app.add_option("--solver", a.solver, "Our solver (default: the scene's solver.name)");
+  app.add_option("--scenario", a.scenario, "circles (the scene's bodies), box-stack or box-pyramid (Box2D only)");
+  app.add_flag("--skip-ours", a.skip_ours, "Run Box2D only");
+  app.add_flag("--skip-box2d", a.skip_box2d, "Run our engine only");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    dc::WorldDef def = dc::load_scene(a.scene);
+    if (a.solver.empty()) a.solver = def.solver.name;
+    const int steps = a.steps >= 0 ? a.steps : def.time.steps;
+    const int iterations = a.iterations >= 0 ? a.iterations : def.solver.sweeps;
+    def.solver.sweeps = iterations;
+    def.solver.tolerance = 0.0;  // fixed iterations, like Box2D
+    std::printf("scene %s, scenario %s, %d steps, %d velocity iterations (our sweeps), box2d position iterations %d\n",
+                a.scene.c_str(), a.scenario.c_str(), steps, iterations, a.position_iterations);
+    double box2d_cpu = 0, ours_cpu = 0;
+    if (!a.skip_box2d) {
+      const Box2dRun b = run_box2d(def, a, steps, iterations);
+      box2d_cpu = b.cpu_s;
+      const double pi = static_cast<double>(b.points) * iterations;
+      // b2Profile's timers are wall clock (inflated by preemption on a loaded machine); their
+      // ratio gives the velocity iterations' share of the step, applied to the CPU time.
+      const double share = b.step_ms > 0 ? b.solve_velocity_ms / b.step_ms : 1.0;
+      const double ns_point = 1e9 * b.cpu_s * share / std::max(1.0, pi);
+      std::printf("box2d 2.4.1: run CPU %.3f s; contact points/step %.1f; velocity iterations %.0f %% of the step; "
+                  "ns per point per velocity iteration %.2f (CPU; whole step: %.2f), per row (2 per point) %.2f\n",
+                  b.cpu_s, static_cast<double>(b.points) / std::max(1, steps), 100 * share, ns_point,
+                  1e9 * b.cpu_s / std::max(1.0, pi), 0.5 * ns_point);
+    }
+    if (!a.skip_ours) {
+      if (a.scenario != "circles") {
+        std::printf("ours: scenario %s not available (the engine has no boxes yet)\n", a.scenario.c_str());
+      } else {
+        dc::World world(def);
+        TimedSolver solver(dc::make_solver(a.solver));
+        dc::SolverOptions o = dc::solver_options(def.solver);
+        o.record_theta = false;
+        const dc::WarmStarterRegistry reg = dc::default_warm_starters();
+        auto starter = reg.make("builtin");
+        long rows = 0;
+        const double t0 = thread_cpu_s();
+        for (int s = 0; s < steps; ++s) {
+          const dc::StepReport r = world.step(solver, o, [&](const dc::World& w) {
+            return starter->initial_guess(dc::StepView{w, nullptr});
+          });
+          starter->observe(dc::StepView{world, nullptr}, r.solve.lambda);
+          rows += r.rows;
+        }
+        ours_cpu = thread_cpu_s() - t0;
+        std::printf("ours (%s, builtin warm start): run CPU %.3f s; rows/step %.1f; solver CPU %.3f s, "
+                    "ns per row per sweep %.2f\n",
+                    a.solver.c_str(), ours_cpu, static_cast<double>(rows) / std::max(1, steps), solver.cpu_s,
+                    1e9 * solver.cpu_s / std::max(1.0, solver.row_sweeps));
+      }
+    }
+    if (box2d_cpu > 0 && ours_cpu > 0) std::printf("run CPU ratio ours / box2d: %.3f\n", ours_cpu / box2d_cpu);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "box2d_compare: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
