@@ -45,6 +45,7 @@ MAX_FPS = 50.0       # GIF frame delays below 20 ms are not honoured by viewers
 TARGET_FPS = 25.0    # the default --every aims at real time at this frame rate
 FORCE_LENGTH = 1.8   # [m]: the segment length of the force scale's top (≈ one body diameter)
 MIN_FORCE_LENGTH = 0.3  # [m]: shortest segment, so that every contact with λ_n > 0 shows
+MAX_FORCE_LENGTH = 1.5 * FORCE_LENGTH  # [m]: impact spikes do not cross the pile
 BODY_FACE = "#9ecae1"
 BODY_EDGE = "#08306b"
 WALL_COLOR = "#444444"
@@ -173,8 +174,8 @@ class Scene:
         lam_n = traj.contacts["lambda"][:, 0] if len(traj.contacts["lambda"]) else np.zeros(1)
         positive = lam_n[lam_n > 0]
         # One scale for the whole run (frames compare): the 99th percentile of λ_n spans
-        # FORCE_LENGTH (longer for larger forces, which get the top colour); length ∝ λ_n, but
-        # at least MIN_FORCE_LENGTH.
+        # FORCE_LENGTH (larger forces get the top colour); length ∝ λ_n, clipped to
+        # [MIN_FORCE_LENGTH, MAX_FORCE_LENGTH].
         self.lam_top = float(np.percentile(positive, 99)) if positive.size else 1.0
         from matplotlib.colors import LinearSegmentedColormap
 
@@ -199,7 +200,7 @@ class Scene:
         lam = c["lambda"][:, 0]
         on = lam > 0
         p, n, lam = c["point"][on], c["normal"][on], lam[on]
-        length = np.maximum(FORCE_LENGTH * lam / self.lam_top, MIN_FORCE_LENGTH)
+        length = np.clip(FORCE_LENGTH * lam / self.lam_top, MIN_FORCE_LENGTH, MAX_FORCE_LENGTH)
         half = 0.5 * length[:, None] * n
         self.forces.set_segments(np.stack([p - half, p + half], axis=1))
         self.forces.set_color(self.cmap(np.clip(lam / self.lam_top, 0, 1)))

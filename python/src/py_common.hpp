@@ -42,6 +42,8 @@ Eigen::VectorXd to_vector(pyb::handle obj, const std::string& what);
 pyb::object csr_view(const SparseRowMatrix& m, pyb::handle base);
 /// Any scipy.sparse matrix or dense array-like → row-major sparse (ValueError on bad input).
 SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what);
+/// A str or os.PathLike as a path string (TypeError otherwise).
+std::string path_string(pyb::handle path);
 /// A deepcontact.Fields (dict with attribute access) — the package defines the class.
 pyb::object make_fields();
 

@@ -80,6 +80,10 @@ SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what) {
   return m;
 }
 
+std::string path_string(pyb::handle path) {
+  return pyb::str(pyb::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
 pyb::object make_fields() {
   // deepcontact/__init__.py defines Fields before it is usable; cached after the first call.
   static pyb::handle cls = pyb::object(pyb::module_::import("deepcontact").attr("Fields")).release();

@@ -134,13 +134,13 @@ void bind_problem(pyb::module_& m) {
       "Solve the LCP with a solver of solvers() from lambda0 (None = zeros); the GIL is released meanwhile.");
   m.def("solvers", &solver_names, "Names of the LCP solvers solve() accepts.");
   m.def(
-      "read_lcp_dat", [](const std::string& path) { return problem_to_python(read_lcp_dat(path)); },
+      "read_lcp_dat", [](pyb::object path) { return problem_to_python(read_lcp_dat(path_string(path))); },
       pyb::arg("path"), "A Siconos .dat LCP (dense or sparse-block storage) as a Problem (M = .A, q = .b).");
   m.def(
       "write_lcp_dat",
-      [](const std::string& path, pyb::object M, pyb::object q) {
+      [](pyb::object path, pyb::object M, pyb::object q) {
         const Eigen::MatrixXd dense(to_sparse(M, "M"));
-        write_lcp_dat(path, dense, to_vector(q, "q"));
+        write_lcp_dat(path_string(path), dense, to_vector(q, "q"));
       },
       pyb::arg("path"), pyb::arg("M"), pyb::arg("q"), "Write M, q as a Siconos .dat file (dense storage, %.17g).");
 }

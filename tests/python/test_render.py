@@ -70,3 +70,9 @@ def cli_error_without_ffmpeg(run_h5, tmp_path):
                        text=True, env=env)
     assert p.returncode == 1
     return p.stderr.strip().splitlines()[-1]
+
+
+def test_render_from_python(dc, run_h5, tmp_path):
+    assert dc.render(run_h5, tmp_path / "p.png", frame=5) == 1
+    assert min(Image.open(tmp_path / "p.png").size) >= 400
+    assert dc.render(run_h5, tmp_path / "p.gif", every=40, progress=False) == 3  # states 0, 40, 80
