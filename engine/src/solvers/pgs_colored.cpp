@@ -420,7 +420,13 @@ void sweep_avx512(const Batch* __restrict batches, int b0, int b1, double* __res
     store_bodies(u, B.la, B.ka, a0, a1, a2);
     store_bodies(u, B.lb, B.kb, v0, v1, v2);
   }
-  acc.theta = _mm512_reduce_max_pd(theta);
+  // Horizontal max by hand (GCC 12 warns about an uninitialised temporary inside
+  // _mm512_reduce_max_pd); θ ≥ 0, so the order does not matter.
+  alignas(64) double lanes[W];
+  _mm512_store_pd(lanes, theta);
+  double m = lanes[0];
+  for (int k = 1; k < W; ++k) m = max_of(m, lanes[k]);
+  acc.theta = m;
   acc.bad = acc.bad || bad != 0;
 }
 #endif
