@@ -186,6 +186,35 @@ TEST(PgsColored, SameFixedPointAsPgsOnAPile) {
   EXPECT_LE(max_abs(a.lambda - c.lambda), 1e-3 * std::max(1.0, max_abs(a.lambda)));
 }
 
+TEST(PgsColored, StaticBodiesDoNotConflictAndKeepTheFixedPoint) {
+  test::TestRng rng(9);
+  LcpProblem p = test::random_contact(40, 35, true, rng);
+  // Up to 6 static bodies (M⁻¹ = 0; never written, so they may share a colour), chosen so
+  // that every row keeps a dynamic body (A_ii > 0): not in a wall contact, no static pair.
+  std::vector<std::uint8_t> dyn = all_dynamic(p);
+  int statics = 0;
+  for (int b = 0; b < 40 && statics < 6; ++b) {
+    bool ok = true;
+    for (const ContactConstraint& k : p.constraints) {
+      const bool touches = k.body_a == b || k.body_b == b;
+      const int other = k.body_a == b ? k.body_b : k.body_a;
+      if (touches && (other < 0 || !dyn[static_cast<size_t>(other)])) ok = false;
+    }
+    if (!ok) continue;
+    dyn[static_cast<size_t>(b)] = 0;
+    for (int c = 0; c < 3; ++c) p.inv_mass[3 * b + c] = 0.0;
+    ++statics;
+  }
+  ASSERT_GE(statics, 3);
+  ContactColorer colorer(false);
+  EXPECT_TRUE(is_valid_coloring(p.constraints, dyn, colorer.color(p.constraints, dyn)));
+  const SolveResult a = make_solver("pgs")->solve(p, Eigen::VectorXd(), sweeps(20000, 1e-12));
+  const SolveResult c = make_solver("pgs-colored")->solve(p, Eigen::VectorXd(), sweeps(20000, 1e-12));
+  ASSERT_EQ(c.status, SolveStatus::Converged) << c.message;
+  EXPECT_EQ(c.message.find("ran pgs"), std::string::npos) << c.message;
+  EXPECT_LE(max_abs(a.lambda - c.lambda), 1e-8 * std::max(1.0, max_abs(a.lambda)));
+}
+
 TEST(PgsColored, CheckpointsSeeRowOrderedIterates) {
   test::TestRng rng(5);
   const LcpProblem p = test::random_contact(30, 50, true, rng);

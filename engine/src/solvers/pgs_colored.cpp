@@ -420,7 +420,13 @@ void sweep_avx512(const Batch* __restrict batches, int b0, int b1, double* __res
     store_bodies(u, B.la, B.ka, a0, a1, a2);
     store_bodies(u, B.lb, B.kb, v0, v1, v2);
   }
-  acc.theta = _mm512_reduce_max_pd(theta);
+  // Horizontal max by hand (GCC 12 warns about an uninitialised temporary inside
+  // _mm512_reduce_max_pd); θ ≥ 0, so the order does not matter.
+  alignas(64) double lanes[W];
+  _mm512_store_pd(lanes, theta);
+  double m = lanes[0];
+  for (int k = 1; k < W; ++k) m = max_of(m, lanes[k]);
+  acc.theta = m;
   acc.bad = acc.bad || bad != 0;
 }
 #endif
@@ -509,10 +515,11 @@ class PgsColoredSolver final : public LcpSolver {
       Acc acc;
       if (threads <= 1) {
         for (const Range& rg : prep.ranges) sweep_batches(batches, rg.begin, rg.end, lam, u, simd, acc);
+        if (!all_finite(u, nu)) acc.bad = true;
       } else {
-        sweep_parallel(prep, lam, u, simd, threads, acc);
+        sweep_parallel(prep, lam, u, nu, simd, threads, acc);  // checks Δu too
       }
-      if (!std::isfinite(acc.theta) || !all_finite(u, nu)) acc.bad = true;
+      if (!std::isfinite(acc.theta)) acc.bad = true;
       nonfinite = nonfinite || acc.bad;
       return acc.theta;
     });
@@ -536,8 +543,11 @@ class PgsColoredSolver final : public LcpSolver {
   /// One sweep on `threads` threads: each colour's batches split statically (contiguous
   /// blocks, so a thread keeps the same region of the pile from colour to colour), a barrier
   /// between colours, the overflow set on one thread. θ and the flag are max/or reductions:
-  /// the result does not depend on the thread count.
-  static void sweep_parallel(const Prepared& prep, double* lam, double* u, bool simd, int threads, Acc& acc) {
+  /// the result does not depend on the thread count. After the last colour each thread checks
+  /// its share of Δu[0, nu) for non-finite entries (the serial check cost 1/3 of the serial
+  /// per-sweep work at 10,000 bodies).
+  static void sweep_parallel(const Prepared& prep, double* lam, double* u, int nu, bool simd, int threads,
+                             Acc& acc) {
 #if defined(_OPENMP)
     double theta = acc.theta;
     bool bad = acc.bad;
@@ -559,14 +569,17 @@ class PgsColoredSolver final : public LcpSolver {
         }
 #pragma omp barrier
       }
+      const int u0 = static_cast<int>(static_cast<long>(nu) * tid / nt);
+      const int u1 = static_cast<int>(static_cast<long>(nu) * (tid + 1) / nt);
       theta = max_of(theta, local.theta);
-      bad = bad || local.bad;
+      bad = bad || local.bad || !all_finite(u + u0, u1 - u0);
     }
     acc.theta = theta;
     acc.bad = bad;
 #else
     (void)threads;
     for (const Range& rg : prep.ranges) sweep_batches(prep.batches.data(), rg.begin, rg.end, lam, u, simd, acc);
+    if (!all_finite(u, nu)) acc.bad = true;
 #endif
   }
 
