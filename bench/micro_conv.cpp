@@ -2,8 +2,8 @@
 //   conv2d_forward / conv2d_backward   61×61, 16→32 channels, k3, stride 1 or 2, batch 1 or 32
 //   unet_small/infer_b1                 default U-Net (4 in, 2 out, 61×61) inference, batch 1
 //   unet_small/train_step_b32           forward + weighted-free MSE + backward + SGD step, batch 32
-//   unet_deep/infer_b1, unet_deep_slim/infer_b1
-//                                       the arch files models/arch/unet-deep{,-slim}.toml with the
+//   unet_deep/infer_b1, unet_deep_slim/infer_b1, unet_fast/infer_b1
+//                                       the arch files models/arch/unet-{deep,deep-slim,fast}.toml with the
 //                                       residual model's 10 input channels (the shipped model's
 //                                       network), inference, batch 1
 // Threads: OpenMP, set with OMP_NUM_THREADS (bench/torch_compare.py runs 1 and 2). Times are
@@ -93,6 +93,8 @@ BENCHMARK_CAPTURE(BM_ArchFileInfer, deep, "unet-deep.toml")
     ->Name("unet_deep/infer_b1")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_ArchFileInfer, slim, "unet-deep-slim.toml")
     ->Name("unet_deep_slim/infer_b1")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ArchFileInfer, fast, "unet-fast.toml")
+    ->Name("unet_fast/infer_b1")->UseRealTime()->Unit(benchmark::kMillisecond);
 
 void BM_UnetTrainStep(benchmark::State& state) {
   const int batch = 32;

@@ -26,7 +26,7 @@ cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 DC="$BUILD/bench/deepcontact"
 SIMS=${SIMS:-32}
-EPOCHS=${EPOCHS:-16}
+EPOCHS=${EPOCHS:-5}
 EVERY=${EVERY:-4}
 THREADS=${THREADS:-2}
 # The dead zone [N] of the residual correction, chosen on validation seeds 500..501 (neither

@@ -157,23 +157,40 @@ bool Network::forward_at(const Tensor& x, std::span<const int> pixels, Tensor& o
   out.resize(out_);
   const int W = out_.w, P = out_.h * out_.w, cin = static_cast<int>(src.size()), cout = out_.c;
   const float* wt = head->weight().data();  // [Cout, Cin, 1, 1]
-  const float* b = head->bias().data();
-  std::vector<float> v(static_cast<std::size_t>(cin));
-  for (const int p : pixels) {
+  const float* bias = head->bias().data();
+  for (const int p : pixels)
     if (p < 0 || p >= P) throw InvalidArgument("Network::forward_at: pixel " + std::to_string(p) + " outside the output");
-    const int Y = p / W, X = p % W;
-    for (int c = 0; c < cin; ++c) {
-      const Source& s = src[static_cast<std::size_t>(c)];
-      v[static_cast<std::size_t>(c)] = s.up ? s.data[(Y / 2) * s.w + X / 2] : s.data[Y * s.w + X];
+  // Blocks of kB pixels, channel-major (v[c·kB + b]), so that the multiply-adds of one
+  // channel run as one vector over the block: one pixel's sum is a serial chain (the
+  // latency of cin FMAs), kB independent chains fill the pipeline. Each pixel's order is
+  // the direct kernel's: fused multiply-adds over the channels from 0, then + bias.
+  constexpr int kB = 16;
+  std::vector<float> v(static_cast<std::size_t>(cin) * kB);
+  float acc[kB];
+  for (std::size_t p0 = 0; p0 < pixels.size(); p0 += kB) {
+    const int nb = static_cast<int>(std::min<std::size_t>(kB, pixels.size() - p0));
+    for (int b = 0; b < kB; ++b) {
+      const int p = pixels[p0 + static_cast<std::size_t>(std::min(b, nb - 1))];
+      const int Y = p / W, X = p % W;
+      for (int c = 0; c < cin; ++c) {
+        const Source& s = src[static_cast<std::size_t>(c)];
+        v[static_cast<std::size_t>(c * kB + b)] = s.up ? s.data[(Y / 2) * s.w + X / 2] : s.data[Y * s.w + X];
+      }
     }
-    // The direct kernel's order: fused multiply-adds over the channels from 0, then + bias.
     for (int o = 0; o < cout; ++o) {
-      float acc = 0.0f;
       const float* wo = wt + static_cast<std::size_t>(o) * cin;
-      for (int c = 0; c < cin; ++c) acc = std::fma(wo[c], v[static_cast<std::size_t>(c)], acc);
-      float r = acc + b[o];
-      if (head->relu()) r = std::max(r, 0.0f);
-      out[static_cast<std::size_t>(o) * P + static_cast<std::size_t>(p)] = r;
+      for (int b = 0; b < kB; ++b) acc[b] = 0.0f;
+      for (int c = 0; c < cin; ++c) {
+        const float w = wo[c];
+        const float* vc = v.data() + static_cast<std::size_t>(c) * kB;
+        for (int b = 0; b < kB; ++b) acc[b] = std::fma(w, vc[b], acc[b]);
+      }
+      float* yo = out.data() + static_cast<std::size_t>(o) * P;
+      for (int b = 0; b < nb; ++b) {
+        float r = acc[b] + bias[o];
+        if (head->relu()) r = std::max(r, 0.0f);
+        yo[pixels[p0 + static_cast<std::size_t>(b)]] = r;
+      }
     }
   }
   last_x_ = nullptr;  // no backward after a sparse pass
