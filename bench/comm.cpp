@@ -144,6 +144,13 @@ Bytes Comm::receive(int source, int tag) const {
   return data;
 }
 
+bool Comm::has_message(int source, int tag) const {
+  if (!parallel()) return false;
+  int found = 0;
+  MPI_Iprobe(source, tag, MPI_COMM_WORLD, &found, MPI_STATUS_IGNORE);
+  return found != 0;
+}
+
 void Comm::sum(std::span<double> v) const {
   if (parallel()) MPI_Allreduce(MPI_IN_PLACE, v.data(), checked_count(v.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
 }
@@ -176,6 +183,7 @@ void Comm::broadcast(Bytes&, int) const {}
 std::vector<Bytes> Comm::gather(const Bytes& mine, int) const { return {mine}; }
 void Comm::send(const Bytes&, int, int) const { throw InvalidArgument("Comm::send: no other rank"); }
 Bytes Comm::receive(int, int) const { throw InvalidArgument("Comm::receive: no other rank"); }
+bool Comm::has_message(int, int) const { return false; }
 void Comm::sum(std::span<double>) const {}
 void Comm::min(std::span<std::int64_t>) const {}
 void Comm::max(std::span<std::int64_t>) const {}

@@ -40,6 +40,8 @@ class Comm {
   /// Point-to-point (blocking; a large message waits until the receiver asks for it).
   void send(const Bytes& data, int dest, int tag) const;
   [[nodiscard]] Bytes receive(int source, int tag) const;
+  /// A message from `source` with `tag` is waiting (receive would not block).
+  [[nodiscard]] bool has_message(int source, int tag) const;
   /// Element-wise sum over all ranks, in place; the same result on every rank.
   void sum(std::span<double> values) const;
   /// Element-wise minimum / maximum over all ranks, in place.
