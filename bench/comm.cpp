@@ -61,11 +61,23 @@ MpiSession::MpiSession(int& argc, char**& argv) {
 }
 
 MpiSession::~MpiSession() {
-  if (initialised_) MPI_Finalize();
+  if (!initialised_) return;
+  // MPI_Finalize waits for the slowest rank in a busy loop; while rank 0 writes a report
+  // for half a minute the others would burn a core each (measured: bench's report took 3×
+  // longer). Wait sleeping first.
+  world().barrier();
+  MPI_Finalize();
 }
 
 void Comm::barrier() const {
-  if (parallel()) MPI_Barrier(MPI_COMM_WORLD);
+  if (!parallel()) return;
+  MPI_Request request;
+  MPI_Ibarrier(MPI_COMM_WORLD, &request);
+  for (int done = 0;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+  }
 }
 
 void Comm::broadcast(Bytes& data, int root) const {
@@ -101,7 +113,7 @@ std::vector<Bytes> Comm::gather(const Bytes& mine, int root) const {
   return out;
 }
 
-// Point-to-point waits poll with a short sleep instead of MPI's busy wait: the waiting
+// Point-to-point waits (and barrier) poll with a short sleep instead of MPI's busy wait: the waiting
 // thread (generate's writer) shares its rank's cores with that rank's simulation workers,
 // and a busy wait would take a core from them (measured: docs/cluster.md).
 static void idle_wait() { std::this_thread::sleep_for(std::chrono::microseconds(500)); }
@@ -130,6 +142,13 @@ Bytes Comm::receive(int source, int tag) const {
   Bytes data(static_cast<std::size_t>(n));
   MPI_Recv(data.data(), n, MPI_BYTE, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   return data;
+}
+
+bool Comm::has_message(int source, int tag) const {
+  if (!parallel()) return false;
+  int found = 0;
+  MPI_Iprobe(source, tag, MPI_COMM_WORLD, &found, MPI_STATUS_IGNORE);
+  return found != 0;
 }
 
 void Comm::sum(std::span<double> v) const {
@@ -164,6 +183,7 @@ void Comm::broadcast(Bytes&, int) const {}
 std::vector<Bytes> Comm::gather(const Bytes& mine, int) const { return {mine}; }
 void Comm::send(const Bytes&, int, int) const { throw InvalidArgument("Comm::send: no other rank"); }
 Bytes Comm::receive(int, int) const { throw InvalidArgument("Comm::receive: no other rank"); }
+bool Comm::has_message(int, int) const { return false; }
 void Comm::sum(std::span<double>) const {}
 void Comm::min(std::span<std::int64_t>) const {}
 void Comm::max(std::span<std::int64_t>) const {}

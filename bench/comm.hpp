@@ -10,6 +10,8 @@
 // for a fixed rank count.
 //
 // Threads: MPI is initialised with MPI_THREAD_FUNNELED; only the main thread calls Comm.
+// Waiting: barrier, send and receive sleep between polls (a waiting rank leaves its cores
+// to the work); broadcast, gather, sum, min, max are MPI's blocking collectives.
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -29,6 +31,7 @@ class Comm {
   /// True when MPI is initialised and there is more than one rank.
   [[nodiscard]] bool parallel() const { return size_ > 1; }
 
+  /// Waits for every rank, sleeping between polls (no busy wait).
   void barrier() const;
   /// Root's `data` to every rank (resized on the others).
   void broadcast(Bytes& data, int root = 0) const;
@@ -37,6 +40,8 @@ class Comm {
   /// Point-to-point (blocking; a large message waits until the receiver asks for it).
   void send(const Bytes& data, int dest, int tag) const;
   [[nodiscard]] Bytes receive(int source, int tag) const;
+  /// A message from `source` with `tag` is waiting (receive would not block).
+  [[nodiscard]] bool has_message(int source, int tag) const;
   /// Element-wise sum over all ranks, in place; the same result on every rank.
   void sum(std::span<double> values) const;
   /// Element-wise minimum / maximum over all ranks, in place.

@@ -116,6 +116,7 @@ bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& o, const W
     local = bench::run_bench(mine, registry);
   }
   const auto t1 = Clock::now();
+  comm.barrier();  // wait for the slowest rank without a busy loop, then gather
   const std::vector<Bytes> all = comm.gather(pack(local));
   if (!comm.is_root()) return local;
   bench::BenchResults merged = unpack(all[0]);

@@ -1,9 +1,12 @@
 // generate_partition and the simulation messages (mpi_generate.hpp).
 #include "mpi_generate.hpp"
 
+#include <chrono>
 #include <string>
+#include <thread>
 
 #include "byte_buffer.hpp"
+#include "sigint_guard.hpp"
 
 namespace dc::cli {
 namespace {
@@ -85,6 +88,11 @@ DataSetPartition generate_partition(const Comm& comm) {
   };
   if (comm.is_root()) {
     p.receive = [&comm, K](int i) -> std::optional<SimulationRecord> {
+      // Stopped (SIGINT/SIGTERM) while waiting: commit nothing more, whatever the others do.
+      while (!comm.has_message(i % K, kTag)) {
+        if (interrupted()) return std::nullopt;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
       std::optional<SimulationRecord> rec = unpack_simulation(comm.receive(i % K, kTag));
       if (rec && rec->index != i)
         throw IoError("generate: rank " + std::to_string(i % K) + " sent simulation " + std::to_string(rec->index) +

@@ -1,5 +1,7 @@
 #include "sigint_guard.hpp"
 
+#include "comm.hpp"
+
 namespace dc::cli {
 namespace {
 
@@ -18,8 +20,15 @@ SigintGuard::SigintGuard() {
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = 0;
   sigaction(SIGINT, &sa, &previous_);
+  // An MPI job is stopped with SIGTERM (mpirun when a rank dies or on Ctrl-C, SLURM at the
+  // time limit), then SIGKILL a little later: let the rank finish the append it is in.
+  term_ = world().parallel();
+  if (term_) sigaction(SIGTERM, &sa, &previous_term_);
 }
 
-SigintGuard::~SigintGuard() { sigaction(SIGINT, &previous_, nullptr); }
+SigintGuard::~SigintGuard() {
+  sigaction(SIGINT, &previous_, nullptr);
+  if (term_) sigaction(SIGTERM, &previous_term_, nullptr);
+}
 
 }  // namespace dc::cli

@@ -11,7 +11,7 @@ namespace dc::cli {
 bool interrupted();
 
 /// Installs the flag-setting SIGINT handler (clearing the flag) and restores the previous
-/// disposition when destroyed.
+/// disposition when destroyed. Across MPI ranks SIGTERM sets the flag too.
 class SigintGuard {
  public:
   SigintGuard();
@@ -21,6 +21,8 @@ class SigintGuard {
 
  private:
   struct sigaction previous_ {};
+  struct sigaction previous_term_ {};
+  bool term_ = false;  ///< SIGTERM handled too (under MPI, see sigint_guard.cpp)
 };
 
 }  // namespace dc::cli
