@@ -63,18 +63,23 @@ std::string fmt_body(std::size_t i, const BodyDef& b) {
 BodyState make_bodies(const WorldDef& def) {
   def.validate();
   const BodiesSection& g = def.bodies;
-  double max_r = g.count > 0 ? g.radius : 0.0;
+  double max_r = g.count > 0 ? std::max(g.radius, g.radius_max) : 0.0;
   for (const BodyDef& b : def.body) max_r = std::max(max_r, b.radius);
+  const bool spread = g.radius_max > g.radius;
+  const auto& R = g.region;
+  const bool uniform = !(R[0] == 0 && R[1] == 0 && R[2] == 0 && R[3] == 0);
   PlacedCircles placed(std::max(2 * max_r, 1e-9));
   placed.set_max_radius(max_r);
 
-  // Explicit circles first (they are fixed), so generated ones avoid them.
+  // Explicit circles first (they are fixed), so generated ones avoid them. Circles that
+  // enter later ([[body]] spawn > 0) are only checked against the box here (Inflow adds them).
   for (std::size_t i = 0; i < def.body.size(); ++i) {
     const BodyDef& b = def.body[i];
     if (!inside_box(b.position, b.radius, def.world))
       throw ConfigError(fmt_body(i, b) + " lies (partly) outside the box [0, " +
                         std::to_string(def.world.width) + "] x [0, " +
                         std::to_string(def.world.height) + "]");
+    if (b.spawn > 0) continue;
     const int o = placed.overlapping(b.position, b.radius);
     if (o >= 0)
       throw ConfigError(fmt_body(i, b) + " overlaps [[body]] #" + std::to_string(o + 1));
@@ -86,11 +91,14 @@ BodyState make_bodies(const WorldDef& def) {
   Rng rng(g.seed);
   for (int k = 0; k < g.count; ++k) {
     bool ok = false;
+    // Without radius_max / region no extra numbers are drawn: circle scenes stay bit-identical.
+    const double r = spread ? rng.uniform(g.radius, g.radius_max) : g.radius;
     for (int attempt = 0; attempt < g.max_attempts; ++attempt) {
-      const Vec2 x{g.mean.x + rng.gaussian(g.sigma), g.mean.y + rng.gaussian(g.sigma)};
-      if (!inside_box(x, g.radius, def.world) || placed.overlapping(x, g.radius) >= 0) continue;
-      placed.add(x, g.radius);
-      s.add(x, g.radius, g.density);
+      const Vec2 x = uniform ? Vec2{rng.uniform(R[0], R[2]), rng.uniform(R[1], R[3])}
+                             : Vec2{g.mean.x + rng.gaussian(g.sigma), g.mean.y + rng.gaussian(g.sigma)};
+      if (!inside_box(x, r, def.world) || placed.overlapping(x, r) >= 0) continue;
+      placed.add(x, r);
+      s.add(x, r, g.density);
       ok = true;
       break;
     }
@@ -100,7 +108,8 @@ BodyState make_bodies(const WorldDef& def) {
                         std::to_string(g.max_attempts) +
                         " attempts: lower count or radius, or raise sigma or the box size");
   }
-  for (const BodyDef& b : def.body) s.add(b.position, b.radius, b.density, b.velocity, b.angle, b.omega);
+  for (const BodyDef& b : def.body)
+    if (!(b.spawn > 0)) s.add(b.position, b.radius, b.density, b.velocity, b.angle, b.omega);
   return s;
 }
 

@@ -1,5 +1,8 @@
 #include "dc/io/trajectory_recorder.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include "dc/engine/error.hpp"
 #include "dc/io/h5.hpp"
 
@@ -7,14 +10,17 @@ namespace dc {
 
 TrajectoryRecorder::TrajectoryRecorder(const World& world) : n_(world.bodies().size()) {
   const BodyState& s = world.bodies();
-  radius_ = s.radius;
-  mass_ = s.mass;
   record_state(s);
   step_offset_.push_back(0);
 }
 
 void TrajectoryRecorder::record_state(const BodyState& s) {
-  if (s.size() != n_) throw InvalidArgument("TrajectoryRecorder: the number of bodies changed");
+  // Bodies are only ever appended (inflow.hpp): a state has at least the bodies of the last.
+  if (s.size() < radius_.size()) throw InvalidArgument("TrajectoryRecorder: the number of bodies decreased");
+  radius_.assign(s.radius.begin(), s.radius.end());
+  mass_.assign(s.mass.begin(), s.mass.end());
+  n_ = s.size();
+  state_size_.push_back(n_);
   for (std::size_t k = 0; k < n_; ++k) {
     position_.push_back(s.position[k].x);
     position_.push_back(s.position[k].y);
@@ -48,6 +54,29 @@ void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
 void TrajectoryRecorder::write(const std::string& path, const std::string& scene,
                                const std::string& warmstart) const {
   const hsize_t S = sweeps_.size(), n = n_, C = body_a_.size();
+  // States recorded before late bodies entered are padded with NaN (docs/formats.md).
+  std::vector<double> position, angle, velocity, omega;
+  const std::vector<double>* pos = &position_;
+  const std::vector<double>* ang = &angle_;
+  const std::vector<double>* vel = &velocity_;
+  const std::vector<double>* om = &omega_;
+  if (position_.size() != 2 * n * (S + 1)) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    position.assign(2 * n * (S + 1), nan);
+    velocity.assign(2 * n * (S + 1), nan);
+    angle.assign(n * (S + 1), nan);
+    omega.assign(n * (S + 1), nan);
+    std::size_t src = 0;
+    for (std::size_t i = 0; i < state_size_.size(); ++i) {
+      const std::size_t m = state_size_[i];
+      std::copy_n(position_.begin() + static_cast<std::ptrdiff_t>(2 * src), 2 * m, position.begin() + static_cast<std::ptrdiff_t>(2 * n * i));
+      std::copy_n(velocity_.begin() + static_cast<std::ptrdiff_t>(2 * src), 2 * m, velocity.begin() + static_cast<std::ptrdiff_t>(2 * n * i));
+      std::copy_n(angle_.begin() + static_cast<std::ptrdiff_t>(src), m, angle.begin() + static_cast<std::ptrdiff_t>(n * i));
+      std::copy_n(omega_.begin() + static_cast<std::ptrdiff_t>(src), m, omega.begin() + static_cast<std::ptrdiff_t>(n * i));
+      src += m;
+    }
+    pos = &position; ang = &angle; vel = &velocity; om = &omega;
+  }
   const H5DatasetOptions z{.extendible = false, .chunk_rows = 0, .deflate = 4};
   const auto opt = [&](hsize_t rows) { return rows > 0 ? z : H5DatasetOptions{}; };
   AtomicH5File out(path);
@@ -56,10 +85,10 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   f.set_attribute<std::int32_t>("/", "format_version", 1);
   f.set_attribute("/", "scene", scene);
   f.set_attribute("/", "warmstart", warmstart);
-  f.write<double>("/bodies/position", position_, {S + 1, n, 2}, opt(S + 1));
-  f.write<double>("/bodies/angle", angle_, {S + 1, n}, opt(S + 1));
-  f.write<double>("/bodies/velocity", velocity_, {S + 1, n, 2}, opt(S + 1));
-  f.write<double>("/bodies/omega", omega_, {S + 1, n}, opt(S + 1));
+  f.write<double>("/bodies/position", *pos, {S + 1, n, 2}, opt(S + 1));
+  f.write<double>("/bodies/angle", *ang, {S + 1, n}, opt(S + 1));
+  f.write<double>("/bodies/velocity", *vel, {S + 1, n, 2}, opt(S + 1));
+  f.write<double>("/bodies/omega", *om, {S + 1, n}, opt(S + 1));
   f.write<double>("/bodies/radius", radius_, {n});
   f.write<double>("/bodies/mass", mass_, {n});
   f.write<std::int64_t>("/contacts/step_offset", step_offset_, {S + 1});
