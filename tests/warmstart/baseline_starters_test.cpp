@@ -138,7 +138,7 @@ TEST(StaticsGuess, SlantedSupportsBalanceTheWeightVertically) {
   WorldDef d;
   d.bodies.count = 0;
   d.world.walls = {false, false, true, false};
-  for (const Vec2 x : {Vec2{14.0, 1.0}, Vec2{16.0, 1.0}, Vec2{15.0, 1.0 + std::sqrt(3.0)}}) {
+  for (const Vec2 x : {Vec2{14.0, 1.0}, Vec2{16.0, 1.0}, Vec2{15.0, 1.0 + std::sqrt(3.0) + 1e-9}}) {
     BodyDef b;
     b.position = x;
     d.body.push_back(b);
