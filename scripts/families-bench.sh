@@ -37,6 +37,9 @@ else
 fi
 # deep: 1,000 bodies, the settled pile; the oracle (20000 sweeps + Newton per step) is skipped.
 want deep && run deep --scene scenes/deep.toml --warmstarts "$S" $(seeds 1..1) $DEEP --no-oracle --max-sweeps 10000
+# deep, later: the settled pile (steps 480..).
+want deep && run deep-late --scene scenes/deep.toml --warmstarts "$S" $(seeds 1..1) --warmup-steps 480 --steps 488 \
+  --no-oracle --max-sweeps 10000
 want impact && run impact --scene scenes/impact.toml --warmstarts "$S,sph" $(seeds 1..2) $IMPACT --max-sweeps 10000
 want pour && run pour --scene scenes/pour.toml --warmstarts "$S,sph" $(seeds 1..2) $POUR --max-sweeps 10000
 want polydisperse && run polydisperse --scene scenes/polydisperse.toml --warmstarts "$S,sph" $(seeds 1..2) $POLY \
