@@ -30,10 +30,10 @@ run() {  # name, then bench arguments
 }
 if [[ "${QUICK:-0}" == 1 ]]; then
   DEEP="--warmup-steps 350 --steps 362"; IMPACT="--warmup-steps 200 --steps 250"; POUR="--warmup-steps 200 --steps 300"
-  POLY="--steps 250"; HEIGHT="--scale 125,250,500 --warmup-steps 350 --steps 360"; SCALE="--scale 100,300,600 --steps 200"
+  POLY="--steps 250"; HEIGHT="--scale 125,250,500 --warmup-steps 350 --steps 360"; SCALE="--scale 300,600,1000 --steps 200"
 else
   DEEP="--warmup-steps 350 --steps 400"; IMPACT="--warmup-steps 195 --steps 300"; POUR="--warmup-steps 150 --steps 400"; POLY="--steps 400"
-  HEIGHT="--scale 125,250,500,1000 --warmup-steps 350 --steps 370"; SCALE="--scale 100,300,1000 --steps 300"
+  HEIGHT="--scale 125,250,500,1000 --warmup-steps 350 --steps 370"; SCALE="--scale 300,600,1000,2000 --steps 300"
 fi
 # deep: 1,000 bodies, the settled pile; the oracle (20000 sweeps + Newton per step) is skipped.
 want deep && run deep --scene scenes/deep.toml --warmstarts "$S" $(seeds 1..1) $DEEP --no-oracle --max-sweeps 10000
