@@ -58,8 +58,13 @@ std::string format_table(const BenchResults& r, const std::vector<StarterSummary
   const StarterSummary* zero = find(s, "zero");
   const int N = r.options.sweeps;
   std::vector<std::vector<std::string>> rows;
+  const bool high = r.options.max_sweeps > 0;
+  const std::string at_b = "resid@" + std::to_string(r.options.budget > 0 ? r.options.budget : std::min(100, N));
+  const std::string at_n = "resid@" + std::to_string(N);
+  const std::string hi_s = "sweeps cap " + std::to_string(r.options.max_sweeps), hi_n = "never cap " + std::to_string(r.options.max_sweeps);
   rows.push_back({"warm starter", "sweeps to tol (median)", "q1-q3", "/zero", "never", "warmstart ms",
-                  "oracle ms", "solve ms", "total ms", "total /zero", "theses"});
+                  "oracle ms", "solve ms", "total ms", "total /zero", "theses", at_b, at_n});
+  if (high) rows.back().insert(rows.back().end(), {hi_s, hi_n});
   for (const auto& x : s) {
     std::string q = x.sweeps_to_tol.q1 > N ? "never" : fmt("%.0f", x.sweeps_to_tol.q1);
     q += "-";
@@ -70,7 +75,10 @@ std::string format_table(const BenchResults& r, const std::vector<StarterSummary
                     fmt("%.1f%%", 100 * x.unconverged_share), fmt("%.4f", x.warmstart_ms),
                     x.uses_oracle ? fmt("%.3f", x.oracle_ms) : "-", fmt("%.3f", x.solve_ms),
                     fmt("%.3f", x.total_ms), zero && zero->total_ms > 0 ? fmt("%.3f", x.total_ms / zero->total_ms) : "",
-                    thesis_reference(x.name)});
+                    thesis_reference(x.name), fmt("%.2e", x.residual_at_budget), fmt("%.2e", x.residual_at_cap)});
+    if (high)
+      rows.back().insert(rows.back().end(), {x.median_sweeps_high > r.options.max_sweeps ? "never" : fmt("%.0f", x.median_sweeps_high),
+                                             fmt("%.1f%%", 100 * x.unconverged_share_high)});
   }
   std::vector<std::size_t> w(rows[0].size(), 0);
   for (const auto& row : rows)
@@ -127,6 +135,13 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
     else
       j.null();
     j.key("theses").value(thesis_reference(x.name));
+    j.key("residual_at_budget").value(x.residual_at_budget);
+    j.key("residual_at_cap").value(x.residual_at_cap);
+    if (r.options.max_sweeps > 0) {
+      j.key("median_sweeps_to_tol_high_cap");
+      if (x.median_sweeps_high > r.options.max_sweeps) j.null(); else j.value(x.median_sweeps_high);
+      j.key("unconverged_share_high_cap").value(x.unconverged_share_high);
+    }
     j.end_object();
   }
   j.end_object();
@@ -134,6 +149,11 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
     j.key("statistics");
     statistics_json(j, *stats);
   }
+  j.key("family").value(r.options.family);
+  j.key("budget").value(r.options.budget);
+  j.key("max_sweeps").value(r.options.max_sweeps);
+  j.key("warmup_steps").value(r.options.warmup_steps);
+  j.key("oracle").value(r.options.oracle);
   j.key("scene").value(scene_to_toml(r.options.scene));
   j.key("seeds").begin_array();
   for (const std::uint64_t seed : r.options.seeds) j.value(seed);
@@ -176,12 +196,25 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
 
   std::ostringstream md;
   const int steps = r.starters.empty() ? 0 : static_cast<int>(r.starters[0].sweeps_to_tol.size());
-  md << "# DeepContact warm-start benchmark\n\n";
+  md << "# DeepContact warm-start benchmark: family `" << (r.options.family.empty() ? "seed" : r.options.family)
+     << "`\n\n";
   md << "Mode **" << (r.options.mode == Mode::Paired ? "paired" : "rollout") << "**, solver `" << r.options.solver
      << "`, " << r.options.sweeps << " sweeps, tolerance θ ≤ " << r.options.tolerance << " N, " << steps
      << " evaluated steps (" << r.skipped_steps << " steps without contacts skipped) over scene seeds";
   for (auto s : r.options.seeds) md << ' ' << s;
   md << ". Wall time " << fmt("%.1f", r.wall_seconds) << " s.\n\n";
+  if (r.options.warmup_steps > 0)
+    md << "The first " << r.options.warmup_steps << " steps of every seed were a warm-up (builtin + PGS to tol, not "
+          "evaluated).\n\n";
+  if (!r.options.oracle)
+    md << "**Oracle skipped** (`--no-oracle`): the reference trajectory is advanced with builtin + PGS to tol/100 "
+          "(cap " << std::max(r.options.sweeps, r.options.max_sweeps) << " sweeps); λ errors are against that λ, and "
+          "no oracle starter ran.\n\n";
+  md << "`resid@B` is the median natural-map residual [N] after B sweeps (B = the fixed budget `--budget`, and the cap)";
+  if (r.options.max_sweeps > 0)
+    md << "; `sweeps cap M` / `never cap M` are sweeps to tol and the unconverged share when a step may run up to "
+          "M = `--max-sweeps` sweeps";
+  md << ".\n\n";
   md << "Medians over steps. `*` marks oracle starters (they use this step's solution λ*; the oracle's cost is "
         "shown apart and is not included in total). `/zero` is the ratio to the zero warm start. "
         "`theses` gives the earlier theses' median iterations to 1e-4 N·s (Box2D impulses, r = 0.5; DESIGN §6).\n\n";

@@ -70,6 +70,11 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
     f.write<std::int32_t>(g + "/step", st, {n});
     f.write<std::int32_t>(g + "/rows", rw, {n});
     f.write<std::int32_t>(g + "/sweeps_to_tol", tt, {n});
+    if (!rec.sweeps_to_tol_high.empty()) {
+      const std::vector<std::int32_t> hi(rec.sweeps_to_tol_high.begin(), rec.sweeps_to_tol_high.end());
+      f.write<std::int32_t>(g + "/sweeps_to_tol_high", hi, {n});
+      f.set_attribute<std::int32_t>(g, "max_sweeps", r.options.max_sweeps);
+    }
     f.write<double>(g + "/warmstart_ms", rec.warmstart_ms, {n});
     f.write<double>(g + "/oracle_ms", rec.oracle_ms, {n});
     f.write<double>(g + "/solve_ms", rec.solve_ms, {n});

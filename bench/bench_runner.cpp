@@ -90,6 +90,19 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
   for (std::size_t k = 0; k < fr.theta.size(); ++k)
     if (fr.theta[k] <= o.tolerance) { to_tol = static_cast<int>(k) + 1; break; }
   rec.sweeps_to_tol.push_back(to_tol);
+  if (o.max_sweeps > o.sweeps) {
+    // Higher cap: continue from the last iterate (PGS only carries λ between sweeps).
+    int high = to_tol;
+    if (to_tol < 0) {
+      SolverOptions more;
+      more.max_sweeps = o.max_sweeps - o.sweeps;
+      more.tolerance = o.tolerance;
+      more.record_theta = false;
+      const SolveResult mr = solver.solve(p, fr.lambda, more);
+      high = mr.status == SolveStatus::Converged ? o.sweeps + mr.sweeps : -1;
+    }
+    rec.sweeps_to_tol_high.push_back(high);
+  }
   for (int k = 0; k < o.sweeps; ++k)
     rec.theta.push_back(k < static_cast<int>(fr.theta.size()) ? static_cast<float>(fr.theta[static_cast<size_t>(k)])
                                                               : 0.0f);
@@ -106,6 +119,40 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
 
   ws.observe(view, fr.lambda);
   return fr.lambda;
+}
+
+/// The reference λ of a step without the tight oracle: builtin + PGS to tol / 100.
+OracleSolution cheap_reference(const World& w, const LcpProblem& p, const LcpSolver& solver, const BenchOptions& o) {
+  const auto builtin = default_warm_starters().make("builtin");  // stateless: cheap to make per step
+  const Eigen::VectorXd guess = builtin->initial_guess(StepView{w, nullptr});
+  SolverOptions so;
+  so.max_sweeps = std::max(o.sweeps, o.max_sweeps);
+  so.tolerance = o.tolerance / 100;
+  so.record_theta = false;
+  SolveResult r = solver.solve(p, guess, so);
+  OracleSolution out;
+  out.lambda = std::move(r.lambda);
+  out.residual = natural_residual(p, out.lambda);
+  return out;
+}
+
+/// Warm-up: advance `w` by o.warmup_steps with builtin + PGS until tol (nothing recorded).
+void warm_up(World& w, const LcpSolver& solver, const BenchOptions& o) {
+  const auto builtin = default_warm_starters().make("builtin");
+  SolverOptions so;
+  so.max_sweeps = o.sweeps;
+  so.tolerance = o.tolerance;
+  so.record_theta = false;
+  for (int s = 0; s < o.warmup_steps; ++s) {
+    w.collide();
+    w.assemble();
+    const LcpProblem& p = solver.needs_assembled_matrix() ? w.ensure_assembled_matrix() : w.problem();
+    if (p.rows() == 0) {
+      w.integrate(Eigen::VectorXd());
+      continue;
+    }
+    w.integrate(solver.solve(p, builtin->initial_guess(StepView{w, nullptr}), so).lambda);
+  }
 }
 
 }  // namespace
@@ -130,6 +177,11 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
   BenchResults r;
   r.options = o;
   r.budgets = o.budgets.empty() ? default_budgets(o.sweeps) : o.budgets;
+  r.options.budget = o.budget > 0 ? o.budget : std::min(100, o.sweeps);
+  if (r.options.budget > o.sweeps) throw ConfigError("bench: --budget must lie in 1..sweeps");
+  if (o.max_sweeps != 0 && o.max_sweeps <= o.sweeps) throw ConfigError("bench: --max-sweeps must exceed --sweeps");
+  if (o.warmup_steps < 0) throw ConfigError("bench: --warmup-steps must be >= 0");
+  r.budgets.push_back(r.options.budget);
   std::sort(r.budgets.begin(), r.budgets.end());
   r.budgets.erase(std::unique(r.budgets.begin(), r.budgets.end()), r.budgets.end());
   if (r.budgets.front() < 1 || r.budgets.back() > o.sweeps)
@@ -142,10 +194,12 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
     StarterRecord rec;
     rec.name = ws->name();
     rec.uses_oracle = ws->uses_oracle();
+    if (rec.uses_oracle && !o.oracle)
+      throw ConfigError("bench: warm starter '" + rec.name + "' needs the oracle, which this run skips (--no-oracle)");
     r.starters.push_back(std::move(rec));
   }
   const int steps = o.scene.time.steps;
-  const long total = static_cast<long>(o.seeds.size()) * steps *
+  const long total = static_cast<long>(o.seeds.size()) * std::max(0, steps - o.warmup_steps) *
                      (o.mode == Mode::Paired ? 1 : static_cast<long>(o.warmstarts.size()));
   long done = 0;
   StepOutcome outcome;  // reused by every evaluation
@@ -160,13 +214,14 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
 
     if (o.mode == Mode::Paired) {
       World ref(def);
+      warm_up(ref, *solver, o);
       const bool record = seed == o.seeds.front();  // the report shows a frame of it
       if (record) {
         r.reference = std::make_shared<TrajectoryRecorder>(ref);
         r.reference_scene = scene_to_toml(def);
       }
       const auto oracle_starter = default_warm_starters().make("builtin");
-      for (int s = 0; s < steps; ++s) {
+      for (int s = o.warmup_steps; s < steps; ++s) {
         ref.collide();
         ref.assemble();
         const LcpProblem& p = solver->needs_assembled_matrix() ? ref.ensure_assembled_matrix() : ref.problem();
@@ -183,7 +238,7 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
           // (cheaper; the oracle's cost is reported apart and never enters a total).
           auto t0 = Clock::now();
           const Eigen::VectorXd oracle_guess = oracle_starter->initial_guess(StepView{ref, nullptr});
-          const OracleSolution os = solve_oracle(p, &oracle_guess);
+          const OracleSolution os = o.oracle ? solve_oracle(p, &oracle_guess) : cheap_reference(ref, p, *solver, o);
           r.oracle_ms.push_back(ms_since(t0));
           r.oracle_residual.push_back(os.residual);
           r.step_seed.push_back(seed);
@@ -206,7 +261,8 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
     } else {
       for (std::size_t i = 0; i < starters.size(); ++i) {
         World w(def);
-        for (int s = 0; s < steps; ++s) {
+        warm_up(w, *solver, o);
+        for (int s = o.warmup_steps; s < steps; ++s) {
           w.collide();
           w.assemble();
           const LcpProblem& p = solver->needs_assembled_matrix() ? w.ensure_assembled_matrix() : w.problem();
@@ -214,7 +270,7 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
             if (i == 0) ++r.skipped_steps;
             w.integrate(Eigen::VectorXd());
           } else {
-            const OracleSolution os = solve_oracle(p);
+            const OracleSolution os = o.oracle ? solve_oracle(p) : cheap_reference(w, p, *solver, o);
             if (i == 0) {
               r.step_seed.push_back(seed);
               r.step_index.push_back(s);
@@ -272,6 +328,25 @@ std::vector<StarterSummary> summarise(const BenchResults& r) {
     s.total_ms = quartiles(total).median;
     s.ns_per_row_sweep = quartiles(rec.sweep_ns_per_row).median;
     s.initial_error = quartiles(rec.initial_error).median;
+    const std::size_t nb = r.budgets.size();
+    const auto bi = static_cast<std::size_t>(std::find(r.budgets.begin(), r.budgets.end(), r.options.budget) - r.budgets.begin());
+    std::vector<double> at_b, at_cap;
+    for (std::size_t k = 0; nb > 0 && k + 1 <= rec.residual.size() / nb; ++k) {
+      if (bi < nb) at_b.push_back(rec.residual[k * nb + bi]);
+      at_cap.push_back(rec.residual[k * nb + nb - 1]);
+    }
+    s.residual_at_budget = quartiles(at_b).median;
+    s.residual_at_cap = quartiles(at_cap).median;
+    if (!rec.sweeps_to_tol_high.empty()) {
+      std::vector<double> hi;
+      int un = 0;
+      for (const int v : rec.sweeps_to_tol_high) {
+        if (v < 0) ++un;
+        hi.push_back(v < 0 ? r.options.max_sweeps + 1 : v);
+      }
+      s.median_sweeps_high = quartiles(hi).median;
+      s.unconverged_share_high = static_cast<double>(un) / static_cast<double>(hi.size());
+    }
     out.push_back(s);
   }
   return out;

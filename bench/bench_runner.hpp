@@ -34,6 +34,20 @@ struct BenchOptions {
   /// Sweep budgets of the speed/accuracy trade (sorted, ≤ sweeps); empty = log-spaced.
   std::vector<int> budgets;
   WarmStartEnv env;
+  std::string family;                   ///< scene family named in the report ([family] name / file stem)
+  /// Higher cap: a step that does not reach tol within `sweeps` continues (tolerance mode,
+  /// from the convergence run's last iterate) up to `max_sweeps` in all; 0 = off.
+  int max_sweeps = 0;
+  /// Fixed budget of the "residual at B sweeps" column (added to the budgets; ≤ sweeps;
+  /// 0 = min(100, sweeps)).
+  int budget = 0;
+  /// Steps advanced before the evaluation starts (builtin + PGS until tol, nothing recorded):
+  /// lets a pile settle, or starts an impact family just before the impact.
+  int warmup_steps = 0;
+  /// false: no tight oracle (large N). The reference trajectory is then advanced with builtin +
+  /// PGS (tol / 100, cap max(sweeps, max_sweeps)), λ errors are against that λ, and starters
+  /// that need the oracle (copy, sph, …) are refused.
+  bool oracle = true;
 };
 
 /// Per starter: one entry per evaluated step (steps with at least one contact row).
@@ -44,6 +58,7 @@ struct StarterRecord {
   std::vector<int> step;              ///< step number of each evaluated step
   std::vector<int> rows;              ///< LCP rows of each evaluated step
   std::vector<int> sweeps_to_tol;     ///< first k with θ_k ≤ tol; −1 = never within `sweeps`
+  std::vector<int> sweeps_to_tol_high;  ///< with max_sweeps > 0: the same with cap max_sweeps (−1 = never)
   std::vector<double> warmstart_ms;   ///< time of initial_guess() less its own oracle solve
   std::vector<double> oracle_ms;      ///< oracle time the starter spent itself (0 if shared)
   std::vector<double> solve_ms;       ///< tolerance-mode PGS solve from λ⁰ until θ ≤ tol
@@ -101,6 +116,10 @@ struct StarterSummary {
   double total_ms = 0;               ///< median of (warmstart + solve) per step
   double ns_per_row_sweep = 0;       ///< median
   double initial_error = 0;          ///< median ‖λ⁰ − λ*‖∞ [N]
+  double residual_at_budget = 0;     ///< median natural-map residual after `budget` sweeps [N]
+  double residual_at_cap = 0;        ///< median natural-map residual after `sweeps` sweeps [N]
+  double median_sweeps_high = 0;     ///< with max_sweeps: median sweeps to tol, never = max_sweeps + 1
+  double unconverged_share_high = 0; ///< with max_sweeps: share never reaching tol within it
 };
 std::vector<StarterSummary> summarise(const BenchResults& r);
 

@@ -72,8 +72,9 @@ WarmStarterRegistry full_warm_starter_registry() {
 }
 
 std::vector<std::string> default_bench_starters(const WarmStarterRegistry& registry, bool quick) {
-  std::vector<std::string> out = {"zero",    "builtin",  "copy",   "copy:2", "copy:0", "copy-noise:0.01",
-                                  "copy-noise:0.1", "sph", "sph-prev", "random", "bad"};
+  std::vector<std::string> out = {"zero",    "builtin",  "builtin-extrapolate", "builtin-statics", "copy",
+                                  "copy:2",  "copy:0",   "copy-noise:0.01",     "copy-noise:0.1",  "sph",
+                                  "sph-prev", "random",  "bad"};
   if (quick) out = {"zero", "builtin", "copy", "sph"};
   // cnn only when the shipped model is there (a checkout without it still benches the rest;
   // `--warmstarts cnn --model F` selects another model explicitly).

@@ -14,6 +14,8 @@
 #include "mpi_bench.hpp"
 #include "dc/engine/error.hpp"
 #include "progress_bar.hpp"
+#include "scale_sweep.hpp"
+#include <filesystem>
 
 namespace dc::cli {
 namespace {
@@ -31,6 +33,13 @@ struct BenchArgs {
   int steps = 0;
   bool quick = false;
   bool list = false;
+  int max_sweeps = 0;
+  int budget = 0;
+  int warmup_steps = 0;
+  bool no_oracle = false;
+  std::string scale;
+  std::string scale_axis = "both";
+  int scale_oracle_max = 600;
 };
 
 void run(const BenchArgs& a) {
@@ -41,7 +50,18 @@ void run(const BenchArgs& a) {
   }
   bench::BenchOptions o;
   o.scene = a.scene.load();
-  o.seeds = parse_seed_range(a.quick && a.seeds == "1..8" ? "1" : a.seeds);
+  // A family's own evaluation seeds ([family] seeds) apply when --seeds is not given.
+  const bool default_seeds = a.seeds == "1..8";
+  o.seeds = parse_seed_range(a.quick && default_seeds ? "1"
+                             : default_seeds && !o.scene.family.seeds.empty() ? o.scene.family.seeds
+                                                                              : a.seeds);
+  o.family = !o.scene.family.name.empty() ? o.scene.family.name
+             : a.scene.file.empty()        ? "seed"
+                                           : std::filesystem::path(a.scene.file).stem().string();
+  o.max_sweeps = a.max_sweeps;
+  o.budget = a.budget;
+  o.warmup_steps = a.warmup_steps;
+  o.oracle = !a.no_oracle;
   if (a.steps > 0) o.scene.time.steps = a.steps;
   o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
   o.tolerance = a.tol;
@@ -51,6 +71,41 @@ void run(const BenchArgs& a) {
   else if (a.mode == "rollout") o.mode = bench::Mode::Rollout;
   else throw ConfigError("--mode must be 'paired' or 'rollout', got '" + a.mode + "'");
   o.warmstarts = a.warmstarts.empty() ? default_bench_starters(registry, a.quick) : split_list(a.warmstarts);
+  if (!o.oracle) {  // the default list without the oracle starters
+    std::vector<std::string> kept;
+    for (const auto& n : o.warmstarts)
+      if (!registry.make(n, o.env)->uses_oracle() || !a.warmstarts.empty()) kept.push_back(n);
+    o.warmstarts = kept;
+  }
+  if (!a.scale.empty()) {
+    std::vector<int> counts;
+    for (const auto& item : split_list(a.scale)) {
+      std::size_t used = 0;
+      int v = 0;
+      try { v = std::stoi(item, &used); } catch (const std::exception&) { used = 0; }
+      if (used != item.size() || v < 1) throw ConfigError("--scale '" + a.scale + "': expected body counts N1,N2,… >= 1");
+      counts.push_back(v);
+    }
+    bench::ScaleAxis axis = bench::ScaleAxis::Both;
+    if (a.scale_axis == "height") axis = bench::ScaleAxis::Height;
+    else if (a.scale_axis != "both") throw ConfigError("--scale-axis must be 'both' or 'height', got '" + a.scale_axis + "'");
+    std::unique_ptr<ProgressBar> sbar;
+    const auto points = bench::run_scale_sweep(o, counts, axis, o.oracle ? a.scale_oracle_max + 1 : 1, registry,
+                                               [&](long done, long total, const std::string& note) {
+                                                 if (done == 1 || !sbar) {  // a new size: a new bar
+                                                   if (sbar) sbar->finish();
+                                                   sbar = std::make_unique<ProgressBar>("scale", total);
+                                                 }
+                                                 sbar->advance(1, note);
+                                               });
+    if (sbar) sbar->finish();
+    std::printf("%s", bench::format_scale_table(points, false).c_str());
+    if (!a.out.empty()) {
+      const auto files = bench::write_scale_report(points, axis, a.out);
+      std::printf("report: %s/scale.md (%zu files)\n", a.out.c_str(), files.size());
+    }
+    return;
+  }
 
   std::unique_ptr<ProgressBar> bar;
   // Across MPI ranks each runs a block of the seeds and rank 0 reports (mpi_bench.hpp).
@@ -98,6 +153,24 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
   cmd->add_flag("--quick", args->quick, "A short run: one seed, starters zero, builtin, copy, sph (and cnn): under a minute");
   cmd->add_flag("--list", args->list, "List the available warm starters and exit");
+  cmd->add_option("--max-sweeps", args->max_sweeps,
+                  "Higher cap: steps not at tol within --sweeps continue up to this many sweeps (sweeps to tol "
+                  "reported apart; 0 = off)");
+  cmd->add_option("--budget", args->budget, "Fixed sweep budget of the resid@B column (default min(100, sweeps))");
+  cmd->add_option("--warmup-steps", args->warmup_steps,
+                  "Steps advanced first with builtin + PGS to tol and not evaluated (let a pile settle)");
+  cmd->add_flag("--no-oracle", args->no_oracle,
+                "Skip the tight oracle (large scenes): the reference is builtin + PGS to tol/100; oracle starters "
+                "are dropped");
+  cmd->add_option("--scale", args->scale,
+                  "Size sweep: run the scene at these body counts N1,N2,... keeping its shape (writes scale.md/.csv/.png "
+                  "with --out)");
+  cmd->add_option("--scale-axis", args->scale_axis,
+                  "both (keep the aspect ratio: sides x sqrt(N/N0)) or height (keep the width: a deeper pile)")
+      ->capture_default_str();
+  cmd->add_option("--scale-oracle-max", args->scale_oracle_max,
+                  "Size sweep: skip the oracle (as --no-oracle) above this many bodies")
+      ->capture_default_str();
   cmd->callback([args] { run(*args); });
 }
 

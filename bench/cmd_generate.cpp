@@ -32,7 +32,7 @@ struct GenerateArgs {
   SceneArgs scene;
   int sims = -1;
   std::uint64_t seed = 1;
-  std::string count = "50..100";
+  std::string count;  // "" = the scene file's [bodies] count, or 50..100 for the seed scene
   int steps = -1;
   int threads = 0;
   bool resume = false;
@@ -66,7 +66,10 @@ DataSetParams make_params(const GenerateArgs& a) {
   if (a.steps >= 0) p.scene.time.steps = a.steps;
   if (p.scene.time.steps < 1) throw ConfigError("--steps: need at least 1 step per simulation");
   p.seed = a.seed;
-  std::tie(p.count_min, p.count_max) = parse_count(a.count);
+  // A scene family keeps its own body count unless --count says otherwise.
+  const std::string count =
+      !a.count.empty() ? a.count : a.scene.file.empty() ? std::string("50..100") : std::to_string(p.scene.bodies.count);
+  std::tie(p.count_min, p.count_max) = parse_count(count);
   p.image = FeatureImageDef::for_box(p.scene.world.width, p.scene.world.height);
   // Library errors get the option's name in front, so the one-line message says what to fix.
   const auto option = [](const char* name, const auto& parse) {
@@ -163,8 +166,8 @@ void add_generate_command(CLI::App& app) {
   cmd->add_option("--sims", args->sims, "Number of simulations M (simulation i uses scene seed S+i)")->required();
   cmd->add_option("--seed", args->seed, "First scene seed S")->capture_default_str();
   cmd->add_option("--count", args->count,
-                  "Body count per simulation: N, or A..B drawn uniformly from Rng(S+i) (replaces [bodies] count)")
-      ->capture_default_str();
+                  "Body count per simulation: N, or A..B drawn uniformly from Rng(S+i) (replaces [bodies] count; "
+                  "default: the --scene file's count, 50..100 without --scene)");
   cmd->add_option("--steps", args->steps, "Steps per simulation (default: the scene's [time] steps)");
   cmd->add_option("--threads", args->threads, "Worker threads (default: OMP_NUM_THREADS or all cores)");
   cmd->add_option("--out", args->out, "Output HDF5 file (written as OUT.partial, renamed when complete)")->required();

@@ -104,6 +104,7 @@ BodyState make_shaped_bodies(const WorldDef& def) {
   BodyState ex;  // explicit bodies, in file order
   for (std::size_t i = 0; i < def.body.size(); ++i) {
     const BodyDef& b = def.body[i];
+    if (b.spawn > 0) continue;  // enters later (Inflow; validate() allows it for dynamic circles only)
     const std::string where = "[[body]] #" + std::to_string(i + 1) + " ";
     const ShapeDef sd = build_shape(b.shape, b.radius, b.size, b.sides, b.vertices, b.semi_axes, where);
     const Motion m = parse_motion(b.motion, where + "motion");
@@ -127,7 +128,7 @@ BodyState make_shaped_bodies(const WorldDef& def) {
   }
 
   const ShapeDef gen = build_shape(g.shape, g.radius, g.size, g.sides, g.vertices, g.semi_axes, "[bodies] ");
-  double max_r = g.count > 0 ? gen.radius : 0.0;
+  double max_r = g.count > 0 ? std::max(gen.radius, g.radius_max) : 0.0;
   for (int i = 0; i < ne; ++i)
     if (ex.shapes.kind[static_cast<size_t>(i)] == ShapeKind::Circle && ex.shapes.is_dynamic(static_cast<size_t>(i)))
       max_r = std::max(max_r, ex.radius[static_cast<size_t>(i)]);
@@ -143,25 +144,35 @@ BodyState make_shaped_bodies(const WorldDef& def) {
   probe.add_shaped(gen, Motion::Dynamic, {}, g.density);
   const int cand = ne;
 
+  // [bodies] region applies to shaped bodies as to circles; a radius spread does not.
+  const auto& R = g.region;
+  const bool uniform = !(R[0] == 0 && R[1] == 0 && R[2] == 0 && R[3] == 0);
+  if (g.count > 0 && g.radius_max > g.radius && gen.kind != ShapeKind::Circle)
+    throw ConfigError("[bodies] radius_max: a radius spread applies to shape = \"circle\" only");
+  const bool spread = g.radius_max > g.radius;
   BodyState s;
   s.reserve(static_cast<std::size_t>(g.count) + def.body.size());
   Rng rng(g.seed);
   const bool round = gen.kind == ShapeKind::Circle;
   for (int k = 0; k < g.count; ++k) {
     bool ok = false;
+    // As in the circle generator: the radius is drawn before the position (polydisperse).
+    const ShapeDef cur = spread ? make_circle(rng.uniform(g.radius, g.radius_max)) : gen;
+    probe.radius[static_cast<size_t>(cand)] = cur.radius;
     for (int attempt = 0; attempt < g.max_attempts; ++attempt) {
-      const Vec2 x{g.mean.x + rng.gaussian(g.sigma), g.mean.y + rng.gaussian(g.sigma)};
-      if (!inside_box(x, gen.radius, def.world) || placed.overlapping(x, gen.radius) >= 0) continue;
+      const Vec2 x = uniform ? Vec2{rng.uniform(R[0], R[2]), rng.uniform(R[1], R[3])}
+                             : Vec2{g.mean.x + rng.gaussian(g.sigma), g.mean.y + rng.gaussian(g.sigma)};
+      if (!inside_box(x, cur.radius, def.world) || placed.overlapping(x, cur.radius) >= 0) continue;
       const double theta = round ? 0.0 : rng.uniform(0.0, 2 * std::numbers::pi);
       probe.position[static_cast<size_t>(cand)] = x;
       probe.angle[static_cast<size_t>(cand)] = theta;
       bool clear = true;
       for (const int e : exact)
-        if (length(x - ex.position[static_cast<size_t>(e)]) < gen.radius + ex.radius[static_cast<size_t>(e)] &&
+        if (length(x - ex.position[static_cast<size_t>(e)]) < cur.radius + ex.radius[static_cast<size_t>(e)] &&
             overlap_gap(probe, e, cand) < 0) { clear = false; break; }
       if (!clear) continue;
-      placed.add(x, gen.radius);
-      s.add_shaped(gen, Motion::Dynamic, x, g.density, {}, theta);
+      placed.add(x, cur.radius);
+      s.add_shaped(cur, Motion::Dynamic, x, g.density, {}, theta);
       ok = true;
       break;
     }
@@ -202,18 +213,23 @@ BodyState make_bodies(const WorldDef& def) {
   def.validate();
   if (!circles_only(def)) return make_shaped_bodies(def);
   const BodiesSection& g = def.bodies;
-  double max_r = g.count > 0 ? g.radius : 0.0;
+  double max_r = g.count > 0 ? std::max(g.radius, g.radius_max) : 0.0;
   for (const BodyDef& b : def.body) max_r = std::max(max_r, b.radius);
+  const bool spread = g.radius_max > g.radius;
+  const auto& R = g.region;
+  const bool uniform = !(R[0] == 0 && R[1] == 0 && R[2] == 0 && R[3] == 0);
   PlacedCircles placed(std::max(2 * max_r, 1e-9));
   placed.set_max_radius(max_r);
 
-  // Explicit circles first (they are fixed), so generated ones avoid them.
+  // Explicit circles first (they are fixed), so generated ones avoid them. Circles that
+  // enter later ([[body]] spawn > 0) are only checked against the box here (Inflow adds them).
   for (std::size_t i = 0; i < def.body.size(); ++i) {
     const BodyDef& b = def.body[i];
     if (!inside_box(b.position, b.radius, def.world))
       throw ConfigError(fmt_body(i, b) + " lies (partly) outside the box [0, " +
                         std::to_string(def.world.width) + "] x [0, " +
                         std::to_string(def.world.height) + "]");
+    if (b.spawn > 0) continue;
     const int o = placed.overlapping(b.position, b.radius);
     if (o >= 0)
       throw ConfigError(fmt_body(i, b) + " overlaps [[body]] #" + std::to_string(o + 1));
@@ -225,11 +241,14 @@ BodyState make_bodies(const WorldDef& def) {
   Rng rng(g.seed);
   for (int k = 0; k < g.count; ++k) {
     bool ok = false;
+    // Without radius_max / region no extra numbers are drawn: circle scenes stay bit-identical.
+    const double r = spread ? rng.uniform(g.radius, g.radius_max) : g.radius;
     for (int attempt = 0; attempt < g.max_attempts; ++attempt) {
-      const Vec2 x{g.mean.x + rng.gaussian(g.sigma), g.mean.y + rng.gaussian(g.sigma)};
-      if (!inside_box(x, g.radius, def.world) || placed.overlapping(x, g.radius) >= 0) continue;
-      placed.add(x, g.radius);
-      s.add(x, g.radius, g.density);
+      const Vec2 x = uniform ? Vec2{rng.uniform(R[0], R[2]), rng.uniform(R[1], R[3])}
+                             : Vec2{g.mean.x + rng.gaussian(g.sigma), g.mean.y + rng.gaussian(g.sigma)};
+      if (!inside_box(x, r, def.world) || placed.overlapping(x, r) >= 0) continue;
+      placed.add(x, r);
+      s.add(x, r, g.density);
       ok = true;
       break;
     }
@@ -239,7 +258,8 @@ BodyState make_bodies(const WorldDef& def) {
                         std::to_string(g.max_attempts) +
                         " attempts: lower count or radius, or raise sigma or the box size");
   }
-  for (const BodyDef& b : def.body) s.add(b.position, b.radius, b.density, b.velocity, b.angle, b.omega);
+  for (const BodyDef& b : def.body)
+    if (!(b.spawn > 0)) s.add(b.position, b.radius, b.density, b.velocity, b.angle, b.omega);
   return s;
 }
 

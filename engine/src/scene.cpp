@@ -172,6 +172,18 @@ Vec2 read_vec2(const toml::node& n, const Origin& o, std::string_view key) {
   return {read_number((*a)[0], o, k + "[0]"), read_number((*a)[1], o, k + "[1]")};
 }
 
+std::array<double, 4> read_region(const toml::node& n, const Origin& o, std::string_view key) {
+  const auto* a = n.as_array();
+  if (a == nullptr || a->size() != 4) {
+    fail(o, &n.source(), key,
+         a == nullptr ? std::string("expected an array [x0, y0, x1, y1], got ") + type_name(n)
+                      : "expected an array [x0, y0, x1, y1], got " + std::to_string(a->size()) + " elements");
+  }
+  std::array<double, 4> r{};
+  for (std::size_t i = 0; i < 4; ++i) r[i] = read_number((*a)[i], o, std::string(key) + "[" + std::to_string(i) + "]");
+  return r;
+}
+
 std::array<bool, 4> read_walls(const toml::node& n, const Origin& o, std::string_view key) {
   const auto* a = n.as_array();
   if (a == nullptr) fail(o, &n.source(), key, std::string("expected an array of wall names, got ") + type_name(n));
@@ -217,6 +229,7 @@ void assign(Owner& owner, const scene_detail::Ref<Owner>& ref, const toml::node&
         else if constexpr (std::is_same_v<F, Vec2>) field = read_vec2(node, o, key);
         else if constexpr (std::is_same_v<F, std::optional<Vec2>>) field = read_vec2(node, o, key);
         else if constexpr (std::is_same_v<F, std::vector<Vec2>>) field = read_points(node, o, key);
+        else if constexpr (std::is_same_v<F, std::array<double, 4>>) field = read_region(node, o, key);
         else field = read_walls(node, o, key);
       },
       ref);
@@ -382,6 +395,9 @@ std::string format_value(Owner& owner, const scene_detail::Ref<Owner>& ref, std:
           for (std::size_t i = 0; i < field.size(); ++i)
             out += concat({i ? ", [" : "[", format_double(field[i].x), ", ", format_double(field[i].y), "]"});
           return out + "]";
+        } else if constexpr (std::is_same_v<F, std::array<double, 4>>) {
+          return concat({"[", format_double(field[0]), ", ", format_double(field[1]), ", ", format_double(field[2]),
+                         ", ", format_double(field[3]), "]"});
         } else {
           std::string out = "[";
           const auto& names = scene_detail::wall_names();

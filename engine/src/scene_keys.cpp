@@ -5,6 +5,7 @@
 namespace dc::scene_detail {
 namespace {
 using Walls = std::array<bool, 4>;
+using Region = std::array<double, 4>;
 }  // namespace
 
 // The unary + turns each captureless lambda into the function pointer the variant holds.
@@ -12,6 +13,10 @@ using Walls = std::array<bool, 4>;
 
 std::span<const SectionKey> section_keys() {
   static const SectionKey keys[] = {
+      {"family", "name", Kind::String, DC_FIELD(std::string, WorldDef, family.name),
+       "family named in bench reports (\"\" = the scene file's stem)"},
+      {"family", "seeds", Kind::String, DC_FIELD(std::string, WorldDef, family.seeds),
+       "evaluation seeds of bench without --seeds, e.g. \"1..4\" (\"\" = 1..8)"},
       {"world", "width", Kind::Number, DC_FIELD(double, WorldDef, world.width), "box extent along x [m]"},
       {"world", "height", Kind::Number, DC_FIELD(double, WorldDef, world.height), "box extent along y [m]"},
       {"world", "gravity", Kind::Vec2, DC_FIELD(Vec2, WorldDef, world.gravity), "gravitational acceleration [m/s^2]"},
@@ -57,6 +62,25 @@ std::span<const SectionKey> section_keys() {
       {"bodies", "vertices", Kind::Points, DC_FIELD(std::vector<Vec2>, WorldDef, bodies.vertices),
        "polygon: convex, counter-clockwise [[x, y], ...] [m]"},
       {"bodies", "semi_axes", Kind::Vec2, DC_FIELD(Vec2, WorldDef, bodies.semi_axes), "ellipse: a, b [m]"},
+      {"bodies", "radius_max", Kind::Number, DC_FIELD(double, WorldDef, bodies.radius_max),
+       "0 = all circles have radius; > radius: radius ~ U[radius, radius_max) [m]"},
+      {"bodies", "region", Kind::Region, DC_FIELD(Region, WorldDef, bodies.region),
+       "[x0, y0, x1, y1]: centres ~ U(region) instead of the Gaussian; all 0 = unset [m]"},
+      {"inflow", "rate", Kind::Number, DC_FIELD(double, WorldDef, inflow.rate), "bodies per second (0 = no inflow)"},
+      {"inflow", "region", Kind::Region, DC_FIELD(Region, WorldDef, inflow.region),
+       "[x0, y0, x1, y1] where new centres are placed [m]"},
+      {"inflow", "start", Kind::Number, DC_FIELD(double, WorldDef, inflow.start), "first emission time [s]"},
+      {"inflow", "stop", Kind::Number, DC_FIELD(double, WorldDef, inflow.stop), "no emission from this time on [s]"},
+      {"inflow", "velocity", Kind::Vec2, DC_FIELD(Vec2, WorldDef, inflow.velocity),
+       "initial velocity of new bodies [m/s]"},
+      {"inflow", "radius", Kind::Number, DC_FIELD(double, WorldDef, inflow.radius), "radius of new circles [m]"},
+      {"inflow", "radius_max", Kind::Number, DC_FIELD(double, WorldDef, inflow.radius_max),
+       "0 = all have radius; > radius: radius ~ U[radius, radius_max) [m]"},
+      {"inflow", "density", Kind::Number, DC_FIELD(double, WorldDef, inflow.density), "areal density [kg/m^2]"},
+      {"inflow", "seed", Kind::Seed, DC_FIELD(std::uint64_t, WorldDef, inflow.seed),
+       "xor-ed with [bodies] seed: seed of the placement stream"},
+      {"inflow", "max_attempts", Kind::Int, DC_FIELD(int, WorldDef, inflow.max_attempts),
+       "placement tries per body and step (a body that finds no room waits)"},
   };
   return keys;
 }
@@ -76,6 +100,7 @@ std::span<const BodyKey> body_keys() {
       {"semi_axes", Kind::Vec2, DC_FIELD(Vec2, BodyDef, semi_axes)},
       {"motion", Kind::String, DC_FIELD(std::string, BodyDef, motion)},
       {"pivot", Kind::OptionalVec2, DC_FIELD(std::optional<Vec2>, BodyDef, pivot)},
+      {"spawn", Kind::Number, DC_FIELD(double, BodyDef, spawn)},
   };
   return keys;
 }

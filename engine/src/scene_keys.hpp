@@ -16,14 +16,15 @@
 namespace dc::scene_detail {
 
 /// How a key's TOML value is read (also selects the field type in Ref).
-enum class Kind { Number, Int, Seed, String, Vec2, Walls, Points, OptionalVec2 };
+enum class Kind { Number, Int, Seed, String, Vec2, Walls, Points, OptionalVec2, Region };
 
 /// Accessor of the field a key sets, one alternative per field type. Plain function
 /// pointers (captureless lambdas) keep the table constexpr-friendly and cheap to copy.
 template <class Owner>
 using Ref = std::variant<double& (*)(Owner&), int& (*)(Owner&), std::uint64_t& (*)(Owner&),
                          std::string& (*)(Owner&), Vec2& (*)(Owner&), std::array<bool, 4>& (*)(Owner&),
-                         std::vector<Vec2>& (*)(Owner&), std::optional<Vec2>& (*)(Owner&)>;
+                         std::vector<Vec2>& (*)(Owner&), std::optional<Vec2>& (*)(Owner&),
+                         std::array<double, 4>& (*)(Owner&)>;
 
 struct SectionKey {
   std::string_view section;

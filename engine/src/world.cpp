@@ -20,9 +20,13 @@ double ms_since(Clock::time_point t0) {
 
 }  // namespace
 
-World::World(WorldDef def) : def_(std::move(def)) { bodies_ = make_bodies(def_); }
+World::World(WorldDef def) : def_(std::move(def)), inflow_(def_) {
+  bodies_ = make_bodies(def_);
+  inflow_.emit(0.0, bodies_);
+}
 
-World::World(WorldDef def, BodyState bodies) : def_(std::move(def)), bodies_(std::move(bodies)) {
+World::World(WorldDef def, BodyState bodies)
+    : def_(std::move(def)), bodies_(std::move(bodies)), inflow_(def_) {
   def_.validate();
   const std::size_t n = bodies_.size();
   if (bodies_.angle.size() != n || bodies_.velocity.size() != n || bodies_.omega.size() != n ||
@@ -104,6 +108,7 @@ void World::integrate(const Eigen::VectorXd& lambda) {
   }
   previous_ = contacts_;
   ++step_;
+  inflow_.emit(time(), bodies_);
 }
 
 StepReport World::step(const LcpSolver& solver, const SolverOptions& options,

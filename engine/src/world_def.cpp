@@ -26,6 +26,23 @@ void non_negative(const std::string& key, double v) {
   if (!(v >= 0)) bad(key, "a number >= 0", v);
 }
 
+/// A region [x0, y0, x1, y1]: finite; all zero (unset) or x1 > x0 and y1 > y0.
+void region(const std::string& key, const std::array<double, 4>& r, bool required) {
+  for (std::size_t i = 0; i < 4; ++i) finite(key + "[" + std::to_string(i) + "]", r[i]);
+  const bool unset = r[0] == 0 && r[1] == 0 && r[2] == 0 && r[3] == 0;
+  if (unset && !required) return;
+  if (!(r[2] > r[0]) || !(r[3] > r[1])) {
+    std::ostringstream os;
+    os << key << ": expected [x0, y0, x1, y1] with x1 > x0 and y1 > y0, got [" << r[0] << ", " << r[1] << ", "
+       << r[2] << ", " << r[3] << "]";
+    throw ConfigError(os.str());
+  }
+}
+void radius_max(const std::string& key, double v, double radius) {
+  non_negative(key, v);
+  if (v != 0 && !(v >= radius)) bad(key, "0 or a number >= radius (" + std::to_string(radius) + ")", v);
+}
+
 }  // namespace
 
 void WorldDef::validate() const {
@@ -56,6 +73,21 @@ void WorldDef::validate() const {
   if (bodies.max_attempts < 1) bad("[bodies] max_attempts", "an integer >= 1", bodies.max_attempts);
   (void)build_shape(bodies.shape, bodies.radius, bodies.size, bodies.sides, bodies.vertices, bodies.semi_axes,
                     "[bodies] ");
+  radius_max("[bodies] radius_max", bodies.radius_max, bodies.radius);
+  region("[bodies] region", bodies.region, false);
+  non_negative("[inflow] rate", inflow.rate);
+  if (inflow.active()) {
+    region("[inflow] region", inflow.region, true);
+    non_negative("[inflow] start", inflow.start);
+    finite("[inflow] stop", inflow.stop);
+    if (!(inflow.stop > inflow.start)) bad("[inflow] stop", "a time > [inflow] start", inflow.stop);
+    finite("[inflow] velocity[0]", inflow.velocity.x);
+    finite("[inflow] velocity[1]", inflow.velocity.y);
+    positive("[inflow] radius", inflow.radius);
+    radius_max("[inflow] radius_max", inflow.radius_max, inflow.radius);
+    positive("[inflow] density", inflow.density);
+    if (inflow.max_attempts < 1) bad("[inflow] max_attempts", "an integer >= 1", inflow.max_attempts);
+  }
   for (std::size_t i = 0; i < body.size(); ++i) {
     const std::string k = "[[body]] #" + std::to_string(i + 1) + " ";
     const BodyDef& b = body[i];
@@ -74,6 +106,9 @@ void WorldDef::validate() const {
       finite(k + "pivot[1]", b.pivot->y);
       if (m != Motion::Kinematic) throw ConfigError(k + "pivot: only a kinematic body has a pivot");
     }
+    non_negative(k + "spawn", b.spawn);
+    if (b.spawn > 0 && (b.shape != "circle" || m != Motion::Dynamic))
+      throw ConfigError(k + "spawn: only a dynamic circle can enter later (spawn > 0)");
   }
 }
 

@@ -1,7 +1,9 @@
 #include "dc/io/trajectory_recorder.hpp"
 
-#include <cmath>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 #include "dc/engine/error.hpp"
 #include "dc/io/h5.hpp"
@@ -10,16 +12,20 @@ namespace dc {
 
 TrajectoryRecorder::TrajectoryRecorder(const World& world) : n_(world.bodies().size()) {
   const BodyState& s = world.bodies();
-  radius_ = s.radius;
-  mass_ = s.mass;
-  shapes_ = s.shapes;
-  if (shapes_.empty()) shapes_.add_circles(n_);  // a circle-only scene: all kind 0, motion 0
   record_state(s);
   step_offset_.push_back(0);
 }
 
 void TrajectoryRecorder::record_state(const BodyState& s) {
-  if (s.size() != n_) throw InvalidArgument("TrajectoryRecorder: the number of bodies changed");
+  // Bodies are only ever appended (inflow.hpp): a state has at least the bodies of the last.
+  if (s.size() < radius_.size()) throw InvalidArgument("TrajectoryRecorder: the number of bodies decreased");
+  if (s.size() != radius_.size()) {  // first state, or bodies were appended: refresh the tables
+    radius_.assign(s.radius.begin(), s.radius.end());
+    mass_.assign(s.mass.begin(), s.mass.end());
+    shapes_ = s.shapes;
+  }
+  n_ = s.size();
+  state_size_.push_back(n_);
   for (std::size_t k = 0; k < n_; ++k) {
     position_.push_back(s.position[k].x);
     position_.push_back(s.position[k].y);
@@ -59,6 +65,31 @@ void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
 void TrajectoryRecorder::write(const std::string& path, const std::string& scene,
                                const std::string& warmstart) const {
   const hsize_t S = sweeps_.size(), n = n_, C = body_a_.size();
+  ShapeTable shapes = shapes_;
+  if (shapes.empty()) shapes.add_circles(n_);  // a circle-only scene: all kind 0, motion 0
+  // States recorded before late bodies entered are padded with NaN (docs/formats.md).
+  std::vector<double> position, angle, velocity, omega;
+  const std::vector<double>* pos = &position_;
+  const std::vector<double>* ang = &angle_;
+  const std::vector<double>* vel = &velocity_;
+  const std::vector<double>* om = &omega_;
+  if (position_.size() != 2 * n * (S + 1)) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    position.assign(2 * n * (S + 1), nan);
+    velocity.assign(2 * n * (S + 1), nan);
+    angle.assign(n * (S + 1), nan);
+    omega.assign(n * (S + 1), nan);
+    std::size_t src = 0;
+    for (std::size_t i = 0; i < state_size_.size(); ++i) {
+      const std::size_t m = state_size_[i];
+      std::copy_n(position_.begin() + static_cast<std::ptrdiff_t>(2 * src), 2 * m, position.begin() + static_cast<std::ptrdiff_t>(2 * n * i));
+      std::copy_n(velocity_.begin() + static_cast<std::ptrdiff_t>(2 * src), 2 * m, velocity.begin() + static_cast<std::ptrdiff_t>(2 * n * i));
+      std::copy_n(angle_.begin() + static_cast<std::ptrdiff_t>(src), m, angle.begin() + static_cast<std::ptrdiff_t>(n * i));
+      std::copy_n(omega_.begin() + static_cast<std::ptrdiff_t>(src), m, omega.begin() + static_cast<std::ptrdiff_t>(n * i));
+      src += m;
+    }
+    pos = &position; ang = &angle; vel = &velocity; om = &omega;
+  }
   const H5DatasetOptions z{.extendible = false, .chunk_rows = 0, .deflate = 4};
   const auto opt = [&](hsize_t rows) { return rows > 0 ? z : H5DatasetOptions{}; };
   AtomicH5File out(path);
@@ -67,10 +98,10 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   f.set_attribute<std::int32_t>("/", "format_version", kTrajectoryFormatVersion);
   f.set_attribute("/", "scene", scene);
   f.set_attribute("/", "warmstart", warmstart);
-  f.write<double>("/bodies/position", position_, {S + 1, n, 2}, opt(S + 1));
-  f.write<double>("/bodies/angle", angle_, {S + 1, n}, opt(S + 1));
-  f.write<double>("/bodies/velocity", velocity_, {S + 1, n, 2}, opt(S + 1));
-  f.write<double>("/bodies/omega", omega_, {S + 1, n}, opt(S + 1));
+  f.write<double>("/bodies/position", *pos, {S + 1, n, 2}, opt(S + 1));
+  f.write<double>("/bodies/angle", *ang, {S + 1, n}, opt(S + 1));
+  f.write<double>("/bodies/velocity", *vel, {S + 1, n, 2}, opt(S + 1));
+  f.write<double>("/bodies/omega", *om, {S + 1, n}, opt(S + 1));
   f.write<double>("/bodies/radius", radius_, {n});
   f.write<double>("/bodies/mass", mass_, {n});
   // Shape table (format_version 2): kind and motion per body, polygon vertices (body frame,
@@ -78,19 +109,19 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   std::vector<std::uint8_t> kind(n), motion(n);
   std::vector<double> verts, semi, pivot;
   for (std::size_t k = 0; k < n_; ++k) {
-    kind[k] = static_cast<std::uint8_t>(shapes_.kind[k]);
-    motion[k] = static_cast<std::uint8_t>(shapes_.motion[k]);
-    semi.push_back(shapes_.semi_axes[k].x);
-    semi.push_back(shapes_.semi_axes[k].y);
-    pivot.push_back(shapes_.has_pivot[k] ? shapes_.pivot[k].x : NAN);
-    pivot.push_back(shapes_.has_pivot[k] ? shapes_.pivot[k].y : NAN);
+    kind[k] = static_cast<std::uint8_t>(shapes.kind[k]);
+    motion[k] = static_cast<std::uint8_t>(shapes.motion[k]);
+    semi.push_back(shapes.semi_axes[k].x);
+    semi.push_back(shapes.semi_axes[k].y);
+    pivot.push_back(shapes.has_pivot[k] ? shapes.pivot[k].x : NAN);
+    pivot.push_back(shapes.has_pivot[k] ? shapes.pivot[k].y : NAN);
   }
-  for (const Vec2 v : shapes_.vertices) {
+  for (const Vec2 v : shapes.vertices) {
     verts.push_back(v.x);
     verts.push_back(v.y);
   }
-  const std::vector<std::int64_t> offsets(shapes_.vertex_offset.begin(), shapes_.vertex_offset.end());
-  const hsize_t V = shapes_.vertices.size();
+  const std::vector<std::int64_t> offsets(shapes.vertex_offset.begin(), shapes.vertex_offset.end());
+  const hsize_t V = shapes.vertices.size();
   f.write<std::uint8_t>("/bodies/shape/kind", kind, {n});
   f.write<std::uint8_t>("/bodies/shape/motion", motion, {n});
   f.write<std::int64_t>("/bodies/shape/vertex_offset", offsets, {n + 1});

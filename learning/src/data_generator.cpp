@@ -97,7 +97,7 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
   rec.index = index;
   rec.seed = def.bodies.seed;
   rec.bodies = static_cast<int>(world.bodies().size());
-  const std::size_t B = world.bodies().size();
+  const bool varying = world.inflow().pending();  // bodies enter during the run: per-sample counts
   std::vector<double> lambda_nt;
   for (int s = 0; s < def.time.steps; ++s) {
     if (keep_going && !keep_going()) return std::nullopt;
@@ -139,6 +139,9 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
     rec.contact_count.push_back(static_cast<std::int32_t>(contacts.size()));
     rec.residual.push_back(residual);
     const BodyState& b = world.bodies();
+    const std::size_t B = b.size();
+    if (varying) rec.body_count.push_back(static_cast<std::int32_t>(B));
+    rec.bodies = static_cast<int>(B);
     for (std::size_t k = 0; k < B; ++k) {
       rec.position.insert(rec.position.end(), {b.position[k].x, b.position[k].y});
       rec.velocity.insert(rec.velocity.end(), {b.velocity[k].x, b.velocity[k].y});

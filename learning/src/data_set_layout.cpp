@@ -184,6 +184,19 @@ RowCounts committed_rows(const H5File& f) {
         __builtin_add_overflow(r.contact_rows, contacts[i], &r.contact_rows))
       throw IoError(f.path() + ": /sims: counts in row " + std::to_string(i) + " overflow (corrupt data set)");
   }
+  // Σ bodies × samples is exact when every sample of a simulation has its B bodies; when
+  // bodies enter during a run (inflow) B is the final count and a sample has its own
+  // /samples/body_count: the last committed sample's rows end where the body rows end.
+  const auto last = static_cast<hsize_t>(r.samples);
+  if (last > 0 && f.is_dataset("/samples/body_begin") && f.is_dataset("/samples/body_count") &&
+      f.shape("/samples/body_begin").at(0) >= last && f.shape("/samples/body_count").at(0) >= last) {
+    const auto b = f.read_rows<std::int64_t>("/samples/body_begin", last - 1, 1);
+    const auto c = f.read_rows<std::int32_t>("/samples/body_count", last - 1, 1);
+    std::int64_t end = 0;
+    if (!b.empty() && !c.empty() && b[0] >= 0 && c[0] >= 0 && !__builtin_add_overflow(b[0], c[0], &end) &&
+        end <= r.body_rows)
+      r.body_rows = end;
+  }
   return r;
 }
 

@@ -63,16 +63,24 @@ void DataSetWriter::append(const SimulationRecord& r) {
     throw InvalidArgument("DataSetWriter::append: simulation " + std::to_string(r.index) +
                           " handed in, but the next to write is " + std::to_string(completed_));
   const std::size_t n = r.samples(), B = static_cast<std::size_t>(r.bodies), C = r.contacts();
-  if (r.contact_count.size() != n || r.residual.size() != n || r.position.size() != 2 * B * n || r.mass.size() != B * n ||
+  const bool varying = !r.body_count.empty();
+  std::size_t body_rows = n * B;
+  if (varying) {
+    body_rows = 0;
+    for (const auto b : r.body_count) body_rows += static_cast<std::size_t>(b);
+  }
+  if ((varying && r.body_count.size() != n) || r.contact_count.size() != n || r.residual.size() != n ||
+      r.position.size() != 2 * body_rows || r.mass.size() != body_rows ||
       r.point.size() != 2 * C || r.lambda_star.size() != 2 * C || r.gap.size() != C || r.body_b.size() != C)
     throw InvalidArgument("DataSetWriter::append: simulation " + std::to_string(r.index) +
                           ": inconsistent record sizes");
   H5File& f = file_;
-  std::vector<std::int32_t> sim(n, r.index), body_count(n, r.bodies);
+  std::vector<std::int32_t> sim(n, r.index), body_count = varying ? r.body_count : std::vector<std::int32_t>(n, r.bodies);
   std::vector<std::int64_t> body_begin(n), contact_begin(n);
-  std::int64_t c0 = contact_rows_;
+  std::int64_t c0 = contact_rows_, b0 = body_rows_;
   for (std::size_t s = 0; s < n; ++s) {
-    body_begin[s] = body_rows_ + static_cast<std::int64_t>(s * B);
+    body_begin[s] = b0;
+    b0 += body_count[s];
     contact_begin[s] = c0;
     c0 += r.contact_count[s];
   }
@@ -115,7 +123,7 @@ void DataSetWriter::append(const SimulationRecord& r) {
   f.flush();
   ++completed_;
   samples_ += static_cast<std::int64_t>(n);
-  body_rows_ += static_cast<std::int64_t>(n * B);
+  body_rows_ += static_cast<std::int64_t>(body_rows);
   contact_rows_ = c0;
 }
 

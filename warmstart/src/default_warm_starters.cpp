@@ -7,6 +7,14 @@ WarmStarterRegistry default_warm_starters() {
   r.add("zero", "lambda0 = 0 (baseline)", make_zero_warm_starter);
   r.add("builtin", "previous step's lambda of the contact with the same key, 0 if new",
         make_builtin_warm_starter);
+  r.add("builtin-extrapolate",
+        "builtin with linear extrapolation 2 lambda(t-1) - lambda(t-2) of contacts seen in both steps, clamped to "
+        "the cone",
+        make_extrapolate_warm_starter);
+  r.add("builtin-statics",
+        "builtin, plus a statics guess for new contacts: each body's weight and the load on it pushed down to its "
+        "supports",
+        make_statics_warm_starter);
   r.add("copy", "this step's tightly solved lambda* (oracle); copy:D rounds it to D decimals",
         make_copy_warm_starter);
   r.add("copy-noise",

@@ -18,5 +18,7 @@ std::unique_ptr<WarmStarter> make_random_warm_starter(const WarmStartSpec&, cons
 std::unique_ptr<WarmStarter> make_bad_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_sph_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_sph_prev_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_extrapolate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_statics_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 
 }  // namespace dc

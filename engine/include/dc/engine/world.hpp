@@ -11,7 +11,8 @@
 //   [solve]      any LcpSolver, from any λ⁰ (the warm start)
 //   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ),  x ← x + Δt v,  θ ← θ + Δt ω
 //                (integrate_bodies, step_outcome.hpp); stores λ in the contacts (kept as
-//                previous_contacts() for warm starts)
+//                previous_contacts() for warm starts); then appends the bodies that enter
+//                at the new time ([[body]] spawn, [inflow]: inflow.hpp)
 //
 // step() runs all stages (forming A when the solver needs it) and returns a per-stage profile.
 #include <Eigen/Core>
@@ -21,6 +22,7 @@
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/contact.hpp"
+#include "dc/engine/inflow.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
@@ -83,6 +85,8 @@ class World {
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
   /// Wall-clock time of the broad phase in the last collide() [ms] (timing only).
   [[nodiscard]] double last_broad_phase_ms() const { return broad_phase_ms_; }
+  /// Bodies added during the run ([[body]] spawn, [inflow]; inflow.hpp).
+  [[nodiscard]] const Inflow& inflow() const { return inflow_; }
   /// Rows, bodies and μ of each current contact (of the last assemble()).
   [[nodiscard]] const ContactConstraints& constraints() const { return problem_.constraints; }
   /// Row of the normal / tangent constraint of contact c (tangent: −1 when its μ = 0).
@@ -116,6 +120,7 @@ class World {
   UniformGridBroadPhase broad_phase_;
   ShapeNarrowPhase shape_narrow_phase_;  ///< collide() of scenes with a shape table
   double broad_phase_ms_ = 0;
+  Inflow inflow_;  ///< appends late bodies at construction and after every integrate()
 };
 
 /// Generated (seeded Gaussian, rejection-sampled) plus explicit circles of a definition.

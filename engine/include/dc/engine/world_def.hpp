@@ -74,6 +74,12 @@ struct BodiesSection {
   int sides = 0;                 ///< regular polygon: sides (3..16), circumradius = radius
   std::vector<Vec2> vertices;    ///< explicit convex polygon, body frame, CCW [m]
   Vec2 semi_axes{1.0, 0.5};      ///< ellipse: a, b [m]
+  /// Radius spread: 0 ⇒ every circle has `radius`; > radius ⇒ each radius ~ U[radius,
+  /// radius_max) from the same stream, drawn before its position (polydisperse piles).
+  double radius_max = 0.0;
+  /// Placement region [x0, y0, x1, y1] [m]: all zero ⇒ the Gaussian (mean, sigma); otherwise
+  /// centres ~ U(region) (rejection-sampled against overlap and the walls) — tall boxes.
+  std::array<double, 4> region{0.0, 0.0, 0.0, 0.0};
 
   friend bool operator==(const BodiesSection&, const BodiesSection&) = default;
 };
@@ -93,16 +99,50 @@ struct BodyDef {
   Vec2 semi_axes{1.0, 0.5};      ///< ellipse: a, b [m]
   std::string motion = "dynamic";  ///< "dynamic" | "static" | "kinematic"
   std::optional<Vec2> pivot;     ///< kinematic: rotate about this world point at omega [m]
+  /// Time [s] at which the body enters the world (0 = from the start). A later body is
+  /// appended (its index follows every body present before it) at the first step with
+  /// t ≥ spawn at which it overlaps nothing (inflow.hpp) — e.g. the impactor of
+  /// scenes/impact.toml, launched into a pile that has settled.
+  double spawn = 0.0;
 
   friend bool operator==(const BodyDef&, const BodyDef&) = default;
 };
 
+/// Continuous inflow (`[inflow]`, inflow.hpp): circles created at `rate` per second during
+/// [start, stop) at random non-overlapping positions in `region`, with `velocity`. rate = 0
+/// (the default) means no inflow. The body keys mirror [bodies].
+struct InflowSection {
+  double rate = 0.0;                          ///< bodies per second (0 = no inflow)
+  std::array<double, 4> region{0.0, 0.0, 0.0, 0.0};  ///< [x0, y0, x1, y1] of the centres [m]
+  double start = 0.0;                         ///< first emission time [s]
+  double stop = 0.0;                          ///< no emission at t ≥ stop [s]
+  Vec2 velocity{0.0, 0.0};                    ///< initial velocity of every new body [m/s]
+  double radius = 1.0;                        ///< radius [m]
+  double radius_max = 0.0;                    ///< > radius ⇒ radius ~ U[radius, radius_max)
+  double density = 1.0;                       ///< areal density [kg/m²]
+  std::uint64_t seed = 0;                     ///< xor-ed with [bodies] seed: the placement stream
+  int max_attempts = 100;                     ///< placement tries per body and step (then it waits)
+
+  [[nodiscard]] bool active() const { return rate > 0; }
+  friend bool operator==(const InflowSection&, const InflowSection&) = default;
+};
+
+/// What the bench reports about a scene family (`[family]`, docs/scenes.md "Families").
+struct FamilySection {
+  std::string name;   ///< family named in the bench report ("" = the scene file's stem, "seed" without a file)
+  std::string seeds;  ///< evaluation seeds "A..B" / "A,B,C" the bench uses without --seeds ("" = 1..8)
+
+  friend bool operator==(const FamilySection&, const FamilySection&) = default;
+};
+
 struct WorldDef {
+  FamilySection family;
   WorldSection world;
   TimeSection time;
   ContactSection contact;
   SolverSection solver;
   BodiesSection bodies;
+  InflowSection inflow;        ///< bodies added during the run (none by default)
   std::vector<BodyDef> body;   ///< explicit circles
 
   /// Throws ConfigError naming the first invalid key (non-finite, non-positive, ...).

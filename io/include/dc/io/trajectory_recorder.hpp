@@ -3,6 +3,8 @@
 // (layout: docs/formats.md, "Trajectory"). State k = 0..S is the state before step k+1;
 // the contacts and λ of step k (solved from state k) are rows
 // [step_offset[k], step_offset[k+1]) of the /contacts datasets (step_offset[S] = C).
+// Bodies that enter during the run (inflow.hpp) make n the final count; their rows of the
+// states before they existed are NaN.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,7 +37,8 @@ class TrajectoryRecorder {
 
  private:
   void record_state(const BodyState& s);
-  std::size_t n_;
+  std::size_t n_;                      ///< bodies of the latest state (the file's n)
+  std::vector<std::size_t> state_size_;  ///< bodies of each recorded state (late bodies: inflow.hpp)
   std::vector<double> position_, angle_, velocity_, omega_, radius_, mass_;
   std::vector<std::int64_t> step_offset_;
   std::vector<std::int32_t> body_a_, body_b_, sweeps_, status_, feature_;

@@ -88,7 +88,9 @@ struct DataSetParams {
 struct SimulationRecord {
   int index = 0;             ///< simulation i (0-based)
   std::uint64_t seed = 0;    ///< scene seed S + i
-  int bodies = 0;            ///< B (constant over the simulation)
+  int bodies = 0;            ///< B: the body count (the final one when bodies enter during the run)
+  /// Bodies of each sample when they vary (inflow, [[body]] spawn: inflow.hpp); empty = B each.
+  std::vector<std::int32_t> body_count;
   double max_residual = 0;   ///< worst natural-map residual of λ* over its steps [N]
   std::vector<std::int32_t> step;           ///< step index (0-based) of each sample
   std::vector<std::int32_t> contact_count;  ///< C_s per sample

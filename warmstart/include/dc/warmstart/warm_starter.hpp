@@ -76,8 +76,13 @@ class WarmStarterRegistry {
 /// replaces non-finite entries by 0, so any guess is a valid PGS starting point.
 void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
 
-/// The registry with every starter of this library: zero, builtin, copy[:D], sph,
-/// sph-prev, random, bad (the learning library adds cnn).
+/// The registry with every starter of this library: zero, builtin, builtin-extrapolate,
+/// builtin-statics, copy[:D], sph, sph-prev, random, bad (the learning library adds cnn).
 WarmStarterRegistry default_warm_starters();
+
+/// The static load guess of builtin-statics for every contact of w's current step
+/// (statics_warm_starter.cpp): bodies top-down, each body's weight plus the load resting on
+/// it split over its upward-facing closing contacts; λ_n [N] (a force, like λ), λ_t = 0.
+Eigen::VectorXd statics_guess(const World& w);
 
 }  // namespace dc

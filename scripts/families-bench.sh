@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The scene-family measurements of issue 12 (docs/scenes.md "Families", docs/research.md):
+# per family a paired bench of zero, builtin and the two non-learned baselines (and sph, the
+# oracle grid, where the oracle is affordable), with the residual at a fixed budget and
+# sweeps to tol with a higher cap (medians saturate at the cap on deep piles), then sweeps
+# against pile height on deep and a size sweep keeping the shape.
+#
+#   scripts/families-bench.sh [BUILD_DIR] [OUT_DIR]        (defaults: build, results/families)
+#
+# Environment: SEEDS (default: each family's own [family] seeds), STARTERS (default
+# zero,builtin,builtin-extrapolate,builtin-statics), QUICK=1 (fewer steps and seeds: what
+# was run under load for docs/research.md), ONLY="deep impact" (a subset of the runs:
+# deep impact pour polydisperse height scale).
+# Each run stays under ~10 min on an idle 2-core machine; QUICK=1 under ~5 min under load.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${1:-build}
+OUT=${2:-results/families}
+DC="$BUILD/bench/deepcontact"
+[[ -x "$DC" ]] || { echo "families-bench: $DC not found (build the deepcontact target first)" >&2; exit 2; }
+S=${STARTERS:-zero,builtin,builtin-extrapolate,builtin-statics}
+ONLY=${ONLY:-"deep impact pour polydisperse height scale"}
+mkdir -p "$OUT"
+seeds() { if [[ -n "${SEEDS:-}" ]]; then echo "--seeds $SEEDS"; elif [[ "${QUICK:-0}" == 1 ]]; then echo "--seeds $1"; fi; }
+want() { [[ " $ONLY " == *" $1 "* ]]; }
+run() {  # name, then bench arguments
+  local name=$1; shift
+  echo "== $name: $DC bench $*" | tee "$OUT/$name.cmd"
+  /usr/bin/time -v "$DC" bench "$@" --out "$OUT/$name" 2> >(tee "$OUT/$name.time" >&2) | tee "$OUT/$name.txt"
+}
+if [[ "${QUICK:-0}" == 1 ]]; then
+  DEEP="--warmup-steps 350 --steps 362"; IMPACT="--warmup-steps 200 --steps 250"; POUR="--warmup-steps 200 --steps 300"
+  POLY="--steps 250"; HEIGHT="--scale 125,250,500 --warmup-steps 350 --steps 360"; SCALE="--scale 300,600,1000 --steps 200"
+else
+  DEEP="--warmup-steps 350 --steps 400"; IMPACT="--warmup-steps 195 --steps 300"; POUR="--warmup-steps 150 --steps 400"; POLY="--steps 400"
+  HEIGHT="--scale 125,250,500,1000 --warmup-steps 350 --steps 370"; SCALE="--scale 300,600,1000,2000 --steps 300"
+fi
+# deep: 1,000 bodies, the settled pile; the oracle (20000 sweeps + Newton per step) is skipped.
+want deep && run deep --scene scenes/deep.toml --warmstarts "$S" $(seeds 1..1) $DEEP --no-oracle --max-sweeps 10000
+# deep, later: the settled pile (steps 480..).
+want deep && run deep-late --scene scenes/deep.toml --warmstarts "$S" $(seeds 1..1) --warmup-steps 480 --steps 488 \
+  --no-oracle --max-sweeps 10000
+want impact && run impact --scene scenes/impact.toml --warmstarts "$S,sph" $(seeds 1..2) $IMPACT --max-sweeps 10000
+want pour && run pour --scene scenes/pour.toml --warmstarts "$S,sph" $(seeds 1..2) $POUR --max-sweeps 10000
+want polydisperse && run polydisperse --scene scenes/polydisperse.toml --warmstarts "$S,sph" $(seeds 1..2) $POLY \
+  --max-sweeps 10000
+# Sweeps against pile height: deep at the same width, 125..1000 bodies (≈10..80 layers).
+want height && run deep-height --scene scenes/deep.toml --warmstarts "$S" --seeds 1 $HEIGHT --scale-axis height \
+  --scale-oracle-max 0 --no-oracle --max-sweeps 10000
+# Size sweep keeping the shape (aspect ratio and filling): the polydisperse pile, oracle up to 600 bodies.
+want scale && run polydisperse-scale --scene scenes/polydisperse.toml --warmstarts "$S" --seeds 1 $SCALE \
+  --max-sweeps 10000
+echo "families-bench: reports under $OUT/*/report.md and $OUT/*/scale.md"

@@ -1,0 +1,88 @@
+// The family tools of the bench (issue 12): the higher cap (--max-sweeps) agrees with the
+// fixed-cap run where that converged and only adds sweeps where it did not; the warm-up
+// skips steps; --no-oracle refuses oracle starters; scale_scene keeps the shape.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bench_runner.hpp"
+#include "dc/engine/error.hpp"
+#include "dc/engine/scene.hpp"
+#include "scale_sweep.hpp"
+
+namespace dc {
+namespace {
+
+bench::BenchOptions pile() {
+  bench::BenchOptions o;
+  o.scene.bodies.count = 30;
+  o.scene.bodies.mean = {15.0, 5.0};
+  o.scene.bodies.sigma = 3.0;
+  o.scene.time.steps = 120;
+  o.sweeps = 60;  // low: many steps miss tol within it
+  o.max_sweeps = 2000;
+  o.seeds = {2};
+  o.warmstarts = {"zero", "builtin", "builtin-extrapolate", "builtin-statics"};
+  return o;
+}
+
+TEST(FamiliesBench, HigherCapExtendsOnlyTheUnconvergedSteps) {
+  const auto r = bench::run_bench(pile(), default_warm_starters());
+  int extended = 0;
+  for (const auto& rec : r.starters) {
+    ASSERT_EQ(rec.sweeps_to_tol_high.size(), rec.sweeps_to_tol.size());
+    for (std::size_t k = 0; k < rec.sweeps_to_tol.size(); ++k) {
+      if (rec.sweeps_to_tol[k] >= 0) {
+        EXPECT_EQ(rec.sweeps_to_tol_high[k], rec.sweeps_to_tol[k]);
+      } else if (rec.sweeps_to_tol_high[k] >= 0) {
+        EXPECT_GT(rec.sweeps_to_tol_high[k], 60);
+        EXPECT_LE(rec.sweeps_to_tol_high[k], 2000);
+        ++extended;
+      }
+    }
+  }
+  EXPECT_GT(extended, 0);
+  for (const auto& s : bench::summarise(r)) {
+    EXPECT_LE(s.unconverged_share_high, s.unconverged_share) << s.name;
+    EXPECT_GE(s.median_sweeps_high, std::min(s.median_sweeps_to_tol, 61.0)) << s.name;
+    EXPECT_TRUE(std::isfinite(s.residual_at_budget)) << s.name;
+    EXPECT_TRUE(std::isfinite(s.residual_at_cap)) << s.name;
+  }
+}
+
+TEST(FamiliesBench, WarmupStepsAreNotEvaluatedAndNoOracleRefusesOracleStarters) {
+  bench::BenchOptions o = pile();
+  o.max_sweeps = 0;
+  o.warmup_steps = 100;
+  o.oracle = false;
+  const auto r = bench::run_bench(o, default_warm_starters());
+  for (const auto& rec : r.starters) {
+    ASSERT_FALSE(rec.step.empty());
+    EXPECT_GE(rec.step.front(), 100);
+    EXPECT_LE(rec.step.size(), 20u);
+  }
+  o.warmstarts = {"zero", "copy"};
+  EXPECT_THROW(bench::run_bench(o, default_warm_starters()), ConfigError);
+}
+
+TEST(ScaleScene, KeepsAspectRatioAndFillingOrTheWidth) {
+  WorldDef d = load_scene(std::string(DC_SOURCE_DIR) + "/scenes/deep.toml");
+  ASSERT_EQ(bench::scene_body_count(d), 1000);
+  const WorldDef q = bench::scale_scene(d, 250, bench::ScaleAxis::Both);
+  EXPECT_EQ(q.bodies.count, 250);
+  EXPECT_NEAR(q.world.width / q.world.height, d.world.width / d.world.height, 1e-12);
+  EXPECT_NEAR(q.world.width * q.world.height, d.world.width * d.world.height / 4, 1e-9);  // same filling
+  EXPECT_NEAR(q.bodies.region[3], d.bodies.region[3] / 2, 1e-12);
+  EXPECT_EQ(q.bodies.radius, d.bodies.radius);
+  const WorldDef h = bench::scale_scene(d, 250, bench::ScaleAxis::Height);
+  EXPECT_EQ(h.world.width, d.world.width);
+  EXPECT_NEAR(h.world.height, d.world.height / 4, 1e-12);
+  // The pour family scales its inflow rate (its bodies are all poured).
+  const WorldDef p = load_scene(std::string(DC_SOURCE_DIR) + "/scenes/pour.toml");
+  EXPECT_EQ(bench::scene_body_count(p), 450);
+  EXPECT_NEAR(bench::scale_scene(p, 900, bench::ScaleAxis::Both).inflow.rate, 2 * p.inflow.rate, 1e-9);
+  EXPECT_THROW(bench::scale_scene(d, 0, bench::ScaleAxis::Both), ConfigError);
+}
+
+}  // namespace
+}  // namespace dc
