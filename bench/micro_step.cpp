@@ -11,7 +11,7 @@
 //   BM_WarmStart    builtin warm starter   match by key + project
 //   BM_Solve        "pgs", `sweeps` sweeps from the builtin guess (arg 2)
 //   BM_Integrate    World::integrate(λ)    on a copy of the world (the copy is not timed)
-//   BM_Record       TrajectoryRecorder::record_step (recorders of 50 steps, like a run)
+//   BM_Record       TrajectoryRecorder::record_step (recorders of 50 reserved steps, as simulate)
 //   BM_Step         World::step + record_step: everything a step of `simulate` costs
 //
 // Counter us_per_row = CPU time / (LCP rows of the state) in microseconds (printed with an
@@ -166,6 +166,7 @@ void BM_Record(benchmark::State& state) {
     if (recorded % 50 == 0) {  // a fresh recorder every 50 steps: memory stays bounded
       state.PauseTiming();
       rec = std::make_unique<dc::TrajectoryRecorder>(*p.world);
+      rec->reserve_steps(50);
       state.ResumeTiming();
     }
     rec->record_step(*p.world, rep);
@@ -183,7 +184,10 @@ void BM_Step(benchmark::State& state) {
   for (auto _ : state) {
     state.PauseTiming();
     dc::World w = *p.world;  // every iteration steps the same state
-    if (!rec || rec->steps() >= 50) rec = std::make_unique<dc::TrajectoryRecorder>(w);
+    if (!rec || rec->steps() >= 50) {
+      rec = std::make_unique<dc::TrajectoryRecorder>(w);
+      rec->reserve_steps(50);
+    }
     state.ResumeTiming();
     const dc::StepReport r =
         w.step(*solver, o, [&](const dc::World& x) { return builtin->initial_guess(dc::StepView{x, nullptr}); });

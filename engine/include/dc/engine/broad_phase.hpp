@@ -27,9 +27,16 @@ class UniformGridBroadPhase {
 
  private:
   std::size_t pair_tests_ = 0;
+  /// A body's box in one cell, in cell order.
+  struct Entry {
+    double xlo, ylo, xhi, yhi;
+    int body;
+  };
   // Reused buffers (no allocation in steady state).
-  std::vector<int> cell_start_, cell_items_, body_cells_;
+  std::vector<int> cell_start_, body_cells_, fill_, first_start_;
   std::vector<long long> cell_of_entry_;
+  std::vector<Entry> entries_;
+  std::vector<std::pair<int, int>> by_body_;
 };
 
 }  // namespace dc
