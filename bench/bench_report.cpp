@@ -164,6 +164,12 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
   j.key("tolerance").value(r.options.tolerance);
   j.key("evaluated_steps").value(r.starters.empty() ? std::size_t{0} : r.starters[0].sweeps_to_tol.size());
   j.key("skipped_steps_without_contacts").value(r.skipped_steps);
+  // Median ms per evaluated step of the stages every starter shares (results.h5: /steps/*_ms).
+  j.key("step_stage_ms").begin_object();
+  j.key("collide").value(quartiles(r.collide_ms).median);
+  j.key("assemble").value(quartiles(r.assemble_ms).median);
+  j.key("integrate").value(quartiles(r.integrate_ms).median);
+  j.end_object();
   j.key("wall_seconds").value(r.wall_seconds);
   j.key("git").value(p.git);
   j.key("build").value(p.build);
@@ -202,7 +208,12 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
      << "`, " << r.options.sweeps << " sweeps, tolerance θ ≤ " << r.options.tolerance << " N, " << steps
      << " evaluated steps (" << r.skipped_steps << " steps without contacts skipped) over scene seeds";
   for (auto s : r.options.seeds) md << ' ' << s;
-  md << ". Wall time " << fmt("%.1f", r.wall_seconds) << " s.\n\n";
+  md << ". Wall time " << fmt("%.1f", r.wall_seconds) << " s.";
+  if (!r.collide_ms.empty())
+    md << " Shared stages per step (medians): collide " << fmt("%.3f", quartiles(r.collide_ms).median)
+       << " ms, assemble " << fmt("%.3f", quartiles(r.assemble_ms).median) << " ms, integrate "
+       << fmt("%.3f", quartiles(r.integrate_ms).median) << " ms.";
+  md << "\n\n";
   if (r.options.warmup_steps > 0)
     md << "The first " << r.options.warmup_steps << " steps of every seed were a warm-up (builtin + PGS to tol, not "
           "evaluated).\n\n";

@@ -52,6 +52,11 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
     f.write<double>("/steps/oracle_ms", r.oracle_ms, {S});
     f.write<double>("/steps/oracle_residual", r.oracle_residual, {S});
   }
+  if (r.collide_ms.size() == S && r.assemble_ms.size() == S && r.integrate_ms.size() == S) {
+    f.write<double>("/steps/collide_ms", r.collide_ms, {S});
+    f.write<double>("/steps/assemble_ms", r.assemble_ms, {S});
+    f.write<double>("/steps/integrate_ms", r.integrate_ms, {S});
+  }
 
   std::vector<std::string> names, groups;
   const H5DatasetOptions compressed{.extendible = false, .chunk_rows = 0, .deflate = 4};

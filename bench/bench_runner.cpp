@@ -222,9 +222,13 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
       }
       const auto oracle_starter = default_warm_starters().make("builtin");
       for (int s = o.warmup_steps; s < steps; ++s) {
+        auto ts = Clock::now();
         ref.collide();
+        const double collide_ms = ms_since(ts);
+        ts = Clock::now();
         ref.assemble();
         const LcpProblem& p = solver->needs_assembled_matrix() ? ref.ensure_assembled_matrix() : ref.problem();
+        const double assemble_ms = ms_since(ts);
         if (p.rows() == 0) {
           ++r.skipped_steps;
           ref.integrate(Eigen::VectorXd());
@@ -234,6 +238,8 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
             r.reference->record_step(ref, nothing);
           }
         } else {
+          r.collide_ms.push_back(collide_ms);
+          r.assemble_ms.push_back(assemble_ms);
           // One shared oracle per step, started from the previous step's λ* matched by key
           // (cheaper; the oracle's cost is reported apart and never enters a total).
           auto t0 = Clock::now();
@@ -246,7 +252,9 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
           r.step_rows.push_back(p.rows());
           for (std::size_t i = 0; i < starters.size(); ++i)
             evaluate_starter(ref, *starters[i], os.lambda, true, *solver, o, r.budgets, r.starters[i], outcome);
+          ts = Clock::now();
           ref.integrate(os.lambda);
+          r.integrate_ms.push_back(ms_since(ts));
           if (record) {
             StepReport rep;
             rep.contacts = static_cast<int>(ref.contacts().size());
@@ -263,9 +271,13 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
         World w(def);
         warm_up(w, *solver, o);
         for (int s = o.warmup_steps; s < steps; ++s) {
+          auto ts = Clock::now();
           w.collide();
+          const double collide_ms = ms_since(ts);
+          ts = Clock::now();
           w.assemble();
           const LcpProblem& p = solver->needs_assembled_matrix() ? w.ensure_assembled_matrix() : w.problem();
+          const double assemble_ms = ms_since(ts);
           if (p.rows() == 0) {
             if (i == 0) ++r.skipped_steps;
             w.integrate(Eigen::VectorXd());
@@ -278,7 +290,13 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
             // In rollout mode each starter computes its own oracle (reported as its cost).
             const Eigen::VectorXd lam =
                 evaluate_starter(w, *starters[i], os.lambda, false, *solver, o, r.budgets, r.starters[i], outcome);
+            ts = Clock::now();
             w.integrate(lam);
+            if (i == 0) {
+              r.collide_ms.push_back(collide_ms);
+              r.assemble_ms.push_back(assemble_ms);
+              r.integrate_ms.push_back(ms_since(ts));
+            }
           }
           if (progress) progress(++done, total, r.starters[i].name + " seed " + std::to_string(seed));
         }

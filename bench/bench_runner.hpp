@@ -80,6 +80,10 @@ struct BenchResults {
   std::vector<int> step_rows;         ///< per evaluated step: LCP rows (in paired mode)
   std::vector<double> oracle_ms;      ///< per evaluated step: shared oracle solve time (paired)
   std::vector<double> oracle_residual;///< per evaluated step: oracle accuracy [N]
+  /// Per evaluated step: wall-clock ms of the stages every starter shares (paired mode: the
+  /// reference world's collide, assemble (+ A when the solver needs it) and integrate;
+  /// rollout mode: those of the first starter's world). Warm start and solve are per starter.
+  std::vector<double> collide_ms, assemble_ms, integrate_ms;
   int skipped_steps = 0;              ///< steps without contacts (nothing to solve)
   std::vector<StarterRecord> starters;
   double wall_seconds = 0;

@@ -61,6 +61,7 @@ void run(const SimulateArgs& a) {
   auto starter = registry.make(a.warmstart);
 
   TrajectoryRecorder rec(world);
+  rec.reserve_steps(def.time.steps);
   ProgressBar bar("simulate", def.time.steps);
   std::vector<int> sweeps;
   double max_pen = 0, worst_residual = 0;

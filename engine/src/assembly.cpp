@@ -33,9 +33,19 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
     out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
   }
 
-  // J: at most 6 non-zeros per row (3 per circle); walls contribute no columns.
-  std::vector<Eigen::Triplet<double, int>> trip;
-  trip.reserve(static_cast<size_t>(rows) * 6);
+  // J in compressed row storage, filled in place (rows come in order and each row's columns
+  // in ascending order, so no triplet list, sort or transpose is needed): the normal row
+  // and the tangent row of a contact both hold 3 entries per body it acts on (walls have no
+  // columns), body columns in ascending body order. Explicit zeros are stored, exactly as
+  // setFromTriplets stored them; storage is reused from step to step.
+  int nnz = 0;
+  for (const ContactConstraint& kc : con) nnz += (kc.has_body_a() ? 6 : 3) * (kc.has_friction() ? 2 : 1);
+  out.J.resize(rows, 3 * nb);
+  out.J.resizeNonZeros(nnz);
+  int* const outer = out.J.outerIndexPtr();
+  int* const inner = out.J.innerIndexPtr();
+  double* const value = out.J.valuePtr();
+  outer[0] = 0;
   out.b.resize(rows);
   out.lo.resize(rows);
   out.hi.resize(rows);
@@ -51,34 +61,50 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
     const bool friction = kc.has_friction();
     double vn = 0, vt = 0;       // J u       (relative velocity before the step)
     double vn_f = 0, vt_f = 0;   // J Δt M⁻¹ F_ext  (gravity only: Δt·g on linear dofs)
-    auto add_body = [&](int body, double sign) {
+    // Row rn holds entries [outer[rn], outer[rn] + per_row), row rt the next per_row.
+    const int per_row = kc.body_a >= 0 ? 6 : 3;  // a static/kinematic body_a has no columns
+    const int first_n = outer[rn];
+    const int first_t = first_n + per_row;
+    auto put = [&](int at, int col, double v) {
+      inner[at] = col;
+      value[at] = v;
+    };
+    auto add_body = [&](int body, double sign, int slot) {
       const auto k = static_cast<size_t>(body);
       const Vec2 r = ct.point - s.position[k];
       const double rn_x = cross(r, n), rt_x = cross(r, t);
-      trip.emplace_back(rn, 3 * body, sign * n.x);
-      trip.emplace_back(rn, 3 * body + 1, sign * n.y);
-      trip.emplace_back(rn, 3 * body + 2, sign * rn_x);
+      put(first_n + slot, 3 * body, sign * n.x);
+      put(first_n + slot + 1, 3 * body + 1, sign * n.y);
+      put(first_n + slot + 2, 3 * body + 2, sign * rn_x);
       vn += sign * (dot(n, s.velocity[k]) + rn_x * s.omega[k]);
       vn_f += sign * dt * dot(n, g);
       if (friction) {
-        trip.emplace_back(rt, 3 * body, sign * t.x);
-        trip.emplace_back(rt, 3 * body + 1, sign * t.y);
-        trip.emplace_back(rt, 3 * body + 2, sign * rt_x);
+        put(first_t + slot, 3 * body, sign * t.x);
+        put(first_t + slot + 1, 3 * body + 1, sign * t.y);
+        put(first_t + slot + 2, 3 * body + 2, sign * rt_x);
         vt += sign * (dot(t, s.velocity[k]) + rt_x * s.omega[k]);
         vt_f += sign * dt * dot(t, g);
       }
     };
+    // Same order of the sums as before (body a, then body b); the columns of the body with
+    // the lower index come first in each row.
     if (kc.body_a >= 0) {
-      add_body(ct.body_a, -1.0);
-    } else if (ct.body_a >= 0) {
-      // Static / kinematic body_a: no columns, no gravity; its velocity at the point enters b
-      // as a moving boundary's (relative velocity J u with the boundary's u).
-      const auto k = static_cast<size_t>(ct.body_a);
-      const Vec2 r = ct.point - s.position[k];
-      vn -= dot(n, s.velocity[k]) + cross(r, n) * s.omega[k];
-      vt -= dot(t, s.velocity[k]) + cross(r, t) * s.omega[k];
+      const bool a_first = ct.body_a < ct.body_b;
+      add_body(ct.body_a, -1.0, a_first ? 0 : 3);
+      add_body(ct.body_b, +1.0, a_first ? 3 : 0);
+    } else {
+      if (ct.body_a >= 0) {
+        // Static / kinematic body_a: no columns, no gravity; its velocity at the point enters b
+        // as a moving boundary's (relative velocity J u with the boundary's u).
+        const auto k = static_cast<size_t>(ct.body_a);
+        const Vec2 r = ct.point - s.position[k];
+        vn -= dot(n, s.velocity[k]) + cross(r, n) * s.omega[k];
+        vt -= dot(t, s.velocity[k]) + cross(r, t) * s.omega[k];
+      }
+      add_body(ct.body_b, +1.0, 0);
     }
-    add_body(ct.body_b, +1.0);
+    outer[rn + 1] = first_n + per_row;
+    if (friction) outer[rt + 1] = first_t + per_row;
 
     // b of the normal row: relative velocity + gravity + stabilisation + restitution.
     double bn = vn + vn_f;
@@ -102,9 +128,6 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
       out.normal_row[static_cast<size_t>(rt)] = rn;
     }
   }
-  out.J.resize(rows, 3 * nb);
-  out.J.setFromTriplets(trip.begin(), trip.end());
-  out.J.makeCompressed();
   // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix).
   out.A = SparseRowMatrix();
 }

@@ -64,10 +64,15 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
     nyd = std::floor((ymax - ymin) / cell) + 1;
   }
   const long long nx = static_cast<long long>(nxd), ny = static_cast<long long>(nyd);
-  auto cx = [&](double x) { return std::clamp<long long>(static_cast<long long>((x - xmin) / cell), 0, nx - 1); };
-  auto cy = [&](double y) { return std::clamp<long long>(static_cast<long long>((y - ymin) / cell), 0, ny - 1); };
+  // Cell of a coordinate: monotone in x, so a box [x − r, x + r] covers the cells
+  // cx(x − r)..cx(x + r) and the corner rule below finds every overlapping pair exactly once.
+  const double inv_cell = 1.0 / cell;
+  auto cx = [&](double x) { return std::clamp<long long>(static_cast<long long>((x - xmin) * inv_cell), 0, nx - 1); };
+  auto cy = [&](double y) { return std::clamp<long long>(static_cast<long long>((y - ymin) * inv_cell), 0, ny - 1); };
 
-  // Counting sort of (cell, body) entries: a body enters every cell its box touches.
+  // Counting sort of (cell, body) entries: a body enters every cell its box touches. The
+  // sorted entries carry the body's box, so the pair loop reads memory in cell order
+  // instead of gathering centres and reaches by body index (random in space).
   cell_of_entry_.clear();
   body_cells_.clear();
   for (int k = 0; k < n; ++k) {
@@ -84,34 +89,50 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   cell_start_.assign(static_cast<size_t>(ncell + 1), 0);
   for (long long c : cell_of_entry_) ++cell_start_[static_cast<size_t>(c + 1)];
   for (long long c = 0; c < ncell; ++c) cell_start_[static_cast<size_t>(c + 1)] += cell_start_[static_cast<size_t>(c)];
-  cell_items_.assign(cell_of_entry_.size(), 0);
-  {
-    std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (size_t e = 0; e < cell_of_entry_.size(); ++e)
-      cell_items_[static_cast<size_t>(fill[static_cast<size_t>(cell_of_entry_[e])]++)] = body_cells_[e];
+  entries_.resize(cell_of_entry_.size());
+  fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (size_t e = 0; e < cell_of_entry_.size(); ++e) {
+    const int k = body_cells_[e];
+    const Vec2 l = lo(k), h = hi(k);
+    entries_[static_cast<size_t>(fill_[static_cast<size_t>(cell_of_entry_[e])]++)] = {l.x, l.y, h.x, h.y, k};
   }
 
   // Each overlapping pair is reported only from the cell holding the lower-left corner of
   // the intersection of the two boxes, so no de-duplication pass is needed.
+  by_body_.clear();
   for (long long c = 0; c < ncell; ++c) {
     const int s = cell_start_[static_cast<size_t>(c)], e = cell_start_[static_cast<size_t>(c + 1)];
     for (int p = s; p < e; ++p) {
-      const int a = cell_items_[static_cast<size_t>(p)];
+      const Entry& a = entries_[static_cast<size_t>(p)];
       for (int q = p + 1; q < e; ++q) {
-        const int b = cell_items_[static_cast<size_t>(q)];
+        const Entry& b = entries_[static_cast<size_t>(q)];
         ++pair_tests_;
-        const Vec2 la = lo(a), lb = lo(b), ha = hi(a), hb = hi(b);
-        const double lx = std::max(la.x, lb.x);
-        const double ly = std::max(la.y, lb.y);
-        const double hx = std::min(ha.x, hb.x);
-        const double hy = std::min(ha.y, hb.y);
+        const double lx = std::max(a.xlo, b.xlo), ly = std::max(a.ylo, b.ylo);
+        const double hx = std::min(a.xhi, b.xhi), hy = std::min(a.yhi, b.yhi);
         if (lx > hx || ly > hy) continue;
         if (cy(ly) * nx + cx(lx) != c) continue;
-        pairs.emplace_back(std::min(a, b), std::max(a, b));
+        by_body_.emplace_back(std::min(a.body, b.body), std::max(a.body, b.body));
       }
     }
   }
-  std::sort(pairs.begin(), pairs.end());
+  // Sorted output in linear time: counting sort by the first body, then the few partners
+  // of each first body by insertion sort (a body has a handful of neighbours).
+  first_start_.assign(static_cast<size_t>(n) + 1, 0);
+  for (const auto& pr : by_body_) ++first_start_[static_cast<size_t>(pr.first) + 1];
+  for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
+  pairs.resize(by_body_.size());
+  fill_.assign(first_start_.begin(), first_start_.end() - 1);
+  for (const auto& pr : by_body_) pairs[static_cast<size_t>(fill_[static_cast<size_t>(pr.first)]++)] = pr;
+  for (int k = 0; k < n; ++k) {
+    const int s = first_start_[static_cast<size_t>(k)], e = first_start_[static_cast<size_t>(k) + 1];
+    for (int i = s + 1; i < e; ++i) {
+      const auto v = pairs[static_cast<size_t>(i)];
+      int j = i - 1;
+      for (; j >= s && pairs[static_cast<size_t>(j)].second > v.second; --j)
+        pairs[static_cast<size_t>(j) + 1] = pairs[static_cast<size_t>(j)];
+      pairs[static_cast<size_t>(j) + 1] = v;
+    }
+  }
 }
 
 }  // namespace dc

@@ -36,6 +36,22 @@ void TrajectoryRecorder::record_state(const BodyState& s) {
   }
 }
 
+void TrajectoryRecorder::reserve_steps(int steps) {
+  if (steps <= 0) return;
+  const std::size_t more = static_cast<std::size_t>(steps) * n_;
+  position_.reserve(position_.size() + 2 * more);
+  velocity_.reserve(velocity_.size() + 2 * more);
+  angle_.reserve(angle_.size() + more);
+  omega_.reserve(omega_.size() + more);
+  const auto s = static_cast<std::size_t>(steps);
+  step_offset_.reserve(step_offset_.size() + s);
+  sweeps_.reserve(sweeps_.size() + s);
+  status_.reserve(status_.size() + s);
+  theta_final_.reserve(theta_final_.size() + s);
+  residual_.reserve(residual_.size() + s);
+  profile_.reserve(profile_.size() + s * kProfileWidth);
+}
+
 void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
   const auto t0 = std::chrono::steady_clock::now();
   for (const Contact& c : w.contacts()) {

@@ -35,9 +35,16 @@ class UniformGridBroadPhase {
   template <class Lo, class Hi, class Extent>
   void find(int n, const Lo& lo, const Hi& hi, const Extent& extent, std::vector<std::pair<int, int>>& pairs);
   std::size_t pair_tests_ = 0;
+  /// A body's box in one cell, in cell order.
+  struct Entry {
+    double xlo, ylo, xhi, yhi;
+    int body;
+  };
   // Reused buffers (no allocation in steady state).
-  std::vector<int> cell_start_, cell_items_, body_cells_;
+  std::vector<int> cell_start_, body_cells_, fill_, first_start_;
   std::vector<long long> cell_of_entry_;
+  std::vector<Entry> entries_;
+  std::vector<std::pair<int, int>> by_body_;
 };
 
 }  // namespace dc

@@ -20,6 +20,10 @@ class TrajectoryRecorder {
  public:
   /// Records state 0 of `world`.
   explicit TrajectoryRecorder(const World& world);
+  /// Reserves memory for `steps` more steps of the body state (simulate knows its step
+  /// count), so recording never re-allocates and copies the whole history (the contacts,
+  /// whose number is not known ahead, still grow geometrically).
+  void reserve_steps(int steps);
   /// After world.step(): records the step's contacts (with solved λ), solver figures, the
   /// step's profile (report.profile plus the time of this call) and the new state.
   void record_step(const World& world, const StepReport& report);
