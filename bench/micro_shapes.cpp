@@ -4,7 +4,8 @@
 //   BM_CircleCircleAnalytic       narrow_phase's circle_circle (the seed's path)
 //   BM_CirclePolygonAnalytic      Box2D-style Voronoi test (kept: exact and cheaper)
 //   BM_CirclePolygonCcd/{0,1}     the same pair through libccd (0 GJK+EPA, 1 MPR)
-//   BM_BoxBoxCcd/{0,1}            box–box: libccd normal + two-point clipping (the engine's path)
+//   BM_BoxBoxSat                  box–box: separating-axis test + two-point clipping (the engine's path)
+//   BM_BoxBoxCcd/{0,1}            box–box: libccd normal + the same clipping (polygon_sat = false)
 //   BM_BoxBoxCcdOnly/{0,1}        box–box: libccd alone (normal and depth, no manifold)
 //   BM_EllipseEllipseCcd/{0,1}    ellipse–ellipse (only libccd: no analytic test)
 //   BM_BoxWallAnalytic            polygon–plane (kept)
@@ -64,14 +65,14 @@ const dc::ShapeDef kEllipse = dc::make_ellipse({0.8, 0.4}, "ellipse");
 const dc::ShapeDef kCircle = dc::make_circle(0.5);
 constexpr double kInflate = 0.02;  // the default speculative reach of a resting body (margin/2 + ...)
 
-void run_pairs(benchmark::State& st, const Pairs& p, bool manifold, CcdMethod m) {
+void run_pairs(benchmark::State& st, const Pairs& p, bool manifold, CcdMethod m, bool polygon_sat = false) {
   int i = 0, hits = 0;
   ContactPoint pts[2];
   for (auto _ : st) {
     const ShapePose& a = p.poses[static_cast<std::size_t>(2 * i)];
     const ShapePose& b = p.poses[static_cast<std::size_t>(2 * i + 1)];
     if (manifold) {
-      hits += dc::collide_shapes(a, b, kInflate, kInflate, pts, m);
+      hits += dc::collide_shapes(a, b, kInflate, kInflate, pts, m, polygon_sat);
     } else {
       Vec2 n;
       double gap;
@@ -119,6 +120,11 @@ void BM_BoxBoxCcd(benchmark::State& st) {
   run_pairs(st, make_pairs(kBox, kBox, 1.2), true, static_cast<CcdMethod>(st.range(0)));
 }
 BENCHMARK(BM_BoxBoxCcd)->Arg(0)->Arg(1);
+
+void BM_BoxBoxSat(benchmark::State& st) {
+  run_pairs(st, make_pairs(kBox, kBox, 1.2), true, CcdMethod::GjkEpa, true);
+}
+BENCHMARK(BM_BoxBoxSat);
 
 void BM_BoxBoxCcdOnly(benchmark::State& st) {
   run_pairs(st, make_pairs(kBox, kBox, 1.2), false, static_cast<CcdMethod>(st.range(0)));

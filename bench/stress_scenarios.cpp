@@ -9,6 +9,7 @@
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/engine/lcp_problem.hpp"
+#include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc::stress {
@@ -42,6 +43,24 @@ std::string fmt(const char* f, double v) {
 // ---- measurements -------------------------------------------------------------------------
 
 double max_overlap(const BodyState& s, const WorldSection& box) {
+  if (!s.shapes.empty()) {
+    // Shapes: the engine's exact narrow phase with no speculative margin (any overlap has
+    // gap < 0 below every threshold); pairs of static/kinematic bodies are not contacts.
+    WorldDef d;
+    d.world = box;
+    d.contact.margin = 0;
+    d.time.dt = 1e-300;
+    for (std::size_t k = 0; k < s.size(); ++k)
+      if (!std::isfinite(s.position[k].x) || !std::isfinite(s.position[k].y))
+        throw InvalidArgument("max_overlap: body " + std::to_string(k) + " has a non-finite position");
+    ShapeNarrowPhase narrow;
+    UniformGridBroadPhase grid;
+    std::vector<Contact> contacts;
+    narrow.collide(s, d, grid, contacts);
+    double worst = 0;
+    for (const Contact& c : contacts) worst = std::max(worst, -c.gap);
+    return worst;
+  }
   const int n = static_cast<int>(s.size());
   double worst = 0;
   for (int k = 0; k < n; ++k) {
@@ -321,6 +340,45 @@ WorldDef free_collision(int count, double ratio, double mu) {
   return d;
 }
 
+WorldDef box_stack(int n, Vec2 size) {
+  WorldDef d = explicit_scene(std::max(10.0, 4 * size.x), n * size.y + 5);
+  for (int k = 0; k < n; ++k) {
+    BodyDef b;
+    b.shape = "box";
+    b.size = size;
+    b.position = {0.5 * d.world.width, (k + 0.5) * size.y};
+    d.body.push_back(b);
+  }
+  d.time.steps = 1000;
+  return d;
+}
+
+WorldDef box_pyramid(int base) {
+  WorldDef d = explicit_scene(base + 10.0, base + 5.0);
+  for (int row = 0; row < base; ++row)
+    for (int i = 0; i < base - row; ++i) {
+      BodyDef b;
+      b.shape = "box";
+      b.position = {5.0 + 0.5 * row + i + 0.5, row + 0.5};
+      d.body.push_back(b);
+    }
+  d.time.steps = 600;
+  return d;
+}
+
+WorldDef shape_extremes(const std::string& shape, Vec2 dims, int count) {
+  WorldDef d = explicit_scene(20.0, 20.0);
+  d.bodies.count = count;
+  d.bodies.shape = shape;
+  d.bodies.size = dims;
+  d.bodies.semi_axes = dims;
+  d.bodies.radius = 0.5;
+  d.bodies.mean = {10.0, 10.0};
+  d.bodies.sigma = 3.0;
+  d.time.steps = 400;
+  return d;
+}
+
 // ---- the stress table ---------------------------------------------------------------------
 
 namespace {
@@ -449,6 +507,35 @@ std::vector<Scenario> stress_scenarios(bool quick) {
       s.check_momentum = true;
       out.push_back(std::move(s));
     }
+  }
+  // Shapes (issue 10): thin boxes, aspect-10 ellipses, a 20-box stack, a box pyramid. The
+  // stack and pyramid use the builtin warm start and 300 sweeps (row-by-row PGS needs that
+  // many on two-point manifolds, docs/engine.md).
+  {
+    WorldDef d = shape_extremes("box", {2.0, 0.1}, quick ? 20 : 40);
+    d.time.steps = quick ? 200 : 400;
+    out.push_back(make("shapes", "thin boxes 2 x 0.1, n=" + std::to_string(d.bodies.count), d, 30, 0.02, energy_bound(d)));
+  }
+  {
+    WorldDef d = shape_extremes("ellipse", {1.0, 0.1}, quick ? 20 : 40);
+    d.time.steps = quick ? 200 : 400;
+    out.push_back(make("shapes", "ellipses aspect 10 (1 x 0.1), n=" + std::to_string(d.bodies.count), d, 30, 0.02,
+                       energy_bound(d)));
+  }
+  {
+    WorldDef d = box_stack(20, {1.0, 1.0});
+    d.solver.sweeps = 300;
+    d.solver.tolerance = 1e-9;
+    d.time.steps = quick ? 300 : 1000;
+    out.push_back(make("shapes", "20-box stack, sweeps=300", d, 50, 0.01, energy_bound(d)));
+  }
+  {
+    WorldDef d = box_pyramid(quick ? 10 : 20);
+    d.solver.sweeps = 300;
+    d.solver.tolerance = 1e-9;
+    d.time.steps = quick ? 300 : 600;
+    out.push_back(make("shapes", "box pyramid base " + std::to_string(quick ? 10 : 20) + ", sweeps=300", d, 50, 0.01,
+                       energy_bound(d)));
   }
   {
     WorldDef d = explicit_scene(30.0, 30.0);

@@ -31,7 +31,8 @@ namespace dc::stress {
 // ---- measurements -------------------------------------------------------------------------
 
 /// Largest overlap [m] in `bodies`: max(0, r_a + r_b − |x_a − x_b|) over circle pairs and
-/// max(0, r − distance to wall) over the walls that exist. Uses the uniform-grid broad phase,
+/// max(0, r − distance to wall) over the walls that exist (with a shape table: the engine's
+/// exact shape narrow phase, −min gap). Uses the uniform-grid broad phase,
 /// so it is O(n) like a step. Throws InvalidArgument for a non-finite position.
 double max_overlap(const BodyState& bodies, const WorldSection& box);
 
@@ -140,6 +141,14 @@ BodyState coincident_state(int copies, double density_ratio = 1.0);
 /// No walls, no gravity: `count` generated circles plus one heavy fast projectile (density
 /// ratio `ratio`) fired into them: linear momentum must be conserved.
 WorldDef free_collision(int count, double ratio, double mu);
+
+/// n boxes of `size` stacked on the floor, exactly touching, centred in the box (issue 10).
+WorldDef box_stack(int n, Vec2 size);
+/// A pyramid of unit boxes, `base` in the bottom row, each row offset by half a box.
+WorldDef box_pyramid(int base);
+/// `count` generated bodies of one shape ("box": size = dims; "ellipse": semi_axes = dims)
+/// falling into a 20 × 20 box.
+WorldDef shape_extremes(const std::string& shape, Vec2 dims, int count);
 
 // ---- the stress table ---------------------------------------------------------------------
 

@@ -152,9 +152,12 @@ TEST(ShapeCollide, FaceOnFaceGivesTwoPointsWithTheSpeculativeDistance) {
   std::vector<Vec2> va, na, vb, nb;
   const ShapePose a = box_pose({0, 0}, 0.0, va, na, {2, 1});
   const ShapePose b = box_pose({0.3, 1.01}, 0.0, vb, nb);  // 0.01 above, shifted right
-  for (const CcdMethod m : {CcdMethod::GjkEpa, CcdMethod::Mpr}) {
+  // The SAT path (the engine's) and the libccd-normal path (GJK+EPA, MPR) give the same points.
+  for (const int path : {0, 1, 2}) {
+    const CcdMethod m = path == 2 ? CcdMethod::Mpr : CcdMethod::GjkEpa;
+    const bool sat = path == 0;
     ContactPoint pts[2];
-    ASSERT_EQ(collide_shapes(a, b, 0.05, 0.05, pts, m), 2);
+    ASSERT_EQ(collide_shapes(a, b, 0.05, 0.05, pts, m, sat), 2);
     for (const ContactPoint& p : pts) {
       EXPECT_NEAR(p.gap, 0.01, 1e-9);
       EXPECT_NEAR(p.normal.y, 1.0, 1e-9);
@@ -164,7 +167,7 @@ TEST(ShapeCollide, FaceOnFaceGivesTwoPointsWithTheSpeculativeDistance) {
     EXPECT_NEAR(std::max(pts[0].point.x, pts[1].point.x), 0.8, 1e-9);
     EXPECT_NE(pts[0].feature, pts[1].feature);
     // Beyond the inflated reach: no contact.
-    EXPECT_EQ(collide_shapes(a, b, 0.004, 0.004, pts, m), 0);
+    EXPECT_EQ(collide_shapes(a, b, 0.004, 0.004, pts, m, sat), 0);
   }
 }
 
