@@ -15,7 +15,9 @@ path = sys.argv[1]
 settled = int(sys.argv[2]) if len(sys.argv) > 2 else 150
 f = h5py.File(path, "r")
 budgets = f["budgets"][:]
-names = [n.decode() if isinstance(n, bytes) else n for n in f["warmstarter_names"][:]]
+dec = lambda a: [n.decode() if isinstance(n, bytes) else n for n in a]
+names = dec(f["warmstarter_names"][:])
+groups = dict(zip(names, dec(f["warmstarter_groups"][:])))
 pick = [b for b in (10, 100, 1000, 3000) if b in budgets]
 hdr = ("| starter | median sweeps (all) | median sweeps (steps >= %d) | never (all) | never (settled) | "
        "median init err [N] | " % settled + " | ".join("resid@%d [N]" % b for b in pick) +
@@ -23,11 +25,12 @@ hdr = ("| starter | median sweeps (all) | median sweeps (steps >= %d) | never (a
 print(hdr)
 print("|" + "---|" * (hdr.count("|") - 1))
 for n in names:
-    g = f["warmstarters"][n]
-    sw = g["sweeps_to_tol"][:]
+    g = f["warmstarters"][groups[n]]
+    sw = g["sweeps_to_tol"][:].astype(float)
     step = g["step"][:]
     cap = g["theta"].shape[1]
-    never = sw > cap  # never-converged steps count as cap + 1
+    never = sw < 0  # never converged within the cap: counted as cap + 1 (as the bench does)
+    sw[never] = cap + 1
     s = step >= settled
     res = g["residual"][:]
     col = [np.median(res[:, list(budgets).index(b)]) for b in pick]
