@@ -34,6 +34,8 @@ void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o) {
   cmd->add_option("--time-limit", o.time_limit, "pgs-*: stop training after this many seconds (0 = none)")
       ->capture_default_str();
   cmd->add_option("--pgs-floor", o.floor, "pgs-*: f [N] of the objective log(L + rows f^2)")->capture_default_str();
+  cmd->add_option("--clip", o.clip, "pgs-*: clip the minibatch gradient to this global norm (0 = off)")
+      ->capture_default_str();
 }
 
 namespace {
@@ -65,6 +67,7 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
   def.seed = c.seed;
   def.time_limit = o.time_limit;
   def.floor = o.floor;
+  def.clip = o.clip;
   def.validate();
   if (o.init.empty()) throw ConfigError("--loss " + o.loss + " needs --init MODEL (a residual model of this data set)");
   if (c.every < 1) throw ConfigError("--every must be >= 1");
@@ -124,9 +127,9 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
     csv << r.epoch + 1 << ',' << r.train_objective << ',' << r.validation_objective << ',' << r.validation_improved
         << ',' << r.seconds << '\n';
     write_file_atomically(c.out + ".loss.csv", csv.str());
-    std::printf("epoch %3d/%d  train %.4f  val %.4f (%.0f %% better than builtin)  %.1f s%s\n", r.epoch + 1,
-                def.epochs, r.train_objective, r.validation_objective, 100 * r.validation_improved, r.seconds,
-                improved ? "  *best" : "");
+    std::printf("epoch %3d/%d  train %.4f  val %.4f (%.0f %% better than builtin)  |g| %.3g, %d clipped, %d skipped  %.1f s%s\n",
+                r.epoch + 1, def.epochs, r.train_objective, r.validation_objective, 100 * r.validation_improved,
+                r.grad_norm, r.clipped, r.skipped, r.seconds, improved ? "  *best" : "");
     std::fflush(stdout);
     return !interrupted();
   };

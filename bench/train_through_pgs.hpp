@@ -16,9 +16,10 @@ struct PgsTrainOptions {
   std::string init;                 // the residual model to start from (required for pgs-*)
   double time_limit = 0;            // [s] of training, 0 = none
   double floor = 1e-2;              // f [N] of the objective's ε = rows·f²
+  double clip = 1.0;                // global gradient-norm clip (0 = off)
 };
 
-/// Registers --loss, --unroll, --init, --time-limit, --pgs-floor on `cmd`.
+/// Registers --loss, --unroll, --init, --time-limit, --pgs-floor, --clip on `cmd`.
 void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o);
 
 /// The shared options of `train` that the PGS path uses.

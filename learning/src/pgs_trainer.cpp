@@ -136,6 +136,7 @@ void PgsTrainDef::validate() const {
   if (!(validation_fraction >= 0 && validation_fraction < 1)) throw ConfigError("--val must be in [0, 1)");
   if (!(time_limit >= 0)) throw ConfigError("--time-limit must be >= 0");
   if (!(floor > 0) || !std::isfinite(floor)) throw ConfigError("--pgs-floor must be > 0");
+  if (!(clip >= 0)) throw ConfigError("--clip must be >= 0");
 }
 
 std::vector<int> pgs_validation_simulations(std::span<const PgsSample> samples, const PgsTrainDef& def) {
@@ -154,8 +155,12 @@ void expand_output(const float* y, int C, std::size_t P, const ChannelStats& st,
     for (std::size_t p = 0; p < P; ++p) {
       const std::size_t k = static_cast<std::size_t>(c) * P + p;
       const double z = double(y[k]) * sd + m;
-      G[k] = static_cast<float>(s > 0 ? s * std::sinh(z) : z);
-      if (dGdy) dGdy[k] = static_cast<float>(s > 0 ? s * std::cosh(z) * sd : sd);
+      const float g = static_cast<float>(s > 0 ? s * std::sinh(z) : z);
+      const float dg = static_cast<float>(s > 0 ? s * std::cosh(z) * sd : sd);
+      // An overflowing output (inf) is read back as 0 by the projection: no gradient through it.
+      const bool ok = std::isfinite(g) && std::isfinite(dg);
+      G[k] = ok ? g : 0.0f;
+      if (dGdy) dGdy[k] = ok ? dg : 0.0f;
     }
   }
 }
@@ -220,6 +225,9 @@ std::vector<PgsEpochReport> train_through_pgs(Model& model, std::span<const PgsS
       std::swap(tr[i - 1], tr[static_cast<std::size_t>(rng.uniform_int(i))]);
     double sum = 0;
     std::size_t seen = 0;
+    int clipped = 0, r_skipped = 0;
+    double norm_sum = 0;
+    int steps = 0;
     for (std::size_t b0 = 0; b0 < tr.size(); b0 += static_cast<std::size_t>(def.batch)) {
       if ((keep_going && !keep_going()) || (def.time_limit > 0 && elapsed() > def.time_limit)) {
         stop = true;
@@ -241,6 +249,24 @@ std::vector<PgsEpochReport> train_through_pgs(Model& model, std::span<const PgsS
         for (std::size_t k = 0; k < osz; ++k) d[k] = dG[k] * dGdy[k] / static_cast<float>(B);
       }
       net.backward(dy);
+      double sq = 0;
+      for (const ParamRef& p : params)
+        for (std::size_t k = 0; k < p.grad->size(); ++k) sq += double((*p.grad)[k]) * double((*p.grad)[k]);
+      const double norm = std::sqrt(sq);
+      if (!std::isfinite(norm)) {  // a non-finite gradient would poison the weights: skip the step
+        ++r_skipped;
+        continue;
+      }
+      norm_sum += norm;
+      ++steps;
+      if (def.clip > 0) {
+        if (norm > def.clip) {
+          const float f = static_cast<float>(def.clip / norm);
+          for (const ParamRef& p : params)
+            for (std::size_t k = 0; k < p.grad->size(); ++k) (*p.grad)[k] *= f;
+          ++clipped;
+        }
+      }
       opt.step(params, def.learning_rate);
     }
     if (seen == 0) break;
@@ -249,6 +275,9 @@ std::vector<PgsEpochReport> train_through_pgs(Model& model, std::span<const PgsS
     r.train_objective = sum / static_cast<double>(seen);
     std::tie(r.validation_objective, r.validation_improved) = pgs_objective_mean(model, samples, va, def);
     r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    r.clipped = clipped;
+    r.skipped = r_skipped;
+    r.grad_norm = steps > 0 ? norm_sum / steps : 0.0;
     reports.push_back(r);
     if (on_epoch && !on_epoch(r)) break;
   }

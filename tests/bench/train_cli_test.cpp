@@ -150,6 +150,35 @@ TEST(TrainCli, ResidualNeedsTheLambdaPrevChannelsAndIsStoredInTheModel) {
   EXPECT_EQ(lines(r.err), 1) << r.err;
 }
 
+TEST(TrainCli, PgsResidualLossTrainsFromAResidualInitModel) {
+  Dir dir;
+  const std::string data = data_set(Channels::Residual);
+  Result r = test::run_cli("train --data " + data + " --out " + (dir / "r.h5") + " --epochs 1 --residual" + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "p.h5") +
+                    " --epochs 1 --loss pgs-residual --unroll 3 --init " + (dir / "r.h5") + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("epoch   1/1"), std::string::npos) << r.out;
+  Model m = load_model(dir / "p.h5");
+  EXPECT_EQ(m.grid().labels.kind, LabelKind::Residual);
+  EXPECT_EQ(lines(slurp(dir / "p.h5.loss.csv")), 2);
+  // Without --init, or from an absolute model: one-line errors.
+  r = test::run_cli("train --data " + data + " --out " + (dir / "x.h5") + " --epochs 1 --loss pgs-residual" + kTrain);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--init"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "a.h5") + " --epochs 1" + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "y.h5") + " --epochs 1 --loss pgs-residual --init " +
+                    (dir / "a.h5") + kTrain);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("residual model"), std::string::npos) << r.err;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "y.h5") + " --epochs 1 --loss nonsense --init " +
+                    (dir / "r.h5") + kTrain);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--loss"), std::string::npos) << r.err;
+}
+
 TEST(TrainCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   Dir dir;
   const std::string args = "train --data " + data_set() + " --epochs 8" + kTrain;

@@ -92,6 +92,10 @@ struct PgsTrainDef {
   std::uint64_t seed = 1;           ///< split, shuffles, dropout
   double time_limit = 0;            ///< [s] of training (0 = none): stop before the next minibatch
   double floor = 1e-2;              ///< f [N] of ε = rows·f²
+  /// Global gradient-norm clip (0 = off): the minibatch gradient is scaled to norm ≤ clip
+  /// before the SGD step. J's gradient spans orders of magnitude between a step that PGS has
+  /// nearly solved and one it has not; the clip bounds the step the worst one can take.
+  double clip = 1.0;
   /// ConfigError naming the option.
   void validate() const;
 };
@@ -102,6 +106,9 @@ struct PgsEpochReport {
   double validation_objective = 0;  ///< mean J over the validation samples (inference mode); NaN without
   double validation_improved = 0;   ///< share of validation samples with J < 0
   double seconds = 0;
+  int clipped = 0;                  ///< minibatches whose gradient was clipped
+  int skipped = 0;                  ///< minibatches skipped for a non-finite gradient
+  double grad_norm = 0;             ///< mean global gradient norm of the minibatches (before clipping)
 };
 
 /// The validation simulation ids of `sims` (distinct ids of the samples) for `def`: the same
