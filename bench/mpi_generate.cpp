@@ -21,6 +21,7 @@ void fields(const Io& io, Record& r) {
   io(r.index);
   io(r.seed);
   io(r.bodies);
+  io(r.body_count);
   io(r.max_residual);
   io(r.step);
   io(r.contact_count);
@@ -40,7 +41,7 @@ void fields(const Io& io, Record& r) {
   io(r.gap);
   io(r.lambda_star);
 }
-static_assert(sizeof(SimulationRecord) == 4 * 8 + 17 * sizeof(std::vector<double>),
+static_assert(sizeof(SimulationRecord) == 4 * 8 + 18 * sizeof(std::vector<double>),
               "SimulationRecord changed: add the new field to fields() in mpi_generate.cpp");
 
 }  // namespace
