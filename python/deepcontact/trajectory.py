@@ -101,12 +101,14 @@ class Trajectory:
     @staticmethod
     def _read_shapes(f):
         """The shape table (issue 10) when the file has one: wherever the writer puts it, under
-        /shapes or /bodies. Circle-only files (format 1) have none."""
-        for group in ("/shapes", "/bodies"):
-            if group not in f:
+        /shapes or /bodies. Circle-only files of format 1 have none; format 2 writes one for
+        every file (all circles for a circle-only scene)."""
+        import h5py  # as in __init__: `import deepcontact` must not need h5py
+        for group in ("/bodies/shape", "/shapes", "/bodies"):
+            if group not in f or not isinstance(f[group], h5py.Group):
                 continue
             g = f[group]
-            kind_name = next((k for k in ("kind", "shape") if k in g), None)
+            kind_name = next((k for k in ("kind", "shape") if k in g and isinstance(g[k], h5py.Dataset)), None)
             if kind_name is None:
                 continue
             raw = g[kind_name][()]

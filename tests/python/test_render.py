@@ -25,7 +25,8 @@ def test_reader_matches_the_world(dc, run_h5):
         assert np.array_equal(c["lambda"], w.contacts["lambda"]) and np.array_equal(c["point"], w.contacts.point)
         assert np.array_equal(t.position[k + 1], w.bodies.position)
     assert t.width == 30.0 and t.walls == ["left", "right", "bottom", "top"] and t.dt == 0.01
-    assert t.shapes is None  # circle-only file
+    # A circle-only file: no table (format 1) or one of circles only (format 2).
+    assert t.shapes is None or all(k == "circle" for k in t.shapes["kind"])
     assert len(t.step_contacts(t.steps)["gap"]) == 0
 
 
