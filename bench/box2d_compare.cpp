@@ -18,11 +18,14 @@
 // densities, velocities), gravity, box, Δt, μ and e. Box2D keeps its own contact model
 // (soft position correction, b2_linearSlop = 0.005 = our slop, restitution threshold 1 m/s
 // = ours); sleeping is off in Box2D (our engine has none), position iterations default to 3.
-// Scenarios box-stack and box-pyramid are Box2D-only until our engine has boxes: they print
-// Box2D's figures and say that our side is not available.
+// Scenarios box-stack (20 boxes of 1 × 1 m) and box-pyramid (base 20) put the same boxes in both
+// engines (ours as [[body]] shape = "box", density 1) and also report stability after the run:
+// drift = the largest horizontal displacement of a box from its start [m] (and as a share of the
+// box width), penetration = the deepest overlap among touching contact points at the end [m].
 #include <box2d/box2d.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -90,6 +93,22 @@ b2Body* add_dynamic(b2World& w, const b2Shape& shape, b2Vec2 x, float angle, b2V
   return b;
 }
 
+/// Centres of the 1 × 1 m boxes of a box scenario, resting on the floor, centred in the box.
+std::vector<dc::Vec2> box_positions(const dc::WorldDef& def, const std::string& scenario) {
+  std::vector<dc::Vec2> out;
+  const double cx = def.world.width / 2;
+  if (scenario == "box-stack") {
+    for (int k = 0; k < 20; ++k) out.push_back({cx, 0.5 + 1.0 * k});
+  } else if (scenario == "box-pyramid") {
+    const int base = 20;
+    for (int row = 0; row < base; ++row)
+      for (int k = 0; k < base - row; ++k) out.push_back({cx + (k - 0.5 * (base - row - 1)) * 1.0, 0.5 + 1.0 * row});
+  } else {
+    throw CLI::ValidationError("--scenario", "expected circles, box-stack or box-pyramid, got '" + scenario + "'");
+  }
+  return out;
+}
+
 /// The scene's bodies (circles), or a box stack / pyramid (1 × 1 boxes) on the floor.
 void populate(b2World& w, const dc::WorldDef& def, const std::string& scenario) {
   add_walls(w, def);
@@ -108,22 +127,30 @@ void populate(b2World& w, const dc::WorldDef& def, const std::string& scenario) 
   }
   b2PolygonShape box;
   box.SetAsBox(0.5f, 0.5f);
-  const float cx = static_cast<float>(def.world.width / 2);
-  if (scenario == "box-stack") {
-    for (int k = 0; k < 20; ++k) add_dynamic(w, box, {cx, 0.5f + 1.0f * k}, 0, {0, 0}, 0, 1.0f, def);
-  } else if (scenario == "box-pyramid") {
-    const int base = 20;
-    for (int row = 0; row < base; ++row)
-      for (int k = 0; k < base - row; ++k)
-        add_dynamic(w, box, {cx + (k - 0.5f * (base - row - 1)) * 1.0f, 0.5f + 1.0f * row}, 0, {0, 0}, 0, 1.0f, def);
-  } else {
-    throw CLI::ValidationError("--scenario", "expected circles, box-stack or box-pyramid, got '" + scenario + "'");
+  for (const dc::Vec2 x : box_positions(def, scenario))
+    add_dynamic(w, box, {static_cast<float>(x.x), static_cast<float>(x.y)}, 0, {0, 0}, 0, 1.0f, def);
+}
+
+/// Our definition of a box scenario: the scene's world, solver and contact settings, no
+/// generated bodies, the boxes as explicit [[body]] entries (1 × 1 m, density 1 kg/m²).
+dc::WorldDef box_scenario_def(dc::WorldDef def, const std::string& scenario) {
+  def.bodies.count = 0;
+  def.body.clear();
+  for (const dc::Vec2 x : box_positions(def, scenario)) {
+    dc::BodyDef b;
+    b.shape = "box";
+    b.size = {1.0, 1.0};
+    b.position = x;
+    b.density = 1.0;
+    def.body.push_back(b);
   }
+  return def;
 }
 
 struct Box2dRun {
   double cpu_s = 0, solve_velocity_ms = 0, step_ms = 0;
   long points = 0;  // Σ over steps of touching contact points
+  double drift = 0, penetration = 0;  // at the end [m] (box scenarios)
 };
 
 Box2dRun run_box2d(const dc::WorldDef& def, const Args& a, int steps, int iterations) {
@@ -141,6 +168,22 @@ Box2dRun run_box2d(const dc::WorldDef& def, const Args& a, int steps, int iterat
       if (c->IsTouching() && c->IsEnabled()) r.points += c->GetManifold()->pointCount;
   }
   r.cpu_s = thread_cpu_s() - t0;
+  if (a.scenario != "circles") {
+    const std::vector<dc::Vec2> start = box_positions(def, a.scenario);
+    size_t k = start.size();  // Box2D's body list is newest first
+    for (b2Body* b = w.GetBodyList(); b; b = b->GetNext()) {
+      if (b->GetType() != b2_dynamicBody || k == 0) continue;
+      --k;
+      r.drift = std::max(r.drift, std::abs(static_cast<double>(b->GetPosition().x) - start[k].x));
+    }
+    for (b2Contact* c = w.GetContactList(); c; c = c->GetNext()) {
+      if (!c->IsTouching()) continue;
+      b2WorldManifold wm;
+      c->GetWorldManifold(&wm);
+      for (int q = 0; q < c->GetManifold()->pointCount; ++q)
+        r.penetration = std::max(r.penetration, -static_cast<double>(wm.separations[q]));
+    }
+  }
   return r;
 }
 
@@ -175,7 +218,7 @@ int main(int argc, char** argv) {
   app.add_option("--iterations", a.iterations, "Velocity iterations = our sweeps (default: the scene's solver.sweeps)");
   app.add_option("--position-iterations", a.position_iterations, "Box2D position iterations (default 3)");
   app.add_option("--solver", a.solver, "Our solver (default: the scene's solver.name)");
-  app.add_option("--scenario", a.scenario, "circles (the scene's bodies), box-stack or box-pyramid (Box2D only)");
+  app.add_option("--scenario", a.scenario, "circles (the scene's bodies), box-stack (20 boxes) or box-pyramid (base 20)");
   app.add_flag("--skip-ours", a.skip_ours, "Run Box2D only");
   app.add_flag("--skip-box2d", a.skip_box2d, "Run our engine only");
   CLI11_PARSE(app, argc, argv);
@@ -201,18 +244,21 @@ int main(int argc, char** argv) {
                   "ns per point per velocity iteration %.2f (CPU; whole step: %.2f), per row (2 per point) %.2f\n",
                   b.cpu_s, static_cast<double>(b.points) / std::max(1, steps), 100 * share, ns_point,
                   1e9 * b.cpu_s / std::max(1.0, pi), 0.5 * ns_point);
+      if (a.scenario != "circles")
+        std::printf("box2d 2.4.1 stability: drift %.3e m (%.3f %% of the box width), penetration %.3e m\n", b.drift,
+                    100 * b.drift, b.penetration);
     }
     if (!a.skip_ours) {
-      if (a.scenario != "circles") {
-        std::printf("ours: scenario %s not available (the engine has no boxes yet)\n", a.scenario.c_str());
-      } else {
-        dc::World world(def);
+      {
+        const bool boxes = a.scenario != "circles";
+        dc::World world(boxes ? box_scenario_def(def, a.scenario) : def);
+        const std::vector<dc::Vec2> start = world.bodies().position;
         TimedSolver solver(dc::make_solver(a.solver));
         dc::SolverOptions o = dc::solver_options(def.solver);
         o.record_theta = false;
         const dc::WarmStarterRegistry reg = dc::default_warm_starters();
         auto starter = reg.make("builtin");
-        long rows = 0;
+        long rows = 0, points = 0;
         const double t0 = thread_cpu_s();
         for (int s = 0; s < steps; ++s) {
           const dc::StepReport r = world.step(solver, o, [&](const dc::World& w) {
@@ -220,8 +266,20 @@ int main(int argc, char** argv) {
           });
           starter->observe(dc::StepView{world, nullptr}, r.solve.lambda);
           rows += r.rows;
+          points += static_cast<long>(world.contacts().size());
         }
         ours_cpu = thread_cpu_s() - t0;
+        if (boxes) {
+          world.collide();  // the contacts of the final state
+          double drift = 0, penetration = 0;
+          for (size_t k = 0; k < start.size(); ++k)
+            drift = std::max(drift, std::abs(world.bodies().position[k].x - start[k].x));
+          for (const dc::Contact& c : world.contacts()) penetration = std::max(penetration, -c.gap);
+          std::printf("ours stability: drift %.3e m (%.3f %% of the box width), penetration %.3e m; "
+                      "contact points/step %.1f, solver ns per point per sweep %.2f\n",
+                      drift, 100 * drift, penetration, static_cast<double>(points) / std::max(1, steps),
+                      1e9 * solver.cpu_s / std::max(1.0, static_cast<double>(points) * iterations));
+        }
         std::printf("ours (%s, builtin warm start): run CPU %.3f s; rows/step %.1f; solver CPU %.3f s, "
                     "ns per row per sweep %.2f\n",
                     a.solver.c_str(), ours_cpu, static_cast<double>(rows) / std::max(1, steps), solver.cpu_s,
