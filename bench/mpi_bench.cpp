@@ -20,6 +20,9 @@ void per_step_fields(const Io& io, bench::BenchResults& r) {
   io(r.oracle_ms);
   io(r.oracle_residual);
   io(r.skipped_steps);
+  io(r.collide_ms);
+  io(r.assemble_ms);
+  io(r.integrate_ms);
   std::uint64_t n = r.starters.size();
   io(n);
   r.starters.resize(static_cast<std::size_t>(n));
@@ -30,6 +33,7 @@ void per_step_fields(const Io& io, bench::BenchResults& r) {
     io(s.step);
     io(s.rows);
     io(s.sweeps_to_tol);
+    io(s.sweeps_to_tol_high);
     io(s.warmstart_ms);
     io(s.oracle_ms);
     io(s.solve_ms);
@@ -69,6 +73,9 @@ void append(bench::BenchResults& to, const bench::BenchResults& from) {
   append(to.oracle_ms, from.oracle_ms);
   append(to.oracle_residual, from.oracle_residual);
   to.skipped_steps += from.skipped_steps;
+  append(to.collide_ms, from.collide_ms);
+  append(to.assemble_ms, from.assemble_ms);
+  append(to.integrate_ms, from.integrate_ms);
   if (from.starters.size() != to.starters.size()) throw IoError("bench: ranks report different starter lists");
   for (std::size_t i = 0; i < to.starters.size(); ++i) {
     bench::StarterRecord& t = to.starters[i];
@@ -77,6 +84,7 @@ void append(bench::BenchResults& to, const bench::BenchResults& from) {
     append(t.step, f.step);
     append(t.rows, f.rows);
     append(t.sweeps_to_tol, f.sweeps_to_tol);
+    append(t.sweeps_to_tol_high, f.sweeps_to_tol_high);
     append(t.warmstart_ms, f.warmstart_ms);
     append(t.oracle_ms, f.oracle_ms);
     append(t.solve_ms, f.solve_ms);
@@ -121,8 +129,14 @@ bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& o, const W
   if (!comm.is_root()) return local;
   bench::BenchResults merged = unpack(all[0]);
   for (std::size_t r = 1; r < all.size(); ++r) append(merged, unpack(all[r]));
-  merged.options = o;
+  // The options as run_bench resolved them (e.g. the default --budget), with every rank's seeds.
+  merged.options = local.options;
+  merged.options.seeds = o.seeds;
+  merged.options.scene = o.scene;
   merged.budgets = local.budgets;
+  // The report's reference frame is the first seed's, which rank 0's block holds.
+  merged.reference = local.reference;
+  merged.reference_scene = local.reference_scene;
   const auto t2 = Clock::now();
   merged.wall_seconds = std::chrono::duration<double>(t2 - t0).count();
   if (times) {
