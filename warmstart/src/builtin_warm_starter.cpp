@@ -4,6 +4,18 @@
 #include "starters.hpp"
 
 namespace dc {
+
+void put_previous_lambda_by_key(const World& w, Eigen::VectorXd& out) {
+  const auto& cur = w.contacts();
+  const auto& prev = w.previous_contacts();
+  const std::vector<int> match = match_contacts_by_key(prev, cur);
+  for (std::size_t c = 0; c < cur.size(); ++c) {
+    if (match[c] < 0) continue;
+    const Contact& p = prev[static_cast<std::size_t>(match[c])];
+    w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
+  }
+}
+
 namespace {
 
 class BuiltinWarmStarter final : public WarmStarter {
@@ -11,15 +23,8 @@ class BuiltinWarmStarter final : public WarmStarter {
   std::string name() const override { return "builtin"; }
   Eigen::VectorXd initial_guess(const StepView& v) override {
     const World& w = v.world;
-    const auto& cur = w.contacts();
-    const auto& prev = w.previous_contacts();
     Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
-    const std::vector<int> match = match_contacts_by_key(prev, cur);
-    for (std::size_t c = 0; c < cur.size(); ++c) {
-      if (match[c] < 0) continue;
-      const Contact& p = prev[static_cast<std::size_t>(match[c])];
-      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-    }
+    put_previous_lambda_by_key(w, out);
     project_feasible(w.problem(), out);
     return out;
   }

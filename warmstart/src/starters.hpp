@@ -10,6 +10,11 @@ inline void reject_argument(const WarmStartSpec& spec) {
     throw ConfigError("warm starter '" + spec.name + "' takes no argument (got '" + spec.full() + "')");
 }
 
+/// builtin's memory: overwrites in `out` the rows of every current contact of `w` whose key
+/// the previous step had with that contact's solved (λ_n, λ_t); other rows keep their value
+/// (0 for builtin, the statics guess for builtin-statics). Defined in builtin_warm_starter.cpp.
+void put_previous_lambda_by_key(const World& w, Eigen::VectorXd& out);
+
 std::unique_ptr<WarmStarter> make_zero_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_builtin_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec&, const WarmStartEnv&);

@@ -71,15 +71,8 @@ class StaticsWarmStarter final : public WarmStarter {
   std::string name() const override { return "builtin-statics"; }
   Eigen::VectorXd initial_guess(const StepView& v) override {
     const World& w = v.world;
-    const auto& cur = w.contacts();
-    const auto& prev = w.previous_contacts();
     Eigen::VectorXd out = statics_guess(w);
-    const std::vector<int> match = match_contacts_by_key(prev, cur);
-    for (std::size_t c = 0; c < cur.size(); ++c) {
-      if (match[c] < 0) continue;
-      const Contact& p = prev[static_cast<std::size_t>(match[c])];
-      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-    }
+    put_previous_lambda_by_key(w, out);
     project_feasible(w.problem(), out);
     return out;
   }
