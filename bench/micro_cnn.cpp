@@ -30,6 +30,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -82,19 +83,37 @@ double cpu_ms() {
   return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 
+/// The starter's model, a feature-image builder of its grid on the scene's box and the
+/// feature tensor: what the part-by-part benchmarks run the pipeline with (1 thread).
+struct StarterParts {
+  std::unique_ptr<dc::CnnWarmStarter> starter;
+  dc::FeatureImageDef def;
+  std::optional<dc::FeatureImageBuilder> builder;
+  dc::Tensor features;
+  bool residual = false;
+
+  StarterParts(const std::string& path, const dc::World& world)
+      : starter(dc::CnnWarmStarter::load(path, "cnn", false)), def(starter->model().grid().image) {
+    omp_set_num_threads(1);
+    def.sph.grid.width = world.def().world.width;
+    def.sph.grid.height = world.def().world.height;
+    builder.emplace(def);
+    features = dc::Tensor(1, builder->feature_channels(), builder->ny(), builder->nx());
+    residual = starter->model().grid().labels.kind == dc::LabelKind::Residual;
+  }
+};
+
 /// features → network_output_at → guess_from_output, each part timed in CPU ms: the
 /// starter's initial_guess without the residual add (its own split is wall time).
 void BM_CnnWarmStartParts(benchmark::State& state, std::string path, int steps) {
   const dc::World& world = seed_world(steps);
-  auto starter = dc::CnnWarmStarter::load(path, "cnn", false);
-  omp_set_num_threads(1);
+  StarterParts parts(path, world);
+  dc::CnnWarmStarter* starter = parts.starter.get();
   dc::Model& model = starter->model();
-  dc::FeatureImageDef def = model.grid().image;
-  def.sph.grid.width = world.def().world.width;
-  def.sph.grid.height = world.def().world.height;
-  dc::FeatureImageBuilder builder(def);
-  dc::Tensor features(1, builder.feature_channels(), builder.ny(), builder.nx());
-  const bool residual = model.grid().labels.kind == dc::LabelKind::Residual;
+  const dc::FeatureImageDef& def = parts.def;
+  dc::FeatureImageBuilder& builder = *parts.builder;
+  dc::Tensor& features = parts.features;
+  const bool residual = parts.residual;
   // The stencil nodes, as the starter lists them (its own list is private).
   std::vector<int> pixels;
   {
@@ -148,20 +167,12 @@ void BM_CnnWarmStart(benchmark::State& state, std::string path, int steps) {
 // correction's final add/projection (a few µs) is left out. Same features and network.
 void BM_CnnWarmStartPredictAll(benchmark::State& state, std::string path, int steps) {
   const dc::World& world = seed_world(steps);
-  auto starter = dc::CnnWarmStarter::load(path, "cnn", false);
-  omp_set_num_threads(1);
-  dc::Model& model = starter->model();
-  dc::FeatureImageDef def = model.grid().image;
-  def.sph.grid.width = world.def().world.width;
-  def.sph.grid.height = world.def().world.height;
-  dc::FeatureImageBuilder builder(def);
-  dc::Tensor features(1, builder.feature_channels(), builder.ny(), builder.nx());
-  const bool residual = model.grid().labels.kind == dc::LabelKind::Residual;
+  StarterParts p(path, world);
   for (auto _ : state) {
-    builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
-                     std::span<float>(features.data(), features.size()));
-    const dc::Tensor labels = model.predict(features);
-    benchmark::DoNotOptimize(starter->guess_from_labels(world, labels, !residual).data());
+    p.builder->features(world.bodies(), world.contacts(), world.previous_contacts(),
+                         std::span<float>(p.features.data(), p.features.size()));
+    const dc::Tensor labels = p.starter->model().predict(p.features);
+    benchmark::DoNotOptimize(p.starter->guess_from_labels(world, labels, !p.residual).data());
   }
 }
 

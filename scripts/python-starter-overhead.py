@@ -27,24 +27,6 @@ class PyZero(dc.WarmStarter):
         return np.zeros(view.rows)
 
 
-class PyBuiltin(dc.WarmStarter):
-    def name(self):
-        return "py-builtin"
-
-    def initial_guess(self, view):
-        w = view.world
-        cur, prev = w.contacts, w.previous_contacts
-        old = {tuple(k): lam for k, lam in zip(prev.key.tolist(), prev["lambda"].tolist())}
-        lam0 = np.zeros(w.rows)
-        for c, key in enumerate(cur.key.tolist()):
-            hit = old.get(tuple(key))
-            if hit is not None:
-                lam0[cur.normal_row[c]] = hit[0]
-                if cur.tangent_row[c] >= 0:
-                    lam0[cur.tangent_row[c]] = hit[1]
-        return lam0
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--steps", type=int, default=200)
@@ -53,7 +35,7 @@ def main():
     a = ap.parse_args()
     c0 = resource.getrusage(resource.RUSAGE_SELF).ru_utime
     t0 = time.perf_counter()
-    s = dc.bench(warmstarts=["zero", PyZero(), "builtin", PyBuiltin()], seeds=a.seeds, steps=a.steps,
+    s = dc.bench(warmstarts=["zero", PyZero(), "builtin", dc.PyBuiltin()], seeds=a.seeds, steps=a.steps,
                  sweeps=a.sweeps)
     wall = time.perf_counter() - t0
     cpu = resource.getrusage(resource.RUSAGE_SELF).ru_utime - c0

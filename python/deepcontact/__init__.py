@@ -86,6 +86,7 @@ def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="
 
 
 from .trajectory import Trajectory, read_trajectory  # noqa: E402,F401
+from .starters import PyBuiltin, previous_lambda_by_key  # noqa: E402,F401
 
 
 def render(trajectory, out, frame=None, every=None, progress=True):
@@ -99,5 +100,5 @@ def render(trajectory, out, frame=None, every=None, progress=True):
 __all__ = [
     "ConfigError", "InvalidArgument", "IoError", "Problem", "Result", "StepView", "World", "Fields",
     "WarmStarter", "bench", "read_lcp_dat", "write_lcp_dat", "solve", "solvers", "warmstarters",
-    "Trajectory", "read_trajectory", "render",
+    "Trajectory", "read_trajectory", "render", "PyBuiltin", "previous_lambda_by_key",
 ]

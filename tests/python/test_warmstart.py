@@ -9,26 +9,6 @@ from conftest import SMALL
 BENCH = dict(seeds=(1,), steps=70, sweeps=300, set={"bodies.count": 25, "bodies.sigma": 3.0, "bodies.mean": [15.0, 7.0]})
 
 
-class PyBuiltin:
-    """builtin in Python: the previous step's solved λ of the contact with the same key."""
-
-    def name(self):
-        return "py-builtin"
-
-    def initial_guess(self, view):
-        w = view.world
-        cur, prev = w.contacts, w.previous_contacts
-        old = {tuple(k): lam for k, lam in zip(prev.key.tolist(), prev["lambda"].tolist())}
-        lam0 = np.zeros(w.rows)
-        for c, key in enumerate(cur.key.tolist()):
-            hit = old.get(tuple(key))
-            if hit is not None:
-                lam0[cur.normal_row[c]] = hit[0]
-                if cur.tangent_row[c] >= 0:
-                    lam0[cur.tangent_row[c]] = hit[1]
-        return lam0
-
-
 def per_step_sweeps(results_h5):
     with h5py.File(results_h5, "r") as f:
         names = [n.decode() if isinstance(n, bytes) else n for n in f["/warmstarter_names"][()]]
@@ -37,7 +17,7 @@ def per_step_sweeps(results_h5):
 
 
 def test_python_builtin_gives_exactly_the_builtin_sweeps(dc, tmp_path):
-    summary = dc.bench(warmstarts=["zero", "builtin", PyBuiltin()], out=tmp_path / "b", **BENCH)
+    summary = dc.bench(warmstarts=["zero", "builtin", dc.PyBuiltin()], out=tmp_path / "b", **BENCH)
     s = per_step_sweeps(tmp_path / "b" / "results.h5")
     assert len(s["builtin"]) > 30
     assert np.array_equal(s["py-builtin"], s["builtin"])
@@ -80,7 +60,7 @@ def test_subclass_with_oracle_and_observe(dc):
 
 def test_python_starter_drives_world_step(dc):
     a, b = dc.World(set=SMALL), dc.World(set=SMALL)
-    starter = PyBuiltin()
+    starter = dc.PyBuiltin()
     for _ in range(SMALL["time.steps"]):
         ra = a.step(sweeps=200, warmstart="builtin")
         rb = b.step(sweeps=200, warmstart=starter)
