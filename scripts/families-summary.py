@@ -12,6 +12,8 @@ sweep [ms] (so a warm start that costs X ms must save X / sweep_ms sweeps to pay
 
     /usr/bin/python3 scripts/families-summary.py RESULTS.h5 [MORE.h5 ...] [--first-step S]
 """
+import json
+import os
 import sys
 
 import h5py
@@ -24,11 +26,17 @@ if "--first-step" in sys.argv:
     args = [a for a in args if a != str(first)]
 dec = lambda a: [n.decode() if isinstance(n, bytes) else n for n in a]
 
+ratios = {}  # name -> (median-sweeps ratio, mean-total ratio) to builtin, bootstrap intervals (summary.json)
 rows = {}  # name -> dict of per-step arrays (keyed by (seed, step))
 order = []
 budget_col = None
 for path in args:
     f = h5py.File(path, "r")
+    sj = os.path.join(os.path.dirname(path), "summary.json")
+    if os.path.exists(sj):
+        for r in json.load(open(sj))["statistics"]["ratios"]:
+            if r["reference"] == "builtin" and r["name"] not in ratios:
+                ratios[r["name"]] = (r["median_sweeps_to_tol"], r["mean_total_ms"])
     budgets = list(f["budgets"][:])
     bcol = budgets.index(100) if 100 in budgets else None
     for n, grp in zip(dec(f["warmstarter_names"][:]), dec(f["warmstarter_groups"][:])):
@@ -63,8 +71,8 @@ def paired(r):
 r0 = rows[order[0]]
 hc = r0["hcap"]
 print("steps per starter: %d (seeds %s; steps >= %d)" % (len(r0["key"]), sorted({int(k[0]) for k in r0["key"]}), first))
-hdr = ("| starter | median sweeps | never (%d) | median sweeps, cap %s | never (%s) | / builtin | fewer / more than builtin "
-       "| median λ⁰ err [N] | resid@100 [N] | warm-start ms | total ms |" % (r0["cap"], hc, hc))
+hdr = ("| starter | median sweeps | never (%d) | median sweeps, cap %s | never (%s) | / builtin [95 %%] | fewer / more than builtin "
+       "| median λ⁰ err [N] | resid@100 [N] | warm-start ms | total ms | mean total / builtin [95 %%] |" % (r0["cap"], hc, hc))
 print(hdr)
 print("|---|" + "---:|" * (hdr.count("|") - 2))
 for n in order:
@@ -75,9 +83,12 @@ for n in order:
     cap_s = lambda m, c: "never" if m > c else "%.0f" % m
     hi = "—" if r["hi"] is None else cap_s(np.median(r["hi"]), r["hcap"])
     hn = "—" if r["hi"] is None else "%.1f %%" % (100 * r["hnever"].mean())
-    print("| %s%s | %s | %.1f %% | %s | %s | %.2f | %.0f / %.0f %% | %.3g | %s | %.3f | %.2f |" % (
-        n, " *" if r["oracle"] else "", cap_s(med, r["cap"]), 100 * r["never"].mean(), hi, hn, ratio, fewer, more,
+    iv = lambda x: "%.2f [%.2f, %.2f]" % (x["estimate"], x["lo"], x["hi"])
+    rs = iv(ratios[n][0]) if n in ratios else "%.2f" % ratio
+    rt = iv(ratios[n][1]) if n in ratios else ("1" if n == "builtin" else "—")
+    print("| %s%s | %s | %.1f %% | %s | %s | %s | %.0f / %.0f %% | %.3g | %s | %.3f | %.2f | %s |" % (
+        n, " *" if r["oracle"] else "", cap_s(med, r["cap"]), 100 * r["never"].mean(), hi, hn, rs, fewer, more,
         np.median(r["err"]), "—" if r["res"] is None else "%.2g" % np.median(r["res"]), np.median(r["ws"]),
-        np.median(r["tot"])))
+        np.median(r["tot"]), rt))
 print("\n`*` = oracle starter (uses this step's λ*). Median cost of one PGS sweep: %.4f ms (builtin's steps)."
       % np.median((base or r0)["sweep_ms"]))
