@@ -69,7 +69,7 @@ def paired(r):
     return 100 * np.mean(r["sw"] < base["sw"]), 100 * np.mean(r["sw"] > base["sw"])
 
 r0 = rows[order[0]]
-hc = r0["hcap"]
+hc = r0["hcap"] if r0["hcap"] is not None else "—"
 print("steps per starter: %d (seeds %s; steps >= %d)" % (len(r0["key"]), sorted({int(k[0]) for k in r0["key"]}), first))
 hdr = ("| starter | median sweeps | never (%d) | median sweeps, cap %s | never (%s) | / builtin [95 %%] | fewer / more than builtin "
        "| median λ⁰ err [N] | resid@100 [N] | warm-start ms | total ms | mean total / builtin [95 %%] |" % (r0["cap"], hc, hc))
