@@ -41,12 +41,27 @@ void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o) {
 namespace {
 
 /// The init model's network and statistics in a model whose dead zone is `deadzone`.
-Model with_deadzone(Model& init, double deadzone) {
+/// The --init model with the data set's dead zone, on the data set's grid `image` (the box
+/// may differ: the fully convolutional network is rebuilt for the data's nx × ny and takes
+/// every parameter over by name, as the cnn starter does on another box). ConfigError when
+/// the kernel, d, h or channels differ, or the network cannot run on that grid.
+Model regridded(Model& init, const FeatureImageDef& image, double deadzone, const std::string& init_path) {
   ModelGrid g = init.grid();
+  const SphTransferDef &a = g.image.sph, &b = image.sph;
+  if (a.kernel != b.kernel || a.grid.spacing != b.grid.spacing || a.support != b.support ||
+      g.image.channels != image.channels)
+    throw ConfigError("--init " + init_path + ": its kernel, node spacing, support or feature channels differ from the data set's");
+  g.image = image;
   g.labels.deadzone = deadzone;
   Model m(init.network().arch(), g, init.network().input_shape().c);
   std::vector<ParamRef> src = init.network().parameters(), dst = m.network().parameters();
-  for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
+  for (std::size_t i = 0; i < src.size(); ++i) {
+    if (src[i].value->shape() != dst[i].value->shape())
+      throw ConfigError("--init " + init_path + ": parameter '" + src[i].name + "' depends on the grid size (" +
+                        std::to_string(init.grid().nx()) + " x " + std::to_string(init.grid().ny()) + " vs the data's " +
+                        std::to_string(m.grid().nx()) + " x " + std::to_string(m.grid().ny()) + ")");
+    *dst[i].value = *src[i].value;
+  }
   m.input_stats = init.input_stats;
   m.output_stats = init.output_stats;
   return m;
@@ -78,10 +93,9 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
 
   const DataSetReader reader(c.data);
   Model init = load_model(o.init);
-  if (init.grid().nx() != reader.nx() || init.grid().ny() != reader.ny() ||
-      init.network().input_shape().c != reader.feature_channels())
-    throw ConfigError("--init " + o.init + ": its grid or feature channels differ from " + c.data + "'s");
-  Model model = with_deadzone(init, c.deadzone);
+  if (init.network().input_shape().c != reader.feature_channels())
+    throw ConfigError("--init " + o.init + ": its feature channels differ from " + c.data + "'s");
+  Model model = regridded(init, reader.params().image, c.deadzone, o.init);
 
   std::vector<int> sims;
   for (const DataSetSimulation& s : reader.simulations()) sims.push_back(s.index);

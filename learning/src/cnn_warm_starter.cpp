@@ -52,24 +52,29 @@ void CnnWarmStarter::prepare(const World& world) {
   const double W = world.def().world.width, H = world.def().world.height;
   if (builder_ && W == box_w_ && H == box_h_) return;
   const ModelGrid& g = model_.grid();
-  // The model's feature image (kernel, d, h, channels) on this scene's box.
+  // The model's feature image (kernel, d, h, channels) on this scene's box: the same node
+  // spacing and kernel support, so a node sees the same physical neighbourhood as in
+  // training, and the fully convolutional network runs on this grid's nx × ny with the
+  // trained weights (Network::set_input_size; the model's own grid leaves it untouched).
   FeatureImageDef def = g.image;
   def.sph.grid.width = W;
   def.sph.grid.height = H;
   builder_.emplace(def);
-  if (builder_->nx() != g.nx() || builder_->ny() != g.ny()) {
-    const int nx = builder_->nx(), ny = builder_->ny();
+  const int nx = builder_->nx(), ny = builder_->ny();
+  try {
+    model_.network().set_input_size(ny, nx);
+  } catch (const ConfigError& e) {
     builder_.reset();
-    throw ConfigError(name_ + ": the model was trained on a " + std::to_string(g.nx()) + " x " + std::to_string(g.ny()) +
-                      " grid, but this scene's " + std::to_string(W) + " x " + std::to_string(H) + " box gives " +
-                      std::to_string(nx) + " x " + std::to_string(ny) + " at d = " + std::to_string(def.sph.grid.spacing));
+    throw ConfigError(name_ + ": the model (trained on a " + std::to_string(g.nx()) + " x " + std::to_string(g.ny()) +
+                      " grid) cannot run on this scene's " + std::to_string(nx) + " x " + std::to_string(ny) +
+                      " grid: " + e.what());
   }
   SphTransferDef t = def.sph;
   t.grid.channels = FeatureImageBuilder::kLabelChannels;
   t.normalisation = SphNormalisation::Shepard;
   transfer_.emplace(t);
   grid_ = SphGrid(t.grid);
-  features_ = Tensor(1, builder_->feature_channels(), g.ny(), g.nx());
+  features_ = Tensor(1, builder_->feature_channels(), ny, nx);
   box_w_ = W;
   box_h_ = H;
 }

@@ -247,6 +247,27 @@ void Network::backward(const Tensor& dy) {
   }
 }
 
+void Network::set_input_size(int h, int w) {
+  if (h == in_.h && w == in_.w) return;
+  const std::string where = "arch '" + arch_.name + "' on a " + std::to_string(h) + " x " + std::to_string(w) + " input";
+  Network other = [&] {
+    try {
+      return Network(arch_, Shape{1, in_.c, h, w});
+    } catch (const ConfigError& e) {
+      throw ConfigError(where + ": " + e.what());
+    }
+  }();
+  std::vector<ParamRef> mine = parameters(), theirs = other.parameters();
+  // Same arch, so the same parameter names in the same order; only their shapes can differ.
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    if (mine[k].value->shape() != theirs[k].value->shape())
+      throw ConfigError(where + ": parameter '" + mine[k].name + "' is " + mine[k].value->shape().str() + ", needs " +
+                        theirs[k].value->shape().str() + " (a size-dependent layer: the arch is not fully convolutional)");
+    *theirs[k].value = *mine[k].value;
+  }
+  *this = std::move(other);
+}
+
 std::vector<ParamRef> Network::parameters() {
   std::vector<ParamRef> all;
   for (std::size_t i = 0; i < nodes_.size(); ++i)

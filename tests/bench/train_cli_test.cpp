@@ -179,6 +179,36 @@ TEST(TrainCli, PgsResidualLossTrainsFromAResidualInitModel) {
   EXPECT_NE(r.err.find("--loss"), std::string::npos) << r.err;
 }
 
+// The --init model may come from another box (the cnn starter runs a fully convolutional
+// model on any grid): trained on the 12 × 12 box's 25 × 25 grid, fine-tuned through PGS on a
+// 16 × 12 box's data (33 × 25); the written model carries the new data set's grid. Another
+// node spacing is a one-line error.
+TEST(TrainCli, PgsLossStartsFromAModelOfAnotherBox) {
+  Dir dir;
+  Result r = test::run_cli("train --data " + data_set(Channels::Residual) + " --out " + (dir / "r.h5") +
+                           " --epochs 1 --residual" + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string ch = " --channels mass,vx,vy,omega,contact_density,lambda_prev_n,lambda_prev_t,vrel_n,vrel_t,gap";
+  const std::string wide = " --set world.width=16 --set world.height=12 --set bodies.mean=[8.0,6.0] --set bodies.sigma=2.0"
+                           " --seed 9 --count 10..14 --steps 60 --threads 1";
+  r = test::run_cli("generate --sims 2" + wide + ch + " --out " + (dir / "wide.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_cli("train --data " + (dir / "wide.h5") + " --out " + (dir / "p.h5") +
+                    " --epochs 1 --loss pgs-residual --unroll 3 --init " + (dir / "r.h5") + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Model m = load_model(dir / "p.h5");
+  EXPECT_EQ(m.grid().nx(), 33);
+  EXPECT_EQ(m.grid().ny(), 25);
+  EXPECT_EQ(m.network().input_shape().w, 33);
+  r = test::run_cli("generate --sims 1" + wide + ch + " --grid poly6:0.4:0.355 --out " + (dir / "fine.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_cli("train --data " + (dir / "fine.h5") + " --out " + (dir / "q.h5") +
+                    " --epochs 1 --loss pgs-residual --unroll 3 --init " + (dir / "r.h5") + kTrain);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("node spacing"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+}
+
 TEST(TrainCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   Dir dir;
   const std::string args = "train --data " + data_set() + " --epochs 8" + kTrain;

@@ -1,7 +1,8 @@
 // The cnn / cnn-hybrid warm starters: a finite, feasible guess of the right size from a
 // tiny random model on a tiny scene; the gather path reads the data-set builder's label
 // grid of λ* back exactly as the `sph` starter does; the hybrid keeps builtin's values for
-// persistent contacts; model selection and grid checks fail with clear errors.
+// persistent contacts; a fully convolutional model runs on any box; model selection and
+// size-dependent networks on another grid fail with clear errors.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -177,6 +178,153 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   EXPECT_THROW(Model(ArchSpec::parse("name = \"x\"\n[[layer]]\ntype = \"conv\"\nout = 2\n"), bad, 5), ConfigError);
 }
 
+/// 12 circles near the floor of a W × H box (they touch within a few steps).
+WorldDef floor_scene(double width, double height) {
+  WorldDef d = tiny_scene();
+  d.world.width = width;
+  d.world.height = height;
+  d.bodies.mean = {width / 2, 3.0};
+  d.bodies.sigma = 1.5;
+  return d;
+}
+
+/// A small fully convolutional U-Net like models/arch/unet-fast.toml (stride-2 encoder,
+/// upsampling matched to the encoder, 1×1 per-node head on the upsampled decoder and the
+/// input: the sparse forward_at path), random weights, for the residual channels on `image`.
+Model unet_model(const FeatureImageDef& image) {
+  ModelGrid g;
+  g.image = image;
+  g.label_channels = label_channel_names();
+  g.labels.kind = LabelKind::Residual;
+  const std::string arch = R"(
+name = "tiny-unet"
+[[layer]]
+name = "e1"
+type = "conv"
+out = 4
+stride = 2
+relu = true
+[[layer]]
+name = "e2"
+type = "conv"
+out = 4
+stride = 2
+relu = true
+[[layer]]
+name = "u1"
+type = "upsample"
+match = "e1"
+[[layer]]
+name = "d1"
+type = "conv"
+input = ["u1", "e1"]
+out = 4
+relu = true
+[[layer]]
+name = "u0"
+type = "upsample"
+match = "input"
+[[layer]]
+name = "out"
+type = "conv"
+input = ["u0", "input"]
+out = 2
+kernel = 1
+)";
+  Model m(ArchSpec::parse(arch), g, static_cast<int>(image.channels.size()));
+  Rng rng(21);
+  m.network().initialize(*make_initializer("he_normal"), rng);
+  m.output_stats.mean = {0.5f, 0.0f};
+  m.output_stats.std = {2.0f, 0.5f};
+  return m;
+}
+
+/// `m`'s weights and statistics in a model built for the grid `image`.
+Model same_weights_on(Model& m, const FeatureImageDef& image) {
+  ModelGrid g = m.grid();
+  g.image = image;
+  Model out(m.network().arch(), g, m.network().input_shape().c);
+  const auto src = m.network().parameters(), dst = out.network().parameters();
+  for (std::size_t i = 0; i < src.size(); ++i) *dst[i].value = *src[i].value;
+  out.input_stats = m.input_stats;
+  out.output_stats = m.output_stats;
+  return out;
+}
+
+// The network is fully convolutional: a model trained on the seed's 61 × 61 grid runs on a
+// 20 × 120 box's 41 × 241 grid with its own weights — exactly what a model built for that
+// grid with the same weights gives — and, back on its own box, gives bit for bit what it gave
+// before it ran elsewhere (and what a starter that never left that box gives).
+TEST(CnnWarmStarter, FullyConvolutionalModelRunsOnAnotherBoxWithTheSameWeights) {
+  FeatureImageDef seed_img = FeatureImageDef::for_box(30.0, 30.0), tall_img = FeatureImageDef::for_box(20.0, 120.0);
+  seed_img.channels = tall_img.channels = residual_feature_channels();
+  ASSERT_EQ(FeatureImageBuilder(seed_img).nx(), 61);
+  ASSERT_EQ(FeatureImageBuilder(tall_img).nx(), 41);
+  ASSERT_EQ(FeatureImageBuilder(tall_img).ny(), 241);
+  World seed(floor_scene(30.0, 30.0)), tall(floor_scene(20.0, 120.0));
+  advance_to_contacts(seed);
+  advance_to_contacts(tall);
+
+  Model m = unet_model(seed_img);
+  Model on_tall = same_weights_on(m, tall_img);
+  CnnWarmStarter moving(unet_model(seed_img), "cnn", false), home(unet_model(seed_img), "cnn", false);
+  CnnWarmStarter native(std::move(on_tall), "cnn", false);
+
+  const Eigen::VectorXd seed_before = moving.initial_guess(StepView{seed, nullptr});
+  const Eigen::VectorXd tall_guess = moving.initial_guess(StepView{tall, nullptr});
+  expect_feasible(tall, tall_guess);
+  EXPECT_EQ(tall_guess, native.initial_guess(StepView{tall, nullptr}));
+  const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{tall, nullptr});
+  EXPECT_GT((tall_guess - b).cwiseAbs().maxCoeff(), 1e-6);  // the network's correction reaches the contacts
+  EXPECT_EQ(moving.model().network().input_shape().w, 41);
+  EXPECT_EQ(moving.model().network().output_shape().h, 241);
+
+  const Eigen::VectorXd seed_after = moving.initial_guess(StepView{seed, nullptr});
+  EXPECT_EQ(seed_after, seed_before);
+  EXPECT_EQ(seed_after, home.initial_guess(StepView{seed, nullptr}));
+  EXPECT_EQ(moving.model().network().input_shape().w, 61);
+}
+
+// A network whose parameters depend on the grid size (a dense head) cannot run on another
+// box: one ConfigError naming the starter, both grids and the layer.
+TEST(CnnWarmStarter, SizeDependentNetworkIsRefusedOnAnotherBox) {
+  FeatureImageDef img = FeatureImageDef::for_box(12.0, 12.0);
+  img.channels = residual_feature_channels();
+  ModelGrid g;
+  g.image = img;
+  g.labels.kind = LabelKind::Residual;
+  const FeatureImageBuilder b(img);
+  Model m(ArchSpec::parse(R"(
+name = "dense-head"
+[[layer]]
+type = "conv"
+out = 2
+stride = 2
+[[layer]]
+type = "dense"
+out = [2, 25, 25]
+)"),
+          g, b.feature_channels());
+  CnnWarmStarter cnn(std::move(m), "cnn:dense.h5", false);
+  World own(floor_scene(12.0, 12.0)), other(floor_scene(20.0, 12.0));
+  advance_to_contacts(own);
+  advance_to_contacts(other);
+  EXPECT_NO_THROW((void)cnn.initial_guess(StepView{own, nullptr}));
+  try {
+    (void)cnn.initial_guess(StepView{other, nullptr});
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("cnn:dense.h5"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("25 x 25"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("41 x 25"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("weight"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  // It still runs on its own box afterwards.
+  EXPECT_NO_THROW((void)cnn.initial_guess(StepView{own, nullptr}));
+}
+
 // The starter converts only the nodes its read-back reads (guess_from_output); that must be
 // exactly the read-back of the whole predicted label grid, with label compression (s·sinh),
 // over consecutive steps (the per-call node marks must not leak stale values).
@@ -281,11 +429,12 @@ TEST(CnnWarmStarter, RegistrySelectsTheModelAndReportsErrors) {
   env.model_path = (dir / "tiny.h5").string();
   auto b = r.make("cnn", env);
   EXPECT_EQ(a->initial_guess(StepView{world, nullptr}), b->initial_guess(StepView{world, nullptr}));
-  // A model for another grid (30 × 30 box → 61 × 61) on the 12 × 12 scene → ConfigError.
+  // A (fully convolutional) model for another grid (30 × 30 box → 61 × 61) runs on the
+  // 12 × 12 scene's 25 × 25 grid (size-dependent networks: SizeDependentNetworkIsRefused…).
   Model big = tiny_model(30.0);
   save_model(big, dir / "big.h5");
   auto c = r.make("cnn:" + (dir / "big.h5").string());
-  EXPECT_THROW((void)c->initial_guess(StepView{world, nullptr}), ConfigError);
+  expect_feasible(world, c->initial_guess(StepView{world, nullptr}));
   // Not a model file → IoError.
   { std::ofstream(dir / "junk.h5") << "not hdf5"; }
   EXPECT_THROW((void)r.make("cnn:" + (dir / "junk.h5").string()), IoError);

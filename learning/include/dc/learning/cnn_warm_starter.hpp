@@ -20,8 +20,11 @@
 // the shipped model). A missing or unreadable model is an IoError when the starter is made.
 //
 // The model file stores the grid (d, h, kernel, nx, ny) and the feature channel names it was
-// trained on; the starter rebuilds the feature image with exactly those, on the scene's box,
-// and refuses (ConfigError) a scene whose box gives another node count.
+// trained on; the starter rebuilds the feature image with exactly those, on the scene's box.
+// When that box gives another node count than the training grid, the (fully convolutional)
+// network is re-targeted to the scene's nx × ny with the same weights (Network::set_input_size):
+// one model runs on any box size. A network that cannot (a dense layer, an explicit upsample
+// size) is refused with a ConfigError naming the model's and the scene's grid.
 //
 // Cost: initial_guess() is the whole cost the bench times (feature image + inference +
 // gather); last_timing() splits the last call, total_timing() sums all calls.
@@ -60,7 +63,7 @@ class CnnWarmStarter final : public WarmStarter {
 
   [[nodiscard]] std::string name() const override { return name_; }
   /// λ⁰ in the problem's row order, finite, projected into the bounds. Throws ConfigError
-  /// when the scene's box does not give the model's grid.
+  /// when the network cannot run on the grid of the scene's box (see the file comment).
   Eigen::VectorXd initial_guess(const StepView& view) override;
 
   /// The gather path alone: the values of `world`'s contacts read back from a raw label grid
@@ -79,7 +82,8 @@ class CnnWarmStarter final : public WarmStarter {
   [[nodiscard]] Model& model() { return model_; }
 
  private:
-  /// (Re)builds the feature builder and transfer for the scene's box; checks the grid.
+  /// (Re)builds the feature builder and transfer for the scene's box and sizes the network
+  /// for its grid (ConfigError when the network cannot run there).
   void prepare(const World& world);
   /// The grid nodes (j·nx + i) of the bilinear stencils of world's contacts, each once.
   std::span<const int> stencil_nodes(const World& world);

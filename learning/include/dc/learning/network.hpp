@@ -48,6 +48,17 @@ class Network {
   /// Backward from dL/dy of the last forward; overwrites every parameter gradient.
   void backward(const Tensor& dy);
 
+  /// Re-targets the network to input samples [·, in.c, h, w] of another height and width
+  /// (same channels): the graph is rebuilt from the arch for the new size (every `match`
+  /// upsampling takes its new target's size) and each parameter is carried over by name,
+  /// so a fully convolutional net (conv, relu, dropout, matched upsampling) runs on any
+  /// grid with the weights it was trained with. A no-op when the size is unchanged (the
+  /// network is then untouched, bit for bit). Throws ConfigError naming the arch, the size
+  /// and the layer when it cannot run there: a parameter whose shape depends on the input
+  /// size (dense) or a layer that does not fit it (an explicit upsample size). Dropout
+  /// layers lose their set_rng / set_batch_window bindings (rebind them before training).
+  void set_input_size(int h, int w);
+
   /// All parameters, named "<node>/weight" etc., in node order (stable: the model file
   /// and the optimiser rely on it).
   std::vector<ParamRef> parameters();
