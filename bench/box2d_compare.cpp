@@ -4,6 +4,7 @@
 //
 //   build/bench/box2d_compare [--scene scenes/seed.toml] [--steps N] [--iterations K]
 //                             [--solver pgs|pgs-colored|…] [--scenario circles|box-stack|box-pyramid]
+//                             [--row-by-row]   (pgs: SolverOptions::block_manifolds = false)
 //
 // Reported (CPU time of this thread, getrusage-free clock_gettime(CLOCK_THREAD_CPUTIME_ID)):
 //  * Box2D: the whole run's CPU time; ns per contact point per velocity iteration: the run's
@@ -55,6 +56,7 @@ struct Args {
   std::string scenario = "circles";
   bool skip_ours = false;
   bool skip_box2d = false;
+  bool row_by_row = false;  // pgs without the two-point manifold block
 };
 
 /// Static box walls [0, W] × [0, H] as two-sided edges (only the walls the scene enables).
@@ -221,6 +223,8 @@ int main(int argc, char** argv) {
   app.add_option("--scenario", a.scenario, "circles (the scene's bodies), box-stack (20 boxes) or box-pyramid (base 20)");
   app.add_flag("--skip-ours", a.skip_ours, "Run Box2D only");
   app.add_flag("--skip-box2d", a.skip_box2d, "Run our engine only");
+  app.add_flag("--row-by-row", a.row_by_row,
+               "pgs: solve a two-point manifold's normal rows one by one instead of as one 2x2 block");
   CLI11_PARSE(app, argc, argv);
   try {
     dc::WorldDef def = dc::load_scene(a.scene);
@@ -256,6 +260,7 @@ int main(int argc, char** argv) {
         TimedSolver solver(dc::make_solver(a.solver));
         dc::SolverOptions o = dc::solver_options(def.solver);
         o.record_theta = false;
+        o.block_manifolds = !a.row_by_row;
         const dc::WarmStarterRegistry reg = dc::default_warm_starters();
         auto starter = reg.make("builtin");
         long rows = 0, points = 0;
@@ -280,9 +285,9 @@ int main(int argc, char** argv) {
                       drift, 100 * drift, penetration, static_cast<double>(points) / std::max(1, steps),
                       1e9 * solver.cpu_s / std::max(1.0, static_cast<double>(points) * iterations));
         }
-        std::printf("ours (%s, builtin warm start): run CPU %.3f s; rows/step %.1f; solver CPU %.3f s, "
+        std::printf("ours (%s%s, builtin warm start): run CPU %.3f s; rows/step %.1f; solver CPU %.3f s, "
                     "ns per row per sweep %.2f\n",
-                    a.solver.c_str(), ours_cpu, static_cast<double>(rows) / std::max(1, steps), solver.cpu_s,
+                    a.solver.c_str(), a.row_by_row ? ", row by row" : "", ours_cpu, static_cast<double>(rows) / std::max(1, steps), solver.cpu_s,
                     1e9 * solver.cpu_s / std::max(1.0, solver.row_sweeps));
       }
     }

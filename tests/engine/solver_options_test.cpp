@@ -19,6 +19,7 @@ TEST(SolverOptionsFromScene, CopiesSweepsToleranceOmegaAndKeepsTheRestAtDefaults
   const SolverOptions defaults;
   EXPECT_EQ(o.record_theta, defaults.record_theta);
   EXPECT_EQ(o.exact_tolerance, defaults.exact_tolerance);
+  EXPECT_EQ(o.block_manifolds, defaults.block_manifolds);
   EXPECT_TRUE(o.checkpoints.empty());
   EXPECT_FALSE(o.on_checkpoint);
   // The default section gives the seed's fixed 3000 sweeps, no tolerance, plain PGS.

@@ -28,6 +28,13 @@
 //    ±μ max(0, λ_n) from the register holding the fresh λ_n. This removes one
 //    store→load forwarding of Δu (≈ 7–8 cycles on Zen) and one of λ_n per contact from
 //    the chain, and halves loads/stores.
+//  * Two-point manifolds (SolverOptions::block_manifolds, default on): two consecutive
+//    contacts of one body pair with one normal (a polygon face on a face or a wall) have
+//    their two normal rows solved as one 2 × 2 LCP, exactly, as Box2D's block solver does,
+//    with both tangent rows right before it (pgs_manifold_block.hpp: formulas, order,
+//    conditioning test). This is a different Gauss–Seidel step than the row-by-row one (same
+//    fixed point): such problems no longer follow pgs-assembled iterate for iterate. Circle
+//    scenes have no manifolds, so everything said here about identical iterates holds there.
 //  * Wall contacts have one body. Instead of one shared dummy body that is read and
 //    written (which chained every wall contact of a sweep to the previous one through
 //    memory), the missing body is read from a "zero" body that is never written and
@@ -71,6 +78,7 @@
 #include <string>
 #include <vector>
 
+#include "solvers/pgs_manifold_block.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 
@@ -81,6 +89,8 @@ namespace {
 struct PackedRow {
   std::array<double, 6> j{};   // J_i / A_ii on (body a: v_x, v_y, ω, body b: v_x, v_y, ω)
   std::array<double, 6> mj{};  // M⁻¹ J_iᵀ Δt on the same 6 entries [(m/s)/N]
+  std::array<double, 6> raw{}; // J_i unscaled (manifold detection and A_01)
+  double diag = 0.0;           // A_ii [m/(N·s)]
   double b = 0.0;              // b_i / A_ii [N]
   bool singular = false;       // A_ii ≤ 0: j and b are unscaled, see singular_row_update
   int a = -1, bb = -1;         // offsets (3·body) of the two bodies, −1 if absent
@@ -113,7 +123,7 @@ struct ContactBlock {
   int la, lb, sa, sb;
 };
 
-enum class Kind { General, Normal, Contact };
+enum class Kind { General, Normal, Contact, ManifoldFriction, ManifoldFrictionless };
 
 /// A run of consecutive rows [row, row + rows) handled by one kernel; `first` indexes the
 /// kernel's array.
@@ -126,6 +136,7 @@ struct Prepared {
   std::vector<GeneralRow> general;
   std::vector<NormalRow> normal;
   std::vector<ContactBlock> contact;
+  std::vector<ManifoldBlock> manifold;  // both kinds (pgs_manifold_block.hpp)
   std::vector<Segment> segments;
   std::vector<int> singular;
   int body_entries = 0;  // 3·bodies; the zero body follows at body_entries, the sink after it
@@ -184,6 +195,8 @@ bool pack_row(const LcpProblem& p, int i, int a, int bb, PackedRow& r) {
     r.mj[static_cast<size_t>(s)] = r.j[static_cast<size_t>(s)] * im * p.dt;
     diag += r.j[static_cast<size_t>(s)] * r.mj[static_cast<size_t>(s)];
   }
+  r.raw = r.j;
+  r.diag = diag;
   const double inv = 1.0 / diag;
   r.singular = !(diag > 0 && std::isfinite(inv));
   const double scale = r.singular ? 1.0 : inv;
@@ -197,13 +210,14 @@ bool is_plain_normal(const LcpProblem& p, int i) {
   return !p.is_friction_row(i) && p.lo[i] == 0.0 && p.hi[i] == std::numeric_limits<double>::infinity();
 }
 
-/// Builds the segments from the problem's contact constraints: a contact whose tangent row
-/// follows its normal row becomes a ContactBlock, a frictionless contact a NormalRow, and
-/// every other row (singular, other bounds, tangent rows elsewhere) a GeneralRow. A problem
-/// without constraint structure (built by hand with J) runs every row in the general kernel.
-/// Returns an error message when a row of J acts on a body that is not one of its contact's,
-/// or (without constraints) on more than two bodies.
-std::string prepare(const LcpProblem& p, Prepared& out) {
+/// Builds the segments from the problem's contact constraints: with `block_manifolds`, two
+/// contacts of a two-point manifold become a ManifoldBlock (see try_manifold below); a
+/// contact whose tangent row follows its normal row becomes a ContactBlock, a frictionless
+/// contact a NormalRow, and every other row (singular, other bounds, tangent rows elsewhere)
+/// a GeneralRow. A problem without constraint structure (built by hand with J) runs every row
+/// in the general kernel. Returns an error message when a row of J acts on a body that is not
+/// one of its contact's, or (without constraints) on more than two bodies.
+std::string prepare(const LcpProblem& p, bool block_manifolds, Prepared& out) {
   const int n = p.rows();
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
   out.body_entries = 3 * bodies;
@@ -239,6 +253,67 @@ std::string prepare(const LcpProblem& p, Prepared& out) {
              std::to_string(c);
     return {};
   };
+  // A two-point manifold starting at normal row i (contact c, packed as n0): the next
+  // contact's normal row follows right after c's rows (i + 2 with friction, i + 1 without) and
+  // that contact has the same body_a and body_b, another feature, a tangent row exactly when c
+  // has one (right after its normal row), the same normal (bit-equal linear parts of J: the
+  // narrow phase gives both points of a manifold the reference face's normal, so contacts on
+  // two different walls or static bodies, which also have body_a = −1, are not paired), a
+  // plain [0, ∞) non-singular normal row, non-singular tangent rows, and the 2 × 2 normal
+  // block passes the conditioning test. Sets `used` to the rows taken (0: not a manifold).
+  auto try_manifold = [&](int i, int c, const PackedRow& n0, int& used) -> std::string {
+    used = 0;
+    const ContactConstraint& k0 = cons[c];
+    const bool fr = k0.has_friction();
+    if (fr && k0.tangent_row != i + 1) return {};
+    const int i1 = fr ? i + 2 : i + 1;
+    if (i1 >= n) return {};
+    const int c1 = owner[static_cast<size_t>(i1)];
+    if (c1 < 0) return {};
+    const ContactConstraint& k1 = cons[c1];
+    if (k1.normal_row != i1 || k1.body_a != k0.body_a || k1.body_b != k0.body_b || k1.feature == k0.feature ||
+        k1.has_friction() != fr || (fr && k1.tangent_row != i1 + 1) || !is_plain_normal(p, i1))
+      return {};
+    PackedRow n1, t0, t1;
+    if (std::string err = pack(i1, n1); !err.empty()) return err;
+    if (n1.singular) return {};
+    for (int s : {0, 1, 3, 4})
+      if (n0.raw[static_cast<size_t>(s)] != n1.raw[static_cast<size_t>(s)]) return {};
+    double a01 = 0.0;  // A_01 = J_0 M⁻¹ J_1ᵀ Δt, summed in slot order
+    for (size_t s = 0; s < 6; ++s) a01 += n0.raw[s] * n1.mj[s];
+    if (!manifold_block_conditioned(n0.diag, n1.diag, a01)) return {};
+    if (fr) {
+      if (std::string err = pack(i + 1, t0); !err.empty()) return err;
+      if (std::string err = pack(i1 + 1, t1); !err.empty()) return err;
+      if (t0.singular || t1.singular) return {};
+    }
+    add(fr ? Kind::ManifoldFriction : Kind::ManifoldFrictionless, i, fr ? 4 : 2,
+        static_cast<int>(out.manifold.size()));
+    ManifoldBlock& mb = out.manifold.emplace_back();
+    mb.jn0 = n0.j;
+    mb.mjn0 = n0.mj;
+    mb.jn1 = n1.j;
+    mb.mjn1 = n1.mj;
+    mb.jt0 = t0.j;
+    mb.mjt0 = t0.mj;
+    mb.jt1 = t1.j;
+    mb.mjt1 = t1.mj;
+    mb.bn0 = n0.b;
+    mb.bn1 = n1.b;
+    mb.bt0 = t0.b;
+    mb.bt1 = t1.b;
+    mb.mu0 = k0.mu;
+    mb.mu1 = k1.mu;
+    mb.c01 = a01 / n0.diag;
+    mb.c10 = a01 / n1.diag;
+    mb.inv_det = 1.0 / (1.0 - mb.c01 * mb.c10);
+    mb.la = load_a(n0);
+    mb.lb = load_b(n0);
+    mb.sa = store_a(n0);
+    mb.sb = store_b(n0);
+    used = fr ? 4 : 2;
+    return {};
+  };
   out.contact.reserve(static_cast<size_t>(cons.size()));
   for (int i = 0; i < n;) {
     PackedRow r;
@@ -246,6 +321,14 @@ std::string prepare(const LcpProblem& p, Prepared& out) {
     if (r.singular) out.singular.push_back(i);
     const int c = owner[static_cast<size_t>(i)];
     const bool plain_normal = c >= 0 && cons[c].normal_row == i && !r.singular && is_plain_normal(p, i);
+    if (block_manifolds && plain_normal) {
+      int used = 0;
+      if (std::string err = try_manifold(i, c, r, used); !err.empty()) return err;
+      if (used > 0) {
+        i += used;
+        continue;
+      }
+    }
     if (plain_normal && cons[c].tangent_row == i + 1) {
       PackedRow t;
       if (std::string err = pack(i + 1, t); !err.empty()) return err;
@@ -283,21 +366,8 @@ std::string prepare(const LcpProblem& p, Prepared& out) {
   return {};
 }
 
-// The multiply-adds on the chain are explicit std::fma (exactly rounded by IEEE on every
-// CPU, so deterministic, docs/reproducibility.md). A build without FMA in its target
-// (-DDC_NATIVE=OFF) gets an FMA clone of each kernel chosen at load time on FMA CPUs;
-// only a CPU without FMA runs the default clone, whose fma() is glibc's exact software one.
-#if defined(__x86_64__) && !defined(__FMA__) && defined(__GNUC__)
-#define DC_PGS_FMA_CLONES __attribute__((target_clones("fma", "default")))
-#else
-#define DC_PGS_FMA_CLONES
-#endif
-
-/// Running θ and non-finite flag of one sweep.
-struct SweepAcc {
-  double theta = 0.0;
-  bool bad = false;
-};
+// The multiply-adds on the chain are explicit std::fma (DC_PGS_FMA_CLONES and SweepAcc:
+// pgs_manifold_block.hpp).
 
 DC_PGS_FMA_CLONES void sweep_general(const GeneralRow* __restrict row, int count, double* __restrict lam,
                    double* __restrict u, SweepAcc& acc) {
@@ -472,7 +542,7 @@ class PgsMatrixFreeSolver final : public LcpSolver {
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
 
     Prepared prep;
-    if (std::string err = prepare(p, prep); !err.empty()) {
+    if (std::string err = prepare(p, o.block_manifolds, prep); !err.empty()) {
       SolveResult r;
       r.status = SolveStatus::InvalidInput;
       r.lambda = lambda;
@@ -501,6 +571,12 @@ class PgsMatrixFreeSolver final : public LcpSolver {
             break;
           case Kind::General:
             sweep_general(prep.general.data() + s.first, s.count, lam, u, acc);
+            break;
+          case Kind::ManifoldFriction:
+            sweep_manifolds_friction(prep.manifold.data() + s.first, s.count, lam + s.row, u, acc);
+            break;
+          case Kind::ManifoldFrictionless:
+            sweep_manifolds_frictionless(prep.manifold.data() + s.first, s.count, lam + s.row, u, acc);
             break;
         }
       }

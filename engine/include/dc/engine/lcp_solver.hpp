@@ -30,6 +30,12 @@ struct SolverOptions {
   int max_sweeps = 3000;     ///< sweep (iteration) limit
   double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance; 0 = fixed-sweep mode
   double omega = 1.0;        ///< relaxation (psor; 1 = Gauss–Seidel); jacobi uses it as damping
+  /// "pgs" only: solve the two normal rows of each two-point manifold (two contacts of one
+  /// body pair with one normal, e.g. a box face on a face) as one 2 × 2 LCP, exactly, like
+  /// Box2D's block solver (engine/src/solvers/pgs_manifold_block.hpp; docs/lcp.md). false =
+  /// the row-by-row order of every row (the behaviour before the block, for comparison).
+  /// Problems without such manifolds (circle scenes) give the same iterates either way.
+  bool block_manifolds = true;
   bool record_theta = true;  ///< fill SolveResult::theta (one entry per sweep)
   /// Exact methods: target complementarity error, relative to max(1, ‖b‖∞).
   double exact_tolerance = 1e-9;

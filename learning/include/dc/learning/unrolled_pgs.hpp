@@ -4,7 +4,12 @@
 // the initial guess λ⁰ by reverse mode (issue 12 item 3: train the warm start for what PGS
 // pays). Same rows, same row order, same floating-point operations in the same order as the
 // engine's kernels, so forward(λ⁰, k) returns the engine's λ after k fixed sweeps bit for bit
-// (up to the sign of zero; tested).
+// (up to the sign of zero; tested) — the row-by-row engine kernels, i.e. "pgs" with
+// SolverOptions::block_manifolds = false. On problems with two-point manifolds (two contacts
+// of one body pair with one normal: polygon faces) the engine's default "pgs" solves each
+// manifold's normal rows as one 2 × 2 block instead (engine/src/solvers/pgs_manifold_block.hpp)
+// and its iterates differ from these (same fixed point); circle scenes, the ones trained on,
+// have no such manifolds, so there the two agree bit for bit.
 //
 // One row update (J_i and b_i pre-scaled by 1/A_ii, Δu = Δt M⁻¹ Jᵀ λ kept as the state):
 //     r = J_i·Δu + b_i,  y = λ_i − r,  x = P_i(y; λ_n(i)),  d = x − λ_i,  λ_i ← x,  Δu += (Δt M⁻¹ J_iᵀ) d
