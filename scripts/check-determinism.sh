@@ -44,8 +44,9 @@ echo "check-determinism: portable build of deepcontact: $((t1 - t0)) s"
 
 # name | simulate arguments. Together they cover friction and μ = 0, generated and explicit
 # bodies, other sizes and box, fixed sweeps and tolerance mode, the builtin, sph and copy
-# warm starters, the Newton oracle (box_newton) as the stepping solver, and pgs-colored (its
-# AVX-512 kernel in the native build, its scalar kernel in the portable one: bit-equal).
+# warm starters, the Newton oracle (box_newton) as the stepping solver, pgs-colored (its
+# AVX-512 kernel in the native build, its scalar kernel in the portable one: bit-equal), and
+# the shape scenes (boxes, ellipses, polygons, static and kinematic bodies).
 scenes=(
   "seed (600 steps, 3000 sweeps)|"
   "frictionless (mu = 0)|--scene scenes/frictionless.toml --steps 200"
@@ -55,6 +56,12 @@ scenes=(
 --set solver.tolerance=0.01 --steps 150 --warmstart sph"
   "small (newton solver, copy)|--scene scenes/small.toml --set solver.name=newton --warmstart copy"
   "seed, pgs-colored (AVX-512 vs scalar kernel)|--set solver.name=pgs-colored --steps 300"
+  # Shape scenes (issue 10): polygon SAT + clipping, libccd ellipse pairs with the normal
+  # polish, static and kinematic bodies; their rotations use det_sincos (no libm).
+  "box_pile (60 boxes, two-point manifolds)|--scene scenes/box_pile.toml --steps 200"
+  "mixed (ellipses, polygons, circles)|--scene scenes/mixed.toml --steps 200"
+  "hopper (pentagons, static plates)|--scene scenes/hopper.toml --steps 150"
+  "drum (kinematic pivoted boxes)|--scene scenes/drum.toml --steps 150"
 )
 
 fail=0

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "dc/engine/det_math.hpp"
+
 namespace dc {
 namespace {
 
@@ -68,7 +70,8 @@ namespace {
 double anchored_gap(const BodyState& s, const Contact& c) {
   auto world_point = [&](int body, Vec2 anchor) {
     const auto k = static_cast<size_t>(body);
-    const double cs = std::cos(s.angle[k]), sn = std::sin(s.angle[k]);
+    double cs = 1, sn = 0;
+    det_sincos(s.angle[k], sn, cs);  // as the shape narrow phase's poses (libm-free)
     return s.position[k] + Vec2{cs * anchor.x - sn * anchor.y, sn * anchor.x + cs * anchor.y};
   };
   const Vec2 pb = world_point(c.body_b, c.anchor_b);

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "dc/engine/det_math.hpp"
 #include "dc/engine/error.hpp"
 
 namespace dc {
@@ -125,13 +126,16 @@ ShapeDef make_polygon(const std::vector<Vec2>& v, const std::string& where) {
                                 : "polygon has collinear vertices at vertex " + std::to_string(i) + " " + fmt(q));
     }
   }
-  // A convex polygon whose turns are all left may still wind twice (a star): total turning 2π.
-  double winding = 0;
+  // A polygon whose turns are all left may still wind twice (a star): its edge direction then
+  // turns through 4π instead of 2π. Count the full turns exactly (no atan2): each turn is
+  // strictly between 0 and π, so the direction passes +x (counter-clockwise) exactly when an
+  // edge with e.y < 0 is followed by one with e.y ≥ 0, once per full turn.
+  int turns = 0;
   for (int i = 0; i < n; ++i) {
     const Vec2 e0 = v[i] - v[(i + n - 1) % n], e1 = v[(i + 1) % n] - v[i];
-    winding += std::atan2(cross(e0, e1), dot(e0, e1));
+    if (e0.y < 0 && e1.y >= 0) ++turns;
   }
-  if (winding > 3 * std::numbers::pi) bad_shape(where, "polygon winds more than once (self-intersecting)");
+  if (turns > 1) bad_shape(where, "polygon winds more than once (self-intersecting)");
 
   ShapeDef s;
   s.kind = ShapeKind::Polygon;
@@ -160,7 +164,11 @@ ShapeDef make_regular_polygon(int sides, double r, const std::string& where) {
   std::vector<Vec2> v;
   const double step = 2 * std::numbers::pi / sides;
   const double start = -0.5 * std::numbers::pi - 0.5 * step;  // edge 0 at the bottom
-  for (int i = 0; i < sides; ++i) v.push_back({r * std::cos(start + i * step), r * std::sin(start + i * step)});
+  for (int i = 0; i < sides; ++i) {
+    double c = 1, s = 0;
+    det_sincos(start + i * step, s, c);  // libm-free: the same vertices on every CPU
+    v.push_back({r * c, r * s});
+  }
   return make_polygon(v, where);
 }
 

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dc/engine/det_math.hpp"
+
 namespace dc {
 namespace {
 
@@ -139,14 +141,21 @@ int clip_manifold(const ShapePose& a, const ShapePose& b, bool flip, int r, doub
 /// its maximum is the signed distance (minus the penetration depth when they overlap).
 double separation(const ShapePose& a, const ShapePose& b, Vec2 n) { return dot(n, b.support(-n) - a.support(n)); }
 
-/// Polishes libccd's normal (EPA and MPR stop at a tolerance, ~1e-5 m of gap on curved shapes)
-/// by maximising separation(φ) around it: golden-section search on ±0.05 rad, 40 steps (the
-/// bracket shrinks to ~1e-9 rad). Local, so it keeps the minimum libccd found.
+/// n turned counter-clockwise by t [rad] (det_sincos: the same bits on every CPU).
+Vec2 turned(Vec2 n, double t) {
+  double c = 1, s = 0;
+  det_sincos(t, s, c);
+  return {c * n.x - s * n.y, s * n.x + c * n.y};
+}
+
+/// Polishes libccd's unit normal n (EPA and MPR stop at a tolerance, ~1e-5 m of gap on curved
+/// shapes) by maximising separation(R(φ) n) over the turn φ: golden-section search on ±0.05
+/// rad, 40 steps (the bracket shrinks to ~1e-9 rad). Local, so it keeps the minimum libccd
+/// found.
 Vec2 refine_normal(const ShapePose& a, const ShapePose& b, Vec2 n) {
-  const double phi0 = std::atan2(n.y, n.x);
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double lo = phi0 - 0.05, hi = phi0 + 0.05;
-  auto f = [&](double phi) { return separation(a, b, {std::cos(phi), std::sin(phi)}); };
+  double lo = -0.05, hi = 0.05;
+  auto f = [&](double phi) { return separation(a, b, turned(n, phi)); };
   double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
   for (int it = 0; it < 40; ++it) {
     if (f1 < f2) {
@@ -155,8 +164,7 @@ Vec2 refine_normal(const ShapePose& a, const ShapePose& b, Vec2 n) {
       hi = x2; x2 = x1; f2 = f1; x1 = hi - g * (hi - lo); f1 = f(x1);
     }
   }
-  const double phi = 0.5 * (lo + hi);
-  const Vec2 m{std::cos(phi), std::sin(phi)};
+  const Vec2 m = turned(n, 0.5 * (lo + hi));
   return separation(a, b, m) >= separation(a, b, n) ? m : n;
 }
 

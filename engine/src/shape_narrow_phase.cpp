@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dc/engine/det_math.hpp"
 #include "dc/engine/narrow_phase.hpp"
 
 namespace dc {
@@ -48,10 +49,7 @@ ShapePose make_pose(const BodyState& s, int k, std::vector<Vec2>& wv, std::vecto
   p.kind = s.shapes.kind[i];
   p.x = s.position[i];
   p.radius = s.radius[i];
-  if (p.kind != ShapeKind::Circle) {
-    p.c = std::cos(s.angle[i]);
-    p.s = std::sin(s.angle[i]);
-  }
+  if (p.kind != ShapeKind::Circle) det_sincos(s.angle[i], p.s, p.c);  // libm-free: same bits on every CPU
   if (p.kind == ShapeKind::Polygon) {
     const int off = s.shapes.vertex_offset[i];
     p.count = s.shapes.vertex_count(i);
@@ -74,8 +72,7 @@ void ShapeNarrowPhase::update_poses(const BodyState& s) {
   world_normals_.resize(s.shapes.vertices.size());
   for (std::size_t k = 0; k < n; ++k) {
     if (s.shapes.kind[k] == ShapeKind::Circle) continue;
-    cos_[k] = std::cos(s.angle[k]);
-    sin_[k] = std::sin(s.angle[k]);
+    det_sincos(s.angle[k], sin_[k], cos_[k]);  // libm-free: same bits on every CPU
     if (s.shapes.kind[k] == ShapeKind::Polygon) {
       const auto off = static_cast<size_t>(s.shapes.vertex_offset[k]);
       transform_polygon(&s.shapes.vertices[off], &s.shapes.normals[off], s.shapes.vertex_count(k), cos_[k], sin_[k],

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "dc/engine/det_math.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/engine/narrow_phase.hpp"
 
@@ -28,7 +29,8 @@ void integrate_with_motion(const Eigen::VectorXd& impulse, Vec2 g, double dt, Bo
       case Motion::Kinematic:
         if (s.shapes.has_pivot[i]) {
           const Vec2 p = s.shapes.pivot[i], r = s.position[i] - p;
-          const double c = std::cos(s.omega[i] * dt), sn = std::sin(s.omega[i] * dt);
+          double c = 1, sn = 0;
+          det_sincos(s.omega[i] * dt, sn, c);  // libm-free: the pivot rotation is bit-equal on every CPU
           s.position[i] = p + Vec2{c * r.x - sn * r.y, sn * r.x + c * r.y};
           s.velocity[i] = s.omega[i] * perp(s.position[i] - p);
         } else {
