@@ -16,7 +16,9 @@
 #
 # THREADS is fixed (a training is bit-reproducible only for the same thread count). Environment
 # overrides: BUILD (default build), SIMS, STEPS, EPOCHS, EVERY, THREADS, DEADZONE, EVAL, ARCH,
-# OUT (the model with shapes); SKIP_BENCH=1 stops after training.
+# OUT (the model with shapes); SKIP_BENCH=1 stops after training. SCENE picks another scene
+# (NAME, default its file name, prefixes every output; OUT then defaults to models/NAME.h5 —
+# pass OUT=build/data/NAME.h5 to keep an experiment out of models/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,15 +32,16 @@ THREADS=${THREADS:-2}
 DEADZONE=${DEADZONE:-20}
 EVAL=${EVAL:-4}
 ARCH=${ARCH:-models/arch/unet-fast.toml}
-SCENE=scenes/box_pile.toml
+SCENE=${SCENE:-scenes/box_pile.toml}
+NAME=${NAME:-$(basename "$SCENE" .toml)}
 SHAPE=coverage,orient_c,orient_s
 CHANNELS=mass,vx,vy,omega,contact_density,lambda_prev_n,lambda_prev_t,vrel_n,vrel_t,gap,$SHAPE
 GRID=poly6:0.5:0.5  # the default model's grid (docs/learning.md "Default model")
 DATADIR="$BUILD/data"
-DATA="$DATADIR/box_pile-train-s1000-m$SIMS-t$STEPS.h5"
-DATA_NOSHAPE="$DATADIR/box_pile-train-s1000-m$SIMS-t$STEPS-noshape.h5"
-OUT=${OUT:-models/box_pile.h5}
-OUT_NOSHAPE="$DATADIR/box_pile-noshape.h5"
+DATA="$DATADIR/$NAME-train-s1000-m$SIMS-t$STEPS.h5"
+DATA_NOSHAPE="$DATADIR/$NAME-train-s1000-m$SIMS-t$STEPS-noshape.h5"
+OUT=${OUT:-models/$NAME.h5}
+OUT_NOSHAPE="$DATADIR/$NAME-noshape.h5"
 
 [ -x "$DC" ] || { echo "train-box-pile-model.sh: $DC not found; build it first" >&2; exit 1; }
 mkdir -p "$DATADIR" "$(dirname "$OUT")"
@@ -49,7 +52,7 @@ if [ -f "$DATA" ]; then
 else
   RESUME=()
   [ -f "$DATA.partial" ] && RESUME=(--resume)
-  echo "== generating $SIMS box_pile simulations (seeds 1000..$((1000 + SIMS - 1)), $STEPS steps) into $DATA"
+  echo "== generating $SIMS $NAME simulations (seeds 1000..$((1000 + SIMS - 1)), $STEPS steps) into $DATA"
   "$DC" generate --scene "$SCENE" --sims "$SIMS" --seed 1000 --steps "$STEPS" --threads "$THREADS" \
     --grid "$GRID" --channels "$CHANNELS" --out "$DATA" "${RESUME[@]}"
 fi
@@ -72,4 +75,4 @@ echo "== generation $((t1 - t0)) s, training $((t2 - t1)) s (wall)"
 [ -n "${SKIP_BENCH:-}" ] && exit 0
 echo "== bench on $SCENE, held-out seeds 1..$EVAL"
 "$DC" bench --scene "$SCENE" --seeds "1..$EVAL" --steps "$STEPS" \
-  --warmstarts "zero,builtin,cnn:$OUT,cnn:$OUT_NOSHAPE" --out "$DATADIR/box_pile-bench"
+  --warmstarts "zero,builtin,cnn:$OUT,cnn:$OUT_NOSHAPE" --out "$DATADIR/$NAME-bench"
