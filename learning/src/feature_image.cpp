@@ -16,7 +16,9 @@ constexpr FeatureChannel kAllChannels[] = {FeatureChannel::Mass,  FeatureChannel
                                            FeatureChannel::ContactDensity, FeatureChannel::Nx,
                                            FeatureChannel::Ny,    FeatureChannel::LambdaPrevN,
                                            FeatureChannel::LambdaPrevT, FeatureChannel::VrelN,
-                                           FeatureChannel::VrelT, FeatureChannel::Gap};
+                                           FeatureChannel::VrelT, FeatureChannel::Gap,
+                                           FeatureChannel::Coverage, FeatureChannel::OrientC,
+                                           FeatureChannel::OrientS};
 
 SphTransferDef normalised_label_def(SphTransferDef d) {
   d.grid.channels = FeatureImageBuilder::kLabelChannels;
@@ -39,6 +41,12 @@ bool uses_contact_values(const std::vector<FeatureChannel>& cs) {
   return std::any_of(cs.begin(), cs.end(), [](FeatureChannel c) {
     return c == FeatureChannel::LambdaPrevN || c == FeatureChannel::LambdaPrevT || c == FeatureChannel::VrelN ||
            c == FeatureChannel::VrelT || c == FeatureChannel::Gap;
+  });
+}
+
+bool uses_shape_fields(const std::vector<FeatureChannel>& cs) {
+  return std::any_of(cs.begin(), cs.end(), [](FeatureChannel c) {
+    return c == FeatureChannel::Coverage || c == FeatureChannel::OrientC || c == FeatureChannel::OrientS;
   });
 }
 
@@ -66,6 +74,9 @@ const char* to_string(FeatureChannel c) {
     case FeatureChannel::VrelN: return "vrel_n";
     case FeatureChannel::VrelT: return "vrel_t";
     case FeatureChannel::Gap: return "gap";
+    case FeatureChannel::Coverage: return "coverage";
+    case FeatureChannel::OrientC: return "orient_c";
+    case FeatureChannel::OrientS: return "orient_s";
   }
   return "?";
 }
@@ -146,6 +157,7 @@ FeatureImageBuilder::FeatureImageBuilder(FeatureImageDef def)
     contact_weight_ = SphGrid(with_channels(def_.sph.grid, 1));
   }
   if (uses_contact_values(def_.channels)) contact_values_ = SphGrid(with_channels(def_.sph.grid, 5));
+  if (uses_shape_fields(def_.channels)) shape_grid_ = SphGrid(with_channels(def_.sph.grid, 3));
   nx_ = body_grid_.nx();
   ny_ = body_grid_.ny();
 }
@@ -210,6 +222,30 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     splat_to_grid(kernel_, points_, values_, contact_values_, nullptr);
   }
 
+  // Shapes: area samples of every body with (a, a Q_x, a Q_y); coverage = Σ W a is channel 0.
+  if (uses_shape_fields(def_.channels)) {
+    // Sample spacing h/2: the kernels of neighbouring samples overlap (a smooth plateau).
+    const double spacing = 0.5 * def_.sph.support;
+    points_.clear();
+    values_.clear();
+    for (std::size_t k = 0; k < n; ++k) {
+      samples_.clear();
+      append_area_samples(bodies, k, spacing, samples_);
+      const bool round = bodies.shapes.empty() || bodies.shapes.kind[k] == ShapeKind::Circle;
+      // A disc's samples need no rotation (and its Q is 0): no cos/sin for circle-only scenes.
+      const double c = round ? 1.0 : std::cos(bodies.angle[k]), s = round ? 0.0 : std::sin(bodies.angle[k]);
+      const Vec2 q = rotate_nematic(body_frame_nematic(bodies, k), c, s);
+      const Vec2 x = bodies.position[k];
+      for (const AreaSample& a : samples_) {
+        points_.push_back(x + Vec2{c * a.point.x - s * a.point.y, s * a.point.x + c * a.point.y});
+        values_.push_back(a.area);
+        values_.push_back(a.area * q.x);
+        values_.push_back(a.area * q.y);
+      }
+    }
+    splat_to_grid(kernel_, points_, values_, shape_grid_, nullptr);
+  }
+
   const std::size_t P = plane();
   const std::span<const double> S = body_weight_.channel(0);
   for (std::size_t ci = 0; ci < def_.channels.size(); ++ci) {
@@ -235,6 +271,9 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       case FeatureChannel::VrelN: copy(contact_values_.channel(2)); break;
       case FeatureChannel::VrelT: copy(contact_values_.channel(3)); break;
       case FeatureChannel::Gap: copy(contact_values_.channel(4)); break;
+      case FeatureChannel::Coverage: copy(shape_grid_.channel(0)); break;
+      case FeatureChannel::OrientC: shepard(shape_grid_, 1, shape_grid_.channel(0)); break;
+      case FeatureChannel::OrientS: shepard(shape_grid_, 2, shape_grid_.channel(0)); break;
     }
   }
 }

@@ -22,6 +22,9 @@
 //                                                                          u = v + ω × (p_c − x); a wall's
 //                                                                          u is 0; t = perp(n))
 //   gap              Σ_c W g_c                                   [m/m²]   (signed gap, < 0 penetration)
+//   coverage         C(x) = Σ_k Σ_s W(|x − y_ks|) a_ks            [1]      (area fraction: bodies' real extent)
+//   orient_c,        Σ_k Σ_s W a_ks Q_k / C   (0 where C = 0)     [1]      (nematic orientation of the shape,
+//   orient_s                                                               Shepard average over the area samples)
 //
 // over bodies k (centres x_k) and this step's contacts c (points p_c, normals n_c). The
 // per-contact channels lambda_prev_*, vrel_*, gap are Shepard NUMERATORS like the labels
@@ -29,6 +32,21 @@
 // target of a residual model (labels.hpp, LabelKind::Residual). vrel and gap are what the
 // LCP's b is made of (b_n = vrel_n + Δt g·n + gap terms, engine/src/assembly.cpp).
 // The default feature set is mass, vx, vy, omega, contact_density.
+//
+// Shape channels (issue 10). mass/vx/vy/omega splat each body at its centre of mass only, so
+// a box, a thin ellipse and a circle of equal mass look the same and a box's orientation is
+// lost. coverage splats area samples y_ks = x_k + R(θ_k) p_s of the body's real extent
+// (shape_samples.hpp: sub-triangle centroids of the polygon's fan, the inscribed 16-gon for
+// circles and ellipses, spacing ≤ h/2, weights a_ks summing to the body's area A_k). With the
+// 2D-normalised kernel (∫ W dA = 1) it integrates to the covered area, ∫ C dA = Σ_k A_k, and
+// is ≈ 1 inside a body, 0 far outside (the area fraction smoothed over h). Q_k = R(2θ_k) q_k
+// is the body's nematic vector α (cos 2φ, sin 2φ) from its second area moment (anisotropy α
+// ∈ [0, 1], principal-axis angle φ; shape_samples.hpp): unchanged by θ → θ + π and by the
+// symmetries of a box, and 0 for circles and regular polygons, whose moment is isotropic — so
+// on a circle-only scene orient_c = orient_s = 0 and coverage is that of the discs. Static
+// and kinematic bodies are splatted like dynamic ones (they are where contacts happen).
+// Only a builder whose channel list names one of the three computes them, so images with the
+// older channel lists are bit-identical to those of the builder before issue 10.
 //
 // Labels (2 channels, λ_n then λ_t): the Shepard NUMERATOR grids
 //
@@ -49,6 +67,7 @@
 
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
+#include "dc/learning/shape_samples.hpp"
 #include "dc/warmstart/sph_grid.hpp"
 #include "dc/warmstart/sph_kernel.hpp"
 #include "dc/warmstart/sph_transfer.hpp"
@@ -56,10 +75,13 @@
 namespace dc {
 
 /// One feature channel (see the file comment for the formulas).
-enum class FeatureChannel { Mass, Vx, Vy, Omega, ContactDensity, Nx, Ny, LambdaPrevN, LambdaPrevT, VrelN, VrelT, Gap };
+enum class FeatureChannel {
+  Mass, Vx, Vy, Omega, ContactDensity, Nx, Ny, LambdaPrevN, LambdaPrevT, VrelN, VrelT, Gap,
+  Coverage, OrientC, OrientS
+};
 
 /// "mass", "vx", "vy", "omega", "contact_density", "nx", "ny", "lambda_prev_n", "lambda_prev_t",
-/// "vrel_n", "vrel_t", "gap".
+/// "vrel_n", "vrel_t", "gap", "coverage", "orient_c", "orient_s".
 const char* to_string(FeatureChannel c);
 /// Inverse of to_string; ConfigError listing the valid names otherwise.
 FeatureChannel parse_feature_channel(std::string_view name);
@@ -129,9 +151,11 @@ class FeatureImageBuilder {
   SphGrid contact_grid_;  // 2 channels: Σ W nx, Σ W ny
   SphGrid contact_weight_;
   SphGrid contact_values_;  // 5 channels: Σ W λ_prev,n, Σ W λ_prev,t, Σ W vrel_n, Σ W vrel_t, Σ W gap
+  SphGrid shape_grid_;      // 3 channels: Σ W a, Σ W a Q_x, Σ W a Q_y over the area samples
   SphTransfer label_transfer_;  // Shepard, 2 channels: the labels are its splat()
   std::vector<Vec2> points_;
   std::vector<double> values_;
+  std::vector<AreaSample> samples_;
 };
 
 }  // namespace dc
