@@ -4,6 +4,8 @@
 // by every row of the manifold, and stored once.
 #include "solvers/pgs_manifold_block.hpp"
 
+#include "solvers/solver_common.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -42,14 +44,7 @@ inline void tangent_row(const std::array<double, 6>& jt, const std::array<double
   const double old = lam_t;
   const double t = mu * std::max(0.0, lambda_n);
   const double y = old - res;
-  double x;
-  if (t > 0.0) {
-    x = std::min(std::max(y, -t), t);
-    bad |= !std::isfinite(x);
-  } else {
-    x = 0.0;
-    bad |= !std::isfinite(y);
-  }
+  const double x = friction_clamp(y, t, bad);
   const double d = x - old;
   lam_t = x;
   apply(mjt, d, v);

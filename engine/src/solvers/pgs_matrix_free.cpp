@@ -489,17 +489,7 @@ DC_PGS_FMA_CLONES void sweep_normal(const NormalRow* __restrict row, int count, 
       const double old = lam[1];
       const double t = c->mu * std::max(0.0, xn);
       const double y = old - res;
-      // clamp(y, −t, t) = min(max(y, −t), t). With t = 0 (λ_n = 0: contact inactive)
-      // that is ±0 for every finite y, so a predictable branch hands back 0 without
-      // waiting for y: the row leaves the dependency chain (see the cost model).
-      double x;
-      if (t > 0.0) {
-        x = std::min(std::max(y, -t), t);
-        bad |= !std::isfinite(x);
-      } else {
-        x = 0.0;
-        bad |= !std::isfinite(y);
-      }
+      const double x = friction_clamp(y, t, bad);  // a branch on t, see the cost model
       const double d = x - old;
       lam[1] = x;
       a0 = std::fma(c->mjt[0], d, a0);

@@ -60,6 +60,20 @@ class CheckpointCursor {
   const SolverOptions& o_;
 };
 
+/// The friction row's projection x = clamp(y, −t, t) with t = μ·max(0, λ_n) ≥ 0, and the
+/// non-finite flag. With t = 0 (λ_n = 0: contact inactive) that is ±0 for every finite y, so
+/// a predictable branch hands back 0 without waiting for y: the row leaves the dependency
+/// chain of the sweep (pgs_matrix_free.cpp, "cost model"). A NaN y still sets `bad`.
+inline double friction_clamp(double y, double t, bool& bad) {
+  if (t > 0.0) {
+    const double x = std::min(std::max(y, -t), t);
+    bad |= !std::isfinite(x);
+    return x;
+  }
+  bad |= !std::isfinite(y);
+  return 0.0;
+}
+
 /// Rows whose diagonal A_ii is not > 0 (or whose 1/A_ii is not finite). The sweep kernels
 /// never divide by them: such a row moves to the bound its residual points at, λ_i ← lo_i
 /// if r_i > 0, λ_i ← hi_i if r_i < 0 (the limit of λ_i − r_i/A_ii for A_ii → 0⁺), and stays
