@@ -59,9 +59,9 @@ want polydisperse && run polydisperse --scene scenes/polydisperse.toml --warmsta
   $POLY --max-sweeps 10000
 # The rotating drum (kinematic paddles, no walls) and the mixed-shape pile have no [family]
 # seeds: 1..2 (QUICK/MID) or 1..4. The cnn's features see circles only (shape channels: another issue).
-want drum && run drum --scene scenes/drum.toml --warmstarts "$S,$O" --seeds "${SEEDS:-$([[ "${QUICK:-0}${MID:-0}" == *1* ]] && echo 1..2 || echo 1..4)}" \
+want drum && run drum --scene scenes/drum.toml --warmstarts "$S$(fam drum),$O" --seeds "${SEEDS:-$([[ "${QUICK:-0}${MID:-0}" == *1* ]] && echo 1..2 || echo 1..4)}" \
   $DRUM --max-sweeps 10000
-want mixed && run mixed --scene scenes/mixed.toml --warmstarts "$S,$O" --seeds "${SEEDS:-$([[ "${QUICK:-0}${MID:-0}" == *1* ]] && echo 1..2 || echo 1..4)}" \
+want mixed && run mixed --scene scenes/mixed.toml --warmstarts "$S$(fam mixed),$O" --seeds "${SEEDS:-$([[ "${QUICK:-0}${MID:-0}" == *1* ]] && echo 1..2 || echo 1..4)}" \
   $MIXED --max-sweeps 10000
 # Sweeps against pile height: deep at the same width, 125..1000 bodies (≈10..80 layers).
 want height && run deep-height --scene scenes/deep.toml --warmstarts "$S" --seeds 1 $HEIGHT --scale-axis height \
