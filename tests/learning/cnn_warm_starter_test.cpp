@@ -19,6 +19,7 @@
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/warmstart/oracle.hpp"
+#include "small_archs.hpp"
 
 namespace dc {
 namespace {
@@ -196,42 +197,7 @@ Model unet_model(const FeatureImageDef& image) {
   g.image = image;
   g.label_channels = label_channel_names();
   g.labels.kind = LabelKind::Residual;
-  const std::string arch = R"(
-name = "tiny-unet"
-[[layer]]
-name = "e1"
-type = "conv"
-out = 4
-stride = 2
-relu = true
-[[layer]]
-name = "e2"
-type = "conv"
-out = 4
-stride = 2
-relu = true
-[[layer]]
-name = "u1"
-type = "upsample"
-match = "e1"
-[[layer]]
-name = "d1"
-type = "conv"
-input = ["u1", "e1"]
-out = 4
-relu = true
-[[layer]]
-name = "u0"
-type = "upsample"
-match = "input"
-[[layer]]
-name = "out"
-type = "conv"
-input = ["u0", "input"]
-out = 2
-kernel = 1
-)";
-  Model m(ArchSpec::parse(arch), g, static_cast<int>(image.channels.size()));
+  Model m(test::fast_head_arch(/*head_relu=*/false), g, static_cast<int>(image.channels.size()));
   Rng rng(21);
   m.network().initialize(*make_initializer("he_normal"), rng);
   m.output_stats.mean = {0.5f, 0.0f};

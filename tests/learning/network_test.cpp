@@ -13,6 +13,7 @@
 #include "dc/learning/mse_loss.hpp"
 #include "dc/learning/network.hpp"
 #include "grad_check.hpp"
+#include "small_archs.hpp"
 
 namespace dc {
 namespace {
@@ -203,55 +204,11 @@ out = 2
 }
 
 
-// The shape of models/arch/unet-fast.toml in small: a stride-2 encoder, a decoder at half
-// resolution, a nearest upsampling to the input's size and a 1×1 head over [upsampled, raw input].
-// inner_relu = false: a linear network (exact central differences with a large ε).
-ArchSpec fast_head_arch(bool head_relu, bool inner_relu = true) {
-  std::string text = std::string(R"(
-name = "fast-head"
-[[layer]]
-name = "e1"
-type = "conv"
-out = 4
-stride = 2
-relu = true
-[[layer]]
-name = "e2"
-type = "conv"
-out = 5
-stride = 2
-relu = true
-[[layer]]
-name = "u1"
-type = "upsample"
-match = "e1"
-[[layer]]
-name = "d1"
-type = "conv"
-input = ["u1", "e1"]
-out = 4
-relu = true
-[[layer]]
-name = "u0"
-type = "upsample"
-match = "input"
-[[layer]]
-name = "out"
-type = "conv"
-input = ["u0", "input"]
-out = 2
-kernel = 1
-)") + (head_relu ? "relu = true\n" : "");
-  if (!inner_relu)
-    for (std::size_t at = text.find("relu = true"); at != std::string::npos; at = text.find("relu = true", at))
-      text.replace(at, 11, "relu = false");
-  return ArchSpec::parse(text);
-}
 
 // Without ReLUs the network is linear in each parameter tensor, so central differences are
 // exact up to float rounding: ε = 0.25, tolerance 1e-3 (the layer_gradcheck convention).
 TEST(NetworkGrad, HalfResolutionUnetWithFullResolutionOneByOneHead) {
-  Network net(fast_head_arch(false, false), Shape{1, 3, 11, 9});
+  Network net(test::fast_head_arch(false, false), Shape{1, 3, 11, 9});
   EXPECT_EQ(net.output_shape(), (Shape{1, 2, 11, 9}));
   Rng rng(111);
   net.initialize(HeNormal(), rng);
@@ -283,7 +240,7 @@ TEST(NetworkGrad, HalfResolutionUnetWithFullResolutionOneByOneHead) {
 // the values there are forward()'s. Any other last layer falls back to forward().
 TEST(NetworkForwardAt, SparseHeadEqualsTheDenseForwardAtTheListedPixels) {
   for (const bool relu : {false, true}) {
-    Network net(fast_head_arch(relu), Shape{1, 3, 13, 11});
+    Network net(test::fast_head_arch(relu), Shape{1, 3, 13, 11});
     Rng rng(7);
     net.initialize(HeNormal(), rng);
     for (ParamRef& p : net.parameters())
