@@ -64,6 +64,7 @@ struct TrainArgs {
   std::uint64_t seed = 1;
   int threads = 0;
   int every = 1;
+  int first_step = 0;  // TrainingSampleDef::first_step
   std::string schedule = TrainDef{}.schedule;
   double contact_weight = 0.0;
   bool residual = false;     // train on λ* − λ_prev (LabelKind::Residual, labels.hpp)
@@ -79,6 +80,7 @@ struct TrainArgs {
 TrainingSampleDef sample_def(const TrainArgs& a) {
   TrainingSampleDef d;
   d.every = a.every;
+  d.first_step = a.first_step;
   d.contact_weight = a.contact_weight;
   d.labels.kind = a.residual ? LabelKind::Residual : LabelKind::Absolute;
   d.labels.scale = a.label_scale;
@@ -90,7 +92,7 @@ void run(const TrainArgs& a) {
   if (a.data.empty()) throw ConfigError("--data is required");
   if (a.out.empty()) throw ConfigError("--out is required");
   if (a.pgs.loss != "regression") {
-    run_train_through_pgs(a.pgs, {a.data, a.out, a.epochs, a.batch, a.threads, a.every, a.lr, a.momentum,
+    run_train_through_pgs(a.pgs, {a.data, a.out, a.epochs, a.batch, a.threads, a.every, a.first_step, a.lr, a.momentum,
                                   a.weight_decay, a.val, a.deadzone, a.seed, a.force});
     return;
   }
@@ -257,6 +259,9 @@ void add_train_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)");
   cmd->add_option("--every", args->every,
                   "Use every K-th sample of each simulation (consecutive steps are nearly identical)")
+      ->capture_default_str();
+  cmd->add_option("--first-step", args->first_step,
+                  "Use only samples of steps >= K of each simulation (a family's bench window, e.g. 195 for impact)")
       ->capture_default_str();
   cmd->add_option("--schedule", args->schedule, "Learning-rate schedule: constant, step or cosine")->capture_default_str();
   cmd->add_option("--contact-weight", args->contact_weight,

@@ -102,7 +102,7 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
   const SigintGuard sigint;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<PgsSample> samples =
-      collect_pgs_samples(reader.params(), sims, c.every, [] { return !interrupted(); });
+      collect_pgs_samples(reader.params(), sims, c.every, [] { return !interrupted(); }, c.first_step);
   if (interrupted()) {
     std::fprintf(stderr, "deepcontact: interrupted while replaying the simulations; nothing written\n");
     return;

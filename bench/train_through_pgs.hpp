@@ -25,7 +25,7 @@ void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o);
 /// The shared options of `train` that the PGS path uses.
 struct PgsTrainCommon {
   std::string data, out;
-  int epochs = 0, batch = 0, threads = 0, every = 1;
+  int epochs = 0, batch = 0, threads = 0, every = 1, first_step = 0;
   double lr = 0, momentum = 0, weight_decay = 0, val = 0, deadzone = 0;
   std::uint64_t seed = 1;
   bool force = false;

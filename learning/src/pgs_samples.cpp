@@ -26,7 +26,7 @@ SphTransferDef readback_transfer_def(const FeatureImageDef& image) {
 
 namespace {
 
-std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index, int every,
+std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index, int every, int first_step,
                                          const std::function<bool()>& keep_going) {
   std::vector<PgsSample> out;
   SphTransfer transfer(readback_transfer_def(params.image));
@@ -52,8 +52,9 @@ std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index,
       world.integrate(Eigen::VectorXd::Zero(0));
       continue;
     }
-    const bool keep = recorded % every == 0;
-    ++recorded;
+    // Steps before first_step are replayed (the trajectory needs them) but not kept.
+    const bool keep = s >= first_step && recorded % every == 0;
+    if (s >= first_step) ++recorded;
     PgsSample sample;
     if (keep) {
       sample.features = Tensor(1, images.feature_channels(), images.ny(), images.nx());
@@ -98,8 +99,9 @@ std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index,
 }  // namespace
 
 std::vector<PgsSample> collect_pgs_samples(const DataSetParams& params, std::span<const int> sims, int every,
-                                           const std::function<bool()>& keep_going) {
+                                           const std::function<bool()>& keep_going, int first_step) {
   if (every < 1) throw ConfigError("--every must be >= 1");
+  if (first_step < 0) throw ConfigError("--first-step must be >= 0");
   params.validate();
   // Simulations are independent pure functions of (params, index): one per OpenMP worker,
   // concatenated in the order given (the result does not depend on the thread count).
@@ -108,7 +110,7 @@ std::vector<PgsSample> collect_pgs_samples(const DataSetParams& params, std::spa
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t q = 0; q < sims.size(); ++q) {
     try {
-      per_sim[q] = replay_simulation(params, sims[q], every, keep_going);
+      per_sim[q] = replay_simulation(params, sims[q], every, first_step, keep_going);
     } catch (...) {
 #pragma omp critical(dc_pgs_samples_error)
       if (!error) error = std::current_exception();

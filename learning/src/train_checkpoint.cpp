@@ -27,7 +27,7 @@ RunIdentity training_run_identity(const DataSetReader& r, const std::string& arc
   for (unsigned char c : arch_toml) arch_hash = (arch_hash ^ c) * 1099511628211ULL;
   std::string names;
   for (const auto& n : r.feature_channel_names()) names += (names.empty() ? "" : ",") + n;
-  return {{"data_simulations", std::to_string(r.simulations().size())},
+  RunIdentity id{{"data_simulations", std::to_string(r.simulations().size())},
           {"data_samples", std::to_string(r.samples())},
           {"data_seed", std::to_string(r.params().seed)},
           {"data_grid", std::to_string(r.nx()) + "x" + std::to_string(r.ny())},
@@ -46,6 +46,9 @@ RunIdentity training_run_identity(const DataSetReader& r, const std::string& arc
           {"residual", s.labels.kind == LabelKind::Residual ? "1" : "0"},
           {"label_scale", num(s.labels.scale)},
           {"deadzone", num(s.labels.deadzone)}};
+  // Only when set, so checkpoints written before --first-step existed stay resumable.
+  if (s.first_step > 0) id.emplace_back("first_step", std::to_string(s.first_step));
+  return id;
 }
 
 void write_train_state(H5File& f, const TrainState& st, const RunIdentity& id) {

@@ -16,6 +16,7 @@ namespace dc {
 
 void TrainingSampleDef::validate() const {
   if (every < 1) throw ConfigError("--every must be >= 1");
+  if (first_step < 0) throw ConfigError("--first-step must be >= 0");
   if (!(contact_weight >= 0) || !std::isfinite(contact_weight))
     throw ConfigError("--contact-weight must be a finite number >= 0");
   if (!(labels.deadzone >= 0) || !std::isfinite(labels.deadzone))
@@ -44,7 +45,9 @@ std::vector<TrainingSample> load_training_samples(const DataSetReader& r, const 
   std::vector<TrainingSample> out;
   for (const DataSetSimulation& sim : r.simulations()) {
     std::vector<std::int64_t> rows;
-    for (std::int64_t k = 0; k < sim.samples; k += def.every) rows.push_back(sim.sample_begin + k);
+    std::int64_t k = 0;
+    while (k < sim.samples && r.sample_step(sim.sample_begin + k) < def.first_step) ++k;
+    for (; k < sim.samples; k += def.every) rows.push_back(sim.sample_begin + k);
     if (rows.empty()) continue;
     for (TrainingSample& t : r.training_samples(rows, sim.index)) {
       training_labels(t.labels, t.features, channels, def.labels);
@@ -58,7 +61,9 @@ std::vector<TrainingSample> load_training_samples(const DataSetReader& r, const 
       out.push_back(std::move(t));
     }
   }
-  if (out.empty()) throw ConfigError(r.path() + ": the data set holds no samples");
+  if (out.empty())
+    throw ConfigError(r.path() + (def.first_step > 0 ? ": no sample at or after --first-step " + std::to_string(def.first_step)
+                                                     : std::string(": the data set holds no samples")));
   return out;
 }
 

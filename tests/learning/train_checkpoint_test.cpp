@@ -130,6 +130,34 @@ TEST_F(TrainCheckpoint, SamplesCarryTheLabelDefinitionsTargets) {
   EXPECT_THROW((void)load_training_samples(r, bad), ConfigError);
 }
 
+// --first-step K keeps only samples of steps >= K, every K-th counted from the first kept.
+TEST_F(TrainCheckpoint, FirstStepKeepsTheLaterSamplesOfEachSimulation) {
+  const DataSetReader r(data());
+  TrainingSampleDef all;
+  all.every = 2;
+  const int first = r.sample_step(r.simulations()[0].sample_begin + 5);  // the 6th sample's step
+  TrainingSampleDef late = all;
+  late.first_step = first;
+  const auto a = load_training_samples(r, all);
+  const auto b = load_training_samples(r, late);
+  std::size_t expected = 0;
+  for (const DataSetSimulation& sim : r.simulations()) {
+    std::int64_t kept = 0;
+    for (std::int64_t k = 0; k < sim.samples; ++k) kept += r.sample_step(sim.sample_begin + k) >= first;
+    expected += static_cast<std::size_t>((kept + 1) / 2);
+  }
+  EXPECT_EQ(b.size(), expected);
+  EXPECT_LT(b.size(), a.size());
+  // The first kept sample of simulation 0 is the one of step `first`.
+  const auto want = r.training_samples(std::vector<std::int64_t>{r.simulations()[0].sample_begin + 5},
+                                       r.simulations()[0].index);
+  for (std::size_t i = 0; i < want[0].features.size(); ++i) ASSERT_EQ(b[0].features[i], want[0].features[i]);
+  late.first_step = 1 << 20;  // past every step
+  EXPECT_THROW((void)load_training_samples(r, late), ConfigError);
+  late.first_step = -1;
+  EXPECT_THROW((void)load_training_samples(r, late), ConfigError);
+}
+
 // OUT is rewritten only when an epoch improves; OUT.ckpt and the CSV after every epoch; a
 // resumed run starts from the best of its history.
 TEST_F(TrainCheckpoint, OutputsKeepTheBestModelAndTheLatestState) {

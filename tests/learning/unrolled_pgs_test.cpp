@@ -162,6 +162,24 @@ TEST(PgsSamples, ReplayEqualsTheDataSetSimulation) {
   }
 }
 
+/// first_step: earlier steps are replayed but not kept; every counts from the first kept one.
+TEST(PgsSamples, FirstStepSkipsTheEarlierSteps) {
+  DataSetParams params = test::small_data_set_params(12.0, 40, 7, 8, 10);
+  params.image.channels = parse_feature_channels("mass,vx,vy,omega,contact_density,lambda_prev_n,lambda_prev_t");
+  const SimulationRecord rec = *SimulationGenerator(params).run(1);
+  ASSERT_GT(rec.samples(), 6u);
+  const int first = rec.step[4];
+  const int sims[] = {1};
+  const std::vector<PgsSample> s = collect_pgs_samples(params, sims, 2, {}, first);
+  ASSERT_EQ(s.size(), (rec.samples() - 4 + 1) / 2);
+  const std::size_t F = s[0].features.size();
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    EXPECT_EQ(s[k].step, rec.step[4 + 2 * k]);
+    for (std::size_t i = 0; i < F; ++i) ASSERT_EQ(s[k].features[i], rec.features[(4 + 2 * k) * F + i]) << k << " " << i;
+  }
+  EXPECT_THROW((void)collect_pgs_samples(params, sims, 2, {}, -1), ConfigError);
+}
+
 TEST(ContactReadback, EqualsSphTransferGatherAndAdjointIsTranspose) {
   DataSetParams params = test::small_data_set_params(12.0, 40, 7, 8, 10);
   const SphTransferDef def = readback_transfer_def(params.image);

@@ -25,6 +25,16 @@ WarmStarterRegistry default_warm_starters() {
         make_sph_warm_starter);
   r.add("sph-prev", "previous step's lambda -> SPH grid -> this step's contacts; sph-prev:KERNEL:D:H[:NORM]",
         make_sph_prev_warm_starter);
+  r.add("sph-residual",
+        "builtin + the SPH grid read-back of this step's correction lambda* - builtin (oracle bound of a residual "
+        "cnn); sph-residual:KERNEL:D:H[:NORM]",
+        make_sph_residual_warm_starter);
+  r.add("gate",
+        "safeguard: per step, INNER's guess or builtin's, whichever has the smaller natural-map residual "
+        "(max norm); gate:INNER, e.g. gate:cnn:models/impact.h5",
+        make_gate_warm_starter);
+  r.add("gate-l2", "gate with the residual's 2-norm instead of its max norm; gate-l2:INNER",
+        make_gate_l2_warm_starter);
   r.add("random", "negative control: lambda_n ~ U(0,5)s, lambda_t ~ U(-2,2)s, s = mean weight",
         make_random_warm_starter);
   r.add("bad", "negative control: lambda_n = 50 s (a large constant)", make_bad_warm_starter);

@@ -73,15 +73,20 @@ Eigen::VectorXd to_rows(const World& w, std::span<const double> v) {
   return out;
 }
 
+/// What is splatted on the grid (see the file comment of sph_warm_starter.hpp).
+enum class SphSource { Oracle, Previous, Residual };
+
 class SphWarmStarter final : public WarmStarter {
  public:
-  SphWarmStarter(const SphTransferDef& def, std::string arg, bool previous)
-      : def_(def), arg_(std::move(arg)), previous_(previous) {}
+  SphWarmStarter(const SphTransferDef& def, std::string arg, SphSource source)
+      : def_(def), arg_(std::move(arg)), source_(source) {}
   std::string name() const override {
-    const std::string base = previous_ ? "sph-prev" : "sph";
+    const std::string base = source_ == SphSource::Previous ? "sph-prev"
+                             : source_ == SphSource::Residual ? "sph-residual"
+                                                              : "sph";
     return arg_.empty() ? base : base + ":" + arg_;
   }
-  bool uses_oracle() const override { return !previous_; }
+  bool uses_oracle() const override { return source_ != SphSource::Previous; }
   double oracle_ms() const override { return oracle_ms_; }
 
   Eigen::VectorXd initial_guess(const StepView& v) override {
@@ -89,7 +94,9 @@ class SphWarmStarter final : public WarmStarter {
     oracle_ms_ = 0;
     targets_.clear();
     for (const Contact& c : w.contacts()) targets_.push_back(c.point);
-    if (previous_) {
+    // builtin's rows: the base a residual grid is added to (unprojected, as the cnn's).
+    Eigen::VectorXd base = Eigen::VectorXd::Zero(w.problem().rows());
+    if (source_ == SphSource::Previous) {
       contact_lambda_channels(w.previous_contacts(), points_, values_);
     } else {
       Eigen::VectorXd star;
@@ -101,6 +108,10 @@ class SphWarmStarter final : public WarmStarter {
         oracle_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       }
       points_ = targets_;
+      if (source_ == SphSource::Residual) {
+        put_previous_lambda_by_key(w, base);
+        star -= base;  // the correction λ* − λ_builtin, per row
+      }
       w.constraints().gather(star, values_);
     }
     if (targets_.empty()) return Eigen::VectorXd::Zero(w.problem().rows());
@@ -114,14 +125,17 @@ class SphWarmStarter final : public WarmStarter {
       transfer_.emplace(d);
     }
     transfer_->splat(points_, values_);
-    return to_rows(w, transfer_->gather(transfer_->grid(), targets_));
+    if (source_ != SphSource::Residual) return to_rows(w, transfer_->gather(transfer_->grid(), targets_));
+    Eigen::VectorXd out = base + w.constraints().scatter(transfer_->gather(transfer_->grid(), targets_));
+    project_feasible(w.problem(), out);
+    return out;
   }
 
  private:
   SphTransferDef def_;
   std::optional<SphTransfer> transfer_;
   std::string arg_;
-  bool previous_;
+  SphSource source_;
   double oracle_ms_ = 0;
   std::vector<Vec2> points_, targets_;
   std::vector<double> values_;
@@ -132,13 +146,19 @@ class SphWarmStarter final : public WarmStarter {
 std::unique_ptr<WarmStarter> make_sph_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
   SphTransferDef def = default_sph_setting(30.0, 30.0);  // box replaced by the scene's
   parse_sph_setting(spec.arg, def);
-  return std::make_unique<SphWarmStarter>(def, spec.arg, false);
+  return std::make_unique<SphWarmStarter>(def, spec.arg, SphSource::Oracle);
 }
 
 std::unique_ptr<WarmStarter> make_sph_prev_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
   SphTransferDef def = default_sph_setting(30.0, 30.0);
   parse_sph_setting(spec.arg, def);
-  return std::make_unique<SphWarmStarter>(def, spec.arg, true);
+  return std::make_unique<SphWarmStarter>(def, spec.arg, SphSource::Previous);
+}
+
+std::unique_ptr<WarmStarter> make_sph_residual_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  SphTransferDef def = default_sph_setting(30.0, 30.0);
+  parse_sph_setting(spec.arg, def);
+  return std::make_unique<SphWarmStarter>(def, spec.arg, SphSource::Residual);
 }
 
 }  // namespace dc

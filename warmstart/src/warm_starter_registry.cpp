@@ -32,7 +32,10 @@ std::unique_ptr<WarmStarter> WarmStarterRegistry::make(const std::string& text,
     os << ')';
     throw ConfigError(os.str());
   }
-  return it->second.factory(spec, env);
+  if (env.registry) return it->second.factory(spec, env);
+  WarmStartEnv with_registry = env;
+  with_registry.registry = this;
+  return it->second.factory(spec, with_registry);
 }
 
 std::vector<std::string> WarmStarterRegistry::names() const {

@@ -34,11 +34,12 @@ struct PgsSample {
   int step = 0;                  ///< step index within it
 };
 
-/// Replays simulations `sims` of `params` and returns every `every`-th sample of each (the
-/// samples train's --every keeps). `keep_going` is polled between steps (false: stop, return
-/// what is complete). ConfigError for every < 1.
+/// Replays simulations `sims` of `params` and returns every `every`-th sample of each,
+/// counted from the first step ≥ `first_step` (the samples train's --every and --first-step
+/// keep). `keep_going` is polled between steps (false: stop, return what is complete).
+/// ConfigError for every < 1 or first_step < 0.
 std::vector<PgsSample> collect_pgs_samples(const DataSetParams& params, std::span<const int> sims, int every,
-                                           const std::function<bool()>& keep_going = {});
+                                           const std::function<bool()>& keep_going = {}, int first_step = 0);
 
 /// The read-back transfer of a feature image: its kernel, d, h and box, two channels, Shepard.
 SphTransferDef readback_transfer_def(const FeatureImageDef& image);

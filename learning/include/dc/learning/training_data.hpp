@@ -18,6 +18,10 @@ namespace dc {
 /// Which samples of a data set are trained on, and their targets and weights.
 struct TrainingSampleDef {
   int every = 1;              ///< every K-th sample of each simulation (consecutive steps are nearly identical)
+  /// Only samples of steps ≥ first_step (0-based) of each simulation: a family whose bench
+  /// window starts late (impact: the strike at ~step 217) trains on its window, not on the
+  /// settling that precedes it. every counts from the first kept sample.
+  int first_step = 0;
   /// W ≥ 0: loss weight map 1 + W·[contact_density > 0] (one channel shared by λ_n and λ_t;
   /// needs the contact_density feature channel). 0 = unweighted.
   double contact_weight = 0.0;

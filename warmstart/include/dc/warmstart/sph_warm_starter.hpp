@@ -4,6 +4,11 @@
 //             points: the best any grid-based predictor (the CNN) can do; uses the oracle.
 //   sph-prev  the previous step's solved λ at the previous contact points → grid → this
 //             step's contact points: a non-oracle grid starter (the "SPH of the past").
+//   sph-residual  builtin + the grid read-back of this step's correction λ* − λ_builtin
+//             (splatted at the contact points): the best a *residual* grid predictor (a
+//             residual cnn model, λ⁰ = λ_prev + read-back) can do with this transfer; an
+//             oracle. Unlike sph it keeps builtin's exact per-contact detail and loses only
+//             the correction's sub-grid part.
 // Options: `sph:KERNEL:D:H[:NORMALISATION]`, e.g. `sph:spiky:0.25:0.25`, `sph:poly6:0.5:0.5:legacy`.
 #include <string>
 

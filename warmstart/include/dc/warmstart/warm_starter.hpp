@@ -39,10 +39,16 @@ class WarmStarter {
   [[nodiscard]] virtual double oracle_ms() const { return 0.0; }
 };
 
+class WarmStarterRegistry;
+
 /// Everything a factory may need to build a starter; the same for every starter of a run.
 struct WarmStartEnv {
   std::uint64_t seed = 12345;   ///< seed for starters with randomness (random)
   std::string model_path;       ///< cnn: model file ("" = the shipped default)
+  /// The registry a starter that wraps another one (gate:INNER) builds its inner starter
+  /// from. WarmStarterRegistry::make sets it to itself when it is null; valid only during
+  /// the factory call.
+  const WarmStarterRegistry* registry = nullptr;
 };
 
 /// "name" or "name:arg" as written on the command line.
@@ -77,7 +83,8 @@ class WarmStarterRegistry {
 void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
 
 /// The registry with every starter of this library: zero, builtin, builtin-extrapolate,
-/// builtin-statics, copy[:D], sph, sph-prev, random, bad (the learning library adds cnn).
+/// builtin-statics, copy[:D], copy-noise:R, sph, sph-prev, sph-residual, gate:INNER, random,
+/// bad (the learning library adds cnn).
 WarmStarterRegistry default_warm_starters();
 
 /// The static load guess of builtin-statics for every contact of w's current step

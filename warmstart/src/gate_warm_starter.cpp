@@ -1,0 +1,86 @@
+// gate:INNER and gate-l2:INNER: a safeguard around any starter. Each step both builtin's
+// guess and INNER's are scored by the natural-map residual of the step's LCP (DESIGN §2,
+// natural_residual: r_i = λ_i − mid(lo_i, λ_i − w_i, hi_i), w = Aλ + b) and the one with the
+// smaller score is returned — builtin on a tie, so a starter that is no better is never used.
+//   gate     scores by max_i |r_i| (the solver's own tolerance measure θ);
+//   gate-l2  scores by ‖r‖₂ (the whole error, not its worst contact: PGS's sweep count is set
+//            by the slow, spread-out part of the error more than by one bad contact).
+// Why: a learned model that is good on its family can be harmful off it (models/impact.h5
+// needs 2.65× builtin's sweeps on the seed pile, docs/research.md); the gate keeps such a
+// model from ever starting PGS further from the solution than builtin by its own measure.
+// Cost: two matrix-free residual evaluations (each O(nnz J), ≈ one PGS sweep) on top of
+// INNER's guess; timed with the guess.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "dc/engine/lcp_problem.hpp"
+#include "starters.hpp"
+
+namespace dc {
+namespace {
+
+enum class GateNorm { Max, L2 };
+
+/// The natural-map residual of λ in the chosen norm (max: equal to natural_residual).
+double residual_score(const LcpProblem& p, const Eigen::VectorXd& lambda, GateNorm norm) {
+  if (norm == GateNorm::Max) return natural_residual(p, lambda);
+  const Eigen::VectorXd w = lcp_velocity(p, lambda);
+  double sum = 0.0;
+  for (int i = 0; i < p.rows(); ++i) {
+    const double l = p.lower(i, lambda), h = p.upper(i, lambda);
+    const double e = lambda[i] - std::clamp(lambda[i] - w[i], l, std::max(l, h));
+    sum += e * e;
+  }
+  return std::isfinite(sum) ? std::sqrt(sum) : std::numeric_limits<double>::infinity();
+}
+
+class GateWarmStarter final : public WarmStarter {
+ public:
+  GateWarmStarter(std::unique_ptr<WarmStarter> inner, std::string base, GateNorm norm)
+      : inner_(std::move(inner)), base_(std::move(base)), norm_(norm) {}
+  std::string name() const override { return base_ + ":" + inner_->name(); }
+  bool uses_oracle() const override { return inner_->uses_oracle(); }
+  double oracle_ms() const override { return inner_->oracle_ms(); }
+  void observe(const StepView& v, const Eigen::VectorXd& solved) override { inner_->observe(v, solved); }
+
+  Eigen::VectorXd initial_guess(const StepView& v) override {
+    const World& w = v.world;
+    Eigen::VectorXd candidate = inner_->initial_guess(v);
+    Eigen::VectorXd fallback = Eigen::VectorXd::Zero(w.problem().rows());
+    put_previous_lambda_by_key(w, fallback);
+    project_feasible(w.problem(), fallback);
+    if (candidate.size() != fallback.size()) return fallback;  // a broken inner never wins
+    const double inner_score = residual_score(w.problem(), candidate, norm_);
+    const double builtin_score = residual_score(w.problem(), fallback, norm_);
+    return inner_score < builtin_score ? candidate : fallback;
+  }
+
+ private:
+  std::unique_ptr<WarmStarter> inner_;
+  std::string base_;
+  GateNorm norm_;
+};
+
+std::unique_ptr<WarmStarter> make_gate(const WarmStartSpec& spec, const WarmStartEnv& env, GateNorm norm) {
+  if (spec.arg.empty())
+    throw ConfigError("warm starter '" + spec.name + "' needs the starter it gates, e.g. " + spec.name +
+                      ":cnn:models/impact.h5");
+  if (!env.registry) throw InvalidArgument("warm starter '" + spec.full() + "': built without a registry");
+  const WarmStartSpec inner = WarmStartSpec::parse(spec.arg);
+  if (inner.name == "gate" || inner.name == "gate-l2")
+    throw ConfigError("warm starter '" + spec.full() + "': a gate cannot gate another gate");
+  return std::make_unique<GateWarmStarter>(env.registry->make(spec.arg, env), spec.name, norm);
+}
+
+}  // namespace
+
+std::unique_ptr<WarmStarter> make_gate_warm_starter(const WarmStartSpec& spec, const WarmStartEnv& env) {
+  return make_gate(spec, env, GateNorm::Max);
+}
+
+std::unique_ptr<WarmStarter> make_gate_l2_warm_starter(const WarmStartSpec& spec, const WarmStartEnv& env) {
+  return make_gate(spec, env, GateNorm::L2);
+}
+
+}  // namespace dc
