@@ -38,7 +38,11 @@ model: build
 sanitize: deps
 	# DC_NATIVE=OFF: the portable code paths (Conv2d's im2col + GEMM) run here under the
 	# sanitizers, while `make test` (-march=native) covers the AVX-512 kernels.
-	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDC_SANITIZE=ON -DDC_NATIVE=OFF -DDC_BENCHMARKS=OFF $(CMAKE_ARGS)
+	# -g1: line tables only. The sanitizers' stack traces (inlined frames included) are the
+	# same as with -g, the code is the same, and it compiles ~20 % faster (DEVELOPERS.md);
+	# for gdb: make sanitize CMAKE_ARGS='-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g -DNDEBUG"'.
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDC_SANITIZE=ON -DDC_NATIVE=OFF -DDC_BENCHMARKS=OFF \
+	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" $(CMAKE_ARGS)
 	cmake --build build-asan -j $(JOBS)
 	# Two known defects inside libhdf5 1.10.8 are suppressed (tests/fuzz/*.supp, docs/robustness.md).
 	cd build-asan && ASAN_OPTIONS=suppressions=$(CURDIR)/tests/fuzz/asan.supp \

@@ -11,8 +11,8 @@
 # libhdf5). Artefacts stay under build-fuzz/fuzz-work/<harness>/artifacts/ — turn each of ours
 # into a regression test, never commit the artefact itself.
 # Exit status: 0 when no harness found anything of ours, 1 otherwise, 2 when the build failed.
-# Environment: JOBS (build parallelism, default 2), DC_FUZZ_BUILD (build dir), FUZZ_ARGS
-# (extra libFuzzer flags).
+# Environment: JOBS (build parallelism, default 2), FUZZ_PARALLEL (harnesses run at once,
+# default JOBS; each still runs SECONDS), DC_FUZZ_BUILD (build dir), FUZZ_ARGS (extra libFuzzer flags).
 set -uo pipefail
 
 SECS=${1:-60}
@@ -65,10 +65,11 @@ classify() {  # classify BIN ARTEFACT → prints hdf5, ours, or none (does not r
   if grep -q libhdf5 <<<"$first"; then echo hdf5; else echo ours; fi
 }
 
-status=0
-summary=()
-for h in "${HARNESSES[@]}"; do
-  bin=$BUILD/tests/fuzz/fuzz_$h
+# fuzz_one HARNESS: runs it, classifies its artefacts, writes $WORK/HARNESS/summary (its table
+# row) and $WORK/HARNESS/status (non-empty when it found something of ours).
+fuzz_one() {
+  local h=$1 rc ours hdf5 a
+  local bin=$BUILD/tests/fuzz/fuzz_$h
   corpus=$WORK/$h/corpus
   artifacts=$WORK/$h/artifacts
   log=$WORK/$h/fuzz.log
@@ -105,9 +106,27 @@ for h in "${HARNESSES[@]}"; do
     esac  # "none": fork-mode artefacts that do not reproduce on their own (e.g. load timeouts)
   done
   [ ${#mode[@]} -gt 0 ] && [ "$ours" -eq 0 ] && rc=0  # fork mode exits non-zero after ignored crashes
-  { [ "$rc" -ne 0 ] || [ "$ours" -ne 0 ]; } && status=1
-  summary+=("$(printf '%-8s %6ss %12s %8s %6s %6s %6s %s' "$h" "$wall" "${execs:-?}" "${rate:-?}" "${cov:-?}" "$ours" "$hdf5" \
-    "$([ "$rc" -eq 0 ] && [ "$ours" -eq 0 ] && echo ok || echo "FOUND (exit $rc): $(grep -m1 -E 'ERROR|SUMMARY|deadly|violated' "$log" | cut -c1-80)")")")
+  { [ "$rc" -ne 0 ] || [ "$ours" -ne 0 ]; } && echo 1 > "$WORK/$h/status"
+  printf '%-8s %6ss %12s %8s %6s %6s %6s %s' "$h" "$wall" "${execs:-?}" "${rate:-?}" "${cov:-?}" "$ours" "$hdf5" \
+    "$([ "$rc" -eq 0 ] && [ "$ours" -eq 0 ] && echo ok || echo "FOUND (exit $rc): $(grep -m1 -E 'ERROR|SUMMARY|deadly|violated' "$log" | cut -c1-80)")" > "$WORK/$h/summary"
+}
+
+# FUZZ_PARALLEL harnesses at a time (default JOBS): a libFuzzer process is single-threaded (the
+# fork-mode parent only waits), so on 2 cores two harnesses run side by side, each for SECONDS
+# on a core of its own: the same search as one after the other, in half the wall time.
+FUZZ_PARALLEL=${FUZZ_PARALLEL:-$JOBS}
+for h in "${HARNESSES[@]}"; do
+  mkdir -p "$WORK/$h"
+  rm -f "$WORK/$h/summary" "$WORK/$h/status"
+  while [ "$(jobs -rp | wc -l)" -ge "$FUZZ_PARALLEL" ]; do wait -n; done
+  fuzz_one "$h" &
+done
+wait
+status=0
+summary=()
+for h in "${HARNESSES[@]}"; do
+  summary+=("$(cat "$WORK/$h/summary" 2>/dev/null || echo "$h: no result")")
+  { [ -s "$WORK/$h/status" ] || [ ! -s "$WORK/$h/summary" ]; } && status=1
 done
 
 echo
