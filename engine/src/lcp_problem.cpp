@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -112,17 +113,35 @@ Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda)
   return p.A * lambda + p.b;
 }
 
+namespace {
+
+/// Row i of the natural map, λ_i − mid(lo_i, λ_i − w_i, hi_i), with the effective bounds.
+double natural_map_row(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w, int i) {
+  const double l = p.lower(i, lambda), h = p.upper(i, lambda);
+  return lambda[i] - std::clamp(lambda[i] - w[i], l, std::max(l, h));
+}
+
+}  // namespace
+
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda) {
   const Eigen::VectorXd w = lcp_velocity(p, lambda);
   double r = 0.0;
   for (int i = 0; i < p.rows(); ++i) {
-    const double l = p.lower(i, lambda), h = p.upper(i, lambda);
-    const double proj = std::clamp(lambda[i] - w[i], l, std::max(l, h));
-    const double e = std::abs(lambda[i] - proj);
+    const double e = std::abs(natural_map_row(p, lambda, w, i));
     if (std::isnan(e)) return std::numeric_limits<double>::infinity();
     r = std::max(r, e);
   }
   return r;
+}
+
+double natural_residual_l2(const LcpProblem& p, const Eigen::VectorXd& lambda) {
+  const Eigen::VectorXd w = lcp_velocity(p, lambda);
+  double sum = 0.0;
+  for (int i = 0; i < p.rows(); ++i) {
+    const double e = natural_map_row(p, lambda, w, i);
+    sum += e * e;
+  }
+  return std::isfinite(sum) ? std::sqrt(sum) : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace dc

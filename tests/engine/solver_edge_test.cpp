@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
+#include <limits>
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
@@ -208,6 +210,27 @@ TEST(SolverEdge, NoSolverHangsOnNonConvergingIterations) {
   }
   const SolveResult j = make_solver("jacobi")->solve(coupled, Eigen::VectorXd(), o);
   EXPECT_NE(j.status, SolveStatus::Converged);
+}
+
+// The natural map in two norms: 0 together at a solution, ‖r‖∞ ≤ ‖r‖₂ ≤ √n ‖r‖∞ elsewhere,
+// and the 2-norm equal to the rows' map computed by hand.
+TEST(NaturalResidual, TwoNormAgreesWithTheMaxNormAndTheMapByHand) {
+  const LcpProblem p = dense({{2, 1, 0}, {1, 3, 1}, {0, 1, 4}}, {-1, 2, -3});
+  const Eigen::VectorXd lambda = Eigen::Vector3d(0.2, 0.7, -0.1);  // infeasible on purpose
+  const Eigen::VectorXd w = lcp_velocity(p, lambda);
+  double sum = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double e = lambda[i] - std::max(0.0, lambda[i] - w[i]);  // lo = 0, hi = +∞
+    sum += e * e;
+  }
+  const double inf = natural_residual(p, lambda), two = natural_residual_l2(p, lambda);
+  EXPECT_NEAR(two, std::sqrt(sum), 1e-12);
+  EXPECT_LE(inf, two + 1e-15);
+  EXPECT_LE(two, std::sqrt(3.0) * inf + 1e-15);
+  const SolveResult r = run("lemke", p);
+  ASSERT_EQ(r.status, SolveStatus::Converged);
+  EXPECT_LE(natural_residual_l2(p, r.lambda), 1e-9);
+  EXPECT_EQ(natural_residual_l2(p, Eigen::Vector3d(std::nan(""), 0, 0)), std::numeric_limits<double>::infinity());
 }
 
 }  // namespace

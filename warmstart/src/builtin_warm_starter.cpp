@@ -16,18 +16,19 @@ void put_previous_lambda_by_key(const World& w, Eigen::VectorXd& out) {
   }
 }
 
+Eigen::VectorXd builtin_guess(const World& w) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
+  put_previous_lambda_by_key(w, out);
+  project_feasible(w.problem(), out);
+  return out;
+}
+
 namespace {
 
 class BuiltinWarmStarter final : public WarmStarter {
  public:
   std::string name() const override { return "builtin"; }
-  Eigen::VectorXd initial_guess(const StepView& v) override {
-    const World& w = v.world;
-    Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
-    put_previous_lambda_by_key(w, out);
-    project_feasible(w.problem(), out);
-    return out;
-  }
+  Eigen::VectorXd initial_guess(const StepView& v) override { return builtin_guess(v.world); }
 };
 
 }  // namespace

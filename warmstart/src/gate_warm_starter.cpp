@@ -10,10 +10,6 @@
 // model from ever starting PGS further from the solution than builtin by its own measure.
 // Cost: two matrix-free residual evaluations (each O(nnz J), ≈ one PGS sweep) on top of
 // INNER's guess; timed with the guess.
-#include <algorithm>
-#include <cmath>
-#include <limits>
-
 #include "dc/engine/lcp_problem.hpp"
 #include "starters.hpp"
 
@@ -22,17 +18,9 @@ namespace {
 
 enum class GateNorm { Max, L2 };
 
-/// The natural-map residual of λ in the chosen norm (max: equal to natural_residual).
+/// The natural-map residual of λ in the chosen norm.
 double residual_score(const LcpProblem& p, const Eigen::VectorXd& lambda, GateNorm norm) {
-  if (norm == GateNorm::Max) return natural_residual(p, lambda);
-  const Eigen::VectorXd w = lcp_velocity(p, lambda);
-  double sum = 0.0;
-  for (int i = 0; i < p.rows(); ++i) {
-    const double l = p.lower(i, lambda), h = p.upper(i, lambda);
-    const double e = lambda[i] - std::clamp(lambda[i] - w[i], l, std::max(l, h));
-    sum += e * e;
-  }
-  return std::isfinite(sum) ? std::sqrt(sum) : std::numeric_limits<double>::infinity();
+  return norm == GateNorm::Max ? natural_residual(p, lambda) : natural_residual_l2(p, lambda);
 }
 
 class GateWarmStarter final : public WarmStarter {
@@ -47,9 +35,7 @@ class GateWarmStarter final : public WarmStarter {
   Eigen::VectorXd initial_guess(const StepView& v) override {
     const World& w = v.world;
     Eigen::VectorXd candidate = inner_->initial_guess(v);
-    Eigen::VectorXd fallback = Eigen::VectorXd::Zero(w.problem().rows());
-    put_previous_lambda_by_key(w, fallback);
-    project_feasible(w.problem(), fallback);
+    Eigen::VectorXd fallback = builtin_guess(w);
     if (candidate.size() != fallback.size()) return fallback;  // a broken inner never wins
     const double inner_score = residual_score(w.problem(), candidate, norm_);
     const double builtin_score = residual_score(w.problem(), fallback, norm_);

@@ -15,6 +15,10 @@ inline void reject_argument(const WarmStartSpec& spec) {
 /// (0 for builtin, the statics guess for builtin-statics). Defined in builtin_warm_starter.cpp.
 void put_previous_lambda_by_key(const World& w, Eigen::VectorXd& out);
 
+/// builtin's λ⁰ for w's current step: put_previous_lambda_by_key on zeros, projected
+/// (the builtin starter's guess; the gate's fallback).
+Eigen::VectorXd builtin_guess(const World& w);
+
 std::unique_ptr<WarmStarter> make_zero_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_builtin_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec&, const WarmStartEnv&);

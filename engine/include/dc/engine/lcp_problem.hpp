@@ -83,6 +83,10 @@ struct LcpProblem {
 /// Zero exactly at a solution; units of λ [N].
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda);
 
+/// The same natural map in the 2-norm, ‖λ − mid(lo, λ − w, hi)‖₂ [N]: the whole error rather
+/// than its worst row (gate-l2). +∞ when an entry is not finite.
+double natural_residual_l2(const LcpProblem& p, const Eigen::VectorXd& lambda);
+
 /// w = A λ + b. A problem with J is evaluated matrix-free, w = J (Δt M⁻¹ Jᵀ λ) + b (O(nnz J),
 /// A need not be formed; equal to A λ + b up to round-off), a problem from a file with A.
 Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda);
