@@ -177,7 +177,7 @@ void add_generate_command(CLI::App& app) {
                   "SPH grid KERNEL:D:H (default: the bench's sph setting, poly6:0.5:0.355 -> 61 x 61 on 30 x 30)");
   cmd->add_option("--channels", args->channels,
                   "Feature channels, comma-separated from mass,vx,vy,omega,contact_density,nx,ny,lambda_prev_n,"
-                  "lambda_prev_t,vrel_n,vrel_t,gap,coverage,orient_c,orient_s "
+                  "lambda_prev_t,vrel_n,vrel_t,gap,coverage,orient_c,orient_s,w_prev_n,w_prev_t "
                   "(default: mass,vx,vy,omega,contact_density)");
   cmd->add_option("--oracle", args->oracle,
                   "How lambda* is solved: pgs (matrix-free PGS from the builtin warm start until theta <= "

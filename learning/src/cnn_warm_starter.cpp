@@ -162,7 +162,7 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
   if (any_new) {
     auto t0 = Clock::now();
     prepare(w);
-    builder_->features(w.bodies(), cur, prev, std::span<float>(features_.data(), features_.size()));
+    builder_->features(w.bodies(), cur, prev, &w.problem(), std::span<float>(features_.data(), features_.size()));
     last_.features_ms = ms_since(t0);
     t0 = Clock::now();
     const Tensor* raw = nullptr;

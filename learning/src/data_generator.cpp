@@ -111,7 +111,8 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
     // Features first: they must only see what a predictor sees before the solve.
     const std::size_t f0 = rec.features.size();
     rec.features.resize(f0 + images.feature_size());
-    images.features(world.bodies(), contacts, world.previous_contacts(), std::span<float>(rec.features).subspan(f0));
+    images.features(world.bodies(), contacts, world.previous_contacts(), &problem,
+                    std::span<float>(rec.features).subspan(f0));
 
     const Eigen::VectorXd guess = builtin->initial_guess(StepView{world, nullptr});
     Eigen::VectorXd lambda;

@@ -18,7 +18,8 @@ constexpr FeatureChannel kAllChannels[] = {FeatureChannel::Mass,  FeatureChannel
                                            FeatureChannel::LambdaPrevT, FeatureChannel::VrelN,
                                            FeatureChannel::VrelT, FeatureChannel::Gap,
                                            FeatureChannel::Coverage, FeatureChannel::OrientC,
-                                           FeatureChannel::OrientS};
+                                           FeatureChannel::OrientS, FeatureChannel::WPrevN,
+                                           FeatureChannel::WPrevT};
 
 SphTransferDef normalised_label_def(SphTransferDef d) {
   d.grid.channels = FeatureImageBuilder::kLabelChannels;
@@ -42,6 +43,11 @@ bool uses_contact_values(const std::vector<FeatureChannel>& cs) {
     return c == FeatureChannel::LambdaPrevN || c == FeatureChannel::LambdaPrevT || c == FeatureChannel::VrelN ||
            c == FeatureChannel::VrelT || c == FeatureChannel::Gap;
   });
+}
+
+bool uses_w_prev(std::span<const FeatureChannel> cs) {
+  return std::any_of(cs.begin(), cs.end(),
+                     [](FeatureChannel c) { return c == FeatureChannel::WPrevN || c == FeatureChannel::WPrevT; });
 }
 
 bool uses_shape_fields(const std::vector<FeatureChannel>& cs) {
@@ -77,6 +83,8 @@ const char* to_string(FeatureChannel c) {
     case FeatureChannel::Coverage: return "coverage";
     case FeatureChannel::OrientC: return "orient_c";
     case FeatureChannel::OrientS: return "orient_s";
+    case FeatureChannel::WPrevN: return "w_prev_n";
+    case FeatureChannel::WPrevT: return "w_prev_t";
   }
   return "?";
 }
@@ -124,6 +132,15 @@ std::vector<FeatureChannel> residual_feature_channels() {
           FeatureChannel::Gap};
 }
 
+std::vector<FeatureChannel> residual_w_feature_channels() {
+  std::vector<FeatureChannel> out = residual_feature_channels();
+  out.push_back(FeatureChannel::WPrevN);
+  out.push_back(FeatureChannel::WPrevT);
+  return out;
+}
+
+bool needs_lcp_problem(std::span<const FeatureChannel> channels) { return uses_w_prev(channels); }
+
 std::vector<std::string> label_channel_names() { return {"lambda_n", "lambda_t"}; }
 
 FeatureImageDef FeatureImageDef::for_box(double width, double height) {
@@ -157,13 +174,15 @@ FeatureImageBuilder::FeatureImageBuilder(FeatureImageDef def)
     contact_weight_ = SphGrid(with_channels(def_.sph.grid, 1));
   }
   if (uses_contact_values(def_.channels)) contact_values_ = SphGrid(with_channels(def_.sph.grid, 5));
+  if (uses_w_prev(def_.channels)) w_prev_grid_ = SphGrid(with_channels(def_.sph.grid, 2));
   if (uses_shape_fields(def_.channels)) shape_grid_ = SphGrid(with_channels(def_.sph.grid, 3));
   nx_ = body_grid_.nx();
   ny_ = body_grid_.ny();
 }
 
 void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Contact> contacts,
-                                   std::span<const Contact> previous, std::span<float> out) {
+                                   std::span<const Contact> previous, const LcpProblem* problem,
+                                   std::span<float> out) {
   if (out.size() != feature_size())
     throw InvalidArgument("FeatureImageBuilder::features: output holds " + std::to_string(out.size()) +
                           " floats, expected " + std::to_string(feature_size()));
@@ -222,6 +241,33 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     splat_to_grid(kernel_, points_, values_, contact_values_, nullptr);
   }
 
+  // The builtin guess's LCP velocity w = A λ_prev + b per contact (matrix-free when the
+  // problem has J): the violation that the correction λ* − λ_prev has to undo.
+  if (uses_w_prev(def_.channels)) {
+    if (problem == nullptr)
+      throw InvalidArgument("FeatureImageBuilder::features: channels w_prev_n/w_prev_t need the step's LcpProblem");
+    const ContactConstraints& cons = problem->constraints;
+    if (static_cast<std::size_t>(cons.size()) != contacts.size())
+      throw InvalidArgument("FeatureImageBuilder::features: the problem has " + std::to_string(cons.size()) +
+                            " contacts, the step " + std::to_string(contacts.size()));
+    const std::vector<int> match = match_contacts_by_key(previous, contacts);
+    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(problem->rows());
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+      if (match[c] < 0) continue;
+      const Contact& p = previous[static_cast<std::size_t>(match[c])];
+      cons.put(static_cast<int>(c), p.lambda_n, p.lambda_t, lambda);
+    }
+    const Eigen::VectorXd w = lcp_velocity(*problem, lambda);
+    points_.clear();
+    values_.clear();
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+      points_.push_back(contacts[c].point);
+      values_.push_back(cons.lambda_n(w, static_cast<int>(c)));
+      values_.push_back(cons.lambda_t(w, static_cast<int>(c)));
+    }
+    splat_to_grid(kernel_, points_, values_, w_prev_grid_, nullptr);
+  }
+
   // Shapes: area samples of every body with (a, a Q_x, a Q_y); coverage = Σ W a is channel 0.
   if (uses_shape_fields(def_.channels)) {
     // Sample spacing h/2: the kernels of neighbouring samples overlap (a smooth plateau).
@@ -274,6 +320,8 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       case FeatureChannel::Coverage: copy(shape_grid_.channel(0)); break;
       case FeatureChannel::OrientC: shepard(shape_grid_, 1, shape_grid_.channel(0)); break;
       case FeatureChannel::OrientS: shepard(shape_grid_, 2, shape_grid_.channel(0)); break;
+      case FeatureChannel::WPrevN: copy(w_prev_grid_.channel(0)); break;
+      case FeatureChannel::WPrevT: copy(w_prev_grid_.channel(1)); break;
     }
   }
 }

@@ -58,7 +58,7 @@ std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index,
     PgsSample sample;
     if (keep) {
       sample.features = Tensor(1, images.feature_channels(), images.ny(), images.nx());
-      images.features(world.bodies(), contacts, world.previous_contacts(),
+      images.features(world.bodies(), contacts, world.previous_contacts(), &problem,
                       std::span<float>(sample.features.data(), sample.features.size()));
     }
     const Eigen::VectorXd guess = builtin->initial_guess(StepView{world, nullptr});

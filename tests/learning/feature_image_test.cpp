@@ -221,6 +221,65 @@ TEST(FeatureImage, ResidualLabelReadsBackAsLambdaStarMinusBuiltin) {
   EXPECT_GT(changed, 0);  // a non-trivial correction
 }
 
+// w_prev read back at the contacts is the LCP velocity A λ_prev + b of the builtin guess,
+// computed here with the assembled A (the builder goes matrix-free through J); at contacts
+// that builtin already solves it is ≈ 0, and no problem → a one-line error.
+TEST(FeatureImage, WPrevReadsBackAsTheBuiltinGuessLcpVelocity) {
+  WorldDef def;
+  def.bodies.count = 40;
+  def.bodies.seed = 5;
+  World world(def);
+  for (int s = 0; s < 250; ++s) {
+    world.collide();
+    const Eigen::VectorXd star = solve_oracle(world.assemble()).lambda;
+    if (s >= 200 && world.contacts().size() > 20) break;
+    world.integrate(star);
+  }
+  ASSERT_GT(world.contacts().size(), 20u);
+  FeatureImageDef img = FeatureImageDef::for_box(30, 30);
+  img.channels = {FeatureChannel::Mass, FeatureChannel::WPrevN, FeatureChannel::WPrevT};
+  ASSERT_TRUE(needs_lcp_problem(img.channels));
+  FeatureImageBuilder b(img);
+  const auto& cs = world.contacts();
+  std::vector<float> feat(b.feature_size());
+  EXPECT_THROW(b.features(world.bodies(), cs, world.previous_contacts(), feat), InvalidArgument);
+  b.features(world.bodies(), cs, world.previous_contacts(), &world.problem(), feat);
+
+  LcpProblem p = world.problem();
+  p.ensure_assembled_matrix();
+  Eigen::VectorXd prev = Eigen::VectorXd::Zero(p.rows());
+  const std::vector<int> match = match_contacts_by_key(world.previous_contacts(), cs);
+  int persisting = 0;
+  for (std::size_t c = 0; c < cs.size(); ++c) {
+    if (match[c] < 0) continue;
+    ++persisting;
+    const Contact& q = world.previous_contacts()[static_cast<std::size_t>(match[c])];
+    world.constraints().put(static_cast<int>(c), q.lambda_n, q.lambda_t, prev);
+  }
+  ASSERT_GT(persisting, 10);
+  const Eigen::VectorXd w = p.A * prev + p.b;
+
+  SphTransferDef t = b.def().sph;
+  t.grid.channels = 2;
+  SphTransfer transfer(t);
+  SphGrid g(t.grid);
+  const std::size_t P = b.plane();
+  std::copy(feat.begin() + P, feat.end(), g.data().begin());  // channels 1, 2 of the image
+  std::vector<Vec2> pts;
+  for (const Contact& c : cs) pts.push_back(c.point);
+  const std::span<const double> back = transfer.gather(g, pts);
+  double scale = 1e-3;
+  for (int i = 0; i < p.rows(); ++i) scale = std::max(scale, std::abs(w[i]));
+  int moving = 0;
+  for (int c = 0; c < static_cast<int>(cs.size()); ++c) {
+    const double wn = world.constraints().lambda_n(w, c), wt = world.constraints().lambda_t(w, c);
+    moving += std::abs(wn) > 1e-3 * scale;
+    EXPECT_NEAR(back[2 * c], wn, 1e-5 * scale) << "contact " << c;
+    EXPECT_NEAR(back[2 * c + 1], wt, 1e-5 * scale) << "contact " << c;
+  }
+  EXPECT_GT(moving, 0);  // builtin is not exact on this step: the channel carries something
+}
+
 TEST(FeatureImage, LabelsAreShepardNumeratorsOrientedLikeTheFeatures) {
   FeatureImageBuilder b(FeatureImageDef::for_box(30, 30));
   const double d = b.def().sph.grid.spacing;

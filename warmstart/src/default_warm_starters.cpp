@@ -29,6 +29,14 @@ WarmStarterRegistry default_warm_starters() {
         "builtin + the SPH grid read-back of this step's correction lambda* - builtin (oracle bound of a residual "
         "cnn); sph-residual:KERNEL:D:H[:NORM]",
         make_sph_residual_warm_starter);
+  r.add("sph-gain",
+        "builtin x (1 + the grid's kernel-weighted least-squares gain of this step's correction): oracle bound of "
+        "a multiplicative grid correction; sph-gain:KERNEL:D:H",
+        make_sph_gain_warm_starter);
+  r.add("sph-gain-add",
+        "sph-gain + the Shepard read-back of what the gain leaves (new contacts included): oracle; "
+        "sph-gain-add:KERNEL:D:H",
+        make_sph_gain_add_warm_starter);
   r.add("gate",
         "safeguard: per step, INNER's guess or builtin's, whichever has the smaller natural-map residual "
         "(max norm); gate:INNER, e.g. gate:cnn:models/impact.h5",

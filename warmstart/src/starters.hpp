@@ -28,6 +28,8 @@ std::unique_ptr<WarmStarter> make_bad_warm_starter(const WarmStartSpec&, const W
 std::unique_ptr<WarmStarter> make_sph_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_sph_prev_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_sph_residual_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_sph_gain_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_sph_gain_add_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_gate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_gate_l2_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_extrapolate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);

@@ -22,6 +22,11 @@
 //                                                                          u = v + ω × (p_c − x); a wall's
 //                                                                          u is 0; t = perp(n))
 //   gap              Σ_c W g_c                                   [m/m²]   (signed gap, < 0 penetration)
+//   w_prev_n,        Σ_c W w_c,n, Σ_c W w_c,t with w = A λ_prev + b [m/s/m²] (the LCP's contact velocity
+//   w_prev_t                                                               AFTER builtin's impulses: where
+//                                                                          and how much builtin's guess
+//                                                                          violates the LCP; needs the step's
+//                                                                          LcpProblem)
 //   coverage         C(x) = Σ_k Σ_s W(|x − y_ks|) a_ks            [1]      (area fraction: bodies' real extent)
 //   orient_c,        Σ_k Σ_s W a_ks Q_k / C   (0 where C = 0)     [1]      (nematic orientation of the shape,
 //   orient_s                                                               Shepard average over the area samples)
@@ -31,6 +36,9 @@
 // (same kernel, same points): a label minus lambda_prev is the splat of λ* − λ_prev, the
 // target of a residual model (labels.hpp, LabelKind::Residual). vrel and gap are what the
 // LCP's b is made of (b_n = vrel_n + Δt g·n + gap terms, engine/src/assembly.cpp).
+// w_prev is the right-hand side of the correction: for the rows that stay active the exact
+// correction δ = λ* − λ_prev solves A δ = −w_prev, so a predictor of δ is a learned
+// (non-local) inverse of A applied to it — where builtin is right, w_prev is ≈ 0.
 // The default feature set is mass, vx, vy, omega, contact_density.
 //
 // Shape channels (issue 10). mass/vx/vy/omega splat each body at its centre of mass only, so
@@ -67,6 +75,7 @@
 
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
+#include "dc/engine/lcp_problem.hpp"
 #include "dc/learning/shape_samples.hpp"
 #include "dc/warmstart/sph_grid.hpp"
 #include "dc/warmstart/sph_kernel.hpp"
@@ -77,11 +86,11 @@ namespace dc {
 /// One feature channel (see the file comment for the formulas).
 enum class FeatureChannel {
   Mass, Vx, Vy, Omega, ContactDensity, Nx, Ny, LambdaPrevN, LambdaPrevT, VrelN, VrelT, Gap,
-  Coverage, OrientC, OrientS
+  Coverage, OrientC, OrientS, WPrevN, WPrevT
 };
 
 /// "mass", "vx", "vy", "omega", "contact_density", "nx", "ny", "lambda_prev_n", "lambda_prev_t",
-/// "vrel_n", "vrel_t", "gap", "coverage", "orient_c", "orient_s".
+/// "vrel_n", "vrel_t", "gap", "coverage", "orient_c", "orient_s", "w_prev_n", "w_prev_t".
 const char* to_string(FeatureChannel c);
 /// Inverse of to_string; ConfigError listing the valid names otherwise.
 FeatureChannel parse_feature_channel(std::string_view name);
@@ -94,6 +103,10 @@ std::vector<FeatureChannel> default_feature_channels();
 /// The channels of a residual model (the shipped one): mass, vx, vy, omega, contact_density,
 /// lambda_prev_n, lambda_prev_t, vrel_n, vrel_t, gap.
 std::vector<FeatureChannel> residual_feature_channels();
+/// residual_feature_channels() plus w_prev_n, w_prev_t (the builtin guess's LCP velocity).
+std::vector<FeatureChannel> residual_w_feature_channels();
+/// True when the list needs the step's LcpProblem (w_prev_n, w_prev_t).
+bool needs_lcp_problem(std::span<const FeatureChannel> channels);
 /// "lambda_n", "lambda_t".
 std::vector<std::string> label_channel_names();
 
@@ -130,11 +143,18 @@ class FeatureImageBuilder {
   /// (`previous`: key-sorted, with λ; only read by the lambda_prev channels, empty = every
   /// contact is new). `out` must hold feature_size() floats. Throws InvalidArgument on a size
   /// mismatch, unsorted contact lists or non-finite input.
+  /// `problem` is the step's assembled LCP (rows ordered by `contacts`, as World::problem()):
+  /// only read by the w_prev channels, which throw InvalidArgument when it is null.
   void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
-                std::span<float> out);
+                const LcpProblem* problem, std::span<float> out);
+  /// The same without a problem (no w_prev channel may be listed).
+  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
+                std::span<float> out) {
+    features(bodies, contacts, previous, nullptr, out);
+  }
   /// The same with no previous contacts.
   void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<float> out) {
-    features(bodies, contacts, {}, out);
+    features(bodies, contacts, {}, nullptr, out);
   }
 
   /// The label image: Shepard numerators of (λ_n, λ_t) at the contact points. `lambda` is
@@ -151,6 +171,7 @@ class FeatureImageBuilder {
   SphGrid contact_grid_;  // 2 channels: Σ W nx, Σ W ny
   SphGrid contact_weight_;
   SphGrid contact_values_;  // 5 channels: Σ W λ_prev,n, Σ W λ_prev,t, Σ W vrel_n, Σ W vrel_t, Σ W gap
+  SphGrid w_prev_grid_;     // 2 channels: Σ W w_n, Σ W w_t at λ_prev
   SphGrid shape_grid_;      // 3 channels: Σ W a, Σ W a Q_x, Σ W a Q_y over the area samples
   SphTransfer label_transfer_;  // Shepard, 2 channels: the labels are its splat()
   std::vector<Vec2> points_;

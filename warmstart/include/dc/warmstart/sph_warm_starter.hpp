@@ -9,6 +9,9 @@
 //             residual cnn model, λ⁰ = λ_prev + read-back) can do with this transfer; an
 //             oracle. Unlike sph it keeps builtin's exact per-contact detail and loses only
 //             the correction's sub-grid part.
+//   sph-gain, sph-gain-add  builtin × (1 + a grid GAIN field of the correction) (+ the
+//             remainder's additive read-back): the bound of a multiplicative grid correction,
+//             which leaves the per-contact detail to λ_prev (sph_gain_warm_starter.cpp); oracles.
 // Options: `sph:KERNEL:D:H[:NORMALISATION]`, e.g. `sph:spiky:0.25:0.25`, `sph:poly6:0.5:0.5:legacy`.
 #include <string>
 
