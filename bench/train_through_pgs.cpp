@@ -36,6 +36,9 @@ void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o) {
   cmd->add_option("--pgs-floor", o.floor, "pgs-*: f [N] of the objective log(L + rows f^2)")->capture_default_str();
   cmd->add_option("--clip", o.clip, "pgs-*: clip the minibatch gradient to this global norm (0 = off)")
       ->capture_default_str();
+  cmd->add_flag("--gain", o.gain,
+                "pgs-*: train a GAIN model, lambda0 = lambda_prev (1 + read-back of a gain field), from the residual "
+                "--init (its trunk kept, its output layer zeroed: training starts at builtin; docs/learning.md)");
 }
 
 namespace {
@@ -67,6 +70,25 @@ Model regridded(Model& init, const FeatureImageDef& image, double deadzone, cons
   return m;
 }
 
+/// The residual model `m` as the start of a gain model: same trunk, the output node's weights
+/// and bias zeroed and identity output statistics without compression, so G = 0 and the
+/// first guess is builtin's exactly (a gain model's output is a gain, not a numerator).
+void make_gain_start(Model& m) {
+  ModelGrid g = m.grid();
+  g.labels.kind = LabelKind::Gain;
+  g.labels.scale = 0.0;
+  Model out(m.network().arch(), g, m.network().input_shape().c);
+  std::vector<ParamRef> src = m.network().parameters(), dst = out.network().parameters();
+  const std::string head = m.network().arch().layers.back().name + "/";
+  for (std::size_t i = 0; i < src.size(); ++i) {
+    *dst[i].value = *src[i].value;
+    if (dst[i].name.rfind(head, 0) == 0) dst[i].value->fill(0.0f);
+  }
+  out.input_stats = m.input_stats;
+  out.output_stats = ChannelStats::identity(static_cast<int>(m.output_stats.mean.size()));
+  m = std::move(out);
+}
+
 }  // namespace
 
 void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
@@ -96,13 +118,17 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
   if (init.network().input_shape().c != reader.feature_channels())
     throw ConfigError("--init " + o.init + ": its feature channels differ from " + c.data + "'s");
   Model model = regridded(init, reader.params().image, c.deadzone, o.init);
+  if (o.gain && model.grid().labels.kind == LabelKind::Residual) make_gain_start(model);
+  if (!o.gain && model.grid().labels.kind == LabelKind::Gain)
+    throw ConfigError("--init " + o.init + " is a gain model: add --gain to continue training it");
 
   std::vector<int> sims;
   for (const DataSetSimulation& s : reader.simulations()) sims.push_back(s.index);
   const SigintGuard sigint;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<PgsSample> samples =
-      collect_pgs_samples(reader.params(), sims, c.every, [] { return !interrupted(); }, c.first_step);
+      collect_pgs_samples(reader.params(), sims, c.every, [] { return !interrupted(); }, c.first_step,
+                          model.grid().labels.kind);
   if (interrupted()) {
     std::fprintf(stderr, "deepcontact: interrupted while replaying the simulations; nothing written\n");
     return;

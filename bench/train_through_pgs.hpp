@@ -17,9 +17,10 @@ struct PgsTrainOptions {
   double time_limit = 0;            // [s] of training, 0 = none
   double floor = 1e-2;              // f [N] of the objective's ε = rows·f²
   double clip = 1.0;                // global gradient-norm clip (0 = off)
+  bool gain = false;                // train a gain model (LabelKind::Gain) from the residual --init
 };
 
-/// Registers --loss, --unroll, --init, --time-limit, --pgs-floor, --clip on `cmd`.
+/// Registers --loss, --unroll, --init, --time-limit, --pgs-floor, --clip, --gain on `cmd`.
 void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o);
 
 /// The shared options of `train` that the PGS path uses.

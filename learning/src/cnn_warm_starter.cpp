@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "dc/engine/error.hpp"
+#include "dc/learning/contact_readback.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 
@@ -32,7 +33,33 @@ class OmpThreads {
   int previous_;
 };
 
+/// (λ_prev,n, λ_prev,t) of each current contact of w by key (0, 0 for a new contact).
+std::vector<double> previous_pairs(const World& w) {
+  const auto& cur = w.contacts();
+  const auto& prev = w.previous_contacts();
+  const std::vector<int> match = match_contacts_by_key(prev, cur);
+  std::vector<double> out(2 * cur.size(), 0.0);
+  for (std::size_t c = 0; c < cur.size(); ++c) {
+    if (match[c] < 0) continue;
+    out[2 * c] = prev[static_cast<std::size_t>(match[c])].lambda_n;
+    out[2 * c + 1] = prev[static_cast<std::size_t>(match[c])].lambda_t;
+  }
+  return out;
+}
+
 }  // namespace
+
+Eigen::VectorXd CnnWarmStarter::read_back_grid(const World& w) {
+  points_.clear();
+  for (const Contact& c : w.contacts()) points_.push_back(c.point);
+  if (model_.grid().labels.kind != LabelKind::Gain) return w.constraints().scatter(transfer_->gather(grid_, points_));
+  // Gain model: δ = λp·ĝ, the load-weighted read-back of the gain field (contact_readback.hpp),
+  // the map it was trained through.
+  const ContactReadback rb = ContactReadback::gain(*transfer_, points_, previous_pairs(w));
+  std::vector<double> v(2 * points_.size());
+  rb.forward(grid_.data().data(), v);
+  return w.constraints().scatter(v);
+}
 
 CnnWarmStarter::CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads)
     : model_(std::move(model)), name_(std::move(name)), hybrid_(hybrid), threads_(inference_threads) {
@@ -89,9 +116,7 @@ Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& 
   // Same layout (c·ny + j)·nx + i on both sides: a straight float → double copy.
   const std::span<double> dst = grid_.data();
   for (std::size_t i = 0; i < dst.size(); ++i) dst[i] = labels[i];
-  points_.clear();
-  for (const Contact& c : contacts) points_.push_back(c.point);
-  out = w.constraints().scatter(transfer_->gather(grid_, points_));
+  out = read_back_grid(w);
   if (project) project_feasible(w.problem(), out);
   return out;
 }
@@ -137,9 +162,7 @@ Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& 
       const std::size_t k = static_cast<std::size_t>(ch) * P + static_cast<std::size_t>(node);
       dst[k] = model_.label_value(ch, y[k]);
     }
-  points_.clear();
-  for (const Contact& c : contacts) points_.push_back(c.point);
-  out = w.constraints().scatter(transfer_->gather(grid_, points_));
+  out = read_back_grid(w);
   if (project) project_feasible(w.problem(), out);
   return out;
 }
@@ -153,7 +176,7 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
   // Which contacts persist from the previous step (index into previous_contacts(), −1 new):
   // needed by the hybrid policy and by a residual model (λ⁰ = λ_prev + correction).
   const auto& prev = w.previous_contacts();
-  const bool residual = model_.grid().labels.kind == LabelKind::Residual;
+  const bool residual = is_corrective(model_.grid().labels.kind);  // λ⁰ = λ_prev + a correction
   std::vector<int> prev_of;
   if (hybrid_ || residual) prev_of = match_contacts_by_key(prev, cur);
   const bool any_new = !hybrid_ || std::find(prev_of.begin(), prev_of.end(), -1) != prev_of.end();

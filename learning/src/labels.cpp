@@ -13,14 +13,15 @@ const char* to_string(LabelKind kind) {
   switch (kind) {
     case LabelKind::Absolute: return "absolute";
     case LabelKind::Residual: return "residual";
+    case LabelKind::Gain: return "gain";
   }
   return "?";
 }
 
 LabelKind parse_label_kind(std::string_view text) {
-  for (const LabelKind k : {LabelKind::Absolute, LabelKind::Residual})
+  for (const LabelKind k : {LabelKind::Absolute, LabelKind::Residual, LabelKind::Gain})
     if (text == to_string(k)) return k;
-  throw ConfigError("label kind '" + std::string(text) + "': expected absolute or residual");
+  throw ConfigError("label kind '" + std::string(text) + "': expected absolute, residual or gain");
 }
 
 void LabelDef::validate() const {
@@ -57,6 +58,8 @@ void training_labels(Tensor& labels, const Tensor& features, std::span<const Fea
                 "training_labels: labels");
   require_shape(features.shape(), Shape{1, static_cast<int>(channels.size()), labels.h(), labels.w()},
                 "training_labels: features");
+  if (def.kind == LabelKind::Gain)
+    throw ConfigError("training labels: a gain model has no label grid (train it through PGS: --loss pgs-* --gain)");
   if (def.kind == LabelKind::Residual) {
     const auto [prev_n, prev_t] = lambda_prev_channels(channels, "training labels");
     const std::size_t P = features.shape().plane();

@@ -23,7 +23,7 @@ ModelGrid validated(ModelGrid g) {
   } catch (const ConfigError& e) {
     throw ConfigError(std::string("Model: ") + e.what());
   }
-  if (g.labels.kind == LabelKind::Residual) (void)lambda_prev_channels(g.image.channels, "Model");
+  if (is_corrective(g.labels.kind)) (void)lambda_prev_channels(g.image.channels, "Model");
   return g;
 }
 }  // namespace

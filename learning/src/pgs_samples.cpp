@@ -27,7 +27,7 @@ SphTransferDef readback_transfer_def(const FeatureImageDef& image) {
 namespace {
 
 std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index, int every, int first_step,
-                                         const std::function<bool()>& keep_going) {
+                                         const std::function<bool()>& keep_going, LabelKind readback) {
   std::vector<PgsSample> out;
   SphTransfer transfer(readback_transfer_def(params.image));
   const WorldDef def = params.simulation_scene(index);
@@ -86,7 +86,13 @@ std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index,
       std::vector<Vec2> points;
       points.reserve(contacts.size());
       for (const Contact& c : contacts) points.push_back(c.point);
-      sample.readback = ContactReadback(transfer, points);
+      if (readback == LabelKind::Gain) {
+        std::vector<double> prev_pairs;
+        world.constraints().gather(sample.lambda_prev, prev_pairs);
+        sample.readback = ContactReadback::gain(transfer, points, prev_pairs);
+      } else {
+        sample.readback = ContactReadback(transfer, points);
+      }
       sample.simulation = index;
       sample.step = s;
       out.push_back(std::move(sample));
@@ -99,7 +105,8 @@ std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index,
 }  // namespace
 
 std::vector<PgsSample> collect_pgs_samples(const DataSetParams& params, std::span<const int> sims, int every,
-                                           const std::function<bool()>& keep_going, int first_step) {
+                                           const std::function<bool()>& keep_going, int first_step,
+                                           LabelKind readback) {
   if (every < 1) throw ConfigError("--every must be >= 1");
   if (first_step < 0) throw ConfigError("--first-step must be >= 0");
   params.validate();
@@ -110,7 +117,7 @@ std::vector<PgsSample> collect_pgs_samples(const DataSetParams& params, std::spa
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t q = 0; q < sims.size(); ++q) {
     try {
-      per_sim[q] = replay_simulation(params, sims[q], every, first_step, keep_going);
+      per_sim[q] = replay_simulation(params, sims[q], every, first_step, keep_going, readback);
     } catch (...) {
 #pragma omp critical(dc_pgs_samples_error)
       if (!error) error = std::current_exception();

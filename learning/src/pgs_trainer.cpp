@@ -186,8 +186,8 @@ std::vector<PgsEpochReport> train_through_pgs(Model& model, std::span<const PgsS
                                               const std::function<bool(const PgsEpochReport&)>& on_epoch,
                                               const std::function<bool()>& keep_going) {
   def.validate();
-  if (model.grid().labels.kind != LabelKind::Residual)
-    throw ConfigError("training through PGS needs a residual model (train the --init model with --residual)");
+  if (!is_corrective(model.grid().labels.kind))
+    throw ConfigError("training through PGS needs a residual or gain model (train the --init model with --residual)");
   if (samples.empty()) throw InvalidArgument("train_through_pgs: no samples");
   Network& net = model.network();
   const Shape xs = net.input_shape(), ys = net.output_shape();

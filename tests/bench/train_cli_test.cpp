@@ -179,6 +179,33 @@ TEST(TrainCli, PgsResidualLossTrainsFromAResidualInitModel) {
   EXPECT_NE(r.err.find("--loss"), std::string::npos) << r.err;
 }
 
+// --gain: a gain model from a residual --init, through PGS only; it starts at builtin (its
+// output layer zeroed: the epoch-0 objective is 0) and is stored as label kind "gain".
+TEST(TrainCli, PgsGainTrainsAGainModelFromAResidualInit) {
+  Dir dir;
+  const std::string data = data_set(Channels::Residual);
+  Result r = test::run_cli("train --data " + data + " --out " + (dir / "r.h5") + " --epochs 1 --residual" + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "g.h5") +
+                    " --epochs 1 --loss pgs-distance --unroll 3 --gain --init " + (dir / "r.h5") + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Model m = load_model(dir / "g.h5");
+  EXPECT_EQ(m.grid().labels.kind, LabelKind::Gain);
+  EXPECT_EQ(m.grid().labels.scale, 0.0);
+  EXPECT_NE(r.out.find("the --init model: validation objective 0.0000"), std::string::npos) << r.out;
+  // Continuing a gain model needs --gain; --gain needs a pgs-* loss: one-line errors.
+  r = test::run_cli("train --data " + data + " --out " + (dir / "x.h5") +
+                    " --epochs 1 --loss pgs-distance --unroll 3 --init " + (dir / "g.h5") + kTrain);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--gain"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "y.h5") + " --epochs 1 --gain" + kTrain);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--gain"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.h5") || fs::exists(dir / "y.h5"));
+}
+
 // The --init model may come from another box (the cnn starter runs a fully convolutional
 // model on any grid): trained on the 12 × 12 box's 25 × 25 grid, fine-tuned through PGS on a
 // 16 × 12 box's data (33 × 25); the written model carries the new data set's grid. Another

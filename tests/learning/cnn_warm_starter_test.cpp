@@ -15,10 +15,13 @@
 #include "dc/engine/error.hpp"
 #include "dc/engine/rng.hpp"
 #include "dc/engine/world.hpp"
+#include "dc/engine/contact.hpp"
+#include "dc/learning/channel_stats.hpp"
 #include "dc/learning/cnn_warm_starter.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/warmstart/oracle.hpp"
+#include "dc/warmstart/sph_transfer.hpp"
 #include "small_archs.hpp"
 
 namespace dc {
@@ -177,6 +180,103 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   ModelGrid bad = tiny_model(12.0, false).grid();
   bad.labels.kind = LabelKind::Residual;
   EXPECT_THROW(Model(ArchSpec::parse("name = \"x\"\n[[layer]]\ntype = \"conv\"\nout = 2\n"), bad, 5), ConfigError);
+}
+
+/// tiny_model's residual network as a GAIN model (identity output, no compression) whose
+/// every parameter is zero except the output layer's biases (gn, gt): a uniform gain field.
+Model constant_gain_model(float gn, float gt) {
+  Model r = tiny_model(12.0, true);
+  ModelGrid g = r.grid();
+  g.labels.kind = LabelKind::Gain;
+  g.labels.scale = 0.0;
+  Model m(r.network().arch(), g, r.network().input_shape().c);
+  const std::string head = m.network().arch().layers.back().name + "/bias";
+  for (const ParamRef& p : m.network().parameters()) {
+    p.value->flat().setZero();
+    if (p.name == head) {
+      p.value->flat()[0] = gn;
+      p.value->flat()[1] = gt;
+    }
+  }
+  m.input_stats = r.input_stats;
+  m.output_stats = ChannelStats::identity(2);
+  return m;
+}
+
+// A gain model's guess is λ_prev (1 + ĝ): a zero network IS builtin (what train --gain starts
+// from), a uniform gain scales builtin's normal and friction rows, new contacts (λp = 0) stay 0.
+TEST(CnnWarmStarter, GainModelScalesBuiltinByTheReadBackGain) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{world, nullptr});
+  ASSERT_GT(b.cwiseAbs().maxCoeff(), 0.0);
+  CnnWarmStarter zero(constant_gain_model(0.0f, 0.0f), "cnn", false);
+  EXPECT_EQ(zero.initial_guess(StepView{world, nullptr}), b);
+
+  CnnWarmStarter scaled(constant_gain_model(0.5f, -0.25f), "cnn", false);
+  const Eigen::VectorXd g = scaled.initial_guess(StepView{world, nullptr});
+  expect_feasible(world, g);
+  const ContactConstraints& cons = world.constraints();
+  int loaded = 0;
+  for (int k = 0; k < static_cast<int>(world.contacts().size()); ++k) {
+    EXPECT_NEAR(cons.lambda_n(g, k), 1.5 * cons.lambda_n(b, k), 1e-9 * (1 + cons.lambda_n(b, k))) << k;
+    EXPECT_NEAR(cons.lambda_t(g, k), 0.75 * cons.lambda_t(b, k), 1e-9 * (1 + std::abs(cons.lambda_t(b, k)))) << k;
+    loaded += cons.lambda_n(b, k) > 0;
+  }
+  EXPECT_GT(loaded, 0);
+}
+
+// The gain read-back of G = N/D (N = Σ W δ λp, D = Σ W λp², δ = λ* − λp) is the sph-gain
+// oracle's ĝ: a gain model that predicted that field would reproduce sph-gain's guess.
+TEST(CnnWarmStarter, GainReadBackOfTheOracleFieldIsTheSphGainGuess) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  // One more oracle step so that most contacts carry a history.
+  world.integrate(solve_oracle(world.problem()).lambda);
+  world.collide();
+  world.assemble();
+  const Eigen::VectorXd star = solve_oracle(world.problem()).lambda;
+  const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{world, nullptr});
+  CnnWarmStarter cnn(constant_gain_model(0.0f, 0.0f), "cnn", false);
+  const ContactConstraints& cons = world.constraints();
+  const std::size_t n = world.contacts().size();
+  ASSERT_GE(n, 5u);
+  // λp as the cnn reads it: the previous step's λ by contact key (builtin before projection).
+  Eigen::VectorXd lp = Eigen::VectorXd::Zero(world.problem().rows());
+  const std::vector<int> match = match_contacts_by_key(world.previous_contacts(), world.contacts());
+  std::vector<Vec2> pts;
+  std::vector<double> num(2 * n), den(2 * n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const int k = static_cast<int>(c);
+    pts.push_back(world.contacts()[c].point);
+    if (match[c] >= 0) {
+      const Contact& p = world.previous_contacts()[static_cast<std::size_t>(match[c])];
+      cons.put(k, p.lambda_n, p.lambda_t, lp);
+    }
+    const double pn = cons.lambda_n(lp, k), pt = cons.lambda_t(lp, k);
+    num[2 * c] = (cons.lambda_n(star, k) - pn) * pn;
+    num[2 * c + 1] = (cons.lambda_t(star, k) - pt) * pt;
+    den[2 * c] = pn * pn;
+    den[2 * c + 1] = pt * pt;
+  }
+  SphTransferDef def = cnn.model().grid().image.sph;
+  def.grid.channels = 2;
+  def.normalisation = SphNormalisation::None;
+  SphTransfer t(def);
+  const std::span<const double> sN = t.splat(pts, num).data();
+  const std::vector<double> N(sN.begin(), sN.end());
+  const SphGrid& gD = t.splat(pts, den);
+  const std::vector<double> D(gD.data().begin(), gD.data().end());
+  Tensor field(1, 2, gD.ny(), gD.nx());
+  ASSERT_EQ(field.size(), N.size());
+  for (std::size_t i = 0; i < N.size(); ++i) field.data()[i] = D[i] > 0 ? static_cast<float>(N[i] / D[i]) : 0.0f;
+  Eigen::VectorXd mine = lp + cnn.guess_from_labels(world, field, false);
+  project_feasible(world.problem(), mine);
+  const Eigen::VectorXd oracle = default_warm_starters().make("sph-gain")->initial_guess(StepView{world, &star});
+  ASSERT_EQ(mine.size(), oracle.size());
+  const double scale = std::max(1.0, star.cwiseAbs().maxCoeff());
+  for (int i = 0; i < mine.size(); ++i) EXPECT_NEAR(mine[i], oracle[i], 1e-6 * scale) << "row " << i;
+  EXPECT_GT((oracle - b).cwiseAbs().maxCoeff(), 1e-3 * scale);  // the gain is not empty
 }
 
 /// 12 circles near the floor of a W × H box (they touch within a few steps).

@@ -207,44 +207,101 @@ TEST(ContactReadback, EqualsSphTransferGatherAndAdjointIsTranspose) {
   EXPECT_NEAR(lhs, rhs, 1e-5 * (std::abs(lhs) + 1));
 }
 
-/// The whole chain of one training sample: J(G) with G the correction grid.
+// The gain read-back v_k = λp_k · bilinear(D ⊙ G)(q_k) / bilinear(D)(q_k): a uniform gain field
+// g0 comes back as λp·g0 at every point (the load-weighted average of a constant), a point
+// without load nearby (D = 0 around it) gets 0, and the adjoint is the transpose.
+TEST(ContactReadback, GainOfAUniformFieldIsLambdaPrevTimesItAndAdjointIsTranspose) {
+  DataSetParams params = test::small_data_set_params(12.0, 40, 7, 8, 10);
+  SphTransfer transfer(readback_transfer_def(params.image));
+  Rng rng(5);
+  std::vector<Vec2> pts;
+  std::vector<double> lp;
+  for (int k = 0; k < 9; ++k) {
+    pts.push_back({0.3 + 5.0 * rng.uniform(), 0.3 + 11.4 * rng.uniform()});
+    lp.push_back(1 + 20 * rng.uniform());
+    lp.push_back(rng.uniform() * 4 - 2);
+  }
+  pts.push_back({11.5, 11.5});  // far from every loaded point, itself unloaded
+  lp.push_back(0.0);
+  lp.push_back(0.0);
+  const ContactReadback rb = ContactReadback::gain(transfer, pts, lp);
+  ASSERT_EQ(rb.points(), 10);
+  const SphGrid probe(readback_transfer_def(params.image).grid);
+  const std::size_t P = probe.data().size() / 2;
+  std::vector<double> G(2 * P);
+  for (std::size_t i = 0; i < P; ++i) G[i] = 0.25, G[P + i] = -0.5;
+  std::vector<double> v(2 * pts.size());
+  rb.forward(G.data(), v);
+  for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
+    EXPECT_NEAR(v[2 * k], 0.25 * lp[2 * k], 1e-12 * lp[2 * k]) << k;
+    EXPECT_NEAR(v[2 * k + 1], -0.5 * lp[2 * k + 1], 1e-12) << k;
+  }
+  EXPECT_EQ(v[18], 0.0);
+  EXPECT_EQ(v[19], 0.0);
+  // A random field through the float path: the same as the double path to float rounding,
+  // and ⟨R g, w⟩ = ⟨g, Rᵀ w⟩.
+  std::vector<float> g(2 * P);
+  for (std::size_t i = 0; i < g.size(); ++i) G[i] = g[i] = static_cast<float>(rng.uniform() * 2 - 1);
+  std::vector<double> vd(v.size());
+  rb.forward(g.data(), v);
+  rb.forward(G.data(), vd);
+  for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], vd[i]) << i;
+  std::vector<double> w(v.size());
+  for (double& x : w) x = rng.uniform() - 0.5;
+  std::vector<float> rtw(g.size(), 0.0f);
+  rb.adjoint(w, rtw.data());
+  double lhs = 0, rhs = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) lhs += v[i] * w[i];
+  for (std::size_t i = 0; i < g.size(); ++i) rhs += double(g[i]) * double(rtw[i]);
+  EXPECT_NEAR(lhs, rhs, 1e-5 * (std::abs(lhs) + 1));
+  EXPECT_GT(std::abs(lhs), 1e-3);
+  // One λ_prev pair per point.
+  lp.pop_back();
+  EXPECT_THROW((void)ContactReadback::gain(transfer, pts, lp), InvalidArgument);
+}
+
+/// The whole chain of one training sample: J(G) with G the correction grid (residual
+/// read-back) or the gain field (gain read-back).
 TEST(PgsObjective, ChainGradientMatchesCentralDifferences) {
   DataSetParams params = test::small_data_set_params(16.0, 80, 7, 30, 30);
   params.image.channels = parse_feature_channels("mass,vx,vy,omega,contact_density,lambda_prev_n,lambda_prev_t");
   const int sims[] = {0};
-  const std::vector<PgsSample> samples = collect_pgs_samples(params, sims, 10);
-  ASSERT_GE(samples.size(), 2u);
-  const PgsSample& s = *std::max_element(samples.begin(), samples.end(), [](const PgsSample& a, const PgsSample& b) {
-    return a.problem.rows() < b.problem.rows();
-  });
-  ASSERT_GE(s.problem.rows(), 30);
-  for (const PgsLoss loss : {PgsLoss::Residual, PgsLoss::Distance}) {
-    PgsObjective obj(s, loss, 3);
-    const std::size_t n = 2 * static_cast<std::size_t>(s.features.h()) * s.features.w();
-    Rng rng(4);
-    std::vector<float> G(n), dG(n, 0.0f);
-    for (float& x : G) x = static_cast<float>(rng.uniform() * 2 - 1);
-    const double J0 = obj.evaluate(G.data(), dG.data());
-    EXPECT_TRUE(std::isfinite(J0));
-    // Zero correction is builtin itself: J = 0.
-    std::vector<float> zero(n, 0.0f);
-    EXPECT_NEAR(obj.evaluate(zero.data(), nullptr), 0.0, 1e-12);
-    // The largest-gradient entries (those at contacts) against central differences.
-    std::vector<std::size_t> order(n);
-    for (std::size_t i = 0; i < n; ++i) order[i] = i;
-    std::partial_sort(order.begin(), order.begin() + 8, order.end(),
-                      [&](std::size_t a, std::size_t b) { return std::abs(dG[a]) > std::abs(dG[b]); });
-    ASSERT_GT(std::abs(dG[order[0]]), 0.0f);
-    for (int t = 0; t < 8; ++t) {
-      const std::size_t i = order[static_cast<std::size_t>(t)];
-      const float h = 1e-2f, g0 = G[i];
-      G[i] = g0 + h;
-      const double jp = obj.evaluate(G.data(), nullptr);
-      G[i] = g0 - h;
-      const double jm = obj.evaluate(G.data(), nullptr);
-      G[i] = g0;
-      const double num = (jp - jm) / (2.0 * double(h));
-      EXPECT_NEAR(dG[i], num, 2e-2 * (std::abs(num) + std::abs(dG[i])) + 1e-7) << to_string(loss) << " entry " << i;
+  for (const LabelKind kind : {LabelKind::Residual, LabelKind::Gain}) {
+    const std::vector<PgsSample> samples = collect_pgs_samples(params, sims, 10, {}, 0, kind);
+    ASSERT_GE(samples.size(), 2u);
+    const PgsSample& s = *std::max_element(samples.begin(), samples.end(), [](const PgsSample& a, const PgsSample& b) {
+      return a.problem.rows() < b.problem.rows();
+    });
+    ASSERT_GE(s.problem.rows(), 30);
+    for (const PgsLoss loss : {PgsLoss::Residual, PgsLoss::Distance}) {
+      PgsObjective obj(s, loss, 3);
+      const std::size_t n = 2 * static_cast<std::size_t>(s.features.h()) * s.features.w();
+      Rng rng(4);
+      std::vector<float> G(n), dG(n, 0.0f);
+      for (float& x : G) x = static_cast<float>(rng.uniform() * 2 - 1);
+      const double J0 = obj.evaluate(G.data(), dG.data());
+      EXPECT_TRUE(std::isfinite(J0));
+      // Zero correction is builtin itself: J = 0.
+      std::vector<float> zero(n, 0.0f);
+      EXPECT_NEAR(obj.evaluate(zero.data(), nullptr), 0.0, 1e-12);
+      // The largest-gradient entries (those at contacts) against central differences.
+      std::vector<std::size_t> order(n);
+      for (std::size_t i = 0; i < n; ++i) order[i] = i;
+      std::partial_sort(order.begin(), order.begin() + 8, order.end(),
+                        [&](std::size_t a, std::size_t b) { return std::abs(dG[a]) > std::abs(dG[b]); });
+      ASSERT_GT(std::abs(dG[order[0]]), 0.0f);
+      for (int t = 0; t < 8; ++t) {
+        const std::size_t i = order[static_cast<std::size_t>(t)];
+        const float h = 1e-2f, g0 = G[i];
+        G[i] = g0 + h;
+        const double jp = obj.evaluate(G.data(), nullptr);
+        G[i] = g0 - h;
+        const double jm = obj.evaluate(G.data(), nullptr);
+        G[i] = g0;
+        const double num = (jp - jm) / (2.0 * double(h));
+        EXPECT_NEAR(dG[i], num, 2e-2 * (std::abs(num) + std::abs(dG[i])) + 1e-7)
+            << to_string(loss) << " " << to_string(kind) << " entry " << i;
+      }
     }
   }
 }

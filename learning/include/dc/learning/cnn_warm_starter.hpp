@@ -87,6 +87,8 @@ class CnnWarmStarter final : public WarmStarter {
   void prepare(const World& world);
   /// The grid nodes (j·nx + i) of the bilinear stencils of world's contacts, each once.
   std::span<const int> stencil_nodes(const World& world);
+  /// The read-back of grid_ at w's contacts, per row: Shepard, or the gain read-back (λp·ĝ).
+  Eigen::VectorXd read_back_grid(const World& w);
 
   Model model_;
   std::string name_;

@@ -28,10 +28,16 @@ namespace dc {
 enum class LabelKind {
   Absolute,  ///< the Shepard numerators of λ* (the data set's labels)
   Residual,  ///< the numerators of λ* − λ_prev: the data set's labels minus lambda_prev_n/t
+  /// A gain field g (values, not numerators): λ⁰ = λ_prev (1 + ĝ) with ĝ the load-weighted
+  /// read-back of g (contact_readback.hpp). Trained through PGS only (no label grid: the target
+  /// needs per-contact λ_prev·λ*); `train --loss pgs-* --gain` starts one from a residual model.
+  Gain,
 };
-/// "absolute" / "residual" (the text stored in model files, /grid label_kind).
+/// True for the kinds whose guess is λ_prev + a correction (residual, gain).
+inline bool is_corrective(LabelKind k) { return k != LabelKind::Absolute; }
+/// "absolute" / "residual" / "gain" (the text stored in model files, /grid label_kind).
 const char* to_string(LabelKind kind);
-/// Inverse of to_string; ConfigError "label kind 'x': expected absolute or residual" otherwise.
+/// Inverse of to_string; ConfigError "label kind 'x': expected absolute, residual or gain" otherwise.
 LabelKind parse_label_kind(std::string_view text);
 
 /// A model's label definition (ModelGrid::labels; persisted in the model file's /grid).

@@ -19,6 +19,7 @@
 
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/learning/contact_readback.hpp"
+#include "dc/learning/labels.hpp"
 #include "dc/learning/data_set.hpp"
 #include "dc/learning/tensor.hpp"
 
@@ -29,7 +30,7 @@ struct PgsSample {
   LcpProblem problem;            ///< this step's LCP (A not formed)
   Eigen::VectorXd lambda_prev;   ///< rows: the previous step's λ by contact key, 0 for new contacts
   Eigen::VectorXd lambda_star;   ///< rows: the oracle's λ* (as in the data set)
-  ContactReadback readback;      ///< Shepard read-back at this step's contact points
+  ContactReadback readback;      ///< read-back at this step's contact points (Shepard or gain)
   int simulation = 0;            ///< simulation index in the data set
   int step = 0;                  ///< step index within it
 };
@@ -37,9 +38,11 @@ struct PgsSample {
 /// Replays simulations `sims` of `params` and returns every `every`-th sample of each,
 /// counted from the first step ≥ `first_step` (the samples train's --every and --first-step
 /// keep). `keep_going` is polled between steps (false: stop, return what is complete).
-/// ConfigError for every < 1 or first_step < 0.
+/// ConfigError for every < 1 or first_step < 0. `readback` is the label kind of the model the
+/// samples train (Gain: ContactReadback::gain on each sample's λ_prev; otherwise Shepard).
 std::vector<PgsSample> collect_pgs_samples(const DataSetParams& params, std::span<const int> sims, int every,
-                                           const std::function<bool()>& keep_going = {}, int first_step = 0);
+                                           const std::function<bool()>& keep_going = {}, int first_step = 0,
+                                           LabelKind readback = LabelKind::Residual);
 
 /// The read-back transfer of a feature image: its kernel, d, h and box, two channels, Shepard.
 SphTransferDef readback_transfer_def(const FeatureImageDef& image);
