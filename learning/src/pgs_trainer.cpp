@@ -187,7 +187,7 @@ std::vector<PgsEpochReport> train_through_pgs(Model& model, std::span<const PgsS
                                               const std::function<bool()>& keep_going) {
   def.validate();
   if (!is_corrective(model.grid().labels.kind))
-    throw ConfigError("training through PGS needs a residual or gain model (train the --init model with --residual)");
+    throw ConfigError("training through PGS needs a residual model as --init (train it with --residual) or a gain model");
   if (samples.empty()) throw InvalidArgument("train_through_pgs: no samples");
   Network& net = model.network();
   const Shape xs = net.input_shape(), ys = net.output_shape();

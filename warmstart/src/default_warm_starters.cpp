@@ -11,6 +11,10 @@ WarmStarterRegistry default_warm_starters() {
         "builtin with linear extrapolation 2 lambda(t-1) - lambda(t-2) of contacts seen in both steps, clamped to "
         "the cone",
         make_extrapolate_warm_starter);
+  r.add("builtin-gain-extrapolate",
+        "builtin x (1 + the grid-smoothed gain of the load change from step t-2 to t-1): a smoothed temporal "
+        "extrapolation; builtin-gain-extrapolate:KERNEL:D:H",
+        make_gain_extrapolate_warm_starter);
   r.add("builtin-statics",
         "builtin, plus a statics guess for new contacts: each body's weight and the load on it pushed down to its "
         "supports",

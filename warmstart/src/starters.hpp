@@ -33,6 +33,7 @@ std::unique_ptr<WarmStarter> make_sph_gain_add_warm_starter(const WarmStartSpec&
 std::unique_ptr<WarmStarter> make_gate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_gate_l2_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_extrapolate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_gain_extrapolate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_statics_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 
 }  // namespace dc
