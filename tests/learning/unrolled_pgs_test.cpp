@@ -180,6 +180,20 @@ TEST(PgsSamples, FirstStepSkipsTheEarlierSteps) {
   EXPECT_THROW((void)collect_pgs_samples(params, sims, 2, {}, -1), ConfigError);
 }
 
+/// ⟨R g, w⟩ = ⟨g, Rᵀ w⟩ for a random w, with v = R g already computed (and not ≈ 0).
+void expect_adjoint_is_transpose(const ContactReadback& rb, const std::vector<float>& g, const std::vector<double>& v,
+                                 Rng& rng) {
+  std::vector<double> w(v.size());
+  for (double& x : w) x = rng.uniform() - 0.5;
+  std::vector<float> rtw(g.size(), 0.0f);
+  rb.adjoint(w, rtw.data());
+  double lhs = 0, rhs = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) lhs += v[i] * w[i];
+  for (std::size_t i = 0; i < g.size(); ++i) rhs += double(g[i]) * double(rtw[i]);
+  EXPECT_NEAR(lhs, rhs, 1e-5 * (std::abs(lhs) + 1));
+  EXPECT_GT(std::abs(lhs), 1e-3);
+}
+
 TEST(ContactReadback, EqualsSphTransferGatherAndAdjointIsTranspose) {
   DataSetParams params = test::small_data_set_params(12.0, 40, 7, 8, 10);
   const SphTransferDef def = readback_transfer_def(params.image);
@@ -196,15 +210,7 @@ TEST(ContactReadback, EqualsSphTransferGatherAndAdjointIsTranspose) {
   std::vector<double> v(2 * pts.size());
   rb.forward(g.data(), v);
   for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], ref[i]) << i;
-  // ⟨R g, w⟩ = ⟨g, Rᵀ w⟩.
-  std::vector<double> w(v.size());
-  for (double& x : w) x = rng.uniform() - 0.5;
-  std::vector<float> rtw(g.size(), 0.0f);
-  rb.adjoint(w, rtw.data());
-  double lhs = 0, rhs = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) lhs += v[i] * w[i];
-  for (std::size_t i = 0; i < g.size(); ++i) rhs += double(g[i]) * double(rtw[i]);
-  EXPECT_NEAR(lhs, rhs, 1e-5 * (std::abs(lhs) + 1));
+  expect_adjoint_is_transpose(rb, g, v, rng);
 }
 
 // The gain read-back v_k = λp_k · bilinear(D ⊙ G)(q_k) / bilinear(D)(q_k): a uniform gain field
@@ -246,15 +252,7 @@ TEST(ContactReadback, GainOfAUniformFieldIsLambdaPrevTimesItAndAdjointIsTranspos
   rb.forward(g.data(), v);
   rb.forward(G.data(), vd);
   for (std::size_t i = 0; i < v.size(); ++i) EXPECT_EQ(v[i], vd[i]) << i;
-  std::vector<double> w(v.size());
-  for (double& x : w) x = rng.uniform() - 0.5;
-  std::vector<float> rtw(g.size(), 0.0f);
-  rb.adjoint(w, rtw.data());
-  double lhs = 0, rhs = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) lhs += v[i] * w[i];
-  for (std::size_t i = 0; i < g.size(); ++i) rhs += double(g[i]) * double(rtw[i]);
-  EXPECT_NEAR(lhs, rhs, 1e-5 * (std::abs(lhs) + 1));
-  EXPECT_GT(std::abs(lhs), 1e-3);
+  expect_adjoint_is_transpose(rb, g, v, rng);
   // One λ_prev pair per point.
   lp.pop_back();
   EXPECT_THROW((void)ContactReadback::gain(transfer, pts, lp), InvalidArgument);

@@ -9,38 +9,13 @@
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "floor_discs.hpp"
 
 namespace dc {
 namespace {
 
-/// Discs of radius r resting exactly on the floor (gap 0) at the given x, floor only.
-WorldDef discs_on_floor(std::initializer_list<double> xs, double r = 1.0) {
-  WorldDef d;
-  d.bodies.count = 0;
-  d.world.walls = {false, false, true, false};
-  for (const double x : xs) {
-    BodyDef b;
-    b.position = {x, r};
-    b.radius = r;
-    d.body.push_back(b);
-  }
-  return d;
-}
-
-/// Stores the given λ_n (λ_t = 0) as the solved λ of each disc's floor contact and puts the
-/// discs back at rest, so the next step has the same contacts (same keys) with that history.
-void step_with(World& w, const std::vector<double>& ln) {
-  w.collide();
-  w.assemble();
-  ASSERT_EQ(w.contacts().size(), ln.size());
-  const std::vector<Vec2> at(w.bodies().position.begin(), w.bodies().position.end());
-  w.integrate(w.pack(ln, std::vector<double>(ln.size(), 0.0)));
-  for (std::size_t i = 0; i < at.size(); ++i) {
-    w.bodies().position[i] = at[i];
-    w.bodies().velocity[i] = {0.0, 0.0};
-    w.bodies().omega[i] = 0.0;
-  }
-}
+using test::discs_on_floor;
+using test::step_with;
 
 TEST(SphResidualWarmStart, IsolatedContactsGetBuiltinPlusTheExactCorrection) {
   // Two discs 10 m apart: each contact is alone under its grid kernel, so the Shepard round

@@ -8,38 +8,13 @@
 #include "dc/engine/error.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "floor_discs.hpp"
 
 namespace dc {
 namespace {
 
-/// Discs of radius r resting exactly on the floor (gap 0) at the given x, floor only.
-WorldDef discs_on_floor(std::initializer_list<double> xs, double r) {
-  WorldDef d;
-  d.bodies.count = 0;
-  d.world.walls = {false, false, true, false};
-  for (const double x : xs) {
-    BodyDef b;
-    b.position = {x, r};
-    b.radius = r;
-    d.body.push_back(b);
-  }
-  return d;
-}
-
-/// One step whose solved λ_n are `ln` (λ_t = 0), then the discs back at rest: the next step
-/// has the same contacts with that history.
-void step_with(World& w, const std::vector<double>& ln) {
-  w.collide();
-  w.assemble();
-  ASSERT_EQ(w.contacts().size(), ln.size());
-  const std::vector<Vec2> at(w.bodies().position.begin(), w.bodies().position.end());
-  w.integrate(w.pack(ln, std::vector<double>(ln.size(), 0.0)));
-  for (std::size_t i = 0; i < at.size(); ++i) {
-    w.bodies().position[i] = at[i];
-    w.bodies().velocity[i] = {0.0, 0.0};
-    w.bodies().omega[i] = 0.0;
-  }
-}
+using test::discs_on_floor;
+using test::step_with;
 
 TEST(SphGainWarmStart, IsolatedContactsGetTheExactLambdaStar) {
   // Alone under its kernel a contact's least-squares gain is δ/λp: λp (1 + ĝ) = λ*.
@@ -108,13 +83,7 @@ TEST(GainExtrapolateWarmStart, AUniformLoadRampIsContinued) {
     w.collide();
     w.assemble();
     (void)ws->initial_guess(StepView{w});  // remembers this step's previous contacts
-    const std::vector<Vec2> at(w.bodies().position.begin(), w.bodies().position.end());
-    w.integrate(w.pack(*l, std::vector<double>(l->size(), 0.0)));
-    for (std::size_t i = 0; i < at.size(); ++i) {
-      w.bodies().position[i] = at[i];
-      w.bodies().velocity[i] = {0.0, 0.0};
-      w.bodies().omega[i] = 0.0;
-    }
+    test::integrate_and_rest(w, *l);
   }
   w.collide();
   w.assemble();

@@ -29,15 +29,7 @@ class CopyWarmStarter final : public WarmStarter {
   double oracle_ms() const override { return oracle_ms_; }
 
   Eigen::VectorXd initial_guess(const StepView& v) override {
-    Eigen::VectorXd out;
-    oracle_ms_ = 0;
-    if (v.oracle) {
-      out = *v.oracle;
-    } else {
-      const auto t0 = std::chrono::steady_clock::now();
-      out = solve_oracle(v.world.problem()).lambda;
-      oracle_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    }
+    Eigen::VectorXd out = step_oracle(v, oracle_ms_);
     if (decimals_ >= 0) {
       const double scale = std::pow(10.0, decimals_);
       for (int i = 0; i < out.size(); ++i) out[i] = std::round(out[i] * scale) / scale;

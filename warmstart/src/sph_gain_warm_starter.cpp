@@ -44,14 +44,7 @@ class SphGainWarmStarter final : public WarmStarter {
     const int rows = w.problem().rows();
     Eigen::VectorXd base = Eigen::VectorXd::Zero(rows);
     if (w.contacts().empty()) return base;
-    Eigen::VectorXd star;
-    if (v.oracle) {
-      star = *v.oracle;
-    } else {
-      const auto t0 = std::chrono::steady_clock::now();
-      star = solve_oracle(w.problem()).lambda;
-      oracle_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    }
+    const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
     put_previous_lambda_by_key(w, base);  // λ_prev by key, unprojected (as the cnn's base)
     const ContactConstraints& cons = w.constraints();
     const std::size_t n = w.contacts().size();

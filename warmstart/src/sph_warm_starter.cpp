@@ -99,14 +99,7 @@ class SphWarmStarter final : public WarmStarter {
     if (source_ == SphSource::Previous) {
       contact_lambda_channels(w.previous_contacts(), points_, values_);
     } else {
-      Eigen::VectorXd star;
-      if (v.oracle) {
-        star = *v.oracle;
-      } else {
-        const auto t0 = std::chrono::steady_clock::now();
-        star = solve_oracle(w.problem()).lambda;
-        oracle_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      }
+      Eigen::VectorXd star = step_oracle(v, oracle_ms_);
       points_ = targets_;
       if (source_ == SphSource::Residual) {
         put_previous_lambda_by_key(w, base);

@@ -1,6 +1,9 @@
 #pragma once
 // Private: factories of the starters in this library (registered by default_warm_starters).
+#include <chrono>
+
 #include "dc/engine/error.hpp"
+#include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc {
@@ -8,6 +11,17 @@ namespace dc {
 inline void reject_argument(const WarmStartSpec& spec) {
   if (!spec.arg.empty())
     throw ConfigError("warm starter '" + spec.name + "' takes no argument (got '" + spec.full() + "')");
+}
+
+/// This step's λ* for an oracle starter: the bench's (v.oracle) when it has one, else solved
+/// here with solve_oracle; `ms` gets the time of that solve [ms] (0 when given).
+inline Eigen::VectorXd step_oracle(const StepView& v, double& ms) {
+  ms = 0;
+  if (v.oracle) return *v.oracle;
+  const auto t0 = std::chrono::steady_clock::now();
+  Eigen::VectorXd star = solve_oracle(v.world.problem()).lambda;
+  ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return star;
 }
 
 /// builtin's memory: overwrites in `out` the rows of every current contact of `w` whose key
