@@ -141,6 +141,7 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
   std::fflush(stdout);
 
   std::vector<std::size_t> val_idx;
+  double init_objective = 0;
   {
     const std::vector<int> val = pgs_validation_simulations(samples, def);
     for (std::size_t i = 0; i < samples.size(); ++i)
@@ -149,6 +150,7 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
     std::printf("train: the --init model: validation objective %.4f (%.0f %% of steps better than builtin after %d "
                 "sweeps; 0 = builtin, log-units of the loss)\n", j0, 100 * better0, def.unroll);
     std::fflush(stdout);
+    init_objective = j0;
   }
   std::ostringstream csv;
   csv << "epoch,train_objective,validation_objective,validation_improved,seconds\n";
@@ -178,6 +180,12 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
   if (best_epoch < 0) throw ConfigError("training through PGS made no finished epoch (time limit too short?)");
   std::printf("train: best epoch %d of %zu (objective %.4f); %.1f s of training -> %s (%s.loss.csv)\n",
               best_epoch + 1, reports.size(), best, total_s, c.out.c_str(), c.out.c_str());
+  // The file holds the best *trained* epoch; say so when that is worse than where it started.
+  if (best > init_objective)
+    std::fprintf(stderr,
+                 "deepcontact: warning: no epoch beat the --init model's validation objective (%.4f; best epoch "
+                 "%.4f): %s is worse than --init on the validation steps (try a smaller --lr)\n",
+                 init_objective, best, c.out.c_str());
 }
 
 }  // namespace dc::cli
