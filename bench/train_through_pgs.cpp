@@ -43,12 +43,17 @@ void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o) {
 
 namespace {
 
-/// The init model's network and statistics in a model whose dead zone is `deadzone`.
 /// The --init model with the data set's dead zone, on the data set's grid `image` (the box
 /// may differ: the fully convolutional network is rebuilt for the data's nx × ny and takes
 /// every parameter over by name, as the cnn starter does on another box). ConfigError when
 /// the kernel, d, h or channels differ, or the network cannot run on that grid.
-Model regridded(Model& init, const FeatureImageDef& image, double deadzone, const std::string& init_path) {
+///
+/// `gain_start` (train --gain from a residual model): the result is a gain model with the same
+/// trunk, the output node's weights and bias zeroed and identity output statistics without
+/// compression, so G = 0 and the first guess is builtin's exactly (a gain model's output is a
+/// gain, not a numerator).
+Model regridded(Model& init, const FeatureImageDef& image, double deadzone, const std::string& init_path,
+                bool gain_start) {
   ModelGrid g = init.grid();
   const SphTransferDef &a = g.image.sph, &b = image.sph;
   if (a.kernel != b.kernel || a.grid.spacing != b.grid.spacing || a.support != b.support ||
@@ -56,7 +61,12 @@ Model regridded(Model& init, const FeatureImageDef& image, double deadzone, cons
     throw ConfigError("--init " + init_path + ": its kernel, node spacing, support or feature channels differ from the data set's");
   g.image = image;
   g.labels.deadzone = deadzone;
+  if (gain_start) {
+    g.labels.kind = LabelKind::Gain;
+    g.labels.scale = 0.0;
+  }
   Model m(init.network().arch(), g, init.network().input_shape().c);
+  const std::string head = init.network().arch().layers.back().name + "/";
   std::vector<ParamRef> src = init.network().parameters(), dst = m.network().parameters();
   for (std::size_t i = 0; i < src.size(); ++i) {
     if (src[i].value->shape() != dst[i].value->shape())
@@ -64,30 +74,14 @@ Model regridded(Model& init, const FeatureImageDef& image, double deadzone, cons
                         std::to_string(init.grid().nx()) + " x " + std::to_string(init.grid().ny()) + " vs the data's " +
                         std::to_string(m.grid().nx()) + " x " + std::to_string(m.grid().ny()) + ")");
     *dst[i].value = *src[i].value;
+    if (gain_start && dst[i].name.rfind(head, 0) == 0) dst[i].value->fill(0.0f);
   }
   m.input_stats = init.input_stats;
-  m.output_stats = init.output_stats;
+  m.output_stats =
+      gain_start ? ChannelStats::identity(static_cast<int>(init.output_stats.mean.size())) : init.output_stats;
   return m;
 }
 
-/// The residual model `m` as the start of a gain model: same trunk, the output node's weights
-/// and bias zeroed and identity output statistics without compression, so G = 0 and the
-/// first guess is builtin's exactly (a gain model's output is a gain, not a numerator).
-void make_gain_start(Model& m) {
-  ModelGrid g = m.grid();
-  g.labels.kind = LabelKind::Gain;
-  g.labels.scale = 0.0;
-  Model out(m.network().arch(), g, m.network().input_shape().c);
-  std::vector<ParamRef> src = m.network().parameters(), dst = out.network().parameters();
-  const std::string head = m.network().arch().layers.back().name + "/";
-  for (std::size_t i = 0; i < src.size(); ++i) {
-    *dst[i].value = *src[i].value;
-    if (dst[i].name.rfind(head, 0) == 0) dst[i].value->fill(0.0f);
-  }
-  out.input_stats = m.input_stats;
-  out.output_stats = ChannelStats::identity(static_cast<int>(m.output_stats.mean.size()));
-  m = std::move(out);
-}
 
 }  // namespace
 
@@ -117,8 +111,8 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
   Model init = load_model(o.init);
   if (init.network().input_shape().c != reader.feature_channels())
     throw ConfigError("--init " + o.init + ": its feature channels differ from " + c.data + "'s");
-  Model model = regridded(init, reader.params().image, c.deadzone, o.init);
-  if (o.gain && model.grid().labels.kind == LabelKind::Residual) make_gain_start(model);
+  Model model =
+      regridded(init, reader.params().image, c.deadzone, o.init, o.gain && init.grid().labels.kind == LabelKind::Residual);
   if (!o.gain && model.grid().labels.kind == LabelKind::Gain)
     throw ConfigError("--init " + o.init + " is a gain model: add --gain to continue training it");
 

@@ -13,11 +13,6 @@ void require_two_channel_shepard(const SphTransfer& transfer) {
     throw InvalidArgument("contact read-back: needs a two-channel Shepard transfer");
 }
 
-double at(const SphGrid& g, int c, int j, int i) {
-  return g.data()[(static_cast<std::size_t>(c) * static_cast<std::size_t>(g.ny()) + static_cast<std::size_t>(j)) *
-                      static_cast<std::size_t>(g.nx()) + static_cast<std::size_t>(i)];
-}
-
 }  // namespace
 
 ContactReadback::ContactReadback(SphTransfer& transfer, std::span<const Vec2> points) {
@@ -57,8 +52,8 @@ ContactReadback ContactReadback::gain(SphTransfer& transfer, std::span<const Vec
     const BilinearStencil st = D.stencil(points[k]);
     std::array<double, 8> cf{};
     for (int c = 0; c < 2; ++c) {
-      const double d00 = st.w00() * at(D, c, st.j0, st.i0), d01 = st.w01() * at(D, c, st.j0, st.i1);
-      const double d10 = st.w10() * at(D, c, st.j1, st.i0), d11 = st.w11() * at(D, c, st.j1, st.i1);
+      const double d00 = st.w00() * D.at(c, st.j0, st.i0), d01 = st.w01() * D.at(c, st.j0, st.i1);
+      const double d10 = st.w10() * D.at(c, st.j1, st.i0), d11 = st.w11() * D.at(c, st.j1, st.i1);
       const double den = d00 + d01 + d10 + d11;
       // den = 0: no load near q (λp = 0 here and around): no gain can act, v = 0.
       const double f = den > 0 ? lambda_prev[2 * k + static_cast<std::size_t>(c)] / den : 0.0;

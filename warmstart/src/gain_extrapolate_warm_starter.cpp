@@ -62,8 +62,7 @@ class GainExtrapolateWarmStarter final : public WarmStarter {
         const ContactConstraints& cons = w.constraints();
         for (std::size_t c = 0; c < cur.size(); ++c) {
           const int k = static_cast<int>(c);
-          const double gn = back_[4 * c + 2] > 0 ? back_[4 * c + 0] / back_[4 * c + 2] : 0.0;
-          const double gt = back_[4 * c + 3] > 0 ? back_[4 * c + 1] / back_[4 * c + 3] : 0.0;
+          const auto [gn, gt] = read_gains(back_, c);
           cons.put(k, cons.lambda_n(out, k) * (1 + gn), cons.lambda_t(out, k) * (1 + gt), out);
         }
       }

@@ -71,8 +71,7 @@ class SphGainWarmStarter final : public WarmStarter {
     remainder_.assign(2 * n, 0.0);
     for (std::size_t c = 0; c < n; ++c) {
       const int k = static_cast<int>(c);
-      const double gn = back_[4 * c + 2] > 0 ? back_[4 * c + 0] / back_[4 * c + 2] : 0.0;
-      const double gt = back_[4 * c + 3] > 0 ? back_[4 * c + 1] / back_[4 * c + 3] : 0.0;
+      const auto [gn, gt] = read_gains(back_, c);
       const double pn = cons.lambda_n(base, k), pt = cons.lambda_t(base, k);
       const double ln = pn * (1 + gn), lt = pt * (1 + gt);
       cons.put(k, ln, lt, out);

@@ -1,6 +1,8 @@
 #pragma once
 // Private: factories of the starters in this library (registered by default_warm_starters).
 #include <chrono>
+#include <span>
+#include <utility>
 
 #include "dc/engine/error.hpp"
 #include "dc/warmstart/oracle.hpp"
@@ -22,6 +24,14 @@ inline Eigen::VectorXd step_oracle(const StepView& v, double& ms) {
   Eigen::VectorXd star = solve_oracle(v.world.problem()).lambda;
   ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return star;
+}
+
+/// The kernel-weighted least-squares gains (ĝ_n, ĝ_t) = (N_n/D_n, N_t/D_t) of point c in a
+/// four-field read-back (N_n, N_t, D_n, D_t per point; sph-gain and builtin-gain-extrapolate),
+/// 0 where D = 0 (no load nearby).
+inline std::pair<double, double> read_gains(std::span<const double> back, std::size_t c) {
+  const double* f = back.data() + 4 * c;
+  return {f[2] > 0 ? f[0] / f[2] : 0.0, f[3] > 0 ? f[1] / f[3] : 0.0};
 }
 
 /// builtin's memory: overwrites in `out` the rows of every current contact of `w` whose key
