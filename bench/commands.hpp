@@ -11,6 +11,7 @@ void add_simulate_command(CLI::App& app);   // cmd_simulate.cpp
 void add_lcp_command(CLI::App& app);        // cmd_lcp.cpp       (lcp solve)
 void add_bench_command(CLI::App& app);      // cmd_bench.cpp
 void add_sph_study_command(CLI::App& app);  // cmd_sph_study.cpp
+void add_pgs_landscape_command(CLI::App& app);  // cmd_pgs_landscape.cpp
 void add_generate_command(CLI::App& app);   // cmd_generate.cpp
 void add_train_command(CLI::App& app);      // cmd_train.cpp
 void add_stress_command(CLI::App& app);     // cmd_stress.cpp

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   dc::cli::add_lcp_command(app);
   dc::cli::add_bench_command(app);
   dc::cli::add_sph_study_command(app);
+  dc::cli::add_pgs_landscape_command(app);
   dc::cli::add_generate_command(app);
   dc::cli::add_train_command(app);
   dc::cli::add_stress_command(app);

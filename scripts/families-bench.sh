@@ -8,9 +8,11 @@
 #   scripts/families-bench.sh [BUILD_DIR] [OUT_DIR]        (defaults: build, results/families)
 #
 # Environment: SEEDS (default: each family's own [family] seeds), STARTERS (default
-# zero,builtin,builtin-extrapolate,builtin-statics,cnn: the non-learned starters and the
-# shipped cnn, which runs on every box), ORACLES (default sph,sph-residual,copy-noise:0.01,copy-noise:0.1,
-# copy-noise:0.3: oracle starters where the oracle is affordable), FAMILY_MODELS=1 (add
+# zero,builtin,builtin-extrapolate,builtin-gain-extrapolate,builtin-statics,cnn: the
+# non-learned starters and the shipped cnn, which runs on every box), ORACLES (default
+# sph,sph-residual,sph-gain:poly6:0.5:0.5,sph-gain-add:poly6:0.5:0.5,copy-noise:0.01,
+# copy-noise:0.1,copy-noise:0.3: oracle starters where the oracle is affordable; the gain
+# oracles on the learned models' grid), FAMILY_MODELS=1 (add
 # cnn:models/<family>.h5 where that file exists), QUICK=1 (fewer steps and seeds: the first
 # look under load), MID=1 (the windows of docs/research.md's per-family tables, 2 seeds),
 # ONLY="deep impact" (a subset of the runs: deep impact pour polydisperse drum mixed height
@@ -22,8 +24,8 @@ BUILD=${1:-build}
 OUT=${2:-results/families}
 DC="$BUILD/bench/deepcontact"
 [[ -x "$DC" ]] || { echo "families-bench: $DC not found (build the deepcontact target first)" >&2; exit 2; }
-S=${STARTERS:-zero,builtin,builtin-extrapolate,builtin-statics,cnn}
-O=${ORACLES:-sph,sph-residual,copy-noise:0.01,copy-noise:0.1,copy-noise:0.3}
+S=${STARTERS:-zero,builtin,builtin-extrapolate,builtin-gain-extrapolate,builtin-statics,cnn}
+O=${ORACLES:-sph,sph-residual,sph-gain:poly6:0.5:0.5,sph-gain-add:poly6:0.5:0.5,copy-noise:0.01,copy-noise:0.1,copy-noise:0.3}
 ONLY=${ONLY:-"deep impact pour polydisperse drum mixed height scale cnn-scale"}
 # The family's own PGS-trained model, when asked for and present (scripts/train-family-model.sh).
 fam() { if [[ "${FAMILY_MODELS:-0}" == 1 && -f "models/$1.h5" ]]; then echo ",cnn:models/$1.h5"; fi; }
