@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Per-starter summary of a bench results.h5 (docs/research.md "Deep pile"): median sweeps to
+"""Per-starter summary of a bench results.h5 (docs/research/deep-pile.md): median sweeps to
 tolerance over all steps and over the settled steps (step >= SETTLED), the never-converged
 share, the median initial error ||lambda0 - lambda*||_inf, the median residual at fixed
 budgets, and median warm-start / total ms.
