@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_statistics.hpp"
 #include "commands.hpp"
 #include "dc/engine/error.hpp"
 #include "dc/io/atomic_file.hpp"
@@ -25,6 +26,8 @@
 
 namespace dc::cli {
 namespace {
+
+using bench::median_of;
 
 struct LandscapeArgs {
   std::string data;
@@ -37,15 +40,6 @@ struct LandscapeArgs {
   int threads = 0;
   PgsLandscapeDef def;
 };
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  const std::size_t h = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h), v.end());
-  double m = v[h];
-  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h)));
-  return m;
-}
 
 void run(const LandscapeArgs& a) {
   PgsLandscapeDef def = a.def;
@@ -99,8 +93,8 @@ void run(const LandscapeArgs& a) {
       cf.push_back(ls[k].cos_to_first);
       cg.push_back(ls[k].cos_to_field);
     }
-    std::printf("K = %d: cos(g_K, g_%d) %.3f, cos(-g_K, G*) %.3f\n", def.unrolls[k], def.unrolls[0], median(cf),
-                median(cg));
+    std::printf("K = %d: cos(g_K, g_%d) %.3f, cos(-g_K, G*) %.3f\n", def.unrolls[k], def.unrolls[0], median_of(cf),
+                median_of(cg));
     for (std::size_t e = 0; e < def.steps.size(); ++e) {
       std::vector<double> ratio, own, first;
       int down = 0;
@@ -112,13 +106,13 @@ void run(const LandscapeArgs& a) {
         down += L.along_own[e] < 0;
       }
       std::printf("  eps %-8g J(eps d_K) %+9.4f  actual/predicted %+8.3f  descends on %3.0f %%  J(eps d_%d) %+9.4f\n",
-                  def.steps[e], median(own), median(ratio), 100.0 * down / static_cast<double>(lines.size()),
-                  def.unrolls[0], median(first));
+                  def.steps[e], median_of(own), median_of(ratio), 100.0 * down / static_cast<double>(lines.size()),
+                  def.unrolls[0], median_of(first));
     }
     for (std::size_t t = 0; t < def.path.size(); ++t) {
       std::vector<double> f;
       for (const auto& ls : lines) f.push_back(ls[k].along_field[t]);
-      std::printf("  J(%g G*) %+9.4f\n", def.path[t], median(f));
+      std::printf("  J(%g G*) %+9.4f\n", def.path[t], median_of(f));
     }
   }
 }

@@ -60,7 +60,7 @@ want pour && run pour --scene scenes/pour.toml --warmstarts "$S$(fam pour),$O" $
 want polydisperse && run polydisperse --scene scenes/polydisperse.toml --warmstarts "$S$(fam polydisperse),$O" $(seeds 1..2) \
   $POLY --max-sweeps 10000
 # The rotating drum (kinematic paddles, no walls) and the mixed-shape pile have no [family]
-# seeds: 1..2 (QUICK/MID) or 1..4. The cnn's features see circles only (shape channels: another issue).
+# seeds: 1..2 (QUICK/MID) or 1..4. The shipped cnn sees the 10 circle channels; models/mixed.h5 adds the shape channels.
 want drum && run drum --scene scenes/drum.toml --warmstarts "$S$(fam drum),$O" --seeds "${SEEDS:-$([[ "${QUICK:-0}${MID:-0}" == *1* ]] && echo 1..2 || echo 1..4)}" \
   $DRUM --max-sweeps 10000
 want mixed && run mixed --scene scenes/mixed.toml --warmstarts "$S$(fam mixed),$O" --seeds "${SEEDS:-$([[ "${QUICK:-0}${MID:-0}" == *1* ]] && echo 1..2 || echo 1..4)}" \

@@ -39,7 +39,7 @@ std::vector<double> adjoint(const ContactReadback& rb, const std::vector<double>
   return {g.begin(), g.end()};
 }
 
-/// J(G) of `obj` at G = base + a·dir (floats, as the trainer evaluates it).
+/// J(G) of `obj` at G = a·dir (floats, as the trainer evaluates it).
 double objective_at(PgsObjective& obj, const std::vector<double>& dir, double a, std::vector<float>& buf) {
   for (std::size_t i = 0; i < dir.size(); ++i) buf[i] = static_cast<float>(a * dir[i]);
   return obj.evaluate(buf.data(), nullptr);
@@ -108,9 +108,7 @@ std::vector<PgsLandscapeLine> probe_pgs_landscape(const PgsSample& s, const PgsL
       first_grad = g;
     }
     L.cos_to_first = cosine(g, first_grad);
-    std::vector<double> ng(n);
-    for (std::size_t i = 0; i < n; ++i) ng[i] = -g[i];
-    L.cos_to_field = cosine(ng, field);
+    L.cos_to_field = -cosine(g, field);
     for (const double e : def.steps) {
       L.along_own.push_back(objective_at(obj, d, e, buf));
       L.along_first.push_back(objective_at(obj, first_dir, e, buf));
