@@ -92,7 +92,7 @@ void run(const TrainArgs& a) {
   if (a.data.empty()) throw ConfigError("--data is required");
   if (a.out.empty()) throw ConfigError("--out is required");
   if (a.pgs.gain && a.pgs.loss == "regression")
-    throw ConfigError("--gain needs --loss pgs-residual or pgs-distance (a gain model has no label grid to regress on)");
+    throw ConfigError("--gain needs --loss pgs-residual, pgs-distance or pgs-field (a gain model has no label grid to regress on)");
   if (a.pgs.loss != "regression") {
     run_train_through_pgs(a.pgs, {a.data, a.out, a.epochs, a.batch, a.threads, a.every, a.first_step, a.lr, a.momentum,
                                   a.weight_decay, a.val, a.deadzone, a.seed, a.force});

@@ -27,7 +27,9 @@ namespace fs = std::filesystem;
 void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o) {
   cmd->add_option("--loss", o.loss,
                   "regression (MSE on the label grids, the default) or pgs-residual / pgs-distance: train a "
-                  "residual --init model through --unroll PGS sweeps (docs/learning.md 'Training through PGS')")
+                  "residual --init model through --unroll PGS sweeps (docs/learning.md 'Training through PGS'); "
+                  "pgs-field: regress its output on the read-back's least-squares field of lambda* - lambda_prev, "
+                  "validated by pgs-distance after --unroll sweeps")
       ->capture_default_str();
   cmd->add_option("--unroll", o.unroll, "pgs-*: PGS sweeps unrolled per sample")->capture_default_str();
   cmd->add_option("--init", o.init, "pgs-*: the residual model to start from (arch, grid, statistics)");
@@ -35,6 +37,9 @@ void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o) {
       ->capture_default_str();
   cmd->add_option("--pgs-floor", o.floor, "pgs-*: f [N] of the objective log(L + rows f^2)")->capture_default_str();
   cmd->add_option("--clip", o.clip, "pgs-*: clip the minibatch gradient to this global norm (0 = off)")
+      ->capture_default_str();
+  cmd->add_option("--field-iterations", o.field_iterations,
+                  "pgs-field: CGLS iterations of the target field (fewer = smoother; least_squares_field.hpp)")
       ->capture_default_str();
   cmd->add_flag("--gain", o.gain,
                 "pgs-*: train a GAIN model, lambda0 = lambda_prev (1 + read-back of a gain field), from the residual "
@@ -99,6 +104,7 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
   def.time_limit = o.time_limit;
   def.floor = o.floor;
   def.clip = o.clip;
+  def.field_iterations = o.field_iterations;
   def.validate();
   if (o.init.empty()) throw ConfigError("--loss " + o.loss + " needs --init MODEL (a residual model of this data set)");
   if (c.every < 1) throw ConfigError("--every must be >= 1");
@@ -142,7 +148,8 @@ void run_train_through_pgs(const PgsTrainOptions& o, const PgsTrainCommon& c) {
       if (std::find(val.begin(), val.end(), samples[i].simulation) != val.end()) val_idx.push_back(i);
     const auto [j0, better0] = pgs_objective_mean(model, samples, val_idx, def);
     std::printf("train: the --init model: validation objective %.4f (%.0f %% of steps better than builtin after %d "
-                "sweeps; 0 = builtin, log-units of the loss)\n", j0, 100 * better0, def.unroll);
+                "sweeps; 0 = builtin, log-units of the %s loss)\n", j0, 100 * better0, def.unroll,
+                to_string(validation_loss(def.loss)));
     std::fflush(stdout);
     init_objective = j0;
   }

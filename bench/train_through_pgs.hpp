@@ -1,5 +1,5 @@
 #pragma once
-// `deepcontact train --loss pgs-residual|pgs-distance`: the solver-unrolled training of a
+// `deepcontact train --loss pgs-residual|pgs-distance|pgs-field`: the solver-unrolled training of a
 // residual model (dc_learning pgs_trainer.hpp; docs/learning.md "Training through PGS").
 // cmd_train.cpp owns the shared options and dispatches here when --loss is not regression.
 #include <CLI/CLI.hpp>
@@ -11,16 +11,17 @@ namespace dc::cli {
 
 /// The options only this path has.
 struct PgsTrainOptions {
-  std::string loss = "regression";  // regression | pgs-residual | pgs-distance
+  std::string loss = "regression";  // regression | pgs-residual | pgs-distance | pgs-field
   int unroll = 20;                  // k sweeps unrolled
   std::string init;                 // the residual model to start from (required for pgs-*)
   double time_limit = 0;            // [s] of training, 0 = none
   double floor = 1e-2;              // f [N] of the objective's ε = rows·f²
   double clip = 1.0;                // global gradient-norm clip (0 = off)
   bool gain = false;                // train a gain model (LabelKind::Gain) from the residual --init
+  int field_iterations = 100;       // pgs-field: CGLS iterations of the target field G*
 };
 
-/// Registers --loss, --unroll, --init, --time-limit, --pgs-floor, --clip, --gain on `cmd`.
+/// Registers --loss, --unroll, --init, --time-limit, --pgs-floor, --clip, --gain, --field-iterations on `cmd`.
 void add_pgs_train_options(CLI::App* cmd, PgsTrainOptions& o);
 
 /// The shared options of `train` that the PGS path uses.

@@ -17,6 +17,7 @@
 # count]; INIT [models/default.h5]; CH [the shipped model's 10 channels; must be --init's
 # channels, e.g. ...,coverage,orient_c,orient_s with INIT=models/box_pile.h5 for shapes];
 # FIRST [0: the first step kept as a sample, train --first-step]; GAIN [0; 1 = train a gain model from the residual --init, docs/learning.md "Gain models"];
+# FIELD_ITER [100: CGLS iterations of the target field with LOSS=pgs-field];
 # OUT [models/FAMILY.h5].
 case "$1" in
   impact) : "${STEPS:=260}" "${EPOCHS:=4}" "${LR:=0.5}" "${THREADS:=2}" ;;
@@ -53,7 +54,7 @@ DATA=$DATADIR/$F-train-s1000-m$SIMS${STEPS:+-t$STEPS}-c$NCH.h5
 /usr/bin/time -f "train: %U s user %S s sys %e s wall" \
   $DC train --data "$DATA" --out "${OUT:-models/$F.h5}" --force --loss "${LOSS:-pgs-distance}" --unroll "${UNROLL:-100}" \
     --init "${INIT:-models/default.h5}" --epochs "${EPOCHS:-6}" --every "${EVERY:-4}" --batch 8 --lr "${LR:-0.1}" \
-    --clip "${CLIP:-0.05}" --deadzone "${DEADZONE:-0}" $([ "${GAIN:-0}" = 1 ] && echo --gain) \
+    --clip "${CLIP:-0.05}" --field-iterations "${FIELD_ITER:-100}" --deadzone "${DEADZONE:-0}" $([ "${GAIN:-0}" = 1 ] && echo --gain) \
     --first-step "${FIRST:-0}" --val 0.34 --seed 1 --threads "$THREADS" \
     --time-limit "${TIME:-400}"
 echo "train-family-model: ${OUT:-models/$F.h5}; evaluate with scripts/families-bench.sh (STARTERS=...,cnn:${OUT:-models/$F.h5})"

@@ -9,6 +9,7 @@
 
 #include "dc/engine/error.hpp"
 #include "dc/engine/rng.hpp"
+#include "dc/learning/least_squares_field.hpp"
 #include "dc/learning/optimizer.hpp"
 #include "dc/learning/trainer.hpp"
 
@@ -18,15 +19,18 @@ const char* to_string(PgsLoss loss) {
   switch (loss) {
     case PgsLoss::Residual: return "pgs-residual";
     case PgsLoss::Distance: return "pgs-distance";
+    case PgsLoss::Field: return "pgs-field";
   }
   return "?";
 }
 
 PgsLoss parse_pgs_loss(std::string_view text) {
-  for (const PgsLoss l : {PgsLoss::Residual, PgsLoss::Distance})
+  for (const PgsLoss l : {PgsLoss::Residual, PgsLoss::Distance, PgsLoss::Field})
     if (text == to_string(l)) return l;
-  throw ConfigError("--loss '" + std::string(text) + "': expected regression, pgs-residual or pgs-distance");
+  throw ConfigError("--loss '" + std::string(text) + "': expected regression, pgs-residual, pgs-distance or pgs-field");
 }
+
+PgsLoss validation_loss(PgsLoss loss) { return loss == PgsLoss::Field ? PgsLoss::Distance : loss; }
 
 // ---- projection of the guess ------------------------------------------------------------
 
@@ -86,11 +90,28 @@ Eigen::VectorXd GuessProjection::backward(const LcpProblem& p, const Eigen::Vect
 
 // ---- objective ----------------------------------------------------------------------------
 
-PgsObjective::PgsObjective(const PgsSample& sample, PgsLoss loss, int unroll, double floor)
+PgsObjective::PgsObjective(const PgsSample& sample, PgsLoss loss, int unroll, double floor, int field_iterations)
     : s_(sample), loss_(loss), unroll_(unroll), eps_(sample.problem.rows() * floor * floor), pgs_(sample.problem) {
   if (unroll < 0) throw InvalidArgument("PgsObjective: unroll must be >= 0");
-  if (loss == PgsLoss::Distance && sample.lambda_star.size() != sample.problem.rows())
-    throw InvalidArgument("PgsObjective: the sample has no lambda_star for the distance loss");
+  if (loss != PgsLoss::Residual && sample.lambda_star.size() != sample.problem.rows())
+    throw InvalidArgument(std::string("PgsObjective: the sample has no lambda_star for the ") + to_string(loss) + " loss");
+  if (loss == PgsLoss::Field) {
+    field_ = least_squares_correction_grid(sample, field_iterations);
+    // The nodes some contact reads (Rᵀ 1 ≠ 0): elsewhere the output never reaches PGS, and
+    // regressing it there (on G* = 0) would dominate the samples with few contacts.
+    const std::vector<double> ones(2 * static_cast<std::size_t>(sample.readback.points()), 1.0);
+    std::vector<float> seen(field_.size(), 0.0f);
+    sample.readback.adjoint(ones, seen.data());
+    double sq = 0;
+    for (std::size_t i = 0; i < field_.size(); ++i)
+      if (seen[i] != 0.0f) {
+        seen_.push_back(static_cast<std::uint32_t>(i));
+        sq += double(field_[i]) * double(field_[i]);
+      }
+    builtin_loss_ = sq;
+    eps_ = static_cast<double>(std::max<std::size_t>(seen_.size(), 1)) * floor * floor;  // f per seen grid entry
+    return;
+  }
   GuessProjection proj;
   builtin_loss_ = loss_and_grad(proj.forward(s_.problem, s_.lambda_prev), nullptr);
 }
@@ -111,6 +132,14 @@ Eigen::VectorXd PgsObjective::initial_guess(const float* grid) {
 }
 
 double PgsObjective::evaluate(const float* grid, float* dgrid) {
+  if (loss_ == PgsLoss::Field) {  // L = Σ_seen (G − G*)², dJ/dG = 2 (G − G*) / (L + ε) on the seen nodes
+    double L = 0;
+    for (const std::uint32_t i : seen_) L += (double(grid[i]) - field_[i]) * (double(grid[i]) - field_[i]);
+    last_loss_ = L;
+    if (dgrid)
+      for (const std::uint32_t i : seen_) dgrid[i] += static_cast<float>(2.0 * (double(grid[i]) - field_[i]) / (L + eps_));
+    return std::log(L + eps_) - std::log(builtin_loss_ + eps_);
+  }
   const Eigen::VectorXd lambda0 = initial_guess(grid);
   Eigen::VectorXd dlam0;
   last_loss_ = loss_and_grad(lambda0, dgrid ? &dlam0 : nullptr);
@@ -137,6 +166,7 @@ void PgsTrainDef::validate() const {
   if (!(time_limit >= 0)) throw ConfigError("--time-limit must be >= 0");
   if (!(floor > 0) || !std::isfinite(floor)) throw ConfigError("--pgs-floor must be > 0");
   if (!(clip >= 0)) throw ConfigError("--clip must be >= 0");
+  if (field_iterations < 1) throw ConfigError("--field-iterations must be >= 1");
 }
 
 std::vector<int> pgs_validation_simulations(std::span<const PgsSample> samples, const PgsTrainDef& def) {
@@ -174,7 +204,7 @@ std::pair<double, double> pgs_objective_mean(Model& model, std::span<const PgsSa
   int better = 0;
   for (const std::size_t i : idx) {
     const Tensor G = model.predict(samples[i].features);
-    PgsObjective obj(samples[i], def.loss, def.unroll, def.floor);
+    PgsObjective obj(samples[i], validation_loss(def.loss), def.unroll, def.floor);
     const double J = obj.evaluate(G.data(), nullptr);
     sum += J;
     better += J < 0;
@@ -208,7 +238,7 @@ std::vector<PgsEpochReport> train_through_pgs(Model& model, std::span<const PgsS
 
   std::vector<PgsObjective> obj;
   obj.reserve(samples.size());
-  for (const PgsSample& s : samples) obj.emplace_back(s, def.loss, def.unroll, def.floor);
+  for (const PgsSample& s : samples) obj.emplace_back(s, def.loss, def.unroll, def.floor, def.field_iterations);
 
   net.set_rng(&rng);
   Sgd opt(SgdDef{def.momentum, def.weight_decay});

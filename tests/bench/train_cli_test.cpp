@@ -210,6 +210,29 @@ TEST(TrainCli, PgsGainTrainsAGainModelFromAResidualInit) {
   EXPECT_FALSE(fs::exists(dir / "x.h5") || fs::exists(dir / "y.h5"));
 }
 
+// --loss pgs-field regresses the gain grid on the least-squares field G* and is validated by
+// pgs-distance (the init message says which loss validation measures); --field-iterations
+// below 1 is a one-line error that writes nothing.
+TEST(TrainCli, PgsFieldTrainsAGainModelValidatedByPgsDistance) {
+  Dir dir;
+  const std::string data = data_set(Channels::Residual);
+  Result r = test::run_cli("train --data " + data + " --out " + (dir / "r.h5") + " --epochs 1 --residual" + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "f.h5") +
+                    " --epochs 1 --loss pgs-field --field-iterations 3 --unroll 3 --gain --lr 1e-4 --init " +
+                    (dir / "r.h5") + kTrain);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(load_model(dir / "f.h5").grid().labels.kind, LabelKind::Gain);
+  EXPECT_NE(r.out.find("log-units of the pgs-distance loss"), std::string::npos) << r.out;
+  r = test::run_cli("train --data " + data + " --out " + (dir / "z.h5") +
+                    " --epochs 1 --loss pgs-field --field-iterations 0 --unroll 3 --gain --init " + (dir / "r.h5") +
+                    kTrain);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("field"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "z.h5"));
+}
+
 // The --init model may come from another box (the cnn starter runs a fully convolutional
 // model on any grid): trained on the 12 × 12 box's 25 × 25 grid, fine-tuned through PGS on a
 // 16 × 12 box's data (33 × 25); the written model carries the new data set's grid. Another

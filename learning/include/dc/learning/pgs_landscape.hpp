@@ -27,6 +27,7 @@
 // and a gradient method cannot follow the objective.
 #include <vector>
 
+#include "dc/learning/least_squares_field.hpp"
 #include "dc/learning/pgs_samples.hpp"
 #include "dc/learning/pgs_trainer.hpp"
 
@@ -61,9 +62,5 @@ struct PgsLandscapeLine {
 /// The lines of `sample` for every horizon of `def` (validated; InvalidArgument for the
 /// distance loss without λ*). G* is computed once per sample. Thread-safe for distinct samples.
 std::vector<PgsLandscapeLine> probe_pgs_landscape(const PgsSample& sample, const PgsLandscapeDef& def);
-
-/// G* of the file comment: the CGLS least-squares grid of the read-back for λ* − λ_prev
-/// (2·ny·nx values, NCHW).
-std::vector<float> least_squares_correction_grid(const PgsSample& sample, int iterations);
 
 }  // namespace dc

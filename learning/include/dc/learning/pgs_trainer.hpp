@@ -35,10 +35,20 @@ namespace dc {
 enum class PgsLoss {
   Residual,  ///< "pgs-residual": scaled natural-map residual after k sweeps (no λ* needed)
   Distance,  ///< "pgs-distance": ‖λ_k − λ*‖² after k sweeps
+  /// "pgs-field": no sweeps in the training loss — regress the output grid G on G*, the
+  /// read-back's least-squares field of λ* − λ_prev (least_squares_field.hpp), as
+  /// L = Σ (G − G*)² over the grid entries some contact reads (Rᵀ1 ≠ 0; the others never
+  /// reach PGS). The unrolled map's gradient is short-ranged and points
+  /// away from G* at long horizons (docs/research.md "Why long horizons do not train") while
+  /// the straight path to G* is downhill for every horizon: this loss takes that path.
+  /// Validation (and so the epoch kept) is J_k of pgs-distance, what PGS pays.
+  Field,
 };
 const char* to_string(PgsLoss loss);
-/// "pgs-residual" / "pgs-distance"; ConfigError otherwise.
+/// "pgs-residual" / "pgs-distance" / "pgs-field"; ConfigError otherwise.
 PgsLoss parse_pgs_loss(std::string_view text);
+/// The loss validation measures: `loss` itself, or pgs-distance for the field loss.
+PgsLoss validation_loss(PgsLoss loss);
 
 /// λ⁰ = proj(λ_prev + v) of the solver's bounds (project_feasible's order: normal rows, then
 /// friction rows against the projected λ_n), with the adjoint of the projection.
@@ -54,10 +64,13 @@ class GuessProjection {
 };
 
 /// The objective J of one sample as a function of the raw correction grid G (the model's
-/// predict() output, 2·ny·nx floats, NCHW).
+/// predict() output, 2·ny·nx floats, NCHW). For the field loss L = Σ_seen (G − G*)² and
+/// "builtin's" L is Σ_seen G*² (G = 0), so J < 0 still means closer than builtin; ε is then
+/// (seen entries)·f² (f in the field's unit: N·s, or a gain) and `unroll` is unused.
 class PgsObjective {
  public:
-  PgsObjective(const PgsSample& sample, PgsLoss loss, int unroll, double floor = 1e-2);
+  /// `field_iterations`: CGLS iterations of G* (field loss only, ≥ 1).
+  PgsObjective(const PgsSample& sample, PgsLoss loss, int unroll, double floor = 1e-2, int field_iterations = 100);
   /// J(G); when dgrid is non-null, adds dJ/dG to it (2·ny·nx floats).
   double evaluate(const float* grid, float* dgrid);
   /// L_k from builtin's own start (v = 0).
@@ -76,6 +89,8 @@ class PgsObjective {
   double eps_;
   UnrolledPgs pgs_;
   GuessProjection proj_;
+  std::vector<float> field_;          // G* (field loss only)
+  std::vector<std::uint32_t> seen_;  // the grid entries a contact reads (field loss only)
   double builtin_loss_ = 0, last_loss_ = 0;
   std::vector<double> v_, dv_;
 };
@@ -96,6 +111,9 @@ struct PgsTrainDef {
   /// before the SGD step. J's gradient spans orders of magnitude between a step that PGS has
   /// nearly solved and one it has not; the clip bounds the step the worst one can take.
   double clip = 1.0;
+  /// CGLS iterations of the field loss's G* (least_squares_field.hpp; ≥ 1): 100 is the
+  /// minimum-norm fit the landscape probe measured J(G*) of, a few give a smoother field.
+  int field_iterations = 100;
   /// ConfigError naming the option.
   void validate() const;
 };
@@ -123,7 +141,8 @@ std::vector<PgsEpochReport> train_through_pgs(Model& model, std::span<const PgsS
                                               const std::function<bool(const PgsEpochReport&)>& on_epoch = {},
                                               const std::function<bool()>& keep_going = {});
 
-/// Mean J of `model` over samples[idx] (inference mode), and the share with J < 0.
+/// Mean J of `model` over samples[idx] (inference mode) for validation_loss(def.loss), and the
+/// share with J < 0.
 std::pair<double, double> pgs_objective_mean(Model& model, std::span<const PgsSample> samples,
                                              std::span<const std::size_t> idx, const PgsTrainDef& def);
 
