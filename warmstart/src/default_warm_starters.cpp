@@ -19,12 +19,20 @@ WarmStarterRegistry default_warm_starters() {
         "builtin, plus a statics guess for new contacts: each body's weight and the load on it pushed down to its "
         "supports",
         make_statics_warm_starter);
+  r.add("builtin-coarse",
+        "builtin + a Galerkin coarse-grid correction: the gain field on a grid of spacing D that minimises the "
+        "contact energy, by ITER conjugate-gradient steps (no oracle); builtin-coarse[:D[:ITER]], default 1:30",
+        make_coarse_warm_starter);
   r.add("copy", "this step's tightly solved lambda* (oracle); copy:D rounds it to D decimals",
         make_copy_warm_starter);
   r.add("copy-noise",
         "oracle with relative Gaussian noise: lambda* x (1 + R xi), xi ~ N(0,1); copy-noise:R (the accuracy a "
         "predictor must reach)",
         make_copy_noise_warm_starter);
+  r.add("copy-range",
+        "builtin + only the part of lambda* - builtin in the range of A (the velocity-visible part; oracle "
+        "diagnostic, dense eigendecomposition, <= 3000 rows)",
+        make_copy_range_warm_starter);
   r.add("sph", "this step's lambda* -> SPH grid -> back at the contacts (oracle grid); sph:KERNEL:D:H[:NORM]",
         make_sph_warm_starter);
   r.add("sph-prev", "previous step's lambda -> SPH grid -> this step's contacts; sph-prev:KERNEL:D:H[:NORM]",

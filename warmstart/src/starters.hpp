@@ -59,5 +59,7 @@ std::unique_ptr<WarmStarter> make_gate_l2_warm_starter(const WarmStartSpec&, con
 std::unique_ptr<WarmStarter> make_extrapolate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_gain_extrapolate_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_statics_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_coarse_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_copy_range_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 
 }  // namespace dc

@@ -1,0 +1,198 @@
+// builtin-coarse: builtin plus a Galerkin coarse-grid correction of its load — the coarse
+// half of a two-grid cycle, computed from the LCP itself (no oracle, no learning).
+//
+// Why: PGS is Gauss–Seidel on the contacts. It removes an error that varies from contact to
+// contact in a few sweeps but an error that is smooth over the pile — "this region carries
+// 10 % too much load" — only by diffusing it contact by contact, in ~L² sweeps for a pile L
+// contacts deep. That smooth error is exactly what builtin's memory has after an impact or a
+// settling step, and exactly what the oracle bound `sph-gain` (a gain field on the grid)
+// removes. Multigrid removes it by solving the problem restricted to a coarse space; here the
+// coarse space is a gain field on a grid of spacing D, as in `sph-gain`:
+//
+//     λ(g) = λ_b + P g,   (P g)_i = s_i · Σ_nodes β_i,node g_kind(i),node
+//
+// with λ_b builtin's guess, s_i = λ_b,i on the rows that carry load in λ_b (normal rows with
+// λ_n > 0, friction rows strictly inside the cone with λ_t ≠ 0; every other row has s_i = 0),
+// β the bilinear weights of the contact point and kind(i) ∈ {normal, friction}: two channels.
+// On the rows that stay strictly inside their bounds the LCP is the linear system A λ + b = 0,
+// i.e. the minimum of the energy E(λ) = ½ λᵀAλ + bᵀλ (for frictionless contacts PGS is
+// coordinate descent on E). Minimising E over the coarse space gives the Galerkin equations
+//
+//     (Pᵀ A P) g = −Pᵀ (A λ_b + b)                            (two channels × nodes unknowns)
+//
+// solved by ITER conjugate-gradient iterations from g = 0 (Pᵀ A P is symmetric positive
+// semi-definite; nodes no loaded contact reaches have zero rows and stay 0). A is applied
+// matrix-free, A x = J (Δt M⁻¹ (Jᵀ x)): one iteration costs about one PGS sweep. λ⁰ = λ_b + P g,
+// projected into the bounds (a gain below −1 is clipped at λ_n = 0). Contacts without load
+// in λ_b (new ones) keep builtin's 0: the coarse space cannot move them.
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dc/warmstart/sph_grid.hpp"
+#include "starters.hpp"
+
+namespace dc {
+
+namespace {
+
+struct CoarseSetting {
+  double spacing = 1.0;  ///< D [m]: node spacing of the gain grid
+  int iterations = 30;   ///< CG iterations on the Galerkin system (≥ 1)
+};
+
+CoarseSetting parse_coarse_setting(const WarmStartSpec& spec) {
+  CoarseSetting s;
+  if (spec.arg.empty()) return s;
+  const std::string usage = "warm starter '" + spec.full() + "': expected builtin-coarse[:D[:ITER]] (D > 0 m, ITER >= 1)";
+  const std::size_t colon = spec.arg.find(':');
+  try {
+    std::size_t used = 0;
+    const std::string d = spec.arg.substr(0, colon);
+    s.spacing = std::stod(d, &used);
+    if (used != d.size()) throw ConfigError(usage);
+    if (colon != std::string::npos) {
+      const std::string it = spec.arg.substr(colon + 1);
+      s.iterations = std::stoi(it, &used);
+      if (used != it.size()) throw ConfigError(usage);
+    }
+  } catch (const std::logic_error&) {
+    throw ConfigError(usage);
+  }
+  if (!(s.spacing > 0) || !std::isfinite(s.spacing) || s.iterations < 1) throw ConfigError(usage);
+  return s;
+}
+
+class CoarseWarmStarter final : public WarmStarter {
+ public:
+  CoarseWarmStarter(CoarseSetting s, std::string arg) : s_(s), arg_(std::move(arg)) {}
+  std::string name() const override { return arg_.empty() ? "builtin-coarse" : "builtin-coarse:" + arg_; }
+
+  Eigen::VectorXd initial_guess(const StepView& v) override {
+    const World& w = v.world;
+    Eigen::VectorXd base = builtin_guess(w);
+    const LcpProblem& p = w.problem();
+    if (w.contacts().empty() || !p.has_jacobian()) return base;
+    build_basis(w, base);
+    if (loaded_ == 0) return base;
+
+    // CG on (Pᵀ A P) g = −Pᵀ (A λ_b + b).
+    const std::size_t n = 2 * nodes_;
+    std::vector<double> g(n, 0.0), r(n), d(n), q(n);
+    const Eigen::VectorXd w0 = lcp_velocity(p, base);
+    restrict_rows(w0, r);
+    for (double& x : r) x = -x;
+    d = r;
+    double rr = dot(r, r);
+    const double rr0 = rr;
+    for (int it = 0; it < s_.iterations && rr > 1e-28 * rr0 && rr > 0; ++it) {
+      apply_galerkin(p, d, q);
+      const double dq = dot(d, q);
+      if (!(dq > 0)) break;  // a direction of zero energy: nothing more to gain
+      const double alpha = rr / dq;
+      for (std::size_t i = 0; i < n; ++i) {
+        g[i] += alpha * d[i];
+        r[i] -= alpha * q[i];
+      }
+      const double rr1 = dot(r, r);
+      const double beta = rr1 / rr;
+      rr = rr1;
+      for (std::size_t i = 0; i < n; ++i) d[i] = r[i] + beta * d[i];
+    }
+    Eigen::VectorXd out = base + prolong(g, p.rows());
+    project_feasible(p, out);
+    return out;
+  }
+
+ private:
+  /// One loaded row: λ_i += s_i Σ_k β_k g[node_k] (channel offset included in node_k).
+  struct Row {
+    int row;
+    double s;
+    int node[4];
+    double beta[4];
+  };
+
+  static double dot(const std::vector<double>& a, const std::vector<double>& b) {
+    double t = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) t += a[i] * b[i];
+    return t;
+  }
+
+  void build_basis(const World& w, const Eigen::VectorXd& base) {
+    if (!grid_ || grid_->def().width != w.def().world.width || grid_->def().height != w.def().world.height)
+      grid_.emplace(SphGridDef{w.def().world.width, w.def().world.height, s_.spacing, 1});
+    nodes_ = grid_->nodes();
+    const int nx = grid_->nx();
+    rows_.clear();
+    const ContactConstraints& cons = w.constraints();
+    for (std::size_t c = 0; c < w.contacts().size(); ++c) {
+      const int k = static_cast<int>(c);
+      const ContactConstraint& kc = cons[k];
+      const double ln = base[kc.normal_row];
+      if (!(ln > 0)) continue;
+      const BilinearStencil st = grid_->stencil(w.contacts()[c].point);
+      const int idx[4] = {st.j0 * nx + st.i0, st.j0 * nx + st.i1, st.j1 * nx + st.i0, st.j1 * nx + st.i1};
+      const double beta[4] = {st.w00(), st.w01(), st.w10(), st.w11()};
+      auto add = [&](int row, double s, std::size_t offset) {
+        Row r{row, s, {}, {}};
+        for (int m = 0; m < 4; ++m) {
+          r.node[m] = static_cast<int>(offset) + idx[m];
+          r.beta[m] = beta[m];
+        }
+        rows_.push_back(r);
+      };
+      add(kc.normal_row, ln, 0);
+      if (kc.has_friction()) {
+        const double lt = base[kc.tangent_row];
+        if (lt != 0 && std::abs(lt) < kc.mu * ln * (1 - 1e-9)) add(kc.tangent_row, lt, nodes_);
+      }
+    }
+    loaded_ = rows_.size();
+  }
+
+  /// P g as a full row vector.
+  Eigen::VectorXd prolong(const std::vector<double>& g, int rows) const {
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(rows);
+    for (const Row& r : rows_) {
+      double v = 0;
+      for (int m = 0; m < 4; ++m) v += r.beta[m] * g[static_cast<std::size_t>(r.node[m])];
+      x[r.row] = r.s * v;
+    }
+    return x;
+  }
+
+  /// out = Pᵀ y.
+  void restrict_rows(const Eigen::VectorXd& y, std::vector<double>& out) const {
+    std::fill(out.begin(), out.end(), 0.0);
+    for (const Row& r : rows_) {
+      const double v = r.s * y[r.row];
+      for (int m = 0; m < 4; ++m) out[static_cast<std::size_t>(r.node[m])] += r.beta[m] * v;
+    }
+  }
+
+  /// q = Pᵀ A P d, A applied matrix-free.
+  void apply_galerkin(const LcpProblem& p, const std::vector<double>& d, std::vector<double>& q) {
+    x_ = prolong(d, p.rows());
+    u_ = p.J.transpose() * x_;
+    u_ = u_.cwiseProduct(p.inv_mass) * p.dt;
+    y_ = p.J * u_;
+    restrict_rows(y_, q);
+  }
+
+  CoarseSetting s_;
+  std::string arg_;
+  std::optional<SphGrid> grid_;  // geometry only (stencils)
+  std::size_t nodes_ = 0, loaded_ = 0;
+  std::vector<Row> rows_;
+  Eigen::VectorXd x_, u_, y_;
+};
+
+}  // namespace
+
+std::unique_ptr<WarmStarter> make_coarse_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  return std::make_unique<CoarseWarmStarter>(parse_coarse_setting(spec), spec.arg);
+}
+
+}  // namespace dc
