@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <string>
 
 #include "dc/engine/error.hpp"
 #include "dc/warmstart/oracle.hpp"
@@ -133,6 +134,37 @@ TEST(CopyRangeWarmStart, DropsTheForceRedistributionTheVelocitiesDoNotSee) {
   EXPECT_EQ((again - g).norm(), 0.0);
   EXPECT_GT((g - star).norm(), 0.1 * star.norm());
   EXPECT_GT(natural_residual(p, g), 0.1);  // [N]; λ*: < 1e-6
+}
+
+TEST(ActiveSetWarmStart, TheRightActiveSetGivesTheSolutionWhereItIsUnique) {
+  // Separate discs on the floor remembering wrong loads: every contact touches and sticks in
+  // λ* and in builtin's memory, A is non-singular, so both active-set starters solve the LCP.
+  World w(discs_on_floor({5.0, 15.0}, 1.0));
+  step_with(w, {3.0, 40.0});
+  w.collide();
+  w.assemble();
+  const Eigen::VectorXd star = solve_oracle(w.problem()).lambda;
+  const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{w});
+  ASSERT_GT((b - star).norm(), 1.0);
+  for (const char* spec : {"copy-active", "builtin-active"}) {
+    const auto ws = default_warm_starters().make(spec);
+    EXPECT_EQ(ws->uses_oracle(), std::string(spec) == "copy-active");
+    const Eigen::VectorXd g = ws->initial_guess(StepView{w, &star});
+    EXPECT_LT((g - star).norm(), 1e-8 * star.norm()) << spec;
+    EXPECT_THROW(default_warm_starters().make(std::string(spec) + ":1"), ConfigError);
+  }
+}
+
+TEST(ActiveSetWarmStart, ANewContactThatIsAwayIsLeftSeparating) {
+  // No history, the disc 0.5 m above the floor: builtin-active calls its contact separating
+  // (if the narrow phase reports it at all) and returns zeros.
+  World w(discs_on_floor({5.0}, 1.0));
+  w.bodies().position[0].y = 1.5;
+  w.collide();
+  w.assemble();
+  const Eigen::VectorXd g = default_warm_starters().make("builtin-active")->initial_guess(StepView{w});
+  EXPECT_EQ(g.size(), w.problem().rows());
+  EXPECT_EQ(g.norm(), 0.0);
 }
 
 }  // namespace

@@ -23,6 +23,10 @@ WarmStarterRegistry default_warm_starters() {
         "builtin + a Galerkin coarse-grid correction: the gain field on a grid of spacing D that minimises the "
         "contact energy, by ITER conjugate-gradient steps (no oracle); builtin-coarse[:D[:ITER]], default 1:30",
         make_coarse_warm_starter);
+  r.add("builtin-active",
+        "builtin moved least to satisfy the LCP's equations on builtin's remembered active set (who separates, "
+        "sticks, slides; new closing contacts stick); dense, <= 3000 rows",
+        make_builtin_active_warm_starter);
   r.add("copy", "this step's tightly solved lambda* (oracle); copy:D rounds it to D decimals",
         make_copy_warm_starter);
   r.add("copy-noise",
@@ -33,6 +37,10 @@ WarmStarterRegistry default_warm_starters() {
         "builtin + only the part of lambda* - builtin in the range of A (the velocity-visible part; oracle "
         "diagnostic, dense eigendecomposition, <= 3000 rows)",
         make_copy_range_warm_starter);
+  r.add("copy-active",
+        "builtin moved least to satisfy the LCP's equations on this step's active set of lambda* (who separates, "
+        "sticks, slides), not its values (oracle diagnostic, dense, <= 3000 rows)",
+        make_copy_active_warm_starter);
   r.add("sph", "this step's lambda* -> SPH grid -> back at the contacts (oracle grid); sph:KERNEL:D:H[:NORM]",
         make_sph_warm_starter);
   r.add("sph-prev", "previous step's lambda -> SPH grid -> this step's contacts; sph-prev:KERNEL:D:H[:NORM]",

@@ -61,5 +61,7 @@ std::unique_ptr<WarmStarter> make_gain_extrapolate_warm_starter(const WarmStartS
 std::unique_ptr<WarmStarter> make_statics_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_coarse_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_copy_range_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_builtin_active_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 
 }  // namespace dc

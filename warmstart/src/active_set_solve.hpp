@@ -1,0 +1,29 @@
+#pragma once
+// Private: the LCP solved on a GIVEN active set — the solve of copy-active (the active set of
+// λ*, an oracle diagnostic) and builtin-active (builtin's remembered active set, no oracle).
+// Formulas in active_set_solve.cpp.
+#include <Eigen/Core>
+#include <vector>
+
+#include "dc/engine/world.hpp"
+
+namespace dc {
+
+/// Which bound binds at a contact.
+enum class ContactMode {
+  Separating,   ///< λ_n = λ_t = 0
+  Sticking,     ///< λ_n > 0, |λ_t| < μ λ_n: w_n = 0 and w_t = 0
+  SlidingPlus,  ///< λ_n > 0, λ_t = +μ λ_n: w_n = 0
+  SlidingMinus  ///< λ_n > 0, λ_t = −μ λ_n: w_n = 0
+};
+
+/// The mode of contact c in λ (per the rules above; |λ_t| ≥ μ λ_n (1 − 1e-9) counts as sliding).
+ContactMode contact_mode(const ContactConstraints& cons, int c, const Eigen::VectorXd& lambda);
+
+/// The guess nearest `base` (in the free variables) that satisfies the LCP's equations on the
+/// active set `modes` (one per contact of w's current step), projected into the bounds.
+/// Dense, O(rows³); throws InvalidArgument without a Jacobian or above `max_rows` rows.
+Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
+                                    const std::vector<ContactMode>& modes, int max_rows, const char* who);
+
+}  // namespace dc
