@@ -83,8 +83,9 @@ class WarmStarterRegistry {
 void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
 
 /// The registry with every starter of this library: zero, builtin, builtin-extrapolate,
-/// builtin-statics, copy[:D], copy-noise:R, sph, sph-prev, sph-residual, gate:INNER, random,
-/// bad (the learning library adds cnn).
+/// builtin-statics, builtin-gain-extrapolate, builtin-coarse, builtin-active, copy[:D], copy-noise:R,
+/// copy-range, copy-active, sph, sph-prev, sph-residual, sph-gain, sph-gain-add, gate:INNER,
+/// gate-l2:INNER, random, bad (the learning library adds cnn).
 WarmStarterRegistry default_warm_starters();
 
 /// The static load guess of builtin-statics for every contact of w's current step
