@@ -22,7 +22,7 @@
 #include <utility>
 
 #include "dc/engine/error.hpp"
-#include "dc/warmstart/warm_starter.hpp"
+#include "starters.hpp"
 
 namespace dc {
 
@@ -37,12 +37,9 @@ ContactMode contact_mode(const ContactConstraints& cons, int c, const Eigen::Vec
 }
 
 Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
-                                    const std::vector<ContactMode>& modes, int max_rows, const char* who) {
+                                    const std::vector<ContactMode>& modes, const char* who) {
   const LcpProblem& p = w.problem();
-  if (!p.has_jacobian()) throw InvalidArgument(std::string(who) + ": the problem has no Jacobian");
-  if (p.rows() > max_rows)
-    throw InvalidArgument(std::string(who) + ": " + std::to_string(p.rows()) + " rows exceed the dense solve's limit of " +
-                          std::to_string(max_rows));
+  require_dense_diagnostic_size(p, who);
   if (modes.size() != w.contacts().size()) throw InvalidArgument(std::string(who) + ": one mode per contact expected");
   // Free variables (one per touching normal row and sticking friction row) and L.
   const ContactConstraints& cons = w.constraints();

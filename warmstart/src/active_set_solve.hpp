@@ -1,7 +1,7 @@
 #pragma once
 // Private: the LCP solved on a GIVEN active set — the solve of copy-active (the active set of
 // λ*, an oracle diagnostic) and builtin-active (builtin's remembered active set, no oracle).
-// Formulas in active_set_solve.cpp.
+// contact_mode also picks builtin-coarse's loaded rows. Formulas in active_set_solve.cpp.
 #include <Eigen/Core>
 #include <vector>
 
@@ -22,8 +22,9 @@ ContactMode contact_mode(const ContactConstraints& cons, int c, const Eigen::Vec
 
 /// The guess nearest `base` (in the free variables) that satisfies the LCP's equations on the
 /// active set `modes` (one per contact of w's current step), projected into the bounds.
-/// Dense, O(rows³); throws InvalidArgument without a Jacobian or above `max_rows` rows.
+/// Dense, O(rows³); throws InvalidArgument (naming `who`) without a Jacobian or above
+/// kMaxDenseDiagnosticRows rows (starters.hpp).
 Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
-                                    const std::vector<ContactMode>& modes, int max_rows, const char* who);
+                                    const std::vector<ContactMode>& modes, const char* who);
 
 }  // namespace dc

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "active_set_solve.hpp"
 #include "dc/warmstart/sph_grid.hpp"
 #include "starters.hpp"
 
@@ -75,7 +76,7 @@ class CoarseWarmStarter final : public WarmStarter {
     const LcpProblem& p = w.problem();
     if (w.contacts().empty() || !p.has_jacobian()) return base;
     build_basis(w, base);
-    if (loaded_ == 0) return base;
+    if (rows_.empty()) return base;
 
     // CG on (Pᵀ A P) g = −Pᵀ (A λ_b + b).
     const std::size_t n = 2 * nodes_;
@@ -100,7 +101,8 @@ class CoarseWarmStarter final : public WarmStarter {
       rr = rr1;
       for (std::size_t i = 0; i < n; ++i) d[i] = r[i] + beta * d[i];
     }
-    Eigen::VectorXd out = base + prolong(g, p.rows());
+    prolong(g, x_);
+    Eigen::VectorXd out = base + x_;
     project_feasible(p, out);
     return out;
   }
@@ -124,14 +126,16 @@ class CoarseWarmStarter final : public WarmStarter {
     if (!grid_ || grid_->def().width != w.def().world.width || grid_->def().height != w.def().world.height)
       grid_.emplace(SphGridDef{w.def().world.width, w.def().world.height, s_.spacing, 1});
     nodes_ = grid_->nodes();
+    rows_count_ = w.problem().rows();
     const int nx = grid_->nx();
     rows_.clear();
     const ContactConstraints& cons = w.constraints();
     for (std::size_t c = 0; c < w.contacts().size(); ++c) {
       const int k = static_cast<int>(c);
       const ContactConstraint& kc = cons[k];
+      const ContactMode mode = contact_mode(cons, k, base);
+      if (mode == ContactMode::Separating) continue;  // no load: the gain cannot move it
       const double ln = base[kc.normal_row];
-      if (!(ln > 0)) continue;
       const BilinearStencil st = grid_->stencil(w.contacts()[c].point);
       const int idx[4] = {st.j0 * nx + st.i0, st.j0 * nx + st.i1, st.j1 * nx + st.i0, st.j1 * nx + st.i1};
       const double beta[4] = {st.w00(), st.w01(), st.w10(), st.w11()};
@@ -144,23 +148,19 @@ class CoarseWarmStarter final : public WarmStarter {
         rows_.push_back(r);
       };
       add(kc.normal_row, ln, 0);
-      if (kc.has_friction()) {
-        const double lt = base[kc.tangent_row];
-        if (lt != 0 && std::abs(lt) < kc.mu * ln * (1 - 1e-9)) add(kc.tangent_row, lt, nodes_);
-      }
+      if (kc.has_friction() && mode == ContactMode::Sticking && base[kc.tangent_row] != 0)
+        add(kc.tangent_row, base[kc.tangent_row], nodes_);
     }
-    loaded_ = rows_.size();
   }
 
-  /// P g as a full row vector.
-  Eigen::VectorXd prolong(const std::vector<double>& g, int rows) const {
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(rows);
+  /// x = P g (x sized to the problem's rows: zero outside the loaded rows).
+  void prolong(const std::vector<double>& g, Eigen::VectorXd& x) const {
+    x.setZero(rows_count_);
     for (const Row& r : rows_) {
       double v = 0;
       for (int m = 0; m < 4; ++m) v += r.beta[m] * g[static_cast<std::size_t>(r.node[m])];
       x[r.row] = r.s * v;
     }
-    return x;
   }
 
   /// out = Pᵀ y.
@@ -174,7 +174,7 @@ class CoarseWarmStarter final : public WarmStarter {
 
   /// q = Pᵀ A P d, A applied matrix-free.
   void apply_galerkin(const LcpProblem& p, const std::vector<double>& d, std::vector<double>& q) {
-    x_ = prolong(d, p.rows());
+    prolong(d, x_);
     u_ = p.J.transpose() * x_;
     u_ = u_.cwiseProduct(p.inv_mass) * p.dt;
     y_ = p.J * u_;
@@ -184,7 +184,8 @@ class CoarseWarmStarter final : public WarmStarter {
   CoarseSetting s_;
   std::string arg_;
   std::optional<SphGrid> grid_;  // geometry only (stencils)
-  std::size_t nodes_ = 0, loaded_ = 0;
+  std::size_t nodes_ = 0;
+  int rows_count_ = 0;  // the problem's rows (the size of P g)
   std::vector<Row> rows_;
   Eigen::VectorXd x_, u_, y_;
 };

@@ -11,8 +11,7 @@
 //   builtin-active takes it from builtin's memory: a remembered contact keeps the mode of its
 //                  previous λ; a new contact is touching and sticking when it is closing
 //                  (gap ≤ [contact] slop + margin), separating otherwise.
-// Both are dense, O(rows³): diagnostics for piles of a few hundred bodies (kMaxRows).
-#include <cmath>
+// Both are dense, O(rows³): diagnostics for piles of a few hundred bodies (kMaxDenseDiagnosticRows).
 #include <string>
 #include <vector>
 
@@ -22,8 +21,6 @@
 namespace dc {
 
 namespace {
-
-constexpr int kMaxRows = 3000;
 
 class ActiveSetWarmStarter final : public WarmStarter {
  public:
@@ -44,19 +41,18 @@ class ActiveSetWarmStarter final : public WarmStarter {
       const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
       for (std::size_t c = 0; c < n; ++c) modes[c] = contact_mode(cons, static_cast<int>(c), star);
     } else {
-      // Which contacts builtin remembers: put_previous_lambda_by_key on a NaN-marked vector.
-      Eigen::VectorXd seen = Eigen::VectorXd::Constant(w.problem().rows(), std::nan(""));
-      put_previous_lambda_by_key(w, seen);
+      // Which contacts builtin remembers: the key match builtin itself uses.
+      const std::vector<int> match = match_contacts_by_key(w.previous_contacts(), w.contacts());
       const double closing = w.def().contact.slop + w.def().contact.margin;
       for (std::size_t c = 0; c < n; ++c) {
         const int k = static_cast<int>(c);
-        if (std::isnan(seen[cons[k].normal_row]))
+        if (match[c] < 0)
           modes[c] = w.contacts()[c].gap <= closing ? ContactMode::Sticking : ContactMode::Separating;
         else
           modes[c] = contact_mode(cons, k, base);
       }
     }
-    return solve_on_active_set(w, base, modes, kMaxRows, oracle_ ? "copy-active" : "builtin-active");
+    return solve_on_active_set(w, base, modes, oracle_ ? "copy-active" : "builtin-active");
   }
 
  private:

@@ -16,7 +16,7 @@
 // for (docs/research.md "Where PGS's sweeps go").
 //
 // Cost: a dense symmetric eigendecomposition, O(rows³) — a diagnostic for piles of a few
-// hundred bodies, refused above kMaxRows rows.
+// hundred bodies, refused above kMaxDenseDiagnosticRows rows (starters.hpp).
 #include <Eigen/Eigenvalues>
 #include <string>
 
@@ -25,8 +25,6 @@
 namespace dc {
 
 namespace {
-
-constexpr int kMaxRows = 3000;
 
 class CopyRangeWarmStarter final : public WarmStarter {
  public:
@@ -40,10 +38,7 @@ class CopyRangeWarmStarter final : public WarmStarter {
     Eigen::VectorXd base = builtin_guess(w);
     oracle_ms_ = 0;
     if (w.contacts().empty()) return base;
-    if (!p.has_jacobian()) throw InvalidArgument("copy-range: the problem has no Jacobian");
-    if (p.rows() > kMaxRows)
-      throw InvalidArgument("copy-range: " + std::to_string(p.rows()) + " rows exceed the dense eigendecomposition's limit of " +
-                            std::to_string(kMaxRows));
+    require_dense_diagnostic_size(p, "copy-range");
     const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
     Eigen::VectorXd out = base + range_part(p, star - base);
     project_feasible(p, out);

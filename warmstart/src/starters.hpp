@@ -2,6 +2,7 @@
 // Private: factories of the starters in this library (registered by default_warm_starters).
 #include <chrono>
 #include <span>
+#include <string>
 #include <utility>
 
 #include "dc/engine/error.hpp"
@@ -24,6 +25,19 @@ inline Eigen::VectorXd step_oracle(const StepView& v, double& ms) {
   Eigen::VectorXd star = solve_oracle(v.world.problem()).lambda;
   ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return star;
+}
+
+/// Rows above which the dense O(rows³) diagnostics (copy-range, copy-active, builtin-active)
+/// refuse a problem.
+inline constexpr int kMaxDenseDiagnosticRows = 3000;
+
+/// Throws InvalidArgument, naming `who`, when p has no Jacobian or more than
+/// kMaxDenseDiagnosticRows rows.
+inline void require_dense_diagnostic_size(const LcpProblem& p, const char* who) {
+  if (!p.has_jacobian()) throw InvalidArgument(std::string(who) + ": the problem has no Jacobian");
+  if (p.rows() > kMaxDenseDiagnosticRows)
+    throw InvalidArgument(std::string(who) + ": " + std::to_string(p.rows()) + " rows exceed the dense diagnostic's limit of " +
+                          std::to_string(kMaxDenseDiagnosticRows));
 }
 
 /// The kernel-weighted least-squares gains (ĝ_n, ĝ_t) = (N_n/D_n, N_t/D_t) of point c in a
