@@ -36,6 +36,18 @@ ContactMode contact_mode(const ContactConstraints& cons, int c, const Eigen::Vec
   return lt > 0 ? ContactMode::SlidingPlus : ContactMode::SlidingMinus;
 }
 
+Eigen::VectorXd min_norm_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& rhs, double threshold) {
+  // The threshold must be set BEFORE compute(): Eigen's COD builds its Z transform for the
+  // rank it sees during compute (then the default threshold, ε · size), while solve() uses the
+  // rank under the threshold in force at solve time. Setting it afterwards made solve() apply
+  // Householder coefficients compute() never wrote (uninitialised heap memory) whenever the
+  // two ranks differed: the guess then depended on what the allocator handed out (session 10).
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(M.rows(), M.cols());
+  cod.setThreshold(threshold);
+  cod.compute(M);
+  return cod.solve(rhs);
+}
+
 Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
                                     const std::vector<ContactMode>& modes, const char* who) {
   const LcpProblem& p = w.problem();
@@ -79,9 +91,7 @@ Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
     SAL.row(i) = AL.row(r);
     rhs[i] = -wb[r];
   }
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(SAL);
-  cod.setThreshold(1e-10);
-  const Eigen::VectorXd y = cod.solve(rhs);
+  const Eigen::VectorXd y = min_norm_solve(SAL, rhs, kActiveSetRankThreshold);
   Eigen::VectorXd out = L * (xb + y);
   project_feasible(p, out);
   return out;

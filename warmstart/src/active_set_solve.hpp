@@ -20,6 +20,15 @@ enum class ContactMode {
 /// The mode of contact c in λ (per the rules above; |λ_t| ≥ μ λ_n (1 − 1e-9) counts as sliding).
 ContactMode contact_mode(const ContactConstraints& cons, int c, const Eigen::VectorXd& lambda);
 
+/// Relative pivot threshold below which solve_on_active_set treats a direction of S A L as
+/// null (|pivot| ≤ threshold · |largest pivot|).
+inline constexpr double kActiveSetRankThreshold = 1e-10;
+
+/// The minimum-norm least-squares solution of M y = rhs, pivots below `threshold` (relative to
+/// the largest) counted as zero: a complete orthogonal decomposition. Deterministic: it reads
+/// no memory the decomposition did not write (see the .cpp for the trap).
+Eigen::VectorXd min_norm_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& rhs, double threshold);
+
 /// The guess nearest `base` (in the free variables) that satisfies the LCP's equations on the
 /// active set `modes` (one per contact of w's current step), projected into the bounds.
 /// Dense, O(rows³); throws InvalidArgument (naming `who`) without a Jacobian or above
