@@ -94,13 +94,19 @@ def running_median(v, w):
 def sweeps_per_step(f, names, out, sweeps, window=15):
     fig, ax = plt.subplots(figsize=(11, 5))
     seeds = [int(s) for s in f.attrs["seeds"]]
-    span = 1 + max(int(np.max(group(f, n)["step"][()])) if len(group(f, n)["step"]) else 0 for n in names)
+    # The seeds one after another, each over the steps it ran (after --warmup-steps): x = seed
+    # index · span + step − first. Starting each seed at step 0 instead left the warm-up as an
+    # empty band, and a label placed there stretched the tight bounding box of a short run to
+    # a figure too wide to draw (a 2-step window after 195 warm-up steps: 180 000 px).
+    steps = [group(f, n)["step"][()] for n in names if len(group(f, n)["step"])]
+    first = min((int(np.min(st)) for st in steps), default=0)
+    span = 1 + max((int(np.max(st)) for st in steps), default=0) - first
     for i, n in enumerate(names):
         g = group(f, n)
         s = g["sweeps_to_tol"][()].astype(np.float64)
         s[s < 0] = sweeps + 1  # never converged: counted as sweeps + 1, as in the table
         seed = g["seed"][()]
-        x = np.array([seeds.index(int(a)) for a in seed]) * span + g["step"][()]
+        x = np.array([seeds.index(int(a)) for a in seed]) * span + g["step"][()] - first
         for j, sd in enumerate(seeds):  # one line per seed: the running median never spans two
             m = seed == sd
             if m.any():
@@ -112,7 +118,7 @@ def sweeps_per_step(f, names, out, sweeps, window=15):
         ax.text(j * span + 0.01 * span, 1.02, f"seed {sd}", transform=ax.get_xaxis_transform(), fontsize=7)
     ax.axhline(sweeps + 1, color="k", lw=0.6, ls=":")
     ax.set_yscale("log")
-    ax.set_xlabel("step (the seeds one after another)")
+    ax.set_xlabel("step" + (f" − {first}" if first else "") + " (the seeds one after another)")
     ax.set_ylabel(f"sweeps until θ ≤ tol (running median of {window})")
     ax.grid(True, which="major", alpha=0.3)
     ax.set_title(f"Sweeps to tolerance per step (dotted line at {sweeps + 1}: not reached within {sweeps})",

@@ -53,6 +53,18 @@ TEST(BenchCli, RolloutModeWritesTheCompleteReport) {
   }
 }
 
+TEST(BenchCli, AShortWindowAfterAWarmUpGetsEveryPlot) {
+  // Two steps of one seed after 120 warm-up steps: the per-step plot once laid its seed labels at step 0,
+  // which stretched the figure past what matplotlib can draw.
+  test::TempDir dir;
+  const auto r = test::run_cli("bench --scene " + std::string(DC_SOURCE_DIR) +
+                               "/scenes/small.toml --warmup-steps 120 --steps 122 --seeds 1..1 --warmstarts zero,builtin --out " +
+                               dir.path().string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* png : kPlots)
+    EXPECT_TRUE(std::filesystem::exists(dir.file(png))) << png << "\n" << test::slurp(dir.file("plots.log"));
+}
+
 TEST(BenchCli, AnIncompleteReportExitsNonZeroWithOneLineNamingTheMissingPlots) {
   test::TempDir dir;
   const ScopedEnv python("DC_BENCH_PYTHON", "/bin/false");
