@@ -138,8 +138,28 @@ TEST(ActiveSetWarmStart, WhereTheSolutionIsUniqueTheDiagnosticsReturnIt) {
     EXPECT_EQ(ws->uses_oracle(), std::string(spec) != "builtin-active");
     const Eigen::VectorXd g = ws->initial_guess(StepView{w, &star});
     EXPECT_LT((g - star).norm(), 1e-8 * star.norm()) << spec;
-    EXPECT_THROW(default_warm_starters().make(std::string(spec) + ":1"), ConfigError);
+    EXPECT_THROW(default_warm_starters().make(std::string(spec) + ":2"), ConfigError);
   }
+}
+
+TEST(ActiveSetWarmStart, APartlyKnownActiveSetSpansBuiltinActiveToCopyActive) {
+  // copy-active:0 is builtin-active and copy-active:1 is copy-active, bit for bit; values in
+  // between are accepted, values outside [0, 1] are configuration errors.
+  World w(discs_on_floor({5.0, 15.0}, 1.0));
+  step_with(w, {3.0, 0.0});  // builtin remembers the second disc as unloaded: separating
+  w.collide();
+  w.assemble();
+  const Eigen::VectorXd star = solve_oracle(w.problem()).lambda;
+  const StepView v{w, &star};
+  const Eigen::VectorXd none = default_warm_starters().make("builtin-active")->initial_guess(v);
+  const Eigen::VectorXd all = default_warm_starters().make("copy-active")->initial_guess(v);
+  ASSERT_EQ(w.contacts().size(), 2u);
+  ASSERT_GT((none - all).norm(), 1.0);  // λ* loads it: the modes differ
+  EXPECT_EQ((default_warm_starters().make("copy-active:0")->initial_guess(v) - none).norm(), 0.0);
+  EXPECT_EQ((default_warm_starters().make("copy-active:1")->initial_guess(v) - all).norm(), 0.0);
+  EXPECT_EQ(default_warm_starters().make("copy-active:0.25")->name(), "copy-active:0.25");
+  for (const char* bad : {"copy-active:-0.1", "copy-active:1.5", "copy-active:x", "copy-active:0.5x"})
+    EXPECT_THROW(default_warm_starters().make(bad), ConfigError) << bad;
 }
 
 TEST(ActiveSetWarmStart, ANewContactThatIsAwayIsLeftSeparating) {

@@ -11,7 +11,15 @@
 //   builtin-active takes it from builtin's memory: a remembered contact keeps the mode of its
 //                  previous λ; a new contact is touching and sticking when it is closing
 //                  (gap ≤ [contact] slop + margin), separating otherwise.
+//   copy-active:F  builtin-active's active set with a share F ∈ [0, 1] of the contacts where it
+//                  disagrees with λ*'s corrected to λ*'s mode: how well must a predictor of the
+//                  mode CHANGES be to pay (F = 0 is builtin-active, F = 1 copy-active). Which
+//                  contacts are corrected is fixed by a hash of the contact key, u(key) < F, so
+//                  the corrected set grows with F (nested) and is the same in every run.
 // Both are dense, O(rows³): diagnostics for piles of a few hundred bodies (kMaxDenseDiagnosticRows).
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,11 +30,41 @@ namespace dc {
 
 namespace {
 
+/// u(key) ∈ [0, 1): splitmix64 of the packed key and feature, a fixed pseudo-random share.
+double key_share(const ContactKey& k) {
+  std::uint64_t z = k.packed() ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.feature)) * 0x9e3779b97f4a7c15ULL);
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+/// builtin-active's active set: a remembered contact keeps the mode of builtin's λ (`base`); a
+/// new one sticks when closing (gap ≤ slop + margin) and separates otherwise.
+std::vector<ContactMode> remembered_modes(const World& w, const Eigen::VectorXd& base) {
+  const std::size_t n = w.contacts().size();
+  std::vector<ContactMode> modes(n);
+  const std::vector<int> match = match_contacts_by_key(w.previous_contacts(), w.contacts());
+  const double closing = w.def().contact.slop + w.def().contact.margin;
+  for (std::size_t c = 0; c < n; ++c) {
+    if (match[c] < 0)
+      modes[c] = w.contacts()[c].gap <= closing ? ContactMode::Sticking : ContactMode::Separating;
+    else
+      modes[c] = contact_mode(w.constraints(), static_cast<int>(c), base);
+  }
+  return modes;
+}
+
 class ActiveSetWarmStarter final : public WarmStarter {
  public:
-  explicit ActiveSetWarmStarter(bool oracle) : oracle_(oracle) {}
-  std::string name() const override { return oracle_ ? "copy-active" : "builtin-active"; }
-  bool uses_oracle() const override { return oracle_; }
+  /// known < 0: builtin-active (no oracle); otherwise the share F of copy-active:F.
+  ActiveSetWarmStarter(double known, std::string arg) : known_(known), arg_(std::move(arg)) {}
+  std::string name() const override {
+    if (known_ < 0) return "builtin-active";
+    return arg_.empty() ? "copy-active" : "copy-active:" + arg_;
+  }
+  bool uses_oracle() const override { return known_ >= 0; }
   double oracle_ms() const override { return oracle_ms_; }
 
   Eigen::VectorXd initial_guess(const StepView& v) override {
@@ -34,42 +72,48 @@ class ActiveSetWarmStarter final : public WarmStarter {
     const Eigen::VectorXd base = builtin_guess(w);
     oracle_ms_ = 0;
     if (w.contacts().empty()) return base;
-    const ContactConstraints& cons = w.constraints();
     const std::size_t n = w.contacts().size();
-    std::vector<ContactMode> modes(n);
-    if (oracle_) {
-      const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
-      for (std::size_t c = 0; c < n; ++c) modes[c] = contact_mode(cons, static_cast<int>(c), star);
+    std::vector<ContactMode> modes;
+    if (known_ >= 1) {
+      modes.resize(n);  // copy-active: no need for builtin's modes
     } else {
-      // Which contacts builtin remembers: the key match builtin itself uses.
-      const std::vector<int> match = match_contacts_by_key(w.previous_contacts(), w.contacts());
-      const double closing = w.def().contact.slop + w.def().contact.margin;
-      for (std::size_t c = 0; c < n; ++c) {
-        const int k = static_cast<int>(c);
-        if (match[c] < 0)
-          modes[c] = w.contacts()[c].gap <= closing ? ContactMode::Sticking : ContactMode::Separating;
-        else
-          modes[c] = contact_mode(cons, k, base);
-      }
+      modes = remembered_modes(w, base);
     }
-    return solve_on_active_set(w, base, modes, oracle_ ? "copy-active" : "builtin-active");
+    if (known_ >= 0) {
+      const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
+      for (std::size_t c = 0; c < n; ++c)
+        if (known_ >= 1 || key_share(w.contacts()[c].key) < known_)
+          modes[c] = contact_mode(w.constraints(), static_cast<int>(c), star);
+    }
+    return solve_on_active_set(w, base, modes, known_ >= 0 ? "copy-active" : "builtin-active");
   }
 
  private:
-  bool oracle_;
+  double known_;
+  std::string arg_;
   double oracle_ms_ = 0;
 };
 
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  reject_argument(spec);
-  return std::make_unique<ActiveSetWarmStarter>(true);
+  double share = 1.0;
+  if (!spec.arg.empty()) {
+    std::size_t used = 0;
+    try {
+      share = std::stod(spec.arg, &used);
+    } catch (const std::logic_error&) {
+      used = 0;
+    }
+    if (used != spec.arg.size() || !(share >= 0 && share <= 1))
+      throw ConfigError("warm starter '" + spec.full() + "': expected copy-active[:F] with 0 <= F <= 1");
+  }
+  return std::make_unique<ActiveSetWarmStarter>(share, spec.arg);
 }
 
 std::unique_ptr<WarmStarter> make_builtin_active_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
   reject_argument(spec);
-  return std::make_unique<ActiveSetWarmStarter>(false);
+  return std::make_unique<ActiveSetWarmStarter>(-1.0, "");
 }
 
 }  // namespace dc

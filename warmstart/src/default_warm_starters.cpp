@@ -39,7 +39,8 @@ WarmStarterRegistry default_warm_starters() {
         make_copy_range_warm_starter);
   r.add("copy-active",
         "builtin moved least to satisfy the LCP's equations on this step's active set of lambda* (who separates, "
-        "sticks, slides), not its values (oracle diagnostic, dense, <= 3000 rows)",
+        "sticks, slides), not its values (oracle diagnostic, dense, <= 3000 rows); copy-active:F corrects only a "
+        "share F of the contacts where builtin-active's active set is wrong",
         make_copy_active_warm_starter);
   r.add("sph", "this step's lambda* -> SPH grid -> back at the contacts (oracle grid); sph:KERNEL:D:H[:NORM]",
         make_sph_warm_starter);
