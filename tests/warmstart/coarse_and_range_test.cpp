@@ -162,6 +162,36 @@ TEST(ActiveSetWarmStart, APartlyKnownActiveSetSpansBuiltinActiveToCopyActive) {
     EXPECT_THROW(default_warm_starters().make(bad), ConfigError) << bad;
 }
 
+TEST(ActiveSetWarmStart, TheMatrixFreeSolveTendsToTheDenseOne) {
+  // A settling pile of 40 discs (statically indeterminate, so the minimum-norm choice matters):
+  // CGLS from builtin's values approaches the dense minimum-norm answer as it iterates, and
+  // the -cg names and arguments are checked.
+  WorldDef d;
+  d.bodies.count = 40;
+  d.bodies.seed = 3;
+  d.world.width = 12.0;
+  World w(d);
+  const auto pgs = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 200;
+  for (int s = 0; s < 150; ++s) w.step(*pgs, o);
+  w.collide();
+  w.assemble();
+  ASSERT_GT(w.problem().rows(), 80);
+  const Eigen::VectorXd star = solve_oracle(w.problem()).lambda;
+  const StepView v{w, &star};
+  for (const char* base : {"copy-active", "builtin-active"}) {
+    const Eigen::VectorXd dense = default_warm_starters().make(base)->initial_guess(v);
+    const double few = (default_warm_starters().make(std::string(base) + "-cg:3")->initial_guess(v) - dense).norm();
+    const double many = (default_warm_starters().make(std::string(base) + "-cg:3000")->initial_guess(v) - dense).norm();
+    EXPECT_LT(many, 1e-3 * dense.norm()) << base;
+    EXPECT_LT(many, few) << base;
+    EXPECT_EQ(default_warm_starters().make(std::string(base) + "-cg")->name(), std::string(base) + "-cg");
+    for (const char* bad : {":0", ":x", ":-3"})
+      EXPECT_THROW(default_warm_starters().make(std::string(base) + "-cg" + bad), ConfigError) << base << bad;
+  }
+}
+
 TEST(ActiveSetWarmStart, ANewContactThatIsAwayIsLeftSeparating) {
   // No history, the disc 0.5 m above the floor: builtin-active calls its contact separating
   // (if the narrow phase reports it at all) and returns zeros.

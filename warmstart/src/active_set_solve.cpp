@@ -17,9 +17,11 @@
 #include "active_set_solve.hpp"
 
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "dc/engine/error.hpp"
 #include "starters.hpp"
@@ -48,16 +50,28 @@ Eigen::VectorXd min_norm_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& 
   return cod.solve(rhs);
 }
 
-Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
-                                    const std::vector<ContactMode>& modes, const char* who) {
-  const LcpProblem& p = w.problem();
-  require_dense_diagnostic_size(p, who);
+namespace {
+
+/// The free variables of an active set and the columns of L (≤ 2 entries each: a normal row,
+/// and for a sliding contact its tangent row with ±μ).
+struct ActiveSetVariables {
+  std::vector<int> row;  ///< variable → its row (and its equation's row)
+  std::vector<std::vector<std::pair<int, double>>> column;
+
+  int size() const { return static_cast<int>(row.size()); }
+  /// λ = L x (rows entries).
+  Eigen::VectorXd lift(const Eigen::VectorXd& x, int rows) const {
+    Eigen::VectorXd l = Eigen::VectorXd::Zero(rows);
+    for (int j = 0; j < size(); ++j)
+      for (const auto& [r, a] : column[static_cast<std::size_t>(j)]) l[r] += a * x[j];
+    return l;
+  }
+};
+
+ActiveSetVariables active_set_variables(const World& w, const std::vector<ContactMode>& modes, const char* who) {
   if (modes.size() != w.contacts().size()) throw InvalidArgument(std::string(who) + ": one mode per contact expected");
-  // Free variables (one per touching normal row and sticking friction row) and L.
   const ContactConstraints& cons = w.constraints();
-  const int rows = p.rows();
-  std::vector<int> var_row;                   // variable → its row (and equation row)
-  std::vector<std::vector<std::pair<int, double>>> columns;  // (row, coefficient) of L's column, ≤ 2
+  ActiveSetVariables v;
   for (std::size_t c = 0; c < w.contacts().size(); ++c) {
     const ContactConstraint& k = cons[static_cast<int>(c)];
     const ContactMode m = modes[c];
@@ -65,20 +79,37 @@ Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
     std::vector<std::pair<int, double>> col{{k.normal_row, 1.0}};
     const bool sticking = m == ContactMode::Sticking || !k.has_friction();
     if (!sticking) col.emplace_back(k.tangent_row, (m == ContactMode::SlidingPlus ? 1.0 : -1.0) * k.mu);
-    var_row.push_back(k.normal_row);
-    columns.push_back(col);
+    v.row.push_back(k.normal_row);
+    v.column.push_back(col);
     if (sticking && k.has_friction()) {
-      var_row.push_back(k.tangent_row);
-      columns.push_back({{k.tangent_row, 1.0}});
+      v.row.push_back(k.tangent_row);
+      v.column.push_back({{k.tangent_row, 1.0}});
     }
   }
-  const int n = static_cast<int>(var_row.size());
+  return v;
+}
+
+/// A λ = J (Δt M⁻¹ Jᵀ λ), matrix-free [m/s per N].
+Eigen::VectorXd apply_A(const LcpProblem& p, const Eigen::VectorXd& lambda) {
+  const Eigen::VectorXd u = (p.J.transpose() * lambda).cwiseProduct(p.inv_mass) * p.dt;
+  return p.J * u;
+}
+
+}  // namespace
+
+Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
+                                    const std::vector<ContactMode>& modes, const char* who) {
+  const LcpProblem& p = w.problem();
+  require_dense_diagnostic_size(p, who);
+  const ActiveSetVariables vars = active_set_variables(w, modes, who);
+  const int rows = p.rows();
+  const int n = vars.size();
   if (n == 0) return Eigen::VectorXd::Zero(rows);  // every contact separates
   Eigen::MatrixXd L = Eigen::MatrixXd::Zero(rows, n);
   for (int j = 0; j < n; ++j)
-    for (const auto& [r, a] : columns[static_cast<std::size_t>(j)]) L(r, j) = a;
+    for (const auto& [r, a] : vars.column[static_cast<std::size_t>(j)]) L(r, j) = a;
   Eigen::VectorXd xb(n);
-  for (int j = 0; j < n; ++j) xb[j] = base[var_row[static_cast<std::size_t>(j)]];
+  for (int j = 0; j < n; ++j) xb[j] = base[vars.row[static_cast<std::size_t>(j)]];
 
   // S A L and the right-hand side −S (A L x_b + b), A = J (Δt M⁻¹) Jᵀ.
   const Eigen::MatrixXd JL = Eigen::MatrixXd(p.J.transpose()) * L;  // 3·bodies × n
@@ -87,12 +118,67 @@ Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
   Eigen::VectorXd rhs(n);
   const Eigen::VectorXd wb = AL * xb + p.b;
   for (int i = 0; i < n; ++i) {
-    const int r = var_row[static_cast<std::size_t>(i)];
+    const int r = vars.row[static_cast<std::size_t>(i)];
     SAL.row(i) = AL.row(r);
     rhs[i] = -wb[r];
   }
   const Eigen::VectorXd y = min_norm_solve(SAL, rhs, kActiveSetRankThreshold);
   Eigen::VectorXd out = L * (xb + y);
+  project_feasible(p, out);
+  return out;
+}
+
+Eigen::VectorXd solve_on_active_set_cgls(const World& w, const Eigen::VectorXd& base,
+                                         const std::vector<ContactMode>& modes, int iterations, const char* who) {
+  const LcpProblem& p = w.problem();
+  if (!p.has_jacobian()) throw InvalidArgument(std::string(who) + ": the problem has no Jacobian");
+  if (iterations < 1) throw InvalidArgument(std::string(who) + ": at least one CGLS iteration expected");
+  const ActiveSetVariables vars = active_set_variables(w, modes, who);
+  const int rows = p.rows();
+  const int n = vars.size();
+  if (n == 0) return Eigen::VectorXd::Zero(rows);
+  Eigen::VectorXd xb(n);
+  for (int j = 0; j < n; ++j) xb[j] = base[vars.row[static_cast<std::size_t>(j)]];
+  // B y = S A L y and Bᵀ z = Lᵀ A Sᵀ z (A is symmetric), each one matrix-free A product.
+  auto B = [&](const Eigen::VectorXd& y) {
+    const Eigen::VectorXd a = apply_A(p, vars.lift(y, rows));
+    Eigen::VectorXd out(n);
+    for (int i = 0; i < n; ++i) out[i] = a[vars.row[static_cast<std::size_t>(i)]];
+    return out;
+  };
+  auto Bt = [&](const Eigen::VectorXd& z) {
+    Eigen::VectorXd spread = Eigen::VectorXd::Zero(rows);
+    for (int i = 0; i < n; ++i) spread[vars.row[static_cast<std::size_t>(i)]] = z[i];
+    const Eigen::VectorXd a = apply_A(p, spread);
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+    for (int j = 0; j < n; ++j)
+      for (const auto& [r, c] : vars.column[static_cast<std::size_t>(j)]) out[j] += c * a[r];
+    return out;
+  };
+  // Residual of the active-set equations at x_b: r = −S (A L x_b + b).
+  const Eigen::VectorXd wb = apply_A(p, vars.lift(xb, rows)) + p.b;
+  Eigen::VectorXd r(n);
+  for (int i = 0; i < n; ++i) r[i] = -wb[vars.row[static_cast<std::size_t>(i)]];
+  // CGLS from y = 0: its iterates stay in range(Bᵀ), so it tends to the minimum-norm
+  // least-squares solution (the dense path's answer) without forming B.
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd s = Bt(r);
+  Eigen::VectorXd d = s;
+  double gamma = s.squaredNorm();
+  const double stop = 1e-24 * std::max(gamma, 1e-300);
+  for (int k = 0; k < iterations && gamma > stop; ++k) {
+    const Eigen::VectorXd q = B(d);
+    const double qq = q.squaredNorm();
+    if (!(qq > 0)) break;
+    const double alpha = gamma / qq;
+    y += alpha * d;
+    r -= alpha * q;
+    s = Bt(r);
+    const double next = s.squaredNorm();
+    d = s + (next / gamma) * d;
+    gamma = next;
+  }
+  Eigen::VectorXd out = vars.lift(xb + y, rows);
   project_feasible(p, out);
   return out;
 }

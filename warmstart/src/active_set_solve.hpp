@@ -36,4 +36,11 @@ Eigen::VectorXd min_norm_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& 
 Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
                                     const std::vector<ContactMode>& modes, const char* who);
 
+/// The same guess with the minimum-norm solve done matrix-free: `iterations` CGLS steps on
+/// S A L y = −S (A L x_b + b) from y = 0 (two A products each, O(nnz J); no size limit), then
+/// projected. Tends to solve_on_active_set's answer as iterations grow; CGLS converges at the
+/// rate of cond(S A L)², so a pile needs many. Throws InvalidArgument without a Jacobian.
+Eigen::VectorXd solve_on_active_set_cgls(const World& w, const Eigen::VectorXd& base,
+                                         const std::vector<ContactMode>& modes, int iterations, const char* who);
+
 }  // namespace dc

@@ -16,7 +16,10 @@
 //                  mode CHANGES be to pay (F = 0 is builtin-active, F = 1 copy-active). Which
 //                  contacts are corrected is fixed by a hash of the contact key, u(key) < F, so
 //                  the corrected set grows with F (nested) and is the same in every run.
-// Both are dense, O(rows³): diagnostics for piles of a few hundred bodies (kMaxDenseDiagnosticRows).
+// These are dense, O(rows³): diagnostics for piles of a few hundred bodies (kMaxDenseDiagnosticRows).
+//   copy-active-cg[:ITER], builtin-active-cg[:ITER]  the same two with the minimum-norm solve done
+//                  matrix-free by ITER CGLS steps (default 100; solve_on_active_set_cgls): what
+//                  the active-set route costs without the dense factorisation.
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -59,10 +62,13 @@ std::vector<ContactMode> remembered_modes(const World& w, const Eigen::VectorXd&
 class ActiveSetWarmStarter final : public WarmStarter {
  public:
   /// known < 0: builtin-active (no oracle); otherwise the share F of copy-active:F.
-  ActiveSetWarmStarter(double known, std::string arg) : known_(known), arg_(std::move(arg)) {}
+  /// cgls > 0: that many CGLS steps instead of the dense solve (the -cg starters).
+  ActiveSetWarmStarter(double known, std::string arg, int cgls = 0)
+      : known_(known), arg_(std::move(arg)), cgls_(cgls) {}
   std::string name() const override {
-    if (known_ < 0) return "builtin-active";
-    return arg_.empty() ? "copy-active" : "copy-active:" + arg_;
+    std::string n = known_ < 0 ? "builtin-active" : "copy-active";
+    if (cgls_ > 0) n += "-cg";
+    return arg_.empty() ? n : n + ":" + arg_;
   }
   bool uses_oracle() const override { return known_ >= 0; }
   double oracle_ms() const override { return oracle_ms_; }
@@ -85,14 +91,32 @@ class ActiveSetWarmStarter final : public WarmStarter {
         if (known_ >= 1 || key_share(w.contacts()[c].key) < known_)
           modes[c] = contact_mode(w.constraints(), static_cast<int>(c), star);
     }
-    return solve_on_active_set(w, base, modes, known_ >= 0 ? "copy-active" : "builtin-active");
+    const std::string who = name();
+    return cgls_ > 0 ? solve_on_active_set_cgls(w, base, modes, cgls_, who.c_str())
+                     : solve_on_active_set(w, base, modes, who.c_str());
   }
 
  private:
   double known_;
   std::string arg_;
+  int cgls_;
   double oracle_ms_ = 0;
 };
+
+/// ITER of the -cg starters: a positive integer, 100 when absent.
+int parse_cgls_iterations(const WarmStartSpec& spec) {
+  if (spec.arg.empty()) return 100;
+  std::size_t used = 0;
+  int it = 0;
+  try {
+    it = std::stoi(spec.arg, &used);
+  } catch (const std::logic_error&) {
+    used = 0;
+  }
+  if (used != spec.arg.size() || it < 1)
+    throw ConfigError("warm starter '" + spec.full() + "': expected " + spec.name + "[:ITER] with ITER >= 1");
+  return it;
+}
 
 }  // namespace
 
@@ -114,6 +138,14 @@ std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec& 
 std::unique_ptr<WarmStarter> make_builtin_active_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
   reject_argument(spec);
   return std::make_unique<ActiveSetWarmStarter>(-1.0, "");
+}
+
+std::unique_ptr<WarmStarter> make_copy_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  return std::make_unique<ActiveSetWarmStarter>(1.0, spec.arg, parse_cgls_iterations(spec));
+}
+
+std::unique_ptr<WarmStarter> make_builtin_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  return std::make_unique<ActiveSetWarmStarter>(-1.0, spec.arg, parse_cgls_iterations(spec));
 }
 
 }  // namespace dc

@@ -27,6 +27,10 @@ WarmStarterRegistry default_warm_starters() {
         "builtin moved least to satisfy the LCP's equations on builtin's remembered active set (who separates, "
         "sticks, slides; new closing contacts stick); dense, <= 3000 rows",
         make_builtin_active_warm_starter);
+  r.add("builtin-active-cg",
+        "builtin-active with the solve done matrix-free by ITER CGLS steps (no size limit); "
+        "builtin-active-cg[:ITER], default 100",
+        make_builtin_active_cg_warm_starter);
   r.add("copy", "this step's tightly solved lambda* (oracle); copy:D rounds it to D decimals",
         make_copy_warm_starter);
   r.add("copy-noise",
@@ -42,6 +46,10 @@ WarmStarterRegistry default_warm_starters() {
         "sticks, slides), not its values (oracle diagnostic, dense, <= 3000 rows); copy-active:F corrects only a "
         "share F of the contacts where builtin-active's active set is wrong",
         make_copy_active_warm_starter);
+  r.add("copy-active-cg",
+        "copy-active with the solve done matrix-free by ITER CGLS steps (oracle diagnostic, no size limit); "
+        "copy-active-cg[:ITER], default 100",
+        make_copy_active_cg_warm_starter);
   r.add("sph", "this step's lambda* -> SPH grid -> back at the contacts (oracle grid); sph:KERNEL:D:H[:NORM]",
         make_sph_warm_starter);
   r.add("sph-prev", "previous step's lambda -> SPH grid -> this step's contacts; sph-prev:KERNEL:D:H[:NORM]",

@@ -77,5 +77,7 @@ std::unique_ptr<WarmStarter> make_coarse_warm_starter(const WarmStartSpec&, cons
 std::unique_ptr<WarmStarter> make_copy_range_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_builtin_active_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_copy_active_cg_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
+std::unique_ptr<WarmStarter> make_builtin_active_cg_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 
 }  // namespace dc

@@ -83,8 +83,8 @@ class WarmStarterRegistry {
 void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
 
 /// The registry with every starter of this library: zero, builtin, builtin-extrapolate,
-/// builtin-statics, builtin-gain-extrapolate, builtin-coarse, builtin-active, copy[:D], copy-noise:R,
-/// copy-range, copy-active, sph, sph-prev, sph-residual, sph-gain, sph-gain-add, gate:INNER,
+/// builtin-statics, builtin-gain-extrapolate, builtin-coarse, builtin-active[-cg], copy[:D],
+/// copy-noise:R, copy-range, copy-active[:F], copy-active-cg, sph, sph-prev, sph-residual, sph-gain, sph-gain-add, gate:INNER,
 /// gate-l2:INNER, random, bad (the learning library adds cnn).
 WarmStarterRegistry default_warm_starters();
 
