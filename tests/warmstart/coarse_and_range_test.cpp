@@ -158,7 +158,11 @@ TEST(ActiveSetWarmStart, APartlyKnownActiveSetSpansBuiltinActiveToCopyActive) {
   EXPECT_EQ((default_warm_starters().make("copy-active:0")->initial_guess(v) - none).norm(), 0.0);
   EXPECT_EQ((default_warm_starters().make("copy-active:1")->initial_guess(v) - all).norm(), 0.0);
   EXPECT_EQ(default_warm_starters().make("copy-active:0.25")->name(), "copy-active:0.25");
-  for (const char* bad : {"copy-active:-0.1", "copy-active:1.5", "copy-active:x", "copy-active:0.5x"})
+  // The missing load is a normal-mode error (builtin separates what λ* loads): copy-active:normal
+  // corrects it like copy-active, copy-active:friction (both must touch) leaves builtin-active's.
+  EXPECT_LT((default_warm_starters().make("copy-active:normal")->initial_guess(v) - all).norm(), 1e-9 * all.norm());
+  EXPECT_EQ((default_warm_starters().make("copy-active:friction")->initial_guess(v) - none).norm(), 0.0);
+  for (const char* bad : {"copy-active:-0.1", "copy-active:1.5", "copy-active:x", "copy-active:0.5x", "copy-active:Normal"})
     EXPECT_THROW(default_warm_starters().make(bad), ConfigError) << bad;
 }
 

@@ -16,6 +16,10 @@
 //                  mode CHANGES be to pay (F = 0 is builtin-active, F = 1 copy-active). Which
 //                  contacts are corrected is fixed by a hash of the contact key, u(key) < F, so
 //                  the corrected set grows with F (nested) and is the same in every run.
+//   copy-active:normal, copy-active:friction  builtin-active's active set with only one half of
+//                  λ*'s corrected: normal = which contacts touch (a contact λ* loads that
+//                  builtin separates sticks; builtin's friction mode is kept where both touch),
+//                  friction = the stick/slide mode where both touch. Is one half the hard part?
 // These are dense, O(rows³): diagnostics for piles of a few hundred bodies (kMaxDenseDiagnosticRows).
 //   copy-active-cg[:ITER], builtin-active-cg[:ITER]  the same two with the minimum-norm solve done
 //                  matrix-free by ITER CGLS steps (default 100; solve_on_active_set_cgls): what
@@ -59,18 +63,24 @@ std::vector<ContactMode> remembered_modes(const World& w, const Eigen::VectorXd&
   return modes;
 }
 
+/// Where an active-set starter takes its modes from.
+struct ActiveSetSource {
+  enum class Part { All, Normal, Friction };
+  bool oracle = false;     ///< false: builtin-active; true: copy-active (corrected by λ*)
+  double share = 1.0;      ///< F: the share of the wrong modes corrected (by key hash)
+  Part part = Part::All;   ///< which half of λ*'s modes is used (copy-active:normal|friction)
+  int cgls = 0;            ///< > 0: CGLS steps instead of the dense solve (the -cg starters)
+};
+
 class ActiveSetWarmStarter final : public WarmStarter {
  public:
-  /// known < 0: builtin-active (no oracle); otherwise the share F of copy-active:F.
-  /// cgls > 0: that many CGLS steps instead of the dense solve (the -cg starters).
-  ActiveSetWarmStarter(double known, std::string arg, int cgls = 0)
-      : known_(known), arg_(std::move(arg)), cgls_(cgls) {}
+  ActiveSetWarmStarter(ActiveSetSource src, std::string arg) : src_(src), arg_(std::move(arg)) {}
   std::string name() const override {
-    std::string n = known_ < 0 ? "builtin-active" : "copy-active";
-    if (cgls_ > 0) n += "-cg";
+    std::string n = src_.oracle ? "copy-active" : "builtin-active";
+    if (src_.cgls > 0) n += "-cg";
     return arg_.empty() ? n : n + ":" + arg_;
   }
-  bool uses_oracle() const override { return known_ >= 0; }
+  bool uses_oracle() const override { return src_.oracle; }
   double oracle_ms() const override { return oracle_ms_; }
 
   Eigen::VectorXd initial_guess(const StepView& v) override {
@@ -78,28 +88,33 @@ class ActiveSetWarmStarter final : public WarmStarter {
     const Eigen::VectorXd base = builtin_guess(w);
     oracle_ms_ = 0;
     if (w.contacts().empty()) return base;
-    const std::size_t n = w.contacts().size();
-    std::vector<ContactMode> modes;
-    if (known_ >= 1) {
-      modes.resize(n);  // copy-active: no need for builtin's modes
-    } else {
-      modes = remembered_modes(w, base);
-    }
-    if (known_ >= 0) {
+    std::vector<ContactMode> modes = remembered_modes(w, base);
+    if (src_.oracle) {
       const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
-      for (std::size_t c = 0; c < n; ++c)
-        if (known_ >= 1 || key_share(w.contacts()[c].key) < known_)
-          modes[c] = contact_mode(w.constraints(), static_cast<int>(c), star);
+      for (std::size_t c = 0; c < modes.size(); ++c) {
+        if (src_.share < 1 && !(key_share(w.contacts()[c].key) < src_.share)) continue;
+        const ContactMode m = contact_mode(w.constraints(), static_cast<int>(c), star);
+        const bool touches = m != ContactMode::Separating, touched = modes[c] != ContactMode::Separating;
+        switch (src_.part) {
+          case ActiveSetSource::Part::All: modes[c] = m; break;
+          case ActiveSetSource::Part::Normal:
+            if (!touches) modes[c] = m;
+            else if (!touched) modes[c] = ContactMode::Sticking;
+            break;
+          case ActiveSetSource::Part::Friction:
+            if (touches && touched) modes[c] = m;
+            break;
+        }
+      }
     }
     const std::string who = name();
-    return cgls_ > 0 ? solve_on_active_set_cgls(w, base, modes, cgls_, who.c_str())
-                     : solve_on_active_set(w, base, modes, who.c_str());
+    return src_.cgls > 0 ? solve_on_active_set_cgls(w, base, modes, src_.cgls, who.c_str())
+                         : solve_on_active_set(w, base, modes, who.c_str());
   }
 
  private:
-  double known_;
+  ActiveSetSource src_;
   std::string arg_;
-  int cgls_;
   double oracle_ms_ = 0;
 };
 
@@ -121,31 +136,41 @@ int parse_cgls_iterations(const WarmStartSpec& spec) {
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  double share = 1.0;
-  if (!spec.arg.empty()) {
+  ActiveSetSource src;
+  src.oracle = true;
+  if (spec.arg == "normal") {
+    src.part = ActiveSetSource::Part::Normal;
+  } else if (spec.arg == "friction") {
+    src.part = ActiveSetSource::Part::Friction;
+  } else if (!spec.arg.empty()) {
     std::size_t used = 0;
     try {
-      share = std::stod(spec.arg, &used);
+      src.share = std::stod(spec.arg, &used);
     } catch (const std::logic_error&) {
       used = 0;
     }
-    if (used != spec.arg.size() || !(share >= 0 && share <= 1))
-      throw ConfigError("warm starter '" + spec.full() + "': expected copy-active[:F] with 0 <= F <= 1");
+    if (used != spec.arg.size() || !(src.share >= 0 && src.share <= 1))
+      throw ConfigError("warm starter '" + spec.full() + "': expected copy-active[:F|:normal|:friction] with 0 <= F <= 1");
   }
-  return std::make_unique<ActiveSetWarmStarter>(share, spec.arg);
+  return std::make_unique<ActiveSetWarmStarter>(src, spec.arg);
 }
 
 std::unique_ptr<WarmStarter> make_builtin_active_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
   reject_argument(spec);
-  return std::make_unique<ActiveSetWarmStarter>(-1.0, "");
+  return std::make_unique<ActiveSetWarmStarter>(ActiveSetSource{}, "");
 }
 
 std::unique_ptr<WarmStarter> make_copy_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  return std::make_unique<ActiveSetWarmStarter>(1.0, spec.arg, parse_cgls_iterations(spec));
+  ActiveSetSource src;
+  src.oracle = true;
+  src.cgls = parse_cgls_iterations(spec);
+  return std::make_unique<ActiveSetWarmStarter>(src, spec.arg);
 }
 
 std::unique_ptr<WarmStarter> make_builtin_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  return std::make_unique<ActiveSetWarmStarter>(-1.0, spec.arg, parse_cgls_iterations(spec));
+  ActiveSetSource src;
+  src.cgls = parse_cgls_iterations(spec);
+  return std::make_unique<ActiveSetWarmStarter>(src, spec.arg);
 }
 
 }  // namespace dc

@@ -44,7 +44,8 @@ WarmStarterRegistry default_warm_starters() {
   r.add("copy-active",
         "builtin moved least to satisfy the LCP's equations on this step's active set of lambda* (who separates, "
         "sticks, slides), not its values (oracle diagnostic, dense, <= 3000 rows); copy-active:F corrects only a "
-        "share F of the contacts where builtin-active's active set is wrong",
+        "share F of the contacts where builtin-active's active set is wrong, copy-active:normal|friction only "
+        "one half of it",
         make_copy_active_warm_starter);
   r.add("copy-active-cg",
         "copy-active with the solve done matrix-free by ITER CGLS steps (oracle diagnostic, no size limit); "

@@ -1,0 +1,190 @@
+#!/usr/bin/python3
+"""How predictable is the active set that PGS must find? (issue 12, docs/research.md
+"How complete the active set must be", session 10)
+
+For each step of a family window, per contact, the mode (separating, sticking, sliding +/-)
+of three things is compared with the mode of this step's λ* (tight oracle):
+  * builtin's guess (last step's λ* by key, projected), i.e. builtin-active's active set;
+  * the PGS iterate after k sweeps from builtin (k = 10 ... 1000): when does PGS know it?
+  * a softmax-regression classifier on per-contact features of builtin's guess (its mode,
+    |λ_t|/μλ_n, λ_n, gap, approach velocity, and w = Aλ_b + b at the contact's rows), trained
+    on training seeds and scored on held-out seeds — the best a purely local, per-contact
+    predictor of this kind does.
+Scores: the share of contacts whose mode is wrong, and the recall of the mode CHANGES
+(contacts where builtin's mode is wrong: the share the predictor gets right; compare with
+copy-active:F, which needs F ≈ 1 to pay).
+
+The trajectory follows the bench's paired mode: --warmup steps of PGS from builtin (sweeps
+3000, tol 1e-2), then every step is solved tightly and integrated with λ*.
+
+    PYTHONPATH=build/python /usr/bin/python3 scripts/active-set-study.py \
+        --scene scenes/impact.toml --train 1000..1003 --test 1..2 --warmup 195 --steps 260
+"""
+import argparse
+import sys
+import time
+
+import numpy as np
+
+import deepcontact as dc
+
+SEP, STICK, SLIDE_P, SLIDE_M = 0, 1, 2, 3
+NAMES = ["separating", "sticking", "sliding+", "sliding-"]
+SWEEPS = (10, 30, 100, 300, 1000)
+
+
+def seeds(text):
+    a, _, b = text.partition("..")
+    return list(range(int(a), int(b or a) + 1))
+
+
+def modes(lam, nrow, trow, mu):
+    """The mode of each contact in λ (the C++ contact_mode rule)."""
+    ln = lam[nrow]
+    lt = np.where(trow >= 0, lam[np.maximum(trow, 0)], 0.0)
+    m = np.full(len(nrow), STICK)
+    slide = (trow >= 0) & (np.abs(lt) >= mu * ln * (1 - 1e-9))
+    m[slide & (lt > 0)] = SLIDE_P
+    m[slide & (lt <= 0)] = SLIDE_M
+    m[~(ln > 0)] = SEP
+    return m
+
+
+def builtin_guess(w, cur):
+    """Last step's solved λ by contact key, projected into the bounds (builtin)."""
+    old = {tuple(k): l for k, l in zip(w.previous_contacts.key.tolist(), w.previous_contacts["lambda"].tolist())}
+    lam = np.zeros(w.rows)
+    new = np.ones(len(cur.normal_row), dtype=bool)
+    for c, key in enumerate(cur.key.tolist()):
+        hit = old.get(tuple(key))
+        if hit is not None:
+            new[c] = False
+            lam[cur.normal_row[c]] = hit[0]
+            if cur.tangent_row[c] >= 0:
+                lam[cur.tangent_row[c]] = hit[1]
+    return lam, new
+
+
+def project(lam, nrow, trow, mu):
+    out = lam.copy()
+    out[nrow] = np.maximum(out[nrow], 0.0)
+    t = trow >= 0
+    cap = mu[t] * out[nrow[t]]
+    out[trow[t]] = np.clip(out[trow[t]], -cap, cap)
+    return out
+
+
+def features(lam_b, new, w_b, cur, nrow, trow, mu):
+    """Per-contact features of builtin's guess (one row per contact)."""
+    ln = lam_b[nrow]
+    lt = np.where(trow >= 0, lam_b[np.maximum(trow, 0)], 0.0)
+    ratio = np.where(ln > 0, lt / np.maximum(mu * ln, 1e-300), 0.0)
+    wn = w_b[nrow]
+    wt = np.where(trow >= 0, w_b[np.maximum(trow, 0)], 0.0)
+    m = modes(lam_b, nrow, trow, mu)
+    onehot = np.eye(4)[m]
+    gap = cur["gap"]
+    vn = cur["approach_velocity"]
+    f = np.column_stack([onehot, new.astype(float), ratio, np.abs(ratio), np.arcsinh(ln), np.arcsinh(lt),
+                         gap * 100.0, vn, np.arcsinh(wn * 100.0), np.arcsinh(wt * 100.0),
+                         np.sign(wt) * np.sign(lt), (wn < 0) * (ln <= 0)])
+    return f, m
+
+
+def run(scene, seed, warmup, steps, with_sweeps):
+    w = dc.World(scene=scene, set={"bodies.seed": seed})
+    for _ in range(warmup):
+        w.step(solver="pgs", warmstart="builtin", sweeps=3000, tol=1e-2)
+    rows = []
+    for s in range(warmup, steps):
+        cur = w.collide()
+        p = w.assemble()
+        if w.rows == 0:
+            w.integrate(np.zeros(0))
+            continue
+        cur = w.contacts
+        nrow = np.asarray(cur.normal_row)
+        trow = np.asarray(cur.tangent_row)
+        mu = np.where(trow >= 0, np.asarray(p.mu)[np.maximum(trow, 0)], 0.0)  # μ sits on the tangent row
+        lam_b, new = builtin_guess(w, cur)
+        lam_b = project(lam_b, nrow, trow, mu)
+        r = dc.solve(p, solver="pgs", sweeps=20000, tol=1e-7, lambda0=lam_b, record_theta=False)
+        star = r.lam
+        if r.residual > 1e-6:
+            r2 = dc.solve(p, solver="newton", sweeps=200, tol=1e-9, lambda0=star, record_theta=False)
+            if r2.residual < r.residual:
+                star = r2.lam
+        m_star = modes(star, nrow, trow, mu)
+        f, m_b = features(lam_b, new, p.velocity(lam_b), cur, nrow, trow, mu)
+        after = {}
+        if with_sweeps:
+            lam = lam_b
+            done = 0
+            for k in SWEEPS:
+                lam = dc.solve(p, solver="pgs", sweeps=k - done, tol=0.0, lambda0=lam, record_theta=False).lam
+                done = k
+                after[k] = modes(lam, nrow, trow, mu)
+        rows.append(dict(step=s, f=f, m_b=m_b, m_star=m_star, after=after))
+        w.integrate(star)
+    return rows
+
+
+def fit_softmax(x, y, classes=4, l2=1e-3, iters=300, lr=0.5):
+    """Multinomial logistic regression by full-batch gradient descent (standardised inputs)."""
+    mean, std = x.mean(0), x.std(0) + 1e-9
+    z = (x - mean) / std
+    z = np.column_stack([z, np.ones(len(z))])
+    W = np.zeros((z.shape[1], classes))
+    Y = np.eye(classes)[y]
+    for _ in range(iters):
+        s = z @ W
+        s -= s.max(1, keepdims=True)
+        P = np.exp(s)
+        P /= P.sum(1, keepdims=True)
+        g = z.T @ (P - Y) / len(z) + l2 * W
+        W -= lr * g
+    return lambda q: np.argmax(np.column_stack([(q - mean) / std, np.ones(len(q))]) @ W, 1)
+
+
+def score(pred, m_star, m_b):
+    wrong = pred != m_star
+    changed = m_b != m_star
+    recall = 1.0 - wrong[changed].mean() if changed.any() else float("nan")
+    broke = (wrong & ~changed).mean()  # contacts builtin had right, the predictor got wrong
+    return wrong.mean(), recall, broke
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scene", required=True)
+    ap.add_argument("--train", default="1000..1003")
+    ap.add_argument("--test", default="1..2")
+    ap.add_argument("--warmup", type=int, default=195)
+    ap.add_argument("--steps", type=int, default=260)
+    a = ap.parse_args()
+    t0 = time.time()
+    train = [r for s in seeds(a.train) for r in run(a.scene, s, a.warmup, a.steps, False)]
+    test = [r for s in seeds(a.test) for r in run(a.scene, s, a.warmup, a.steps, True)]
+    cat = lambda rs, k: np.concatenate([r[k] for r in rs])
+    clf = fit_softmax(cat(train, "f"), cat(train, "m_star"))
+    m_star, m_b, f = cat(test, "m_star"), cat(test, "m_b"), cat(test, "f")
+    print(f"scene {a.scene}: train seeds {a.train} ({len(cat(train, 'm_star'))} contacts), test seeds {a.test} "
+          f"({len(m_star)} contacts, {len(test)} steps), steps {a.warmup}-{a.steps - 1}; {time.time() - t0:.0f} s")
+    share = np.array([(r["m_b"] != r["m_star"]).mean() for r in test])
+    print(f"builtin's mode wrong: {np.mean(m_b != m_star):.3f} of contacts (per-step median {np.median(share):.3f}, "
+          f"p10-p90 {np.percentile(share, 10):.3f}-{np.percentile(share, 90):.3f})")
+    trans = np.zeros((4, 4), dtype=int)
+    np.add.at(trans, (m_b, m_star), 1)
+    print("builtin mode (rows) -> lambda* mode (columns):", " ".join(NAMES))
+    for i in range(4):
+        print(f"  {NAMES[i]:>10}: " + " ".join(f"{v:8d}" for v in trans[i]))
+    print(f"{'predictor':>28} {'wrong':>7} {'recall of changes':>18} {'newly wrong':>12}")
+    for name, pred in [("builtin (no change)", m_b), ("softmax on local features", clf(f))] + \
+            [(f"PGS after {k} sweeps", np.concatenate([r["after"][k] for r in test]))
+             for k in SWEEPS]:
+        wr, rec, br = score(pred, m_star, m_b)
+        print(f"{name:>28} {wr:7.3f} {rec:18.3f} {br:12.3f}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
