@@ -23,6 +23,7 @@ The trajectory follows the bench's paired mode: --warmup steps of PGS from built
 import argparse
 import sys
 import time
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -50,19 +51,10 @@ def modes(lam, nrow, trow, mu):
     return m
 
 
-def builtin_guess(w, cur):
-    """Last step's solved λ by contact key, projected into the bounds (builtin)."""
-    old = {tuple(k): l for k, l in zip(w.previous_contacts.key.tolist(), w.previous_contacts["lambda"].tolist())}
-    lam = np.zeros(w.rows)
-    new = np.ones(len(cur.normal_row), dtype=bool)
-    for c, key in enumerate(cur.key.tolist()):
-        hit = old.get(tuple(key))
-        if hit is not None:
-            new[c] = False
-            lam[cur.normal_row[c]] = hit[0]
-            if cur.tangent_row[c] >= 0:
-                lam[cur.tangent_row[c]] = hit[1]
-    return lam, new
+def builtin_guess(w):
+    """Last step's solved λ by contact key (the package's rule for builtin; a World stands in
+    for the bench's view) and the new-contact flags; projected by the caller."""
+    return dc.previous_lambda_by_key(SimpleNamespace(world=w))
 
 
 def project(lam, nrow, trow, mu):
@@ -91,13 +83,14 @@ def features(lam_b, new, w_b, cur, nrow, trow, mu):
     return f, m
 
 
-def run(scene, seed, warmup, steps, with_sweeps):
-    w = dc.World(scene=scene, set={"bodies.seed": seed})
+def run(scene, seed, warmup, steps, with_sweeps, overrides=None):
+    """Per-contact records of steps [warmup, steps) of one seed; `overrides` adds --set keys."""
+    w = dc.World(scene=scene, set={**(overrides or {}), "bodies.seed": seed})
     for _ in range(warmup):
         w.step(solver="pgs", warmstart="builtin", sweeps=3000, tol=1e-2)
     rows = []
     for s in range(warmup, steps):
-        cur = w.collide()
+        w.collide()
         p = w.assemble()
         if w.rows == 0:
             w.integrate(np.zeros(0))
@@ -106,7 +99,7 @@ def run(scene, seed, warmup, steps, with_sweeps):
         nrow = np.asarray(cur.normal_row)
         trow = np.asarray(cur.tangent_row)
         mu = np.where(trow >= 0, np.asarray(p.mu)[np.maximum(trow, 0)], 0.0)  # μ sits on the tangent row
-        lam_b, new = builtin_guess(w, cur)
+        lam_b, new = builtin_guess(w)
         lam_b = project(lam_b, nrow, trow, mu)
         r = dc.solve(p, solver="pgs", sweeps=20000, tol=1e-7, lambda0=lam_b, record_theta=False)
         star = r.lam
