@@ -10,6 +10,9 @@ of three things is compared with the mode of this step's λ* (tight oracle):
     |λ_t|/μλ_n, λ_n, gap, approach velocity, and w = Aλ_b + b at the contact's rows), trained
     on training seeds and scored on held-out seeds — the best a purely local, per-contact
     predictor of this kind does.
+It also solves each held-out step tightly twice more (Newton from builtin, PGS from zero) to
+see whether λ*'s active set is the only one near builtin's (a statically indeterminate pile
+has many solutions).
 Scores: the share of contacts whose mode is wrong, and the recall of the mode CHANGES
 (contacts where builtin's mode is wrong: the share the predictor gets right; compare with
 copy-active:F, which needs F ≈ 1 to pay).
@@ -109,15 +112,21 @@ def run(scene, seed, warmup, steps, with_sweeps, overrides=None):
                 star = r2.lam
         m_star = modes(star, nrow, trow, mu)
         f, m_b = features(lam_b, new, p.velocity(lam_b), cur, nrow, trow, mu)
-        after = {}
+        after, other = {}, {}
         if with_sweeps:
+            # Other tight solutions: is λ*'s active set the only one near builtin's?
+            for name, solver, start in (("newton from builtin", "newton", lam_b), ("PGS from zero", "pgs", None)):
+                o = dc.solve(p, solver=solver, sweeps=500 if solver == "newton" else 30000, tol=1e-8, lambda0=start,
+                             record_theta=False)
+                if o.residual <= max(1e-6, 10 * r.residual):
+                    other[name] = (modes(o.lam, nrow, trow, mu), np.linalg.norm(o.lam - star) / max(np.linalg.norm(star), 1e-300))
             lam = lam_b
             done = 0
             for k in SWEEPS:
                 lam = dc.solve(p, solver="pgs", sweeps=k - done, tol=0.0, lambda0=lam, record_theta=False).lam
                 done = k
                 after[k] = modes(lam, nrow, trow, mu)
-        rows.append(dict(step=s, f=f, m_b=m_b, m_star=m_star, after=after))
+        rows.append(dict(step=s, f=f, m_b=m_b, m_star=m_star, after=after, other=other))
         w.integrate(star)
     return rows
 
@@ -177,6 +186,16 @@ def main():
              for k in SWEEPS]:
         wr, rec, br = score(pred, m_star, m_b)
         print(f"{name:>28} {wr:7.3f} {rec:18.3f} {br:12.3f}")
+    print("other tight solutions (residual <= max(1e-6 N, 10x lambda*'s)): modes != lambda*'s, |lambda - lambda*| / |lambda*|")
+    for name in ("newton from builtin", "PGS from zero"):
+        got = [r["other"][name] for r in test if name in r["other"]]
+        if not got:
+            print(f"  {name:>22}: never that tight")
+            continue
+        diff = np.array([np.mean(m != r["m_star"]) for (m, _), r in zip(got, [r for r in test if name in r["other"]])])
+        dist = np.array([d for _, d in got])
+        print(f"  {name:>22}: {len(got)} of {len(test)} steps; modes differ median {np.median(diff):.4f} "
+              f"(p90 {np.percentile(diff, 90):.4f}); distance median {np.median(dist):.3f} (p90 {np.percentile(dist, 90):.3f})")
 
 
 if __name__ == "__main__":
