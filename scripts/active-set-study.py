@@ -35,6 +35,7 @@ import deepcontact as dc
 SEP, STICK, SLIDE_P, SLIDE_M = 0, 1, 2, 3
 NAMES = ["separating", "sticking", "sliding+", "sliding-"]
 SWEEPS = (10, 30, 100, 300, 1000)
+N_LOCAL = 15  # columns of features(): the contact's own state (checked in run())
 
 
 def seeds(text):
@@ -86,6 +87,27 @@ def features(lam_b, new, w_b, cur, nrow, trow, mu):
     return f, m
 
 
+def with_neighbours(f, cur):
+    """f plus the mean of f over the other contacts of the contact's bodies (walls have no
+    neighbourhood): the context a grid CNN would see, at the contacts' own resolution."""
+    a = np.asarray(cur["body_a"])
+    b = np.asarray(cur["body_b"])
+    n = int(max(a.max(initial=-1), b.max(initial=-1))) + 1
+    S = np.zeros((n, f.shape[1]))
+    cnt = np.zeros(n)
+    for side in (a, b):
+        ok = side >= 0
+        np.add.at(S, side[ok], f[ok])
+        np.add.at(cnt, side[ok], 1.0)
+    tot = np.zeros_like(f)
+    num = np.zeros(len(f))
+    for side in (a, b):
+        ok = side >= 0
+        tot[ok] += S[side[ok]] - f[ok]
+        num[ok] += cnt[side[ok]] - 1
+    return np.column_stack([f, tot / np.maximum(num, 1)[:, None], num])
+
+
 def run(scene, seed, warmup, steps, with_sweeps, overrides=None):
     """Per-contact records of steps [warmup, steps) of one seed; `overrides` adds --set keys."""
     w = dc.World(scene=scene, set={**(overrides or {}), "bodies.seed": seed})
@@ -112,6 +134,8 @@ def run(scene, seed, warmup, steps, with_sweeps, overrides=None):
                 star = r2.lam
         m_star = modes(star, nrow, trow, mu)
         f, m_b = features(lam_b, new, p.velocity(lam_b), cur, nrow, trow, mu)
+        assert f.shape[1] == N_LOCAL
+        f = with_neighbours(f, cur)
         after, other = {}, {}
         if with_sweeps:
             # Other tight solutions: is λ*'s active set the only one near builtin's?
@@ -148,6 +172,53 @@ def fit_softmax(x, y, classes=4, l2=1e-3, iters=300, lr=0.5):
     return lambda q: np.argmax(np.column_stack([(q - mean) / std, np.ones(len(q))]) @ W, 1)
 
 
+def fit_mlp(x, y, classes=4, hidden=64, epochs=12, batch=512, lr=2e-3, seed=1):
+    """A two-hidden-layer ReLU network with a softmax output, Adam, standardised inputs."""
+    rng = np.random.default_rng(seed)
+    mean, std = x.mean(0), x.std(0) + 1e-9
+    z = (x - mean) / std
+    sizes = [z.shape[1], hidden, hidden, classes]
+    P = []
+    for i in range(3):
+        P += [rng.normal(0, np.sqrt(2.0 / sizes[i]), (sizes[i], sizes[i + 1])), np.zeros(sizes[i + 1])]
+    M = [np.zeros_like(q) for q in P]
+    V = [np.zeros_like(q) for q in P]
+    Y = np.eye(classes)[y]
+    t = 0
+    for _ in range(epochs):
+        order = rng.permutation(len(z))
+        for k in range(0, len(z), batch):
+            idx = order[k:k + batch]
+            h0 = z[idx]
+            a1 = h0 @ P[0] + P[1]
+            h1 = np.maximum(a1, 0)
+            a2 = h1 @ P[2] + P[3]
+            h2 = np.maximum(a2, 0)
+            o = h2 @ P[4] + P[5]
+            o -= o.max(1, keepdims=True)
+            pr = np.exp(o)
+            pr /= pr.sum(1, keepdims=True)
+            d = (pr - Y[idx]) / len(idx)
+            g = [None] * 6
+            g[4], g[5] = h2.T @ d, d.sum(0)
+            d2 = (d @ P[4].T) * (a2 > 0)
+            g[2], g[3] = h1.T @ d2, d2.sum(0)
+            d1 = (d2 @ P[2].T) * (a1 > 0)
+            g[0], g[1] = h0.T @ d1, d1.sum(0)
+            t += 1
+            for i in range(6):
+                M[i] = 0.9 * M[i] + 0.1 * g[i]
+                V[i] = 0.999 * V[i] + 0.001 * g[i] ** 2
+                P[i] -= lr * (M[i] / (1 - 0.9 ** t)) / (np.sqrt(V[i] / (1 - 0.999 ** t)) + 1e-8)
+
+    def predict(q):
+        h = np.maximum(((q - mean) / std) @ P[0] + P[1], 0)
+        h = np.maximum(h @ P[2] + P[3], 0)
+        return np.argmax(h @ P[4] + P[5], 1)
+
+    return predict
+
+
 def score(pred, m_star, m_b):
     wrong = pred != m_star
     changed = m_b != m_star
@@ -168,7 +239,10 @@ def main():
     train = [r for s in seeds(a.train) for r in run(a.scene, s, a.warmup, a.steps, False)]
     test = [r for s in seeds(a.test) for r in run(a.scene, s, a.warmup, a.steps, True)]
     cat = lambda rs, k: np.concatenate([r[k] for r in rs])
-    clf = fit_softmax(cat(train, "f"), cat(train, "m_star"))
+    local = N_LOCAL  # the first columns: the contact's own features
+    clf = fit_softmax(cat(train, "f")[:, :local], cat(train, "m_star"))
+    mlp_local = fit_mlp(cat(train, "f")[:, :local], cat(train, "m_star"))
+    mlp_nb = fit_mlp(cat(train, "f"), cat(train, "m_star"))
     m_star, m_b, f = cat(test, "m_star"), cat(test, "m_b"), cat(test, "f")
     print(f"scene {a.scene}: train seeds {a.train} ({len(cat(train, 'm_star'))} contacts), test seeds {a.test} "
           f"({len(m_star)} contacts, {len(test)} steps), steps {a.warmup}-{a.steps - 1}; {time.time() - t0:.0f} s")
@@ -181,7 +255,9 @@ def main():
     for i in range(4):
         print(f"  {NAMES[i]:>10}: " + " ".join(f"{v:8d}" for v in trans[i]))
     print(f"{'predictor':>28} {'wrong':>7} {'recall of changes':>18} {'newly wrong':>12}")
-    for name, pred in [("builtin (no change)", m_b), ("softmax on local features", clf(f))] + \
+    for name, pred in [("builtin (no change)", m_b), ("softmax on local features", clf(f[:, :local])),
+                       ("MLP on local features", mlp_local(f[:, :local])),
+                       ("MLP, local + neighbours", mlp_nb(f))] + \
             [(f"PGS after {k} sweeps", np.concatenate([r["after"][k] for r in test]))
              for k in SWEEPS]:
         wr, rec, br = score(pred, m_star, m_b)
