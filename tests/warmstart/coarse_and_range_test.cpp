@@ -1,5 +1,6 @@
-// builtin-coarse (a Galerkin coarse-grid gain correction of builtin, no oracle) and copy-range
-// (builtin + the range(A) part of the oracle's correction, a diagnostic oracle).
+// builtin-coarse (a Galerkin coarse-grid gain correction of builtin, no oracle), copy-range
+// (builtin + the range(A) part of the oracle's correction, a diagnostic oracle) and the
+// active-set starters (copy-active[:F|:normal|:friction], builtin-active, their -cg forms).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>

@@ -24,10 +24,10 @@
 //   copy-active-cg[:ITER], builtin-active-cg[:ITER]  the same two with the minimum-norm solve done
 //                  matrix-free by ITER CGLS steps (default 100; solve_on_active_set_cgls): what
 //                  the active-set route costs without the dense factorisation.
-#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "active_set_solve.hpp"
