@@ -13,6 +13,7 @@
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/rng.hpp"
 #include "dc/engine/world.hpp"
+#include "settled_pile.hpp"
 
 namespace dc {
 namespace {
@@ -75,12 +76,7 @@ TEST(World, NoTangentRowsWithoutFriction) {
   WorldDef d;
   d.contact.friction = 0.0;
   World w(d);
-  const auto solver = make_solver("pgs");
-  SolverOptions o;
-  o.max_sweeps = 20;
-  for (int s = 0; s < 150; ++s) w.step(*solver, o);
-  w.collide();
-  const LcpProblem& p = w.assemble();
+  const LcpProblem& p = test::step_then_assemble(w, 150, 20);
   EXPECT_EQ(p.rows(), static_cast<int>(w.contacts().size()));
   for (int r : p.normal_row) EXPECT_EQ(r, -1);
 }

@@ -11,6 +11,7 @@
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "settled_pile.hpp"
 
 namespace dc {
 namespace {
@@ -304,13 +305,7 @@ TEST(FeatureImage, LabelGatheredAtTheContactsEqualsTheSphWarmStarter) {
   def.bodies.count = 20;
   def.bodies.seed = 7;
   World world(def);
-  // Let the pile form so that there are many touching contacts.
-  const auto pgs = make_solver("pgs");
-  SolverOptions opt;
-  opt.max_sweeps = 200;
-  for (int s = 0; s < 150; ++s) world.step(*pgs, opt);
-  world.collide();
-  world.assemble();
+  test::step_then_assemble(world, 150, 200);  // the pile forms: many touching contacts
   const auto& contacts = world.contacts();
   ASSERT_GT(contacts.size(), 5u);
   const Eigen::VectorXd star = solve_oracle(world.problem()).lambda;

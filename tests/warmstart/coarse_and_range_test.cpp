@@ -11,6 +11,7 @@
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 #include "floor_discs.hpp"
+#include "settled_pile.hpp"
 
 namespace dc {
 namespace {
@@ -176,12 +177,7 @@ TEST(ActiveSetWarmStart, TheMatrixFreeSolveTendsToTheDenseOne) {
   d.bodies.seed = 3;
   d.world.width = 12.0;
   World w(d);
-  const auto pgs = make_solver("pgs");
-  SolverOptions o;
-  o.max_sweeps = 200;
-  for (int s = 0; s < 150; ++s) w.step(*pgs, o);
-  w.collide();
-  w.assemble();
+  test::step_then_assemble(w, 150, 200);
   ASSERT_GT(w.problem().rows(), 80);
   const Eigen::VectorXd star = solve_oracle(w.problem()).lambda;
   const StepView v{w, &star};
