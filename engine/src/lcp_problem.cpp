@@ -103,14 +103,25 @@ void LcpProblem::ensure_assembled_matrix() {
   A.makeCompressed();
 }
 
+namespace {
+
+/// Δu = Δt M⁻¹ Jᵀ λ per dof [m/s, rad/s], as the matrix-free PGS keeps it.
+Eigen::VectorXd velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda) {
+  Eigen::VectorXd du = p.J.transpose() * lambda;
+  for (int c = 0; c < du.size(); ++c) du[c] = p.inv_mass[c] * du[c] * p.dt;
+  return du;
+}
+
+}  // namespace
+
 Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda) {
-  if (p.has_jacobian()) {
-    // Δu = Δt M⁻¹ Jᵀ λ per dof, as the matrix-free PGS keeps it; then w = J Δu + b.
-    Eigen::VectorXd du = p.J.transpose() * lambda;
-    for (int c = 0; c < du.size(); ++c) du[c] = p.inv_mass[c] * du[c] * p.dt;
-    return p.J * du + p.b;
-  }
+  if (p.has_jacobian()) return p.J * velocity_change(p, lambda) + p.b;  // w = J Δu + b
   return p.A * lambda + p.b;
+}
+
+Eigen::VectorXd lcp_apply(const LcpProblem& p, const Eigen::VectorXd& lambda) {
+  if (p.has_jacobian()) return p.J * velocity_change(p, lambda);
+  return p.A * lambda;
 }
 
 namespace {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "dc/engine/error.hpp"
+#include "dc/engine/lcp_problem.hpp"
 #include "starters.hpp"
 
 namespace dc {
@@ -59,6 +60,12 @@ struct ActiveSetVariables {
   std::vector<std::vector<std::pair<int, double>>> column;
 
   int size() const { return static_cast<int>(row.size()); }
+  /// v at the variables' rows: x_b = gather(base), and S v of a vector v over the rows.
+  Eigen::VectorXd gather(const Eigen::VectorXd& v) const {
+    Eigen::VectorXd out(size());
+    for (int j = 0; j < size(); ++j) out[j] = v[row[static_cast<std::size_t>(j)]];
+    return out;
+  }
   /// λ = L x (rows entries).
   Eigen::VectorXd lift(const Eigen::VectorXd& x, int rows) const {
     Eigen::VectorXd l = Eigen::VectorXd::Zero(rows);
@@ -89,12 +96,6 @@ ActiveSetVariables active_set_variables(const World& w, const std::vector<Contac
   return v;
 }
 
-/// A λ = J (Δt M⁻¹ Jᵀ λ), matrix-free [m/s per N].
-Eigen::VectorXd apply_A(const LcpProblem& p, const Eigen::VectorXd& lambda) {
-  const Eigen::VectorXd u = (p.J.transpose() * lambda).cwiseProduct(p.inv_mass) * p.dt;
-  return p.J * u;
-}
-
 }  // namespace
 
 Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
@@ -108,8 +109,7 @@ Eigen::VectorXd solve_on_active_set(const World& w, const Eigen::VectorXd& base,
   Eigen::MatrixXd L = Eigen::MatrixXd::Zero(rows, n);
   for (int j = 0; j < n; ++j)
     for (const auto& [r, a] : vars.column[static_cast<std::size_t>(j)]) L(r, j) = a;
-  Eigen::VectorXd xb(n);
-  for (int j = 0; j < n; ++j) xb[j] = base[vars.row[static_cast<std::size_t>(j)]];
+  const Eigen::VectorXd xb = vars.gather(base);
 
   // S A L and the right-hand side −S (A L x_b + b), A = J (Δt M⁻¹) Jᵀ.
   const Eigen::MatrixXd JL = Eigen::MatrixXd(p.J.transpose()) * L;  // 3·bodies × n
@@ -137,28 +137,20 @@ Eigen::VectorXd solve_on_active_set_cgls(const World& w, const Eigen::VectorXd& 
   const int rows = p.rows();
   const int n = vars.size();
   if (n == 0) return Eigen::VectorXd::Zero(rows);
-  Eigen::VectorXd xb(n);
-  for (int j = 0; j < n; ++j) xb[j] = base[vars.row[static_cast<std::size_t>(j)]];
+  const Eigen::VectorXd xb = vars.gather(base);
   // B y = S A L y and Bᵀ z = Lᵀ A Sᵀ z (A is symmetric), each one matrix-free A product.
-  auto B = [&](const Eigen::VectorXd& y) {
-    const Eigen::VectorXd a = apply_A(p, vars.lift(y, rows));
-    Eigen::VectorXd out(n);
-    for (int i = 0; i < n; ++i) out[i] = a[vars.row[static_cast<std::size_t>(i)]];
-    return out;
-  };
+  auto B = [&](const Eigen::VectorXd& y) { return vars.gather(lcp_apply(p, vars.lift(y, rows))); };
   auto Bt = [&](const Eigen::VectorXd& z) {
     Eigen::VectorXd spread = Eigen::VectorXd::Zero(rows);
     for (int i = 0; i < n; ++i) spread[vars.row[static_cast<std::size_t>(i)]] = z[i];
-    const Eigen::VectorXd a = apply_A(p, spread);
+    const Eigen::VectorXd a = lcp_apply(p, spread);
     Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
     for (int j = 0; j < n; ++j)
       for (const auto& [r, c] : vars.column[static_cast<std::size_t>(j)]) out[j] += c * a[r];
     return out;
   };
   // Residual of the active-set equations at x_b: r = −S (A L x_b + b).
-  const Eigen::VectorXd wb = apply_A(p, vars.lift(xb, rows)) + p.b;
-  Eigen::VectorXd r(n);
-  for (int i = 0; i < n; ++i) r[i] = -wb[vars.row[static_cast<std::size_t>(i)]];
+  Eigen::VectorXd r = -vars.gather(lcp_velocity(p, vars.lift(xb, rows)));
   // CGLS from y = 0: its iterates stay in range(Bᵀ), so it tends to the minimum-norm
   // least-squares solution (the dense path's answer) without forming B.
   Eigen::VectorXd y = Eigen::VectorXd::Zero(n);

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "active_set_solve.hpp"
+#include "dc/engine/lcp_problem.hpp"
 #include "dc/warmstart/sph_grid.hpp"
 #include "starters.hpp"
 
@@ -175,9 +176,7 @@ class CoarseWarmStarter final : public WarmStarter {
   /// q = Pᵀ A P d, A applied matrix-free.
   void apply_galerkin(const LcpProblem& p, const std::vector<double>& d, std::vector<double>& q) {
     prolong(d, x_);
-    u_ = p.J.transpose() * x_;
-    u_ = u_.cwiseProduct(p.inv_mass) * p.dt;
-    y_ = p.J * u_;
+    y_ = lcp_apply(p, x_);
     restrict_rows(y_, q);
   }
 
@@ -187,7 +186,7 @@ class CoarseWarmStarter final : public WarmStarter {
   std::size_t nodes_ = 0;
   int rows_count_ = 0;  // the problem's rows (the size of P g)
   std::vector<Row> rows_;
-  Eigen::VectorXd x_, u_, y_;
+  Eigen::VectorXd x_, y_;
 };
 
 }  // namespace

@@ -91,4 +91,9 @@ double natural_residual_l2(const LcpProblem& p, const Eigen::VectorXd& lambda);
 /// A need not be formed; equal to A λ + b up to round-off), a problem from a file with A.
 Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda);
 
+/// A λ alone (lcp_velocity without b) [m/s]: matrix-free, J (Δt M⁻¹ Jᵀ λ), with the same
+/// operations as lcp_velocity when p has J; else A λ. For Krylov solves on A (builtin-coarse's
+/// Galerkin CG, the active-set CGLS) outside the engine.
+Eigen::VectorXd lcp_apply(const LcpProblem& p, const Eigen::VectorXd& lambda);
+
 }  // namespace dc
