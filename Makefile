@@ -4,7 +4,7 @@ BUILD      ?= build
 BUILD_TYPE ?= Release
 JOBS       ?= $(shell nproc)
 CMAKE_ARGS ?=
-DC          = $(BUILD)/bench/deepcontact
+DC          = $(BUILD)/bin/deepcontact
 
 .PHONY: all deps configure build test bench bench-quick model sanitize fuzz clean
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Read a trajectory (deepcontact simulate --out run.h5) into numpy and summarise it.
 
-    build/bench/deepcontact simulate --out run.h5
+    build/bin/deepcontact simulate --out run.h5
     PYTHONPATH=build/python /usr/bin/python3 examples/read_trajectory.py run.h5
 """
 import sys

@@ -17,8 +17,8 @@ cd "$(dirname "$0")/.."
 NATIVE=${1:-build}
 PORTABLE=${PORTABLE_BUILD:-build-portable}
 JOBS=${JOBS:-$(nproc)}
-NATIVE_DC="$NATIVE/bench/deepcontact"
-PORTABLE_DC="$PORTABLE/bench/deepcontact"
+NATIVE_DC="$NATIVE/bin/deepcontact"
+PORTABLE_DC="$PORTABLE/bin/deepcontact"
 NO_FMA_LIBM="glibc.cpu.hwcaps=-AVX2,-FMA"
 
 if [[ ! -x "$NATIVE_DC" ]]; then

@@ -8,12 +8,12 @@
 #      2-rank run equal the 1-process run's except the timings.
 #   3. train (2 epochs): mpirun -n 1 equals a plain run bit for bit; two 2-rank runs are
 #      equal (deterministic for fixed K); the 2-rank model is close to the 1-rank one.
-# Usage: scripts/check-mpi.sh [BUILD_DIR]   (default build; needs build/bench/deepcontact)
+# Usage: scripts/check-mpi.sh [BUILD_DIR]   (default build; needs build/bin/deepcontact)
 # ~1-2 minutes on 2 idle cores. Exit status 0 = all equalities hold.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
-DC=$PWD/$BUILD/bench/deepcontact
+DC=$PWD/$BUILD/bin/deepcontact
 PY=/usr/bin/python3
 MPIRUN=(mpirun --allow-run-as-root --oversubscribe --mca btl self,vader)
 command -v mpirun >/dev/null || { echo "check-mpi: mpirun not found (scripts/install-deps.sh installs openmpi-bin)" >&2; exit 1; }

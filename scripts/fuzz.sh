@@ -61,7 +61,7 @@ classify() {  # classify BIN ARTEFACT → prints hdf5, ours, or none (does not r
   # Source frames of our libraries (not the fuzz binary's own path, which ASan prints for
   # interceptors such as memcpy called from HDF5); a UBSan report names our source directly.
   first=$(grep -E '^ *#[0-9]+ |runtime error' <<<"$out" |
-          grep -m1 -E "libhdf5|$ROOT/(engine|warmstart|learning|bench|tests/fuzz)/[^ ]*\.(cpp|hpp)" || true)
+          grep -m1 -E "libhdf5|$ROOT/(core|sph|io|engine|warmstart|learning|cnn|bench|research|apps|tests/fuzz)/[^ ]*\.(cpp|hpp)" || true)
   if grep -q libhdf5 <<<"$first"; then echo hdf5; else echo ours; fi
 }
 

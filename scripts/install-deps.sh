@@ -4,14 +4,14 @@
 # everything is installed. Run as root (or with sudo available).
 #
 #   scripts/install-deps.sh            build + test + bench dependencies
-#   scripts/install-deps.sh --torch    also python3-torch (only for bench/torch_compare.py)
+#   scripts/install-deps.sh --torch    also python3-torch (only for benchmarks/compare/torch_compare.py)
 #   scripts/install-deps.sh --fuzz     also clang + libFuzzer runtime (fuzz harnesses)
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config git
   libeigen3-dev      # dense/sparse linear algebra (J, A, GEMM for the CNN)
-  libccd-dev         # general convex collision (polygon and ellipse pairs, engine/src/ccd_narrow.cpp)
+  libccd-dev         # general convex collision (polygon and ellipse pairs, engine/src/collision/ccd_narrow.cpp)
   libgsl-dev         # portable random streams (scene generation, weight init)
   libhdf5-dev        # trajectories, data sets, models, bench results (C and C++ API)
   libcli11-dev       # command line of the deepcontact executable

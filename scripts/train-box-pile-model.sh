@@ -6,7 +6,7 @@
 #   1. deepcontact generate: SIMS box_pile simulations (60 boxes 1.5 x 1.0 m, STEPS steps each)
 #      with scene seeds 1000..1000+SIMS-1 — disjoint from the evaluation seeds 1..EVAL — with
 #      the residual channels of the default model plus coverage, orient_c, orient_s.
-#   2. scripts/drop-feature-channels.py: the same file without the three shape channels (every
+#   2. research/scripts/drop-feature-channels.py: the same file without the three shape channels (every
 #      sample, label, body and contact identical), so the two models differ only in their input.
 #   3. deepcontact train, twice with identical options (those of scripts/train-default-model.sh:
 #      unet-fast, residual, asinh label scale 10, contact weight 10, dead zone DEADZONE N):
@@ -23,7 +23,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 BUILD=${BUILD:-build}
-DC="$BUILD/bench/deepcontact"
+DC="$BUILD/bin/deepcontact"
 SIMS=${SIMS:-20}
 STEPS=${STEPS:-400}
 EPOCHS=${EPOCHS:-10}
@@ -56,7 +56,7 @@ else
   "$DC" generate --scene "$SCENE" --sims "$SIMS" --seed 1000 --steps "$STEPS" --threads "$THREADS" \
     --grid "$GRID" --channels "$CHANNELS" --out "$DATA" "${RESUME[@]}"
 fi
-[ -f "$DATA_NOSHAPE" ] || /usr/bin/python3 scripts/drop-feature-channels.py "$DATA" "$DATA_NOSHAPE" "$SHAPE"
+[ -f "$DATA_NOSHAPE" ] || /usr/bin/python3 research/scripts/drop-feature-channels.py "$DATA" "$DATA_NOSHAPE" "$SHAPE"
 t1=$(date +%s)
 
 train() {  # data, model

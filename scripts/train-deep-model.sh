@@ -10,7 +10,7 @@
 set -eu
 BUILD=${1:-build}
 THREADS=${THREADS:-2}
-DC=$BUILD/bench/deepcontact
+DC=$BUILD/bin/deepcontact
 OUT=$BUILD/data
 mkdir -p "$OUT"
 STEPS=${STEPS:-300}
@@ -40,4 +40,4 @@ $DC train --data "$DATA" --out models/deep.h5 --force --loss pgs-residual --unro
 [ -n "${SKIP_BENCH:-}" ] || $DC bench $DEEP --steps "$STEPS" --seeds 1..2 --sweeps 3000 --tol 1e-2 \
     --warmstarts zero,builtin,cnn:$OUT/deep-regression.h5,cnn:models/deep.h5,sph:poly6:0.5:0.5,copy-noise:0.1 \
     --out "$OUT/deep-bench"
-[ -n "${SKIP_BENCH:-}" ] || /usr/bin/python3 scripts/deep-eval-summary.py "$OUT/deep-bench/results.h5" 150
+[ -n "${SKIP_BENCH:-}" ] || /usr/bin/python3 research/scripts/deep-eval-summary.py "$OUT/deep-bench/results.h5" 150

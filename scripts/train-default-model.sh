@@ -24,7 +24,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 BUILD=${BUILD:-build}
-DC="$BUILD/bench/deepcontact"
+DC="$BUILD/bin/deepcontact"
 SIMS=${SIMS:-32}
 EPOCHS=${EPOCHS:-5}
 EVERY=${EVERY:-4}

@@ -30,7 +30,7 @@ esac
 set -eu
 F=${1:?usage: scripts/train-family-model.sh FAMILY [BUILD_DIR]}
 BUILD=${2:-build}
-DC=$BUILD/bench/deepcontact
+DC=$BUILD/bin/deepcontact
 SCENE=scenes/$F.toml
 [ -f "$SCENE" ] || { echo "train-family-model: $SCENE not found" >&2; exit 2; }
 SIMS=${SIMS:-6}
@@ -57,4 +57,4 @@ DATA=$DATADIR/$F-train-s1000-m$SIMS${STEPS:+-t$STEPS}-c$NCH.h5
     --clip "${CLIP:-0.05}" --field-iterations "${FIELD_ITER:-100}" --deadzone "${DEADZONE:-0}" $([ "${GAIN:-0}" = 1 ] && echo --gain) \
     --first-step "${FIRST:-0}" --val 0.34 --seed 1 --threads "$THREADS" \
     --time-limit "${TIME:-400}"
-echo "train-family-model: ${OUT:-models/$F.h5}; evaluate with scripts/families-bench.sh (STARTERS=...,cnn:${OUT:-models/$F.h5})"
+echo "train-family-model: ${OUT:-models/$F.h5}; evaluate with research/scripts/families-bench.sh (STARTERS=...,cnn:${OUT:-models/$F.h5})"

@@ -9,7 +9,7 @@ and ellipses from the trajectory's shape table when it has one: SHAPE_LAYERS bel
 extension point), the contact forces of each step (a segment along the normal through the
 contact point, length and colour scaled by λ_n) and the time. Frame K shows state K and the
 forces solved in step K (from state K). GIF via matplotlib + Pillow; MP4 through ffmpeg.
-Run by `deepcontact render` (bench/cmd_render.cpp) with the Python of $DC_BENCH_PYTHON,
+Run by `deepcontact render` (apps/deepcontact/commands/render_command.cpp) with the Python of $DC_BENCH_PYTHON,
 and importable as deepcontact.render_trajectory. Errors: one line on stderr, exit 1.
 """
 import argparse

@@ -7,7 +7,7 @@
 //   provided that this notice is preserved.
 // Every expression is evaluated as written (no contraction: -ffp-contract=off for the whole
 // tree; SSE2 doubles, no x87 excess precision on x86-64), so the bits are fixed by IEEE 754.
-#include "dc/engine/det_math.hpp"
+#include "det_math.hpp"
 
 #include <bit>
 #include <cmath>

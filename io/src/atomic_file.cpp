@@ -5,7 +5,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

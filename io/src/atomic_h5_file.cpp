@@ -2,7 +2,7 @@
 #include <string>
 #include <utility>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/io/atomic_file.hpp"
 #include "dc/io/h5.hpp"
 #include "h5_detail.hpp"

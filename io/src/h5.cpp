@@ -12,7 +12,7 @@
 #include <numeric>
 #include <utility>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "h5_detail.hpp"
 
 namespace dc {

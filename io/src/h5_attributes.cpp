@@ -2,7 +2,7 @@
 #include <string>
 #include <vector>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
 #include "h5_detail.hpp"
 

@@ -6,7 +6,7 @@
 
 #include <toml++/toml.h>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

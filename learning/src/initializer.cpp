@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "dc/engine/error.hpp"
-#include "dc/engine/rng.hpp"
+#include "dc/core/error.hpp"
+#include "dc/core/rng.hpp"
 
 namespace dc {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 
@@ -54,7 +54,7 @@ std::pair<int, int> lambda_prev_channels(std::span<const FeatureChannel> channel
 
 void training_labels(Tensor& labels, const Tensor& features, std::span<const FeatureChannel> channels,
                      const LabelDef& def) {
-  require_shape(labels.shape(), Shape{1, FeatureImageBuilder::kLabelChannels, features.h(), features.w()},
+  require_shape(labels.shape(), Shape{1, kLabelChannelCount, features.h(), features.w()},
                 "training_labels: labels");
   require_shape(features.shape(), Shape{1, static_cast<int>(channels.size()), labels.h(), labels.w()},
                 "training_labels: features");

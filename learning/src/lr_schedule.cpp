@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

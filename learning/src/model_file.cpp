@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
 
 namespace dc {

@@ -6,13 +6,13 @@
 #include <map>
 #include <sstream>
 
-#include "dc/engine/error.hpp"
-#include "dc/learning/concat.hpp"
-#include "dc/learning/conv2d.hpp"
-#include "dc/learning/dense.hpp"
-#include "dc/learning/dropout.hpp"
-#include "dc/learning/relu.hpp"
-#include "dc/learning/upsample.hpp"
+#include "dc/core/error.hpp"
+#include "dc/learning/layers/concat.hpp"
+#include "dc/learning/layers/conv2d.hpp"
+#include "dc/learning/layers/dense.hpp"
+#include "dc/learning/layers/dropout.hpp"
+#include "dc/learning/layers/relu.hpp"
+#include "dc/learning/layers/upsample.hpp"
 
 namespace dc {
 

@@ -1,6 +1,6 @@
 #include "dc/learning/optimizer.hpp"
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

@@ -7,8 +7,8 @@
 #include <limits>
 #include <set>
 
-#include "dc/engine/error.hpp"
-#include "dc/engine/rng.hpp"
+#include "dc/core/error.hpp"
+#include "dc/core/rng.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/lr_schedule.hpp"
 #include "dc/learning/mse_loss.hpp"

@@ -4,7 +4,7 @@
 gets the solved λ of the previous step's contact with the same key (body pair and feature),
 0 for a new contact — and ``PyBuiltin`` is the starter made of it. The test suite checks
 that ``PyBuiltin`` gives exactly the C++ ``builtin``'s sweeps in a paired bench
-(tests/python/test_warmstart.py); scripts/python-starter-overhead.py uses it to time the
+(tests/python/test_warmstart.py); benchmarks/scripts/python-starter-overhead.py uses it to time the
 cost of a Python starter; examples/custom_warm_starter.py extends the rule.
 """
 import numpy as np

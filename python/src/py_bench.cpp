@@ -6,20 +6,21 @@
 #include <set>
 #include <sstream>
 
-#include "bench_report.hpp"
-#include "bench_runner.hpp"
-#include "bench_statistics.hpp"
-#include "cli_common.hpp"
-#include "dc/engine/error.hpp"
-#include "progress_bar.hpp"
-#include "provenance.hpp"
+#include "dc/bench/bench_report.hpp"
+#include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_statistics.hpp"
+#include "dc/bench/list_options.hpp"
+#include "dc/core/error.hpp"
+#include "dc/bench/progress_bar.hpp"
+#include "dc/bench/provenance.hpp"
+#include "dc/research/research_starters.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {
 namespace {
 
 std::vector<std::uint64_t> seeds_from_python(pyb::handle seeds) {
-  if (pyb::isinstance<pyb::str>(seeds)) return cli::parse_seed_range(seeds.cast<std::string>());
+  if (pyb::isinstance<pyb::str>(seeds)) return bench::parse_seed_range(seeds.cast<std::string>());
   if (pyb::isinstance<pyb::int_>(seeds)) return {seeds.cast<std::uint64_t>()};
   std::vector<std::uint64_t> out;
   for (auto s : seeds) {
@@ -50,7 +51,7 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
   // initial_guess) is called once per seed, like the C++ factories; an instance is shared.
   pyb::list items;  // keeps every object alive for the run
   if (warmstarts.is_none()) {
-    for (const auto& n : cli::default_bench_starters(registry, quick)) items.append(pyb::str(n));
+    for (const auto& n : default_bench_starters(shipped_model(), quick)) items.append(pyb::str(n));
   } else {
     for (auto w : warmstarts) items.append(w);
   }
@@ -83,10 +84,10 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
   std::string json;
   {
     pyb::gil_scoped_release release;
-    std::unique_ptr<cli::ProgressBar> bar;
+    std::unique_ptr<bench::ProgressBar> bar;
     const bench::BenchResults r = bench::run_bench(o, registry, [&](long, long total, const std::string& note) {
       if (!progress) return;
-      if (!bar) bar = std::make_unique<cli::ProgressBar>("bench", total);
+      if (!bar) bar = std::make_unique<bench::ProgressBar>("bench", total);
       bar->advance(1, note);
     });
     if (bar) bar->finish();

@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <span>
@@ -18,7 +19,7 @@
 
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/vec2.hpp"
+#include "dc/core/vec2.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
@@ -97,7 +98,10 @@ WorldDef scene_from_python(pyb::handle scene, pyb::handle set);
 /// name(), observe(view, solved), uses_oracle()). Safe to call without the GIL: it takes the
 /// GIL for every call into Python.
 std::unique_ptr<WarmStarter> make_python_warm_starter(pyb::handle obj);
-/// The registry of the CLI (every C++ starter, including cnn with the shipped model).
+/// The shipped model, models/default.h5 of the source tree the module was built from.
+std::filesystem::path shipped_model();
+/// Every C++ starter, as the CLI has them (all_warm_starters: methods, cnn with the shipped
+/// model, oracles and controls).
 WarmStarterRegistry cli_registry();
 
 // ---- registration (one file each) -------------------------------------------------

@@ -1,7 +1,7 @@
 // numpy / scipy.sparse conversions of the module (py_common.hpp).
 #include <pybind11/eigen.h>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {

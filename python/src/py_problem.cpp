@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "dc/engine/dat_file.hpp"
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {

@@ -1,7 +1,7 @@
 // Warm starters written in Python (deepcontact.WarmStarter and any duck-typed object), and
 // the C++ registry the module uses.
-#include "cli_common.hpp"
-#include "dc/engine/error.hpp"
+#include "dc/research/research_starters.hpp"
+#include "dc/core/error.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {
@@ -80,6 +80,8 @@ std::unique_ptr<WarmStarter> make_python_warm_starter(pyb::handle obj) {
   return std::make_unique<PythonWarmStarter>(pyb::reinterpret_borrow<pyb::object>(obj));
 }
 
-WarmStarterRegistry cli_registry() { return cli::full_warm_starter_registry(); }
+std::filesystem::path shipped_model() { return std::filesystem::path(DC_SOURCE_DIR) / "models" / "default.h5"; }
+
+WarmStarterRegistry cli_registry() { return all_warm_starters(shipped_model()); }
 
 }  // namespace dc::py

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "py_common.hpp"
 

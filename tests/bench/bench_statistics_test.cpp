@@ -6,9 +6,9 @@
 #include <cmath>
 #include <functional>
 
-#include "bench_statistics.hpp"
-#include "dc/engine/error.hpp"
-#include "dc/engine/rng.hpp"
+#include "dc/bench/bench_statistics.hpp"
+#include "dc/core/error.hpp"
+#include "dc/core/rng.hpp"
 
 namespace dc {
 namespace {

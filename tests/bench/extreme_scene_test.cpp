@@ -2,7 +2,7 @@
 // ratios to 1e6, Δt from 1e-4 to 0.05, a column of 50, 10,000 bodies, radii from 1e-3 to
 // 1e2, μ ∈ {0, 0.5, 10}, exactly touching circles, coincident centres, corners, zero and one
 // body. The scenes and the measuring loop are shared with `deepcontact stress`
-// (bench/stress_scenarios.hpp), which runs heavier versions and tabulates them; the limits
+// (bench/include/dc/bench/stress_scenarios.hpp), which runs heavier versions and tabulates them; the limits
 // measured there are in docs/robustness.md.
 //
 // Invariants and their stated tolerances (the reasoning is in docs/robustness.md):
@@ -27,7 +27,7 @@
 
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "stress_scenarios.hpp"
+#include "dc/bench/stress_scenarios.hpp"
 
 namespace dc {
 namespace {

@@ -5,29 +5,22 @@
 
 #include <cmath>
 
-#include "bench_runner.hpp"
-#include "dc/engine/error.hpp"
+#include "dc/bench/bench_runner.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
-#include "scale_sweep.hpp"
+#include "dc/bench/scale_sweep.hpp"
+#include "bench/bench_fixtures.hpp"
 
 namespace dc {
 namespace {
 
-bench::BenchOptions pile() {
-  bench::BenchOptions o;
-  o.scene.bodies.count = 30;
-  o.scene.bodies.mean = {15.0, 5.0};
-  o.scene.bodies.sigma = 3.0;
-  o.scene.time.steps = 120;
-  o.sweeps = 60;  // low: many steps miss tol within it
-  o.max_sweeps = 2000;
-  o.seeds = {2};
-  o.warmstarts = {"zero", "builtin", "builtin-extrapolate", "builtin-statics"};
-  return o;
-}
+using test::capped_pile;
+using test::get;
+using test::small_pile;
+
 
 TEST(FamiliesBench, HigherCapExtendsOnlyTheUnconvergedSteps) {
-  const auto r = bench::run_bench(pile(), default_warm_starters());
+  const auto r = bench::run_bench(capped_pile(), default_warm_starters());
   int extended = 0;
   for (const auto& rec : r.starters) {
     ASSERT_EQ(rec.sweeps_to_tol_high.size(), rec.sweeps_to_tol.size());
@@ -48,21 +41,6 @@ TEST(FamiliesBench, HigherCapExtendsOnlyTheUnconvergedSteps) {
     EXPECT_TRUE(std::isfinite(s.residual_at_budget)) << s.name;
     EXPECT_TRUE(std::isfinite(s.residual_at_cap)) << s.name;
   }
-}
-
-TEST(FamiliesBench, WarmupStepsAreNotEvaluatedAndNoOracleRefusesOracleStarters) {
-  bench::BenchOptions o = pile();
-  o.max_sweeps = 0;
-  o.warmup_steps = 100;
-  o.oracle = false;
-  const auto r = bench::run_bench(o, default_warm_starters());
-  for (const auto& rec : r.starters) {
-    ASSERT_FALSE(rec.step.empty());
-    EXPECT_GE(rec.step.front(), 100);
-    EXPECT_LE(rec.step.size(), 20u);
-  }
-  o.warmstarts = {"zero", "copy"};
-  EXPECT_THROW(bench::run_bench(o, default_warm_starters()), ConfigError);
 }
 
 TEST(ScaleScene, KeepsAspectRatioAndFillingOrTheWidth) {

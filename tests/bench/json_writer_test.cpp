@@ -1,4 +1,4 @@
-// JsonWriter (bench/json_writer.hpp): escaping, the NaN/Inf policy, round-trip numbers,
+// JsonWriter (bench/include/dc/bench/json_writer.hpp): escaping, the NaN/Inf policy, round-trip numbers,
 // both layouts, and misuse errors.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <limits>
 #include <vector>
 
-#include "dc/engine/error.hpp"
-#include "json_writer.hpp"
+#include "dc/core/error.hpp"
+#include "dc/bench/json_writer.hpp"
 
 namespace dc {
 namespace {

@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "dc/engine/contact_constraints.hpp"
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/narrow_phase.hpp"
+#include "collision/narrow_phase.hpp"
 #include "dc/engine/world.hpp"
-#include "solver_test_problems.hpp"
+#include "engine/solvers/solver_test_problems.hpp"
 
 namespace dc {
 namespace {

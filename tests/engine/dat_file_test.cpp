@@ -6,9 +6,9 @@
 #include <fstream>
 
 #include "dc/engine/dat_file.hpp"
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
-#include "engine/solver_test_problems.hpp"
+#include "engine/solvers/solver_test_problems.hpp"
 
 namespace dc {
 namespace {

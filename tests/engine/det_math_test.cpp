@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "dc/engine/det_math.hpp"
+#include "det_math.hpp"
 #include "dc/engine/lcp_problem.hpp"
-#include "dc/engine/narrow_phase.hpp"
+#include "collision/narrow_phase.hpp"
 #include "dc/engine/shape.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/engine/step_outcome.hpp"

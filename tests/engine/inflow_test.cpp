@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"

@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 
 namespace dc {

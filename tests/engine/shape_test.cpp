@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/shape.hpp"
 #include "dc/engine/shape_collide.hpp"

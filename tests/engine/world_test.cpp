@@ -9,9 +9,9 @@
 #include <set>
 
 #include "dc/engine/broad_phase.hpp"
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/rng.hpp"
+#include "dc/core/rng.hpp"
 #include "dc/engine/world.hpp"
 #include "settled_pile.hpp"
 

@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include "dc/engine/dat_file.hpp"
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "fuzz_common.hpp"
 

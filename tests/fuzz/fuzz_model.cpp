@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/learning/model_file.hpp"
 #include "fuzz_common.hpp"
 

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "fuzz_common.hpp"
 

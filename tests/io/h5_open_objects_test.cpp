@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/io/atomic_file.hpp"
 #include "dc/io/h5.hpp"
 

@@ -9,7 +9,7 @@
 #include <numeric>
 #include <string>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
 
 namespace dc {

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <thread>
 
-#include "dc/engine/rng.hpp"
+#include "dc/core/rng.hpp"
 #include "dc/learning/arch.hpp"
 #include "dc/learning/trainer.hpp"
 #include "grad_check.hpp"

@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "dc/engine/rng.hpp"
+#include "dc/core/rng.hpp"
 #include "dc/learning/tensor.hpp"
 
 namespace dc::test {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "dc/engine/error.hpp"
-#include "dc/engine/rng.hpp"
+#include "dc/core/error.hpp"
+#include "dc/core/rng.hpp"
 #include "dc/learning/labels.hpp"
 
 namespace dc {

@@ -7,15 +7,15 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "dc/engine/error.hpp"
-#include "dc/learning/concat.hpp"
-#include "dc/learning/conv2d.hpp"
-#include "dc/learning/dense.hpp"
-#include "dc/learning/dropout.hpp"
+#include "dc/core/error.hpp"
+#include "dc/learning/layers/concat.hpp"
+#include "dc/learning/layers/conv2d.hpp"
+#include "dc/learning/layers/dense.hpp"
+#include "dc/learning/layers/dropout.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/mse_loss.hpp"
-#include "dc/learning/relu.hpp"
-#include "dc/learning/upsample.hpp"
+#include "dc/learning/layers/relu.hpp"
+#include "dc/learning/layers/upsample.hpp"
 #include "grad_check.hpp"
 
 namespace dc {

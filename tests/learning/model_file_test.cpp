@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/model_file.hpp"
@@ -58,25 +58,6 @@ class ModelFile : public ::testing::Test {
 
   fs::path dir_;
 };
-
-// The default grid is a valid one: the data set's default feature image (61 x 61 on the
-// seed's box, default channels, poly6), absolute labels named lambda_n, lambda_t.
-TEST(ModelGrid, DefaultIsTheDataSetsDefaultImage) {
-  const ModelGrid g;
-  EXPECT_NO_THROW(g.image.validate());
-  const FeatureImageBuilder b(g.image);
-  EXPECT_EQ(g.nx(), b.nx());
-  EXPECT_EQ(g.ny(), b.ny());
-  EXPECT_EQ(g.nx(), 61);
-  EXPECT_EQ(g.image.channels, default_feature_channels());
-  EXPECT_EQ(g.image.sph.kernel, FeatureImageDef::for_box(30, 30).sph.kernel);
-  EXPECT_EQ(g.label_channels, label_channel_names());
-  EXPECT_EQ(g.labels, LabelDef{});
-  const Model m(default_arch(), g, b.feature_channels());
-  EXPECT_EQ(m.grid().nx(), 61);
-  // The channel count must match the network's input.
-  EXPECT_THROW(Model(default_arch(), g, b.feature_channels() + 1), InvalidArgument);
-}
 
 TEST_F(ModelFile, SaveLoadGivesIdenticalOutputs) {
   Model a = make_model();

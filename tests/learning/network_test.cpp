@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/learning/arch.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/mse_loss.hpp"

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/learning/lr_schedule.hpp"
 #include "dc/learning/optimizer.hpp"
 #include "dc/learning/trainer.hpp"

@@ -1,5 +1,5 @@
 """Shared fixtures of the Python module's tests (run by ctest: python.test_*; or by hand:
-PYTHONPATH=build/python DC_CLI=build/bench/deepcontact /usr/bin/python3 -m pytest tests/python)."""
+PYTHONPATH=build/python DC_CLI=build/bin/deepcontact /usr/bin/python3 -m pytest tests/python)."""
 import os
 import pathlib
 import subprocess

@@ -1,4 +1,4 @@
-"""scripts/active-set-study.py (docs/research.md "How complete the active set must be"): its
+"""research/scripts/active-set-study.py (docs/research.md "How complete the active set must be"): its
 mode rule is the C++ one, and on a small pile PGS's active set approaches λ*'s as it sweeps."""
 import importlib.util
 
@@ -8,7 +8,7 @@ from conftest import SOURCE
 
 
 def load_study():
-    spec = importlib.util.spec_from_file_location("active_set_study", SOURCE / "scripts" / "active-set-study.py")
+    spec = importlib.util.spec_from_file_location("active_set_study", SOURCE / "research" / "scripts" / "active-set-study.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod

@@ -1,4 +1,4 @@
-// White-box tests of the private active-set helpers (warmstart/src/active_set_solve.hpp):
+// White-box tests of the private active-set helpers (warmstart/include/dc/warmstart/active_set_solve.hpp):
 // the minimum-norm solve behind copy-active and builtin-active, and the contact modes.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "active_set_solve.hpp"
+#include "dc/warmstart/active_set_solve.hpp"
 
 namespace dc {
 namespace {

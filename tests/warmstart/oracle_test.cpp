@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "dc/engine/error.hpp"
-#include "dc/engine/rng.hpp"
+#include "dc/core/error.hpp"
+#include "dc/core/rng.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

@@ -1,50 +1,21 @@
 // Unit tests of the warm-start layer (DESIGN §4): builtin's key matching (persisting, new and
-// vanished contacts), copy and copy:D, and the registry (unknown names, add()).
+// vanished contacts) and the registry (unknown names, add()).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "warmstart/three_discs.hpp"
 
 namespace dc {
 namespace {
 
-SolverOptions tight() {
-  SolverOptions o;
-  o.max_sweeps = 5000;
-  o.tolerance = 1e-12;
-  return o;
-}
-
-/// Discs of radii 1, 1.5, 1.2: discs 0 and 1 rest on the floor, disc 2 floats far above it.
-World three_discs() {
-  WorldDef d;
-  d.bodies.count = 0;
-  d.world.width = d.world.height = 100.0;
-  d.world.walls = {false, false, true, false};
-  d.world.gravity = {0.5, -9.81};  // a sideways pull: non-zero friction forces
-  const double radii[3] = {1.0, 1.5, 1.2};
-  const double x[3] = {10.0, 20.0, 30.0}, y[3] = {1.0, 1.5, 60.0};
-  for (int k = 0; k < 3; ++k) {
-    BodyDef b;
-    b.position = {x[k], y[k]};
-    b.radius = radii[k];
-    d.body.push_back(b);
-  }
-  return World(d);
-}
-
-/// three_discs() after one tight step, collided and assembled again: the next step's problem.
-World three_discs_next_step() {
-  World w = three_discs();
-  w.step(*make_solver("pgs"), tight());
-  w.collide();
-  w.assemble();
-  return w;
-}
+using test::three_discs;
+using test::tight;
+using test::three_discs_next_step;
 
 TEST(BuiltinWarmStart, PersistingContactsGetTheirLambdaNewOnesZero) {
   World w = three_discs();
@@ -81,43 +52,9 @@ TEST(BuiltinWarmStart, FirstStepIsZero) {
   EXPECT_EQ(builtin->initial_guess(StepView{w}).cwiseAbs().maxCoeff(), 0.0);
 }
 
-TEST(CopyWarmStart, ReturnsTheSharedOracleOrSolvesItAccurately) {
-  const World w = three_discs_next_step();
-  const LcpProblem& p = w.problem();
-  const auto copy = default_warm_starters().make("copy");
-  EXPECT_TRUE(copy->uses_oracle());
-  Eigen::VectorXd shared = Eigen::VectorXd::Constant(p.rows(), 0.125);
-  EXPECT_EQ(copy->initial_guess(StepView{w, &shared}), shared);  // shared oracle used as is
-  EXPECT_EQ(copy->oracle_ms(), 0.0);
-  const Eigen::VectorXd own = copy->initial_guess(StepView{w});
-  EXPECT_LE(natural_residual(p, own), 1e-8);
-}
-
-TEST(CopyWarmStart, DecimalsRoundTheOracle) {
-  const World w = three_discs_next_step();
-  const LcpProblem& p = w.problem();
-  const Eigen::VectorXd star = solve_oracle(p).lambda;
-  for (int d : {0, 1, 3}) {
-    const auto copy = default_warm_starters().make("copy:" + std::to_string(d));
-    EXPECT_EQ(copy->name(), "copy:" + std::to_string(d));
-    const Eigen::VectorXd g = copy->initial_guess(StepView{w, &star});
-    const double scale = std::pow(10.0, d);
-    for (int i = 0; i < p.rows(); ++i) {
-      EXPECT_LE(std::abs(g[i] - star[i]), 0.5 / scale + 1e-12) << "copy:" << d << " row " << i;
-      EXPECT_GE(g[i], p.lower(i, g));
-      EXPECT_LE(g[i], p.upper(i, g));
-      if (!p.is_friction_row(i)) {
-        EXPECT_NEAR(g[i] * scale, std::round(g[i] * scale), 1e-6) << "copy:" << d;
-      }
-    }
-  }
-  for (const char* bad : {"copy:x", "copy:-1", "copy:16", "copy:2.5"})
-    EXPECT_THROW(default_warm_starters().make(bad), ConfigError) << bad;
-}
-
 TEST(WarmStarterRegistry, UnknownNameListsTheValidOnes) {
   const WarmStarterRegistry r = default_warm_starters();
-  for (const char* n : {"zero", "builtin", "copy", "sph", "sph-prev"}) EXPECT_TRUE(r.contains(n)) << n;
+  for (const char* n : {"zero", "builtin", "sph-prev", "gate", "builtin-coarse"}) EXPECT_TRUE(r.contains(n)) << n;
   try {
     (void)r.make("nonesuch:3");
     FAIL() << "no error";

@@ -14,7 +14,7 @@
 // dense S A L, then λ⁰ = project(L x). What the active set does not give is the strict
 // inequalities (λ_n > 0 of touching contacts, |λ_t| < μ λ_n of sticking ones, w ≥ 0 of
 // separating ones): only the projection enforces them.
-#include "active_set_solve.hpp"
+#include "dc/warmstart/active_set_solve.hpp"
 
 #include <Eigen/QR>
 #include <algorithm>
@@ -23,7 +23,7 @@
 #include <utility>
 #include <vector>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "starters.hpp"
 
@@ -174,5 +174,22 @@ Eigen::VectorXd solve_on_active_set_cgls(const World& w, const Eigen::VectorXd& 
   project_feasible(p, out);
   return out;
 }
+
+// builtin-active's active set: a remembered contact keeps the mode of builtin's λ (`base`); a
+// new one sticks when closing (gap ≤ slop + margin) and separates otherwise.
+std::vector<ContactMode> remembered_modes(const World& w, const Eigen::VectorXd& base) {
+  const std::size_t n = w.contacts().size();
+  std::vector<ContactMode> modes(n);
+  const std::vector<int> match = match_contacts_by_key(w.previous_contacts(), w.contacts());
+  const double closing = w.def().contact.slop + w.def().contact.margin;
+  for (std::size_t c = 0; c < n; ++c) {
+    if (match[c] < 0)
+      modes[c] = w.contacts()[c].gap <= closing ? ContactMode::Sticking : ContactMode::Separating;
+    else
+      modes[c] = contact_mode(w.constraints(), static_cast<int>(c), base);
+  }
+  return modes;
+}
+
 
 }  // namespace dc

@@ -30,9 +30,9 @@
 #include <string>
 #include <vector>
 
-#include "active_set_solve.hpp"
+#include "dc/warmstart/active_set_solve.hpp"
 #include "dc/engine/lcp_problem.hpp"
-#include "dc/warmstart/sph_grid.hpp"
+#include "dc/sph/sph_grid.hpp"
 #include "starters.hpp"
 
 namespace dc {

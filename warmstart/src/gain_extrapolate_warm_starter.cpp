@@ -16,7 +16,7 @@
 // does not advance by exactly one between calls (as builtin-extrapolate).
 #include <optional>
 
-#include "dc/warmstart/sph_splat.hpp"
+#include "dc/sph/sph_splat.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 #include "starters.hpp"
 

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc {

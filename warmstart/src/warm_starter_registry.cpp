@@ -1,6 +1,6 @@
 #include <sstream>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc {

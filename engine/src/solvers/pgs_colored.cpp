@@ -19,7 +19,7 @@
 // stores (lanes of absent bodies masked off: nothing is written to a shared dummy, so no
 // false sharing between threads). The first version used hardware gathers/scatters
 // (vgatherdpd/vscatterdpd, 6 + 6 per batch): on Zen 4 the scatters alone made it only 1.35×
-// faster than the scalar lane loop (bench/micro_pgs.cpp). Bodies of one colour are distinct,
+// faster than the scalar lane loop (benchmarks/micro/micro_pgs.cpp). Bodies of one colour are distinct,
 // so the stores of a batch never collide.
 //
 // Lane arithmetic = scalar arithmetic. The scalar kernel (the fallback of builds without
@@ -46,7 +46,7 @@
 #include <omp.h>
 #endif
 
-#include "dc/engine/contact_coloring.hpp"
+#include "lcp/contact_coloring.hpp"
 #include "dc/engine/pgs_colored.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"

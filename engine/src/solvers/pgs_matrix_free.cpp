@@ -59,7 +59,7 @@
 //  order, so the Gauss–Seidel order is exactly the seed's, and each run is a loop over
 //  contiguous structs.
 //
-// Tried and rejected (measured with bench/micro_pgs): carrying body a of consecutive
+// Tried and rejected (measured with benchmarks/micro/micro_pgs.cpp): carrying body a of consecutive
 // contacts in registers (select loaded-or-carried by bit masks) made every contact depend
 // on the previous one through the select — it serialised independent contacts and was
 // 50–60 % slower; computing the tangent residual as r_t⁰ + (A_tn/A_tt)·δ_n to take the

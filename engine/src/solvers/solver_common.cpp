@@ -3,7 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc::solvers {
 

@@ -2,7 +2,7 @@
 #include <charconv>
 #include <string>
 
-#include "dc/engine/error.hpp"
+#include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/pgs_colored.hpp"
 #include "solvers/solvers.hpp"

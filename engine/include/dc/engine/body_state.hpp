@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "dc/engine/shape.hpp"
-#include "dc/engine/vec2.hpp"
+#include "dc/core/vec2.hpp"
 
 namespace dc {
 

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "dc/engine/vec2.hpp"
+#include "dc/core/vec2.hpp"
 
 namespace dc {
 

@@ -24,7 +24,7 @@
 #include <cstdint>
 
 #include "dc/engine/shape.hpp"
-#include "dc/engine/vec2.hpp"
+#include "dc/core/vec2.hpp"
 
 namespace dc {
 

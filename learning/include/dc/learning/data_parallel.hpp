@@ -1,6 +1,6 @@
 #pragma once
 // Data-parallel SGD across processes (issue 14): the Trainer's hook for summing minibatch
-// gradients over processes, without any MPI here (bench/mpi_train.cpp implements it with
+// gradients over processes, without any MPI here (apps/deepcontact/cluster/mpi_train.cpp implements it with
 // MPI_Allreduce).
 //
 // With a group of K > 1 processes, every process holds the whole data set, the same

@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "dc/learning/feature_image.hpp"
+#include "dc/learning/feature_channels.hpp"
 #include "dc/learning/tensor.hpp"
 
 namespace dc {

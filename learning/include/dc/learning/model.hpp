@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "dc/learning/channel_stats.hpp"
-#include "dc/learning/feature_image.hpp"
+#include "dc/learning/feature_channels.hpp"
 #include "dc/learning/labels.hpp"
 #include "dc/learning/network.hpp"
 

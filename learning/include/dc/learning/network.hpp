@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "dc/learning/arch.hpp"
-#include "dc/learning/layer.hpp"
+#include "dc/learning/layers/layer.hpp"
 
 namespace dc {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "dc/learning/layer.hpp"
+#include "dc/learning/layers/layer.hpp"
 
 namespace dc {
 

@@ -13,18 +13,33 @@
 //             remainder's additive read-back): the bound of a multiplicative grid correction,
 //             which leaves the per-contact detail to λ_prev (sph_gain_warm_starter.cpp); oracles.
 // Options: `sph:KERNEL:D:H[:NORMALISATION]`, e.g. `sph:spiky:0.25:0.25`, `sph:poly6:0.5:0.5:legacy`.
+#include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
-#include "dc/warmstart/sph_transfer.hpp"
+#include "dc/sph/sph_setting.hpp"
+#include "dc/sph/sph_transfer.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc {
 
-/// The setting the bench's `sph` uses by default (chosen by `deepcontact sph-study`).
-SphTransferDef default_sph_setting(double width, double height);
+/// The SPH transfer of a grid-based starter, kept on the scene's box: the grid covers the
+/// world's box, so the transfer is rebuilt from `def` (box replaced) whenever the box changes.
+class SceneSphTransfer {
+ public:
+  explicit SceneSphTransfer(SphTransferDef def) : def_(std::move(def)) {}
+  /// The transfer on w's box [0, W] × [0, H].
+  SphTransfer& on_box_of(const World& w);
 
-/// Parses "KERNEL:D:H[:NORMALISATION]" onto `def` (empty text leaves it unchanged).
-void parse_sph_setting(const std::string& text, SphTransferDef& def);
+ private:
+  SphTransferDef def_;
+  std::optional<SphTransfer> transfer_;
+};
+
+/// Per-contact (λ_n, λ_t) pairs → the problem's rows, projected into the bounds (a grid
+/// read-back is a valid PGS start whatever it returns).
+Eigen::VectorXd contact_values_to_rows(const World& w, std::span<const double> per_contact);
 
 /// Channels (λ_n, λ_t) of the contacts of `world` at their points, particle-major.
 void contact_lambda_channels(const std::vector<Contact>& contacts, std::vector<Vec2>& points,

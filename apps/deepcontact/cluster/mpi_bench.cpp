@@ -1,0 +1,149 @@
+// run_bench_across_ranks (mpi_bench.hpp).
+#include "cluster/mpi_bench.hpp"
+
+#include <chrono>
+
+#include "cluster/byte_buffer.hpp"
+#include "cluster/comm.hpp"
+
+namespace dc::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Every per-step field of the results, in one fixed order (pack and unpack share it).
+template <class Io>
+void per_step_fields(const Io& io, bench::BenchResults& r) {
+  io(r.step_seed);
+  io(r.step_index);
+  io(r.step_rows);
+  io(r.oracle_ms);
+  io(r.oracle_residual);
+  io(r.skipped_steps);
+  io(r.collide_ms);
+  io(r.assemble_ms);
+  io(r.integrate_ms);
+  std::uint64_t n = r.starters.size();
+  io(n);
+  r.starters.resize(static_cast<std::size_t>(n));
+  for (bench::StarterRecord& s : r.starters) {
+    io(s.name);
+    io(s.uses_oracle);
+    io(s.seed);
+    io(s.step);
+    io(s.rows);
+    io(s.sweeps_to_tol);
+    io(s.sweeps_to_tol_high);
+    io(s.warmstart_ms);
+    io(s.oracle_ms);
+    io(s.solve_ms);
+    io(s.sweep_ns_per_row);
+    io(s.initial_error);
+    io(s.theta);
+    io(s.residual);
+    io(s.lambda_error);
+    io(s.penetration);
+    io(s.energy_error);
+  }
+}
+
+Bytes pack(bench::BenchResults& r) {
+  ByteWriter w;
+  per_step_fields([&](auto& v) { w.put(v); }, r);
+  return w.take();
+}
+
+bench::BenchResults unpack(const Bytes& b) {
+  bench::BenchResults r;
+  ByteReader in(b);
+  per_step_fields([&](auto& v) { in.get(v); }, r);
+  if (!in.done()) throw IoError("bench: MPI message: trailing bytes");
+  return r;
+}
+
+template <class T>
+void append(std::vector<T>& to, const std::vector<T>& from) {
+  to.insert(to.end(), from.begin(), from.end());
+}
+
+void append(bench::BenchResults& to, const bench::BenchResults& from) {
+  append(to.step_seed, from.step_seed);
+  append(to.step_index, from.step_index);
+  append(to.step_rows, from.step_rows);
+  append(to.oracle_ms, from.oracle_ms);
+  append(to.oracle_residual, from.oracle_residual);
+  to.skipped_steps += from.skipped_steps;
+  append(to.collide_ms, from.collide_ms);
+  append(to.assemble_ms, from.assemble_ms);
+  append(to.integrate_ms, from.integrate_ms);
+  if (from.starters.size() != to.starters.size()) throw IoError("bench: ranks report different starter lists");
+  for (std::size_t i = 0; i < to.starters.size(); ++i) {
+    bench::StarterRecord& t = to.starters[i];
+    const bench::StarterRecord& f = from.starters[i];
+    append(t.seed, f.seed);
+    append(t.step, f.step);
+    append(t.rows, f.rows);
+    append(t.sweeps_to_tol, f.sweeps_to_tol);
+    append(t.sweeps_to_tol_high, f.sweeps_to_tol_high);
+    append(t.warmstart_ms, f.warmstart_ms);
+    append(t.oracle_ms, f.oracle_ms);
+    append(t.solve_ms, f.solve_ms);
+    append(t.sweep_ns_per_row, f.sweep_ns_per_row);
+    append(t.initial_error, f.initial_error);
+    append(t.theta, f.theta);
+    append(t.residual, f.residual);
+    append(t.lambda_error, f.lambda_error);
+    append(t.penetration, f.penetration);
+    append(t.energy_error, f.energy_error);
+  }
+}
+
+}  // namespace
+
+bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& o, const WarmStarterRegistry& registry,
+                                           const bench::ProgressFn& progress, DistributedBenchTimes* times) {
+  const Comm& comm = world();
+  if (!comm.parallel()) {
+    const auto t0 = Clock::now();
+    bench::BenchResults r = bench::run_bench(o, registry, progress);
+    if (times) times->run_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return r;
+  }
+  const auto t0 = Clock::now();
+  const auto [begin, end] = block_of(o.seeds.size(), comm.rank(), comm.size());
+  bench::BenchOptions mine = o;
+  mine.seeds.assign(o.seeds.begin() + static_cast<std::ptrdiff_t>(begin), o.seeds.begin() + static_cast<std::ptrdiff_t>(end));
+  bench::BenchResults local;
+  if (!mine.seeds.empty()) {
+    local = bench::run_bench(mine, registry, comm.is_root() ? progress : bench::ProgressFn());
+  } else {
+    // More ranks than seeds: validate the options as the others do (same errors everywhere),
+    // contribute nothing.
+    mine.seeds = {o.seeds.front()};
+    mine.scene.time.steps = 0;
+    local = bench::run_bench(mine, registry);
+  }
+  const auto t1 = Clock::now();
+  comm.barrier();  // wait for the slowest rank without a busy loop, then gather
+  const std::vector<Bytes> all = comm.gather(pack(local));
+  if (!comm.is_root()) return local;
+  bench::BenchResults merged = unpack(all[0]);
+  for (std::size_t r = 1; r < all.size(); ++r) append(merged, unpack(all[r]));
+  // The options as run_bench resolved them (e.g. the default --budget), with every rank's seeds.
+  merged.options = local.options;
+  merged.options.seeds = o.seeds;
+  merged.options.scene = o.scene;
+  merged.budgets = local.budgets;
+  // The report's reference frame is the first seed's, which rank 0's block holds.
+  merged.reference = local.reference;
+  merged.reference_scene = local.reference_scene;
+  const auto t2 = Clock::now();
+  merged.wall_seconds = std::chrono::duration<double>(t2 - t0).count();
+  if (times) {
+    times->run_seconds = std::chrono::duration<double>(t1 - t0).count();
+    times->gather_seconds = std::chrono::duration<double>(t2 - t1).count();
+  }
+  return merged;
+}
+
+}  // namespace dc::cli

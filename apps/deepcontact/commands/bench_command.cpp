@@ -1,0 +1,179 @@
+// deepcontact bench: compare warm starters on the same scenes (issue 3, DESIGN §6).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "dc/bench/list_options.hpp"
+#include "dc/research/research_starters.hpp"
+#include "dc/bench/bench_report.hpp"
+#include "dc/bench/bench_runner.hpp"
+#include "commands/cli_common.hpp"
+#include "cluster/comm.hpp"
+#include "commands/commands.hpp"
+#include "cluster/mpi_bench.hpp"
+#include "dc/core/error.hpp"
+#include "dc/bench/progress_bar.hpp"
+#include "dc/bench/scale_sweep.hpp"
+#include <filesystem>
+
+namespace dc::cli {
+namespace {
+
+struct BenchArgs {
+  SceneArgs scene;
+  std::string warmstarts;
+  std::string seeds = "1..8";  // enough for zero vs builtin and cnn to separate, ~9 min idle (docs/bench.md)
+  int sweeps = 0;
+  double tol = 1e-2;
+  std::string mode = "paired";
+  std::string out;
+  std::string solver = "pgs";
+  std::string model;
+  int steps = 0;
+  bool quick = false;
+  bool list = false;
+  int max_sweeps = 0;
+  int budget = 0;
+  int warmup_steps = 0;
+  bool no_oracle = false;
+  std::string scale;
+  std::string scale_axis = "both";
+  int scale_oracle_max = 600;
+};
+
+void run(const BenchArgs& a) {
+  WarmStarterRegistry registry = all_warm_starters(shipped_model());
+  if (a.list) {
+    std::printf("%s", registry.help().c_str());
+    return;
+  }
+  bench::BenchOptions o;
+  o.scene = a.scene.load();
+  // A family's own evaluation seeds ([family] seeds) apply when --seeds is not given.
+  const bool default_seeds = a.seeds == "1..8";
+  o.seeds = bench::parse_seed_range(a.quick && default_seeds ? "1"
+                             : default_seeds && !o.scene.family.seeds.empty() ? o.scene.family.seeds
+                                                                              : a.seeds);
+  o.family = !o.scene.family.name.empty() ? o.scene.family.name
+             : a.scene.file.empty()        ? "seed"
+                                           : std::filesystem::path(a.scene.file).stem().string();
+  o.max_sweeps = a.max_sweeps;
+  o.budget = a.budget;
+  o.warmup_steps = a.warmup_steps;
+  o.oracle = !a.no_oracle;
+  if (a.steps > 0) o.scene.time.steps = a.steps;
+  o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
+  o.tolerance = a.tol;
+  o.solver = a.solver;
+  o.env.model_path = a.model;
+  if (a.mode == "paired") o.mode = bench::Mode::Paired;
+  else if (a.mode == "rollout") o.mode = bench::Mode::Rollout;
+  else throw ConfigError("--mode must be 'paired' or 'rollout', got '" + a.mode + "'");
+  o.warmstarts = a.warmstarts.empty() ? default_bench_starters(shipped_model(), a.quick) : bench::split_list(a.warmstarts);
+  if (!o.oracle) {  // the default list without the oracle starters
+    std::vector<std::string> kept;
+    for (const auto& n : o.warmstarts)
+      if (!registry.make(n, o.env)->uses_oracle() || !a.warmstarts.empty()) kept.push_back(n);
+    o.warmstarts = kept;
+  }
+  if (!a.scale.empty()) {
+    std::vector<int> counts;
+    for (const auto& item : bench::split_list(a.scale)) {
+      std::size_t used = 0;
+      int v = 0;
+      try { v = std::stoi(item, &used); } catch (const std::exception&) { used = 0; }
+      if (used != item.size() || v < 1) throw ConfigError("--scale '" + a.scale + "': expected body counts N1,N2,… >= 1");
+      counts.push_back(v);
+    }
+    bench::ScaleAxis axis = bench::ScaleAxis::Both;
+    if (a.scale_axis == "height") axis = bench::ScaleAxis::Height;
+    else if (a.scale_axis != "both") throw ConfigError("--scale-axis must be 'both' or 'height', got '" + a.scale_axis + "'");
+    std::unique_ptr<bench::ProgressBar> sbar;
+    const auto points = bench::run_scale_sweep(o, counts, axis, o.oracle ? a.scale_oracle_max + 1 : 1, registry,
+                                               [&](long done, long total, const std::string& note) {
+                                                 if (done == 1 || !sbar) {  // a new size: a new bar
+                                                   if (sbar) sbar->finish();
+                                                   sbar = std::make_unique<bench::ProgressBar>("scale", total);
+                                                 }
+                                                 sbar->advance(1, note);
+                                               });
+    if (sbar) sbar->finish();
+    std::printf("%s", bench::format_scale_table(points, false).c_str());
+    if (!a.out.empty()) {
+      const auto files = bench::write_scale_report(points, axis, a.out);
+      std::printf("report: %s/scale.md (%zu files)\n", a.out.c_str(), files.size());
+    }
+    return;
+  }
+
+  std::unique_ptr<bench::ProgressBar> bar;
+  // Across MPI ranks each runs a block of the seeds and rank 0 reports (mpi_bench.hpp).
+  DistributedBenchTimes times;
+  const bench::BenchResults r = run_bench_across_ranks(o, registry, [&](long done, long total, const std::string& note) {
+    if (!bar) bar = std::make_unique<bench::ProgressBar>("bench", total);
+    bar->advance(1, note);
+    (void)done;
+  }, &times);
+  if (bar) bar->finish();
+  if (!world().is_root()) return;
+  if (world().parallel())
+    std::printf("bench: %d ranks; rank 0 ran its seeds in %.2f s, then waited for, gathered and merged the others' "
+                "in %.2f s\n", world().size(), times.run_seconds, times.gather_seconds);
+  const auto summary = bench::summarise(r);
+  std::printf("%s", bench::format_table(r, summary, false).c_str());
+  std::printf("(%zu evaluated steps, %d without contacts skipped; medians over steps; * = oracle starter; %.1f s)\n",
+              r.starters.empty() ? 0 : r.starters[0].sweeps_to_tol.size(), r.skipped_steps, r.wall_seconds);
+  if (!a.out.empty()) {
+    const auto tw = std::chrono::steady_clock::now();
+    const auto files = bench::write_report(r, a.out);
+    std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files.size(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - tw).count());
+  }
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app) {
+  auto args = std::make_shared<BenchArgs>();
+  auto* cmd = app.add_subcommand("bench", "Compare warm starters on the same scenes and write a report");
+  args->scene.add_options(*cmd);
+  cmd->add_option("--warmstarts", args->warmstarts,
+                  "Comma-separated starters, e.g. zero,builtin,copy:2,sph (default: every available one; --list)");
+  cmd->add_option("--seeds", args->seeds, "Scene seeds: A..B, or A,B,C (evaluation seeds)")->capture_default_str();
+  cmd->add_option("--sweeps", args->sweeps, "PGS sweeps per step (default: the scene's [solver] sweeps, 3000)");
+  cmd->add_option("--tol", args->tol, "Convergence threshold on theta [N] (1e-2 N = 1e-4 N*s at dt = 0.01)")
+      ->capture_default_str();
+  cmd->add_option("--mode", args->mode, "paired (identical LCPs for every starter) or rollout (own trajectories)")
+      ->capture_default_str();
+  cmd->add_option("--out", args->out, "Write summary.json, results.h5, plots and report.md into this directory");
+  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-colored, pgs-assembled, psor, jacobi)")
+      ->capture_default_str();
+  cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
+  cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
+  cmd->add_flag("--quick", args->quick, "A short run: one seed, starters zero, builtin, copy, sph (and cnn): under a minute");
+  cmd->add_flag("--list", args->list, "List the available warm starters and exit");
+  cmd->add_option("--max-sweeps", args->max_sweeps,
+                  "Higher cap: steps not at tol within --sweeps continue up to this many sweeps (sweeps to tol "
+                  "reported apart; 0 = off)");
+  cmd->add_option("--budget", args->budget, "Fixed sweep budget of the resid@B column (default min(100, sweeps))");
+  cmd->add_option("--warmup-steps", args->warmup_steps,
+                  "Steps advanced first with builtin + PGS to tol and not evaluated (let a pile settle)");
+  cmd->add_flag("--no-oracle", args->no_oracle,
+                "Skip the tight oracle (large scenes): the reference is builtin + PGS to tol/100; oracle starters "
+                "are dropped");
+  cmd->add_option("--scale", args->scale,
+                  "Size sweep: run the scene at these body counts N1,N2,... keeping its shape (writes scale.md/.csv/.png "
+                  "with --out)");
+  cmd->add_option("--scale-axis", args->scale_axis,
+                  "both (keep the aspect ratio: sides x sqrt(N/N0)) or height (keep the width: a deeper pile)")
+      ->capture_default_str();
+  cmd->add_option("--scale-oracle-max", args->scale_oracle_max,
+                  "Size sweep: skip the oracle (as --no-oracle) above this many bodies")
+      ->capture_default_str();
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace dc::cli

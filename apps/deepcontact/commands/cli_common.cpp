@@ -1,0 +1,28 @@
+#include "commands/cli_common.hpp"
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <sstream>
+
+#include "dc/core/error.hpp"
+#include "dc/engine/scene.hpp"
+
+namespace dc::cli {
+
+void SceneArgs::add_options(CLI::App& cmd) {
+  cmd.add_option("--scene", file, "Scene file (TOML, docs/scenes.md); default: the seed scene");
+  cmd.add_option("--set", sets, "Override a scene key: section.key=value (repeatable), e.g. --set time.dt=0.005");
+}
+
+WorldDef SceneArgs::load() const {
+  WorldDef d = file.empty() ? WorldDef{} : load_scene(file);
+  for (const auto& s : sets) apply_override(d, s);
+  d.validate();
+  return d;
+}
+
+/// The shipped model (docs/learning.md "Default model"), found through the source tree the
+/// executable was built from.
+std::filesystem::path shipped_model() { return std::filesystem::path(DC_SOURCE_DIR) / "models" / "default.h5"; }
+
+}  // namespace dc::cli

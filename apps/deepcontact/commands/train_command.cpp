@@ -1,0 +1,290 @@
+// deepcontact train: fit the CNN (dc_learning) to a data set written by `deepcontact generate`
+// (issue 4; docs/learning.md "Training").
+//
+//   data set ──(every K-th sample of each simulation)──▶ samples ──split by simulation──▶
+//   train / validation ──▶ Trainer (SGD, standardisation from the training split) ──▶
+//   OUT (best validation loss so far), OUT.ckpt (latest state), OUT.loss.csv, OUT.loss.png
+//
+// Crash safety: after every epoch the best model is written to OUT and the latest state
+// (weights + random stream + momentum + history) to OUT.ckpt, both atomically (write
+// .tmp, rename), so a kill at any moment leaves the last finished epoch on disk. `--resume`
+// reloads OUT.ckpt, checks that it belongs to the same data and options, and continues
+// with the next epoch; with the same --threads the result is bit-identical to an
+// uninterrupted run. SIGINT sets a flag (the handler does nothing else) that the trainer
+// polls between minibatches; the unfinished epoch is dropped and the command exits 130.
+//
+// The domain lives in dc_learning: the samples and their targets (training_data.hpp, with
+// the label definition of labels.hpp, the inverse of the cnn starter's read-back), the
+// checkpoint format and run identity (train_checkpoint.hpp); this command parses options,
+// drives the Trainer and prints.
+#include <CLI/CLI.hpp>
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "cluster/comm.hpp"
+#include "commands/commands.hpp"
+#include "cluster/mpi_train.hpp"
+#include "cluster/sigint_guard.hpp"
+#include "dc/core/error.hpp"
+#include "dc/io/h5.hpp"
+#include "dc/learning/arch.hpp"
+#include "dc/cnn/data_set.hpp"
+#include "dc/learning/model_file.hpp"
+#include "dc/cnn/train_checkpoint.hpp"
+#include "dc/learning/trainer.hpp"
+#include "dc/cnn/training_data.hpp"
+#include "dc/sph/sph_kernel.hpp"
+#include "dc/bench/progress_bar.hpp"
+#include "commands/train_through_pgs.hpp"
+
+namespace dc::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+
+struct TrainArgs {
+  std::string data;
+  std::string out;
+  std::string arch;  // "" / "default" = default_arch(); "seed-dense"; or a TOML file
+  int epochs = 30;
+  int batch = TrainDef{}.batch_size;
+  double lr = TrainDef{}.learning_rate;
+  double momentum = TrainDef{}.momentum;
+  double weight_decay = TrainDef{}.weight_decay;
+  double val = TrainDef{}.validation_fraction;
+  double dropout = 0.1;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  int every = 1;
+  int first_step = 0;  // TrainingSampleDef::first_step
+  std::string schedule = TrainDef{}.schedule;
+  double contact_weight = 0.0;
+  bool residual = false;     // train on λ* − λ_prev (LabelKind::Residual, labels.hpp)
+  double label_scale = 0.0;  // asinh compression of the labels (LabelDef::scale)
+  double deadzone = 0.0;     // LabelDef::deadzone [N] (residual models)
+  bool resume = false;
+  bool force = false;
+  bool no_plot = false;
+  PgsTrainOptions pgs;  // --loss pgs-* (train_through_pgs.hpp)
+};
+
+/// The sample selection and label definition the options ask for.
+TrainingSampleDef sample_def(const TrainArgs& a) {
+  TrainingSampleDef d;
+  d.every = a.every;
+  d.first_step = a.first_step;
+  d.contact_weight = a.contact_weight;
+  d.labels.kind = a.residual ? LabelKind::Residual : LabelKind::Absolute;
+  d.labels.scale = a.label_scale;
+  d.labels.deadzone = a.deadzone;
+  return d;
+}
+
+void run(const TrainArgs& a) {
+  if (a.data.empty()) throw ConfigError("--data is required");
+  if (a.out.empty()) throw ConfigError("--out is required");
+  if (a.pgs.gain && a.pgs.loss == "regression")
+    throw ConfigError("--gain needs --loss pgs-residual, pgs-distance or pgs-field (a gain model has no label grid to regress on)");
+  if (a.pgs.loss != "regression") {
+    run_train_through_pgs(a.pgs, {a.data, a.out, a.epochs, a.batch, a.threads, a.every, a.first_step, a.lr, a.momentum,
+                                  a.weight_decay, a.val, a.deadzone, a.seed, a.force});
+    return;
+  }
+  if (a.threads < 0) throw ConfigError("--threads must be >= 1");
+  const TrainingSampleDef samples_def = sample_def(a);
+  samples_def.validate();
+  if (!(a.dropout >= 0 && a.dropout < 1)) throw ConfigError("--dropout must be in [0, 1)");
+  const fs::path out = a.out, ckpt = a.out + ".ckpt";
+  if (a.resume && !fs::exists(ckpt))
+    throw ConfigError("--resume: " + ckpt.string() + " does not exist (nothing to resume; run without --resume)");
+  if (!a.resume && fs::exists(out) && !a.force) throw ConfigError(a.out + " exists; use --force to replace it");
+  if (!fs::exists(a.data)) throw IoError(a.data + ": no such file");
+
+  TrainDef def;
+  def.epochs = a.epochs;
+  def.batch_size = a.batch;
+  def.learning_rate = a.lr;
+  def.momentum = a.momentum;
+  def.weight_decay = a.weight_decay;
+  def.validation_fraction = a.val;
+  def.schedule = a.schedule;
+  def.seed = a.seed;
+  try {
+    def.validate();
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string(e.what()) + " (see deepcontact train --help)");
+  }
+  // Across MPI ranks (mpi_train.hpp): every rank trains on a shard of every batch; rank 0
+  // alone writes and prints.
+  const Comm& comm = world();
+  const bool root = comm.is_root();
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+  const int threads = a.threads > 0 ? a.threads : omp_get_max_threads();
+
+  const auto t_load = std::chrono::steady_clock::now();
+  const DataSetReader reader(a.data);
+  const std::vector<TrainingSample> samples = load_training_samples(reader, samples_def);
+  const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+
+  // The model carries the data set's feature image and label definition, so the cnn starter
+  // builds the same feature image and inverts the same labels.
+  const ModelGrid grid = model_grid_for(reader, samples_def.labels);
+  const ArchSpec arch = select_arch(a.arch, reader.label_channels(), reader.ny(), reader.nx(), a.dropout);
+  const RunIdentity id = training_run_identity(reader, arch.to_toml(), def, samples_def);
+
+  std::unique_ptr<Model> model;
+  std::optional<TrainState> resume;
+  if (a.resume) {
+    Model loaded = load_model(ckpt);  // other version / truncated → IoError
+    check_resumable(loaded, grid, arch, ckpt.string(), a.data);
+    resume = read_train_state(H5File::open_read(ckpt.string()), id);
+    model = std::make_unique<Model>(std::move(loaded));
+  } else {
+    model = std::make_unique<Model>(arch, grid, reader.feature_channels());
+    std::error_code ec;
+    if (root) fs::remove(ckpt, ec);  // a stale checkpoint of another run must not be resumed later
+  }
+
+  // --dropout only shapes the built-in architectures; an arch file states its own.
+  const bool builtin_arch = is_builtin_arch(a.arch);
+  char dropout_buf[32];
+  std::snprintf(dropout_buf, sizeof dropout_buf, "%g", a.dropout);
+  const std::string dropout_text = builtin_arch ? dropout_buf : "as in the arch file";
+  if (root)
+  std::printf("train: %zu samples (every %d of %lld) from %zu simulations of %s, %d x %d grid, %d feature channels; "
+              "%zu weights (%s), %d epochs, batch %d, lr %g (%s), momentum %g, weight decay %g, dropout %s, "
+              "contact weight %g, %s labels (asinh scale %g), %d thread%s; loaded in %.1f s\n",
+              samples.size(), a.every, static_cast<long long>(reader.samples()), reader.simulations().size(),
+              a.data.c_str(), grid.nx(), grid.ny(), reader.feature_channels(), model->network().parameter_count(),
+              arch.name.c_str(), a.epochs, a.batch, a.lr, a.schedule.c_str(), a.momentum, a.weight_decay,
+              dropout_text.c_str(), a.contact_weight, to_string(grid.labels.kind), a.label_scale, threads,
+              threads == 1 ? "" : "s", load_s);
+  if (root && resume) std::printf("train: resuming after epoch %d from %s\n", resume->epochs_done, ckpt.string().c_str());
+  if (root && comm.parallel())
+    std::printf("train: data-parallel over %d ranks (each a shard of every batch of %d)\n", comm.size(), a.batch);
+  std::fflush(stdout);
+
+  const SigintGuard sigint;
+  Trainer trainer(def);
+  const CommGroup group(comm);
+  trainer.set_data_parallel(&group);
+  if (!root) {  // train in step with rank 0 (same weights, same stop decisions), write nothing
+    const auto on_epoch = [&](const EpochReport&, const TrainState&) { return !any_rank(comm, interrupted()); };
+    (void)trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return !interrupted(); });
+    require_identical_weights(comm, *model);
+    return;
+  }
+  // OUT (best so far; a resumed run's OUT already holds it), OUT.ckpt, OUT.loss.csv.
+  TrainingOutputs files(out, id, a.data, resume ? &*resume : nullptr);
+
+  bench::ProgressBar bar("train", a.epochs);
+  if (resume) bar.advance(resume->epochs_done);
+  const auto on_epoch = [&](const EpochReport& e, const TrainState& st) {
+    const bool improved = files.record_epoch(*model, e, st);
+    char line[256];
+    std::snprintf(line, sizeof line, "epoch %3d/%d  train %.6f  val %.6f  lr %.3g  %.1f s%s", e.epoch + 1, a.epochs,
+                  e.train_loss, e.validation_loss, e.learning_rate, e.seconds, improved ? "  *best" : "");
+    bar.advance(1, line);
+    std::printf("%s\n", line);
+    std::fflush(stdout);
+    return !any_rank(comm, interrupted());
+  };
+  const TrainResult result =
+      trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return !interrupted(); });
+  bar.finish();
+  require_identical_weights(comm, *model);
+
+  const int done = static_cast<int>(result.history.size());
+  if (done < a.epochs) {
+    std::fprintf(stderr,
+                 "deepcontact: interrupted: %d of %d epochs are saved in %s (best model in %s); run the same "
+                 "command with --resume to continue\n",
+                 done, a.epochs, ckpt.string().c_str(), a.out.c_str());
+    exit_status() = 130;
+    return;
+  }
+  files.finish(result.history);
+  if (!a.no_plot) {
+    const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/loss_curve.py";
+    const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    const std::string cmd = py + " '" + script + "' '" + a.out + ".loss.csv' '" + a.out + ".loss.png' >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0 || !fs::exists(a.out + ".loss.png"))
+      std::fprintf(stderr, "deepcontact train: warning: the loss-curve plot failed (%s)\n", cmd.c_str());
+  }
+
+  if (files.best_epoch() < 0) throw ConfigError("training diverged (loss is not finite); try a smaller --lr");
+  // Report the best model in plain (unweighted) standardised MSE, the unit of the theses'
+  // 0.005–0.006, whatever --contact-weight was.
+  Model best_model = load_model(out);
+  const double tr = standardised_mse(best_model, samples, result.validation_simulations, false);
+  const double va = standardised_mse(best_model, samples, result.validation_simulations, true);
+  double total_s = 0;
+  for (const EpochReport& e : result.history) total_s += e.seconds;
+  files.remove_checkpoint();  // finished: nothing left to resume
+  std::printf("train: best epoch %d of %d (%s loss %.6f); plain standardised MSE of the best model: train %.6f, "
+              "validation %.6f (%zu validation simulations); %.1f s of training -> %s (%s.loss.csv, %s.loss.png)\n",
+              files.best_epoch() + 1, a.epochs, std::isnan(result.history.back().validation_loss) ? "train" : "validation",
+              files.best_score(),
+              tr, va, result.validation_simulations.size(), total_s, a.out.c_str(), a.out.c_str(), a.out.c_str());
+}
+
+}  // namespace
+
+void add_train_command(CLI::App& app) {
+  auto args = std::make_shared<TrainArgs>();
+  auto* cmd = app.add_subcommand(
+      "train", "Train the CNN on a data set from 'deepcontact generate' (docs/learning.md 'Training'): best model "
+               "to OUT, checkpoint to OUT.ckpt, losses to OUT.loss.csv/.png");
+  cmd->add_option("--data", args->data, "Data set (HDF5) written by deepcontact generate")->required();
+  cmd->add_option("--out", args->out, "Model file to write (the best validation epoch)")->required();
+  cmd->add_option("--arch", args->arch,
+                  "Architecture: default (the small U-Net), seed-dense (the seed's 61 M-weight dense head) or a "
+                  "TOML file (docs/learning.md)")
+      ->capture_default_str();
+  cmd->add_option("--epochs", args->epochs, "Epochs")->capture_default_str();
+  cmd->add_option("--batch", args->batch, "Minibatch size (the seed used 200)")->capture_default_str();
+  cmd->add_option("--lr", args->lr, "SGD learning rate")->capture_default_str();
+  cmd->add_option("--momentum", args->momentum, "SGD momentum in [0, 1)")->capture_default_str();
+  cmd->add_option("--weight-decay", args->weight_decay, "L2 weight decay (weights, not biases)")->capture_default_str();
+  cmd->add_option("--val", args->val, "Validation fraction of the SIMULATIONS (not of the frames)")->capture_default_str();
+  cmd->add_option("--dropout", args->dropout, "Dropout rate of the default/seed-dense architectures")
+      ->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Seed of the split, initial weights, shuffles and dropout")->capture_default_str();
+  cmd->add_option("--threads", args->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)");
+  cmd->add_option("--every", args->every,
+                  "Use every K-th sample of each simulation (consecutive steps are nearly identical)")
+      ->capture_default_str();
+  cmd->add_option("--first-step", args->first_step,
+                  "Use only samples of steps >= K of each simulation (a family's bench window, e.g. 195 for impact)")
+      ->capture_default_str();
+  cmd->add_option("--schedule", args->schedule, "Learning-rate schedule: constant, step or cosine")->capture_default_str();
+  cmd->add_option("--contact-weight", args->contact_weight,
+                  "Loss weight 1 + W at nodes with contact density > 0 (needs the contact_density channel)")
+      ->capture_default_str();
+  cmd->add_flag("--residual", args->residual,
+               "Learn the correction lambda* - lambda_prev of the builtin warm start (needs the lambda_prev_n, "
+               "lambda_prev_t feature channels; docs/learning.md)");
+  cmd->add_option("--label-scale", args->label_scale,
+                  "Learn asinh(label / S) instead of the label (0 = off): small forces keep their precision next "
+                  "to impacts; the model stores S and inverts it")
+      ->capture_default_str();
+  cmd->add_option("--deadzone", args->deadzone,
+                  "Residual models: soft threshold [N] on the predicted correction (stored in the model; "
+                  "corrections within the network's noise leave builtin alone)")
+      ->capture_default_str();
+  cmd->add_flag("--resume", args->resume, "Continue an interrupted run from OUT.ckpt (same data and options)");
+  cmd->add_flag("--force", args->force, "Replace an existing OUT");
+  cmd->add_flag("--no-plot", args->no_plot, "Skip the loss-curve PNG");
+  add_pgs_train_options(cmd, args->pgs);
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace dc::cli

@@ -1,0 +1,54 @@
+// deepcontact: the command-line front end. Thin subcommands over dc_engine, dc_warmstart
+// and dc_learning; see `deepcontact --help` and docs/cli.md.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "cluster/comm.hpp"
+#include "commands/commands.hpp"
+#include "dc/core/error.hpp"
+
+namespace dc::cli {
+int& exit_status() {
+  static int status = 0;  // only main() and the one running subcommand touch it
+  return status;
+}
+}  // namespace dc::cli
+
+int main(int argc, char** argv) {
+  const dc::cli::MpiSession mpi(argc, argv);  // MPI only under mpirun/srun (docs/cluster.md)
+  CLI::App app{
+      "DeepContact: how much can a warm start speed up the contact solver of a rigid-body "
+      "simulator, and what does it cost?"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "deepcontact 0.1.0");
+  dc::cli::add_simulate_command(app);
+  dc::cli::add_lcp_command(app);
+  dc::cli::add_bench_command(app);
+  dc::cli::add_sph_study_command(app);
+  dc::cli::add_pgs_landscape_command(app);
+  dc::cli::add_generate_command(app);
+  dc::cli::add_train_command(app);
+  dc::cli::add_stress_command(app);
+  dc::cli::add_render_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);  // usage errors: CLI11's message, exit status 105/106/...
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "deepcontact: error: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    const dc::cli::Comm& comm = dc::cli::world();
+    if (!comm.parallel()) {
+      std::fprintf(stderr, "deepcontact: error: %s\n", e.what());
+      return 1;
+    }
+    // Across ranks the others may wait for this one in a collective: end the whole job (what
+    // is on disk is consistent; generate and train resume from it).
+    std::fprintf(stderr, "deepcontact: error: rank %d: %s\n", comm.rank(), e.what());
+    comm.abort(1);
+  }
+  return dc::cli::exit_status();
+}

@@ -1,0 +1,115 @@
+#pragma once
+// Bench statistics that carry their uncertainty (issue 16): bootstrap 95 % confidence
+// intervals of the median and mean sweeps to tolerance and total time per step, per starter,
+// and of their ratios to `zero` and `builtin`. Method and caveats: docs/bench.md
+// "Uncertainty".
+//
+// Hierarchical (two-stage) bootstrap. A bench run has G scene seeds, and seed g has n_g
+// evaluated steps. One replicate draws G seeds with replacement, then, for every drawn seed,
+// n_g of its steps with replacement, and evaluates the statistic on the pooled draw. The
+// interval is the percentile interval [q_{α/2}, q_{1−α/2}] of B replicates (α = 1 − level).
+// Steps of one trajectory are correlated; resampling seeds carries that correlation into the
+// interval, resampling steps as well makes it slightly conservative when the seeds hardly
+// differ. With few seeds (G ≲ 5) percentile intervals are too narrow (see docs/bench.md).
+//
+// Paired mode: every starter solves the identical steps, so one draw of (seed, step) indices
+// per replicate serves every starter (paired bootstrap: a ratio's numerator and denominator
+// are evaluated on the same resampled steps). Rollout mode: each starter has its own
+// trajectory, so each is resampled independently (its own random stream), and a ratio is the
+// quotient of two independent replicates.
+//
+// Deterministic: the draws come from dc::Rng seeded from BootstrapDef::seed (and, in rollout
+// mode, the starter's name), so a report is reproducible bit for bit.
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "dc/bench/bench_runner.hpp"
+
+namespace dc {
+class Rng;
+}
+
+namespace dc::bench {
+
+struct BootstrapDef {
+  int resamples = 2000;            ///< B replicates (2000: the Monte-Carlo error of a 2.5 % quantile ≈ 0.35 %)
+  double level = 0.95;             ///< coverage of the two-sided percentile interval
+  std::uint64_t seed = 0x16b0075ULL;  ///< dc::Rng seed of the draws (fixed: reproducible reports)
+};
+
+/// A point estimate with its bootstrap interval. NaN everywhere when there is no data.
+struct Interval {
+  double estimate = std::numeric_limits<double>::quiet_NaN();
+  double lo = std::numeric_limits<double>::quiet_NaN();
+  double hi = std::numeric_limits<double>::quiet_NaN();
+  [[nodiscard]] bool contains(double x) const { return lo <= x && x <= hi; }
+  /// Two intervals overlap (share at least one point).
+  [[nodiscard]] bool overlaps(const Interval& o) const { return lo <= o.hi && o.lo <= hi; }
+};
+
+/// Per-step values of several columns that share one grouping by seed: group g is rows
+/// offsets[g] … offsets[g+1]−1 of every column (offsets has G+1 entries, groups non-empty).
+struct GroupedColumns {
+  std::vector<std::size_t> offsets;
+  std::vector<std::vector<double>> columns;
+};
+
+/// The statistic of every column in every replicate: median[c][b], mean[c][b].
+struct Replicates {
+  std::vector<std::vector<double>> median, mean;
+};
+
+/// B hierarchical replicates of the median and mean of each column (all columns see the same
+/// draw in a replicate). Throws InvalidArgument on ragged columns or empty groups.
+Replicates hierarchical_bootstrap(const GroupedColumns& x, int resamples, Rng& rng);
+
+/// The p-quantile (0 ≤ p ≤ 1) of sorted, non-empty `v` by linear interpolation between order
+/// statistics at position p·(n − 1); next to an infinite value, the nearer order statistic.
+double quantile_sorted(const std::vector<double>& v, double p);
+
+/// Median (mean of the two middle values for an even count) and mean; NaN if empty.
+double median_of(std::vector<double> v);
+double mean_of(const std::vector<double>& v);
+
+/// Percentile interval of `replicates` at `level` (linear interpolation between order
+/// statistics) around `estimate`.
+Interval percentile_interval(double estimate, std::vector<double> replicates, double level);
+
+/// Median and mean of one per-step figure with their intervals, and the median of each seed.
+struct MetricStatistics {
+  Interval median, mean;
+  std::vector<double> seed_medians;  ///< per seed of BenchOptions::seeds (NaN: no evaluated step)
+};
+
+struct StarterStatistics {
+  std::string name;
+  std::size_t steps = 0;      ///< evaluated steps
+  MetricStatistics sweeps;    ///< sweeps to tol; never-converged steps count as sweeps + 1
+  MetricStatistics total_ms;  ///< warm start + tolerance-mode solve [ms]; the oracle never counts
+};
+
+/// `name` / `reference` of the median and the mean of both figures.
+struct RatioStatistics {
+  std::string name, reference;
+  Interval median_sweeps, mean_sweeps, median_total_ms, mean_total_ms;
+  /// The median-sweeps ratio's interval excludes 1 (the starters are distinguishable).
+  [[nodiscard]] bool sweeps_distinguishable() const { return !median_sweeps.contains(1.0); }
+  [[nodiscard]] bool total_distinguishable() const { return !median_total_ms.contains(1.0); }
+};
+
+struct BenchStatistics {
+  BootstrapDef def;
+  bool paired = true;                 ///< paired bootstrap (paired mode) or independent (rollout)
+  int sweeps = 0;                     ///< the run's sweeps: a never-converged step counts as sweeps + 1
+  std::vector<std::uint64_t> seeds;   ///< the run's seeds, order of seed_medians
+  std::vector<StarterStatistics> starters;  ///< table order
+  /// Every starter against `zero`, then against `builtin` (when those ran; never itself).
+  std::vector<RatioStatistics> ratios;
+};
+
+/// The statistics of a bench run (starters without evaluated steps get NaN intervals).
+BenchStatistics bench_statistics(const BenchResults& r, const BootstrapDef& def = {});
+
+}  // namespace dc::bench

@@ -1,0 +1,167 @@
+// results.h5 of a bench run (layout: docs/bench.md).
+#include "dc/bench/bench_report.hpp"
+#include "bench_statistics_report.hpp"
+#include "dc/engine/scene.hpp"
+#include "dc/io/h5.hpp"
+
+namespace dc::bench {
+
+std::string starter_group_name(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    if (c == '%') out += "%25";
+    else if (c == '/') out += "%2F";
+    else out += c;
+  }
+  return out;
+}
+
+void write_results_h5(const BenchResults& r, const Provenance& p, const std::string& path,
+                      const BenchStatistics* stats) {
+  AtomicH5File out(path);
+  H5File& f = out.file();
+  f.set_attribute("/", "format", "deepcontact-bench-results");
+  f.set_attribute<std::int32_t>("/", "format_version", 1);
+  f.set_attribute("/", "mode", r.options.mode == Mode::Paired ? "paired" : "rollout");
+  f.set_attribute("/", "solver", r.options.solver);
+  f.set_attribute<std::int32_t>("/", "sweeps", r.options.sweeps);
+  f.set_attribute<double>("/", "tolerance", r.options.tolerance);
+  f.set_attribute("/", "scene", scene_to_toml(r.options.scene));
+  f.set_attribute("/", "git", p.git);
+  f.set_attribute("/", "build", p.build);
+  f.set_attribute("/", "machine", p.machine);
+  f.set_attribute("/", "date", p.date_utc);
+  f.set_attribute<double>("/", "wall_seconds", r.wall_seconds);
+  f.set_attribute<std::int32_t>("/", "skipped_steps", r.skipped_steps);
+  {
+    std::vector<std::int64_t> seeds(r.options.seeds.begin(), r.options.seeds.end());
+    f.set_attribute_array<std::int64_t>("/", "seeds", seeds);
+  }
+  const std::vector<std::int32_t> budgets(r.budgets.begin(), r.budgets.end());
+  f.write<std::int32_t>("/budgets", budgets, {budgets.size()});
+
+  // Shared per-step figures of the paired mode (the reference trajectory).
+  const hsize_t S = r.step_index.size();
+  std::vector<std::int64_t> seed(r.step_seed.begin(), r.step_seed.end());
+  std::vector<std::int32_t> idx(r.step_index.begin(), r.step_index.end());
+  std::vector<std::int32_t> rows(r.step_rows.begin(), r.step_rows.end());
+  f.write<std::int64_t>("/steps/seed", seed, {S});
+  f.write<std::int32_t>("/steps/index", idx, {S});
+  if (rows.size() == S) f.write<std::int32_t>("/steps/rows", rows, {S});
+  if (r.oracle_ms.size() == S) {
+    f.write<double>("/steps/oracle_ms", r.oracle_ms, {S});
+    f.write<double>("/steps/oracle_residual", r.oracle_residual, {S});
+  }
+  if (r.collide_ms.size() == S && r.assemble_ms.size() == S && r.integrate_ms.size() == S) {
+    f.write<double>("/steps/collide_ms", r.collide_ms, {S});
+    f.write<double>("/steps/assemble_ms", r.assemble_ms, {S});
+    f.write<double>("/steps/integrate_ms", r.integrate_ms, {S});
+  }
+
+  std::vector<std::string> names, groups;
+  const H5DatasetOptions compressed{.extendible = false, .chunk_rows = 0, .deflate = 4};
+  for (const StarterRecord& rec : r.starters) {
+    names.push_back(rec.name);
+    groups.push_back(starter_group_name(rec.name));
+    const std::string g = "/warmstarters/" + groups.back();
+    const hsize_t n = rec.sweeps_to_tol.size(), B = r.budgets.size(), K = static_cast<hsize_t>(r.options.sweeps);
+    f.create_group(g);
+    f.set_attribute<std::int32_t>(g, "uses_oracle", rec.uses_oracle ? 1 : 0);
+    f.set_attribute(g, "name", rec.name);
+    std::vector<std::int64_t> s(rec.seed.begin(), rec.seed.end());
+    std::vector<std::int32_t> st(rec.step.begin(), rec.step.end()), rw(rec.rows.begin(), rec.rows.end()),
+        tt(rec.sweeps_to_tol.begin(), rec.sweeps_to_tol.end());
+    f.write<std::int64_t>(g + "/seed", s, {n});
+    f.write<std::int32_t>(g + "/step", st, {n});
+    f.write<std::int32_t>(g + "/rows", rw, {n});
+    f.write<std::int32_t>(g + "/sweeps_to_tol", tt, {n});
+    if (!rec.sweeps_to_tol_high.empty()) {
+      const std::vector<std::int32_t> hi(rec.sweeps_to_tol_high.begin(), rec.sweeps_to_tol_high.end());
+      f.write<std::int32_t>(g + "/sweeps_to_tol_high", hi, {n});
+      f.set_attribute<std::int32_t>(g, "max_sweeps", r.options.max_sweeps);
+    }
+    f.write<double>(g + "/warmstart_ms", rec.warmstart_ms, {n});
+    f.write<double>(g + "/oracle_ms", rec.oracle_ms, {n});
+    f.write<double>(g + "/solve_ms", rec.solve_ms, {n});
+    f.write<double>(g + "/ns_per_row_sweep", rec.sweep_ns_per_row, {n});
+    std::vector<double> sweep_ms(n);
+    for (hsize_t i = 0; i < n; ++i) sweep_ms[i] = rec.sweep_ns_per_row[i] * rec.rows[i] * 1e-6;
+    f.write<double>(g + "/sweep_ms", sweep_ms, {n});
+    f.write<double>(g + "/initial_error", rec.initial_error, {n});
+    f.write<float>(g + "/theta", rec.theta, {n, K}, n > 0 ? compressed : H5DatasetOptions{});
+    f.write<double>(g + "/residual", rec.residual, {n, B});
+    f.write<double>(g + "/lambda_error", rec.lambda_error, {n, B});
+    f.write<double>(g + "/penetration", rec.penetration, {n, B});
+    f.write<double>(g + "/energy_error", rec.energy_error, {n, B});
+  }
+  f.write_strings("/warmstarter_names", names);
+  f.write_strings("/warmstarter_groups", groups);
+  if (stats) write_statistics_h5(f, *stats);
+  out.commit();
+}
+
+}  // namespace dc::bench
+
+namespace dc::bench {
+
+void write_statistics_h5(H5File& f, const BenchStatistics& s) {
+  const std::string g = "/statistics";
+  f.create_group(g);
+  f.set_attribute(g, "method", "hierarchical percentile bootstrap: seeds with replacement, then steps within each "
+                               "drawn seed");
+  f.set_attribute<std::int32_t>(g, "resamples", s.def.resamples);
+  f.set_attribute<double>(g, "level", s.def.level);
+  f.set_attribute<std::int64_t>(g, "rng_seed", static_cast<std::int64_t>(s.def.seed));
+  f.set_attribute<std::int32_t>(g, "paired", s.paired ? 1 : 0);
+  f.set_attribute<std::int32_t>(g, "never_counts_as", s.sweeps + 1);
+  const std::vector<std::int64_t> seeds(s.seeds.begin(), s.seeds.end());
+  f.write<std::int64_t>(g + "/seeds", seeds, {seeds.size()});
+  // (estimate, lo, hi) per row.
+  auto triples = [&](const std::string& path, std::size_t n, auto&& get) {
+    std::vector<double> v;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Interval x = get(i);
+      v.insert(v.end(), {x.estimate, x.lo, x.hi});
+    }
+    f.write<double>(g + "/" + path, v, {n, 3});
+  };
+  const std::size_t W = s.starters.size(), G = s.seeds.size(), R = s.ratios.size();
+  if (W > 0) {
+    std::vector<std::string> names;
+    std::vector<double> seed_sweeps, seed_total;
+    for (const auto& x : s.starters) {
+      names.push_back(x.name);
+      seed_sweeps.insert(seed_sweeps.end(), x.sweeps.seed_medians.begin(), x.sweeps.seed_medians.end());
+      seed_total.insert(seed_total.end(), x.total_ms.seed_medians.begin(), x.total_ms.seed_medians.end());
+    }
+    f.write_strings(g + "/starters", names);
+    triples("median_sweeps_to_tol", W, [&](std::size_t i) { return s.starters[i].sweeps.median; });
+    triples("mean_sweeps_to_tol", W, [&](std::size_t i) { return s.starters[i].sweeps.mean; });
+    triples("median_total_ms", W, [&](std::size_t i) { return s.starters[i].total_ms.median; });
+    triples("mean_total_ms", W, [&](std::size_t i) { return s.starters[i].total_ms.mean; });
+    if (G > 0) {
+      f.write<double>(g + "/seed_median_sweeps_to_tol", seed_sweeps, {W, G});
+      f.write<double>(g + "/seed_median_total_ms", seed_total, {W, G});
+    }
+  }
+  if (R > 0) {
+    std::vector<std::string> num, ref;
+    std::vector<std::int32_t> dist_sweeps, dist_total;
+    for (const auto& q : s.ratios) {
+      num.push_back(q.name);
+      ref.push_back(q.reference);
+      dist_sweeps.push_back(q.sweeps_distinguishable() ? 1 : 0);
+      dist_total.push_back(q.total_distinguishable() ? 1 : 0);
+    }
+    f.write_strings(g + "/ratio_name", num);
+    f.write_strings(g + "/ratio_reference", ref);
+    triples("ratio_median_sweeps_to_tol", R, [&](std::size_t i) { return s.ratios[i].median_sweeps; });
+    triples("ratio_mean_sweeps_to_tol", R, [&](std::size_t i) { return s.ratios[i].mean_sweeps; });
+    triples("ratio_median_total_ms", R, [&](std::size_t i) { return s.ratios[i].median_total_ms; });
+    triples("ratio_mean_total_ms", R, [&](std::size_t i) { return s.ratios[i].mean_total_ms; });
+    f.write<std::int32_t>(g + "/ratio_sweeps_distinguishable", dist_sweeps, {R});
+    f.write<std::int32_t>(g + "/ratio_total_distinguishable", dist_total, {R});
+  }
+}
+
+}  // namespace dc::bench

@@ -1,0 +1,407 @@
+// Google Benchmark of the PGS sweep, matrix-free ("pgs") and assembled ("pgs-assembled"),
+// on a contact-like problem of realistic size: N circles (r = 1, ρ = 1) packed in a
+// hexagonal pile, each touching its right and upper-right neighbours (≈ 2 contacts per
+// body) plus floor contacts for the bottom row, friction on (2 rows per contact), Δt = 0.01.
+// Rows come in body order as a sorted broad phase would give them.
+//
+// Argument order: 0 = contacts in body order (the engine's order), 1 = interleaved.
+// Counter ns_per_row_sweep = CPU time / (rows · sweeps) in nanoseconds (Google Benchmark
+// prints it with an "s" suffix because it is an inverted rate; the number is ns). Each benchmark iteration is one
+// solve of S sweeps (tolerance 0, θ not recorded), so validation and the "prepare" stage are
+// included once per S sweeps; S = 1 shows that fixed overhead, S = 200 the sweep cost.
+//
+// BM_PgsBaseline is a benchmark-only copy of the row-by-row kernel that "pgs" used before
+// the contact-block kernels (commit b7fdc08), timed in the same process for a before/after
+// comparison on a noisy shared machine; every benchmark also reports max_diff_vs_baseline,
+// max_i |λ_i − λ_i(baseline)| after the same sweeps (0: the iterates are bit-identical).
+// BM_SeedScene* time one full 3000-sweep solve of the seed scene's settled pile (default
+// WorldDef, 400 steps of "pgs" with 200 sweeps, then collide + assemble).
+//
+// pgs-colored (colour-ordered PGS, dc/engine/pgs_colored.hpp): BM_PgsColored* run its AVX-512
+// kernel (simd = 1; the scalar kernel on builds without AVX-512) and its scalar kernel
+// (simd = 0) on the same problems, and 1 or 2 OpenMP threads (BM_PgsColoredThreads);
+// max_diff_vs_scalar = max_i |λ_i(SIMD) − λ_i(scalar)| after the same sweeps (0: bit-equal).
+// BM_ContactColoring* time the colouring alone (ns per contact), from scratch and reusing
+// the previous call's colours. The side-by-side table of docs/solvers.md is one run of
+//   build/bin/micro_pgs --benchmark_filter='200/0|SeedScene|Coloring' --benchmark_min_time=0.2
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cmath>
+#include <ctime>
+#include <vector>
+
+#include "lcp/contact_coloring.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/pgs_colored.hpp"
+#include "dc/engine/world.hpp"
+
+namespace {
+
+/// order 0: contacts in body order (each row shares a body with the previous one: the
+/// Gauss–Seidel dependency chain is serial); order 1: contacts interleaved with a stride
+/// of ~N/7, so consecutive contacts touch different bodies and the CPU can overlap rows.
+dc::LcpProblem pile(int bodies, int order) {
+  const int width = std::max(2, static_cast<int>(std::sqrt(static_cast<double>(bodies))));
+  const double m = M_PI, I = 0.5 * m, dt = 0.01, mu = 0.5;
+  struct C {
+    int a, b;  // b = −1: floor
+    double nx, ny;
+  };
+  std::vector<C> contacts;
+  for (int k = 0; k < bodies; ++k) {
+    const int row = k / width, col = k % width;
+    if (row == 0) contacts.push_back({k, -1, 0.0, 1.0});
+    if (col + 1 < width && k + 1 < bodies) contacts.push_back({k, k + 1, 1.0, 0.0});
+    if (k + width < bodies) contacts.push_back({k, k + width, 0.5, std::sqrt(3.0) / 2});
+  }
+  if (order == 1) {
+    std::vector<C> interleaved;
+    const size_t m = contacts.size(), stride = std::max<size_t>(1, m / 7);
+    for (size_t start = 0; start < stride; ++start)
+      for (size_t c = start; c < m; c += stride) interleaved.push_back(contacts[c]);
+    contacts.swap(interleaved);
+  }
+  const int n = 2 * static_cast<int>(contacts.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  dc::LcpProblem p;
+  p.b.resize(n);
+  p.lo = Eigen::VectorXd::Zero(n);
+  p.hi = Eigen::VectorXd::Constant(n, INFINITY);
+  p.mu = Eigen::VectorXd::Zero(n);
+  p.normal_row.assign(static_cast<size_t>(n), -1);
+  for (size_t c = 0; c < contacts.size(); ++c) {
+    const C& k = contacts[c];
+    const int rn = 2 * static_cast<int>(c);
+    const double tx = -k.ny, ty = k.nx;
+    for (int r = 0; r < 2; ++r) {
+      const double dx = r == 0 ? k.nx : tx, dy = r == 0 ? k.ny : ty;
+      // r_a = n (unit radius), r_b = −n; r × d = r_x d_y − r_y d_x
+      const double ca = k.nx * dy - k.ny * dx, cb = -k.nx * dy + k.ny * dx;
+      if (k.b >= 0) {
+        trip.emplace_back(rn + r, 3 * k.a, -dx);
+        trip.emplace_back(rn + r, 3 * k.a + 1, -dy);
+        trip.emplace_back(rn + r, 3 * k.a + 2, -ca);
+        trip.emplace_back(rn + r, 3 * k.b, dx);
+        trip.emplace_back(rn + r, 3 * k.b + 1, dy);
+        trip.emplace_back(rn + r, 3 * k.b + 2, cb);
+      } else {
+        trip.emplace_back(rn + r, 3 * k.a, dx);
+        trip.emplace_back(rn + r, 3 * k.a + 1, dy);
+        trip.emplace_back(rn + r, 3 * k.a + 2, cb);
+      }
+    }
+    p.normal_row[static_cast<size_t>(rn + 1)] = rn;
+    p.mu[rn + 1] = mu;
+    p.constraints.add(k.b >= 0 ? k.a : -1, k.b >= 0 ? k.b : k.a, mu);  // rows (rn, rn + 1)
+  }
+  p.J.resize(n, 3 * bodies);
+  p.J.setFromTriplets(trip.begin(), trip.end());
+  p.inv_mass.resize(3 * bodies);
+  for (int k = 0; k < bodies; ++k) {
+    p.inv_mass[3 * k] = p.inv_mass[3 * k + 1] = 1.0 / m;
+    p.inv_mass[3 * k + 2] = 1.0 / I;
+  }
+  p.dt = dt;
+  // b = J (u + Δt M⁻¹ F_ext): all bodies at rest under gravity.
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * bodies);
+  for (int k = 0; k < bodies; ++k) u[3 * k + 1] = -9.81 * dt;
+  p.b = p.J * u;
+  const dc::SparseRowMatrix Minv_Jt = (p.inv_mass.asDiagonal() * dc::SparseRowMatrix(p.J.transpose())) * dt;
+  p.A = p.J * Minv_Jt;
+  p.A.makeCompressed();
+  return p;
+}
+
+// ---- baseline: the row-by-row matrix-free kernel of commit b7fdc08 ----------------------
+// A benchmark-only copy of the previous "pgs" sweep (one packed 152-byte row per LCP row,
+// the tangent row reading λ_n and Δu back from memory, wall rows writing a shared dummy
+// body), kept so that old and new kernels are timed in the same process under the same
+// load. Fixed sweeps only; it keeps the per-sweep costs of the real driver (the copy of λ
+// for the last finite iterate, allFinite over Δu) so that the comparison is fair.
+namespace baseline {
+
+struct PackedRow {
+  std::array<double, 6> j, mj;
+  double b;
+  bool singular;
+  double lo_fixed, hi_fixed, mu;
+  int a, bb, coupled;
+};
+
+Eigen::VectorXd solve(const dc::LcpProblem& p, int sweeps) {
+  const int n = p.rows();
+  const int dummy = static_cast<int>(p.J.cols());
+  std::vector<PackedRow> rows(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    PackedRow& r = rows[static_cast<size_t>(i)];
+    r.j.fill(0.0);
+    r.mj.fill(0.0);
+    r.a = r.bb = -1;
+    for (dc::SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+      const int col = static_cast<int>(it.col()), off = 3 * (col / 3);
+      int slot;
+      if (r.a < 0 || r.a == off) {
+        r.a = off;
+        slot = col % 3;
+      } else {
+        r.bb = off;
+        slot = 3 + col % 3;
+      }
+      r.j[static_cast<size_t>(slot)] += it.value();
+    }
+    double diag = 0.0;
+    for (int s = 0; s < 6; ++s) {
+      const int off = s < 3 ? r.a : r.bb;
+      if (off < 0) continue;
+      r.mj[static_cast<size_t>(s)] = r.j[static_cast<size_t>(s)] * p.inv_mass[off + s % 3] * p.dt;
+      diag += r.j[static_cast<size_t>(s)] * r.mj[static_cast<size_t>(s)];
+    }
+    if (r.a < 0) r.a = dummy;
+    if (r.bb < 0) r.bb = dummy;
+    const double inv = 1.0 / diag;
+    r.singular = !(diag > 0 && std::isfinite(inv));
+    const double scale = r.singular ? 1.0 : inv;
+    for (double& v : r.j) v *= scale;
+    r.b = p.b[i] * scale;
+    const bool fr = p.is_friction_row(i);
+    r.lo_fixed = fr ? 0.0 : p.lo[i];
+    r.hi_fixed = fr ? 0.0 : p.hi[i];
+    r.mu = fr ? p.mu[i] : 0.0;
+    r.coupled = fr ? p.normal_row[static_cast<size_t>(i)] : i;
+  }
+  std::vector<double> du(static_cast<size_t>(dummy + 3), 0.0);
+  Eigen::VectorXd l = Eigen::VectorXd::Zero(n), last;
+  for (int k = 0; k < sweeps; ++k) {
+    last = l;
+    double* __restrict lam = l.data();
+    double* __restrict u = du.data();
+    const PackedRow* __restrict row = rows.data();
+    double theta = 0.0;
+    bool bad = false;
+    for (int i = 0; i < n; ++i, ++row) {
+      double* ua = u + row->a;
+      double* ub = u + row->bb;
+      const double s0 = std::fma(row->j[0], ua[0], row->j[1] * ua[1]);
+      const double s1 = std::fma(row->j[2], ua[2], row->j[3] * ub[0]);
+      const double s2 = std::fma(row->j[4], ub[1], row->j[5] * ub[2]);
+      const double res = (row->b + s0) + (s1 + s2);
+      const double old = lam[i];
+      const double t = row->mu * std::max(0.0, lam[row->coupled]);
+      const double lo = row->lo_fixed - t, hi = row->hi_fixed + t;
+      double x = old - res;  // (the singular branch is never taken on these problems)
+      x = std::min(std::max(x, lo), hi);
+      const double d = x - old;
+      bad |= !std::isfinite(x);
+      lam[i] = x;
+      ua[0] = std::fma(row->mj[0], d, ua[0]);
+      ua[1] = std::fma(row->mj[1], d, ua[1]);
+      ua[2] = std::fma(row->mj[2], d, ua[2]);
+      ub[0] = std::fma(row->mj[3], d, ub[0]);
+      ub[1] = std::fma(row->mj[4], d, ub[1]);
+      ub[2] = std::fma(row->mj[5], d, ub[2]);
+      theta = std::max(theta, std::abs(d));
+    }
+    u[dummy] = u[dummy + 1] = u[dummy + 2] = 0.0;
+    if (bad || !std::isfinite(theta) || !Eigen::Map<const Eigen::VectorXd>(u, dummy).allFinite()) break;
+  }
+  return l;
+}
+
+}  // namespace baseline
+
+/// The seed scene's problem after the pile has settled: the default WorldDef (100 circles
+/// of r = 1 in the 30 × 30 box, μ = 0.5, Δt = 0.01), 400 steps of "pgs" with 200 sweeps,
+/// then collide + assemble once more. Built on first use and immutable afterwards (Google
+/// Benchmark calls a benchmark function several times; stepping the world each time would
+/// dominate the run).
+const dc::LcpProblem& seed_scene_problem() {
+  static const dc::LcpProblem problem = [] {
+    dc::World world(dc::default_world_def());
+    const auto solver = dc::make_solver("pgs");
+    dc::SolverOptions o;
+    o.max_sweeps = 200;
+    o.tolerance = 0.0;
+    o.record_theta = false;
+    for (int k = 0; k < 400; ++k) world.step(*solver, o);
+    world.collide();
+    world.assemble();
+    return world.ensure_assembled_matrix();  // A for BM_SeedScenePgsAssembled
+  }();
+  return problem;
+}
+
+/// Times one solve of `sweeps` sweeps from λ⁰ = 0 per benchmark iteration and reports
+/// ns_per_row_sweep; max_diff_vs_baseline = max_i |λ_i − λ_i(baseline kernel)| after the
+/// same sweeps (0 means bit-identical iterates up to the sign of zero).
+template <class Solve>
+void time_solve(benchmark::State& state, const dc::LcpProblem& p, int sweeps, Solve&& solve) {
+  const Eigen::VectorXd check = solve();
+  for (auto _ : state) {
+    Eigen::VectorXd l = solve();
+    benchmark::DoNotOptimize(l.data());
+  }
+  state.counters["rows"] = p.rows();
+  state.counters["max_diff_vs_baseline"] = (check - baseline::solve(p, sweeps)).cwiseAbs().maxCoeff();
+  state.counters["ns_per_row_sweep"] = benchmark::Counter(
+      1e-9 * static_cast<double>(p.rows()) * sweeps * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void run_solver(benchmark::State& state, const dc::LcpProblem& p, int sweeps, const char* solver_name) {
+  const auto solver = dc::make_solver(solver_name);
+  dc::SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
+  time_solve(state, p, sweeps, [&] { return solver->solve(p, zero, o).lambda; });
+}
+
+dc::LcpProblem pile_of(const benchmark::State& s) {
+  return pile(static_cast<int>(s.range(0)), static_cast<int>(s.range(2)));
+}
+
+void BM_PgsMatrixFree(benchmark::State& s) {
+  run_solver(s, pile_of(s), static_cast<int>(s.range(1)), "pgs");
+}
+void BM_PgsAssembled(benchmark::State& s) {
+  run_solver(s, pile_of(s), static_cast<int>(s.range(1)), "pgs-assembled");
+}
+void BM_PgsBaseline(benchmark::State& s) {
+  const dc::LcpProblem p = pile_of(s);
+  const int sweeps = static_cast<int>(s.range(1));
+  time_solve(s, p, sweeps, [&] { return baseline::solve(p, sweeps); });
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies", "sweeps", "order"});
+  for (int bodies : {100, 1000})
+    for (int sweeps : {1, 200}) b->Args({bodies, sweeps, 0});
+  b->Args({10000, 200, 0});
+  for (int bodies : {100, 1000}) b->Args({bodies, 200, 1});
+}
+
+// ---- pgs-colored ------------------------------------------------------------------------
+void run_colored(benchmark::State& state, const dc::LcpProblem& p, int sweeps, bool simd, int threads) {
+  dc::PgsColoredDef def;
+  def.simd = simd;
+  def.threads = threads;
+  def.min_batches_per_thread = 1;
+  const auto solver = dc::make_pgs_colored(def);
+  dc::PgsColoredDef scalar_def;
+  scalar_def.simd = false;
+  dc::SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
+  const Eigen::VectorXd scalar = dc::make_pgs_colored(scalar_def)->solve(p, zero, o).lambda;
+  time_solve(state, p, sweeps, [&] { return solver->solve(p, zero, o).lambda; });
+  state.counters["max_diff_vs_scalar"] = (solver->solve(p, zero, o).lambda - scalar).cwiseAbs().maxCoeff();
+  state.counters["simd_kernel"] = simd && dc::pgs_colored_has_simd();
+}
+void BM_PgsColored(benchmark::State& s) {
+  run_colored(s, pile_of(s), static_cast<int>(s.range(1)), s.range(3) != 0, 1);
+}
+void colored_sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies", "sweeps", "order", "simd"});
+  for (int simd : {1, 0})
+    for (int bodies : {100, 1000, 10000}) b->Args({bodies, 200, 0, simd});
+  b->Args({1000, 1, 0, 1});
+}
+double cpu_seconds(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// 1 vs 2 threads on the 10,000-body pile (AVX-512 kernel). Wall time (UseRealTime) is what a
+/// speed-up is, but on a loaded machine it mostly measures preemption; so the benchmark also
+/// reports the CPU time of the whole process (all threads) and of the calling thread per
+/// solve: with OMP_WAIT_POLICY=passive (waiting threads sleep instead of spinning) the
+/// speed-up the 2 threads would have on 2 free cores is ≈ cpu_1thread / max(cpu_main,
+/// cpu_process − cpu_main) (load-independent estimate; the barrier wake-up latency is not in it).
+void BM_PgsColoredThreads(benchmark::State& s) {
+  const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+  const int sweeps = static_cast<int>(s.range(1));
+  dc::PgsColoredDef def;
+  def.threads = static_cast<int>(s.range(2));
+  def.min_batches_per_thread = 1;
+  const auto solver = dc::make_pgs_colored(def);
+  dc::SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.record_theta = false;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
+  (void)solver->solve(p, zero, o);  // warm-up (thread pool, colouring)
+  double cpu_process = 0, cpu_main = 0;
+  for (auto _ : s) {
+    const double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), m0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+    Eigen::VectorXd l = solver->solve(p, zero, o).lambda;
+    benchmark::DoNotOptimize(l.data());
+    cpu_process += cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0;
+    cpu_main += cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - m0;
+  }
+  const double n = static_cast<double>(s.iterations());
+  s.counters["cpu_process_ms"] = 1e3 * cpu_process / n;
+  s.counters["cpu_main_ms"] = 1e3 * cpu_main / n;
+  s.counters["ns_per_row_sweep"] = benchmark::Counter(1e-9 * p.rows() * sweeps * n,
+                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+/// The colouring alone: ns per contact (counter ns_per_contact), from scratch (reuse = 0) or
+/// reusing the previous call's colours (reuse = 1: every contact persists).
+void BM_ContactColoring(benchmark::State& s) {
+  const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+  const std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
+  dc::ContactColorer colorer(s.range(1) != 0);
+  (void)colorer.color(p.constraints, dyn);
+  for (auto _ : s) benchmark::DoNotOptimize(colorer.color(p.constraints, dyn).colors);
+  s.counters["colors"] = colorer.last().colors;
+  s.counters["reused"] = colorer.last().reused;
+  s.counters["ns_per_contact"] = benchmark::Counter(
+      1e-9 * p.constraints.size() * static_cast<double>(s.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+// The seed scene: one full 3000-sweep solve (the thesis' fixed budget) per iteration.
+constexpr int kSeedSweeps = 3000;
+void BM_SeedScenePgs(benchmark::State& s) { run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs"); }
+void BM_SeedScenePgsBaseline(benchmark::State& s) {
+  const dc::LcpProblem& p = seed_scene_problem();
+  time_solve(s, p, kSeedSweeps, [&] { return baseline::solve(p, kSeedSweeps); });
+}
+void BM_SeedScenePgsColored(benchmark::State& s) { run_colored(s, seed_scene_problem(), kSeedSweeps, true, 1); }
+void BM_SeedScenePgsColoredScalar(benchmark::State& s) {
+  run_colored(s, seed_scene_problem(), kSeedSweeps, false, 1);
+}
+void BM_SeedScenePgsAssembled(benchmark::State& s) {
+  run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs-assembled");
+}
+
+BENCHMARK(BM_PgsMatrixFree)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsBaseline)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsAssembled)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsColored)->Apply(colored_sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsColoredThreads)
+    ->ArgNames({"bodies", "sweeps", "threads"})
+    ->Args({10000, 100, 1})
+    ->Args({10000, 100, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ContactColoring)
+    ->ArgNames({"bodies", "reuse"})
+    ->Args({1000, 0})
+    ->Args({1000, 1})
+    ->Args({10000, 0})
+    ->Args({10000, 1})
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsColored)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsColoredScalar)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsBaseline)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsAssembled)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

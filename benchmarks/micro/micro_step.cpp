@@ -1,0 +1,223 @@
+// Google Benchmark of the stages of one World::step (issue 11, "linear step cost") on the
+// seed scene family scaled to n circles at the seed's density: box side 3√n m (30 m for
+// n = 100), Gaussian mean at the centre, σ = 0.465√n m (4.65 m for n = 100), r = 1, μ = 0.5,
+// Δt = 0.01 — the scenes of benchmarks/scripts/step-scaling.sh. The pile is first simulated for
+// kSettleSteps steps (20 PGS sweeps, builtin warm start), once per n, then each stage is
+// timed on that state:
+//
+//   BM_Collide      World::collide()       broad phase + narrow phase (+ the wall tests)
+//   BM_BroadPhase   UniformGridBroadPhase::find_pairs alone (same reach as collide)
+//   BM_Assemble     World::assemble()      constraints, J, b, bounds
+//   BM_WarmStart    builtin warm starter   match by key + project
+//   BM_Solve        "pgs", `sweeps` sweeps from the builtin guess (arg 2)
+//   BM_Integrate    World::integrate(λ)    on a copy of the world (the copy is not timed)
+//   BM_Record       TrajectoryRecorder::record_step (recorders of 50 reserved steps, as simulate)
+//   BM_Step         World::step + record_step: everything a step of `simulate` costs
+//
+// Counter us_per_row = CPU time / (LCP rows of the state) in microseconds (printed with an
+// "s" suffix because it is an inverted rate; the number is µs per contact row and step):
+// the figure that must stay flat from 1,000 to 40,000 bodies. CPU time (Google Benchmark's
+// default), so the ratios between sizes hold on a loaded machine better than wall time.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "dc/engine/lcp_solver.hpp"
+#include "collision/narrow_phase.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/bench/trajectory_recorder.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace {
+
+constexpr int kSettleSteps = 150;
+constexpr int kSettleSweeps = 20;
+
+dc::WorldDef scaled_seed_scene(int n) {
+  dc::WorldDef def = dc::default_world_def();
+  const double side = 3.0 * std::sqrt(static_cast<double>(n));
+  def.world.width = def.world.height = side;
+  def.bodies.count = n;
+  def.bodies.mean = {side / 2, side / 2};
+  def.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
+  def.solver.sweeps = kSettleSweeps;
+  return def;
+}
+
+dc::SolverOptions fixed_sweeps(int sweeps) {
+  dc::SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  return o;
+}
+
+/// The settled pile of n bodies, collided and assembled, with the builtin guess and the
+/// 20-sweep solution of its current problem. Built on first use (a 40,000-body pile takes
+/// seconds) and never changed afterwards.
+struct Pile {
+  std::unique_ptr<dc::World> world;
+  Eigen::VectorXd guess, lambda;
+};
+
+const Pile& pile(int n) {
+  static std::map<int, Pile> piles;
+  auto it = piles.find(n);
+  if (it != piles.end()) return it->second;
+  Pile p;
+  p.world = std::make_unique<dc::World>(scaled_seed_scene(n));
+  const auto solver = dc::make_solver("pgs");
+  const auto builtin = dc::default_warm_starters().make("builtin");
+  const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
+  auto guess = [&](const dc::World& w) { return builtin->initial_guess(dc::StepView{w, nullptr}); };
+  for (int k = 0; k < kSettleSteps; ++k) p.world->step(*solver, o, guess);
+  p.world->collide();
+  p.world->assemble();
+  p.guess = guess(*p.world);
+  p.lambda = solver->solve(p.world->problem(), p.guess, o).lambda;
+  return piles.emplace(n, std::move(p)).first->second;
+}
+
+void report(benchmark::State& state, const dc::World& w) {
+  const double rows = w.problem().rows();
+  state.counters["bodies"] = static_cast<double>(w.bodies().size());
+  state.counters["rows"] = rows;
+  state.counters["us_per_row"] = benchmark::Counter(1e-6 * rows * static_cast<double>(state.iterations()),
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+int bodies_of(const benchmark::State& s) { return static_cast<int>(s.range(0)); }
+
+void BM_Collide(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  dc::World w = *p.world;
+  for (auto _ : state) benchmark::DoNotOptimize(w.collide().data());
+  report(state, *p.world);
+}
+
+void BM_BroadPhase(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  const dc::World& w = *p.world;
+  const int n = static_cast<int>(w.bodies().size());
+  std::vector<double> reach(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k)
+    reach[static_cast<std::size_t>(k)] = w.bodies().radius[static_cast<std::size_t>(k)] +
+                                         dc::speculative_reach(w.bodies(), k, w.def().contact, w.def().time.dt);
+  dc::UniformGridBroadPhase bp;
+  std::vector<std::pair<int, int>> pairs;
+  for (auto _ : state) {
+    bp.find_pairs(w.bodies().position, reach, pairs);
+    benchmark::DoNotOptimize(pairs.data());
+  }
+  state.counters["pairs"] = static_cast<double>(pairs.size());
+  report(state, w);
+}
+
+void BM_Assemble(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  dc::World w = *p.world;
+  for (auto _ : state) benchmark::DoNotOptimize(w.assemble().b.data());
+  report(state, *p.world);
+}
+
+void BM_WarmStart(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  const auto builtin = dc::default_warm_starters().make("builtin");
+  for (auto _ : state) {
+    Eigen::VectorXd g = builtin->initial_guess(dc::StepView{*p.world, nullptr});
+    benchmark::DoNotOptimize(g.data());
+  }
+  report(state, *p.world);
+}
+
+void BM_Solve(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  const auto solver = dc::make_solver("pgs");
+  const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
+  for (auto _ : state) {
+    dc::SolveResult r = solver->solve(p.world->problem(), p.guess, o);
+    benchmark::DoNotOptimize(r.lambda.data());
+  }
+  report(state, *p.world);
+}
+
+void BM_Integrate(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  dc::World w = *p.world;  // copy-assigned back each iteration (reuses its memory, not timed)
+  for (auto _ : state) {
+    state.PauseTiming();
+    w = *p.world;
+    state.ResumeTiming();
+    w.integrate(p.lambda);
+    benchmark::DoNotOptimize(w.bodies().position.data());
+  }
+  report(state, *p.world);
+}
+
+void BM_Record(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  dc::StepReport rep;
+  rep.rows = p.world->problem().rows();
+  rep.contacts = static_cast<int>(p.world->contacts().size());
+  std::unique_ptr<dc::TrajectoryRecorder> rec;
+  int recorded = 0;
+  for (auto _ : state) {
+    if (recorded % 50 == 0) {  // a fresh recorder every 50 steps: memory stays bounded
+      state.PauseTiming();
+      rec = std::make_unique<dc::TrajectoryRecorder>(*p.world);
+      rec->reserve_steps(50);
+      state.ResumeTiming();
+    }
+    rec->record_step(*p.world, rep);
+    ++recorded;
+  }
+  report(state, *p.world);
+}
+
+void BM_Step(benchmark::State& state) {
+  const Pile& p = pile(bodies_of(state));
+  const auto solver = dc::make_solver("pgs");
+  const auto builtin = dc::default_warm_starters().make("builtin");
+  const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
+  std::unique_ptr<dc::TrajectoryRecorder> rec;
+  dc::World w = *p.world;
+  for (auto _ : state) {
+    state.PauseTiming();
+    w = *p.world;  // every iteration steps the same state (copy-assigned: memory reused)
+    if (!rec || rec->steps() >= 50) {
+      rec = std::make_unique<dc::TrajectoryRecorder>(w);
+      rec->reserve_steps(50);
+    }
+    state.ResumeTiming();
+    const dc::StepReport r =
+        w.step(*solver, o, [&](const dc::World& x) { return builtin->initial_guess(dc::StepView{x, nullptr}); });
+    rec->record_step(w, r);
+    benchmark::DoNotOptimize(w.bodies().position.data());
+  }
+  report(state, *p.world);
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies"});
+  for (int n : {1000, 2500, 10000, 40000}) b->Args({n});
+}
+void sizes_sweeps(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies", "sweeps"});
+  for (int sweeps : {20, 1})
+    for (int n : {1000, 2500, 10000, 40000}) b->Args({n, sweeps});
+}
+
+BENCHMARK(BM_Collide)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BroadPhase)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Assemble)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_WarmStart)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Solve)->Apply(sizes_sweeps)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Integrate)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step)->Apply(sizes_sweeps)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

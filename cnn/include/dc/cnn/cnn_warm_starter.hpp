@@ -1,0 +1,113 @@
+#pragma once
+// The learned warm starters (DESIGN §4, issue 4; docs/learning.md "The cnn warm starter"):
+//
+//   cnn         body state + this step's contacts → feature image (FeatureImageBuilder, the
+//               data set's builder and settings) → Model::predict → label grid (λ_n, λ_t
+//               Shepard numerators) → SphTransfer::gather at the contact points (Shepard:
+//               divided by the interpolated kernel-weight field of the points) → projected
+//               into the bounds. Exactly the `sph` starter's read-back, with the predicted
+//               grid in place of the oracle's splat. A RESIDUAL model (ModelGrid::labels, labels.hpp;
+//               model.hpp) predicts the splat of λ* − λ_prev from features that include the
+//               builtin guess (lambda_prev_n/t): then λ⁰ = λ_prev (by key, 0 if new) + the
+//               read-back soft-thresholded by the model's correction_deadzone τ
+//               (sign(δ)·max(|δ| − τ, 0)), projected — builtin plus a learned correction.
+//   cnn-hybrid  builtin (the previous step's λ by key) for persistent contacts, the cnn
+//               prediction for contacts that are new this step; steps without new contacts
+//               skip the network altogether. A non-oracle starter.
+//
+// Model selection: `cnn:PATH` / `cnn-hybrid:PATH`, else WarmStartEnv::model_path, else the
+// default passed to add_cnn_warm_starters (the CLI passes DC_SOURCE_DIR/models/default.h5,
+// the shipped model). A missing or unreadable model is an IoError when the starter is made.
+//
+// The model file stores the grid (d, h, kernel, nx, ny) and the feature channel names it was
+// trained on; the starter rebuilds the feature image with exactly those, on the scene's box.
+// When that box gives another node count than the training grid, the (fully convolutional)
+// network is re-targeted to the scene's nx × ny with the same weights (Network::set_input_size):
+// one model runs on any box size. A network that cannot (a dense layer, an explicit upsample
+// size) is refused with a ConfigError naming the model's and the scene's grid.
+//
+// Cost: initial_guess() is the whole cost the bench times (feature image + inference +
+// gather); last_timing() splits the last call, total_timing() sums all calls.
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dc/cnn/feature_image.hpp"
+#include "dc/learning/model.hpp"
+#include "dc/sph/sph_transfer.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace dc {
+
+/// Milliseconds spent in the parts of initial_guess().
+struct CnnTiming {
+  double features_ms = 0;   ///< feature image from bodies and contacts
+  double inference_ms = 0;  ///< Model::predict (standardise, network, de-standardise)
+  double gather_ms = 0;     ///< Shepard read-back at the contacts, projection
+  long calls = 0;           ///< initial_guess() calls (total_timing) that ran the network
+};
+
+class CnnWarmStarter final : public WarmStarter {
+ public:
+  /// `name` is the full starter name ("cnn", "cnn:PATH", "cnn-hybrid"). `inference_threads`
+  /// bounds the OpenMP threads of predict() (set around the call and restored): a batch-1
+  /// pass of the small U-Net is ~20 fork–joins of < 1 ms each, which one thread runs
+  /// fastest on a loaded machine (docs/learning.md "Speed").
+  CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads = 1);
+  /// load_model(path) (IoError with the path) then the constructor above.
+  static std::unique_ptr<CnnWarmStarter> load(const std::filesystem::path& path, std::string name, bool hybrid,
+                                              int inference_threads = 1);
+
+  [[nodiscard]] std::string name() const override { return name_; }
+  /// λ⁰ in the problem's row order, finite, projected into the bounds. Throws ConfigError
+  /// when the network cannot run on the grid of the scene's box (see the file comment).
+  Eigen::VectorXd initial_guess(const StepView& view) override;
+
+  /// The gather path alone: the values of `world`'s contacts read back from a raw label grid
+  /// `labels` [1, 2, ny, nx] (NCHW, the data set's layout) with the Shepard read-back, in row
+  /// order, projected into the bounds when `project`. initial_guess() is features → predict
+  /// → this (+ λ_prev for a residual model, then projected).
+  Eigen::VectorXd guess_from_labels(const World& world, const Tensor& labels, bool project = true);
+  /// The same from the network's output `y` [1, 2, ny, nx] in standardised units
+  /// (Model::network_output): only the stencil nodes of the contacts are converted to labels
+  /// (Model::label_value), so the result equals guess_from_labels(world, predict(features))
+  /// bit for bit at a fraction of the cost. initial_guess() uses this.
+  Eigen::VectorXd guess_from_output(const World& world, const Tensor& y, bool project = true);
+
+  [[nodiscard]] const CnnTiming& last_timing() const { return last_; }
+  [[nodiscard]] const CnnTiming& total_timing() const { return total_; }
+  [[nodiscard]] Model& model() { return model_; }
+
+ private:
+  /// (Re)builds the feature builder and transfer for the scene's box and sizes the network
+  /// for its grid (ConfigError when the network cannot run there).
+  void prepare(const World& world);
+  /// The grid nodes (j·nx + i) of the bilinear stencils of world's contacts, each once.
+  std::span<const int> stencil_nodes(const World& world);
+  /// The read-back of grid_ at w's contacts, per row: Shepard, or the gain read-back (λp·ĝ).
+  Eigen::VectorXd read_back_grid(const World& w);
+
+  Model model_;
+  std::string name_;
+  bool hybrid_;
+  int threads_;
+  std::optional<FeatureImageBuilder> builder_;
+  std::optional<SphTransfer> transfer_;
+  double box_w_ = -1, box_h_ = -1;
+  Tensor features_;
+  SphGrid grid_;
+  std::vector<Vec2> points_;
+  std::vector<int> nodes_;       ///< stencil_nodes()
+  std::vector<unsigned> stamp_;  ///< per grid node: the stencil_nodes() call that last listed it
+  unsigned call_ = 0;
+  CnnTiming last_, total_;
+};
+
+/// Registers "cnn" and "cnn-hybrid" (see the file comment) with `default_model` as the
+/// model when neither the argument nor WarmStartEnv::model_path names one.
+void add_cnn_warm_starters(WarmStarterRegistry& registry, std::filesystem::path default_model);
+
+}  // namespace dc

@@ -1,0 +1,78 @@
+#pragma once
+// Feature and label images of one simulation step: the channels defined in
+// dc/learning/feature_channels.hpp (formulas, units, storage order there), computed from the
+// bodies, this step's contacts, the previous step's solved contacts and the step's LCP.
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dc/cnn/shape_samples.hpp"
+#include "dc/engine/body_state.hpp"
+#include "dc/engine/contact.hpp"
+#include "dc/engine/lcp_problem.hpp"
+#include "dc/learning/feature_channels.hpp"
+#include "dc/sph/sph_grid.hpp"
+#include "dc/sph/sph_kernel.hpp"
+#include "dc/sph/sph_transfer.hpp"
+
+namespace dc {
+
+/// Builds feature and label images; owns its scratch grids (no allocation after the first
+/// step of a given size). Not thread-safe: use one per thread.
+class FeatureImageBuilder {
+ public:
+  /// Validates `def` and allocates the grids.
+  explicit FeatureImageBuilder(FeatureImageDef def);
+
+  [[nodiscard]] const FeatureImageDef& def() const { return def_; }
+  [[nodiscard]] int nx() const { return nx_; }  ///< columns (x)
+  [[nodiscard]] int ny() const { return ny_; }  ///< rows (y)
+  [[nodiscard]] int feature_channels() const { return static_cast<int>(def_.channels.size()); }
+  static constexpr int kLabelChannels = kLabelChannelCount;
+  [[nodiscard]] std::size_t feature_size() const { return feature_channels() * plane(); }  ///< Cf·ny·nx
+  [[nodiscard]] std::size_t label_size() const { return kLabelChannels * plane(); }       ///< 2·ny·nx
+  [[nodiscard]] std::size_t plane() const { return static_cast<std::size_t>(nx_) * ny_; }
+
+  /// The feature image of a step: bodies as they are before the solve, this step's contacts
+  /// (key, point, normal, gap; not their λ) and the previous step's solved contacts
+  /// (`previous`: key-sorted, with λ; only read by the lambda_prev channels, empty = every
+  /// contact is new). `out` must hold feature_size() floats. Throws InvalidArgument on a size
+  /// mismatch, unsorted contact lists or non-finite input.
+  /// `problem` is the step's assembled LCP (rows ordered by `contacts`, as World::problem()):
+  /// only read by the w_prev channels, which throw InvalidArgument when it is null.
+  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
+                const LcpProblem* problem, std::span<float> out);
+  /// The same without a problem (no w_prev channel may be listed).
+  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
+                std::span<float> out) {
+    features(bodies, contacts, previous, nullptr, out);
+  }
+  /// The same with no previous contacts.
+  void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<float> out) {
+    features(bodies, contacts, {}, nullptr, out);
+  }
+
+  /// The label image: Shepard numerators of (λ_n, λ_t) at the contact points. `lambda` is
+  /// contact-major (λ_n,c, λ_t,c) pairs, 2·contacts.size() values. `out` must hold
+  /// label_size() floats.
+  void labels(std::span<const Contact> contacts, std::span<const double> lambda, std::span<float> out);
+
+ private:
+  FeatureImageDef def_;
+  SphKernel kernel_;
+  int nx_ = 0, ny_ = 0;
+  SphGrid body_grid_;     // 4 channels: Σ W m, Σ W vx, Σ W vy, Σ W ω
+  SphGrid body_weight_;   // Σ W over body centres
+  SphGrid contact_grid_;  // 2 channels: Σ W nx, Σ W ny
+  SphGrid contact_weight_;
+  SphGrid contact_values_;  // 5 channels: Σ W λ_prev,n, Σ W λ_prev,t, Σ W vrel_n, Σ W vrel_t, Σ W gap
+  SphGrid w_prev_grid_;     // 2 channels: Σ W w_n, Σ W w_t at λ_prev
+  SphGrid shape_grid_;      // 3 channels: Σ W a, Σ W a Q_x, Σ W a Q_y over the area samples
+  SphTransfer label_transfer_;  // Shepard, 2 channels: the labels are its splat()
+  std::vector<Vec2> points_;
+  std::vector<double> values_;
+  std::vector<AreaSample> samples_;
+};
+
+}  // namespace dc

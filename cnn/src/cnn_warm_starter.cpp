@@ -1,0 +1,247 @@
+#include "dc/cnn/cnn_warm_starter.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <algorithm>
+#include <cmath>
+
+#include "dc/core/error.hpp"
+#include "dc/cnn/contact_readback.hpp"
+#include "dc/learning/model_file.hpp"
+#include "dc/warmstart/sph_warm_starter.hpp"
+
+namespace dc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+/// Sets the calling thread's OpenMP team size for its next parallel regions and restores
+/// the previous value on exit (an ICV of this thread, not process state).
+class OmpThreads {
+ public:
+  explicit OmpThreads(int n) : previous_(omp_get_max_threads()) {
+    if (n > 0) omp_set_num_threads(n);
+  }
+  ~OmpThreads() { omp_set_num_threads(previous_); }
+  OmpThreads(const OmpThreads&) = delete;
+  OmpThreads& operator=(const OmpThreads&) = delete;
+
+ private:
+  int previous_;
+};
+
+/// (λ_prev,n, λ_prev,t) of each current contact of w by key (0, 0 for a new contact).
+std::vector<double> previous_pairs(const World& w) {
+  const auto& cur = w.contacts();
+  const auto& prev = w.previous_contacts();
+  const std::vector<int> match = match_contacts_by_key(prev, cur);
+  std::vector<double> out(2 * cur.size(), 0.0);
+  for (std::size_t c = 0; c < cur.size(); ++c) {
+    if (match[c] < 0) continue;
+    out[2 * c] = prev[static_cast<std::size_t>(match[c])].lambda_n;
+    out[2 * c + 1] = prev[static_cast<std::size_t>(match[c])].lambda_t;
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::VectorXd CnnWarmStarter::read_back_grid(const World& w) {
+  points_.clear();
+  for (const Contact& c : w.contacts()) points_.push_back(c.point);
+  if (model_.grid().labels.kind != LabelKind::Gain) return w.constraints().scatter(transfer_->gather(grid_, points_));
+  // Gain model: δ = λp·ĝ, the load-weighted read-back of the gain field (contact_readback.hpp),
+  // the map it was trained through.
+  const ContactReadback rb = ContactReadback::gain(*transfer_, points_, previous_pairs(w));
+  std::vector<double> v(2 * points_.size());
+  rb.forward(grid_.data().data(), v);
+  return w.constraints().scatter(v);
+}
+
+CnnWarmStarter::CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads)
+    : model_(std::move(model)), name_(std::move(name)), hybrid_(hybrid), threads_(inference_threads) {
+  if (model_.grid().label_channels != label_channel_names())
+    throw ConfigError(name_ + ": the model's label channels are not lambda_n, lambda_t");
+}
+
+std::unique_ptr<CnnWarmStarter> CnnWarmStarter::load(const std::filesystem::path& path, std::string name, bool hybrid,
+                                                     int inference_threads) {
+  if (!std::filesystem::exists(path))
+    throw IoError(name + ": model file " + path.string() +
+                  " does not exist (train one with 'make model' or pass cnn:PATH / --model)");
+  return std::make_unique<CnnWarmStarter>(load_model(path), std::move(name), hybrid, inference_threads);
+}
+
+void CnnWarmStarter::prepare(const World& world) {
+  const double W = world.def().world.width, H = world.def().world.height;
+  if (builder_ && W == box_w_ && H == box_h_) return;
+  const ModelGrid& g = model_.grid();
+  // The model's feature image (kernel, d, h, channels) on this scene's box: the same node
+  // spacing and kernel support, so a node sees the same physical neighbourhood as in
+  // training, and the fully convolutional network runs on this grid's nx × ny with the
+  // trained weights (Network::set_input_size; the model's own grid leaves it untouched).
+  FeatureImageDef def = g.image;
+  def.sph.grid.width = W;
+  def.sph.grid.height = H;
+  builder_.emplace(def);
+  const int nx = builder_->nx(), ny = builder_->ny();
+  try {
+    model_.network().set_input_size(ny, nx);
+  } catch (const ConfigError& e) {
+    builder_.reset();
+    throw ConfigError(name_ + ": the model (trained on a " + std::to_string(g.nx()) + " x " + std::to_string(g.ny()) +
+                      " grid) cannot run on this scene's " + std::to_string(nx) + " x " + std::to_string(ny) +
+                      " grid: " + e.what());
+  }
+  SphTransferDef t = def.sph;
+  t.grid.channels = FeatureImageBuilder::kLabelChannels;
+  t.normalisation = SphNormalisation::Shepard;
+  transfer_.emplace(t);
+  grid_ = SphGrid(t.grid);
+  features_ = Tensor(1, builder_->feature_channels(), ny, nx);
+  box_w_ = W;
+  box_h_ = H;
+}
+
+Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& labels, bool project) {
+  prepare(w);
+  require_shape(labels.shape(), Shape{1, FeatureImageBuilder::kLabelChannels, grid_.ny(), grid_.nx()},
+                name_ + ": label grid");
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
+  const auto& contacts = w.contacts();
+  if (contacts.empty()) return out;
+  // Same layout (c·ny + j)·nx + i on both sides: a straight float → double copy.
+  const std::span<double> dst = grid_.data();
+  for (std::size_t i = 0; i < dst.size(); ++i) dst[i] = labels[i];
+  out = read_back_grid(w);
+  if (project) project_feasible(w.problem(), out);
+  return out;
+}
+
+std::span<const int> CnnWarmStarter::stencil_nodes(const World& w) {
+  prepare(w);
+  const int nx = grid_.nx();
+  const std::size_t P = static_cast<std::size_t>(nx) * static_cast<std::size_t>(grid_.ny());
+  if (stamp_.size() != P) stamp_.assign(P, 0);
+  if (++call_ == 0) {  // wrapped: forget all marks
+    std::fill(stamp_.begin(), stamp_.end(), 0u);
+    call_ = 1;
+  }
+  nodes_.clear();
+  for (const Contact& c : w.contacts()) {
+    const BilinearStencil st = grid_.stencil(c.point);
+    const int is[2] = {st.i0, st.i1}, js[2] = {st.j0, st.j1};
+    for (const int j : js)
+      for (const int i : is) {
+        const int node = j * nx + i;
+        if (stamp_[static_cast<std::size_t>(node)] == call_) continue;
+        stamp_[static_cast<std::size_t>(node)] = call_;
+        nodes_.push_back(node);
+      }
+  }
+  return nodes_;
+}
+
+Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& y, bool project) {
+  prepare(w);
+  const int nx = grid_.nx(), ny = grid_.ny();
+  require_shape(y.shape(), Shape{1, FeatureImageBuilder::kLabelChannels, ny, nx}, name_ + ": network output");
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
+  const auto& contacts = w.contacts();
+  if (contacts.empty()) return out;
+  // The Shepard read-back reads only the four nodes of each point's bilinear stencil, so only
+  // those are de-standardised and expanded (s·sinh): ~500 of the 2·61·61 outputs on the seed
+  // pile. The other nodes of grid_ keep stale values that nothing reads.
+  const std::size_t P = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  const std::span<double> dst = grid_.data();
+  for (const int node : stencil_nodes(w))
+    for (int ch = 0; ch < FeatureImageBuilder::kLabelChannels; ++ch) {
+      const std::size_t k = static_cast<std::size_t>(ch) * P + static_cast<std::size_t>(node);
+      dst[k] = model_.label_value(ch, y[k]);
+    }
+  out = read_back_grid(w);
+  if (project) project_feasible(w.problem(), out);
+  return out;
+}
+
+Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
+  const World& w = view.world;
+  last_ = {};
+  const auto& cur = w.contacts();
+  if (cur.empty()) return Eigen::VectorXd::Zero(w.problem().rows());
+
+  // Which contacts persist from the previous step (index into previous_contacts(), −1 new):
+  // needed by the hybrid policy and by a residual model (λ⁰ = λ_prev + correction).
+  const auto& prev = w.previous_contacts();
+  const bool residual = is_corrective(model_.grid().labels.kind);  // λ⁰ = λ_prev + a correction
+  std::vector<int> prev_of;
+  if (hybrid_ || residual) prev_of = match_contacts_by_key(prev, cur);
+  const bool any_new = !hybrid_ || std::find(prev_of.begin(), prev_of.end(), -1) != prev_of.end();
+
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
+  if (any_new) {
+    auto t0 = Clock::now();
+    prepare(w);
+    builder_->features(w.bodies(), cur, prev, &w.problem(), std::span<float>(features_.data(), features_.size()));
+    last_.features_ms = ms_since(t0);
+    t0 = Clock::now();
+    const Tensor* raw = nullptr;
+    {
+      const OmpThreads scope(threads_);
+      raw = &model_.network_output_at(features_, stencil_nodes(w));
+    }
+    last_.inference_ms = ms_since(t0);
+    t0 = Clock::now();
+    out = guess_from_output(w, *raw, !residual);
+    if (residual) {
+      // Soft threshold: corrections within the network's noise level leave builtin alone.
+      apply_deadzone(std::span<double>(out.data(), static_cast<std::size_t>(out.size())), model_.grid().labels.deadzone);
+      for (std::size_t c = 0; c < cur.size(); ++c) {
+        if (prev_of[c] < 0) continue;
+        const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];
+        const int k = static_cast<int>(c);
+        const ContactConstraints& cons = w.constraints();
+        cons.put(k, cons.lambda_n(out, k) + p.lambda_n, cons.lambda_t(out, k) + p.lambda_t, out);
+      }
+      project_feasible(w.problem(), out);
+    }
+    last_.gather_ms = ms_since(t0);
+    last_.calls = 1;
+  }
+  if (hybrid_) {
+    for (std::size_t c = 0; c < cur.size(); ++c) {
+      if (prev_of[c] < 0) continue;
+      const Contact& p = prev[static_cast<std::size_t>(prev_of[c])];
+      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
+    }
+    project_feasible(w.problem(), out);
+  }
+  total_.features_ms += last_.features_ms;
+  total_.inference_ms += last_.inference_ms;
+  total_.gather_ms += last_.gather_ms;
+  total_.calls += last_.calls;
+  return out;
+}
+
+void add_cnn_warm_starters(WarmStarterRegistry& registry, std::filesystem::path default_model) {
+  const auto factory = [default_model](bool hybrid) {
+    return [default_model, hybrid](const WarmStartSpec& spec, const WarmStartEnv& env) -> std::unique_ptr<WarmStarter> {
+      const std::filesystem::path path =
+          !spec.arg.empty() ? std::filesystem::path(spec.arg)
+                            : (!env.model_path.empty() ? std::filesystem::path(env.model_path) : default_model);
+      return CnnWarmStarter::load(path, spec.full(), hybrid);
+    };
+  };
+  registry.add("cnn",
+               "learned: body state (+ builtin for a residual model) -> feature grid -> CNN -> label grid -> "
+               "back at the contacts (+ builtin); cnn:MODEL.h5 (default: --model or the shipped models/default.h5)",
+               factory(false));
+  registry.add("cnn-hybrid", "builtin for persistent contacts, cnn for new ones (network skipped when none is new); "
+                             "cnn-hybrid:MODEL.h5",
+               factory(true));
+}
+
+}  // namespace dc

@@ -1,0 +1,138 @@
+#include "dc/engine/broad_phase.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dc/core/error.hpp"
+
+namespace dc {
+
+void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
+                                       const std::vector<double>& reach,
+                                       std::vector<std::pair<int, int>>& pairs) {
+  pairs.clear();
+  pair_tests_ = 0;
+  const int n = static_cast<int>(centres.size());
+  if (n < 2) return;
+  if (static_cast<int>(reach.size()) != n)
+    throw InvalidArgument("UniformGridBroadPhase: reach must have one entry per body");
+  for (int k = 0; k < n; ++k)
+    if (!std::isfinite(centres[k].x) || !std::isfinite(centres[k].y) || !std::isfinite(reach[k]))
+      throw InvalidArgument("UniformGridBroadPhase: body " + std::to_string(k) +
+                            " has a non-finite position or radius");
+  find(
+      n, [&](int k) { return Vec2{centres[k].x - reach[k], centres[k].y - reach[k]}; },
+      [&](int k) { return Vec2{centres[k].x + reach[k], centres[k].y + reach[k]}; },
+      [&](int k) { return 2 * reach[k]; }, pairs);
+}
+
+void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const std::vector<Vec2>& hi,
+                                           std::vector<std::pair<int, int>>& pairs) {
+  pairs.clear();
+  pair_tests_ = 0;
+  const int n = static_cast<int>(lo.size());
+  if (n < 2) return;
+  if (static_cast<int>(hi.size()) != n)
+    throw InvalidArgument("UniformGridBroadPhase: need one upper corner per box");
+  for (int k = 0; k < n; ++k)
+    if (!std::isfinite(lo[k].x) || !std::isfinite(lo[k].y) || !std::isfinite(hi[k].x) || !std::isfinite(hi[k].y))
+      throw InvalidArgument("UniformGridBroadPhase: body " + std::to_string(k) + " has a non-finite bounding box");
+  find(
+      n, [&](int k) { return lo[k]; }, [&](int k) { return hi[k]; },
+      [&](int k) { return std::max(hi[k].x - lo[k].x, hi[k].y - lo[k].y); }, pairs);
+}
+
+template <class Lo, class Hi, class Extent>
+void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent& extent,
+                                 std::vector<std::pair<int, int>>& pairs) {
+  // Grid extent: bounding box of all boxes; cell = largest box extent (≥ tiny > 0).
+  double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY, cell = 0;
+  for (int k = 0; k < n; ++k) {
+    const Vec2 l = lo(k), h = hi(k);
+    xmin = std::min(xmin, l.x);
+    ymin = std::min(ymin, l.y);
+    xmax = std::max(xmax, h.x);
+    ymax = std::max(ymax, h.y);
+    cell = std::max(cell, extent(k));
+  }
+  cell = std::max(cell, 1e-12 * std::max({1.0, xmax - xmin, ymax - ymin}));
+  // Cap the number of cells at ~4n so memory stays linear even for sparse, spread scenes.
+  double nxd = std::floor((xmax - xmin) / cell) + 1, nyd = std::floor((ymax - ymin) / cell) + 1;
+  while (nxd * nyd > 4.0 * n + 16) {
+    cell *= 2;
+    nxd = std::floor((xmax - xmin) / cell) + 1;
+    nyd = std::floor((ymax - ymin) / cell) + 1;
+  }
+  const long long nx = static_cast<long long>(nxd), ny = static_cast<long long>(nyd);
+  // Cell of a coordinate: monotone in x, so a box [x − r, x + r] covers the cells
+  // cx(x − r)..cx(x + r) and the corner rule below finds every overlapping pair exactly once.
+  const double inv_cell = 1.0 / cell;
+  auto cx = [&](double x) { return std::clamp<long long>(static_cast<long long>((x - xmin) * inv_cell), 0, nx - 1); };
+  auto cy = [&](double y) { return std::clamp<long long>(static_cast<long long>((y - ymin) * inv_cell), 0, ny - 1); };
+
+  // Counting sort of (cell, body) entries: a body enters every cell its box touches. The
+  // sorted entries carry the body's box, so the pair loop reads memory in cell order
+  // instead of gathering centres and reaches by body index (random in space).
+  cell_of_entry_.clear();
+  body_cells_.clear();
+  for (int k = 0; k < n; ++k) {
+    const Vec2 l = lo(k), h = hi(k);
+    const long long i0 = cx(l.x), i1 = cx(h.x);
+    const long long j0 = cy(l.y), j1 = cy(h.y);
+    for (long long j = j0; j <= j1; ++j)
+      for (long long i = i0; i <= i1; ++i) {
+        cell_of_entry_.push_back(j * nx + i);
+        body_cells_.push_back(k);
+      }
+  }
+  const long long ncell = nx * ny;
+  cell_start_.assign(static_cast<size_t>(ncell + 1), 0);
+  for (long long c : cell_of_entry_) ++cell_start_[static_cast<size_t>(c + 1)];
+  for (long long c = 0; c < ncell; ++c) cell_start_[static_cast<size_t>(c + 1)] += cell_start_[static_cast<size_t>(c)];
+  entries_.resize(cell_of_entry_.size());
+  fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (size_t e = 0; e < cell_of_entry_.size(); ++e) {
+    const int k = body_cells_[e];
+    const Vec2 l = lo(k), h = hi(k);
+    entries_[static_cast<size_t>(fill_[static_cast<size_t>(cell_of_entry_[e])]++)] = {l.x, l.y, h.x, h.y, k};
+  }
+
+  // Each overlapping pair is reported only from the cell holding the lower-left corner of
+  // the intersection of the two boxes, so no de-duplication pass is needed.
+  by_body_.clear();
+  for (long long c = 0; c < ncell; ++c) {
+    const int s = cell_start_[static_cast<size_t>(c)], e = cell_start_[static_cast<size_t>(c + 1)];
+    for (int p = s; p < e; ++p) {
+      const Entry& a = entries_[static_cast<size_t>(p)];
+      for (int q = p + 1; q < e; ++q) {
+        const Entry& b = entries_[static_cast<size_t>(q)];
+        ++pair_tests_;
+        const double lx = std::max(a.xlo, b.xlo), ly = std::max(a.ylo, b.ylo);
+        const double hx = std::min(a.xhi, b.xhi), hy = std::min(a.yhi, b.yhi);
+        if (lx > hx || ly > hy) continue;
+        if (cy(ly) * nx + cx(lx) != c) continue;
+        by_body_.emplace_back(std::min(a.body, b.body), std::max(a.body, b.body));
+      }
+    }
+  }
+  // Sorted output in linear time: counting sort by the first body, then the few partners
+  // of each first body by insertion sort (a body has a handful of neighbours).
+  first_start_.assign(static_cast<size_t>(n) + 1, 0);
+  for (const auto& pr : by_body_) ++first_start_[static_cast<size_t>(pr.first) + 1];
+  for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
+  pairs.resize(by_body_.size());
+  fill_.assign(first_start_.begin(), first_start_.end() - 1);
+  for (const auto& pr : by_body_) pairs[static_cast<size_t>(fill_[static_cast<size_t>(pr.first)]++)] = pr;
+  for (int k = 0; k < n; ++k) {
+    const int s = first_start_[static_cast<size_t>(k)], e = first_start_[static_cast<size_t>(k) + 1];
+    for (int i = s + 1; i < e; ++i) {
+      const auto v = pairs[static_cast<size_t>(i)];
+      int j = i - 1;
+      for (; j >= s && pairs[static_cast<size_t>(j)].second > v.second; --j)
+        pairs[static_cast<size_t>(j) + 1] = pairs[static_cast<size_t>(j)];
+      pairs[static_cast<size_t>(j) + 1] = v;
+    }
+  }
+}
+
+}  // namespace dc

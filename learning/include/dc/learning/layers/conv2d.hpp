@@ -1,0 +1,91 @@
+#pragma once
+// Conv2d: k×k convolution (cross-correlation, like every DL framework) with stride s and
+// "same" padding, optional fused ReLU.
+//
+// Shapes: x [N, Cin, H, W] → y [N, Cout, Ho, Wo] with Ho = ⌈H/s⌉, Wo = ⌈W/s⌉. The total
+// padding per axis is max((Ho−1)·s + k − H, 0), split as ⌊·/2⌋ before and the rest after
+// (TensorFlow's "SAME"; for odd k and s ∈ {1, 2} on odd sizes it equals PyTorch's
+// padding = (k−1)/2).
+//
+//   y[n, o, oy, ox] = b[o] + Σ_{c, ky, kx} w[o, c, ky, kx] · x[n, c, oy·s + ky − pt, ox·s + kx − pl]
+//
+// Implementation, stride 1 with AVX-512 and Wo ≤ 64 (the default U-Net's 61×61 and 31×31
+// layers): direct convolution from a zero-padded copy of the tile's input rows, each output
+// row × a few channels accumulated in registers (no X_col, no GEMM packing); dX likewise
+// from padded dY rows with the flipped kernel; dW (3×3, batch ≥ 2) from padded x and dY of
+// a whole sample with vector accumulators. The forward of a 3×3 stride-2 conv uses the same
+// kernel on padded rows split into even/odd column phases (its backward stays im2col).
+// Otherwise (im2col + GEMM): for a tile of P output pixels the patch matrix
+// X_col (P × K, K = Cin·k², column (c,ky,kx) holds the shifted input plane) is built in a
+// per-thread scratch buffer, then Y_tile (P × Cout) = X_col · Wᵀ with Wᵀ the weight tensor
+// [Cout, Cin, k, k] viewed as a column-major K × Cout matrix. Because a sample of y is a
+// column-major (Ho·Wo) × Cout matrix, the GEMM result lands in place. Tiles are a few
+// output rows so that X_col stays in L2.
+//
+// Backward:  dWᵀ += X_colᵀ · dY   (K × Cout),   db += Σ_p dY[p, :],
+//            stride 1: dX = "same" conv of dY with the flipped, channel-transposed kernel
+//                      (one GEMM per tile, P × Cout·k² times Cout·k² × Cin, written in place);
+//            stride s > 1: dX_col = dY · W (P × K), scattered back (col2im, adjoint of im2col).
+// Threads: forward runs OpenMP over (sample, tile) items; backward over groups of
+// samples (or over the tiles of a single sample), each group with its own dW accumulator,
+// summed in group order. Groups depend on the batch size only and are scheduled
+// dynamically: the result is deterministic for any thread count, and a thread that is
+// descheduled on a busy machine does not hold the others up.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dc/learning/layers/layer.hpp"
+
+namespace dc {
+
+class Conv2d final : public Layer {
+ public:
+  /// Throws InvalidArgument for non-positive channels, even or non-positive kernel, stride < 1.
+  Conv2d(int in_channels, int out_channels, int kernel = 3, int stride = 1, bool relu = false);
+
+  [[nodiscard]] std::string type() const override { return "conv"; }
+  [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] Shape output_shape(const Shape& in) const override;
+  void forward(const Tensor& x, Tensor& y, bool training) override;
+  void backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor* dx) override;
+  std::vector<ParamRef> parameters() override;
+  void initialize(const Initializer& init, Rng& rng) override;
+
+  [[nodiscard]] int in_channels() const { return cin_; }
+  [[nodiscard]] int out_channels() const { return cout_; }
+  [[nodiscard]] int kernel() const { return k_; }
+  [[nodiscard]] int stride() const { return s_; }
+  [[nodiscard]] bool relu() const { return relu_; }
+  Tensor& weight() { return weight_; }  ///< [Cout, Cin, k, k]
+  Tensor& bias() { return bias_; }      ///< [1, Cout, 1, 1]
+
+ private:
+  struct Geometry {
+    int h, w, ho, wo, pad_top, pad_left, rows_per_tile;
+  };
+  [[nodiscard]] Geometry geometry(const Shape& in) const;
+  void im2col(const float* x, const Geometry& g, int oy0, int oy1, float* col) const;
+  void col2im(const float* col, const Geometry& g, int oy0, int oy1, float* dx) const;
+
+  int cin_, cout_, k_, s_;
+  bool relu_;
+  Tensor weight_, bias_, dweight_, dbias_;
+  // Scratch, grown on demand and reused across calls (col_/dyr_ indexed by OpenMP thread).
+  std::vector<Eigen::VectorXf> col_;    ///< X_col / dX_col of one tile (P × K)
+  std::vector<Eigen::VectorXf> dyr_;    ///< dY masked by the fused ReLU (P × Cout)
+  std::vector<Eigen::MatrixXf> dw_;     ///< dWᵀ accumulators (K × Cout), one per work group
+  std::vector<Eigen::VectorXf> db_;     ///< db accumulators (Cout), one per work group
+  Eigen::VectorXf dxcol_;               ///< whole-sample dX_col (batch 1, stride > 1)
+  Eigen::VectorXf dymask_;              ///< ReLU-masked dY (batch 1)
+  Eigen::MatrixXf wflip_;               ///< flipped, channel-transposed kernel (Cout·k² × Cin)
+  // Direct stride-1 path (AVX-512, Wo ≤ 64; see conv2d.cpp): packed weights and padded rows.
+  std::vector<float> wpk_;              ///< weights [Cout/OB][Cin][k][k][OB]
+  std::vector<float> wpkf_;             ///< flipped kernel for dX [Cin/OB][Cout][k][k][OB]
+  std::vector<Eigen::VectorXf> pad_;    ///< zero-padded dY rows of one tile, per thread
+  std::vector<Eigen::VectorXf> xpad_;   ///< zero-padded input sample (direct dW), per thread
+  std::vector<Eigen::VectorXf> dyz_;    ///< dY rows widened to whole vectors (direct dW), per thread
+};
+
+}  // namespace dc

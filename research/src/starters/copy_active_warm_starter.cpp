@@ -1,0 +1,119 @@
+// copy-active (oracle diagnostic): builtin-active's guess (dc/warmstart/active_set_solve.hpp,
+// builtin_active_warm_starter.cpp) on the active set of this step's λ* — which contacts
+// separate, which stick, which slide and in which direction — not on builtin's remembered one:
+// an oracle bound of a predictor of the active set.
+//   copy-active:F  builtin-active's active set with a share F ∈ [0, 1] of the contacts where it
+//                  disagrees with λ*'s corrected to λ*'s mode: how good must a predictor of the
+//                  mode CHANGES be to pay (F = 0 is builtin-active, F = 1 copy-active). Which
+//                  contacts are corrected is fixed by a hash of the contact key, u(key) < F, so
+//                  the corrected set grows with F (nested) and is the same in every run.
+//   copy-active:normal, copy-active:friction  builtin-active's active set with only one half of
+//                  λ*'s corrected: normal = which contacts touch (a contact λ* loads that
+//                  builtin separates sticks; builtin's friction mode is kept where both touch),
+//                  friction = the stick/slide mode where both touch. Is one half the hard part?
+// Dense, O(rows³): a diagnostic for piles of a few hundred bodies (kMaxDenseDiagnosticRows).
+//   copy-active-cg[:ITER]  the same with the minimum-norm solve done matrix-free by ITER CGLS
+//                  steps (default 100; solve_on_active_set_cgls): what the active-set route
+//                  costs without the dense factorisation.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dc/warmstart/active_set_solve.hpp"
+#include "oracle_starters.hpp"
+
+namespace dc {
+
+namespace {
+
+/// u(key) ∈ [0, 1): splitmix64 of the packed key and feature, a fixed pseudo-random share.
+double key_share(const ContactKey& k) {
+  std::uint64_t z = k.packed() ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.feature)) * 0x9e3779b97f4a7c15ULL);
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+/// Which of builtin-active's modes copy-active corrects to λ*'s.
+struct ActiveSetSource {
+  enum class Part { All, Normal, Friction };
+  double share = 1.0;      ///< F: the share of the wrong modes corrected (by key hash)
+  Part part = Part::All;   ///< which half of λ*'s modes is used (copy-active:normal|friction)
+  int cgls = 0;            ///< > 0: CGLS steps instead of the dense solve (the -cg starters)
+};
+
+class CopyActiveWarmStarter final : public WarmStarter {
+ public:
+  CopyActiveWarmStarter(ActiveSetSource src, std::string arg) : src_(src), arg_(std::move(arg)) {}
+  std::string name() const override {
+    const std::string n = src_.cgls > 0 ? "copy-active-cg" : "copy-active";
+    return arg_.empty() ? n : n + ":" + arg_;
+  }
+  bool uses_oracle() const override { return true; }
+  double oracle_ms() const override { return oracle_ms_; }
+
+  Eigen::VectorXd initial_guess(const StepView& v) override {
+    const World& w = v.world;
+    const Eigen::VectorXd base = builtin_guess(w);
+    oracle_ms_ = 0;
+    if (w.contacts().empty()) return base;
+    std::vector<ContactMode> modes = remembered_modes(w, base);
+    const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
+    for (std::size_t c = 0; c < modes.size(); ++c) {
+      if (src_.share < 1 && !(key_share(w.contacts()[c].key) < src_.share)) continue;
+      const ContactMode m = contact_mode(w.constraints(), static_cast<int>(c), star);
+      const bool touches = m != ContactMode::Separating, touched = modes[c] != ContactMode::Separating;
+      switch (src_.part) {
+        case ActiveSetSource::Part::All: modes[c] = m; break;
+        case ActiveSetSource::Part::Normal:
+          if (!touches) modes[c] = m;
+          else if (!touched) modes[c] = ContactMode::Sticking;
+          break;
+        case ActiveSetSource::Part::Friction:
+          if (touches && touched) modes[c] = m;
+          break;
+      }
+    }
+    const std::string who = name();
+    return src_.cgls > 0 ? solve_on_active_set_cgls(w, base, modes, src_.cgls, who.c_str())
+                         : solve_on_active_set(w, base, modes, who.c_str());
+  }
+
+ private:
+  ActiveSetSource src_;
+  std::string arg_;
+  double oracle_ms_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  ActiveSetSource src;
+  if (spec.arg == "normal") {
+    src.part = ActiveSetSource::Part::Normal;
+  } else if (spec.arg == "friction") {
+    src.part = ActiveSetSource::Part::Friction;
+  } else if (!spec.arg.empty()) {
+    std::size_t used = 0;
+    try {
+      src.share = std::stod(spec.arg, &used);
+    } catch (const std::logic_error&) {
+      used = 0;
+    }
+    if (used != spec.arg.size() || !(src.share >= 0 && src.share <= 1))
+      throw ConfigError("warm starter '" + spec.full() + "': expected copy-active[:F|:normal|:friction] with 0 <= F <= 1");
+  }
+  return std::make_unique<CopyActiveWarmStarter>(src, spec.arg);
+}
+
+std::unique_ptr<WarmStarter> make_copy_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
+  ActiveSetSource src;
+  src.cgls = parse_cgls_iterations(spec);
+  return std::make_unique<CopyActiveWarmStarter>(src, spec.arg);
+}
+
+}  // namespace dc

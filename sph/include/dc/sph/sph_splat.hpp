@@ -1,0 +1,74 @@
+#pragma once
+// The two halves of the SPH transfer as free functions over caller-owned grids
+// (SphTransfer in sph_transfer.hpp bundles them with buffers and a normalisation mode).
+//
+// Splatting, particle → grid (the seed's "mapping contacts into a grid image"):
+//
+//     G(c, node) = Σ_k W(|x_node − q_k|, h) · v_{k,c}          (value field, 1/m² · unit of v)
+//     S(node)    = Σ_k W(|x_node − q_k|, h)                    (kernel-weight field, 1/m²)
+//
+// S is the Shepard denominator: it depends on the particle POSITIONS only, so for contacts
+// it is known before the solve. Neighbour search is by cells: each particle visits only
+// the node index box [⌈(q_x − h)/d⌉, ⌊(q_x + h)/d⌋] × [⌈(q_y − h)/d⌉, ⌊(q_y + h)/d⌋]
+// (clipped to the grid), i.e. at most (2h/d + 1)² nodes — cost O(particles · (h/d)²),
+// independent of the grid size (apart from zeroing it).
+//
+// Grid → particle: bilinear interpolation (SphGrid::stencil), optionally divided by the
+// bilinear interpolant of S (Shepard): v̂(q) = bilinear(G)(q) / bilinear(S)(q). For an
+// isolated particle G = v·S node by node, so v̂ = v exactly (up to rounding); in general v̂
+// is a convex combination of the particle values whose support reaches q's cell.
+//
+// Value layout: particle-major, values[k·C + c] for particle k and channel c (the rows of
+// an N × C row-major matrix), for inputs and outputs alike.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "dc/core/vec2.hpp"
+#include "dc/sph/sph_grid.hpp"
+#include "dc/sph/sph_kernel.hpp"
+
+namespace dc {
+
+/// What a splat did (for tests of the neighbour search and for diagnostics).
+struct SplatStats {
+  std::size_t particles = 0;        ///< particles splatted
+  std::size_t nodes_visited = 0;    ///< node-particle pairs examined (index boxes)
+  std::size_t nodes_in_support = 0; ///< pairs with |x_node − q| < h (W > 0) that were written
+  /// Particles with no node strictly within h: their value never reaches the grid and no
+  /// read-back can recover it (happens when h < d·√2/2, or far outside the box).
+  std::size_t particles_without_support = 0;
+};
+
+/// Splats `values` (particle-major, points.size() × grid.channels()) at `points` into
+/// `grid`, overwriting it. When `weights` is non-null (one channel, same nx, ny, d as
+/// `grid`) it is overwritten with the kernel-weight field S.
+///
+/// `renormalise_per_particle` is the LEGACY sum-to-one mode of the earlier theses: each
+/// particle's weights over the nodes it touches are divided by their sum before
+/// splatting (so Σ_nodes w = 1 per particle); `weights` then receives those renormalised
+/// weights. With plain bilinear read-back this loses most of the value (docs/sph.md).
+///
+/// Throws InvalidArgument on size mismatches or non-finite points/values.
+SplatStats splat_to_grid(const SphKernel& kernel, std::span<const Vec2> points,
+                         std::span<const double> values, SphGrid& grid,
+                         SphGrid* weights = nullptr, bool renormalise_per_particle = false);
+
+/// Only the kernel-weight field S of `points` (positions only) into the one-channel grid
+/// `weights`, overwriting it.
+SplatStats splat_weights(const SphKernel& kernel, std::span<const Vec2> points, SphGrid& weights);
+
+/// Plain bilinear read-back: out[k·C + c] = bilinear(grid, c)(points[k]) (clamped to the box).
+/// `out` must hold points.size() × grid.channels() values.
+void gather_bilinear(const SphGrid& grid, std::span<const Vec2> points, std::span<double> out);
+
+/// Shepard read-back: out[k·C + c] = bilinear(grid, c)(q_k) / bilinear(weights)(q_k).
+/// Where the interpolated weight is ≤ min_weight (no kernel support at q's cell: the
+/// ratio would be 0/0) the point gets 0 in every channel and unsupported[k] = 1, else
+/// unsupported[k] = 0. Returns the number of unsupported points. `weights` must have one
+/// channel and the geometry of `grid`; `unsupported` must hold points.size() entries.
+std::size_t gather_shepard(const SphGrid& grid, const SphGrid& weights,
+                           std::span<const Vec2> points, std::span<double> out,
+                           std::span<std::uint8_t> unsupported, double min_weight);
+
+}  // namespace dc

@@ -1,0 +1,188 @@
+// deepcontact generate as a process: thread-count independence, kill -9 + --resume and
+// SIGINT + --resume give the same datasets as an uninterrupted run, and bad inputs fail with
+// a one-line error.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "cli_helpers.hpp"
+#include "h5_compare.hpp"
+#include "dc/io/h5.hpp"
+#include "dc/cnn/data_set.hpp"
+
+namespace dc {
+namespace {
+
+namespace fs = std::filesystem;
+using test::ChildLog;
+using test::slurp;
+using test::spawn_cli;
+using test::wait_exit;
+using test::wait_for;
+
+/// A tiny family (10–14 circles in a 12 × 12 box): 60 steps take ≈ 0.05 s per simulation,
+/// kSlow's 250 steps ≈ 0.25 s — long enough to be killed reliably between simulations.
+const std::string kScene =
+    " --set world.width=12 --set world.height=12 --set bodies.mean=[6.0,6.0] --set bodies.sigma=2.0 --seed 5";
+const std::string kFamily = kScene + " --count 10..14 --steps 60";
+const std::string kSlow = kScene + " --count 10..14 --steps 250";
+
+using test::TempDir;
+using Dir = TempDir;
+
+using Result = test::CliResult;
+
+
+std::string attribute_text(const H5File& f, const std::string& name) {
+  try {
+    return f.attribute_string("/", name);
+  } catch (const std::exception&) {
+  }
+  try {
+    std::string s;
+    for (auto v : f.attribute_array<double>("/", name)) s += std::to_string(v) + ",";
+    return s;
+  } catch (const std::exception&) {
+  }
+  std::string s;
+  for (auto v : f.attribute_array<std::int64_t>("/", name)) s += std::to_string(v) + ",";
+  return s;
+}
+
+/// Same root attributes and, recursively, the same datasets (shape, type, every element).
+void expect_same_file(const std::string& pa, const std::string& pb) {
+  const H5File a = H5File::open_read(pa), b = H5File::open_read(pb);
+  ASSERT_EQ(a.attribute_names("/"), b.attribute_names("/"));
+  for (const auto& n : a.attribute_names("/")) EXPECT_EQ(attribute_text(a, n), attribute_text(b, n)) << n;
+  test::expect_same_datasets(a, b);
+}
+
+/// The uninterrupted reference run of `sims` simulations of `family` (made once per binary run).
+std::string reference(int sims, const std::string& family) {
+  static std::map<std::string, std::string> made;
+  const std::string key = std::to_string(sims) + family;
+  if (auto it = made.find(key); it != made.end()) return it->second;
+  const fs::path dir = fs::temp_directory_path() / ("dc_generate_cli_ref_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string out = (dir / ("ref" + std::to_string(made.size()) + ".h5")).string();
+  const std::string cmd = std::string(DC_CLI) + " generate --sims " + std::to_string(sims) + family +
+                          " --threads 1 --out " + out + " >/dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  made[key] = out;
+  static const struct Cleanup {
+    fs::path d;
+    ~Cleanup() { fs::remove_all(d); }
+  } cleanup{dir};
+  return out;
+}
+
+int one_line(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(GenerateCli, ThreadCountDoesNotChangeTheFile) {
+  Dir dir;
+  const std::string out2 = dir / "t2.h5";
+  const Result r = test::run_cli("generate --sims 3" + kFamily + " --threads 2 --out " + out2);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(out2 + ".partial"));
+  expect_same_file(reference(3, kFamily), out2);
+  const DataSetReader data(out2);
+  ASSERT_EQ(data.simulations().size(), 3u);
+  EXPECT_EQ(data.simulations()[2].seed, 7u);
+  EXPECT_EQ(data.feature_channels(), 5);
+  EXPECT_EQ(data.nx(), 25);
+}
+
+TEST(GenerateCli, KillNineThenResumeEqualsAnUninterruptedRun) {
+  Dir dir;
+  const std::string out = dir / "killed.h5", err = dir / "err.txt";
+  const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
+  const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+  ::kill(pid, SIGKILL);
+  EXPECT_EQ(wait_exit(pid), -SIGKILL) << "the run finished before it could be killed";
+  ASSERT_TRUE(fs::exists(out + ".partial"));
+  EXPECT_FALSE(fs::exists(out));
+  {
+    const DataSetReader partial(out + ".partial");
+    EXPECT_GE(partial.simulations().size(), 1u);
+    EXPECT_LT(partial.simulations().size(), 6u);
+  }
+  // Without --resume the partial file is never overwritten.
+  const Result refused = test::run_cli(args);
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.err.find("--resume"), std::string::npos) << refused.err;
+  EXPECT_EQ(one_line(refused.err), 1) << refused.err;
+
+  const Result resumed = test::run_cli(args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+  expect_same_file(reference(6, kSlow), out);
+}
+
+TEST(GenerateCli, SigintExitsNonZeroAndLeavesAResumablePartialFile) {
+  Dir dir;
+  const std::string out = dir / "int.h5", err = dir / "err.txt";
+  const std::string args = "generate --sims 6" + kSlow + " --threads 2 --log-completed --out " + out;
+  const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+  ::kill(pid, SIGINT);
+  const int status = wait_exit(pid);
+  ASSERT_EQ(status, 130) << slurp(err);  // 128 + SIGINT, after committing what was finished
+  EXPECT_NE(slurp(err).find("--resume"), std::string::npos) << slurp(err);
+  ASSERT_TRUE(fs::exists(out + ".partial"));
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_GE(DataSetReader(out + ".partial").simulations().size(), 1u);
+  const Result resumed = test::run_cli(args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  expect_same_file(reference(6, kSlow), out);
+}
+
+TEST(GenerateCli, ResumeWithOtherParametersIsRefused) {
+  Dir dir;
+  const std::string out = dir / "p.h5", err = dir / "err.txt";
+  const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
+  const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
+  ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+  ::kill(pid, SIGKILL);
+  wait_exit(pid);
+  ASSERT_TRUE(fs::exists(out + ".partial"));
+  const Result r = test::run_cli("generate --sims 6" + kScene + " --count 10..15 --steps 250 --resume --out " + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--count"), std::string::npos) << r.err;
+  EXPECT_EQ(one_line(r.err), 1) << r.err;
+}
+
+TEST(GenerateCli, BadInputsFailWithOneLine) {
+  Dir dir;
+  const std::string out = dir / "bad.h5";
+  for (const std::string bad : {"--sims 0", "--sims 2 --count 5..2", "--sims 2 --count abc",
+                                 "--sims 2 --channels mass,speed", "--sims 2 --grid poly6:0:0.5",
+                                 "--sims 2 --resume", "--sims 2 --oracle lemke"}) {
+    const Result r = test::run_cli("generate " + bad + " --steps 5 --out " + out);
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_EQ(one_line(r.err), 1) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << bad;
+  }
+  // An existing OUT needs --force.
+  { std::ofstream(out) << "x"; }
+  const Result r = test::run_cli("generate --sims 1 --steps 5 --out " + out);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_EQ(one_line(r.err), 1) << r.err;
+}
+
+}  // namespace
+}  // namespace dc

@@ -1,0 +1,122 @@
+// generate_data_set (data_set_generation.hpp): the file does not depend on the thread
+// count, an interrupted run resumes to the same file, and the settings are checked.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "dc/core/error.hpp"
+#include "dc/io/h5.hpp"
+#include "dc/cnn/data_set_generation.hpp"
+#include "h5_compare.hpp"
+#include "cnn/small_data_set.hpp"
+
+namespace dc {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TempDir {
+  fs::path path = fs::temp_directory_path() / ("dc_generation_test_" + std::to_string(::getpid()));
+  TempDir() { fs::create_directories(path); }
+  ~TempDir() { fs::remove_all(path); }
+  [[nodiscard]] std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+DataSetGenerationDef small(const std::string& out, int threads) {
+  DataSetGenerationDef d;
+  d.params = test::small_data_set_params(12, 30, 5, 8, 12);
+  d.out = out;
+  d.simulations = 4;
+  d.threads = threads;
+  return d;
+}
+
+TEST(DataSetGeneration, FileIsIndependentOfTheThreadCount) {
+  TempDir dir;
+  int committed = 0, last = -1, first_seen = -1;
+  DataSetGenerationHooks hooks;
+  hooks.on_start = [&](int first, int threads) {
+    first_seen = first;
+    EXPECT_EQ(threads, 1);
+  };
+  hooks.on_committed = [&](const SimulationRecord& r) {
+    EXPECT_EQ(r.index, last + 1);  // strictly in order
+    last = r.index;
+    ++committed;
+  };
+  const DataSetGenerationReport one = generate_data_set(small(dir.file("one.h5"), 1), hooks);
+  EXPECT_EQ(first_seen, 0);
+  EXPECT_EQ(committed, 4);
+  EXPECT_TRUE(one.finished);
+  EXPECT_EQ(one.path, dir.file("one.h5"));
+  EXPECT_EQ(one.completed, 4);
+  EXPECT_EQ(one.steps, 4 * 30);
+  EXPECT_FALSE(fs::exists(dir.file("one.h5.partial")));
+  const DataSetGenerationReport three = generate_data_set(small(dir.file("three.h5"), 3));
+  EXPECT_EQ(three.threads, 3);
+  EXPECT_EQ(three.samples, one.samples);
+  EXPECT_EQ(three.worst_residual, one.worst_residual);
+  const H5File a = H5File::open_read(dir.file("one.h5")), b = H5File::open_read(dir.file("three.h5"));
+  test::expect_same_datasets(a, b);
+  const DataSetReader r(dir.file("one.h5"));
+  EXPECT_EQ(static_cast<int>(r.simulations().size()), 4);
+  EXPECT_EQ(r.samples(), one.samples);
+}
+
+TEST(DataSetGeneration, InterruptedRunResumesToTheSameFile) {
+  TempDir dir;
+  generate_data_set(small(dir.file("ref.h5"), 2));
+  // Stop once the first simulation is committed: the rest is dropped, the file stays .partial.
+  // One worker may run at most 2 simulations ahead of the writer, so simulation 3 cannot
+  // start before the stop.
+  std::atomic<bool> stop{false};
+  DataSetGenerationHooks hooks;
+  hooks.keep_going = [&] { return !stop.load(); };
+  hooks.on_committed = [&](const SimulationRecord&) { stop = true; };
+  const DataSetGenerationReport cut = generate_data_set(small(dir.file("cut.h5"), 1), hooks);
+  EXPECT_FALSE(cut.finished);
+  EXPECT_GE(cut.completed, 1);
+  EXPECT_LT(cut.completed, 4);
+  EXPECT_EQ(cut.path, dir.file("cut.h5.partial"));
+  EXPECT_TRUE(fs::exists(cut.path));
+  EXPECT_FALSE(fs::exists(dir.file("cut.h5")));
+  // Without resume a stale partial is refused; with it the run completes.
+  EXPECT_THROW(generate_data_set(small(dir.file("cut.h5"), 2)), ConfigError);
+  DataSetGenerationDef again = small(dir.file("cut.h5"), 3);
+  again.resume = true;
+  const DataSetGenerationReport done = generate_data_set(again);
+  EXPECT_TRUE(done.finished);
+  EXPECT_EQ(done.first, cut.completed);
+  EXPECT_EQ(done.completed, 4);
+  const H5File a = H5File::open_read(dir.file("ref.h5")), b = H5File::open_read(dir.file("cut.h5"));
+  test::expect_same_datasets(a, b);
+}
+
+TEST(DataSetGeneration, SettingsAndFilesAreChecked) {
+  TempDir dir;
+  DataSetGenerationDef d = small(dir.file("x.h5"), 1);
+  d.simulations = 0;
+  EXPECT_THROW(generate_data_set(d), ConfigError);
+  d = small("", 1);
+  EXPECT_THROW(generate_data_set(d), ConfigError);
+  d = small(dir.file("x.h5"), -1);
+  EXPECT_THROW(generate_data_set(d), ConfigError);
+  d = small(dir.file("x.h5"), 1);
+  d.resume = true;  // nothing to resume
+  EXPECT_THROW(generate_data_set(d), ConfigError);
+  { std::ofstream(dir.file("x.h5")) << "x"; }
+  d.resume = false;
+  EXPECT_THROW(generate_data_set(d), ConfigError);  // exists, no force
+  EXPECT_FALSE(fs::exists(dir.file("x.h5.partial")));
+  d.force = true;
+  d.simulations = 1;
+  EXPECT_TRUE(generate_data_set(d).finished);
+  EXPECT_NO_THROW(DataSetReader{dir.file("x.h5")});
+}
+
+}  // namespace
+}  // namespace dc
