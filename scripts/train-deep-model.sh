@@ -1,6 +1,6 @@
 #!/bin/sh
-# Reproduces models/deep.h5, the warm start trained THROUGH PGS for the deep pile (issue 12
-# item 3; docs/learning.md "Training through PGS"), and the regression model it starts from,
+# Reproduces models/deep.h5, the warm start trained THROUGH PGS for the deep pile
+# (docs/learning.md "Training through PGS"), and the regression model it starts from,
 # then evaluates both against zero and builtin on held-out seeds.
 #
 #   scripts/train-deep-model.sh [BUILD_DIR]      (default build/; THREADS=2)
