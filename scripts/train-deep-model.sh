@@ -5,8 +5,8 @@
 #
 #   scripts/train-deep-model.sh [BUILD_DIR]      (default build/; THREADS=2)
 #
-# The deep pile: 300 unit circles in a 20 x 120 box (the first look; scenes/deep.toml of
-# the families work may replace the --set lines). Training seeds 1000-1007, evaluation seeds 1-2.
+# The deep pile: 300 unit circles in a 20 x 120 box (the first look at deep piles; scenes/deep.toml
+# may replace the --set lines). Training seeds 1000-1007, evaluation seeds 1-2.
 set -eu
 BUILD=${1:-build}
 THREADS=${THREADS:-2}
