@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The determinism check of docs/reproducibility.md (issue 16): the same scene must give the
+# The determinism check of docs/reproducibility.md: the same scene must give the
 # same final state, bit for bit, with the native build (-march=native, what `make build`
 # and `make test` produce) and with a portable build (-DDC_NATIVE=OFF, x86-64 baseline:
 # SSE2, no FMA, no AVX). The portable binary is also run with glibc's libm forced to its
@@ -56,7 +56,7 @@ scenes=(
 --set solver.tolerance=0.01 --steps 150 --warmstart sph"
   "small (newton solver, copy)|--scene scenes/small.toml --set solver.name=newton --warmstart copy"
   "seed, pgs-colored (AVX-512 vs scalar kernel)|--set solver.name=pgs-colored --steps 300"
-  # Shape scenes (issue 10): polygon SAT + clipping, libccd ellipse pairs with the normal
+  # Shape scenes: polygon SAT + clipping, libccd ellipse pairs with the normal
   # polish, static and kinematic bodies; their rotations use det_sincos (no libm).
   "box_pile (60 boxes, two-point manifolds)|--scene scenes/box_pile.toml --steps 200"
   "mixed (ellipses, polygons, circles)|--scene scenes/mixed.toml --steps 200"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 14's MPI check (docs/cluster.md): generate, bench and train under
+# The MPI check of CI (docs/cluster.md): generate, bench and train under
 # `mpirun -n 2` against one-process runs of the same binary.
 #   1. generate: the 2-rank file equals the 1-process file in every dataset and attribute;
 #      a 1-process run killed mid-way (SIGKILL) and resumed on 2 ranks, and a 2-rank run

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The robustness stage of CI (issue 5), meant to run after `make test` on a clean clone:
+# The robustness stage of CI (docs/robustness.md), meant to run after `make test` on a clean clone:
 #   1. the whole test suite once under AddressSanitizer + UndefinedBehaviorSanitizer
 #      (`make sanitize`: RelWithDebInfo build in build-asan/, then ctest);
 #   2. every libFuzzer harness for FUZZ_SECONDS seconds (default 60) via scripts/fuzz.sh.

@@ -6,7 +6,7 @@
 Exit status 0 when every dataset (shape, dtype, bytes) and every attribute of A equals B's
 and both hold the same objects; 1 otherwise, listing the differences. Paths (datasets, or
 "path@attribute" for attributes) matching an --ignore regex are skipped (e.g. timings).
-Used by scripts/check-mpi.sh (issue 14: files written across MPI ranks equal the
+Used by scripts/check-mpi.sh (files written across MPI ranks equal the
 one-process files).
 """
 import argparse

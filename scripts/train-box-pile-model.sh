@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Trains models/box_pile.h5, the cnn warm start for scenes/box_pile.toml that sees the bodies'
-# shapes (issue 10 item 5; docs/learning.md "Shape channels"), and its ablation without the
+# shapes (docs/learning.md "Shape channels"), and its ablation without the
 # shape channels on the same data, then benchmarks both on held-out seeds. The pipeline:
 #
 #   1. deepcontact generate: SIMS box_pile simulations (60 boxes 1.5 x 1.0 m, STEPS steps each)

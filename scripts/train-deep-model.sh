@@ -1,12 +1,12 @@
 #!/bin/sh
-# Reproduces models/deep.h5, the warm start trained THROUGH PGS for the deep pile (issue 12
-# item 3; docs/learning.md "Training through PGS"), and the regression model it starts from,
+# Reproduces models/deep.h5, the warm start trained THROUGH PGS for the deep pile
+# (docs/learning.md "Training through PGS"), and the regression model it starts from,
 # then evaluates both against zero and builtin on held-out seeds.
 #
 #   scripts/train-deep-model.sh [BUILD_DIR]      (default build/; THREADS=2)
 #
-# The deep pile: 300 unit circles in a 20 x 120 box (the issue's first look; scenes/deep.toml of
-# the families work may replace the --set lines). Training seeds 1000-1007, evaluation seeds 1-2.
+# The deep pile: 300 unit circles in a 20 x 120 box (the first look at deep piles; scenes/deep.toml
+# may replace the --set lines). Training seeds 1000-1007, evaluation seeds 1-2.
 set -eu
 BUILD=${1:-build}
 THREADS=${THREADS:-2}

@@ -7,7 +7,7 @@
 #      residual feature channels (the builtin warm start, relative velocity and gap at the
 #      contacts on the grid; docs/learning.md "Residual models").
 #   2. deepcontact train: the cheap U-Net models/arch/unet-fast.toml (stride-2 first layer, a
-#      31 -> 16 -> 8 -> 4 U-Net and a 1x1 head at 61 x 61; issue 11) as a RESIDUAL model
+#      31 -> 16 -> 8 -> 4 U-Net and a 1x1 head at 61 x 61: cheap to infer) as a RESIDUAL model
 #      (learns λ* − λ_prev, asinh-compressed with scale 10, loss weight 11 at contact nodes,
 #      corrections below DEADZONE N ignored at inference) on
 #      every 4th step of each simulation (consecutive steps are nearly identical), validation =
@@ -16,7 +16,7 @@
 # Sized for a 2-core machine: 32 x 600 steps = 19176 samples, of which 4795 are used; on an
 # idle 2-core box about 1.5 min of generation and a few seconds per epoch of training
 # (docs/learning.md "Default model" has the measured times). ARCH overrides the architecture
-# (the model shipped before issue 11 was ARCH=models/arch/unet-deep-slim.toml).
+# (the model shipped before unet-fast was ARCH=models/arch/unet-deep-slim.toml).
 # THREADS is fixed (not nproc) because a training is bit-reproducible only for the same
 # thread count; the data set does not depend on it. Environment overrides: BUILD (build dir,
 # default build), SIMS, EPOCHS, EVERY, THREADS, DEADZONE, ARCH; DATA (the data set path), OUT (the model).

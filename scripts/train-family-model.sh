@@ -1,6 +1,6 @@
 #!/bin/sh
-# Trains models/<family>.h5, a warm start trained THROUGH PGS for one scene family (issue 12
-# item 3; docs/learning.md "Training through PGS", docs/research/family-models.md):
+# Trains models/<family>.h5, a warm start trained THROUGH PGS for one scene family
+# (docs/design.md §8.5; docs/learning.md "Training through PGS", docs/research/family-models.md):
 # the shipped residual cnn (models/default.h5, trained on the seed scene's 61 x 61 grid) is the
 # --init model; being fully convolutional it runs on the family's own grid (same d, h, kernel,
 # channels), and train --loss pgs-* fine-tunes it on the family's LCPs.

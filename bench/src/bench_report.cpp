@@ -228,7 +228,7 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   md << ".\n\n";
   md << "Medians over steps. `*` marks oracle starters (they use this step's solution λ*; the oracle's cost is "
         "shown apart and is not included in total). `/zero` is the ratio to the zero warm start. "
-        "`theses` gives the earlier theses' median iterations to 1e-4 N·s (Box2D impulses, r = 0.5; DESIGN §6).\n\n";
+        "`theses` gives the earlier theses' median iterations to 1e-4 N·s (Box2D impulses, r = 0.5; docs/design.md §6).\n\n";
   md << format_table(r, summary, true) << "\n";
   md << statistics_markdown(stats);
   md << plots_markdown(plots, r.options.mode);

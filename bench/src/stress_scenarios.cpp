@@ -508,7 +508,7 @@ std::vector<Scenario> stress_scenarios(bool quick) {
       out.push_back(std::move(s));
     }
   }
-  // Shapes (issue 10): thin boxes, aspect-10 ellipses, a 20-box stack, a box pyramid. The
+  // Shapes (docs/design.md §8.1): thin boxes, aspect-10 ellipses, a 20-box stack, a box pyramid. The
   // stack and pyramid use the builtin warm start and 300 sweeps (row-by-row PGS needs that
   // many on two-point manifolds, docs/engine.md).
   {

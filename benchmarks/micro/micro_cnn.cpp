@@ -1,4 +1,5 @@
-// Google Benchmark of the whole `cnn` warm start (issue 11 item 4): feature image + inference
+// Google Benchmark of the whole `cnn` warm start (target ≤ 0.1 ms, docs/design.md §5):
+// feature image + inference
 // + Shepard read-back at the contacts, on the seed scene, batch 1, one thread — exactly what
 // `deepcontact bench` times as the cnn's warm-start ms.
 //
@@ -11,7 +12,7 @@
 //                                     (cpu_us_features, cpu_us_network = standardise + network
 //                                     at the stencil nodes, cpu_us_readback = label conversion
 //                                     + Shepard gather + projection).
-//   cnn_warm_start_predict_all/…      the same with the read-back of before issue 11: predict()
+//   cnn_warm_start_predict_all/…      the same with the whole-grid read-back: predict()
 //                                     converts all 2·61·61 outputs (de-standardise, s·sinh).
 //   cnn_layers/<model>/step:<k>       Model::predict's parts: standardise, every network node
 //                                     (conv incl. its concatenation, upsample, ...), de-standardise;
@@ -162,7 +163,7 @@ void BM_CnnWarmStart(benchmark::State& state, std::string path, int steps) {
   state.counters["contacts"] = static_cast<double>(world.contacts().size());
 }
 
-// The pipeline before issue 11: Model::predict (de-standardise and s·sinh at every node),
+// The earlier, whole-grid pipeline: Model::predict (de-standardise and s·sinh at every node),
 // the whole label grid copied, then the read-back (guess_from_labels); the residual
 // correction's final add/projection (a few µs) is left out. Same features and network.
 void BM_CnnWarmStartPredictAll(benchmark::State& state, std::string path, int steps) {

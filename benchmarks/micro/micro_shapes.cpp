@@ -1,4 +1,4 @@
-// Google Benchmark of the narrow phase per pair (issue 10): libccd's GJK+EPA and MPR against
+// Google Benchmark of the narrow phase per pair (docs/design.md §8.1): libccd's GJK+EPA and MPR against
 // the analytic paths the engine keeps, on overlapping or speculative (gap > 0) pairs.
 //
 //   BM_CircleCircleAnalytic       narrow_phase's circle_circle (the seed's path)

@@ -1,4 +1,4 @@
-// Google Benchmark of the stages of one World::step (issue 11, "linear step cost") on the
+// Google Benchmark of the stages of one World::step (linear step cost, docs/design.md §8.4) on the
 // seed scene family scaled to n circles at the seed's density: box side 3√n m (30 m for
 // n = 100), Gaussian mean at the centre, σ = 0.465√n m (4.65 m for n = 100), r = 1, μ = 0.5,
 // Δt = 0.01 — the scenes of benchmarks/scripts/step-scaling.sh. The pile is first simulated for

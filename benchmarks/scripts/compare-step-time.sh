@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Seed-scene step time of two deepcontact builds, side by side in one run (issue 10: the shape
+# Seed-scene step time of two deepcontact builds, side by side in one run (the shape
 # machinery must not slow circle scenes). Alternates the two binaries R times and prints each
 # run's user CPU time and the median ratio, so machine load hits both alike.
 #

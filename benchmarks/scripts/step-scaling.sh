@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Step cost against scene size (issue 11, "linear step cost"): the seed scene family scaled
+# Step cost against scene size (linear is the target, docs/design.md §8.4): the seed scene family scaled
 # to n circles at the seed's density — box side 30·√(n/100) = 3√n m, Gaussian mean at the
 # centre, σ = 4.65·√(n/100) m — simulated for STEPS steps with the builtin warm start and
 # SWEEPS fixed PGS sweeps. Prints, per (n, sweeps), the mean LCP rows per step, the mean

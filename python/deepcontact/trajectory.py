@@ -100,7 +100,7 @@ class Trajectory:
 
     @staticmethod
     def _read_shapes(f):
-        """The shape table (issue 10) when the file has one: wherever the writer puts it, under
+        """The shape table (docs/formats.md) when the file has one: wherever the writer puts it, under
         /shapes or /bodies. Circle-only files of format 1 have none; format 2 writes one for
         every file (all circles for a circle-only scene)."""
         import h5py  # as in __init__: `import deepcontact` must not need h5py

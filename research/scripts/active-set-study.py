@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""How predictable is the active set that PGS must find? (issue 12, docs/research.md
-"How complete the active set must be", session 10)
+"""How predictable is the active set that PGS must find? (docs/research.md
+"How complete the active set must be")
 
 For each step of a family window, per contact, the mode (separating, sticking, sliding +/-)
 of three things is compared with the mode of this step's λ* (tight oracle):

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The scene-family measurements of issue 12 (docs/scenes.md "Families", docs/research.md):
+# The scene-family measurements (docs/design.md §8.5, docs/scenes.md "Families", docs/research.md):
 # per family a paired bench of zero, builtin and the two non-learned baselines (and sph, the
 # oracle grid, where the oracle is affordable), with the residual at a fixed budget and
 # sweeps to tol with a higher cap (medians saturate at the cap on deep piles), then sweeps

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The bench on the shape scenes of issue 10 (docs/scenes.md "Shapes"): per scene a paired
+# The bench on the shape scenes (docs/scenes.md "Shapes"): per scene a paired
 # bench of the warm starters (zero, builtin, the two non-learned baselines, copy, sph — the
 # oracle grid — and the shipped cnn, which runs on any box size at its own grid spacing)
 # on the scene's own seeds, PGS to θ ≤ 10⁻² N with the 3000-sweep cap, report.md per scene.

@@ -1,4 +1,5 @@
-// Full disk (issue 15): every command that writes an --out file, run with a file-size limit
+// Full disk (docs/robustness.md, finding 6): every command that writes an --out file, run
+// with a file-size limit
 // (setrlimit(RLIMIT_FSIZE), SIGXFSZ ignored, so writes fail with EFBIG as on a full disk),
 // exits non-zero with one line on stderr, leaves the complete files an earlier run wrote
 // under the final names bit-for-bit intact, and leaves no temporary file behind.

@@ -1,4 +1,4 @@
-// LCP edge cases end to end through `deepcontact lcp solve` (issue 5 item 2). The solvers'
+// LCP edge cases end to end through `deepcontact lcp solve` (docs/robustness.md). The solvers'
 // own edge-case behaviour is unit-tested in tests/engine/solvers/solver_edge_test.cpp; this file
 // checks what a user of the command sees for the same degenerate files: the exit status
 // matches the JSON status (0 converged, 3 infeasible, 1 anything else), the status says what

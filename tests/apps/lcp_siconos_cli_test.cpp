@@ -1,4 +1,4 @@
-// `deepcontact lcp solve` / `lcp convert` on LCP files as Siconos writes them (issue 15):
+// `deepcontact lcp solve` / `lcp convert` on LCP files as Siconos writes them (docs/lcp.md):
 // remarks after q come back as "comment" (and a note on stderr), sparse-block storage (1)
 // solves like its dense twin, and every shipped problem ends solved (verified here from the
 // file, independently of the solver), honestly failed, or infeasible with a named proof.

@@ -1,4 +1,4 @@
-// Issue 14: the deepcontact commands across MPI ranks. The messages of `generate` carry
+// The deepcontact commands across MPI ranks (docs/cluster.md). The messages of `generate` carry
 // every field of a simulation; `generate` under `mpirun -n 2` writes the one-process file.
 // The CLI case needs the build's MPI launcher (DC_TEST_MPIRUN) and is compiled out without
 // it. bench (its report's plots cost a minute under load), train and the kill/resume cases

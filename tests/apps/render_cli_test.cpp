@@ -1,4 +1,4 @@
-// `deepcontact render` end to end (issue 13): a frame and an animation are written, bad
+// `deepcontact render` end to end: a frame and an animation are written, bad
 // input is one line and exit 1, and the paired bench report embeds a frame of its reference
 // trajectory. (tests/python/test_render.py checks what is drawn against the trajectory.)
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Extreme scenes (issue 5 item 1): the engine stays finite and honest at the edges — mass
+// Extreme scenes (docs/robustness.md): the engine stays finite and honest at the edges — mass
 // ratios to 1e6, Δt from 1e-4 to 0.05, a column of 50, 10,000 bodies, radii from 1e-3 to
 // 1e2, μ ∈ {0, 0.5, 10}, exactly touching circles, coincident centres, corners, zero and one
 // body. The scenes and the measuring loop are shared with `deepcontact stress`

@@ -1,4 +1,4 @@
-// The family tools of the bench (issue 12): the higher cap (--max-sweeps) agrees with the
+// The family tools of the bench (docs/bench.md): the higher cap (--max-sweeps) agrees with the
 // fixed-cap run where that converged and only adds sweeps where it did not; the warm-up
 // skips steps; --no-oracle refuses oracle starters; scale_scene keeps the shape.
 #include <gtest/gtest.h>

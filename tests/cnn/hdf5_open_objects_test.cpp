@@ -1,4 +1,5 @@
-// The data-set and model readers close every HDF5 object on their error paths (issue 15):
+// The data-set and model readers close every HDF5 object on their error paths
+// (docs/robustness.md, finding 4):
 // after each damaged input below fails to load, dc::h5_open_object_count() is 0. (The
 // "infinite loop closing library" message that dc_learning_tests printed at exit comes from
 // inside libhdf5 1.10.8: H5Fopen of a file with a damaged root-group header leaks a block

@@ -1,4 +1,4 @@
-// The shape channels of the feature image (coverage, orient_c, orient_s; issue 10) on
+// The shape channels of the feature image (coverage, orient_c, orient_s; docs/learning.md) on
 // hand-made states: orientation of a box at 0, π/2, π, π/4, zero anisotropy of circles and
 // regular polygons, coverage integrating to the body area, and the older channels unchanged.
 #include <gtest/gtest.h>

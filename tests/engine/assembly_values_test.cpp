@@ -1,6 +1,6 @@
 // A and b of an assembled step checked against values computed independently of the assembly
 // code: b from the velocities of the material contact points after a free step (v + ω × r,
-// hand-written, plus the stabilisation formulas of DESIGN §2), A as the impulse response
+// hand-written, plus the stabilisation formulas of docs/design.md §2), A as the impulse response
 // Δt · (change of row i's point velocity per unit impulse of row j), with m = ρπr² and
 // I = ½ m r² written out here — not A rebuilt from J.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Analytic tests of normal contact (DESIGN §2, §8): a bounce with restitution e, no bounce below
+// Analytic tests of normal contact (docs/design.md §8.3): a bounce with restitution e, no bounce below
 // the threshold, free fall into a resting contact (λ_n → m g), the speculative row closing
 // exactly its gap, Baumgarte pushing a penetrating disc out.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Classic rigid-body tests of shapes and static/kinematic bodies (issue 10): a box at rest,
+// Classic rigid-body tests of shapes and static/kinematic bodies (docs/design.md §8): a box at rest,
 // a box on a static ramp (sticks / slides), a disc rolling down a static ramp, a tall box
 // tipping past its balance angle, a 20-box stack, an ellipse on its flat side and on its tip,
 // a kinematic drum turning a pile.

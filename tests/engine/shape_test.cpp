@@ -1,4 +1,4 @@
-// Shapes (issue 10): mass properties, validation, scene keys, and the narrow phase
+// Shapes (docs/design.md §8.1): mass properties, validation, scene keys, and the narrow phase
 // (analytic vs libccd, two-point manifolds, speculative distances, feature ids).
 #include <gtest/gtest.h>
 

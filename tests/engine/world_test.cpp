@@ -1,4 +1,4 @@
-// Relationships the engine must satisfy (DESIGN §2–3): physical sanity values, assembly
+// Relationships the engine must satisfy (docs/design.md §2–3): physical sanity values, assembly
 // identities, broad phase ≡ brute force, determinism, conservation laws.
 #include <gtest/gtest.h>
 

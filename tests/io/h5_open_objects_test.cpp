@@ -1,6 +1,6 @@
 // Every error path of the HDF5 layer closes what it opened: after each failing call below,
 // no HDF5 object is open (dc::h5_open_object_count() == 0). A leaked id would keep its file
-// open and make libhdf5 print "infinite loop closing library" at exit (issue 15).
+// open and make libhdf5 print "infinite loop closing library" at exit (docs/robustness.md, finding 4).
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-// Training through the solver (issue 12 item 3): the unrolled PGS is the engine's "pgs"
+// Training through the solver (docs/design.md §8.5): the unrolled PGS is the engine's "pgs"
 // (same iterates for the same k), its reverse-mode gradient with respect to λ⁰ matches
 // central differences for both losses, the contact read-back equals SphTransfer::gather and
 // its adjoint is its transpose, the whole chain grid → λ⁰ → k sweeps → J is gradient-checked,

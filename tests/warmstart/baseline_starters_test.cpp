@@ -1,4 +1,4 @@
-// The two non-learned baselines (issue 12): builtin-extrapolate (linear extrapolation of each
+// The two non-learned baselines (docs/bench.md): builtin-extrapolate (linear extrapolation of each
 // contact's λ over its last two steps, clamped to the cone) and builtin-statics (builtin plus
 // a top-down static load guess for contacts without history).
 #include <gtest/gtest.h>
@@ -120,7 +120,7 @@ TEST(StaticsGuess, RestingColumnCarriesTheCumulativeWeightAsAForce) {
   const double weight = w.bodies().mass[0] * 9.81;  // every disc alike
   ASSERT_EQ(static_cast<int>(w.contacts().size()), n);
   const Eigen::VectorXd g = statics_guess(w);
-  // λ is a force [N] here (DESIGN §2): contact under disc k carries the weight of discs k..n−1.
+  // λ is a force [N] here (docs/design.md §2): contact under disc k carries the weight of discs k..n−1.
   for (std::size_t c = 0; c < w.contacts().size(); ++c) {
     const Contact& k = w.contacts()[c];
     const int below_top = n - k.body_b;  // discs resting on this contact (b is the upper body)

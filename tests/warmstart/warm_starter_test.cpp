@@ -1,4 +1,4 @@
-// Unit tests of the warm-start layer (DESIGN §4): builtin's key matching (persisting, new and
+// Unit tests of the warm-start layer (docs/design.md §4): builtin's key matching (persisting, new and
 // vanished contacts) and the registry (unknown names, add()).
 #include <gtest/gtest.h>
 

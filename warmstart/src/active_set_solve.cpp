@@ -44,7 +44,7 @@ Eigen::VectorXd min_norm_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& 
   // rank it sees during compute (then the default threshold, ε · size), while solve() uses the
   // rank under the threshold in force at solve time. Setting it afterwards made solve() apply
   // Householder coefficients compute() never wrote (uninitialised heap memory) whenever the
-  // two ranks differed: the guess then depended on what the allocator handed out (session 10).
+  // two ranks differed: the guess then depended on what the allocator handed out (docs/design.md §9).
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(M.rows(), M.cols());
   cod.setThreshold(threshold);
   cod.compute(M);

@@ -1,5 +1,5 @@
 // gate:INNER and gate-l2:INNER: a safeguard around any starter. Each step both builtin's
-// guess and INNER's are scored by the natural-map residual of the step's LCP (DESIGN §2,
+// guess and INNER's are scored by the natural-map residual of the step's LCP (docs/design.md §2,
 // natural_residual: r_i = λ_i − mid(lo_i, λ_i − w_i, hi_i), w = Aλ + b) and the one with the
 // smaller score is returned — builtin on a tie, so a starter that is no better is never used.
 //   gate     scores by max_i |r_i| (the solver's own tolerance measure θ);

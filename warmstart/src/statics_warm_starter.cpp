@@ -8,7 +8,7 @@
 //   * L_k is split over them in proportion to s_c, with the normal forces chosen so the
 //     vertical components add up to L_k: λ_c = L_k s_c / Σ s_c'²;
 //   * the other body of a support contact receives the vertical component λ_c s_c.
-// λ is a force [N] in this engine (DESIGN §2: a circle resting on the floor carries
+// λ is a force [N] in this engine (docs/design.md §2: a circle resting on the floor carries
 // λ_n = m g), so a column of circles gets λ_n = the weight of everything above the contact.
 // Friction rows get 0. Contacts with history keep builtin's previous λ.
 #include <algorithm>

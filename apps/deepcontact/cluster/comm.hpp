@@ -1,6 +1,6 @@
 #pragma once
 // dc::cli::Comm: the few collective operations the commands need to run across MPI ranks
-// (issue 14, docs/cluster.md), behind an interface without MPI headers.
+// (docs/cluster.md), behind an interface without MPI headers.
 //
 // The same `deepcontact` binary runs alone or under `mpirun -n K` / `srun`: MpiSession (one,
 // in main()) initialises MPI only when a launcher started the process (OMPI_COMM_WORLD_SIZE,

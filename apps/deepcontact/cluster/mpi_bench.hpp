@@ -1,5 +1,5 @@
 #pragma once
-// `deepcontact bench` across MPI ranks (issue 14, docs/cluster.md): the seeds are split into
+// `deepcontact bench` across MPI ranks (docs/cluster.md): the seeds are split into
 // contiguous blocks, one per rank (rank r gets block_of(seeds, r, K)); each rank runs
 // run_bench on its block; rank 0 gathers the per-step records and concatenates them in rank
 // order. run_bench appends everything seed by seed (both modes) and every seed's scene,

@@ -1,5 +1,5 @@
 #pragma once
-// `deepcontact generate` across MPI ranks (issue 14, docs/cluster.md).
+// `deepcontact generate` across MPI ranks (docs/cluster.md).
 //
 // Scheme: rank 0 is the writer, exactly as in a one-process run (DataSetWriter, OUT.partial,
 // one flush per committed simulation); simulation i is simulated by rank i mod K with that

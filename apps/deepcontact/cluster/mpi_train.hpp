@@ -1,5 +1,5 @@
 #pragma once
-// `deepcontact train` across MPI ranks (issue 14, docs/cluster.md): data-parallel SGD via
+// `deepcontact train` across MPI ranks (docs/cluster.md): data-parallel SGD via
 // the Trainer's DataParallelGroup hook (dc/learning/data_parallel.hpp), implemented here
 // with MPI_Allreduce over world(). Every rank loads the data set and trains the same model;
 // rank 0 alone writes OUT, OUT.ckpt and the loss files and prints.

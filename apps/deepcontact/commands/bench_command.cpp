@@ -1,4 +1,4 @@
-// deepcontact bench: compare warm starters on the same scenes (issue 3, DESIGN §6).
+// deepcontact bench: compare warm starters on the same scenes (docs/design.md §6, docs/bench.md).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>

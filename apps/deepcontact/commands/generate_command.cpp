@@ -1,4 +1,4 @@
-// deepcontact generate: the CNN's training data set (issue 4; layout in docs/formats.md
+// deepcontact generate: the CNN's training data set (docs/design.md §4; layout in docs/formats.md
 // "Data set"). M simulations of a seed family, each step with contacts solved tightly and
 // recorded as (feature image, label image, body state, contacts with λ*).
 //

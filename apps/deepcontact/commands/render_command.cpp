@@ -1,5 +1,6 @@
 // deepcontact render run.h5 --out run.gif|run.mp4 [--every N] | --frame K --out frame.png:
-// draw a trajectory (issue 13). Thin: the drawing is bench/plots/render_trajectory.py, run
+// draw a trajectory (docs/python.md "deepcontact render"). Thin: the drawing is
+// bench/plots/render_trajectory.py, run
 // with the Python of $DC_BENCH_PYTHON (default /usr/bin/python3) like the report plots.
 #include <CLI/CLI.hpp>
 #include <memory>

@@ -1,4 +1,4 @@
-// deepcontact simulate: run one scene and write its HDF5 trajectory (issue 2).
+// deepcontact simulate: run one scene and write its HDF5 trajectory (docs/formats.md).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-// `deepcontact stress [--out DIR] [--quick] [--only TEXT]` (issue 5): runs the extreme
+// `deepcontact stress [--out DIR] [--quick] [--only TEXT]` (docs/robustness.md): runs the extreme
 // scenes of stress_scenarios.cpp — mass ratios, Δt, tall columns, many bodies, radius
 // scales, friction, degenerate contacts, momentum — and tabulates per scenario what held and
 // where the engine reached a limit. The table goes to stdout and, written atomically (a

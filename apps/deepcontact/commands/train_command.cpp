@@ -1,5 +1,5 @@
 // deepcontact train: fit the CNN (dc_learning) to a data set written by `deepcontact generate`
-// (issue 4; docs/learning.md "Training").
+// (docs/design.md §5; docs/learning.md "Training").
 //
 //   data set ──(every K-th sample of each simulation)──▶ samples ──split by simulation──▶
 //   train / validation ──▶ Trainer (SGD, standardisation from the training split) ──▶

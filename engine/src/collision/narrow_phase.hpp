@@ -1,6 +1,6 @@
 #pragma once
-// Narrow phase: analytic circle–circle and circle–wall contacts (DESIGN: "analytic circle
-// tests for circles"). A contact is created when the gap g is below the pair's
+// Narrow phase: analytic circle–circle and circle–wall contacts (docs/design.md §1: analytic
+// tests for circles). A contact is created when the gap g is below the pair's
 // speculative distance s_a + s_b, with s_k = margin/2 + |v_k| Δt (walls have s = 0, and
 // the circle then gets the whole margin): a row whose gap is still open only stops the
 // bodies from closing more than g within the step (b_n += g/Δt), so fast bodies cannot

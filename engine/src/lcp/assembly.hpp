@@ -1,5 +1,5 @@
 #pragma once
-// Assembly of the step's contact LCP (DESIGN §2), explicitly, as the seed writes it:
+// Assembly of the step's contact LCP (docs/design.md §2), explicitly, as the seed writes it:
 //
 //   J (sparse, rows × 3n):  normal row   [ −nᵀ, −(r_a × n),  nᵀ, (r_b × n) ]
 //                           tangent row  [ −tᵀ, −(r_a × t),  tᵀ, (r_b × t) ]   (only if μ > 0)

@@ -1,6 +1,6 @@
 #pragma once
 // Greedy graph colouring of a step's contacts for the colour-ordered PGS ("pgs-colored",
-// DESIGN §8 "Faster PGS"): no two contacts of one colour share a dynamic body, so the
+// docs/design.md §8.4 "Faster PGS"): no two contacts of one colour share a dynamic body, so the
 // contacts of a colour can be solved at the same time (SIMD lanes, threads). Walls (body −1)
 // and bodies with M⁻¹ = 0 (static, kinematic) do not conflict: the solver never writes them.
 //

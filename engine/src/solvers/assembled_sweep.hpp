@@ -1,5 +1,5 @@
 #pragma once
-// The projected Gauss–Seidel / SOR sweep on the assembled sparse A (DESIGN §2), shared by
+// The projected Gauss–Seidel / SOR sweep on the assembled sparse A (docs/design.md §2), shared by
 // pgs-assembled (ω = 1), psor (any ω) and the PGS polish of the newton solver.
 //
 // Row i:  r_i = A_i·λ + b_i                         [m/s]

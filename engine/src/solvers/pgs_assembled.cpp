@@ -1,5 +1,5 @@
 // "pgs-assembled": projected Gauss–Seidel on the sparse row-major A, exactly the seed's
-// iteration (DESIGN §2). Also the implementation behind "psor" (ω ≠ 1).
+// iteration (docs/design.md §2). Also the implementation behind "psor" (ω ≠ 1).
 #include "solvers/assembled_sweep.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"

@@ -1,4 +1,4 @@
-// make_bodies: the seeded scene generator (DESIGN §3) and the checks on explicit circles.
+// make_bodies: the seeded scene generator (docs/design.md §3) and the checks on explicit circles.
 #include <cmath>
 #include <numbers>
 #include <sstream>

@@ -1,5 +1,5 @@
 #pragma once
-// Restitution with speculative contacts (DESIGN §8).
+// Restitution with speculative contacts (docs/design.md §8.3).
 //
 // A speculative contact closes its gap in the step before impact: its row lets the bodies
 // approach at −gap/Δt and they end that step touching, so the relative normal velocity read

@@ -1,4 +1,4 @@
-// Scene files: TOML ⇄ WorldDef (DESIGN §7, docs/scenes.md).
+// Scene files: TOML ⇄ WorldDef (docs/design.md §7, docs/scenes.md).
 //
 // One table of key specifications (scene_keys.hpp) drives parsing, `--set` overrides and
 // writing, so a key added there is automatically readable, overridable and round-tripped.

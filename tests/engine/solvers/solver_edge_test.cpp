@@ -1,4 +1,4 @@
-// Edge cases (DeepContact issue 5): every solver returns a status that says what happened,
+// Edge cases (docs/robustness.md, docs/lcp.md): every solver returns a status that says what happened,
 // never hangs and never returns NaN.
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Random LCP problems for the solver tests (tests/engine/solver_*_test.cpp): a portable
 // 64-bit generator (no std::*_distribution), SPD matrices and contact-like problems
-// A = J M⁻¹ Jᵀ Δt built like the engine builds them (DESIGN §2).
+// A = J M⁻¹ Jᵀ Δt built like the engine builds them (docs/design.md §2).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <cmath>

@@ -13,7 +13,7 @@ namespace dc::bench {
 /// One number by a printf format (e.g. "%.3f"); "n/a" when it is not finite.
 std::string fmt(const char* format, double v);
 
-/// The earlier theses' median iterations to θ ≤ 1e-4 N·s (DESIGN §6), or "" if none.
+/// The earlier theses' median iterations to θ ≤ 1e-4 N·s (docs/design.md §6), or "" if none.
 std::string thesis_reference(const std::string& starter);
 
 /// Plain-text table (also used in report.md as a Markdown table when `markdown`).

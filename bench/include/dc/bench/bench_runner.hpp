@@ -1,5 +1,5 @@
 #pragma once
-// The warm-start benchmark (DESIGN §6, issue 3). For every step of every evaluation scene it
+// The warm-start benchmark (docs/design.md §6). For every step of every evaluation scene it
 // records, per warm starter: the convergence history θ_k of a fixed-sweep PGS run, the
 // sweeps until θ ≤ tol, the time of the guess and of a tolerance-mode solve, and at a set
 // of sweep budgets the residual, λ error against the oracle, penetration and energy after

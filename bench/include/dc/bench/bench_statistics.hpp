@@ -1,5 +1,5 @@
 #pragma once
-// Bench statistics that carry their uncertainty (issue 16): bootstrap 95 % confidence
+// Bench statistics that carry their uncertainty (seeds, not steps, set it): bootstrap 95 % confidence
 // intervals of the median and mean sweeps to tolerance and total time per step, per starter,
 // and of their ratios to `zero` and `builtin`. Method and caveats: docs/bench.md
 // "Uncertainty".

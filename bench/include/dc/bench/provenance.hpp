@@ -1,5 +1,5 @@
 #pragma once
-// Reproducibility facts written into every report (DESIGN §6): git revision, build type,
+// Reproducibility facts written into every report (docs/design.md §6): git revision, build type,
 // compiler, machine, time.
 #include <string>
 

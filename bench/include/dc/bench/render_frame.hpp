@@ -1,5 +1,5 @@
 #pragma once
-// Running the trajectory renderer (bench/plots/render_trajectory.py, issue 13) from C++: for
+// Running the trajectory renderer (bench/plots/render_trajectory.py) from C++: for
 // `deepcontact render` and for the frame of the reference trajectory in the bench report.
 #include <filesystem>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Extreme scenes (DeepContact issue 5): the scene builders and the instrumented stepping loop
+// Extreme scenes (docs/robustness.md): the scene builders and the instrumented stepping loop
 // shared by tests/engine/extreme_scene_test.cpp (light versions, asserted) and
 // `deepcontact stress` (heavier sweeps, tabulated). Everything here is deterministic; the
 // only non-deterministic number is wall time.
@@ -142,7 +142,7 @@ BodyState coincident_state(int copies, double density_ratio = 1.0);
 /// ratio `ratio`) fired into them: linear momentum must be conserved.
 WorldDef free_collision(int count, double ratio, double mu);
 
-/// n boxes of `size` stacked on the floor, exactly touching, centred in the box (issue 10).
+/// n boxes of `size` stacked on the floor, exactly touching, centred in the box.
 WorldDef box_stack(int n, Vec2 size);
 /// A pyramid of unit boxes, `base` in the bottom row, each row offset by half a box.
 WorldDef box_pyramid(int base);

@@ -1,5 +1,5 @@
 #pragma once
-// The learned warm starters (DESIGN §4, issue 4; docs/learning.md "The cnn warm starter"):
+// The learned warm starters (docs/design.md §4–5; docs/learning.md "The cnn warm starter"):
 //
 //   cnn         body state + this step's contacts → feature image (FeatureImageBuilder, the
 //               data set's builder and settings) → Model::predict → label grid (λ_n, λ_t

@@ -1,5 +1,5 @@
 #pragma once
-// The training data set of the CNN (issue 4; layout in docs/formats.md "Data set"): one
+// The training data set of the CNN (docs/design.md §4–5; layout in docs/formats.md "Data set"): one
 // HDF5 file holding, for every step with contacts of M seeded simulations, the feature
 // image (body state → grid), the label image (oracle λ* → grid), and the raw body state and
 // contacts (with λ*) behind them, so a trainer can also measure the λ error at the contacts.
@@ -43,8 +43,8 @@ enum class OracleKind {
   /// residual ≈ 5e-5 N. The default.
   Pgs,
   /// solve_oracle (minimum-map Newton, then a PGS polish when needed) from the builtin warm
-  /// start — residual ≈ 2e-7 N but ≈ 35 ms per step, too slow for data generation (issue 4
-  /// allows the PGS route above 10 ms per step).
+  /// start — residual ≈ 2e-7 N but ≈ 35 ms per step, too slow for data generation, whose
+  /// budget is ~10 ms of CPU per step (docs/design.md §6).
   Newton,
 };
 /// "pgs" / "newton".

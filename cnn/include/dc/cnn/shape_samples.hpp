@@ -1,6 +1,6 @@
 #pragma once
 // What the shape channels of a feature image see of one body (feature_image.hpp: coverage,
-// orient_c, orient_s; issue 10): area-weighted sample points covering the body's real extent
+// orient_c, orient_s): area-weighted sample points covering the body's real extent
 // and the nematic orientation of its second area moment.
 //
 // Area samples (body frame, centroid at the origin). A polygon is cut into the fan triangles

@@ -22,7 +22,7 @@ struct Vec2 {
 constexpr double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
 /// 2D cross product a × b = a_x b_y − a_y b_x (the z component of the 3D cross product).
 constexpr double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
-/// Left perpendicular (−y, x): the contact tangent t = perp(n) of DESIGN §2.
+/// Left perpendicular (−y, x): the contact tangent t = perp(n) of docs/design.md §2.
 constexpr Vec2 perp(Vec2 a) { return {-a.y, a.x}; }
 /// √(x² + y²) with IEEE sqrt (exactly rounded on every CPU), not std::hypot, whose libm
 /// implementation may differ between C libraries (docs/reproducibility.md).

@@ -1,6 +1,6 @@
 #pragma once
 // The contact constraints of one step: for each contact, which LCP rows it owns, which two
-// bodies those rows act on and how they are coupled (DESIGN §2). Assembly builds it next to
+// bodies those rows act on and how they are coupled (docs/design.md §2). Assembly builds it next to
 // J and b (LcpProblem::constraints); the matrix-free PGS kernels, the warm starters, the data
 // generator and the bench read rows from it instead of re-deriving them from a global
 // friction switch or re-inferring contact blocks from the sparsity of J.

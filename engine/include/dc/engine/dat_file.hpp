@@ -1,5 +1,5 @@
 #pragma once
-// LCP problem files in the Siconos numerics `.dat` text format (DESIGN §7, docs/lcp.md), as
+// LCP problem files in the Siconos numerics `.dat` text format (docs/design.md §7, docs/lcp.md), as
 // written by Siconos' linearComplementarity_printInFile / NM_write_in_file / SBM_write_in_file
 // and read by linearComplementarity_newFromFile / NM_new_from_file / SBM_new_from_file:
 //

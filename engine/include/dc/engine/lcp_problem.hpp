@@ -1,5 +1,5 @@
 #pragma once
-// The contact LCP of one step (DESIGN §2), in the form every solver consumes:
+// The contact LCP of one step (docs/design.md §2), in the form every solver consumes:
 //
 //     w = A λ + b,   lo_i ≤ λ_i ≤ hi_i,  and for each row exactly one of
 //       λ_i = lo_i and w_i ≥ 0,   λ_i = hi_i and w_i ≤ 0,   lo_i < λ_i < hi_i and w_i = 0.
@@ -78,7 +78,7 @@ struct LcpProblem {
   void validate_constraints() const;
 };
 
-/// Natural-map residual, the step-length-independent accuracy measure of DESIGN §2:
+/// Natural-map residual, the step-length-independent accuracy measure of docs/design.md §2:
 ///   max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)|   with w = A λ + b and the effective bounds.
 /// Zero exactly at a solution; units of λ [N].
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda);

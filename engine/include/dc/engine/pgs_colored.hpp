@@ -1,5 +1,5 @@
 #pragma once
-// "pgs-colored": matrix-free projected Gauss–Seidel in colour order (DESIGN §8). The contacts
+// "pgs-colored": matrix-free projected Gauss–Seidel in colour order (docs/design.md §8.4). The contacts
 // are coloured (contact_coloring.hpp: no two contacts of a colour share a dynamic body) and a
 // sweep solves colour 0, then colour 1, …, then the overflow set; the contacts of one colour
 // are independent, so 8 of them are solved at once in AVX-512 lanes (double precision,

@@ -1,5 +1,5 @@
 #pragma once
-// Scene files (TOML, DESIGN §7, docs/scenes.md). Every key is optional and defaults to the
+// Scene files (TOML, docs/design.md §7, docs/scenes.md). Every key is optional and defaults to the
 // seed scene, so an empty file is the seed scene. Unknown keys, wrong types, NaN/Inf and
 // out-of-range values are ConfigErrors naming the key, e.g.
 //   "scene.toml: [contact] friction: expected a number ≥ 0, got -1"

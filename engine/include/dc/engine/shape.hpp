@@ -1,5 +1,5 @@
 #pragma once
-// Body shapes and motion types (DESIGN §8, issue 10).
+// Body shapes and motion types (docs/design.md §8.1–8.2, docs/engine.md "Shapes").
 //
 // A body is a circle (radius r), a convex polygon (3..16 counter-clockwise vertices in the
 // body frame, centroid at the origin) or an ellipse (semi-axes a, b along the body's x and y

@@ -1,5 +1,5 @@
 #pragma once
-// Narrow phase for non-circle shapes (issue 10). Circle–circle and circle–wall stay in
+// Narrow phase for non-circle shapes (docs/design.md §8.1). Circle–circle and circle–wall stay in
 // narrow_phase.hpp (analytic, the seed's path). Here:
 //
 //   polygon–wall, ellipse–wall   analytic (deepest vertices of the edge most anti-parallel to

@@ -1,5 +1,5 @@
 #pragma once
-// What the contact forces λ of a step do to the world (DESIGN §2), implemented once:
+// What the contact forces λ of a step do to the world (docs/design.md §2), implemented once:
 // World::integrate applies it to the world, and the bench evaluates candidate λ with it
 // (penetration and energy after the step) without touching the world.
 //

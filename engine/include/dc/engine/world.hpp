@@ -1,6 +1,7 @@
 #pragma once
-// The 2D impulse engine: circles in an axis-aligned box, stepped by semi-implicit Euler
-// with a velocity-level contact LCP (DESIGN §2). A step is a sequence of named stages
+// The 2D impulse engine: circles, convex polygons and ellipses (dynamic, static or kinematic)
+// in a box with up to four walls, stepped by semi-implicit Euler with a velocity-level
+// contact LCP (docs/design.md §2). A step is a sequence of named stages
 // (Box2D style), each callable on its own so that a benchmark can solve the identical LCP
 // with several initial guesses:
 //

@@ -1,7 +1,7 @@
 #pragma once
 // The configuration of a world, Box2D-style: plain structs whose member initialisers ARE
 // the documented defaults. The defaults reproduce the seed scene of the thesis
-// (DESIGN §3): 100 circles of radius 1 in a 30 × 30 box, Δt = 0.01 s, 600 steps,
+// (docs/design.md §3): 100 circles of radius 1 in a 30 × 30 box, Δt = 0.01 s, 600 steps,
 // 3000 PGS sweeps. Every field maps 1:1 to a TOML key `[section] key` (docs/scenes.md).
 #include <array>
 #include <cstdint>
@@ -33,7 +33,7 @@ struct TimeSection {
 struct ContactSection {
   double friction = 0.5;     ///< Coulomb coefficient μ (0 ⇒ no tangent rows at all)
   /// e: a contact that hits with relative normal velocity v_a (stored when its row first acts,
-  /// DESIGN §8, restitution.hpp) leaves with −e·v_a, if |v_a| > restitution_threshold.
+  /// docs/design.md §8.3, restitution.hpp) leaves with −e·v_a, if |v_a| > restitution_threshold.
   double restitution = 0.0;
   double baumgarte = 0.2;    ///< β: fraction of penetration beyond slop removed per step
   double slop = 0.005;       ///< allowed penetration [m] before Baumgarte acts

@@ -1,5 +1,5 @@
 #pragma once
-// Data-parallel SGD across processes (issue 14): the Trainer's hook for summing minibatch
+// Data-parallel SGD across processes (docs/cluster.md): the Trainer's hook for summing minibatch
 // gradients over processes, without any MPI here (apps/deepcontact/cluster/mpi_train.cpp implements it with
 // MPI_Allreduce).
 //

@@ -2,7 +2,7 @@
 // The feature channels a model reads and the definition of its feature image — what the grid
 // values MEAN; dc/cnn/feature_image.hpp computes them from a simulation step.
 //
-// Feature and label images of one simulation step on the SPH grid of the box (DESIGN §4, §5;
+// Feature and label images of one simulation step on the SPH grid of the box (docs/design.md §4, §5;
 // docs/formats.md "Data set"). The CNN maps the feature image to the label image; the label
 // image read back at the contact points (SphTransfer::gather, Shepard) is the warm start.
 //
@@ -44,7 +44,8 @@
 // (non-local) inverse of A applied to it — where builtin is right, w_prev is ≈ 0.
 // The default feature set is mass, vx, vy, omega, contact_density.
 //
-// Shape channels (issue 10). mass/vx/vy/omega splat each body at its centre of mass only, so
+// Shape channels (docs/learning.md "Shape channels"). mass/vx/vy/omega splat each body at
+// its centre of mass only, so
 // a box, a thin ellipse and a circle of equal mass look the same and a box's orientation is
 // lost. coverage splats area samples y_ks = x_k + R(θ_k) p_s of the body's real extent
 // (shape_samples.hpp: sub-triangle centroids of the polygon's fan, the inscribed 16-gon for
@@ -57,7 +58,7 @@
 // on a circle-only scene orient_c = orient_s = 0 and coverage is that of the discs. Static
 // and kinematic bodies are splatted like dynamic ones (they are where contacts happen).
 // Only a builder whose channel list names one of the three computes them, so images with the
-// older channel lists are bit-identical to those of the builder before issue 10.
+// older channel lists are bit-identical to those of the builder before the shape channels existed.
 //
 // Labels (2 channels, λ_n then λ_t): the Shepard NUMERATOR grids
 //

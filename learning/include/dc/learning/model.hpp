@@ -13,7 +13,7 @@
 
 namespace dc {
 
-/// The grid a model was trained on (DESIGN §4) and what its input and output mean:
+/// The grid a model was trained on (docs/design.md §4) and what its input and output mean:
 /// the feature image it reads (kernel, node spacing, support, channels), its output channel
 /// names and the label definition. The default is a valid model grid: the data set's
 /// default feature image on the seed's 30 × 30 box (61 × 61 nodes), absolute labels.

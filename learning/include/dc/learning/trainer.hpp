@@ -2,7 +2,7 @@
 // Trainer: minibatch SGD over an in-memory data set.
 //
 // Per run:  split the samples by simulation id into training and validation (so correlated
-// frames of one simulation never straddle the split, DESIGN §4), compute the channel
+// frames of one simulation never straddle the split, docs/design.md §4), compute the channel
 // standardisation from the training split only, (re)initialise the weights, then for each
 // epoch shuffle the training samples (Fisher–Yates with dc::Rng), run minibatches of
 // forward → weighted MSE (in standardised label units) → backward → optimiser step, and

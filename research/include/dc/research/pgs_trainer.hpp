@@ -1,5 +1,5 @@
 #pragma once
-// Training the warm start through the solver (issue 12 item 3; docs/learning.md "Training
+// Training the warm start through the solver (docs/design.md §8.5; docs/learning.md "Training
 // through PGS"). For one sample the chain is
 //
 //   network output y → de-standardise z = y·σ + m → expand G = s·sinh(z) (label scale s > 0)

@@ -1,7 +1,7 @@
 #pragma once
 // UnrolledPgs: k sweeps of the engine's matrix-free projected Gauss–Seidel ("pgs",
 // engine/src/solvers/pgs_matrix_free.cpp) on one contact LCP, differentiable with respect to
-// the initial guess λ⁰ by reverse mode (issue 12 item 3: train the warm start for what PGS
+// the initial guess λ⁰ by reverse mode (docs/design.md §8.5: train the warm start for what PGS
 // pays). Same rows, same row order, same floating-point operations in the same order as the
 // engine's kernels, so forward(λ⁰, k) returns the engine's λ after k fixed sweeps bit for bit
 // (up to the sign of zero; tested) — the row-by-row engine kernels, i.e. "pgs" with

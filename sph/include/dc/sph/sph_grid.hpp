@@ -1,5 +1,5 @@
 #pragma once
-// A regular multi-channel grid over the simulation box [0, W] × [0, H] (DESIGN §4).
+// A regular multi-channel grid over the simulation box [0, W] × [0, H] (docs/design.md §4).
 //
 // Nodes:   x_i = i·d,  i = 0 … nx−1,   nx = floor(W/d + 1e-9) + 1
 //          y_j = j·d,  j = 0 … ny−1,   ny = floor(H/d + 1e-9) + 1

@@ -1,5 +1,5 @@
 #pragma once
-// SPH smoothing kernels W(r, h) for the particle → grid transfer (DESIGN §4, docs/sph.md).
+// SPH smoothing kernels W(r, h) for the particle → grid transfer (docs/design.md §4, docs/sph.md).
 //
 // The transfer is two-dimensional, so a kernel must be normalised over the PLANE:
 //

@@ -18,7 +18,7 @@
 //                   to 1 over the nodes it touches, plain bilinear back, no Shepard. An
 //                   isolated particle returns only a fraction of its value (the share of
 //                   its mass on the four corners of its cell, weighted bilinearly) — the
-//                   DESIGN §4 trap; kept to reproduce it, never the default.
+//                   docs/design.md §4 trap; kept to reproduce it, never the default.
 //
 // Gathering a grid that did not come from this object's last splat (e.g. a CNN-predicted
 // label grid) in Shepard mode: the denominator S depends only on the query points'

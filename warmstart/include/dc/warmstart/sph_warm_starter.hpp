@@ -1,5 +1,5 @@
 #pragma once
-// Grid-based warm starters built on the SPH transfer (DESIGN §4):
+// Grid-based warm starters built on the SPH transfer (docs/design.md §4):
 //   sph       this step's λ* → grid (kernel W, spacing d, support h) → back at the contact
 //             points: the best any grid-based predictor (the CNN) can do; uses the oracle.
 //   sph-prev  the previous step's solved λ at the previous contact points → grid → this

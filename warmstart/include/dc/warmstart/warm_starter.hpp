@@ -1,5 +1,5 @@
 #pragma once
-// The WarmStarter abstraction (DESIGN §4): given the step's contacts (with persistent keys),
+// The WarmStarter abstraction (docs/design.md §4): given the step's contacts (with persistent keys),
 // the body state and the assembled LCP, return an initial guess λ⁰ in the problem's row
 // order; optionally observe the solved λ after the step. The caller times
 // initial_guess(); a starter that needs the oracle λ* (copy, sph) reports the oracle's own
