@@ -1,4 +1,4 @@
-#include "solvers/box_newton.hpp"
+#include "solvers/exact/box_newton.hpp"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>

@@ -16,8 +16,8 @@
 #include <cmath>
 
 #include "solvers/assembled_sweep.hpp"
-#include "solvers/box_newton.hpp"
-#include "solvers/lcp_proofs.hpp"
+#include "solvers/exact/box_newton.hpp"
+#include "solvers/exact/lcp_proofs.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 

@@ -1,11 +1,11 @@
-#include "solvers/lcp_proofs.hpp"
+#include "solvers/exact/lcp_proofs.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "solvers/lemke_pivoting.hpp"
+#include "solvers/exact/lemke_pivoting.hpp"
 
 namespace dc::solvers {
 namespace {

@@ -28,8 +28,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "solvers/lcp_proofs.hpp"
-#include "solvers/lemke_pivoting.hpp"
+#include "solvers/exact/lcp_proofs.hpp"
+#include "solvers/exact/lemke_pivoting.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 

@@ -1,4 +1,4 @@
-#include "solvers/lemke_pivoting.hpp"
+#include "solvers/exact/lemke_pivoting.hpp"
 
 #include <algorithm>
 #include <cmath>
