@@ -34,7 +34,7 @@ for sw in $SWEEPS; do
     line=$("$DC" simulate --set "world.width=$side" --set "world.height=$side" --set "bodies.count=$n" \
       --set "bodies.mean=[$mean,$mean]" --set "bodies.sigma=$sigma" --set "solver.sweeps=$sw" \
       --steps "$STEPS" --warmstart "$WARMSTART" --profile | grep '^profile ')
-    # "profile key=value ..." (cmd_simulate.cpp): mean ms per step of each stage.
+    # "profile key=value ..." (apps/deepcontact/commands/simulate_command.cpp): mean ms per step of each stage.
     get() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<< "$line"; }
     rows=$(get rows); total=$(get total_ms)
     us=$(awk -v t="$total" -v r="$rows" 'BEGIN { printf "%.4f", (r > 0 ? 1000 * t / r : 0) }')
