@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "dc/bench/bench_statistics.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
@@ -40,11 +41,13 @@ struct Frame {
   std::vector<double> lambda;
 };
 
+/// The q-quantile of `v` as the bench computes it (bench::quantile_sorted: linear
+/// interpolation between order statistics, so the median of an even count is the mean of the
+/// middle two); NaN for no values. Sorts `v`.
 double quantile(std::vector<double>& v, double q) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
+  if (!std::is_sorted(v.begin(), v.end())) std::sort(v.begin(), v.end());
+  return bench::quantile_sorted(v, q);
 }
 
 /// Built-in warm start (previous λ by contact key): the study needs well-converged λ, not a
