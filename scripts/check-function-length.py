@@ -6,17 +6,18 @@
     scripts/check-function-length.py --self-test
 
 Why: a command of the `deepcontact` executable is option parsing, one call into a library and
-printing; a function that grows past a screenful there is almost always domain logic that
-belongs in a library (docs/design.md, DEVELOPERS.md "Style"). This check keeps apps/ honest.
+printing (apps/deepcontact/CMakeLists.txt: "thin commands over the libraries"); a function that
+grows past a screenful there is almost always domain logic that belongs in a library, where it
+can be tested without the CLI. This check keeps apps/ to that.
 
 What counts as a function: every brace-delimited body at namespace or class scope that
 follows a parameter list, i.e. free and member functions, constructors (with or without an
-initialiser list), operators, GoogleTest bodies (`TEST(A, B) { ... }`) and lambdas assigned at
-namespace or class scope (`auto f = [&](int x) { ... };`). A lambda, local class or block
-inside a function is part of that function. Its length runs from the first line of its
-declaration (the `template <...>` line when there is one; comments and access labels such as
-`public:` before it do not count) to the line of its closing brace, both included: a
-one-line function has length 1.
+initialiser list), operators, GoogleTest bodies (`TEST(A, B) { ... }`), lambdas assigned at
+namespace or class scope (`auto f = [&](int x) { ... };`) and function-try-blocks (their
+handlers included). A lambda, local class or block inside a function is part of that
+function. Its length runs from the first line of its declaration (the `template <...>` line
+when there is one; comments and access labels such as `public:` before it do not count) to
+the line of its closing brace, both included: a one-line function has length 1.
 
 How: a lexer first blanks comments, string literals (raw strings included), character
 literals and preprocessor directives (with their line continuations), keeping every newline,
@@ -322,6 +323,9 @@ def functions_in(path: str, text: str) -> list[Function]:
                 if kind == "scope":
                     scan(i + 1, close)
                     head_start = close + 1
+                elif kind == "function" and re.match(r"\s*catch\b", head) and found and found[-1].end == line(head_start):
+                    found[-1].end = line(close)  # a handler of a function-try-block: the function goes on
+                    head_start = close + 1
                 elif kind == "function":
                     skip = _skip_access_labels(head)
                     first = head_start + skip + (len(head) - skip - len(head[skip:].lstrip()))
@@ -396,12 +400,17 @@ const auto on_epoch = [&](int e) {
 TEST(Suite, Case) {
   EXPECT_EQ(1, 1);
 }
+void guarded() try {
+  run();
+} catch (const std::exception&) {
+  recover();
+}
 }  // namespace a::b
 '''
 
 _SELF_TEST_EXPECTED = [("c_api", 8, 1), ("LLVMFuzzerTestOneInput", 10, 1), ("S", 18, 3), ("ok", 21, 1),
                        ("tail", 22, 3), ("twice", 25, 4), ("free_function", 32, 7), ("on_epoch (lambda)", 39, 3),
-                       ("TEST(Suite, Case)", 42, 3)]
+                       ("TEST(Suite, Case)", 42, 3), ("guarded", 45, 5)]
 
 
 def self_test() -> int:
