@@ -13,20 +13,25 @@
 // uninterrupted run. SIGINT sets a flag (the handler does nothing else) that the trainer
 // polls between minibatches; the unfinished epoch is dropped and the command exits 130.
 //
-// The domain lives in dc_learning: the samples and their targets (training_data.hpp, with
-// the label definition of labels.hpp, the inverse of the cnn starter's read-back), the
-// checkpoint format and run identity (train_checkpoint.hpp); this command parses options,
-// drives the Trainer and prints.
+// The domain lives in the libraries: the Trainer and the label definition (dc_learning:
+// trainer.hpp, labels.hpp, the inverse of the cnn starter's read-back), the samples and their
+// targets, the checkpoint format and run identity (dc_cnn: training_data.hpp,
+// train_checkpoint.hpp), training through PGS (dc_research: pgs_training_run.hpp). This
+// command parses options and runs the steps of a regression run — check the options, build the
+// TrainDef, load the data, set up the model (fresh or resumed), train with per-epoch files,
+// report — printing as it goes; --loss pgs-* goes to train_through_pgs.cpp.
 #include <CLI/CLI.hpp>
 #include <omp.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <limits>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "cluster/comm.hpp"
 #include "commands/commands.hpp"
@@ -40,7 +45,6 @@
 #include "dc/cnn/train_checkpoint.hpp"
 #include "dc/learning/trainer.hpp"
 #include "dc/cnn/training_data.hpp"
-#include "dc/sph/sph_kernel.hpp"
 #include "dc/bench/progress_bar.hpp"
 #include "commands/train_through_pgs.hpp"
 
@@ -88,26 +92,21 @@ TrainingSampleDef sample_def(const TrainArgs& a) {
   return d;
 }
 
-void run(const TrainArgs& a) {
-  if (a.data.empty()) throw ConfigError("--data is required");
-  if (a.out.empty()) throw ConfigError("--out is required");
-  if (a.pgs.gain && a.pgs.loss == "regression")
-    throw ConfigError("--gain needs --loss pgs-residual, pgs-distance or pgs-field (a gain model has no label grid to regress on)");
-  if (a.pgs.loss != "regression") {
-    run_train_through_pgs(a.pgs, {a.data, a.out, a.epochs, a.batch, a.threads, a.every, a.first_step, a.lr, a.momentum,
-                                  a.weight_decay, a.val, a.deadzone, a.seed, a.force});
-    return;
-  }
+/// The options of a regression run that need no data: sample selection, dropout, and the
+/// files (--resume needs OUT.ckpt; OUT is only replaced with --force).
+void check_regression_options(const TrainArgs& a, const TrainingSampleDef& samples_def) {
   if (a.threads < 0) throw ConfigError("--threads must be >= 1");
-  const TrainingSampleDef samples_def = sample_def(a);
   samples_def.validate();
   if (!(a.dropout >= 0 && a.dropout < 1)) throw ConfigError("--dropout must be in [0, 1)");
-  const fs::path out = a.out, ckpt = a.out + ".ckpt";
+  const std::string ckpt = a.out + ".ckpt";
   if (a.resume && !fs::exists(ckpt))
-    throw ConfigError("--resume: " + ckpt.string() + " does not exist (nothing to resume; run without --resume)");
-  if (!a.resume && fs::exists(out) && !a.force) throw ConfigError(a.out + " exists; use --force to replace it");
+    throw ConfigError("--resume: " + ckpt + " does not exist (nothing to resume; run without --resume)");
+  if (!a.resume && fs::exists(a.out) && !a.force) throw ConfigError(a.out + " exists; use --force to replace it");
   if (!fs::exists(a.data)) throw IoError(a.data + ": no such file");
+}
 
+/// The Trainer's definition from the options; a bad one points at --help.
+TrainDef regression_def(const TrainArgs& a) {
   TrainDef def;
   def.epochs = a.epochs;
   def.batch_size = a.batch;
@@ -122,73 +121,84 @@ void run(const TrainArgs& a) {
   } catch (const ConfigError& e) {
     throw ConfigError(std::string(e.what()) + " (see deepcontact train --help)");
   }
-  // Across MPI ranks (mpi_train.hpp): every rank trains on a shard of every batch; rank 0
-  // alone writes and prints.
-  const Comm& comm = world();
-  const bool root = comm.is_root();
-  if (a.threads > 0) omp_set_num_threads(a.threads);
-  const int threads = a.threads > 0 ? a.threads : omp_get_max_threads();
+  return def;
+}
 
-  const auto t_load = std::chrono::steady_clock::now();
-  const DataSetReader reader(a.data);
-  const std::vector<TrainingSample> samples = load_training_samples(reader, samples_def);
-  const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+/// The data set and the samples the options select, with the time it took to load them.
+struct TrainingData {
+  TrainingData(const std::string& path, const TrainingSampleDef& def)
+      : t0(std::chrono::steady_clock::now()),
+        reader(path),
+        samples(load_training_samples(reader, def)),
+        seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()) {}
+  std::chrono::steady_clock::time_point t0;
+  DataSetReader reader;
+  std::vector<TrainingSample> samples;
+  double seconds;
+};
 
-  // The model carries the data set's feature image and label definition, so the cnn starter
-  // builds the same feature image and inverts the same labels.
-  const ModelGrid grid = model_grid_for(reader, samples_def.labels);
-  const ArchSpec arch = select_arch(a.arch, reader.label_channels(), reader.ny(), reader.nx(), a.dropout);
-  const RunIdentity id = training_run_identity(reader, arch.to_toml(), def, samples_def);
-
+/// What the run trains: a fresh model, or the checkpoint's with its state (--resume).
+struct TrainingStart {
+  ModelGrid grid;
+  ArchSpec arch;
+  RunIdentity id;
   std::unique_ptr<Model> model;
   std::optional<TrainState> resume;
+};
+
+TrainingStart training_start(const TrainArgs& a, const TrainingData& data, const TrainingSampleDef& samples_def,
+                             const TrainDef& def, bool root) {
+  // The model carries the data set's feature image and label definition, so the cnn starter
+  // builds the same feature image and inverts the same labels.
+  TrainingStart s{model_grid_for(data.reader, samples_def.labels),
+                  select_arch(a.arch, data.reader.label_channels(), data.reader.ny(), data.reader.nx(), a.dropout),
+                  {}, nullptr, std::nullopt};
+  s.id = training_run_identity(data.reader, s.arch.to_toml(), def, samples_def);
+  const fs::path ckpt = a.out + ".ckpt";
   if (a.resume) {
     Model loaded = load_model(ckpt);  // other version / truncated → IoError
-    check_resumable(loaded, grid, arch, ckpt.string(), a.data);
-    resume = read_train_state(H5File::open_read(ckpt.string()), id);
-    model = std::make_unique<Model>(std::move(loaded));
+    check_resumable(loaded, s.grid, s.arch, ckpt.string(), a.data);
+    s.resume = read_train_state(H5File::open_read(ckpt.string()), s.id);
+    s.model = std::make_unique<Model>(std::move(loaded));
   } else {
-    model = std::make_unique<Model>(arch, grid, reader.feature_channels());
+    s.model = std::make_unique<Model>(s.arch, s.grid, data.reader.feature_channels());
     std::error_code ec;
     if (root) fs::remove(ckpt, ec);  // a stale checkpoint of another run must not be resumed later
   }
+  return s;
+}
 
+/// Rank 0's first lines: what is trained on what, and how.
+void print_run_header(const TrainArgs& a, const TrainingData& data, const TrainingStart& s, const Comm& comm) {
+  const int threads = a.threads > 0 ? a.threads : omp_get_max_threads();
   // --dropout only shapes the built-in architectures; an arch file states its own.
   const bool builtin_arch = is_builtin_arch(a.arch);
   char dropout_buf[32];
   std::snprintf(dropout_buf, sizeof dropout_buf, "%g", a.dropout);
   const std::string dropout_text = builtin_arch ? dropout_buf : "as in the arch file";
-  if (root)
   std::printf("train: %zu samples (every %d of %lld) from %zu simulations of %s, %d x %d grid, %d feature channels; "
               "%zu weights (%s), %d epochs, batch %d, lr %g (%s), momentum %g, weight decay %g, dropout %s, "
               "contact weight %g, %s labels (asinh scale %g), %d thread%s; loaded in %.1f s\n",
-              samples.size(), a.every, static_cast<long long>(reader.samples()), reader.simulations().size(),
-              a.data.c_str(), grid.nx(), grid.ny(), reader.feature_channels(), model->network().parameter_count(),
-              arch.name.c_str(), a.epochs, a.batch, a.lr, a.schedule.c_str(), a.momentum, a.weight_decay,
-              dropout_text.c_str(), a.contact_weight, to_string(grid.labels.kind), a.label_scale, threads,
-              threads == 1 ? "" : "s", load_s);
-  if (root && resume) std::printf("train: resuming after epoch %d from %s\n", resume->epochs_done, ckpt.string().c_str());
-  if (root && comm.parallel())
+              data.samples.size(), a.every, static_cast<long long>(data.reader.samples()),
+              data.reader.simulations().size(), a.data.c_str(), s.grid.nx(), s.grid.ny(),
+              data.reader.feature_channels(), s.model->network().parameter_count(), s.arch.name.c_str(), a.epochs,
+              a.batch, a.lr, a.schedule.c_str(), a.momentum, a.weight_decay, dropout_text.c_str(), a.contact_weight,
+              to_string(s.grid.labels.kind), a.label_scale, threads, threads == 1 ? "" : "s", data.seconds);
+  if (s.resume)
+    std::printf("train: resuming after epoch %d from %s.ckpt\n", s.resume->epochs_done, a.out.c_str());
+  if (comm.parallel())
     std::printf("train: data-parallel over %d ranks (each a shard of every batch of %d)\n", comm.size(), a.batch);
   std::fflush(stdout);
+}
 
-  const SigintGuard sigint;
-  Trainer trainer(def);
-  const CommGroup group(comm);
-  trainer.set_data_parallel(&group);
-  if (!root) {  // train in step with rank 0 (same weights, same stop decisions), write nothing
-    const auto on_epoch = [&](const EpochReport&, const TrainState&) { return !any_rank(comm, interrupted()); };
-    (void)trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return !interrupted(); });
-    require_identical_weights(comm, *model);
-    return;
-  }
-  // OUT (best so far; a resumed run's OUT already holds it), OUT.ckpt, OUT.loss.csv.
-  TrainingOutputs files(out, id, a.data, resume ? &*resume : nullptr);
-
+/// Rank 0's training: after every epoch the files (OUT when best, OUT.ckpt, OUT.loss.csv),
+/// the progress bar and an epoch line; SIGINT (on any rank) stops after the epoch.
+TrainResult train_with_checkpoints(const TrainArgs& a, Trainer& trainer, const TrainingData& data,
+                                   TrainingStart& s, TrainingOutputs& files, const Comm& comm) {
   bench::ProgressBar bar("train", a.epochs);
-  if (resume) bar.advance(resume->epochs_done);
+  if (s.resume) bar.advance(s.resume->epochs_done);
   const auto on_epoch = [&](const EpochReport& e, const TrainState& st) {
-    const bool improved = files.record_epoch(*model, e, st);
+    const bool improved = files.record_epoch(*s.model, e, st);
     char line[256];
     std::snprintf(line, sizeof line, "epoch %3d/%d  train %.6f  val %.6f  lr %.3g  %.1f s%s", e.epoch + 1, a.epochs,
                   e.train_loss, e.validation_loss, e.learning_rate, e.seconds, improved ? "  *best" : "");
@@ -198,34 +208,30 @@ void run(const TrainArgs& a) {
     return !any_rank(comm, interrupted());
   };
   const TrainResult result =
-      trainer.train(*model, samples, on_epoch, resume ? &*resume : nullptr, [] { return !interrupted(); });
+      trainer.train(*s.model, data.samples, on_epoch, s.resume ? &*s.resume : nullptr, [] { return !interrupted(); });
   bar.finish();
-  require_identical_weights(comm, *model);
+  return result;
+}
 
-  const int done = static_cast<int>(result.history.size());
-  if (done < a.epochs) {
-    std::fprintf(stderr,
-                 "deepcontact: interrupted: %d of %d epochs are saved in %s (best model in %s); run the same "
-                 "command with --resume to continue\n",
-                 done, a.epochs, ckpt.string().c_str(), a.out.c_str());
-    exit_status() = 130;
-    return;
-  }
+/// OUT.loss.png from OUT.loss.csv (bench/plots/loss_curve.py); a failure only warns.
+void plot_loss_curve(const std::string& out) {
+  const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/loss_curve.py";
+  const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  const std::string cmd = py + " '" + script + "' '" + out + ".loss.csv' '" + out + ".loss.png' >/dev/null 2>&1";
+  if (std::system(cmd.c_str()) != 0 || !fs::exists(out + ".loss.png"))
+    std::fprintf(stderr, "deepcontact train: warning: the loss-curve plot failed (%s)\n", cmd.c_str());
+}
+
+/// The finished run: final files, the plot, and the best model in plain (unweighted)
+/// standardised MSE, the unit of the theses' 0.005–0.006, whatever --contact-weight was.
+void report_finished_run(const TrainArgs& a, const TrainResult& result, const TrainingData& data,
+                         TrainingOutputs& files) {
   files.finish(result.history);
-  if (!a.no_plot) {
-    const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/loss_curve.py";
-    const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    const std::string cmd = py + " '" + script + "' '" + a.out + ".loss.csv' '" + a.out + ".loss.png' >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) != 0 || !fs::exists(a.out + ".loss.png"))
-      std::fprintf(stderr, "deepcontact train: warning: the loss-curve plot failed (%s)\n", cmd.c_str());
-  }
-
+  if (!a.no_plot) plot_loss_curve(a.out);
   if (files.best_epoch() < 0) throw ConfigError("training diverged (loss is not finite); try a smaller --lr");
-  // Report the best model in plain (unweighted) standardised MSE, the unit of the theses'
-  // 0.005–0.006, whatever --contact-weight was.
-  Model best_model = load_model(out);
-  const double tr = standardised_mse(best_model, samples, result.validation_simulations, false);
-  const double va = standardised_mse(best_model, samples, result.validation_simulations, true);
+  Model best_model = load_model(a.out);
+  const double tr = standardised_mse(best_model, data.samples, result.validation_simulations, false);
+  const double va = standardised_mse(best_model, data.samples, result.validation_simulations, true);
   double total_s = 0;
   for (const EpochReport& e : result.history) total_s += e.seconds;
   files.remove_checkpoint();  // finished: nothing left to resume
@@ -234,6 +240,61 @@ void run(const TrainArgs& a) {
               files.best_epoch() + 1, a.epochs, std::isnan(result.history.back().validation_loss) ? "train" : "validation",
               files.best_score(),
               tr, va, result.validation_simulations.size(), total_s, a.out.c_str(), a.out.c_str(), a.out.c_str());
+}
+
+/// Regression training (MSE on the label grids), across MPI ranks when there are several
+/// (mpi_train.hpp): every rank trains on a shard of every batch; rank 0 alone writes and prints.
+void run_regression(const TrainArgs& a) {
+  const TrainingSampleDef samples_def = sample_def(a);
+  check_regression_options(a, samples_def);
+  const TrainDef def = regression_def(a);
+  const Comm& comm = world();
+  const bool root = comm.is_root();
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+
+  const TrainingData data(a.data, samples_def);
+  TrainingStart start = training_start(a, data, samples_def, def, root);
+  if (root) print_run_header(a, data, start, comm);
+
+  const SigintGuard sigint;
+  Trainer trainer(def);
+  const CommGroup group(comm);
+  trainer.set_data_parallel(&group);
+  if (!root) {  // train in step with rank 0 (same weights, same stop decisions), write nothing
+    const auto on_epoch = [&](const EpochReport&, const TrainState&) { return !any_rank(comm, interrupted()); };
+    (void)trainer.train(*start.model, data.samples, on_epoch, start.resume ? &*start.resume : nullptr,
+                        [] { return !interrupted(); });
+    require_identical_weights(comm, *start.model);
+    return;
+  }
+  // OUT (best so far; a resumed run's OUT already holds it), OUT.ckpt, OUT.loss.csv.
+  TrainingOutputs files(a.out, start.id, a.data, start.resume ? &*start.resume : nullptr);
+  const TrainResult result = train_with_checkpoints(a, trainer, data, start, files, comm);
+  require_identical_weights(comm, *start.model);
+
+  const int done = static_cast<int>(result.history.size());
+  if (done < a.epochs) {
+    std::fprintf(stderr,
+                 "deepcontact: interrupted: %d of %d epochs are saved in %s.ckpt (best model in %s); run the same "
+                 "command with --resume to continue\n",
+                 done, a.epochs, a.out.c_str(), a.out.c_str());
+    exit_status() = 130;
+    return;
+  }
+  report_finished_run(a, result, data, files);
+}
+
+void run(const TrainArgs& a) {
+  if (a.data.empty()) throw ConfigError("--data is required");
+  if (a.out.empty()) throw ConfigError("--out is required");
+  if (a.pgs.gain && a.pgs.loss == "regression")
+    throw ConfigError("--gain needs --loss pgs-residual, pgs-distance or pgs-field (a gain model has no label grid to regress on)");
+  if (a.pgs.loss != "regression") {
+    run_train_through_pgs(a.pgs, {a.data, a.out, a.epochs, a.batch, a.threads, a.every, a.first_step, a.lr, a.momentum,
+                                  a.weight_decay, a.val, a.deadzone, a.seed, a.force});
+    return;
+  }
+  run_regression(a);
 }
 
 }  // namespace

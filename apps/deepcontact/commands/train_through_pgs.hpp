@@ -1,7 +1,7 @@
 #pragma once
 // `deepcontact train --loss pgs-residual|pgs-distance|pgs-field`: the solver-unrolled training of a
-// residual model (dc_learning pgs_trainer.hpp; docs/learning.md "Training through PGS").
-// cmd_train.cpp owns the shared options and dispatches here when --loss is not regression.
+// residual model (dc/research/pgs_training_run.hpp; docs/learning.md "Training through PGS").
+// train_command.cpp owns the shared options and dispatches here when --loss is not regression.
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
