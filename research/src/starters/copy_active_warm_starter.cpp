@@ -112,7 +112,7 @@ std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec& 
 
 std::unique_ptr<WarmStarter> make_copy_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
   ActiveSetSource src;
-  src.cgls = parse_cgls_iterations(spec);
+  src.cgls = parse_cgls_options(spec).iterations;
   return std::make_unique<CopyActiveWarmStarter>(src, spec.arg);
 }
 

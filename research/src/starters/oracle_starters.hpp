@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "dc/warmstart/oracle.hpp"
+#include "dc/warmstart/starter_options.hpp"
 #include "dc/warmstart/starter_support.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
