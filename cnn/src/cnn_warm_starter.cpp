@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "dc/core/error.hpp"
+#include "dc/cnn/cnn_starter_options.hpp"
 #include "dc/cnn/contact_readback.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
@@ -227,21 +228,17 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
 }
 
 void add_cnn_warm_starters(WarmStarterRegistry& registry, std::filesystem::path default_model) {
-  const auto factory = [default_model](bool hybrid) {
-    return [default_model, hybrid](const WarmStartSpec& spec, const WarmStartEnv& env) -> std::unique_ptr<WarmStarter> {
-      const std::filesystem::path path =
-          !spec.arg.empty() ? std::filesystem::path(spec.arg)
-                            : (!env.model_path.empty() ? std::filesystem::path(env.model_path) : default_model);
-      return CnnWarmStarter::load(path, spec.full(), hybrid);
-    };
+  const auto factory = [default_model](const WarmStartSpec& spec, const WarmStartEnv& env) -> std::unique_ptr<WarmStarter> {
+    const CnnStarterOptions o = parse_cnn_options(spec);
+    return CnnWarmStarter::load(cnn_model_path(o, env, default_model), spec.full(), o.hybrid);
   };
   registry.add("cnn",
                "learned: body state (+ builtin for a residual model) -> feature grid -> CNN -> label grid -> "
                "back at the contacts (+ builtin); cnn:MODEL.h5 (default: --model or the shipped models/default.h5)",
-               factory(false));
+               factory);
   registry.add("cnn-hybrid", "builtin for persistent contacts, cnn for new ones (network skipped when none is new); "
                              "cnn-hybrid:MODEL.h5",
-               factory(true));
+               factory);
 }
 
 }  // namespace dc

@@ -52,7 +52,7 @@ std::unique_ptr<WarmStarter> make_builtin_active_warm_starter(const WarmStartSpe
 }
 
 std::unique_ptr<WarmStarter> make_builtin_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  return std::make_unique<BuiltinActiveWarmStarter>(parse_cgls_iterations(spec), spec.arg);
+  return std::make_unique<BuiltinActiveWarmStarter>(parse_cgls_options(spec).iterations, spec.arg);
 }
 
 }  // namespace dc

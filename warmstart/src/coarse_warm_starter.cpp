@@ -25,9 +25,10 @@
 // matrix-free, A x = J (Δt M⁻¹ (Jᵀ x)): one iteration costs about one PGS sweep. λ⁰ = λ_b + P g,
 // projected into the bounds (a gain below −1 is clipped at λ_n = 0). Contacts without load
 // in λ_b (new ones) keep builtin's 0: the coarse space cannot move them.
-#include <cmath>
+#include <algorithm>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dc/warmstart/active_set_solve.hpp"
@@ -39,36 +40,9 @@ namespace dc {
 
 namespace {
 
-struct CoarseSetting {
-  double spacing = 1.0;  ///< D [m]: node spacing of the gain grid
-  int iterations = 30;   ///< CG iterations on the Galerkin system (≥ 1)
-};
-
-CoarseSetting parse_coarse_setting(const WarmStartSpec& spec) {
-  CoarseSetting s;
-  if (spec.arg.empty()) return s;
-  const std::string usage = "warm starter '" + spec.full() + "': expected builtin-coarse[:D[:ITER]] (D > 0 m, ITER >= 1)";
-  const std::size_t colon = spec.arg.find(':');
-  try {
-    std::size_t used = 0;
-    const std::string d = spec.arg.substr(0, colon);
-    s.spacing = std::stod(d, &used);
-    if (used != d.size()) throw ConfigError(usage);
-    if (colon != std::string::npos) {
-      const std::string it = spec.arg.substr(colon + 1);
-      s.iterations = std::stoi(it, &used);
-      if (used != it.size()) throw ConfigError(usage);
-    }
-  } catch (const std::logic_error&) {
-    throw ConfigError(usage);
-  }
-  if (!(s.spacing > 0) || !std::isfinite(s.spacing) || s.iterations < 1) throw ConfigError(usage);
-  return s;
-}
-
 class CoarseWarmStarter final : public WarmStarter {
  public:
-  CoarseWarmStarter(CoarseSetting s, std::string arg) : s_(s), arg_(std::move(arg)) {}
+  CoarseWarmStarter(CoarseStarterOptions s, std::string arg) : s_(s), arg_(std::move(arg)) {}
   std::string name() const override { return arg_.empty() ? "builtin-coarse" : "builtin-coarse:" + arg_; }
 
   Eigen::VectorXd initial_guess(const StepView& v) override {
@@ -180,7 +154,7 @@ class CoarseWarmStarter final : public WarmStarter {
     restrict_rows(y_, q);
   }
 
-  CoarseSetting s_;
+  CoarseStarterOptions s_;
   std::string arg_;
   std::optional<SphGrid> grid_;  // geometry only (stencils)
   std::size_t nodes_ = 0;
@@ -192,7 +166,7 @@ class CoarseWarmStarter final : public WarmStarter {
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_coarse_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  return std::make_unique<CoarseWarmStarter>(parse_coarse_setting(spec), spec.arg);
+  return std::make_unique<CoarseWarmStarter>(parse_coarse_options(spec), spec.arg);
 }
 
 }  // namespace dc

@@ -40,7 +40,7 @@ WarmStarterRegistry default_warm_starters() {
         "(max norm); gate:INNER, e.g. gate:cnn:models/impact.h5",
         make_gate_warm_starter);
   r.add("gate-l2", "gate with the residual's 2-norm instead of its max norm; gate-l2:INNER",
-        make_gate_l2_warm_starter);
+        make_gate_warm_starter);
   return r;
 }
 

@@ -99,9 +99,7 @@ class GainExtrapolateWarmStarter final : public WarmStarter {
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_gain_extrapolate_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  SphTransferDef def = default_sph_setting(30.0, 30.0);  // box replaced by the scene's
-  parse_sph_setting(spec.arg, def);
-  return std::make_unique<GainExtrapolateWarmStarter>(def, spec.arg);
+  return std::make_unique<GainExtrapolateWarmStarter>(parse_sph_options(spec), spec.arg);
 }
 
 }  // namespace dc

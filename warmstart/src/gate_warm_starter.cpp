@@ -16,8 +16,6 @@
 namespace dc {
 namespace {
 
-enum class GateNorm { Max, L2 };
-
 /// The natural-map residual of λ in the chosen norm.
 double residual_score(const LcpProblem& p, const Eigen::VectorXd& lambda, GateNorm norm) {
   return norm == GateNorm::Max ? natural_residual(p, lambda) : natural_residual_l2(p, lambda);
@@ -48,25 +46,12 @@ class GateWarmStarter final : public WarmStarter {
   GateNorm norm_;
 };
 
-std::unique_ptr<WarmStarter> make_gate(const WarmStartSpec& spec, const WarmStartEnv& env, GateNorm norm) {
-  if (spec.arg.empty())
-    throw ConfigError("warm starter '" + spec.name + "' needs the starter it gates, e.g. " + spec.name +
-                      ":cnn:models/impact.h5");
-  if (!env.registry) throw InvalidArgument("warm starter '" + spec.full() + "': built without a registry");
-  const WarmStartSpec inner = WarmStartSpec::parse(spec.arg);
-  if (inner.name == "gate" || inner.name == "gate-l2")
-    throw ConfigError("warm starter '" + spec.full() + "': a gate cannot gate another gate");
-  return std::make_unique<GateWarmStarter>(env.registry->make(spec.arg, env), spec.name, norm);
-}
-
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_gate_warm_starter(const WarmStartSpec& spec, const WarmStartEnv& env) {
-  return make_gate(spec, env, GateNorm::Max);
-}
-
-std::unique_ptr<WarmStarter> make_gate_l2_warm_starter(const WarmStartSpec& spec, const WarmStartEnv& env) {
-  return make_gate(spec, env, GateNorm::L2);
+  const GateOptions o = parse_gate_options(spec);
+  if (!env.registry) throw InvalidArgument("warm starter '" + spec.full() + "': built without a registry");
+  return std::make_unique<GateWarmStarter>(env.registry->make(o.inner, env), spec.name, o.norm);
 }
 
 }  // namespace dc

@@ -67,9 +67,7 @@ class SphPrevWarmStarter final : public WarmStarter {
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_sph_prev_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  SphTransferDef def = default_sph_setting(30.0, 30.0);  // box replaced by the scene's
-  parse_sph_setting(spec.arg, def);
-  return std::make_unique<SphPrevWarmStarter>(def, spec.arg);
+  return std::make_unique<SphPrevWarmStarter>(parse_sph_options(spec), spec.arg);
 }
 
 }  // namespace dc

@@ -4,9 +4,9 @@
 //   bad:     λ_n = 50·s, λ_t = 0
 // with the scene scale s = mean body weight m̄·|g| [N], so the controls mean the same on
 // scaled scenes. random:SEED overrides the run's seed.
+#include <cstdint>
 #include <numeric>
 
-#include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
 #include "oracle_starters.hpp"
 
@@ -56,17 +56,7 @@ class BadWarmStarter final : public WarmStarter {
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_random_warm_starter(const WarmStartSpec& spec, const WarmStartEnv& env) {
-  std::uint64_t seed = env.seed;
-  if (!spec.arg.empty()) {
-    try {
-      std::size_t used = 0;
-      seed = std::stoull(spec.arg, &used);
-      if (used != spec.arg.size()) throw ConfigError("");
-    } catch (const std::exception&) {
-      throw ConfigError("warm starter '" + spec.full() + "': the argument must be an unsigned seed");
-    }
-  }
-  return std::make_unique<RandomWarmStarter>(seed);
+  return std::make_unique<RandomWarmStarter>(parse_random_options(spec).seed.value_or(env.seed));
 }
 
 std::unique_ptr<WarmStarter> make_bad_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {

@@ -16,7 +16,6 @@
 //                  steps (default 100; solve_on_active_set_cgls): what the active-set route
 //                  costs without the dense factorisation.
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,19 +37,14 @@ double key_share(const ContactKey& k) {
   return static_cast<double>(z >> 11) * 0x1.0p-53;
 }
 
-/// Which of builtin-active's modes copy-active corrects to λ*'s.
-struct ActiveSetSource {
-  enum class Part { All, Normal, Friction };
-  double share = 1.0;      ///< F: the share of the wrong modes corrected (by key hash)
-  Part part = Part::All;   ///< which half of λ*'s modes is used (copy-active:normal|friction)
-  int cgls = 0;            ///< > 0: CGLS steps instead of the dense solve (the -cg starters)
-};
-
 class CopyActiveWarmStarter final : public WarmStarter {
  public:
-  CopyActiveWarmStarter(ActiveSetSource src, std::string arg) : src_(src), arg_(std::move(arg)) {}
+  /// cgls > 0: that many CGLS steps instead of the dense solve (copy-active-cg, which
+  /// corrects every mode: default `options`).
+  CopyActiveWarmStarter(CopyActiveOptions options, int cgls, std::string arg)
+      : opt_(options), cgls_(cgls), arg_(std::move(arg)) {}
   std::string name() const override {
-    const std::string n = src_.cgls > 0 ? "copy-active-cg" : "copy-active";
+    const std::string n = cgls_ > 0 ? "copy-active-cg" : "copy-active";
     return arg_.empty() ? n : n + ":" + arg_;
   }
   bool uses_oracle() const override { return true; }
@@ -64,27 +58,28 @@ class CopyActiveWarmStarter final : public WarmStarter {
     std::vector<ContactMode> modes = remembered_modes(w, base);
     const Eigen::VectorXd star = step_oracle(v, oracle_ms_);
     for (std::size_t c = 0; c < modes.size(); ++c) {
-      if (src_.share < 1 && !(key_share(w.contacts()[c].key) < src_.share)) continue;
+      if (opt_.share < 1 && !(key_share(w.contacts()[c].key) < opt_.share)) continue;
       const ContactMode m = contact_mode(w.constraints(), static_cast<int>(c), star);
       const bool touches = m != ContactMode::Separating, touched = modes[c] != ContactMode::Separating;
-      switch (src_.part) {
-        case ActiveSetSource::Part::All: modes[c] = m; break;
-        case ActiveSetSource::Part::Normal:
+      switch (opt_.part) {
+        case ActiveSetPart::All: modes[c] = m; break;
+        case ActiveSetPart::Normal:
           if (!touches) modes[c] = m;
           else if (!touched) modes[c] = ContactMode::Sticking;
           break;
-        case ActiveSetSource::Part::Friction:
+        case ActiveSetPart::Friction:
           if (touches && touched) modes[c] = m;
           break;
       }
     }
     const std::string who = name();
-    return src_.cgls > 0 ? solve_on_active_set_cgls(w, base, modes, src_.cgls, who.c_str())
-                         : solve_on_active_set(w, base, modes, who.c_str());
+    return cgls_ > 0 ? solve_on_active_set_cgls(w, base, modes, cgls_, who.c_str())
+                     : solve_on_active_set(w, base, modes, who.c_str());
   }
 
  private:
-  ActiveSetSource src_;
+  CopyActiveOptions opt_;
+  int cgls_;
   std::string arg_;
   double oracle_ms_ = 0;
 };
@@ -92,28 +87,11 @@ class CopyActiveWarmStarter final : public WarmStarter {
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_copy_active_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  ActiveSetSource src;
-  if (spec.arg == "normal") {
-    src.part = ActiveSetSource::Part::Normal;
-  } else if (spec.arg == "friction") {
-    src.part = ActiveSetSource::Part::Friction;
-  } else if (!spec.arg.empty()) {
-    std::size_t used = 0;
-    try {
-      src.share = std::stod(spec.arg, &used);
-    } catch (const std::logic_error&) {
-      used = 0;
-    }
-    if (used != spec.arg.size() || !(src.share >= 0 && src.share <= 1))
-      throw ConfigError("warm starter '" + spec.full() + "': expected copy-active[:F|:normal|:friction] with 0 <= F <= 1");
-  }
-  return std::make_unique<CopyActiveWarmStarter>(src, spec.arg);
+  return std::make_unique<CopyActiveWarmStarter>(parse_copy_active_options(spec), 0, spec.arg);
 }
 
 std::unique_ptr<WarmStarter> make_copy_active_cg_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  ActiveSetSource src;
-  src.cgls = parse_cgls_iterations(spec);
-  return std::make_unique<CopyActiveWarmStarter>(src, spec.arg);
+  return std::make_unique<CopyActiveWarmStarter>(CopyActiveOptions{}, parse_cgls_options(spec).iterations, spec.arg);
 }
 
 }  // namespace dc

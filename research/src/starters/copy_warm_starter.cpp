@@ -4,10 +4,11 @@
 // copy-noise:R multiplies every component by (1 + R·ξ), ξ ~ N(0, 1) drawn from the run's
 // seed: the sweeps a predictor with relative error R would need (the accuracy a learned
 // warm start has to reach to beat builtin; docs/bench.md).
-#include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
 
-#include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "oracle_starters.hpp"
@@ -53,31 +54,12 @@ class CopyWarmStarter final : public WarmStarter {
 }  // namespace
 
 std::unique_ptr<WarmStarter> make_copy_noise_warm_starter(const WarmStartSpec& spec, const WarmStartEnv& env) {
-  double r = -1;
-  std::size_t used = 0;
-  try {
-    r = std::stod(spec.arg, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (spec.arg.empty() || used != spec.arg.size() || !(r >= 0) || !std::isfinite(r))
-    throw ConfigError("warm starter '" + spec.full() + "': needs a relative noise level R >= 0, e.g. copy-noise:0.01");
-  return std::make_unique<CopyWarmStarter>(r, spec.arg, env.seed);
+  return std::make_unique<CopyWarmStarter>(parse_copy_noise_options(spec).relative, spec.arg, env.seed);
 }
 
 std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
-  int d = -1;
-  if (!spec.arg.empty()) {
-    std::size_t used = 0;
-    try {
-      d = std::stoi(spec.arg, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != spec.arg.size() || d < 0 || d > 15)
-      throw ConfigError("warm starter '" + spec.full() + "': decimals must be an integer in 0..15");
-  }
-  return std::make_unique<CopyWarmStarter>(d);
+  const CopyStarterOptions o = parse_copy_options(spec);
+  return std::make_unique<CopyWarmStarter>(o.rounded ? o.decimals : -1);
 }
 
 }  // namespace dc

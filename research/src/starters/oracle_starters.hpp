@@ -1,10 +1,13 @@
 #pragma once
 // Private: factories of the oracle starters and negative controls (registered by
-// add_research_starters), and the oracle they share.
+// add_research_starters), and the oracle they share. Each parses its options with
+// oracle_starter_options.hpp (or dc_warmstart's starter_options.hpp) and builds its starter
+// from them.
 #include <Eigen/Core>
 #include <chrono>
 #include <memory>
 
+#include "dc/research/oracle_starter_options.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/starter_support.hpp"
 #include "dc/warmstart/warm_starter.hpp"
@@ -21,7 +24,6 @@ inline Eigen::VectorXd step_oracle(const StepView& v, double& ms) {
   ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return star;
 }
-
 
 std::unique_ptr<WarmStarter> make_copy_warm_starter(const WarmStartSpec&, const WarmStartEnv&);
 std::unique_ptr<WarmStarter> make_copy_noise_warm_starter(const WarmStartSpec&, const WarmStartEnv&);

@@ -39,7 +39,9 @@ void add_research_starters(WarmStarterRegistry& r) {
         "sph-gain + the Shepard read-back of what the gain leaves (new contacts included): oracle; "
         "sph-gain-add:KERNEL:D:H",
         make_sph_gain_add_warm_starter);
-  r.add("random", "negative control: lambda_n ~ U(0,5)s, lambda_t ~ U(-2,2)s, s = mean weight",
+  r.add("random",
+        "negative control: lambda_n ~ U(0,5)s, lambda_t ~ U(-2,2)s, s = mean weight; random:SEED overrides the "
+        "run's seed",
         make_random_warm_starter);
   r.add("bad", "negative control: lambda_n = 50 s (a large constant)", make_bad_warm_starter);
 }

@@ -114,9 +114,7 @@ class SphGainWarmStarter final : public WarmStarter {
 };
 
 std::unique_ptr<WarmStarter> make(const WarmStartSpec& spec, bool additive) {
-  SphTransferDef def = default_sph_setting(30.0, 30.0);  // box replaced by the scene's
-  parse_sph_setting(spec.arg, def);
-  return std::make_unique<SphGainWarmStarter>(def, spec.arg, additive);
+  return std::make_unique<SphGainWarmStarter>(parse_sph_options(spec), spec.arg, additive);
 }
 
 }  // namespace

@@ -56,9 +56,7 @@ class SphOracleWarmStarter final : public WarmStarter {
 };
 
 std::unique_ptr<WarmStarter> make(const WarmStartSpec& spec, bool residual) {
-  SphTransferDef def = default_sph_setting(30.0, 30.0);  // box replaced by the scene's
-  parse_sph_setting(spec.arg, def);
-  return std::make_unique<SphOracleWarmStarter>(def, spec.arg, residual);
+  return std::make_unique<SphOracleWarmStarter>(parse_sph_options(spec), spec.arg, residual);
 }
 
 }  // namespace

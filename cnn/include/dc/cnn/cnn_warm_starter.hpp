@@ -15,9 +15,10 @@
 //               prediction for contacts that are new this step; steps without new contacts
 //               skip the network altogether. A non-oracle starter.
 //
-// Model selection: `cnn:PATH` / `cnn-hybrid:PATH`, else WarmStartEnv::model_path, else the
-// default passed to add_cnn_warm_starters (the CLI passes DC_SOURCE_DIR/models/default.h5,
-// the shipped model). A missing or unreadable model is an IoError when the starter is made.
+// Model selection (cnn_starter_options.hpp): `cnn:PATH` / `cnn-hybrid:PATH`, else
+// WarmStartEnv::model_path, else the default passed to add_cnn_warm_starters (the CLI passes
+// DC_SOURCE_DIR/models/default.h5, the shipped model). A missing or unreadable model is an
+// IoError when the starter is made.
 //
 // The model file stores the grid (d, h, kernel, nx, ny) and the feature channel names it was
 // trained on; the starter rebuilds the feature image with exactly those, on the scene's box.

@@ -1,8 +1,9 @@
 #pragma once
-// Building blocks for writing a warm starter against this library: argument checks, builtin's
-// memory (the previous step's λ by contact key), the size limit of the dense diagnostics and
-// the read-back of kernel-weighted gains. The starters of dc_warmstart and dc_research use
-// them; a user's own starter may too.
+// Building blocks for writing a warm starter against this library: builtin's memory (the
+// previous step's λ by contact key), the size limit of the dense diagnostics and the read-back
+// of kernel-weighted gains. The starters of dc_warmstart and dc_research use them; a user's own
+// starter may too. Its arguments are parsed with starter_argument.hpp (the options of this
+// library's starters: starter_options.hpp).
 #include <Eigen/Core>
 #include <span>
 #include <string>
@@ -12,16 +13,6 @@
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc {
-
-/// ConfigError unless the spec has no ":ARG" part (for starters that take no argument).
-inline void reject_argument(const WarmStartSpec& spec) {
-  if (!spec.arg.empty())
-    throw ConfigError("warm starter '" + spec.name + "' takes no argument (got '" + spec.full() + "')");
-}
-
-/// ITER of the -cg starters (builtin-active-cg, copy-active-cg): a positive integer, 100 when
-/// the spec has no argument; ConfigError "warm starter 'NAME:ARG': expected NAME[:ITER] …" otherwise.
-int parse_cgls_iterations(const WarmStartSpec& spec);
 
 /// Rows above which the dense O(rows³) diagnostics (copy-range, copy-active, builtin-active)
 /// refuse a problem.

@@ -82,10 +82,11 @@ class WarmStarterRegistry {
 /// replaces non-finite entries by 0, so any guess is a valid PGS starting point.
 void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
 
-/// The registry with every starter of this library: zero, builtin, builtin-extrapolate,
-/// builtin-statics, builtin-gain-extrapolate, builtin-coarse, builtin-active[-cg], copy[:D],
-/// copy-noise:R, copy-range, copy-active[:F], copy-active-cg, sph, sph-prev, sph-residual, sph-gain, sph-gain-add, gate:INNER,
-/// gate-l2:INNER, random, bad (the learning library adds cnn).
+/// The registry with every starter of this library, the methods: zero, builtin,
+/// builtin-extrapolate, builtin-statics, builtin-gain-extrapolate[:KERNEL:D:H[:NORM]],
+/// builtin-coarse[:D[:ITER]], builtin-active, builtin-active-cg[:ITER], sph-prev[:KERNEL:D:H[:NORM]],
+/// gate:INNER, gate-l2:INNER (options: starter_options.hpp). dc_cnn adds cnn and cnn-hybrid
+/// (add_cnn_warm_starters), dc_research the oracles and controls (add_research_starters).
 WarmStarterRegistry default_warm_starters();
 
 /// The static load guess of builtin-statics for every contact of w's current step

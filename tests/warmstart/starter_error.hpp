@@ -1,0 +1,32 @@
+#pragma once
+// The shape every refused starter argument must have: one ConfigError of one line that names
+// the whole spec and says what was expected ("warm starter 'copy:x': expected copy[:D] …"), so
+// a mistyped --warmstarts item points at itself and at its fix.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "dc/core/error.hpp"
+
+namespace dc::test {
+
+/// The message of the ConfigError `f` throws ("" and a test failure when it throws none).
+template <class F>
+std::string config_error_of(F&& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no ConfigError";
+  return "";
+}
+
+/// One line, starting "warm starter 'SPEC': expected " and containing `usage`.
+inline void expect_starter_error(const std::string& message, const std::string& spec, const std::string& usage) {
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_EQ(message.rfind("warm starter '" + spec + "': expected ", 0), 0u) << spec << " -> " << message;
+  EXPECT_NE(message.find(usage), std::string::npos) << spec << " -> " << message;
+}
+
+}  // namespace dc::test

@@ -1,0 +1,67 @@
+#pragma once
+// The shared parsers a starter's options are built on (starter_options.hpp here, dc_research's
+// oracle_starter_options.hpp, dc_cnn's cnn_starter_options.hpp; a user's own starter may use
+// them too). A starter is named "NAME" or "NAME:ARG" (WarmStartSpec); ARG may hold several
+// ':'-separated fields ("builtin-coarse:0.5:10"). Every failure is the same one-line ConfigError
+// naming the whole spec and the form the starter expects,
+//
+//     warm starter 'builtin-coarse:x': expected builtin-coarse[:D[:ITER]] with D > 0 [m] and ITER >= 1
+//
+// so a mistyped item of --warmstarts (or of a gate's INNER) points at itself and at its fix.
+//
+// Numbers follow the rules of std::stoi / std::stod / std::stoull: leading white space is
+// skipped, the rest of the field must be the number (no trailing text), values the type cannot
+// hold are refused. These are the rules each starter parsed its argument with before the options
+// were parsed in one place, so every argument accepted then is accepted now ("copy:+3",
+// "builtin-coarse:0x1p0", "copy-noise:1e-2").
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace dc {
+
+/// A starter's argument together with the form it should have, for the error messages.
+class StarterArgument {
+ public:
+  /// `usage` is what follows "expected " in the message: the starter's forms and the ranges of
+  /// its fields, e.g. "copy[:D] with D an integer in 0..15".
+  StarterArgument(const WarmStartSpec& spec, std::string usage);
+
+  [[nodiscard]] bool empty() const { return spec_.arg.empty(); }
+  [[nodiscard]] const std::string& text() const { return spec_.arg; }
+  [[nodiscard]] const WarmStartSpec& spec() const { return spec_; }
+
+  /// The ':'-separated fields of the argument: none when it is empty, empty fields kept ("1:"
+  /// is {"1", ""}, which no number parser accepts). ConfigError unless the count is in
+  /// [min_fields, max_fields].
+  [[nodiscard]] std::vector<std::string> fields(std::size_t min_fields, std::size_t max_fields) const;
+
+  /// An integer in [lo, hi] (std::stoi rules).
+  [[nodiscard]] int integer(const std::string& field, int lo, int hi = std::numeric_limits<int>::max()) const;
+  /// A finite number > 0 (std::stod rules): lengths, spacings.
+  [[nodiscard]] double positive_number(const std::string& field) const;
+  /// A finite number in [lo, hi] (std::stod rules); hi = +∞ accepts every finite number ≥ lo.
+  [[nodiscard]] double number(const std::string& field, double lo, double hi) const;
+  /// An unsigned 64-bit integer (std::stoull rules, so "-1" wraps to 2⁶⁴ − 1 as it always did).
+  [[nodiscard]] std::uint64_t unsigned_integer(const std::string& field) const;
+
+  /// ConfigError "warm starter 'SPEC': expected USAGE".
+  [[noreturn]] void fail() const;
+  /// ConfigError "warm starter 'SPEC': expected USAGE (REASON)", e.g. the SPH setting's own
+  /// message naming the bad part.
+  [[noreturn]] void fail(const std::string& reason) const;
+
+ private:
+  WarmStartSpec spec_;
+  std::string usage_;
+};
+
+/// ConfigError "warm starter 'NAME:ARG': expected NAME without an argument" unless the spec has
+/// no ":ARG" part: the check of every starter that takes no argument (zero, builtin, bad, …).
+void reject_argument(const WarmStartSpec& spec);
+
+}  // namespace dc
