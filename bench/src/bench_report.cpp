@@ -1,7 +1,4 @@
 #include "dc/bench/bench_report.hpp"
-#include "bench_statistics_report.hpp"
-#include "dc/bench/render_frame.hpp"
-#include "report_plots.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -11,20 +8,16 @@
 #include <optional>
 #include <sstream>
 
+#include "bench_statistics_report.hpp"
+#include "dc/bench/json_writer.hpp"
+#include "dc/bench/quantiles.hpp"
+#include "dc/bench/render_frame.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/io/atomic_file.hpp"
-#include "dc/bench/json_writer.hpp"
+#include "report_plots.hpp"
 
 namespace dc::bench {
-
-std::string fmt(const char* f, double v) {
-  if (!std::isfinite(v)) return "n/a";
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 namespace {
 
 const StarterSummary* find(const std::vector<StarterSummary>& s, const std::string& name) {

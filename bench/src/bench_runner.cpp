@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/oracle.hpp"
-#include "dc/bench/bench_statistics.hpp"
 
 namespace dc::bench {
 namespace {
@@ -388,69 +386,6 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
   for (const std::uint64_t seed : o.seeds) run.run_seed(seed);
   r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   return r;
-}
-
-Quartiles quartiles(std::vector<double> v) {
-  Quartiles q;
-  if (v.empty()) {
-    q.q1 = q.median = q.q3 = std::numeric_limits<double>::quiet_NaN();
-    return q;
-  }
-  std::sort(v.begin(), v.end());
-  auto at = [&](double f) { return quantile_sorted(v, f); };
-  q.q1 = at(0.25);
-  q.median = at(0.5);
-  q.q3 = at(0.75);
-  return q;
-}
-
-std::vector<StarterSummary> summarise(const BenchResults& r) {
-  std::vector<StarterSummary> out;
-  const int never = r.options.sweeps + 1;
-  for (const StarterRecord& rec : r.starters) {
-    StarterSummary s;
-    s.name = rec.name;
-    s.uses_oracle = rec.uses_oracle;
-    std::vector<double> sw, total;
-    int unconv = 0;
-    for (std::size_t k = 0; k < rec.sweeps_to_tol.size(); ++k) {
-      const int v = rec.sweeps_to_tol[k];
-      if (v < 0) ++unconv;
-      sw.push_back(v < 0 ? never : v);
-      total.push_back(rec.warmstart_ms[k] + rec.solve_ms[k]);
-    }
-    s.sweeps_to_tol = quartiles(sw);
-    s.median_sweeps_to_tol = s.sweeps_to_tol.median;
-    s.unconverged_share = sw.empty() ? 0.0 : static_cast<double>(unconv) / static_cast<double>(sw.size());
-    s.warmstart_ms = quartiles(rec.warmstart_ms).median;
-    s.oracle_ms = rec.uses_oracle && r.options.mode == Mode::Paired ? quartiles(r.oracle_ms).median
-                                                                    : quartiles(rec.oracle_ms).median;
-    s.solve_ms = quartiles(rec.solve_ms).median;
-    s.total_ms = quartiles(total).median;
-    s.ns_per_row_sweep = quartiles(rec.sweep_ns_per_row).median;
-    s.initial_error = quartiles(rec.initial_error).median;
-    const std::size_t nb = r.budgets.size();
-    const auto bi = static_cast<std::size_t>(std::find(r.budgets.begin(), r.budgets.end(), r.options.budget) - r.budgets.begin());
-    std::vector<double> at_b, at_cap;
-    for (std::size_t k = 0; nb > 0 && k + 1 <= rec.residual.size() / nb; ++k) {
-      if (bi < nb) at_b.push_back(rec.residual[k * nb + bi]);
-      at_cap.push_back(rec.residual[k * nb + nb - 1]);
-    }
-    s.residual_at_budget = quartiles(at_b).median;
-    s.residual_at_cap = quartiles(at_cap).median;
-    if (!rec.sweeps_to_tol_high.empty()) {
-      std::vector<double> hi;
-      int un = 0;
-      for (const int v : rec.sweeps_to_tol_high) {
-        if (v < 0) ++un;
-        hi.push_back(v < 0 ? r.options.max_sweeps + 1 : v);
-      }
-      s.median_sweeps_high = quartiles(hi).median;
-      s.unconverged_share_high = static_cast<double>(un) / static_cast<double>(hi.size());
-    }
-    out.push_back(s);
-  }
-  return out;
 }
 
 }  // namespace dc::bench

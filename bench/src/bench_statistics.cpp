@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
+#include <limits>
 
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
@@ -63,30 +63,6 @@ std::vector<double> quotient(const std::vector<double>& a, const std::vector<dou
 }
 
 }  // namespace
-
-double quantile_sorted(const std::vector<double>& v, double p) {
-  const double pos = p * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  const double t = pos - static_cast<double>(lo);
-  if (std::isinf(v[lo]) || std::isinf(v[hi])) return t < 0.5 ? v[lo] : v[hi];
-  return v[lo] + t * (v[hi] - v[lo]);
-}
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  const std::size_t h = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h), v.end());
-  const double upper = v[h];
-  if (v.size() % 2 == 1) return upper;
-  const double lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h));
-  return 0.5 * (lower + upper);
-}
-
-double mean_of(const std::vector<double>& v) {
-  if (v.empty()) return kNaN;
-  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-}
 
 Interval percentile_interval(double estimate, std::vector<double> rep, double level) {
   if (!(level > 0 && level < 1)) throw InvalidArgument("bootstrap: level must lie in (0, 1)");
