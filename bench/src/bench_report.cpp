@@ -1,7 +1,4 @@
 #include "dc/bench/bench_report.hpp"
-#include "bench_statistics_report.hpp"
-#include "dc/bench/render_frame.hpp"
-#include "report_plots.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -11,20 +8,16 @@
 #include <optional>
 #include <sstream>
 
+#include "bench_statistics_report.hpp"
+#include "dc/bench/json_writer.hpp"
+#include "dc/bench/quantiles.hpp"
+#include "dc/bench/render_frame.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/io/atomic_file.hpp"
-#include "dc/bench/json_writer.hpp"
+#include "report_plots.hpp"
 
 namespace dc::bench {
-
-std::string fmt(const char* f, double v) {
-  if (!std::isfinite(v)) return "n/a";
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
 namespace {
 
 const StarterSummary* find(const std::vector<StarterSummary>& s, const std::string& name) {
@@ -102,48 +95,55 @@ std::string format_table(const BenchResults& r, const std::vector<StarterSummary
   return os.str();
 }
 
+namespace {
+
+/// One starter's object under "warmstarters". A sweep count above the run's sweeps means
+/// "never reached the tolerance": null.
+void starter_summary_json(JsonWriter& j, const BenchResults& r, const StarterSummary& x, const StarterSummary* zero) {
+  const auto sweeps_or_null = [&](double v) { return v > r.options.sweeps ? std::nullopt : std::optional<double>(v); };
+  const bool never = x.median_sweeps_to_tol > r.options.sweeps;
+  j.key(x.name).begin_object();
+  j.key("median_sweeps_to_tol").value(sweeps_or_null(x.median_sweeps_to_tol));
+  j.key("q1_sweeps_to_tol").value(sweeps_or_null(x.sweeps_to_tol.q1));
+  j.key("q3_sweeps_to_tol").value(sweeps_or_null(x.sweeps_to_tol.q3));
+  j.key("unconverged_share").value(x.unconverged_share);
+  j.key("warmstart_ms").value(x.warmstart_ms);
+  j.key("oracle_ms").value(x.uses_oracle ? x.oracle_ms : 0.0);
+  j.key("solve_ms").value(x.solve_ms);
+  j.key("total_ms").value(x.total_ms);
+  j.key("ns_per_row_sweep").value(x.ns_per_row_sweep);
+  j.key("initial_error").value(x.initial_error);
+  j.key("uses_oracle").value(x.uses_oracle);
+  j.key("sweeps_ratio_to_zero");
+  if (zero && zero->median_sweeps_to_tol > 0 && !never)
+    j.value(x.median_sweeps_to_tol / zero->median_sweeps_to_tol);
+  else
+    j.null();
+  j.key("total_ratio_to_zero");
+  if (zero && zero->total_ms > 0)
+    j.value(x.total_ms / zero->total_ms);
+  else
+    j.null();
+  j.key("theses").value(thesis_reference(x.name));
+  j.key("residual_at_budget").value(x.residual_at_budget);
+  j.key("residual_at_cap").value(x.residual_at_cap);
+  if (r.options.max_sweeps > 0) {
+    j.key("median_sweeps_to_tol_high_cap");
+    if (x.median_sweeps_high > r.options.max_sweeps) j.null(); else j.value(x.median_sweeps_high);
+    j.key("unconverged_share_high_cap").value(x.unconverged_share_high);
+  }
+  j.end_object();
+}
+
+}  // namespace
+
 std::string summary_json(const BenchResults& r, const std::vector<StarterSummary>& s, const Provenance& p,
                          const BenchStatistics* stats) {
   const StarterSummary* zero = find(s, "zero");
-  // A sweep count above the budget means "never reached the tolerance": null.
-  const auto sweeps_or_null = [&](double v) { return v > r.options.sweeps ? std::nullopt : std::optional<double>(v); };
   JsonWriter j;
   j.begin_object(JsonWriter::Layout::Lines);
   j.key("warmstarters").begin_object(JsonWriter::Layout::Lines);
-  for (const auto& x : s) {
-    const bool never = x.median_sweeps_to_tol > r.options.sweeps;
-    j.key(x.name).begin_object();
-    j.key("median_sweeps_to_tol").value(sweeps_or_null(x.median_sweeps_to_tol));
-    j.key("q1_sweeps_to_tol").value(sweeps_or_null(x.sweeps_to_tol.q1));
-    j.key("q3_sweeps_to_tol").value(sweeps_or_null(x.sweeps_to_tol.q3));
-    j.key("unconverged_share").value(x.unconverged_share);
-    j.key("warmstart_ms").value(x.warmstart_ms);
-    j.key("oracle_ms").value(x.uses_oracle ? x.oracle_ms : 0.0);
-    j.key("solve_ms").value(x.solve_ms);
-    j.key("total_ms").value(x.total_ms);
-    j.key("ns_per_row_sweep").value(x.ns_per_row_sweep);
-    j.key("initial_error").value(x.initial_error);
-    j.key("uses_oracle").value(x.uses_oracle);
-    j.key("sweeps_ratio_to_zero");
-    if (zero && zero->median_sweeps_to_tol > 0 && !never)
-      j.value(x.median_sweeps_to_tol / zero->median_sweeps_to_tol);
-    else
-      j.null();
-    j.key("total_ratio_to_zero");
-    if (zero && zero->total_ms > 0)
-      j.value(x.total_ms / zero->total_ms);
-    else
-      j.null();
-    j.key("theses").value(thesis_reference(x.name));
-    j.key("residual_at_budget").value(x.residual_at_budget);
-    j.key("residual_at_cap").value(x.residual_at_cap);
-    if (r.options.max_sweeps > 0) {
-      j.key("median_sweeps_to_tol_high_cap");
-      if (x.median_sweeps_high > r.options.max_sweeps) j.null(); else j.value(x.median_sweeps_high);
-      j.key("unconverged_share_high_cap").value(x.unconverged_share_high);
-    }
-    j.end_object();
-  }
+  for (const auto& x : s) starter_summary_json(j, r, x, zero);
   j.end_object();
   if (stats) {
     j.key("statistics");
@@ -179,27 +179,12 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
   return j.str();
 }
 
-std::vector<std::string> write_report(const BenchResults& r, const std::string& dir_text) {
-  namespace fs = std::filesystem;
-  const fs::path dir(dir_text);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw IoError(dir_text + ": cannot create the output directory: " + ec.message());
-  const Provenance prov = collect_provenance();
-  const auto summary = summarise(r);
-  std::vector<std::string> files;
+namespace {
 
-  const BenchStatistics stats = bench_statistics(r);
-  // Each file is written to a temporary and renamed; the large results.h5 first, so that on a
-  // full disk its failure leaves both earlier files (a consistent pair) untouched.
-  write_results_h5(r, prov, (dir / "results.h5").string(), &stats);
-  files.push_back((dir / "results.h5").string());
-  write_text(dir / "summary.json", summary_json(r, summary, prov, &stats));
-  files.push_back((dir / "summary.json").string());
-  const PlotRun plots = make_report_plots(dir);
-  for (const auto& p : plots.plots)
-    if (p.state == PlotStatus::State::Written) files.push_back((dir / p.file).string());
-
+/// report.md's opening: what ran (mode, solver, sweeps, tolerance, steps, seeds, wall time and
+/// the shared stages), the run's particulars (warm-up, no oracle, higher cap) and how to read
+/// the table.
+std::string report_intro_markdown(const BenchResults& r) {
   std::ostringstream md;
   const int steps = r.starters.empty() ? 0 : static_cast<int>(r.starters[0].sweeps_to_tol.size());
   md << "# DeepContact warm-start benchmark: family `" << (r.options.family.empty() ? "seed" : r.options.family)
@@ -229,22 +214,63 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   md << "Medians over steps. `*` marks oracle starters (they use this step's solution λ*; the oracle's cost is "
         "shown apart and is not included in total). `/zero` is the ratio to the zero warm start. "
         "`theses` gives the earlier theses' median iterations to 1e-4 N·s (Box2D impulses, r = 0.5; docs/design.md §6).\n\n";
-  md << format_table(r, summary, true) << "\n";
-  md << statistics_markdown(stats);
-  md << plots_markdown(plots, r.options.mode);
-  md << reference_frame_markdown(r, dir, files);
+  return md.str();
+}
+
+/// report.md's closing: where the run came from and its scene.
+std::string report_provenance_markdown(const BenchResults& r, const Provenance& prov) {
+  std::ostringstream md;
   md << "## Reproducibility\n\n";
   md << "- git: `" << prov.git << "`\n- build: " << prov.build << "\n- machine: " << prov.machine
      << "\n- date: " << prov.date_utc << "\n- raw per-step figures: `results.h5` (layout in docs/bench.md)\n\n";
   md << "## Scene\n\n```toml\n" << scene_to_toml(r.options.scene) << "```\n";
-  write_text(dir / "report.md", md.str());
-  files.push_back((dir / "report.md").string());
+  return md.str();
+}
+
+/// IoError naming the plots the script did not make (report.md, already written, says so too).
+void require_plots(const PlotRun& plots, const std::string& dir_text) {
   if (const auto missing = plots.missing(); !missing.empty()) {
     std::string m;
     for (const auto& x : missing) m += (m.empty() ? "" : ", ") + x;
     throw IoError(dir_text + "/report.md incomplete: missing " + m + " (plot script exit " +
                   std::to_string(plots.exit_code) + "; its output: " + plots.log + ")");
   }
+}
+
+}  // namespace
+
+std::vector<std::string> write_report(const BenchResults& r, const std::string& dir_text) {
+  namespace fs = std::filesystem;
+  const fs::path dir(dir_text);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw IoError(dir_text + ": cannot create the output directory: " + ec.message());
+  const Provenance prov = collect_provenance();
+  const auto summary = summarise(r);
+  std::vector<std::string> files;
+
+  const BenchStatistics stats = bench_statistics(r);
+  // Each file is written to a temporary and renamed; the large results.h5 first, so that on a
+  // full disk its failure leaves both earlier files (a consistent pair) untouched.
+  write_results_h5(r, prov, (dir / "results.h5").string(), &stats);
+  files.push_back((dir / "results.h5").string());
+  write_text(dir / "summary.json", summary_json(r, summary, prov, &stats));
+  files.push_back((dir / "summary.json").string());
+  // The plots read results.h5; report.md embeds them, so it comes last.
+  const PlotRun plots = make_report_plots(dir);
+  for (const auto& p : plots.plots)
+    if (p.state == PlotStatus::State::Written) files.push_back((dir / p.file).string());
+
+  std::ostringstream md;
+  md << report_intro_markdown(r);
+  md << format_table(r, summary, true) << "\n";
+  md << statistics_markdown(stats);
+  md << plots_markdown(plots, r.options.mode);
+  md << reference_frame_markdown(r, dir, files);
+  md << report_provenance_markdown(r, prov);
+  write_text(dir / "report.md", md.str());
+  files.push_back((dir / "report.md").string());
+  require_plots(plots, dir_text);
   return files;
 }
 

@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/oracle.hpp"
-#include "dc/bench/bench_statistics.hpp"
 
 namespace dc::bench {
 namespace {
@@ -17,6 +15,55 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// The trade at one budget: the residual of λ_B, its error against λ*, and the penetration
+/// and energy after a step with λ_B (against `e_star`, the energy after a step with λ*).
+void record_trade(World& world, const LcpProblem& p, const Eigen::VectorXd& lam, const Eigen::VectorXd& oracle,
+                  double e_star, StarterRecord& rec, StepOutcome& outcome) {
+  rec.residual.push_back(natural_residual(p, lam));
+  rec.lambda_error.push_back((lam - oracle).cwiseAbs().maxCoeff());
+  world.predict(lam, outcome);
+  rec.penetration.push_back(outcome.max_penetration());
+  rec.energy_error.push_back(outcome.energy() - e_star);
+}
+
+/// Budgets the solver did not reach (it stopped early, e.g. diverged) get the final iterate's
+/// trade, then the last value repeated, so every step has one entry per budget.
+void pad_unreached_budgets(World& world, const LcpProblem& p, const SolveResult& fr, const Eigen::VectorXd& oracle,
+                           double e_star, std::size_t trade_before, std::size_t budgets, StarterRecord& rec,
+                           StepOutcome& outcome) {
+  while (rec.residual.size() - trade_before < budgets) {
+    const std::size_t last = rec.residual.size() - 1;
+    if (rec.residual.size() == trade_before) {
+      record_trade(world, p, fr.lambda, oracle, e_star, rec, outcome);
+    } else {
+      rec.residual.push_back(rec.residual[last]);
+      rec.lambda_error.push_back(rec.lambda_error[last]);
+      rec.penetration.push_back(rec.penetration[last]);
+      rec.energy_error.push_back(rec.energy_error[last]);
+    }
+  }
+}
+
+/// First k (1-based) with θ_k ≤ tol; −1 if none.
+int sweeps_to_tolerance(const std::vector<double>& theta, double tolerance) {
+  for (std::size_t k = 0; k < theta.size(); ++k)
+    if (theta[k] <= tolerance) return static_cast<int>(k) + 1;
+  return -1;
+}
+
+/// Sweeps to tol with the higher cap: a step that did not reach tol within o.sweeps
+/// continues from the convergence run's last iterate (PGS only carries λ between sweeps).
+int sweeps_to_tolerance_high(const LcpSolver& solver, const LcpProblem& p, const SolveResult& fr, int to_tol,
+                             const BenchOptions& o) {
+  if (to_tol >= 0) return to_tol;
+  SolverOptions more;
+  more.max_sweeps = o.max_sweeps - o.sweeps;
+  more.tolerance = o.tolerance;
+  more.record_theta = false;
+  const SolveResult mr = solver.solve(p, fr.lambda, more);
+  return mr.status == SolveStatus::Converged ? o.sweeps + mr.sweeps : -1;
 }
 
 /// Everything one starter does on one step: guess, fixed-sweep run with checkpoints, timed
@@ -48,7 +95,8 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
   world.predict(oracle, outcome);
   const double e_star = outcome.energy();
 
-  // 1. Convergence run: fixed sweeps, θ recorded, trade sampled at the budgets.
+  // 1. Convergence run: fixed sweeps, θ recorded, trade sampled at the budgets (the
+  //    sampling's time is not the solver's).
   SolverOptions fixed;
   fixed.max_sweeps = o.sweeps;
   fixed.tolerance = 0.0;
@@ -57,11 +105,7 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
   double callback_ms = 0;
   fixed.on_checkpoint = [&](int, const Eigen::VectorXd& lam) {
     const auto c0 = Clock::now();
-    rec.residual.push_back(natural_residual(p, lam));
-    rec.lambda_error.push_back((lam - oracle).cwiseAbs().maxCoeff());
-    world.predict(lam, outcome);
-    rec.penetration.push_back(outcome.max_penetration());
-    rec.energy_error.push_back(outcome.energy() - e_star);
+    record_trade(world, p, lam, oracle, e_star, rec, outcome);
     callback_ms += ms_since(c0);
   };
   const std::size_t trade_before = rec.residual.size();
@@ -69,40 +113,11 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
   SolveResult fr = solver.solve(p, lambda0, fixed);
   const double fixed_ms = ms_since(t0) - callback_ms;
   if (fr.status == SolveStatus::InvalidInput) throw InvalidArgument("bench: solver rejected the problem: " + fr.message);
-  // Budgets the solver did not reach (it stopped early, e.g. diverged): repeat the last value.
-  while (rec.residual.size() - trade_before < budgets.size()) {
-    const std::size_t last = rec.residual.size() - 1;
-    if (rec.residual.size() == trade_before) {
-      rec.residual.push_back(natural_residual(p, fr.lambda));
-      rec.lambda_error.push_back((fr.lambda - oracle).cwiseAbs().maxCoeff());
-      world.predict(fr.lambda, outcome);
-      rec.penetration.push_back(outcome.max_penetration());
-      rec.energy_error.push_back(outcome.energy() - e_star);
-    } else {
-      rec.residual.push_back(rec.residual[last]);
-      rec.lambda_error.push_back(rec.lambda_error[last]);
-      rec.penetration.push_back(rec.penetration[last]);
-      rec.energy_error.push_back(rec.energy_error[last]);
-    }
-  }
+  pad_unreached_budgets(world, p, fr, oracle, e_star, trade_before, budgets.size(), rec, outcome);
   rec.sweep_ns_per_row.push_back(fr.sweeps > 0 && p.rows() > 0 ? 1e6 * fixed_ms / fr.sweeps / p.rows() : 0.0);
-  int to_tol = -1;
-  for (std::size_t k = 0; k < fr.theta.size(); ++k)
-    if (fr.theta[k] <= o.tolerance) { to_tol = static_cast<int>(k) + 1; break; }
+  const int to_tol = sweeps_to_tolerance(fr.theta, o.tolerance);
   rec.sweeps_to_tol.push_back(to_tol);
-  if (o.max_sweeps > o.sweeps) {
-    // Higher cap: continue from the last iterate (PGS only carries λ between sweeps).
-    int high = to_tol;
-    if (to_tol < 0) {
-      SolverOptions more;
-      more.max_sweeps = o.max_sweeps - o.sweeps;
-      more.tolerance = o.tolerance;
-      more.record_theta = false;
-      const SolveResult mr = solver.solve(p, fr.lambda, more);
-      high = mr.status == SolveStatus::Converged ? o.sweeps + mr.sweeps : -1;
-    }
-    rec.sweeps_to_tol_high.push_back(high);
-  }
+  if (o.max_sweeps > o.sweeps) rec.sweeps_to_tol_high.push_back(sweeps_to_tolerance_high(solver, p, fr, to_tol, o));
   for (int k = 0; k < o.sweeps; ++k)
     rec.theta.push_back(k < static_cast<int>(fr.theta.size()) ? static_cast<float>(fr.theta[static_cast<size_t>(k)])
                                                               : 0.0f);
@@ -155,25 +170,37 @@ void warm_up(World& w, const LcpSolver& solver, const BenchOptions& o) {
   }
 }
 
-}  // namespace
+/// A step's collide and assemble stages, timed (the stages every starter shares), and its
+/// LCP — with the assembled A when the solver reads it, which then counts as assembly.
+struct AssembledStep {
+  const LcpProblem* problem = nullptr;
+  double collide_ms = 0, assemble_ms = 0;
+};
 
-std::vector<int> default_budgets(int sweeps) {
-  std::vector<int> out;
-  for (long decade = 1; decade <= sweeps; decade *= 10)
-    for (int m : {10, 15, 20, 30, 50, 70})
-      if (const long b = decade * m / 10; b <= sweeps && (out.empty() || b > out.back())) out.push_back(static_cast<int>(b));
-  if (out.empty() || out.back() != sweeps) out.push_back(sweeps);
+AssembledStep collide_and_assemble(World& w, const LcpSolver& solver) {
+  AssembledStep out;
+  auto ts = Clock::now();
+  w.collide();
+  out.collide_ms = ms_since(ts);
+  ts = Clock::now();
+  w.assemble();
+  out.problem = solver.needs_assembled_matrix() ? &w.ensure_assembled_matrix() : &w.problem();
+  out.assemble_ms = ms_since(ts);
   return out;
 }
 
-BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registry, const ProgressFn& progress) {
+/// The checks of the options that need nothing resolved, before the wall clock starts.
+void check_options(const BenchOptions& o) {
   if (o.warmstarts.empty()) throw ConfigError("bench: no warm starters selected");
   if (o.seeds.empty()) throw ConfigError("bench: no scene seeds selected");
   if (o.sweeps < 1) throw ConfigError("bench: --sweeps must be >= 1");
   if (!(o.tolerance > 0) || !std::isfinite(o.tolerance)) throw ConfigError("bench: --tol must be a finite number > 0");
   o.scene.validate();
-  const auto wall0 = Clock::now();
+}
 
+/// Empty results for `o` with the budgets resolved: the fixed budget (0 = min(100, sweeps))
+/// joins the trade's budgets (o.budgets or the log-spaced default), sorted and unique.
+BenchResults results_with_budgets(const BenchOptions& o) {
   BenchResults r;
   r.options = o;
   r.budgets = o.budgets.empty() ? default_budgets(o.sweeps) : o.budgets;
@@ -186,188 +213,179 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
   r.budgets.erase(std::unique(r.budgets.begin(), r.budgets.end()), r.budgets.end());
   if (r.budgets.front() < 1 || r.budgets.back() > o.sweeps)
     throw ConfigError("bench: budgets must lie in 1..sweeps");
-  const auto solver = make_solver(o.solver);
-
-  // Validate every name before the long run starts.
-  for (const auto& name : o.warmstarts) {
-    auto ws = registry.make(name, o.env);
-    StarterRecord rec;
-    rec.name = ws->name();
-    rec.uses_oracle = ws->uses_oracle();
-    if (rec.uses_oracle && !o.oracle)
-      throw ConfigError("bench: warm starter '" + rec.name + "' needs the oracle, which this run skips (--no-oracle)");
-    r.starters.push_back(std::move(rec));
-  }
-  const int steps = o.scene.time.steps;
-  const long total = static_cast<long>(o.seeds.size()) * std::max(0, steps - o.warmup_steps) *
-                     (o.mode == Mode::Paired ? 1 : static_cast<long>(o.warmstarts.size()));
-  long done = 0;
-  StepOutcome outcome;  // reused by every evaluation
-
-  for (const std::uint64_t seed : o.seeds) {
-    WorldDef def = o.scene;
-    def.bodies.seed = seed;
-    WarmStartEnv env = o.env;
-    env.seed = o.env.seed ^ (seed * 0x9e3779b97f4a7c15ULL);
-    std::vector<std::unique_ptr<WarmStarter>> starters;
-    for (const auto& name : o.warmstarts) starters.push_back(registry.make(name, env));
-
-    if (o.mode == Mode::Paired) {
-      World ref(def);
-      warm_up(ref, *solver, o);
-      const bool record = seed == o.seeds.front();  // the report shows a frame of it
-      if (record) {
-        r.reference = std::make_shared<TrajectoryRecorder>(ref);
-        r.reference_scene = scene_to_toml(def);
-      }
-      const auto oracle_starter = default_warm_starters().make("builtin");
-      for (int s = o.warmup_steps; s < steps; ++s) {
-        auto ts = Clock::now();
-        ref.collide();
-        const double collide_ms = ms_since(ts);
-        ts = Clock::now();
-        ref.assemble();
-        const LcpProblem& p = solver->needs_assembled_matrix() ? ref.ensure_assembled_matrix() : ref.problem();
-        const double assemble_ms = ms_since(ts);
-        if (p.rows() == 0) {
-          ++r.skipped_steps;
-          ref.integrate(Eigen::VectorXd());
-          if (record) {
-            StepReport nothing;  // no contacts: nothing to solve
-            nothing.solve.status = SolveStatus::Converged;
-            r.reference->record_step(ref, nothing);
-          }
-        } else {
-          r.collide_ms.push_back(collide_ms);
-          r.assemble_ms.push_back(assemble_ms);
-          // One shared oracle per step, started from the previous step's λ* matched by key
-          // (cheaper; the oracle's cost is reported apart and never enters a total).
-          auto t0 = Clock::now();
-          const Eigen::VectorXd oracle_guess = oracle_starter->initial_guess(StepView{ref, nullptr});
-          const OracleSolution os = o.oracle ? solve_oracle(p, &oracle_guess) : cheap_reference(ref, p, *solver, o);
-          r.oracle_ms.push_back(ms_since(t0));
-          r.oracle_residual.push_back(os.residual);
-          r.step_seed.push_back(seed);
-          r.step_index.push_back(s);
-          r.step_rows.push_back(p.rows());
-          for (std::size_t i = 0; i < starters.size(); ++i)
-            evaluate_starter(ref, *starters[i], os.lambda, true, *solver, o, r.budgets, r.starters[i], outcome);
-          ts = Clock::now();
-          ref.integrate(os.lambda);
-          r.integrate_ms.push_back(ms_since(ts));
-          if (record) {
-            StepReport rep;
-            rep.contacts = static_cast<int>(ref.contacts().size());
-            rep.rows = p.rows();
-            rep.solve.status = os.accurate ? SolveStatus::Converged : SolveStatus::SweepLimit;
-            rep.solve.residual = os.residual;
-            r.reference->record_step(ref, rep);
-          }
-        }
-        if (progress) progress(++done, total, "seed " + std::to_string(seed) + " step " + std::to_string(s + 1));
-      }
-    } else {
-      for (std::size_t i = 0; i < starters.size(); ++i) {
-        World w(def);
-        warm_up(w, *solver, o);
-        for (int s = o.warmup_steps; s < steps; ++s) {
-          auto ts = Clock::now();
-          w.collide();
-          const double collide_ms = ms_since(ts);
-          ts = Clock::now();
-          w.assemble();
-          const LcpProblem& p = solver->needs_assembled_matrix() ? w.ensure_assembled_matrix() : w.problem();
-          const double assemble_ms = ms_since(ts);
-          if (p.rows() == 0) {
-            if (i == 0) ++r.skipped_steps;
-            w.integrate(Eigen::VectorXd());
-          } else {
-            const OracleSolution os = o.oracle ? solve_oracle(p) : cheap_reference(w, p, *solver, o);
-            if (i == 0) {
-              r.step_seed.push_back(seed);
-              r.step_index.push_back(s);
-            }
-            // In rollout mode each starter computes its own oracle (reported as its cost).
-            const Eigen::VectorXd lam =
-                evaluate_starter(w, *starters[i], os.lambda, false, *solver, o, r.budgets, r.starters[i], outcome);
-            ts = Clock::now();
-            w.integrate(lam);
-            if (i == 0) {
-              r.collide_ms.push_back(collide_ms);
-              r.assemble_ms.push_back(assemble_ms);
-              r.integrate_ms.push_back(ms_since(ts));
-            }
-          }
-          if (progress) progress(++done, total, r.starters[i].name + " seed " + std::to_string(seed));
-        }
-      }
-    }
-  }
-  r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   return r;
 }
 
-Quartiles quartiles(std::vector<double> v) {
-  Quartiles q;
-  if (v.empty()) {
-    q.q1 = q.median = q.q3 = std::numeric_limits<double>::quiet_NaN();
-    return q;
+using Starters = std::vector<std::unique_ptr<WarmStarter>>;
+
+/// One run_bench call: the solver, the results being filled, and the progress count. Both
+/// modes append seed by seed, in the order of o.seeds (mpi_bench.hpp relies on it).
+class BenchRun {
+ public:
+  BenchRun(const BenchOptions& o, const WarmStarterRegistry& registry, const ProgressFn& progress, BenchResults& r)
+      : o_(o), registry_(registry), progress_(progress), r_(r), solver_(make_solver(o.solver)) {}
+
+  /// Makes every starter once before the long run, so that an unknown name, or an oracle
+  /// starter in a run without the oracle, fails at once; adds their records to the results.
+  void add_starter_records() {
+    for (const auto& name : o_.warmstarts) {
+      auto ws = registry_.make(name, o_.env);
+      StarterRecord rec;
+      rec.name = ws->name();
+      rec.uses_oracle = ws->uses_oracle();
+      if (rec.uses_oracle && !o_.oracle)
+        throw ConfigError("bench: warm starter '" + rec.name + "' needs the oracle, which this run skips (--no-oracle)");
+      r_.starters.push_back(std::move(rec));
+    }
+    total_ = static_cast<long>(o_.seeds.size()) * std::max(0, o_.scene.time.steps - o_.warmup_steps) *
+             (o_.mode == Mode::Paired ? 1 : static_cast<long>(o_.warmstarts.size()));
   }
-  std::sort(v.begin(), v.end());
-  auto at = [&](double f) { return quantile_sorted(v, f); };
-  q.q1 = at(0.25);
-  q.median = at(0.5);
-  q.q3 = at(0.75);
-  return q;
+
+  /// Every step of the scene with this seed, in the run's mode.
+  void run_seed(std::uint64_t seed) {
+    WorldDef def = o_.scene;
+    def.bodies.seed = seed;
+    // Fresh starters per seed, their random streams from the seed alone, so a seed's results
+    // do not depend on which seeds ran before it.
+    WarmStartEnv env = o_.env;
+    env.seed = o_.env.seed ^ (seed * 0x9e3779b97f4a7c15ULL);
+    Starters starters;
+    for (const auto& name : o_.warmstarts) starters.push_back(registry_.make(name, env));
+    if (o_.mode == Mode::Paired) {
+      run_paired(seed, def, starters);
+    } else {
+      for (std::size_t i = 0; i < starters.size(); ++i) run_rollout(seed, def, i, *starters[i]);
+    }
+  }
+
+ private:
+  /// Paired mode: one reference trajectory advanced with λ*; every starter solves each of
+  /// its steps. The first seed's trajectory is recorded for the report's frame.
+  void run_paired(std::uint64_t seed, const WorldDef& def, const Starters& starters) {
+    World ref(def);
+    warm_up(ref, *solver_, o_);
+    const bool record = seed == o_.seeds.front();  // the report shows a frame of it
+    if (record) {
+      r_.reference = std::make_shared<TrajectoryRecorder>(ref);
+      r_.reference_scene = scene_to_toml(def);
+    }
+    const auto oracle_starter = default_warm_starters().make("builtin");
+    for (int s = o_.warmup_steps; s < o_.scene.time.steps; ++s) {
+      paired_step(ref, seed, s, record, *oracle_starter, starters);
+      report_progress("seed " + std::to_string(seed) + " step " + std::to_string(s + 1));
+    }
+  }
+
+  void paired_step(World& ref, std::uint64_t seed, int s, bool record, WarmStarter& oracle_starter,
+                   const Starters& starters) {
+    const AssembledStep step = collide_and_assemble(ref, *solver_);
+    const LcpProblem& p = *step.problem;
+    if (p.rows() == 0) {
+      ++r_.skipped_steps;
+      ref.integrate(Eigen::VectorXd());
+      if (record) {
+        StepReport nothing;  // no contacts: nothing to solve
+        nothing.solve.status = SolveStatus::Converged;
+        r_.reference->record_step(ref, nothing);
+      }
+      return;
+    }
+    r_.collide_ms.push_back(step.collide_ms);
+    r_.assemble_ms.push_back(step.assemble_ms);
+    // One shared oracle per step, started from the previous step's λ* matched by key
+    // (cheaper; the oracle's cost is reported apart and never enters a total).
+    auto t0 = Clock::now();
+    const Eigen::VectorXd oracle_guess = oracle_starter.initial_guess(StepView{ref, nullptr});
+    const OracleSolution os = o_.oracle ? solve_oracle(p, &oracle_guess) : cheap_reference(ref, p, *solver_, o_);
+    r_.oracle_ms.push_back(ms_since(t0));
+    r_.oracle_residual.push_back(os.residual);
+    r_.step_seed.push_back(seed);
+    r_.step_index.push_back(s);
+    r_.step_rows.push_back(p.rows());
+    for (std::size_t i = 0; i < starters.size(); ++i)
+      evaluate_starter(ref, *starters[i], os.lambda, true, *solver_, o_, r_.budgets, r_.starters[i], outcome_);
+    t0 = Clock::now();
+    ref.integrate(os.lambda);
+    r_.integrate_ms.push_back(ms_since(t0));
+    if (record) {
+      StepReport rep;
+      rep.contacts = static_cast<int>(ref.contacts().size());
+      rep.rows = p.rows();
+      rep.solve.status = os.accurate ? SolveStatus::Converged : SolveStatus::SweepLimit;
+      rep.solve.residual = os.residual;
+      r_.reference->record_step(ref, rep);
+    }
+  }
+
+  /// Rollout mode: starter i drives its own world with its fixed-sweep λ. The shared-stage
+  /// timings and the step list are those of the first starter's world.
+  void run_rollout(std::uint64_t seed, const WorldDef& def, std::size_t i, WarmStarter& ws) {
+    World w(def);
+    warm_up(w, *solver_, o_);
+    for (int s = o_.warmup_steps; s < o_.scene.time.steps; ++s) {
+      rollout_step(w, seed, s, i, ws);
+      report_progress(r_.starters[i].name + " seed " + std::to_string(seed));
+    }
+  }
+
+  void rollout_step(World& w, std::uint64_t seed, int s, std::size_t i, WarmStarter& ws) {
+    const AssembledStep step = collide_and_assemble(w, *solver_);
+    const LcpProblem& p = *step.problem;
+    if (p.rows() == 0) {
+      if (i == 0) ++r_.skipped_steps;
+      w.integrate(Eigen::VectorXd());
+      return;
+    }
+    const OracleSolution os = o_.oracle ? solve_oracle(p) : cheap_reference(w, p, *solver_, o_);
+    if (i == 0) {
+      r_.step_seed.push_back(seed);
+      r_.step_index.push_back(s);
+    }
+    // In rollout mode each starter computes its own oracle (reported as its cost).
+    const Eigen::VectorXd lam = evaluate_starter(w, ws, os.lambda, false, *solver_, o_, r_.budgets, r_.starters[i], outcome_);
+    const auto ts = Clock::now();
+    w.integrate(lam);
+    if (i == 0) {
+      r_.collide_ms.push_back(step.collide_ms);
+      r_.assemble_ms.push_back(step.assemble_ms);
+      r_.integrate_ms.push_back(ms_since(ts));
+    }
+  }
+
+  void report_progress(const std::string& note) {
+    ++done_;
+    if (progress_) progress_(done_, total_, note);
+  }
+
+  const BenchOptions& o_;
+  const WarmStarterRegistry& registry_;
+  const ProgressFn& progress_;
+  BenchResults& r_;
+  const std::unique_ptr<LcpSolver> solver_;
+  StepOutcome outcome_;  // reused by every evaluation
+  long done_ = 0, total_ = 0;
+};
+
+}  // namespace
+
+std::vector<int> default_budgets(int sweeps) {
+  std::vector<int> out;
+  for (long decade = 1; decade <= sweeps; decade *= 10)
+    for (int m : {10, 15, 20, 30, 50, 70})
+      if (const long b = decade * m / 10; b <= sweeps && (out.empty() || b > out.back())) out.push_back(static_cast<int>(b));
+  if (out.empty() || out.back() != sweeps) out.push_back(sweeps);
+  return out;
 }
 
-std::vector<StarterSummary> summarise(const BenchResults& r) {
-  std::vector<StarterSummary> out;
-  const int never = r.options.sweeps + 1;
-  for (const StarterRecord& rec : r.starters) {
-    StarterSummary s;
-    s.name = rec.name;
-    s.uses_oracle = rec.uses_oracle;
-    std::vector<double> sw, total;
-    int unconv = 0;
-    for (std::size_t k = 0; k < rec.sweeps_to_tol.size(); ++k) {
-      const int v = rec.sweeps_to_tol[k];
-      if (v < 0) ++unconv;
-      sw.push_back(v < 0 ? never : v);
-      total.push_back(rec.warmstart_ms[k] + rec.solve_ms[k]);
-    }
-    s.sweeps_to_tol = quartiles(sw);
-    s.median_sweeps_to_tol = s.sweeps_to_tol.median;
-    s.unconverged_share = sw.empty() ? 0.0 : static_cast<double>(unconv) / static_cast<double>(sw.size());
-    s.warmstart_ms = quartiles(rec.warmstart_ms).median;
-    s.oracle_ms = rec.uses_oracle && r.options.mode == Mode::Paired ? quartiles(r.oracle_ms).median
-                                                                    : quartiles(rec.oracle_ms).median;
-    s.solve_ms = quartiles(rec.solve_ms).median;
-    s.total_ms = quartiles(total).median;
-    s.ns_per_row_sweep = quartiles(rec.sweep_ns_per_row).median;
-    s.initial_error = quartiles(rec.initial_error).median;
-    const std::size_t nb = r.budgets.size();
-    const auto bi = static_cast<std::size_t>(std::find(r.budgets.begin(), r.budgets.end(), r.options.budget) - r.budgets.begin());
-    std::vector<double> at_b, at_cap;
-    for (std::size_t k = 0; nb > 0 && k + 1 <= rec.residual.size() / nb; ++k) {
-      if (bi < nb) at_b.push_back(rec.residual[k * nb + bi]);
-      at_cap.push_back(rec.residual[k * nb + nb - 1]);
-    }
-    s.residual_at_budget = quartiles(at_b).median;
-    s.residual_at_cap = quartiles(at_cap).median;
-    if (!rec.sweeps_to_tol_high.empty()) {
-      std::vector<double> hi;
-      int un = 0;
-      for (const int v : rec.sweeps_to_tol_high) {
-        if (v < 0) ++un;
-        hi.push_back(v < 0 ? r.options.max_sweeps + 1 : v);
-      }
-      s.median_sweeps_high = quartiles(hi).median;
-      s.unconverged_share_high = static_cast<double>(un) / static_cast<double>(hi.size());
-    }
-    out.push_back(s);
-  }
-  return out;
+BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registry, const ProgressFn& progress) {
+  check_options(o);
+  const auto wall0 = Clock::now();
+  BenchResults r = results_with_budgets(o);
+  BenchRun run(o, registry, progress, r);
+  run.add_starter_records();
+  for (const std::uint64_t seed : o.seeds) run.run_seed(seed);
+  r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
+  return r;
 }
 
 }  // namespace dc::bench

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
+#include <limits>
 
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
@@ -64,30 +64,6 @@ std::vector<double> quotient(const std::vector<double>& a, const std::vector<dou
 
 }  // namespace
 
-double quantile_sorted(const std::vector<double>& v, double p) {
-  const double pos = p * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  const double t = pos - static_cast<double>(lo);
-  if (std::isinf(v[lo]) || std::isinf(v[hi])) return t < 0.5 ? v[lo] : v[hi];
-  return v[lo] + t * (v[hi] - v[lo]);
-}
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  const std::size_t h = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h), v.end());
-  const double upper = v[h];
-  if (v.size() % 2 == 1) return upper;
-  const double lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h));
-  return 0.5 * (lower + upper);
-}
-
-double mean_of(const std::vector<double>& v) {
-  if (v.empty()) return kNaN;
-  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-}
-
 Interval percentile_interval(double estimate, std::vector<double> rep, double level) {
   if (!(level > 0 && level < 1)) throw InvalidArgument("bootstrap: level must lie in (0, 1)");
   Interval out;
@@ -133,6 +109,81 @@ Replicates hierarchical_bootstrap(const GroupedColumns& x, int resamples, Rng& r
   return rep;
 }
 
+namespace {
+
+/// The bootstrap replicates of every starter (NaN-filled for a starter without evaluated
+/// steps, and for all of them in paired mode when the first has none). Paired: one draw per
+/// replicate for all starters, from Rng(def.seed); rollout: each starter its own stream,
+/// Rng(def.seed ^ hash of its name).
+std::vector<StarterReplicates> starter_replicates(const BenchResults& r, const std::vector<Grouped>& grouped,
+                                                  const BootstrapDef& def, bool paired) {
+  const std::size_t W = r.starters.size(), B = static_cast<std::size_t>(def.resamples);
+  const std::vector<double> nans(B, kNaN);
+  std::vector<StarterReplicates> reps(W, StarterReplicates{nans, nans, nans, nans});
+  if (paired && W > 0 && !grouped[0].order.empty()) {
+    // One draw per replicate for all starters: they were evaluated on identical steps.
+    GroupedColumns all;
+    all.offsets = grouped[0].cols.offsets;
+    for (std::size_t i = 0; i < W; ++i) {
+      if (r.starters[i].step != r.starters[0].step || r.starters[i].seed != r.starters[0].seed)
+        throw InvalidArgument("bench statistics: paired mode, but starter '" + r.starters[i].name +
+                              "' was evaluated on other steps than '" + r.starters[0].name + "'");
+      for (const auto& c : grouped[i].cols.columns) all.columns.push_back(c);
+    }
+    Rng rng(def.seed);
+    const Replicates rp = hierarchical_bootstrap(all, def.resamples, rng);
+    for (std::size_t i = 0; i < W; ++i)
+      reps[i] = {rp.median[2 * i], rp.mean[2 * i], rp.median[2 * i + 1], rp.mean[2 * i + 1]};
+  } else if (!paired) {
+    for (std::size_t i = 0; i < W; ++i) {
+      if (grouped[i].order.empty()) continue;
+      Rng rng(def.seed ^ name_hash(r.starters[i].name));
+      const Replicates rp = hierarchical_bootstrap(grouped[i].cols, def.resamples, rng);
+      reps[i] = {rp.median[0], rp.mean[0], rp.median[1], rp.mean[1]};
+    }
+  }
+  return reps;
+}
+
+/// A starter's point estimates: median sweeps, mean sweeps, median total, mean total.
+using Estimates = std::array<double, 4>;
+
+Estimates estimates(const Grouped& g) {
+  const auto& cols = g.cols.columns;
+  return {median_of(cols[0]), mean_of(cols[0]), median_of(cols[1]), mean_of(cols[1])};
+}
+
+StarterStatistics starter_statistics(const std::string& name, const Grouped& g, const Estimates& est,
+                                     const StarterReplicates& rep, double level) {
+  StarterStatistics s;
+  s.name = name;
+  s.steps = g.cols.columns[0].size();
+  s.sweeps.median = percentile_interval(est[0], rep.median_sweeps, level);
+  s.sweeps.mean = percentile_interval(est[1], rep.mean_sweeps, level);
+  s.total_ms.median = percentile_interval(est[2], rep.median_total, level);
+  s.total_ms.mean = percentile_interval(est[3], rep.mean_total, level);
+  s.sweeps.seed_medians = g.seed_median_sweeps;
+  s.total_ms.seed_medians = g.seed_median_total;
+  return s;
+}
+
+/// Starter `name` against `reference`: the ratio of the estimates, and the interval of the
+/// replicate-by-replicate quotients (paired mode: both on the same resampled steps).
+RatioStatistics ratio_statistics(const std::string& name, const char* reference, const Estimates& e,
+                                 const Estimates& ref, const StarterReplicates& rep,
+                                 const StarterReplicates& ref_rep, double level) {
+  RatioStatistics q;
+  q.name = name;
+  q.reference = reference;
+  q.median_sweeps = percentile_interval(e[0] / ref[0], quotient(rep.median_sweeps, ref_rep.median_sweeps), level);
+  q.mean_sweeps = percentile_interval(e[1] / ref[1], quotient(rep.mean_sweeps, ref_rep.mean_sweeps), level);
+  q.median_total_ms = percentile_interval(e[2] / ref[2], quotient(rep.median_total, ref_rep.median_total), level);
+  q.mean_total_ms = percentile_interval(e[3] / ref[3], quotient(rep.mean_total, ref_rep.mean_total), level);
+  return q;
+}
+
+}  // namespace
+
 BenchStatistics bench_statistics(const BenchResults& r, const BootstrapDef& def) {
   if (def.resamples < 1) throw ConfigError("bench statistics: resamples must be >= 1");
   if (!(def.level > 0 && def.level < 1)) throw ConfigError("bench statistics: level must lie in (0, 1)");
@@ -141,72 +192,27 @@ BenchStatistics bench_statistics(const BenchResults& r, const BootstrapDef& def)
   out.paired = r.options.mode == Mode::Paired;
   out.seeds = r.options.seeds;
   out.sweeps = r.options.sweeps;
-  const std::size_t W = r.starters.size(), B = static_cast<std::size_t>(def.resamples);
+  const std::size_t W = r.starters.size();
 
   std::vector<Grouped> grouped;
   for (const StarterRecord& rec : r.starters) grouped.push_back(group_by_seed(r, rec));
+  const std::vector<StarterReplicates> reps = starter_replicates(r, grouped, def, out.paired);
 
-  const std::vector<double> nans(B, kNaN);
-  std::vector<StarterReplicates> reps(W, StarterReplicates{nans, nans, nans, nans});
-  if (out.paired && W > 0 && !grouped[0].order.empty()) {
-    // One draw per replicate for all starters: they were evaluated on identical steps.
-    GroupedColumns all;
-    all.offsets = grouped[0].cols.offsets;
-    for (std::size_t i = 0; i < W; ++i) {
-      if (r.starters[i].step != r.starters[0].step || r.starters[i].seed != r.starters[0].seed)
-        throw InvalidArgument("bench statistics: paired mode, but starter '" + r.starters[i].name +
-                              "' was evaluated on other steps than '" + r.starters[0].name + "'");
-      for (auto& c : grouped[i].cols.columns) all.columns.push_back(c);
-    }
-    Rng rng(def.seed);
-    const Replicates rp = hierarchical_bootstrap(all, def.resamples, rng);
-    for (std::size_t i = 0; i < W; ++i)
-      reps[i] = {rp.median[2 * i], rp.mean[2 * i], rp.median[2 * i + 1], rp.mean[2 * i + 1]};
-  } else if (!out.paired) {
-    for (std::size_t i = 0; i < W; ++i) {
-      if (grouped[i].order.empty()) continue;
-      Rng rng(def.seed ^ name_hash(r.starters[i].name));
-      const Replicates rp = hierarchical_bootstrap(grouped[i].cols, def.resamples, rng);
-      reps[i] = {rp.median[0], rp.mean[0], rp.median[1], rp.mean[1]};
-    }
-  }
-
-  std::vector<std::array<double, 4>> est(W);  // median sweeps, mean sweeps, median total, mean total
+  std::vector<Estimates> est(W);
   for (std::size_t i = 0; i < W; ++i) {
-    const auto& cols = grouped[i].cols.columns;
-    est[i] = {median_of(cols[0]), mean_of(cols[0]), median_of(cols[1]), mean_of(cols[1])};
-    StarterStatistics s;
-    s.name = r.starters[i].name;
-    s.steps = cols[0].size();
-    s.sweeps.median = percentile_interval(est[i][0], reps[i].median_sweeps, def.level);
-    s.sweeps.mean = percentile_interval(est[i][1], reps[i].mean_sweeps, def.level);
-    s.total_ms.median = percentile_interval(est[i][2], reps[i].median_total, def.level);
-    s.total_ms.mean = percentile_interval(est[i][3], reps[i].mean_total, def.level);
-    s.sweeps.seed_medians = grouped[i].seed_median_sweeps;
-    s.total_ms.seed_medians = grouped[i].seed_median_total;
-    out.starters.push_back(std::move(s));
+    est[i] = estimates(grouped[i]);
+    out.starters.push_back(starter_statistics(r.starters[i].name, grouped[i], est[i], reps[i], def.level));
   }
 
+  // Every starter against zero, then against builtin (when it ran; never itself).
   for (const char* ref : {"zero", "builtin"}) {
     std::size_t j = W;
     for (std::size_t i = 0; i < W; ++i)
       if (r.starters[i].name == ref) j = i;
     if (j == W) continue;
-    for (std::size_t i = 0; i < W; ++i) {
-      if (i == j) continue;
-      RatioStatistics q;
-      q.name = r.starters[i].name;
-      q.reference = ref;
-      q.median_sweeps = percentile_interval(est[i][0] / est[j][0],
-                                            quotient(reps[i].median_sweeps, reps[j].median_sweeps), def.level);
-      q.mean_sweeps = percentile_interval(est[i][1] / est[j][1],
-                                          quotient(reps[i].mean_sweeps, reps[j].mean_sweeps), def.level);
-      q.median_total_ms = percentile_interval(est[i][2] / est[j][2],
-                                              quotient(reps[i].median_total, reps[j].median_total), def.level);
-      q.mean_total_ms = percentile_interval(est[i][3] / est[j][3],
-                                            quotient(reps[i].mean_total, reps[j].mean_total), def.level);
-      out.ratios.push_back(std::move(q));
-    }
+    for (std::size_t i = 0; i < W; ++i)
+      if (i != j)
+        out.ratios.push_back(ratio_statistics(r.starters[i].name, ref, est[i], est[j], reps[i], reps[j], def.level));
   }
   return out;
 }

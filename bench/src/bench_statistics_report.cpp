@@ -4,9 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include "dc/bench/bench_report.hpp"
 #include "dc/bench/json_writer.hpp"
-#include "dc/bench/provenance.hpp"
+#include "dc/bench/report_format.hpp"
 
 namespace dc::bench {
 namespace {

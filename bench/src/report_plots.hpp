@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_results.hpp"
 
 namespace dc::bench {
 

@@ -88,20 +88,11 @@ void gather(const Tensor& src, const std::vector<std::size_t>& order, std::size_
                 sizeof(float) * len);
 }
 
-}  // namespace
-
-TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const Callback& on_epoch) {
-  const StateCallback cb = on_epoch ? StateCallback([&](const EpochReport& r, const TrainState&) { return on_epoch(r); })
-                                    : StateCallback();
-  return train(model, data, cb, nullptr, {});
-}
-
-TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const StateCallback& on_epoch,
-                           const TrainState* resume, const std::function<bool()>& keep_going) {
-  if (data.empty()) throw InvalidArgument("Trainer::train: empty data set");
-  Network& net = model.network();
-  const Shape xs = net.input_shape(), ys = net.output_shape();
-  int wc = 0;  // weight channels (0: unweighted)
+/// Checks every sample against the network before any work, so a bad sample fails with its
+/// index instead of deep inside an epoch. Returns the weight channels shared by all weighted
+/// samples (0: no sample has weights; 1 or C_out otherwise, see TrainingSample).
+int check_samples(std::span<const TrainingSample> data, const Shape& xs, const Shape& ys) {
+  int wc = 0;
   for (std::size_t i = 0; i < data.size(); ++i) {
     const TrainingSample& s = data[i];
     const std::string where = "Trainer::train: sample " + std::to_string(i);
@@ -115,6 +106,230 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
       wc = c;
     }
   }
+  return wc;
+}
+
+/// Sample indices of the two sides of the split, in data order.
+struct SampleSplit {
+  std::vector<std::size_t> train, validation;
+};
+
+/// Splits the samples by simulation (whole simulations on one side: consecutive frames of a
+/// simulation are nearly identical, so frames on both sides would make the validation loss
+/// a training loss; docs/design.md §4). Fills result.train_simulations.
+SampleSplit split_by_simulation(std::span<const TrainingSample> data, const std::vector<int>& validation_simulations,
+                                TrainResult& result) {
+  const std::set<int> val_ids(validation_simulations.begin(), validation_simulations.end());
+  SampleSplit split;
+  std::set<int> tr_ids;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    if (val_ids.count(data[i].simulation)) {
+      split.validation.push_back(i);
+    } else {
+      split.train.push_back(i);
+      tr_ids.insert(data[i].simulation);
+    }
+  }
+  result.train_simulations.assign(tr_ids.begin(), tr_ids.end());
+  return split;
+}
+
+/// The model's channel standardisation, from the training split only: statistics that saw
+/// the validation samples would leak them into the inputs the validation loss is measured on.
+void standardise_from_training_split(Model& model, std::span<const TrainingSample> data,
+                                     const std::vector<std::size_t>& train) {
+  std::vector<const Tensor*> fx, fy;
+  for (std::size_t i : train) {
+    fx.push_back(&data[i].features);
+    fy.push_back(&data[i].labels);
+  }
+  model.input_stats = ChannelStats::compute(fx);
+  model.output_stats = ChannelStats::compute(fy);
+}
+
+/// Continues a saved run: the weights are the model's (loaded from the checkpoint); the
+/// random stream and the momentum continue from where the saved run finished its last
+/// epoch, and its history is taken over. Returns the first epoch to run.
+int restore_training_state(const TrainState& resume, Rng& rng, Sgd& sgd, const std::vector<ParamRef>& params,
+                           TrainResult& result) {
+  if (resume.rng_type != rng.algorithm() || resume.rng_state.size() != rng.save_state().size())
+    throw InvalidArgument("Trainer::train: resume state has a random stream of another type or size");
+  rng.restore_state(resume.rng_type, resume.rng_state);
+  if (!resume.velocity.empty()) {
+    if (resume.velocity.size() != params.size())
+      throw InvalidArgument("Trainer::train: resume state has " + std::to_string(resume.velocity.size()) +
+                            " momentum buffers for " + std::to_string(params.size()) + " parameters");
+    std::vector<Eigen::VectorXf> v(params.size());
+    for (std::size_t i = 0; i < params.size(); ++i) {
+      if (resume.velocity[i].size() != params[i].value->size())
+        throw InvalidArgument("Trainer::train: resume momentum of " + params[i].name + " has the wrong size");
+      v[i] = Eigen::Map<const Eigen::VectorXf>(resume.velocity[i].data(),
+                                                static_cast<Eigen::Index>(resume.velocity[i].size()));
+    }
+    sgd.set_velocity(std::move(v));
+  }
+  if (resume.epochs_done < 0 || static_cast<std::size_t>(resume.epochs_done) != resume.history.size())
+    throw InvalidArgument("Trainer::train: resume state's history does not match its epoch count");
+  result.history = resume.history;
+  return resume.epochs_done;
+}
+
+/// The epoch's visiting order of the n training samples: the identity shuffled by
+/// Fisher–Yates from the run's stream (n − 1 draws per epoch, the same on every process).
+void shuffle_order(std::vector<std::size_t>& order, Rng& rng) {
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng.uniform_int(i)]);
+}
+
+/// The minibatch work of a run: one epoch of SGD steps over the packed training split, and
+/// the validation loss. Holds the batch buffers (reused by every batch, training and
+/// validation alike) and, with a process group, the buffer of the gradient sum.
+class MinibatchLoop {
+ public:
+  MinibatchLoop(Network& net, const std::vector<ParamRef>& params, Sgd& sgd, const Packed& train, int wc,
+                const Shape& ys, int batch_size, const DataParallelGroup* group,
+                const std::function<bool()>& keep_going)
+      : net_(net), params_(params), sgd_(sgd), train_(train), wc_(wc), ys_(ys), batch_size_(batch_size),
+        group_(group != nullptr && group->size() > 1 ? group : nullptr), keep_going_(keep_going) {
+    for (const ParamRef& p : params_) grad_count_ += p.grad->size();
+  }
+
+  /// One epoch: a forward, backward and SGD step per minibatch of `order`. Returns false when
+  /// keep_going stopped it; the unfinished epoch is then abandoned (the caller keeps the last
+  /// finished epoch's state). `loss_sum` receives Σ b · (the batch's mean loss).
+  bool train_epoch(const std::vector<std::size_t>& order, double lr, double& loss_sum) {
+    for (std::size_t first = 0; first < order.size(); first += static_cast<std::size_t>(batch_size_)) {
+      // One process polls here; a group polls inside the batch, so all stop at the same batch.
+      if (!group_ && keep_going_ && !keep_going_()) return false;
+      const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(batch_size_), order.size() - first));
+      if (group_) {
+        bool stop = false;
+        loss_sum += b * parallel_batch(order, b, first, stop);
+        if (stop) return false;
+      } else {
+        loss_sum += b * local_batch(order, b, first);
+      }
+      sgd_.step(params_, lr);
+    }
+    return true;
+  }
+
+  /// Mean loss over the validation split in inference mode (no dropout, no gradient), in
+  /// data order and in batches of the training batch size (the same sums every epoch).
+  double validation_loss(const Packed& val) {
+    double vsum = 0.0;
+    std::vector<std::size_t> vorder(static_cast<std::size_t>(val.n));
+    for (std::size_t i = 0; i < vorder.size(); ++i) vorder[i] = i;
+    for (std::size_t first = 0; first < vorder.size(); first += static_cast<std::size_t>(batch_size_)) {
+      const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(batch_size_), vorder.size() - first));
+      gather(val.x, vorder, first, b, xb_);
+      gather(val.y, vorder, first, b, yb_);
+      if (wc_ > 0) gather(val.w, vorder, first, b, wb_);
+      vsum += b * mse_(net_.forward(xb_, false), yb_, wc_ > 0 ? &wb_ : nullptr);
+    }
+    return vsum / val.n;
+  }
+
+ private:
+  /// This process alone: the batch's forward and backward; returns its loss.
+  double local_batch(const std::vector<std::size_t>& order, int b, std::size_t first) {
+    gather(train_.x, order, first, b, xb_);
+    gather(train_.y, order, first, b, yb_);
+    if (wc_ > 0) gather(train_.w, order, first, b, wb_);
+    const Tensor& pred = net_.forward(xb_, true);
+    const double loss = mse_(pred, yb_, wc_ > 0 ? &wb_ : nullptr, &grad_);
+    net_.backward(grad_);
+    return loss;
+  }
+
+  /// Data-parallel minibatch (data_parallel.hpp): this process's shard forward and backward,
+  /// then one sum over the group of [den·∇ for every parameter, num, den, stop votes].
+  /// Returns the whole batch's loss; `stop` = some process's keep_going said no.
+  double parallel_batch(const std::vector<std::size_t>& order, int b, std::size_t first, bool& stop) {
+    const int K = group_->size(), r = group_->rank();
+    const int lo = static_cast<int>(static_cast<long>(b) * r / K), hi = static_cast<int>(static_cast<long>(b) * (r + 1) / K);
+    // An empty shard (b < K) still runs one sample with weight 0: its dropout layers must
+    // draw the batch's masks like everyone else's.
+    const bool empty = hi == lo;
+    const int offset = empty ? 0 : lo, count = empty ? 1 : hi - lo;
+    gather(train_.x, order, first + static_cast<std::size_t>(offset), count, xb_);
+    gather(train_.y, order, first + static_cast<std::size_t>(offset), count, yb_);
+    if (wc_ > 0) gather(train_.w, order, first + static_cast<std::size_t>(offset), count, wb_);
+    net_.set_batch_window(offset, b);
+    const Tensor& pred = net_.forward(xb_, true);
+    net_.set_batch_window(0, 0);
+    const double loss = mse_(pred, yb_, wc_ > 0 ? &wb_ : nullptr, &grad_);
+    net_.backward(grad_);
+    // The shard's MSE denominator: Σ of the weight of every prediction element.
+    double den = 0.0;
+    if (!empty) {
+      if (wc_ == 0) {
+        den = static_cast<double>(pred.size());
+      } else {
+        for (std::size_t i = 0; i < wb_.size(); ++i) den += wb_[i];
+        if (wc_ == 1 && ys_.c != 1) den *= ys_.c;
+      }
+    }
+    reduce_.assign(grad_count_ + 3, 0.0);
+    std::size_t k = 0;
+    for (const ParamRef& p : params_)
+      for (std::size_t i = 0; i < p.grad->size(); ++i) reduce_[k++] = den * static_cast<double>((*p.grad)[i]);
+    reduce_[k] = den * loss;
+    reduce_[k + 1] = den;
+    reduce_[k + 2] = keep_going_ && !keep_going_() ? 1.0 : 0.0;
+    group_->sum(reduce_);
+    stop = reduce_[k + 2] > 0.0;
+    const double total = reduce_[k + 1];
+    const double scale = total > 0.0 ? 1.0 / total : 0.0;
+    k = 0;
+    for (const ParamRef& p : params_)
+      for (std::size_t i = 0; i < p.grad->size(); ++i) (*p.grad)[i] = static_cast<float>(reduce_[k++] * scale);
+    return reduce_[k] * scale;
+  }
+
+  Network& net_;
+  const std::vector<ParamRef>& params_;
+  Sgd& sgd_;
+  const Packed& train_;
+  const int wc_;
+  const Shape ys_;
+  const int batch_size_;
+  const DataParallelGroup* const group_;  // null: this process alone (no group, or a group of 1)
+  const std::function<bool()>& keep_going_;
+  const MseLoss mse_{};
+  Tensor xb_, yb_, wb_, grad_;
+  std::size_t grad_count_ = 0;   // parameters in all: the gradient part of reduce_
+  std::vector<double> reduce_;   // the group sum's buffer
+};
+
+/// What the epoch callback checkpoints: the epochs done, their reports, the stream after the
+/// epoch's last draw and the momentum, so that a resume continues bit-identically.
+void record_checkpoint_state(TrainState& state, int epochs_done, const TrainResult& result, const Rng& rng,
+                             const Sgd& sgd) {
+  state.epochs_done = epochs_done;
+  state.history = result.history;
+  state.rng_state = rng.save_state();
+  state.velocity.clear();
+  for (const Eigen::VectorXf& v : sgd.velocity()) state.velocity.emplace_back(v.data(), v.data() + v.size());
+}
+
+}  // namespace
+
+TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const Callback& on_epoch) {
+  const StateCallback cb = on_epoch ? StateCallback([&](const EpochReport& r, const TrainState&) { return on_epoch(r); })
+                                    : StateCallback();
+  return train(model, data, cb, nullptr, {});
+}
+
+// The steps of a run, in the order the random stream is drawn (trainer.hpp "Determinism"):
+// the split, then the initial weights (or the restored stream), then per epoch the shuffle
+// and the dropout masks of its batches. Reordering any of them changes every weight.
+TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const StateCallback& on_epoch,
+                           const TrainState* resume, const std::function<bool()>& keep_going) {
+  if (data.empty()) throw InvalidArgument("Trainer::train: empty data set");
+  Network& net = model.network();
+  const Shape xs = net.input_shape(), ys = net.output_shape();
+  const int wc = check_samples(data, xs, ys);  // weight channels (0: unweighted)
 
   Rng rng(def_.seed);
   TrainResult result;
@@ -122,176 +337,39 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   if (resume && resume->validation_simulations != result.validation_simulations)
     throw InvalidArgument("Trainer::train: resume state belongs to another train/validation split "
                           "(different data set, seed or validation fraction)");
-  const std::set<int> val_ids(result.validation_simulations.begin(), result.validation_simulations.end());
-  std::vector<std::size_t> tr_idx, va_idx;
-  std::set<int> tr_ids;
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    if (val_ids.count(data[i].simulation)) {
-      va_idx.push_back(i);
-    } else {
-      tr_idx.push_back(i);
-      tr_ids.insert(data[i].simulation);
-    }
-  }
-  result.train_simulations.assign(tr_ids.begin(), tr_ids.end());
-
-  // Standardisation from the training split only.
-  std::vector<const Tensor*> fx, fy;
-  for (std::size_t i : tr_idx) {
-    fx.push_back(&data[i].features);
-    fy.push_back(&data[i].labels);
-  }
-  model.input_stats = ChannelStats::compute(fx);
-  model.output_stats = ChannelStats::compute(fy);
-  const Packed train = pack(data, tr_idx, model.input_stats, model.output_stats, xs, ys, wc);
-  const Packed val = pack(data, va_idx, model.input_stats, model.output_stats, xs, ys, wc);
+  const SampleSplit split = split_by_simulation(data, result.validation_simulations, result);
+  standardise_from_training_split(model, data, split.train);
+  const Packed train = pack(data, split.train, model.input_stats, model.output_stats, xs, ys, wc);
+  const Packed val = pack(data, split.validation, model.input_stats, model.output_stats, xs, ys, wc);
 
   Sgd sgd(SgdDef{def_.momentum, def_.weight_decay});
-  std::vector<ParamRef> params = net.parameters();
+  const std::vector<ParamRef> params = net.parameters();
   int first_epoch = 0;
-  if (resume) {
-    // The weights are the model's (loaded from the checkpoint); the stream and the momentum
-    // continue from where the saved run finished its last epoch.
-    if (resume->rng_type != rng.algorithm() || resume->rng_state.size() != rng.save_state().size())
-      throw InvalidArgument("Trainer::train: resume state has a random stream of another type or size");
-    rng.restore_state(resume->rng_type, resume->rng_state);
-    if (!resume->velocity.empty()) {
-      if (resume->velocity.size() != params.size())
-        throw InvalidArgument("Trainer::train: resume state has " + std::to_string(resume->velocity.size()) +
-                              " momentum buffers for " + std::to_string(params.size()) + " parameters");
-      std::vector<Eigen::VectorXf> v(params.size());
-      for (std::size_t i = 0; i < params.size(); ++i) {
-        if (resume->velocity[i].size() != params[i].value->size())
-          throw InvalidArgument("Trainer::train: resume momentum of " + params[i].name + " has the wrong size");
-        v[i] = Eigen::Map<const Eigen::VectorXf>(resume->velocity[i].data(),
-                                                  static_cast<Eigen::Index>(resume->velocity[i].size()));
-      }
-      sgd.set_velocity(std::move(v));
-    }
-    if (resume->epochs_done < 0 || static_cast<std::size_t>(resume->epochs_done) != resume->history.size())
-      throw InvalidArgument("Trainer::train: resume state's history does not match its epoch count");
-    first_epoch = resume->epochs_done;
-    result.history = resume->history;
-  } else if (def_.initialize) {
-    net.initialize(*make_initializer(def_.init), rng);
-  }
-  net.set_rng(&rng);
+  if (resume) first_epoch = restore_training_state(*resume, rng, sgd, params, result);
+  else if (def_.initialize) net.initialize(*make_initializer(def_.init), rng);
+  net.set_rng(&rng);  // the dropout masks come from the run's stream too
   const auto schedule = make_lr_schedule(def_.schedule, def_.learning_rate, def_.epochs);
-  const MseLoss mse;
+  MinibatchLoop loop(net, params, sgd, train, wc, ys, def_.batch_size, group_, keep_going);
   std::vector<std::size_t> order(static_cast<std::size_t>(train.n));
-  Tensor xb, yb, wb, grad;
   TrainState state;  // handed to the callback after every epoch
-
-  // Data-parallel minibatch (data_parallel.hpp): this process's shard forward and backward,
-  // then one sum over the group of [den·∇ for every parameter, num, den, stop votes].
-  // Returns the whole batch's loss; `stop` = some process's keep_going said no.
-  const bool parallel = group_ != nullptr && group_->size() > 1;
-  std::size_t grad_count = 0;
-  for (const ParamRef& p : params) grad_count += p.grad->size();
-  std::vector<double> reduce;
-  const auto parallel_batch = [&](int b, std::size_t first, bool& stop) -> double {
-    const int K = group_->size(), r = group_->rank();
-    const int lo = static_cast<int>(static_cast<long>(b) * r / K), hi = static_cast<int>(static_cast<long>(b) * (r + 1) / K);
-    // An empty shard (b < K) still runs one sample with weight 0: its dropout layers must
-    // draw the batch's masks like everyone else's.
-    const bool empty = hi == lo;
-    const int offset = empty ? 0 : lo, count = empty ? 1 : hi - lo;
-    gather(train.x, order, first + static_cast<std::size_t>(offset), count, xb);
-    gather(train.y, order, first + static_cast<std::size_t>(offset), count, yb);
-    if (wc > 0) gather(train.w, order, first + static_cast<std::size_t>(offset), count, wb);
-    net.set_batch_window(offset, b);
-    const Tensor& pred = net.forward(xb, true);
-    net.set_batch_window(0, 0);
-    const double loss = mse(pred, yb, wc > 0 ? &wb : nullptr, &grad);
-    net.backward(grad);
-    // The shard's MSE denominator: Σ of the weight of every prediction element.
-    double den = 0.0;
-    if (!empty) {
-      if (wc == 0) {
-        den = static_cast<double>(pred.size());
-      } else {
-        for (std::size_t i = 0; i < wb.size(); ++i) den += wb[i];
-        if (wc == 1 && ys.c != 1) den *= ys.c;
-      }
-    }
-    reduce.assign(grad_count + 3, 0.0);
-    std::size_t k = 0;
-    for (const ParamRef& p : params)
-      for (std::size_t i = 0; i < p.grad->size(); ++i) reduce[k++] = den * static_cast<double>((*p.grad)[i]);
-    reduce[k] = den * loss;
-    reduce[k + 1] = den;
-    reduce[k + 2] = keep_going && !keep_going() ? 1.0 : 0.0;
-    group_->sum(reduce);
-    stop = reduce[k + 2] > 0.0;
-    const double total = reduce[k + 1];
-    const double scale = total > 0.0 ? 1.0 / total : 0.0;
-    k = 0;
-    for (const ParamRef& p : params)
-      for (std::size_t i = 0; i < p.grad->size(); ++i) (*p.grad)[i] = static_cast<float>(reduce[k++] * scale);
-    return reduce[k] * scale;
-  };
   state.validation_simulations = result.validation_simulations;
   state.rng_type = rng.algorithm();
 
   for (int epoch = first_epoch; epoch < def_.epochs; ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    for (std::size_t i = order.size(); i > 1; --i)  // Fisher–Yates
-      std::swap(order[i - 1], order[rng.uniform_int(i)]);
+    shuffle_order(order, rng);
     const double lr = schedule->rate(epoch);
     double loss_sum = 0.0;
-    bool stopped = false;
-    for (std::size_t first = 0; first < order.size(); first += static_cast<std::size_t>(def_.batch_size)) {
-      if (!parallel && keep_going && !keep_going()) {  // abandon the unfinished epoch (the caller keeps the last state)
-        stopped = true;
-        break;
-      }
-      const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(def_.batch_size), order.size() - first));
-      if (parallel) {
-        bool stop = false;
-        loss_sum += b * parallel_batch(b, first, stop);
-        if (stop) {
-          stopped = true;
-          break;
-        }
-        sgd.step(params, lr);
-        continue;
-      }
-      gather(train.x, order, first, b, xb);
-      gather(train.y, order, first, b, yb);
-      if (wc > 0) gather(train.w, order, first, b, wb);
-      const Tensor& pred = net.forward(xb, true);
-      loss_sum += b * mse(pred, yb, wc > 0 ? &wb : nullptr, &grad);
-      net.backward(grad);
-      sgd.step(params, lr);
-    }
-    if (stopped) break;
+    if (!loop.train_epoch(order, lr, loss_sum)) break;  // stopped: the unfinished epoch is not reported
     EpochReport rep;
     rep.epoch = epoch;
     rep.learning_rate = lr;
     rep.train_loss = loss_sum / std::max(1, train.n);
-    rep.validation_loss = std::numeric_limits<double>::quiet_NaN();
-    if (val.n > 0) {
-      double vsum = 0.0;
-      std::vector<std::size_t> vorder(static_cast<std::size_t>(val.n));
-      for (std::size_t i = 0; i < vorder.size(); ++i) vorder[i] = i;
-      for (std::size_t first = 0; first < vorder.size(); first += static_cast<std::size_t>(def_.batch_size)) {
-        const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(def_.batch_size), vorder.size() - first));
-        gather(val.x, vorder, first, b, xb);
-        gather(val.y, vorder, first, b, yb);
-        if (wc > 0) gather(val.w, vorder, first, b, wb);
-        vsum += b * mse(net.forward(xb, false), yb, wc > 0 ? &wb : nullptr);
-      }
-      rep.validation_loss = vsum / val.n;
-    }
+    rep.validation_loss = val.n > 0 ? loop.validation_loss(val) : std::numeric_limits<double>::quiet_NaN();
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(rep);
     if (on_epoch) {
-      state.epochs_done = epoch + 1;
-      state.history = result.history;
-      state.rng_state = rng.save_state();
-      state.velocity.clear();
-      for (const Eigen::VectorXf& v : sgd.velocity()) state.velocity.emplace_back(v.data(), v.data() + v.size());
+      record_checkpoint_state(state, epoch + 1, result, rng, sgd);
       if (!on_epoch(rep, state)) break;
     }
   }

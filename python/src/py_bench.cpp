@@ -9,6 +9,7 @@
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/bench_runner.hpp"
 #include "dc/bench/bench_statistics.hpp"
+#include "dc/bench/bench_summary.hpp"
 #include "dc/bench/list_options.hpp"
 #include "dc/core/error.hpp"
 #include "dc/bench/progress_bar.hpp"

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "dc/bench/bench_runner.hpp"
-#include "dc/bench/bench_statistics.hpp"
+#include "dc/bench/bench_summary.hpp"
 
 namespace dc::test {
 

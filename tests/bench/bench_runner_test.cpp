@@ -9,6 +9,7 @@
 
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_summary.hpp"
 #include "bench/bench_fixtures.hpp"
 #include "temp_dir.hpp"
 #include "dc/core/error.hpp"

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "dc/bench/bench_statistics.hpp"
+#include "dc/bench/quantiles.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_summary.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/bench/scale_sweep.hpp"

@@ -7,6 +7,7 @@
 
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_summary.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
 #include "bench/bench_fixtures.hpp"

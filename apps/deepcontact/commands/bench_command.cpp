@@ -10,6 +10,7 @@
 #include "dc/research/research_starters.hpp"
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_summary.hpp"
 #include "commands/cli_common.hpp"
 #include "cluster/comm.hpp"
 #include "commands/commands.hpp"

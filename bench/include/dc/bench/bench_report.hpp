@@ -1,17 +1,23 @@
 #pragma once
 // The bench report: the stdout table, summary.json, results.h5 (raw per-step figures),
 // PNG plots (bench/plots/bench_plots.py) and report.md embedding them. Layouts: docs/bench.md.
+// It only writes: what it writes comes from the results (bench_results.hpp), their summary
+// (bench_summary.hpp) and their statistics (bench_statistics.hpp).
+//
+// Where the parts are: the table and summary.json in bench_report.cpp, results.h5 in
+// bench_results_h5.cpp, the statistics' section / object / group in
+// bench_statistics_report.cpp, the plots in report_plots.cpp, the reference frame in
+// render_frame.cpp.
 #include <string>
 #include <vector>
 
-#include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_results.hpp"
 #include "dc/bench/bench_statistics.hpp"
+#include "dc/bench/bench_summary.hpp"
 #include "dc/bench/provenance.hpp"
+#include "dc/bench/report_format.hpp"  // fmt, the reports' number format
 
 namespace dc::bench {
-
-/// One number by a printf format (e.g. "%.3f"); "n/a" when it is not finite.
-std::string fmt(const char* format, double v);
 
 /// The earlier theses' median iterations to θ ≤ 1e-4 N·s (docs/design.md §6), or "" if none.
 std::string thesis_reference(const std::string& starter);

@@ -1,97 +1,16 @@
 #pragma once
-// The warm-start benchmark (docs/design.md §6). For every step of every evaluation scene it
-// records, per warm starter: the convergence history θ_k of a fixed-sweep PGS run, the
-// sweeps until θ ≤ tol, the time of the guess and of a tolerance-mode solve, and at a set
-// of sweep budgets the residual, λ error against the oracle, penetration and energy after
-// the step (the speed/accuracy trade).
-//
-// Modes:
-//   paired  (default) every starter solves the identical LCP of every step of one reference
-//           trajectory (advanced with the oracle λ*), so differences are paired.
-//   rollout every starter drives its own simulation with its fixed-sweep λ, as the theses did.
-#include <cstdint>
+// The warm-start benchmark's runner (docs/design.md §6): runs every starter on every step of
+// every evaluation scene, in paired or rollout mode, and returns what it measured
+// (bench_results.hpp). It only runs: the summaries are bench_summary.hpp, the uncertainty
+// bench_statistics.hpp, the files bench_report.hpp.
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include "dc/engine/world_def.hpp"
-#include "dc/bench/trajectory_recorder.hpp"
+#include "dc/bench/bench_results.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc::bench {
-
-enum class Mode { Paired, Rollout };
-
-struct BenchOptions {
-  WorldDef scene;                       ///< evaluation scene (its [bodies] seed is replaced per run)
-  std::vector<std::string> warmstarts;  ///< starter specs, e.g. {"zero", "builtin", "copy:2"}
-  std::vector<std::uint64_t> seeds{1};  ///< scene seeds (each one simulation)
-  int sweeps = 3000;                    ///< fixed sweeps of the convergence run (seed: 3000)
-  double tolerance = 1e-2;              ///< θ threshold [N] (= 1e-4 N·s impulse at Δt = 0.01)
-  Mode mode = Mode::Paired;
-  std::string solver = "pgs";           ///< iterative solver under test
-  /// Sweep budgets of the speed/accuracy trade (sorted, ≤ sweeps); empty = log-spaced.
-  std::vector<int> budgets;
-  WarmStartEnv env;
-  std::string family;                   ///< scene family named in the report ([family] name / file stem)
-  /// Higher cap: a step that does not reach tol within `sweeps` continues (tolerance mode,
-  /// from the convergence run's last iterate) up to `max_sweeps` in all; 0 = off.
-  int max_sweeps = 0;
-  /// Fixed budget of the "residual at B sweeps" column (added to the budgets; ≤ sweeps;
-  /// 0 = min(100, sweeps)).
-  int budget = 0;
-  /// Steps advanced before the evaluation starts (builtin + PGS until tol, nothing recorded):
-  /// lets a pile settle, or starts an impact family just before the impact.
-  int warmup_steps = 0;
-  /// false: no tight oracle (large N). The reference trajectory is then advanced with builtin +
-  /// PGS (tol / 100, cap max(sweeps, max_sweeps)), λ errors are against that λ, and starters
-  /// that need the oracle (copy, sph, …) are refused.
-  bool oracle = true;
-};
-
-/// Per starter: one entry per evaluated step (steps with at least one contact row).
-struct StarterRecord {
-  std::string name;
-  bool uses_oracle = false;
-  std::vector<std::uint64_t> seed;    ///< scene seed of each evaluated step
-  std::vector<int> step;              ///< step number of each evaluated step
-  std::vector<int> rows;              ///< LCP rows of each evaluated step
-  std::vector<int> sweeps_to_tol;     ///< first k with θ_k ≤ tol; −1 = never within `sweeps`
-  std::vector<int> sweeps_to_tol_high;  ///< with max_sweeps > 0: the same with cap max_sweeps (−1 = never)
-  std::vector<double> warmstart_ms;   ///< time of initial_guess() less its own oracle solve
-  std::vector<double> oracle_ms;      ///< oracle time the starter spent itself (0 if shared)
-  std::vector<double> solve_ms;       ///< tolerance-mode PGS solve from λ⁰ until θ ≤ tol
-  std::vector<double> sweep_ns_per_row;  ///< fixed-sweep run: time per sweep per row
-  std::vector<double> initial_error;  ///< ‖λ⁰ − λ*‖∞ [N]
-  std::vector<float> theta;           ///< θ_k, k = 1..sweeps, step-major (steps × sweeps)
-  // Trade at the budgets: step-major (steps × budgets).
-  std::vector<double> residual;       ///< natural-map residual after B sweeps [N]
-  std::vector<double> lambda_error;   ///< ‖λ_B − λ*‖∞ [N]
-  std::vector<double> penetration;    ///< max penetration after the step with λ_B [m]
-  std::vector<double> energy_error;   ///< E(after step with λ_B) − E(after step with λ*) [J]
-};
-
-struct BenchResults {
-  BenchOptions options;
-  std::vector<int> budgets;           ///< the budgets actually used
-  std::vector<std::uint64_t> step_seed;  ///< per evaluated step: scene seed
-  std::vector<int> step_index;        ///< per evaluated step: step number
-  std::vector<int> step_rows;         ///< per evaluated step: LCP rows (in paired mode)
-  std::vector<double> oracle_ms;      ///< per evaluated step: shared oracle solve time (paired)
-  std::vector<double> oracle_residual;///< per evaluated step: oracle accuracy [N]
-  /// Per evaluated step: wall-clock ms of the stages every starter shares (paired mode: the
-  /// reference world's collide, assemble (+ A when the solver needs it) and integrate;
-  /// rollout mode: those of the first starter's world). Warm start and solve are per starter.
-  std::vector<double> collide_ms, assemble_ms, integrate_ms;
-  int skipped_steps = 0;              ///< steps without contacts (nothing to solve)
-  std::vector<StarterRecord> starters;
-  double wall_seconds = 0;
-  /// Paired mode: the reference trajectory of the first seed (advanced with λ*) and its
-  /// scene as TOML, for the report's frame (render_frame.hpp); null in rollout mode.
-  std::shared_ptr<TrajectoryRecorder> reference;
-  std::string reference_scene;
-};
 
 /// Progress callback: (done, total, note).
 using ProgressFn = std::function<void(long, long, const std::string&)>;
@@ -102,29 +21,5 @@ BenchResults run_bench(const BenchOptions& options, const WarmStarterRegistry& r
 
 /// Log-spaced budgets 1, 2, 3, 5, 7, 10, 15, 20, 30, 50, 70, 100, … up to `sweeps` (included).
 std::vector<int> default_budgets(int sweeps);
-
-// ---- aggregation (shared by the report and the tests) -------------------------------
-struct Quartiles { double q1 = 0, median = 0, q3 = 0; };
-/// Quartiles by linear interpolation; empty input gives NaNs.
-Quartiles quartiles(std::vector<double> values);
-
-struct StarterSummary {
-  std::string name;
-  bool uses_oracle = false;
-  double median_sweeps_to_tol = 0;   ///< never-converged steps count as `sweeps` + 1 (∞)
-  Quartiles sweeps_to_tol;
-  double unconverged_share = 0;      ///< share of steps that never reach tol
-  double warmstart_ms = 0;           ///< median per step
-  double oracle_ms = 0;              ///< median per step (own oracle, or the shared one if uses_oracle)
-  double solve_ms = 0;               ///< median per step
-  double total_ms = 0;               ///< median of (warmstart + solve) per step
-  double ns_per_row_sweep = 0;       ///< median
-  double initial_error = 0;          ///< median ‖λ⁰ − λ*‖∞ [N]
-  double residual_at_budget = 0;     ///< median natural-map residual after `budget` sweeps [N]
-  double residual_at_cap = 0;        ///< median natural-map residual after `sweeps` sweeps [N]
-  double median_sweeps_high = 0;     ///< with max_sweeps: median sweeps to tol, never = max_sweeps + 1
-  double unconverged_share_high = 0; ///< with max_sweeps: share never reaching tol within it
-};
-std::vector<StarterSummary> summarise(const BenchResults& r);
 
 }  // namespace dc::bench

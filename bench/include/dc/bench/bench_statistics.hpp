@@ -20,12 +20,16 @@
 //
 // Deterministic: the draws come from dc::Rng seeded from BootstrapDef::seed (and, in rollout
 // mode, the starter's name), so a report is reproducible bit for bit.
+//
+// The estimates are median_of / mean_of and the interval bounds quantile_sorted
+// (quantiles.hpp).
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_results.hpp"
+#include "dc/bench/quantiles.hpp"  // the order statistics the intervals are made of
 
 namespace dc {
 class Rng;
@@ -65,16 +69,8 @@ struct Replicates {
 /// draw in a replicate). Throws InvalidArgument on ragged columns or empty groups.
 Replicates hierarchical_bootstrap(const GroupedColumns& x, int resamples, Rng& rng);
 
-/// The p-quantile (0 ≤ p ≤ 1) of sorted, non-empty `v` by linear interpolation between order
-/// statistics at position p·(n − 1); next to an infinite value, the nearer order statistic.
-double quantile_sorted(const std::vector<double>& v, double p);
-
-/// Median (mean of the two middle values for an even count) and mean; NaN if empty.
-double median_of(std::vector<double> v);
-double mean_of(const std::vector<double>& v);
-
-/// Percentile interval of `replicates` at `level` (linear interpolation between order
-/// statistics) around `estimate`.
+/// Percentile interval of `replicates` at `level` (quantile_sorted of the sorted replicates
+/// at (1 ∓ level)/2) around `estimate`.
 Interval percentile_interval(double estimate, std::vector<double> replicates, double level);
 
 /// Median and mean of one per-step figure with their intervals, and the median of each seed.

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dc/bench/bench_runner.hpp"
+#include "dc/bench/bench_summary.hpp"
 
 namespace dc::bench {
 
