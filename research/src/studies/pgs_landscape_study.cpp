@@ -6,7 +6,7 @@
 #include <sstream>
 #include <utility>
 
-#include "dc/bench/bench_statistics.hpp"
+#include "dc/bench/quantiles.hpp"
 #include "dc/cnn/data_set.hpp"
 #include "dc/core/error.hpp"
 #include "dc/research/pgs_samples.hpp"

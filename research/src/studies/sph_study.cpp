@@ -10,7 +10,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "dc/bench/bench_statistics.hpp"
+#include "dc/bench/quantiles.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
@@ -40,15 +40,6 @@ struct Frame {
   std::vector<Vec2> points;
   std::vector<double> lambda;
 };
-
-/// The q-quantile of `v` as the bench computes it (bench::quantile_sorted: linear
-/// interpolation between order statistics, so the median of an even count is the mean of the
-/// middle two); NaN for no values. Sorts `v`.
-double quantile(std::vector<double>& v, double q) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  if (!std::is_sorted(v.begin(), v.end())) std::sort(v.begin(), v.end());
-  return bench::quantile_sorted(v, q);
-}
 
 /// Built-in warm start (previous λ by contact key): the study needs well-converged λ, not a
 /// solver benchmark, and this converges the fixed sweep budget furthest.
@@ -121,10 +112,10 @@ SphStudyRow evaluate(const SphStudySetting& s, const WorldDef& def, const std::v
   double sum = 0;
   for (const double e : b.err) sum += e;
   r.mean = b.err.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / b.err.size();
-  r.median = quantile(b.err, 0.5);
-  r.p90 = quantile(b.err, 0.9);
-  r.median_n = quantile(b.err_n, 0.5);
-  r.retained_n = quantile(b.kept, 0.5);
+  r.median = bench::quantile(b.err, 0.5);  // NaN when there are no values
+  r.p90 = bench::quantile(b.err, 0.9);
+  r.median_n = bench::quantile(b.err_n, 0.5);
+  r.retained_n = bench::quantile(b.kept, 0.5);
   r.unsupported = b.err.empty() ? 0.0 : static_cast<double>(flagged) / b.err.size();
   return r;
 }
