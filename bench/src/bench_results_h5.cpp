@@ -1,6 +1,6 @@
 // results.h5 of a bench run (layout: docs/bench.md).
-#include "dc/bench/bench_report.hpp"
 #include "bench_statistics_report.hpp"
+#include "dc/bench/bench_report.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/io/h5.hpp"
 

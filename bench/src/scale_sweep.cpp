@@ -6,12 +6,12 @@
 #include <sstream>
 #include <sys/wait.h>
 
-#include "dc/core/error.hpp"
-#include "dc/engine/scene.hpp"
-#include "dc/io/atomic_file.hpp"
 #include "dc/bench/json_writer.hpp"
 #include "dc/bench/provenance.hpp"
 #include "dc/bench/report_format.hpp"
+#include "dc/core/error.hpp"
+#include "dc/engine/scene.hpp"
+#include "dc/io/atomic_file.hpp"
 
 namespace dc::bench {
 

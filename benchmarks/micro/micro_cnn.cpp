@@ -36,9 +36,9 @@
 #include <string>
 #include <vector>
 
+#include "dc/cnn/cnn_warm_starter.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "dc/cnn/cnn_warm_starter.hpp"
 #include "dc/learning/labels.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/sph/sph_grid.hpp"

@@ -16,8 +16,8 @@
 
 #include "dc/core/rng.hpp"
 #include "dc/learning/arch.hpp"
-#include "dc/learning/layers/conv2d.hpp"
 #include "dc/learning/initializer.hpp"
+#include "dc/learning/layers/conv2d.hpp"
 #include "dc/learning/mse_loss.hpp"
 #include "dc/learning/network.hpp"
 #include "dc/learning/optimizer.hpp"

@@ -31,10 +31,10 @@
 #include <ctime>
 #include <vector>
 
-#include "lcp/contact_coloring.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
+#include "lcp/contact_coloring.hpp"
 
 namespace {
 

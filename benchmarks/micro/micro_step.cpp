@@ -24,10 +24,10 @@
 #include <map>
 #include <memory>
 
-#include "dc/engine/lcp_solver.hpp"
 #include "collision/narrow_phase.hpp"
-#include "dc/engine/world.hpp"
 #include "dc/bench/trajectory_recorder.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace {

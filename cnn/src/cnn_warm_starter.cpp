@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "dc/core/error.hpp"
 #include "dc/cnn/cnn_starter_options.hpp"
 #include "dc/cnn/contact_readback.hpp"
+#include "dc/core/error.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 

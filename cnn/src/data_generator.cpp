@@ -9,11 +9,11 @@
 #include <cmath>
 #include <sstream>
 
-#include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/core/rng.hpp"
-#include "dc/engine/world.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/core/error.hpp"
+#include "dc/core/rng.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/world.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

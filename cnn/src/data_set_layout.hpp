@@ -3,8 +3,8 @@
 // reading the parameters back (docs/formats.md "Data set" is the public description).
 #include <string>
 
-#include "dc/io/h5.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc::dataset {
 

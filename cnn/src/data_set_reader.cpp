@@ -5,8 +5,8 @@
 #include <cstring>
 
 #include "data_set_layout.hpp"
-#include "dc/core/error.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

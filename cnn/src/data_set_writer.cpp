@@ -3,8 +3,8 @@
 #include <filesystem>
 
 #include "data_set_layout.hpp"
-#include "dc/core/error.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 

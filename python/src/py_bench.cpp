@@ -11,9 +11,9 @@
 #include "dc/bench/bench_statistics.hpp"
 #include "dc/bench/bench_summary.hpp"
 #include "dc/bench/list_options.hpp"
-#include "dc/core/error.hpp"
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/provenance.hpp"
+#include "dc/core/error.hpp"
 #include "dc/research/research_starters.hpp"
 #include "py_common.hpp"
 

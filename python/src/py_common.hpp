@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "dc/core/vec2.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/lcp_solver.hpp"
-#include "dc/core/vec2.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

@@ -4,8 +4,8 @@
 
 #include <limits>
 
-#include "dc/engine/dat_file.hpp"
 #include "dc/core/error.hpp"
+#include "dc/engine/dat_file.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {

@@ -1,7 +1,7 @@
 // Warm starters written in Python (deepcontact.WarmStarter and any duck-typed object), and
 // the C++ registry the module uses.
-#include "dc/research/research_starters.hpp"
 #include "dc/core/error.hpp"
+#include "dc/research/research_starters.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {

@@ -17,9 +17,9 @@
 #include <thread>
 
 #include "cli_helpers.hpp"
-#include "h5_compare.hpp"
-#include "dc/io/h5.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/io/h5.hpp"
+#include "h5_compare.hpp"
 
 namespace dc {
 namespace {

@@ -10,10 +10,10 @@
 
 #include "cli_helpers.hpp"
 #include "cluster/comm.hpp"
-#include "dc/core/error.hpp"
-#include "h5_compare.hpp"
-#include "dc/io/h5.hpp"
 #include "cluster/mpi_generate.hpp"
+#include "dc/core/error.hpp"
+#include "dc/io/h5.hpp"
+#include "h5_compare.hpp"
 
 namespace dc {
 namespace {

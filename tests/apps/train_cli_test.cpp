@@ -18,8 +18,8 @@
 #include <thread>
 
 #include "cli_helpers.hpp"
-#include "dc/io/h5.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/model_file.hpp"
 
 namespace dc {

@@ -7,13 +7,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "bench/bench_fixtures.hpp"
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/bench_runner.hpp"
 #include "dc/bench/bench_summary.hpp"
-#include "bench/bench_fixtures.hpp"
-#include "temp_dir.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
+#include "temp_dir.hpp"
 
 namespace dc {
 namespace {

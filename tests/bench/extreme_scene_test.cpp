@@ -25,9 +25,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "dc/bench/stress_scenarios.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "dc/bench/stress_scenarios.hpp"
 
 namespace dc {
 namespace {

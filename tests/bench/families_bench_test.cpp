@@ -5,12 +5,12 @@
 
 #include <cmath>
 
+#include "bench/bench_fixtures.hpp"
 #include "dc/bench/bench_runner.hpp"
 #include "dc/bench/bench_summary.hpp"
+#include "dc/bench/scale_sweep.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
-#include "dc/bench/scale_sweep.hpp"
-#include "bench/bench_fixtures.hpp"
 
 namespace dc {
 namespace {

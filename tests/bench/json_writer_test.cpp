@@ -7,8 +7,8 @@
 #include <limits>
 #include <vector>
 
-#include "dc/core/error.hpp"
 #include "dc/bench/json_writer.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc {
 namespace {

@@ -12,17 +12,17 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cnn/tiny_cnn.hpp"
+#include "dc/cnn/cnn_warm_starter.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
-#include "dc/engine/world.hpp"
 #include "dc/engine/contact.hpp"
+#include "dc/engine/world.hpp"
 #include "dc/learning/channel_stats.hpp"
-#include "dc/cnn/cnn_warm_starter.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/model_file.hpp"
-#include "dc/warmstart/oracle.hpp"
 #include "dc/sph/sph_transfer.hpp"
-#include "cnn/tiny_cnn.hpp"
+#include "dc/warmstart/oracle.hpp"
 #include "learning/small_archs.hpp"
 
 namespace dc {

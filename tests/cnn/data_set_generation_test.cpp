@@ -8,11 +8,11 @@
 #include <fstream>
 #include <string>
 
+#include "cnn/small_data_set.hpp"
+#include "dc/cnn/data_set_generation.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
-#include "dc/cnn/data_set_generation.hpp"
 #include "h5_compare.hpp"
-#include "cnn/small_data_set.hpp"
 
 namespace dc {
 namespace {

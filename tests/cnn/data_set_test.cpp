@@ -6,11 +6,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cnn/small_data_set.hpp"
+#include "dc/cnn/data_set.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
-#include "dc/cnn/data_set.hpp"
 #include "h5_compare.hpp"
-#include "cnn/small_data_set.hpp"
 
 namespace dc {
 namespace {

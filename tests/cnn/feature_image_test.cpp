@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dc/cnn/feature_image.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/world.hpp"
-#include "dc/cnn/feature_image.hpp"
 #include "dc/learning/arch.hpp"
 #include "dc/learning/model.hpp"
 #include "dc/warmstart/oracle.hpp"

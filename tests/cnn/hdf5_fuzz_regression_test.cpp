@@ -7,8 +7,8 @@
 
 #include <string>
 
-#include "dc/core/error.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/core/error.hpp"
 #include "dc/learning/model_file.hpp"
 
 namespace dc {

@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <string>
 
+#include "dc/cnn/data_set.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
-#include "dc/cnn/data_set.hpp"
 #include "dc/learning/model_file.hpp"
 
 namespace dc {

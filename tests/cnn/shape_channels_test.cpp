@@ -7,10 +7,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "dc/core/error.hpp"
-#include "dc/engine/shape.hpp"
 #include "dc/cnn/feature_image.hpp"
 #include "dc/cnn/shape_samples.hpp"
+#include "dc/core/error.hpp"
+#include "dc/engine/shape.hpp"
 
 namespace dc {
 namespace {

@@ -10,13 +10,13 @@
 #include <iterator>
 #include <string>
 
-#include "dc/core/error.hpp"
-#include "dc/learning/arch.hpp"
+#include "cnn/small_data_set.hpp"
 #include "dc/cnn/data_set_generation.hpp"
-#include "dc/learning/model_file.hpp"
 #include "dc/cnn/train_checkpoint.hpp"
 #include "dc/cnn/training_data.hpp"
-#include "cnn/small_data_set.hpp"
+#include "dc/core/error.hpp"
+#include "dc/learning/arch.hpp"
+#include "dc/learning/model_file.hpp"
 
 namespace dc {
 namespace {

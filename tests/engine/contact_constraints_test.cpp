@@ -6,10 +6,10 @@
 #include <cmath>
 #include <vector>
 
-#include "dc/engine/contact_constraints.hpp"
-#include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
 #include "collision/narrow_phase.hpp"
+#include "dc/core/error.hpp"
+#include "dc/engine/contact_constraints.hpp"
+#include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "engine/solvers/solver_test_problems.hpp"
 

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "dc/engine/dat_file.hpp"
 #include "dc/core/error.hpp"
+#include "dc/engine/dat_file.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "engine/solvers/solver_test_problems.hpp"
 

@@ -9,12 +9,12 @@
 #include <random>
 #include <vector>
 
-#include "det_math.hpp"
-#include "dc/engine/lcp_problem.hpp"
 #include "collision/narrow_phase.hpp"
+#include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/shape.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/engine/step_outcome.hpp"
+#include "det_math.hpp"
 
 namespace dc {
 namespace {

@@ -8,10 +8,10 @@
 #include <numbers>
 #include <set>
 
-#include "dc/engine/broad_phase.hpp"
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
 #include "dc/core/rng.hpp"
+#include "dc/engine/broad_phase.hpp"
+#include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "settled_pile.hpp"
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "dc/engine/dat_file.hpp"
 #include "dc/core/error.hpp"
+#include "dc/engine/dat_file.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "fuzz_common.hpp"
 

@@ -9,8 +9,8 @@
 #include <numeric>
 #include <vector>
 
-#include "dc/core/error.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/core/error.hpp"
 #include "fuzz_common.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "dc/cnn/data_set.hpp"
 #include "dc/core/rng.hpp"
 #include "dc/learning/arch.hpp"
-#include "dc/cnn/data_set.hpp"
 #include "dc/learning/initializer.hpp"
 #include "dc/learning/model_file.hpp"
 

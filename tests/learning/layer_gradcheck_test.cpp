@@ -8,14 +8,14 @@
 #include <omp.h>
 
 #include "dc/core/error.hpp"
+#include "dc/learning/initializer.hpp"
 #include "dc/learning/layers/concat.hpp"
 #include "dc/learning/layers/conv2d.hpp"
 #include "dc/learning/layers/dense.hpp"
 #include "dc/learning/layers/dropout.hpp"
-#include "dc/learning/initializer.hpp"
-#include "dc/learning/mse_loss.hpp"
 #include "dc/learning/layers/relu.hpp"
 #include "dc/learning/layers/upsample.hpp"
+#include "dc/learning/mse_loss.hpp"
 #include "grad_check.hpp"
 
 namespace dc {

@@ -5,12 +5,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "bench/bench_fixtures.hpp"
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/bench_runner.hpp"
 #include "dc/bench/bench_summary.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
-#include "bench/bench_fixtures.hpp"
 #include "research/research_registry.hpp"
 #include "temp_dir.hpp"
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cnn/tiny_cnn.hpp"
 #include "dc/cnn/cnn_warm_starter.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
@@ -17,9 +18,8 @@
 #include "dc/learning/model_file.hpp"
 #include "dc/sph/sph_transfer.hpp"
 #include "dc/warmstart/oracle.hpp"
-#include "research/research_registry.hpp"
-#include "cnn/tiny_cnn.hpp"
 #include "learning/small_archs.hpp"
+#include "research/research_registry.hpp"
 #include "settled_pile.hpp"
 
 namespace dc {

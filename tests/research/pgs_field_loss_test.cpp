@@ -6,12 +6,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cnn/small_data_set.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
 #include "dc/research/least_squares_field.hpp"
 #include "dc/research/pgs_trainer.hpp"
 #include "learning/small_archs.hpp"
-#include "cnn/small_data_set.hpp"
 
 namespace dc {
 namespace {

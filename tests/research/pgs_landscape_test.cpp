@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cnn/small_data_set.hpp"
 #include "dc/core/error.hpp"
 #include "dc/research/pgs_landscape.hpp"
-#include "cnn/small_data_set.hpp"
 
 namespace dc {
 namespace {

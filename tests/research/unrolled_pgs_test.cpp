@@ -8,16 +8,16 @@
 #include <algorithm>
 #include <cmath>
 
-#include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/core/rng.hpp"
-#include "dc/engine/world.hpp"
+#include "cnn/small_data_set.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/core/error.hpp"
+#include "dc/core/rng.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/world.hpp"
 #include "dc/research/pgs_samples.hpp"
 #include "dc/research/pgs_trainer.hpp"
 #include "dc/research/unrolled_pgs.hpp"
 #include "dc/warmstart/oracle.hpp"
-#include "cnn/small_data_set.hpp"
 
 namespace dc {
 namespace {

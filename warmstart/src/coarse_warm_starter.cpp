@@ -31,9 +31,9 @@
 #include <utility>
 #include <vector>
 
-#include "dc/warmstart/active_set_solve.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/sph/sph_grid.hpp"
+#include "dc/warmstart/active_set_solve.hpp"
 #include "starters.hpp"
 
 namespace dc {

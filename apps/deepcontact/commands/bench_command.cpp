@@ -6,18 +6,18 @@
 #include <memory>
 #include <sstream>
 
-#include "dc/bench/list_options.hpp"
-#include "dc/research/research_starters.hpp"
+#include "cluster/comm.hpp"
+#include "cluster/mpi_bench.hpp"
+#include "commands/cli_common.hpp"
+#include "commands/commands.hpp"
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/bench_runner.hpp"
 #include "dc/bench/bench_summary.hpp"
-#include "commands/cli_common.hpp"
-#include "cluster/comm.hpp"
-#include "commands/commands.hpp"
-#include "cluster/mpi_bench.hpp"
-#include "dc/core/error.hpp"
+#include "dc/bench/list_options.hpp"
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/scale_sweep.hpp"
+#include "dc/core/error.hpp"
+#include "dc/research/research_starters.hpp"
 #include <filesystem>
 
 namespace dc::cli {

@@ -13,16 +13,16 @@
 #include <memory>
 #include <optional>
 
-#include "commands/cli_common.hpp"
 #include "cluster/comm.hpp"
-#include "commands/commands.hpp"
+#include "cluster/mpi_generate.hpp"
 #include "cluster/sigint_guard.hpp"
-#include "dc/core/error.hpp"
+#include "commands/cli_common.hpp"
+#include "commands/commands.hpp"
+#include "dc/bench/progress_bar.hpp"
 #include "dc/cnn/data_set.hpp"
 #include "dc/cnn/data_set_generation.hpp"
+#include "dc/core/error.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
-#include "cluster/mpi_generate.hpp"
-#include "dc/bench/progress_bar.hpp"
 
 namespace dc::cli {
 namespace {

@@ -20,10 +20,10 @@
 #include <string>
 
 #include "commands/commands.hpp"
-#include "dc/engine/dat_file.hpp"
-#include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
 #include "dc/bench/json_writer.hpp"
+#include "dc/core/error.hpp"
+#include "dc/engine/dat_file.hpp"
+#include "dc/engine/lcp_solver.hpp"
 
 namespace dc::cli {
 namespace {

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "commands/commands.hpp"
-#include "dc/core/error.hpp"
 #include "dc/bench/render_frame.hpp"
+#include "dc/core/error.hpp"
 
 namespace dc::cli {
 namespace {

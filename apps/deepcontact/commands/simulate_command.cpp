@@ -9,12 +9,12 @@
 #include "commands/cli_common.hpp"
 #include "commands/commands.hpp"
 #include "dc/bench/list_options.hpp"
-#include "dc/research/research_starters.hpp"
+#include "dc/bench/progress_bar.hpp"
+#include "dc/bench/trajectory_recorder.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
-#include "dc/bench/trajectory_recorder.hpp"
-#include "dc/bench/progress_bar.hpp"
+#include "dc/research/research_starters.hpp"
 
 namespace dc::cli {
 namespace {

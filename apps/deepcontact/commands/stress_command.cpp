@@ -17,10 +17,10 @@
 #include <vector>
 
 #include "commands/commands.hpp"
+#include "dc/bench/stress_scenarios.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/io/atomic_file.hpp"
-#include "dc/bench/stress_scenarios.hpp"
 
 namespace dc::cli {
 namespace {

@@ -34,19 +34,19 @@
 #include <vector>
 
 #include "cluster/comm.hpp"
-#include "commands/commands.hpp"
 #include "cluster/mpi_train.hpp"
 #include "cluster/sigint_guard.hpp"
+#include "commands/commands.hpp"
+#include "commands/train_through_pgs.hpp"
+#include "dc/bench/progress_bar.hpp"
+#include "dc/cnn/data_set.hpp"
+#include "dc/cnn/train_checkpoint.hpp"
+#include "dc/cnn/training_data.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
 #include "dc/learning/arch.hpp"
-#include "dc/cnn/data_set.hpp"
 #include "dc/learning/model_file.hpp"
-#include "dc/cnn/train_checkpoint.hpp"
 #include "dc/learning/trainer.hpp"
-#include "dc/cnn/training_data.hpp"
-#include "dc/bench/progress_bar.hpp"
-#include "commands/train_through_pgs.hpp"
 
 namespace dc::cli {
 namespace {

@@ -5,8 +5,8 @@
 #include <numbers>
 #include <sstream>
 
-#include "det_math.hpp"
 #include "dc/core/error.hpp"
+#include "det_math.hpp"
 
 namespace dc {
 namespace {

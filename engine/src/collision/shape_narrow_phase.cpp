@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "det_math.hpp"
 #include "collision/narrow_phase.hpp"
+#include "det_math.hpp"
 
 namespace dc {
 namespace {

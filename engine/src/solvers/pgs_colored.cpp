@@ -46,8 +46,8 @@
 #include <omp.h>
 #endif
 
-#include "lcp/contact_coloring.hpp"
 #include "dc/engine/pgs_colored.hpp"
+#include "lcp/contact_coloring.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 

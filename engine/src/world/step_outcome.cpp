@@ -4,9 +4,9 @@
 #include <cmath>
 #include <string>
 
-#include "det_math.hpp"
-#include "dc/core/error.hpp"
 #include "collision/narrow_phase.hpp"
+#include "dc/core/error.hpp"
+#include "det_math.hpp"
 
 namespace dc {
 namespace {

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstring>
 
-#include "lcp/assembly.hpp"
-#include "dc/engine/broad_phase.hpp"
-#include "dc/core/error.hpp"
 #include "collision/narrow_phase.hpp"
+#include "dc/core/error.hpp"
+#include "dc/engine/broad_phase.hpp"
+#include "lcp/assembly.hpp"
 #include "world/restitution.hpp"
 
 namespace dc {

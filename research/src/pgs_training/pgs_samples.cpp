@@ -7,11 +7,11 @@
 #include <exception>
 #include <string>
 
-#include "dc/engine/contact.hpp"
+#include "dc/cnn/feature_image.hpp"
 #include "dc/core/error.hpp"
+#include "dc/engine/contact.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "dc/cnn/feature_image.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

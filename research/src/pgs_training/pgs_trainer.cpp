@@ -9,9 +9,9 @@
 
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
-#include "dc/research/least_squares_field.hpp"
 #include "dc/learning/optimizer.hpp"
 #include "dc/learning/trainer.hpp"
+#include "dc/research/least_squares_field.hpp"
 
 namespace dc {
 

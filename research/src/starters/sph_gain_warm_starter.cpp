@@ -18,8 +18,8 @@
 #include <chrono>
 #include <optional>
 
-#include "dc/warmstart/oracle.hpp"
 #include "dc/sph/sph_splat.hpp"
+#include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 #include "oracle_starters.hpp"
 

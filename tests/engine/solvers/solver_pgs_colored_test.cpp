@@ -7,12 +7,12 @@
 #include <algorithm>
 #include <vector>
 
-#include "lcp/contact_coloring.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 #include "engine/solvers/solver_test_problems.hpp"
+#include "lcp/contact_coloring.hpp"
 
 namespace dc {
 namespace {

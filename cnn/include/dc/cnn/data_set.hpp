@@ -24,10 +24,10 @@
 #include <string_view>
 #include <vector>
 
+#include "dc/cnn/feature_image.hpp"
 #include "dc/core/vec2.hpp"
 #include "dc/engine/world_def.hpp"
 #include "dc/io/h5.hpp"
-#include "dc/cnn/feature_image.hpp"
 #include "dc/learning/tensor.hpp"
 #include "dc/learning/trainer.hpp"
 

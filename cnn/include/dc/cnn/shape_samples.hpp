@@ -37,8 +37,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "dc/engine/body_state.hpp"
 #include "dc/core/vec2.hpp"
+#include "dc/engine/body_state.hpp"
 
 namespace dc {
 

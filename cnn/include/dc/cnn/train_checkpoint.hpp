@@ -20,11 +20,11 @@
 #include <utility>
 #include <vector>
 
-#include "dc/io/h5.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/cnn/training_data.hpp"
+#include "dc/io/h5.hpp"
 #include "dc/learning/model.hpp"
 #include "dc/learning/trainer.hpp"
-#include "dc/cnn/training_data.hpp"
 
 namespace dc {
 

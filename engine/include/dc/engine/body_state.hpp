@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "dc/engine/shape.hpp"
 #include "dc/core/vec2.hpp"
+#include "dc/engine/shape.hpp"
 
 namespace dc {
 

@@ -23,8 +23,8 @@
 // so the minimum-penetration direction is always in the plane).
 #include <cstdint>
 
-#include "dc/engine/shape.hpp"
 #include "dc/core/vec2.hpp"
+#include "dc/engine/shape.hpp"
 
 namespace dc {
 

@@ -17,10 +17,10 @@
 #include <span>
 #include <vector>
 
-#include "dc/engine/lcp_problem.hpp"
 #include "dc/cnn/contact_readback.hpp"
-#include "dc/learning/labels.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/engine/lcp_problem.hpp"
+#include "dc/learning/labels.hpp"
 #include "dc/learning/tensor.hpp"
 
 namespace dc {
