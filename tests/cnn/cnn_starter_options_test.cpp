@@ -8,11 +8,12 @@
 #include "dc/cnn/cnn_starter_options.hpp"
 #include "dc/core/error.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "warmstart/starter_error.hpp"
 
 namespace dc {
 namespace {
 
-WarmStartSpec spec(const std::string& text) { return WarmStartSpec::parse(text); }
+using test::spec;
 
 TEST(CnnStarterOptions, DefaultsAndAcceptedForms) {
   const CnnStarterOptions d;

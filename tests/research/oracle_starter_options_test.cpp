@@ -17,15 +17,9 @@ namespace dc {
 namespace {
 
 using test::config_error_of;
+using test::expect_refused;
 using test::expect_starter_error;
-
-WarmStartSpec spec(const std::string& text) { return WarmStartSpec::parse(text); }
-
-template <class Parse>
-void expect_refused(Parse parse, const std::string& text, const std::string& usage) {
-  const WarmStartSpec s = spec(text);
-  expect_starter_error(config_error_of([&] { (void)parse(s); }), s.full(), usage);
-}
+using test::spec;
 
 TEST(CopyStarterOptions, DefaultsAcceptedAndRefusedForms) {
   const CopyStarterOptions d;

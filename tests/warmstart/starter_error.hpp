@@ -7,6 +7,7 @@
 #include <string>
 
 #include "dc/core/error.hpp"
+#include "dc/warmstart/warm_starter.hpp"
 
 namespace dc::test {
 
@@ -27,6 +28,16 @@ inline void expect_starter_error(const std::string& message, const std::string& 
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   EXPECT_EQ(message.rfind("warm starter '" + spec + "': expected ", 0), 0u) << spec << " -> " << message;
   EXPECT_NE(message.find(usage), std::string::npos) << spec << " -> " << message;
+}
+
+/// The spec as the command line writes it.
+inline WarmStartSpec spec(const std::string& text) { return WarmStartSpec::parse(text); }
+
+/// Expects `parse(spec(text))` to refuse `text` with the uniform message containing `usage`.
+template <class Parse>
+void expect_refused(Parse parse, const std::string& text, const std::string& usage) {
+  const WarmStartSpec s = spec(text);
+  expect_starter_error(config_error_of([&] { (void)parse(s); }), s.full(), usage);
 }
 
 }  // namespace dc::test

@@ -19,16 +19,9 @@ namespace dc {
 namespace {
 
 using test::config_error_of;
+using test::expect_refused;
 using test::expect_starter_error;
-
-WarmStartSpec spec(const std::string& text) { return WarmStartSpec::parse(text); }
-
-/// Expects `parse(spec(text))` to refuse `text` with the uniform message containing `usage`.
-template <class Parse>
-void expect_refused(Parse parse, const std::string& text, const std::string& usage) {
-  const WarmStartSpec s = spec(text);
-  expect_starter_error(config_error_of([&] { (void)parse(s); }), s.full(), usage);
-}
+using test::spec;
 
 TEST(StarterArgument, SplitsTheArgumentIntoFieldsKeepingEmptyOnes) {
   const StarterArgument none(spec("x"), "x[:A[:B]]");
