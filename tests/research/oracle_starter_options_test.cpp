@@ -87,14 +87,7 @@ TEST(OracleStarterOptions, SharedParsersNameTheOracleStarter) {
 }
 
 TEST(OracleStarterOptions, EveryStarterRefusesAMalformedArgumentNamingTheSpec) {
-  // The methods of dc_warmstart and the oracles and controls of dc_research, through the
-  // registry (the gates' argument is another starter, whose own check answers).
-  const WarmStarterRegistry r = test::research_registry();
-  for (const std::string& name : r.names()) {
-    if (name == "gate" || name == "gate-l2") continue;
-    const std::string bad = name + ":1:2:3:4:5";
-    expect_starter_error(config_error_of([&] { (void)r.make(bad); }), bad, name);
-  }
+  test::expect_every_starter_refuses_a_malformed_argument(test::research_registry());
 }
 
 }  // namespace

@@ -40,4 +40,15 @@ void expect_refused(Parse parse, const std::string& text, const std::string& usa
   expect_starter_error(config_error_of([&] { (void)parse(s); }), s.full(), usage);
 }
 
+/// Every starter of `r` but the gates (whose argument is another starter, with its own check)
+/// refuses the malformed argument ":1:2:3:4:5" with the uniform message: each factory is seen
+/// to go through its parser.
+inline void expect_every_starter_refuses_a_malformed_argument(const WarmStarterRegistry& r) {
+  for (const std::string& name : r.names()) {
+    if (name == "gate" || name == "gate-l2") continue;
+    const std::string bad = name + ":1:2:3:4:5";
+    expect_starter_error(config_error_of([&] { (void)r.make(bad); }), bad, name);
+  }
+}
+
 }  // namespace dc::test
