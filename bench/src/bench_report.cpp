@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "bench_statistics_report.hpp"
+#include "report_format.hpp"
 #include "dc/bench/json_writer.hpp"
 #include "dc/bench/quantiles.hpp"
 #include "dc/bench/render_frame.hpp"

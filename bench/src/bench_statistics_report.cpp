@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "dc/bench/json_writer.hpp"
-#include "dc/bench/report_format.hpp"
+#include "report_format.hpp"
 
 namespace dc::bench {
 namespace {

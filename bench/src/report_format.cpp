@@ -1,4 +1,4 @@
-#include "dc/bench/report_format.hpp"
+#include "report_format.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -15,7 +15,6 @@
 #include "dc/bench/bench_statistics.hpp"
 #include "dc/bench/bench_summary.hpp"
 #include "dc/bench/provenance.hpp"
-#include "dc/bench/report_format.hpp"  // fmt, the reports' number format
 
 namespace dc::bench {
 
