@@ -2,7 +2,7 @@
 """List C++ functions longer than --max lines; exit 1 when there is one.
 
     scripts/check-function-length.py --max 100 apps
-    scripts/check-function-length.py --max 60 --top 10 research/src engine/src/world.cpp
+    scripts/check-function-length.py --max 60 --top 10 research/src engine/src/world/world.cpp
     scripts/check-function-length.py --self-test
 
 Why: a command of the `deepcontact` executable is option parsing, one call into a library and
