@@ -17,7 +17,7 @@ set -uo pipefail
 
 SECS=${1:-60}
 shift || true
-ALL=(scene dat model dataset)
+ALL=(scene dat model dataset fc2d fclib)
 if [ $# -gt 0 ]; then HARNESSES=("$@"); else HARNESSES=("${ALL[@]}"); fi
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${DC_FUZZ_BUILD:-$ROOT/build-fuzz}
@@ -76,7 +76,7 @@ fuzz_one() {
   rm -rf "$artifacts"  # findings are per run (the corpus keeps growing across runs)
   mkdir -p "$corpus" "$artifacts"
   mode=()
-  case $h in model|dataset) mode=(-fork=1 -ignore_crashes=1) ;; esac
+  case $h in model|dataset|fclib) mode=(-fork=1 -ignore_crashes=1) ;; esac
   echo "fuzz.sh: $h for ${SECS}s (log: $log)"
   t0=$(date +%s.%N)
   # -timeout: an input running > 30 s is a hang (HDF5 inputs with the slow unwinder take seconds); -rss_limit_mb: a reader allocating what the

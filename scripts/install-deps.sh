@@ -6,6 +6,9 @@
 #   scripts/install-deps.sh            build + test + bench dependencies
 #   scripts/install-deps.sh --torch    also python3-torch (only for benchmarks/compare/torch_compare.py)
 #   scripts/install-deps.sh --fuzz     also clang + libFuzzer runtime (fuzz harnesses)
+#   scripts/install-deps.sh --siconos  also Siconos numerics, its Python module and libfclib: only for
+#                                      benchmarks/compare/siconos_compare (built when they are present)
+#                                      and the FCLIB compatibility tests against libfclib (docs/lcp.md)
 set -euo pipefail
 
 packages=(
@@ -28,6 +31,7 @@ for arg in "$@"; do
   case "$arg" in
     --torch) packages+=(python3-torch) ;;
     --fuzz) packages+=(clang libclang-rt-dev) ;;
+    --siconos) packages+=(libsiconos-numerics-dev python3-siconos libfclib-dev) ;;
     *) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done

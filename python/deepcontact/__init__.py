@@ -16,10 +16,12 @@ from ._core import (  # noqa: F401  (the C++ core, deepcontact/_core*.so)
     StepView,
     World,
     read_lcp_dat,
+    read_problem,
     solve,
     solvers,
     warmstarters,
     write_lcp_dat,
+    write_problem,
 )
 from ._core import bench as _bench
 

@@ -7,6 +7,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "DeepContact engine, LCP solvers, warm starters and bench (C++ core)";
   dc::py::bind_errors(m);
   dc::py::bind_problem(m);
+  dc::py::bind_problem_file(m);
   dc::py::bind_world(m);
   dc::py::bind_bench(m);
 }

@@ -106,6 +106,7 @@ WarmStarterRegistry cli_registry();
 
 // ---- registration (one file each) -------------------------------------------------
 void bind_errors(pyb::module_& m);
+void bind_problem_file(pyb::module_& m);
 void bind_problem(pyb::module_& m);
 void bind_world(pyb::module_& m);
 void bind_bench(pyb::module_& m);

@@ -1,10 +1,15 @@
-// `deepcontact lcp solve FILE.dat [--solver NAME] [--sweeps N] [--tol T]`: solve one LCP
-// from a Siconos numerics .dat file (dense or sparse-block storage, docs/lcp.md) and print
-// the result as JSON on stdout:
+// `deepcontact lcp solve FILE [--kind lcp|fc2d] [--solver NAME] [--sweeps N] [--tol T]`: solve
+// one problem from a file — a Siconos numerics LCP .dat (storage 0 or 1), a Siconos 2D
+// frictional-contact .dat (storage 0, 1 or 2) or an FCLIB local problem (.hdf5, spacedim 2);
+// docs/lcp.md — and print the result as JSON on stdout:
 //
-//     {"z": [...], "w": [...], "status": "converged", "sweeps": k, "residual": r,
-//      "solver": "lemke", "message": "...", "comment": "..."}
+//     {"problem": "fc2d", "z": [...], "w": [...], "mu": [...], "status": "converged",
+//      "sweeps": k, "residual": r, "solve_seconds": s, "solver": "newton", "message": "...",
+//      "comment": "..."}
 //
+// A frictional problem is solved as its box-friction LCP: z = reactions (per contact normal,
+// tangent), w = W z + q, residual = the natural-map residual of the 2D Coulomb problem; "mu"
+// only for fc2d; solve_seconds = CPU time of the solve alone.
 // numbers with %.17g (round-trip exact), non-finite as null (JsonWriter, json_writer.hpp);
 // "comment" is the remark after q (empty if none; stderr says it was ignored). Exit status: 0 when solved (status converged), 3 when the
 // solver proved the problem infeasible, 1 for any other status (sweep_limit, diverged,
@@ -16,12 +21,15 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "commands/commands.hpp"
 #include "dc/bench/json_writer.hpp"
 #include "dc/core/error.hpp"
+#include "dc/bench/problem_file.hpp"
 #include "dc/engine/dat_file.hpp"
 #include "dc/engine/lcp_solver.hpp"
 
@@ -30,40 +38,62 @@ namespace {
 
 struct LcpSolveArgs {
   std::string file;
+  std::string kind;  // "" = detect
   std::string solver = "lemke";
   int sweeps = 3000;
   double tol = 1e-10;
 };
 
-void run_lcp_solve(const LcpSolveArgs& a) {
-  const auto solver = make_solver(a.solver);  // ConfigError for an unknown name
-  if (a.sweeps < 0) throw ConfigError("--sweeps must be >= 0");
-  if (!(a.tol >= 0) || !std::isfinite(a.tol)) throw ConfigError("--tol must be finite and >= 0");
-  const DatFile f = read_dat_file(a.file);
-  const LcpProblem& p = f.problem;
-  if (!f.comment.empty())
-    std::fprintf(stderr, "deepcontact: note: %s: the text after q was ignored (reported as \"comment\")\n",
-                 a.file.c_str());
-  SolverOptions o;
-  o.max_sweeps = a.sweeps;
-  o.tolerance = a.tol;
-  o.record_theta = false;
-  const SolveResult r = solver->solve(p, Eigen::VectorXd(), o);
-  const Eigen::VectorXd w = lcp_velocity(p, r.lambda);
+/// CPU seconds of this process so far.
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+std::optional<ProblemKind> forced_kind(const std::string& kind) {
+  if (kind.empty()) return std::nullopt;
+  return parse_problem_kind(kind);
+}
+
+void print_solution(const ProblemFile& f, const SolveResult& r, double seconds, const std::string& solver) {
+  const Eigen::VectorXd w = lcp_velocity(f.lcp, r.lambda);
+  auto span = [](const Eigen::VectorXd& v) { return std::span<const double>(v.data(), static_cast<std::size_t>(v.size())); };
   JsonWriter j;
   j.begin_object();
-  j.key("z").array(std::span<const double>(r.lambda.data(), static_cast<std::size_t>(r.lambda.size())));
-  j.key("w").array(std::span<const double>(w.data(), static_cast<std::size_t>(w.size())));
+  j.key("problem").value(to_string(f.kind));
+  j.key("z").array(span(r.lambda));
+  j.key("w").array(span(w));
+  if (f.kind == ProblemKind::Fc2d) j.key("mu").array(span(f.fc2d.mu));
   j.key("status").value(to_string(r.status));
   j.key("sweeps").value(r.sweeps);
   j.key("residual").value(r.residual);
-  j.key("solver").value(a.solver);
+  j.key("solve_seconds").value(seconds);
+  j.key("solver").value(solver);
   j.key("message").value(r.message);
   j.key("comment").value(f.comment);
   j.end_object();
   const std::string out = j.str();
   std::fputs(out.c_str(), stdout);
   std::fflush(stdout);
+}
+
+void run_lcp_solve(const LcpSolveArgs& a) {
+  const auto solver = make_solver(a.solver);  // ConfigError for an unknown name
+  if (a.sweeps < 0) throw ConfigError("--sweeps must be >= 0");
+  if (!(a.tol >= 0) || !std::isfinite(a.tol)) throw ConfigError("--tol must be finite and >= 0");
+  const ProblemFile f = read_problem_file(a.file, forced_kind(a.kind));
+  if (!f.comment.empty())
+    std::fprintf(stderr, "deepcontact: note: %s: the text after %s was ignored (reported as \"comment\")\n",
+                 a.file.c_str(), f.kind == ProblemKind::Lcp ? "q" : "mu");
+  SolverOptions o;
+  o.max_sweeps = a.sweeps;
+  o.tolerance = a.tol;
+  o.record_theta = false;
+  const double t0 = cpu_seconds();
+  const SolveResult r = solver->solve(f.lcp, Eigen::VectorXd(), o);
+  const double seconds = cpu_seconds() - t0;
+  print_solution(f, r, seconds, a.solver);
   switch (r.status) {
     case SolveStatus::Converged: exit_status() = 0; break;
     case SolveStatus::Infeasible: exit_status() = 3; break;
@@ -73,36 +103,59 @@ void run_lcp_solve(const LcpSolveArgs& a) {
 
 struct LcpConvertArgs {
   std::string in, out;
+  std::string kind;    // "" = detect
+  std::string format;  // "" = from OUT's name: .hdf5 → fclib, otherwise siconos-lcp
   int storage = 0;
   int block = 0;
 };
 
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
 void run_lcp_convert(const LcpConvertArgs& a) {
   if (a.storage != 0 && a.storage != 1) throw ConfigError("--storage must be 0 (dense) or 1 (sparse block)");
   if (a.block < 0) throw ConfigError("--block must be >= 1");
-  const DatFile f = read_dat_file(a.in);
-  if (a.storage == 0)
-    write_lcp_dat(a.out, Eigen::MatrixXd(f.problem.A), f.problem.b);
-  else
-    write_lcp_dat_blocks(a.out, f.problem.A, f.problem.b, a.block > 0 ? a.block : f.problem.rows());
+  const ProblemFormat format = !a.format.empty() ? parse_problem_format(a.format)
+                               : ends_with(a.out, ".hdf5") ? ProblemFormat::Fclib
+                                                           : ProblemFormat::SiconosLcp;
+  const ProblemFile f = read_problem_file(a.in, forced_kind(a.kind));
+  if (format == ProblemFormat::SiconosLcp) {
+    if (f.kind == ProblemKind::Fc2d)
+      throw ConfigError(a.in + ": a frictional problem is written with --format siconos-fc or as OUT.hdf5 (FCLIB)");
+    if (a.storage == 0)
+      write_lcp_dat(a.out, Eigen::MatrixXd(f.lcp.A), f.lcp.b);
+    else
+      write_lcp_dat_blocks(a.out, f.lcp.A, f.lcp.b, a.block > 0 ? a.block : f.lcp.rows());
+  } else {
+    if (f.kind != ProblemKind::Fc2d)
+      throw ConfigError(a.in + ": an LCP has no friction; only frictional problems are written as " +
+                        to_string(format));
+    write_fc2d_problem(a.out, f.fc2d, format, f.solution, f.guesses);
+  }
   if (!f.comment.empty())
-    std::fprintf(stderr, "deepcontact: note: %s: the text after q was not copied\n", a.in.c_str());
+    std::fprintf(stderr, "deepcontact: note: %s: the text after %s was not copied\n", a.in.c_str(),
+                 f.kind == ProblemKind::Lcp ? "q" : "mu");
 }
 
 }  // namespace
 
 void add_lcp_command(CLI::App& app) {
-  auto* lcp = app.add_subcommand("lcp", "Linear complementarity problems from files (Siconos .dat)");
+  auto* lcp = app.add_subcommand("lcp", "LCP and 2D frictional-contact problems from files (Siconos .dat, FCLIB .hdf5)");
   lcp->require_subcommand(1);
   auto args = std::make_shared<LcpSolveArgs>();
   auto* solve = lcp->add_subcommand(
       "solve",
-      "Solve w = M z + q, z >= 0, w >= 0, z'w = 0 read from a Siconos numerics .dat file (storage 0 = dense "
-      "or 1 = sparse block) and print {\"z\", \"w\", \"status\", \"sweeps\", \"residual\", \"comment\"} as "
-      "JSON. Exit status: 0 converged, 3 infeasible (proved: Farkas certificate or exhaustive enumeration), "
-      "1 otherwise or on error. See docs/lcp.md.");
-  solve->add_option("file", args->file, "LCP file in Siconos .dat format (n, storage, n, n, M, q[, remark])")
+      "Solve an LCP (w = M z + q, z >= 0, w >= 0, z'w = 0) or a 2D frictional-contact problem (u = W r + q, "
+      "Coulomb per contact; solved as its box-friction LCP) read from a Siconos .dat or FCLIB .hdf5 file and "
+      "print {\"problem\", \"z\", \"w\", [\"mu\",] \"status\", \"sweeps\", \"residual\", \"solve_seconds\", "
+      "\"comment\"} as JSON. Exit status: 0 converged, 3 infeasible (proved: Farkas certificate or exhaustive "
+      "enumeration), 1 otherwise or on error. See docs/lcp.md.");
+  solve->add_option("file", args->file,
+                    "Problem file: Siconos LCP .dat, Siconos 2D frictional-contact .dat, or FCLIB .hdf5 (spacedim 2)")
       ->required();
+  solve->add_option("--kind", args->kind, "Force the kind of a .dat file: lcp or fc2d (default: detected)")
+      ->check(CLI::IsMember({"lcp", "fc2d"}));
   std::string names;
   for (const auto& n : solver_names()) names += (names.empty() ? "" : ", ") + n;
   solve->add_option("--solver", args->solver, "Solver: " + names + " (exact: lemke, newton)")
@@ -116,9 +169,17 @@ void add_lcp_command(CLI::App& app) {
   solve->callback([args] { run_lcp_solve(*args); });
 
   auto cargs = std::make_shared<LcpConvertArgs>();
-  auto* convert = lcp->add_subcommand("convert", "Rewrite a Siconos .dat LCP file in dense (0) or sparse-block (1) storage");
-  convert->add_option("in", cargs->in, "input .dat file")->required();
-  convert->add_option("out", cargs->out, "output .dat file")->required();
+  auto* convert = lcp->add_subcommand(
+      "convert",
+      "Rewrite a problem file: OUT.hdf5 = FCLIB, --format siconos-fc = Siconos frictional-contact .dat, otherwise "
+      "an LCP .dat in dense (0) or sparse-block (1) storage");
+  convert->add_option("in", cargs->in, "input file (.dat or FCLIB .hdf5)")->required();
+  convert->add_option("out", cargs->out, "output file")->required();
+  convert->add_option("--kind", cargs->kind, "Force the kind of a .dat input: lcp or fc2d (default: detected)")
+      ->check(CLI::IsMember({"lcp", "fc2d"}));
+  convert->add_option("--format", cargs->format,
+                      "siconos-lcp, siconos-fc or fclib (default: fclib when OUT ends in .hdf5, else siconos-lcp)")
+      ->check(CLI::IsMember({"siconos-lcp", "siconos-fc", "fclib"}));
   convert->add_option("--storage", cargs->storage, "0 = dense, 1 = sparse block (Siconos SparseBlockStructuredMatrix)")
       ->capture_default_str();
   convert->add_option("--block", cargs->block, "storage 1: rows/columns per square block (0 = one block of n)")

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <ctime>
 #include <memory>
+#include <optional>
 
 #include "commands/cli_common.hpp"
 #include "commands/commands.hpp"
 #include "dc/bench/list_options.hpp"
+#include "dc/bench/problem_export.hpp"
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/trajectory_recorder.hpp"
 #include "dc/core/error.hpp"
@@ -26,6 +28,9 @@ struct SimulateArgs {
   std::string warmstart = "builtin";
   bool hash = false;  // print only the final state's hash
   bool profile = false;  // also print the mean per-stage step profile (one "profile" line)
+  std::string export_dir;       // --export-problems DIR ("" = none)
+  int export_every = 1;         // --every K
+  std::string export_format = "fclib";  // --format fclib|siconos-fc
 };
 
 /// CPU seconds of this process so far (all threads).
@@ -62,6 +67,10 @@ void run(const SimulateArgs& a) {
   const WarmStarterRegistry registry = all_warm_starters(shipped_model());
   auto starter = registry.make(a.warmstart);
 
+  std::optional<ProblemExporter> exporter;
+  if (!a.export_dir.empty())
+    exporter.emplace(ProblemExportDef{a.export_dir, a.export_every, parse_problem_format(a.export_format)});
+  Eigen::VectorXd guess;  // this step's λ⁰, for the exported problem's /guesses
   TrajectoryRecorder rec(world);
   rec.reserve_steps(def.time.steps);
   bench::ProgressBar bar("simulate", def.time.steps);
@@ -72,9 +81,12 @@ void run(const SimulateArgs& a) {
   long rows_sum = 0;
   const double cpu0 = process_cpu_seconds();
   for (int s = 0; s < def.time.steps; ++s) {
+    guess.resize(0);
     const StepReport r = world.step(*solver, opt, [&](const World& w) {
-      return starter->initial_guess(StepView{w, nullptr});
+      guess = starter->initial_guess(StepView{w, nullptr});
+      return guess;
     });
+    if (exporter && exporter->due(s + 1)) exporter->write(s + 1, world.problem(), r.solve.lambda, guess);
     starter->observe(StepView{world, nullptr}, r.solve.lambda);
     if (!r.solve.lambda.allFinite())
       throw std::runtime_error("step " + std::to_string(s + 1) + ": the solver returned a non-finite λ (" +
@@ -113,6 +125,7 @@ void run(const SimulateArgs& a) {
         worst_residual, max_pen, e0, e1, hash, a.out.empty() ? "" : " Trajectory: ", a.out.c_str());
   }
   if (a.profile) print_profile(rec, world.bodies().size(), rows_sum, cpu_s);
+  if (exporter && !a.hash) std::printf("Exported %d problems to %s\n", exporter->written(), a.export_dir.c_str());
   if (!a.out.empty()) rec.write(a.out, scene_to_toml(def), a.warmstart);
 }
 
@@ -132,6 +145,13 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_flag("--profile", args->profile,
                 "Also print one line 'profile key=value ...': mean wall-clock ms per step of each stage "
                 "(collide, assemble, warm start, solve, integrate, record; /solver/profile) and the loop's CPU s");
+  cmd->add_option("--export-problems", args->export_dir,
+                  "Write each exported step's frictional-contact problem to this folder (FCLIB with the solver's "
+                  "lambda as /solution and the warm start as /guesses/1, or Siconos .dat; docs/lcp.md)");
+  cmd->add_option("--every", args->export_every, "--export-problems: export every K-th step")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--format", args->export_format, "--export-problems: fclib (.hdf5) or siconos-fc (.dat)")
+      ->check(CLI::IsMember({"fclib", "siconos-fc"}))->capture_default_str();
   cmd->callback([args] { run(*args); });
 }
 
