@@ -80,7 +80,9 @@ class LcpSolver {
 /// OpenMP threads), "pgs-assembled" (PGS on the sparse A, the seed's form), "psor", "jacobi",
 /// "lemke" (exact pivoting, standard LCPs), "newton" (minimum-map Newton, box bounds and
 /// friction), "newton-sparse" (warm-started semismooth Newton with friction coupled in the
-/// Jacobian and CHOLMOD factorisations; dc/engine/newton_sparse.hpp). Throws ConfigError listing the valid names for an unknown one.
+/// Jacobian and CHOLMOD factorisations; dc/engine/newton_sparse.hpp), "nncg" (pgs's sweeps
+/// with nonlinear conjugate-gradient momentum and restarts). Throws ConfigError listing the
+/// valid names for an unknown one.
 std::unique_ptr<LcpSolver> make_solver(std::string_view name);
 std::vector<std::string> solver_names();
 
