@@ -149,6 +149,7 @@ DC_AVX2 void sweep_avx2(const Batch* __restrict batches, int b0, int b1, const d
 }
 
 bool cpu_has_avx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
+bool cpu_is_amd() { return __builtin_cpu_is("amd"); }
 
 }  // namespace dc::colored
 
@@ -157,6 +158,7 @@ bool cpu_has_avx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_sup
 namespace dc::colored {
 void sweep_avx2(const Batch*, int, int, const double*, double*, double*, Acc&) {}
 bool cpu_has_avx2() { return false; }
+bool cpu_is_amd() { return false; }
 }  // namespace dc::colored
 
 #endif

@@ -45,6 +45,8 @@ void sweep_avx512(const Batch* batches, int b0, int b1, const double* in, double
 /// This build has the kernel and this CPU (and OS) runs it: AVX2 + FMA, AVX-512 F/DQ/VL.
 bool cpu_has_avx2();
 bool cpu_has_avx512();
+/// The CPU's vendor is AMD (x86-64 GCC/Clang builds; false elsewhere).
+bool cpu_is_amd();
 
 // std::max(a, b) and std::min(a, b) as the vector kernels write them (compare + select).
 inline double max_of(double a, double b) { return (a < b) ? b : a; }
