@@ -53,6 +53,9 @@ struct NewtonSparseDef {
   /// true: CHOLMOD (simplicial or supernodal, CHOLMOD chooses); false: Eigen's SimplicialLDLT,
   /// the fallback CHOLMOD also falls back to when it reports a non-positive pivot (default true).
   bool cholmod = true;
+  /// false: CHOLMOD's simplicial LDLᵀ (no BLAS); true: CHOLMOD picks supernodal LLᵀ (BLAS)
+  /// where the fill favours it (default false: a threaded BLAS stalls on a loaded machine).
+  bool supernodal = false;
   /// Keep CHOLMOD's symbolic analysis while the pattern of A is unchanged (default true).
   bool reuse_analysis = true;
   /// Consecutive iterations without a new best residual before the solve stops as Failed

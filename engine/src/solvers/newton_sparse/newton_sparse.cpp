@@ -28,7 +28,7 @@
 namespace dc {
 
 struct NewtonSparseSolver::State {
-  explicit State(const NewtonSparseDef& d) : factor(d.cholmod, d.reuse_analysis) {}
+  explicit State(const NewtonSparseDef& d) : factor(d.cholmod, d.reuse_analysis, d.supernodal) {}
   std::mutex mutex;  // one solve at a time per solver object (the factor is shared state)
   solvers::FreeBlockFactor factor;
   NewtonSparseStats last;
