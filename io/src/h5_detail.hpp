@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "dc/io/h5.hpp"
+#include "h5_checksum.hpp"
 
 namespace dc::h5_detail {
 
@@ -52,8 +53,13 @@ inline std::string hdf5_reason() {
 
 /// `what` plus HDF5's reason, captured now — before a later successful HDF5 call (even a
 /// cleanup H5?close) resets the error stack.
+/// A failed checksum (a chunk's Fletcher-32 or a metadata checksum) is named as such: a bit
+/// flip on disk must read as damage, not as a puzzling HDF5 internals message.
 inline std::string with_reason(std::string what) {
-  if (const std::string reason = hdf5_reason(); !reason.empty()) what += " (HDF5: " + reason + ")";
+  if (const std::string reason = hdf5_reason(); !reason.empty()) {
+    if (const std::string damage = checksum_failure(reason); !damage.empty()) what += ": " + damage;
+    what += " (HDF5: " + reason + ")";
+  }
   return what;
 }
 
@@ -199,6 +205,16 @@ inline hsize_t product(const H5Shape& s, std::size_t from = 0) {
   hsize_t p = 1;
   for (std::size_t i = from; i < s.size(); ++i) p *= s[i];
   return p;
+}
+
+/// File-access properties of every file this layer creates: the HDF5 1.10 file format (low
+/// and high bound), whose superblock, object headers, B-trees, heaps of links and chunk
+/// indexes all carry checksums that HDF5 verifies on every read (h5_checksum.hpp). Readable by
+/// HDF5 ≥ 1.10 (h5py built on it). Invalid handle on failure.
+inline Handle file_access_with_checksums() {
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (fapl.valid() && H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST) < 0) fapl.reset();
+  return fapl;
 }
 
 /// Link-creation properties that create missing parent groups ("/a/b" for "/a/b/c").

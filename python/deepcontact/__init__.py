@@ -15,6 +15,7 @@ from ._core import (  # noqa: F401  (the C++ core, deepcontact/_core*.so)
     Result,
     StepView,
     World,
+    copy_hdf5,
     read_lcp_dat,
     solve,
     solvers,

@@ -9,4 +9,5 @@ PYBIND11_MODULE(_core, m) {
   dc::py::bind_problem(m);
   dc::py::bind_world(m);
   dc::py::bind_bench(m);
+  dc::py::bind_io(m);
 }

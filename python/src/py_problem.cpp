@@ -87,10 +87,10 @@ void bind_problem(pyb::module_& m) {
       .def_property_readonly("rows", [](const PyProblem& p) { return p.p->rows(); })
       .def("__len__", [](const PyProblem& p) { return p.p->rows(); })
       .def("residual", [](const PyProblem& p, pyb::object lam) {
-             return natural_residual(*p.p, to_vector(lam, "lam"));
+             return natural_residual(*p.p, to_vector_of_size(lam, "lam", p.p->rows()));
            },
            pyb::arg("lam"), "Natural-map residual max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)| [N].")
-      .def("velocity", [](const PyProblem& p, pyb::object lam) { return copy(lcp_velocity(*p.p, to_vector(lam, "lam"))); },
+      .def("velocity", [](const PyProblem& p, pyb::object lam) { return copy(lcp_velocity(*p.p, to_vector_of_size(lam, "lam", p.p->rows()))); },
            pyb::arg("lam"), "w = A λ + b.")
       .def("__repr__", [](const PyProblem& p) {
         return "<deepcontact.Problem rows=" + std::to_string(p.p->rows()) +
@@ -116,7 +116,9 @@ void bind_problem(pyb::module_& m) {
         if (sweeps < 0) throw ConfigError("--sweeps must be >= 0");
         if (!(tol >= 0) || !std::isfinite(tol)) throw ConfigError("--tol must be finite and >= 0");
         const auto s = make_solver(solver);
-        Eigen::VectorXd l0 = lambda0.is_none() ? Eigen::VectorXd() : to_vector(lambda0, "lambda0");
+        Eigen::VectorXd l0 =
+            lambda0.is_none() ? Eigen::VectorXd() : to_vector_of_size(lambda0, "lambda0", problem.p->rows());
+        if (!l0.allFinite()) throw pyb::value_error("lambda0: every entry must be finite");
         SolverOptions o;
         o.max_sweeps = sweeps;
         o.tolerance = tol;
@@ -140,7 +142,10 @@ void bind_problem(pyb::module_& m) {
       "write_lcp_dat",
       [](pyb::object path, pyb::object M, pyb::object q) {
         const Eigen::MatrixXd dense(to_sparse(M, "M"));
-        write_lcp_dat(path_string(path), dense, to_vector(q, "q"));
+        if (dense.rows() != dense.cols())
+          throw pyb::value_error("M: expected a square matrix, got " + std::to_string(dense.rows()) + " x " +
+                                 std::to_string(dense.cols()));
+        write_lcp_dat(path_string(path), dense, to_vector_of_size(q, "q", dense.rows()));
       },
       pyb::arg("path"), pyb::arg("M"), pyb::arg("q"), "Write M, q as a Siconos .dat file (dense storage, %.17g).");
 }

@@ -1,6 +1,7 @@
 // deepcontact.World, deepcontact.StepView and the scene arguments.
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "dc/core/error.hpp"
@@ -238,6 +239,11 @@ void bind_world(pyb::module_& m) {
              if (l.size() != w.problem().rows())
                throw InvalidArgument("integrate: λ has " + std::to_string(l.size()) + " entries, the problem has " +
                                      std::to_string(w.problem().rows()) + " rows");
+             // A NaN or infinite impulse would turn every body it touches into NaN for good.
+             for (Eigen::Index i = 0; i < l.size(); ++i)
+               if (!std::isfinite(l[i]))
+                 throw InvalidArgument("integrate: λ[" + std::to_string(i) + "] = " + std::to_string(l[i]) +
+                                       " is not finite");
              pyb::gil_scoped_release release;
              w.integrate(l);
            },

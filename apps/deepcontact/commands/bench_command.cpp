@@ -17,6 +17,7 @@
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/scale_sweep.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/research/research_starters.hpp"
 #include <filesystem>
 
@@ -45,7 +46,28 @@ struct BenchArgs {
   int scale_oracle_max = 600;
 };
 
+/// Writes the bench report into a staging directory next to `out` and renames it onto `out`
+/// (an earlier run's directory is replaced only now, never mixed with this one). A report whose
+/// plots could not be made is still this run's complete report (report.md says what is
+/// missing): it replaces `out` too, and then the error is reported. Returns the file count.
+std::size_t write_report_directory(const bench::BenchResults& r, const std::string& out) {
+  std::vector<std::string> files;
+  std::string incomplete;
+  write_directory_atomically(out, [&](const std::string& dir) {
+    try {
+      files = bench::write_report(r, dir);
+    } catch (const IoError& e) {
+      if (!std::filesystem::exists(std::filesystem::path(dir) / "report.md")) throw;  // written last
+      incomplete = e.what();
+      for (std::size_t at; (at = incomplete.find(dir)) != std::string::npos;) incomplete.replace(at, dir.size(), out);
+    }
+  });
+  if (!incomplete.empty()) throw IoError(incomplete);
+  return files.size();
+}
+
 void run(const BenchArgs& a) {
+  if (!a.out.empty()) check_output_directory(a.out);  // before the bench runs
   WarmStarterRegistry registry = all_warm_starters(shipped_model());
   if (a.list) {
     std::printf("%s", registry.help().c_str());
@@ -104,7 +126,8 @@ void run(const BenchArgs& a) {
     if (sbar) sbar->finish();
     std::printf("%s", bench::format_scale_table(points, false).c_str());
     if (!a.out.empty()) {
-      const auto files = bench::write_scale_report(points, axis, a.out);
+      std::vector<std::string> files;  // built next to --out and renamed onto it when complete
+      write_directory_atomically(a.out, [&](const std::string& dir) { files = bench::write_scale_report(points, axis, dir); });
       std::printf("report: %s/scale.md (%zu files)\n", a.out.c_str(), files.size());
     }
     return;
@@ -129,8 +152,8 @@ void run(const BenchArgs& a) {
               r.starters.empty() ? 0 : r.starters[0].sweeps_to_tol.size(), r.skipped_steps, r.wall_seconds);
   if (!a.out.empty()) {
     const auto tw = std::chrono::steady_clock::now();
-    const auto files = bench::write_report(r, a.out);
-    std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files.size(),
+    const std::size_t files = write_report_directory(r, a.out);
+    std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - tw).count());
   }
 }

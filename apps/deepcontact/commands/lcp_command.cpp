@@ -22,6 +22,7 @@
 #include "commands/commands.hpp"
 #include "dc/bench/json_writer.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/engine/dat_file.hpp"
 #include "dc/engine/lcp_solver.hpp"
 
@@ -80,6 +81,7 @@ struct LcpConvertArgs {
 void run_lcp_convert(const LcpConvertArgs& a) {
   if (a.storage != 0 && a.storage != 1) throw ConfigError("--storage must be 0 (dense) or 1 (sparse block)");
   if (a.block < 0) throw ConfigError("--block must be >= 1");
+  check_output_file(a.out);
   const DatFile f = read_dat_file(a.in);
   if (a.storage == 0)
     write_lcp_dat(a.out, Eigen::MatrixXd(f.problem.A), f.problem.b);

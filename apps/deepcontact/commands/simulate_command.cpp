@@ -14,6 +14,7 @@
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/research/research_starters.hpp"
 
 namespace dc::cli {
@@ -53,6 +54,7 @@ void print_profile(const TrajectoryRecorder& rec, std::size_t bodies, long rows_
 }
 
 void run(const SimulateArgs& a) {
+  if (!a.out.empty()) check_output_file(a.out);  // before any work: a bad --out costs nothing
   WorldDef def = a.scene.load();
   if (a.steps >= 0) def.time.steps = a.steps;
   const auto t0 = std::chrono::steady_clock::now();
