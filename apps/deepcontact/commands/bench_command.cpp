@@ -173,7 +173,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "paired (identical LCPs for every starter) or rollout (own trajectories)")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "Write summary.json, results.h5, plots and report.md into this directory");
-  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-colored, pgs-assembled, psor, jacobi)")
+  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-colored, pgs-assembled, psor, jacobi, nncg)")
       ->capture_default_str();
   cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
   cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
