@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Random single-bit flips in a model and in a data set (docs/robustness.md "Checksums"):
+# Random single-bit flips in a model and in a data set — its manifest and a shard
+# (docs/robustness.md "Checksums"):
 # every flip must be detected (an error naming the damage) or harmless (it hit unused bytes:
 # every value reads back unchanged) — 0 accepted silently. Two views:
 #   1. every group, dataset and attribute read back through dc::H5File after each flip
@@ -19,7 +20,9 @@ trap 'rm -rf "$TMP"' EXIT
 
 "$DC" generate --sims 2 --steps 60 --seed 7 --threads 1 --out "$TMP/data.h5" >/dev/null
 status=0
-for f in "$MODEL" "$TMP/data.h5"; do
+# A data set is a manifest (OUT) over one shard file per simulation (OUT.shards/RUN/sim-*.h5).
+shard=$(ls "$TMP"/data.h5.shards/*/sim-000000.h5 2>/dev/null | head -1)
+for f in "$MODEL" "$TMP/data.h5" $shard; do
   DC_BITFLIP_FILE="$f" DC_BITFLIP_COUNT="$FLIPS" DC_BITFLIP_SEED="$SEED" \
     "$BUILD/tests/dc_io_tests" --gtest_filter=H5Checksum.FlipsOfTheFileNamedByTheEnvironment --gtest_brief=1 \
     | grep -E '^(bitflip|  )' || status=1

@@ -18,7 +18,8 @@ H5File H5File::create_in_memory(const std::string& label) {
   // Grow the image in 1 MiB steps; backing_store = 0: HDF5 never touches the disk.
   if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0) < 0)
     throw IoError(label + ": " + with_reason("cannot set up an in-memory HDF5 file"));
-  const hid_t id = H5Fcreate(label.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  const Handle fcpl = file_creation();
+  const hid_t id = H5Fcreate(label.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get());
   if (id < 0) throw IoError(label + ": " + with_reason("cannot create an in-memory HDF5 file"));
   return H5File(label, id, true);
 }

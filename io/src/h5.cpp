@@ -90,7 +90,8 @@ H5File H5File::create(const std::string& path) {
   const ErrorSilencer quiet;
   const Handle fapl = file_access_with_checksums();
   if (!fapl.valid()) throw IoError(path + ": " + with_reason("cannot set up the HDF5 file format"));
-  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  const Handle fcpl = file_creation();
+  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get());
   if (id < 0) throw IoError(path + ": " + with_reason("cannot create HDF5 file"));
   return H5File(path, id, true);
 }
@@ -180,8 +181,9 @@ void H5File::create_group(std::string_view path) {
     return;
   }
   const ErrorSilencer quiet;
-  const Handle lcpl = intermediate_groups_lcpl();
-  Handle g(H5Gcreate2(id_, object_name(path).c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  const Handle gcpl = group_creation();
+  if (!create_parent_groups(id_, object_name(path))) fail(path, "cannot create the parent groups");
+  Handle g(H5Gcreate2(id_, object_name(path).c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail(path, "cannot create group");
 }
 
@@ -232,7 +234,8 @@ Handle dataset_layout(const H5Shape& shape, const H5DatasetOptions& options) {
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   if (!dcpl.valid()) return dcpl;
   if (shape.empty() || (!options.extendible && product(shape) == 0)) {
-    if (H5Pset_layout(dcpl.get(), H5D_COMPACT) < 0) dcpl.reset();
+    if (H5Pset_layout(dcpl.get(), H5D_COMPACT) < 0 || !keep_links_and_attributes_compact(dcpl.get(), false))
+      dcpl.reset();
     return dcpl;
   }
   H5Shape chunk(shape.size());
@@ -248,7 +251,7 @@ Handle dataset_layout(const H5Shape& shape, const H5DatasetOptions& options) {
                   (options.deflate == 0 || (H5Pset_shuffle(dcpl.get()) >= 0 &&
                                             H5Pset_deflate(dcpl.get(), static_cast<unsigned>(options.deflate)) >= 0)) &&
                   H5Pset_fletcher32(dcpl.get()) >= 0;
-  if (!ok) dcpl.reset();
+  if (!ok || !keep_links_and_attributes_compact(dcpl.get(), false)) dcpl.reset();
   return dcpl;
 }
 
@@ -273,6 +276,7 @@ void H5File::create_dataset(std::string_view path, const H5Shape& shape, const H
 
   const Handle dcpl = dataset_layout<T>(shape, options);
   if (!dcpl.valid()) fail(path, "cannot set up the chunk shape, compression and checksum");
+  if (!create_parent_groups(id_, object_name(path))) fail(path, "cannot create the parent groups");
   const Handle lcpl = intermediate_groups_lcpl();
   Handle ds(H5Dcreate2(id_, object_name(path).c_str(), file_type(type_of<T>()), space.get(), lcpl.get(), dcpl.get(),
                        H5P_DEFAULT),
@@ -514,7 +518,9 @@ void H5File::write_strings(std::string_view path, const std::vector<std::string>
                                           (n == 0 ? H5Pset_layout(dcpl.get(), H5D_COMPACT) >= 0
                                                   : H5Pset_chunk(dcpl.get(), 1, &chunk) >= 0 &&
                                                         H5Pset_fletcher32(dcpl.get()) >= 0));
-  if (!layout_ok) fail(path, "cannot set up the string dataset's chunks and checksum");
+  if (!layout_ok || !keep_links_and_attributes_compact(dcpl.get(), false))
+    fail(path, "cannot set up the string dataset's chunks and checksum");
+  if (!create_parent_groups(id_, object_name(path))) fail(path, "cannot create the parent groups");
   Handle ds(H5Dcreate2(id_, object_name(path).c_str(), type.get(), space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
             H5Dclose);
   if (!ds.valid()) fail(path, "cannot create string dataset");

@@ -46,6 +46,24 @@ void expect_feasible(const World& w, const Eigen::VectorXd& lam) {
   }
 }
 
+/// The cap of every row of a network's guess or correction (docs/learning.md "Bounded
+/// guesses"): the weight of every body plus the force that stops the row's approach alone.
+Eigen::VectorXd force_caps(const World& world) {
+  LcpProblem p = world.problem();
+  p.ensure_assembled_matrix();
+  double weight = 0;
+  for (const double m : world.bodies().mass) weight += m;
+  weight *= length(world.def().world.gravity);
+  Eigen::VectorXd cap(p.rows());
+  for (int i = 0; i < p.rows(); ++i) cap[i] = weight + std::max(0.0, -p.b[i]) / p.A.coeff(i, i);
+  return cap;
+}
+
+Eigen::VectorXd capped(Eigen::VectorXd v, const Eigen::VectorXd& cap) {
+  for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = std::clamp(v[i], -cap[i], cap[i]);
+  return v;
+}
+
 TEST(CnnWarmStarter, TinyModelGivesAFiniteFeasibleGuessOfTheRightSize) {
   World world(tiny_scene());
   advance_to_contacts(world);
@@ -85,14 +103,15 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
                    std::span<float>(f.data(), f.size()));
   const Tensor labels = r.model().predict(f);
-  Eigen::VectorXd want = b + r.guess_from_labels(world, labels, false);
+  const Eigen::VectorXd cap = force_caps(world);
+  Eigen::VectorXd want = b + capped(r.guess_from_labels(world, labels, false), cap);
   project_feasible(world.problem(), want);
   ASSERT_EQ(g.size(), want.size());
   for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(g[i], want[i], 1e-9 * (1 + std::abs(want[i]))) << "row " << i;
   EXPECT_GT((g - b).cwiseAbs().maxCoeff(), 1e-6);  // the correction is not empty
 
   // The dead zone soft-thresholds every row's correction before it is added to builtin.
-  const Eigen::VectorXd raw = r.guess_from_labels(world, labels, false);
+  const Eigen::VectorXd raw = capped(r.guess_from_labels(world, labels, false), cap);
   const double tau = 0.5 * raw.cwiseAbs().maxCoeff();
   Model dz = tiny_model(12.0, true);
   ModelGrid dg = dz.grid();
@@ -123,11 +142,8 @@ TEST(CnnWarmStarter, AnExplodingNetworkIsCappedToForcesTheSceneCanNeed) {
   World world(tiny_scene());
   advance_to_contacts(world);
   const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{world, nullptr});
-  LcpProblem p = world.problem();
-  p.ensure_assembled_matrix();
-  double weight = 0;
-  for (const double m : world.bodies().mass) weight += m;
-  weight *= length(world.def().world.gravity);
+  const LcpProblem& p = world.problem();
+  const Eigen::VectorXd cap = force_caps(world);
   for (const float mean : {1e30f, -1e30f, std::numeric_limits<float>::infinity()}) {
     Model huge = tiny_model(12.0, true);
     huge.output_stats.mean = {mean, mean};
@@ -136,8 +152,7 @@ TEST(CnnWarmStarter, AnExplodingNetworkIsCappedToForcesTheSceneCanNeed) {
     expect_feasible(world, g);
     for (int i = 0; i < p.rows(); ++i) {
       if (p.normal_row[static_cast<std::size_t>(i)] >= 0) continue;  // friction rows follow their normal row
-      const double cap = weight + std::max(0.0, -p.b[i]) / p.A.coeff(i, i);
-      EXPECT_LE(std::abs(g[i] - b[i]), cap * (1 + 1e-12)) << "row " << i << ", mean " << mean;
+      EXPECT_LE(std::abs(g[i] - b[i]), cap[i] * (1 + 1e-12)) << "row " << i << ", mean " << mean;
     }
   }
   Model nan = tiny_model(12.0, true);

@@ -20,6 +20,9 @@ struct BitFlipCounts {
   int silent = 0;
   std::vector<std::string> silent_bits;  ///< "byte B bit K" of each silent flip
   std::string first_error;               ///< the message of the first detected flip
+  /// Flips after which HDF5 still held open objects (h5_open_object_count() > 0): libhdf5
+  /// could not close the damaged file (HDF5 then reports "infinite loop closing library").
+  std::vector<std::string> leaked_bits;
 };
 
 inline std::string read_bytes(const std::string& path) {
@@ -57,6 +60,8 @@ inline BitFlipCounts flip_random_bits(const std::string& file, int flips, std::u
     } catch (const std::exception& e) {
       if (n.detected++ == 0) n.first_error = e.what();
     }
+    if (h5_open_object_count() > 0)
+      n.leaked_bits.push_back("byte " + std::to_string(b / 8) + " bit " + std::to_string(b % 8));
   }
   std::filesystem::remove(scratch);
   return n;

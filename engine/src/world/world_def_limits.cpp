@@ -63,7 +63,9 @@ double placement_area(const WorldDef& def, double r) {
   return std::min(W * H, std::numbers::pi * reach * reach);
 }
 
-void check_generated_count(const WorldDef& def) {
+}  // namespace
+
+void validate_generated_count(const WorldDef& def) {
   const BodiesSection& b = def.bodies;
   if (b.count > kMaxGeneratedBodies) {
     throw ConfigError("[bodies] count: " + std::to_string(b.count) + " bodies is more than the limit of " +
@@ -84,10 +86,7 @@ void check_generated_count(const WorldDef& def) {
   }
 }
 
-}  // namespace
-
 void validate_derived_quantities(const WorldDef& def) {
-  check_generated_count(def);
   const BodiesSection& b = def.bodies;
   if (b.count > 0) {
     const ShapeDef shape = build_shape(b.shape, b.radius, b.size, b.sides, b.vertices, b.semi_axes, "[bodies] ");
