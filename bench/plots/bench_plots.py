@@ -8,6 +8,7 @@ convergence.png      theta_k vs k: median (quartile bands for <= 6 starters) ove
 sweeps_per_step.png  sweeps until theta <= tol along the trajectory (running median)
 time_breakdown.png   median ms per step: warm start, sweeps to tol, oracle (apart)
 pareto.png           speed/accuracy trade for sweep budgets 1..N (4 panels)
+accuracy.png         with --solvers: median accuracy against time per step, one curve per (solver, starter)
 
 A plot that does not apply to the run is not drawn: NAME.na holds one line saying why. A
 plot that fails prints its traceback, the others are still drawn, and the exit status is 1.
@@ -234,6 +235,53 @@ def intervals(f, names, out):
     save(fig, out, "intervals.png")
 
 
+def accuracy(f, out):
+    """Median accuracy (residual / heaviest weight) against time per step, one curve per pair.
+
+    A step's accuracy at time t is that of its last traced point at or before t (its λ⁰ at the
+    warm start's end; before that it has no λ and counts as infinitely inaccurate, so a curve
+    starts once half the steps have a λ); after reaching the target its trace ends and it counts
+    at its last value."""
+    s = f["solvers"]
+    target = float(s.attrs["accuracy"])
+    names = [n.decode() if isinstance(n, bytes) else str(n) for n in s["pair_names"][()]]
+    groups = [n.decode() if isinstance(n, bytes) else str(n) for n in s["pair_groups"][()]]
+    traces = []
+    t_min, t_max = np.inf, 0.0
+    for g in groups:
+        off = s[g]["trace_offsets"][()]
+        ms = s[g]["trace_ms"][()]
+        acc = s[g]["trace_accuracy"][()]
+        steps = [(ms[off[k]:off[k + 1]], acc[off[k]:off[k + 1]]) for k in range(len(off) - 1)]
+        traces.append(steps)
+        for t, _ in steps:
+            if len(t):
+                t_min, t_max = min(t_min, max(t[0], 1e-4)), max(t_max, t[-1])
+    if not np.isfinite(t_min) or t_max <= 0:
+        raise ValueError("no traced points")
+    grid = np.logspace(np.log10(t_min), np.log10(max(t_max, 1.0001 * t_min)), 200)
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for i, (name, steps) in enumerate(zip(names, traces)):
+        values = np.full((len(steps), grid.size), np.inf)
+        for k, (t, a) in enumerate(steps):
+            if len(t) == 0:
+                continue
+            idx = np.searchsorted(t, grid, side="right") - 1
+            ok = idx >= 0
+            values[k, ok] = a[idx[ok]]
+        med = np.median(values, axis=0) if len(steps) else np.full(grid.size, np.inf)
+        med[~np.isfinite(med)] = np.nan  # not drawn: fewer than half the steps have a λ yet
+        ax.plot(grid, np.maximum(med, 1e-16), label=name, lw=1.5, **style(i))
+    ax.axhline(target, color="k", ls=":", lw=1, label=f"target R = {target:g}")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("time per step (warm start + solve) [ms]")
+    ax.set_ylabel("median natural-map residual / max m g")
+    ax.grid(True, which="both", alpha=0.3)
+    legend_outside(ax, len(names) + 1)
+    save(fig, out, "accuracy.png")
+
+
 def not_applicable(out, png, why):
     with open(os.path.join(out, png[:-4] + ".na"), "w") as fh:
         fh.write(why + "\n")
@@ -252,6 +300,8 @@ def main():
              ("sweeps_per_step.png", lambda: sweeps_per_step(f, names, out, sweeps)),
              ("time_breakdown.png", lambda: time_breakdown(f, names, out)),
              ("pareto.png", lambda: pareto(f, names, out))]
+    if "solvers" in f:
+        plots.append(("accuracy.png", lambda: accuracy(f, out)))
     empty = len(names) == 0 or all(group(f, n)["sweeps_to_tol"].shape[0] == 0 for n in names)
     failed = []
     for png, draw in plots:

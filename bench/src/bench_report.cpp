@@ -14,6 +14,7 @@
 #include "dc/bench/json_writer.hpp"
 #include "dc/bench/quantiles.hpp"
 #include "dc/bench/render_frame.hpp"
+#include "dc/bench/solver_summary.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/io/atomic_file.hpp"
@@ -159,6 +160,11 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
   j.key("warmstarters").begin_object(JsonWriter::Layout::Lines);
   for (const auto& x : s) starter_summary_json(j, r, x, zero);
   j.end_object();
+  if (!r.pairs.empty()) {  // only with --solvers: a run without them writes what it always wrote
+    j.key("solvers");
+    solver_pairs_json(j, summarise_solver_pairs(r));
+    j.key("accuracy").value(r.options.accuracy);
+  }
   if (stats) {
     j.key("statistics");
     statistics_json(j, *stats);
@@ -273,7 +279,7 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   write_text(dir / "summary.json", summary_json(r, summary, prov, &stats));
   files.push_back((dir / "summary.json").string());
   // The plots read results.h5; report.md embeds them, so it comes last.
-  const PlotRun plots = make_report_plots(dir);
+  const PlotRun plots = make_report_plots(dir, !r.pairs.empty());
   for (const auto& p : plots.plots)
     if (p.state == PlotStatus::State::Written) files.push_back((dir / p.file).string());
 
@@ -281,6 +287,7 @@ std::vector<std::string> write_report(const BenchResults& r, const std::string& 
   md << report_intro_markdown(r);
   md << format_table(r, summary, true) << "\n";
   md << statistics_markdown(stats);
+  md << solver_pairs_markdown(r, summarise_solver_pairs(r));
   md << plots_markdown(plots, r.options.mode);
   md << reference_frame_markdown(r, dir, files);
   md << report_provenance_markdown(r, prov);

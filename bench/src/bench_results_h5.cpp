@@ -4,6 +4,7 @@
 
 #include "bench_statistics_report.hpp"
 #include "dc/bench/bench_report.hpp"
+#include "dc/bench/solver_summary.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/io/h5.hpp"
 
@@ -41,6 +42,56 @@ std::string starter_group_name(const std::string& name) {
   }
   return out;
 }
+
+namespace {
+
+/// The solver comparison (docs/bench.md "results.h5"): /solvers with the target and the cap, the
+/// pairs' names in /solvers/pair_names (SOLVER+STARTER) and groups in /solvers/pair_groups, and
+/// per pair its per-step figures and accuracy traces (ragged: step k's points are
+/// trace_offsets[k] … trace_offsets[k+1]−1).
+void write_solver_pairs_h5(H5File& f, const BenchResults& r) {
+  f.create_group("/solvers");
+  f.set_attribute<double>("/solvers", "accuracy", r.options.accuracy);
+  f.set_attribute<std::int32_t>("/solvers", "cap", r.options.max_sweeps > 0 ? r.options.max_sweeps : r.options.sweeps);
+  std::vector<std::string> names, groups;
+  for (const SolverPairRecord& p : r.pairs) {
+    names.push_back(p.solver + "+" + p.starter);
+    groups.push_back(starter_group_name(names.back()));
+    const std::string g = "/solvers/" + groups.back();
+    const hsize_t n = p.seed.size(), t = p.trace_ms.size();
+    f.create_group(g);
+    f.set_attribute(g, "solver", p.solver);
+    f.set_attribute(g, "starter", p.starter);
+    const std::vector<std::int64_t> seed(p.seed.begin(), p.seed.end());
+    const std::vector<std::int32_t> it(p.iterations_to_accuracy.begin(), p.iterations_to_accuracy.end());
+    const std::vector<std::int64_t> off(p.trace_offsets.begin(), p.trace_offsets.end());
+    f.write<std::int64_t>(g + "/seed", seed, {n});
+    f.write<std::int32_t>(g + "/iterations_to_accuracy", it, {n});
+    f.write<double>(g + "/ms_to_accuracy", p.ms_to_accuracy, {n});
+    f.write<double>(g + "/total_ms", p.total_ms, {n});
+    f.write<double>(g + "/final_accuracy", p.final_accuracy, {n});
+    f.write<double>(g + "/weight_scale", p.weight_scale, {n});
+    f.write<std::int64_t>(g + "/trace_offsets", off, {off.size()});
+    f.write<double>(g + "/trace_ms", p.trace_ms, {t});
+    f.write<double>(g + "/trace_accuracy", p.trace_accuracy, {t});
+  }
+  f.write_strings("/solvers/pair_names", names);
+  f.write_strings("/solvers/pair_groups", groups);
+  // The summary with its bootstrap intervals: (pairs × 6 × 3), figures in the order of
+  // /solvers/interval_figures, each (estimate, lo, hi).
+  const std::vector<SolverPairSummary> sum = summarise_solver_pairs(r);
+  std::vector<double> iv;
+  for (const SolverPairSummary& x : sum)
+    for (const Interval& v : {x.reached_share, x.ms_to_accuracy, x.iterations_to_accuracy, x.total_ms,
+                              x.ms_to_accuracy_ratio, x.total_ratio})
+      iv.insert(iv.end(), {v.estimate, v.lo, v.hi});
+  f.write<double>("/solvers/intervals", iv, {sum.size(), 6, 3});
+  f.write_strings("/solvers/interval_figures", {"reached_share", "median_ms_to_accuracy", "median_iterations_to_accuracy",
+                                                "median_total_ms", "ms_to_accuracy_over_pgs_builtin_total",
+                                                "total_over_pgs_builtin_total"});
+}
+
+}  // namespace
 
 void write_results_h5(const BenchResults& r, const Provenance& p, const std::string& path,
                       const BenchStatistics* stats) {
@@ -127,6 +178,7 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
   f.write_strings("/warmstarter_names", names);
   f.write_strings("/warmstarter_groups", groups);
   if (stats) write_statistics_h5(f, *stats);
+  if (!r.pairs.empty()) write_solver_pairs_h5(f, r);
   out.commit();
 }
 

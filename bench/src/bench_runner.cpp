@@ -8,6 +8,7 @@
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/oracle.hpp"
+#include "solver_comparison.hpp"
 
 namespace dc::bench {
 namespace {
@@ -68,11 +69,12 @@ int sweeps_to_tolerance_high(const LcpSolver& solver, const LcpProblem& p, const
 
 /// Everything one starter does on one step: guess, fixed-sweep run with checkpoints, timed
 /// tolerance-mode run. `oracle` is this step's λ* (for errors; shared with oracle starters
-/// in paired mode). Returns the fixed-sweep solution (rollout integrates with it).
+/// in paired mode). Returns the fixed-sweep solution (rollout integrates with it); `guess`, when
+/// given, receives λ⁰ (the solver comparison starts every solver from it).
 Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::VectorXd& oracle,
                                  bool share_oracle, const LcpSolver& solver, const BenchOptions& o,
                                  const std::vector<int>& budgets, StarterRecord& rec,
-                                 StepOutcome& outcome) {
+                                 StepOutcome& outcome, Eigen::VectorXd* guess = nullptr) {
   const LcpProblem& p = world.problem();
   const StepView view{world, share_oracle ? &oracle : nullptr};
   rec.seed.push_back(world.def().bodies.seed);
@@ -133,6 +135,7 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
   (void)tr;
 
   ws.observe(view, fr.lambda);
+  if (guess) *guess = std::move(lambda0);
   return fr.lambda;
 }
 
@@ -237,6 +240,7 @@ class BenchRun {
         throw ConfigError("bench: warm starter '" + rec.name + "' needs the oracle, which this run skips (--no-oracle)");
       r_.starters.push_back(std::move(rec));
     }
+    comparison_ = std::make_unique<SolverComparison>(o_, r_);
     total_ = static_cast<long>(o_.seeds.size()) * std::max(0, o_.scene.time.steps - o_.warmup_steps) *
              (o_.mode == Mode::Paired ? 1 : static_cast<long>(o_.warmstarts.size()));
   }
@@ -302,8 +306,12 @@ class BenchRun {
     r_.step_seed.push_back(seed);
     r_.step_index.push_back(s);
     r_.step_rows.push_back(p.rows());
-    for (std::size_t i = 0; i < starters.size(); ++i)
-      evaluate_starter(ref, *starters[i], os.lambda, true, *solver_, o_, r_.budgets, r_.starters[i], outcome_);
+    Eigen::VectorXd guess;
+    for (std::size_t i = 0; i < starters.size(); ++i) {
+      evaluate_starter(ref, *starters[i], os.lambda, true, *solver_, o_, r_.budgets, r_.starters[i], outcome_, &guess);
+      if (!o_.solvers.empty())
+        comparison_->run(p, ref.def().world.gravity, i, seed, guess, r_.starters[i].warmstart_ms.back());
+    }
     t0 = Clock::now();
     ref.integrate(os.lambda);
     r_.integrate_ms.push_back(ms_since(t0));
@@ -362,6 +370,7 @@ class BenchRun {
   const ProgressFn& progress_;
   BenchResults& r_;
   const std::unique_ptr<LcpSolver> solver_;
+  std::unique_ptr<SolverComparison> comparison_;  // runs only when o.solvers is not empty
   StepOutcome outcome_;  // reused by every evaluation
   long done_ = 0, total_ = 0;
 };

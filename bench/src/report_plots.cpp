@@ -15,9 +15,10 @@ std::vector<std::string> PlotRun::missing() const {
   return out;
 }
 
-const std::vector<std::string>& report_plot_files() {
-  static const std::vector<std::string> files = {"intervals.png", "convergence.png", "sweeps_per_step.png",
-                                                 "time_breakdown.png", "pareto.png"};
+std::vector<std::string> report_plot_files(bool solvers) {
+  std::vector<std::string> files = {"intervals.png", "convergence.png", "sweeps_per_step.png", "time_breakdown.png",
+                                    "pareto.png"};
+  if (solvers) files.emplace_back("accuracy.png");
   return files;
 }
 
@@ -51,15 +52,19 @@ std::string caption(const std::string& file, Mode mode) {
     return paired ? "Median time per step: warm start, PGS sweeps until tol, and the shared oracle (apart)."
                   : "Median time per step: warm start, PGS sweeps until tol, and each oracle starter's own oracle "
                     "(apart).";
+  if (file == "accuracy.png")
+    return "Solver comparison: median accuracy (natural-map residual / heaviest weight) against time per step, warm "
+           "start included, one curve per (solver, starter) pair; each step's trace ends when it reaches the target "
+           "(dotted line) and then counts at it.";
   return "Speed/accuracy trade: residual, λ error, penetration and energy error against time per step for sweep "
          "budgets 1…N" + std::string(paired ? "." : " (each starter on its own trajectory, against its own λ*).");
 }
 
 }  // namespace
 
-PlotRun make_report_plots(const fs::path& dir) {
+PlotRun make_report_plots(const fs::path& dir, bool solvers) {
   std::error_code ec;
-  for (const auto& p : report_plot_files()) {
+  for (const auto& p : report_plot_files(true)) {
     fs::remove(dir / p, ec);
     fs::remove(dir / note_file(p), ec);
   }
@@ -72,7 +77,7 @@ PlotRun make_report_plots(const fs::path& dir) {
   cmd += ">'" + run.log + "' 2>&1";
   const int status = std::system(cmd.c_str());
   run.exit_code = status == -1 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  for (const auto& p : report_plot_files()) {
+  for (const auto& p : report_plot_files(solvers)) {
     PlotStatus s;
     s.file = p;
     if (fs::exists(dir / p)) {

@@ -25,11 +25,12 @@ struct PlotRun {
   [[nodiscard]] std::vector<std::string> missing() const;
 };
 
-/// The plots of a report, in order.
-const std::vector<std::string>& report_plot_files();
+/// The plots of a report, in order; with `solvers` (a run with --solvers) also accuracy.png,
+/// the solver comparison's median accuracy against time per step.
+std::vector<std::string> report_plot_files(bool solvers = false);
 
 /// Removes old plots (and .na notes) from `dir`, runs the script, collects what it made.
-PlotRun make_report_plots(const std::filesystem::path& dir);
+PlotRun make_report_plots(const std::filesystem::path& dir, bool solvers = false);
 
 /// report.md's "Plots" section: each plot with its caption (per mode), a plot that does
 /// not apply with its reason, a missing one with a pointer to plots.log.

@@ -1,4 +1,5 @@
-// generate_data_set: the ordered parallel pipeline (data_set_generation.hpp).
+// generate_data_set: parallel simulations, one shard each, the manifest at the end
+// (data_set_generation.hpp; the layout: data_set_shards.hpp).
 #include "dc/cnn/data_set_generation.hpp"
 
 #include <omp.h>
@@ -6,21 +7,21 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
+#include <ctime>
 #include <exception>
 #include <filesystem>
-#include <map>
 #include <mutex>
 #include <optional>
 
-#include <ctime>
-
+#include "data_set_shards.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_lock.hpp"
 
 namespace dc {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace dataset;
 
 double thread_cpu_seconds() {
   timespec t{};
@@ -32,260 +33,164 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// Everything that can be refused is refused before a file is opened or a simulation runs:
-/// the settings, then the state of OUT and OUT.partial (the writer's only; a shipper opens
-/// no file). A stale OUT.partial without --resume is refused rather than replaced: it holds
-/// an interrupted run's committed simulations.
-void check_request(const DataSetGenerationDef& def, bool shipper, const std::string& partial) {
+void check_settings(const DataSetGenerationDef& def) {
   if (def.simulations < 1) throw ConfigError("--sims must be >= 1 (got " + std::to_string(def.simulations) + ")");
   if (def.out.empty()) throw ConfigError("--out is required");
   if (def.threads < 0) throw ConfigError("--threads must be >= 1");
   def.params.validate();
-  if (shipper) return;
-  if (fs::exists(def.out) && !def.force) throw ConfigError(def.out + " exists; use --force to replace it");
-  if (def.resume && !fs::exists(partial))
-    throw ConfigError("--resume: " + partial + " does not exist (nothing to resume; run without --resume)");
-  if (!def.resume && fs::exists(partial))
-    throw ConfigError(partial + " exists (an interrupted run): add --resume to continue it, or delete it");
 }
 
-/// One run's workers and its writer (data_set_generation.hpp "Threads"): T workers simulate
-/// the indices this process owns, at most `max_ahead` past the writer; finished simulations
-/// wait in `ready_` until the writer (the calling thread, the only one that calls receive /
-/// ship) appends them in index order. Everything below the mutex is guarded by it.
-class OrderedPipeline {
- public:
-  OrderedPipeline(const DataSetGenerationDef& def, const DataSetGenerationHooks& hooks, const DataSetPartition& part,
-                  const SimulationGenerator& generator, DataSetWriter* writer, DataSetGenerationReport& report)
-      : def_(def), hooks_(hooks), part_(part), generator_(generator), writer_(writer), report_(report),
-        sims_(def.simulations), threads_(report.threads), max_ahead_(2 * report.threads * std::max(1, part.processes)),
-        written_(report.first), next_(report.first) {}
+/// Process 0, holding OUT.lock: everything that can be refused is refused before a
+/// simulation runs. A stale OUT.partial without --resume is refused rather than replaced:
+/// its run holds committed simulations. Returns the run id; `discarded` counts the removed
+/// incomplete shards of an interrupted run.
+std::string prepare_run(const DataSetGenerationDef& def, int& discarded) {
+  const std::string marker = def.out + ".partial";
+  if (fs::exists(def.out) && !def.force) throw ConfigError(def.out + " exists; use --force to replace it");
+  if (def.resume && !fs::exists(marker))
+    throw ConfigError("--resume: " + marker + " does not exist (nothing to resume; run without --resume)");
+  if (!def.resume && fs::exists(marker))
+    throw ConfigError(marker + " exists (an interrupted run): add --resume to continue it, or delete it");
+  if (fs::exists(def.out) && !fs::is_regular_file(def.out))
+    throw ConfigError(def.out + " exists and is not a file");
+  if (!def.resume) {
+    const std::string run = new_run_id();
+    fs::create_directories(shard_dir(def.out, run));
+    write_run_marker(def.out, run);
+    return run;
+  }
+  const std::string run = read_run_marker(def.out);
+  const std::string dir = shard_dir(def.out, run);
+  fs::create_directories(dir);
+  const ShardScan scan = scan_shards(dir);
+  for (const std::string& tmp : scan.incomplete) fs::remove(tmp);
+  discarded = static_cast<int>(scan.incomplete.size());
+  if (!scan.committed.empty()) check_shard_params(dir, scan.committed.front(), def.params);
+  return run;
+}
 
-  /// Runs the workers and the writer until every simulation is written, the run is stopped
-  /// (keep_going, another process stopped) or something failed; rethrows the first failure
-  /// after every thread has left.
-  void run() {
-    // T workers plus one writer thread (thread 0, the thread that called). If OpenMP grants
-    // a single thread, it alternates: one simulation, then write it.
-#pragma omp parallel num_threads(threads_ + 1)
+/// The workers of one process: each takes the next simulation of `todo`, runs it, writes its
+/// shard and reports it; the first failure stops the others and is rethrown.
+class ShardWorkers {
+ public:
+  ShardWorkers(const DataSetGenerationDef& def, const DataSetGenerationHooks& hooks, const SimulationGenerator& gen,
+               std::string dir, std::vector<int> todo, DataSetGenerationReport& report)
+      : def_(def), hooks_(hooks), gen_(gen), dir_(std::move(dir)), todo_(std::move(todo)), report_(report) {}
+
+  void run(int threads) {
+#pragma omp parallel num_threads(threads)
     {
-      const int id = omp_get_thread_num(), team = omp_get_num_threads();
       try {
-        if (team == 1) {
-          simulate_and_write_alternately();
-        } else if (id == 0) {
-          write_until_done(team);
-        } else {
-          while (work_one()) {
-          }
+        while (work_one()) {
         }
       } catch (...) {
-        fail(std::current_exception());
-      }
-      if (team > 1 && id != 0) {
         std::lock_guard lock(mutex_);
-        ++workers_done_;
-        changed_.notify_all();
+        if (!failure_) failure_ = std::current_exception();
+        failed_ = true;
       }
     }
     if (failure_) std::rethrow_exception(failure_);
   }
 
-  /// Simulations written (or shipped, or skipped as another process's) from index 0 on.
   [[nodiscard]] int written() const { return written_; }
-  /// Simulations this run appended or shipped.
-  [[nodiscard]] int shipped() const { return shipped_; }
 
  private:
-  [[nodiscard]] bool shipper() const { return static_cast<bool>(part_.ship); }
-  [[nodiscard]] bool here(int i) const { return !part_.simulates_here || part_.simulates_here(i); }
-
-  /// Polled by the simulations between steps: false once anything failed, another process
-  /// stopped, or the caller's keep_going said stop.
   [[nodiscard]] bool keep_going() const {
-    return !failed_.load(std::memory_order_relaxed) && !remote_stopped_.load(std::memory_order_relaxed) &&
-           (!hooks_.keep_going || hooks_.keep_going());
+    return !failed_.load(std::memory_order_relaxed) && (!hooks_.keep_going || hooks_.keep_going());
   }
 
-  void fail(std::exception_ptr e) {
-    std::lock_guard lock(mutex_);
-    if (!failure_) failure_ = e;
-    failed_ = true;
-    changed_.notify_all();
-  }
-
-  /// Thread 0 of a team: writes whatever is ready, then waits for the next change. Leaves
-  /// when all are written, on a failure or a remote stop, or when every worker has left and
-  /// the next simulation is one of ours that nobody is computing (an interrupted run).
-  void write_until_done(int team) {
-    std::unique_lock lock(mutex_);
-    for (;;) {
-      write_ready(lock);
-      if (written_ >= sims_ || failed_ || remote_stopped_) break;
-      if (workers_done_ == team - 1 && writer_stuck()) break;
-      changed_.wait(lock);
-    }
-  }
-
-  /// A team of one thread: one simulation, then write what is ready, until nothing is left.
-  void simulate_and_write_alternately() {
-    for (;;) {
-      const bool more = work_one();
-      std::unique_lock lock(mutex_);
-      write_ready(lock);
-      if (!more || remote_stopped_) break;
-    }
-  }
-
-  /// The writer cannot get further: its next simulation is one of ours that nobody is computing.
-  [[nodiscard]] bool writer_stuck() const { return here(written_) && ready_.find(written_) == ready_.end(); }
-
-  /// One simulation on the calling thread; false when the loop should stop. It waits while
-  /// its index is max_ahead or more past the writer: that bounds the memory of `ready_`.
   bool work_one() {
-    int i = next_.fetch_add(1);
-    while (i < sims_ && !here(i)) i = next_.fetch_add(1);
-    if (i >= sims_ || !keep_going()) return false;
-    {
-      std::unique_lock lock(mutex_);
-      changed_.wait(lock, [&] { return i < written_ + max_ahead_ || !keep_going(); });
-    }
-    std::optional<SimulationRecord> rec = generator_.run(i, [this] { return keep_going(); });
-    if (!rec) return false;  // interrupted or another thread failed: drop the partial simulation
-    std::lock_guard lock(mutex_);
-    ready_.emplace(i, std::move(*rec));
-    changed_.notify_all();
-    return true;
-  }
-
-  /// Appends (or ships) ready simulations in order and receives the others' in their turn;
-  /// called by the writer thread only, with the lock held. Stops at this process's first
-  /// unfinished simulation.
-  void write_ready(std::unique_lock<std::mutex>& lock) {
-    while (written_ < sims_) {
-      std::optional<SimulationRecord> rec;
-      if (!here(written_)) {
-        if (shipper()) {  // another process's simulation: the writer gets it from there
-          ++written_;
-          changed_.notify_all();
-          continue;
-        }
-        rec = receive_remote(lock);
-      } else {
-        rec = take_ready();
-      }
-      if (!rec) return;
-      commit(*rec, lock);
-    }
-  }
-
-  /// Our next simulation if a worker has finished it.
-  std::optional<SimulationRecord> take_ready() {
-    const auto it = ready_.find(written_);
-    if (it == ready_.end()) return std::nullopt;
-    std::optional<SimulationRecord> rec = std::move(it->second);
-    ready_.erase(it);
-    return rec;
-  }
-
-  /// Another process's simulation, received without the lock (it blocks until it arrives);
-  /// nullopt when that process stopped, which stops this run too.
-  std::optional<SimulationRecord> receive_remote(std::unique_lock<std::mutex>& lock) {
-    if (remote_stopped_) return std::nullopt;
-    lock.unlock();
-    const auto r0 = std::chrono::steady_clock::now();
-    std::optional<SimulationRecord> rec = part_.receive(written_);
-    report_.receive_seconds += seconds_since(r0);
-    lock.lock();
-    if (!rec) {
-      remote_stopped_ = true;
-      changed_.notify_all();
-    }
-    return rec;
-  }
-
-  /// Appends `rec` to the file (rows, /sims with the seed last, flush), or ships it, without
-  /// the lock so that the workers go on; then counts it as written.
-  void commit(const SimulationRecord& rec, std::unique_lock<std::mutex>& lock) {
-    lock.unlock();
+    const std::size_t k = next_.fetch_add(1);
+    if (k >= todo_.size() || !keep_going()) return false;
+    const std::optional<SimulationRecord> rec = gen_.run(todo_[k], [this] { return keep_going(); });
+    if (!rec) return false;  // stopped: the unfinished simulation is dropped
     const auto w0 = std::chrono::steady_clock::now();
     const double c0 = thread_cpu_seconds();
-    if (shipper()) {
-      part_.ship(rec);
-    } else {
-      writer_->append(rec);
-    }
-    report_.write_seconds += seconds_since(w0);
-    report_.write_cpu_seconds += thread_cpu_seconds() - c0;
-    if (!shipper() && hooks_.on_committed) hooks_.on_committed(rec);
-    lock.lock();
-    ++written_;
-    ++shipped_;
+    write_shard(dir_, def_.params, *rec);  // complete under its final name, or absent
+    const double wall = seconds_since(w0), cpu = thread_cpu_seconds() - c0;
+    std::lock_guard lock(mutex_);
+    report_.write_seconds += wall;
+    report_.write_cpu_seconds += cpu;
     report_.steps += def_.params.scene.time.steps;
-    report_.worst_residual = std::max(report_.worst_residual, rec.max_residual);
-    changed_.notify_all();
+    report_.samples += static_cast<std::int64_t>(rec->samples());
+    report_.worst_residual = std::max(report_.worst_residual, rec->max_residual);
+    ++written_;
+    if (hooks_.on_committed) hooks_.on_committed(*rec);
+    return true;
   }
 
   const DataSetGenerationDef& def_;
   const DataSetGenerationHooks& hooks_;
-  const DataSetPartition& part_;
-  const SimulationGenerator& generator_;
-  DataSetWriter* const writer_;  // null for a shipper
+  const SimulationGenerator& gen_;
+  const std::string dir_;
+  const std::vector<int> todo_;
   DataSetGenerationReport& report_;
-  const int sims_, threads_, max_ahead_;
-
-  std::mutex mutex_;                 // guards ready_, failure_, written_, workers_done_, shipped_, report_
-  std::condition_variable changed_;  // a simulation finished / was written / a worker quit
-  std::map<int, SimulationRecord> ready_;
+  std::atomic<std::size_t> next_{0};
+  std::atomic<bool> failed_{false};
+  std::mutex mutex_;  // guards report_, written_, failure_ and the on_committed calls
   std::exception_ptr failure_;
-  int written_;           // the next simulation to write (or to ship / skip)
-  int workers_done_ = 0;  // workers that left their loop
-  int shipped_ = 0;
-  std::atomic<int> next_;  // the next index a worker takes
-  std::atomic<bool> failed_{false}, remote_stopped_{false};
+  int written_ = 0;
 };
+
+/// Process 0 after every process stopped: the manifest when all M shards are in, then the
+/// marker and the shards of a replaced data set go.
+void finish_run(const DataSetGenerationDef& def, const std::string& run, DataSetGenerationReport& report) {
+  const std::string dir = shard_dir(def.out, run);
+  const ShardScan scan = scan_shards(dir);
+  report.completed = static_cast<int>(std::count_if(scan.committed.begin(), scan.committed.end(),
+                                                    [&](int i) { return i < def.simulations; }));
+  if (report.completed < def.simulations) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  report.samples = write_manifest(def.out, run, def.params, def.simulations);
+  report.manifest_seconds = seconds_since(t0);
+  report.finished = true;
+  report.path = def.out;
+  fs::remove(def.out + ".partial");
+  for (const auto& entry : fs::directory_iterator(shard_root(def.out)))
+    if (entry.path().filename() != run) fs::remove_all(entry.path());
+}
 
 }  // namespace
 
 DataSetGenerationReport generate_data_set(const DataSetGenerationDef& def, const DataSetGenerationHooks& hooks,
                                           const DataSetPartition& part) {
-  const bool shipper = static_cast<bool>(part.ship);  // a non-writer process: no file
-  const std::string partial = def.out + ".partial";
-  check_request(def, shipper, partial);
-
-  // Resume or create: the first simulation of this run is the file's committed count, agreed
-  // with the other processes.
-  const SimulationGenerator generator(def.params);
-  std::optional<DataSetWriter> writer;
-  if (!shipper)
-    writer.emplace(def.resume ? DataSetWriter::resume(partial, def.params) : DataSetWriter::create(partial, def.params));
+  check_settings(def);
+  const bool leader = part.rank == 0, parallel = part.processes > 1;
+  if (parallel && (!part.broadcast || !part.sum)) throw InvalidArgument("generate_data_set: a partition needs broadcast and sum");
   DataSetGenerationReport report;
-  report.first = writer ? writer->completed_simulations() : 0;
-  if (part.agree_first) report.first = part.agree_first(report.first);
+  std::optional<OutputLock> lock;
+  std::string run;
+  if (leader) {
+    lock.emplace(def.out);  // IoError naming the holder when another run writes OUT
+    run = prepare_run(def, report.discarded);
+  }
+  if (parallel) run = part.broadcast(run);  // an error above ends the job (MPI_Abort in main)
+  const std::string dir = shard_dir(def.out, run);
+  report.path = dir;
+
+  // The simulations still to do, of this process's share.
+  const ShardScan scan = scan_shards(dir);
+  std::vector<bool> done(static_cast<std::size_t>(def.simulations), false);
+  for (const int i : scan.committed)
+    if (i < def.simulations) done[static_cast<std::size_t>(i)] = true;
+  report.first = static_cast<int>(std::count(done.begin(), done.end(), true));
+  std::vector<int> todo;
+  for (int i = 0; i < def.simulations; ++i)
+    if (!done[static_cast<std::size_t>(i)] && i % part.processes == part.rank) todo.push_back(i);
+
   report.threads = def.threads > 0 ? def.threads : std::max(1, omp_get_max_threads());
   if (hooks.on_start) hooks.on_start(report.first, report.threads);
   const auto t0 = std::chrono::steady_clock::now();
-
-  OrderedPipeline pipeline(def, hooks, part, generator, writer ? &*writer : nullptr, report);
-  pipeline.run();
+  const SimulationGenerator generator(def.params);
+  ShardWorkers workers(def, hooks, generator, dir, std::move(todo), report);
+  workers.run(report.threads);
   report.wall_seconds = seconds_since(t0);
+  report.completed = report.first + workers.written();
 
-  // The end: a shipper reports what it shipped; the writer closes the file and, when all M
-  // simulations are in, renames OUT.partial to OUT.
-  report.path = partial;
-  if (shipper) {
-    report.completed = report.first + pipeline.shipped();
-    report.finished = pipeline.written() >= def.simulations;
-    return report;
-  }
-  report.completed = writer->completed_simulations();
-  report.samples = writer->samples();
-  writer->close();
-  report.finished = report.completed >= def.simulations;
-  if (report.finished) {
-    fs::rename(partial, def.out);
-    report.path = def.out;
-  }
+  if (parallel) (void)part.sum(workers.written());  // every process has stopped writing
+  if (leader) finish_run(def, run, report);
+  if (parallel) report.finished = part.broadcast(report.finished ? "finished" : "incomplete") == "finished";
+  if (report.finished) report.path = def.out;
   return report;
 }
 

@@ -63,9 +63,9 @@ DataSetParams read_params(const H5File& f) {
   if (!f.has_attribute("/", "format_version"))
     throw bad("missing root attribute format_version");
   const auto version = f.attribute<std::int32_t>("/", "format_version");
-  if (version != kDataSetFormatVersion)
+  if (version != kDataSetFormatVersion && version != kShardedFormatVersion)
     throw bad("data set format_version " + std::to_string(version) + " is not supported (this build reads " +
-              std::to_string(kDataSetFormatVersion) + ")");
+              std::to_string(kDataSetFormatVersion) + " and " + std::to_string(kShardedFormatVersion) + ")");
   for (const char* a : {"scene", "seed", "count_min", "count_max", "steps", "grid_width", "grid_height",
                         "grid_spacing", "grid_support", "grid_kernel", "grid_nx", "grid_ny", "feature_channels",
                         "label_channels", "oracle_method", "oracle_tolerance", "oracle_sweeps"})
@@ -130,15 +130,15 @@ void create_layout(H5File& f, const DataSetParams& p) {
   SphGrid grid(p.image.sph.grid);
   const auto ny = static_cast<hsize_t>(grid.ny()), nx = static_cast<hsize_t>(grid.nx());
   const auto cf = static_cast<hsize_t>(p.image.channels.size());
-  extendible<std::int32_t>(f, "/samples/sim", {});
-  extendible<std::int32_t>(f, "/samples/step", {});
+  extendible<std::int32_t>(f, "/samples/sim", {}, kIndexChunkRows);
+  extendible<std::int32_t>(f, "/samples/step", {}, kIndexChunkRows);
   extendible<float>(f, kFeatures, {cf, ny, nx}, kImageChunkRows, kDeflate);
   extendible<float>(f, kLabels, {FeatureImageBuilder::kLabelChannels, ny, nx}, kImageChunkRows, kDeflate);
-  extendible<std::int64_t>(f, "/samples/body_begin", {});
-  extendible<std::int32_t>(f, "/samples/body_count", {});
-  extendible<std::int64_t>(f, "/samples/contact_begin", {});
-  extendible<std::int32_t>(f, "/samples/contact_count", {});
-  extendible<double>(f, "/samples/residual", {});
+  extendible<std::int64_t>(f, "/samples/body_begin", {}, kIndexChunkRows);
+  extendible<std::int32_t>(f, "/samples/body_count", {}, kIndexChunkRows);
+  extendible<std::int64_t>(f, "/samples/contact_begin", {}, kIndexChunkRows);
+  extendible<std::int32_t>(f, "/samples/contact_count", {}, kIndexChunkRows);
+  extendible<double>(f, "/samples/residual", {}, kIndexChunkRows);
   extendible<double>(f, "/bodies/position", {2}, 0, kDeflate);
   extendible<double>(f, "/bodies/velocity", {2}, 0, kDeflate);
   extendible<double>(f, "/bodies/omega", {}, 0, kDeflate);
@@ -151,11 +151,11 @@ void create_layout(H5File& f, const DataSetParams& p) {
   extendible<double>(f, "/contacts/normal", {2}, 0, kDeflate);
   extendible<double>(f, "/contacts/gap", {}, 0, kDeflate);
   extendible<double>(f, "/contacts/lambda_star", {2}, 0, kDeflate);
-  extendible<std::int32_t>(f, kSimsBodies, {});
-  extendible<std::int64_t>(f, kSimsSamples, {});
-  extendible<std::int64_t>(f, kSimsContacts, {});
-  extendible<double>(f, kSimsResidual, {});
-  extendible<std::int64_t>(f, kSimsSeed, {});
+  extendible<std::int32_t>(f, kSimsBodies, {}, kSimsChunkRows);
+  extendible<std::int64_t>(f, kSimsSamples, {}, kSimsChunkRows);
+  extendible<std::int64_t>(f, kSimsContacts, {}, kSimsChunkRows);
+  extendible<double>(f, kSimsResidual, {}, kSimsChunkRows);
+  extendible<std::int64_t>(f, kSimsSeed, {}, kSimsChunkRows);
 }
 
 RowCounts committed_rows(const H5File& f) {

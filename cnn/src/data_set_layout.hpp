@@ -18,9 +18,17 @@ inline constexpr const char* kSimsResidual = "/sims/max_residual";
 inline constexpr const char* kFeatures = "/samples/features";
 inline constexpr const char* kLabels = "/samples/labels";
 
+/// format_version of a sharded data set's manifest (data_set_shards.hpp); a single file,
+/// and each shard, is kDataSetFormatVersion (1).
+inline constexpr int kShardedFormatVersion = 2;
+
 /// Samples per chunk of the image datasets (one 61×61×5 float32 feature row is 74 KB).
 inline constexpr hsize_t kImageChunkRows = 4;
 inline constexpr int kDeflate = 4;
+/// Rows per chunk of the uncompressed per-sample index (8 KiB of int64) and of /sims: the
+/// automatic ≈ 256 KiB chunks would make every one-simulation shard ≥ 3 MB of padding.
+inline constexpr hsize_t kIndexChunkRows = 1024;
+inline constexpr hsize_t kSimsChunkRows = 64;
 
 /// Writes the root attributes of `p` (format, version, scene, grid, channels, oracle, ...).
 void write_params(H5File& f, const DataSetParams& p);
@@ -41,5 +49,10 @@ struct RowCounts {
 /// Completed simulations = length of /sims/seed; the row counts they imply. IoError when
 /// /sims is inconsistent (a /sims dataset shorter than /sims/seed, negative counts).
 RowCounts committed_rows(const H5File& f);
+
+/// Appends simulation `r` at row position `at` (advanced past it): every row dataset, then
+/// /sims with /sims/seed last; /samples/sim holds `sim_id`. InvalidArgument for a record
+/// whose arrays disagree in size. No flush.
+void append_simulation(H5File& f, const SimulationRecord& r, int sim_id, RowCounts& at);
 
 }  // namespace dc::dataset

@@ -1,10 +1,12 @@
 // DataSetReader: opens a data set, checks it against its own attributes, and loads
-// samples. Only completed simulations (the rows of /sims/seed) are visible, so a reader can
-// open the OUT.partial of an interrupted run too.
+// samples. Only completed simulations (the rows of /sims/seed) are visible. A sharded data
+// set's manifest (format_version 2) reads like a single file: its bulk datasets are virtual
+// datasets over the shards, which are checked to be present first.
 #include <algorithm>
 #include <cstring>
 
 #include "data_set_layout.hpp"
+#include "data_set_shards.hpp"
 #include "dc/cnn/data_set.hpp"
 #include "dc/core/error.hpp"
 
@@ -30,6 +32,8 @@ std::vector<std::string> split_commas(const std::string& s) {
 DataSetReader::DataSetReader(const std::string& path) : file_(H5File::open_read(path)) {
   const H5File& f = file_;
   params_ = read_params(f);
+  // A sharded data set's bulk datasets are virtual: a missing shard would read as fill values.
+  if (f.attribute<std::int32_t>("/", "format_version") == kShardedFormatVersion) check_manifest_shards(f);
   feature_names_ = split_commas(f.attribute_string("/", "feature_channels"));
   label_names_ = split_commas(f.attribute_string("/", "label_channels"));
   nx_ = f.attribute<std::int32_t>("/", "grid_nx");

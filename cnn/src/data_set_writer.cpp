@@ -1,5 +1,6 @@
-// DataSetWriter: appends simulations to a data set file in index order, crash-consistently
-// (rows first, /sims after, /sims/seed last, then flush; see data_set.hpp).
+// DataSetWriter: appends simulations to a single-file data set in index order (rows first,
+// /sims after, /sims/seed last, then flush; see data_set.hpp), and append_simulation, which
+// also writes the one simulation of a shard (data_set_shards.cpp).
 #include <filesystem>
 
 #include "data_set_layout.hpp"
@@ -7,6 +8,73 @@
 #include "dc/core/error.hpp"
 
 namespace dc {
+
+namespace dataset {
+
+void append_simulation(H5File& f, const SimulationRecord& r, int sim_id, RowCounts& at) {
+  const std::size_t n = r.samples(), B = static_cast<std::size_t>(r.bodies), C = r.contacts();
+  const bool varying = !r.body_count.empty();
+  std::size_t body_rows = n * B;
+  if (varying) {
+    body_rows = 0;
+    for (const auto b : r.body_count) body_rows += static_cast<std::size_t>(b);
+  }
+  if ((varying && r.body_count.size() != n) || r.contact_count.size() != n || r.residual.size() != n ||
+      r.position.size() != 2 * body_rows || r.mass.size() != body_rows ||
+      r.point.size() != 2 * C || r.lambda_star.size() != 2 * C || r.gap.size() != C || r.body_b.size() != C)
+    throw InvalidArgument("data set: simulation " + std::to_string(r.index) + ": inconsistent record sizes");
+  std::vector<std::int32_t> sim(n, sim_id), body_count = varying ? r.body_count : std::vector<std::int32_t>(n, r.bodies);
+  std::vector<std::int64_t> body_begin(n), contact_begin(n);
+  std::int64_t c0 = at.contact_rows, b0 = at.body_rows;
+  for (std::size_t s = 0; s < n; ++s) {
+    body_begin[s] = b0;
+    b0 += body_count[s];
+    contact_begin[s] = c0;
+    c0 += r.contact_count[s];
+  }
+  // Appending zero rows is skipped (a simulation without contacts has no sample rows).
+  const auto rows = [&]<class T>(const char* path, const std::vector<T>& v) {
+    if (!v.empty()) f.append_rows<T>(path, v);
+  };
+  // 1. rows (any order among themselves; none is visible until /sims/seed grows)
+  rows("/samples/sim", sim);
+  rows("/samples/step", r.step);
+  rows(kFeatures, r.features);
+  rows(kLabels, r.labels);
+  rows("/samples/body_begin", body_begin);
+  rows("/samples/body_count", body_count);
+  rows("/samples/contact_begin", contact_begin);
+  rows("/samples/contact_count", r.contact_count);
+  rows("/samples/residual", r.residual);
+  rows("/bodies/position", r.position);
+  rows("/bodies/velocity", r.velocity);
+  rows("/bodies/omega", r.omega);
+  rows("/bodies/angle", r.angle);
+  rows("/bodies/radius", r.radius);
+  rows("/bodies/mass", r.mass);
+  rows("/contacts/body_a", r.body_a);
+  rows("/contacts/body_b", r.body_b);
+  rows("/contacts/point", r.point);
+  rows("/contacts/normal", r.normal);
+  rows("/contacts/gap", r.gap);
+  rows("/contacts/lambda_star", r.lambda_star);
+  // 2. the simulation's /sims row, seed LAST: it is what makes the simulation count.
+  const std::int32_t bodies[] = {r.bodies};
+  const std::int64_t samples[] = {static_cast<std::int64_t>(n)}, contacts[] = {static_cast<std::int64_t>(C)};
+  const double residual[] = {r.max_residual};
+  const std::int64_t seed[] = {static_cast<std::int64_t>(r.seed)};
+  f.append_rows<std::int32_t>(kSimsBodies, bodies);
+  f.append_rows<std::int64_t>(kSimsSamples, samples);
+  f.append_rows<std::int64_t>(kSimsContacts, contacts);
+  f.append_rows<double>(kSimsResidual, residual);
+  f.append_rows<std::int64_t>(kSimsSeed, seed);
+  ++at.completed;
+  at.samples += static_cast<std::int64_t>(n);
+  at.body_rows += static_cast<std::int64_t>(body_rows);
+  at.contact_rows = c0;
+}
+
+}  // namespace dataset
 
 using namespace dataset;
 
@@ -62,69 +130,13 @@ void DataSetWriter::append(const SimulationRecord& r) {
   if (r.index != completed_)
     throw InvalidArgument("DataSetWriter::append: simulation " + std::to_string(r.index) +
                           " handed in, but the next to write is " + std::to_string(completed_));
-  const std::size_t n = r.samples(), B = static_cast<std::size_t>(r.bodies), C = r.contacts();
-  const bool varying = !r.body_count.empty();
-  std::size_t body_rows = n * B;
-  if (varying) {
-    body_rows = 0;
-    for (const auto b : r.body_count) body_rows += static_cast<std::size_t>(b);
-  }
-  if ((varying && r.body_count.size() != n) || r.contact_count.size() != n || r.residual.size() != n ||
-      r.position.size() != 2 * body_rows || r.mass.size() != body_rows ||
-      r.point.size() != 2 * C || r.lambda_star.size() != 2 * C || r.gap.size() != C || r.body_b.size() != C)
-    throw InvalidArgument("DataSetWriter::append: simulation " + std::to_string(r.index) +
-                          ": inconsistent record sizes");
-  H5File& f = file_;
-  std::vector<std::int32_t> sim(n, r.index), body_count = varying ? r.body_count : std::vector<std::int32_t>(n, r.bodies);
-  std::vector<std::int64_t> body_begin(n), contact_begin(n);
-  std::int64_t c0 = contact_rows_, b0 = body_rows_;
-  for (std::size_t s = 0; s < n; ++s) {
-    body_begin[s] = b0;
-    b0 += body_count[s];
-    contact_begin[s] = c0;
-    c0 += r.contact_count[s];
-  }
-  // Appending zero rows is skipped (a simulation without contacts has no sample rows).
-  const auto rows = [&]<class T>(const char* path, const std::vector<T>& v) {
-    if (!v.empty()) f.append_rows<T>(path, v);
-  };
-  // 1. rows (any order among themselves; none is visible until /sims/seed grows)
-  rows("/samples/sim", sim);
-  rows("/samples/step", r.step);
-  rows(kFeatures, r.features);
-  rows(kLabels, r.labels);
-  rows("/samples/body_begin", body_begin);
-  rows("/samples/body_count", body_count);
-  rows("/samples/contact_begin", contact_begin);
-  rows("/samples/contact_count", r.contact_count);
-  rows("/samples/residual", r.residual);
-  rows("/bodies/position", r.position);
-  rows("/bodies/velocity", r.velocity);
-  rows("/bodies/omega", r.omega);
-  rows("/bodies/angle", r.angle);
-  rows("/bodies/radius", r.radius);
-  rows("/bodies/mass", r.mass);
-  rows("/contacts/body_a", r.body_a);
-  rows("/contacts/body_b", r.body_b);
-  rows("/contacts/point", r.point);
-  rows("/contacts/normal", r.normal);
-  rows("/contacts/gap", r.gap);
-  rows("/contacts/lambda_star", r.lambda_star);
-  // 2. the simulation's /sims row, seed LAST: it is what makes the simulation count.
-  const std::int32_t bodies[] = {r.bodies};
-  const std::int64_t samples[] = {static_cast<std::int64_t>(n)}, contacts[] = {static_cast<std::int64_t>(C)};
-  const double residual[] = {r.max_residual};
-  const std::int64_t seed[] = {static_cast<std::int64_t>(r.seed)};
-  f.append_rows<std::int32_t>(kSimsBodies, bodies);
-  f.append_rows<std::int64_t>(kSimsSamples, samples);
-  f.append_rows<std::int64_t>(kSimsContacts, contacts);
-  f.append_rows<double>(kSimsResidual, residual);
-  f.append_rows<std::int64_t>(kSimsSeed, seed);
-  f.flush();
-  ++completed_;
-  samples_ += static_cast<std::int64_t>(n);
-  body_rows_ += static_cast<std::int64_t>(body_rows);
-  contact_rows_ = c0;
+  RowCounts at{completed_, samples_, body_rows_, contact_rows_};
+  append_simulation(file_, r, r.index, at);
+  file_.flush();
+  completed_ = at.completed;
+  samples_ = at.samples;
+  body_rows_ = at.body_rows;
+  contact_rows_ = at.contact_rows;
 }
 
 void DataSetWriter::close() {

@@ -73,7 +73,8 @@ _DEFAULT_SEEDS = (1, 2)
 
 
 def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="paired", out=None, *,
-          set={}, sweeps=None, tol=1e-2, solver="pgs", steps=None, model="", progress=False):
+          set={}, sweeps=None, tol=1e-2, solver="pgs", steps=None, model="", progress=False, solvers=None,
+          accuracy=1e-6):
     """Run the warm-start benchmark of ``deepcontact bench`` and return its summary as a dict
     (the content of summary.json; with ``out`` the whole report is written there too).
 
@@ -83,11 +84,19 @@ def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="
     or "A..B". quick: as ``--quick`` (one seed unless ``seeds`` is given, the short starter
     list). sweeps/tol/solver/steps/model/set: as the CLI's options. The GIL is released
     while C++ runs (Python starters take it for their calls).
+
+    solvers: a list of solver names (e.g. ["pgs", "nncg", "newton-sparse"]) adds the solver
+    comparison of ``--solvers`` (paired mode): every solver solves every step from every
+    starter's guess, and the summary gains "solvers": {SOLVER: {STARTER: {"reached_share",
+    "median_ms_to_accuracy", "median_iterations_to_accuracy", "median_total_ms"}}}.
+    accuracy: its target R (``--accuracy``): natural-map residual <= R x the heaviest body's
+    weight m g (default 1e-6; docs/bench.md "Solver comparison").
     """
     if quick and seeds is _DEFAULT_SEEDS:
         seeds = (1,)
     return _bench(scene=scene, set=set, warmstarts=warmstarts, seeds=seeds, quick=quick, mode=mode, out=out,
-                  sweeps=sweeps, tol=tol, solver=solver, steps=steps, model=model, progress=progress)
+                  sweeps=sweeps, tol=tol, solver=solver, steps=steps, model=model, progress=progress,
+                  solvers=solvers, accuracy=accuracy)
 
 
 from .trajectory import Trajectory, read_trajectory  # noqa: E402,F401

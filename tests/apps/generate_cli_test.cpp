@@ -89,6 +89,14 @@ std::string reference(int sims, const std::string& family) {
 
 int one_line(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
+/// Committed shards of the interrupted run of OUT (final names under OUT.shards/RUN/).
+int committed_shards(const std::string& out) {
+  int n = 0;
+  for (const auto& run : fs::directory_iterator(out + ".shards"))
+    for (const auto& f : fs::directory_iterator(run.path())) n += f.path().extension() == ".h5" ? 1 : 0;
+  return n;
+}
+
 TEST(GenerateCli, ThreadCountDoesNotChangeTheFile) {
   Dir dir;
   const std::string out2 = dir / "t2.h5";
@@ -114,12 +122,9 @@ TEST(GenerateCli, KillNineThenResumeEqualsAnUninterruptedRun) {
   EXPECT_EQ(wait_exit(pid), -SIGKILL) << "the run finished before it could be killed";
   ASSERT_TRUE(fs::exists(out + ".partial"));
   EXPECT_FALSE(fs::exists(out));
-  {
-    const DataSetReader partial(out + ".partial");
-    EXPECT_GE(partial.simulations().size(), 1u);
-    EXPECT_LT(partial.simulations().size(), 6u);
-  }
-  // Without --resume the partial file is never overwritten.
+  EXPECT_GE(committed_shards(out), 1);
+  EXPECT_LT(committed_shards(out), 6);
+  // Without --resume the interrupted run is never overwritten.
   const Result refused = test::run_cli(args);
   EXPECT_NE(refused.exit_code, 0);
   EXPECT_NE(refused.err.find("--resume"), std::string::npos) << refused.err;
@@ -144,9 +149,50 @@ TEST(GenerateCli, SigintExitsNonZeroAndLeavesAResumablePartialFile) {
   EXPECT_NE(slurp(err).find("--resume"), std::string::npos) << slurp(err);
   ASSERT_TRUE(fs::exists(out + ".partial"));
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_GE(DataSetReader(out + ".partial").simulations().size(), 1u);
+  EXPECT_GE(committed_shards(out), 1);
   const Result resumed = test::run_cli(args + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  expect_same_file(reference(6, kSlow), out);
+}
+
+// What batch systems send at the time limit (SIGTERM) or ahead of it (SIGUSR1) stops the run
+// like Ctrl-C: what is committed stays, one line says how to resume, exit status 143.
+TEST(GenerateCli, SigtermAndSigusr1CommitAndExit143) {
+  for (const int signal : {SIGTERM, SIGUSR1}) {
+    Dir dir;
+    const std::string out = dir / "term.h5", err = dir / "err.txt";
+    const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
+    const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
+    ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+    ::kill(pid, signal);
+    ASSERT_EQ(wait_exit(pid), 143) << slurp(err);
+    const std::string log = slurp(err);
+    EXPECT_NE(log.find(signal == SIGTERM ? "interrupted by SIGTERM" : "interrupted by SIGUSR1"), std::string::npos)
+        << log;
+    EXPECT_GE(committed_shards(out), 1);
+    const Result resumed = test::run_cli(args + " --resume");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    expect_same_file(reference(6, kSlow), out);
+  }
+}
+
+// Two runs on one OUT — here a second --resume while the first runs, with HDF5's own file
+// locking off as on many cluster file systems — never interleave: the second is refused by
+// OUT.lock with one line naming the holder, and the first completes the reference data set.
+TEST(GenerateCli, ASecondRunOnTheSameOutIsRefusedByTheLock) {
+  Dir dir;
+  const std::string out = dir / "lock.h5", err = dir / "err.txt";
+  const std::string args = "generate --sims 6" + kSlow + " --threads 1 --log-completed --out " + out;
+  ::setenv("HDF5_USE_FILE_LOCKING", "FALSE", 1);
+  const pid_t pid = spawn_cli(args, err, ChildLog::StderrOnly);
+  ASSERT_TRUE(wait_for(err, "completed 0 ", pid)) << slurp(err);
+  const Result second = test::run_cli(args + " --resume");
+  ::unsetenv("HDF5_USE_FILE_LOCKING");
+  EXPECT_EQ(second.exit_code, 1);
+  EXPECT_NE(second.err.find("is being written by pid " + std::to_string(pid) + " on host"), std::string::npos)
+      << second.err;
+  EXPECT_EQ(one_line(second.err), 1) << second.err;
+  ASSERT_EQ(wait_exit(pid), 0) << slurp(err);
   expect_same_file(reference(6, kSlow), out);
 }
 

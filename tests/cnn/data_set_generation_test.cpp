@@ -6,6 +6,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "cnn/small_data_set.hpp"
@@ -70,9 +71,8 @@ TEST(DataSetGeneration, FileIsIndependentOfTheThreadCount) {
 TEST(DataSetGeneration, InterruptedRunResumesToTheSameFile) {
   TempDir dir;
   generate_data_set(small(dir.file("ref.h5"), 2));
-  // Stop once the first simulation is committed: the rest is dropped, the file stays .partial.
-  // One worker may run at most 2 simulations ahead of the writer, so simulation 3 cannot
-  // start before the stop.
+  // Stop once the first simulation is committed: the rest is dropped, OUT.partial names the
+  // run and no manifest is written.
   std::atomic<bool> stop{false};
   DataSetGenerationHooks hooks;
   hooks.keep_going = [&] { return !stop.load(); };
@@ -81,8 +81,8 @@ TEST(DataSetGeneration, InterruptedRunResumesToTheSameFile) {
   EXPECT_FALSE(cut.finished);
   EXPECT_GE(cut.completed, 1);
   EXPECT_LT(cut.completed, 4);
-  EXPECT_EQ(cut.path, dir.file("cut.h5.partial"));
-  EXPECT_TRUE(fs::exists(cut.path));
+  EXPECT_TRUE(fs::exists(dir.file("cut.h5.partial")));
+  EXPECT_TRUE(fs::is_directory(cut.path));
   EXPECT_FALSE(fs::exists(dir.file("cut.h5")));
   // Without resume a stale partial is refused; with it the run completes.
   EXPECT_THROW(generate_data_set(small(dir.file("cut.h5"), 2)), ConfigError);
@@ -116,6 +116,79 @@ TEST(DataSetGeneration, SettingsAndFilesAreChecked) {
   d.simulations = 1;
   EXPECT_TRUE(generate_data_set(d).finished);
   EXPECT_NO_THROW(DataSetReader{dir.file("x.h5")});
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// The one run folder under OUT.shards.
+fs::path run_folder(const std::string& out) {
+  const fs::directory_iterator it(out + ".shards");
+  return it->path();
+}
+
+// A kill while a shard is being written leaves its temporary name: resume removes it (and
+// says how many), computes the simulation again, and the data set equals an uninterrupted one.
+TEST(DataSetGeneration, ResumeDiscardsAnIncompleteShard) {
+  TempDir dir;
+  generate_data_set(small(dir.file("ref.h5"), 1));
+  DataSetGenerationHooks hooks;
+  std::atomic<bool> stop{false};
+  hooks.keep_going = [&] { return !stop.load(); };
+  hooks.on_committed = [&](const SimulationRecord& r) { stop = r.index >= 1; };
+  ASSERT_FALSE(generate_data_set(small(dir.file("cut.h5"), 1), hooks).finished);
+  const fs::path folder = run_folder(dir.file("cut.h5"));
+  { std::ofstream(folder / "sim-000002.h5.tmp") << "\x89HDF half a file"; }
+  DataSetGenerationDef again = small(dir.file("cut.h5"), 1);
+  again.resume = true;
+  const DataSetGenerationReport done = generate_data_set(again);
+  EXPECT_EQ(done.discarded, 1);
+  EXPECT_EQ(done.first, 2);
+  EXPECT_TRUE(done.finished);
+  EXPECT_FALSE(fs::exists(folder / "sim-000002.h5.tmp"));
+  EXPECT_FALSE(fs::exists(dir.file("cut.h5.partial")));
+  test::expect_same_datasets(H5File::open_read(dir.file("ref.h5")), H5File::open_read(dir.file("cut.h5")));
+}
+
+// The manifest's bulk datasets are virtual: a missing or replaced shard would read as fill
+// values, so the reader checks every shard first and names the missing one.
+TEST(DataSetGeneration, ReaderRefusesAManifestWithAMissingShard) {
+  TempDir dir;
+  generate_data_set(small(dir.file("d.h5"), 1));
+  const fs::path folder = run_folder(dir.file("d.h5"));
+  fs::rename(folder / "sim-000002.h5", folder / "moved.h5");
+  try {
+    const DataSetReader r(dir.file("d.h5"));
+    ADD_FAILURE() << "a manifest with a missing shard was read";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("sim-000002.h5 is missing"), std::string::npos) << e.what();
+  }
+  fs::copy_file(folder / "sim-000001.h5", folder / "sim-000002.h5");  // another shard's bytes
+  EXPECT_THROW(DataSetReader{dir.file("d.h5")}, IoError);
+}
+
+// --force replaces a data set only once the new one is complete: an interrupted replacement
+// leaves the old manifest and its shards readable.
+TEST(DataSetGeneration, ForceKeepsTheOldDataSetUntilTheNewOneIsComplete) {
+  TempDir dir;
+  generate_data_set(small(dir.file("d.h5"), 1));
+  const std::string before = slurp(dir.file("d.h5"));
+  DataSetGenerationDef replace = small(dir.file("d.h5"), 1);
+  replace.force = true;
+  replace.params.seed = 99;
+  DataSetGenerationHooks hooks;
+  std::atomic<bool> stop{false};
+  hooks.keep_going = [&] { return !stop.load(); };
+  hooks.on_committed = [&](const SimulationRecord&) { stop = true; };
+  ASSERT_FALSE(generate_data_set(replace, hooks).finished);
+  EXPECT_EQ(slurp(dir.file("d.h5")), before);
+  EXPECT_EQ(DataSetReader(dir.file("d.h5")).params().seed, test::small_data_set_params(12, 30, 5, 8, 12).seed);
+  replace.resume = true;
+  ASSERT_TRUE(generate_data_set(replace).finished);
+  EXPECT_EQ(DataSetReader(dir.file("d.h5")).params().seed, 99u);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.file("d.h5.shards")), fs::directory_iterator{}), 1);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <numeric>
@@ -356,6 +357,37 @@ TEST_F(H5Test, ShapeMismatchNamesFileObjectAndShapes) {
   EXPECT_NO_THROW(in.require_shape("/bodies/position", {kH5Any, 5}));
   EXPECT_CONTAINS(io_error([&] { in.require_shape("/bodies/position", {kH5Any, 4}); }), "(*,4)");
   EXPECT_THROW(H5File::create(file("x.h5")).write<double>("a", std::vector<double>(5), {2, 2}), InvalidArgument);
+}
+
+// A virtual dataset concatenates rows of other files (the data set manifest's bulk
+// datasets): read whole and by rows it equals the concatenation; source paths are relative
+// to the virtual file's folder (found from any working directory); a missing source reads
+// as NaN, not as numbers.
+TEST_F(H5Test, VirtualDatasetConcatenatesRowsOfOtherFiles) {
+  fs::create_directories(file("parts"));
+  const std::vector<double> a = {1, 2, 3, 4}, b = {5, 6, 7, 8, 9, 10};
+  {
+    H5File f = H5File::create(file("parts/a.h5"));
+    f.write<double>("/x", a, {2, 2});
+    H5File g = H5File::create(file("parts/b.h5"));
+    g.write<double>("/y", b, {3, 2});
+  }
+  {
+    AtomicH5File v(file("v.h5"));
+    v->create_virtual<double>("/all", {2}, {{"parts/a.h5", "/x", 2}, {"parts/b.h5", "/y", 3}});
+    v->create_virtual<double>("/none", {2}, {});
+    v.commit();
+  }
+  std::vector<double> both = a;
+  both.insert(both.end(), b.begin(), b.end());
+  const H5File v = H5File::open_read(file("v.h5"));
+  EXPECT_EQ(v.shape("/all"), (H5Shape{5, 2}));
+  EXPECT_EQ(v.read<double>("/all"), both);
+  EXPECT_EQ(v.read_rows<double>("/all", 1, 2), (std::vector<double>{3, 4, 5, 6}));
+  EXPECT_EQ(v.shape("/none"), (H5Shape{0, 2}));
+  fs::rename(file("parts/b.h5"), file("parts/gone.h5"));
+  const std::vector<double> missing = H5File::open_read(file("v.h5")).read_rows<double>("/all", 2, 1);
+  EXPECT_TRUE(std::isnan(missing[0]) && std::isnan(missing[1]));
 }
 
 }  // namespace

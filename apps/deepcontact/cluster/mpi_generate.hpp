@@ -1,34 +1,24 @@
 #pragma once
 // `deepcontact generate` across MPI ranks (docs/cluster.md).
 //
-// Scheme: rank 0 is the writer, exactly as in a one-process run (DataSetWriter, OUT.partial,
-// one flush per committed simulation); simulation i is simulated by rank i mod K with that
-// rank's OpenMP workers; the other ranks send each finished simulation to rank 0 as one
-// message, in index order, and rank 0 appends every simulation in index order. The file is
-// therefore the one-process file, dataset for dataset, whatever K. Memory stays bounded: a
-// large message is delivered only when rank 0 asks for it (MPI's rendezvous protocol), so a
-// rank can be at most its look-ahead window ahead of the writer.
+// Scheme: every rank writes its own shards — simulation i is simulated by rank i mod K with
+// that rank's OpenMP workers and committed by that rank as OUT.shards/RUN/sim-i.h5 (tmp,
+// fsync, rename; data_set_generation.hpp). Rank 0 checks the request, holds OUT.lock, names
+// the run (broadcast to the others) and, once every rank has stopped (a sum over the ranks),
+// writes the manifest OUT when all M shards are in. No simulation travels between ranks, so
+// rank 0 is no bottleneck; the shards, and so the data set, are the one-process ones
+// whatever K.
 //
-// Interruption: rank 0's file is committed simulation by simulation, so killing any rank (or
-// the job) loses only simulations in flight, and `--resume` under any K continues from the
-// committed ones. A rank that stops (SIGINT under srun) sends a stop message; rank 0 then
-// commits what it has and ends the job (MPI_Abort, exit status 130).
-#include <optional>
-
+// Interruption: a shard is complete or absent, so killing any rank (or the job) loses only
+// the simulations in flight, and `--resume` under any K continues from the committed ones.
+// SIGINT/SIGTERM/SIGUSR1 stop a rank's workers at the next step; the rank then joins the
+// final sum, and the job ends with "interrupted" when shards are missing.
 #include "cluster/comm.hpp"
 #include "dc/cnn/data_set_generation.hpp"
 
 namespace dc::cli {
 
-/// The partition of generate_data_set over `comm` (serial: the default, no callbacks).
+/// The partition of generate_data_set over `comm` (serial: the default, one process).
 DataSetPartition generate_partition(const Comm& comm);
-
-/// A non-writer rank's last word when it stops early (see above).
-void send_generate_stop(const Comm& comm);
-
-/// One simulation as a message and back (all fields; exposed for the tests).
-Bytes pack_simulation(const SimulationRecord& rec);
-/// nullopt for a stop message.
-std::optional<SimulationRecord> unpack_simulation(const Bytes& message);
 
 }  // namespace dc::cli

@@ -1,34 +1,41 @@
 #include "cluster/sigint_guard.hpp"
 
-#include "cluster/comm.hpp"
-
 namespace dc::cli {
 namespace {
 
-volatile std::sig_atomic_t g_interrupted = 0;
+/// The first stop signal that arrived (0: none). Written only by the handler.
+volatile std::sig_atomic_t g_signal = 0;
 
-extern "C" void on_sigint(int) { g_interrupted = 1; }
+extern "C" void on_stop_signal(int signal) {
+  if (g_signal == 0) g_signal = signal;
+}
 
 }  // namespace
 
-bool interrupted() { return g_interrupted != 0; }
+bool interrupted() { return g_signal != 0; }
+
+int interrupt_exit_status() { return g_signal == SIGINT ? 130 : 143; }
+
+const char* interrupt_signal_name() {
+  switch (g_signal) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGUSR1: return "SIGUSR1";
+    default: return "";
+  }
+}
 
 SigintGuard::SigintGuard() {
-  g_interrupted = 0;
+  g_signal = 0;
   struct sigaction sa {};
-  sa.sa_handler = on_sigint;
+  sa.sa_handler = on_stop_signal;
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = 0;
-  sigaction(SIGINT, &sa, &previous_);
-  // An MPI job is stopped with SIGTERM (mpirun when a rank dies or on Ctrl-C, SLURM at the
-  // time limit), then SIGKILL a little later: let the rank finish the append it is in.
-  term_ = world().parallel();
-  if (term_) sigaction(SIGTERM, &sa, &previous_term_);
+  for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &sa, &previous_[i]);
 }
 
 SigintGuard::~SigintGuard() {
-  sigaction(SIGINT, &previous_, nullptr);
-  if (term_) sigaction(SIGTERM, &previous_term_, nullptr);
+  for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &previous_[i], nullptr);
 }
 
 }  // namespace dc::cli

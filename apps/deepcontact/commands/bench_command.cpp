@@ -44,7 +44,18 @@ struct BenchArgs {
   std::string scale;
   std::string scale_axis = "both";
   int scale_oracle_max = 600;
+  std::string solvers;
+  double accuracy = 1e-6;
 };
+
+/// --solvers / --accuracy (the solver comparison, docs/bench.md): one process only, the pairs'
+/// records are not merged across MPI ranks.
+void set_solver_comparison(const BenchArgs& a, bench::BenchOptions& o) {
+  if (a.solvers.empty()) return;
+  o.solvers = bench::split_list(a.solvers);
+  o.accuracy = a.accuracy;
+  if (world().parallel()) throw ConfigError("--solvers runs in one process (the comparison is not merged across ranks)");
+}
 
 void run(const BenchArgs& a) {
   WarmStarterRegistry registry = all_warm_starters(shipped_model());
@@ -72,6 +83,7 @@ void run(const BenchArgs& a) {
   o.tolerance = a.tol;
   o.solver = a.solver;
   o.env.model_path = a.model;
+  set_solver_comparison(a, o);
   if (a.mode == "paired") o.mode = bench::Mode::Paired;
   else if (a.mode == "rollout") o.mode = bench::Mode::Rollout;
   else throw ConfigError("--mode must be 'paired' or 'rollout', got '" + a.mode + "'");
@@ -155,7 +167,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "paired (identical LCPs for every starter) or rollout (own trajectories)")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "Write summary.json, results.h5, plots and report.md into this directory");
-  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-colored, pgs-assembled, psor, jacobi)")
+  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-colored, pgs-assembled, psor, jacobi, nncg)")
       ->capture_default_str();
   cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
   cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
@@ -175,6 +187,12 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--no-oracle", args->no_oracle,
                 "Skip the tight oracle (large scenes): the reference is builtin + PGS to tol/100; oracle starters "
                 "are dropped");
+  cmd->add_option("--solvers", args->solvers,
+                  "Solver comparison: these solvers (e.g. pgs,nncg,newton-sparse) each solve every step from every "
+                  "starter's guess (paired mode; report: time and iterations to --accuracy)");
+  cmd->add_option("--accuracy", args->accuracy,
+                  "Accuracy target R of --solvers: natural-map residual <= R x the heaviest body's weight m g")
+      ->capture_default_str();
   cmd->add_option("--scale", args->scale,
                   "Size sweep: run the scene at these body counts N1,N2,... keeping its shape (writes scale.md/.csv/.png "
                   "with --out)");

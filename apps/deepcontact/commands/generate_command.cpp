@@ -2,10 +2,10 @@
 // "Data set"). M simulations of a seed family, each step with contacts solved tightly and
 // recorded as (feature image, label image, body state, contacts with λ*).
 //
-// The pipeline (parallel simulations, in-order writing, OUT.partial, resume) is
+// The pipeline (parallel simulations, one shard file each, the manifest, resume) is
 // generate_data_set (dc/cnn/data_set_generation.hpp); this command parses the options,
-// prints progress and the summary, and turns SIGINT into keep_going = false (exit status 130,
-// with how to resume).
+// prints progress and the summary, and turns SIGINT/SIGTERM/SIGUSR1 into keep_going = false
+// (exit status 130 / 143, one line with how to resume).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -96,44 +96,9 @@ DataSetParams make_params(const GenerateArgs& a) {
   return p;
 }
 
-void run(const GenerateArgs& a) {
-  DataSetGenerationDef def;  // generate_data_set checks --sims, --out, --threads and the files
-  def.params = make_params(a);
-  def.out = a.out;
-  def.simulations = a.sims;
-  def.threads = a.threads;
-  def.resume = a.resume;
-  def.force = a.force;
-
-  const SigintGuard sigint;
-  std::optional<bench::ProgressBar> bar;
-  DataSetGenerationHooks hooks;
-  hooks.keep_going = [] { return !interrupted(); };
-  const Comm& comm = world();  // across MPI ranks: rank 0 writes, all simulate (mpi_generate.hpp)
-  if (comm.is_root()) hooks.on_start = [&](int first, int) { bar.emplace("generate", a.sims - first); };
-  hooks.on_committed = [&](const SimulationRecord& rec) {
-    if (a.log_completed) {
-      std::fprintf(stderr, "completed %d samples %zu\n", rec.index, rec.samples());
-      std::fflush(stderr);
-    }
-    bar->advance(1, "sim " + std::to_string(rec.index) + ": " + std::to_string(rec.bodies) + " bodies");
-  };
-  const DataSetGenerationReport r = generate_data_set(def, hooks, generate_partition(comm));
-  if (bar) bar->finish();
-  if (!comm.is_root()) {
-    if (!r.finished) send_generate_stop(comm);  // rank 0 commits what it has and ends the job
-    return;
-  }
-  if (!r.finished) {
-    std::fprintf(stderr,
-                 "deepcontact: interrupted: %d of %d simulations are saved in %s; run the same command with "
-                 "--resume to continue\n",
-                 r.completed, a.sims, r.path.c_str());
-    exit_status() = 130;
-    if (comm.parallel()) comm.abort(130);  // the other ranks may be waiting to send
-    return;
-  }
-  const DataSetParams& params = def.params;
+/// The last lines of a finished run: what was generated, and where the time went.
+void print_summary(const DataSetParams& params, const DataSetGenerationReport& r,
+                   const Comm& comm) {
   const int fresh = r.completed - r.first;
   const double wall = r.wall_seconds;
   std::printf(
@@ -150,9 +115,48 @@ void run(const GenerateArgs& a) {
       sph_node_count(params.image.sph.grid.height, params.image.sph.grid.spacing),
       sph_node_count(params.image.sph.grid.width, params.image.sph.grid.spacing), params.oracle.describe().c_str(),
       r.worst_residual, r.path.c_str());
-  std::printf("generate: of the %.2f s, the writer spent %.2f s (%.2f s CPU) appending to the file and %.2f s "
-              "waiting for other ranks' simulations\n",
-              wall, r.write_seconds, r.write_cpu_seconds, r.receive_seconds);
+  std::printf("generate: of the %.2f s, %s spent %.2f s (%.2f s CPU) writing shards; the manifest took "
+              "%.2f s\n",
+              wall, comm.parallel() ? "rank 0's workers" : "the workers", r.write_seconds, r.write_cpu_seconds, r.manifest_seconds);
+}
+
+void run(const GenerateArgs& a) {
+  DataSetGenerationDef def;  // generate_data_set checks --sims, --out, --threads and the files
+  def.params = make_params(a);
+  def.out = a.out;
+  def.simulations = a.sims;
+  def.threads = a.threads;
+  def.resume = a.resume;
+  def.force = a.force;
+
+  const SigintGuard stop_signals;
+  std::optional<bench::ProgressBar> bar;
+  DataSetGenerationHooks hooks;
+  hooks.keep_going = [] { return !interrupted(); };
+  const Comm& comm = world();  // across MPI ranks: each writes its own shards (mpi_generate.hpp)
+  if (comm.is_root()) hooks.on_start = [&](int first, int) { bar.emplace("generate", a.sims - first); };
+  hooks.on_committed = [&](const SimulationRecord& rec) {
+    if (a.log_completed) {
+      std::fprintf(stderr, "completed %d samples %zu\n", rec.index, rec.samples());
+      std::fflush(stderr);
+    }
+    if (bar) bar->advance(1, "sim " + std::to_string(rec.index) + ": " + std::to_string(rec.bodies) + " bodies");
+  };
+  const DataSetGenerationReport r = generate_data_set(def, hooks, generate_partition(comm));
+  if (bar) bar->finish();
+  if (r.discarded > 0 && comm.is_root())
+    std::fprintf(stderr, "deepcontact: generate: discarded %d incomplete shard%s (simulations being written when the "
+                         "interrupted run stopped)\n", r.discarded, r.discarded == 1 ? "" : "s");
+  if (!r.finished) {
+    exit_status() = interrupted() ? interrupt_exit_status() : 130;  // 130: another rank was stopped
+    if (comm.is_root())
+      std::fprintf(stderr,
+                   "deepcontact: interrupted%s%s: %d of %d simulations are saved in %s; run the same command with "
+                   "--resume to continue\n",
+                   interrupted() ? " by " : "", interrupt_signal_name(), r.completed, a.sims, r.path.c_str());
+    return;
+  }
+  if (comm.is_root()) print_summary(def.params, r, comm);
 }
 
 }  // namespace
@@ -170,9 +174,12 @@ void add_generate_command(CLI::App& app) {
                   "default: the --scene file's count, 50..100 without --scene)");
   cmd->add_option("--steps", args->steps, "Steps per simulation (default: the scene's [time] steps)");
   cmd->add_option("--threads", args->threads, "Worker threads (default: OMP_NUM_THREADS or all cores)");
-  cmd->add_option("--out", args->out, "Output HDF5 file (written as OUT.partial, renamed when complete)")->required();
-  cmd->add_flag("--resume", args->resume, "Continue an interrupted run from OUT.partial (same parameters)");
-  cmd->add_flag("--force", args->force, "Replace an existing OUT");
+  cmd->add_option("--out", args->out,
+                  "Output data set: the manifest OUT (HDF5, written when all simulations are in) over the shards "
+                  "in OUT.shards/ (one file per simulation, committed as it finishes)")
+      ->required();
+  cmd->add_flag("--resume", args->resume, "Continue the interrupted run named by OUT.partial (same parameters)");
+  cmd->add_flag("--force", args->force, "Replace an existing OUT (once the new data set is complete)");
   cmd->add_option("--grid", args->grid,
                   "SPH grid KERNEL:D:H (default: the bench's sph setting, poly6:0.5:0.355 -> 61 x 61 on 30 x 30)");
   cmd->add_option("--channels", args->channels,

@@ -276,10 +276,10 @@ void run_regression(const TrainArgs& a) {
   const int done = static_cast<int>(result.history.size());
   if (done < a.epochs) {
     std::fprintf(stderr,
-                 "deepcontact: interrupted: %d of %d epochs are saved in %s.ckpt (best model in %s); run the same "
+                 "deepcontact: interrupted by %s: %d of %d epochs are saved in %s.ckpt (best model in %s); run the same "
                  "command with --resume to continue\n",
-                 done, a.epochs, a.out.c_str(), a.out.c_str());
-    exit_status() = 130;
+                 interrupt_signal_name(), done, a.epochs, a.out.c_str(), a.out.c_str());
+    exit_status() = interrupt_exit_status();
     return;
   }
   report_finished_run(a, result, data, files);

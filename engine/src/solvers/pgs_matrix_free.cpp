@@ -1,5 +1,6 @@
 // "pgs": matrix-free projected Gauss–Seidel on body velocities (the engine default, the
-// Box2D form of the seed's iteration). A = J M⁻¹ Jᵀ Δt is never formed; the solver keeps
+// Box2D form of the seed's iteration). This file is its sweep (MatrixFreeSweep,
+// matrix_free_sweep.hpp, also the sweep of "nncg"); the solver is pgs_matrix_free_solver.cpp. A = J M⁻¹ Jᵀ Δt is never formed; the solver keeps
 //
 //     Δu = M⁻¹ Jᵀ λ Δt          (3 entries per body: Δv_x, Δv_y [m/s], Δω [rad/s])
 //
@@ -78,6 +79,7 @@
 #include <string>
 #include <vector>
 
+#include "solvers/matrix_free_sweep.hpp"
 #include "solvers/pgs_manifold_block.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
@@ -132,7 +134,10 @@ struct Segment {
   int row, rows, first, count;
 };
 
-struct Prepared {
+
+}  // namespace
+
+struct MatrixFreeRows {
   std::vector<GeneralRow> general;
   std::vector<NormalRow> normal;
   std::vector<ContactBlock> contact;
@@ -141,6 +146,8 @@ struct Prepared {
   std::vector<int> singular;
   int body_entries = 0;  // 3·bodies; the zero body follows at body_entries, the sink after it
 };
+
+namespace {
 
 /// Δu offsets of the bodies a contact's rows act on, in slot order: the lower body index
 /// first (the order of the row's entries in J, so the row sums run in the same order as for a
@@ -217,7 +224,7 @@ bool is_plain_normal(const LcpProblem& p, int i) {
 /// a GeneralRow. A problem without constraint structure (built by hand with J) runs every row
 /// in the general kernel. Returns an error message when a row of J acts on a body that is not
 /// one of its contact's, or (without constraints) on more than two bodies.
-std::string prepare(const LcpProblem& p, bool block_manifolds, Prepared& out) {
+std::string prepare(const LcpProblem& p, bool block_manifolds, MatrixFreeRows& out) {
   const int n = p.rows();
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
   out.body_entries = 3 * bodies;
@@ -513,75 +520,54 @@ DC_PGS_FMA_CLONES void sweep_normal(const NormalRow* __restrict row, int count, 
   acc.bad = bad;
 }
 
-class PgsMatrixFreeSolver final : public LcpSolver {
- public:
-  [[nodiscard]] std::string name() const override { return "pgs"; }
-  [[nodiscard]] bool needs_jacobian() const override { return true; }
-  [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
-  [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
-    if (!p.has_jacobian()) {
-      // A problem from a file has only A: run the same iteration in its assembled form.
-      SolveResult r = solve_assembled_gauss_seidel(p, lambda0, o, 1.0, name());
-      if (r.status != SolveStatus::InvalidInput)
-        r.message = "no Jacobian in the problem: ran the assembled form of PGS" +
-                    (r.message.empty() ? std::string() : "; " + r.message);
-      return r;
-    }
-    Eigen::VectorXd lambda;
-    if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
-
-    Prepared prep;
-    if (std::string err = prepare(p, o.block_manifolds, prep); !err.empty()) {
-      SolveResult r;
-      r.status = SolveStatus::InvalidInput;
-      r.lambda = lambda;
-      r.message = "pgs: " + err + "; use pgs-assembled";
-      finish(p, r);
-      return r;
-    }
-    // Δu = M⁻¹ Jᵀ λ⁰ Δt, then the zero body (never written) and the sink body (never read).
-    const int nu = prep.body_entries;
-    std::vector<double> du(static_cast<size_t>(nu + 6), 0.0);
-    {
-      const Eigen::VectorXd jt = p.J.transpose() * lambda;
-      for (int c = 0; c < jt.size(); ++c) du[static_cast<size_t>(c)] = p.inv_mass[c] * jt[c] * p.dt;
-    }
-    SolveResult r = run_sweeps(p, std::move(lambda), o, [&](Eigen::VectorXd& l, bool& nonfinite) {
-      double* lam = l.data();
-      double* u = du.data();
-      SweepAcc acc;
-      for (const Segment& s : prep.segments) {
-        switch (s.kind) {
-          case Kind::Contact:
-            sweep_contacts(prep.contact.data() + s.first, s.count, lam + s.row, u, acc);
-            break;
-          case Kind::Normal:
-            sweep_normal(prep.normal.data() + s.first, s.count, lam + s.row, u, acc);
-            break;
-          case Kind::General:
-            sweep_general(prep.general.data() + s.first, s.count, lam, u, acc);
-            break;
-          case Kind::ManifoldFriction:
-            sweep_manifolds_friction(prep.manifold.data() + s.first, s.count, lam + s.row, u, acc);
-            break;
-          case Kind::ManifoldFrictionless:
-            sweep_manifolds_frictionless(prep.manifold.data() + s.first, s.count, lam + s.row, u, acc);
-            break;
-        }
-      }
-      if (!std::isfinite(acc.theta) || !Eigen::Map<const Eigen::VectorXd>(u, nu).allFinite()) acc.bad = true;
-      nonfinite = nonfinite || acc.bad;
-      return acc.theta;
-    });
-    report_singular_rows(p, prep.singular, r);
-    finish(p, r);
-    return r;
-  }
-};
-
 }  // namespace
 
-std::unique_ptr<LcpSolver> make_pgs_matrix_free() { return std::make_unique<PgsMatrixFreeSolver>(); }
+MatrixFreeSweep::MatrixFreeSweep() : rows_(std::make_unique<MatrixFreeRows>()) {}
+MatrixFreeSweep::~MatrixFreeSweep() = default;
+
+std::string MatrixFreeSweep::prepare(const LcpProblem& p, bool block_manifolds) {
+  *rows_ = MatrixFreeRows{};
+  return solvers::prepare(p, block_manifolds, *rows_);
+}
+
+int MatrixFreeSweep::body_entries() const { return rows_->body_entries; }
+
+const std::vector<int>& MatrixFreeSweep::singular_rows() const { return rows_->singular; }
+
+std::vector<double> MatrixFreeSweep::velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda) const {
+  std::vector<double> du(static_cast<size_t>(rows_->body_entries + 6), 0.0);
+  const Eigen::VectorXd jt = p.J.transpose() * lambda;
+  for (int c = 0; c < jt.size(); ++c) du[static_cast<size_t>(c)] = p.inv_mass[c] * jt[c] * p.dt;
+  return du;
+}
+
+double MatrixFreeSweep::sweep(double* lam, double* u, bool& nonfinite) const {
+  const MatrixFreeRows& prep = *rows_;
+  SweepAcc acc;
+  for (const Segment& s : prep.segments) {
+    switch (s.kind) {
+      case Kind::Contact:
+        sweep_contacts(prep.contact.data() + s.first, s.count, lam + s.row, u, acc);
+        break;
+      case Kind::Normal:
+        sweep_normal(prep.normal.data() + s.first, s.count, lam + s.row, u, acc);
+        break;
+      case Kind::General:
+        sweep_general(prep.general.data() + s.first, s.count, lam, u, acc);
+        break;
+      case Kind::ManifoldFriction:
+        sweep_manifolds_friction(prep.manifold.data() + s.first, s.count, lam + s.row, u, acc);
+        break;
+      case Kind::ManifoldFrictionless:
+        sweep_manifolds_frictionless(prep.manifold.data() + s.first, s.count, lam + s.row, u, acc);
+        break;
+    }
+  }
+  if (!std::isfinite(acc.theta) ||
+      !Eigen::Map<const Eigen::VectorXd>(u, prep.body_entries).allFinite())
+    acc.bad = true;
+  nonfinite = nonfinite || acc.bad;
+  return acc.theta;
+}
 
 }  // namespace dc::solvers

@@ -22,7 +22,7 @@ const char* to_string(SolveStatus s) {
 }
 
 std::vector<std::string> solver_names() {
-  return {"pgs", "pgs-colored", "pgs-assembled", "psor", "jacobi", "lemke", "newton"};
+  return {"pgs", "pgs-colored", "pgs-assembled", "psor", "jacobi", "lemke", "newton", "nncg"};
 }
 
 std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
@@ -43,6 +43,7 @@ std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
   if (name == "jacobi") return solvers::make_jacobi();
   if (name == "lemke") return solvers::make_lemke();
   if (name == "newton") return solvers::make_newton();
+  if (name == "nncg") return solvers::make_nncg();
   std::string valid;
   for (const auto& n : solver_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw ConfigError("unknown LCP solver '" + std::string(name) + "' (valid: " + valid + ")");

@@ -5,13 +5,14 @@
 #include "dc/engine/lcp_solver.hpp"
 
 namespace dc::solvers {
-std::unique_ptr<LcpSolver> make_pgs_matrix_free();  // "pgs"            pgs_matrix_free.cpp
+std::unique_ptr<LcpSolver> make_pgs_matrix_free();  // "pgs"            pgs_matrix_free_solver.cpp
 std::unique_ptr<LcpSolver> make_pgs_colored();      // "pgs-colored"    pgs_colored.cpp
 std::unique_ptr<LcpSolver> make_pgs_assembled();    // "pgs-assembled"  pgs_assembled.cpp
 std::unique_ptr<LcpSolver> make_psor();             // "psor"           psor.cpp
 std::unique_ptr<LcpSolver> make_jacobi();           // "jacobi"         jacobi.cpp
 std::unique_ptr<LcpSolver> make_lemke();            // "lemke"          lemke.cpp
 std::unique_ptr<LcpSolver> make_newton();           // "newton"         newton.cpp
+std::unique_ptr<LcpSolver> make_nncg();             // "nncg"           nncg.cpp
 
 /// The newton solver as a function. With `seek_certificate`, a standard LCP (lo = 0,
 /// hi = ∞, no friction; n ≤ kFarkasMaxN) that newton fails on is checked for a Farkas

@@ -1,7 +1,8 @@
 #pragma once
 // Random LCP problems for the solver tests (tests/engine/solver_*_test.cpp): a portable
 // 64-bit generator (no std::*_distribution), SPD matrices and contact-like problems
-// A = J M⁻¹ Jᵀ Δt built like the engine builds them (docs/design.md §2).
+// A = J M⁻¹ Jᵀ Δt built like the engine builds them (docs/design.md §2), and a deep resting
+// pile (also timed by benchmarks/micro/micro_nncg.cpp).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <cmath>
@@ -132,6 +133,74 @@ inline LcpProblem without_jacobian(LcpProblem p) {
   p.constraints.clear();
   p.inv_mass.resize(0);
   p.dt = 0.0;
+  return p;
+}
+
+/// A deep pile at rest: `width` × `height` circles (r = 1, ρ = 1) in a sheared hexagonal
+/// packing, each touching its right and upper-right neighbours (normals (1, 0) and
+/// (½, √3/2)), the bottom row on the floor; friction μ on every contact (tangent row right
+/// after its normal row). b = J v with v the free-fall velocity change −g Δt of every body:
+/// the LCP of one step of a resting pile, whose solution carries each body's weight down the
+/// pile — the slowly converging case of PGS (the error travels about one layer per sweep).
+inline LcpProblem deep_pile(int width, int height, double mu) {
+  const int bodies = width * height;
+  const double m = M_PI, dt = 0.01, g = 9.81;
+  LcpProblem p;
+  std::vector<Eigen::Triplet<double>> trip;
+  struct Row {
+    int a, b;  // b = −1: floor under a
+    double nx, ny;
+  };
+  std::vector<Row> contacts;
+  for (int k = 0; k < bodies; ++k) {
+    const int row = k / width, col = k % width;
+    if (row == 0) contacts.push_back({k, -1, 0.0, 1.0});
+    if (col + 1 < width) contacts.push_back({k, k + 1, 1.0, 0.0});
+    if (k + width < bodies) contacts.push_back({k, k + width, 0.5, std::sqrt(3.0) / 2});
+  }
+  int n = 0;
+  for (const Row& c : contacts) {
+    const ContactConstraint& k = p.constraints[p.constraints.add(c.b < 0 ? -1 : c.a, c.b < 0 ? c.a : c.b, mu)];
+    const double tx = -c.ny, ty = c.nx;
+    auto add_row = [&](int row, double dx, double dy, double arm) {
+      if (c.b < 0) {
+        trip.emplace_back(row, 3 * c.a + 0, dx);
+        trip.emplace_back(row, 3 * c.a + 1, dy);
+        trip.emplace_back(row, 3 * c.a + 2, arm);
+      } else {
+        trip.emplace_back(row, 3 * c.a + 0, -dx);
+        trip.emplace_back(row, 3 * c.a + 1, -dy);
+        trip.emplace_back(row, 3 * c.a + 2, arm);  // r_a × t with r_a = n: 1 (0 for the normal)
+        trip.emplace_back(row, 3 * c.b + 0, dx);
+        trip.emplace_back(row, 3 * c.b + 1, dy);
+        trip.emplace_back(row, 3 * c.b + 2, arm);  // r_b × t with r_b = −n: 1
+      }
+    };
+    add_row(k.normal_row, c.nx, c.ny, 0.0);
+    add_row(k.tangent_row, tx, ty, 1.0);
+    n = std::max(n, k.tangent_row + 1);
+  }
+  p.J.resize(n, 3 * bodies);
+  p.J.setFromTriplets(trip.begin(), trip.end());
+  p.J.makeCompressed();
+  p.lo = Eigen::VectorXd::Zero(n);
+  p.hi = Eigen::VectorXd::Constant(n, INFINITY);
+  p.mu = Eigen::VectorXd::Zero(n);
+  p.normal_row.assign(static_cast<size_t>(n), -1);
+  for (const ContactConstraint& k : p.constraints) {
+    p.normal_row[static_cast<size_t>(k.tangent_row)] = k.normal_row;
+    p.mu[k.tangent_row] = mu;
+    p.lo[k.tangent_row] = -INFINITY;
+  }
+  p.inv_mass.resize(3 * bodies);
+  for (int k = 0; k < bodies; ++k) {
+    p.inv_mass[3 * k] = p.inv_mass[3 * k + 1] = 1.0 / m;
+    p.inv_mass[3 * k + 2] = 1.0 / (0.5 * m);
+  }
+  p.dt = dt;
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(3 * bodies);
+  for (int k = 0; k < bodies; ++k) v[3 * k + 1] = -g * dt;
+  p.b = p.J * v;
   return p;
 }
 

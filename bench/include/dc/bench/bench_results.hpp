@@ -56,6 +56,33 @@ struct BenchOptions {
   /// quartiles over steps per sweep (/warmstarters/NAME/theta_quartiles, sweeps × 3), what the
   /// convergence plot draws.
   bool keep_theta = false;
+  /// Solver comparison (docs/bench.md "Solver comparison"; paired mode only): every solver here
+  /// solves every evaluated LCP from every starter's guess (the same λ⁰ for each solver).
+  /// Empty = off: the bench runs as without it.
+  std::vector<std::string> solvers;
+  /// Accuracy target R of the comparison (dimensionless, default 1e-6): a λ is accurate when its
+  /// natural-map residual [N] is at most R · max_i(m_i |g|) [N], the heaviest body's weight in
+  /// the step's LCP — the residual as a share of the step's largest weight impulse
+  /// max_i(m_i |g| Δt) with the residual taken as the impulse residual·Δt. Without gravity
+  /// (or without a body of finite mass) the scale is 1 N.
+  double accuracy = 1e-6;
+};
+
+/// One (solver, starter) pair of the solver comparison: one entry per evaluated step.
+struct SolverPairRecord {
+  std::string solver, starter;
+  std::vector<std::uint64_t> seed;          ///< scene seed of each evaluated step
+  std::vector<int> iterations_to_accuracy;  ///< first iteration (sweep) with accuracy ≤ R; −1 = never
+  /// Warm start + solve until accuracy ≤ R [ms]; a step that never gets there: + the whole run
+  /// (up to the cap, or until the solver stopped).
+  std::vector<double> ms_to_accuracy;
+  std::vector<double> total_ms;             ///< warm start + solve to θ ≤ tol (BenchOptions::tolerance) [ms]
+  std::vector<double> final_accuracy;       ///< accuracy (residual / weight scale) where the trace ended
+  std::vector<double> weight_scale;         ///< max_i m_i |g| of the step [N]
+  /// The trace of each step: (ms since the warm start began, accuracy) at λ⁰ and at the
+  /// checkpoints until R was reached; points trace_offsets[k] … trace_offsets[k+1]−1 are step k's.
+  std::vector<std::size_t> trace_offsets{0};
+  std::vector<double> trace_ms, trace_accuracy;
 };
 
 /// Per starter: one entry per evaluated step (steps with at least one contact row).
@@ -94,6 +121,8 @@ struct BenchResults {
   std::vector<double> collide_ms, assemble_ms, integrate_ms;
   int skipped_steps = 0;              ///< steps without contacts (nothing to solve)
   std::vector<StarterRecord> starters;
+  /// Solver comparison: solver-major, pairs[s · starters + i] = (options.solvers[s], starter i).
+  std::vector<SolverPairRecord> pairs;
   double wall_seconds = 0;
   /// Paired mode: the reference trajectory of the first seed (advanced with λ*) and its
   /// scene as TOML, for the report's frame (render_frame.hpp); null in rollout mode.

@@ -83,6 +83,15 @@ struct H5DatasetOptions {
   int deflate = 0;
 };
 
+/// One source of a virtual dataset (H5File::create_virtual): all rows of `dataset` in `file`.
+struct H5VirtualSource {
+  /// The source file, relative to the directory of the file holding the virtual dataset
+  /// (HDF5 resolves it there, also for h5py) or absolute.
+  std::string file;
+  std::string dataset;  ///< object path in `file`
+  hsize_t rows = 0;     ///< its first-axis extent (the other axes are the virtual dataset's)
+};
+
 /// How strings are stored: variable-length (h5py `str`, the default) or fixed-length,
 /// NUL-padded (numpy `S<n>`). Reads accept both.
 enum class H5StringKind { Variable, Fixed };
@@ -156,6 +165,13 @@ class H5File {
   /// Overwrites rows [first_row, first_row + data.size()/row size) of an existing dataset.
   template <H5Element T>
   void write_rows(std::string_view path, hsize_t first_row, std::span<const T> data);
+  /// Creates a virtual dataset (HDF5 ≥ 1.10 VDS) of T: the rows of `sources`, concatenated
+  /// in order along the first axis, each of shape `row_shape`. Readers (this layer, h5py)
+  /// see one dataset; the data stays in the source files, which must be present when it is
+  /// read (HDF5 returns the fill value — NaN for floating point — for a missing one, so
+  /// check them first). Without rows, an ordinary empty dataset is created.
+  template <H5Element T>
+  void create_virtual(std::string_view path, const H5Shape& row_shape, const std::vector<H5VirtualSource>& sources);
   /// Sets the first-axis extent of an extendible dataset (shrinking drops rows: resume
   /// after a crash by cutting back to the last consistent row).
   void resize_rows(std::string_view path, hsize_t rows);

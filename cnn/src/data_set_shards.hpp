@@ -1,0 +1,64 @@
+#pragma once
+// Private to the data-set generation and reader: the sharded layout (format_version 2,
+// docs/formats.md "Data set").
+//
+//   OUT                     the manifest: root attributes, /sims/*, the per-sample index
+//                           /samples/{sim,step,body_begin,body_count,contact_begin,contact_count,
+//                           residual} (global row offsets), /shards/{file,bytes}, and the bulk
+//                           datasets (/samples/features, /samples/labels, /bodies/*,
+//                           /contacts/*) as HDF5 virtual datasets over the shards, so a reader —
+//                           ours or h5py — sees the single-file layout's datasets
+//   OUT.shards/RUN/sim-NNNNNN.h5   simulation NNNNNN as a one-simulation data set
+//                           (format_version 1 layout, its own row offsets)
+//   OUT.partial             while a run is incomplete: "deepcontact-generate run RUN"
+//
+// Commit protocol: a shard is built in memory and written with write_file_atomically (tmp,
+// fsync, rename, directory fsync), so a shard under its final name is complete; the manifest
+// is written the same way once all M shards exist. A kill at any instant leaves committed
+// shards intact and at most one `.tmp` per worker, which resume discards.
+#include <string>
+#include <vector>
+
+#include "data_set_layout.hpp"
+#include "dc/cnn/data_set.hpp"
+
+namespace dc::dataset {
+
+/// OUT.shards (the folder of every run's shard folder).
+std::string shard_root(const std::string& out);
+/// OUT.shards/RUN.
+std::string shard_dir(const std::string& out, const std::string& run);
+/// "sim-000012.h5".
+std::string shard_file_name(int index);
+/// A fresh run id: 16 hex digits from the clock, the pid and std::random_device.
+std::string new_run_id();
+
+/// Writes OUT.partial naming `run` (atomically).
+void write_run_marker(const std::string& out, const std::string& run);
+/// The run named by OUT.partial. ConfigError when OUT.partial is an interrupted single-file
+/// data set of an older build, or not a marker at all.
+std::string read_run_marker(const std::string& out);
+
+/// Writes simulation `rec` as the shard dir/sim-NNNNNN.h5 (complete or absent).
+void write_shard(const std::string& dir, const DataSetParams& params, const SimulationRecord& rec);
+
+/// The shards of a run folder: committed (final names, sorted indices) and incomplete
+/// (`*.tmp` of an interrupted write, full paths).
+struct ShardScan {
+  std::vector<int> committed;
+  std::vector<std::string> incomplete;
+};
+ShardScan scan_shards(const std::string& dir);
+
+/// IoError/ConfigError unless the shard of `index` in `dir` was written with `params`.
+void check_shard_params(const std::string& dir, int index, const DataSetParams& params);
+
+/// Writes the manifest OUT over shards 0..M-1 of `run` (all must exist and carry `params`;
+/// each is opened and checked). Atomic. Returns the data set's sample count.
+std::int64_t write_manifest(const std::string& out, const std::string& run, const DataSetParams& params, int simulations);
+
+/// For the reader of a manifest: IoError naming the first listed shard that is missing or
+/// has another size than the manifest recorded (a virtual dataset would read fill values).
+void check_manifest_shards(const H5File& manifest);
+
+}  // namespace dc::dataset

@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""The "Solver × warm start" table of docs/solvers.md from the reports of
+research/scripts/solver-comparison.sh (OUT/<family>/results.h5 and summary.json).
+
+    research/scripts/solver-comparison-table.py OUT docs/solvers.md docs/results.md
+
+Per family and for pgs+builtin, nncg+builtin and newton-sparse+{zero, builtin, cnn, copy}: the
+share of steps reaching the accuracy target R, median ms to R, median iterations to R and median
+total ms (warm start + solve to θ ≤ tol), each with its bootstrap 95 % interval, and the ratios
+of median ms to R and of median total ms to pgs+builtin's median total ms (results.h5
+/solvers/intervals, docs/bench.md). The table replaces what lies between the markers
+<!-- solver-comparison:begin --> and <!-- solver-comparison:end --> in the section
+"## Solver × warm start" of docs/solvers.md (the section and the markers are added when
+missing); docs/results.md gets one line between the same markers. Nothing else is touched.
+"""
+import json
+import os
+import sys
+
+import h5py
+
+FAMILIES = ["seed", "impact", "deep", "pour", "drum", "polydisperse", "box_pile"]
+PAIRS = [("pgs", "builtin"), ("nncg", "builtin"), ("newton-sparse", "zero"), ("newton-sparse", "builtin"),
+         ("newton-sparse", "cnn"), ("newton-sparse", "copy")]
+BEGIN, END = "<!-- solver-comparison:begin -->", "<!-- solver-comparison:end -->"
+SECTION = "## Solver × warm start"
+
+
+def text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def load(out, family):
+    """{(solver, starter): {figure: (est, lo, hi)}} and the run's facts, or None."""
+    h5 = os.path.join(out, family, "results.h5")
+    if not os.path.exists(h5):
+        return None
+    with h5py.File(h5, "r") as f:
+        if "solvers" not in f:
+            return None
+        s = f["solvers"]
+        figures = [text(x) for x in s["interval_figures"][()]]
+        iv = s["intervals"][()]
+        pairs = {}
+        for i, g in enumerate(text(x) for x in s["pair_groups"][()]):
+            key = (text(s[g].attrs["solver"]), text(s[g].attrs["starter"]))
+            pairs[key] = {fig: tuple(iv[i, j]) for j, fig in enumerate(figures)}
+            pairs[key]["steps"] = len(s[g]["seed"])
+        facts = {"accuracy": float(s.attrs["accuracy"]), "cap": int(s.attrs["cap"]), "machine": text(f.attrs["machine"]),
+                 "seeds": list(f.attrs["seeds"]), "tolerance": float(f.attrs["tolerance"])}
+    with open(os.path.join(out, family, "summary.json")) as fh:
+        facts["wall_seconds"] = json.load(fh)["wall_seconds"]
+    load_file = os.path.join(out, family + ".load")
+    facts["load"] = open(load_file).read().split("load average:")[-1].split("\n")[0].strip() if os.path.exists(load_file) else "?"
+    return pairs, facts
+
+
+def fmt(x, spec):
+    est, lo, hi = x
+    if est != est:  # NaN
+        return "–"
+    return f"{est:{spec}} [{lo:{spec}}, {hi:{spec}}]"
+
+
+def table(out):
+    rows, notes = [], []
+    head = ("| family | solver + start | reached R | ms to R | iterations to R | total ms | ms to R / pgs+builtin total "
+            "| total / pgs+builtin total |\n|---|---|---:|---:|---:|---:|---:|---:|")
+    for fam in FAMILIES:
+        got = load(out, fam)
+        if got is None:
+            notes.append(f"{fam}: not run")
+            continue
+        pairs, facts = got
+        for solver, starter in PAIRS:
+            x = pairs.get((solver, starter))
+            if x is None:
+                continue
+            rows.append(f"| {fam} | {solver} + {starter} | {fmt(x['reached_share'], '.2f')} | "
+                        f"{fmt(x['median_ms_to_accuracy'], '.3g')} | {fmt(x['median_iterations_to_accuracy'], '.0f')} | "
+                        f"{fmt(x['median_total_ms'], '.3g')} | {fmt(x['ms_to_accuracy_over_pgs_builtin_total'], '.3g')} | "
+                        f"{fmt(x['total_over_pgs_builtin_total'], '.3g')} |")
+        steps = max(v["steps"] for v in pairs.values())
+        notes.append(f"{fam}: {steps} steps, seeds {','.join(map(str, facts['seeds']))}, wall {facts['wall_seconds']:.0f} s, "
+                     f"load {facts['load']}")
+    return head + "\n" + "\n".join(rows), notes
+
+
+def machine(out):
+    path = os.path.join(out, "machine.txt")
+    return " ".join(open(path).read().split()) if os.path.exists(path) else "?"
+
+
+def replace_block(path, block, section):
+    doc = open(path).read() if os.path.exists(path) else ""
+    new = f"{BEGIN}\n{block}\n{END}"
+    if BEGIN in doc and END in doc:
+        a, b = doc.index(BEGIN), doc.index(END) + len(END)
+        doc = doc[:a] + new + doc[b:]
+    elif section and section in doc:
+        i = doc.index(section) + len(section)
+        doc = doc[:i] + "\n\n" + new + doc[i:]
+    else:
+        doc = doc.rstrip("\n") + ("\n\n" if doc else "") + (section + "\n\n" if section else "") + new + "\n"
+    with open(path, "w") as fh:
+        fh.write(doc)
+
+
+def main():
+    if len(sys.argv) != 4:
+        print(__doc__)
+        return 2
+    out, solvers_md, results_md = sys.argv[1:]
+    tab, notes = table(out)
+    block = (f"Generated by `research/scripts/solver-comparison.sh` (`research/scripts/solver-comparison-table.py`); "
+             f"machine: {machine(out)}. Accuracy target R = 1e-6 (natural-map residual ≤ R · max_i m_i |g|), cap "
+             f"10,000 iterations (sweeps, or Newton iterations), total = warm start + solve to θ ≤ 1e-2 N. Medians "
+             f"over steps with bootstrap 95 % intervals (seeds, then steps; paired: all pairs on the same LCPs). "
+             f"Runs: " + "; ".join(notes) + ".\n\n" + tab)
+    replace_block(solvers_md, block, SECTION)
+    line = (f"Solver × warm start (docs/solvers.md, R = 1e-6, {machine(out).split(' 2 ')[0]}): per family the share "
+            f"of steps reaching R and the time to it for pgs, nncg and newton-sparse — see the table there.")
+    replace_block(results_md, line, "")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
