@@ -4,6 +4,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/newton_sparse.hpp"
 #include "dc/engine/pgs_colored.hpp"
 #include "solvers/solvers.hpp"
 
@@ -22,7 +23,7 @@ const char* to_string(SolveStatus s) {
 }
 
 std::vector<std::string> solver_names() {
-  return {"pgs", "pgs-colored", "pgs-assembled", "psor", "jacobi", "lemke", "newton", "nncg"};
+  return {"pgs", "pgs-colored", "pgs-assembled", "psor", "jacobi", "lemke", "newton", "newton-sparse", "nncg"};
 }
 
 std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
@@ -43,6 +44,7 @@ std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
   if (name == "jacobi") return solvers::make_jacobi();
   if (name == "lemke") return solvers::make_lemke();
   if (name == "newton") return solvers::make_newton();
+  if (name == "newton-sparse") return make_newton_sparse();
   if (name == "nncg") return solvers::make_nncg();
   std::string valid;
   for (const auto& n : solver_names()) valid += (valid.empty() ? "" : ", ") + n;

@@ -79,7 +79,10 @@ class LcpSolver {
 /// "pgs-colored" (colour-ordered PGS, AVX-512 batches of 8 contacts; "pgs-colored:N" with N
 /// OpenMP threads), "pgs-assembled" (PGS on the sparse A, the seed's form), "psor", "jacobi",
 /// "lemke" (exact pivoting, standard LCPs), "newton" (minimum-map Newton, box bounds and
-/// friction), "nncg" (pgs's sweeps with nonlinear conjugate-gradient momentum and restarts). Throws ConfigError listing the valid names for an unknown one.
+/// friction), "newton-sparse" (warm-started semismooth Newton with friction coupled in the
+/// Jacobian and CHOLMOD factorisations; dc/engine/newton_sparse.hpp), "nncg" (pgs's sweeps
+/// with nonlinear conjugate-gradient momentum and restarts). Throws ConfigError listing the
+/// valid names for an unknown one.
 std::unique_ptr<LcpSolver> make_solver(std::string_view name);
 std::vector<std::string> solver_names();
 

@@ -51,7 +51,7 @@ struct ContactSection {
 };
 
 struct SolverSection {
-  std::string name = "pgs";  ///< LCP solver (see make_solver: pgs, pgs-colored, pgs-assembled, psor, jacobi, lemke, newton)
+  std::string name = "pgs";  ///< LCP solver (see make_solver: pgs, pgs-colored, pgs-assembled, psor, jacobi, lemke, newton, newton-sparse, nncg)
   int sweeps = 3000;         ///< maximum sweeps per step (the seed's fixed 3000)
   double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance [N]; 0 ⇒ always run `sweeps` sweeps
   double omega = 1.0;        ///< relaxation for psor (1 = PGS)

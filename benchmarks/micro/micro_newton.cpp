@@ -1,0 +1,157 @@
+// Google Benchmark of newton-sparse's kernels (dc/engine/newton_sparse.hpp) on a contact-like
+// problem of realistic size: N circles (r = 1, ρ = 1) in a hexagonal pile, each touching its
+// right and upper-right neighbours, floor contacts for the bottom row, friction on (2 rows per
+// contact, μ = 0.5), Δt = 0.01, at rest under gravity (the pile of micro_pgs).
+//
+//   BM_NewtonAnalyze/N    CHOLMOD's symbolic analysis of A ∪ diag (ordering + symbolic factor)
+//   BM_NewtonFactorize/N  one numeric factorisation of A_FF + ρI (every row free), analysis reused
+//   BM_NewtonSolve/N      one solve with that factor (forward + backward substitution)
+//   BM_NewtonIteration/N  one whole iteration of the solver (natural map, modes, factorisation,
+//                         direction, line search) from the solution perturbed by 1 %, analysis reused
+// N = bodies (1k, 10k, 40k). Counter ns_per_contact = CPU time per iteration / contacts [ns].
+//   build/bin/micro_newton --benchmark_min_time=0.2
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/newton_sparse.hpp"
+#include "solvers/newton_sparse/sparse_factor.hpp"
+
+namespace {
+
+dc::LcpProblem pile(int bodies) {
+  const int width = std::max(2, static_cast<int>(std::sqrt(static_cast<double>(bodies))));
+  const double m = M_PI, I = 0.5 * m, dt = 0.01, mu = 0.5;
+  struct C {
+    int a, b;  // b = −1: floor
+    double nx, ny;
+  };
+  std::vector<C> contacts;
+  for (int k = 0; k < bodies; ++k) {
+    const int row = k / width, col = k % width;
+    if (row == 0) contacts.push_back({k, -1, 0.0, 1.0});
+    if (col + 1 < width && k + 1 < bodies) contacts.push_back({k, k + 1, 1.0, 0.0});
+    if (k + width < bodies) contacts.push_back({k, k + width, 0.5, std::sqrt(3.0) / 2});
+  }
+  const int n = 2 * static_cast<int>(contacts.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  dc::LcpProblem p;
+  p.b.resize(n);
+  p.lo = Eigen::VectorXd::Zero(n);
+  p.hi = Eigen::VectorXd::Constant(n, INFINITY);
+  p.mu = Eigen::VectorXd::Zero(n);
+  p.normal_row.assign(static_cast<size_t>(n), -1);
+  for (size_t c = 0; c < contacts.size(); ++c) {
+    const C& k = contacts[c];
+    const int rn = 2 * static_cast<int>(c);
+    for (int r = 0; r < 2; ++r) {
+      const double dx = r == 0 ? k.nx : -k.ny, dy = r == 0 ? k.ny : k.nx;
+      const double ca = k.nx * dy - k.ny * dx, cb = -ca;  // r_a = n, r_b = −n; r × d
+      if (k.b >= 0) {
+        for (const auto& [col, v] : {std::pair{3 * k.a, -dx}, {3 * k.a + 1, -dy}, {3 * k.a + 2, -ca},
+                                     {3 * k.b, dx}, {3 * k.b + 1, dy}, {3 * k.b + 2, cb}})
+          trip.emplace_back(rn + r, col, v);
+      } else {
+        for (const auto& [col, v] : {std::pair{3 * k.a, dx}, {3 * k.a + 1, dy}, {3 * k.a + 2, cb}})
+          trip.emplace_back(rn + r, col, v);
+      }
+    }
+    p.normal_row[static_cast<size_t>(rn + 1)] = rn;
+    p.mu[rn + 1] = mu;
+    p.constraints.add(k.b >= 0 ? k.a : -1, k.b >= 0 ? k.b : k.a, mu);
+  }
+  p.J.resize(n, 3 * bodies);
+  p.J.setFromTriplets(trip.begin(), trip.end());
+  p.inv_mass.resize(3 * bodies);
+  for (int k = 0; k < bodies; ++k) {
+    p.inv_mass[3 * k] = p.inv_mass[3 * k + 1] = 1.0 / m;
+    p.inv_mass[3 * k + 2] = 1.0 / I;
+  }
+  p.dt = dt;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * bodies);
+  for (int k = 0; k < bodies; ++k) u[3 * k + 1] = -9.81 * dt;
+  p.b = p.J * u;
+  p.ensure_assembled_matrix();
+  return p;
+}
+
+double ridge(const dc::LcpProblem& p) {
+  double d = 0.0;
+  for (int i = 0; i < p.rows(); ++i) d = std::max(d, p.A.coeff(i, i));
+  return 1e-10 * d;
+}
+
+void count(benchmark::State& state, const dc::LcpProblem& p) {
+  state.counters["contacts"] = static_cast<double>(p.constraints.size());
+  state.counters["ns_per_contact"] = benchmark::Counter(
+      static_cast<double>(p.constraints.size()) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+void BM_NewtonAnalyze(benchmark::State& state) {
+  const dc::LcpProblem p = pile(static_cast<int>(state.range(0)));
+  const std::vector<char> free(static_cast<size_t>(p.rows()), 1);
+  dc::NewtonSparseStats st;
+  for (auto _ : state) {
+    dc::solvers::FreeBlockFactor f(true, false);
+    f.bind(p.A, true);
+    f.factorize(free, ridge(p), st);
+  }
+  state.counters["analyze_ms"] = st.analyze_ms / static_cast<double>(state.iterations());
+  state.counters["factor_ms"] = st.factor_ms / static_cast<double>(state.iterations());
+  count(state, p);
+}
+
+void BM_NewtonFactorize(benchmark::State& state) {
+  const dc::LcpProblem p = pile(static_cast<int>(state.range(0)));
+  const std::vector<char> free(static_cast<size_t>(p.rows()), 1);
+  dc::NewtonSparseStats st;
+  dc::solvers::FreeBlockFactor f(true, true);
+  f.bind(p.A, true);
+  f.factorize(free, ridge(p), st);  // the analysis, outside the timed loop
+  for (auto _ : state) benchmark::DoNotOptimize(f.factorize(free, ridge(p), st));
+  count(state, p);
+}
+
+void BM_NewtonSolve(benchmark::State& state) {
+  const dc::LcpProblem p = pile(static_cast<int>(state.range(0)));
+  const std::vector<char> free(static_cast<size_t>(p.rows()), 1);
+  dc::NewtonSparseStats st;
+  dc::solvers::FreeBlockFactor f(true, true);
+  f.bind(p.A, true);
+  f.factorize(free, ridge(p), st);
+  Eigen::VectorXd x;
+  for (auto _ : state) {
+    f.solve(p.b, x);
+    benchmark::DoNotOptimize(x.data());
+  }
+  count(state, p);
+}
+
+void BM_NewtonIteration(benchmark::State& state) {
+  const dc::LcpProblem p = pile(static_cast<int>(state.range(0)));
+  dc::NewtonSparseSolver solver;
+  dc::SolverOptions o;
+  o.record_theta = false;
+  o.max_sweeps = 100;
+  const Eigen::VectorXd star = solver.solve(p, {}, o).lambda;
+  Eigen::VectorXd start = star;
+  for (int i = 0; i < start.size(); ++i) start[i] *= 1.0 + 0.01 * std::sin(1.0 + i);
+  o.max_sweeps = 1;
+  o.exact_tolerance = 1e-300;  // always one iteration
+  for (auto _ : state) benchmark::DoNotOptimize(solver.solve(p, start, o).lambda.data());
+  const dc::NewtonSparseStats st = solver.last_stats();
+  state.counters["factor_ms"] = st.factor_ms;
+  state.counters["solve_ms"] = st.solve_ms;
+  state.counters["total_ms"] = st.total_ms;
+  count(state, p);
+}
+
+}  // namespace
+
+BENCHMARK(BM_NewtonAnalyze)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NewtonFactorize)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NewtonSolve)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NewtonIteration)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();

@@ -1,0 +1,85 @@
+#include "solvers/newton_sparse/gmres.hpp"
+
+#include <cmath>
+#include <vector>
+
+namespace dc::solvers {
+
+double dot_in_order(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double s = 0.0;
+  for (Eigen::Index i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  return s;
+}
+
+KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                    int restart, int max_iterations, double tolerance) {
+  KrylovOutcome out;
+  const Eigen::Index n = b.size();
+  x = Eigen::VectorXd::Zero(n);
+  const double bnorm = std::sqrt(dot_in_order(b, b));
+  if (!(bnorm > 0.0) || !std::isfinite(bnorm)) {
+    out.converged = bnorm == 0.0;
+    return out;
+  }
+  const int m = std::max(1, restart);
+  std::vector<Eigen::VectorXd> V(static_cast<size_t>(m + 1)), Z(static_cast<size_t>(m));
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m + 1, m);
+  Eigen::VectorXd cs(m), sn(m), g(m + 1), w(n), r = b;
+  double beta = bnorm, previous_beta = bnorm;
+  while (out.iterations < max_iterations) {
+    V[0] = r / beta;
+    g.setZero();
+    g[0] = beta;
+    int k = 0;
+    for (; k < m && out.iterations < max_iterations; ++k) {
+      P_inverse(V[static_cast<size_t>(k)], Z[static_cast<size_t>(k)]);
+      K(Z[static_cast<size_t>(k)], w);
+      for (int i = 0; i <= k; ++i) {  // modified Gram–Schmidt
+        H(i, k) = dot_in_order(w, V[static_cast<size_t>(i)]);
+        w -= H(i, k) * V[static_cast<size_t>(i)];
+      }
+      H(k + 1, k) = std::sqrt(dot_in_order(w, w));
+      for (int i = 0; i < k; ++i) {  // earlier Givens rotations
+        const double t = cs[i] * H(i, k) + sn[i] * H(i + 1, k);
+        H(i + 1, k) = -sn[i] * H(i, k) + cs[i] * H(i + 1, k);
+        H(i, k) = t;
+      }
+      const double hk = H(k, k), hk1 = H(k + 1, k), den = std::hypot(hk, hk1);
+      cs[k] = den > 0 ? hk / den : 1.0;
+      sn[k] = den > 0 ? hk1 / den : 0.0;
+      const double lucky = H(k + 1, k);
+      H(k, k) = den;
+      H(k + 1, k) = 0.0;
+      g[k + 1] = -sn[k] * g[k];
+      g[k] = cs[k] * g[k];
+      ++out.iterations;
+      if (lucky > 0.0) V[static_cast<size_t>(k + 1)] = w / lucky;
+      if (std::abs(g[k + 1]) <= tolerance * bnorm || !(lucky > 0.0)) {
+        ++k;
+        break;
+      }
+    }
+    // y = H(0:k, 0:k)⁻¹ g(0:k), back substitution; x += Z y.
+    Eigen::VectorXd y(k);
+    for (int i = k - 1; i >= 0; --i) {
+      double s = g[i];
+      for (int j = i + 1; j < k; ++j) s -= H(i, j) * y[j];
+      y[i] = H(i, i) != 0.0 ? s / H(i, i) : 0.0;
+    }
+    for (int i = 0; i < k; ++i) x += y[i] * Z[static_cast<size_t>(i)];
+    K(x, w);
+    r = b - w;
+    beta = std::sqrt(dot_in_order(r, r));
+    out.relative_residual = beta / bnorm;
+    if (!std::isfinite(beta)) break;
+    if (beta <= tolerance * bnorm) {
+      out.converged = true;
+      break;
+    }
+    if (beta > 0.5 * previous_beta) break;  // a restart cycle that does not halve ‖r‖: round-off floor
+    previous_beta = beta;
+  }
+  return out;
+}
+
+}  // namespace dc::solvers
