@@ -16,7 +16,10 @@ foreach(lib ${DC_INSTALLED_LIBRARIES})
   get_target_property(dir ${lib} SOURCE_DIR)
   install(DIRECTORY ${dir}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()
+# The INTERFACE targets of third-party libraries found without a CMake package (absolute
+# Debian paths) travel with the export set.
 set_target_properties(dc_hdf5 PROPERTIES EXPORT_NAME hdf5)
+set_target_properties(dc_cholmod PROPERTIES EXPORT_NAME cholmod)
 # A consumer must compile with the -march of the libraries (Eigen's object layout depends on
 # the vector width, DEVELOPERS.md "Build") and without FP contraction (docs/reproducibility.md):
 # the installed dc_core carries both flags to everything that links it.
@@ -25,7 +28,7 @@ if(DC_NATIVE AND NOT DC_FUZZ)
 endif()
 target_compile_options(dc_core INTERFACE $<INSTALL_INTERFACE:-ffp-contract=off>)
 
-install(TARGETS ${DC_INSTALLED_LIBRARIES} dc_hdf5 EXPORT DeepContactTargets
+install(TARGETS ${DC_INSTALLED_LIBRARIES} dc_hdf5 dc_cholmod EXPORT DeepContactTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS deepcontact RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
