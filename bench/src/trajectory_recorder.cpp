@@ -7,6 +7,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/io/h5.hpp"
+#include "trajectory_layout.hpp"
 
 namespace dc {
 
@@ -82,8 +83,6 @@ void TrajectoryRecorder::record_step(const World& w, const StepReport& r) {
 void TrajectoryRecorder::write(const std::string& path, const std::string& scene,
                                const std::string& warmstart) const {
   const hsize_t S = sweeps_.size(), n = n_, C = body_a_.size();
-  ShapeTable shapes = shapes_;
-  if (shapes.empty()) shapes.add_circles(n_);  // a circle-only scene: all kind 0, motion 0
   // States recorded before late bodies entered are padded with NaN (docs/formats.md).
   std::vector<double> position, angle, velocity, omega;
   const std::vector<double>* pos = &position_;
@@ -111,10 +110,7 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   const auto opt = [&](hsize_t rows) { return rows > 0 ? z : H5DatasetOptions{}; };
   AtomicH5File out(path);
   H5File& f = out.file();
-  f.set_attribute("/", "format", "deepcontact-trajectory");
-  f.set_attribute<std::int32_t>("/", "format_version", kTrajectoryFormatVersion);
-  f.set_attribute("/", "scene", scene);
-  f.set_attribute("/", "warmstart", warmstart);
+  trajectory::write_attributes(f, scene, warmstart);
   // State k is the world after start_step + k steps: its time is (start_step + k)·dt (the
   // bench's reference starts after the warm-up).
   f.set_attribute<std::int32_t>("/", "start_step", start_step_);
@@ -122,32 +118,7 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   f.write<double>("/bodies/angle", *ang, {S + 1, n}, opt(S + 1));
   f.write<double>("/bodies/velocity", *vel, {S + 1, n, 2}, opt(S + 1));
   f.write<double>("/bodies/omega", *om, {S + 1, n}, opt(S + 1));
-  f.write<double>("/bodies/radius", radius_, {n});
-  f.write<double>("/bodies/mass", mass_, {n});
-  // Shape table (format_version 2): kind and motion per body, polygon vertices (body frame,
-  // centroid at the origin) as rows [vertex_offset[k], vertex_offset[k+1]), ellipse semi-axes.
-  std::vector<std::uint8_t> kind(n), motion(n);
-  std::vector<double> verts, semi, pivot;
-  for (std::size_t k = 0; k < n_; ++k) {
-    kind[k] = static_cast<std::uint8_t>(shapes.kind[k]);
-    motion[k] = static_cast<std::uint8_t>(shapes.motion[k]);
-    semi.push_back(shapes.semi_axes[k].x);
-    semi.push_back(shapes.semi_axes[k].y);
-    pivot.push_back(shapes.has_pivot[k] ? shapes.pivot[k].x : NAN);
-    pivot.push_back(shapes.has_pivot[k] ? shapes.pivot[k].y : NAN);
-  }
-  for (const Vec2 v : shapes.vertices) {
-    verts.push_back(v.x);
-    verts.push_back(v.y);
-  }
-  const std::vector<std::int64_t> offsets(shapes.vertex_offset.begin(), shapes.vertex_offset.end());
-  const hsize_t V = shapes.vertices.size();
-  f.write<std::uint8_t>("/bodies/shape/kind", kind, {n});
-  f.write<std::uint8_t>("/bodies/shape/motion", motion, {n});
-  f.write<std::int64_t>("/bodies/shape/vertex_offset", offsets, {n + 1});
-  f.write<double>("/bodies/shape/vertices", verts, {V, 2});
-  f.write<double>("/bodies/shape/semi_axes", semi, {n, 2});
-  f.write<double>("/bodies/shape/pivot", pivot, {n, 2});
+  trajectory::write_body_tables(f, n_, radius_, mass_, shapes_);
   f.write<std::int64_t>("/contacts/step_offset", step_offset_, {S + 1});
   f.write<std::int32_t>("/contacts/body_a", body_a_, {C}, opt(C));
   f.write<std::int32_t>("/contacts/body_b", body_b_, {C}, opt(C));

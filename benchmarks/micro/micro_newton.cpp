@@ -3,12 +3,12 @@
 // right and upper-right neighbours, floor contacts for the bottom row, friction on (2 rows per
 // contact, μ = 0.5), Δt = 0.01, at rest under gravity (the pile of micro_pgs).
 //
-//   BM_NewtonAnalyze/N    CHOLMOD's symbolic analysis of A ∪ diag (ordering + symbolic factor)
-//   BM_NewtonFactorize/N  one numeric factorisation of A_FF + ρI (every row free), analysis reused
+//   BM_NewtonAnalyze/N/S  CHOLMOD's symbolic analysis of A ∪ diag (ordering + symbolic factor)
+//   BM_NewtonFactorize/N/S one numeric factorisation of A_FF + ρI (every row free), analysis reused
 //   BM_NewtonSolve/N      one solve with that factor (forward + backward substitution)
 //   BM_NewtonIteration/N  one whole iteration of the solver (natural map, modes, factorisation,
 //                         direction, line search) from the solution perturbed by 1 %, analysis reused
-// N = bodies (1k, 10k, 40k). Counter ns_per_contact = CPU time per iteration / contacts [ns].
+// N = bodies (1k, 10k, 40k), S = 0 simplicial LDLᵀ (default), 1 supernodal where CHOLMOD picks it. Counter ns_per_contact = CPU time per iteration / contacts [ns].
 //   build/bin/micro_newton --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
 
@@ -94,7 +94,7 @@ void BM_NewtonAnalyze(benchmark::State& state) {
   const std::vector<char> free(static_cast<size_t>(p.rows()), 1);
   dc::NewtonSparseStats st;
   for (auto _ : state) {
-    dc::solvers::FreeBlockFactor f(true, false);
+    dc::solvers::FreeBlockFactor f(true, false, state.range(1) != 0);
     f.bind(p.A, true);
     f.factorize(free, ridge(p), st);
   }
@@ -107,7 +107,7 @@ void BM_NewtonFactorize(benchmark::State& state) {
   const dc::LcpProblem p = pile(static_cast<int>(state.range(0)));
   const std::vector<char> free(static_cast<size_t>(p.rows()), 1);
   dc::NewtonSparseStats st;
-  dc::solvers::FreeBlockFactor f(true, true);
+  dc::solvers::FreeBlockFactor f(true, true, state.range(1) != 0);
   f.bind(p.A, true);
   f.factorize(free, ridge(p), st);  // the analysis, outside the timed loop
   for (auto _ : state) benchmark::DoNotOptimize(f.factorize(free, ridge(p), st));
@@ -150,8 +150,9 @@ void BM_NewtonIteration(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_NewtonAnalyze)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NewtonFactorize)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
+// Second argument: 0 = simplicial LDLᵀ (the default), 1 = CHOLMOD's choice (supernodal, BLAS).
+BENCHMARK(BM_NewtonAnalyze)->ArgsProduct({{1000, 10000, 40000}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NewtonFactorize)->ArgsProduct({{1000, 10000, 40000}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NewtonSolve)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NewtonIteration)->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -18,9 +18,9 @@
 // WorldDef, 400 steps of "pgs" with 200 sweeps, then collide + assemble).
 //
 // pgs-colored (colour-ordered PGS, dc/engine/pgs_colored.hpp): BM_PgsColored* run its AVX-512
-// kernel (simd = 1; the scalar kernel on builds without AVX-512) and its scalar kernel
-// (simd = 0) on the same problems, and 1 or 2 OpenMP threads (BM_PgsColoredThreads);
-// max_diff_vs_scalar = max_i |λ_i(SIMD) − λ_i(scalar)| after the same sweeps (0: bit-equal).
+// (kernel = 2), AVX2 (1) and scalar (0) kernels on the same problems (a kernel the CPU lacks is
+// skipped), and 1 or 2 OpenMP threads (BM_PgsColoredThreads); max_diff_vs_scalar =
+// max_i |λ_i(kernel) − λ_i(scalar)| after the same sweeps (0: bit-equal).
 // BM_ContactColoring* time the colouring alone (ns per contact), from scratch and reusing
 // the previous call's colours. The side-by-side table of docs/solvers.md is one run of
 //   build/bin/micro_pgs --benchmark_filter='200/0|SeedScene|Coloring' --benchmark_min_time=0.2
@@ -283,14 +283,24 @@ void sizes(benchmark::internal::Benchmark* b) {
 }
 
 // ---- pgs-colored ------------------------------------------------------------------------
-void run_colored(benchmark::State& state, const dc::LcpProblem& p, int sweeps, bool simd, int threads) {
+/// Kernel argument of the pgs-colored benchmarks: 0 scalar, 1 AVX2, 2 AVX-512.
+dc::PgsColoredKernel kernel_arg(std::int64_t k) {
+  return k == 2 ? dc::PgsColoredKernel::Avx512 : k == 1 ? dc::PgsColoredKernel::Avx2 : dc::PgsColoredKernel::Scalar;
+}
+
+void run_colored(benchmark::State& state, const dc::LcpProblem& p, int sweeps, dc::PgsColoredKernel kernel,
+                 int threads) {
+  if (!dc::pgs_colored_kernel_available(kernel)) {
+    state.SkipWithError("kernel not available on this CPU");
+    return;
+  }
   dc::PgsColoredDef def;
-  def.simd = simd;
+  def.kernel = kernel;
   def.threads = threads;
   def.min_batches_per_thread = 1;
   const auto solver = dc::make_pgs_colored(def);
   dc::PgsColoredDef scalar_def;
-  scalar_def.simd = false;
+  scalar_def.kernel = dc::PgsColoredKernel::Scalar;
   dc::SolverOptions o;
   o.max_sweeps = sweeps;
   o.tolerance = 0.0;
@@ -299,16 +309,15 @@ void run_colored(benchmark::State& state, const dc::LcpProblem& p, int sweeps, b
   const Eigen::VectorXd scalar = dc::make_pgs_colored(scalar_def)->solve(p, zero, o).lambda;
   time_solve(state, p, sweeps, [&] { return solver->solve(p, zero, o).lambda; });
   state.counters["max_diff_vs_scalar"] = (solver->solve(p, zero, o).lambda - scalar).cwiseAbs().maxCoeff();
-  state.counters["simd_kernel"] = simd && dc::pgs_colored_has_simd();
 }
 void BM_PgsColored(benchmark::State& s) {
-  run_colored(s, pile_of(s), static_cast<int>(s.range(1)), s.range(3) != 0, 1);
+  run_colored(s, pile_of(s), static_cast<int>(s.range(1)), kernel_arg(s.range(3)), 1);
 }
 void colored_sizes(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"bodies", "sweeps", "order", "simd"});
-  for (int simd : {1, 0})
-    for (int bodies : {100, 1000, 10000}) b->Args({bodies, 200, 0, simd});
-  b->Args({1000, 1, 0, 1});
+  b->ArgNames({"bodies", "sweeps", "order", "kernel"});
+  for (int kernel : {2, 1, 0})
+    for (int bodies : {100, 1000, 10000}) b->Args({bodies, 200, 0, kernel});
+  for (int kernel : {2, 1, 0}) b->Args({1000, 1, 0, kernel});
 }
 double cpu_seconds(clockid_t clock) {
   timespec ts{};
@@ -371,9 +380,14 @@ void BM_SeedScenePgsBaseline(benchmark::State& s) {
   const dc::LcpProblem& p = seed_scene_problem();
   time_solve(s, p, kSeedSweeps, [&] { return baseline::solve(p, kSeedSweeps); });
 }
-void BM_SeedScenePgsColored(benchmark::State& s) { run_colored(s, seed_scene_problem(), kSeedSweeps, true, 1); }
+void BM_SeedScenePgsColored(benchmark::State& s) {
+  run_colored(s, seed_scene_problem(), kSeedSweeps, dc::PgsColoredKernel::Avx512, 1);
+}
+void BM_SeedScenePgsColoredAvx2(benchmark::State& s) {
+  run_colored(s, seed_scene_problem(), kSeedSweeps, dc::PgsColoredKernel::Avx2, 1);
+}
 void BM_SeedScenePgsColoredScalar(benchmark::State& s) {
-  run_colored(s, seed_scene_problem(), kSeedSweeps, false, 1);
+  run_colored(s, seed_scene_problem(), kSeedSweeps, dc::PgsColoredKernel::Scalar, 1);
 }
 void BM_SeedScenePgsAssembled(benchmark::State& s) {
   run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs-assembled");
@@ -398,6 +412,7 @@ BENCHMARK(BM_ContactColoring)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsColored)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SeedScenePgsColoredAvx2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsColoredScalar)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsBaseline)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsAssembled)->Unit(benchmark::kMillisecond);

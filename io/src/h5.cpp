@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <numeric>
 #include <utility>
 
@@ -224,8 +225,11 @@ void H5File::create_dataset(std::string_view path, const H5Shape& shape, const H
   if (exists(path)) fail(path, "cannot create dataset: an object of that name exists");
 
   const ErrorSilencer quiet;
+  if (options.extendible_columns && (!options.extendible || shape.size() < 2))
+    throw InvalidArgument(path_ + ": " + object_name(path) + ": extendible columns need an extendible dataset of rank >= 2");
   H5Shape maxdims = shape;
   if (options.extendible) maxdims[0] = H5S_UNLIMITED;
+  if (options.extendible_columns) maxdims[1] = H5S_UNLIMITED;
   Handle space(shape.empty() ? H5Screate(H5S_SCALAR)
                              : H5Screate_simple(static_cast<int>(shape.size()), shape.data(), maxdims.data()),
                H5Sclose);
@@ -237,6 +241,7 @@ void H5File::create_dataset(std::string_view path, const H5Shape& shape, const H
     // compression effective without making single-row reads expensive.
     H5Shape chunk(shape.size());
     for (std::size_t i = 1; i < shape.size(); ++i) chunk[i] = std::max<hsize_t>(shape[i], 1);
+    if (options.extendible_columns) chunk[1] = std::max<hsize_t>(shape[1], 64);
     const hsize_t row_bytes = product(chunk, 1) * sizeof(T);
     hsize_t rows = options.chunk_rows;
     if (rows == 0) {
@@ -244,6 +249,11 @@ void H5File::create_dataset(std::string_view path, const H5Shape& shape, const H
       if (!options.extendible) rows = std::min(rows, std::max<hsize_t>(shape[0], 1));
     }
     chunk[0] = rows;
+    if constexpr (std::is_floating_point_v<T>) {
+      const T nan = std::numeric_limits<T>::quiet_NaN();
+      if (options.extendible_columns && H5Pset_fill_value(dcpl.get(), memory_type(type_of<T>()), &nan) < 0)
+        fail(path, "cannot set the fill value");
+    }
     if (H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()) < 0)
       fail(path, "cannot set chunk shape " + to_string(chunk));
     if (options.deflate > 0 &&
@@ -390,6 +400,17 @@ void H5File::resize_rows(std::string_view path, hsize_t rows) {
   if (d.maxdims[0] != H5S_UNLIMITED && rows > d.maxdims[0]) fail(path, "cannot resize: dataset is not extendible");
   H5Shape dims = d.dims;
   dims[0] = rows;
+  if (H5Dset_extent(d.ds.get(), dims.data()) < 0) fail(path, "cannot resize dataset to " + to_string(dims));
+}
+
+void H5File::resize(std::string_view path, const H5Shape& dims) {
+  require_writable(path);
+  const ErrorSilencer quiet;
+  DC_OPEN_DATASET(d, path, "resize");
+  if (dims.size() != d.dims.size()) fail(path, "cannot resize to " + to_string(dims) + ": another rank");
+  for (std::size_t i = 0; i < dims.size(); ++i)
+    if (d.maxdims[i] != H5S_UNLIMITED && dims[i] > d.maxdims[i])
+      fail(path, "cannot resize to " + to_string(dims) + ": axis " + std::to_string(i) + " is not extendible");
   if (H5Dset_extent(d.ds.get(), dims.data()) < 0) fail(path, "cannot resize dataset to " + to_string(dims));
 }
 

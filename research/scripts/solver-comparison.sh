@@ -12,7 +12,8 @@
 # Environment: ONLY="impact deep" (a subset of: seed impact deep pour drum polydisperse box_pile),
 # SEEDS (instead of each family's seeds), STEPS=N (evaluated steps per seed, default 10),
 # DEEP_ORACLE=1 (the oracle on the settled deep pile too, which `copy` needs; default off: deep
-# then runs --no-oracle without copy), NO_DOCS=1 (do not touch the docs).
+# then runs --no-oracle without copy), SOLVERS (default pgs,nncg,newton-sparse), NO_DOCS=1 (do not
+# touch the docs).
 # Bounded: ~10 evaluated steps per seed and 2 seeds (1 on deep) keep a family to a few minutes
 # on 2 idle cores; it is not part of `make test`. The CPU model and the load are recorded next
 # to the reports (OUT_DIR/machine.txt) and in the table.
@@ -24,7 +25,7 @@ DC="$BUILD/bin/deepcontact"
 [[ -x "$DC" ]] || { echo "solver-comparison: $DC not found (build the deepcontact target first)" >&2; exit 2; }
 ONLY=${ONLY:-"seed impact deep pour drum polydisperse box_pile"}
 N=${STEPS:-10}
-SOLVERS=pgs,nncg,newton-sparse
+SOLVERS=${SOLVERS:-pgs,nncg,newton-sparse}
 mkdir -p "$OUT"
 { lscpu | grep 'Model name'; nproc; uptime; date -u; } > "$OUT/machine.txt"
 want() { [[ " $ONLY " == *" $1 "* ]]; }

@@ -111,6 +111,17 @@ inline bool wait_for(const std::string& log, const std::string& needle, pid_t pi
   return false;
 }
 
+/// Waits until `path` exists (true) or the child exited / 60 s passed.
+inline bool wait_for_file(const std::string& path, pid_t pid) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (std::filesystem::exists(path)) return true;
+    if (::kill(pid, 0) != 0) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
 /// Exit status of the child; −signal if it was killed, −2 if it was already reaped.
 inline int wait_exit(pid_t pid) {
   int st = 0;

@@ -1,6 +1,11 @@
 // deepcontact simulate: the trajectory file holds what docs/formats.md promises, and bad
 // input gives a one-line error with a non-zero exit status.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
 
 #include "cli_helpers.hpp"
 #include "dc/engine/scene.hpp"
@@ -114,6 +119,31 @@ TEST(SimulateCli, BadInputIsOneLineAndNonZero) {
   }
   const auto r = test::run_cli("simulate --steps 1 --set contact.frictoin=0.3");
   EXPECT_NE(r.err.find("frictoin"), std::string::npos) << r.err;
+}
+
+// SIGTERM (a batch system's time limit) stops simulate at the next step: the trajectory of
+// the steps done is committed under OUT (complete, readable), one line says so, exit 143.
+TEST(SimulateCli, SigtermCommitsTheStepsDoneAndExits143) {
+  test::TempDir dir;
+  const std::string out = dir.file("run.h5"), err = dir.file("err.txt");
+  const pid_t pid = test::spawn_cli("simulate --set bodies.count=12 --set bodies.mean=[15.0,4.0] --set "
+                                    "bodies.sigma=3.0 --steps 1000000 --out " + out,
+                                    err, test::ChildLog::StderrOnly);
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(test::wait_for_file(out + ".tmp", pid));
+  ::usleep(300000);
+  ::kill(pid, SIGTERM);
+  ASSERT_EQ(test::wait_exit(pid), 143) << test::slurp(err);
+  const std::string log = test::slurp(err);
+  EXPECT_NE(log.find("interrupted by SIGTERM after "), std::string::npos) << log;
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+  const H5File f = H5File::open_read(out);
+  const auto S = f.shape("/solver/sweeps").at(0);
+  EXPECT_GT(S, 0u);
+  EXPECT_LT(S, 1000000u);
+  f.require_shape("/bodies/position", {S + 1, 12, 2});
+  EXPECT_EQ(f.read<std::int64_t>("/contacts/step_offset").size(), S + 1);
+  EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
-// deepcontact simulate: run one scene and write its HDF5 trajectory (docs/formats.md).
+// deepcontact simulate: run one scene and stream its HDF5 trajectory to disk (docs/formats.md;
+// TrajectoryWriter: memory independent of the step count, OUT appears complete or not at all).
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -8,11 +11,14 @@
 #include <memory>
 #include <string>
 
+#include "cluster/sigint_guard.hpp"
 #include "commands/cli_common.hpp"
 #include "commands/commands.hpp"
 #include "dc/bench/list_options.hpp"
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/trajectory_recorder.hpp"
+#include "dc/bench/trajectory_writer.hpp"
+#include "dc/io/output_lock.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
@@ -50,16 +56,16 @@ double process_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+/// Sums over the steps of the per-stage seconds (the columns of /solver/profile).
+using ProfileSums = std::array<double, TrajectoryRecorder::kProfileWidth>;
+
 /// One line "profile key=value …": steps, bodies, mean rows per step, mean wall-clock ms per
 /// step of each stage (the columns of /solver/profile) and their total, and the CPU seconds
 /// of the stepping loop (benchmarks/scripts/step-scaling.sh reads it).
-void print_profile(const TrajectoryRecorder& rec, std::size_t bodies, long rows_sum, double cpu_s) {
-  const int S = rec.steps(), W = TrajectoryRecorder::kProfileWidth;
-  std::vector<double> mean(static_cast<std::size_t>(W), 0.0);
-  for (int k = 0; k < S; ++k)
-    for (int c = 0; c < W; ++c) mean[static_cast<std::size_t>(c)] += rec.profile()[static_cast<std::size_t>(k * W + c)];
+void print_profile(const ProfileSums& sum, int S, std::size_t bodies, long rows_sum, double cpu_s) {
+  ProfileSums mean{};
   const double per_step_ms = S > 0 ? 1e3 / S : 0.0;
-  for (double& m : mean) m *= per_step_ms;
+  for (std::size_t c = 0; c < mean.size(); ++c) mean[c] = sum[c] * per_step_ms;
   const double total = mean[0] + mean[1] + mean[2] + mean[3] + mean[4] + mean[5];  // broad phase ⊂ collide
   std::printf("profile steps=%d bodies=%zu rows=%.1f collide_ms=%.4f assemble_ms=%.4f warm_start_ms=%.4f "
               "solve_ms=%.4f integrate_ms=%.4f record_ms=%.4f broad_phase_ms=%.4f total_ms=%.4f cpu_s=%.3f\n",
@@ -67,48 +73,85 @@ void print_profile(const TrajectoryRecorder& rec, std::size_t bodies, long rows_
               mean[4], mean[5], mean[6], total, cpu_s);
 }
 
+/// What the stepping loop measured, for the summary line.
+struct RunFigures {
+  int steps = 0;  ///< steps done (fewer than asked when stopped by a signal)
+  std::vector<int> sweeps;
+  double max_pen = 0, worst_residual = 0;
+  int nonconverged = 0, max_contacts = 0;
+  long rows_sum = 0;
+  std::int64_t contacts = 0;
+  ProfileSums profile{};
+  double cpu_s = 0;
+};
+
+/// Steps the world up to `steps` times (stopping early at a stop signal), streaming every
+/// step to `out` when there is one: nothing of the trajectory is kept in memory.
+RunFigures step_world(World& world, const WorldDef& def, WarmStarter& starter, TrajectoryWriter* out) {
+  const auto solver = make_solver(def.solver.name);
+  const SolverOptions opt = solver_options(def.solver);  // θ recorded
+  bench::ProgressBar bar("simulate", def.time.steps);
+  RunFigures f;
+  const double cpu0 = process_cpu_seconds();
+  double record_s = 0;
+  for (int s = 0; s < def.time.steps && !interrupted(); ++s) {
+    const StepReport r = world.step(*solver, opt, [&](const World& w) {
+      return starter.initial_guess(StepView{w, nullptr});
+    });
+    starter.observe(StepView{world, nullptr}, r.solve.lambda);
+    if (!r.solve.lambda.allFinite())
+      throw std::runtime_error("step " + std::to_string(s + 1) + ": the solver returned a non-finite λ (" +
+                               std::string(to_string(r.solve.status)) + ")");
+    const auto t0 = std::chrono::steady_clock::now();
+    if (out) out->record_step(world, r, record_s);
+    record_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const StepProfile& p = r.profile;
+    const ProfileSums step{1e-3 * p.collide_ms, 1e-3 * p.assemble_ms, 1e-3 * p.warmstart_ms, 1e-3 * p.solve_ms,
+                           1e-3 * p.integrate_ms, record_s, 1e-3 * p.broad_phase_ms};
+    for (std::size_t c = 0; c < step.size(); ++c) f.profile[c] += step[c];
+    f.rows_sum += r.rows;
+    f.contacts += r.contacts;
+    if (r.rows > 0) {
+      f.sweeps.push_back(r.solve.sweeps);
+      f.worst_residual = std::max(f.worst_residual, r.solve.residual);
+      if (def.solver.tolerance > 0 && r.solve.status != SolveStatus::Converged) ++f.nonconverged;
+    }
+    f.max_pen = std::max(f.max_pen, world.max_penetration());
+    f.max_contacts = std::max(f.max_contacts, r.contacts);
+    ++f.steps;
+    bar.advance();
+  }
+  f.cpu_s = process_cpu_seconds() - cpu0;
+  bar.finish();
+  return f;
+}
+
 void run(const SimulateArgs& a) {
   WorldDef def = a.scene.load();
   if (a.steps >= 0) def.time.steps = a.steps;
   const auto t0 = std::chrono::steady_clock::now();
   World world(def);
-  const auto solver = make_solver(def.solver.name);
-  const SolverOptions opt = solver_options(def.solver);  // θ recorded
   const WarmStarterRegistry registry = all_warm_starters(shipped_model());
   auto starter = registry.make(a.warmstart);
-
-  TrajectoryRecorder rec(world);
-  rec.reserve_steps(def.time.steps);
-  bench::ProgressBar bar("simulate", def.time.steps);
-  std::vector<int> sweeps;
-  double max_pen = 0, worst_residual = 0;
-  int nonconverged = 0, max_contacts = 0;
-  const double e0 = world.kinetic_energy() + world.potential_energy();
-  long rows_sum = 0;
-  const double cpu0 = process_cpu_seconds();
-  for (int s = 0; s < def.time.steps; ++s) {
-    const StepReport r = world.step(*solver, opt, [&](const World& w) {
-      return starter->initial_guess(StepView{w, nullptr});
-    });
-    starter->observe(StepView{world, nullptr}, r.solve.lambda);
-    if (!r.solve.lambda.allFinite())
-      throw std::runtime_error("step " + std::to_string(s + 1) + ": the solver returned a non-finite λ (" +
-                               std::string(to_string(r.solve.status)) + ")");
-    rec.record_step(world, r);
-    rows_sum += r.rows;
-    if (r.rows > 0) {
-      sweeps.push_back(r.solve.sweeps);
-      worst_residual = std::max(worst_residual, r.solve.residual);
-      if (def.solver.tolerance > 0 && r.solve.status != SolveStatus::Converged) ++nonconverged;
-    }
-    max_pen = std::max(max_pen, world.max_penetration());
-    max_contacts = std::max(max_contacts, r.contacts);
-    bar.advance();
+  std::optional<OutputLock> lock;
+  std::optional<TrajectoryWriter> out;
+  if (!a.out.empty()) {
+    lock.emplace(a.out);
+    out.emplace(a.out, world, scene_to_toml(def), a.warmstart);
   }
-  const double cpu_s = process_cpu_seconds() - cpu0;
-  bar.finish();
+  const SigintGuard stop_signals;
+  const double e0 = world.kinetic_energy() + world.potential_energy();
+  RunFigures f = step_world(world, def, *starter, out ? &*out : nullptr);
+  if (out) out->commit();
+  if (interrupted()) {
+    std::fprintf(stderr, "deepcontact: interrupted by %s after %d of %d steps%s%s\n", interrupt_signal_name(), f.steps,
+                 def.time.steps, out ? "; the trajectory of those steps is in " : " (nothing written)",
+                 out ? a.out.c_str() : "");
+    exit_status() = interrupt_exit_status();
+    return;
+  }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::sort(sweeps.begin(), sweeps.end());
+  std::sort(f.sweeps.begin(), f.sweeps.end());
   const double e1 = world.kinetic_energy() + world.potential_energy();
   // FNV-1a over the bit patterns of the final positions, angles, velocities and ω: equal on
   // every build and x86-64 CPU for the same scene (docs/reproducibility.md).
@@ -117,18 +160,17 @@ void run(const SimulateArgs& a) {
     std::printf("%016llx\n", hash);
   } else {
     std::printf(
-        "Simulated %s for %d steps (%.3g s of simulated time, dt = %g s) in %.2f s wall: %zu contacts "
+        "Simulated %s for %d steps (%.3g s of simulated time, dt = %g s) in %.2f s wall: %lld contacts "
         "solved in all, at most %d in one step; solver '%s' with the '%s' warm start used a median of %d "
         "sweeps per step with contacts (max %d%s), worst natural-map residual %.3g N; max penetration %.3g m; "
         "total energy %.6g J -> %.6g J; final state hash %016llx.%s%s\n",
-        describe_bodies(world.bodies()).c_str(), def.time.steps, def.time.steps * def.time.dt, def.time.dt, wall, rec.contacts(),
-        max_contacts, def.solver.name.c_str(), a.warmstart.c_str(), sweeps.empty() ? 0 : sweeps[sweeps.size() / 2],
-        sweeps.empty() ? 0 : sweeps.back(),
-        def.solver.tolerance > 0 ? (", " + std::to_string(nonconverged) + " steps did not reach the tolerance").c_str() : "",
-        worst_residual, max_pen, e0, e1, hash, a.out.empty() ? "" : " Trajectory: ", a.out.c_str());
+        describe_bodies(world.bodies()).c_str(), def.time.steps, def.time.steps * def.time.dt, def.time.dt, wall,
+        static_cast<long long>(f.contacts), f.max_contacts, def.solver.name.c_str(), a.warmstart.c_str(),
+        f.sweeps.empty() ? 0 : f.sweeps[f.sweeps.size() / 2], f.sweeps.empty() ? 0 : f.sweeps.back(),
+        def.solver.tolerance > 0 ? (", " + std::to_string(f.nonconverged) + " steps did not reach the tolerance").c_str() : "",
+        f.worst_residual, f.max_pen, e0, e1, hash, a.out.empty() ? "" : " Trajectory: ", a.out.c_str());
   }
-  if (a.profile) print_profile(rec, world.bodies().size(), rows_sum, cpu_s);
-  if (!a.out.empty()) rec.write(a.out, scene_to_toml(def), a.warmstart);
+  if (a.profile) print_profile(f.profile, f.steps, world.bodies().size(), f.rows_sum, f.cpu_s);
 }
 
 }  // namespace
@@ -139,7 +181,9 @@ void add_simulate_command(CLI::App& app) {
   args->scene.add_options(*cmd);
   cmd->add_option("--steps", args->steps, "Number of steps (default: the scene's [time] steps)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--out", args->out, "Write the trajectory to this HDF5 file (atomically)");
+  cmd->add_option("--out", args->out,
+                  "Write the trajectory to this HDF5 file (streamed to OUT.tmp, renamed when complete; SIGINT/"
+                  "SIGTERM/SIGUSR1 stop at the next step and keep the steps done)");
   cmd->add_option("--warmstart", args->warmstart, "Warm starter used by the solver (see `bench --list`)")
       ->capture_default_str();
   cmd->add_flag("--hash", args->hash,

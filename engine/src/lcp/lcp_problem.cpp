@@ -79,19 +79,21 @@ void LcpProblem::validate_constraints() const {
   std::vector<char> owned(static_cast<size_t>(n), 0);
   for (int c = 0; c < constraints.size(); ++c) {
     const ContactConstraint& k = constraints[c];
-    const std::string name = "contact " + std::to_string(c);
+    // The name is formatted only on failure (formatting it for every contact was 4 % of a
+    // 1-sweep solve of 4,000 rows).
+    const auto name = [c] { return "contact " + std::to_string(c); };
     if (J.rows() > 0 && (k.body_b >= bodies || k.body_a >= bodies))
-      fail(name + " acts on a body beyond the " + std::to_string(bodies) + " bodies of J");
+      fail(name() + " acts on a body beyond the " + std::to_string(bodies) + " bodies of J");
     for (const int r : {k.normal_row, k.tangent_row}) {
       if (r < 0) continue;
       if (r >= n || owned[static_cast<size_t>(r)]++)
-        fail(name + ": row " + std::to_string(r) + " is out of range or owned by another contact");
+        fail(name() + ": row " + std::to_string(r) + " is out of range or owned by another contact");
     }
     if (k.normal_row < 0 || normal_row[static_cast<size_t>(k.normal_row)] >= 0)
-      fail(name + ": its normal row is missing or is a friction row");
-    if (k.has_friction() != (k.mu > 0)) fail(name + ": a tangent row needs mu > 0 and mu > 0 a tangent row");
+      fail(name() + ": its normal row is missing or is a friction row");
+    if (k.has_friction() != (k.mu > 0)) fail(name() + ": a tangent row needs mu > 0 and mu > 0 a tangent row");
     if (k.has_friction() && (normal_row[static_cast<size_t>(k.tangent_row)] != k.normal_row || mu[k.tangent_row] != k.mu))
-      fail(name + ": tangent row " + std::to_string(k.tangent_row) + " is not coupled to its normal row with its mu");
+      fail(name() + ": tangent row " + std::to_string(k.tangent_row) + " is not coupled to its normal row with its mu");
   }
 }
 

@@ -137,4 +137,50 @@ SolveResult run_sweeps(const LcpProblem& /*p*/, Eigen::VectorXd lambda, const So
   return res;
 }
 
+/// run_sweeps for kernels that read λ^{k−1} from one buffer and write λ^k to another:
+/// `sweep(in, out, nonfinite)` returns θ_k. The buffers swap after every finite sweep, so
+/// on a non-finite iterate the other buffer still holds the last finite one and no sweep
+/// pays run_sweeps' copy of λ. `other` must have λ's size (its entries that the kernel never
+/// writes must equal λ's). Same statuses, messages, checkpoints and θ as run_sweeps.
+template <class Sweep>
+SolveResult run_sweeps_double_buffered(Eigen::VectorXd lambda, Eigen::VectorXd other, const SolverOptions& o,
+                                       Sweep&& sweep) {
+  SolveResult res;
+  res.status = SolveStatus::SweepLimit;
+  const int max_sweeps = std::max(0, o.max_sweeps);
+  if (o.record_theta) res.theta.reserve(static_cast<size_t>(std::min(max_sweeps, 1 << 20)));
+  CheckpointCursor cp(o);
+  double theta1 = 0.0;
+  int done = 0;
+  for (int k = 1; k <= max_sweeps; ++k) {
+    bool nonfinite = false;
+    const double theta = sweep(static_cast<const Eigen::VectorXd&>(lambda), other, nonfinite);
+    if (nonfinite || !std::isfinite(theta)) {
+      res.status = SolveStatus::Diverged;
+      res.message = "iterate became non-finite in sweep " + std::to_string(k) +
+                    "; returning the iterate of sweep " + std::to_string(k - 1);
+      break;
+    }
+    lambda.swap(other);
+    done = k;
+    if (o.record_theta) res.theta.push_back(theta);
+    if (k == 1) theta1 = theta;
+    cp.after(k, lambda);
+    if (o.tolerance > 0 && theta <= o.tolerance) {
+      res.status = SolveStatus::Converged;
+      cp.flush_final(lambda);
+      break;
+    }
+    if (theta > 1e12 * std::max(theta1, 1e-300) && k > 1) {
+      res.status = SolveStatus::Diverged;
+      res.message = "iterates grow without bound (theta grew from " + std::to_string(theta1) +
+                    " to " + std::to_string(theta) + " by sweep " + std::to_string(k) + ")";
+      break;
+    }
+  }
+  res.sweeps = done;
+  res.lambda = std::move(lambda);
+  return res;
+}
+
 }  // namespace dc::solvers

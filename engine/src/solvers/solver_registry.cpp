@@ -26,19 +26,43 @@ std::vector<std::string> solver_names() {
   return {"pgs", "pgs-colored", "pgs-assembled", "psor", "jacobi", "lemke", "newton", "newton-sparse", "nncg"};
 }
 
+namespace {
+
+/// "pgs-colored:<threads>[:<kernel>]": OpenMP threads ≥ 1, kernel auto|avx512|avx2|scalar.
+PgsColoredDef pgs_colored_def(std::string_view name) {
+  const auto bad = [&] {
+    return ConfigError("LCP solver '" + std::string(name) +
+                       "': expected pgs-colored:<threads>[:<kernel>], threads >= 1, kernel auto|avx512|avx2|scalar");
+  };
+  std::string_view t = name.substr(12), k;
+  const size_t colon = t.find(':');
+  if (colon != std::string_view::npos) {
+    k = t.substr(colon + 1);
+    t = t.substr(0, colon);
+  }
+  PgsColoredDef def;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), def.threads);
+  if (ec != std::errc() || end != t.data() + t.size() || def.threads < 1) throw bad();
+  if (colon == std::string_view::npos) return def;
+  bool known = false;
+  for (PgsColoredKernel kernel :
+       {PgsColoredKernel::Auto, PgsColoredKernel::Avx512, PgsColoredKernel::Avx2, PgsColoredKernel::Scalar})
+    if (k == to_string(kernel)) {
+      def.kernel = kernel;
+      known = true;
+    }
+  if (!known) throw bad();
+  if (!pgs_colored_kernel_available(def.kernel))
+    throw ConfigError("LCP solver '" + std::string(name) + "': this CPU cannot run the " + std::string(k) + " kernel");
+  return def;
+}
+
+}  // namespace
+
 std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
   if (name == "pgs") return solvers::make_pgs_matrix_free();
   if (name == "pgs-colored") return solvers::make_pgs_colored();
-  if (name.starts_with("pgs-colored:")) {  // "pgs-colored:<threads>" (OpenMP threads, ≥ 1)
-    const std::string_view t = name.substr(12);
-    int threads = 0;
-    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), threads);
-    if (ec != std::errc() || end != t.data() + t.size() || threads < 1)
-      throw ConfigError("LCP solver '" + std::string(name) + "': expected pgs-colored:<threads>, threads >= 1");
-    PgsColoredDef def;
-    def.threads = threads;
-    return make_pgs_colored(def);
-  }
+  if (name.starts_with("pgs-colored:")) return make_pgs_colored(pgs_colored_def(name));
   if (name == "pgs-assembled") return solvers::make_pgs_assembled();
   if (name == "psor") return solvers::make_psor();
   if (name == "jacobi") return solvers::make_jacobi();

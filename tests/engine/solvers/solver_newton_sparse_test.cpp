@@ -95,7 +95,8 @@ TEST(NewtonSparse, AgreesWithNewtonOnFrictionProblems) {
 
 TEST(NewtonSparse, SparseFileAndFactorisationPathsAgree) {
   // With J (assembled matrix formed for the solve), from A alone (a file), with the
-  // SimplicialLDLT fallback instead of CHOLMOD, without analysis reuse: one solution.
+  // SimplicialLDLT fallback instead of CHOLMOD, without analysis reuse, with the coupled
+  // system factorised by LU instead of GMRES, with CHOLMOD's supernodal choice: one solution.
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     test::TestRng rng(seed + 500);
     LcpProblem with_j = test::random_contact(60, 120, true, rng);
@@ -105,9 +106,14 @@ TEST(NewtonSparse, SparseFileAndFactorisationPathsAgree) {
     ldlt.cholmod = false;
     NewtonSparseDef fresh;
     fresh.reuse_analysis = false;
+    NewtonSparseDef lu;
+    lu.coupled_lu = true;
+    NewtonSparseDef supernodal;
+    supernodal.supernodal = true;
     const SolveResult a = newton_sparse(file), b = newton_sparse(with_j), c = newton_sparse(file, {}, ldlt),
-                      d = newton_sparse(file, {}, fresh);
-    for (const SolveResult* r : {&a, &b, &c, &d}) {
+                      d = newton_sparse(file, {}, fresh), e = newton_sparse(file, {}, lu),
+                      f = newton_sparse(file, {}, supernodal);
+    for (const SolveResult* r : {&a, &b, &c, &d, &e, &f}) {
       ASSERT_EQ(r->status, SolveStatus::Converged) << r->message;
       EXPECT_LE((lcp_velocity(file, r->lambda) - lcp_velocity(file, a.lambda)).cwiseAbs().maxCoeff(), 1e-6);
     }

@@ -116,12 +116,23 @@ TEST(ContactColoring, PersistingContactsKeepTheirColours) {
   EXPECT_EQ(kept, p.constraints.size() - 1);
 }
 
+/// The kernels this CPU runs besides Auto's choice: scalar always, AVX2 and AVX-512 where present
+/// (the portable build runs the same list: the AVX kernels are chosen at run time).
+std::vector<PgsColoredDef> kernel_defs() {
+  std::vector<PgsColoredDef> out;
+  for (PgsColoredKernel k : {PgsColoredKernel::Scalar, PgsColoredKernel::Avx2, PgsColoredKernel::Avx512}) {
+    if (!pgs_colored_kernel_available(k)) continue;
+    PgsColoredDef d;
+    d.kernel = k;
+    out.push_back(d);
+  }
+  return out;
+}
+
 class PgsColoredPaths : public ::testing::TestWithParam<bool> {};
 
-TEST_P(PgsColoredPaths, SimdScalarAndThreadsAreBitEqual) {
+TEST_P(PgsColoredPaths, KernelsAndThreadsAreBitEqual) {
   const bool friction = GetParam();
-  PgsColoredDef scalar;
-  scalar.simd = false;
   PgsColoredDef threaded;
   threaded.threads = 2;
   threaded.min_batches_per_thread = 1;
@@ -133,7 +144,8 @@ TEST_P(PgsColoredPaths, SimdScalarAndThreadsAreBitEqual) {
     for (int k : {1, 7, 60}) {
       const SolveResult s = make_pgs_colored()->solve(p, l0, sweeps(k));
       ASSERT_EQ(s.status, SolveStatus::SweepLimit) << s.message;
-      expect_bit_equal(s, make_pgs_colored(scalar)->solve(p, l0, sweeps(k)), "scalar");
+      for (const PgsColoredDef& d : kernel_defs())
+        expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
       expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
       expect_bit_equal(s, make_pgs_colored()->solve(p, l0, sweeps(k)), "rerun");
     }
@@ -142,16 +154,68 @@ TEST_P(PgsColoredPaths, SimdScalarAndThreadsAreBitEqual) {
 
 INSTANTIATE_TEST_SUITE_P(PgsColoredFriction, PgsColoredPaths, ::testing::Values(false, true));
 
-TEST(PgsColored, PileSimdScalarThreadsBitEqual) {
+TEST(PgsColored, PileKernelsThreadsBitEqual) {
   const LcpProblem p = pile_problem(400, 60);
-  PgsColoredDef scalar;
-  scalar.simd = false;
   PgsColoredDef threaded;
   threaded.threads = 2;
   threaded.min_batches_per_thread = 1;
   const SolveResult s = make_pgs_colored()->solve(p, Eigen::VectorXd(), sweeps(40));
-  expect_bit_equal(s, make_pgs_colored(scalar)->solve(p, Eigen::VectorXd(), sweeps(40)), "scalar");
+  for (const PgsColoredDef& d : kernel_defs())
+    expect_bit_equal(s, make_pgs_colored(d)->solve(p, Eigen::VectorXd(), sweeps(40)), to_string(d.kernel));
   expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, Eigen::VectorXd(), sweeps(40)), "2 threads");
+}
+
+TEST(PgsColored, ReusedBuffersGiveTheResultOfAFreshSolver) {
+  // The solver keeps its batches, λ and Δu buffers between solves: a smaller problem after a
+  // larger one (stale lanes, stale padding) must give what a fresh solver gives, per kernel.
+  test::TestRng rng(11);
+  const LcpProblem big = test::random_contact(80, 200, true, rng, 0.5, 4);
+  const LcpProblem small = test::random_contact(20, 30, true, rng, 0.5, 4);
+  const LcpProblem frictionless = test::random_contact(25, 33, false, rng, 0.5, 4);
+  for (PgsColoredDef d : kernel_defs()) {
+    d.reuse_colors = false;  // the same colouring as a fresh solver's
+    const auto reused = make_pgs_colored(d);
+    (void)reused->solve(big, Eigen::VectorXd(), sweeps(5));
+    expect_bit_equal(reused->solve(small, Eigen::VectorXd(), sweeps(9)),
+                     make_pgs_colored(d)->solve(small, Eigen::VectorXd(), sweeps(9)), to_string(d.kernel));
+    expect_bit_equal(reused->solve(frictionless, Eigen::VectorXd(), sweeps(9)),
+                     make_pgs_colored(d)->solve(frictionless, Eigen::VectorXd(), sweeps(9)), to_string(d.kernel));
+  }
+}
+
+TEST(PgsColored, NonFiniteIterateStopsEveryKernelAtTheSameSweep) {
+  // Two ways to overflow: a λ⁰ whose Δu⁰ = M⁻¹ Jᵀ λ⁰ Δt is not finite (reported in sweep 1, as a
+  // check after the sweep would), and normal rows whose b_i/A_ii overflows (λ_n = ∞, and the
+  // velocities the kernels store). Every kernel reports Diverged in the same sweep and returns
+  // the same last finite iterate.
+  test::TestRng rng(4);
+  const LcpProblem p = test::random_contact(30, 40, true, rng, 0.5, 4);
+  LcpProblem q = p;
+  for (const ContactConstraint& k : q.constraints) q.b[k.normal_row] = -1e308;
+  const Eigen::VectorXd huge = Eigen::VectorXd::Constant(p.rows(), 1e308);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
+  const std::vector<std::pair<const LcpProblem*, Eigen::VectorXd>> cases = {{&p, huge}, {&q, zero}};
+  for (const auto& [problem, l0] : cases) {
+    const SolveResult first = make_pgs_colored()->solve(*problem, l0, sweeps(50));
+    ASSERT_EQ(first.status, SolveStatus::Diverged) << first.message;
+    ASSERT_TRUE(first.lambda.allFinite());
+    for (const PgsColoredDef& d : kernel_defs())
+      expect_bit_equal(first, make_pgs_colored(d)->solve(*problem, l0, sweeps(50)), to_string(d.kernel));
+  }
+}
+
+TEST(PgsColored, UnavailableKernelIsRefused) {
+  EXPECT_TRUE(pgs_colored_kernel_available(PgsColoredKernel::Scalar));
+  EXPECT_NE(pgs_colored_auto_kernel(), PgsColoredKernel::Auto);
+  for (PgsColoredKernel k : {PgsColoredKernel::Avx2, PgsColoredKernel::Avx512}) {
+    PgsColoredDef d;
+    d.kernel = k;
+    if (pgs_colored_kernel_available(k)) {
+      EXPECT_NO_THROW((void)make_pgs_colored(d));
+    } else {
+      EXPECT_THROW((void)make_pgs_colored(d), InvalidArgument);
+    }
+  }
 }
 
 TEST(PgsColored, SameFixedPointAsPgsOnRandomProblems) {
@@ -238,6 +302,9 @@ TEST(PgsColored, ProblemsWithoutContactStructureRunPgs) {
   EXPECT_EQ(c.lambda, a.lambda);
   EXPECT_THROW((void)make_solver("pgs-colored:0"), ConfigError);
   EXPECT_EQ(make_solver("pgs-colored:2")->name(), "pgs-colored");
+  EXPECT_EQ(make_solver("pgs-colored:1:scalar")->name(), "pgs-colored");
+  EXPECT_THROW((void)make_solver("pgs-colored:1:sse"), ConfigError);
+  EXPECT_THROW((void)make_solver("pgs-colored:1:"), ConfigError);
 }
 
 TEST(PgsColored, SimulationIsDeterministic) {

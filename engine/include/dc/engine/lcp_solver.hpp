@@ -76,8 +76,8 @@ class LcpSolver {
 };
 
 /// Solver by name: "pgs" (matrix-free PGS on body velocities; the engine default),
-/// "pgs-colored" (colour-ordered PGS, AVX-512 batches of 8 contacts; "pgs-colored:N" with N
-/// OpenMP threads), "pgs-assembled" (PGS on the sparse A, the seed's form), "psor", "jacobi",
+/// "pgs-colored" (colour-ordered PGS, SIMD batches of 8 contacts; "pgs-colored:N" with N
+/// OpenMP threads, "pgs-colored:N:K" with kernel K = auto, avx512, avx2 or scalar), "pgs-assembled" (PGS on the sparse A, the seed's form), "psor", "jacobi",
 /// "lemke" (exact pivoting, standard LCPs), "newton" (minimum-map Newton, box bounds and
 /// friction), "newton-sparse" (warm-started semismooth Newton with friction coupled in the
 /// Jacobian and CHOLMOD factorisations; dc/engine/newton_sparse.hpp), "nncg" (pgs's sweeps

@@ -45,6 +45,11 @@ struct NewtonSparseDef {
   double max_damping = 1e2;
   /// Armijo constant σ: accept α when ½‖H(λ_α)‖² ≤ (1 − 2σα)·½‖H(λ)‖² (default 1e-4).
   double armijo = 1e-4;
+  /// With sliding friction coupled: false = GMRES preconditioned with the CHOLMOD factor of
+  /// the symmetric part (default); true = factorise the exact non-symmetric Newton matrix by
+  /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails). On impact
+  /// (250 bodies, from builtin) true took 199 instead of 318 ms per step (docs/solvers.md).
+  bool coupled_lu = false;
   /// GMRES for the friction coupling: restart length, iteration cap per Newton step and the
   /// relative residual it stops at (defaults 30, 120, 1e-12).
   int krylov_restart = 30;
@@ -53,6 +58,9 @@ struct NewtonSparseDef {
   /// true: CHOLMOD (simplicial or supernodal, CHOLMOD chooses); false: Eigen's SimplicialLDLT,
   /// the fallback CHOLMOD also falls back to when it reports a non-positive pivot (default true).
   bool cholmod = true;
+  /// false: CHOLMOD's simplicial LDLᵀ (no BLAS); true: CHOLMOD picks supernodal LLᵀ (BLAS)
+  /// where the fill favours it (default false: a threaded BLAS stalls on a loaded machine).
+  bool supernodal = false;
   /// Keep CHOLMOD's symbolic analysis while the pattern of A is unchanged (default true).
   bool reuse_analysis = true;
   /// Consecutive iterations without a new best residual before the solve stops as Failed
@@ -71,6 +79,7 @@ struct NewtonSparseStats {
   int analyses = 0;           ///< symbolic analyses (ordering + symbolic factor)
   int factorizations = 0;     ///< numeric factorisations
   int fallback_factorizations = 0;  ///< of those, by SimplicialLDLT / SparseLU instead of CHOLMOD
+  int lu_factorizations = 0;  ///< of those, sparse LU of the coupled system (coupled_lu)
   int krylov_iterations = 0;  ///< GMRES iterations in all (0 without sliding friction coupling)
   double analyze_ms = 0, factor_ms = 0, solve_ms = 0, total_ms = 0;
 };

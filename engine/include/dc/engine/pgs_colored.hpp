@@ -2,15 +2,17 @@
 // "pgs-colored": matrix-free projected Gauss–Seidel in colour order (docs/design.md §8.4). The contacts
 // are coloured (contact_coloring.hpp: no two contacts of a colour share a dynamic body) and a
 // sweep solves colour 0, then colour 1, …, then the overflow set; the contacts of one colour
-// are independent, so 8 of them are solved at once in AVX-512 lanes (double precision,
-// normal + tangent row per contact as in "pgs", body velocities gathered and scattered per
-// lane) and the batches of one colour can run on several threads (OpenMP).
+// are independent, so 8 of them are solved at once in SIMD lanes (double precision, normal +
+// tangent row per contact as in "pgs", body velocities gathered and scattered per lane) and the
+// batches of one colour can run on several threads (OpenMP). Three kernels: AVX-512 (one zmm
+// register per 8 lanes), AVX2 (two ymm registers) and scalar; the AVX ones are compiled in every
+// x86-64 build and chosen at run time from the CPU (PgsColoredKernel::Auto).
 //
 // Same iteration as "pgs" in another row order: same fixed points, different iterates and
-// sweep counts. The lane arithmetic is that of the scalar path operation for operation
+// sweep counts. The lane arithmetic is that of the scalar kernel operation for operation
 // (explicit FMAs, the same tree sums, the clamps as compare-and-select with the semantics of
-// the scalar branches), so the SIMD path, the scalar path and every thread count give
-// bit-identical iterates.
+// the scalar branches), so the three kernels and every thread count give bit-identical
+// iterates.
 //
 // Colours are reused from the solver's previous solve where contacts persist (the solver
 // object keeps that state: solves are deterministic for a fixed sequence of problems; two
@@ -23,21 +25,37 @@
 
 namespace dc {
 
+/// The sweep kernel of pgs-colored (all give the same iterates bit for bit).
+enum class PgsColoredKernel {
+  Auto,    ///< AVX2 (+ FMA) on AMD CPUs (measured as fast or faster there), else AVX-512 if
+           ///< present, else AVX2, else scalar
+  Avx512,  ///< AVX-512 F/DQ/VL: 8 lanes per register
+  Avx2,    ///< AVX2 + FMA: 4 lanes per register, two per batch
+  Scalar,  ///< one lane at a time (portable)
+};
+
 struct PgsColoredDef {
-  /// OpenMP threads for the batches of a colour (1 = serial; 0 = OpenMP's default).
-  /// Problems with fewer than `min_batches_per_thread`·threads batches of 8 contacts run serially.
+  /// OpenMP threads for the set-up and the batches of a colour (1 = serial; 0 = OpenMP's
+  /// default). Problems with fewer than `min_batches_per_thread`·threads batches of 8
+  /// contacts run serially.
   int threads = 1;
   int min_batches_per_thread = 32;
-  /// Use the AVX-512 kernel when the build has one (DC_NATIVE on an AVX-512 CPU); false forces
-  /// the scalar kernel (the tests compare both in one binary).
-  bool simd = true;
+  /// Which kernel sweeps (default Auto). make_pgs_colored throws InvalidArgument for a kernel
+  /// this build or CPU cannot run (pgs_colored_kernel_available).
+  PgsColoredKernel kernel = PgsColoredKernel::Auto;
   /// Reuse last solve's colours where contacts persist (false: greedy colouring from scratch).
   bool reuse_colors = true;
 };
 
 std::unique_ptr<LcpSolver> make_pgs_colored(const PgsColoredDef& def = {});
 
-/// True when this build has the AVX-512 kernel of pgs-colored.
-bool pgs_colored_has_simd();
+/// True when this build and CPU can run `kernel` (Auto and Scalar: always).
+bool pgs_colored_kernel_available(PgsColoredKernel kernel);
+
+/// The kernel Auto resolves to on this CPU (never Auto).
+PgsColoredKernel pgs_colored_auto_kernel();
+
+/// "auto", "avx512", "avx2" or "scalar".
+const char* to_string(PgsColoredKernel kernel);
 
 }  // namespace dc

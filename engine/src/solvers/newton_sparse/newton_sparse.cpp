@@ -12,6 +12,7 @@
 //      (a sweep never increases the box-QP energy and moves the active set).
 // φ is the unregularised natural map, so the iterate the solver returns is judged on the
 // original problem, whatever ρ was.
+#include <Eigen/SparseLU>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -28,7 +29,7 @@
 namespace dc {
 
 struct NewtonSparseSolver::State {
-  explicit State(const NewtonSparseDef& d) : factor(d.cholmod, d.reuse_analysis) {}
+  explicit State(const NewtonSparseDef& d) : factor(d.cholmod, d.reuse_analysis, d.supernodal) {}
   std::mutex mutex;  // one solve at a time per solver object (the factor is shared state)
   solvers::FreeBlockFactor factor;
   NewtonSparseStats last;
@@ -77,9 +78,24 @@ class NewtonStep {
     // rhs_F = −w_F − (A d)_F; rhs_C = 0.
     Eigen::VectorXd rhs = p_.A * lin_.known;
     for (int i = 0; i < n_; ++i) rhs[i] = lin_.free[static_cast<size_t>(i)] ? -v.w[i] - rhs[i] : 0.0;
-    if (!factor_.factorize(lin_.free, rho_, st_)) return false;
-    const auto t0 = Clock::now();
     Eigen::VectorXd x;
+    if (!lin_.couplings.empty() && def_.coupled_lu && coupled_lu_solve(rhs, x)) {
+      // the exact non-symmetric system, factorised directly
+    } else if (!factor_.factorize(lin_.free, rho_, st_)) {
+      return false;
+    } else {
+      krylov_or_direct(rhs, x);
+    }
+    if (!x.allFinite()) return false;
+    for (int i = 0; i < n_; ++i)
+      if (lin_.free[static_cast<size_t>(i)]) delta[i] = x[i];
+    for (const FrictionCoupling& c : lin_.couplings) delta[c.row] += c.slope * x[c.normal];
+    return true;
+  }
+
+  /// With the CHOLMOD factor of P: P⁻¹ rhs when nothing is coupled (P is the system), else GMRES.
+  void krylov_or_direct(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
+    const auto t0 = Clock::now();
     if (lin_.couplings.empty()) {
       factor_.solve(rhs, x);
     } else {
@@ -89,11 +105,45 @@ class NewtonStep {
           gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.krylov_max, def_.krylov_tolerance).iterations;
     }
     st_.solve_ms += ms_since(t0);
-    if (!x.allFinite()) return false;
-    for (int i = 0; i < n_; ++i)
-      if (lin_.free[static_cast<size_t>(i)]) delta[i] = x[i];
-    for (const FrictionCoupling& c : lin_.couplings) delta[c.row] += c.slope * x[c.normal];
-    return true;
+  }
+
+  /// The full-size Newton matrix K (free rows: A_FF + ρI with the coupling ±μ A_it moved to the
+  /// normal column; clamped rows: identity) factorised by sparse LU. False when LU fails.
+  bool coupled_lu_solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
+    const auto t0 = Clock::now();
+    coupled_of_.assign(static_cast<size_t>(n_), -1);
+    for (size_t k = 0; k < lin_.couplings.size(); ++k) coupled_of_[static_cast<size_t>(lin_.couplings[k].row)] = static_cast<int>(k);
+    trip_.clear();
+    for (int i = 0; i < n_; ++i) {
+      if (!lin_.free[static_cast<size_t>(i)]) {
+        trip_.emplace_back(i, i, 1.0);
+        continue;
+      }
+      trip_.emplace_back(i, i, rho_);
+      for (SparseRowMatrix::InnerIterator e(p_.A, i); e; ++e) {
+        const int j = static_cast<int>(e.col());
+        if (lin_.free[static_cast<size_t>(j)]) {
+          trip_.emplace_back(i, j, e.value());
+        } else if (const int k = coupled_of_[static_cast<size_t>(j)]; k >= 0) {
+          const FrictionCoupling& c = lin_.couplings[static_cast<size_t>(k)];
+          trip_.emplace_back(i, c.normal, c.slope * e.value());
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> K(n_, n_);
+    K.setFromTriplets(trip_.begin(), trip_.end());
+    K.makeCompressed();
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+    lu.analyzePattern(K);
+    lu.factorize(K);
+    ++st_.factorizations;
+    ++st_.lu_factorizations;
+    st_.factor_ms += ms_since(t0);
+    if (lu.info() != Eigen::Success) return false;
+    const auto t1 = Clock::now();
+    x = lu.solve(rhs);
+    st_.solve_ms += ms_since(t1);
+    return x.allFinite();
   }
 
   /// Backtracking on φ along proj(λ + αΔ). On success λ and v move to the accepted point.
@@ -134,6 +184,8 @@ class NewtonStep {
   int n_;
   double diag_ = 1.0, rho_min_ = 0.0, rho_ = 0.0, scale_ = 1.0;
   NewtonLinearization lin_;
+  std::vector<int> coupled_of_;
+  std::vector<Eigen::Triplet<double>> trip_;
   Eigen::VectorXd u_, trial_;
   NaturalMapValue trial_value_;
 };

@@ -8,8 +8,8 @@
 // that of A ∪ diag whatever F is, so one symbolic analysis serves every Newton iteration, and
 // every solve of a problem with the same pattern of A (a settled pile keeps its contacts).
 //
-// Symmetric A (every contact problem): CHOLMOD's LLᵀ / LDLᵀ of the lower triangle (CHOLMOD
-// picks simplicial or supernodal from the fill); when it meets a non-positive pivot, Eigen's
+// Symmetric A (every contact problem): CHOLMOD's simplicial LDLᵀ of the lower triangle (or,
+// with `supernodal`, whichever of simplicial and supernodal CHOLMOD picks from the fill); when it meets a non-positive pivot, Eigen's
 // SimplicialLDLT of the same matrix. Non-symmetric A (general LCPs from files): Eigen's
 // SparseLU of the whole matrix. A_FF + ρI is positive definite for a PSD A and ρ > 0.
 #include <Eigen/SparseCore>
@@ -24,8 +24,9 @@ namespace dc::solvers {
 class FreeBlockFactor {
  public:
   /// use_cholmod: false = SimplicialLDLT only; reuse_analysis: keep the analysis across bind()s
-  /// while the pattern of A is unchanged.
-  FreeBlockFactor(bool use_cholmod, bool reuse_analysis);
+  /// while the pattern of A is unchanged; supernodal: let CHOLMOD choose supernodal LLᵀ (BLAS)
+  /// where the fill favours it, else CHOLMOD's simplicial LDLᵀ always.
+  FreeBlockFactor(bool use_cholmod, bool reuse_analysis, bool supernodal = false);
   ~FreeBlockFactor();
   FreeBlockFactor(const FreeBlockFactor&) = delete;
   FreeBlockFactor& operator=(const FreeBlockFactor&) = delete;

@@ -81,6 +81,11 @@ struct H5DatasetOptions {
   hsize_t chunk_rows = 0;
   /// gzip (deflate) level 1–9 with the byte-shuffle filter in front; 0 = uncompressed.
   int deflate = 0;
+  /// Also the second axis is unlimited (needs extendible and rank ≥ 2): resize() can widen
+  /// the dataset, e.g. a trajectory's (step, body) states when bodies enter during a run.
+  /// Chunks then span max(extent, 64) columns, and cells never written read as the fill
+  /// value: NaN for float32/float64, 0 otherwise.
+  bool extendible_columns = false;
 };
 
 /// One source of a virtual dataset (H5File::create_virtual): all rows of `dataset` in `file`.
@@ -175,6 +180,9 @@ class H5File {
   /// Sets the first-axis extent of an extendible dataset (shrinking drops rows: resume
   /// after a crash by cutting back to the last consistent row).
   void resize_rows(std::string_view path, hsize_t rows);
+  /// Sets every extent of a dataset (each within its maximum: an extendible dataset's first
+  /// axis, and its second with extendible_columns). Same rank as the dataset.
+  void resize(std::string_view path, const H5Shape& dims);
 
   [[nodiscard]] H5Shape shape(std::string_view path) const;
   [[nodiscard]] H5Type type(std::string_view path) const;

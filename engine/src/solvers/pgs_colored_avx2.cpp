@@ -1,0 +1,164 @@
+// The AVX2 colour kernel of "pgs-colored" (pgs_colored_batch.hpp): a batch of 8 contacts as two
+// groups of 4 lanes (__m256d), compiled for AVX2 + FMA by function attribute in every x86-64
+// build and chosen at run time (cpu_has_avx2), so a portable build and a CPU without AVX-512 get
+// it too. Per lane the operations of sweep_scalar, in its order: explicit FMAs, the same tree
+// sums, the clamps as compare-and-select ((y < 0) ? 0 : y is andnot(y < 0, y): +0 or y, as the
+// scalar select), so the iterates are the scalar kernel's bit for bit.
+//
+// Bodies: 4 aligned 256-bit loads of (v_x, v_y, ω, 0) and a 4 × 4 transpose (4 unpacks, 3
+// lane permutes), written back by the inverse transpose and a store per lane whose body is
+// written (ka/kb: a predictable branch; vmaskmovpd stores are slow on AMD cores).
+#include "solvers/pgs_colored_batch.hpp"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+
+#include <limits>
+
+#define DC_AVX2 __attribute__((target("avx2,fma")))
+
+namespace dc::colored {
+namespace {
+
+/// x = (v_x of lanes 0–3), y = (v_y …), w = (ω …) of the bodies at Δu offsets off[0..3].
+DC_AVX2 inline void load4(const double* u, const std::int32_t* off, __m256d& x, __m256d& y, __m256d& w) {
+  const __m256d r0 = _mm256_loadu_pd(u + off[0]), r1 = _mm256_loadu_pd(u + off[1]);
+  const __m256d r2 = _mm256_loadu_pd(u + off[2]), r3 = _mm256_loadu_pd(u + off[3]);
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1);  // x0 x1 | w0 w1
+  const __m256d t1 = _mm256_unpackhi_pd(r0, r1);  // y0 y1 | p0 p1
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3);  // x2 x3 | w2 w3
+  const __m256d t3 = _mm256_unpackhi_pd(r2, r3);
+  x = _mm256_permute2f128_pd(t0, t2, 0x20);
+  w = _mm256_permute2f128_pd(t0, t2, 0x31);
+  y = _mm256_permute2f128_pd(t1, t3, 0x20);
+}
+
+/// The inverse of load4: (x_k, y_k, w_k, 0) to u + off[k] where keep[k] ≠ 0.
+DC_AVX2 inline void store4(double* u, const std::int32_t* off, const std::uint8_t* keep, __m256d x, __m256d y,
+                           __m256d w) {
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d t0 = _mm256_unpacklo_pd(x, y);     // x0 y0 | x2 y2
+  const __m256d t1 = _mm256_unpackhi_pd(x, y);     // x1 y1 | x3 y3
+  const __m256d t2 = _mm256_unpacklo_pd(w, zero);  // w0 0 | w2 0
+  const __m256d t3 = _mm256_unpackhi_pd(w, zero);  // w1 0 | w3 0
+  if (keep[0]) _mm256_storeu_pd(u + off[0], _mm256_permute2f128_pd(t0, t2, 0x20));
+  if (keep[1]) _mm256_storeu_pd(u + off[1], _mm256_permute2f128_pd(t1, t3, 0x20));
+  if (keep[2]) _mm256_storeu_pd(u + off[2], _mm256_permute2f128_pd(t0, t2, 0x31));
+  if (keep[3]) _mm256_storeu_pd(u + off[3], _mm256_permute2f128_pd(t1, t3, 0x31));
+}
+
+DC_AVX2 inline __m256d L(const double* p) { return _mm256_load_pd(p); }
+
+/// Lanes where |x| is not < ∞ (±∞ or NaN), as a 4-bit mask.
+DC_AVX2 inline int nonfinite(__m256d x) {
+  const __m256d sign = _mm256_set1_pd(-0.0), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  return _mm256_movemask_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, x), inf, _CMP_NLT_UQ));
+}
+
+/// One row's residual (b + fma(j0,a0,j1·a1)) + (fma(j2,a2,j3·v0) + fma(j4,v1,j5·v2)) on lanes h..h+3.
+DC_AVX2 inline __m256d residual(const double (*j)[W], const double* b, int h, __m256d a0, __m256d a1, __m256d a2,
+                                __m256d v0, __m256d v1, __m256d v2) {
+  const __m256d s0 = _mm256_fmadd_pd(L(j[0] + h), a0, _mm256_mul_pd(L(j[1] + h), a1));
+  const __m256d s1 = _mm256_fmadd_pd(L(j[2] + h), a2, _mm256_mul_pd(L(j[3] + h), v0));
+  const __m256d s2 = _mm256_fmadd_pd(L(j[4] + h), v1, _mm256_mul_pd(L(j[5] + h), v2));
+  return _mm256_add_pd(_mm256_add_pd(L(b + h), s0), _mm256_add_pd(s1, s2));
+}
+
+/// Δu += (M⁻¹ J_iᵀ Δt)·d on the 6 slots.
+DC_AVX2 inline void update(const double (*mj)[W], int h, __m256d d, __m256d& a0, __m256d& a1, __m256d& a2,
+                           __m256d& v0, __m256d& v1, __m256d& v2) {
+  a0 = _mm256_fmadd_pd(L(mj[0] + h), d, a0);
+  a1 = _mm256_fmadd_pd(L(mj[1] + h), d, a1);
+  a2 = _mm256_fmadd_pd(L(mj[2] + h), d, a2);
+  v0 = _mm256_fmadd_pd(L(mj[3] + h), d, v0);
+  v1 = _mm256_fmadd_pd(L(mj[4] + h), d, v1);
+  v2 = _mm256_fmadd_pd(L(mj[5] + h), d, v2);
+}
+
+/// Lanes h..h+3 of batch B (λ at in/out + 16·bi).
+DC_AVX2 inline void half(const Batch& B, int h, const double* lin, double* lout, double* u, __m256d& theta, int& bad) {
+  const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+  __m256d a0, a1, a2, v0, v1, v2;
+  load4(u, B.la + h, a0, a1, a2);
+  load4(u, B.lb + h, v0, v1, v2);
+  __m256d xn;
+  {
+    const __m256d res = residual(B.jn, B.bn, h, a0, a1, a2, v0, v1, v2);
+    const __m256d old = L(lin + h);
+    const __m256d y = _mm256_sub_pd(old, res);
+    xn = _mm256_andnot_pd(_mm256_cmp_pd(y, zero, _CMP_LT_OQ), y);  // (y < 0) ? +0 : y
+    bad |= nonfinite(xn);
+    const __m256d d = _mm256_sub_pd(xn, old);
+    _mm256_store_pd(lout + h, xn);
+    update(B.mjn, h, d, a0, a1, a2, v0, v1, v2);
+    theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
+  }
+  {
+    const __m256d res = residual(B.jt, B.bt, h, a0, a1, a2, v0, v1, v2);
+    const __m256d old = L(lin + W + h);
+    const __m256d pos = _mm256_and_pd(_mm256_cmp_pd(zero, xn, _CMP_LT_OQ), xn);  // (0 < λ_n) ? λ_n : +0
+    const __m256d t = _mm256_mul_pd(L(B.mu + h), pos);
+    const __m256d y = _mm256_sub_pd(old, res);
+    const __m256d nt = _mm256_xor_pd(t, sign);
+    const __m256d m1 = _mm256_blendv_pd(y, nt, _mm256_cmp_pd(y, nt, _CMP_LT_OQ));  // max_of(y, −t)
+    const __m256d c = _mm256_blendv_pd(m1, t, _mm256_cmp_pd(t, m1, _CMP_LT_OQ));   // min_of(·, t)
+    const __m256d active = _mm256_cmp_pd(zero, t, _CMP_LT_OQ);
+    const __m256d x = _mm256_and_pd(active, c);  // active ? c : +0
+    bad |= nonfinite(_mm256_blendv_pd(y, x, active));
+    const __m256d d = _mm256_sub_pd(x, old);
+    _mm256_store_pd(lout + W + h, x);
+    update(B.mjt, h, d, a0, a1, a2, v0, v1, v2);
+    theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
+  }
+  // Δu check fused into the sweep: Σ x·0 is NaN exactly when a velocity is not finite.
+  const __m256d z = _mm256_add_pd(
+      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(a0, zero), _mm256_mul_pd(a1, zero)),
+                    _mm256_add_pd(_mm256_mul_pd(a2, zero), _mm256_mul_pd(v0, zero))),
+      _mm256_add_pd(_mm256_mul_pd(v1, zero), _mm256_mul_pd(v2, zero)));
+  bad |= _mm256_movemask_pd(_mm256_cmp_pd(z, z, _CMP_UNORD_Q));
+  store4(u, B.la + h, B.ka + h, a0, a1, a2);
+  store4(u, B.lb + h, B.kb + h, v0, v1, v2);
+}
+
+}  // namespace
+
+DC_AVX2 void sweep_avx2(const Batch* __restrict batches, int b0, int b1, const double* __restrict in,
+                        double* __restrict out, double* __restrict u, Acc& acc) {
+  __m256d theta = _mm256_set1_pd(acc.theta);
+  int bad = 0;
+  for (int bi = b0; bi < b1; ++bi) {
+    const Batch& B = batches[bi];
+    const double* lin = in + static_cast<long>(bi) * 2 * W;
+    double* lout = out + static_cast<long>(bi) * 2 * W;
+    // The two halves touch distinct bodies (one colour), so their order does not matter;
+    // a half without contacts (the tail of a colour) is all padding and is skipped.
+    half(B, 0, lin, lout, u, theta, bad);
+    if (B.count > 4) {
+      half(B, 4, lin, lout, u, theta, bad);
+    } else {
+      _mm256_store_pd(lout + 4, _mm256_setzero_pd());
+      _mm256_store_pd(lout + W + 4, _mm256_setzero_pd());
+    }
+  }
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, theta);
+  double m = lanes[0];
+  for (int k = 1; k < 4; ++k) m = max_of(m, lanes[k]);
+  acc.theta = max_of(acc.theta, m);
+  acc.bad = acc.bad || bad != 0;
+}
+
+bool cpu_has_avx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
+bool cpu_is_amd() { return __builtin_cpu_is("amd"); }
+
+}  // namespace dc::colored
+
+#else
+
+namespace dc::colored {
+void sweep_avx2(const Batch*, int, int, const double*, double*, double*, Acc&) {}
+bool cpu_has_avx2() { return false; }
+bool cpu_is_amd() { return false; }
+}  // namespace dc::colored
+
+#endif
