@@ -46,7 +46,12 @@ void check_settings(const DataSetGenerationDef& def) {
 /// incomplete shards of an interrupted run.
 std::string prepare_run(const DataSetGenerationDef& def, int& discarded) {
   const std::string marker = def.out + ".partial";
-  if (fs::exists(def.out) && !def.force) throw ConfigError(def.out + " exists; use --force to replace it");
+  // A run killed between its manifest's rename and the marker's removal is complete: its
+  // resume just finishes the cleanup (and rewrites the same manifest).
+  const bool own_manifest = def.resume && fs::exists(marker) && fs::exists(def.out) &&
+                            manifest_names_run(def.out, read_run_marker(def.out));
+  if (fs::exists(def.out) && !def.force && !own_manifest)
+    throw ConfigError(def.out + " exists; use --force to replace it");
   if (def.resume && !fs::exists(marker))
     throw ConfigError("--resume: " + marker + " does not exist (nothing to resume; run without --resume)");
   if (!def.resume && fs::exists(marker))

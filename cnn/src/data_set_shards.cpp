@@ -220,6 +220,17 @@ std::int64_t write_manifest(const std::string& out, const std::string& run, cons
   return static_cast<std::int64_t>(m.step.size());
 }
 
+bool manifest_names_run(const std::string& out, const std::string& run) {
+  try {
+    const H5File f = H5File::open_read(out);
+    if (!f.is_dataset("/shards/file")) return false;
+    const std::vector<std::string> files = f.read_strings("/shards/file");
+    return !files.empty() && files.front().find(".shards/" + run + "/") != std::string::npos;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 void check_manifest_shards(const H5File& manifest) {
   if (!manifest.is_dataset("/shards/file") || !manifest.is_dataset("/shards/bytes"))
     throw IoError(manifest.path() + ": /shards: missing (not a complete data set manifest)");

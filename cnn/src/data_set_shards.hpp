@@ -57,6 +57,9 @@ void check_shard_params(const std::string& dir, int index, const DataSetParams& 
 /// each is opened and checked). Atomic. Returns the data set's sample count.
 std::int64_t write_manifest(const std::string& out, const std::string& run, const DataSetParams& params, int simulations);
 
+/// True when the manifest OUT lists shards of `run` (false for any file that is not such a manifest).
+bool manifest_names_run(const std::string& out, const std::string& run);
+
 /// For the reader of a manifest: IoError naming the first listed shard that is missing or
 /// has another size than the manifest recorded (a virtual dataset would read fill values).
 void check_manifest_shards(const H5File& manifest);

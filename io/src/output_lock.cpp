@@ -42,7 +42,12 @@ OutputLock::OutputLock(const std::string& target) : path_(target + ".lock") {
     if (fd < 0) throw IoError(path_ + ": cannot create the lock file: " + std::strerror(errno));
     if (!lock_whole_file(fd)) {
       const int err = errno;
-      const std::string holder = holder_of(fd);
+      // The holder writes its name right after taking the lock: give it a moment.
+      std::string holder = holder_of(fd);
+      for (int wait = 0; holder.empty() && wait < 20; ++wait) {
+        ::usleep(5000);
+        holder = holder_of(fd);
+      }
       ::close(fd);
       if (err != EACCES && err != EAGAIN) throw IoError(path_ + ": cannot lock: " + std::strerror(err));
       throw IoError(target + " is being written by " + (holder.empty() ? std::string("another process") : holder) +

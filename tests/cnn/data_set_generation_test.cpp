@@ -191,5 +191,21 @@ TEST(DataSetGeneration, ForceKeepsTheOldDataSetUntilTheNewOneIsComplete) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.file("d.h5.shards")), fs::directory_iterator{}), 1);
 }
 
+// A kill between the manifest's rename and the removal of OUT.partial leaves a complete data
+// set and a marker: --resume then only finishes the cleanup (no "OUT exists" refusal).
+TEST(DataSetGeneration, ResumeAfterTheManifestWasWrittenFinishes) {
+  TempDir dir;
+  generate_data_set(small(dir.file("d.h5"), 1));
+  const std::string run = run_folder(dir.file("d.h5")).filename().string();
+  { std::ofstream(dir.file("d.h5.partial")) << "deepcontact-generate run " << run << "\n"; }
+  DataSetGenerationDef again = small(dir.file("d.h5"), 1);
+  again.resume = true;
+  const DataSetGenerationReport r = generate_data_set(again);
+  EXPECT_TRUE(r.finished);
+  EXPECT_EQ(r.first, 4);
+  EXPECT_FALSE(fs::exists(dir.file("d.h5.partial")));
+  EXPECT_EQ(DataSetReader(dir.file("d.h5")).simulations().size(), 4u);
+}
+
 }  // namespace
 }  // namespace dc

@@ -11,11 +11,14 @@
 // and generate_data_set (data_set_generation.hpp) runs the first two over a whole data set:
 // parallel simulations, in-order writing, resume.
 //
-// Crash safety ("nothing lost"): the writer appends a simulation's sample, body and contact
-// rows, then its /sims row — /sims/seed last of all, the commit mark — and flushes. The
-// number of completed simulations is the length of /sims/seed; every other dataset may hold
-// extra rows of an interrupted append, which resume() and the reader ignore (resume() cuts
-// them off with resize_rows before appending).
+// DataSetWriter writes the single-file layout (format_version 1) by appending in place: it
+// appends a simulation's sample, body and contact rows, then its /sims row — /sims/seed last
+// of all, the commit mark — and flushes. The number of completed simulations is the length
+// of /sims/seed; every other dataset may hold extra rows of an interrupted append, which
+// resume() and the reader ignore. That survives SIGINT-style stops between appends, but not a
+// SIGKILL inside one (libhdf5 updates its metadata in place), so `generate` does not use it:
+// generate_data_set writes one complete file per simulation (a shard) and a manifest read by
+// DataSetReader like a single file (data_set_generation.hpp, docs/formats.md).
 #include <cstdint>
 #include <functional>
 #include <optional>
