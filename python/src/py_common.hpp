@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <map>
+#include <utility>
 #include <memory>
 #include <span>
 #include <string>
@@ -73,6 +74,10 @@ struct PyWorld {
   const World* borrowed = nullptr;
   /// Named warm starters step() has used (kept across steps: some observe the solution).
   std::map<std::string, std::unique_ptr<WarmStarter>> starters;
+  /// Every stage that changed the owned world since it was made, in order: 'c' collide, 'a'
+  /// assemble, 'i' integrate with the λ it was given. The engine is deterministic, so
+  /// replaying them on World(scene) gives the bit-equal world: that is what pickle stores.
+  std::vector<std::pair<char, Eigen::VectorXd>> history;
 
   [[nodiscard]] const World& get() const;
   World& mutable_world();

@@ -41,6 +41,7 @@ struct BenchArgs {
   int budget = 0;
   int warmup_steps = 0;
   bool no_oracle = false;
+  bool theta = false;
   std::string scale;
   std::string scale_axis = "both";
   int scale_oracle_max = 600;
@@ -98,6 +99,7 @@ void run(const BenchArgs& a) {
   o.budget = a.budget;
   o.warmup_steps = a.warmup_steps;
   o.oracle = !a.no_oracle;
+  o.keep_theta = a.theta;
   if (a.steps > 0) o.scene.time.steps = a.steps;
   o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
   o.tolerance = a.tol;
@@ -176,8 +178,11 @@ void add_bench_command(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
   auto* cmd = app.add_subcommand("bench", "Compare warm starters on the same scenes and write a report");
   args->scene.add_options(*cmd);
+  std::string defaults;
+  for (const auto& n : default_bench_starters(shipped_model(), false)) defaults += (defaults.empty() ? "" : ",") + n;
   cmd->add_option("--warmstarts", args->warmstarts,
-                  "Comma-separated starters, e.g. zero,builtin,copy:2,sph (default: every available one; --list)");
+                  "Comma-separated starters, e.g. zero,builtin,copy:2,sph (default: " + defaults +
+                      "; every available one: --list)");
   cmd->add_option("--seeds", args->seeds, "Scene seeds: A..B, or A,B,C (evaluation seeds)")->capture_default_str();
   cmd->add_option("--sweeps", args->sweeps, "PGS sweeps per step (default: the scene's [solver] sweeps, 3000)");
   cmd->add_option("--tol", args->tol, "Convergence threshold on theta [N] (1e-2 N = 1e-4 N*s at dt = 0.01)")
@@ -189,7 +194,9 @@ void add_bench_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
   cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
-  cmd->add_flag("--quick", args->quick, "A short run: one seed, starters zero, builtin, copy, sph (and cnn): under a minute");
+  cmd->add_flag("--quick", args->quick,
+                "A short run: one seed, starters zero, builtin, copy, sph (and cnn): 86 s on 2 idle cores (the default "
+                "run: ~11 min; README \"What to expect\")");
   cmd->add_flag("--list", args->list, "List the available warm starters and exit");
   cmd->add_option("--max-sweeps", args->max_sweeps,
                   "Higher cap: steps not at tol within --sweeps continue up to this many sweeps (sweeps to tol "
@@ -197,6 +204,9 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--budget", args->budget, "Fixed sweep budget of the resid@B column (default min(100, sweeps))");
   cmd->add_option("--warmup-steps", args->warmup_steps,
                   "Steps advanced first with builtin + PGS to tol and not evaluated (let a pile settle)");
+  cmd->add_flag("--theta", args->theta,
+                "Keep every step's per-sweep theta_k in results.h5 (/warmstarters/NAME/theta: ~290 MB for the default "
+                "bench; without it only their quartiles per sweep, a few MB)");
   cmd->add_flag("--no-oracle", args->no_oracle,
                 "Skip the tight oracle (large scenes): the reference is builtin + PGS to tol/100; oracle starters "
                 "are dropped");

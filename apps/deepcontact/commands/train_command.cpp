@@ -48,6 +48,7 @@
 #include "dc/learning/arch.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/learning/trainer.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc::cli {
 namespace {
@@ -216,7 +217,7 @@ TrainResult train_with_checkpoints(const TrainArgs& a, Trainer& trainer, const T
 
 /// OUT.loss.png from OUT.loss.csv (bench/plots/loss_curve.py); a failure only warns.
 void plot_loss_curve(const std::string& out) {
-  const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/loss_curve.py";
+  const std::string script = data_path("bench/plots/loss_curve.py").string();
   const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   const std::string cmd = py + " '" + script + "' '" + out + ".loss.csv' '" + out + ".loss.png' >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0 || !fs::exists(out + ".loss.png"))

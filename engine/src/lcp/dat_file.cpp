@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -269,6 +270,9 @@ DatFile parse_dat_file(std::string_view text, const std::string& name) {
 LcpProblem parse_lcp_dat(std::string_view text, const std::string& name) { return parse_dat_file(text, name).problem; }
 
 DatFile read_dat_file(const std::string& path) {
+  // An ifstream opens a directory and reads nothing: without this check it was "file is empty".
+  if (std::error_code ec; std::filesystem::is_directory(path, ec))
+    throw IoError(path + ": is a directory, not an LCP file (give one .dat file)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open LCP file");
   std::ostringstream ss;
