@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Every LCP solver on one contact problem of the seed scene (step 300 of seed 1).
+"""Every LCP solver on one contact problem of the seed scene (step 300 of seed 1), with what
+each status means.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/compare_solvers.py [--plot theta.png]
 """
@@ -20,15 +21,35 @@ world.collide()
 problem = world.assemble()
 print(f"step 300: {len(world.contacts.gap)} contacts, {problem.rows} rows, A with {problem.A.nnz} non-zeros")
 
-exact = dc.solve(problem, "newton")
-print(f"{'solver':14} {'status':11} {'sweeps':>6} {'residual [N]':>13} {'|λ − λ_newton|∞':>16}")
+# What each status means (docs/lcp.md); every non-converged row also prints the solver's own message.
+MEANING = {
+    "converged": "reached the tolerance",
+    "sweep_limit": "ran every sweep without reaching the tolerance (slow convergence, the last iterate is returned)",
+    "diverged": "the iterates grew without bound (undamped jacobi on a pile: pass omega < 1 as damping)",
+    "failed": "the method broke down (singular pivot, stalled line search, …; see its message)",
+    "invalid_input": "the problem is outside what the method solves (lemke: a standard LCP λ ≥ 0, no friction rows)",
+    "infeasible": "proved to have no solution",
+}
+
+results = {name: dc.solve(problem, name, sweeps=3000, tol=1e-6) for name in dc.solvers()}
+# The reference: the λ with the smallest natural-map residual, whichever solver returned it
+# (a pile's λ need not be unique, so the distance to it is a guide, not an error).
+solved = {n: r for n, r in results.items() if len(r.lam) and np.isfinite(r.residual)}
+ref_name = min(solved, key=lambda n: solved[n].residual) if solved else None
+print(f"reference λ: {ref_name}'s (the smallest residual)")
+print(f"{'solver':14} {'status':13} {'sweeps':>6} {'residual [N]':>13} {'|λ − λ_ref|∞':>14}")
 curves = {}
-for name in dc.solvers():
-    r = dc.solve(problem, name, sweeps=3000, tol=1e-6)
-    err = np.max(np.abs(r.lam - exact.lam)) if len(r.lam) else 0.0
-    print(f"{name:14} {r.status:11} {r.sweeps:6d} {r.residual:13.3e} {err:16.3e}")
+for name, r in results.items():
+    err = np.max(np.abs(r.lam - solved[ref_name].lam)) if ref_name and len(r.lam) else float("nan")
+    print(f"{name:14} {r.status:13} {r.sweeps:6d} {r.residual:13.3e} {err:14.3e}")
     if len(r.theta):
         curves[name] = np.asarray(r.theta)
+print()
+for status in sorted({r.status for r in results.values()} - {"converged"}):
+    print(f"{status}: {MEANING.get(status, 'see docs/lcp.md')}")
+    for name, r in results.items():
+        if r.status == status and r.message:
+            print(f"    {name}: {r.message}")
 
 if args.plot:
     import matplotlib

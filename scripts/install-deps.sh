@@ -27,6 +27,7 @@ packages=(
   python3 python3-numpy python3-matplotlib python3-h5py # report plots
   python3-dev python3-pybind11 pybind11-dev python3-scipy python3-pytest # the Python module (python/) and its tests
   python3-pil ffmpeg # deepcontact render: GIF (Pillow) and MP4 (ffmpeg)
+  python3-venv python3-setuptools python3-pip # pip install --no-build-isolation . (scripts/check-install.sh)
 )
 for arg in "$@"; do
   case "$arg" in

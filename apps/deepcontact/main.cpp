@@ -4,10 +4,14 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
+#include <vector>
 
 #include "cluster/comm.hpp"
 #include "commands/commands.hpp"
+#include "commands/usage_error.hpp"
 #include "dc/core/error.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc::cli {
 int& exit_status() {
@@ -22,7 +26,7 @@ int main(int argc, char** argv) {
       "DeepContact: how much can a warm start speed up the contact solver of a rigid-body "
       "simulator, and what does it cost?"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "deepcontact 0.1.0");
+  app.set_version_flag("--version", "deepcontact " + dc::version() + " (commit " + dc::git_commit() + ")");
   dc::cli::add_simulate_command(app);
   dc::cli::add_lcp_command(app);
   dc::cli::add_bench_command(app);
@@ -35,7 +39,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);  // usage errors: CLI11's message, exit status 105/106/...
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // A wrong command line: one line with the closest option, exit status 2 (docs/cli.md).
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    std::fprintf(stderr, "deepcontact: error: %s\n", dc::cli::usage_error_message(app, e, args).c_str());
+    return dc::cli::kUsageExitStatus;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "deepcontact: error: out of memory\n");
     return 1;

@@ -64,14 +64,23 @@ def save(fig, out, name, dpi=120):
     plt.close(fig)
 
 
+def theta_quartiles(g):
+    """Quartiles of θ_k over the steps, per sweep: from /theta_quartiles (always written), or
+    from the full per-step /theta of a `--theta` run or an older file. Exact zeros (converged)
+    are drawn at the floor of the log axis."""
+    if "theta_quartiles" in g:
+        q = np.maximum(g["theta_quartiles"][()], 1e-16)
+        return q[:, 0], q[:, 1], q[:, 2]
+    th = np.maximum(g["theta"][()].astype(np.float64), 1e-16)
+    return tuple(np.percentile(th, [25, 50, 75], axis=0))
+
+
 def convergence(f, names, out, tol, sweeps):
     fig, ax = plt.subplots(figsize=(8, 5.5))
     k = np.arange(1, sweeps + 1)
     bands = len(names) <= 6
     for i, n in enumerate(names):
-        th = group(f, n)["theta"][()].astype(np.float64)
-        th = np.maximum(th, 1e-16)  # exact zeros (converged) drawn at the floor of the log axis
-        q1, med, q3 = np.percentile(th, [25, 50, 75], axis=0)
+        q1, med, q3 = theta_quartiles(group(f, n))
         ax.plot(k, med, label=n, lw=1.5, **style(i))
         if bands:  # a dozen overlapping bands hide every line: only for a few starters
             ax.fill_between(k, q1, q3, alpha=0.12, color=style(i)["color"], lw=0)
@@ -293,7 +302,7 @@ def main():
              ("pareto.png", lambda: pareto(f, names, out))]
     if "solvers" in f:
         plots.append(("accuracy.png", lambda: accuracy(f, out)))
-    empty = len(names) == 0 or all(group(f, n)["theta"].shape[0] == 0 for n in names)
+    empty = len(names) == 0 or all(group(f, n)["sweeps_to_tol"].shape[0] == 0 for n in names)
     failed = []
     for png, draw in plots:
         if empty:

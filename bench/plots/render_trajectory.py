@@ -204,7 +204,9 @@ class Scene:
         half = 0.5 * length[:, None] * n
         self.forces.set_segments(np.stack([p - half, p + half], axis=1))
         self.forces.set_color(self.cmap(np.clip(lam / self.lam_top, 0, 1)))
-        self.label.set_text(f"t = {t.time(k):6.2f} s   step {k}/{t.steps}\n{int(on.sum()):4d} contacts with λ_n > 0")
+        first = getattr(t, "start_step", 0)  # the bench's reference starts after its warm-up
+        self.label.set_text(f"t = {t.time(k):6.2f} s   step {first + k}/{first + t.steps}\n"
+                            f"{int(on.sum()):4d} contacts with λ_n > 0")
         self.fig.canvas.draw()
         return np.asarray(self.fig.canvas.buffer_rgba())[:, :, :3].copy()
 
@@ -290,22 +292,36 @@ def write_mp4(scene, frames, fps, out, progress):
         raise RenderError(f"{out}: ffmpeg failed: {last}")
 
 
-def render(path, out, frame=None, every=None, progress=True):
-    """Renders `path` to `out` (see the module doc). Returns the number of frames written."""
+FRAME_FORMATS = (".png", ".svg", ".pdf")
+
+
+def check_output(out, frame, every):
+    """The output path's checks, before anything is read or drawn: a file name (not a
+    directory) in an existing directory, with an extension the mode can write."""
     ext = os.path.splitext(out)[1].lower()
+    if os.path.isdir(out):
+        name = "frame.png" if frame is not None else "run.gif"
+        raise RenderError(f"--out {out}: is a directory; give a file name such as {os.path.join(out, name)}")
     if frame is not None:
-        if ext in (".gif", ".mp4"):
-            raise RenderError(f"--frame writes one image: give --out FILE.png, not {out}")
+        if ext not in FRAME_FORMATS:
+            raise RenderError(f"--out {out}: --frame writes one image as {', '.join(FRAME_FORMATS)}"
+                              f" (an animation: drop --frame and use .gif or .mp4)")
         if every is not None:
             raise RenderError("--every applies to animations, not to --frame")
     elif ext not in (".gif", ".mp4"):
         raise RenderError(f"--out {out}: an animation must be .gif or .mp4 (one image: --frame K --out FILE.png)")
+    out_dir = os.path.dirname(os.path.abspath(out))
+    if not os.path.isdir(out_dir):
+        raise RenderError(f"--out {out}: the directory {out_dir} does not exist")
+
+
+def render(path, out, frame=None, every=None, progress=True):
+    """Renders `path` to `out` (see the module doc). Returns the number of frames written."""
+    check_output(out, frame, every)
+    ext = os.path.splitext(out)[1].lower()
     traj = _trajectory.read_trajectory(path)
     if frame is not None and not 0 <= frame <= traj.steps:
         raise RenderError(f"--frame {frame}: {path} has states 0..{traj.steps}")
-    out_dir = os.path.dirname(os.path.abspath(out))
-    if not os.path.isdir(out_dir):
-        raise RenderError(f"{out}: the directory {out_dir} does not exist")
     import matplotlib.pyplot as plt
 
     scene = Scene(traj)

@@ -1,5 +1,6 @@
 #include "dc/bench/bench_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -49,6 +50,14 @@ std::string thesis_reference(const std::string& starter) {
   return "";
 }
 
+bool theses_apply(const WorldDef& scene) {
+  WorldDef seed_scene;  // the defaults are the seed scene (docs/design.md §1)
+  WorldDef d = scene;
+  d.bodies.seed = seed_scene.bodies.seed;  // any seed and run length of that scene
+  d.time.steps = seed_scene.time.steps;
+  return d == seed_scene;
+}
+
 std::string format_table(const BenchResults& r, const std::vector<StarterSummary>& s, bool md) {
   const StarterSummary* zero = find(s, "zero");
   const int N = r.options.sweeps;
@@ -74,6 +83,10 @@ std::string format_table(const BenchResults& r, const std::vector<StarterSummary
     if (high)
       rows.back().insert(rows.back().end(), {x.median_sweeps_high > r.options.max_sweeps ? "never" : fmt("%.0f", x.median_sweeps_high),
                                              fmt("%.1f%%", 100 * x.unconverged_share_high)});
+  }
+  if (!theses_apply(r.options.scene)) {  // the theses measured the seed scene only
+    const auto col = static_cast<std::ptrdiff_t>(std::find(rows[0].begin(), rows[0].end(), "theses") - rows[0].begin());
+    for (auto& row : rows) row.erase(row.begin() + col);
   }
   std::vector<std::size_t> w(rows[0].size(), 0);
   for (const auto& row : rows)
@@ -126,7 +139,7 @@ void starter_summary_json(JsonWriter& j, const BenchResults& r, const StarterSum
     j.value(x.total_ms / zero->total_ms);
   else
     j.null();
-  j.key("theses").value(thesis_reference(x.name));
+  j.key("theses").value(theses_apply(r.options.scene) ? thesis_reference(x.name) : std::string());
   j.key("residual_at_budget").value(x.residual_at_budget);
   j.key("residual_at_cap").value(x.residual_at_cap);
   if (r.options.max_sweeps > 0) {
@@ -219,8 +232,10 @@ std::string report_intro_markdown(const BenchResults& r) {
           "M = `--max-sweeps` sweeps";
   md << ".\n\n";
   md << "Medians over steps. `*` marks oracle starters (they use this step's solution λ*; the oracle's cost is "
-        "shown apart and is not included in total). `/zero` is the ratio to the zero warm start. "
-        "`theses` gives the earlier theses' median iterations to 1e-4 N·s (Box2D impulses, r = 0.5; docs/design.md §6).\n\n";
+        "shown apart and is not included in total). `/zero` is the ratio to the zero warm start.\n\n";
+  if (theses_apply(r.options.scene))
+    md << "`theses` gives the earlier theses' median iterations to 1e-4 N·s on this (the seed) scene (Box2D "
+          "impulses, r = 0.5; docs/design.md §6).\n\n";
   return md.str();
 }
 

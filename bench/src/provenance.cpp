@@ -1,36 +1,19 @@
 #include "dc/bench/provenance.hpp"
 
-#include <array>
+#include "dc/core/install_paths.hpp"
+
 #include <cstdio>
 #include <ctime>
 #include <fstream>
-#include <memory>
 #include <thread>
 
 namespace dc::bench {
-namespace {
-
-std::string run(const std::string& cmd) {
-  std::array<char, 256> buf{};
-  std::string out;
-  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-  if (!p) return {};
-  while (fgets(buf.data(), buf.size(), p.get())) out += buf.data();
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-  return out;
-}
-
-}  // namespace
 
 Provenance collect_provenance() {
   Provenance p;
-  const std::string src = DC_SOURCE_DIR;
-  p.git = run("git -C '" + src + "' rev-parse --short=12 HEAD 2>/dev/null");
-  if (p.git.empty()) {
-    p.git = "unknown";
-  } else if (!run("git -C '" + src + "' status --porcelain --untracked-files=no 2>/dev/null").empty()) {
-    p.git += "-dirty";
-  }
+  // The commit the binary was built from (taken at build time), not the state of some source
+  // tree now: an installed or moved executable has none next to it.
+  p.git = git_commit();
   p.build = std::string(DC_BUILD_TYPE) + ", " +
 #if defined(__clang__)
             "clang " + std::to_string(__clang_major__) + "." + std::to_string(__clang_minor__);

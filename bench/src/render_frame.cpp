@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "dc/engine/scene.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc::bench {
 namespace fs = std::filesystem;
@@ -17,11 +18,19 @@ std::string python_interpreter() {
   return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
 }
 
-std::string renderer_script() { return std::string(DC_SOURCE_DIR) + "/bench/plots/render_trajectory.py"; }
+std::string renderer_script() { return data_path("bench/plots/render_trajectory.py").string(); }
 
 }  // namespace
 
-std::string renderer_command() { return "'" + python_interpreter() + "' '" + renderer_script() + "'"; }
+std::string renderer_command() {
+  // Appended piece by piece: the one-expression form trips GCC 12's -Wrestrict false positive.
+  std::string cmd = "'";
+  cmd += python_interpreter();
+  cmd += "' '";
+  cmd += renderer_script();
+  cmd += "'";
+  return cmd;
+}
 
 int run_renderer(const std::vector<std::string>& args, const std::string& log) {
   std::vector<std::string> words{python_interpreter(), renderer_script()};

@@ -1,4 +1,5 @@
 #include "report_plots.hpp"
+#include "dc/core/install_paths.hpp"
 
 #include <cstdlib>
 #include <fstream>
@@ -69,7 +70,7 @@ PlotRun make_report_plots(const fs::path& dir, bool solvers) {
   }
   PlotRun run;
   run.log = (dir / "plots.log").string();
-  const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/bench_plots.py";
+  const std::string script = data_path("bench/plots/bench_plots.py").string();
   std::string cmd;
   for (const std::string& word : {python_interpreter(), script, (dir / "results.h5").string(), dir.string()})
     cmd += "'" + word + "' ";

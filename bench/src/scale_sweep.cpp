@@ -12,6 +12,7 @@
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/io/atomic_file.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc::bench {
 
@@ -166,7 +167,7 @@ std::vector<std::string> write_scale_report(const std::vector<ScalePoint>& point
 
   const char* py_env = std::getenv("DC_BENCH_PYTHON");
   const std::string py = py_env && *py_env ? py_env : "/usr/bin/python3";
-  const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/scale_plot.py";
+  const std::string script = data_path("bench/plots/scale_plot.py").string();
   const std::string log = (dir / "scale_plot.log").string();
   const std::string cmd = "'" + py + "' '" + script + "' '" + (dir / "scale.csv").string() + "' '" +
                           (dir / "scale.png").string() + "' >'" + log + "' 2>&1";

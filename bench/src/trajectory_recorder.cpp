@@ -11,7 +11,8 @@
 
 namespace dc {
 
-TrajectoryRecorder::TrajectoryRecorder(const World& world) : n_(world.bodies().size()) {
+TrajectoryRecorder::TrajectoryRecorder(const World& world)
+    : n_(world.bodies().size()), start_step_(world.step_index()) {
   const BodyState& s = world.bodies();
   record_state(s);
   step_offset_.push_back(0);
@@ -110,6 +111,9 @@ void TrajectoryRecorder::write(const std::string& path, const std::string& scene
   AtomicH5File out(path);
   H5File& f = out.file();
   trajectory::write_attributes(f, scene, warmstart);
+  // State k is the world after start_step + k steps: its time is (start_step + k)·dt (the
+  // bench's reference starts after the warm-up).
+  f.set_attribute<std::int32_t>("/", "start_step", start_step_);
   f.write<double>("/bodies/position", *pos, {S + 1, n, 2}, opt(S + 1));
   f.write<double>("/bodies/angle", *ang, {S + 1, n}, opt(S + 1));
   f.write<double>("/bodies/velocity", *vel, {S + 1, n, 2}, opt(S + 1));

@@ -48,6 +48,43 @@ std::vector<double> previous_pairs(const World& w) {
   return out;
 }
 
+/// Largest force [N] the network may put on each contact row (a guess of an absolute model, a
+/// correction of a residual one): Λ_i = W + max(0, −b_i) / A_ii, where W = Σ_k m_k |g| is the
+/// weight of every dynamic body (the most a static load path can carry) and −b_i / A_ii is the
+/// force that, acting alone, stops row i's approach velocity (b holds the free velocity with
+/// the Baumgarte and restitution targets; A_ii = Δt Σ_j J_ij² M⁻¹_jj). The network's S·sinh
+/// head turns an extrapolated output into an exponentially large one: the shipped model's
+/// corrections reach 1e10 N on 1 % of the seed pile's steps (λ* stays below 1e4 N) and overflow
+/// to inf once the state leaves its training range; with few PGS sweeps such a guess injects
+/// energy that the sweeps cannot take out, and the run diverges (docs/learning.md "Bounded
+/// guesses"). The cap bounds the guess, not the solution: PGS still reaches any larger λ*.
+Eigen::VectorXd force_caps(const World& w) {
+  const BodyState& bodies = w.bodies();
+  double weight = 0;
+  for (std::size_t k = 0; k < bodies.size(); ++k) weight += bodies.mass[k];
+  weight *= length(w.def().world.gravity);
+  const LcpProblem& p = w.problem();
+  Eigen::VectorXd cap = Eigen::VectorXd::Constant(p.rows(), weight);
+  for (int i = 0; i < p.rows(); ++i) {
+    double aii = 0;
+    if (p.has_jacobian()) {
+      for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) aii += it.value() * it.value() * p.inv_mass[it.col()];
+      aii *= p.dt;
+    } else {
+      aii = p.A.coeff(i, i);
+    }
+    if (aii > 0 && p.b[i] < 0) cap[i] += -p.b[i] / aii;
+  }
+  return cap;
+}
+
+/// Clamps every entry of the network's guess or correction to ±force_caps(w); a NaN (an
+/// overflow inside the network) becomes 0: no correction, builtin's value.
+void cap_network_forces(const World& w, Eigen::VectorXd& v) {
+  const Eigen::VectorXd cap = force_caps(w);
+  for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = std::isnan(v[i]) ? 0.0 : std::clamp(v[i], -cap[i], cap[i]);
+}
+
 }  // namespace
 
 Eigen::VectorXd CnnWarmStarter::read_back_grid(const World& w) {
@@ -186,7 +223,11 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
   if (any_new) {
     auto t0 = Clock::now();
     prepare(w);
-    builder_->features(w.bodies(), cur, prev, &w.problem(), std::span<float>(features_.data(), features_.size()));
+    try {
+      builder_->features(w.bodies(), cur, prev, &w.problem(), std::span<float>(features_.data(), features_.size()));
+    } catch (const InvalidArgument& e) {  // a non-finite state: say which starter met it, and where
+      throw InvalidArgument(name_ + ": step " + std::to_string(w.step_index() + 1) + ": " + e.what());
+    }
     last_.features_ms = ms_since(t0);
     t0 = Clock::now();
     const Tensor* raw = nullptr;
@@ -196,7 +237,9 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
     }
     last_.inference_ms = ms_since(t0);
     t0 = Clock::now();
-    out = guess_from_output(w, *raw, !residual);
+    out = guess_from_output(w, *raw, false);
+    cap_network_forces(w, out);
+    if (!residual) project_feasible(w.problem(), out);
     if (residual) {
       // Soft threshold: corrections within the network's noise level leave builtin alone.
       apply_deadzone(std::span<double>(out.data(), static_cast<std::size_t>(out.size())), model_.grid().labels.deadzone);

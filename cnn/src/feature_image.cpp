@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <sstream>
 
 #include "dc/core/error.hpp"
 #include "dc/sph/sph_splat.hpp"
@@ -48,6 +50,25 @@ Vec2 point_velocity(const BodyState& s, int k, Vec2 p) {
   return s.velocity[i] + Vec2{-s.omega[i] * r.y, s.omega[i] * r.x};
 }
 
+/// InvalidArgument naming the first non-finite value of a splat's `values` (row-major, one row
+/// per point of `kind`, one column per name) and the state's largest body speed, which tells a
+/// diverged simulation (speeds of 1e100 m/s and more) from a bad input. Checked here rather
+/// than in the splat so that the message says which feature it is.
+void require_finite_features(std::span<const double> values, std::initializer_list<const char*> names,
+                             const char* kind, const BodyState& bodies) {
+  const std::size_t C = names.size();
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (std::isfinite(values[k])) continue;
+    double fastest = 0;
+    for (const Vec2& v : bodies.velocity) fastest = std::max(fastest, length(v));
+    std::ostringstream os;
+    os << "feature image: " << kind << " " << k / C << ": " << names.begin()[k % C] << " = " << values[k]
+       << " is not finite (largest body speed " << fastest << " m/s"
+       << (std::isfinite(fastest) && fastest < 1e100 ? ")" : ": the simulation has diverged)");
+    throw InvalidArgument(os.str());
+  }
+}
+
 }  // namespace
 
 FeatureImageBuilder::FeatureImageBuilder(FeatureImageDef def)
@@ -84,6 +105,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     values_[4 * k + 2] = bodies.velocity[k].y;
     values_[4 * k + 3] = bodies.omega[k];
   }
+  require_finite_features(values_, {"mass", "vx", "vy", "omega"}, "body", bodies);
   splat_to_grid(kernel_, points_, values_, body_grid_, &body_weight_);
 
   // Contacts: (nx, ny) at the points plus their weight field (the contact density).
@@ -99,6 +121,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(c.normal.y);
     }
     // The contact density alone (the residual model's channels) needs no normal field.
+    require_finite_features(values_, {"nx", "ny"}, "contact", bodies);
     if (normals)
       splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
     else
@@ -126,6 +149,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(dot(u, perp(ct.normal)));
       values_.push_back(ct.gap);
     }
+    require_finite_features(values_, {"lambda_prev_n", "lambda_prev_t", "vrel_n", "vrel_t", "gap"}, "contact", bodies);
     splat_to_grid(kernel_, points_, values_, contact_values_, nullptr);
   }
 
@@ -153,6 +177,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(cons.lambda_n(w, static_cast<int>(c)));
       values_.push_back(cons.lambda_t(w, static_cast<int>(c)));
     }
+    require_finite_features(values_, {"w_prev_n", "w_prev_t"}, "contact", bodies);
     splat_to_grid(kernel_, points_, values_, w_prev_grid_, nullptr);
   }
 

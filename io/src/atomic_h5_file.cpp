@@ -6,6 +6,7 @@
 #include "dc/io/atomic_file.hpp"
 #include "dc/io/h5.hpp"
 #include "h5_detail.hpp"
+#include "h5_superblock.hpp"
 
 namespace dc {
 
@@ -13,11 +14,12 @@ using namespace h5_detail;
 
 H5File H5File::create_in_memory(const std::string& label) {
   const ErrorSilencer quiet;
-  const Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  const Handle fapl = file_access_with_checksums();
   // Grow the image in 1 MiB steps; backing_store = 0: HDF5 never touches the disk.
   if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0) < 0)
     throw IoError(label + ": " + with_reason("cannot set up an in-memory HDF5 file"));
-  const hid_t id = H5Fcreate(label.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  const Handle fcpl = file_creation();
+  const hid_t id = H5Fcreate(label.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get());
   if (id < 0) throw IoError(label + ": " + with_reason("cannot create an in-memory HDF5 file"));
   return H5File(label, id, true);
 }
@@ -30,6 +32,7 @@ std::string H5File::file_image() {
   if (size < 0) fail("/", "cannot take the file image");
   std::string image(static_cast<std::size_t>(size), '\0');
   if (size > 0 && H5Fget_file_image(id_, image.data(), image.size()) != size) fail("/", "cannot take the file image");
+  fix_superblock_checksum(image);  // the copy's flags were cleared, its checksum was not
   return image;
 }
 

@@ -89,7 +89,10 @@ void H5File::require_writable(std::string_view object) const {
 
 H5File H5File::create(const std::string& path) {
   const ErrorSilencer quiet;
-  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const Handle fapl = file_access_with_checksums();
+  if (!fapl.valid()) throw IoError(path + ": " + with_reason("cannot set up the HDF5 file format"));
+  const Handle fcpl = file_creation();
+  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get());
   if (id < 0) throw IoError(path + ": " + with_reason("cannot create HDF5 file"));
   return H5File(path, id, true);
 }
@@ -179,8 +182,9 @@ void H5File::create_group(std::string_view path) {
     return;
   }
   const ErrorSilencer quiet;
-  const Handle lcpl = intermediate_groups_lcpl();
-  Handle g(H5Gcreate2(id_, object_name(path).c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  const Handle gcpl = group_creation();
+  if (!create_parent_groups(id_, object_name(path))) fail(path, "cannot create the parent groups");
+  Handle g(H5Gcreate2(id_, object_name(path).c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail(path, "cannot create group");
 }
 
@@ -210,17 +214,64 @@ void H5File::remove_attribute(std::string_view object, std::string_view name) {
   const ErrorSilencer quiet;
   if (H5Adelete_by_name(id_, object_name(object).c_str(), std::string(name).c_str(), H5P_DEFAULT) < 0)
     fail(object, "cannot remove attribute " + std::string(name));
+  const std::string checksum = attribute_checksum_name(name);
+  if (H5Aexists_by_name(id_, object_name(object).c_str(), checksum.c_str(), H5P_DEFAULT) > 0)
+    (void)H5Adelete_by_name(id_, object_name(object).c_str(), checksum.c_str(), H5P_DEFAULT);
 }
 
 // ---- numeric datasets ---------------------------------------------------------------------
+
+namespace {
+
+/// Dataset-creation properties: how a dataset of `shape` is laid out so that every stored
+/// byte is checked on read (h5_checksum.hpp). Datasets with elements are chunked — whole rows
+/// per chunk, ≈ 256 KiB unless options.chunk_rows says otherwise, so appends and row reads
+/// touch few chunks and compression stays effective — with Fletcher-32 as the last filter
+/// (after shuffle + deflate: it checks the bytes on disk). Scalars and empty fixed-size
+/// datasets cannot be chunked; they are compact: their data lives in the object header,
+/// which carries its own checksum. Invalid handle on failure.
+template <H5Element T>
+Handle dataset_layout(const H5Shape& shape, const H5DatasetOptions& options) {
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  if (!dcpl.valid()) return dcpl;
+  if (shape.empty() || (!options.extendible && product(shape) == 0)) {
+    if (H5Pset_layout(dcpl.get(), H5D_COMPACT) < 0 || !keep_links_and_attributes_compact(dcpl.get(), false))
+      dcpl.reset();
+    return dcpl;
+  }
+  H5Shape chunk(shape.size());
+  for (std::size_t i = 1; i < shape.size(); ++i) chunk[i] = std::max<hsize_t>(shape[i], 1);
+  if (options.extendible_columns) chunk[1] = std::max<hsize_t>(shape[1], 64);
+  const hsize_t row_bytes = product(chunk, 1) * sizeof(T);
+  hsize_t rows = options.chunk_rows;
+  if (rows == 0) {
+    rows = std::max<hsize_t>(1, (hsize_t{256} << 10) / row_bytes);
+    if (!options.extendible) rows = std::min(rows, std::max<hsize_t>(shape[0], 1));
+  }
+  chunk[0] = rows;
+  if constexpr (std::is_floating_point_v<T>) {  // cells of added columns never written read as NaN
+    const T nan = std::numeric_limits<T>::quiet_NaN();
+    if (options.extendible_columns && H5Pset_fill_value(dcpl.get(), memory_type(type_of<T>()), &nan) < 0) {
+      dcpl.reset();
+      return dcpl;
+    }
+  }
+  const bool ok = H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()) >= 0 &&
+                  (options.deflate == 0 || (H5Pset_shuffle(dcpl.get()) >= 0 &&
+                                            H5Pset_deflate(dcpl.get(), static_cast<unsigned>(options.deflate)) >= 0)) &&
+                  H5Pset_fletcher32(dcpl.get()) >= 0;
+  if (!ok || !keep_links_and_attributes_compact(dcpl.get(), false)) dcpl.reset();
+  return dcpl;
+}
+
+}  // namespace
 
 template <H5Element T>
 void H5File::create_dataset(std::string_view path, const H5Shape& shape, const H5DatasetOptions& options) {
   require_writable(path);
   if (options.deflate < 0 || options.deflate > 9)
     throw InvalidArgument(path_ + ": " + object_name(path) + ": deflate level must be in 0..9");
-  const bool chunked = options.extendible || options.deflate > 0;
-  if (chunked && shape.empty())
+  if ((options.extendible || options.deflate > 0) && shape.empty())
     throw InvalidArgument(path_ + ": " + object_name(path) + ": a scalar dataset cannot be extendible or compressed");
   if (exists(path)) fail(path, "cannot create dataset: an object of that name exists");
 
@@ -235,31 +286,9 @@ void H5File::create_dataset(std::string_view path, const H5Shape& shape, const H
                H5Sclose);
   if (!space.valid()) fail(path, "cannot create dataspace " + to_string(shape));
 
-  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-  if (chunked) {
-    // Whole rows per chunk: appends and row reads touch few chunks, and ≈ 256 KiB keeps
-    // compression effective without making single-row reads expensive.
-    H5Shape chunk(shape.size());
-    for (std::size_t i = 1; i < shape.size(); ++i) chunk[i] = std::max<hsize_t>(shape[i], 1);
-    if (options.extendible_columns) chunk[1] = std::max<hsize_t>(shape[1], 64);
-    const hsize_t row_bytes = product(chunk, 1) * sizeof(T);
-    hsize_t rows = options.chunk_rows;
-    if (rows == 0) {
-      rows = std::max<hsize_t>(1, (hsize_t{256} << 10) / row_bytes);
-      if (!options.extendible) rows = std::min(rows, std::max<hsize_t>(shape[0], 1));
-    }
-    chunk[0] = rows;
-    if constexpr (std::is_floating_point_v<T>) {
-      const T nan = std::numeric_limits<T>::quiet_NaN();
-      if (options.extendible_columns && H5Pset_fill_value(dcpl.get(), memory_type(type_of<T>()), &nan) < 0)
-        fail(path, "cannot set the fill value");
-    }
-    if (H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()) < 0)
-      fail(path, "cannot set chunk shape " + to_string(chunk));
-    if (options.deflate > 0 &&
-        (H5Pset_shuffle(dcpl.get()) < 0 || H5Pset_deflate(dcpl.get(), static_cast<unsigned>(options.deflate)) < 0))
-      fail(path, "cannot enable deflate compression");
-  }
+  const Handle dcpl = dataset_layout<T>(shape, options);
+  if (!dcpl.valid()) fail(path, "cannot set up the chunk shape, compression and checksum");
+  if (!create_parent_groups(id_, object_name(path))) fail(path, "cannot create the parent groups");
   const Handle lcpl = intermediate_groups_lcpl();
   Handle ds(H5Dcreate2(id_, object_name(path).c_str(), file_type(type_of<T>()), space.get(), lcpl.get(), dcpl.get(),
                        H5P_DEFAULT),
@@ -501,7 +530,21 @@ void H5File::write_strings(std::string_view path, const std::vector<std::string>
   const hsize_t n = values.size();
   Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
   const Handle lcpl = intermediate_groups_lcpl();
-  Handle ds(H5Dcreate2(id_, object_name(path).c_str(), type.get(), space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+  // Fixed-length strings like numeric data: chunked with Fletcher-32 (≤ 256 KiB chunks), or
+  // compact when empty, so that every stored byte is covered by a checksum.
+  const std::size_t element = std::max<std::size_t>(longest, 1);
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  const hsize_t chunk = std::max<hsize_t>(1, std::min<hsize_t>(n, (hsize_t{256} << 10) / element));
+  // (HDF5 filters cannot take variable-length data: those keep the default layout, and the
+  // stored hash covers their values.)
+  const bool layout_ok = dcpl.valid() && (kind == H5StringKind::Variable ||
+                                          (n == 0 ? H5Pset_layout(dcpl.get(), H5D_COMPACT) >= 0
+                                                  : H5Pset_chunk(dcpl.get(), 1, &chunk) >= 0 &&
+                                                        H5Pset_fletcher32(dcpl.get()) >= 0));
+  if (!layout_ok || !keep_links_and_attributes_compact(dcpl.get(), false))
+    fail(path, "cannot set up the string dataset's chunks and checksum");
+  if (!create_parent_groups(id_, object_name(path))) fail(path, "cannot create the parent groups");
+  Handle ds(H5Dcreate2(id_, object_name(path).c_str(), type.get(), space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
             H5Dclose);
   if (!ds.valid()) fail(path, "cannot create string dataset");
   if (values.empty()) return;
@@ -517,6 +560,25 @@ void H5File::write_strings(std::string_view path, const std::vector<std::string>
     rc = H5Dwrite(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data());
   }
   if (rc < 0) fail(path, "cannot write string dataset");
+  // Variable-length strings' bytes are in the global heap, which HDF5 does not checksum: store
+  // a hash of them in the (checksummed) object header.
+  if (kind == H5StringKind::Variable) set_attribute<std::int64_t>(path, kStringsChecksum, strings_checksum(values));
+}
+
+void H5File::verify_strings(Id object, std::string_view path, const std::vector<std::string>& values,
+                            std::string_view attribute) const {
+  const std::string name = attribute.empty() ? std::string(kStringsChecksum) : attribute_checksum_name(attribute);
+  const htri_t stored = H5Aexists(object, name.c_str());
+  if (stored == 0) return;  // written without a checksum (an older file, h5py): read unchecked
+  std::int64_t expected = 0;
+  Handle attr(stored > 0 ? H5Aopen(object, name.c_str(), H5P_DEFAULT) : -1, H5Aclose);
+  if (!attr.valid() || H5Aread(attr.get(), H5T_NATIVE_INT64, &expected) < 0)
+    fail(path, with_reason("cannot read the checksum attribute " + name));
+  if (expected != strings_checksum(values)) {
+    fail(path, std::string("checksum mismatch: the file is damaged (") +
+                   (attribute.empty() ? "the strings" : "attribute '" + std::string(attribute) + "'") +
+                   " do not match their stored checksum)");
+  }
 }
 
 std::vector<std::string> H5File::read_strings(std::string_view path) const {
@@ -530,11 +592,15 @@ std::vector<std::string> H5File::read_strings(std::string_view path) const {
   const hssize_t n = H5Sget_simple_extent_npoints(space.get());
   if (n < 0) fail(path, "cannot query dataspace");
   std::vector<std::string> out;
-  if (n == 0) return out;
+  if (n == 0) {
+    verify_strings(ds.get(), path, out);
+    return out;
+  }
   if (!plausible_allocation(id_, {static_cast<hsize_t>(n)}, std::max<std::size_t>(H5Tget_size(type.get()), 1)))
     fail(path, std::to_string(n) + " strings are more than the file can hold (damaged file?)");
   auto read = [&](hid_t mem, void* buf) { return H5Dread(ds.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf); };
   if (!read_string_values(type.get(), space.get(), static_cast<hsize_t>(n), read, out)) fail(path, "cannot read strings");
+  verify_strings(ds.get(), path, out);
   return out;
 }
 

@@ -31,9 +31,12 @@ bool H5File::has_attribute(std::string_view object, std::string_view name) const
 namespace {
 /// Opens `object` and deletes an attribute `name` if present, so it can be re-created with
 /// a possibly different type or shape (HDF5 cannot change those in place).
+/// A string attribute's stored checksum goes with it (a stale one would fail the next read).
 Handle open_for_new_attribute(hid_t file, const std::string& object, const std::string& name) {
   Handle obj(H5Oopen(file, object.c_str(), H5P_DEFAULT), H5Oclose);
   if (obj.valid() && H5Aexists(obj.get(), name.c_str()) > 0) H5Adelete(obj.get(), name.c_str());
+  const std::string checksum = attribute_checksum_name(name);
+  if (obj.valid() && H5Aexists(obj.get(), checksum.c_str()) > 0) H5Adelete(obj.get(), checksum.c_str());
   return obj;
 }
 }  // namespace
@@ -59,6 +62,10 @@ void H5File::set_attribute(std::string_view object, std::string_view name, std::
     rc = H5Awrite(attr.get(), type.get(), padded.data());
   }
   if (rc < 0) fail(object, "cannot write " + attr_label(name));
+  // A variable-length string's bytes live in the global heap, which HDF5 does not checksum;
+  // a fixed-length one is inside the (checksummed) object header.
+  if (kind == H5StringKind::Variable)
+    set_attribute<std::int64_t>(object, attribute_checksum_name(name), strings_checksum({copy}));
 }
 
 template <H5Element T>
@@ -141,6 +148,9 @@ std::string H5File::attribute_string(std::string_view object, std::string_view n
   std::vector<std::string> out;
   auto read = [&](hid_t mem, void* buf) { return H5Aread(a.attr.get(), mem, buf); };
   if (!read_string_values(a.type.get(), a.space.get(), 1, read, out)) fail(object, "cannot read " + attr_label(name));
+  Handle obj(H5Oopen(id_, object_name(object).c_str(), H5P_DEFAULT), H5Oclose);
+  if (!obj.valid()) fail(object, "cannot open object to check " + attr_label(name));
+  verify_strings(obj.get(), object, out, name);
   return out.front();
 }
 
@@ -176,7 +186,7 @@ std::vector<std::string> H5File::attribute_names(std::string_view object) const 
   if (!obj.valid()) fail(object, "cannot open object to list attributes");
   std::vector<std::string> names;
   auto collect = [](hid_t, const char* n, const H5A_info_t*, void* data) -> herr_t {
-    static_cast<std::vector<std::string>*>(data)->emplace_back(n);
+    if (!is_checksum_attribute(n)) static_cast<std::vector<std::string>*>(data)->emplace_back(n);
     return 0;
   };
   hsize_t index = 0;

@@ -27,7 +27,9 @@ void H5File::create_virtual(std::string_view path, const H5Shape& row_shape,
   const int rank = static_cast<int>(dims.size());
   Handle vspace(H5Screate_simple(rank, dims.data(), nullptr), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-  if (!vspace.valid() || !dcpl.valid()) fail(path, "cannot set up virtual dataset " + to_string(dims));
+  if (!vspace.valid() || !dcpl.valid() || !keep_links_and_attributes_compact(dcpl.get(), false))
+    fail(path, "cannot set up virtual dataset " + to_string(dims));
+  if (!create_parent_groups(id_, object_name(path))) fail(path, "cannot create the parent groups");
   if constexpr (std::is_floating_point_v<T>) {  // a missing source reads as NaN, not as zeros
     const T nan = std::numeric_limits<T>::quiet_NaN();
     if (H5Pset_fill_value(dcpl.get(), memory_type(type_of<T>()), &nan) < 0) fail(path, "cannot set the fill value");

@@ -8,6 +8,8 @@ Python) and the warm-start bench. See docs/python.md.
     print(w.bodies.position[:3], report.sweeps)
 """
 from ._core import (  # noqa: F401  (the C++ core, deepcontact/_core*.so)
+    __commit__,
+    __version__,
     ConfigError,
     InvalidArgument,
     IoError,
@@ -15,6 +17,7 @@ from ._core import (  # noqa: F401  (the C++ core, deepcontact/_core*.so)
     Result,
     StepView,
     World,
+    copy_hdf5,
     read_lcp_dat,
     read_problem,
     solve,
@@ -54,15 +57,18 @@ class WarmStarter:
     """
 
     def name(self):
+        """The name in bench reports (default: the class name)."""
         return type(self).__name__
 
     def initial_guess(self, view):  # pragma: no cover - abstract
+        """λ⁰ for this step: one float per row of ``view.world.problem`` (``len == view.rows``)."""
         raise NotImplementedError(f"{type(self).__name__}.initial_guess(view) is not implemented")
 
     def observe(self, view, solved):
-        pass
+        """Called after each step's solve with the solved λ (default: nothing)."""
 
     def uses_oracle(self):
+        """True when the guess uses ``view.oracle`` (this step's λ*): an upper bound, marked ``*``."""
         return False
 
 
@@ -102,10 +108,23 @@ from .starters import PyBuiltin, previous_lambda_by_key  # noqa: E402,F401
 
 def render(trajectory, out, frame=None, every=None, progress=True):
     """Draw a trajectory file (``deepcontact render``): a GIF/MP4 of every ``every``-th
-    step, or with ``frame=K`` one PNG of state K with the forces of step K."""
+    step, or with ``frame=K`` one PNG of state K with the forces of step K. Returns the
+    number of frames written; a wrong extension, an ``out`` that is a directory or a frame
+    out of range raise ``render_trajectory.RenderError`` (one line) before anything is drawn."""
     from . import render_trajectory
 
     return render_trajectory.render(str(trajectory), str(out), frame=frame, every=every, progress=progress)
+
+
+def _render_world(world):
+    """World.render(): the current state written as a one-state trajectory and drawn."""
+    import os
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "state.h5")
+        world._write_trajectory(path)
+        return read_trajectory(path).frame(0)
 
 
 __all__ = [

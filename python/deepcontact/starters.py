@@ -39,7 +39,9 @@ class PyBuiltin(WarmStarter):
     """``builtin`` in Python: the previous step's solved λ of the contact with the same key."""
 
     def name(self):
+        """``"py-builtin"``."""
         return "py-builtin"
 
     def initial_guess(self, view):
+        """The previous step's solved λ by contact key (0 for new contacts)."""
         return previous_lambda_by_key(view)[0]

@@ -33,7 +33,8 @@ class Trajectory:
     position (S+1, n, 2), angle (S+1, n), velocity (S+1, n, 2), omega (S+1, n), radius (n),
     mass (n), step_offset (S+1), contacts (Fields-like dict: body_a, body_b, point, normal,
     gap, lambda over all steps), solver (sweeps, status, theta_final, residual per step),
-    scene (TOML text), scene_dict (parsed), width, height, walls, dt, warmstart,
+    scene (TOML text), scene_dict (parsed), width, height, walls, dt, warmstart, start_step
+    (steps before state 0: state k is at time (start_step + k)·dt),
     shapes (None for circle-only files; else kind (n,) of str, and where present
     vertex_offset (n+1), vertices (V, 2) in the body frame, semi_axes (n, 2)).
     """
@@ -53,6 +54,8 @@ class Trajectory:
             self.format_version = int(_attr(f, "format_version", 0))
             self.scene = _attr(f, "scene", "") or ""
             self.warmstart = _attr(f, "warmstart", "") or ""
+            # Steps taken before state 0 (the bench's reference starts after its warm-up).
+            self.start_step = int(_attr(f, "start_step", 0))
 
             def read(name, ndim, required=True):
                 if name not in f:
@@ -128,10 +131,47 @@ class Trajectory:
 
     @property
     def bodies(self):
+        """Number of bodies n (the last state's; bodies that enter later are NaN before)."""
         return self.position.shape[1]
 
+    @property
+    def inertia(self):
+        """Moment of inertia of each body about its centre (n,) [kg·m²], from its shape and
+        mass (uniform density): circle ½·m·r², ellipse ¼·m·(a² + b²), polygon (and box) from
+        its body-frame vertices. The engine's values (``World.bodies.inertia``) are the same."""
+        inertia = 0.5 * self.mass * self.radius ** 2
+        if self.shapes is None:
+            return inertia
+        kinds = self.shapes["kind"]
+        for b in range(self.bodies):
+            if kinds[b] == "ellipse" and "semi_axes" in self.shapes:
+                a_, b_ = self.shapes["semi_axes"][b]
+                inertia[b] = 0.25 * self.mass[b] * (a_ * a_ + b_ * b_)
+            elif kinds[b] in ("polygon", "box"):
+                v = self.polygon(b)
+                if v is not None:
+                    inertia[b] = _polygon_inertia(v, self.mass[b])
+        return inertia
+
     def time(self, k):
-        return k * self.dt
+        """Simulated time of state k [s]: (start_step + k)·dt (a file recorded after a warm-up
+        keeps its true time)."""
+        return (self.start_step + k) * self.dt
+
+    def frame(self, k):
+        """State k drawn as ``deepcontact render --frame k`` draws it (bodies, walls, the forces
+        solved in step k, time and step): an (H, W, 3) uint8 numpy array, e.g. for
+        ``PIL.Image.fromarray(t.frame(k))`` or ``plt.imshow`` in a notebook."""
+        if not 0 <= k <= self.steps:
+            raise IndexError(f"{self.path}: state {k} is outside 0..{self.steps}")
+        from . import render_trajectory
+        import matplotlib.pyplot as plt
+
+        scene = render_trajectory.Scene(self)
+        try:
+            return scene.draw(k)
+        finally:
+            plt.close(scene.fig)
 
     def step_contacts(self, k):
         """The contacts solved in step k (found at state k); empty for k = S."""
@@ -155,6 +195,17 @@ class Trajectory:
 
     def __repr__(self):
         return f"<deepcontact.Trajectory {self.path}: {self.bodies} bodies, {self.steps} steps>"
+
+
+def _polygon_inertia(v, mass):
+    """Inertia of a uniform convex polygon (vertices (m, 2), CCW) about its centroid [kg·m²]:
+    I_O = m / (6 Σ c_i) · Σ c_i (p_i·p_i + p_i·p_j + p_j·p_j), c_i = p_i × p_j, j = i + 1;
+    then I = I_O − m |centroid|² (parallel axes)."""
+    p, q = v, np.roll(v, -1, axis=0)
+    c = p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0]
+    about_origin = mass / (6 * c.sum()) * (c * ((p * p).sum(1) + (p * q).sum(1) + (q * q).sum(1))).sum()
+    centroid = ((p + q) * c[:, None]).sum(0) / (3 * c.sum())
+    return about_origin - mass * (centroid @ centroid)
 
 
 def read_trajectory(path):

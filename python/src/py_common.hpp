@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <map>
+#include <utility>
 #include <memory>
 #include <span>
 #include <string>
@@ -39,9 +40,12 @@ pyb::array_t<double> view(const Eigen::VectorXd& v, pyb::handle base);
 pyb::array_t<double> copy(const Eigen::VectorXd& v);
 /// A float64 vector from any array-like (ValueError naming `what` for a wrong shape).
 Eigen::VectorXd to_vector(pyb::handle obj, const std::string& what);
+/// to_vector, and a ValueError naming `what` unless it has exactly `n` entries.
+Eigen::VectorXd to_vector_of_size(pyb::handle obj, const std::string& what, Eigen::Index n);
 /// scipy.sparse.csr_matrix viewing a compressed row-major matrix (kept alive by `base`).
 pyb::object csr_view(const SparseRowMatrix& m, pyb::handle base);
-/// Any scipy.sparse matrix or dense array-like → row-major sparse (ValueError on bad input).
+/// Any scipy.sparse matrix or dense array-like → row-major sparse (ValueError on bad input:
+/// not 2-D, row pointers or column indices outside the shape, sizes that do not match).
 SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what);
 /// A str or os.PathLike as a path string (TypeError otherwise).
 std::string path_string(pyb::handle path);
@@ -70,6 +74,10 @@ struct PyWorld {
   const World* borrowed = nullptr;
   /// Named warm starters step() has used (kept across steps: some observe the solution).
   std::map<std::string, std::unique_ptr<WarmStarter>> starters;
+  /// Every stage that changed the owned world since it was made, in order: 'c' collide, 'a'
+  /// assemble, 'i' integrate with the λ it was given. The engine is deterministic, so
+  /// replaying them on World(scene) gives the bit-equal world: that is what pickle stores.
+  std::vector<std::pair<char, Eigen::VectorXd>> history;
 
   [[nodiscard]] const World& get() const;
   World& mutable_world();
@@ -110,5 +118,6 @@ void bind_problem_file(pyb::module_& m);
 void bind_problem(pyb::module_& m);
 void bind_world(pyb::module_& m);
 void bind_bench(pyb::module_& m);
+void bind_io(pyb::module_& m);
 
 }  // namespace dc::py

@@ -1,6 +1,8 @@
 // numpy / scipy.sparse conversions of the module (py_common.hpp).
 #include <pybind11/eigen.h>
 
+#include <limits>
+
 #include "dc/core/error.hpp"
 #include "py_common.hpp"
 
@@ -52,6 +54,45 @@ pyb::object csr_view(const SparseRowMatrix& m, pyb::handle base) {
              pyb::arg("copy") = false);
 }
 
+namespace {
+
+/// ValueError naming `what` unless indptr, indices and data form a CSR matrix of rows × cols:
+/// sizes that fit an int, rows + 1 non-decreasing row pointers from 0 to nnz, column indices
+/// in [0, cols), one value per index.
+void require_valid_csr(const std::string& what, long rows, long cols, const pyb::array_t<long long>& indptr,
+                       const pyb::array_t<long long>& indices, const pyb::array_t<double>& data) {
+  constexpr long kMax = std::numeric_limits<int>::max();
+  if (rows < 0 || cols < 0 || rows > kMax || cols > kMax)
+    throw pyb::value_error(what + ": shape (" + std::to_string(rows) + ", " + std::to_string(cols) +
+                           ") is negative or too large");
+  if (indptr.ndim() != 1 || indices.ndim() != 1 || data.ndim() != 1 || indptr.shape(0) != rows + 1)
+    throw pyb::value_error(what + ": indptr must have rows + 1 = " + std::to_string(rows + 1) + " entries, got " +
+                           std::to_string(indptr.size()));
+  const auto nnz = static_cast<long long>(indices.shape(0));
+  if (data.shape(0) != indices.shape(0) || nnz > kMax)
+    throw pyb::value_error(what + ": " + std::to_string(data.shape(0)) + " values for " + std::to_string(nnz) +
+                           " column indices");
+  const long long* p = indptr.data();
+  if (p[0] != 0 || p[rows] != nnz)
+    throw pyb::value_error(what + ": indptr must run from 0 to the number of stored values " + std::to_string(nnz));
+  for (long r = 0; r < rows; ++r)
+    if (p[r + 1] < p[r]) throw pyb::value_error(what + ": indptr decreases at row " + std::to_string(r));
+  const long long* col = indices.data();
+  for (long long k = 0; k < nnz; ++k)
+    if (col[k] < 0 || col[k] >= cols)
+      throw pyb::value_error(what + ": column index " + std::to_string(col[k]) + " (stored value " +
+                             std::to_string(k) + ") is outside [0, " + std::to_string(cols) + ")");
+}
+
+}  // namespace
+
+Eigen::VectorXd to_vector_of_size(pyb::handle obj, const std::string& what, Eigen::Index n) {
+  Eigen::VectorXd v = to_vector(obj, what);
+  if (v.size() != n)
+    throw pyb::value_error(what + ": expected " + std::to_string(n) + " entries, got " + std::to_string(v.size()));
+  return v;
+}
+
 SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what) {
   auto sp = pyb::module_::import("scipy.sparse");
   pyb::object csr;
@@ -63,12 +104,13 @@ SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what) {
     if (dense.attr("ndim").cast<int>() != 2) throw pyb::value_error(what + ": expected a 2-D matrix");
     csr = sp.attr("csr_matrix")(dense);
   }
-  csr.attr("sum_duplicates")();
-  csr.attr("sort_indices")();
   const auto shape = csr.attr("shape").cast<std::pair<long, long>>();
   auto indptr = pyb::array_t<long long, pyb::array::c_style | pyb::array::forcecast>::ensure(csr.attr("indptr"));
   auto indices = pyb::array_t<long long, pyb::array::c_style | pyb::array::forcecast>::ensure(csr.attr("indices"));
   auto data = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(csr.attr("data"));
+  // scipy builds a csr_matrix from (data, indices, indptr) without checking the indices, and
+  // Eigen's setFromTriplets writes wherever an index points: check everything first.
+  require_valid_csr(what, shape.first, shape.second, indptr, indices, data);
   SparseRowMatrix m(shape.first, shape.second);
   std::vector<Eigen::Triplet<double, int>> t;
   t.reserve(static_cast<std::size_t>(data.size()));

@@ -12,9 +12,12 @@ namespace dc::py {
 
 void bind_errors(pyb::module_& m) {
   // str(e) is exactly what `deepcontact` prints after "deepcontact: error: ".
-  pyb::register_exception<ConfigError>(m, "ConfigError", PyExc_ValueError);
-  pyb::register_exception<IoError>(m, "IoError", PyExc_OSError);
-  pyb::register_exception<InvalidArgument>(m, "InvalidArgument", PyExc_ValueError);
+  pyb::register_exception<ConfigError>(m, "ConfigError", PyExc_ValueError).attr("__doc__") =
+      "A scene key, value, option, solver or starter name is invalid (a ValueError; one line).";
+  pyb::register_exception<IoError>(m, "IoError", PyExc_OSError).attr("__doc__") =
+      "A file could not be read or written, or is malformed (an OSError; one line naming it).";
+  pyb::register_exception<InvalidArgument>(m, "InvalidArgument", PyExc_ValueError).attr("__doc__") =
+      "Sizes that disagree or a bad argument to a library call (a ValueError; one line).";
 }
 
 namespace {
@@ -65,32 +68,42 @@ void bind_problem(pyb::module_& m) {
                                  p.A.makeCompressed();
                                }
                                return csr_view(p.A, self);
-                             })
+                             },
+                             "A = J M⁻¹ Jᵀ Δt as a scipy.sparse.csr_matrix view (formed on first access for a "
+                             "world's problem).")
       .def_property_readonly("J",
                              [](pyb::object self) -> pyb::object {
                                const auto& p = *self.cast<PyProblem&>().p;
                                if (!p.has_jacobian()) return pyb::none();
                                return csr_view(p.J, self);
-                             })
-      .def_property_readonly("b", [](pyb::object self) { return view(self.cast<PyProblem&>().p->b, self); })
-      .def_property_readonly("lo", [](pyb::object self) { return view(self.cast<PyProblem&>().p->lo, self); })
-      .def_property_readonly("hi", [](pyb::object self) { return view(self.cast<PyProblem&>().p->hi, self); })
-      .def_property_readonly("mu", [](pyb::object self) { return view(self.cast<PyProblem&>().p->mu, self); })
+                             },
+                             "The contact Jacobian J (rows × 3·bodies) as a csr_matrix view, or None for a "
+                             "problem given by A alone.")
+      .def_property_readonly("b", [](pyb::object self) { return view(self.cast<PyProblem&>().p->b, self); },
+                             "The constant term b of w = A λ + b (numpy view).")
+      .def_property_readonly("lo", [](pyb::object self) { return view(self.cast<PyProblem&>().p->lo, self); },
+                             "Lower bounds of λ (numpy view; friction rows: overwritten by −μ λ_n).")
+      .def_property_readonly("hi", [](pyb::object self) { return view(self.cast<PyProblem&>().p->hi, self); },
+                             "Upper bounds of λ (numpy view; +inf on normal rows).")
+      .def_property_readonly("mu", [](pyb::object self) { return view(self.cast<PyProblem&>().p->mu, self); },
+                             "Friction coefficient per row (0 on normal rows; numpy view).")
       .def_property_readonly("inv_mass",
-                             [](pyb::object self) { return view(self.cast<PyProblem&>().p->inv_mass, self); })
+                             [](pyb::object self) { return view(self.cast<PyProblem&>().p->inv_mass, self); },
+                             "M⁻¹ as a vector (1/m, 1/m, 1/I per body; numpy view; empty without J).")
       .def_property_readonly("normal_row",
                              [](const PyProblem& p) {
                                return pyb::array_t<int>(static_cast<pyb::ssize_t>(p.p->normal_row.size()),
                                                         p.p->normal_row.data());
-                             })
-      .def_property_readonly("dt", [](const PyProblem& p) { return p.p->dt; })
-      .def_property_readonly("rows", [](const PyProblem& p) { return p.p->rows(); })
-      .def("__len__", [](const PyProblem& p) { return p.p->rows(); })
+                             },
+                             "For each row, the row of the normal force bounding it (friction rows), or −1.")
+      .def_property_readonly("dt", [](const PyProblem& p) { return p.p->dt; }, "The time step Δt of the problem [s].")
+      .def_property_readonly("rows", [](const PyProblem& p) { return p.p->rows(); }, "Number of rows (unknowns λ).")
+      .def("__len__", [](const PyProblem& p) { return p.p->rows(); }, "Number of rows.")
       .def("residual", [](const PyProblem& p, pyb::object lam) {
-             return natural_residual(*p.p, to_vector(lam, "lam"));
+             return natural_residual(*p.p, to_vector_of_size(lam, "lam", p.p->rows()));
            },
            pyb::arg("lam"), "Natural-map residual max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)| [N].")
-      .def("velocity", [](const PyProblem& p, pyb::object lam) { return copy(lcp_velocity(*p.p, to_vector(lam, "lam"))); },
+      .def("velocity", [](const PyProblem& p, pyb::object lam) { return copy(lcp_velocity(*p.p, to_vector_of_size(lam, "lam", p.p->rows()))); },
            pyb::arg("lam"), "w = A λ + b.")
       .def("__repr__", [](const PyProblem& p) {
         return "<deepcontact.Problem rows=" + std::to_string(p.p->rows()) +
@@ -98,12 +111,19 @@ void bind_problem(pyb::module_& m) {
       });
 
   pyb::class_<PyResult>(m, "Result", "Outcome of a solve.")
-      .def_property_readonly("lam", [](pyb::object self) { return view(self.cast<PyResult&>().r.lambda, self); })
-      .def_property_readonly("status", [](const PyResult& r) { return std::string(to_string(r.r.status)); })
-      .def_property_readonly("sweeps", [](const PyResult& r) { return r.r.sweeps; })
-      .def_property_readonly("theta", [](pyb::object self) { return view(self.cast<PyResult&>().r.theta, self); })
-      .def_property_readonly("residual", [](const PyResult& r) { return r.r.residual; })
-      .def_property_readonly("message", [](const PyResult& r) { return r.r.message; })
+      .def_property_readonly("lam", [](pyb::object self) { return view(self.cast<PyResult&>().r.lambda, self); },
+                             "The returned λ (numpy view).")
+      .def_property_readonly("status", [](const PyResult& r) { return std::string(to_string(r.r.status)); },
+                             "converged | sweep_limit | diverged | infeasible | failed | invalid_input "
+                             "(docs/lcp.md explains each).")
+      .def_property_readonly("sweeps", [](const PyResult& r) { return r.r.sweeps; },
+                             "Sweeps (or pivots / Newton iterations) performed.")
+      .def_property_readonly("theta", [](pyb::object self) { return view(self.cast<PyResult&>().r.theta, self); },
+                             "θ_k = max_i |λ_i^k − λ_i^(k−1)| per sweep [N] (empty unless recorded).")
+      .def_property_readonly("residual", [](const PyResult& r) { return r.r.residual; },
+                             "Natural-map residual at the returned λ [N].")
+      .def_property_readonly("message", [](const PyResult& r) { return r.r.message; },
+                             "Why a solve did not converge (empty when it did).")
       .def("__repr__", [](const PyResult& r) {
         return "<deepcontact.Result status=" + std::string(to_string(r.r.status)) +
                " sweeps=" + std::to_string(r.r.sweeps) + " residual=" + std::to_string(r.r.residual) + ">";
@@ -116,7 +136,9 @@ void bind_problem(pyb::module_& m) {
         if (sweeps < 0) throw ConfigError("--sweeps must be >= 0");
         if (!(tol >= 0) || !std::isfinite(tol)) throw ConfigError("--tol must be finite and >= 0");
         const auto s = make_solver(solver);
-        Eigen::VectorXd l0 = lambda0.is_none() ? Eigen::VectorXd() : to_vector(lambda0, "lambda0");
+        Eigen::VectorXd l0 =
+            lambda0.is_none() ? Eigen::VectorXd() : to_vector_of_size(lambda0, "lambda0", problem.p->rows());
+        if (!l0.allFinite()) throw pyb::value_error("lambda0: every entry must be finite");
         SolverOptions o;
         o.max_sweeps = sweeps;
         o.tolerance = tol;
@@ -140,7 +162,10 @@ void bind_problem(pyb::module_& m) {
       "write_lcp_dat",
       [](pyb::object path, pyb::object M, pyb::object q) {
         const Eigen::MatrixXd dense(to_sparse(M, "M"));
-        write_lcp_dat(path_string(path), dense, to_vector(q, "q"));
+        if (dense.rows() != dense.cols())
+          throw pyb::value_error("M: expected a square matrix, got " + std::to_string(dense.rows()) + " x " +
+                                 std::to_string(dense.cols()));
+        write_lcp_dat(path_string(path), dense, to_vector_of_size(q, "q", dense.rows()));
       },
       pyb::arg("path"), pyb::arg("M"), pyb::arg("q"), "Write M, q as a Siconos .dat file (dense storage, %.17g).");
 }

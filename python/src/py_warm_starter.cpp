@@ -3,6 +3,7 @@
 #include "dc/core/error.hpp"
 #include "dc/research/research_starters.hpp"
 #include "py_common.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc::py {
 namespace {
@@ -80,7 +81,7 @@ std::unique_ptr<WarmStarter> make_python_warm_starter(pyb::handle obj) {
   return std::make_unique<PythonWarmStarter>(pyb::reinterpret_borrow<pyb::object>(obj));
 }
 
-std::filesystem::path shipped_model() { return std::filesystem::path(DC_SOURCE_DIR) / "models" / "default.h5"; }
+std::filesystem::path shipped_model() { return data_path("models/default.h5"); }
 
 WarmStarterRegistry cli_registry() { return all_warm_starters(shipped_model()); }
 

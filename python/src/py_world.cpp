@@ -1,8 +1,11 @@
 // deepcontact.World, deepcontact.StepView and the scene arguments.
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <filesystem>
+#include <optional>
 
+#include "dc/bench/trajectory_recorder.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "py_common.hpp"
@@ -151,13 +154,13 @@ pyb::object current_contacts(const World& w) {
   return contact_fields(w.contacts(), assembled ? &w.constraints() : nullptr);
 }
 
-pyb::object step(PyWorld& self, pyb::object solver_name, pyb::object warmstart, pyb::object sweeps, pyb::object tol) {
+pyb::object step(PyWorld& self, const std::optional<std::string>& solver_name, pyb::object warmstart,
+                 std::optional<int> sweeps, std::optional<double> tol) {
   World& w = self.mutable_world();
-  const std::string name = solver_name.is_none() ? w.def().solver.name : solver_name.cast<std::string>();
-  const auto solver = make_solver(name);
+  const auto solver = make_solver(solver_name.value_or(w.def().solver.name));
   SolverOptions opt = solver_options(w.def().solver);  // as `deepcontact simulate`
-  if (!sweeps.is_none()) opt.max_sweeps = sweeps.cast<int>();
-  if (!tol.is_none()) opt.tolerance = tol.cast<double>();
+  if (sweeps) opt.max_sweeps = *sweeps;
+  if (tol) opt.tolerance = *tol;
   if (opt.max_sweeps < 0) throw ConfigError("sweeps must be >= 0");
   if (!(opt.tolerance >= 0) || !std::isfinite(opt.tolerance)) throw ConfigError("tol must be finite and >= 0");
   std::unique_ptr<WarmStarter> python_starter;
@@ -177,6 +180,9 @@ pyb::object step(PyWorld& self, pyb::object solver_name, pyb::object warmstart, 
     r = w.step(*solver, opt, [&](const World& ww) {
       return ws ? ws->initial_guess(StepView{ww, nullptr}) : Eigen::VectorXd::Zero(ww.problem().rows()).eval();
     });
+    self.history.emplace_back('c', Eigen::VectorXd());
+    self.history.emplace_back('a', Eigen::VectorXd());
+    self.history.emplace_back('i', r.solve.lambda);
     if (ws) ws->observe(StepView{w, nullptr}, r.solve.lambda);
   }
   pyb::object f = make_fields();
@@ -195,13 +201,48 @@ pyb::object step(PyWorld& self, pyb::object solver_name, pyb::object warmstart, 
   return f;
 }
 
+/// A copy of an owned world (the engine state and its history; named starters start afresh).
+std::shared_ptr<PyWorld> copy_world(const PyWorld& self) {
+  if (!self.owned) throw InvalidArgument("a warm starter's view.world cannot be copied (copy the World you step)");
+  auto out = std::make_shared<PyWorld>();
+  out->owned = std::make_unique<World>(*self.owned);
+  out->history = self.history;
+  return out;
+}
+
+/// pickle: the complete scene (TOML) and the stages applied since; loading replays them.
+pyb::tuple world_state(const PyWorld& self) {
+  if (!self.owned) throw InvalidArgument("a warm starter's view.world cannot be pickled (pickle the World you step)");
+  pyb::list ops;
+  for (const auto& [op, lam] : self.history)
+    ops.append(pyb::make_tuple(std::string(1, op), op == 'i' ? pyb::object(copy(lam)) : pyb::object(pyb::none())));
+  return pyb::make_tuple(scene_to_toml(self.owned->def()), ops);
+}
+
+std::shared_ptr<PyWorld> world_from_state(const pyb::tuple& state) {
+  if (state.size() != 2) throw InvalidArgument("World pickle: expected (scene, stages), got " + std::to_string(state.size()) + " items");
+  auto w = std::make_shared<PyWorld>();
+  w->owned = std::make_unique<World>(parse_scene(state[0].cast<std::string>(), "<pickled World>"));
+  for (auto item : state[1].cast<pyb::list>()) {
+    const auto t = item.cast<pyb::tuple>();
+    const std::string op = t[0].cast<std::string>();
+    if (op == "c") w->owned->collide();
+    else if (op == "a") w->owned->assemble();
+    else if (op == "i") w->owned->integrate(to_vector(t[1], "pickled λ"));
+    else throw InvalidArgument("World pickle: unknown stage '" + op + "'");
+    w->history.emplace_back(op[0], op == "i" ? to_vector(t[1], "pickled λ") : Eigen::VectorXd());
+  }
+  return w;
+}
+
 }  // namespace
 
 void bind_world(pyb::module_& m) {
   pyb::class_<PyWorld, std::shared_ptr<PyWorld>>(
       m, "World",
       "The 2D impulse engine (dc::World). World(scene=None, set={}): scene = a TOML path or text (None = the seed "
-      "scene), set = the --set overrides.")
+      "scene), set = the --set overrides. copy.copy/copy.deepcopy give an independent world in the same state; "
+      "pickle stores the scene and the stages applied, and loading replays them (bit-equal).")
       .def(pyb::init([](pyb::object scene, pyb::object set) {
              WorldDef d = scene_from_python(scene, set);
              auto w = std::make_shared<PyWorld>();
@@ -209,7 +250,9 @@ void bind_world(pyb::module_& m) {
              w->owned = std::make_unique<World>(std::move(d));
              return w;
            }),
-           pyb::arg("scene") = pyb::none(), pyb::arg("set") = pyb::dict())
+           pyb::arg("scene") = pyb::none(), pyb::arg("set") = pyb::dict(),
+           "A world of the scene (a TOML path or text; None = the seed scene) with the overrides `set` "
+           "({\"section.key\": value} or [\"section.key=value\", …]).")
       .def("collide",
            [](PyWorld& self) {
              World& w = self.mutable_world();
@@ -217,6 +260,7 @@ void bind_world(pyb::module_& m) {
                pyb::gil_scoped_release release;
                w.collide();
              }
+             self.history.emplace_back('c', Eigen::VectorXd());
              return contact_fields(w.contacts(), nullptr);
            },
            "Broad + narrow phase; returns this step's contacts.")
@@ -227,6 +271,7 @@ void bind_world(pyb::module_& m) {
                pyb::gil_scoped_release release;
                w.assemble();
              }
+             self.history.emplace_back('a', Eigen::VectorXd());
              return problem_to_python(w.problem());
            },
            "Contact rows, J, M⁻¹, b and bounds; returns the Problem (A formed when .A is read).")
@@ -238,26 +283,51 @@ void bind_world(pyb::module_& m) {
              if (l.size() != w.problem().rows())
                throw InvalidArgument("integrate: λ has " + std::to_string(l.size()) + " entries, the problem has " +
                                      std::to_string(w.problem().rows()) + " rows");
-             pyb::gil_scoped_release release;
-             w.integrate(l);
+             // A NaN or infinite impulse would turn every body it touches into NaN for good.
+             for (Eigen::Index i = 0; i < l.size(); ++i)
+               if (!std::isfinite(l[i]))
+                 throw InvalidArgument("integrate: λ[" + std::to_string(i) + "] = " + std::to_string(l[i]) +
+                                       " is not finite");
+             {
+               pyb::gil_scoped_release release;
+               w.integrate(l);
+             }
+             self.history.emplace_back('i', l);
            },
-           pyb::arg("lam"), "Advance the bodies with the contact forces λ (one per problem row).")
-      .def("step", &step, pyb::arg("solver") = "pgs", pyb::arg("warmstart") = "builtin", pyb::arg("sweeps") = 3000,
-           pyb::arg("tol") = 0.0,
+           pyb::arg("lam"), "Advance the bodies with the contact forces λ (one per problem row; None = zeros).")
+      .def("step", &step, pyb::arg("solver") = pyb::none(), pyb::arg("warmstart") = "builtin",
+           pyb::arg("sweeps") = pyb::none(), pyb::arg("tol") = pyb::none(),
            "One whole step (collide, assemble, warm start, solve, integrate), as `deepcontact simulate` does it. "
-           "warmstart: a starter name or a Python starter object; None for solver/sweeps/tol = the scene's "
-           "[solver] value. Returns a report (contacts, rows, solve, lam, status, sweeps, theta, residual, "
-           "profile).")
+           "solver, sweeps, tol: None = the scene's [solver] name, sweeps and tolerance. warmstart: a starter name "
+           "(warmstarters()), a Python starter object, or None (zeros). Returns a Fields report: contacts, rows, "
+           "solve (the Result), lam, status, sweeps, theta, residual, profile (ms per stage).")
+      .def("_write_trajectory",
+           [](const PyWorld& self, pyb::object path) {
+             const World& w = self.get();
+             TrajectoryRecorder(w).write(path_string(path), scene_to_toml(w.def()), "");
+           },
+           pyb::arg("path"), "The current state as a one-state trajectory file (World.render draws it).")
+      .def("render", [](pyb::object self) { return pyb::module_::import("deepcontact").attr("_render_world")(self); },
+           "The current state drawn as `deepcontact render` draws a frame (bodies, walls, the contact forces of "
+           "the last step): an (H, W, 3) uint8 numpy array (PIL.Image.fromarray(a) or plt.imshow(a) shows it).")
       .def_property_readonly("bodies", [](pyb::object self) { return body_fields(self.cast<PyWorld&>(), self); },
-                             "Body state as numpy arrays (views into the world: they follow the simulation).")
-      .def_property_readonly("contacts", [](const PyWorld& self) { return current_contacts(self.get()); })
+                             "Body state as numpy arrays (views into the world: they follow the simulation): "
+                             "position (n, 2), angle, velocity (n, 2), omega, mass, radius, density, inertia, "
+                             "inv_mass, inv_inertia.")
+      .def_property_readonly("contacts", [](const PyWorld& self) { return current_contacts(self.get()); },
+                             "This step's contacts (copies): body_a, body_b, key, point, normal, gap, lambda "
+                             "(λ_n, λ_t), approach_velocity; normal_row, tangent_row once assembled.")
       .def_property_readonly("previous_contacts",
-                             [](const PyWorld& self) { return contact_fields(self.get().previous_contacts(), nullptr); })
+                             [](const PyWorld& self) { return contact_fields(self.get().previous_contacts(), nullptr); },
+                             "The previous step's contacts with their solved λ (builtin's memory).")
       .def_property_readonly("problem", [](const PyWorld& self) { return problem_to_python(self.get().problem()); },
                              "The current step's Problem (a copy: the next assemble() replaces the world's).")
-      .def_property_readonly("rows", [](const PyWorld& self) { return self.get().problem().rows(); })
-      .def_property_readonly("time", [](const PyWorld& self) { return self.get().time(); })
-      .def_property_readonly("step_index", [](const PyWorld& self) { return self.get().step_index(); })
+      .def_property_readonly("rows", [](const PyWorld& self) { return self.get().problem().rows(); },
+                             "Rows of the current problem (2 per contact with friction, 1 without).")
+      .def_property_readonly("time", [](const PyWorld& self) { return self.get().time(); },
+                             "Simulated time t = step_index · dt [s].")
+      .def_property_readonly("step_index", [](const PyWorld& self) { return self.get().step_index(); },
+                             "Steps taken (integrate() calls) since the start.")
       .def_property_readonly("scene", [](const PyWorld& self) { return scene_to_toml(self.get().def()); },
                              "The complete scene as TOML.")
       .def_property_readonly("hash",
@@ -268,16 +338,27 @@ void bind_world(pyb::module_& m) {
                                return std::string(buf);
                              },
                              "The final-state hash `deepcontact simulate --hash` prints (16 hex digits).")
-      .def("kinetic_energy", [](const PyWorld& self) { return self.get().kinetic_energy(); })
-      .def("potential_energy", [](const PyWorld& self) { return self.get().potential_energy(); })
-      .def("max_penetration", [](const PyWorld& self) { return self.get().max_penetration(); })
+      .def("kinetic_energy", [](const PyWorld& self) { return self.get().kinetic_energy(); },
+           "Σ ½ m v² + ½ I ω² over the bodies [J].")
+      .def("potential_energy", [](const PyWorld& self) { return self.get().potential_energy(); },
+           "Σ −m g·x over the bodies [J] (zero at the origin).")
+      .def("max_penetration", [](const PyWorld& self) { return self.get().max_penetration(); },
+           "max(0, −min gap) over the current contacts [m].")
       .def("pack",
            [](const PyWorld& self, const std::vector<double>& lambda_n, const std::vector<double>& lambda_t) {
              return copy(self.get().pack(lambda_n, lambda_t));
            },
            pyb::arg("lambda_n"), pyb::arg("lambda_t") = std::vector<double>{},
-           "Per-contact (λ_n, λ_t) → the row vector of the current problem.")
-      .def_property_readonly("is_view", [](const PyWorld& self) { return !self.owned; })
+           "Per-contact forces (λ_n, λ_t: one per current contact; λ_t may be empty without friction) → "
+           "the row vector λ of the current problem.")
+      .def_property_readonly("is_view", [](const PyWorld& self) { return !self.owned; },
+                             "True for a warm starter's read-only view.world (valid during the call only).")
+      .def("__copy__", [](const PyWorld& self) { return copy_world(self); },
+           "An independent world in the same state (as deepcopy: the engine state is always copied).")
+      .def("__deepcopy__", [](const PyWorld& self, pyb::dict) { return copy_world(self); }, pyb::arg("memo"),
+           "An independent world in the same state; named warm starters of step() start afresh.")
+      .def(pyb::pickle([](const PyWorld& self) { return world_state(self); },
+                       [](const pyb::tuple& state) { return world_from_state(state); }))
       .def("__repr__", [](const PyWorld& self) {
         if (!self.owned && !self.borrowed) return std::string("<deepcontact.World (expired view)>");
         const World& w = self.get();
@@ -287,8 +368,10 @@ void bind_world(pyb::module_& m) {
 
   pyb::class_<PyStepView, std::shared_ptr<PyStepView>>(
       m, "StepView", "What a warm starter sees: .world (read-only, valid during the call) and .oracle (λ* or None).")
-      .def_property_readonly("world", [](const PyStepView& v) { return v.world; })
-      .def_property_readonly("oracle", [](const PyStepView& v) { return v.oracle; })
+      .def_property_readonly("world", [](const PyStepView& v) { return v.world; },
+                             "The World being stepped, read-only; it expires when the call returns.")
+      .def_property_readonly("oracle", [](const PyStepView& v) { return v.oracle; },
+                             "This step's solved λ* (numpy) when the bench shares it (paired mode), else None.")
       .def_property_readonly("rows", [](const PyStepView& v) { return v.world->get().problem().rows(); },
                              "Rows of this step's problem (= len of the λ⁰ to return).");
 }

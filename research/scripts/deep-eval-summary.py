@@ -28,7 +28,7 @@ for n in names:
     g = f["warmstarters"][groups[n]]
     sw = g["sweeps_to_tol"][:].astype(float)
     step = g["step"][:]
-    cap = g["theta"].shape[1]
+    cap = int(f.attrs["sweeps"])  # the sweep cap of the run
     never = sw < 0  # never converged within the cap: counted as cap + 1 (as the bench does)
     sw[never] = cap + 1
     s = step >= settled

@@ -43,7 +43,7 @@ for path in args:
         if n in rows:
             continue
         g = f["warmstarters"][grp]
-        cap = g["theta"].shape[1]
+        cap = int(f.attrs["sweeps"])  # the sweep cap of the run
         sw = g["sweeps_to_tol"][:].astype(float)
         never = sw < 0
         sw[never] = cap + 1

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "cnn/tiny_cnn.hpp"
 #include "dc/cnn/cnn_warm_starter.hpp"
@@ -43,6 +44,24 @@ void expect_feasible(const World& w, const Eigen::VectorXd& lam) {
     EXPECT_GE(lam[i], p.lower(i, lam) - 1e-12) << "row " << i;
     EXPECT_LE(lam[i], p.upper(i, lam) + 1e-12) << "row " << i;
   }
+}
+
+/// The cap of every row of a network's guess or correction (docs/learning.md "Bounded
+/// guesses"): the weight of every body plus the force that stops the row's approach alone.
+Eigen::VectorXd force_caps(const World& world) {
+  LcpProblem p = world.problem();
+  p.ensure_assembled_matrix();
+  double weight = 0;
+  for (const double m : world.bodies().mass) weight += m;
+  weight *= length(world.def().world.gravity);
+  Eigen::VectorXd cap(p.rows());
+  for (int i = 0; i < p.rows(); ++i) cap[i] = weight + std::max(0.0, -p.b[i]) / p.A.coeff(i, i);
+  return cap;
+}
+
+Eigen::VectorXd capped(Eigen::VectorXd v, const Eigen::VectorXd& cap) {
+  for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = std::clamp(v[i], -cap[i], cap[i]);
+  return v;
 }
 
 TEST(CnnWarmStarter, TinyModelGivesAFiniteFeasibleGuessOfTheRightSize) {
@@ -84,14 +103,15 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
                    std::span<float>(f.data(), f.size()));
   const Tensor labels = r.model().predict(f);
-  Eigen::VectorXd want = b + r.guess_from_labels(world, labels, false);
+  const Eigen::VectorXd cap = force_caps(world);
+  Eigen::VectorXd want = b + capped(r.guess_from_labels(world, labels, false), cap);
   project_feasible(world.problem(), want);
   ASSERT_EQ(g.size(), want.size());
   for (int i = 0; i < g.size(); ++i) EXPECT_NEAR(g[i], want[i], 1e-9 * (1 + std::abs(want[i]))) << "row " << i;
   EXPECT_GT((g - b).cwiseAbs().maxCoeff(), 1e-6);  // the correction is not empty
 
   // The dead zone soft-thresholds every row's correction before it is added to builtin.
-  const Eigen::VectorXd raw = r.guess_from_labels(world, labels, false);
+  const Eigen::VectorXd raw = capped(r.guess_from_labels(world, labels, false), cap);
   const double tau = 0.5 * raw.cwiseAbs().maxCoeff();
   Model dz = tiny_model(12.0, true);
   ModelGrid dg = dz.grid();
@@ -113,6 +133,50 @@ TEST(CnnWarmStarter, ResidualModelIsBuiltinPlusTheReadBack) {
   ModelGrid bad = tiny_model(12.0, false).grid();
   bad.labels.kind = LabelKind::Residual;
   EXPECT_THROW(Model(ArchSpec::parse("name = \"x\"\n[[layer]]\ntype = \"conv\"\nout = 2\n"), bad, 5), ConfigError);
+}
+
+// A network whose output explodes (the S·sinh head extrapolating; docs/learning.md "Bounded
+// guesses") cannot hand PGS an absurd guess: each normal row's correction stays within
+// W + max(0, −b_i)/A_ii (W = the weight of every body), and NaN outputs fall back to builtin.
+TEST(CnnWarmStarter, AnExplodingNetworkIsCappedToForcesTheSceneCanNeed) {
+  World world(tiny_scene());
+  advance_to_contacts(world);
+  const Eigen::VectorXd b = default_warm_starters().make("builtin")->initial_guess(StepView{world, nullptr});
+  const LcpProblem& p = world.problem();
+  const Eigen::VectorXd cap = force_caps(world);
+  for (const float mean : {1e30f, -1e30f, std::numeric_limits<float>::infinity()}) {
+    Model huge = tiny_model(12.0, true);
+    huge.output_stats.mean = {mean, mean};
+    CnnWarmStarter c(std::move(huge), "cnn", false);
+    const Eigen::VectorXd g = c.initial_guess(StepView{world, nullptr});
+    expect_feasible(world, g);
+    for (int i = 0; i < p.rows(); ++i) {
+      if (p.normal_row[static_cast<std::size_t>(i)] >= 0) continue;  // friction rows follow their normal row
+      EXPECT_LE(std::abs(g[i] - b[i]), cap[i] * (1 + 1e-12)) << "row " << i << ", mean " << mean;
+    }
+  }
+  Model nan = tiny_model(12.0, true);
+  nan.output_stats.mean = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN()};
+  CnnWarmStarter n(std::move(nan), "cnn", false);
+  EXPECT_EQ(n.initial_guess(StepView{world, nullptr}), b);
+}
+
+// A state that is not finite (a diverged simulation) is refused by the feature image with the
+// feature, the point and the cause (the starter adds its own name and the step).
+TEST(CnnWarmStarter, ANonFiniteStateNamesTheFeatureThePointAndTheCause) {
+  FeatureImageBuilder builder(FeatureImageDef::for_box(12, 12));
+  BodyState s;
+  s.add({3.0, 3.0}, 1.0, 1.0, {1.0, 0.0}, 0.0, 0.0);
+  s.add({6.0, 3.0}, 1.0, 1.0, {std::numeric_limits<double>::infinity(), 0.0}, 0.0, 0.0);
+  std::vector<float> img(builder.feature_size());
+  try {
+    builder.features(s, {}, img);
+    ADD_FAILURE() << "expected an InvalidArgument";
+  } catch (const InvalidArgument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("body 1: vx = inf is not finite"), std::string::npos) << m;
+    EXPECT_NE(m.find("the simulation has diverged"), std::string::npos) << m;
+  }
 }
 
 // A gain model's guess is λ_prev (1 + ĝ): a zero network IS builtin (what train --gain starts

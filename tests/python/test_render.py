@@ -77,3 +77,24 @@ def test_render_from_python(dc, run_h5, tmp_path):
     assert dc.render(run_h5, tmp_path / "p.png", frame=5) == 1
     assert min(Image.open(tmp_path / "p.png").size) >= 400
     assert dc.render(run_h5, tmp_path / "p.gif", every=40, progress=False) == 3  # states 0, 40, 80
+
+
+def test_reference_trajectory_time_includes_the_warm_up(dc, tmp_path):
+    from conftest import run_cli, SOURCE
+
+    run_cli("bench", "--scene", SOURCE / "scenes" / "small.toml", "--steps", 30, "--warmup-steps", 12, "--seeds", 1,
+            "--warmstarts", "zero", "--out", tmp_path)
+    t = dc.read_trajectory(tmp_path / "reference.h5")
+    assert t.start_step == 12
+    assert t.time(0) == 12 * t.dt  # state 0 of the reference is the world after the warm-up
+    assert t.time(t.steps) == 30 * t.dt
+
+
+def test_world_render_and_trajectory_frame_agree_on_the_time(dc, tmp_path):
+    w = dc.World(set={"bodies.count": 8, "bodies.sigma": 2.0})
+    for _ in range(7):
+        w.step()
+    w._write_trajectory(tmp_path / "state.h5")
+    t = dc.read_trajectory(tmp_path / "state.h5")
+    assert t.steps == 0 and t.start_step == 7 and t.time(0) == w.time
+    assert t.frame(0).shape == w.render().shape

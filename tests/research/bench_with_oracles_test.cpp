@@ -92,7 +92,9 @@ TEST(BenchReport, WritesSummaryResultsAndReport) {
     EXPECT_NE(j.find(key), std::string::npos) << key;
   const H5File f = H5File::open_read(dir.file("results.h5"));
   const hsize_t n = r.starters[0].sweeps_to_tol.size();
-  f.require_shape("/warmstarters/builtin/theta", {n, 600});
+  // Per-sweep θ of every step only on request (keep_theta, `--theta`); its quartiles always.
+  f.require_shape("/warmstarters/builtin/theta_quartiles", {600, 3});
+  EXPECT_FALSE(f.exists("/warmstarters/builtin/theta"));
   f.require_shape("/warmstarters/copy:2/residual", {n, r.budgets.size()});
   EXPECT_EQ(f.read_strings("/warmstarter_names"), (std::vector<std::string>{"zero", "builtin", "copy:2"}));
   EXPECT_EQ(f.read_strings("/warmstarter_groups"), (std::vector<std::string>{"zero", "builtin", "copy:2"}));

@@ -17,6 +17,7 @@
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/scale_sweep.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/research/research_starters.hpp"
 #include <filesystem>
 
@@ -40,12 +41,33 @@ struct BenchArgs {
   int budget = 0;
   int warmup_steps = 0;
   bool no_oracle = false;
+  bool theta = false;
   std::string scale;
   std::string scale_axis = "both";
   int scale_oracle_max = 600;
   std::string solvers;
   double accuracy = 1e-6;
 };
+
+/// Writes the bench report into a staging directory next to `out` and renames it onto `out`
+/// (an earlier run's directory is replaced only now, never mixed with this one). A report whose
+/// plots could not be made is still this run's complete report (report.md says what is
+/// missing): it replaces `out` too, and then the error is reported. Returns the file count.
+std::size_t write_report_directory(const bench::BenchResults& r, const std::string& out) {
+  std::vector<std::string> files;
+  std::string incomplete;
+  write_directory_atomically(out, [&](const std::string& dir) {
+    try {
+      files = bench::write_report(r, dir);
+    } catch (const IoError& e) {
+      if (!std::filesystem::exists(std::filesystem::path(dir) / "report.md")) throw;  // written last
+      incomplete = e.what();
+      for (std::size_t at; (at = incomplete.find(dir)) != std::string::npos;) incomplete.replace(at, dir.size(), out);
+    }
+  });
+  if (!incomplete.empty()) throw IoError(incomplete);
+  return files.size();
+}
 
 /// --solvers / --accuracy (the solver comparison, docs/bench.md): one process only, the pairs'
 /// records are not merged across MPI ranks.
@@ -57,6 +79,7 @@ void set_solver_comparison(const BenchArgs& a, bench::BenchOptions& o) {
 }
 
 void run(const BenchArgs& a) {
+  if (!a.out.empty()) check_output_directory(a.out);  // before the bench runs
   WarmStarterRegistry registry = all_warm_starters(shipped_model());
   if (a.list) {
     std::printf("%s", registry.help().c_str());
@@ -76,6 +99,7 @@ void run(const BenchArgs& a) {
   o.budget = a.budget;
   o.warmup_steps = a.warmup_steps;
   o.oracle = !a.no_oracle;
+  o.keep_theta = a.theta;
   if (a.steps > 0) o.scene.time.steps = a.steps;
   o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
   o.tolerance = a.tol;
@@ -116,7 +140,8 @@ void run(const BenchArgs& a) {
     if (sbar) sbar->finish();
     std::printf("%s", bench::format_scale_table(points, false).c_str());
     if (!a.out.empty()) {
-      const auto files = bench::write_scale_report(points, axis, a.out);
+      std::vector<std::string> files;  // built next to --out and renamed onto it when complete
+      write_directory_atomically(a.out, [&](const std::string& dir) { files = bench::write_scale_report(points, axis, dir); });
       std::printf("report: %s/scale.md (%zu files)\n", a.out.c_str(), files.size());
     }
     return;
@@ -141,8 +166,8 @@ void run(const BenchArgs& a) {
               r.starters.empty() ? 0 : r.starters[0].sweeps_to_tol.size(), r.skipped_steps, r.wall_seconds);
   if (!a.out.empty()) {
     const auto tw = std::chrono::steady_clock::now();
-    const auto files = bench::write_report(r, a.out);
-    std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files.size(),
+    const std::size_t files = write_report_directory(r, a.out);
+    std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - tw).count());
   }
 }
@@ -153,8 +178,11 @@ void add_bench_command(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
   auto* cmd = app.add_subcommand("bench", "Compare warm starters on the same scenes and write a report");
   args->scene.add_options(*cmd);
+  std::string defaults;
+  for (const auto& n : default_bench_starters(shipped_model(), false)) defaults += (defaults.empty() ? "" : ",") + n;
   cmd->add_option("--warmstarts", args->warmstarts,
-                  "Comma-separated starters, e.g. zero,builtin,copy:2,sph (default: every available one; --list)");
+                  "Comma-separated starters, e.g. zero,builtin,copy:2,sph (default: " + defaults +
+                      "; every available one: --list)");
   cmd->add_option("--seeds", args->seeds, "Scene seeds: A..B, or A,B,C (evaluation seeds)")->capture_default_str();
   cmd->add_option("--sweeps", args->sweeps, "PGS sweeps per step (default: the scene's [solver] sweeps, 3000)");
   cmd->add_option("--tol", args->tol, "Convergence threshold on theta [N] (1e-2 N = 1e-4 N*s at dt = 0.01)")
@@ -166,7 +194,9 @@ void add_bench_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
   cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
-  cmd->add_flag("--quick", args->quick, "A short run: one seed, starters zero, builtin, copy, sph (and cnn): under a minute");
+  cmd->add_flag("--quick", args->quick,
+                "A short run: one seed, starters zero, builtin, copy, sph (and cnn): 86 s on 2 idle cores (the default "
+                "run: ~11 min; README \"What to expect\")");
   cmd->add_flag("--list", args->list, "List the available warm starters and exit");
   cmd->add_option("--max-sweeps", args->max_sweeps,
                   "Higher cap: steps not at tol within --sweeps continue up to this many sweeps (sweeps to tol "
@@ -174,6 +204,9 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--budget", args->budget, "Fixed sweep budget of the resid@B column (default min(100, sweeps))");
   cmd->add_option("--warmup-steps", args->warmup_steps,
                   "Steps advanced first with builtin + PGS to tol and not evaluated (let a pile settle)");
+  cmd->add_flag("--theta", args->theta,
+                "Keep every step's per-sweep theta_k in results.h5 (/warmstarters/NAME/theta: ~290 MB for the default "
+                "bench; without it only their quartiles per sweep, a few MB)");
   cmd->add_flag("--no-oracle", args->no_oracle,
                 "Skip the tight oracle (large scenes): the reference is builtin + PGS to tol/100; oracle starters "
                 "are dropped");

@@ -6,6 +6,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc::cli {
 
@@ -21,8 +22,8 @@ WorldDef SceneArgs::load() const {
   return d;
 }
 
-/// The shipped model (docs/learning.md "Default model"), found through the source tree the
-/// executable was built from.
-std::filesystem::path shipped_model() { return std::filesystem::path(DC_SOURCE_DIR) / "models" / "default.h5"; }
+/// The shipped model (docs/learning.md "Default model"), found relative to the executable
+/// (dc::data_path: the install prefix or the build tree).
+std::filesystem::path shipped_model() { return data_path("models/default.h5"); }
 
 }  // namespace dc::cli

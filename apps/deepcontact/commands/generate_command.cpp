@@ -22,6 +22,7 @@
 #include "dc/cnn/data_set.hpp"
 #include "dc/cnn/data_set_generation.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 
 namespace dc::cli {
@@ -121,6 +122,7 @@ void print_summary(const DataSetParams& params, const DataSetGenerationReport& r
 }
 
 void run(const GenerateArgs& a) {
+  check_output_file(a.out);  // before any simulation
   DataSetGenerationDef def;  // generate_data_set checks --sims, --out, --threads and the files
   def.params = make_params(a);
   def.out = a.out;

@@ -30,6 +30,7 @@
 #include "dc/bench/json_writer.hpp"
 #include "dc/core/error.hpp"
 #include "dc/bench/problem_file.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/engine/dat_file.hpp"
 #include "dc/engine/lcp_solver.hpp"
 
@@ -116,6 +117,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 void run_lcp_convert(const LcpConvertArgs& a) {
   if (a.storage != 0 && a.storage != 1) throw ConfigError("--storage must be 0 (dense) or 1 (sparse block)");
   if (a.block < 0) throw ConfigError("--block must be >= 1");
+  check_output_file(a.out);
   const ProblemFormat format = !a.format.empty() ? parse_problem_format(a.format)
                                : ends_with(a.out, ".hdf5") ? ProblemFormat::Fclib
                                                            : ProblemFormat::SiconosLcp;

@@ -12,6 +12,7 @@
 
 #include "commands/commands.hpp"
 #include "dc/io/atomic_file.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/research/pgs_landscape_study.hpp"
 
 namespace dc::cli {
@@ -38,6 +39,7 @@ void print_medians(const PgsLandscapeStudy& study) {
 }
 
 void run(const LandscapeArgs& a) {
+  check_output_file(a.out);  // before the simulations are replayed
   PgsLandscapeStudyDef def = a.study;
   def.probe.loss = parse_pgs_loss(a.loss);
   def.validate();  // before the thread count, as always: a bad option is reported first

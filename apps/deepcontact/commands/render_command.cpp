@@ -10,6 +10,7 @@
 #include "commands/commands.hpp"
 #include "dc/bench/render_frame.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 
 namespace dc::cli {
 namespace {
@@ -22,6 +23,7 @@ struct RenderArgs {
 };
 
 void run(const RenderArgs& a) {
+  check_output_file(a.out);
   std::vector<std::string> args{a.file, "--out", a.out};
   if (a.frame >= 0) args.insert(args.end(), {"--frame", std::to_string(a.frame)});
   if (a.every > 0) args.insert(args.end(), {"--every", std::to_string(a.every)});

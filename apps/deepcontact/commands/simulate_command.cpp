@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "cluster/sigint_guard.hpp"
 #include "commands/cli_common.hpp"
@@ -22,10 +24,24 @@
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/research/research_starters.hpp"
 
 namespace dc::cli {
 namespace {
+
+/// "100 circles", "60 polygons", "66 bodies (6 circles, 60 polygons)": the bodies by shape
+/// (boxes are polygons in the engine's shape table).
+std::string describe_bodies(const BodyState& bodies) {
+  if (bodies.shapes.empty()) return std::to_string(bodies.size()) + (bodies.size() == 1 ? " circle" : " circles");
+  std::map<std::string, std::size_t> count;
+  for (const ShapeKind k : bodies.shapes.kind) ++count[shape_kind_name(k)];
+  const auto phrase = [](const std::string& kind, std::size_t n) { return std::to_string(n) + " " + kind + (n == 1 ? "" : "s"); };
+  if (count.size() == 1) return phrase(count.begin()->first, count.begin()->second);
+  std::string parts;
+  for (const auto& [kind, n] : count) parts += (parts.empty() ? "" : ", ") + phrase(kind, n);
+  return std::to_string(bodies.size()) + " bodies (" + parts + ")";
+}
 
 struct SimulateArgs {
   SceneArgs scene;
@@ -121,6 +137,7 @@ RunFigures step_world(World& world, const WorldDef& def, WarmStarter& starter, T
 }
 
 void run(const SimulateArgs& a) {
+  if (!a.out.empty()) check_output_file(a.out);  // before any work: a bad --out costs nothing
   WorldDef def = a.scene.load();
   if (a.steps >= 0) def.time.steps = a.steps;
   const auto t0 = std::chrono::steady_clock::now();
@@ -157,11 +174,11 @@ void run(const SimulateArgs& a) {
     std::printf("%016llx\n", hash);
   } else {
     std::printf(
-        "Simulated %zu circles for %d steps (%.3g s of simulated time, dt = %g s) in %.2f s wall: %lld contacts "
+        "Simulated %s for %d steps (%.3g s of simulated time, dt = %g s) in %.2f s wall: %lld contacts "
         "solved in all, at most %d in one step; solver '%s' with the '%s' warm start used a median of %d "
         "sweeps per step with contacts (max %d%s), worst natural-map residual %.3g N; max penetration %.3g m; "
         "total energy %.6g J -> %.6g J; final state hash %016llx.%s%s\n",
-        world.bodies().size(), def.time.steps, def.time.steps * def.time.dt, def.time.dt, wall,
+        describe_bodies(world.bodies()).c_str(), def.time.steps, def.time.steps * def.time.dt, def.time.dt, wall,
         static_cast<long long>(f.contacts), f.max_contacts, def.solver.name.c_str(), a.warmstart.c_str(),
         f.sweeps.empty() ? 0 : f.sweeps[f.sweeps.size() / 2], f.sweeps.empty() ? 0 : f.sweeps.back(),
         def.solver.tolerance > 0 ? (", " + std::to_string(f.nonconverged) + " steps did not reach the tolerance").c_str() : "",

@@ -15,6 +15,7 @@
 #include "commands/commands.hpp"
 #include "dc/bench/list_options.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/research/sph_study.hpp"
 
 namespace dc::cli {
@@ -71,6 +72,7 @@ SphStudyDef study_def(const StudyArgs& a) {
 }
 
 void run(const StudyArgs& a) {
+  check_output_directory(a.out);  // before the simulations
   const WorldDef scene = a.scene.load();
   const SphStudyDef def = study_def(a);
   const SphStudyResults r = run_sph_study(scene, def, [](std::uint64_t seed, std::size_t frames, std::size_t contacts) {

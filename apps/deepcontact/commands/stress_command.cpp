@@ -21,6 +21,7 @@
 #include "dc/core/error.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/io/atomic_file.hpp"
+#include "dc/io/output_path.hpp"
 
 namespace dc::cli {
 namespace {
@@ -148,6 +149,7 @@ void run(const StressArgs& a) {
   rows.reserve(scenarios.size());
   std::error_code ec;
   if (!a.out.empty()) {
+    check_output_directory(a.out);  // one line naming the cause, before the scenarios run
     std::filesystem::create_directories(a.out, ec);
     if (ec) throw IoError(a.out + ": cannot create the output directory: " + ec.message());
   }

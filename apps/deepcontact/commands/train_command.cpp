@@ -43,10 +43,12 @@
 #include "dc/cnn/train_checkpoint.hpp"
 #include "dc/cnn/training_data.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/io/h5.hpp"
 #include "dc/learning/arch.hpp"
 #include "dc/learning/model_file.hpp"
 #include "dc/learning/trainer.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc::cli {
 namespace {
@@ -215,7 +217,7 @@ TrainResult train_with_checkpoints(const TrainArgs& a, Trainer& trainer, const T
 
 /// OUT.loss.png from OUT.loss.csv (bench/plots/loss_curve.py); a failure only warns.
 void plot_loss_curve(const std::string& out) {
-  const std::string script = std::string(DC_SOURCE_DIR) + "/bench/plots/loss_curve.py";
+  const std::string script = data_path("bench/plots/loss_curve.py").string();
   const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   const std::string cmd = py + " '" + script + "' '" + out + ".loss.csv' '" + out + ".loss.png' >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0 || !fs::exists(out + ".loss.png"))
@@ -287,6 +289,7 @@ void run_regression(const TrainArgs& a) {
 void run(const TrainArgs& a) {
   if (a.data.empty()) throw ConfigError("--data is required");
   if (a.out.empty()) throw ConfigError("--out is required");
+  check_output_file(a.out);  // before the data set is read: OUT, OUT.ckpt and OUT.loss.csv live there
   if (a.pgs.gain && a.pgs.loss == "regression")
     throw ConfigError("--gain needs --loss pgs-residual, pgs-distance or pgs-field (a gain model has no label grid to regress on)");
   if (a.pgs.loss != "regression") {

@@ -15,6 +15,25 @@
 
 namespace dc::dat {
 
+/// The first 40 bytes of a token as printable ASCII, every other byte as \xNN: a binary file's
+/// bytes (NUL, control characters, invalid UTF-8) would cut or garble the one-line message —
+/// Python could not even decode it and raised with an empty message.
+inline std::string printable(std::string_view token) {
+  std::string out;
+  for (const char ch : token.substr(0, 40)) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 0x20 && c < 0x7f) {
+      out += ch;
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
+
 /// Whitespace tokenizer over the file text that tracks line numbers for messages.
 class Tokens {
  public:
@@ -41,7 +60,7 @@ class Tokens {
     long long v = 0;
     const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
     if (ec != std::errc() || ptr != tok.data() + tok.size())
-      fail(std::string(what) + " must be an integer, got '" + std::string(tok.substr(0, 40)) + "'");
+      fail(std::string(what) + " must be an integer, got '" + printable(tok) + "'");
     return v;
   }
 
@@ -56,13 +75,13 @@ class Tokens {
     const auto [ptr, ec] = std::from_chars(b, e, v);
     if (ec == std::errc::result_out_of_range)
       fail(std::string("entry ") + std::to_string(index) + " of " + what + " is out of the double range: '" +
-           std::string(tok.substr(0, 40)) + "'");
+           printable(tok) + "'");
     if (ec != std::errc() || ptr != e)
       fail(std::string("entry ") + std::to_string(index) + " of " + what + " is not a number: '" +
-           std::string(tok.substr(0, 40)) + "'");
+           printable(tok) + "'");
     if (!std::isfinite(v))
       fail(std::string("entry ") + std::to_string(index) + " of " + what + " is not finite: '" +
-           std::string(tok.substr(0, 40)) + "'");
+           printable(tok) + "'");
     return v;
   }
 

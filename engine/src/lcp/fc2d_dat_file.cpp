@@ -17,7 +17,7 @@ void expect(Tokens& tok, std::string_view word, const char* where) {
   const std::string_view t = tok.next();
   if (t != word)
     tok.fail(std::string("expected '") + std::string(word) + "' " + where + ", got '" +
-             std::string(t.substr(0, 40)) + "'");
+             dat::printable(t) + "'");
 }
 
 /// An integer token with an optional trailing comma ("3822," in CSparse's header).
@@ -27,7 +27,7 @@ long long integer_comma(Tokens& tok, const char* what) {
   long long v = 0;
   const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
   if (t.empty() || ec != std::errc() || ptr != t.data() + t.size())
-    tok.fail(std::string(what) + " must be an integer, got '" + std::string(t.substr(0, 40)) + "'");
+    tok.fail(std::string(what) + " must be an integer, got '" + dat::printable(t) + "'");
   return v;
 }
 
@@ -43,7 +43,7 @@ void parse_size_token(Tokens& tok, long long n) {
     auto [p2, ec2] = std::from_chars(p1 + 4, e, c);
     ok = ec2 == std::errc() && (p2 == e || (p2 + 1 == e && *p2 == ','));
   }
-  if (!ok) tok.fail("expected the CSparse size 'M-by-N,', got '" + std::string(t.substr(0, 40)) + "'");
+  if (!ok) tok.fail("expected the CSparse size 'M-by-N,', got '" + dat::printable(t) + "'");
   if (m != n || c != n)
     tok.fail("CSparse matrix is " + std::to_string(m) + "x" + std::to_string(c) + " but the header says " +
              std::to_string(n) + "x" + std::to_string(n));

@@ -9,6 +9,7 @@
 #include "dc/engine/shape_collide.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/engine/world.hpp"
+#include "world_def_limits.hpp"
 
 namespace dc {
 namespace {
@@ -211,6 +212,7 @@ BodyState make_shaped_bodies(const WorldDef& def) {
 
 BodyState make_bodies(const WorldDef& def) {
   def.validate();
+  validate_generated_count(def);  // before placing: refuse at once what cannot fit
   if (!circles_only(def)) return make_shaped_bodies(def);
   const BodiesSection& g = def.bodies;
   double max_r = g.count > 0 ? std::max(g.radius, g.radius_max) : 0.0;

@@ -5,6 +5,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/engine/shape.hpp"
+#include "world_def_limits.hpp"
 
 namespace dc {
 namespace {
@@ -43,6 +44,18 @@ void radius_max(const std::string& key, double v, double radius) {
   if (v != 0 && !(v >= radius)) bad(key, "0 or a number >= radius (" + std::to_string(radius) + ")", v);
 }
 
+/// The shape keys a shape may not use (a circle's size) must still be finite numbers.
+void finite_shape_values(const std::string& key, Vec2 size, Vec2 semi_axes, const std::vector<Vec2>& vertices) {
+  finite(key + "size[0]", size.x);
+  finite(key + "size[1]", size.y);
+  finite(key + "semi_axes[0]", semi_axes.x);
+  finite(key + "semi_axes[1]", semi_axes.y);
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    finite(key + "vertices[" + std::to_string(i) + "][0]", vertices[i].x);
+    finite(key + "vertices[" + std::to_string(i) + "][1]", vertices[i].y);
+  }
+}
+
 }  // namespace
 
 void WorldDef::validate() const {
@@ -71,18 +84,26 @@ void WorldDef::validate() const {
   finite("[bodies] mean[1]", bodies.mean.y);
   non_negative("[bodies] sigma", bodies.sigma);
   if (bodies.max_attempts < 1) bad("[bodies] max_attempts", "an integer >= 1", bodies.max_attempts);
+  finite_shape_values("[bodies] ", bodies.size, bodies.semi_axes, bodies.vertices);
   (void)build_shape(bodies.shape, bodies.radius, bodies.size, bodies.sides, bodies.vertices, bodies.semi_axes,
                     "[bodies] ");
   radius_max("[bodies] radius_max", bodies.radius_max, bodies.radius);
   region("[bodies] region", bodies.region, false);
   non_negative("[inflow] rate", inflow.rate);
+  // Every value is finite even where it is unused (an inactive inflow, a circle's size): a NaN
+  // in a scene is a mistake wherever it stands.
+  for (std::size_t i = 0; i < 4; ++i) finite("[inflow] region[" + std::to_string(i) + "]", inflow.region[i]);
+  finite("[inflow] start", inflow.start);
+  finite("[inflow] stop", inflow.stop);
+  finite("[inflow] velocity[0]", inflow.velocity.x);
+  finite("[inflow] velocity[1]", inflow.velocity.y);
+  finite("[inflow] radius", inflow.radius);
+  finite("[inflow] radius_max", inflow.radius_max);
+  finite("[inflow] density", inflow.density);
   if (inflow.active()) {
     region("[inflow] region", inflow.region, true);
     non_negative("[inflow] start", inflow.start);
-    finite("[inflow] stop", inflow.stop);
     if (!(inflow.stop > inflow.start)) bad("[inflow] stop", "a time > [inflow] start", inflow.stop);
-    finite("[inflow] velocity[0]", inflow.velocity.x);
-    finite("[inflow] velocity[1]", inflow.velocity.y);
     positive("[inflow] radius", inflow.radius);
     radius_max("[inflow] radius_max", inflow.radius_max, inflow.radius);
     positive("[inflow] density", inflow.density);
@@ -99,6 +120,7 @@ void WorldDef::validate() const {
     finite(k + "omega", b.omega);
     positive(k + "radius", b.radius);
     positive(k + "density", b.density);
+    finite_shape_values(k, b.size, b.semi_axes, b.vertices);
     (void)build_shape(b.shape, b.radius, b.size, b.sides, b.vertices, b.semi_axes, k);
     const Motion m = parse_motion(b.motion, k + "motion");
     if (b.pivot) {
@@ -110,6 +132,7 @@ void WorldDef::validate() const {
     if (b.spawn > 0 && (b.shape != "circle" || m != Motion::Dynamic))
       throw ConfigError(k + "spawn: only a dynamic circle can enter later (spawn > 0)");
   }
+  validate_derived_quantities(*this);  // masses, energies and counts the values imply
 }
 
 }  // namespace dc

@@ -10,6 +10,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/research/sph_study.hpp"
+#include "dc/core/install_paths.hpp"
 
 namespace dc {
 namespace {
@@ -166,7 +167,7 @@ void write_sph_study(const SphStudyResults& r, const fs::path& dir, std::string_
 }
 
 int plot_sph_study(const fs::path& dir) {
-  const std::string script = std::string(DC_SOURCE_DIR) + "/research/plots/sph_study.py";
+  const std::string script = data_path("research/plots/sph_study.py").string();
   const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   const std::string cmd = py + " '" + script + "' '" + (dir / "sph_study.csv").string() + "' '" + dir.string() + "'";
   return std::system(cmd.c_str());

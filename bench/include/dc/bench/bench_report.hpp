@@ -21,6 +21,10 @@ namespace dc::bench {
 /// The earlier theses' median iterations to θ ≤ 1e-4 N·s (docs/design.md §6), or "" if none.
 std::string thesis_reference(const std::string& starter);
 
+/// True when the theses' figures apply: the seed scene (any seed, any number of steps). On
+/// other scenes the table has no `theses` column and summary.json's "theses" is "".
+bool theses_apply(const WorldDef& scene);
+
 /// Plain-text table (also used in report.md as a Markdown table when `markdown`).
 std::string format_table(const BenchResults& r, const std::vector<StarterSummary>& s, bool markdown);
 

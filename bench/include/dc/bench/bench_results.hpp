@@ -51,6 +51,11 @@ struct BenchOptions {
   /// PGS (tol / 100, cap max(sweeps, max_sweeps)), λ errors are against that λ, and starters
   /// that need the oracle (copy, sph, …) are refused.
   bool oracle = true;
+  /// results.h5 holds every step's per-sweep θ_k (/warmstarters/NAME/theta, steps × sweeps;
+  /// `--theta`): 289 MB for the default bench. Off by default: the file then has only their
+  /// quartiles over steps per sweep (/warmstarters/NAME/theta_quartiles, sweeps × 3), what the
+  /// convergence plot draws.
+  bool keep_theta = false;
   /// Solver comparison (docs/bench.md "Solver comparison"; paired mode only): every solver here
   /// solves every evaluated LCP from every starter's guess (the same λ⁰ for each solver).
   /// Empty = off: the bench runs as without it.

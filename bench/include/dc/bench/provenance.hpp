@@ -6,7 +6,7 @@
 namespace dc::bench {
 
 struct Provenance {
-  std::string git;        ///< `git rev-parse HEAD` of the source tree (+ "-dirty"), or "unknown"
+  std::string git;        ///< the commit the binary was built from (dc::git_commit: 12 hex digits, "-dirty"), or "unknown"
   std::string build;      ///< CMake build type and compiler
   std::string machine;    ///< CPU model, logical cores
   std::string date_utc;   ///< ISO 8601

@@ -18,7 +18,8 @@ inline constexpr std::int32_t kTrajectoryFormatVersion = 2;
 
 class TrajectoryRecorder {
  public:
-  /// Records state 0 of `world`.
+  /// Records state 0 of `world`; the file's `start_step` is world.step_index() (a recording
+  /// that starts after a warm-up keeps its true time).
   explicit TrajectoryRecorder(const World& world);
   /// Reserves memory for `steps` more steps of the body state (simulate knows its step
   /// count), so recording never re-allocates and copies the whole history (the contacts,
@@ -42,6 +43,7 @@ class TrajectoryRecorder {
  private:
   void record_state(const BodyState& s);
   std::size_t n_;                      ///< bodies of the latest state (the file's n)
+  int start_step_ = 0;                 ///< world.step_index() of state 0
   std::vector<std::size_t> state_size_;  ///< bodies of each recorded state (late bodies: inflow.hpp)
   std::vector<double> position_, angle_, velocity_, omega_, radius_, mass_;
   std::vector<std::int64_t> step_offset_;

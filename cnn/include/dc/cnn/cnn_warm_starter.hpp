@@ -17,7 +17,7 @@
 //
 // Model selection (cnn_starter_options.hpp): `cnn:PATH` / `cnn-hybrid:PATH`, else
 // WarmStartEnv::model_path, else the default passed to add_cnn_warm_starters (the CLI passes
-// DC_SOURCE_DIR/models/default.h5, the shipped model). A missing or unreadable model is an
+// dc::data_path("models/default.h5"), the shipped model). A missing or unreadable model is an
 // IoError when the starter is made.
 //
 // The model file stores the grid (d, h, kernel, nx, ny) and the feature channel names it was

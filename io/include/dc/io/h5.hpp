@@ -97,8 +97,11 @@ struct H5VirtualSource {
   hsize_t rows = 0;     ///< its first-axis extent (the other axes are the virtual dataset's)
 };
 
-/// How strings are stored: variable-length (h5py `str`, the default) or fixed-length,
-/// NUL-padded (numpy `S<n>`). Reads accept both.
+/// How strings are stored: fixed-length, NUL-padded (numpy `S<n>`, h5py gives `bytes`; the
+/// default) or variable-length (h5py `str`). Reads accept both. Variable-length strings live
+/// in HDF5's global heap, which has no checksum (this layer stores a hash next to them) and
+/// whose damage crashes libhdf5 1.10.8 in H5HG_read before any check can run; fixed-length
+/// ones sit in checksummed object headers or chunks — so this layer writes those by default.
 enum class H5StringKind { Variable, Fixed };
 
 /// An open HDF5 file. Move-only; the destructor closes it (errors ignored — call close()
@@ -201,16 +204,16 @@ class H5File {
 
   // ---- string datasets (1-D) -----------------------------------------------------------
   void write_strings(std::string_view path, const std::vector<std::string>& values,
-                     H5StringKind kind = H5StringKind::Variable);
+                     H5StringKind kind = H5StringKind::Fixed);
   [[nodiscard]] std::vector<std::string> read_strings(std::string_view path) const;
 
   // ---- attributes on "/" (the file), a group or a dataset --------------------------------
   [[nodiscard]] bool has_attribute(std::string_view object, std::string_view name) const;
   /// Creates or replaces a string attribute (UTF-8).
   void set_attribute(std::string_view object, std::string_view name, std::string_view value,
-                     H5StringKind kind = H5StringKind::Variable);
+                     H5StringKind kind = H5StringKind::Fixed);
   void set_attribute(std::string_view object, std::string_view name, const char* value,
-                     H5StringKind kind = H5StringKind::Variable) {
+                     H5StringKind kind = H5StringKind::Fixed) {
     set_attribute(object, name, std::string_view(value), kind);
   }
   /// Creates or replaces a scalar numeric attribute.
@@ -239,6 +242,11 @@ class H5File {
   void require_open() const;
   void require_writable(std::string_view object) const;
   [[noreturn]] void fail(std::string_view object, const std::string& what) const;
+  /// IoError "checksum mismatch" unless `values`, read from the open dataset or object
+  /// `object` at `path` (the dataset itself, or its string attribute `attribute`), match the
+  /// hash stored next to them (io/src/h5_checksum.hpp); nothing to check when none is stored.
+  void verify_strings(Id object, std::string_view path, const std::vector<std::string>& values,
+                      std::string_view attribute = {}) const;
   /// For AtomicH5File: a new file held in memory only, and the bytes of such a file.
   friend class AtomicH5File;
   static H5File create_in_memory(const std::string& label);

@@ -1,0 +1,95 @@
+// Every command checks its output paths before any work (docs/robustness.md "Outputs checked
+// before the work"): a missing parent, a directory where a file is expected or an unwritable
+// place is a one-line error and exit 1 before a scene is simulated, a data set read or a
+// bench run — the commands' own output (a table, "Simulated …") never appears. And `bench
+// --out DIR` replaces an earlier DIR only with a complete report of the new run.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "apps/cli_helpers.hpp"
+
+namespace dc {
+namespace {
+
+/// The command failed at the door: exit 1, one line on stderr naming `path`, nothing on stdout.
+void expect_refused_before_work(const test::CliResult& r, const std::string& path) {
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(path), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "") << "the command did its work before checking the output path";
+}
+
+const std::string kSmallScene = "--set bodies.count=20 --set bodies.mean=[15.0,4.0] --set bodies.sigma=3.0 ";
+
+TEST(OutputPathCli, SimulateRefusesEveryBadOutBeforeSimulating) {
+  test::TempDir dir;
+  const std::string missing = dir.file("no/such/dir/run.h5");
+  expect_refused_before_work(test::run_cli("simulate " + kSmallScene + "--steps 400 --out " + missing), missing);
+  // A directory where the trajectory file should go.
+  expect_refused_before_work(test::run_cli("simulate " + kSmallScene + "--steps 400 --out " + dir.path().string()),
+                             dir.path().string());
+  // A parent nobody can create files in — root included (/proc).
+  expect_refused_before_work(test::run_cli("simulate " + kSmallScene + "--steps 400 --out /proc/run.h5"),
+                             "/proc/run.h5");
+  // A parent that is a file.
+  const std::string file = dir.file("plain");
+  std::ofstream(file) << "x";
+  expect_refused_before_work(test::run_cli("simulate " + kSmallScene + "--steps 400 --out " + file + "/run.h5"),
+                             file + "/run.h5");
+}
+
+TEST(OutputPathCli, EveryCommandChecksItsOutputFirst) {
+  test::TempDir dir;
+  const std::string bad = dir.file("missing/out");
+  // train reads the data set only after its --out was checked (the data set does not exist).
+  expect_refused_before_work(test::run_cli("train --data " + dir.file("nope.h5") + " --out " + bad + ".h5"),
+                             bad + ".h5");
+  expect_refused_before_work(test::run_cli("generate --sims 2 --steps 20 --out " + bad + ".h5"), bad + ".h5");
+  expect_refused_before_work(test::run_cli("bench --quick --steps 30 --out " + bad), bad);
+  expect_refused_before_work(test::run_cli("render " + dir.file("nope.h5") + " --out " + bad + ".gif"), bad + ".gif");
+  expect_refused_before_work(test::run_cli("lcp convert " + dir.file("nope.dat") + " " + bad + ".dat"), bad + ".dat");
+  expect_refused_before_work(test::run_cli("pgs-landscape --data " + dir.file("nope.h5") + " --out " + bad + ".csv"),
+                             bad + ".csv");
+  expect_refused_before_work(test::run_cli("sph-study --steps 20 --out " + bad), bad);
+  expect_refused_before_work(test::run_cli("stress --quick --out " + bad), bad);
+  // bench --out names a directory: an existing plain file there is refused before the bench.
+  const std::string file = dir.file("summary");
+  std::ofstream(file) << "x";
+  expect_refused_before_work(test::run_cli("bench --quick --steps 30 --out " + file), file);
+}
+
+std::string small_bench(const std::string& seeds, const std::string& out) {
+  return "bench --scene " + std::string(DC_SOURCE_DIR) + "/scenes/small.toml --steps 40 --seeds " + seeds +
+         " --mode rollout --warmstarts zero,builtin --out " + out;
+}
+
+TEST(OutputPathCli, BenchReplacesAnEarlierReportOnlyWithACompleteNewOne) {
+  test::TempDir dir;
+  const std::string out = dir.file("report");
+  ASSERT_EQ(test::run_cli(small_bench("1..2", out)).exit_code, 0);
+  std::ofstream(out + "/stale.txt") << "left by the user or an earlier run";
+  const std::string first = test::slurp(out + "/summary.json");
+  ASSERT_NE(first.find("\"seeds\": [1, 2]"), std::string::npos) << first;
+
+  // A run that fails before its report exists (its scene is refused after the check of --out
+  // passed) and a killed run leave the earlier report as it was; so does a run that cannot
+  // even start its staging directory.
+  EXPECT_EQ(test::run_cli(small_bench("3..3", out) + " --set time.dt=-1").exit_code, 1);
+  EXPECT_EQ(test::slurp(out + "/summary.json"), first);
+  EXPECT_TRUE(std::filesystem::exists(out + "/stale.txt"));
+
+  // A complete new run replaces the whole directory: nothing of the earlier one is left.
+  const auto r = test::run_cli(small_bench("3..3", out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(test::slurp(out + "/summary.json").find("\"seeds\": [3]"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(out + "/stale.txt"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
+  for (const auto& e : std::filesystem::directory_iterator(dir.path()))  // no staging or old directories left
+    EXPECT_EQ(e.path().filename(), "report") << e.path();
+}
+
+}  // namespace
+}  // namespace dc
