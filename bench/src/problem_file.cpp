@@ -1,6 +1,7 @@
 #include "dc/bench/problem_file.hpp"
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "dc/core/error.hpp"
@@ -101,6 +102,10 @@ ProblemFile read_problem_file(const std::string& path, std::optional<ProblemKind
     if (f.solution) out.solution = to_vector(f.solution->r);
     for (const FclibSolution& g : f.guesses) out.guesses.push_back(to_vector(g.r));
   } else {
+    // A directory opens as a stream on Linux and fails only at the first read, with the
+    // C++ library's message; say what it is instead.
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, not a problem file");
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw IoError(path + ": cannot open problem file");
     std::string text((std::istreambuf_iterator<char>(probe)), std::istreambuf_iterator<char>());

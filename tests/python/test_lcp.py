@@ -57,9 +57,13 @@ def test_round_trip_and_problem_from_python(dc, tmp_path):
 
 def test_bad_input_raises_the_cli_message(dc, tmp_path):
     missing = tmp_path / "missing.dat"
+    # `lcp solve` reads any problem file (LCP or frictional); read_problem is its Python twin.
     with pytest.raises(dc.IoError) as e:
-        dc.read_lcp_dat(str(missing))
+        dc.read_problem(str(missing))
     assert str(e.value) == cli_error("lcp", "solve", missing)
+    with pytest.raises(dc.IoError) as e:
+        dc.read_lcp_dat(str(tmp_path))
+    assert "is a directory" in str(e.value)
     bad = tmp_path / "bad.dat"
     bad.write_text("3\n0\n3\n3\n3\t3\n1 2 x\n")
     with pytest.raises(dc.IoError) as e:

@@ -53,5 +53,8 @@ def test_solve_from_a_warm_start_with_each_solver(dc):
         zero = dc.solve(p, solver=name, sweeps=20000, tol=1e-10)
         assert r.sweeps <= zero.sweeps, name  # started at the solution it has less to do
         assert np.allclose(r.lam, ref.lam, atol=1e-6 * max(1.0, np.abs(ref.lam).max()))
-    bad = dc.solve(p, solver="nncg", lambda0=np.zeros(p.rows + 1))
-    assert bad.status == "invalid_input" and np.all(np.isfinite(bad.lam))
+    # A guess of the wrong size or with NaN is refused at the door, before any solver runs.
+    with pytest.raises(ValueError):
+        dc.solve(p, solver="nncg", lambda0=np.zeros(p.rows + 1))
+    with pytest.raises(ValueError):
+        dc.solve(p, solver="nncg", lambda0=np.full(p.rows, np.nan))

@@ -1,5 +1,6 @@
 #include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -172,6 +173,9 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 std::string read_whole_file(const std::string& path, const char* what) {
+  // A directory opens as a stream and fails only at the first read; name it instead.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, not a " + what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open " + what);
   std::ostringstream ss;
