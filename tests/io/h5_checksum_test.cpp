@@ -10,6 +10,7 @@
 #include <numeric>
 
 #include "dc/core/error.hpp"
+#include "io/io_error.hpp"
 #include "dc/io/h5.hpp"
 #include "dc/io/h5_copy.hpp"
 #include "io/bit_flips.hpp"
@@ -63,16 +64,7 @@ void flip_bit_at(const std::string& file, std::size_t byte) {
   test::write_bytes(file, bytes);
 }
 
-template <class F>
-std::string io_error(F&& f) {
-  try {
-    f();
-  } catch (const IoError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an IoError";
-  return {};
-}
+using test::io_error;
 
 TEST(H5Checksum, ADamagedChunkOrStringIsAOneLineErrorNamingTheObject) {
   test::TempDir dir;

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "dc/core/error.hpp"
+#include "io/io_error.hpp"
 #include "dc/io/h5.hpp"
 
 namespace dc {
@@ -21,16 +22,7 @@ namespace fs = std::filesystem;
 #define EXPECT_CONTAINS(haystack, needle) \
   EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "message: " << (haystack)
 
-template <class F>
-std::string io_error(F&& f) {
-  try {
-    f();
-  } catch (const IoError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an IoError";
-  return {};
-}
+using test::io_error;
 
 /// A fresh directory per test, removed afterwards.
 class H5Test : public ::testing::Test {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "dc/core/error.hpp"
+#include "io/io_error.hpp"
 #include "dc/io/output_path.hpp"
 #include "temp_dir.hpp"
 
@@ -15,16 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-template <class F>
-std::string io_error(F&& f) {
-  try {
-    f();
-  } catch (const IoError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an IoError";
-  return {};
-}
+using test::io_error;
 
 void expect_names(const std::string& message, const std::string& path, const std::string& cause) {
   EXPECT_NE(message.find(path), std::string::npos) << message;

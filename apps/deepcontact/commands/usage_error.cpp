@@ -6,24 +6,10 @@
 #include <regex>
 #include <sstream>
 
+#include "dc/core/closest_name.hpp"
+
 namespace dc::cli {
 namespace {
-
-/// Levenshtein distance (insertions, deletions, substitutions of one character).
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
 
 /// The subcommands named on the command line, outermost first (app itself first).
 std::vector<const CLI::App*> command_chain(const CLI::App& app, const std::vector<std::string>& args) {
@@ -107,16 +93,7 @@ std::string range_message(const std::string& what) {
 }  // namespace
 
 std::string closest_name(const std::string& word, const std::vector<std::string>& candidates) {
-  std::string best;
-  std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
-  for (const auto& c : candidates) {
-    const std::size_t d = edit_distance(word, c);
-    if (d < best_d) {
-      best_d = d;
-      best = c;
-    }
-  }
-  return best;
+  return dc::closest_name(word, candidates);
 }
 
 std::string usage_error_message(const CLI::App& app, const CLI::ParseError& error, const std::vector<std::string>& args) {

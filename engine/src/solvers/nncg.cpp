@@ -161,14 +161,8 @@ class NncgSolver final : public LcpSolver {
     Eigen::VectorXd lambda;
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
     MatrixFreeSweep sweeper;
-    if (std::string err = sweeper.prepare(p, o.block_manifolds); !err.empty()) {
-      SolveResult r;
-      r.status = SolveStatus::InvalidInput;
-      r.lambda = lambda;
-      r.message = "nncg: " + err + "; use pgs-assembled";
-      finish(p, r);
-      return r;
-    }
+    if (std::string err = sweeper.prepare(p, o.block_manifolds); !err.empty())
+      return refuse_matrix_free(p, lambda, "nncg", err);
     std::vector<double> du = sweeper.velocity_change(p, lambda);
     NncgMomentum momentum(p.rows(), sweeper.body_entries());
     SolveResult r = run_sweeps(p, std::move(lambda), o, [&](Eigen::VectorXd& l, bool& nonfinite) {

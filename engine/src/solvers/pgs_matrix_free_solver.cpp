@@ -30,14 +30,8 @@ class PgsMatrixFreeSolver final : public LcpSolver {
     Eigen::VectorXd lambda;
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
     MatrixFreeSweep sweeper;
-    if (std::string err = sweeper.prepare(p, o.block_manifolds); !err.empty()) {
-      SolveResult r;
-      r.status = SolveStatus::InvalidInput;
-      r.lambda = lambda;
-      r.message = "pgs: " + err + "; use pgs-assembled";
-      finish(p, r);
-      return r;
-    }
+    if (std::string err = sweeper.prepare(p, o.block_manifolds); !err.empty())
+      return refuse_matrix_free(p, lambda, "pgs", err);
     std::vector<double> du = sweeper.velocity_change(p, lambda);
     SolveResult r = run_sweeps(p, std::move(lambda), o, [&](Eigen::VectorXd& l, bool& nonfinite) {
       return sweeper.sweep(l.data(), du.data(), nonfinite);

@@ -135,4 +135,14 @@ void report_singular_rows(const LcpProblem& p, const std::vector<int>& singular,
   r.message += (r.message.empty() ? "" : "; ") + msg;
 }
 
+SolveResult refuse_matrix_free(const LcpProblem& p, Eigen::VectorXd lambda, const std::string& solver,
+                               const std::string& why) {
+  SolveResult r;
+  r.status = SolveStatus::InvalidInput;
+  r.lambda = std::move(lambda);
+  r.message = solver + ": " + why + "; use pgs-assembled";
+  finish(p, r);
+  return r;
+}
+
 }  // namespace dc::solvers

@@ -33,6 +33,12 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
 /// Fills residual (natural map) and guards against a non-finite λ in a finished result.
 void finish(const LcpProblem& p, SolveResult& r);
 
+/// The finished InvalidInput result of a matrix-free solver whose sweep could not be prepared
+/// for this problem (`why`, from MatrixFreeSweep::prepare): λ unchanged, the message names the
+/// solver and points at the assembled form, which handles every problem.
+SolveResult refuse_matrix_free(const LcpProblem& p, Eigen::VectorXd lambda, const std::string& solver,
+                               const std::string& why);
+
 /// Row bounds in branch-free form: for row i with coupling row c_i,
 ///   lo_i = lo_fixed_i − μ_i·max(0, λ_{c_i}),   hi_i = hi_fixed_i + μ_i·max(0, λ_{c_i}).
 /// Normal/standard rows have μ_i = 0 and c_i = i (the term vanishes, λ is finite);
@@ -89,6 +95,28 @@ inline double singular_row_update(double old, double r, double lo, double hi) {
 /// status becomes Failed and the message names them; otherwise the message mentions them.
 void report_singular_rows(const LcpProblem& p, const std::vector<int>& singular, SolveResult& r);
 
+/// The bookkeeping of both sweep drivers after a finite sweep k with θ_k: records θ, calls the
+/// checkpoints, and returns true (status set) when the tolerance is met or the iterates grow
+/// without bound (θ_k > 1e12·max(θ_1, 1e-300)).
+inline bool after_finite_sweep(int k, double theta, const Eigen::VectorXd& lambda, const SolverOptions& o,
+                               CheckpointCursor& cp, double& theta1, SolveResult& res) {
+  if (o.record_theta) res.theta.push_back(theta);
+  if (k == 1) theta1 = theta;
+  cp.after(k, lambda);
+  if (o.tolerance > 0 && theta <= o.tolerance) {
+    res.status = SolveStatus::Converged;
+    cp.flush_final(lambda);
+    return true;
+  }
+  if (theta > 1e12 * std::max(theta1, 1e-300) && k > 1) {
+    res.status = SolveStatus::Diverged;
+    res.message = "iterates grow without bound (theta grew from " + std::to_string(theta1) + " to " +
+                  std::to_string(theta) + " by sweep " + std::to_string(k) + ")";
+    return true;
+  }
+  return false;
+}
+
 /// Generic driver of the sweep methods (PGS, PSOR, Jacobi). `sweep(λ, nonfinite)` performs
 /// one sweep in place, returns θ_k = max_i |λ_i^k − λ_i^{k−1}| and sets nonfinite when an
 /// update produced a non-finite value. The driver records θ, calls checkpoints, stops at
@@ -117,20 +145,7 @@ SolveResult run_sweeps(const LcpProblem& /*p*/, Eigen::VectorXd lambda, const So
       break;
     }
     done = k;
-    if (o.record_theta) res.theta.push_back(theta);
-    if (k == 1) theta1 = theta;
-    cp.after(k, lambda);
-    if (o.tolerance > 0 && theta <= o.tolerance) {
-      res.status = SolveStatus::Converged;
-      cp.flush_final(lambda);
-      break;
-    }
-    if (theta > 1e12 * std::max(theta1, 1e-300) && k > 1) {
-      res.status = SolveStatus::Diverged;
-      res.message = "iterates grow without bound (theta grew from " + std::to_string(theta1) +
-                    " to " + std::to_string(theta) + " by sweep " + std::to_string(k) + ")";
-      break;
-    }
+    if (after_finite_sweep(k, theta, lambda, o, cp, theta1, res)) break;
   }
   res.sweeps = done;
   res.lambda = std::move(lambda);
@@ -163,20 +178,7 @@ SolveResult run_sweeps_double_buffered(Eigen::VectorXd lambda, Eigen::VectorXd o
     }
     lambda.swap(other);
     done = k;
-    if (o.record_theta) res.theta.push_back(theta);
-    if (k == 1) theta1 = theta;
-    cp.after(k, lambda);
-    if (o.tolerance > 0 && theta <= o.tolerance) {
-      res.status = SolveStatus::Converged;
-      cp.flush_final(lambda);
-      break;
-    }
-    if (theta > 1e12 * std::max(theta1, 1e-300) && k > 1) {
-      res.status = SolveStatus::Diverged;
-      res.message = "iterates grow without bound (theta grew from " + std::to_string(theta1) +
-                    " to " + std::to_string(theta) + " by sweep " + std::to_string(k) + ")";
-      break;
-    }
+    if (after_finite_sweep(k, theta, lambda, o, cp, theta1, res)) break;
   }
   res.sweeps = done;
   res.lambda = std::move(lambda);

@@ -21,6 +21,7 @@
 #include <limits>
 #include <sstream>
 
+#include "dc/core/closest_name.hpp"
 #include "dc/core/error.hpp"
 #include "world/scene_keys.hpp"
 
@@ -70,30 +71,10 @@ const char* type_name(const toml::node& n) {
 
 // ---- "did you mean" -------------------------------------------------------------------
 
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0u : 1u)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 /// " (did you mean 'x'?)" for the closest candidate within a small edit distance, else "".
 template <class Range>
 std::string suggestion(std::string_view word, const Range& candidates) {
-  std::string best;
-  std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
-  for (std::string_view c : candidates) {
-    const std::size_t d = edit_distance(word, c);
-    if (d < best_d) { best_d = d; best = std::string(c); }
-  }
+  const std::string best = closest_name(word, candidates);
   return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
 }
 
