@@ -49,6 +49,11 @@ DC_AVX2 inline void store4(double* u, const std::int32_t* off, const std::uint8_
 
 DC_AVX2 inline __m256d L(const double* p) { return _mm256_load_pd(p); }
 
+/// λ lives in Eigen vectors, which are aligned to EIGEN_MAX_ALIGN_BYTES only: 16 bytes in a
+/// portable (SSE2) build, where this kernel is chosen at run time too. Unaligned access costs
+/// nothing on aligned data, so λ is read and written with loadu/storeu; the batch is alignas(64).
+DC_AVX2 inline __m256d LU(const double* p) { return _mm256_loadu_pd(p); }
+
 /// Lanes where |x| is not < ∞ (±∞ or NaN), as a 4-bit mask.
 DC_AVX2 inline int nonfinite(__m256d x) {
   const __m256d sign = _mm256_set1_pd(-0.0), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
@@ -84,18 +89,18 @@ DC_AVX2 inline void half(const Batch& B, int h, const double* lin, double* lout,
   __m256d xn;
   {
     const __m256d res = residual(B.jn, B.bn, h, a0, a1, a2, v0, v1, v2);
-    const __m256d old = L(lin + h);
+    const __m256d old = LU(lin + h);
     const __m256d y = _mm256_sub_pd(old, res);
     xn = _mm256_andnot_pd(_mm256_cmp_pd(y, zero, _CMP_LT_OQ), y);  // (y < 0) ? +0 : y
     bad |= nonfinite(xn);
     const __m256d d = _mm256_sub_pd(xn, old);
-    _mm256_store_pd(lout + h, xn);
+    _mm256_storeu_pd(lout + h, xn);
     update(B.mjn, h, d, a0, a1, a2, v0, v1, v2);
     theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
   }
   {
     const __m256d res = residual(B.jt, B.bt, h, a0, a1, a2, v0, v1, v2);
-    const __m256d old = L(lin + W + h);
+    const __m256d old = LU(lin + W + h);
     const __m256d pos = _mm256_and_pd(_mm256_cmp_pd(zero, xn, _CMP_LT_OQ), xn);  // (0 < λ_n) ? λ_n : +0
     const __m256d t = _mm256_mul_pd(L(B.mu + h), pos);
     const __m256d y = _mm256_sub_pd(old, res);
@@ -106,7 +111,7 @@ DC_AVX2 inline void half(const Batch& B, int h, const double* lin, double* lout,
     const __m256d x = _mm256_and_pd(active, c);  // active ? c : +0
     bad |= nonfinite(_mm256_blendv_pd(y, x, active));
     const __m256d d = _mm256_sub_pd(x, old);
-    _mm256_store_pd(lout + W + h, x);
+    _mm256_storeu_pd(lout + W + h, x);
     update(B.mjt, h, d, a0, a1, a2, v0, v1, v2);
     theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
   }
@@ -136,8 +141,8 @@ DC_AVX2 void sweep_avx2(const Batch* __restrict batches, int b0, int b1, const d
     if (B.count > 4) {
       half(B, 4, lin, lout, u, theta, bad);
     } else {
-      _mm256_store_pd(lout + 4, _mm256_setzero_pd());
-      _mm256_store_pd(lout + W + 4, _mm256_setzero_pd());
+      _mm256_storeu_pd(lout + 4, _mm256_setzero_pd());
+      _mm256_storeu_pd(lout + W + 4, _mm256_setzero_pd());
     }
   }
   alignas(32) double lanes[4];

@@ -67,6 +67,9 @@ DC_AVX512 inline void store8(double* u, const std::int32_t* off, const std::uint
 }
 
 DC_AVX512 inline __m512d L(const double* p) { return _mm512_load_pd(p); }
+/// λ lives in Eigen vectors, aligned to EIGEN_MAX_ALIGN_BYTES only (16 bytes in a portable build,
+/// where this kernel is chosen at run time too): unaligned access, free on aligned data.
+DC_AVX512 inline __m512d LU(const double* p) { return _mm512_loadu_pd(p); }
 DC_AVX512 inline __m512d absv(__m512d x) { return _mm512_andnot_pd(_mm512_set1_pd(-0.0), x); }
 /// Lanes where |x| is not < ∞ (±∞ or NaN).
 DC_AVX512 inline __mmask8 nonfinite(__m512d x) {
@@ -109,18 +112,18 @@ DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, con
     __m512d xn;
     {
       const __m512d res = residual(B.jn, B.bn, a0, a1, a2, v0, v1, v2);
-      const __m512d old = L(lin);
+      const __m512d old = LU(lin);
       const __m512d y = _mm512_sub_pd(old, res);
       xn = _mm512_mask_mov_pd(y, _mm512_cmp_pd_mask(y, zero, _CMP_LT_OQ), zero);  // (y < 0) ? 0 : y
       bad |= nonfinite(xn);
       const __m512d d = _mm512_sub_pd(xn, old);
-      _mm512_store_pd(lout, xn);
+      _mm512_storeu_pd(lout, xn);
       update(B.mjn, d, a0, a1, a2, v0, v1, v2);
       theta = _mm512_max_pd(theta, absv(d));
     }
     {
       const __m512d res = residual(B.jt, B.bt, a0, a1, a2, v0, v1, v2);
-      const __m512d old = L(lin + W);
+      const __m512d old = LU(lin + W);
       // t = μ · max_of(0, λ_n) = μ · ((0 < λ_n) ? λ_n : 0)
       const __m512d pos = _mm512_mask_mov_pd(zero, _mm512_cmp_pd_mask(zero, xn, _CMP_LT_OQ), xn);
       const __m512d t = _mm512_mul_pd(L(B.mu), pos);
@@ -132,7 +135,7 @@ DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, con
       const __m512d x = _mm512_mask_mov_pd(zero, active, c);
       bad |= nonfinite(_mm512_mask_mov_pd(y, active, x));
       const __m512d d = _mm512_sub_pd(x, old);
-      _mm512_store_pd(lout + W, x);
+      _mm512_storeu_pd(lout + W, x);
       update(B.mjt, d, a0, a1, a2, v0, v1, v2);
       theta = _mm512_max_pd(theta, absv(d));
     }
