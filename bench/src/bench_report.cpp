@@ -174,6 +174,7 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
   j.key("max_sweeps").value(r.options.max_sweeps);
   j.key("warmup_steps").value(r.options.warmup_steps);
   j.key("oracle").value(r.options.oracle);
+  j.key("jobs").value(r.options.jobs);
   j.key("scene").value(scene_to_toml(r.options.scene));
   j.key("seeds").begin_array();
   for (const std::uint64_t seed : r.options.seeds) j.value(seed);

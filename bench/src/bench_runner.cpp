@@ -1,9 +1,14 @@
 #include "dc/bench/bench_runner.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
 
+#include "dc/bench/bench_merge.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
@@ -197,6 +202,7 @@ void check_options(const BenchOptions& o) {
   if (o.warmstarts.empty()) throw ConfigError("bench: no warm starters selected");
   if (o.seeds.empty()) throw ConfigError("bench: no scene seeds selected");
   if (o.sweeps < 1) throw ConfigError("bench: --sweeps must be >= 1");
+  if (o.jobs < 1) throw ConfigError("bench: --jobs must be >= 1");
   if (!(o.tolerance > 0) || !std::isfinite(o.tolerance)) throw ConfigError("bench: --tol must be a finite number > 0");
   o.scene.validate();
 }
@@ -225,14 +231,17 @@ using Starters = std::vector<std::unique_ptr<WarmStarter>>;
 /// modes append seed by seed, in the order of o.seeds (mpi_bench.hpp relies on it).
 class BenchRun {
  public:
-  BenchRun(const BenchOptions& o, const WarmStarterRegistry& registry, const ProgressFn& progress, BenchResults& r)
-      : o_(o), registry_(registry), progress_(progress), r_(r), solver_(make_solver(o.solver)) {}
+  /// `make_mutex` (may be null) serialises the registry's factories when several runs share
+  /// it from different threads: a starter may read a model file while it is made.
+  BenchRun(const BenchOptions& o, const WarmStarterRegistry& registry, const ProgressFn& progress, BenchResults& r,
+           std::mutex* make_mutex = nullptr)
+      : o_(o), registry_(registry), progress_(progress), r_(r), solver_(make_solver(o.solver)), make_mutex_(make_mutex) {}
 
   /// Makes every starter once before the long run, so that an unknown name, or an oracle
   /// starter in a run without the oracle, fails at once; adds their records to the results.
   void add_starter_records() {
     for (const auto& name : o_.warmstarts) {
-      auto ws = registry_.make(name, o_.env);
+      auto ws = make_starter(name, o_.env);
       StarterRecord rec;
       rec.name = ws->name();
       rec.uses_oracle = ws->uses_oracle();
@@ -254,7 +263,7 @@ class BenchRun {
     WarmStartEnv env = o_.env;
     env.seed = o_.env.seed ^ (seed * 0x9e3779b97f4a7c15ULL);
     Starters starters;
-    for (const auto& name : o_.warmstarts) starters.push_back(registry_.make(name, env));
+    for (const auto& name : o_.warmstarts) starters.push_back(make_starter(name, env));
     if (o_.mode == Mode::Paired) {
       run_paired(seed, def, starters);
     } else {
@@ -263,6 +272,12 @@ class BenchRun {
   }
 
  private:
+  std::unique_ptr<WarmStarter> make_starter(const std::string& name, const WarmStartEnv& env) const {
+    if (!make_mutex_) return registry_.make(name, env);
+    const std::lock_guard<std::mutex> lock(*make_mutex_);
+    return registry_.make(name, env);
+  }
+
   /// Paired mode: one reference trajectory advanced with λ*; every starter solves each of
   /// its steps. The first seed's trajectory is recorded for the report's frame.
   void run_paired(std::uint64_t seed, const WorldDef& def, const Starters& starters) {
@@ -372,8 +387,54 @@ class BenchRun {
   const std::unique_ptr<LcpSolver> solver_;
   std::unique_ptr<SolverComparison> comparison_;  // runs only when o.solvers is not empty
   StepOutcome outcome_;  // reused by every evaluation
+  std::mutex* make_mutex_;
   long done_ = 0, total_ = 0;
 };
+
+/// o.jobs threads take the seeds one at a time (the next seed in o.seeds order goes to the first
+/// free thread); each seed runs into its own results with its own solver and starters, and the
+/// results are joined in o.seeds order. Every figure but the timings is therefore that of one
+/// thread; the timings share the machine (docs/bench.md "Parallel seeds").
+BenchResults run_seeds_in_parallel(const BenchOptions& o, const WarmStarterRegistry& registry,
+                                   const ProgressFn& progress) {
+  const std::size_t n = o.seeds.size();
+  std::vector<BenchResults> per_seed;
+  per_seed.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) per_seed.push_back(results_with_budgets(o));
+  std::mutex make_mutex, progress_mutex;
+  long done = 0;
+  // Every run holds all the seeds in its options (so that the first seed's run records the
+  // report's frame), so its progress total is already the whole bench's.
+  const ProgressFn one_step = [&](long, long total, const std::string& note) {
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    ++done;
+    if (progress) progress(done, total, note);
+  };
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto worker = [&] {
+    for (std::size_t i; (i = next.fetch_add(1)) < n;) {
+      try {
+        BenchRun run(o, registry, one_step, per_seed[i], &make_mutex);
+        run.add_starter_records();
+        run.run_seed(o.seeds[i]);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next.store(n);  // the other threads stop after their current seed
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  const std::size_t count = std::min<std::size_t>(static_cast<std::size_t>(o.jobs), n);
+  for (std::size_t t = 0; t < count; ++t) threads.emplace_back(worker);
+  for (auto& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
+  BenchResults r = std::move(per_seed[0]);
+  for (std::size_t i = 1; i < n; ++i) append_results(r, per_seed[i]);
+  return r;
+}
 
 }  // namespace
 
@@ -389,10 +450,15 @@ std::vector<int> default_budgets(int sweeps) {
 BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registry, const ProgressFn& progress) {
   check_options(o);
   const auto wall0 = Clock::now();
-  BenchResults r = results_with_budgets(o);
-  BenchRun run(o, registry, progress, r);
-  run.add_starter_records();
-  for (const std::uint64_t seed : o.seeds) run.run_seed(seed);
+  BenchResults r;
+  if (o.jobs > 1 && o.seeds.size() > 1) {
+    r = run_seeds_in_parallel(o, registry, progress);
+  } else {
+    r = results_with_budgets(o);
+    BenchRun run(o, registry, progress, r);
+    run.add_starter_records();
+    for (const std::uint64_t seed : o.seeds) run.run_seed(seed);
+  }
   r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall0).count();
   return r;
 }

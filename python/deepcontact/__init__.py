@@ -77,7 +77,7 @@ _DEFAULT_SEEDS = (1, 2)
 
 def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="paired", out=None, *,
           set={}, sweeps=None, tol=1e-2, solver="pgs", steps=None, model="", progress=False, solvers=None,
-          accuracy=1e-6):
+          accuracy=1e-6, jobs=1):
     """Run the warm-start benchmark of ``deepcontact bench`` and return its summary as a dict
     (the content of summary.json; with ``out`` the whole report is written there too).
 
@@ -94,12 +94,15 @@ def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="
     "median_ms_to_accuracy", "median_iterations_to_accuracy", "median_total_ms"}}}.
     accuracy: its target R (``--accuracy``): natural-map residual <= R x the heaviest body's
     weight m g (default 1e-6; docs/bench.md "Solver comparison").
+
+    jobs: seeds run at once, each on its own thread (``--jobs``); every figure but the timings
+    equals ``jobs=1``'s (docs/bench.md "Parallel seeds").
     """
     if quick and seeds is _DEFAULT_SEEDS:
         seeds = (1,)
     return _bench(scene=scene, set=set, warmstarts=warmstarts, seeds=seeds, quick=quick, mode=mode, out=out,
                   sweeps=sweeps, tol=tol, solver=solver, steps=steps, model=model, progress=progress,
-                  solvers=solvers, accuracy=accuracy)
+                  solvers=solvers, accuracy=accuracy, jobs=jobs)
 
 
 from .trajectory import Trajectory, read_trajectory  # noqa: E402,F401

@@ -34,7 +34,8 @@ std::vector<std::uint64_t> seeds_from_python(pyb::handle seeds) {
 
 pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, pyb::object seeds, bool quick,
                   const std::string& mode, pyb::object out, pyb::object sweeps, double tol, const std::string& solver,
-                  pyb::object steps, const std::string& model, bool progress, pyb::object solvers, double accuracy) {
+                  pyb::object steps, const std::string& model, bool progress, pyb::object solvers, double accuracy,
+                  int jobs) {
   WarmStarterRegistry registry = cli_registry();
   bench::BenchOptions o;
   o.scene = scene_from_python(scene, set);
@@ -50,6 +51,7 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
     if (o.solvers.empty()) throw ConfigError("bench: solvers is empty (None turns the solver comparison off)");
   }
   o.accuracy = accuracy;
+  o.jobs = jobs;
   if (mode == "paired") o.mode = bench::Mode::Paired;
   else if (mode == "rollout") o.mode = bench::Mode::Rollout;
   else throw ConfigError("--mode must be 'paired' or 'rollout', got '" + mode + "'");
@@ -123,13 +125,14 @@ void bind_bench(pyb::module_& m) {
         pyb::arg("mode") = "paired", pyb::arg("out") = pyb::none(), pyb::arg("sweeps") = pyb::none(),
         pyb::arg("tol") = 1e-2, pyb::arg("solver") = "pgs", pyb::arg("steps") = pyb::none(),
         pyb::arg("model") = "", pyb::arg("progress") = false, pyb::arg("solvers") = pyb::none(),
-        pyb::arg("accuracy") = 1e-6,
+        pyb::arg("accuracy") = 1e-6, pyb::arg("jobs") = 1,
         "The warm-start benchmark (`deepcontact bench`); returns the summary (summary.json) as a dict.\n\n"
         "solvers: a list of solver names (e.g. ['pgs', 'nncg', 'newton-sparse']) turns on the solver comparison "
         "(`--solvers`, paired mode): every solver solves every step from every starter's guess, and the summary gains "
         "'solvers': {SOLVER: {STARTER: {'reached_share', 'median_ms_to_accuracy', 'median_iterations_to_accuracy', "
         "'median_total_ms'}}}. accuracy: its target R (`--accuracy`), natural-map residual <= R x the heaviest "
-        "body's weight m g (default 1e-6).");
+        "body's weight m g (default 1e-6). jobs: seeds run at once on their own threads (`--jobs`); the results "
+        "equal one thread's bar the timings.");
   m.def("warmstarters", [] { return cli_registry().names(); }, "Names of the C++ warm starters.");
 }
 

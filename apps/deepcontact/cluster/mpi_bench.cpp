@@ -5,6 +5,7 @@
 
 #include "cluster/byte_buffer.hpp"
 #include "cluster/comm.hpp"
+#include "dc/bench/bench_merge.hpp"
 
 namespace dc::cli {
 namespace {
@@ -61,43 +62,6 @@ bench::BenchResults unpack(const Bytes& b) {
   return r;
 }
 
-template <class T>
-void append(std::vector<T>& to, const std::vector<T>& from) {
-  to.insert(to.end(), from.begin(), from.end());
-}
-
-void append(bench::BenchResults& to, const bench::BenchResults& from) {
-  append(to.step_seed, from.step_seed);
-  append(to.step_index, from.step_index);
-  append(to.step_rows, from.step_rows);
-  append(to.oracle_ms, from.oracle_ms);
-  append(to.oracle_residual, from.oracle_residual);
-  to.skipped_steps += from.skipped_steps;
-  append(to.collide_ms, from.collide_ms);
-  append(to.assemble_ms, from.assemble_ms);
-  append(to.integrate_ms, from.integrate_ms);
-  if (from.starters.size() != to.starters.size()) throw IoError("bench: ranks report different starter lists");
-  for (std::size_t i = 0; i < to.starters.size(); ++i) {
-    bench::StarterRecord& t = to.starters[i];
-    const bench::StarterRecord& f = from.starters[i];
-    append(t.seed, f.seed);
-    append(t.step, f.step);
-    append(t.rows, f.rows);
-    append(t.sweeps_to_tol, f.sweeps_to_tol);
-    append(t.sweeps_to_tol_high, f.sweeps_to_tol_high);
-    append(t.warmstart_ms, f.warmstart_ms);
-    append(t.oracle_ms, f.oracle_ms);
-    append(t.solve_ms, f.solve_ms);
-    append(t.sweep_ns_per_row, f.sweep_ns_per_row);
-    append(t.initial_error, f.initial_error);
-    append(t.theta, f.theta);
-    append(t.residual, f.residual);
-    append(t.lambda_error, f.lambda_error);
-    append(t.penetration, f.penetration);
-    append(t.energy_error, f.energy_error);
-  }
-}
-
 }  // namespace
 
 bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& o, const WarmStarterRegistry& registry,
@@ -128,7 +92,7 @@ bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& o, const W
   const std::vector<Bytes> all = comm.gather(pack(local));
   if (!comm.is_root()) return local;
   bench::BenchResults merged = unpack(all[0]);
-  for (std::size_t r = 1; r < all.size(); ++r) append(merged, unpack(all[r]));
+  for (std::size_t r = 1; r < all.size(); ++r) bench::append_results(merged, unpack(all[r]));
   // The options as run_bench resolved them (e.g. the default --budget), with every rank's seeds.
   merged.options = local.options;
   merged.options.seeds = o.seeds;

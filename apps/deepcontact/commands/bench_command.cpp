@@ -47,6 +47,7 @@ struct BenchArgs {
   int scale_oracle_max = 600;
   std::string solvers;
   double accuracy = 1e-6;
+  int jobs = 1;
 };
 
 /// Writes the bench report into a staging directory next to `out` and renames it onto `out`
@@ -104,6 +105,7 @@ void run(const BenchArgs& a) {
   o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
   o.tolerance = a.tol;
   o.solver = a.solver;
+  o.jobs = a.jobs;
   o.env.model_path = a.model;
   set_solver_comparison(a, o);
   if (a.mode == "paired") o.mode = bench::Mode::Paired;
@@ -216,6 +218,11 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--accuracy", args->accuracy,
                   "Accuracy target R of --solvers: natural-map residual <= R x the heaviest body's weight m g")
       ->capture_default_str();
+  cmd->add_option("--jobs", args->jobs,
+                  "Seeds run at once, each on its own thread (results equal --jobs 1 bar the timings, which then "
+                  "share the cores; make bench uses every core)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("--scale", args->scale,
                   "Size sweep: run the scene at these body counts N1,N2,... keeping its shape (writes scale.md/.csv/.png "
                   "with --out)");

@@ -66,6 +66,10 @@ struct BenchOptions {
   /// max_i(m_i |g| Δt) with the residual taken as the impulse residual·Δt. Without gravity
   /// (or without a body of finite mass) the scale is 1 N.
   double accuracy = 1e-6;
+  /// Seeds run at once, each on its own thread (≥ 1). The results are those of one thread bar the
+  /// timings, which then share the machine's cores and memory: per-step ms rise a little when
+  /// jobs approach the core count (docs/bench.md "Parallel seeds"). 1 = one seed after another.
+  int jobs = 1;
 };
 
 /// One (solver, starter) pair of the solver comparison: one entry per evaluated step.
