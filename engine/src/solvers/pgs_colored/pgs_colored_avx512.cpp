@@ -12,7 +12,7 @@
 // The first version used hardware gathers/scatters (vgatherdpd/vscatterdpd, 6 + 6 per batch): on
 // Zen 4 the scatters alone made it only 1.35× faster than the scalar lane loop
 // (benchmarks/micro/micro_pgs.cpp). Bodies of one colour are distinct, so the stores never collide.
-#include "solvers/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>

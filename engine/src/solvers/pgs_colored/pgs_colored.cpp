@@ -38,7 +38,7 @@
 #include "dc/core/error.hpp"
 #include "dc/engine/pgs_colored.hpp"
 #include "lcp/contact_coloring.hpp"
-#include "solvers/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 

@@ -8,7 +8,7 @@
 // Bodies: 4 aligned 256-bit loads of (v_x, v_y, ω, 0) and a 4 × 4 transpose (4 unpacks, 3
 // lane permutes), written back by the inverse transpose and a store per lane whose body is
 // written (ka/kb: a predictable branch; vmaskmovpd stores are slow on AMD cores).
-#include "solvers/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>

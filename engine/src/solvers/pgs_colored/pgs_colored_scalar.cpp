@@ -5,7 +5,7 @@
 // compare-and-select of the vector kernels (the same value for ±0 and NaN as std::max/min).
 #include <cmath>
 
-#include "solvers/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_manifold_block.hpp"  // DC_PGS_FMA_CLONES
 
 namespace dc::colored {
