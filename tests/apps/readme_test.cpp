@@ -74,7 +74,7 @@ TEST(Readme, LayoutTableNamesEveryFolderOfCode) {
   for (const auto& e : fs::directory_iterator(DC_SOURCE_DIR)) {
     const std::string name = e.path().filename().string();
     if (!e.is_directory() || name.empty() || name[0] == '.') continue;
-    if (fs::exists(e.path() / "CMakeLists.txt")) EXPECT_TRUE(listed.count(name)) << name << "/ is missing from the layout";
+    if (fs::exists(e.path() / "CMakeLists.txt")) { EXPECT_TRUE(listed.count(name)) << name << "/ is missing from the layout"; }
   }
   for (const char* dir : {"apps", "tests", "scripts", "docs", "python"}) EXPECT_TRUE(listed.count(dir)) << dir;
 }

@@ -180,7 +180,7 @@ TEST(ContactConstraints, WorldAssemblesOneEntryPerContact) {
       EXPECT_EQ(k[c].body_b, ct.body_b);
       EXPECT_EQ(k[c].mu, mu);
       EXPECT_EQ(k[c].has_friction(), mu > 0);
-      if (mu > 0) EXPECT_EQ(k[c].tangent_row, k[c].normal_row + 1);
+      if (mu > 0) { EXPECT_EQ(k[c].tangent_row, k[c].normal_row + 1); }
     }
     // A formed on demand equals J M⁻¹ Jᵀ Δt, and the residual through J agrees with it.
     LcpProblem with_a = p;

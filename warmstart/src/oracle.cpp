@@ -20,33 +20,30 @@ OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess,
     return res <= o.tolerance * std::max(1.0, l.cwiseAbs().maxCoeff());
   };
 
-  // Stage 1: PGS from the guess to a tight θ. From a good guess (the previous step's λ*
-  // matched by key) this is the cheapest accurate solve on contact piles (~ms), and it
-  // always makes progress.
+  // Stage 1: the iterative solver from the guess to a tight θ. From a good guess (the previous
+  // step's λ* matched by key) this is the cheapest accurate solve on contact piles (~ms).
   SolverOptions po;
   po.record_theta = false;
   po.max_sweeps = o.polish_sweeps;
   po.tolerance = o.polish_theta;
-  const auto pgs = make_solver(p.has_jacobian() ? "pgs" : "pgs-assembled");
-  const SolveResult q = pgs->solve(p, start, po);
+  const SolveResult q = make_solver(o.iterative)->solve(p, start, po);
   out.lambda = q.lambda.size() == n && q.lambda.allFinite() ? q.lambda : start;
   out.residual = natural_residual(p, out.lambda);
-  out.method = "pgs";
-  if (good(out.lambda, out.residual)) {
-    out.accurate = true;
-    return out;
-  }
-  // Stage 2: the Newton-type method from the PGS result; keep whichever is more accurate.
-  SolverOptions so;
-  so.record_theta = false;
-  so.exact_tolerance = o.tolerance;
-  const SolveResult r = make_solver(o.solver)->solve(p, out.lambda, so);
-  if (r.lambda.size() == n && r.lambda.allFinite()) {
+  out.method = o.iterative;
+  // Stages 2 and 3: Newton-type methods from the most accurate iterate; each result is kept
+  // only if it is more accurate.
+  for (const std::string* name : {&o.solver, &o.fallback_solver}) {
+    if (name->empty() || good(out.lambda, out.residual)) break;
+    SolverOptions so;
+    so.record_theta = false;
+    so.exact_tolerance = o.tolerance;
+    const SolveResult r = make_solver(*name)->solve(p, out.lambda, so);
+    if (r.lambda.size() != n || !r.lambda.allFinite()) continue;
     const double res = natural_residual(p, r.lambda);
     if (res < out.residual) {
       out.lambda = r.lambda;
       out.residual = res;
-      out.method = "pgs+" + o.solver;
+      out.method += "+" + *name;
     }
   }
   out.accurate = good(out.lambda, out.residual);

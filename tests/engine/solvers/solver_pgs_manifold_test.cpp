@@ -213,7 +213,7 @@ TEST(PgsManifoldBlock, BlockAndRowByRowConvergeToTheSameSolutionOnBoxStructures)
     const Eigen::VectorXd ja = p.J.transpose() * a.lambda, jb = p.J.transpose() * b.lambda;
     const double tol_j = k.pyramid ? 1e-5 : 1e-9;
     EXPECT_LE(max_abs(ja - jb), tol_j * std::max(1.0, max_abs(jb))) << what << " max |Jᵀλ| " << max_abs(jb);
-    if (k.mu == 0) EXPECT_LE(max_abs(a.lambda - b.lambda), 1e-9 * scale) << what;
+    if (k.mu == 0) { EXPECT_LE(max_abs(a.lambda - b.lambda), 1e-9 * scale) << what; }
   }
 }
 
