@@ -27,7 +27,7 @@ namespace {
 struct BenchArgs {
   SceneArgs scene;
   std::string warmstarts;
-  std::string seeds = "1..8";  // enough for zero vs builtin and cnn to separate, ~9 min idle (docs/bench.md)
+  std::string seeds = "1..8";  // enough for zero vs builtin and cnn to separate, ~5 min on 2 idle cores (docs/bench.md)
   int sweeps = 0;
   double tol = 1e-2;
   std::string mode = "paired";
@@ -197,8 +197,8 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
   cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");
   cmd->add_flag("--quick", args->quick,
-                "A short run: one seed, starters zero, builtin, copy, sph (and cnn): 86 s on 2 idle cores (the default "
-                "run: ~11 min; README \"What to expect\")");
+                "A short run: one seed, starters zero, builtin, copy, sph (and cnn): ~35 s on an idle core (the default "
+                "run: ~10 min on one core, ~5 min with --jobs 2; README \"What to expect\")");
   cmd->add_flag("--list", args->list, "List the available warm starters and exit");
   cmd->add_option("--max-sweeps", args->max_sweeps,
                   "Higher cap: steps not at tol within --sweeps continue up to this many sweeps (sweeps to tol "
