@@ -46,6 +46,22 @@ void per_step_fields(const Io& io, bench::BenchResults& r) {
     io(s.penetration);
     io(s.energy_error);
   }
+  std::uint64_t m = r.pairs.size();  // the solver comparison (--solvers)
+  io(m);
+  r.pairs.resize(static_cast<std::size_t>(m));
+  for (bench::SolverPairRecord& q : r.pairs) {
+    io(q.solver);
+    io(q.starter);
+    io(q.seed);
+    io(q.iterations_to_accuracy);
+    io(q.ms_to_accuracy);
+    io(q.total_ms);
+    io(q.final_accuracy);
+    io(q.weight_scale);
+    io(q.trace_offsets);
+    io(q.trace_ms);
+    io(q.trace_accuracy);
+  }
 }
 
 Bytes pack(bench::BenchResults& r) {

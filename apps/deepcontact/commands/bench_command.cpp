@@ -70,13 +70,12 @@ std::size_t write_report_directory(const bench::BenchResults& r, const std::stri
   return files.size();
 }
 
-/// --solvers / --accuracy (the solver comparison, docs/bench.md): one process only, the pairs'
-/// records are not merged across MPI ranks.
+/// --solvers / --accuracy (the solver comparison, docs/bench.md); across MPI ranks the pairs'
+/// records are joined with the rest (mpi_bench.cpp).
 void set_solver_comparison(const BenchArgs& a, bench::BenchOptions& o) {
   if (a.solvers.empty()) return;
   o.solvers = bench::split_list(a.solvers);
   o.accuracy = a.accuracy;
-  if (world().parallel()) throw ConfigError("--solvers runs in one process (the comparison is not merged across ranks)");
 }
 
 void run(const BenchArgs& a) {
