@@ -3,8 +3,10 @@
 // Python that fails) makes the bench exit non-zero with one line naming what is missing.
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "apps/cli_helpers.hpp"
 
@@ -90,6 +92,31 @@ TEST(BenchCli, PlotsThatDoNotApplySaySoInTheReport) {
   for (const char* png : kPlots)
     EXPECT_NE(md.find(std::string(png) + " does not apply to this run: no evaluated steps"), std::string::npos)
         << png << "\n" << md;
+}
+
+TEST(BenchCli, SigtermStopsEveryThreadWritesNothingAndExits143) {
+  test::TempDir dir;
+  const std::filesystem::path out = dir.path() / "earlier";
+  std::filesystem::create_directories(out);
+  std::ofstream(out / "report.md") << "an earlier run\n";
+  const std::string err = (dir.path() / "err.txt").string();
+  // Long enough never to finish first: 4 seeds of the seed scene on two threads.
+  const pid_t pid = test::spawn_cli("bench --warmstarts zero,builtin --seeds 1..4 --jobs 2 --out " + out.string(), err,
+                                    test::ChildLog::StderrOnly);
+  ASSERT_GT(pid, 0);
+  ASSERT_TRUE(test::wait_for(err, "bench: ", pid)) << test::slurp(err);  // the first heartbeat: running
+  ::kill(pid, SIGTERM);
+  ASSERT_EQ(test::wait_exit(pid), 143) << test::slurp(err);
+  const std::string log = test::slurp(err);
+  const std::size_t at = log.find("deepcontact: bench interrupted by SIGTERM after ");
+  ASSERT_NE(at, std::string::npos) << log;
+  EXPECT_EQ(log.find('\n', at), log.size() - 1) << log;  // one line, the last
+  EXPECT_NE(log.find("nothing written"), std::string::npos) << log;
+  // The earlier DIR is untouched and no staging directory is left next to it.
+  EXPECT_EQ(test::slurp((out / "report.md").string()), "an earlier run\n");
+  std::size_t entries = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++entries;
+  EXPECT_EQ(entries, 2u);  // earlier/ and err.txt
 }
 
 }  // namespace

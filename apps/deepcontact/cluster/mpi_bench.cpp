@@ -95,7 +95,7 @@ bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& o, const W
   mine.seeds.assign(o.seeds.begin() + static_cast<std::ptrdiff_t>(begin), o.seeds.begin() + static_cast<std::ptrdiff_t>(end));
   bench::BenchResults local;
   if (!mine.seeds.empty()) {
-    local = bench::run_bench(mine, registry, comm.is_root() ? progress : bench::ProgressFn());
+    local = bench::run_bench(mine, registry, progress);  // every rank: it also polls for stop signals
   } else {
     // More ranks than seeds: validate the options as the others do (same errors everywhere),
     // contribute nothing.

@@ -16,8 +16,8 @@ struct DistributedBenchTimes {
 
 /// As bench::run_bench, across world() (serial: run_bench itself). Rank 0 returns the merged
 /// results (wall_seconds: from the start to after the merge); the other ranks return their
-/// own block's results, which they should not report. `progress` is called on rank 0 only,
-/// for its own block.
+/// own block's results, which they should not report. `progress` is called on every rank for
+/// its own block (each polls for stop signals there; only rank 0 should draw).
 bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& options, const WarmStarterRegistry& registry,
                                            const bench::ProgressFn& progress, DistributedBenchTimes* times = nullptr);
 

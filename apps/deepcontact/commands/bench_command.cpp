@@ -8,6 +8,7 @@
 
 #include "cluster/comm.hpp"
 #include "cluster/mpi_bench.hpp"
+#include "cluster/sigint_guard.hpp"
 #include "commands/cli_common.hpp"
 #include "commands/commands.hpp"
 #include "dc/bench/bench_report.hpp"
@@ -77,6 +78,12 @@ void set_solver_comparison(const BenchArgs& a, bench::BenchOptions& o) {
   o.solvers = bench::split_list(a.solvers);
   o.accuracy = a.accuracy;
 }
+
+/// Thrown from the progress callback when a stop signal arrived: the bench stops after the
+/// step in progress (every thread), writes nothing and leaves an earlier --out DIR as it was.
+struct BenchStopped {
+  long done = 0, total = 0;
+};
 
 void run(const BenchArgs& a) {
   if (!a.out.empty()) check_output_directory(a.out);  // before the bench runs
@@ -151,11 +158,23 @@ void run(const BenchArgs& a) {
   std::unique_ptr<bench::ProgressBar> bar;
   // Across MPI ranks each runs a block of the seeds and rank 0 reports (mpi_bench.hpp).
   DistributedBenchTimes times;
-  const bench::BenchResults r = run_bench_across_ranks(o, registry, [&](long done, long total, const std::string& note) {
-    if (!bar) bar = std::make_unique<bench::ProgressBar>("bench", total);
-    bar->advance(1, note);
-    (void)done;
-  }, &times);
+  const SigintGuard stop_signals;  // SIGINT/SIGTERM/SIGUSR1: stop after the current step
+  bench::BenchResults r;
+  try {
+    r = run_bench_across_ranks(o, registry, [&](long done, long total, const std::string& note) {
+      if (interrupted()) throw BenchStopped{done, total};
+      if (!world().is_root()) return;  // every rank polls for signals, rank 0 draws the bar
+      if (!bar) bar = std::make_unique<bench::ProgressBar>("bench", total);
+      bar->advance(1, note);
+    }, &times);
+  } catch (const BenchStopped& s) {
+    if (bar) bar->finish();
+    std::fprintf(stderr, "deepcontact: bench interrupted by %s after %ld of %ld steps; nothing written%s\n",
+                 interrupt_signal_name(), s.done, s.total,
+                 a.out.empty() ? "" : (" (" + a.out + " is as it was)").c_str());
+    exit_status() = interrupt_exit_status();
+    return;
+  }
   if (bar) bar->finish();
   if (!world().is_root()) return;
   if (world().parallel())
