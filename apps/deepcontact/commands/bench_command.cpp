@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "cluster/comm.hpp"
@@ -18,6 +19,7 @@
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/scale_sweep.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_lock.hpp"
 #include "dc/io/output_path.hpp"
 #include "dc/research/research_starters.hpp"
 #include <filesystem>
@@ -87,6 +89,10 @@ struct BenchStopped {
 
 void run(const BenchArgs& a) {
   if (!a.out.empty()) check_output_directory(a.out);  // before the bench runs
+  // DIR.lock keeps a second bench off the same DIR (the later rename would replace the first's
+  // report with its own); only rank 0 writes the report.
+  std::optional<OutputLock> lock;
+  if (!a.out.empty() && world().is_root()) lock.emplace(a.out);
   WarmStarterRegistry registry = all_warm_starters(shipped_model());
   if (a.list) {
     std::printf("%s", registry.help().c_str());

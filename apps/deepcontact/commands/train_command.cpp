@@ -43,6 +43,7 @@
 #include "dc/cnn/train_checkpoint.hpp"
 #include "dc/cnn/training_data.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_lock.hpp"
 #include "dc/io/output_path.hpp"
 #include "dc/io/h5.hpp"
 #include "dc/learning/arch.hpp"
@@ -290,6 +291,10 @@ void run(const TrainArgs& a) {
   if (a.data.empty()) throw ConfigError("--data is required");
   if (a.out.empty()) throw ConfigError("--out is required");
   check_output_file(a.out);  // before the data set is read: OUT, OUT.ckpt and OUT.loss.csv live there
+  // OUT.lock keeps a second train (or a resume) off the same OUT, OUT.ckpt and OUT.loss.csv
+  // whatever HDF5_USE_FILE_LOCKING says; only rank 0 writes them.
+  std::optional<OutputLock> lock;
+  if (world().is_root()) lock.emplace(a.out);
   if (a.pgs.gain && a.pgs.loss == "regression")
     throw ConfigError("--gain needs --loss pgs-residual, pgs-distance or pgs-field (a gain model has no label grid to regress on)");
   if (a.pgs.loss != "regression") {
