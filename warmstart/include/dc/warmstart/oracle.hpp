@@ -11,7 +11,7 @@ namespace dc {
 
 /// The oracle's route: an iterative stage from the guess, then Newton-type polishing only where
 /// the iterate is not yet accurate. The defaults are the fastest route measured on the seed
-/// scene (docs/solvers.md "The oracle": nncg + newton-sparse, 4× less oracle time than PGS +
+/// scene (docs/solvers.md "The oracle": nncg + newton-sparse, ~3× less oracle time than PGS +
 /// newton and more accurate on its hardest steps).
 struct OracleOptions {
   /// Stage 1: iterative solver from the guess until θ ≤ polish_theta or polish_sweeps. nncg
