@@ -87,17 +87,8 @@ struct BenchStopped {
   long done = 0, total = 0;
 };
 
-void run(const BenchArgs& a) {
-  if (!a.out.empty()) check_output_directory(a.out);  // before the bench runs
-  // DIR.lock keeps a second bench off the same DIR (the later rename would replace the first's
-  // report with its own); only rank 0 writes the report.
-  std::optional<OutputLock> lock;
-  if (!a.out.empty() && world().is_root()) lock.emplace(a.out);
-  WarmStarterRegistry registry = all_warm_starters(shipped_model());
-  if (a.list) {
-    std::printf("%s", registry.help().c_str());
-    return;
-  }
+/// The bench's options from the command line: the scene, its family and seeds, the starters.
+bench::BenchOptions bench_options(const BenchArgs& a, const WarmStarterRegistry& registry) {
   bench::BenchOptions o;
   o.scene = a.scene.load();
   // A family's own evaluation seeds ([family] seeds) apply when --seeds is not given.
@@ -130,37 +121,42 @@ void run(const BenchArgs& a) {
       if (!registry.make(n, o.env)->uses_oracle() || !a.warmstarts.empty()) kept.push_back(n);
     o.warmstarts = kept;
   }
-  if (!a.scale.empty()) {
-    std::vector<int> counts;
-    for (const auto& item : bench::split_list(a.scale)) {
-      std::size_t used = 0;
-      int v = 0;
-      try { v = std::stoi(item, &used); } catch (const std::exception&) { used = 0; }
-      if (used != item.size() || v < 1) throw ConfigError("--scale '" + a.scale + "': expected body counts N1,N2,… >= 1");
-      counts.push_back(v);
-    }
-    bench::ScaleAxis axis = bench::ScaleAxis::Both;
-    if (a.scale_axis == "height") axis = bench::ScaleAxis::Height;
-    else if (a.scale_axis != "both") throw ConfigError("--scale-axis must be 'both' or 'height', got '" + a.scale_axis + "'");
-    std::unique_ptr<bench::ProgressBar> sbar;
-    const auto points = bench::run_scale_sweep(o, counts, axis, o.oracle ? a.scale_oracle_max + 1 : 1, registry,
-                                               [&](long done, long total, const std::string& note) {
-                                                 if (done == 1 || !sbar) {  // a new size: a new bar
-                                                   if (sbar) sbar->finish();
-                                                   sbar = std::make_unique<bench::ProgressBar>("scale", total);
-                                                 }
-                                                 sbar->advance(1, note);
-                                               });
-    if (sbar) sbar->finish();
-    std::printf("%s", bench::format_scale_table(points, false).c_str());
-    if (!a.out.empty()) {
-      std::vector<std::string> files;  // built next to --out and renamed onto it when complete
-      write_directory_atomically(a.out, [&](const std::string& dir) { files = bench::write_scale_report(points, axis, dir); });
-      std::printf("report: %s/scale.md (%zu files)\n", a.out.c_str(), files.size());
-    }
-    return;
-  }
+  return o;
+}
 
+/// --scale: the size sweep, its table, and with --out its report (docs/bench.md).
+void run_size_sweep(const BenchArgs& a, const bench::BenchOptions& o, const WarmStarterRegistry& registry) {
+  std::vector<int> counts;
+  for (const auto& item : bench::split_list(a.scale)) {
+    std::size_t used = 0;
+    int v = 0;
+    try { v = std::stoi(item, &used); } catch (const std::exception&) { used = 0; }
+    if (used != item.size() || v < 1) throw ConfigError("--scale '" + a.scale + "': expected body counts N1,N2,… >= 1");
+    counts.push_back(v);
+  }
+  bench::ScaleAxis axis = bench::ScaleAxis::Both;
+  if (a.scale_axis == "height") axis = bench::ScaleAxis::Height;
+  else if (a.scale_axis != "both") throw ConfigError("--scale-axis must be 'both' or 'height', got '" + a.scale_axis + "'");
+  std::unique_ptr<bench::ProgressBar> sbar;
+  const auto points = bench::run_scale_sweep(o, counts, axis, o.oracle ? a.scale_oracle_max + 1 : 1, registry,
+                                             [&](long done, long total, const std::string& note) {
+                                               if (done == 1 || !sbar) {  // a new size: a new bar
+                                                 if (sbar) sbar->finish();
+                                                 sbar = std::make_unique<bench::ProgressBar>("scale", total);
+                                               }
+                                               sbar->advance(1, note);
+                                             });
+  if (sbar) sbar->finish();
+  std::printf("%s", bench::format_scale_table(points, false).c_str());
+  if (!a.out.empty()) {
+    std::vector<std::string> files;  // built next to --out and renamed onto it when complete
+    write_directory_atomically(a.out, [&](const std::string& dir) { files = bench::write_scale_report(points, axis, dir); });
+    std::printf("report: %s/scale.md (%zu files)\n", a.out.c_str(), files.size());
+  }
+}
+
+/// The bench across threads and ranks; rank 0 prints the table and writes the report.
+void run_bench(const BenchArgs& a, const bench::BenchOptions& o, const WarmStarterRegistry& registry) {
   std::unique_ptr<bench::ProgressBar> bar;
   // Across MPI ranks each runs a block of the seeds and rank 0 reports (mpi_bench.hpp).
   DistributedBenchTimes times;
@@ -196,6 +192,22 @@ void run(const BenchArgs& a) {
     std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - tw).count());
   }
+}
+
+void run(const BenchArgs& a) {
+  if (!a.out.empty()) check_output_directory(a.out);  // before the bench runs
+  // DIR.lock keeps a second bench off the same DIR (the later rename would replace the first's
+  // report with its own); only rank 0 writes the report.
+  std::optional<OutputLock> lock;
+  if (!a.out.empty() && world().is_root()) lock.emplace(a.out);
+  WarmStarterRegistry registry = all_warm_starters(shipped_model());
+  if (a.list) {
+    std::printf("%s", registry.help().c_str());
+    return;
+  }
+  const bench::BenchOptions o = bench_options(a, registry);
+  if (!a.scale.empty()) run_size_sweep(a, o, registry);
+  else run_bench(a, o, registry);
 }
 
 }  // namespace
