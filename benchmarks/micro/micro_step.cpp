@@ -14,6 +14,10 @@
 //   BM_Record       TrajectoryRecorder::record_step (recorders of 50 reserved steps, as simulate)
 //   BM_Step         World::step + record_step: everything a step of `simulate` costs
 //
+// Last argument `morton`: 0 = the generated bodies in creation order (random in space), 1 = the
+// same bodies numbered in Morton order (`[bodies] order = "morton"`, world_def.hpp): the
+// before/after of the spatial body order, side by side in one run.
+//
 // Counter us_per_row = CPU time / (LCP rows of the state) in microseconds (printed with an
 // "s" suffix because it is an inverted rate; the number is µs per contact row and step):
 // the figure that must stay flat from 1,000 to 40,000 bodies. CPU time (Google Benchmark's
@@ -35,7 +39,7 @@ namespace {
 constexpr int kSettleSteps = 150;
 constexpr int kSettleSweeps = 20;
 
-dc::WorldDef scaled_seed_scene(int n) {
+dc::WorldDef scaled_seed_scene(int n, bool morton) {
   dc::WorldDef def = dc::default_world_def();
   const double side = 3.0 * std::sqrt(static_cast<double>(n));
   def.world.width = def.world.height = side;
@@ -43,6 +47,7 @@ dc::WorldDef scaled_seed_scene(int n) {
   def.bodies.mean = {side / 2, side / 2};
   def.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
   def.solver.sweeps = kSettleSweeps;
+  def.bodies.order = morton ? "morton" : "creation";
   return def;
 }
 
@@ -62,12 +67,12 @@ struct Pile {
   Eigen::VectorXd guess, lambda;
 };
 
-const Pile& pile(int n) {
-  static std::map<int, Pile> piles;
-  auto it = piles.find(n);
+const Pile& pile(int n, bool morton) {
+  static std::map<std::pair<int, bool>, Pile> piles;
+  auto it = piles.find({n, morton});
   if (it != piles.end()) return it->second;
   Pile p;
-  p.world = std::make_unique<dc::World>(scaled_seed_scene(n));
+  p.world = std::make_unique<dc::World>(scaled_seed_scene(n, morton));
   const auto solver = dc::make_solver("pgs");
   const auto builtin = dc::default_warm_starters().make("builtin");
   const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
@@ -77,7 +82,7 @@ const Pile& pile(int n) {
   p.world->assemble();
   p.guess = guess(*p.world);
   p.lambda = solver->solve(p.world->problem(), p.guess, o).lambda;
-  return piles.emplace(n, std::move(p)).first->second;
+  return piles.emplace(std::make_pair(n, morton), std::move(p)).first->second;
 }
 
 void report(benchmark::State& state, const dc::World& w) {
@@ -89,16 +94,18 @@ void report(benchmark::State& state, const dc::World& w) {
 }
 
 int bodies_of(const benchmark::State& s) { return static_cast<int>(s.range(0)); }
+/// The settled pile of the benchmark's arguments (bodies, [sweeps,] morton).
+const Pile& pile_of(const benchmark::State& s, int morton_arg) { return pile(bodies_of(s), s.range(morton_arg) != 0); }
 
 void BM_Collide(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 1);
   dc::World w = *p.world;
   for (auto _ : state) benchmark::DoNotOptimize(w.collide().data());
   report(state, *p.world);
 }
 
 void BM_BroadPhase(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 1);
   const dc::World& w = *p.world;
   const int n = static_cast<int>(w.bodies().size());
   std::vector<double> reach(static_cast<std::size_t>(n));
@@ -116,14 +123,14 @@ void BM_BroadPhase(benchmark::State& state) {
 }
 
 void BM_Assemble(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 1);
   dc::World w = *p.world;
   for (auto _ : state) benchmark::DoNotOptimize(w.assemble().b.data());
   report(state, *p.world);
 }
 
 void BM_WarmStart(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 1);
   const auto builtin = dc::default_warm_starters().make("builtin");
   for (auto _ : state) {
     Eigen::VectorXd g = builtin->initial_guess(dc::StepView{*p.world, nullptr});
@@ -133,7 +140,7 @@ void BM_WarmStart(benchmark::State& state) {
 }
 
 void BM_Solve(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 2);
   const auto solver = dc::make_solver("pgs");
   const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
   for (auto _ : state) {
@@ -144,7 +151,7 @@ void BM_Solve(benchmark::State& state) {
 }
 
 void BM_Integrate(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 1);
   dc::World w = *p.world;  // copy-assigned back each iteration (reuses its memory, not timed)
   for (auto _ : state) {
     state.PauseTiming();
@@ -157,7 +164,7 @@ void BM_Integrate(benchmark::State& state) {
 }
 
 void BM_Record(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 1);
   dc::StepReport rep;
   rep.rows = p.world->problem().rows();
   rep.contacts = static_cast<int>(p.world->contacts().size());
@@ -177,7 +184,7 @@ void BM_Record(benchmark::State& state) {
 }
 
 void BM_Step(benchmark::State& state) {
-  const Pile& p = pile(bodies_of(state));
+  const Pile& p = pile_of(state, 2);
   const auto solver = dc::make_solver("pgs");
   const auto builtin = dc::default_warm_starters().make("builtin");
   const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
@@ -200,13 +207,15 @@ void BM_Step(benchmark::State& state) {
 }
 
 void sizes(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"bodies"});
-  for (int n : {1000, 2500, 10000, 40000}) b->Args({n});
+  b->ArgNames({"bodies", "morton"});
+  for (int n : {1000, 2500, 10000, 40000})
+    for (int morton : {0, 1}) b->Args({n, morton});
 }
 void sizes_sweeps(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"bodies", "sweeps"});
+  b->ArgNames({"bodies", "sweeps", "morton"});
   for (int sweeps : {20, 1})
-    for (int n : {1000, 2500, 10000, 40000}) b->Args({n, sweeps});
+    for (int n : {1000, 2500, 10000, 40000})
+      for (int morton : {0, 1}) b->Args({n, sweeps, morton});
 }
 
 BENCHMARK(BM_Collide)->Apply(sizes)->Unit(benchmark::kMicrosecond);

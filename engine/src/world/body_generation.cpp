@@ -9,6 +9,7 @@
 #include "dc/engine/shape_collide.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/engine/world.hpp"
+#include "world/spatial_order.hpp"
 #include "world_def_limits.hpp"
 
 namespace dc {
@@ -60,6 +61,15 @@ std::string fmt_body(std::size_t i, const BodyDef& b) {
   os << "[[body]] #" << (i + 1) << " at (" << b.position.x << ", " << b.position.y
      << ") radius " << b.radius;
   return os.str();
+}
+
+/// The order in which the generated bodies at `centres` are numbered ([bodies] order):
+/// placement order, or Morton order over cells of side 2·max_r (the broad phase's cell).
+std::vector<int> generated_order(const BodiesSection& g, const std::vector<Vec2>& centres, double max_r) {
+  if (g.order == "morton" && !centres.empty()) return morton_order(centres, 2 * max_r);
+  std::vector<int> order(centres.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  return order;
 }
 
 /// True when the definition has only dynamic circles: the seed's generator, unchanged.
@@ -155,6 +165,13 @@ BodyState make_shaped_bodies(const WorldDef& def) {
   s.reserve(static_cast<std::size_t>(g.count) + def.body.size());
   Rng rng(g.seed);
   const bool round = gen.kind == ShapeKind::Circle;
+  struct Placed {
+    ShapeDef shape;
+    Vec2 x;
+    double theta;
+  };
+  std::vector<Placed> placements;  // in placement order; numbered by [bodies] order below
+  placements.reserve(static_cast<std::size_t>(g.count));
   for (int k = 0; k < g.count; ++k) {
     bool ok = false;
     // As in the circle generator: the radius is drawn before the position (polydisperse).
@@ -173,7 +190,7 @@ BodyState make_shaped_bodies(const WorldDef& def) {
             overlap_gap(probe, e, cand) < 0) { clear = false; break; }
       if (!clear) continue;
       placed.add(x, cur.radius);
-      s.add_shaped(cur, Motion::Dynamic, x, g.density, {}, theta);
+      placements.push_back({cur, x, theta});
       ok = true;
       break;
     }
@@ -181,6 +198,12 @@ BodyState make_shaped_bodies(const WorldDef& def) {
       throw ConfigError("[bodies] could not place body " + std::to_string(k + 1) + " of " + std::to_string(g.count) +
                         " without overlap after " + std::to_string(g.max_attempts) +
                         " attempts: lower count or size, or raise sigma or the box size");
+  }
+  std::vector<Vec2> centres;
+  for (const Placed& q : placements) centres.push_back(q.x);
+  for (const int k : generated_order(g, centres, max_r)) {
+    const Placed& q = placements[static_cast<size_t>(k)];
+    s.add_shaped(q.shape, Motion::Dynamic, q.x, g.density, {}, q.theta);
   }
   if (s.shapes.empty()) s.shapes.add_circles(0);
   for (int i = 0; i < ne; ++i) {
@@ -241,6 +264,8 @@ BodyState make_bodies(const WorldDef& def) {
   BodyState s;
   s.reserve(static_cast<std::size_t>(g.count) + def.body.size());
   Rng rng(g.seed);
+  std::vector<Vec2> centres;  // generated circles in placement order; numbered by [bodies] order below
+  std::vector<double> radii;
   for (int k = 0; k < g.count; ++k) {
     bool ok = false;
     // Without radius_max / region no extra numbers are drawn: circle scenes stay bit-identical.
@@ -250,7 +275,8 @@ BodyState make_bodies(const WorldDef& def) {
                              : Vec2{g.mean.x + rng.gaussian(g.sigma), g.mean.y + rng.gaussian(g.sigma)};
       if (!inside_box(x, r, def.world) || placed.overlapping(x, r) >= 0) continue;
       placed.add(x, r);
-      s.add(x, r, g.density);
+      centres.push_back(x);
+      radii.push_back(r);
       ok = true;
       break;
     }
@@ -260,6 +286,8 @@ BodyState make_bodies(const WorldDef& def) {
                         std::to_string(g.max_attempts) +
                         " attempts: lower count or radius, or raise sigma or the box size");
   }
+  for (const int k : generated_order(g, centres, max_r))
+    s.add(centres[static_cast<size_t>(k)], radii[static_cast<size_t>(k)], g.density);
   for (const BodyDef& b : def.body)
     if (!(b.spawn > 0)) s.add(b.position, b.radius, b.density, b.velocity, b.angle, b.omega);
   return s;

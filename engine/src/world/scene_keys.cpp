@@ -66,6 +66,8 @@ std::span<const SectionKey> section_keys() {
        "0 = all circles have radius; > radius: radius ~ U[radius, radius_max) [m]"},
       {"bodies", "region", Kind::Region, DC_FIELD(Region, WorldDef, bodies.region),
        "[x0, y0, x1, y1]: centres ~ U(region) instead of the Gaussian; all 0 = unset [m]"},
+      {"bodies", "order", Kind::String, DC_FIELD(std::string, WorldDef, bodies.order),
+       "numbering of generated bodies: creation (placement order) or morton (spatial, for cache locality)"},
       {"inflow", "rate", Kind::Number, DC_FIELD(double, WorldDef, inflow.rate), "bodies per second (0 = no inflow)"},
       {"inflow", "region", Kind::Region, DC_FIELD(Region, WorldDef, inflow.region),
        "[x0, y0, x1, y1] where new centres are placed [m]"},

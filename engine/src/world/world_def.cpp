@@ -89,6 +89,8 @@ void WorldDef::validate() const {
                     "[bodies] ");
   radius_max("[bodies] radius_max", bodies.radius_max, bodies.radius);
   region("[bodies] region", bodies.region, false);
+  if (bodies.order != "creation" && bodies.order != "morton")
+    throw ConfigError("[bodies] order: expected \"creation\" or \"morton\", got \"" + bodies.order + "\"");
   non_negative("[inflow] rate", inflow.rate);
   // Every value is finite even where it is unused (an inactive inflow, a circle's size): a NaN
   // in a scene is a mistake wherever it stands.
