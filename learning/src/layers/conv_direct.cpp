@@ -168,4 +168,70 @@ void pad_rows_s2(const float* x, int C, int H, int W, int pl, int r0, int R, int
   }
 }
 
+#if defined(__AVX512F__)
+// One chunk of VB vectors of the flat output, all output channel blocks of OB.
+template <int VB, int OB>
+void direct_flat_chunk(const float* xp, int C, long x_plane, const int* off, int kk, const float* wpk, int cout,
+                       const float* bias, bool relu, float* y, long y_plane, int t0, int n) {
+  const int nb = (cout + OB - 1) / OB;
+  for (int b = 0; b < nb; ++b) {
+    __m512 acc[OB][VB];
+    for (int o = 0; o < OB; ++o)
+      for (int v = 0; v < VB; ++v) acc[o][v] = _mm512_setzero_ps();
+    const float* wr = wpk + static_cast<std::size_t>(b) * C * kk * OB;
+    for (int c = 0; c < C; ++c) {
+      const float* xc = xp + static_cast<std::size_t>(c) * x_plane + t0;
+      for (int tap = 0; tap < kk; ++tap, wr += OB) {
+        __m512 xv[VB];
+        for (int v = 0; v < VB; ++v) {
+          xv[v] = _mm512_loadu_ps(xc + off[tap] + v * kLanes);
+          __asm__("" : "+v"(xv[v]));  // one load per vector (see direct_rows)
+        }
+        for (int o = 0; o < OB; ++o) {
+          const __m512 wv = _mm512_set1_ps(wr[o]);
+          for (int v = 0; v < VB; ++v) acc[o][v] = _mm512_fmadd_ps(wv, xv[v], acc[o][v]);
+        }
+      }
+    }
+    const int on = std::min(OB, cout - b * OB);
+    for (int o = 0; o < on; ++o) {
+      const int oc = b * OB + o;
+      float* yr = y + static_cast<std::size_t>(oc) * y_plane + t0;
+      const __m512 bv = _mm512_set1_ps(bias == nullptr ? 0.0f : bias[oc]);
+      for (int v = 0; v < VB; ++v) {
+        __m512 r = bias == nullptr ? acc[o][v] : _mm512_add_ps(acc[o][v], bv);
+        if (relu) r = _mm512_max_ps(r, _mm512_setzero_ps());
+        const int m = std::clamp(n - t0 - v * kLanes, 0, kLanes);
+        _mm512_mask_storeu_ps(yr + v * kLanes, static_cast<__mmask16>((1u << m) - 1u), r);
+      }
+    }
+  }
+}
+#endif
+
+void direct_flat(const float* xp, int C, long x_plane, const int* off, int kk, const float* wpk, int cout,
+                 const float* bias, bool relu, float* y, long y_plane, int n) {
+#if defined(__AVX512F__)
+  // Chunks of up to 3 vectors: 8·3 accumulators + 3 loaded vectors fit the 32 registers.
+  for (int t0 = 0; t0 < n; t0 += 3 * kLanes) {
+    const int vb = std::min(3, vec_count(n - t0));
+    const bool two = cout <= 2;
+#define DC_FLAT(VB)                                                                                      \
+  if (two)                                                                                               \
+    direct_flat_chunk<VB, 2>(xp, C, x_plane, off, kk, wpk, cout, bias, relu, y, y_plane, t0, n);          \
+  else                                                                                                   \
+    direct_flat_chunk<VB, 8>(xp, C, x_plane, off, kk, wpk, cout, bias, relu, y, y_plane, t0, n);
+    switch (vb) {
+      case 1: DC_FLAT(1) break;
+      case 2: DC_FLAT(2) break;
+      default: DC_FLAT(3) break;
+    }
+#undef DC_FLAT
+  }
+#else
+  (void)xp, (void)C, (void)x_plane, (void)off, (void)kk, (void)wpk, (void)cout, (void)bias, (void)relu;
+  (void)y, (void)y_plane, (void)n;
+#endif
+}
+
 }  // namespace dc::detail

@@ -50,4 +50,20 @@ void pad_rows_s2(const float* x, int C, int H, int W, int pl, int r0, int R, int
 void direct_tile(const float* xp, int C, int R, int Wp, int k, const float* wpk, int cout, const float* bias, bool relu,
                  float* y, int ho, int wo, int oy0, int nrows, int stride = 1);
 
+/// The flat variant for small images, where an output row fills few of a vector's 16 lanes
+/// (a 4 × 4 output would use 4): the output plane is one flat run t = oy·Wq + ox of
+/// n = Ho·Wq elements (row pitch Wq = Wo + halo; the columns ox ≥ Wo are don't-care values,
+/// computed from whatever the buffer holds there, and later never read), and input channel
+/// c's tap `tap` (= ky·k + kx) of output t is xp[c·x_plane + off[tap] + t]. Stride 1 lays
+/// the padded input out as rows of pitch Wq (off = ky·Wq + kx); stride 2 as four phase planes
+/// of padded rows/columns (2i + ρ, 2j + φ) (off = phase(ky%2, kx%2) + (ky/2)·Wq + kx/2).
+/// Lanes are read up to 16·⌈n/16⌉ + max(off) past c·x_plane: the buffer must extend that
+/// far. y[oc·y_plane + t] for t < n; the (c, tap) summation order, bias and ReLU are
+/// direct_tile's, so every output element has direct_tile's bits. Weights packed with
+/// flat_block_channels(cout).
+void direct_flat(const float* xp, int C, long x_plane, const int* off, int kk, const float* wpk, int cout,
+                 const float* bias, bool relu, float* y, long y_plane, int n);
+/// Output channels per register block of direct_flat.
+inline int flat_block_channels(int cout) { return cout <= 2 ? 2 : 8; }
+
 }  // namespace dc::detail

@@ -36,6 +36,8 @@
 
 namespace dc {
 
+class Conv2d;
+
 class InferencePlan {
  public:
   /// Compiles `net` at its current input size with the input standardisation `input_stats`
@@ -71,6 +73,8 @@ class InferencePlan {
     int node = -1;      ///< producing node, −1 = network input
     int channel = 0;    ///< channel in that node's output
     int h = 0, w = 0;   ///< that plane's size
+    int pitch = 0;      ///< its row pitch in the stored layout (w, or a flat step's Wq)
+    long plane = 0;     ///< floats per channel in the stored layout
     bool up = false;    ///< read as out(Y, X) = in(Y/2, X/2)
     bool standardise = false;  ///< network input: (v − mean)·inv
     float mean = 0.0f, inv = 1.0f;
@@ -83,13 +87,18 @@ class InferencePlan {
     bool sparse = false;          ///< the 1×1 head, at the listed pixels only
     int h = 0, w = 0, ho = 0, wo = 0;  ///< (virtual) input and output size
     int pad_top = 0, pad_left = 0;
+    bool flat = false;            ///< direct_flat (small outputs) instead of direct_tile
     int rows = 0, pitch = 0;      ///< padded rows R and row pitch Wp of the kernel's buffer
+    long x_plane = 0;             ///< floats per input channel in the kernel's buffer
+    std::vector<int> off;         ///< flat: offset of each tap (ky·k + kx) in a channel's buffer
     std::vector<Source> src;      ///< cin entries, in concatenation order
     std::vector<float> weight;    ///< packed for the kernel (dense) or [cout][cin] (sparse)
     std::vector<float> bias;      ///< cout entries
   };
 
   bool compile(Network& net);
+  bool add_step(Network& net, std::size_t i, const std::vector<char>& conv, bool plain_layout);
+  void layout_dense(Step& s, Conv2d& layer, bool plain_layout);
   void run_dense(const Step& s, const Tensor& x);
   void run_sparse(const Step& s, const Tensor& x, std::span<const int> pixels);
   [[nodiscard]] const float* plane(const Source& src, const Tensor& x) const;
