@@ -46,7 +46,7 @@ echo "check-determinism: portable build of deepcontact: $((t1 - t0)) s"
 # bodies, other sizes and box, fixed sweeps and tolerance mode, the builtin, sph and copy
 # warm starters, the Newton oracle (box_newton) as the stepping solver, pgs-colored (its
 # kernel is chosen at run time in every build; the rows below the table compare its scalar,
-# AVX2 and AVX-512 kernels in the native build), and the shape scenes (boxes, ellipses,
+# AVX2 and AVX-512 kernels in the native build), the Morton body numbering, and the shape scenes (boxes, ellipses,
 # polygons, static and kinematic bodies).
 scenes=(
   "seed (600 steps, 3000 sweeps)|"
@@ -57,6 +57,8 @@ scenes=(
 --set solver.tolerance=0.01 --steps 150 --warmstart sph"
   "small (newton solver, copy)|--scene scenes/small.toml --set solver.name=newton --warmstart copy"
   "seed, pgs-colored (AVX-512 vs scalar kernel)|--set solver.name=pgs-colored --steps 300"
+  # [bodies] order = "morton": the generated bodies renumbered by integer Morton codes.
+  "seed, bodies in Morton order (300 steps)|--set bodies.order=morton --steps 300"
   # Shape scenes: polygon SAT + clipping, libccd ellipse pairs with the normal
   # polish, static and kinematic bodies; their rotations use det_sincos (no libm).
   "box_pile (60 boxes, two-point manifolds)|--scene scenes/box_pile.toml --steps 200"
