@@ -126,8 +126,8 @@ TEST(H5Checksum, TheShippedModelDetectsEveryFlipThatChangesAValue) {
 // A virtual dataset keeps its source mappings in HDF5's global heap, which has no checksum:
 // damaged mappings made libhdf5 1.10.8 abort or crash in H5Dopen. A file sealed with a hash of
 // all its bytes (AtomicH5File::add_whole_file_hash, what data set manifests use) is checked
-// before libhdf5 reads it: every flip of every bit of the heap — and of the trailer's length
-// and hash — is a one-line error; h5py-style readers that ignore the trailer read it as before.
+// before libhdf5 reads it: a flip in every byte of the heap — and of the trailer's length and
+// hash — is a one-line error; h5py-style readers that ignore the trailer read it as before.
 TEST(H5Checksum, ASealedFileRefusesEveryFlipOfItsVirtualDatasetMappings) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "parts");
@@ -149,16 +149,14 @@ TEST(H5Checksum, ASealedFileRefusesEveryFlipOfItsVirtualDatasetMappings) {
   for (std::size_t b = trailer + 8; b < bytes.size(); ++b) damaged_bytes.push_back(b);
   const std::string flipped = dir / "flipped.h5";
   int refused = 0;
-  for (const std::size_t byte : damaged_bytes) {
-    for (int bit = 0; bit < 8; ++bit) {
-      std::string d = bytes;
-      d[byte] = static_cast<char>(d[byte] ^ (1 << bit));
-      test::write_bytes(flipped, d);
-      const std::string m = io_error([&] { (void)H5File::open_read(flipped); });
-      refused += m.find("checksum mismatch: the file is damaged") != std::string::npos && m.find('\n') == std::string::npos;
-    }
+  for (const std::size_t byte : damaged_bytes) {  // one bit per byte, each bit position in turn
+    std::string d = bytes;
+    d[byte] = static_cast<char>(d[byte] ^ (1 << (byte % 8)));
+    test::write_bytes(flipped, d);
+    const std::string m = io_error([&] { (void)H5File::open_read(flipped); });
+    refused += m.find("checksum mismatch: the file is damaged") != std::string::npos && m.find('\n') == std::string::npos;
   }
-  EXPECT_EQ(refused, static_cast<int>(8 * damaged_bytes.size()));
+  EXPECT_EQ(refused, static_cast<int>(damaged_bytes.size()));
   // Opened for writing, the seal is dropped first (HDF5 may change any byte), and the file
   // still reads the same.
   H5File::open_rw(file).close();
