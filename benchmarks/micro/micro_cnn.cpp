@@ -9,15 +9,21 @@
 //                                     features_ms, inference_ms, gather_ms (the starter's own
 //                                     split, mean per call), contacts.
 //   cnn_warm_start_parts/…            the same three parts timed separately in thread CPU µs
-//                                     (cpu_us_features, cpu_us_network = standardise + network
-//                                     at the stencil nodes, cpu_us_readback = label conversion
-//                                     + Shepard gather + projection).
+//                                     (cpu_us_features, cpu_us_network = the starter's fused
+//                                     InferencePlan at the stencil nodes, standardisation
+//                                     included, cpu_us_readback = label conversion + Shepard
+//                                     gather + projection) and, side by side in the same
+//                                     iteration, cpu_us_network_unfused = the unfused path
+//                                     (Model::network_output_at: standardise a copy,
+//                                     Network::forward_at); the benchmark's own time includes it.
 //   cnn_warm_start_predict_all/…      the same with the whole-grid read-back: predict()
 //                                     converts all 2·61·61 outputs (de-standardise, s·sinh).
 //   cnn_layers/<model>/step:<k>       Model::predict's parts: standardise, every network node
 //                                     (conv incl. its concatenation, upsample, ...), de-standardise;
 //                                     one counter per node in thread CPU µs (mean per call),
 //                                     the whole output computed (Network::forward).
+//   cnn_plan_steps/…                  the fused InferencePlan's steps (each conv with its gather,
+//                                     the sparse head), one counter per step, thread CPU µs.
 //
 // Models: DC_CNN_MODELS = comma-separated model files (name = file stem), default the shipped
 // DC_SOURCE_DIR/models/default.h5. Time: CPU time of the one thread (OMP_NUM_THREADS is
@@ -104,6 +110,20 @@ struct StarterParts {
   }
 };
 
+/// The stencil nodes of the world's contacts, as the starter lists them (its list is private).
+std::vector<int> stencil_pixels(const dc::FeatureImageDef& def, const dc::World& world) {
+  std::vector<int> pixels;
+  dc::SphGrid g(dc::SphGridDef{def.sph.grid.width, def.sph.grid.height, def.sph.grid.spacing, 1});
+  std::vector<char> seen(static_cast<std::size_t>(g.nx() * g.ny()), 0);
+  for (const dc::Contact& c : world.contacts()) {
+    const dc::BilinearStencil st = g.stencil(c.point);
+    for (int j : {st.j0, st.j1})
+      for (int i : {st.i0, st.i1})
+        if (!seen[static_cast<std::size_t>(j * g.nx() + i)]++) pixels.push_back(j * g.nx() + i);
+  }
+  return pixels;
+}
+
 /// features → network_output_at → guess_from_output, each part timed in CPU ms: the
 /// starter's initial_guess without the residual add (its own split is wall time).
 void BM_CnnWarmStartParts(benchmark::State& state, std::string path, int steps) {
@@ -115,36 +135,33 @@ void BM_CnnWarmStartParts(benchmark::State& state, std::string path, int steps) 
   dc::FeatureImageBuilder& builder = *parts.builder;
   dc::Tensor& features = parts.features;
   const bool residual = parts.residual;
-  // The stencil nodes, as the starter lists them (its own list is private).
-  std::vector<int> pixels;
-  {
-    dc::SphGrid g(dc::SphGridDef{def.sph.grid.width, def.sph.grid.height, def.sph.grid.spacing, 1});
-    std::vector<char> seen(static_cast<std::size_t>(g.nx() * g.ny()), 0);
-    for (const dc::Contact& c : world.contacts()) {
-      const dc::BilinearStencil st = g.stencil(c.point);
-      for (int j : {st.j0, st.j1})
-        for (int i : {st.i0, st.i1})
-          if (!seen[static_cast<std::size_t>(j * g.nx() + i)]++) pixels.push_back(j * g.nx() + i);
-    }
-  }
-  double f = 0, n = 0, r = 0;
+  const std::vector<int> pixels = stencil_pixels(def, world);
+  dc::InferencePlan& plan = starter->inference_plan(world);
+  double f = 0, n = 0, u = 0, r = 0;
   for (auto _ : state) {
     const double t0 = cpu_ms();
     builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
                      std::span<float>(features.data(), features.size()));
     const double t1 = cpu_ms();
-    const dc::Tensor& y = model.network_output_at(features, pixels);
+    const dc::Tensor& y = plan.run(features, pixels);
     const double t2 = cpu_ms();
     benchmark::DoNotOptimize(starter->guess_from_output(world, y, !residual).data());
     const double t3 = cpu_ms();
+    // The unfused network (standardise a copy, Network::forward_at) on the same features,
+    // side by side in the same iteration; its output is not read back.
+    benchmark::DoNotOptimize(model.network_output_at(features, pixels).data());
+    const double t4 = cpu_ms();
     f += t1 - t0;
     n += t2 - t1;
     r += t3 - t2;
+    u += t4 - t3;
   }
   const double it = static_cast<double>(state.iterations());
   state.counters["cpu_us_features"] = 1e3 * f / it;
   state.counters["cpu_us_network"] = 1e3 * n / it;
+  state.counters["cpu_us_network_unfused"] = 1e3 * u / it;
   state.counters["cpu_us_readback"] = 1e3 * r / it;
+  state.counters["fused"] = plan.fused() ? 1 : 0;
   state.counters["stencil_nodes"] = static_cast<double>(pixels.size());
 }
 
@@ -214,6 +231,26 @@ void BM_CnnLayers(benchmark::State& state, std::string path, int steps) {
   state.counters["us_destandardise"] = 1e3 * destandardise / n;
 }
 
+// The starter's fused InferencePlan step by step (each conv with its gather of padded
+// input rows: standardisation, concatenation and upsampling included; the sparse head):
+// one counter per step in thread CPU µs (mean per call), at the stencil nodes.
+void BM_CnnPlanSteps(benchmark::State& state, std::string path, int steps) {
+  const dc::World& world = seed_world(steps);
+  StarterParts p(path, world);
+  const std::vector<int> pixels = stencil_pixels(p.def, world);
+  p.builder->features(world.bodies(), world.contacts(), world.previous_contacts(),
+                      std::span<float>(p.features.data(), p.features.size()));
+  dc::InferencePlan& plan = p.starter->inference_plan(world);
+  std::vector<double> step_ms, sum(plan.step_count(), 0.0);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(plan.run(p.features, pixels, &step_ms).data());
+    for (std::size_t i = 0; i < step_ms.size(); ++i) sum[i] += step_ms[i];
+  }
+  const double n = static_cast<double>(state.iterations());
+  for (std::size_t i = 0; i < sum.size(); ++i) state.counters["us_" + plan.step_name(i)] = 1e3 * sum[i] / n;
+  state.counters["fused"] = plan.fused() ? 1 : 0;
+}
+
 std::vector<std::string> model_paths() {
   const char* env = std::getenv("DC_CNN_MODELS");
   if (env == nullptr || *env == '\0') return {std::string(DC_SOURCE_DIR) + "/models/default.h5"};
@@ -239,6 +276,8 @@ int main(int argc, char** argv) {
                                    steps)
           ->Unit(benchmark::kMicrosecond);
       benchmark::RegisterBenchmark(("cnn_layers" + tail).c_str(), BM_CnnLayers, path, steps)
+          ->Unit(benchmark::kMicrosecond);
+      benchmark::RegisterBenchmark(("cnn_plan_steps" + tail).c_str(), BM_CnnPlanSteps, path, steps)
           ->Unit(benchmark::kMicrosecond);
     }
   }

@@ -115,7 +115,11 @@ std::unique_ptr<CnnWarmStarter> CnnWarmStarter::load(const std::filesystem::path
 
 void CnnWarmStarter::prepare(const World& world) {
   const double W = world.def().world.width, H = world.def().world.height;
-  if (builder_ && W == box_w_ && H == box_h_) return;
+  if (builder_ && W == box_w_ && H == box_h_) {
+    if (!plan_ || !plan_->built_for(model_.network())) plan_.emplace(model_.network(), model_.input_stats);
+    return;
+  }
+  plan_.reset();
   const ModelGrid& g = model_.grid();
   // The model's feature image (kernel, d, h, channels) on this scene's box: the same node
   // spacing and kernel support, so a node sees the same physical neighbourhood as in
@@ -142,6 +146,12 @@ void CnnWarmStarter::prepare(const World& world) {
   features_ = Tensor(1, builder_->feature_channels(), ny, nx);
   box_w_ = W;
   box_h_ = H;
+  plan_.emplace(model_.network(), model_.input_stats);
+}
+
+InferencePlan& CnnWarmStarter::inference_plan(const World& world) {
+  prepare(world);
+  return *plan_;
 }
 
 Eigen::VectorXd CnnWarmStarter::guess_from_labels(const World& w, const Tensor& labels, bool project) {
@@ -233,7 +243,7 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
     const Tensor* raw = nullptr;
     {
       const OmpThreads scope(threads_);
-      raw = &model_.network_output_at(features_, stencil_nodes(w));
+      raw = &plan_->run(features_, stencil_nodes(w));
     }
     last_.inference_ms = ms_since(t0);
     t0 = Clock::now();

@@ -9,6 +9,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/learning/initializer.hpp"
+#include "layers/conv_direct.hpp"
 #include "omp_util.hpp"
 
 namespace dc {
@@ -22,6 +23,16 @@ constexpr long kTileFloats = 64 * 1024;
 // the size at which Eigen would parallelise a single GEMM itself (work ≥ 2·50 000), so
 // Eigen never opens nested parallel regions here: all threading is ours.
 constexpr double kParallelMacs = 1e5;
+
+using detail::block_channels;
+using detail::direct_available;
+using detail::direct_tile;
+using detail::kLanes;
+using detail::pack_weights;
+using detail::pad_rows;
+using detail::pad_rows_s2;
+using detail::padded_width;
+using detail::vec_count;
 
 using MatMap = Eigen::Map<Eigen::MatrixXf>;
 using CMatMap = Eigen::Map<const Eigen::MatrixXf>;
@@ -110,182 +121,8 @@ static void im2col_planes(const float* x, int channels, int h, int w, int k, int
   }
 }
 
-
-// Direct stride-1 convolution (no X_col, no GEMM packing). Used where AVX-512 is available
-// and an output row fits in at most 4 vectors of 16 floats (Wo ≤ 64).
-//
-// The input rows a tile needs are copied once into a zero-padded buffer xp [C][R][Wp]
-// (padded row r = input row oy0 + r − p, column p + ix = input column ix, zeros around;
-// Wp leaves room for the last vector of every shifted row), and the weights are packed as
-// wpk [Cout/OB][C][k][k][OB]. Each output row × OB output channels is accumulated in
-// OB·VB zmm registers over (c, ky, kx): one unaligned load of the shifted input row per
-// vector and one broadcast weight per channel. The summation order of an output element
-// is (c, ky, kx) whatever the tile or thread: deterministic.
+// The direct dW kernel (the forward and dX kernels are in conv_direct.cpp).
 namespace {
-constexpr int kLanes = 16;
-constexpr int kMaxVec = 4;  // Wo ≤ 64
-
-bool direct_available(int s, int wo) {
-#if defined(__AVX512F__)
-  return s == 1 && wo <= kLanes * kMaxVec;
-#else
-  (void)s;
-  (void)wo;
-  return false;
-#endif
-}
-int vec_count(int wo) { return (wo + kLanes - 1) / kLanes; }
-// Output channels per register block: OB·VB ≤ 24 accumulators.
-// (A layer with ≤ 2 output channels, like the U-Net's head, uses blocks of 2.)
-int block_channels(int wo, int cout) {
-  if (cout <= 2) return 2;
-  return vec_count(wo) >= 4 ? 4 : 8;
-}
-int padded_width(int wo, int k) { return vec_count(wo) * kLanes + k - 1; }
-
-// wpk[(b·C + c)·k² + tap][j] = w(o = b·OB + j, c, tap), zero for o ≥ Cout.
-// w(o, c, tap) = src[o·so + (c·k² + tap)·sc].
-void pack_weights(const float* src, long so, long sc, int cout, int cin, int kk, int ob, std::vector<float>& wpk) {
-  const int nb = (cout + ob - 1) / ob;
-  wpk.assign(static_cast<std::size_t>(nb) * cin * kk * ob, 0.0f);
-  for (int o = 0; o < cout; ++o)
-    for (int ct = 0; ct < cin * kk; ++ct)
-      wpk[(static_cast<std::size_t>(o / ob) * cin * kk + ct) * ob + o % ob] = src[o * so + ct * sc];
-}
-
-// Copies input rows [r0 − p, r0 − p + R) of x [C][H][W] into xp [C][R][Wp] at column p,
-// zero elsewhere. mask (optional, same layout as x): element kept where mask > 0.
-void pad_rows(const float* x, const float* mask, int C, int H, int W, int p, int r0, int R, int Wp, float* xp) {
-  for (int c = 0; c < C; ++c) {
-    for (int r = 0; r < R; ++r) {
-      float* dst = xp + (static_cast<std::size_t>(c) * R + r) * Wp;
-      const int iy = r0 - p + r;
-      if (iy < 0 || iy >= H) {
-        std::memset(dst, 0, sizeof(float) * Wp);
-        continue;
-      }
-      std::memset(dst, 0, sizeof(float) * p);
-      const std::size_t off = (static_cast<std::size_t>(c) * H + iy) * W;
-      if (mask == nullptr) {
-        std::memcpy(dst + p, x + off, sizeof(float) * W);
-      } else {
-        for (int ix = 0; ix < W; ++ix) dst[p + ix] = mask[off + ix] > 0.0f ? x[off + ix] : 0.0f;
-      }
-      std::memset(dst + p + W, 0, sizeof(float) * (Wp - p - W));
-    }
-  }
-}
-
-#if defined(__AVX512F__)
-// KS: the kernel size if known at compile time (fully unrolled taps), 0 = use k.
-// S: stride 1 or 2. For stride 2 the padded rows are split into column phases,
-// xp [C][R][S][Wp] with phase φ index i = padded column S·i + φ, so that tap kx of output
-// column ox reads phase kx % S at index ox + kx / S: contiguous again. Output row j reads
-// padded row S·j + ky.
-template <int VB, int OB, int KS, int S>
-void direct_rows(const float* xp, int C, int R, int Wp, int kdyn, const float* wpk, int cout, const float* bias,
-                 bool relu, float* y, int ho, int wo, int oy0, int nrows) {
-  const int k = KS > 0 ? KS : kdyn;
-  const int nb = (cout + OB - 1) / OB;
-  const int kk = k * k;
-  for (int j = 0; j < nrows; ++j) {
-    for (int b = 0; b < nb; ++b) {
-      __m512 acc[OB][VB];
-      for (int o = 0; o < OB; ++o)
-        for (int v = 0; v < VB; ++v) acc[o][v] = _mm512_setzero_ps();
-      const float* wb = wpk + static_cast<std::size_t>(b) * C * kk * OB;
-      for (int c = 0; c < C; ++c) {
-        for (int ky = 0; ky < k; ++ky) {
-          const float* xr = xp + (static_cast<std::size_t>(c) * R + j * S + ky) * S * Wp;
-          const float* wr = wb + static_cast<std::size_t>(c * kk + ky * k) * OB;
-          for (int kx = 0; kx < k; ++kx, wr += OB) {
-            __m512 xv[VB];
-            const float* xk = xr + (kx % S) * Wp + kx / S;
-            for (int v = 0; v < VB; ++v) {
-              xv[v] = _mm512_loadu_ps(xk + v * kLanes);
-              // Keep the loaded row in a register: without this GCC folds the load into
-              // each of the OB FMAs (OB unaligned loads instead of one; load-bound).
-              __asm__("" : "+v"(xv[v]));
-            }
-            for (int o = 0; o < OB; ++o) {
-              const __m512 wv = _mm512_set1_ps(wr[o]);
-              for (int v = 0; v < VB; ++v) acc[o][v] = _mm512_fmadd_ps(wv, xv[v], acc[o][v]);
-            }
-          }
-        }
-      }
-      const int on = std::min(OB, cout - b * OB);
-      for (int o = 0; o < on; ++o) {
-        const int oc = b * OB + o;
-        float* yr = y + (static_cast<std::size_t>(oc) * ho + oy0 + j) * wo;
-        const __m512 bv = _mm512_set1_ps(bias == nullptr ? 0.0f : bias[oc]);
-        for (int v = 0; v < VB; ++v) {
-          __m512 r = bias == nullptr ? acc[o][v] : _mm512_add_ps(acc[o][v], bv);
-          if (relu) r = _mm512_max_ps(r, _mm512_setzero_ps());
-          const int n = std::min(kLanes, wo - v * kLanes);
-          _mm512_mask_storeu_ps(yr + v * kLanes, static_cast<__mmask16>((1u << n) - 1u), r);
-        }
-      }
-    }
-  }
-}
-#endif
-
-// Output rows [oy0, oy0 + nrows) of y [cout][ho][wo] from the padded rows in xp.
-void direct_tile(const float* xp, int C, int R, int Wp, int k, const float* wpk, int cout, const float* bias, bool relu,
-                 float* y, int ho, int wo, int oy0, int nrows, int stride = 1) {
-#if defined(__AVX512F__)
-#define DC_ROWS(VB, OB)                                                                          \
-  if (stride == 2)                                                                              \
-    direct_rows<VB, OB, 3, 2>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);   \
-  else if (k == 3)                                                                              \
-    direct_rows<VB, OB, 3, 1>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);   \
-  else                                                                                          \
-    direct_rows<VB, OB, 0, 1>(xp, C, R, Wp, k, wpk, cout, bias, relu, y, ho, wo, oy0, nrows);
-  if (cout <= 2) {
-    switch (vec_count(wo)) {
-      case 1: DC_ROWS(1, 2) break;
-      case 2: DC_ROWS(2, 2) break;
-      case 3: DC_ROWS(3, 2) break;
-      default: DC_ROWS(4, 2) break;
-    }
-    return;
-  }
-  switch (vec_count(wo)) {
-    case 1: DC_ROWS(1, 8) break;
-    case 2: DC_ROWS(2, 8) break;
-    case 3: DC_ROWS(3, 8) break;
-    default: DC_ROWS(4, 4) break;
-  }
-#undef DC_ROWS
-#else
-  (void)xp, (void)C, (void)R, (void)Wp, (void)k, (void)wpk, (void)cout, (void)bias, (void)relu;
-  (void)y, (void)ho, (void)wo, (void)oy0, (void)nrows, (void)stride;
-#endif
-}
-
-// Stride-2 padded rows for direct_rows<…, 2>: xp [C][R][2][Wp], padded row r = input row
-// r0 + r, phase φ index i = input column 2i + φ − pl; zero outside the image.
-void pad_rows_s2(const float* x, int C, int H, int W, int pl, int r0, int R, int Wp, float* xp) {
-  for (int c = 0; c < C; ++c) {
-    for (int r = 0; r < R; ++r) {
-      float* dst = xp + (static_cast<std::size_t>(c) * R + r) * 2 * Wp;
-      const int iy = r0 + r;
-      if (iy < 0 || iy >= H) {
-        std::memset(dst, 0, sizeof(float) * 2 * Wp);
-        continue;
-      }
-      const float* src = x + (static_cast<std::size_t>(c) * H + iy) * W;
-      for (int ph = 0; ph < 2; ++ph, dst += Wp)
-        for (int i = 0; i < Wp; ++i) {
-          const int ix = 2 * i + ph - pl;
-          dst[i] = ix >= 0 && ix < W ? src[ix] : 0.0f;
-        }
-    }
-  }
-}
-
-
 #if defined(__AVX512F__)
 // dWᵀ (K × Cout, column-major, K = C·9) += Σ_pixels dY ⊗ shifted x for a 3×3 stride-1 conv
 // over a whole sample: xp [C][Ho+2][Wp] padded input (p = 1); dY[o, j, lane] at
@@ -403,7 +240,7 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
   if (s_ == 2 && k_ == 3 && direct_available(1, g.wo)) {
     // Stride 2 (3×3): the same kernel on column-phase-split padded rows.
-    const int Wp = vec_count(g.wo) * kLanes + 1;
+    const int Wp = detail::padded_width_s2(g.wo);
     pack_weights(weight_.data(), K, 1, cout_, cin_, 9, block_channels(g.wo, cout_), wpk_);
     // Rows per tile: C·(2·rows + 1)·2·Wp ≤ kTileFloats.
     const int drpt = static_cast<int>(std::clamp<long>((kTileFloats / (2L * cin_ * Wp) - 1) / 2, 1, g.ho));

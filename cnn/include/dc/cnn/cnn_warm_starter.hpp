@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "dc/cnn/feature_image.hpp"
+#include "dc/learning/inference_plan.hpp"
 #include "dc/learning/model.hpp"
 #include "dc/sph/sph_transfer.hpp"
 #include "dc/warmstart/warm_starter.hpp"
@@ -46,7 +47,7 @@ namespace dc {
 /// Milliseconds spent in the parts of initial_guess().
 struct CnnTiming {
   double features_ms = 0;   ///< feature image from bodies and contacts
-  double inference_ms = 0;  ///< Model::predict (standardise, network, de-standardise)
+  double inference_ms = 0;  ///< the network (inference plan: standardisation fused in) at the stencil nodes
   double gather_ms = 0;     ///< Shepard read-back at the contacts, projection
   long calls = 0;           ///< initial_guess() calls (total_timing) that ran the network
 };
@@ -80,11 +81,21 @@ class CnnWarmStarter final : public WarmStarter {
 
   [[nodiscard]] const CnnTiming& last_timing() const { return last_; }
   [[nodiscard]] const CnnTiming& total_timing() const { return total_; }
-  [[nodiscard]] Model& model() { return model_; }
+  /// The model. A caller may change its weights or statistics through it: the compiled
+  /// inference plan is dropped here and rebuilt from the model at the next use.
+  [[nodiscard]] Model& model() {
+    plan_.reset();
+    return model_;
+  }
+  /// What initial_guess() runs the network with: the model compiled for `world`'s grid
+  /// (prepared for its box, as initial_guess() does) into a fused, one-thread InferencePlan.
+  /// Its run(features, stencil nodes) equals Model::network_output_at bit for bit.
+  InferencePlan& inference_plan(const World& world);
 
  private:
-  /// (Re)builds the feature builder and transfer for the scene's box and sizes the network
-  /// for its grid (ConfigError when the network cannot run there).
+  /// (Re)builds the feature builder and transfer for the scene's box, sizes the network
+  /// for its grid (ConfigError when the network cannot run there) and compiles the
+  /// inference plan when missing.
   void prepare(const World& world);
   /// The grid nodes (j·nx + i) of the bilinear stencils of world's contacts, each once.
   std::span<const int> stencil_nodes(const World& world);
@@ -97,6 +108,7 @@ class CnnWarmStarter final : public WarmStarter {
   int threads_;
   std::optional<FeatureImageBuilder> builder_;
   std::optional<SphTransfer> transfer_;
+  std::optional<InferencePlan> plan_;  ///< the model compiled for inference (prepare())
   double box_w_ = -1, box_h_ = -1;
   Tensor features_;
   SphGrid grid_;

@@ -76,6 +76,10 @@ class Network {
   [[nodiscard]] std::size_t size() const { return nodes_.size(); }
   [[nodiscard]] Layer& layer(std::size_t i) { return *nodes_.at(i).layer; }
   [[nodiscard]] const std::string& node_name(std::size_t i) const { return arch_.layers.at(i).name; }
+  /// Node i's input nodes (−1 = the network input; several = their channel concatenation).
+  [[nodiscard]] const std::vector<int>& node_inputs(std::size_t i) const { return nodes_.at(i).inputs; }
+  /// Node i's output sample shape (n = 1).
+  [[nodiscard]] Shape node_shape(std::size_t i) const { return nodes_.at(i).out; }
   /// One line per node: name, layer, input(s), output shape, parameter count.
   [[nodiscard]] std::string summary();
 
