@@ -23,9 +23,9 @@
 // unet-fast and its relatives. Otherwise run() is the unfused path (standardise a copy,
 // Network::forward_at), with the same results.
 //
-// A plan is a snapshot: it copies the weights, biases and statistics when built. Rebuild
-// it after changing any of them or the network's input size. `net` must outlive the plan
-// (the unfused path runs it).
+// Rebuild a plan after changing the network's weights, the statistics or the input size: a
+// fused plan is a snapshot (it copies the weights, biases and statistics when built), the
+// unfused one runs the network as it is. `net` must outlive the plan.
 #include <span>
 #include <string>
 #include <vector>
