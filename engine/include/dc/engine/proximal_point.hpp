@@ -22,6 +22,7 @@
 #include <string>
 
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/newton_sparse.hpp"
 
 namespace dc {
 
@@ -40,6 +41,14 @@ struct ProximalPointDef {
   /// The inner solver (default "newton-sparse"; any name make_solver accepts that reaches
   /// exact_tolerance on a positive definite problem).
   std::string inner_solver = "newton-sparse";
+  /// Settings of the inner solver when it is "newton-sparse": its defaults except exact GMRES
+  /// directions (krylov_forcing = 0) — with the inexact default the warm-started inner solves
+  /// of Siconos' 7002-contact file stalled above the exact tolerance.
+  NewtonSparseDef newton_sparse = [] {
+    NewtonSparseDef d;
+    d.krylov_forcing = 0.0;
+    return d;
+  }();
 };
 
 /// Solves `problem` by the proximal-point route above. The problem must carry A (a problem
