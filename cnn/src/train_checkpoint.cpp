@@ -45,7 +45,9 @@ RunIdentity training_run_identity(const DataSetReader& r, const std::string& arc
           {"contact_weight", num(s.contact_weight)},
           {"residual", s.labels.kind == LabelKind::Residual ? "1" : "0"},
           {"label_scale", num(s.labels.scale)},
-          {"deadzone", num(s.labels.deadzone)}};
+          {"deadzone", num(s.labels.deadzone)},
+          // The buffer fixes the visiting order of a training split larger than it.
+          {"shuffle_buffer", std::to_string(t.shuffle_buffer)}};
   // Only when set, so checkpoints written before --first-step existed stay resumable.
   if (s.first_step > 0) id.emplace_back("first_step", std::to_string(s.first_step));
   return id;

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
+#include "dc/cnn/data_set_samples.hpp"
 #include "dc/core/error.hpp"
 #include "dc/learning/mse_loss.hpp"
 
@@ -28,42 +30,26 @@ void TrainingSampleDef::validate() const {
 }
 
 std::vector<TrainingSample> load_training_samples(const DataSetReader& r, const TrainingSampleDef& def) {
-  def.validate();
-  const std::vector<FeatureChannel>& channels = r.params().image.channels;
-  const auto density_it = std::find(channels.begin(), channels.end(), FeatureChannel::ContactDensity);
-  const int density = density_it == channels.end() ? -1 : static_cast<int>(density_it - channels.begin());
-  if (def.contact_weight > 0 && density < 0)
-    throw ConfigError("--contact-weight needs a contact_density feature channel; " + r.path() + " has none");
-  if (def.labels.kind == LabelKind::Residual) {
-    try {
-      (void)lambda_prev_channels(channels, r.path());
-    } catch (const ConfigError&) {
-      throw ConfigError("--residual needs the feature channels lambda_prev_n and lambda_prev_t; " + r.path() +
-                        " has none (generate it with --channels including them)");
+  const DataSetSamples source(r, def);
+  std::vector<TrainingSample> out(source.size());
+  const auto copy = [](const Tensor& batch, int k, Tensor& one) {
+    one = Tensor(batch.shape().with_batch(1));
+    std::memcpy(one.data(), batch.sample(k), sizeof(float) * batch.shape().sample_count());
+  };
+  Tensor x, y, w;
+  std::vector<std::size_t> block;
+  for (std::size_t first = 0; first < source.size(); first += 64) {
+    block.clear();
+    for (std::size_t i = first; i < std::min(source.size(), first + 64); ++i) block.push_back(i);
+    source.read(block, x, y, w);
+    for (std::size_t k = 0; k < block.size(); ++k) {
+      TrainingSample& t = out[block[k]];
+      copy(x, static_cast<int>(k), t.features);
+      copy(y, static_cast<int>(k), t.labels);
+      if (source.weight_channels() > 0) copy(w, static_cast<int>(k), t.weights);
+      t.simulation = source.simulation(block[k]);
     }
   }
-  std::vector<TrainingSample> out;
-  for (const DataSetSimulation& sim : r.simulations()) {
-    std::vector<std::int64_t> rows;
-    std::int64_t k = 0;
-    while (k < sim.samples && r.sample_step(sim.sample_begin + k) < def.first_step) ++k;
-    for (; k < sim.samples; k += def.every) rows.push_back(sim.sample_begin + k);
-    if (rows.empty()) continue;
-    for (TrainingSample& t : r.training_samples(rows, sim.index)) {
-      training_labels(t.labels, t.features, channels, def.labels);
-      if (def.contact_weight > 0) {
-        const std::size_t P = t.features.shape().plane();
-        t.weights = Tensor(1, 1, t.features.h(), t.features.w());
-        const float* cd = t.features.data() + static_cast<std::size_t>(density) * P;
-        for (std::size_t p = 0; p < P; ++p)
-          t.weights[p] = 1.0f + (cd[p] > 0.0f ? static_cast<float>(def.contact_weight) : 0.0f);
-      }
-      out.push_back(std::move(t));
-    }
-  }
-  if (out.empty())
-    throw ConfigError(r.path() + (def.first_step > 0 ? ": no sample at or after --first-step " + std::to_string(def.first_step)
-                                                     : std::string(": the data set holds no samples")));
   return out;
 }
 
@@ -76,28 +62,26 @@ ModelGrid model_grid_for(const DataSetReader& data, const LabelDef& labels) {
 }
 
 double standardised_mse(Model& model, std::span<const TrainingSample> data, const std::vector<int>& sims, bool in) {
-  std::vector<const TrainingSample*> picked;
-  for (const TrainingSample& s : data)
-    if (std::binary_search(sims.begin(), sims.end(), s.simulation) == in) picked.push_back(&s);
+  return standardised_mse(model, InMemorySamples(data), sims, in);
+}
+
+double standardised_mse(Model& model, const SampleSource& data, const std::vector<int>& sims, bool in) {
+  std::vector<std::size_t> picked;
+  for (std::size_t i = 0; i < data.size(); ++i)
+    if (std::binary_search(sims.begin(), sims.end(), data.simulation(i)) == in) picked.push_back(i);
   if (picked.empty()) return std::numeric_limits<double>::quiet_NaN();
   const MseLoss mse;
   double sum = 0;
-  Tensor x, y;
+  Tensor x, y, w;
   // Batches of 32: batch-1 inference pays a fork–join per layer per sample.
   for (std::size_t first = 0; first < picked.size(); first += 32) {
-    const int b = static_cast<int>(std::min<std::size_t>(32, picked.size() - first));
-    x.resize(picked[first]->features.shape().with_batch(b));
-    y.resize(picked[first]->labels.shape().with_batch(b));
-    for (int k = 0; k < b; ++k) {
-      const TrainingSample& s = *picked[first + static_cast<std::size_t>(k)];
-      std::memcpy(x.sample(k), s.features.data(), s.features.size() * sizeof(float));
-      std::memcpy(y.sample(k), s.labels.data(), s.labels.size() * sizeof(float));
-    }
+    const std::size_t b = std::min<std::size_t>(32, picked.size() - first);
+    data.read(std::span<const std::size_t>(picked).subspan(first, b), x, y, w);
     Tensor pred = model.predict(x);
     compress_labels(pred, model.grid().labels.scale);  // back to the network's label space
     model.output_stats.apply(pred);
     model.output_stats.apply(y);
-    sum += b * mse(pred, y);
+    sum += static_cast<double>(b) * mse(pred, y);
   }
   return sum / static_cast<double>(picked.size());
 }

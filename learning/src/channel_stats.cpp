@@ -1,6 +1,8 @@
 #include "dc/learning/channel_stats.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "dc/core/error.hpp"
 
@@ -13,28 +15,39 @@ ChannelStats ChannelStats::identity(int channels) {
 
 ChannelStats ChannelStats::compute(std::span<const Tensor* const> tensors) {
   if (tensors.empty()) throw InvalidArgument("ChannelStats::compute: no tensors");
-  const int C = tensors[0]->c();
-  std::vector<double> sum(static_cast<std::size_t>(C), 0.0), sq(static_cast<std::size_t>(C), 0.0);
-  double count = 0.0;
-  for (const Tensor* t : tensors) {
-    if (t->c() != C) throw InvalidArgument("ChannelStats::compute: channel count " + std::to_string(t->c()) +
-                                           " != " + std::to_string(C));
-    const std::size_t plane = t->shape().plane();
-    for (int n = 0; n < t->n(); ++n)
-      for (int c = 0; c < C; ++c) {
-        const float* p = t->sample(n) + static_cast<std::size_t>(c) * plane;
-        for (std::size_t i = 0; i < plane; ++i) {
-          sum[static_cast<std::size_t>(c)] += p[i];
-          sq[static_cast<std::size_t>(c)] += double(p[i]) * p[i];
-        }
-      }
-    count += double(t->n()) * plane;
+  ChannelStatsAccumulator acc;
+  for (const Tensor* t : tensors) acc.add(*t);
+  return acc.finish();
+}
+
+void ChannelStatsAccumulator::add(const Tensor& t) {
+  if (channels_ < 0) {
+    channels_ = t.c();
+    sum_.assign(static_cast<std::size_t>(channels_), 0.0);
+    sq_.assign(static_cast<std::size_t>(channels_), 0.0);
   }
-  if (count == 0.0) throw InvalidArgument("ChannelStats::compute: no pixels");
+  const int C = channels_;
+  if (t.c() != C) throw InvalidArgument("ChannelStats::compute: channel count " + std::to_string(t.c()) +
+                                        " != " + std::to_string(C));
+  const std::size_t plane = t.shape().plane();
+  for (int n = 0; n < t.n(); ++n)
+    for (int c = 0; c < C; ++c) {
+      const float* p = t.sample(n) + static_cast<std::size_t>(c) * plane;
+      for (std::size_t i = 0; i < plane; ++i) {
+        sum_[static_cast<std::size_t>(c)] += p[i];
+        sq_[static_cast<std::size_t>(c)] += double(p[i]) * p[i];
+      }
+    }
+  count_ += double(t.n()) * plane;
+}
+
+ChannelStats ChannelStatsAccumulator::finish() const {
+  if (channels_ < 0) throw InvalidArgument("ChannelStats::compute: no tensors");
+  if (count_ == 0.0) throw InvalidArgument("ChannelStats::compute: no pixels");
   ChannelStats s;
-  for (int c = 0; c < C; ++c) {
-    const double m = sum[static_cast<std::size_t>(c)] / count;
-    const double var = std::max(sq[static_cast<std::size_t>(c)] / count - m * m, 0.0);
+  for (int c = 0; c < channels_; ++c) {
+    const double m = sum_[static_cast<std::size_t>(c)] / count_;
+    const double var = std::max(sq_[static_cast<std::size_t>(c)] / count_ - m * m, 0.0);
     const double sd = std::sqrt(var);
     s.mean.push_back(static_cast<float>(m));
     // A (nearly) constant channel carries no information; std 1 avoids blowing up noise.

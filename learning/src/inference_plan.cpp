@@ -31,6 +31,13 @@ bool direct_conv(int k, int stride, int wo) {
   return stride == 1 || (stride == 2 && k == 3);
 }
 
+/// Bits l of lanes lo ≤ l < hi (clamped to [0, 16]).
+unsigned lane_bits(int lo, int hi) {
+  lo = std::clamp(lo, 0, 16);
+  hi = std::clamp(hi, lo, 16);
+  return ((1u << hi) - 1u) & ~((1u << lo) - 1u);
+}
+
 #if defined(__AVX512F__)
 /// Lanes l with lo ≤ l < hi (clamped to [0, 16]).
 [[gnu::always_inline]] inline __mmask16 lane_mask(int lo, int hi) {
@@ -39,23 +46,21 @@ bool direct_conv(int k, int stride, int wo) {
   return static_cast<__mmask16>(((1u << hi) - 1u) & ~((1u << lo) - 1u));
 }
 
-/// Columns ix0 … ix0 + 15 of one (virtual) input row of width w, zero outside [0, w).
-/// `row` is the source row: the plane's row iy, or with UP its row iy/2 read through a
-/// nearest upsampling (column ix reads row[ix/2]). With STD the lanes are standardised,
+/// The lanes of one gathered vector (Columns) from one (virtual) input row, zero outside
+/// the row. `row` is the source row: the plane's row iy, or with UP its row iy/2 read through
+/// a nearest upsampling (column ix reads row[ix/2]). With STD the lanes are standardised,
 /// (v − mean)·inv, the operations of ChannelStats::apply.
 template <bool UP, bool STD>
-[[gnu::always_inline]] inline __m512 source_vector(const float* row, int ix0, int w, __m512 mean, __m512 inv) {
-  const __mmask16 valid = lane_mask(-ix0, w - ix0);
+[[gnu::always_inline]] inline __m512 source_vector(const float* row, const InferencePlan::Columns& col, __m512 mean,
+                                                   __m512 inv) {
+  const auto valid = static_cast<__mmask16>(col.valid);
   __m512 v;
   if constexpr (!UP) {
-    v = _mm512_maskz_loadu_ps(valid, row + ix0);
+    v = _mm512_maskz_loadu_ps(valid, row + col.ix0);
   } else {
-    // Lane l reads source column ⌊(ix0 + l)/2⌋ = sbase + ((ix0 − 2·sbase + l) >> 1).
-    const int sbase = detail::floor_div(ix0, 2);
-    const int sw = (w + 1) / 2;  // source width: w = 2·sw or 2·sw − 1
     const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    const __m512 src = _mm512_maskz_loadu_ps(lane_mask(-sbase, sw - sbase), row + sbase);
-    const __m512i idx = _mm512_srai_epi32(_mm512_add_epi32(iota, _mm512_set1_epi32(ix0 - 2 * sbase)), 1);
+    const __m512 src = _mm512_maskz_loadu_ps(static_cast<__mmask16>(col.up_valid), row + col.sbase);
+    const __m512i idx = _mm512_srai_epi32(_mm512_add_epi32(iota, _mm512_set1_epi32(col.shift)), 1);
     v = _mm512_maskz_mov_ps(valid, _mm512_permutexvar_ps(idx, src));
   }
   if constexpr (STD) v = _mm512_maskz_mul_ps(valid, _mm512_sub_ps(v, mean), inv);
@@ -78,7 +83,7 @@ struct Gather {
 /// column 2i + φ − pl (pad_rows_s2). Layout 2 (stride 2, flat): four planes (ρ, φ) of
 /// [R][pitch], element (i, j) = padded row 2i + ρ, padded column 2j + φ.
 template <bool UP, bool STD>
-void gather_channel(const Gather& g, int layout, float* xp) {
+void gather_channel(const Gather& g, const std::vector<InferencePlan::Columns>& cols, int layout, float* xp) {
   using detail::kLanes;
   const __m512 mean = _mm512_set1_ps(g.mean), inv = _mm512_set1_ps(g.inv);
   const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
@@ -97,15 +102,15 @@ void gather_channel(const Gather& g, int layout, float* xp) {
       continue;
     }
     const float* row = g.base + static_cast<std::size_t>(UP ? iy / 2 : iy) * g.src_pitch;
+    const InferencePlan::Columns* col = cols.data();
     if (layout == 0) {
-      for (int i0 = 0; i0 < Wp; i0 += kLanes)
-        _mm512_mask_storeu_ps(d0 + i0, lane_mask(0, Wp - i0), source_vector<UP, STD>(row, i0 - g.pad_left, g.w, mean, inv));
+      for (int i0 = 0; i0 < Wp; i0 += kLanes, ++col)
+        _mm512_mask_storeu_ps(d0 + i0, lane_mask(0, Wp - i0), source_vector<UP, STD>(row, *col, mean, inv));
       continue;
     }
-    for (int i0 = 0; i0 < Wp; i0 += kLanes) {
-      const int ix0 = 2 * i0 - g.pad_left;
-      const __m512 a = source_vector<UP, STD>(row, ix0, g.w, mean, inv);
-      const __m512 b = source_vector<UP, STD>(row, ix0 + kLanes, g.w, mean, inv);
+    for (int i0 = 0; i0 < Wp; i0 += kLanes, col += 2) {
+      const __m512 a = source_vector<UP, STD>(row, col[0], mean, inv);
+      const __m512 b = source_vector<UP, STD>(row, col[1], mean, inv);
       const __mmask16 m = lane_mask(0, Wp - i0);
       _mm512_mask_storeu_ps(d0 + i0, m, _mm512_permutex2var_ps(a, even, b));
       _mm512_mask_storeu_ps(d1 + i0, m, _mm512_permutex2var_ps(a, odd, b));
@@ -252,6 +257,20 @@ void InferencePlan::layout_dense(Step& s, Conv2d& layer, bool plain_layout) {
     act_[static_cast<std::size_t>(s.node)] = Tensor(1, s.cout, s.ho, s.wo);
   }
   pad_.resize(std::max(pad_.size(), floats));
+  // The gather's source vectors of one padded row (the same for every row and channel).
+  s.cols.clear();
+  const int sw = (s.w + 1) / 2;  // an upsampled source's width: w = 2·sw or 2·sw − 1
+  for (int i0 = 0; i0 < s.pitch; i0 += detail::kLanes)
+    for (int half = 0; half < s.stride; ++half) {
+      Columns c;
+      c.ix0 = (s2 ? 2 * i0 + half * detail::kLanes : i0) - s.pad_left;
+      // Lane l of an upsampled row reads source column ⌊(ix0 + l)/2⌋ = sbase + ((shift + l) >> 1).
+      c.sbase = detail::floor_div(c.ix0, 2);
+      c.shift = c.ix0 - 2 * c.sbase;
+      c.valid = lane_bits(-c.ix0, s.w - c.ix0);
+      c.up_valid = lane_bits(-c.sbase, sw - c.sbase);
+      s.cols.push_back(c);
+    }
 }
 
 const float* InferencePlan::plane(const Source& src, const Tensor& x) const {
@@ -271,9 +290,10 @@ void InferencePlan::run_dense(const Step& s, const Tensor& x) {
     float* dst = xp + static_cast<std::size_t>(c) * static_cast<std::size_t>(s.x_plane);
     const int layout = s.stride == 1 ? 0 : s.flat ? 2 : 1;
     if (src.up) {
-      src.standardise ? gather_channel<true, true>(g, layout, dst) : gather_channel<true, false>(g, layout, dst);
+      src.standardise ? gather_channel<true, true>(g, s.cols, layout, dst) : gather_channel<true, false>(g, s.cols, layout, dst);
     } else {
-      src.standardise ? gather_channel<false, true>(g, layout, dst) : gather_channel<false, false>(g, layout, dst);
+      src.standardise ? gather_channel<false, true>(g, s.cols, layout, dst)
+                      : gather_channel<false, false>(g, s.cols, layout, dst);
     }
   }
   float* y = act_[static_cast<std::size_t>(s.node)].data();
@@ -302,12 +322,14 @@ void InferencePlan::run_sparse(const Step& s, const Tensor& x, std::span<const i
   float* v = block_.data();
   alignas(64) int full[kB], half[kB];  // the block's pixels in a full-size and an upsampled plane
   alignas(64) float res[kB];
+  const double inv_w = 1.0 / W;
   for (int c = 0; c < cin; ++c) bases_[static_cast<std::size_t>(c)] = plane(s.src[static_cast<std::size_t>(c)], x);
   for (std::size_t p0 = 0; p0 < pixels.size(); p0 += kB) {
     const int nb = static_cast<int>(std::min<std::size_t>(kB, pixels.size() - p0));
     for (int b = 0; b < kB; ++b) {
       const int p = pixels[p0 + static_cast<std::size_t>(std::min(b, nb - 1))];
-      const int Y = p / W, X = p % W;
+      // ⌊p / W⌋ without an integer division: (p + ½)/W lies ≥ ½/W from an integer.
+      const int Y = static_cast<int>((p + 0.5) * inv_w), X = p - Y * W;
       full[b] = p;
       half[b] = (Y / 2) * ((W + 1) / 2) + X / 2;
     }

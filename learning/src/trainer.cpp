@@ -13,6 +13,7 @@
 #include "dc/learning/lr_schedule.hpp"
 #include "dc/learning/mse_loss.hpp"
 #include "dc/learning/optimizer.hpp"
+#include "dc/learning/shuffle_stream.hpp"
 
 namespace dc {
 
@@ -24,6 +25,7 @@ void TrainDef::validate() const {
   if (!(weight_decay >= 0.0)) throw ConfigError("train: weight_decay must be >= 0");
   if (!(validation_fraction >= 0.0 && validation_fraction < 1.0))
     throw ConfigError("train: validation_fraction must be in [0, 1)");
+  if (shuffle_buffer < 1) throw ConfigError("train: shuffle_buffer must be >= 1 sample");
   (void)make_lr_schedule(schedule, learning_rate, epochs);
   (void)make_initializer(init);
 }
@@ -32,8 +34,14 @@ Trainer::Trainer(TrainDef def) : def_(std::move(def)) { def_.validate(); }
 
 std::vector<int> Trainer::pick_validation_simulations(std::span<const TrainingSample> data, double fraction,
                                                       Rng& rng) {
-  std::set<int> ids;
-  for (const TrainingSample& s : data) ids.insert(s.simulation);
+  std::vector<int> sims(data.size());
+  for (std::size_t i = 0; i < data.size(); ++i) sims[i] = data[i].simulation;
+  return pick_validation_simulations(std::span<const int>(sims), fraction, rng);
+}
+
+std::vector<int> Trainer::pick_validation_simulations(std::span<const int> sample_simulations, double fraction,
+                                                      Rng& rng) {
+  const std::set<int> ids(sample_simulations.begin(), sample_simulations.end());
   std::vector<int> all(ids.begin(), ids.end());
   const int S = static_cast<int>(all.size());
   if (fraction <= 0.0 || S < 2) return {};
@@ -50,43 +58,10 @@ std::vector<int> Trainer::pick_validation_simulations(std::span<const TrainingSa
 
 namespace {
 
-// Standardised copies of a subset, packed as [N, C, H, W] so minibatches are memcpy's.
-struct Packed {
-  Tensor x, y, w;  // w empty if no sample has weights
-  int n = 0;
-};
-
-Packed pack(std::span<const TrainingSample> data, const std::vector<std::size_t>& idx, const ChannelStats& in,
-            const ChannelStats& out, const Shape& xs, const Shape& ys, int wc) {
-  Packed p;
-  p.n = static_cast<int>(idx.size());
-  p.x.resize(xs.with_batch(p.n));
-  p.y.resize(ys.with_batch(p.n));
-  if (wc > 0) p.w.resize({p.n, wc, ys.h, ys.w});
-  for (int k = 0; k < p.n; ++k) {
-    const TrainingSample& s = data[idx[static_cast<std::size_t>(k)]];
-    std::memcpy(p.x.sample(k), s.features.data(), sizeof(float) * xs.sample_count());
-    std::memcpy(p.y.sample(k), s.labels.data(), sizeof(float) * ys.sample_count());
-    if (wc > 0) {
-      const std::size_t len = static_cast<std::size_t>(wc) * ys.plane();
-      if (s.weights.empty()) std::fill(p.w.sample(k), p.w.sample(k) + len, 1.0f);
-      else std::memcpy(p.w.sample(k), s.weights.data(), sizeof(float) * len);
-    }
-  }
-  if (p.n > 0) {
-    in.apply(p.x);
-    out.apply(p.y);
-  }
-  return p;
-}
-
-void gather(const Tensor& src, const std::vector<std::size_t>& order, std::size_t first, int count, Tensor& dst) {
-  const std::size_t len = src.shape().sample_count();
-  dst.resize(src.shape().with_batch(count));
-  for (int k = 0; k < count; ++k)
-    std::memcpy(dst.sample(k), src.sample(static_cast<int>(order[first + static_cast<std::size_t>(k)])),
-                sizeof(float) * len);
-}
+/// Samples per read of the training split (one run of consecutive rows of a data-set file,
+/// ≈ 1.7 MB at the default grid): large enough for sequential reads, small against the
+/// shuffle buffer so that the buffer mixes many blocks.
+constexpr std::size_t kReadBlock = 16;
 
 /// Checks every sample against the network before any work, so a bad sample fails with its
 /// index instead of deep inside an epoch. Returns the weight channels shared by all weighted
@@ -117,17 +92,17 @@ struct SampleSplit {
 /// Splits the samples by simulation (whole simulations on one side: consecutive frames of a
 /// simulation are nearly identical, so frames on both sides would make the validation loss
 /// a training loss; docs/design.md §4). Fills result.train_simulations.
-SampleSplit split_by_simulation(std::span<const TrainingSample> data, const std::vector<int>& validation_simulations,
+SampleSplit split_by_simulation(std::span<const int> sample_simulations, const std::vector<int>& validation_simulations,
                                 TrainResult& result) {
   const std::set<int> val_ids(validation_simulations.begin(), validation_simulations.end());
   SampleSplit split;
   std::set<int> tr_ids;
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    if (val_ids.count(data[i].simulation)) {
+  for (std::size_t i = 0; i < sample_simulations.size(); ++i) {
+    if (val_ids.count(sample_simulations[i])) {
       split.validation.push_back(i);
     } else {
       split.train.push_back(i);
-      tr_ids.insert(data[i].simulation);
+      tr_ids.insert(sample_simulations[i]);
     }
   }
   result.train_simulations.assign(tr_ids.begin(), tr_ids.end());
@@ -136,15 +111,27 @@ SampleSplit split_by_simulation(std::span<const TrainingSample> data, const std:
 
 /// The model's channel standardisation, from the training split only: statistics that saw
 /// the validation samples would leak them into the inputs the validation loss is measured on.
-void standardise_from_training_split(Model& model, std::span<const TrainingSample> data,
-                                     const std::vector<std::size_t>& train) {
-  std::vector<const Tensor*> fx, fy;
-  for (std::size_t i : train) {
-    fx.push_back(&data[i].features);
-    fy.push_back(&data[i].labels);
+/// One pass in data order, a read block at a time (the sums of ChannelStats::compute).
+void standardise_from_training_split(Model& model, const SampleSource& data, const std::vector<std::size_t>& train) {
+  ChannelStatsAccumulator fx, fy;
+  Tensor x, y, w;
+  for (std::size_t first = 0; first < train.size(); first += kReadBlock) {
+    const std::size_t count = std::min(kReadBlock, train.size() - first);
+    data.read(std::span<const std::size_t>(train).subspan(first, count), x, y, w);
+    fx.add(x);
+    fy.add(y);
   }
-  model.input_stats = ChannelStats::compute(fx);
-  model.output_stats = ChannelStats::compute(fy);
+  model.input_stats = fx.finish();
+  model.output_stats = fy.finish();
+}
+
+/// The shapes of the source against the network's, and its weight channels (0, 1 or C_out).
+void check_source(const SampleSource& data, const Shape& xs, const Shape& ys) {
+  require_shape(data.feature_shape(), xs, "Trainer::train: features");
+  require_shape(data.label_shape(), ys, "Trainer::train: labels");
+  const int wc = data.weight_channels();
+  if (wc != 0 && wc != 1 && wc != ys.c)
+    throw InvalidArgument("Trainer::train: " + std::to_string(wc) + " weight channels fit neither labels nor C = 1");
 }
 
 /// Continues a saved run: the weights are the model's (loaded from the checkpoint); the
@@ -174,19 +161,12 @@ int restore_training_state(const TrainState& resume, Rng& rng, Sgd& sgd, const s
   return resume.epochs_done;
 }
 
-/// The epoch's visiting order of the n training samples: the identity shuffled by
-/// Fisher–Yates from the run's stream (n − 1 draws per epoch, the same on every process).
-void shuffle_order(std::vector<std::size_t>& order, Rng& rng) {
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[rng.uniform_int(i)]);
-}
-
-/// The minibatch work of a run: one epoch of SGD steps over the packed training split, and
-/// the validation loss. Holds the batch buffers (reused by every batch, training and
-/// validation alike) and, with a process group, the buffer of the gradient sum.
+/// The minibatch work of a run: one epoch of SGD steps over the training stream, and the
+/// validation loss. Holds the batch buffers (reused by every batch, training and validation
+/// alike) and, with a process group, the buffer of the gradient sum.
 class MinibatchLoop {
  public:
-  MinibatchLoop(Network& net, const std::vector<ParamRef>& params, Sgd& sgd, const Packed& train, int wc,
+  MinibatchLoop(Network& net, const std::vector<ParamRef>& params, Sgd& sgd, ShuffleStream& train, int wc,
                 const Shape& ys, int batch_size, const DataParallelGroup* group,
                 const std::function<bool()>& keep_going)
       : net_(net), params_(params), sgd_(sgd), train_(train), wc_(wc), ys_(ys), batch_size_(batch_size),
@@ -194,48 +174,48 @@ class MinibatchLoop {
     for (const ParamRef& p : params_) grad_count_ += p.grad->size();
   }
 
-  /// One epoch: a forward, backward and SGD step per minibatch of `order`. Returns false when
-  /// keep_going stopped it; the unfinished epoch is then abandoned (the caller keeps the last
-  /// finished epoch's state). `loss_sum` receives Σ b · (the batch's mean loss).
-  bool train_epoch(const std::vector<std::size_t>& order, double lr, double& loss_sum) {
-    for (std::size_t first = 0; first < order.size(); first += static_cast<std::size_t>(batch_size_)) {
+  /// One epoch: a forward, backward and SGD step per minibatch of the stream (its epoch
+  /// started). Returns false when keep_going stopped it; the unfinished epoch is then
+  /// abandoned (the caller keeps the last finished epoch's state). `loss_sum` receives
+  /// Σ b · (the batch's mean loss).
+  bool train_epoch(double lr, double& loss_sum) {
+    const std::size_t n = train_.size();
+    for (std::size_t first = 0; first < n; first += static_cast<std::size_t>(batch_size_)) {
       // One process polls here; a group polls inside the batch, so all stop at the same batch.
       if (!group_ && keep_going_ && !keep_going_()) return false;
-      const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(batch_size_), order.size() - first));
+      const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(batch_size_), n - first));
       if (group_) {
         bool stop = false;
-        loss_sum += b * parallel_batch(order, b, first, stop);
+        loss_sum += b * parallel_batch(b, stop);
         if (stop) return false;
       } else {
-        loss_sum += b * local_batch(order, b, first);
+        loss_sum += b * local_batch(b);
       }
       sgd_.step(params_, lr);
     }
     return true;
   }
 
-  /// Mean loss over the validation split in inference mode (no dropout, no gradient), in
-  /// data order and in batches of the training batch size (the same sums every epoch).
-  double validation_loss(const Packed& val) {
+  /// Mean loss over the validation samples `val` of `data` in inference mode (no dropout, no
+  /// gradient), read in data order in batches of the training batch size (the same sums
+  /// every epoch) and standardised with the model's statistics.
+  double validation_loss(const SampleSource& data, const std::vector<std::size_t>& val, const ChannelStats& in,
+                         const ChannelStats& out) {
     double vsum = 0.0;
-    std::vector<std::size_t> vorder(static_cast<std::size_t>(val.n));
-    for (std::size_t i = 0; i < vorder.size(); ++i) vorder[i] = i;
-    for (std::size_t first = 0; first < vorder.size(); first += static_cast<std::size_t>(batch_size_)) {
-      const int b = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(batch_size_), vorder.size() - first));
-      gather(val.x, vorder, first, b, xb_);
-      gather(val.y, vorder, first, b, yb_);
-      if (wc_ > 0) gather(val.w, vorder, first, b, wb_);
-      vsum += b * mse_(net_.forward(xb_, false), yb_, wc_ > 0 ? &wb_ : nullptr);
+    for (std::size_t first = 0; first < val.size(); first += static_cast<std::size_t>(batch_size_)) {
+      const std::size_t b = std::min<std::size_t>(static_cast<std::size_t>(batch_size_), val.size() - first);
+      data.read(std::span<const std::size_t>(val).subspan(first, b), xb_, yb_, wb_);
+      in.apply(xb_);
+      out.apply(yb_);
+      vsum += static_cast<double>(b) * mse_(net_.forward(xb_, false), yb_, wc_ > 0 ? &wb_ : nullptr);
     }
-    return vsum / val.n;
+    return vsum / static_cast<double>(val.size());
   }
 
  private:
   /// This process alone: the batch's forward and backward; returns its loss.
-  double local_batch(const std::vector<std::size_t>& order, int b, std::size_t first) {
-    gather(train_.x, order, first, b, xb_);
-    gather(train_.y, order, first, b, yb_);
-    if (wc_ > 0) gather(train_.w, order, first, b, wb_);
+  double local_batch(int b) {
+    train_.next_batch(b, 0, b, xb_, yb_, wb_);
     const Tensor& pred = net_.forward(xb_, true);
     const double loss = mse_(pred, yb_, wc_ > 0 ? &wb_ : nullptr, &grad_);
     net_.backward(grad_);
@@ -245,16 +225,14 @@ class MinibatchLoop {
   /// Data-parallel minibatch (data_parallel.hpp): this process's shard forward and backward,
   /// then one sum over the group of [den·∇ for every parameter, num, den, stop votes].
   /// Returns the whole batch's loss; `stop` = some process's keep_going said no.
-  double parallel_batch(const std::vector<std::size_t>& order, int b, std::size_t first, bool& stop) {
+  double parallel_batch(int b, bool& stop) {
     const int K = group_->size(), r = group_->rank();
     const int lo = static_cast<int>(static_cast<long>(b) * r / K), hi = static_cast<int>(static_cast<long>(b) * (r + 1) / K);
     // An empty shard (b < K) still runs one sample with weight 0: its dropout layers must
     // draw the batch's masks like everyone else's.
     const bool empty = hi == lo;
     const int offset = empty ? 0 : lo, count = empty ? 1 : hi - lo;
-    gather(train_.x, order, first + static_cast<std::size_t>(offset), count, xb_);
-    gather(train_.y, order, first + static_cast<std::size_t>(offset), count, yb_);
-    if (wc_ > 0) gather(train_.w, order, first + static_cast<std::size_t>(offset), count, wb_);
+    train_.next_batch(b, offset, count, xb_, yb_, wb_);  // every process takes the whole batch off the stream
     net_.set_batch_window(offset, b);
     const Tensor& pred = net_.forward(xb_, true);
     net_.set_batch_window(0, 0);
@@ -290,7 +268,7 @@ class MinibatchLoop {
   Network& net_;
   const std::vector<ParamRef>& params_;
   Sgd& sgd_;
-  const Packed& train_;
+  ShuffleStream& train_;
   const int wc_;
   const Shape ys_;
   const int batch_size_;
@@ -321,26 +299,37 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   return train(model, data, cb, nullptr, {});
 }
 
-// The steps of a run, in the order the random stream is drawn (trainer.hpp "Determinism"):
-// the split, then the initial weights (or the restored stream), then per epoch the shuffle
-// and the dropout masks of its batches. Reordering any of them changes every weight.
 TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, const StateCallback& on_epoch,
                            const TrainState* resume, const std::function<bool()>& keep_going) {
   if (data.empty()) throw InvalidArgument("Trainer::train: empty data set");
+  const Network& net = model.network();
+  (void)check_samples(data, net.input_shape(), net.output_shape());  // names the first bad sample
+  const InMemorySamples source(data);
+  return train(model, source, on_epoch, resume, keep_going);
+}
+
+// The steps of a run, in the order the random stream is drawn (trainer.hpp "Determinism"):
+// the split, then the initial weights (or the restored stream), then per epoch the shuffle
+// and the dropout masks of its batches. Reordering any of them changes every weight.
+TrainResult Trainer::train(Model& model, const SampleSource& data, const StateCallback& on_epoch,
+                           const TrainState* resume, const std::function<bool()>& keep_going) {
+  if (data.size() == 0) throw InvalidArgument("Trainer::train: empty data set");
   Network& net = model.network();
   const Shape xs = net.input_shape(), ys = net.output_shape();
-  const int wc = check_samples(data, xs, ys);  // weight channels (0: unweighted)
+  check_source(data, xs, ys);
+  const int wc = data.weight_channels();
 
   Rng rng(def_.seed);
   TrainResult result;
-  result.validation_simulations = pick_validation_simulations(data, def_.validation_fraction, rng);
+  std::vector<int> sims(data.size());
+  for (std::size_t i = 0; i < sims.size(); ++i) sims[i] = data.simulation(i);
+  result.validation_simulations = pick_validation_simulations(std::span<const int>(sims), def_.validation_fraction, rng);
   if (resume && resume->validation_simulations != result.validation_simulations)
     throw InvalidArgument("Trainer::train: resume state belongs to another train/validation split "
                           "(different data set, seed or validation fraction)");
-  const SampleSplit split = split_by_simulation(data, result.validation_simulations, result);
+  const SampleSplit split = split_by_simulation(sims, result.validation_simulations, result);
   standardise_from_training_split(model, data, split.train);
-  const Packed train = pack(data, split.train, model.input_stats, model.output_stats, xs, ys, wc);
-  const Packed val = pack(data, split.validation, model.input_stats, model.output_stats, xs, ys, wc);
+  ShuffleStream train(data, split.train, model.input_stats, model.output_stats, def_.shuffle_buffer, kReadBlock);
 
   Sgd sgd(SgdDef{def_.momentum, def_.weight_decay});
   const std::vector<ParamRef> params = net.parameters();
@@ -350,22 +339,23 @@ TrainResult Trainer::train(Model& model, std::span<const TrainingSample> data, c
   net.set_rng(&rng);  // the dropout masks come from the run's stream too
   const auto schedule = make_lr_schedule(def_.schedule, def_.learning_rate, def_.epochs);
   MinibatchLoop loop(net, params, sgd, train, wc, ys, def_.batch_size, group_, keep_going);
-  std::vector<std::size_t> order(static_cast<std::size_t>(train.n));
   TrainState state;  // handed to the callback after every epoch
   state.validation_simulations = result.validation_simulations;
   state.rng_type = rng.algorithm();
 
   for (int epoch = first_epoch; epoch < def_.epochs; ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
-    shuffle_order(order, rng);
+    train.start_epoch(rng);
     const double lr = schedule->rate(epoch);
     double loss_sum = 0.0;
-    if (!loop.train_epoch(order, lr, loss_sum)) break;  // stopped: the unfinished epoch is not reported
+    if (!loop.train_epoch(lr, loss_sum)) break;  // stopped: the unfinished epoch is not reported
     EpochReport rep;
     rep.epoch = epoch;
     rep.learning_rate = lr;
-    rep.train_loss = loss_sum / std::max(1, train.n);
-    rep.validation_loss = val.n > 0 ? loop.validation_loss(val) : std::numeric_limits<double>::quiet_NaN();
+    rep.train_loss = loss_sum / static_cast<double>(std::max<std::size_t>(1, train.size()));
+    rep.validation_loss = split.validation.empty()
+                              ? std::numeric_limits<double>::quiet_NaN()
+                              : loop.validation_loss(data, split.validation, model.input_stats, model.output_stats);
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.history.push_back(rep);
     if (on_epoch) {

@@ -19,7 +19,7 @@ import sys
 
 import h5py
 
-FAMILIES = ["seed", "impact", "deep", "pour", "drum", "polydisperse", "box_pile"]
+FAMILIES = ["seed", "impact", "impact_1000", "deep", "pour", "drum", "polydisperse", "box_pile"]
 PAIRS = [("pgs", "builtin"), ("nncg", "builtin"), ("newton-sparse", "zero"), ("newton-sparse", "builtin"),
          ("newton-sparse", "cnn"), ("newton-sparse", "copy")]
 BEGIN, END = "<!-- solver-comparison:begin -->", "<!-- solver-comparison:end -->"

@@ -9,7 +9,8 @@
 #
 #   research/scripts/solver-comparison.sh [BUILD_DIR] [OUT_DIR]   (defaults: build, results/solvers)
 #
-# Environment: ONLY="impact deep" (a subset of: seed impact deep pour drum polydisperse box_pile),
+# Environment: ONLY="impact deep" (a subset of: seed impact deep pour drum polydisperse box_pile;
+# impact_1000, the impact family at 1,000 bodies, ~15 min on 2 shared cores, only when named),
 # SEEDS (instead of each family's seeds), STEPS=N (evaluated steps per seed, default 10),
 # DEEP_ORACLE=1 (the oracle on the settled deep pile too, which `copy` needs; default off: deep
 # then runs --no-oracle without copy), SOLVERS (default pgs,nncg,newton-sparse), NO_DOCS=1 (do not
@@ -44,6 +45,9 @@ S=zero,builtin,cnn,copy
 want seed && run seed 1..2 --scene scenes/seed.toml --warmstarts "$S" $(window 300)
 # From just before the impact (step 195) through it.
 want impact && run impact 1..2 --scene scenes/impact.toml --warmstarts "$S" $(window 195)
+# The impact family at 1,000 bodies (scenes/impact_1000.toml), through the impact (~step 222);
+# only when ONLY names it. N = 6 keeps it to ~15 min on 2 shared cores.
+want impact_1000 && run impact_1000 1..2 --scene scenes/impact_1000.toml --warmstarts zero,builtin,copy $(window 221)
 # The settled deep pile (steps 480..): 1,000 bodies.
 if want deep; then
   if [[ "${DEEP_ORACLE:-0}" == 1 ]]; then

@@ -11,6 +11,7 @@
 #include "dc/bench/scale_sweep.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
+#include "dc/engine/world.hpp"
 
 namespace dc {
 namespace {
@@ -61,6 +62,32 @@ TEST(ScaleScene, KeepsAspectRatioAndFillingOrTheWidth) {
   EXPECT_EQ(bench::scene_body_count(p), 450);
   EXPECT_NEAR(bench::scale_scene(p, 900, bench::ScaleAxis::Both).inflow.rate, 2 * p.inflow.rate, 1e-9);
   EXPECT_THROW(bench::scale_scene(d, 0, bench::ScaleAxis::Both), ConfigError);
+}
+
+// scenes/impact_1000.toml is impact.toml as the size sweep scales it to 1,000 bodies (sides
+// rounded to whole metres), with the same heavy disc, and its 1,000 circles can be placed
+// (impact.toml's 20 m box cannot hold them).
+TEST(ScaleScene, ImpactAtThousandBodiesIsTheScaledImpactScene) {
+  const WorldDef base = load_scene(std::string(DC_SOURCE_DIR) + "/scenes/impact.toml");
+  const WorldDef big = load_scene(std::string(DC_SOURCE_DIR) + "/scenes/impact_1000.toml");
+  EXPECT_EQ(bench::scene_body_count(big), 1001);
+  const WorldDef scaled = bench::scale_scene(base, 1001, bench::ScaleAxis::Both);
+  EXPECT_NEAR(big.world.width, scaled.world.width, 0.5);
+  EXPECT_NEAR(big.world.height, scaled.world.height, 0.5);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(big.bodies.region[k], scaled.bodies.region[k], 0.5) << k;
+  EXPECT_EQ(big.bodies.radius, base.bodies.radius);
+  ASSERT_EQ(big.body.size(), 1u);
+  EXPECT_NEAR(big.body[0].position.x, scaled.body[0].position.x, 0.5);
+  EXPECT_NEAR(big.body[0].position.y, scaled.body[0].position.y, 0.5);
+  EXPECT_EQ(big.body[0].radius, base.body[0].radius);
+  EXPECT_EQ(big.body[0].density, base.body[0].density);
+  EXPECT_EQ(big.body[0].spawn, base.body[0].spawn);
+  EXPECT_TRUE(big.body[0].velocity == base.body[0].velocity);
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {  // the family's evaluation seeds
+    WorldDef d = big;
+    d.bodies.seed = seed;
+    EXPECT_EQ(World(d).bodies().size(), 1000u) << "seed " << seed;  // the disc enters at t = 2 s
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -12,6 +13,7 @@
 
 #include "cnn/small_data_set.hpp"
 #include "dc/cnn/data_set_generation.hpp"
+#include "dc/cnn/data_set_samples.hpp"
 #include "dc/cnn/train_checkpoint.hpp"
 #include "dc/cnn/training_data.hpp"
 #include "dc/core/error.hpp"
@@ -87,6 +89,15 @@ TEST_F(TrainCheckpoint, StateRoundTripsAndAnotherRunIsRefused) {
     EXPECT_NE(m.find("lr"), std::string::npos) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   }
+  // Another shuffle buffer visits a large split in another order: refused as well.
+  other = t;
+  other.shuffle_buffer = 7;
+  try {
+    (void)read_train_state(H5File::open_read(ckpt.string()), training_run_identity(r, arch.to_toml(), other, s));
+    ADD_FAILURE() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("shuffle_buffer"), std::string::npos) << e.what();
+  }
   // A model file without state is not a checkpoint.
   save_model(model, dir_ / "plain.h5");
   EXPECT_THROW((void)read_train_state(H5File::open_read((dir_ / "plain.h5").string()), id), IoError);
@@ -128,6 +139,44 @@ TEST_F(TrainCheckpoint, SamplesCarryTheLabelDefinitionsTargets) {
   bad = abs;
   bad.every = 0;
   EXPECT_THROW((void)load_training_samples(r, bad), ConfigError);
+}
+
+// The on-demand source of `train` reads the sharded data set in any order and any grouping
+// (one read may span both shards) with the values of the in-memory samples, and selects the
+// same rows.
+TEST_F(TrainCheckpoint, DataSetSamplesReadAnyOrderAcrossShardsLikeTheLoadedSamples) {
+  const DataSetReader r(data());
+  TrainingSampleDef def;
+  def.every = 2;
+  def.contact_weight = 3;
+  def.labels = {LabelKind::Residual, 2.0, 0.0};
+  const auto all = load_training_samples(r, def);
+  const DataSetSamples source(r, def);
+  ASSERT_EQ(source.size(), all.size());
+  EXPECT_EQ(source.weight_channels(), 1);
+  EXPECT_EQ(source.feature_shape(), all[0].features.shape());
+  EXPECT_EQ(source.label_shape(), all[0].labels.shape());
+  ASSERT_EQ(r.simulations().size(), 2u);
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    EXPECT_EQ(source.simulation(i), all[i].simulation);
+    EXPECT_EQ(r.sample_simulation(source.row(i)), source.simulation(i));
+  }
+  EXPECT_EQ(source.row(1) - source.row(0), 2);
+  // Reversed order, blocks of 5 (the middle ones hold samples of both simulations).
+  std::vector<std::size_t> order(source.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = order.size() - 1 - i;
+  Tensor x, y, w;
+  for (std::size_t first = 0; first < order.size(); first += 5) {
+    const std::size_t b = std::min<std::size_t>(5, order.size() - first);
+    source.read(std::span<const std::size_t>(order).subspan(first, b), x, y, w);
+    for (std::size_t k = 0; k < b; ++k) {
+      const TrainingSample& want = all[order[first + k]];
+      const int j = static_cast<int>(k);
+      ASSERT_EQ(std::memcmp(x.sample(j), want.features.data(), want.features.size() * sizeof(float)), 0);
+      ASSERT_EQ(std::memcmp(y.sample(j), want.labels.data(), want.labels.size() * sizeof(float)), 0);
+      ASSERT_EQ(std::memcmp(w.sample(j), want.weights.data(), want.weights.size() * sizeof(float)), 0);
+    }
+  }
 }
 
 // --first-step K keeps only samples of steps >= K, every K-th counted from the first kept.

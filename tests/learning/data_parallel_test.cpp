@@ -116,12 +116,13 @@ double max_relative_difference(const std::vector<float>& a, const std::vector<fl
   return diff / scale;
 }
 
-void expect_like_one_process(int k, int batch, bool weighted) {
+void expect_like_one_process(int k, int batch, bool weighted, std::size_t shuffle_buffer = TrainDef{}.shuffle_buffer) {
   const auto data = make_data(11, 13, weighted);
   TrainDef def;
   def.epochs = 2;
   def.batch_size = batch;
   def.seed = 5;
+  def.shuffle_buffer = shuffle_buffer;
   const TrainRun one = train(data, def, nullptr);
   const std::vector<TrainRun> many = train_parallel(k, data, def);
   for (int r = 1; r < k; ++r)  // every process holds the same weights
@@ -144,6 +145,12 @@ TEST(DataParallel, TwoProcessesTrainLikeOneWithDropout) { expect_like_one_proces
 TEST(DataParallel, WeightedLossAndBatchesSmallerThanTheGroup) {
   // 3 processes, batch 2: one shard of every batch is empty (it still draws the masks).
   expect_like_one_process(3, 2, true);
+}
+
+TEST(DataParallel, ABufferedSampleStreamTrainsLikeOneProcess) {
+  // 9 training samples through a buffer of 3: every process draws the same plan and takes
+  // the whole batch off its stream, copying only its shard.
+  expect_like_one_process(2, 4, true, 3);
 }
 
 TEST(DataParallel, GroupOfOneIsTheOneProcessRun) {

@@ -1,7 +1,7 @@
 // InferencePlan: the fused, forward-only evaluation gives the unfused path's values
 // (standardise a copy, Network::forward_at) bit for bit at the listed pixels, for U-Nets of
 // the shipped architecture's shape on odd and even grids, with and without ReLU in the
-// head; it agrees with the dense forward; it is a snapshot of the weights; unsupported
+// head; it agrees with the dense forward; a fused plan is a snapshot of the weights; unsupported
 // graphs run the unfused path; bad inputs are refused.
 #include <gtest/gtest.h>
 
@@ -93,6 +93,83 @@ TEST(InferencePlan, FusedEqualsTheUnfusedPathBitForBit) {
   }
 }
 
+// The shipped architecture's shape in full: a 4 × 4 bottleneck and 3×3 stride-1 decoder
+// convs on small outputs (the flat kernel layout), a 1×1 merge and the per-node head.
+ArchSpec deep_fast_arch() {
+  return ArchSpec::parse(R"(
+name = "deep-fast"
+[[layer]]
+name = "e1"
+type = "conv"
+out = 8
+stride = 2
+relu = true
+[[layer]]
+name = "e2"
+type = "conv"
+out = 16
+stride = 2
+relu = true
+[[layer]]
+name = "e3"
+type = "conv"
+out = 16
+stride = 2
+relu = true
+[[layer]]
+name = "u2"
+type = "upsample"
+match = "e2"
+[[layer]]
+name = "d2"
+type = "conv"
+input = ["u2", "e2"]
+out = 8
+relu = true
+[[layer]]
+name = "u1"
+type = "upsample"
+match = "e1"
+[[layer]]
+name = "d1"
+type = "conv"
+input = ["u1", "e1"]
+out = 8
+kernel = 1
+relu = true
+[[layer]]
+name = "u0"
+type = "upsample"
+match = "input"
+[[layer]]
+name = "out"
+type = "conv"
+input = ["u0", "input"]
+out = 2
+kernel = 1
+)");
+}
+
+TEST(InferencePlan, FusedEqualsTheUnfusedPathOnTheShippedShape) {
+  for (const auto& [h, w] : {std::pair{29, 29}, std::pair{30, 27}}) {
+    Network net(deep_fast_arch(), Shape{1, 4, h, w});
+    randomise(net, static_cast<std::uint64_t>(h + w));
+    const ChannelStats stats = some_stats(4);
+    Rng rng(9);
+    Tensor f(1, 4, h, w);
+    fill_gaussian(f, rng, 2.0);
+    const std::vector<int> pixels = every_third_pixel(h * w);
+    InferencePlan plan(net, stats);
+    const Tensor want = unfused(net, stats, f, pixels);
+    const Tensor& got = plan.run(f, pixels);
+    for (int c = 0; c < 2; ++c)
+      for (const int p : pixels) {
+        const std::size_t i = static_cast<std::size_t>(c * h * w + p);
+        EXPECT_EQ(got[i], want[i]) << h << "x" << w << " channel " << c << " pixel " << p;
+      }
+  }
+}
+
 TEST(InferencePlan, IsASnapshotOfTheWeights) {
   Network net(test::fast_head_arch(false), Shape{1, 3, 13, 11});
   randomise(net, 1);
@@ -104,16 +181,16 @@ TEST(InferencePlan, IsASnapshotOfTheWeights) {
   InferencePlan plan(net, stats);
   const Tensor before = plan.run(f, pixels);
   const Tensor want = unfused(net, stats, f, pixels);
-  randomise(net, 2);  // the plan keeps the weights it was built with
+  randomise(net, 2);  // a fused plan keeps the weights it was built with
+  const Tensor now = unfused(net, stats, f, pixels);
   const Tensor& again = plan.run(f, pixels);
   for (int c = 0; c < 2; ++c)
     for (const int p : pixels) {
       const std::size_t i = static_cast<std::size_t>(c * 13 * 11 + p);
-      EXPECT_EQ(again[i], before[i]);
-      EXPECT_EQ(again[i], want[i]);
+      EXPECT_EQ(before[i], want[i]);
+      EXPECT_EQ(again[i], plan.fused() ? want[i] : now[i]);  // the unfused path runs the network as it is
     }
   InferencePlan rebuilt(net, stats);  // a new plan sees the new weights
-  const Tensor now = unfused(net, stats, f, pixels);
   const Tensor& fresh = rebuilt.run(f, pixels);
   for (const int p : pixels) EXPECT_EQ(fresh[static_cast<std::size_t>(p)], now[static_cast<std::size_t>(p)]);
   EXPECT_TRUE(plan.built_for(net));

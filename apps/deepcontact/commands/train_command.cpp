@@ -5,6 +5,9 @@
 //   train / validation ──▶ Trainer (SGD, standardisation from the training split) ──▶
 //   OUT (best validation loss so far), OUT.ckpt (latest state), OUT.loss.csv, OUT.loss.png
 //
+// The samples stay on disk (DataSetSamples): the Trainer reads them a block at a time and
+// holds at most --shuffle-buffer training samples, so the data set may be larger than RAM.
+//
 // Crash safety: after every epoch the best model is written to OUT and the latest state
 // (weights + random stream + momentum + history) to OUT.ckpt, both atomically (write
 // .tmp, rename), so a kill at any moment leaves the last finished epoch on disk. `--resume`
@@ -40,6 +43,7 @@
 #include "commands/train_through_pgs.hpp"
 #include "dc/bench/progress_bar.hpp"
 #include "dc/cnn/data_set.hpp"
+#include "dc/cnn/data_set_samples.hpp"
 #include "dc/cnn/train_checkpoint.hpp"
 #include "dc/cnn/training_data.hpp"
 #include "dc/core/error.hpp"
@@ -68,6 +72,7 @@ struct TrainArgs {
   double weight_decay = TrainDef{}.weight_decay;
   double val = TrainDef{}.validation_fraction;
   double dropout = 0.1;
+  std::size_t shuffle_buffer = TrainDef{}.shuffle_buffer;
   std::uint64_t seed = 1;
   int threads = 0;
   int every = 1;
@@ -119,6 +124,7 @@ TrainDef regression_def(const TrainArgs& a) {
   def.validation_fraction = a.val;
   def.schedule = a.schedule;
   def.seed = a.seed;
+  def.shuffle_buffer = a.shuffle_buffer;
   try {
     def.validate();
   } catch (const ConfigError& e) {
@@ -127,16 +133,17 @@ TrainDef regression_def(const TrainArgs& a) {
   return def;
 }
 
-/// The data set and the samples the options select, with the time it took to load them.
+/// The data set and the samples the options select (read on demand), with the time it took
+/// to open them.
 struct TrainingData {
   TrainingData(const std::string& path, const TrainingSampleDef& def)
       : t0(std::chrono::steady_clock::now()),
         reader(path),
-        samples(load_training_samples(reader, def)),
+        samples(reader, def),
         seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()) {}
   std::chrono::steady_clock::time_point t0;
   DataSetReader reader;
-  std::vector<TrainingSample> samples;
+  DataSetSamples samples;
   double seconds;
 };
 
@@ -181,12 +188,13 @@ void print_run_header(const TrainArgs& a, const TrainingData& data, const Traini
   const std::string dropout_text = builtin_arch ? dropout_buf : "as in the arch file";
   std::printf("train: %zu samples (every %d of %lld) from %zu simulations of %s, %d x %d grid, %d feature channels; "
               "%zu weights (%s), %d epochs, batch %d, lr %g (%s), momentum %g, weight decay %g, dropout %s, "
-              "contact weight %g, %s labels (asinh scale %g), %d thread%s; loaded in %.1f s\n",
+              "contact weight %g, %s labels (asinh scale %g), %d thread%s, shuffle buffer %zu samples; opened in %.1f s\n",
               data.samples.size(), a.every, static_cast<long long>(data.reader.samples()),
               data.reader.simulations().size(), a.data.c_str(), s.grid.nx(), s.grid.ny(),
               data.reader.feature_channels(), s.model->network().parameter_count(), s.arch.name.c_str(), a.epochs,
               a.batch, a.lr, a.schedule.c_str(), a.momentum, a.weight_decay, dropout_text.c_str(), a.contact_weight,
-              to_string(s.grid.labels.kind), a.label_scale, threads, threads == 1 ? "" : "s", data.seconds);
+              to_string(s.grid.labels.kind), a.label_scale, threads, threads == 1 ? "" : "s", a.shuffle_buffer,
+              data.seconds);
   if (s.resume)
     std::printf("train: resuming after epoch %d from %s.ckpt\n", s.resume->epochs_done, a.out.c_str());
   if (comm.parallel())
@@ -325,6 +333,11 @@ void add_train_command(CLI::App& app) {
   cmd->add_option("--weight-decay", args->weight_decay, "L2 weight decay (weights, not biases)")->capture_default_str();
   cmd->add_option("--val", args->val, "Validation fraction of the SIMULATIONS (not of the frames)")->capture_default_str();
   cmd->add_option("--dropout", args->dropout, "Dropout rate of the default/seed-dense architectures")
+      ->capture_default_str();
+  cmd->add_option("--shuffle-buffer", args->shuffle_buffer,
+                  "Training samples held in memory at most (each ~104 KB at the default grid and channels). A "
+                  "training split that fits is visited in a full random permutation; a larger one streams from disk "
+                  "through a shuffle buffer of this size (docs/learning.md 'Training')")
       ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Seed of the split, initial weights, shuffles and dropout")->capture_default_str();
   cmd->add_option("--threads", args->threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)");

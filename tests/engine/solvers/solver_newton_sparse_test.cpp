@@ -172,6 +172,31 @@ TEST(NewtonSparse, ConvergesFastNearASolutionWithSlidingContacts) {
   EXPECT_GE(sliding_problems, 3);
 }
 
+TEST(NewtonSparse, InexactKrylovStepsReachTheSameTargetWithFewerKrylovIterations) {
+  // krylov_forcing stops GMRES at η_k = min(forcing, ‖H_k‖/‖H_0‖) instead of 1e-12: the
+  // directions are inexact far from the solution and exact in the limit, so the solve still
+  // ends at the unregularised target, with fewer GMRES iterations in all.
+  NewtonSparseDef exact;
+  exact.krylov_forcing = 0.0;
+  const NewtonSparseDef inexact;  // the default forcing
+  ASSERT_GT(inexact.krylov_forcing, 0.0);
+  long krylov_exact = 0, krylov_inexact = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    test::TestRng rng(seed + 900);
+    const LcpProblem p = test::random_contact(30, 25, true, rng, 0.2);
+    NewtonSparseSolver a(exact), b(inexact);
+    const SolveResult ra = a.solve(p, {}, options());
+    const SolveResult rb = b.solve(p, {}, options());
+    EXPECT_EQ(ra.status, SolveStatus::Converged) << "seed " << seed << ": " << ra.message;
+    EXPECT_EQ(rb.status, SolveStatus::Converged) << "seed " << seed << ": " << rb.message;
+    EXPECT_LE(natural_residual(p, rb.lambda), bound(p)) << "seed " << seed;
+    krylov_exact += a.last_stats().krylov_iterations;
+    krylov_inexact += b.last_stats().krylov_iterations;
+  }
+  EXPECT_GT(krylov_exact, 0);  // the problems have sliding friction coupled
+  EXPECT_LT(krylov_inexact, krylov_exact);
+}
+
 TEST(NewtonSparse, ReusesTheAnalysisWhileThePatternHolds) {
   test::TestRng rng(800);
   const LcpProblem p = test::random_contact(50, 100, true, rng);

@@ -35,7 +35,7 @@ using RunIdentity = std::vector<std::pair<std::string, std::string>>;
 /// The identity of a run on `data` with architecture text `arch_toml`: data_simulations,
 /// data_samples, data_seed, data_grid, data_channels, arch (FNV-1a hash of the text), epochs,
 /// batch, lr, momentum, weight_decay, val, seed, every, schedule, contact_weight, residual,
-/// label_scale, deadzone. Numbers as %.17g.
+/// label_scale, deadzone, shuffle_buffer. Numbers as %.17g.
 RunIdentity training_run_identity(const DataSetReader& data, const std::string& arch_toml, const TrainDef& train,
                                   const TrainingSampleDef& samples);
 

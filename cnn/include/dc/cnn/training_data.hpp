@@ -32,8 +32,8 @@ struct TrainingSampleDef {
 
 /// The training examples of every completed simulation of `data`: every `def.every`-th
 /// sample, labels turned into targets by training_labels, the contact weight map when
-/// asked. ConfigError (naming the file) when a needed channel is missing or there is no
-/// sample at all.
+/// asked, all in memory (DataSetSamples, data_set_samples.hpp, reads them on demand instead).
+/// ConfigError (naming the file) when a needed channel is missing or there is no sample at all.
 std::vector<TrainingSample> load_training_samples(const DataSetReader& data, const TrainingSampleDef& def);
 
 /// The grid of a model trained on `data` with label definition `labels`: the data set's
@@ -45,6 +45,8 @@ ModelGrid model_grid_for(const DataSetReader& data, const LabelDef& labels);
 /// NaN when there is none. The unit of the theses' 0.005–0.006, whatever the loss weights.
 double standardised_mse(Model& model, std::span<const TrainingSample> data, const std::vector<int>& simulations,
                         bool in);
+/// As above, reading the samples from `data` 32 at a time in data order.
+double standardised_mse(Model& model, const SampleSource& data, const std::vector<int>& simulations, bool in);
 
 /// The comparison value of an epoch for "best model": validation loss, or training loss
 /// when there is no validation split.

@@ -55,6 +55,13 @@ struct NewtonSparseDef {
   int krylov_restart = 30;
   int krylov_max = 120;
   double krylov_tolerance = 1e-12;
+  /// Inexact Newton (Eisenstat–Walker style forcing): GMRES stops at the relative residual
+  /// η_k = max(krylov_tolerance, min(krylov_forcing, ‖H(λ_k)‖₂ / ‖H(λ⁰)‖₂)) instead of
+  /// krylov_tolerance (dimensionless, default 1e-2; 0 = always krylov_tolerance). Far from the
+  /// solution a direction with ‖K Δ + H‖ ≤ η‖H‖, η < 1, is still a descent direction of ½‖H‖²;
+  /// η_k → 0 with the residual keeps the local convergence superlinear. On impact (250 bodies,
+  /// from builtin) it halved GMRES iterations and time per step at equal Newton iterations.
+  double krylov_forcing = 1e-2;
   /// true: CHOLMOD (simplicial or supernodal, CHOLMOD chooses); false: Eigen's SimplicialLDLT,
   /// the fallback CHOLMOD also falls back to when it reports a non-positive pivot (default true).
   bool cholmod = true;

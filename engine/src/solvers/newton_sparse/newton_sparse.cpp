@@ -73,6 +73,7 @@ class NewtonStep {
   /// Newton direction Δ at λ. False when no factorisation of the free block succeeded.
   bool direction(const Eigen::VectorXd& lambda, const NaturalMapValue& v, Eigen::VectorXd& delta) {
     linearize(p_, lambda, v, lin_);
+    set_forcing(v);
     delta = lin_.known;
     if (lin_.free_count == 0) return true;
     // rhs_F = −w_F − (A d)_F; rhs_C = 0.
@@ -101,8 +102,7 @@ class NewtonStep {
     } else {
       const LinearMap K = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_system(in, out); };
       const LinearMap Pinv = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { factor_.solve(in, out); };
-      st_.krylov_iterations +=
-          gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.krylov_max, def_.krylov_tolerance).iterations;
+      st_.krylov_iterations += gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.krylov_max, eta_).iterations;
     }
     st_.solve_ms += ms_since(t0);
   }
@@ -166,6 +166,17 @@ class NewtonStep {
   }
 
  private:
+  /// GMRES's relative tolerance η_k for this direction (NewtonSparseDef::krylov_forcing):
+  /// min(krylov_forcing, ‖H_k‖₂/‖H_0‖₂), at least krylov_tolerance; H_0 is the first
+  /// direction's natural map of this solve.
+  void set_forcing(const NaturalMapValue& v) {
+    const double h = std::sqrt(dot_in_order(v.h, v.h));
+    if (h0_ < 0.0) h0_ = h;
+    eta_ = def_.krylov_tolerance;
+    if (def_.krylov_forcing > 0.0 && h0_ > 0.0 && std::isfinite(h))
+      eta_ = std::max(def_.krylov_tolerance, std::min(def_.krylov_forcing, h / h0_));
+  }
+
   /// out = K in: (A u)_F + ρ in_F on free rows with u = in on F and u_t = s·in_n on the
   /// coupled friction rows; out_C = in_C (identity rows, rhs 0).
   void apply_system(const Eigen::VectorXd& in, Eigen::VectorXd& out) {
@@ -183,6 +194,7 @@ class NewtonStep {
   NewtonSparseStats& st_;
   int n_;
   double diag_ = 1.0, rho_min_ = 0.0, rho_ = 0.0, scale_ = 1.0;
+  double h0_ = -1.0, eta_ = 0.0;  // ‖H‖₂ at the first direction (−1: none yet); GMRES tolerance
   NewtonLinearization lin_;
   std::vector<int> coupled_of_;
   std::vector<Eigen::Triplet<double>> trip_;

@@ -26,4 +26,20 @@ struct ChannelStats {
   void invert(Tensor& t) const;
 };
 
+/// ChannelStats::compute fed a tensor (of any batch size) at a time, for data that is never
+/// all in memory: the same sums in the same order, so the same statistics bit for bit.
+class ChannelStatsAccumulator {
+ public:
+  /// Adds every sample and pixel of t. InvalidArgument when t's channel count differs from
+  /// the first tensor's.
+  void add(const Tensor& t);
+  /// The statistics of everything added; InvalidArgument when nothing (or no pixel) was.
+  [[nodiscard]] ChannelStats finish() const;
+
+ private:
+  int channels_ = -1;
+  std::vector<double> sum_, sq_;
+  double count_ = 0.0;
+};
+
 }  // namespace dc

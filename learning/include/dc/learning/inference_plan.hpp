@@ -23,9 +23,9 @@
 // unet-fast and its relatives. Otherwise run() is the unfused path (standardise a copy,
 // Network::forward_at), with the same results.
 //
-// A plan is a snapshot: it copies the weights, biases and statistics when built. Rebuild
-// it after changing any of them or the network's input size. `net` must outlive the plan
-// (the unfused path runs it).
+// Rebuild a plan after changing the network's weights, the statistics or the input size: a
+// fused plan is a snapshot (it copies the weights, biases and statistics when built), the
+// unfused one runs the network as it is. `net` must outlive the plan.
 #include <span>
 #include <string>
 #include <vector>
@@ -66,6 +66,15 @@ class InferencePlan {
   /// True when this plan was compiled from `net` (the object, not its weights).
   [[nodiscard]] bool built_for(const Network& net) const { return net_ == &net; }
 
+  /// One 16-lane vector of a padded row's gather: input columns ix0 … ix0 + 15, their
+  /// valid lanes (inside [0, w)) and, through a nearest upsampling, the source columns
+  /// from sbase with the lane → source index shift (see inference_plan.cpp). An implementation
+  /// detail of the gather kernels, public so that they can be free functions.
+  struct Columns {
+    int ix0 = 0, sbase = 0, shift = 0;
+    unsigned valid = 0, up_valid = 0;  ///< lane masks
+  };
+
  private:
   /// One input channel of a fused step: plane `channel` of node `node`'s output (−1 = the
   /// network input, standardised on the fly), read through a nearest 2× upsampling if `up`.
@@ -91,6 +100,7 @@ class InferencePlan {
     int rows = 0, pitch = 0;      ///< padded rows R and row pitch Wp of the kernel's buffer
     long x_plane = 0;             ///< floats per input channel in the kernel's buffer
     std::vector<int> off;         ///< flat: offset of each tap (ky·k + kx) in a channel's buffer
+    std::vector<Columns> cols;    ///< the gather's source vectors of one padded row, in order
     std::vector<Source> src;      ///< cin entries, in concatenation order
     std::vector<float> weight;    ///< packed for the kernel (dense) or [cout][cin] (sparse)
     std::vector<float> bias;      ///< cout entries

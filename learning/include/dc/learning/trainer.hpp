@@ -1,17 +1,20 @@
 #pragma once
-// Trainer: minibatch SGD over an in-memory data set.
+// Trainer: minibatch SGD over a data set read a few samples at a time (sample_source.hpp).
 //
 // Per run:  split the samples by simulation id into training and validation (so correlated
 // frames of one simulation never straddle the split, docs/design.md §4), compute the channel
-// standardisation from the training split only, (re)initialise the weights, then for each
-// epoch shuffle the training samples (Fisher–Yates with dc::Rng), run minibatches of
-// forward → weighted MSE (in standardised label units) → backward → optimiser step, and
-// evaluate the validation loss in inference mode.
+// standardisation from the training split only (one streaming pass), (re)initialise the
+// weights, then for each epoch visit the training samples in a shuffled order
+// (shuffle_stream.hpp: a Fisher–Yates permutation when the split fits the shuffle buffer, a
+// buffered block shuffle with at most TrainDef::shuffle_buffer samples in memory otherwise),
+// run minibatches of forward → weighted MSE (in standardised label units) → backward →
+// optimiser step, and evaluate the validation loss in inference mode (read in data order).
 //
 // Determinism: one dc::Rng seeded from TrainDef::seed drives the split, the initial
 // weights, the shuffles and the dropout masks, in that order; all reductions have a fixed
-// order for a fixed OpenMP thread count. Two runs with the same seed and thread count give
-// bit-identical weights and loss histories.
+// order for a fixed OpenMP thread count. Two runs with the same seed, thread count and
+// shuffle buffer give bit-identical weights and loss histories; the buffer matters only when
+// the training split is larger than it.
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -20,17 +23,9 @@
 
 #include "dc/learning/data_parallel.hpp"
 #include "dc/learning/model.hpp"
+#include "dc/learning/sample_source.hpp"
 
 namespace dc {
-
-/// One training example: [1, C_in, ny, nx] features, [1, C_out, ny, nx] labels, optional
-/// loss weights [1, C_out or 1, ny, nx] (empty = all ones), and the simulation it came from.
-struct TrainingSample {
-  Tensor features;
-  Tensor labels;
-  Tensor weights;
-  int simulation = 0;
-};
 
 /// Defaults are the seed's hyper-parameters where it had them (lr 5e-3, validation 0.2).
 struct TrainDef {
@@ -44,6 +39,11 @@ struct TrainDef {
   std::string init = "he_normal";      ///< he_normal | glorot_uniform
   bool initialize = true;              ///< false: continue from the model's current weights
   std::uint64_t seed = 1;
+  /// Training samples held in memory at most (shuffle_stream.hpp). A training split of at most
+  /// this many samples is kept whole and visited in a Fisher–Yates order (as always); a larger
+  /// one is streamed through a shuffle buffer of this size, which changes the visiting order.
+  /// 2048 samples ≈ 210 MB at the default 61 × 61 grid with 5 feature and 2 label channels.
+  std::size_t shuffle_buffer = 2048;
   /// Throws ConfigError naming the field for a non-positive epochs/batch/lr, a fraction
   /// outside [0, 1), or an unknown schedule/initialiser.
   void validate() const;
@@ -99,9 +99,19 @@ class Trainer {
   TrainResult train(Model& model, std::span<const TrainingSample> data, const StateCallback& on_epoch,
                     const TrainState* resume, const std::function<bool()>& keep_going = {});
 
+  /// As above over any SampleSource: the samples are read a block at a time and at most
+  /// TrainDef::shuffle_buffer training samples (plus a read block and the batch buffers) are
+  /// held in memory. Throws InvalidArgument if the source is empty or its shapes do not fit
+  /// the model.
+  TrainResult train(Model& model, const SampleSource& data, const StateCallback& on_epoch, const TrainState* resume,
+                    const std::function<bool()>& keep_going = {});
+
   /// Simulation ids for validation: ⌊f·S + ½⌋ of the S distinct ids (at least 1 when f > 0
   /// and S ≥ 2, at most S − 1), drawn with rng. Returned sorted.
   static std::vector<int> pick_validation_simulations(std::span<const TrainingSample> data, double fraction,
+                                                      Rng& rng);
+  /// As above from the simulation id of every sample.
+  static std::vector<int> pick_validation_simulations(std::span<const int> sample_simulations, double fraction,
                                                       Rng& rng);
 
   /// Data-parallel training across a process group (data_parallel.hpp); nullptr or a
