@@ -59,12 +59,14 @@ fi
 [ -f "$DATA_NOSHAPE" ] || /usr/bin/python3 research/scripts/drop-feature-channels.py "$DATA" "$DATA_NOSHAPE" "$SHAPE"
 t1=$(date +%s)
 
+# --shuffle-buffer 8192: the whole training split in memory, the order the shipped models were
+# trained with (docs/learning.md "Sample order and memory").
 train() {  # data, model
   echo "== training $2 on $1"
   "$DC" train --data "$1" --out "$2" --force \
     --arch "$ARCH" --residual --label-scale 10 --contact-weight 10 --deadzone "$DEADZONE" \
     --epochs "$EPOCHS" --every "$EVERY" --batch 32 --lr 5e-3 --momentum 0.9 --weight-decay 1e-4 \
-    --val 0.2 --seed 1 --threads "$THREADS" --no-plot
+    --val 0.2 --seed 1 --threads "$THREADS" --no-plot --shuffle-buffer 8192
   mv -f "$2.loss.csv" "$DATADIR/$(basename "$2" .h5).loss.csv"
 }
 train "$DATA" "$OUT"

@@ -55,13 +55,16 @@ else
 fi
 gen_done=$(date +%s)
 
+# --shuffle-buffer 8192 keeps the whole training split (~3,900 samples, ~760 MB) in memory and
+# so visits it in the full Fisher-Yates order models/default.h5 was trained with; the default
+# buffer (2048) would stream it in the buffered order (docs/learning.md "Sample order and memory").
 RESUME=()
 [ -f "$OUT.ckpt" ] && RESUME=(--resume) && echo "== resuming the interrupted training from $OUT.ckpt"
 echo "== training $OUT"
 "$DC" train --data "$DATA" --out "$OUT" --force "${RESUME[@]}" \
   --arch "$ARCH" --residual --label-scale 10 --contact-weight 10 --deadzone "$DEADZONE" \
   --epochs "$EPOCHS" --every "$EVERY" --batch 32 --lr 5e-3 --momentum 0.9 --weight-decay 1e-4 \
-  --val 0.2 --seed 1 --threads "$THREADS"
+  --val 0.2 --seed 1 --threads "$THREADS" --shuffle-buffer 8192
 end=$(date +%s)
 # The loss curve belongs next to the data set (a build output), not in the repository.
 LOSS="$(dirname "$DATA")/$(basename "$OUT" .h5).loss"

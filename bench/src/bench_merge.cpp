@@ -21,7 +21,7 @@ void append(StarterRecord& t, const StarterRecord& f) {
   append(t.solve_ms, f.solve_ms);
   append(t.sweep_ns_per_row, f.sweep_ns_per_row);
   append(t.initial_error, f.initial_error);
-  append(t.theta, f.theta);
+  t.theta.append(f.theta);  // offsets only when both share the scratch file
   append(t.residual, f.residual);
   append(t.lambda_error, f.lambda_error);
   append(t.penetration, f.penetration);

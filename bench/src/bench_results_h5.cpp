@@ -1,5 +1,6 @@
 // results.h5 of a bench run (layout: docs/bench.md).
 #include <algorithm>
+#include <span>
 #include <vector>
 
 #include "bench_statistics_report.hpp"
@@ -11,24 +12,56 @@
 namespace dc::bench {
 namespace {
 
-/// Per sweep k: the 25th, 50th and 75th percentile of θ_k over the n steps (step-major
-/// theta, n × K), row-major K × 3; linear interpolation between order statistics, as numpy's
-/// percentile. What the report's convergence plot draws, kept when the full θ is not.
-std::vector<double> theta_quartiles(const std::vector<float>& theta, hsize_t n, hsize_t K) {
-  std::vector<double> out(K * 3, 0.0), column(n);
+/// Quartiles of one column of n values (reordered in place): linear interpolation between order
+/// statistics, as numpy's percentile.
+void column_quartiles(std::span<float> column, double* out) {
+  const auto n = static_cast<std::ptrdiff_t>(column.size());
+  for (int q = 0; q < 3; ++q) {  // selection, not a sort: O(n) per quantile
+    const double pos = 0.25 * (q + 1) * static_cast<double>(n - 1);
+    const auto lo = static_cast<std::ptrdiff_t>(pos);
+    std::nth_element(column.begin(), column.begin() + lo, column.end());
+    const double at_lo = column[static_cast<std::size_t>(lo)];
+    const double at_hi = lo + 1 < n ? *std::min_element(column.begin() + lo + 1, column.end()) : at_lo;
+    out[q] = at_lo + (pos - static_cast<double>(lo)) * (at_hi - at_lo);
+  }
+}
+
+/// Per sweep k: the 25th, 50th and 75th percentile of θ_k over the n steps, row-major K × 3.
+/// What the report's convergence plot draws, kept when the full θ is not. The rows are read
+/// from disk a block of sweeps at a time (~8 MB of columns in RAM, however many steps).
+std::vector<double> theta_quartiles(const ThetaRows& theta, hsize_t K) {
+  const std::size_t n = theta.rows();
+  std::vector<double> out(K * 3, 0.0);
   if (n == 0) return out;
-  for (hsize_t k = 0; k < K; ++k) {
-    for (hsize_t i = 0; i < n; ++i) column[i] = theta[i * K + k];
-    for (hsize_t q = 0; q < 3; ++q) {  // selection, not a sort: O(n) per quantile
-      const double pos = 0.25 * static_cast<double>(q + 1) * static_cast<double>(n - 1);
-      const auto lo = static_cast<std::ptrdiff_t>(pos);
-      std::nth_element(column.begin(), column.begin() + lo, column.end());
-      const double at_lo = column[static_cast<hsize_t>(lo)];
-      const double at_hi = lo + 1 < static_cast<std::ptrdiff_t>(n) ? *std::min_element(column.begin() + lo + 1, column.end()) : at_lo;
-      out[k * 3 + q] = at_lo + (pos - static_cast<double>(lo)) * (at_hi - at_lo);
+  const std::size_t block = std::clamp<std::size_t>((std::size_t{2} << 20) / n, 1, K);  // sweeps per pass
+  std::vector<float> cols(n * block), column(n);  // cols: step-major n × block
+  for (std::size_t k0 = 0; k0 < K; k0 += block) {
+    const std::size_t w = std::min<std::size_t>(block, K - k0);
+    for (std::size_t i = 0; i < n; ++i) theta.read_row(i, std::span<float>(cols).subspan(i * w, w), k0);
+    for (std::size_t k = 0; k < w; ++k) {
+      for (std::size_t i = 0; i < n; ++i) column[i] = cols[i * w + k];
+      column_quartiles(column, &out[(k0 + k) * 3]);
     }
   }
   return out;
+}
+
+/// /warmstarters/NAME/theta (n × K, gzip), written a block of steps at a time.
+void write_theta(H5File& f, const std::string& path, const ThetaRows& theta, hsize_t K) {
+  const hsize_t n = theta.rows();
+  if (n == 0) {
+    f.write<float>(path, std::vector<float>{}, {0, K});
+    return;
+  }
+  const H5DatasetOptions compressed{.extendible = false, .chunk_rows = 0, .deflate = 4};
+  f.create_dataset<float>(path, {n, K}, compressed);
+  const std::size_t block = std::clamp<std::size_t>((std::size_t{2} << 20) / K, 1, n);  // steps per write
+  std::vector<float> rows(block * K);
+  for (std::size_t i0 = 0; i0 < n; i0 += block) {
+    const std::size_t m = std::min<std::size_t>(block, n - i0);
+    for (std::size_t i = 0; i < m; ++i) theta.read_row(i0 + i, std::span<float>(rows).subspan(i * K, K));
+    f.write_rows<float>(path, i0, std::span<const float>(rows.data(), m * K));
+  }
 }
 
 }  // namespace
@@ -165,8 +198,8 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
     for (hsize_t i = 0; i < n; ++i) sweep_ms[i] = rec.sweep_ns_per_row[i] * rec.rows[i] * 1e-6;
     f.write<double>(g + "/sweep_ms", sweep_ms, {n});
     f.write<double>(g + "/initial_error", rec.initial_error, {n});
-    if (r.options.keep_theta) f.write<float>(g + "/theta", rec.theta, {n, K}, n > 0 ? compressed : H5DatasetOptions{});
-    f.write<double>(g + "/theta_quartiles", theta_quartiles(rec.theta, n, K), {K, 3});
+    if (r.options.keep_theta) write_theta(f, g + "/theta", rec.theta, K);
+    f.write<double>(g + "/theta_quartiles", theta_quartiles(rec.theta, K), {K, 3});
     // gzip + shuffle halves these (45 → 24 MB for the default bench): with θ opt-in, results.h5
     // stays under 50 MB.
     const H5DatasetOptions per_budget = n > 0 && B > 0 ? compressed : H5DatasetOptions{};

@@ -125,9 +125,9 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
   const int to_tol = sweeps_to_tolerance(fr.theta, o.tolerance);
   rec.sweeps_to_tol.push_back(to_tol);
   if (o.max_sweeps > o.sweeps) rec.sweeps_to_tol_high.push_back(sweeps_to_tolerance_high(solver, p, fr, to_tol, o));
-  for (int k = 0; k < o.sweeps; ++k)
-    rec.theta.push_back(k < static_cast<int>(fr.theta.size()) ? static_cast<float>(fr.theta[static_cast<size_t>(k)])
-                                                              : 0.0f);
+  std::vector<float> theta_row(static_cast<std::size_t>(o.sweeps), 0.0f);  // 0 after an early stop
+  for (std::size_t k = 0; k < theta_row.size() && k < fr.theta.size(); ++k) theta_row[k] = static_cast<float>(fr.theta[k]);
+  rec.theta.append(theta_row);  // to disk now: θ is most of the results (theta_rows.hpp)
 
   // 2. Timed run: what a simulator would actually do (stop at θ ≤ tol).
   SolverOptions timed;
@@ -233,9 +233,11 @@ class BenchRun {
  public:
   /// `make_mutex` (may be null) serialises the registry's factories when several runs share
   /// it from different threads: a starter may read a model file while it is made.
+  /// `scratch` holds the θ rows (shared by the runs of one bench, which may be on different threads).
   BenchRun(const BenchOptions& o, const WarmStarterRegistry& registry, const ProgressFn& progress, BenchResults& r,
-           std::mutex* make_mutex = nullptr)
-      : o_(o), registry_(registry), progress_(progress), r_(r), solver_(make_solver(o.solver)), make_mutex_(make_mutex) {}
+           std::shared_ptr<ScratchFile> scratch, std::mutex* make_mutex = nullptr)
+      : o_(o), registry_(registry), progress_(progress), r_(r), solver_(make_solver(o.solver)),
+        scratch_(std::move(scratch)), make_mutex_(make_mutex) {}
 
   /// Makes every starter once before the long run, so that an unknown name, or an oracle
   /// starter in a run without the oracle, fails at once; adds their records to the results.
@@ -243,6 +245,7 @@ class BenchRun {
     for (const auto& name : o_.warmstarts) {
       auto ws = make_starter(name, o_.env);
       StarterRecord rec;
+      rec.theta = ThetaRows(scratch_);
       rec.name = ws->name();
       rec.uses_oracle = ws->uses_oracle();
       if (rec.uses_oracle && !o_.oracle)
@@ -387,6 +390,7 @@ class BenchRun {
   const std::unique_ptr<LcpSolver> solver_;
   std::unique_ptr<SolverComparison> comparison_;  // runs only when o.solvers is not empty
   StepOutcome outcome_;  // reused by every evaluation
+  std::shared_ptr<ScratchFile> scratch_;
   std::mutex* make_mutex_;
   long done_ = 0, total_ = 0;
 };
@@ -396,7 +400,7 @@ class BenchRun {
 /// results are joined in o.seeds order. Every figure but the timings is therefore that of one
 /// thread; the timings share the machine (docs/bench.md "Parallel seeds").
 BenchResults run_seeds_in_parallel(const BenchOptions& o, const WarmStarterRegistry& registry,
-                                   const ProgressFn& progress) {
+                                   const ProgressFn& progress, const std::shared_ptr<ScratchFile>& scratch) {
   const std::size_t n = o.seeds.size();
   std::vector<BenchResults> per_seed;
   per_seed.reserve(n);
@@ -416,7 +420,7 @@ BenchResults run_seeds_in_parallel(const BenchOptions& o, const WarmStarterRegis
   auto worker = [&] {
     for (std::size_t i; (i = next.fetch_add(1)) < n;) {
       try {
-        BenchRun run(o, registry, one_step, per_seed[i], &make_mutex);
+        BenchRun run(o, registry, one_step, per_seed[i], scratch, &make_mutex);
         run.add_starter_records();
         run.run_seed(o.seeds[i]);
       } catch (...) {
@@ -432,7 +436,10 @@ BenchResults run_seeds_in_parallel(const BenchOptions& o, const WarmStarterRegis
   for (auto& t : threads) t.join();
   if (failure) std::rethrow_exception(failure);
   BenchResults r = std::move(per_seed[0]);
-  for (std::size_t i = 1; i < n; ++i) append_results(r, per_seed[i]);
+  for (std::size_t i = 1; i < n; ++i) {
+    append_results(r, per_seed[i]);  // the θ rows stay in the shared file: only offsets move
+    per_seed[i] = BenchResults{};    // freed as we go: the joined records never coexist with all the parts
+  }
   return r;
 }
 
@@ -451,11 +458,13 @@ BenchResults run_bench(const BenchOptions& o, const WarmStarterRegistry& registr
   check_options(o);
   const auto wall0 = Clock::now();
   BenchResults r;
+  // One nameless temporary file for every starter's θ rows, from every thread (theta_rows.hpp).
+  const auto scratch = std::make_shared<ScratchFile>(o.scratch_dir);
   if (o.jobs > 1 && o.seeds.size() > 1) {
-    r = run_seeds_in_parallel(o, registry, progress);
+    r = run_seeds_in_parallel(o, registry, progress, scratch);
   } else {
     r = results_with_budgets(o);
-    BenchRun run(o, registry, progress, r);
+    BenchRun run(o, registry, progress, r, scratch);
     run.add_starter_records();
     for (const std::uint64_t seed : o.seeds) run.run_seed(seed);
   }

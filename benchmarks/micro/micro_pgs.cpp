@@ -325,14 +325,18 @@ double cpu_seconds(clockid_t clock) {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-/// 1 vs 2 threads on the 10,000-body pile (AVX-512 kernel). Wall time (UseRealTime) is what a
-/// speed-up is, but on a loaded machine it mostly measures preemption; so the benchmark also
-/// reports the CPU time of the whole process (all threads) and of the calling thread per
-/// solve: with OMP_WAIT_POLICY=passive (waiting threads sleep instead of spinning) the
-/// speed-up the 2 threads would have on 2 free cores is ≈ cpu_1thread / max(cpu_main,
-/// cpu_process − cpu_main) (load-independent estimate; the barrier wake-up latency is not in it).
+/// 1 vs 2 threads on the 10,000-body pile (Auto kernel), set-up and residual included. Wall time
+/// (UseRealTime) is what a speed-up is, but on a loaded machine it mostly measures preemption;
+/// so the benchmark also reports the CPU time of the whole process (all threads) and of the
+/// calling thread per solve: with OMP_WAIT_POLICY=passive (waiting threads sleep instead of
+/// spinning) the speed-up the 2 threads would have on 2 free cores is ≈ cpu_1thread /
+/// max(cpu_main, cpu_process − cpu_main) (load-independent estimate; the barrier wake-up latency
+/// is not in it). assembled = 1: the problem carries A (LcpProblem::validate scans it on every
+/// solve); 0: J only, as the engine hands it to pgs-colored. sweeps = 1 times the per-solve
+/// work around the sweeps; (t(100) − t(1)) / 99 is the time per sweep.
 void BM_PgsColoredThreads(benchmark::State& s) {
-  const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+  dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+  if (s.range(3) == 0) p.A = dc::SparseRowMatrix();
   const int sweeps = static_cast<int>(s.range(1));
   dc::PgsColoredDef def;
   def.threads = static_cast<int>(s.range(2));
@@ -398,9 +402,13 @@ BENCHMARK(BM_PgsBaseline)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PgsAssembled)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PgsColored)->Apply(colored_sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PgsColoredThreads)
-    ->ArgNames({"bodies", "sweeps", "threads"})
-    ->Args({10000, 100, 1})
-    ->Args({10000, 100, 2})
+    ->ArgNames({"bodies", "sweeps", "threads", "assembled"})
+    ->Args({10000, 100, 1, 1})
+    ->Args({10000, 100, 2, 1})
+    ->Args({10000, 100, 1, 0})
+    ->Args({10000, 100, 2, 0})
+    ->Args({10000, 1, 1, 0})
+    ->Args({10000, 1, 2, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_ContactColoring)

@@ -210,6 +210,7 @@ std::int64_t write_manifest(const std::string& out, const std::string& run, cons
     m.shard_bytes.push_back(static_cast<std::int64_t>(fs::file_size(file)));
   }
   AtomicH5File manifest(out);
+  manifest.add_whole_file_hash();  // its virtual datasets' mappings have no HDF5 checksum
   H5File& f = manifest.file();
   write_params(f, params);
   f.set_attribute<std::int32_t>("/", "format_version", kShardedFormatVersion);

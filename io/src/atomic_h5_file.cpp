@@ -6,6 +6,7 @@
 #include "dc/io/atomic_file.hpp"
 #include "dc/io/h5.hpp"
 #include "h5_detail.hpp"
+#include "h5_file_hash.hpp"
 #include "h5_superblock.hpp"
 
 namespace dc {
@@ -48,9 +49,10 @@ H5File& AtomicH5File::file() {
 
 void AtomicH5File::commit() {
   H5File& f = file();
-  const std::string image = f.file_image();
+  std::string image = f.file_image();
   f.close();
   file_.reset();
+  if (whole_file_hash_) image = with_file_hash(std::move(image));
   write_file_atomically(path_, image);  // tmp_ + rename; removes tmp_ on failure
   committed_ = true;
 }

@@ -15,6 +15,7 @@
 
 #include "dc/core/error.hpp"
 #include "h5_detail.hpp"
+#include "h5_file_hash.hpp"
 
 namespace dc {
 
@@ -104,6 +105,10 @@ H5File H5File::open(const std::string& path, bool writable) {
   if (!std::filesystem::is_regular_file(path, ec)) throw IoError(path + ": cannot open HDF5 file: not a regular file");
   // H5Fis_hdf5 only looks for the signature, so it tells "not HDF5 at all" apart from
   // "HDF5 but damaged" (which H5Fopen detects, e.g. a truncated file's short EOF).
+  // A sealed file (a data set manifest) is checked whole before libhdf5 reads a byte of it:
+  // some damage crashes libhdf5 itself (h5_file_hash.hpp).
+  if (writable) drop_file_hash(path);
+  else verify_file_hash(path);
   const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
   if (is_hdf5 == 0) {
     H5Eclear2(H5E_DEFAULT);

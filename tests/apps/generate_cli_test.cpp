@@ -211,6 +211,31 @@ TEST(GenerateCli, ResumeWithOtherParametersIsRefused) {
   EXPECT_EQ(one_line(r.err), 1) << r.err;
 }
 
+// The manifest's virtual datasets keep their shard mappings in HDF5's global heap ("GCOL"),
+// which has no checksum. These flips of the manifest of this very command made libhdf5 1.10.8
+// kill the reader: byte GCOL + 1395 bit 4 aborted it ("buffer overflow detected" in
+// H5S_select_deserialize), + 1540 bit 3 and + 2428 bit 0 crashed it (SIGSEGV) — found by
+// scripts/bitflip-test.sh. The manifest now carries a hash of all its bytes, checked before
+// libhdf5 opens it: a one-line error, exit 1.
+TEST(GenerateCli, ManifestFlipsThatCrashedLibhdf5AreOneLineErrors) {
+  Dir dir;
+  const std::string out = dir / "data.h5";
+  ASSERT_EQ(test::run_cli("generate --sims 2 --steps 60 --seed 7 --threads 1 --out " + out).exit_code, 0);
+  const std::string bytes = test::slurp_file(out);
+  const std::size_t heap = bytes.find("GCOL");
+  ASSERT_NE(heap, std::string::npos);
+  for (const auto& [offset, bit] : {std::pair{1395, 4}, std::pair{1540, 3}, std::pair{2428, 0}}) {
+    ASSERT_LT(heap + offset, bytes.size());
+    std::string damaged = bytes;
+    damaged[heap + offset] = static_cast<char>(damaged[heap + offset] ^ (1 << bit));
+    std::ofstream(out, std::ios::binary | std::ios::trunc) << damaged;
+    const Result r = test::run_cli("train --data " + out + " --out " + (dir / "m.h5") + " --epochs 1 --threads 1");
+    EXPECT_EQ(r.exit_code, 1) << "GCOL + " << offset << " bit " << bit << ": " << r.err;
+    EXPECT_NE(r.err.find("checksum mismatch: the file is damaged"), std::string::npos) << r.err;
+    EXPECT_EQ(one_line(r.err), 1) << r.err;
+  }
+}
+
 TEST(GenerateCli, BadInputsFailWithOneLine) {
   Dir dir;
   const std::string out = dir / "bad.h5";

@@ -38,30 +38,37 @@ std::string member(const std::string& json, const std::string& key) {
   return json.substr(b, json.find_first_of(",}", b) - b);
 }
 
+/// Solves one file of tests/data/fc2d with `solver_args` and checks the answer from the file:
+/// converged, w = W z + q, and the natural residual of z ≤ 1e-8·max(1, ‖q‖∞).
+void expect_solved(const std::string& name, const std::string& solver_args) {
+  SCOPED_TRACE(name);
+  const test::CliResult r = test::run_cli("lcp solve \"" + kData + name + "\" " + solver_args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(member(r.out, "problem"), "\"fc2d\"");
+  EXPECT_EQ(member(r.out, "status"), "\"converged\"");
+  EXPECT_GE(std::stod(member(r.out, "solve_seconds")), 0.0);
+  const Fc2dProblem p = read_fc2d_dat(kData + name).problem;
+  const Eigen::VectorXd z = array_of(r.out, "z"), w = array_of(r.out, "w"), mu = array_of(r.out, "mu");
+  ASSERT_EQ(z.size(), p.q.size());
+  EXPECT_EQ(mu, p.mu);
+  EXPECT_LE((w - (p.W * z + p.q)).lpNorm<Eigen::Infinity>(), 1e-12 * std::max(1.0, w.lpNorm<Eigen::Infinity>()));
+  const double res = fc2d_natural_residual(p, z);
+  EXPECT_EQ(res, std::stod(member(r.out, "residual")));
+  EXPECT_LE(res, 1e-8 * std::max(1.0, p.q.lpNorm<Eigen::Infinity>()));
+}
+
 TEST(LcpFc2dCli, SolvesSiconos2dFilesAsFrictionalProblems) {
-  // Every 2D file of Siconos' test data up to 376 contacts; the granular 2020 and 7002 ones
-  // (W indefinite after Siconos' 6-digit print) are run by benchmarks/scripts (docs/lcp.md).
+  // Every 2D file of Siconos' test data: newton up to 727 contacts; the granular 2020 and 7002
+  // ones, whose W is indefinite after Siconos' 6-digit print (newton stalls), by the
+  // proximal-point route around newton-sparse (docs/lcp.md).
   for (const char* name : {"FC2D_SliderCrankLagrangian00000.dat", "FC2D_SliderCrankLagrangian00001.dat",
                            "FrictionContactProblem00031.dat", "FrictionContactProblem00071.dat",
                            "FrictionContactProblem00237.dat", "FrictionContactProblem00374.dat",
                            "FrictionContactProblem00394.dat", "FrictionContactProblem00727.dat",
-                           "fc2d_granularflowonwall_00667_00000.dat"}) {
-    SCOPED_TRACE(name);
-    const test::CliResult r = test::run_cli("lcp solve \"" + kData + name + "\" --solver newton");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_EQ(member(r.out, "problem"), "\"fc2d\"");
-    EXPECT_EQ(member(r.out, "status"), "\"converged\"");
-    EXPECT_GE(std::stod(member(r.out, "solve_seconds")), 0.0);
-    // Checked from the file: w = W z + q, Coulomb's law at the reported residual.
-    const Fc2dProblem p = read_fc2d_dat(kData + name).problem;
-    const Eigen::VectorXd z = array_of(r.out, "z"), w = array_of(r.out, "w"), mu = array_of(r.out, "mu");
-    ASSERT_EQ(z.size(), p.q.size());
-    EXPECT_EQ(mu, p.mu);
-    EXPECT_LE((w - (p.W * z + p.q)).lpNorm<Eigen::Infinity>(), 1e-12 * std::max(1.0, w.lpNorm<Eigen::Infinity>()));
-    const double res = fc2d_natural_residual(p, z);
-    EXPECT_EQ(res, std::stod(member(r.out, "residual")));
-    EXPECT_LE(res, 1e-8 * std::max(1.0, p.q.lpNorm<Eigen::Infinity>()));
-  }
+                           "fc2d_granularflowonwall_00667_00000.dat"})
+    expect_solved(name, "--solver newton");
+  for (const char* name : {"fc2d_granularflowonwall_02020_00213.dat", "fc2d_granularflowonwall_07002_00801.dat"})
+    expect_solved(name, "--solver newton-sparse --proximal");
 }
 
 TEST(LcpFc2dCli, KindIsDetectedOrForced) {

@@ -123,6 +123,47 @@ TEST(H5Checksum, TheShippedModelDetectsEveryFlipThatChangesAValue) {
   EXPECT_EQ(n.silent, 0) << n.silent << " silent flips, e.g. " << (n.silent_bits.empty() ? "" : n.silent_bits.front());
 }
 
+// A virtual dataset keeps its source mappings in HDF5's global heap, which has no checksum:
+// damaged mappings made libhdf5 1.10.8 abort or crash in H5Dopen. A file sealed with a hash of
+// all its bytes (AtomicH5File::add_whole_file_hash, what data set manifests use) is checked
+// before libhdf5 reads it: a flip in every byte of the heap — and of the trailer's length and
+// hash — is a one-line error; h5py-style readers that ignore the trailer read it as before.
+TEST(H5Checksum, ASealedFileRefusesEveryFlipOfItsVirtualDatasetMappings) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "parts");
+  H5File::create(dir / "parts/a.h5").write<double>("/x", std::vector<double>{1, 2, 3, 4}, {2, 2});
+  H5File::create(dir / "parts/b.h5").write<double>("/y", std::vector<double>{5, 6, 7, 8, 9, 10}, {3, 2});
+  const std::string file = dir / "v.h5";
+  {
+    AtomicH5File v(file);
+    v.add_whole_file_hash();
+    v->create_virtual<double>("/all", {2}, {{"parts/a.h5", "/x", 2}, {"parts/b.h5", "/y", 3}});
+    v.commit();
+  }
+  const std::string reference = test::dump_h5(file);
+  EXPECT_NE(reference.find("all"), std::string::npos);
+  const std::string bytes = test::read_bytes(file);
+  const std::size_t heap = find_bytes(file, "GCOL"), trailer = bytes.size() - 24;
+  std::vector<std::size_t> damaged_bytes;  // the heap collection (≥ 4 KiB), then the trailer's length and hash
+  for (std::size_t b = heap; b < std::min(heap + 4096, trailer); ++b) damaged_bytes.push_back(b);
+  for (std::size_t b = trailer + 8; b < bytes.size(); ++b) damaged_bytes.push_back(b);
+  const std::string flipped = dir / "flipped.h5";
+  int refused = 0;
+  for (const std::size_t byte : damaged_bytes) {  // one bit per byte, each bit position in turn
+    std::string d = bytes;
+    d[byte] = static_cast<char>(d[byte] ^ (1 << (byte % 8)));
+    test::write_bytes(flipped, d);
+    const std::string m = io_error([&] { (void)H5File::open_read(flipped); });
+    refused += m.find("checksum mismatch: the file is damaged") != std::string::npos && m.find('\n') == std::string::npos;
+  }
+  EXPECT_EQ(refused, static_cast<int>(damaged_bytes.size()));
+  // Opened for writing, the seal is dropped first (HDF5 may change any byte), and the file
+  // still reads the same.
+  H5File::open_rw(file).close();
+  EXPECT_EQ(std::filesystem::file_size(file), bytes.size() - 24);
+  EXPECT_EQ(test::dump_h5(file), reference);
+}
+
 // scripts/bitflip-test.sh: DC_BITFLIP_FILE, DC_BITFLIP_COUNT (100), DC_BITFLIP_SEED (1).
 TEST(H5Checksum, FlipsOfTheFileNamedByTheEnvironment) {
   const char* file = std::getenv("DC_BITFLIP_FILE");

@@ -31,7 +31,8 @@ TEST(BenchRunner, PairedOrderingOnASettlingPile) {
   for (const auto& rec : r.starters) {
     EXPECT_EQ(rec.sweeps_to_tol.size(), steps);
     EXPECT_EQ(rec.step, r.starters[0].step) << "paired: identical steps";
-    EXPECT_EQ(rec.theta.size(), steps * 600);
+    EXPECT_EQ(rec.theta.rows(), steps);
+    EXPECT_EQ(rec.theta.row_length(), 600u);
     EXPECT_EQ(rec.residual.size(), steps * r.budgets.size());
   }
   const auto s = bench::summarise(r);

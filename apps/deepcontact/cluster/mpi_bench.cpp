@@ -2,19 +2,38 @@
 #include "cluster/mpi_bench.hpp"
 
 #include <chrono>
+#include <memory>
+#include <span>
 
 #include "cluster/byte_buffer.hpp"
 #include "cluster/comm.hpp"
 #include "dc/bench/bench_merge.hpp"
+#include "dc/core/error.hpp"
+#include "dc/io/scratch_file.hpp"
 
 namespace dc::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// A starter's θ rows travel as (row length, every value); the receiver appends them to its own
+// scratch file (theta_rows.hpp). `send_theta` false: sent as none (rank 0 keeps its own rows).
+template <class Io>
+void theta_field(const Io& io, bench::ThetaRows& t, bool send_theta, const std::shared_ptr<ScratchFile>& scratch) {
+  std::uint64_t length = t.row_length();
+  std::vector<float> values = send_theta ? t.all() : std::vector<float>{};  // empty when unpacking
+  io(length);
+  io(values);
+  if (t.rows() > 0 || values.empty()) return;  // packed, or nothing received
+  if (length == 0 || values.size() % length != 0) throw IoError("bench: MPI message: theta rows of a wrong size");
+  t = bench::ThetaRows(scratch);
+  for (std::size_t i = 0; i < values.size(); i += length) t.append(std::span<const float>(values).subspan(i, length));
+}
+
 // Every per-step field of the results, in one fixed order (pack and unpack share it).
 template <class Io>
-void per_step_fields(const Io& io, bench::BenchResults& r) {
+void per_step_fields(const Io& io, bench::BenchResults& r, bool send_theta = true,
+                     const std::shared_ptr<ScratchFile>& scratch = nullptr) {
   io(r.step_seed);
   io(r.step_index);
   io(r.step_rows);
@@ -40,7 +59,7 @@ void per_step_fields(const Io& io, bench::BenchResults& r) {
     io(s.solve_ms);
     io(s.sweep_ns_per_row);
     io(s.initial_error);
-    io(s.theta);
+    theta_field(io, s.theta, send_theta, scratch);
     io(s.residual);
     io(s.lambda_error);
     io(s.penetration);
@@ -64,16 +83,16 @@ void per_step_fields(const Io& io, bench::BenchResults& r) {
   }
 }
 
-Bytes pack(bench::BenchResults& r) {
+Bytes pack(bench::BenchResults& r, bool send_theta) {
   ByteWriter w;
-  per_step_fields([&](auto& v) { w.put(v); }, r);
+  per_step_fields([&](auto& v) { w.put(v); }, r, send_theta);
   return w.take();
 }
 
-bench::BenchResults unpack(const Bytes& b) {
+bench::BenchResults unpack(const Bytes& b, const std::shared_ptr<ScratchFile>& scratch) {
   bench::BenchResults r;
   ByteReader in(b);
-  per_step_fields([&](auto& v) { in.get(v); }, r);
+  per_step_fields([&](auto& v) { in.get(v); }, r, true, scratch);
   if (!in.done()) throw IoError("bench: MPI message: trailing bytes");
   return r;
 }
@@ -105,18 +124,16 @@ bench::BenchResults run_bench_across_ranks(const bench::BenchOptions& o, const W
   }
   const auto t1 = Clock::now();
   comm.barrier();  // wait for the slowest rank without a busy loop, then gather
-  const std::vector<Bytes> all = comm.gather(pack(local));
+  // Rank 0 keeps its own θ rows where they are; the others' arrive in the messages.
+  const std::vector<Bytes> all = comm.gather(pack(local, !comm.is_root()));
   if (!comm.is_root()) return local;
-  bench::BenchResults merged = unpack(all[0]);
-  for (std::size_t r = 1; r < all.size(); ++r) bench::append_results(merged, unpack(all[r]));
-  // The options as run_bench resolved them (e.g. the default --budget), with every rank's seeds.
-  merged.options = local.options;
-  merged.options.seeds = o.seeds;
+  // Rank 0's block comes first: its own results (the options as run_bench resolved them, e.g.
+  // the default --budget; the report's reference frame is the first seed's, which it holds).
+  bench::BenchResults merged = std::move(local);
+  const auto scratch = std::make_shared<ScratchFile>(o.scratch_dir);
+  for (std::size_t r = 1; r < all.size(); ++r) bench::append_results(merged, unpack(all[r], scratch));
+  merged.options.seeds = o.seeds;  // every rank's
   merged.options.scene = o.scene;
-  merged.budgets = local.budgets;
-  // The report's reference frame is the first seed's, which rank 0's block holds.
-  merged.reference = local.reference;
-  merged.reference_scene = local.reference_scene;
   const auto t2 = Clock::now();
   merged.wall_seconds = std::chrono::duration<double>(t2 - t0).count();
   if (times) {

@@ -104,6 +104,12 @@ bench::BenchOptions bench_options(const BenchArgs& a, const WarmStarterRegistry&
   o.warmup_steps = a.warmup_steps;
   o.oracle = !a.no_oracle;
   o.keep_theta = a.theta;
+  // The θ rows' temporary file goes to the disk of --out (checked writable before the run).
+  if (!a.out.empty()) {
+    std::filesystem::path out = std::filesystem::absolute(a.out).lexically_normal();
+    if (!out.has_filename()) out = out.parent_path();  // "DIR/"
+    o.scratch_dir = out.parent_path().string();
+  }
   if (a.steps > 0) o.scene.time.steps = a.steps;
   o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
   o.tolerance = a.tol;

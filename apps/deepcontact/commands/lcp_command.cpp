@@ -1,4 +1,4 @@
-// `deepcontact lcp solve FILE [--kind lcp|fc2d] [--solver NAME] [--sweeps N] [--tol T]`: solve
+// `deepcontact lcp solve FILE [--kind lcp|fc2d] [--solver NAME] [--sweeps N] [--tol T] [--proximal]`: solve
 // one problem from a file — a Siconos numerics LCP .dat (storage 0 or 1), a Siconos 2D
 // frictional-contact .dat (storage 0, 1 or 2) or an FCLIB local problem (.hdf5, spacedim 2);
 // docs/lcp.md — and print the result as JSON on stdout:
@@ -33,6 +33,7 @@
 #include "dc/io/output_path.hpp"
 #include "dc/engine/dat_file.hpp"
 #include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/proximal_point.hpp"
 
 namespace dc::cli {
 namespace {
@@ -43,6 +44,7 @@ struct LcpSolveArgs {
   std::string solver = "lemke";
   int sweeps = 3000;
   double tol = 1e-10;
+  bool proximal = false;  // solve by the proximal-point route around `solver` (proximal_point.hpp)
 };
 
 /// CPU seconds of this process so far.
@@ -91,10 +93,15 @@ void run_lcp_solve(const LcpSolveArgs& a) {
   o.max_sweeps = a.sweeps;
   o.tolerance = a.tol;
   o.record_theta = false;
+  ProximalPointDef route;
+  route.inner_solver = a.solver;
+  SolverOptions exact;  // the route solves to the exact tolerance 1e-9·max(1, ‖q‖∞), its own limits
+  exact.record_theta = false;
   const double t0 = cpu_seconds();
-  const SolveResult r = solver->solve(f.lcp, Eigen::VectorXd(), o);
+  const SolveResult r = a.proximal ? solve_proximal_point(f.lcp, Eigen::VectorXd(), exact, route)
+                                   : solver->solve(f.lcp, Eigen::VectorXd(), o);
   const double seconds = cpu_seconds() - t0;
-  print_solution(f, r, seconds, a.solver);
+  print_solution(f, r, seconds, a.proximal ? "proximal:" + a.solver : a.solver);
   switch (r.status) {
     case SolveStatus::Converged: exit_status() = 0; break;
     case SolveStatus::Infeasible: exit_status() = 3; break;
@@ -168,6 +175,9 @@ void add_lcp_command(CLI::App& app) {
                     "Iterative solvers: stop when max change per sweep <= tol (0 = run all sweeps); "
                     "lemke/newton solve to 1e-9*max(1,|q|inf)")
       ->capture_default_str();
+  solve->add_flag("--proximal", args->proximal,
+                  "Solve by the proximal-point route around --solver (e.g. newton-sparse): shifted problems A + dI, "
+                  "for singular or slightly indefinite W; to 1e-9*max(1,|q|inf), --sweeps/--tol unused");
   solve->callback([args] { run_lcp_solve(*args); });
 
   auto cargs = std::make_shared<LcpConvertArgs>();

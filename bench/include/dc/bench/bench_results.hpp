@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "dc/bench/theta_rows.hpp"
 #include "dc/bench/trajectory_recorder.hpp"
 #include "dc/engine/world_def.hpp"
 #include "dc/warmstart/warm_starter.hpp"
@@ -70,6 +71,10 @@ struct BenchOptions {
   /// timings, which then share the machine's cores and memory: per-step ms rise a little when
   /// jobs approach the core count (docs/bench.md "Parallel seeds"). 1 = one seed after another.
   int jobs = 1;
+  /// Folder of the temporary file that holds the θ rows while the bench runs (theta_rows.hpp;
+  /// nameless, so nothing stays there after any exit). Empty = $TMPDIR, else /tmp. The command
+  /// puts it next to --out DIR (the disk the results go to anyway).
+  std::string scratch_dir;
 };
 
 /// One (solver, starter) pair of the solver comparison: one entry per evaluated step.
@@ -103,7 +108,9 @@ struct StarterRecord {
   std::vector<double> solve_ms;       ///< tolerance-mode PGS solve from λ⁰ until θ ≤ tol
   std::vector<double> sweep_ns_per_row;  ///< fixed-sweep run: time per sweep per row
   std::vector<double> initial_error;  ///< ‖λ⁰ − λ*‖∞ [N]
-  std::vector<float> theta;           ///< θ_k, k = 1..sweeps, step-major (steps × sweeps)
+  /// θ_k, k = 1..sweeps, one row per step (steps × sweeps), on disk: the bulk of the results
+  /// (theta_rows.hpp); everything else here is ~0.8 KB per step with the default budgets.
+  ThetaRows theta;
   // Trade at the budgets: step-major (steps × budgets).
   std::vector<double> residual;       ///< natural-map residual after B sweeps [N]
   std::vector<double> lambda_error;   ///< ‖λ_B − λ*‖∞ [N]

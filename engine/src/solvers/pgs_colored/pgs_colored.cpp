@@ -39,6 +39,7 @@
 #include "dc/engine/pgs_colored.hpp"
 #include "lcp/contact_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 
@@ -69,7 +70,8 @@ struct Prepared {
   std::vector<std::uint8_t> dynamic;
   std::vector<int> failed;    // per batch: its first contact that cannot be packed, or −1
   std::vector<double, Eigen::aligned_allocator<double>> du;
-  int body_entries = 0;  // kStride·bodies; the zero body follows
+  colored::BodyRows body_rows;  // with threads: Jᵀλ⁰ and the residual per body (pgs_colored_products.hpp)
+  int body_entries = 0;         // kStride·bodies; the zero body follows
 };
 
 /// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
@@ -341,7 +343,6 @@ class PgsColoredSolver final : public LcpSolver {
     }
     SolveResult r = sweeps(p, lambda, o, prep);
     keep(prep);
-    finish(p, r);
     return r;
   }
 
@@ -371,13 +372,24 @@ class PgsColoredSolver final : public LcpSolver {
     return first_failure(prep);
   }
 
-  /// The sweeps from λ⁰ (row order) on the packed problem; λ back in row order.
+  /// The sweeps from λ⁰ (row order) on the packed problem; λ back in row order, its natural
+  /// residual (finish). With threads, Δu⁰, the permutations and the residual run on them too,
+  /// bit-identical to the serial forms (pgs_colored_products.hpp).
   [[nodiscard]] SolveResult sweeps(const LcpProblem& p, const Eigen::VectorXd& lambda, const SolverOptions& o,
                                    Prepared& prep) const {
-    // Δu = M⁻¹ Jᵀ λ⁰ Δt (kStride per body), then the zero body.
+    const int threads = effective_threads(static_cast<int>(prep.batches.size()));
     const int nu = prep.body_entries;
-    prep.du.assign(static_cast<size_t>(nu + kStride), 0.0);
-    {
+    bool parallel = threads > 1;
+    if (parallel) {
+      colored::build_body_rows(p, nu / kStride, threads, prep.body_rows);
+      parallel = prep.body_rows.ok;
+    }
+    // Δu = M⁻¹ Jᵀ λ⁰ Δt (kStride per body), then the zero body.
+    prep.du.resize(static_cast<size_t>(nu + kStride));
+    if (parallel) {
+      colored::velocity_change(p, prep.body_rows, lambda, threads, prep.du.data());
+    } else {
+      std::fill(prep.du.begin(), prep.du.end(), 0.0);
       const Eigen::VectorXd jt = p.J.transpose() * lambda;
       for (int c = 0; c < jt.size(); ++c)
         prep.du[static_cast<size_t>(kStride * (c / 3) + c % 3)] = p.inv_mass[c] * jt[c] * p.dt;
@@ -385,23 +397,19 @@ class PgsColoredSolver final : public LcpSolver {
     // A non-finite Δu⁰ (an overflowing λ⁰) makes sweep 1 report a non-finite iterate, as a
     // check after the sweep would; the kernels check what they write.
     bool bad_start = !all_finite(prep.du.data(), nu);
-    const size_t np = prep.row_of.size();
-    Eigen::VectorXd lp = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(np));
-    for (size_t s = 0; s < np; ++s)
-      if (prep.row_of[s] >= 0) lp[static_cast<Eigen::Index>(s)] = lambda[prep.row_of[s]];
-    auto unpermute = [&](const Eigen::VectorXd& v) {
-      Eigen::VectorXd out = Eigen::VectorXd::Zero(p.rows());
-      for (size_t s = 0; s < np; ++s)
-        if (prep.row_of[s] >= 0) out[prep.row_of[s]] = v[static_cast<Eigen::Index>(s)];
-      return out;
-    };
+    const int np = static_cast<int>(prep.row_of.size());
+    // Padding entries are never written by the scalar kernel: both buffers start at zero there.
+    Eigen::VectorXd lp(np), other(np);
+#pragma omp parallel for num_threads(threads) schedule(static) if (parallel)
+    for (int s = 0; s < np; ++s) {
+      const int row = prep.row_of[static_cast<size_t>(s)];
+      lp[s] = other[s] = row >= 0 ? lambda[row] : 0.0;
+    }
+    const int use = parallel ? threads : 1;
     SolverOptions po = o;
     if (o.on_checkpoint)
-      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(v)); };
-    const int threads = effective_threads(static_cast<int>(prep.batches.size()));
+      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), use)); };
     const colored::SweepKernel sweep = kernel_;
-    // Padding entries are never written by the scalar kernel: both buffers start at zero there.
-    Eigen::VectorXd other = lp;
     SolveResult r = solvers::run_sweeps_double_buffered(
         std::move(lp), std::move(other), po, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
           colored::Acc acc;
@@ -417,8 +425,27 @@ class PgsColoredSolver final : public LcpSolver {
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
         });
-    r.lambda = unpermute(r.lambda);
+    r.lambda = unpermute(prep, r.lambda, p.rows(), use);
+    bool finite = false;
+    if (parallel) r.residual = colored::natural_residual(p, prep.body_rows, r.lambda, threads, prep.du.data(), finite);
+    if (!finite) finish(p, r);  // serial (and the defensive replacement of a non-finite λ)
     return r;
+  }
+
+  /// λ in row order from the permuted vector v (every row has one slot: each row belongs to a
+  /// packed contact).
+  static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
+    Eigen::VectorXd out(rows);
+    const int np = static_cast<int>(prep.row_of.size());
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    {
+#pragma omp for schedule(static)
+      for (int i = 0; i < rows; ++i) out[i] = 0.0;
+#pragma omp for schedule(static)
+      for (int s = 0; s < np; ++s)
+        if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
+    }
+    return out;
   }
 
   void keep(Prepared& prep) const {

@@ -280,6 +280,11 @@ class AtomicH5File {
   /// Writes the finished file to `path.tmp` and renames it onto `path` (replacing an existing
   /// file). On IoError (e.g. disk full) `path` is unchanged and no temporary is left.
   void commit();
+  /// Seals the file at commit with a hash of all its bytes, verified by every open before
+  /// libhdf5 reads it (for files whose damage libhdf5 cannot survive, e.g. virtual datasets'
+  /// mappings; readers without the check, such as h5py, read the file as before). Costs one
+  /// pass over the file per open: for small files.
+  void add_whole_file_hash() { whole_file_hash_ = true; }
 
   [[nodiscard]] const std::string& path() const { return path_; }
   [[nodiscard]] const std::string& tmp_path() const { return tmp_; }
@@ -290,6 +295,7 @@ class AtomicH5File {
   std::string tmp_;
   std::optional<H5File> file_;
   bool committed_ = false;
+  bool whole_file_hash_ = false;
 };
 
 /// Number of HDF5 objects (files, groups, datasets, attributes) open in this process right
