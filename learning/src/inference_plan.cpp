@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <ctime>
 
 #if defined(__AVX512F__)
 #include <immintrin.h>
@@ -13,17 +12,11 @@
 #include "dc/learning/layers/conv2d.hpp"
 #include "layers/conv_direct.hpp"
 #include "omp_util.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace dc {
 
 namespace {
-
-/// CPU time of the calling thread [ms] (per-step profiling on a shared machine).
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
 
 /// Whether the direct kernels serve this conv (see Conv2d::forward's dispatch).
 bool direct_conv(int k, int stride, int wo) {
@@ -361,22 +354,22 @@ const Tensor& InferencePlan::run(const Tensor& features, std::span<const int> pi
   require_shape(features.shape(), in_, "InferencePlan::run input");
   if (step_ms) step_ms->assign(step_count(), 0.0);
   if (!fused()) {
-    const double t0 = step_ms ? thread_cpu_ms() : 0.0;
+    const double t0 = step_ms ? detail::thread_cpu_ms() : 0.0;
     scratch_ = features;
     stats_.apply(scratch_);
     net_->forward_at(scratch_, pixels, out_);
-    if (step_ms) (*step_ms)[0] = thread_cpu_ms() - t0;
+    if (step_ms) (*step_ms)[0] = detail::thread_cpu_ms() - t0;
     return out_;
   }
   for (std::size_t i = 0; i < steps_.size(); ++i) {
-    const double t0 = step_ms ? thread_cpu_ms() : 0.0;
+    const double t0 = step_ms ? detail::thread_cpu_ms() : 0.0;
     const Step& s = steps_[i];
     if (s.sparse) {
       run_sparse(s, features, pixels);
     } else {
       run_dense(s, features);
     }
-    if (step_ms) (*step_ms)[i] = thread_cpu_ms() - t0;
+    if (step_ms) (*step_ms)[i] = detail::thread_cpu_ms() - t0;
   }
   return steps_.back().sparse ? out_ : act_.back();
 }

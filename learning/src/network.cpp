@@ -1,7 +1,6 @@
 #include "dc/learning/network.hpp"
 
 #include <algorithm>
-#include <ctime>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -13,18 +12,9 @@
 #include "dc/learning/layers/dropout.hpp"
 #include "dc/learning/layers/relu.hpp"
 #include "dc/learning/layers/upsample.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace dc {
-
-namespace {
-/// CPU time of the calling thread [ms] (profiling on a loaded machine: wall time would
-/// count the time the thread was descheduled).
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
-}  // namespace
 
 Network::Network(ArchSpec arch, const Shape& in) : arch_(std::move(arch)), in_{1, in.c, in.h, in.w} {
   if (in_.c <= 0 || in_.h <= 0 || in_.w <= 0) throw ConfigError("network: empty input shape " + in_.str());
@@ -97,7 +87,7 @@ const Tensor& Network::forward(const Tensor& x, bool training, std::vector<doubl
   require_shape(x.shape(), in_.with_batch(x.n()), "Network::forward input");
   if (node_ms) node_ms->assign(nodes_.size(), 0.0);
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    const double t0 = node_ms ? thread_cpu_ms() : 0.0;
+    const double t0 = node_ms ? detail::thread_cpu_ms() : 0.0;
     Node& node = nodes_[i];
     if (node.inputs.size() > 1) {
       std::vector<const Tensor*> ins;
@@ -105,7 +95,7 @@ const Tensor& Network::forward(const Tensor& x, bool training, std::vector<doubl
       concat_channels(ins, cat_[i]);
     }
     node.layer->forward(input_of(i, x), act_[i], training);
-    if (node_ms) (*node_ms)[i] = thread_cpu_ms() - t0;
+    if (node_ms) (*node_ms)[i] = detail::thread_cpu_ms() - t0;
   }
   last_x_ = &x;
   return act_.back();

@@ -21,7 +21,7 @@ namespace {
 /// Sample i: every feature value i, every label value 2i + 1; counts the reads of each sample.
 class CountingSource final : public SampleSource {
  public:
-  CountingSource(std::size_t n, int sims) : n_(n), sims_(sims), reads_(n, 0) {}
+  CountingSource(std::size_t n, int sims) : reads_(n, 0), n_(n), sims_(sims) {}
   [[nodiscard]] std::size_t size() const override { return n_; }
   [[nodiscard]] int simulation(std::size_t i) const override { return static_cast<int>(i) * sims_ / static_cast<int>(n_); }
   [[nodiscard]] Shape feature_shape() const override { return {1, 2, 5, 5}; }
