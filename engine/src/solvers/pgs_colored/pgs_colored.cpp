@@ -83,14 +83,25 @@ struct Prepared {
 bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
               int lane) {
   double r[6] = {0, 0, 0, 0, 0, 0};
-  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
-    const int col = static_cast<int>(it.col());
-    if (col >= a && col < a + 3) {
-      r[col - a] += it.value();
-    } else if (bb >= 0 && col >= bb && col < bb + 3) {
-      r[3 + col - bb] += it.value();
-    } else {
-      return false;
+  // The usual storage (what the engine assembles): the columns a, a+1, a+2 (, bb, bb+1, bb+2)
+  // once each, in order; then each r_s is 0 + J_is, as the general loop below sums it (−0 → +0).
+  const double* value = p.J.valuePtr();
+  const int q0 = p.J.outerIndexPtr()[i];
+  const int n = (p.J.isCompressed() ? p.J.outerIndexPtr()[i + 1] : q0 + p.J.innerNonZeroPtr()[i]) - q0;
+  const int* col = p.J.innerIndexPtr() + q0;
+  if (n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
+      (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2))) {
+    for (int s = 0; s < n; ++s) r[s] = 0.0 + value[q0 + s];
+  } else {
+    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+      const int c = static_cast<int>(it.col());
+      if (c >= a && c < a + 3) {
+        r[c - a] += it.value();
+      } else if (bb >= 0 && c >= bb && c < bb + 3) {
+        r[3 + c - bb] += it.value();
+      } else {
+        return false;
+      }
     }
   }
   const double* im = p.inv_mass.data();
