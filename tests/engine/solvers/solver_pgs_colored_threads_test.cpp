@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <stdexcept>
 #include <vector>
 
 #include "dc/engine/lcp_solver.hpp"
@@ -150,6 +151,42 @@ TEST(PgsColoredThreads, RowsStoredOutOfBodyOrderGiveTheSameBits) {
   const double serial = natural_residual(p, one.lambda);
   EXPECT_EQ(0, std::memcmp(&one.residual, &serial, sizeof serial));
   for (int threads : {2, 7}) expect_same_bits(one, solve_on(p, Eigen::VectorXd(), threads, 20), std::to_string(threads) + " threads");
+}
+
+TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepLoop) {
+  // The threaded sweeps run in one parallel region with the driver on thread 0: checkpoints,
+  // the tolerance stop and θ must be those of one thread, and a callback's exception must leave
+  // the region and reach the caller.
+  const LcpProblem p = pile_problem(400, 60);
+  auto run = [&](int threads, double tol, std::vector<Eigen::VectorXd>& seen) {
+    PgsColoredDef d;
+    d.threads = threads;
+    d.min_batches_per_thread = 1;
+    SolverOptions o = sweeps(200);
+    o.tolerance = tol;
+    o.checkpoints = {2, 7};
+    o.on_checkpoint = [&](int, const Eigen::VectorXd& l) { seen.push_back(l); };
+    return make_pgs_colored(d)->solve(p, Eigen::VectorXd(), o);
+  };
+  for (const double tol : {0.0, 1e-6}) {
+    std::vector<Eigen::VectorXd> seen_one;
+    const SolveResult one = run(1, tol, seen_one);
+    ASSERT_EQ(seen_one.size(), 2u);
+    for (int threads : {2, 3, 7}) {
+      std::vector<Eigen::VectorXd> seen;
+      const std::string what = std::to_string(threads) + " threads, tolerance " + std::to_string(tol);
+      expect_same_bits(one, run(threads, tol, seen), what);
+      ASSERT_EQ(seen.size(), seen_one.size()) << what;
+      for (size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k], seen_one[k]) << what << ", checkpoint " << k;
+    }
+  }
+  PgsColoredDef d;
+  d.threads = 2;
+  d.min_batches_per_thread = 1;
+  SolverOptions o = sweeps(20);
+  o.checkpoints = {5};
+  o.on_checkpoint = [](int, const Eigen::VectorXd&) { throw std::runtime_error("stop here"); };
+  EXPECT_THROW((void)make_pgs_colored(d)->solve(p, Eigen::VectorXd(), o), std::runtime_error);
 }
 
 }  // namespace

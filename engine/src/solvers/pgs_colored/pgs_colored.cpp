@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -278,43 +279,37 @@ colored::SweepKernel kernel_fn(PgsColoredKernel k) {
   }
 }
 
-/// One sweep on `threads` threads: each colour's batches split statically (contiguous blocks,
-/// so a thread keeps the same region of the pile from colour to colour), a barrier between
-/// colours, the overflow set on one thread. θ and the flag are max/or reductions: the result
-/// does not depend on the thread count.
-void sweep_parallel(const Prepared& prep, colored::SweepKernel sweep, const double* in, double* out, double* u,
-                    int threads, colored::Acc& acc) {
-#if defined(_OPENMP)
-  double theta = acc.theta;
-  bool bad = acc.bad;
+/// Thread tid's share (of nt) of one sweep: each colour's batches split statically (contiguous
+/// blocks, so a thread keeps the same region of the pile from colour to colour), the overflow
+/// set on thread 0, a barrier after each colour. The thread's θ and flag go to `mine` before the
+/// last barrier, so after it every thread's share is visible.
+void sweep_share(const Prepared& prep, colored::SweepKernel sweep, const double* in, double* out, double* u, int tid,
+                 int nt, colored::Acc& mine) {
+  colored::Acc local;
   const Batch* batches = prep.batches.data();
   const int nr = static_cast<int>(prep.ranges.size());
-#pragma omp parallel num_threads(threads) reduction(max : theta) reduction(|| : bad)
-  {
-    colored::Acc local;
-    const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
-    for (int k = 0; k < nr; ++k) {
-      const Range& rg = prep.ranges[static_cast<size_t>(k)];
-      if (rg.serial) {
-        if (tid == 0) sweep(batches, rg.begin, rg.end, in, out, u, local);
-      } else {
-        const int n = rg.end - rg.begin;
-        const int lo = rg.begin + static_cast<int>(static_cast<long>(n) * tid / nt);
-        const int hi = rg.begin + static_cast<int>(static_cast<long>(n) * (tid + 1) / nt);
-        sweep(batches, lo, hi, in, out, u, local);
-      }
-#pragma omp barrier
+  for (int k = 0; k < nr; ++k) {
+    const Range& rg = prep.ranges[static_cast<size_t>(k)];
+    if (rg.serial) {
+      if (tid == 0) sweep(batches, rg.begin, rg.end, in, out, u, local);
+    } else {
+      const int n = rg.end - rg.begin;
+      const int lo = rg.begin + static_cast<int>(static_cast<long>(n) * tid / nt);
+      const int hi = rg.begin + static_cast<int>(static_cast<long>(n) * (tid + 1) / nt);
+      sweep(batches, lo, hi, in, out, u, local);
     }
-    theta = colored::max_of(theta, local.theta);
-    bad = bad || local.bad;
+    if (k == nr - 1) mine = local;
+#pragma omp barrier
   }
-  acc.theta = theta;
-  acc.bad = bad;
-#else
-  (void)threads;
-  for (const Range& rg : prep.ranges) sweep(prep.batches.data(), rg.begin, rg.end, in, out, u, acc);
-#endif
+  if (nr == 0) mine = local;
 }
+
+/// What thread 0 (running the sweep driver) tells the others before each sweep.
+struct SweepOrder {
+  const double* in = nullptr;
+  double* out = nullptr;
+  bool stop = false;
+};
 
 class PgsColoredSolver final : public LcpSolver {
  public:
@@ -408,26 +403,87 @@ class PgsColoredSolver final : public LcpSolver {
     SolverOptions po = o;
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), threads)); };
-    const colored::SweepKernel sweep = kernel_;
-    SolveResult r = solvers::run_sweeps_double_buffered(
-        std::move(lp), std::move(other), po, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
-          colored::Acc acc;
-          acc.bad = bad_start;
-          bad_start = false;
-          double* u = prep.du.data();
-          if (threads <= 1) {
-            for (const Range& rg : prep.ranges) sweep(prep.batches.data(), rg.begin, rg.end, in.data(), out.data(), u, acc);
-          } else {
-            sweep_parallel(prep, sweep, in.data(), out.data(), u, threads, acc);
-          }
-          if (!std::isfinite(acc.theta)) acc.bad = true;
-          nonfinite = nonfinite || acc.bad;
-          return acc.theta;
-        });
+    SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep)
+                                 : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
     r.lambda = unpermute(prep, r.lambda, p.rows(), threads);
     bool finite = false;
     r.residual = colored::natural_residual(p, r.lambda, threads, prep.jt, finite);
     if (!finite) finish(p, r);  // the defensive replacement of a non-finite λ (and its residual)
+    return r;
+  }
+
+  /// The sweeps on one thread.
+  [[nodiscard]] SolveResult sweeps_serial(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
+                                          const SolverOptions& o, Prepared& prep) const {
+    const colored::SweepKernel sweep = kernel_;
+    return solvers::run_sweeps_double_buffered(
+        std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
+          colored::Acc acc;
+          acc.bad = bad_start;
+          bad_start = false;
+          for (const Range& rg : prep.ranges)
+            sweep(prep.batches.data(), rg.begin, rg.end, in.data(), out.data(), prep.du.data(), acc);
+          if (!std::isfinite(acc.theta)) acc.bad = true;
+          nonfinite = nonfinite || acc.bad;
+          return acc.theta;
+        });
+  }
+
+  /// The sweeps on `threads` threads in one parallel region for the whole solve (no fork and
+  /// join per sweep): thread 0 runs the sweep driver (checkpoints, tolerance, callbacks) and,
+  /// per sweep, releases the others with a barrier; all take their share (sweep_share); θ and
+  /// the flag are combined in thread order as max / or, so the result does not depend on the
+  /// thread count. An exception of the driver (a callback) ends the region and is rethrown.
+  [[nodiscard]] SolveResult sweeps_threaded(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
+                                            const SolverOptions& o, Prepared& prep, int threads) const {
+    SolveResult r;
+#if defined(_OPENMP)
+    const colored::SweepKernel sweep = kernel_;
+    SweepOrder order;
+    std::vector<colored::Acc> share(static_cast<size_t>(threads));
+    std::exception_ptr error;
+#pragma omp parallel num_threads(threads)
+    {
+      const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
+      double* u = prep.du.data();
+      if (tid == 0) {
+        try {
+          r = solvers::run_sweeps_double_buffered(
+              std::move(lp), std::move(other), o,
+              [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
+                order.in = in.data();
+                order.out = out.data();
+#pragma omp barrier
+                sweep_share(prep, sweep, order.in, order.out, u, 0, nt, share[0]);
+                colored::Acc acc;
+                acc.bad = bad_start;
+                bad_start = false;
+                for (int t = 0; t < nt; ++t) {
+                  acc.theta = colored::max_of(acc.theta, share[static_cast<size_t>(t)].theta);
+                  acc.bad = acc.bad || share[static_cast<size_t>(t)].bad;
+                }
+                if (!std::isfinite(acc.theta)) acc.bad = true;
+                nonfinite = nonfinite || acc.bad;
+                return acc.theta;
+              });
+        } catch (...) {
+          error = std::current_exception();
+        }
+        order.stop = true;
+#pragma omp barrier
+      } else {
+        for (;;) {
+#pragma omp barrier
+          if (order.stop) break;
+          sweep_share(prep, sweep, order.in, order.out, u, tid, nt, share[static_cast<size_t>(tid)]);
+        }
+      }
+    }
+    if (error) std::rethrow_exception(error);
+#else
+    (void)threads;
+    r = sweeps_serial(std::move(lp), std::move(other), bad_start, o, prep);
+#endif
     return r;
   }
 
