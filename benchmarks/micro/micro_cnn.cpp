@@ -145,7 +145,7 @@ void BM_CnnWarmStartParts(benchmark::State& state, std::string path, int steps) 
     const double t1 = cpu_ms();
     const dc::Tensor& y = plan.run(features, pixels);
     const double t2 = cpu_ms();
-    benchmark::DoNotOptimize(starter->guess_from_output(world, y, !residual).data());
+    benchmark::DoNotOptimize(starter->guess_from_output(world, y, !residual, builder.contact_weights()).data());
     const double t3 = cpu_ms();
     // The unfused network (standardise a copy, Network::forward_at) on the same features,
     // side by side in the same iteration; its output is not read back.

@@ -10,6 +10,7 @@
 #include "dc/cnn/contact_readback.hpp"
 #include "dc/core/error.hpp"
 #include "dc/learning/model_file.hpp"
+#include "dc/sph/sph_splat.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
 
 namespace dc {
@@ -87,9 +88,17 @@ void cap_network_forces(const World& w, Eigen::VectorXd& v) {
 
 }  // namespace
 
-Eigen::VectorXd CnnWarmStarter::read_back_grid(const World& w) {
+Eigen::VectorXd CnnWarmStarter::read_back_grid(const World& w, const SphGrid* weights) {
   points_.clear();
   for (const Contact& c : w.contacts()) points_.push_back(c.point);
+  if (model_.grid().labels.kind != LabelKind::Gain && weights != nullptr) {
+    // SphTransfer::gather without its splat of S: the same gather_shepard on the same S.
+    readback_.resize(2 * points_.size());
+    unsupported_.resize(points_.size());
+    gather_shepard(grid_, *weights, points_, readback_, unsupported_,
+                   transfer_->def().min_weight_ratio * transfer_->kernel().peak());
+    return w.constraints().scatter(readback_);
+  }
   if (model_.grid().labels.kind != LabelKind::Gain) return w.constraints().scatter(transfer_->gather(grid_, points_));
   // Gain model: δ = λp·ĝ, the load-weighted read-back of the gain field (contact_readback.hpp),
   // the map it was trained through.
@@ -193,7 +202,8 @@ std::span<const int> CnnWarmStarter::stencil_nodes(const World& w) {
   return nodes_;
 }
 
-Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& y, bool project) {
+Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& y, bool project,
+                                                  const SphGrid* contact_weights) {
   prepare(w);
   const int nx = grid_.nx(), ny = grid_.ny();
   require_shape(y.shape(), Shape{1, FeatureImageBuilder::kLabelChannels, ny, nx}, name_ + ": network output");
@@ -203,14 +213,20 @@ Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& 
   // The Shepard read-back reads only the four nodes of each point's bilinear stencil, so only
   // those are de-standardised and expanded (s·sinh): ~500 of the 2·61·61 outputs on the seed
   // pile. The other nodes of grid_ keep stale values that nothing reads.
+  // Gathered into one buffer per channel so that the expansion runs vectorised
+  // (Model::label_values: label_value bit for bit).
   const std::size_t P = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
   const std::span<double> dst = grid_.data();
-  for (const int node : stencil_nodes(w))
-    for (int ch = 0; ch < FeatureImageBuilder::kLabelChannels; ++ch) {
-      const std::size_t k = static_cast<std::size_t>(ch) * P + static_cast<std::size_t>(node);
-      dst[k] = model_.label_value(ch, y[k]);
-    }
-  out = read_back_grid(w);
+  const std::span<const int> nodes = stencil_nodes(w);
+  node_values_.resize(nodes.size());
+  for (int ch = 0; ch < FeatureImageBuilder::kLabelChannels; ++ch) {
+    const float* src = y.data() + static_cast<std::size_t>(ch) * P;
+    double* to = dst.data() + static_cast<std::size_t>(ch) * P;
+    for (std::size_t n = 0; n < nodes.size(); ++n) node_values_[n] = src[nodes[n]];
+    model_.label_values(ch, node_values_);
+    for (std::size_t n = 0; n < nodes.size(); ++n) to[nodes[n]] = node_values_[n];
+  }
+  out = read_back_grid(w, contact_weights);
   if (project) project_feasible(w.problem(), out);
   return out;
 }
@@ -247,7 +263,7 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
     }
     last_.inference_ms = ms_since(t0);
     t0 = Clock::now();
-    out = guess_from_output(w, *raw, false);
+    out = guess_from_output(w, *raw, false, builder_->contact_weights());
     cap_network_forces(w, out);
     if (!residual) project_feasible(w.problem(), out);
     if (residual) {

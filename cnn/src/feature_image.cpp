@@ -110,6 +110,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
 
   // Contacts: (nx, ny) at the points plus their weight field (the contact density).
   const bool contact_fields = uses_contact_fields(def_.channels);
+  has_contact_weights_ = false;
   if (contact_fields) {
     const bool normals = std::find(def_.channels.begin(), def_.channels.end(), FeatureChannel::Nx) != def_.channels.end() ||
                          std::find(def_.channels.begin(), def_.channels.end(), FeatureChannel::Ny) != def_.channels.end();
@@ -126,6 +127,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
     else
       splat_weights(kernel_, points_, contact_weight_);
+    has_contact_weights_ = true;
   }
 
   // Per-contact values (numerators, like the labels): builtin λ, relative velocity, gap.
@@ -206,13 +208,22 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
   }
 
   const std::size_t P = plane();
+  ratio_.resize(P);
   const std::span<const double> S = body_weight_.channel(0);
   for (std::size_t ci = 0; ci < def_.channels.size(); ++ci) {
     float* dst = out.data() + ci * P;
     // Shepard average of grid channel `g` over the weight field `w`: 0 where no support.
+    // Written as two branch-free loops (0/1 where w ≤ 0, then the float conversion), which
+    // GCC vectorises; the same quotients as num/w where w > 0 and +0 elsewhere.
     auto shepard = [&](const SphGrid& grid, int g, std::span<const double> w) {
-      const std::span<const double> num = grid.channel(g);
-      for (std::size_t p = 0; p < P; ++p) dst[p] = w[p] > 0 ? static_cast<float>(num[p] / w[p]) : 0.0f;
+      const double* num = grid.channel(g).data();
+      const double* den = w.data();
+      double* q = ratio_.data();
+      for (std::size_t p = 0; p < P; ++p) {
+        const double n = num[p], d = den[p];
+        q[p] = (d > 0 ? n : 0.0) / (d > 0 ? d : 1.0);
+      }
+      for (std::size_t p = 0; p < P; ++p) dst[p] = static_cast<float>(q[p]);
     };
     auto copy = [&](std::span<const double> src) {
       for (std::size_t p = 0; p < P; ++p) dst[p] = static_cast<float>(src[p]);

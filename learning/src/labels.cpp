@@ -6,6 +6,7 @@
 #include <string>
 
 #include "dc/core/error.hpp"
+#include "det_sinh.hpp"
 
 namespace dc {
 
@@ -36,11 +37,15 @@ void compress_labels(Tensor& labels, double scale) {
   for (float& v : labels.flat()) v = std::asinh(v * inv);
 }
 
-void expand_labels(Tensor& labels, double scale) {
+void expand_label_values(std::span<float> values, double scale) {
   if (scale <= 0) return;
   const float s = static_cast<float>(scale);
-  for (float& v : labels.flat()) v = s * std::sinh(v);
+  float* v = values.data();
+  const std::size_t n = values.size();
+  for (std::size_t i = 0; i < n; ++i) v[i] = s * detail::det_sinhf(v[i]);
 }
+
+void expand_labels(Tensor& labels, double scale) { expand_label_values(std::span<float>(labels.data(), labels.size()), scale); }
 
 std::pair<int, int> lambda_prev_channels(std::span<const FeatureChannel> channels, std::string_view what) {
   const auto index = [&](FeatureChannel c) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "dc/core/error.hpp"
+#include "det_sinh.hpp"
 
 namespace dc {
 
@@ -66,7 +67,14 @@ float Model::label_value(int c, float y) const {
   // The operations of ChannelStats::invert and expand_labels, in the same float order.
   const float v = y * output_stats.std[i] + output_stats.mean[i];
   const double scale = grid_.labels.scale;
-  return scale > 0 ? static_cast<float>(scale) * std::sinh(v) : v;
+  return scale > 0 ? static_cast<float>(scale) * detail::det_sinhf(v) : v;
+}
+
+void Model::label_values(int c, std::span<float> ys) const {
+  const auto i = static_cast<std::size_t>(c);
+  const float sd = output_stats.std[i], mean = output_stats.mean[i];
+  for (float& y : ys) y = y * sd + mean;
+  expand_label_values(ys, grid_.labels.scale);
 }
 
 }  // namespace dc

@@ -2,7 +2,12 @@
 // inverse (Model::predict + the cnn starter's read-back) undo each other.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -89,6 +94,61 @@ TEST(Labels, DeadzoneSoftThresholds) {
   std::vector<double> same{-1.0, 0.25};
   apply_deadzone(same, 0.0);  // off
   EXPECT_EQ(same, (std::vector<double>{-1.0, 0.25}));
+}
+
+}  // namespace
+}  // namespace dc
+
+namespace dc {
+namespace {
+
+/// Distance in units in the last place between two finite floats of the same sign.
+long ulp_distance(float a, float b) {
+  std::int32_t ia = 0, ib = 0;
+  std::memcpy(&ia, &a, sizeof a);
+  std::memcpy(&ib, &b, sizeof b);
+  return std::labs(static_cast<long>(ia) - static_cast<long>(ib));
+}
+
+// The label expansion's sinh (learning/src/det_sinh.hpp) is libm-free; it must still be sinh:
+// within one ulp of long double sinhl rounded to float everywhere, and that correctly rounded
+// value nearly always (it errs only where sinh z lies within ~3e-16 of a rounding midpoint);
+// odd bit for bit, ±inf beyond FLT_MAX (z ≥ 89.42), NaN for NaN, ±0 for ±0.
+TEST(Labels, ExpansionSinhIsWithinOneUlpOfLongDoubleSinh) {
+  std::vector<float> z;
+  for (double m = 1e-30; m < 89.0; m *= 1.0007) z.push_back(static_cast<float>(m));  // ~1.3e5 magnitudes
+  Rng rng(11);
+  for (int k = 0; k < 100000; ++k) z.push_back(static_cast<float>(rng.uniform(0.0, 12.0)));
+  const std::size_t n = z.size();
+  for (std::size_t k = 0; k < n; ++k) z.push_back(-z[k]);
+  std::vector<float> got = z;
+  expand_label_values(got, 1.0);  // 1.0f · sinh z: exactly sinh z
+  long worst = 0;
+  std::size_t off = 0;
+  for (std::size_t k = 0; k < z.size(); ++k) {
+    const float want = static_cast<float>(std::sinh(static_cast<long double>(z[k])));
+    const long d = ulp_distance(got[k], want);
+    worst = std::max(worst, d);
+    off += d != 0;
+    if (k < n) ASSERT_EQ(ulp_distance(got[k + n], -got[k]), 0) << "sinh(-z) = -sinh(z) at z = " << z[k];
+  }
+  EXPECT_LE(worst, 1);
+  RecordProperty("not_correctly_rounded", static_cast<int>(off));
+  EXPECT_LT(off, z.size() / 1000) << off << " of " << z.size() << " not the correctly rounded float";
+  std::vector<float> edge = {89.5f, -89.5f, 1e30f, std::numeric_limits<float>::infinity(),
+                             -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                             0.0f, -0.0f, 89.4f};
+  expand_label_values(edge, 1.0);
+  EXPECT_EQ(edge[0], std::numeric_limits<float>::infinity());
+  EXPECT_EQ(edge[1], -std::numeric_limits<float>::infinity());
+  EXPECT_EQ(edge[2], std::numeric_limits<float>::infinity());
+  EXPECT_EQ(edge[3], std::numeric_limits<float>::infinity());
+  EXPECT_EQ(edge[4], -std::numeric_limits<float>::infinity());
+  EXPECT_TRUE(std::isnan(edge[5]));
+  EXPECT_TRUE(edge[6] == 0.0f && !std::signbit(edge[6]));
+  EXPECT_TRUE(edge[7] == 0.0f && std::signbit(edge[7]));
+  EXPECT_TRUE(std::isfinite(edge[8]));
+  EXPECT_EQ(ulp_distance(edge[8], static_cast<float>(std::sinh(static_cast<long double>(89.4f)))), 0);
 }
 
 }  // namespace

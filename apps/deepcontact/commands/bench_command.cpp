@@ -177,9 +177,11 @@ void run_bench(const BenchArgs& a, const bench::BenchOptions& o, const WarmStart
     }, &times);
   } catch (const BenchStopped& s) {
     if (bar) bar->finish();
-    std::fprintf(stderr, "deepcontact: bench interrupted by %s after %ld of %ld steps; nothing written%s\n",
-                 interrupt_signal_name(), s.done, s.total,
-                 a.out.empty() ? "" : (" (" + a.out + " is as it was)").c_str());
+    // mpirun forwards the signal to every rank; one line (rank 0's) says what happened.
+    if (world().is_root())
+      std::fprintf(stderr, "deepcontact: bench interrupted by %s after %ld of %ld steps%s; nothing written%s\n",
+                   interrupt_signal_name(), s.done, s.total, world().parallel() ? " of rank 0's seeds" : "",
+                   a.out.empty() ? "" : (" (" + a.out + " is as it was)").c_str());
     exit_status() = interrupt_exit_status();
     return;
   }

@@ -1,9 +1,11 @@
-// "pgs-colored" on several threads: the set-up's products with J (Δu⁰ = M⁻¹Jᵀλ⁰Δt, the natural
-// residual) computed per body and per row on threads are bit-identical to the serial forms, so a
-// solve gives the same λ, θ, sweeps and residual for every thread count and on every rerun.
+// "pgs-colored" on several threads: the batches packed by whichever thread takes them (dynamic
+// schedule, Δu⁰ = M⁻¹Jᵀλ⁰Δt overlapped on one thread) and the natural residual's rows on threads
+// are bit-identical to the serial forms, so a solve gives the same λ, θ, sweeps and residual for
+// every thread count and on every rerun.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <stdexcept>
 #include <vector>
 
 #include "dc/engine/lcp_solver.hpp"
@@ -60,65 +62,32 @@ LcpProblem pile_problem(int bodies, int steps) {
 
 int bodies_of(const LcpProblem& p) { return static_cast<int>((p.J.cols() + 2) / 3); }
 
-TEST(PgsColoredThreads, BodyRowsListEachBodysRowsAscendingForEveryThreadCount) {
-  test::TestRng rng(21);
-  const LcpProblem p = test::random_contact(50, 140, true, rng, 0.5, 3);
-  colored::BodyRows one;
-  colored::build_body_rows(p, bodies_of(p), 1, one);
-  ASSERT_TRUE(one.ok);
-  // Reference: for each body, the rows with a stored entry in its columns, ascending.
-  for (int k = 0; k < bodies_of(p); ++k) {
-    std::vector<int> expected;
-    for (int i = 0; i < p.rows(); ++i)
-      for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it)
-        if (it.col() / 3 == k) {
-          expected.push_back(i);
-          break;
-        }
-    const std::vector<int> got(one.rows.begin() + one.start[static_cast<size_t>(k)],
-                               one.rows.begin() + one.start[static_cast<size_t>(k) + 1]);
-    EXPECT_EQ(got, expected) << "body " << k;
-  }
-  for (int threads : {2, 3, 7}) {
-    colored::BodyRows many;
-    colored::build_body_rows(p, bodies_of(p), threads, many);
-    ASSERT_TRUE(many.ok);
-    EXPECT_EQ(many.start, one.start) << threads;
-    EXPECT_EQ(many.rows, one.rows) << threads;
-    EXPECT_EQ(many.split, one.split) << threads;
-  }
-}
-
 TEST(PgsColoredThreads, ProductsAreThoseOfTheSerialForms) {
   test::TestRng rng(22);
   const LcpProblem p = test::random_contact(40, 120, true, rng, 0.5, 4);
   Eigen::VectorXd l(p.rows());
   for (int i = 0; i < p.rows(); ++i) l[i] = rng.uniform(-1, 3);
   const Eigen::VectorXd jt = p.J.transpose() * l;  // the serial form (lcp_problem.cpp)
-  for (int threads : {1, 2, 3}) {
-    colored::BodyRows br;
-    colored::build_body_rows(p, bodies_of(p), threads, br);
-    std::vector<double> du(static_cast<size_t>(colored::kStride) * (bodies_of(p) + 1), -1.0);
-    colored::velocity_change(p, br, l, threads, du.data());
-    for (int c = 0; c < jt.size(); ++c) {
-      const double serial = p.inv_mass[c] * jt[c] * p.dt;
-      EXPECT_EQ(0, std::memcmp(&serial, &du[static_cast<size_t>(colored::kStride * (c / 3) + c % 3)], sizeof serial))
-          << "column " << c << ", " << threads << " threads";
-    }
-    for (int k = 0; k <= bodies_of(p); ++k) EXPECT_EQ(du[static_cast<size_t>(colored::kStride * k + 3)], 0.0);
+  std::vector<double> du(static_cast<size_t>(colored::kStride) * (bodies_of(p) + 1), -1.0);
+  Eigen::VectorXd scratch;
+  colored::velocity_change(p, l, bodies_of(p), du.data(), scratch);
+  for (int c = 0; c < jt.size(); ++c) {
+    const double serial = p.inv_mass[c] * jt[c] * p.dt;
+    EXPECT_EQ(0, std::memcmp(&serial, &du[static_cast<size_t>(colored::kStride * (c / 3) + c % 3)], sizeof serial))
+        << "column " << c;
+  }
+  for (int k = 0; k <= bodies_of(p); ++k) EXPECT_EQ(du[static_cast<size_t>(colored::kStride * k + 3)], 0.0);
+  const double serial = natural_residual(p, l);
+  for (int threads : {1, 2, 3, 7}) {
     bool finite = false;
-    const double r = colored::natural_residual(p, br, l, threads, du.data(), finite);
-    const double serial = natural_residual(p, l);
+    const double r = colored::natural_residual(p, l, threads, scratch, finite);
     EXPECT_TRUE(finite);
     EXPECT_EQ(0, std::memcmp(&r, &serial, sizeof r)) << threads << " threads: " << r << " vs " << serial;
   }
   Eigen::VectorXd bad = l;
   bad[3] = std::numeric_limits<double>::quiet_NaN();
-  colored::BodyRows br;
-  colored::build_body_rows(p, bodies_of(p), 2, br);
-  std::vector<double> du(static_cast<size_t>(colored::kStride) * (bodies_of(p) + 1));
   bool finite = true;
-  EXPECT_EQ(colored::natural_residual(p, br, bad, 2, du.data(), finite), natural_residual(p, bad));
+  EXPECT_EQ(colored::natural_residual(p, bad, 2, scratch, finite), natural_residual(p, bad));
   EXPECT_FALSE(finite);
 }
 
@@ -134,7 +103,7 @@ TEST(PgsColoredThreads, RandomProblemsGiveTheSameBitsOnEveryThreadCount) {
         ASSERT_EQ(one.status, SolveStatus::SweepLimit) << one.message;
         const double serial = natural_residual(p, one.lambda);
         EXPECT_EQ(0, std::memcmp(&one.residual, &serial, sizeof serial));
-        for (int threads : {2, 3}) {
+        for (int threads : {2, 3, 7}) {
           const std::string what = std::to_string(threads) + " threads, seed " + std::to_string(seed);
           const SolveResult r = solve_on(p, l0, threads, k);
           expect_same_bits(one, r, what);
@@ -150,17 +119,17 @@ TEST(PgsColoredThreads, PileGivesTheSameBitsOnEveryThreadCount) {
   const SolveResult one = solve_on(p, Eigen::VectorXd(), 1, 30);
   const double serial = natural_residual(p, one.lambda);
   EXPECT_EQ(0, std::memcmp(&one.residual, &serial, sizeof serial));
-  for (int threads : {2, 3}) {
+  for (int threads : {2, 3, 7}) {
     expect_same_bits(one, solve_on(p, Eigen::VectorXd(), threads, 30), std::to_string(threads) + " threads");
     expect_same_bits(solve_on(p, one.lambda, 1, 0), solve_on(p, one.lambda, threads, 0),
                      std::to_string(threads) + " threads, 0 sweeps");
   }
 }
 
-TEST(PgsColoredThreads, RowsStoredOutOfBodyOrderUseTheSerialForms) {
+TEST(PgsColoredThreads, RowsStoredOutOfBodyOrderGiveTheSameBits) {
   // A row whose higher body's entries are stored before the lower body's (valid storage for the
-  // InnerIterator, never produced by Eigen's own assembly): the per-body ranges do not apply, the
-  // solver falls back to the serial products and still gives the 1-thread result.
+  // InnerIterator, never produced by Eigen's own assembly): the products follow the storage
+  // order as Eigen's do, and every thread count gives the 1-thread result.
   test::TestRng rng(23);
   LcpProblem p = test::random_contact(30, 60, true, rng);
   int row = -1;
@@ -178,11 +147,46 @@ TEST(PgsColoredThreads, RowsStoredOutOfBodyOrderUseTheSerialForms) {
     std::swap(inner[b + q], inner[b + 3 + q]);
     std::swap(value[b + q], value[b + 3 + q]);
   }
-  colored::BodyRows br;
-  colored::build_body_rows(p, bodies_of(p), 2, br);
-  EXPECT_FALSE(br.ok);
   const SolveResult one = solve_on(p, Eigen::VectorXd(), 1, 20);
-  expect_same_bits(one, solve_on(p, Eigen::VectorXd(), 2, 20), "2 threads");
+  const double serial = natural_residual(p, one.lambda);
+  EXPECT_EQ(0, std::memcmp(&one.residual, &serial, sizeof serial));
+  for (int threads : {2, 7}) expect_same_bits(one, solve_on(p, Eigen::VectorXd(), threads, 20), std::to_string(threads) + " threads");
+}
+
+TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepLoop) {
+  // The threaded sweeps run in one parallel region with the driver on thread 0: checkpoints,
+  // the tolerance stop and θ must be those of one thread, and a callback's exception must leave
+  // the region and reach the caller.
+  const LcpProblem p = pile_problem(400, 60);
+  auto run = [&](int threads, double tol, std::vector<Eigen::VectorXd>& seen) {
+    PgsColoredDef d;
+    d.threads = threads;
+    d.min_batches_per_thread = 1;
+    SolverOptions o = sweeps(200);
+    o.tolerance = tol;
+    o.checkpoints = {2, 7};
+    o.on_checkpoint = [&](int, const Eigen::VectorXd& l) { seen.push_back(l); };
+    return make_pgs_colored(d)->solve(p, Eigen::VectorXd(), o);
+  };
+  for (const double tol : {0.0, 1e-6}) {
+    std::vector<Eigen::VectorXd> seen_one;
+    const SolveResult one = run(1, tol, seen_one);
+    ASSERT_EQ(seen_one.size(), 2u);
+    for (int threads : {2, 3, 7}) {
+      std::vector<Eigen::VectorXd> seen;
+      const std::string what = std::to_string(threads) + " threads, tolerance " + std::to_string(tol);
+      expect_same_bits(one, run(threads, tol, seen), what);
+      ASSERT_EQ(seen.size(), seen_one.size()) << what;
+      for (size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k], seen_one[k]) << what << ", checkpoint " << k;
+    }
+  }
+  PgsColoredDef d;
+  d.threads = 2;
+  d.min_batches_per_thread = 1;
+  SolverOptions o = sweeps(20);
+  o.checkpoints = {5};
+  o.on_checkpoint = [](int, const Eigen::VectorXd&) { throw std::runtime_error("stop here"); };
+  EXPECT_THROW((void)make_pgs_colored(d)->solve(p, Eigen::VectorXd(), o), std::runtime_error);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 //
 // Cost: initial_guess() is the whole cost the bench times (feature image + inference +
 // gather); last_timing() splits the last call, total_timing() sums all calls.
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -76,8 +77,12 @@ class CnnWarmStarter final : public WarmStarter {
   /// The same from the network's output `y` [1, 2, ny, nx] in standardised units
   /// (Model::network_output): only the stencil nodes of the contacts are converted to labels
   /// (Model::label_value), so the result equals guess_from_labels(world, predict(features))
-  /// bit for bit at a fraction of the cost. initial_guess() uses this.
-  Eigen::VectorXd guess_from_output(const World& world, const Tensor& y, bool project = true);
+  /// bit for bit at a fraction of the cost. initial_guess() uses this. `contact_weights`:
+  /// the kernel-weight field S of world's contact points (FeatureImageBuilder::contact_weights()
+  /// after features() of this step), which the Shepard read-back then reuses instead of
+  /// splatting it again (the same bits); null = rebuild it.
+  Eigen::VectorXd guess_from_output(const World& world, const Tensor& y, bool project = true,
+                                    const SphGrid* contact_weights = nullptr);
 
   [[nodiscard]] const CnnTiming& last_timing() const { return last_; }
   [[nodiscard]] const CnnTiming& total_timing() const { return total_; }
@@ -100,7 +105,8 @@ class CnnWarmStarter final : public WarmStarter {
   /// The grid nodes (j·nx + i) of the bilinear stencils of world's contacts, each once.
   std::span<const int> stencil_nodes(const World& world);
   /// The read-back of grid_ at w's contacts, per row: Shepard, or the gain read-back (λp·ĝ).
-  Eigen::VectorXd read_back_grid(const World& w);
+  /// `weights`: S of w's contact points when already splatted (Shepard only), else null.
+  Eigen::VectorXd read_back_grid(const World& w, const SphGrid* weights = nullptr);
 
   Model model_;
   std::string name_;
@@ -114,6 +120,9 @@ class CnnWarmStarter final : public WarmStarter {
   SphGrid grid_;
   std::vector<Vec2> points_;
   std::vector<int> nodes_;       ///< stencil_nodes()
+  std::vector<float> node_values_;      ///< guess_from_output: the stencil nodes' outputs → labels
+  std::vector<double> readback_;        ///< read_back_grid with given weights: (λn, λt) per contact
+  std::vector<std::uint8_t> unsupported_;  ///< its per-contact "no kernel support" flags
   std::vector<unsigned> stamp_;  ///< per grid node: the stencil_nodes() call that last listed it
   unsigned call_ = 0;
   CnnTiming last_, total_;

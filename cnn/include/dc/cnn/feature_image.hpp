@@ -58,6 +58,13 @@ class FeatureImageBuilder {
   /// label_size() floats.
   void labels(std::span<const Contact> contacts, std::span<const double> lambda, std::span<float> out);
 
+  /// The kernel-weight field S(node) = Σ_contacts W(|x_node − q_c|) of the contact points of
+  /// the last features() call — the Shepard denominator of a read-back at those contacts —
+  /// when one of the channels needed it (contact_density, nx, ny); null otherwise.
+  [[nodiscard]] const SphGrid* contact_weights() const {
+    return has_contact_weights_ ? &contact_weight_ : nullptr;
+  }
+
  private:
   FeatureImageDef def_;
   SphKernel kernel_;
@@ -66,6 +73,7 @@ class FeatureImageBuilder {
   SphGrid body_weight_;   // Σ W over body centres
   SphGrid contact_grid_;  // 2 channels: Σ W nx, Σ W ny
   SphGrid contact_weight_;
+  bool has_contact_weights_ = false;  // contact_weight_ holds the last features() call's S
   SphGrid contact_values_;  // 5 channels: Σ W λ_prev,n, Σ W λ_prev,t, Σ W vrel_n, Σ W vrel_t, Σ W gap
   SphGrid w_prev_grid_;     // 2 channels: Σ W w_n, Σ W w_t at λ_prev
   SphGrid shape_grid_;      // 3 channels: Σ W a, Σ W a Q_x, Σ W a Q_y over the area samples
@@ -73,6 +81,7 @@ class FeatureImageBuilder {
   std::vector<Vec2> points_;
   std::vector<double> values_;
   std::vector<AreaSample> samples_;
+  std::vector<double> ratio_;  // one plane: the Shepard quotients before their float conversion
 };
 
 }  // namespace dc

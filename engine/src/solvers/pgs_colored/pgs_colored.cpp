@@ -14,11 +14,12 @@
 // padding lanes) are read from and never written to.
 //
 // Per-solve costs (what decides whether the faster sweeps pay off at ~100 sweeps per step):
-//  * set-up: the colouring (incremental, contact_coloring.hpp) and the packing of each
-//    contact's two rows straight from J's compressed row storage into its batch lanes; the
-//    batch, λ and Δu buffers are kept by the solver and reused (no allocation and no zero-fill
-//    in steady state); with threads the batches are packed in parallel (each batch is written
-//    by one thread, the result does not depend on the thread count);
+//  * set-up: the colouring (incremental, contact_coloring.hpp; serial) and the packing of each
+//    contact's two rows straight from J's compressed row storage into its batch lanes, with
+//    the permuted λ⁰; the batch and Δu buffers are kept by the solver and reused. With threads
+//    the batches are packed in one parallel region, handed out in chunks, while one thread
+//    computes Δu⁰ (a serial pass over J, overlapped): each batch is written by one thread from
+//    its own inputs, so the result depends neither on the thread count nor on the schedule;
 //  * per sweep: nothing but the kernel — λ^{k−1} is read from one buffer and λ^k written to
 //    the other (run_sweeps_double_buffered: no copy of λ for the last finite iterate), and the
 //    Δu finiteness check is fused into the kernels (pgs_colored_batch.hpp).
@@ -26,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -70,8 +72,8 @@ struct Prepared {
   std::vector<std::uint8_t> dynamic;
   std::vector<int> failed;    // per batch: its first contact that cannot be packed, or −1
   std::vector<double, Eigen::aligned_allocator<double>> du;
-  colored::BodyRows body_rows;  // with threads: Jᵀλ⁰ and the residual per body (pgs_colored_products.hpp)
-  int body_entries = 0;         // kStride·bodies; the zero body follows
+  Eigen::VectorXd jt;    // Jᵀλ (scratch of the products, pgs_colored_products.hpp)
+  int body_entries = 0;  // kStride·bodies; the zero body follows
 };
 
 /// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
@@ -207,9 +209,11 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, Prepared& out) 
   return {};
 }
 
-/// Fills batch `bi` (colour slot k) from the ordered contacts; records in out.failed[bi] the
-/// first of its contacts whose rows cannot be packed (another body, A_ii not > 0).
-void fill_batch(const LcpProblem& p, Prepared& out, int k, int bi, bool overflow) {
+/// Fills batch `bi` (colour slot k) from the ordered contacts and its 2·W entries of the permuted
+/// λ⁰ (lp and other; 0 for padding); records in out.failed[bi] the first of its contacts whose
+/// rows cannot be packed (another body, A_ii not > 0).
+void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int k, int bi, bool overflow,
+                double* lp, double* other) {
   const int zero = out.body_entries;
   Batch& B = out.batches[static_cast<size_t>(bi)];
   int* row_of = out.row_of.data() + static_cast<size_t>(bi) * 2 * W;
@@ -234,6 +238,8 @@ void fill_batch(const LcpProblem& p, Prepared& out, int k, int bi, bool overflow
     }
   }
   B.count = lanes;
+  const size_t s0p = static_cast<size_t>(bi) * 2 * W;
+  for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
 }
 
 /// The first contact (in batch order) whose rows cannot be packed, as the reason "pgs" runs.
@@ -273,43 +279,37 @@ colored::SweepKernel kernel_fn(PgsColoredKernel k) {
   }
 }
 
-/// One sweep on `threads` threads: each colour's batches split statically (contiguous blocks,
-/// so a thread keeps the same region of the pile from colour to colour), a barrier between
-/// colours, the overflow set on one thread. θ and the flag are max/or reductions: the result
-/// does not depend on the thread count.
-void sweep_parallel(const Prepared& prep, colored::SweepKernel sweep, const double* in, double* out, double* u,
-                    int threads, colored::Acc& acc) {
-#if defined(_OPENMP)
-  double theta = acc.theta;
-  bool bad = acc.bad;
+/// Thread tid's share (of nt) of one sweep: each colour's batches split statically (contiguous
+/// blocks, so a thread keeps the same region of the pile from colour to colour), the overflow
+/// set on thread 0, a barrier after each colour. The thread's θ and flag go to `mine` before the
+/// last barrier, so after it every thread's share is visible.
+void sweep_share(const Prepared& prep, colored::SweepKernel sweep, const double* in, double* out, double* u, int tid,
+                 int nt, colored::Acc& mine) {
+  colored::Acc local;
   const Batch* batches = prep.batches.data();
   const int nr = static_cast<int>(prep.ranges.size());
-#pragma omp parallel num_threads(threads) reduction(max : theta) reduction(|| : bad)
-  {
-    colored::Acc local;
-    const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
-    for (int k = 0; k < nr; ++k) {
-      const Range& rg = prep.ranges[static_cast<size_t>(k)];
-      if (rg.serial) {
-        if (tid == 0) sweep(batches, rg.begin, rg.end, in, out, u, local);
-      } else {
-        const int n = rg.end - rg.begin;
-        const int lo = rg.begin + static_cast<int>(static_cast<long>(n) * tid / nt);
-        const int hi = rg.begin + static_cast<int>(static_cast<long>(n) * (tid + 1) / nt);
-        sweep(batches, lo, hi, in, out, u, local);
-      }
-#pragma omp barrier
+  for (int k = 0; k < nr; ++k) {
+    const Range& rg = prep.ranges[static_cast<size_t>(k)];
+    if (rg.serial) {
+      if (tid == 0) sweep(batches, rg.begin, rg.end, in, out, u, local);
+    } else {
+      const int n = rg.end - rg.begin;
+      const int lo = rg.begin + static_cast<int>(static_cast<long>(n) * tid / nt);
+      const int hi = rg.begin + static_cast<int>(static_cast<long>(n) * (tid + 1) / nt);
+      sweep(batches, lo, hi, in, out, u, local);
     }
-    theta = colored::max_of(theta, local.theta);
-    bad = bad || local.bad;
+    if (k == nr - 1) mine = local;
+#pragma omp barrier
   }
-  acc.theta = theta;
-  acc.bad = bad;
-#else
-  (void)threads;
-  for (const Range& rg : prep.ranges) sweep(prep.batches.data(), rg.begin, rg.end, in, out, u, acc);
-#endif
+  if (nr == 0) mine = local;
 }
+
+/// What thread 0 (running the sweep driver) tells the others before each sweep.
+struct SweepOrder {
+  const double* in = nullptr;
+  double* out = nullptr;
+  bool stop = false;
+};
 
 class PgsColoredSolver final : public LcpSolver {
  public:
@@ -333,7 +333,11 @@ class PgsColoredSolver final : public LcpSolver {
       std::swap(prep, cache_);
       if (why.empty()) why = layout(p, colorer_, prep);
     }
-    if (why.empty()) why = pack(p, prep);
+    // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel).
+    const int np = static_cast<int>(prep.row_of.size());
+    Eigen::VectorXd lp(why.empty() ? np : 0), other(why.empty() ? np : 0);
+    bool bad_start = false;
+    if (why.empty()) why = pack(p, lambda, prep, lp.data(), other.data(), bad_start);
     if (!why.empty()) {
       SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
       if (r.status != SolveStatus::InvalidInput)
@@ -341,7 +345,7 @@ class PgsColoredSolver final : public LcpSolver {
       keep(prep);
       return r;
     }
-    SolveResult r = sweeps(p, lambda, o, prep);
+    SolveResult r = sweeps(p, std::move(lp), std::move(other), bad_start, o, prep);
     keep(prep);
     return r;
   }
@@ -358,77 +362,128 @@ class PgsColoredSolver final : public LcpSolver {
 #endif
   }
 
-  /// Packs every batch (in parallel with threads: each batch is written by one thread).
-  [[nodiscard]] std::string pack(const LcpProblem& p, Prepared& prep) const {
+  /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
+  /// M⁻¹Jᵀλ⁰Δt, in one parallel region: one thread takes Δu⁰ (a serial pass over J,
+  /// pgs_colored_products.hpp) while the others start on the batches, which are handed out in
+  /// chunks as threads come free. Each batch is written by one thread from its own inputs, so
+  /// the result depends neither on the thread count nor on the schedule. bad_start: Δu⁰ is not
+  /// finite (an overflowing λ⁰).
+  [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& prep, double* lp,
+                                 double* other, bool& bad_start) const {
     const int nb = static_cast<int>(prep.batches.size());
     const int threads = effective_threads(nb);
     const int nk = static_cast<int>(prep.start.size()) - 1;  // colour slots, overflow last
-    for (int k = 0; k < nk; ++k) {
-      const int b0 = prep.batch_of[static_cast<size_t>(k)], b1 = prep.batch_of[static_cast<size_t>(k) + 1];
-      const bool overflow = k == nk - 1;
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
-      for (int bi = b0; bi < b1; ++bi) fill_batch(p, prep, k, bi, overflow);
+    const int bodies = prep.body_entries / kStride;
+    prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
+    const int* first_batch = prep.batch_of.data();  // nk + 1 ascending offsets
+    bool bad = false;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+    {
+#pragma omp single nowait
+      {
+        colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt);
+        bad = !all_finite(prep.du.data(), prep.body_entries);
+      }
+#pragma omp for schedule(dynamic, 16) nowait
+      for (int bi = 0; bi < nb; ++bi) {
+        const int k = static_cast<int>(std::upper_bound(first_batch, first_batch + nk + 1, bi) - first_batch) - 1;
+        fill_batch(p, lambda, prep, k, bi, k == nk - 1, lp, other);
+      }
     }
+    bad_start = bad;
     return first_failure(prep);
   }
 
-  /// The sweeps from λ⁰ (row order) on the packed problem; λ back in row order, its natural
-  /// residual (finish). With threads, Δu⁰, the permutations and the residual run on them too,
-  /// bit-identical to the serial forms (pgs_colored_products.hpp).
-  [[nodiscard]] SolveResult sweeps(const LcpProblem& p, const Eigen::VectorXd& lambda, const SolverOptions& o,
-                                   Prepared& prep) const {
+  /// The sweeps from the permuted λ⁰ (lp = other) on the packed problem; λ back in row order, its
+  /// natural residual (bit-identical to finish's, pgs_colored_products.hpp). With threads, the
+  /// permutation back and the residual's rows run on them too.
+  [[nodiscard]] SolveResult sweeps(const LcpProblem& p, Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
+                                   const SolverOptions& o, Prepared& prep) const {
     const int threads = effective_threads(static_cast<int>(prep.batches.size()));
-    const int nu = prep.body_entries;
-    bool parallel = threads > 1;
-    if (parallel) {
-      colored::build_body_rows(p, nu / kStride, threads, prep.body_rows);
-      parallel = prep.body_rows.ok;
-    }
-    // Δu = M⁻¹ Jᵀ λ⁰ Δt (kStride per body), then the zero body.
-    prep.du.resize(static_cast<size_t>(nu + kStride));
-    if (parallel) {
-      colored::velocity_change(p, prep.body_rows, lambda, threads, prep.du.data());
-    } else {
-      std::fill(prep.du.begin(), prep.du.end(), 0.0);
-      const Eigen::VectorXd jt = p.J.transpose() * lambda;
-      for (int c = 0; c < jt.size(); ++c)
-        prep.du[static_cast<size_t>(kStride * (c / 3) + c % 3)] = p.inv_mass[c] * jt[c] * p.dt;
-    }
-    // A non-finite Δu⁰ (an overflowing λ⁰) makes sweep 1 report a non-finite iterate, as a
-    // check after the sweep would; the kernels check what they write.
-    bool bad_start = !all_finite(prep.du.data(), nu);
-    const int np = static_cast<int>(prep.row_of.size());
-    // Padding entries are never written by the scalar kernel: both buffers start at zero there.
-    Eigen::VectorXd lp(np), other(np);
-#pragma omp parallel for num_threads(threads) schedule(static) if (parallel)
-    for (int s = 0; s < np; ++s) {
-      const int row = prep.row_of[static_cast<size_t>(s)];
-      lp[s] = other[s] = row >= 0 ? lambda[row] : 0.0;
-    }
-    const int use = parallel ? threads : 1;
     SolverOptions po = o;
     if (o.on_checkpoint)
-      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), use)); };
+      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), threads)); };
+    SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep)
+                                 : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
+    r.lambda = unpermute(prep, r.lambda, p.rows(), threads);
+    bool finite = false;
+    r.residual = colored::natural_residual(p, r.lambda, threads, prep.jt, finite);
+    if (!finite) finish(p, r);  // the defensive replacement of a non-finite λ (and its residual)
+    return r;
+  }
+
+  /// The sweeps on one thread.
+  [[nodiscard]] SolveResult sweeps_serial(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
+                                          const SolverOptions& o, Prepared& prep) const {
     const colored::SweepKernel sweep = kernel_;
-    SolveResult r = solvers::run_sweeps_double_buffered(
-        std::move(lp), std::move(other), po, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
+    return solvers::run_sweeps_double_buffered(
+        std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
           colored::Acc acc;
           acc.bad = bad_start;
           bad_start = false;
-          double* u = prep.du.data();
-          if (threads <= 1) {
-            for (const Range& rg : prep.ranges) sweep(prep.batches.data(), rg.begin, rg.end, in.data(), out.data(), u, acc);
-          } else {
-            sweep_parallel(prep, sweep, in.data(), out.data(), u, threads, acc);
-          }
+          for (const Range& rg : prep.ranges)
+            sweep(prep.batches.data(), rg.begin, rg.end, in.data(), out.data(), prep.du.data(), acc);
           if (!std::isfinite(acc.theta)) acc.bad = true;
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
         });
-    r.lambda = unpermute(prep, r.lambda, p.rows(), use);
-    bool finite = false;
-    if (parallel) r.residual = colored::natural_residual(p, prep.body_rows, r.lambda, threads, prep.du.data(), finite);
-    if (!finite) finish(p, r);  // serial (and the defensive replacement of a non-finite λ)
+  }
+
+  /// The sweeps on `threads` threads in one parallel region for the whole solve (no fork and
+  /// join per sweep): thread 0 runs the sweep driver (checkpoints, tolerance, callbacks) and,
+  /// per sweep, releases the others with a barrier; all take their share (sweep_share); θ and
+  /// the flag are combined in thread order as max / or, so the result does not depend on the
+  /// thread count. An exception of the driver (a callback) ends the region and is rethrown.
+  [[nodiscard]] SolveResult sweeps_threaded(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
+                                            const SolverOptions& o, Prepared& prep, int threads) const {
+    SolveResult r;
+#if defined(_OPENMP)
+    const colored::SweepKernel sweep = kernel_;
+    SweepOrder order;
+    std::vector<colored::Acc> share(static_cast<size_t>(threads));
+    std::exception_ptr error;
+#pragma omp parallel num_threads(threads)
+    {
+      const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
+      double* u = prep.du.data();
+      if (tid == 0) {
+        try {
+          r = solvers::run_sweeps_double_buffered(
+              std::move(lp), std::move(other), o,
+              [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
+                order.in = in.data();
+                order.out = out.data();
+#pragma omp barrier
+                sweep_share(prep, sweep, order.in, order.out, u, 0, nt, share[0]);
+                colored::Acc acc;
+                acc.bad = bad_start;
+                bad_start = false;
+                for (int t = 0; t < nt; ++t) {
+                  acc.theta = colored::max_of(acc.theta, share[static_cast<size_t>(t)].theta);
+                  acc.bad = acc.bad || share[static_cast<size_t>(t)].bad;
+                }
+                if (!std::isfinite(acc.theta)) acc.bad = true;
+                nonfinite = nonfinite || acc.bad;
+                return acc.theta;
+              });
+        } catch (...) {
+          error = std::current_exception();
+        }
+        order.stop = true;
+#pragma omp barrier
+      } else {
+        for (;;) {
+#pragma omp barrier
+          if (order.stop) break;
+          sweep_share(prep, sweep, order.in, order.out, u, tid, nt, share[static_cast<size_t>(tid)]);
+        }
+      }
+    }
+    if (error) std::rethrow_exception(error);
+#else
+    (void)threads;
+    r = sweeps_serial(std::move(lp), std::move(other), bad_start, o, prep);
+#endif
     return r;
   }
 

@@ -60,9 +60,13 @@ struct LabelDef {
 };
 
 /// The label compression of a model (LabelDef::scale): asinh(v / s) and its inverse,
-/// elementwise; the identity for s = 0.
+/// elementwise; the identity for s = 0. The inverse s·sinh(v) is evaluated in float as
+/// float(s) · sinh(v) with a deterministic, vectorised sinh (learning/src/det_sinh.hpp: the
+/// same bits in every build; within the last bit of glibc's sinhf).
 void compress_labels(Tensor& labels, double scale);
 void expand_labels(Tensor& labels, double scale);
+/// expand_labels on a span of values (the cnn starter expands only the nodes it reads back).
+void expand_label_values(std::span<float> values, double scale);
 
 /// The indices of the lambda_prev_n and lambda_prev_t channels in `channels`, which a
 /// residual model needs; ConfigError naming the missing channel (prefixed by `what`).

@@ -54,6 +54,8 @@ class Model {
   /// The raw label of output channel c from the network's output value y at one node:
   /// expand(y·std_c + mean_c) — exactly what predict() computes there (float arithmetic).
   [[nodiscard]] float label_value(int c, float y) const;
+  /// label_value(c, y) for every y of `ys` in place, bit for bit (the expansion vectorised).
+  void label_values(int c, std::span<float> ys) const;
 
   [[nodiscard]] const ModelGrid& grid() const { return grid_; }
   Network& network() { return net_; }
