@@ -24,6 +24,7 @@
 // default), so the ratios between sizes hold on a loaded machine better than wall time.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -119,6 +120,10 @@ void BM_BroadPhase(benchmark::State& state) {
     benchmark::DoNotOptimize(pairs.data());
   }
   state.counters["pairs"] = static_cast<double>(pairs.size());
+  state.counters["tests"] = static_cast<double>(bp.last_pair_tests());
+  double max_reach = 0;
+  for (double r : reach) max_reach = std::max(max_reach, r);
+  state.counters["max_reach"] = max_reach;
   report(state, w);
 }
 

@@ -121,14 +121,18 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(c.normal.x);
       values_.push_back(c.normal.y);
     }
-    // The contact density alone (the residual model's channels) needs no normal field.
+    // The contact density alone (the residual model's channels) needs no normal field; with
+    // the per-contact values it comes out of their splat (same points, same order: the same S).
     require_finite_features(values_, {"nx", "ny"}, "contact", bodies);
-    if (normals)
+    if (normals) {
       splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
-    else
+      has_contact_weights_ = true;
+    } else if (!uses_contact_values(def_.channels)) {
       splat_weights(kernel_, points_, contact_weight_);
-    has_contact_weights_ = true;
+      has_contact_weights_ = true;
+    }
   }
+  const bool density_with_values = contact_fields && !has_contact_weights_;
 
   // Per-contact values (numerators, like the labels): builtin λ, relative velocity, gap.
   if (uses_contact_values(def_.channels)) {
@@ -152,7 +156,8 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(ct.gap);
     }
     require_finite_features(values_, {"lambda_prev_n", "lambda_prev_t", "vrel_n", "vrel_t", "gap"}, "contact", bodies);
-    splat_to_grid(kernel_, points_, values_, contact_values_, nullptr);
+    splat_to_grid(kernel_, points_, values_, contact_values_, density_with_values ? &contact_weight_ : nullptr);
+    has_contact_weights_ = contact_fields;
   }
 
   // The builtin guess's LCP velocity w = A λ_prev + b per contact (matrix-free when the

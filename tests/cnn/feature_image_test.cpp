@@ -12,6 +12,7 @@
 #include "dc/learning/model.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/sph_warm_starter.hpp"
+#include "dc/sph/sph_transfer.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 #include "settled_pile.hpp"
 
@@ -184,6 +185,57 @@ TEST(FeatureImage, PerContactChannelsAreNumeratorsOfBuiltinLambdaRelativeVelocit
 
 // On a real step, label − lambda_prev (numerators) read back at the contacts is λ* − λ_prev:
 // the residual target decodes to the correction the cnn starter adds to builtin.
+// contact_weights(): the kernel-weight field S of the contact points, bit for bit what
+// SphTransfer::gather splats for the Shepard read-back (the cnn starter reuses it), whichever
+// splat produced it (alone, with the normals, or with the per-contact values); the
+// contact_density channel is S in float; null without a contact channel.
+TEST(FeatureImage, ContactWeightsAreTheReadBacksShepardDenominatorBitForBit) {
+  WorldDef wd;
+  wd.bodies.count = 40;
+  wd.bodies.seed = 5;
+  World world(wd);
+  (void)test::step_then_assemble(world, 150, 50);
+  ASSERT_GT(world.contacts().size(), 10u);
+  std::vector<Vec2> points;
+  for (const Contact& c : world.contacts()) points.push_back(c.point);
+  const FeatureImageDef base = FeatureImageDef::for_box(wd.world.width, wd.world.height);
+  SphTransferDef t = base.sph;
+  t.grid.channels = 2;
+  t.normalisation = SphNormalisation::Shepard;
+  SphTransfer transfer(t);
+  (void)transfer.gather(SphGrid(t.grid), points);
+  const std::span<const double> want = transfer.weights().data();
+  using C = FeatureChannel;
+  const std::vector<std::vector<C>> sets = {
+      {C::Mass, C::ContactDensity},
+      {C::ContactDensity, C::Nx, C::Ny},
+      {C::Mass, C::Vx, C::Vy, C::Omega, C::ContactDensity, C::LambdaPrevN, C::LambdaPrevT, C::VrelN, C::VrelT, C::Gap},
+      {C::Mass, C::LambdaPrevN}};
+  for (const std::vector<C>& channels : sets) {
+    FeatureImageDef def = base;
+    def.channels = channels;
+    FeatureImageBuilder b(def);
+    std::vector<float> img(b.feature_size());
+    b.features(world.bodies(), world.contacts(), world.previous_contacts(), img);
+    const auto density = std::find(channels.begin(), channels.end(), C::ContactDensity);
+    if (density == channels.end()) {
+      EXPECT_EQ(b.contact_weights(), nullptr);
+      continue;
+    }
+    ASSERT_NE(b.contact_weights(), nullptr) << channels.size() << " channels";
+    const std::span<const double> got = b.contact_weights()->data();
+    ASSERT_EQ(got.size(), want.size());
+    int differ = 0, density_differs = 0;
+    const std::size_t c = static_cast<std::size_t>(density - channels.begin());
+    for (std::size_t p = 0; p < got.size(); ++p) {
+      differ += got[p] != want[p];
+      density_differs += img[c * b.plane() + p] != static_cast<float>(want[p]);
+    }
+    EXPECT_EQ(differ, 0) << channels.size() << " channels";
+    EXPECT_EQ(density_differs, 0) << channels.size() << " channels";
+  }
+}
+
 TEST(FeatureImage, ResidualLabelReadsBackAsLambdaStarMinusBuiltin) {
   WorldDef def;
   def.bodies.count = 40;

@@ -55,7 +55,9 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
     ymax = std::max(ymax, h.y);
     cell = std::max(cell, extent(k));
   }
-  cell = std::max(cell, 1e-12 * std::max({1.0, xmax - xmin, ymax - ymin}));
+  // A hair above the largest extent, so that rounding in the cell index below can never put
+  // the lower corners of two overlapping boxes two cells apart.
+  cell = std::max(cell * (1 + 1e-9), 1e-12 * std::max({1.0, xmax - xmin, ymax - ymin}));
   // Cap the number of cells at ~4n so memory stays linear even for sparse, spread scenes.
   double nxd = std::floor((xmax - xmin) / cell) + 1, nyd = std::floor((ymax - ymin) / cell) + 1;
   while (nxd * nyd > 4.0 * n + 16) {
@@ -64,57 +66,65 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
     nyd = std::floor((ymax - ymin) / cell) + 1;
   }
   const long long nx = static_cast<long long>(nxd), ny = static_cast<long long>(nyd);
-  // Cell of a coordinate: monotone in x, so a box [x − r, x + r] covers the cells
-  // cx(x − r)..cx(x + r) and the corner rule below finds every overlapping pair exactly once.
+  // Cell of a coordinate: monotone (clamped to the grid), so boxes whose lower corners are at
+  // most one cell apart land in the same or neighbouring cells.
   const double inv_cell = 1.0 / cell;
   auto cx = [&](double x) { return std::clamp<long long>(static_cast<long long>((x - xmin) * inv_cell), 0, nx - 1); };
   auto cy = [&](double y) { return std::clamp<long long>(static_cast<long long>((y - ymin) * inv_cell), 0, ny - 1); };
 
-  // Counting sort of (cell, body) entries: a body enters every cell its box touches. The
-  // sorted entries carry the body's box, so the pair loop reads memory in cell order
-  // instead of gathering centres and reaches by body index (random in space).
-  cell_of_entry_.clear();
-  body_cells_.clear();
-  for (int k = 0; k < n; ++k) {
-    const Vec2 l = lo(k), h = hi(k);
-    const long long i0 = cx(l.x), i1 = cx(h.x);
-    const long long j0 = cy(l.y), j1 = cy(h.y);
-    for (long long j = j0; j <= j1; ++j)
-      for (long long i = i0; i <= i1; ++i) {
-        cell_of_entry_.push_back(j * nx + i);
-        body_cells_.push_back(k);
-      }
-  }
+  // One entry per body, in the cell of its box's lower-left corner (a counting sort by cell,
+  // the entries carrying their boxes so the pair loop reads memory in cell order instead of
+  // gathering boxes by body index, which is random in space). The cell is at least every
+  // box's extent, so two overlapping boxes have lower corners at most one cell apart in x
+  // and in y (the clamp is monotone and only shortens distances): the pairs are found among
+  // a cell and its neighbours, each neighbouring pair of cells visited once (the half
+  // stencil: same cell later entries, right; then upper-left, upper, upper-right). Cells are
+  // row-major, so a cell and its right neighbour, and the three cells above, are each one
+  // contiguous run of entries. Before, a body entered every cell its box touched (3.5 cells
+  // on average for the seed's circles): 3.5× the entries and a corner rule to skip duplicates.
+  cell_of_body_.resize(static_cast<size_t>(n));
   const long long ncell = nx * ny;
   cell_start_.assign(static_cast<size_t>(ncell + 1), 0);
-  for (long long c : cell_of_entry_) ++cell_start_[static_cast<size_t>(c + 1)];
+  for (int k = 0; k < n; ++k) {
+    const Vec2 l = lo(k);
+    const long long c = cy(l.y) * nx + cx(l.x);
+    cell_of_body_[static_cast<size_t>(k)] = c;
+    ++cell_start_[static_cast<size_t>(c + 1)];
+  }
   for (long long c = 0; c < ncell; ++c) cell_start_[static_cast<size_t>(c + 1)] += cell_start_[static_cast<size_t>(c)];
-  entries_.resize(cell_of_entry_.size());
+  entries_.resize(static_cast<size_t>(n));
   fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (size_t e = 0; e < cell_of_entry_.size(); ++e) {
-    const int k = body_cells_[e];
+  for (int k = 0; k < n; ++k) {
     const Vec2 l = lo(k), h = hi(k);
-    entries_[static_cast<size_t>(fill_[static_cast<size_t>(cell_of_entry_[e])]++)] = {l.x, l.y, h.x, h.y, k};
+    entries_[static_cast<size_t>(fill_[static_cast<size_t>(cell_of_body_[static_cast<size_t>(k)])]++)] = {
+        l.x, l.y, h.x, h.y, k};
   }
 
-  // Each overlapping pair is reported only from the cell holding the lower-left corner of
-  // the intersection of the two boxes, so no de-duplication pass is needed.
   by_body_.clear();
-  for (long long c = 0; c < ncell; ++c) {
-    const int s = cell_start_[static_cast<size_t>(c)], e = cell_start_[static_cast<size_t>(c + 1)];
-    for (int p = s; p < e; ++p) {
-      const Entry& a = entries_[static_cast<size_t>(p)];
-      for (int q = p + 1; q < e; ++q) {
-        const Entry& b = entries_[static_cast<size_t>(q)];
-        ++pair_tests_;
-        const double lx = std::max(a.xlo, b.xlo), ly = std::max(a.ylo, b.ylo);
-        const double hx = std::min(a.xhi, b.xhi), hy = std::min(a.yhi, b.yhi);
-        if (lx > hx || ly > hy) continue;
-        if (cy(ly) * nx + cx(lx) != c) continue;
-        by_body_.emplace_back(std::min(a.body, b.body), std::max(a.body, b.body));
+  auto test_run = [&](const Entry& a, int from, int to) {
+    for (int q = from; q < to; ++q) {
+      const Entry& b = entries_[static_cast<size_t>(q)];
+      ++pair_tests_;
+      if (std::max(a.xlo, b.xlo) > std::min(a.xhi, b.xhi) || std::max(a.ylo, b.ylo) > std::min(a.yhi, b.yhi)) continue;
+      by_body_.emplace_back(std::min(a.body, b.body), std::max(a.body, b.body));
+    }
+  };
+  auto start = [&](long long c) { return cell_start_[static_cast<size_t>(c)]; };
+  for (long long j = 0; j < ny; ++j)
+    for (long long i = 0; i < nx; ++i) {
+      const long long c = j * nx + i;
+      const int s = start(c), e = start(c + 1);
+      if (s == e) continue;
+      const int right_end = i + 1 < nx ? start(c + 2) : e;  // this cell's later entries, then the right cell
+      const bool above = j + 1 < ny;
+      const int up_begin = above ? start(c + nx - (i > 0 ? 1 : 0)) : 0;
+      const int up_end = above ? start(c + nx + (i + 1 < nx ? 2 : 1)) : 0;
+      for (int p = s; p < e; ++p) {
+        const Entry& a = entries_[static_cast<size_t>(p)];
+        test_run(a, p + 1, right_end);
+        if (above) test_run(a, up_begin, up_end);
       }
     }
-  }
   // Sorted output in linear time: counting sort by the first body, then the few partners
   // of each first body by insertion sort (a body has a handful of neighbours).
   first_start_.assign(static_cast<size_t>(n) + 1, 0);

@@ -1,6 +1,7 @@
 #include "dc/engine/contact.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "dc/core/error.hpp"
 
@@ -21,17 +22,25 @@ const char* wall_name(int id) {
 namespace dc {
 
 std::vector<int> match_contacts_by_key(std::span<const Contact> previous, std::span<const Contact> current) {
-  const auto by_key = [](const Contact& x, const Contact& y) { return x.key < y.key; };
-  if (!std::is_sorted(previous.begin(), previous.end(), by_key))
-    throw InvalidArgument("match_contacts_by_key: the previous contacts are not sorted by key");
-  if (!std::is_sorted(current.begin(), current.end(), by_key))
-    throw InvalidArgument("match_contacts_by_key: the current contacts are not sorted by key");
+  // The sortedness checks ride along the merge pass, so each list is read once instead of
+  // three passes over two lists of 128-byte contacts (at 40,000 bodies 6 MB each, out of
+  // cache). Every adjacent pair of each list is still compared.
+  const auto unsorted = [](const char* which) {
+    return InvalidArgument(std::string("match_contacts_by_key: the ") + which + " contacts are not sorted by key");
+  };
   std::vector<int> out(current.size(), -1);
   std::size_t j = 0;
+  const std::size_t np = previous.size();
   for (std::size_t c = 0; c < current.size(); ++c) {
-    while (j < previous.size() && previous[j].key < current[c].key) ++j;
-    if (j < previous.size() && previous[j].key == current[c].key) out[c] = static_cast<int>(j);
+    if (c > 0 && current[c].key < current[c - 1].key) throw unsorted("current");
+    while (j < np && previous[j].key < current[c].key) {
+      if (j + 1 < np && previous[j + 1].key < previous[j].key) throw unsorted("previous");
+      ++j;
+    }
+    if (j < np && previous[j].key == current[c].key) out[static_cast<std::size_t>(c)] = static_cast<int>(j);
   }
+  for (; j + 1 < np; ++j)
+    if (previous[j + 1].key < previous[j].key) throw unsorted("previous");
   return out;
 }
 

@@ -37,6 +37,10 @@ World::World(WorldDef def, BodyState bodies)
 }
 
 const std::vector<Contact>& World::collide() {
+  if (contacts_are_previous_) {  // the contacts integrate() solved become previous_contacts()
+    previous_.swap(contacts_);
+    contacts_are_previous_ = false;
+  }
   if (!bodies_.shapes.empty()) {  // shapes or static/kinematic bodies (shape_narrow_phase.hpp)
     shape_narrow_phase_.collide(bodies_, def_, broad_phase_, contacts_);
     if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
@@ -46,10 +50,12 @@ const std::vector<Contact>& World::collide() {
   const double dt = def_.time.dt;
   contacts_.clear();
 
-  std::vector<double> reach(static_cast<size_t>(n)), spec(static_cast<size_t>(n));
+  std::vector<double>& spec = spec_;
+  spec.resize(static_cast<size_t>(n));
+  reach_.resize(static_cast<size_t>(n));
   for (int k = 0; k < n; ++k) {
     spec[static_cast<size_t>(k)] = speculative_reach(bodies_, k, def_.contact, dt);
-    reach[static_cast<size_t>(k)] = bodies_.radius[static_cast<size_t>(k)] + spec[static_cast<size_t>(k)];
+    reach_[static_cast<size_t>(k)] = bodies_.radius[static_cast<size_t>(k)] + spec[static_cast<size_t>(k)];
   }
 
   // Walls first (their keys sort first), body by body, in wall-id order left..top.
@@ -61,11 +67,10 @@ const std::vector<Contact>& World::collide() {
                                2 * spec[static_cast<size_t>(k)]))
         contacts_.push_back(*c);
   }
-  std::vector<std::pair<int, int>> pairs;
   const auto t0 = Clock::now();
-  broad_phase_.find_pairs(bodies_.position, reach, pairs);
+  broad_phase_.find_pairs(bodies_.position, reach_, pairs_);
   broad_phase_ms_ = ms_since(t0);
-  for (const auto& [a, b] : pairs)
+  for (const auto& [a, b] : pairs_)
     if (auto c = circle_circle(bodies_, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)]))
       contacts_.push_back(*c);
   // Wall contacts were appended in key order and pairs are sorted: contacts_ is sorted.
@@ -106,7 +111,7 @@ void World::integrate(const Eigen::VectorXd& lambda) {
     contacts_[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
     contacts_[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
   }
-  previous_ = contacts_;
+  contacts_are_previous_ = true;
   ++step_;
   inflow_.emit(time(), bodies_);
 }

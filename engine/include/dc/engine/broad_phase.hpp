@@ -1,8 +1,9 @@
 #pragma once
 // Broad phase: a uniform grid over the bodies' bounding boxes. Each body k covers the
 // square of half-extent reach_k = r_k + s_k around its centre (s_k is its speculative
-// reach, see narrow_phase.hpp). The cell size is the largest box extent, so a body
-// overlaps at most 2 × 2 cells and finding all overlapping pairs costs O(n) for bodies of
+// reach, see narrow_phase.hpp). The cell size is the largest box extent; each body is filed
+// once, in the cell of its box's lower-left corner, and its partners are among the bodies of
+// that cell and its 8 neighbours, so finding all overlapping pairs costs O(n) for bodies of
 // similar size (a scene mixing very different radii degrades towards O(n·k) where k is
 // the number of small bodies per large cell — documented in docs/engine.md).
 //
@@ -41,8 +42,8 @@ class UniformGridBroadPhase {
     int body;
   };
   // Reused buffers (no allocation in steady state).
-  std::vector<int> cell_start_, body_cells_, fill_, first_start_;
-  std::vector<long long> cell_of_entry_;
+  std::vector<int> cell_start_, fill_, first_start_;
+  std::vector<long long> cell_of_body_;
   std::vector<Entry> entries_;
   std::vector<std::pair<int, int>> by_body_;
 };
