@@ -14,7 +14,9 @@
 # Environment: SIZES (default "1000 2500 10000 40000"), SWEEPS (default "20 1"),
 # STEPS (default 150), WARMSTART (default builtin), ORDERS (default "creation"; "creation
 # morton" runs each size with the generated bodies in creation order and then numbered in
-# Morton order, `[bodies] order`, side by side; the ratio is to the first size of the same order).
+# Morton order, `[bodies] order`, side by side; "internal" runs the creation numbering with the
+# engine-internal re-sorted order `[bodies] internal_order = "morton"`; the ratio is to the
+# first size of the same order).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD=${1:-build}
@@ -37,7 +39,8 @@ for sw in $SWEEPS; do
     read -r side mean sigma < <(awk -v n="$n" 'BEGIN { s = 3 * sqrt(n); printf "%.6f %.6f %.6f\n", s, s / 2, 0.465 * sqrt(n) }')
     line=$("$DC" simulate --set "world.width=$side" --set "world.height=$side" --set "bodies.count=$n" \
       --set "bodies.mean=[$mean,$mean]" --set "bodies.sigma=$sigma" --set "solver.sweeps=$sw" \
-      --set "bodies.order=$order" \
+      --set "bodies.order=${order/internal/creation}" \
+      --set "bodies.internal_order=$([[ $order == internal ]] && echo morton || echo none)" \
       --steps "$STEPS" --warmstart "$WARMSTART" --profile | grep '^profile ')
     # "profile key=value ..." (apps/deepcontact/commands/simulate_command.cpp): mean ms per step of each stage.
     get() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<< "$line"; }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 
 #include "collision/narrow_phase.hpp"
@@ -23,6 +24,7 @@ double ms_since(Clock::time_point t0) {
 World::World(WorldDef def) : def_(std::move(def)), inflow_(def_) {
   bodies_ = make_bodies(def_);
   inflow_.emit(0.0, bodies_);
+  if (has_internal_order()) update_internal_order();
 }
 
 World::World(WorldDef def, BodyState bodies)
@@ -34,6 +36,17 @@ World::World(WorldDef def, BodyState bodies)
       bodies_.inertia.size() != n || bodies_.inv_inertia.size() != n ||
       (!bodies_.shapes.empty() && bodies_.shapes.size() != n))
     throw InvalidArgument("World: body state arrays have inconsistent sizes");
+  if (has_internal_order()) update_internal_order();
+}
+
+void World::update_internal_order() {
+  order_.update_from(bodies_, bodies_edited_);
+  bodies_edited_ = false;
+  if (last_resort_step_ >= 0 && step_ - last_resort_step_ < def_.bodies.resort_every) return;
+  double max_radius = 0;
+  for (const double r : order_.state().radius) max_radius = std::max(max_radius, r);
+  if (max_radius > 0) order_.resort(2 * max_radius);  // the cell of `[bodies] order = "morton"`
+  last_resort_step_ = step_;
 }
 
 const std::vector<Contact>& World::collide() {
@@ -41,21 +54,40 @@ const std::vector<Contact>& World::collide() {
     previous_.swap(contacts_);
     contacts_are_previous_ = false;
   }
-  if (!bodies_.shapes.empty()) {  // shapes or static/kinematic bodies (shape_narrow_phase.hpp)
-    shape_narrow_phase_.collide(bodies_, def_, broad_phase_, contacts_);
-    if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
+  if (has_internal_order()) {
+    update_internal_order();
+    collide_circles(order_.state(), internal_contacts_);
+    order_.contacts_to_external(internal_contacts_, static_cast<int>(bodies_.size()), contacts_);
+    if (def_.contact.restitution > 0) {  // matched by external key; copied back to the rows
+      track_approach_velocities(bodies_, previous_, contacts_);
+      for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
+        Contact& in = internal_contacts_[static_cast<size_t>(order_.internal_contact(c))];
+        in.approach_velocity = contacts_[static_cast<size_t>(c)].approach_velocity;
+        in.restitution_due = contacts_[static_cast<size_t>(c)].restitution_due;
+      }
+    }
     return contacts_;
   }
-  const int n = static_cast<int>(bodies_.size());
+  if (!bodies_.shapes.empty()) {  // shapes or static/kinematic bodies (shape_narrow_phase.hpp)
+    shape_narrow_phase_.collide(bodies_, def_, broad_phase_, contacts_);
+  } else {
+    collide_circles(bodies_, contacts_);
+  }
+  if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
+  return contacts_;
+}
+
+void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) {
+  const int n = static_cast<int>(bodies.size());
   const double dt = def_.time.dt;
-  contacts_.clear();
+  out.clear();
 
   std::vector<double>& spec = spec_;
   spec.resize(static_cast<size_t>(n));
   reach_.resize(static_cast<size_t>(n));
   for (int k = 0; k < n; ++k) {
-    spec[static_cast<size_t>(k)] = speculative_reach(bodies_, k, def_.contact, dt);
-    reach_[static_cast<size_t>(k)] = bodies_.radius[static_cast<size_t>(k)] + spec[static_cast<size_t>(k)];
+    spec[static_cast<size_t>(k)] = speculative_reach(bodies, k, def_.contact, dt);
+    reach_[static_cast<size_t>(k)] = bodies.radius[static_cast<size_t>(k)] + spec[static_cast<size_t>(k)];
   }
 
   // Walls first (their keys sort first), body by body, in wall-id order left..top.
@@ -63,22 +95,21 @@ const std::vector<Contact>& World::collide() {
   for (int w = 3; w >= 0; --w) {  // keys: top (−4) < bottom (−3) < right (−2) < left (−1)
     if (!def_.world.walls[static_cast<size_t>(w)]) continue;
     for (int k = 0; k < n; ++k)
-      if (auto c = circle_wall(bodies_, k, kWalls[w], def_.world.width, def_.world.height,
+      if (auto c = circle_wall(bodies, k, kWalls[w], def_.world.width, def_.world.height,
                                2 * spec[static_cast<size_t>(k)]))
-        contacts_.push_back(*c);
+        out.push_back(*c);
   }
   const auto t0 = Clock::now();
-  broad_phase_.find_pairs(bodies_.position, reach_, pairs_);
+  broad_phase_.find_pairs(bodies.position, reach_, pairs_);
   broad_phase_ms_ = ms_since(t0);
   for (const auto& [a, b] : pairs_)
-    if (auto c = circle_circle(bodies_, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)]))
-      contacts_.push_back(*c);
-  // Wall contacts were appended in key order and pairs are sorted: contacts_ is sorted.
-  if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
-  return contacts_;
+    if (auto c = circle_circle(bodies, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)]))
+      out.push_back(*c);
+  // Wall contacts were appended in key order and pairs are sorted: `out` is sorted.
 }
 
 const LcpProblem& World::assemble() {
+  if (has_internal_order()) assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_);
   assemble_lcp(bodies_, contacts_, def_, problem_);
   return problem_;
 }
@@ -105,15 +136,36 @@ void World::integrate(const Eigen::VectorXd& lambda) {
   const ContactConstraints& cons = problem_.constraints;
   if (cons.size() != static_cast<int>(contacts_.size()) || cons.rows() != rows)
     throw InvalidArgument("World::integrate: call collide() and assemble() before integrate()");
+  if (!has_internal_order()) {
+    integrate_solved(lambda);
+    return;
+  }
+  order_.rows_to_internal(cons, internal_problem_.constraints, lambda, internal_lambda_);
+  integrate_solved(internal_lambda_);
+}
+
+void World::integrate_solved(const Eigen::VectorXd& lambda) {
+  const bool internal = has_internal_order();
+  const LcpProblem& solved = internal ? internal_problem_ : problem_;
+  std::vector<Contact>& contacts = internal ? internal_contacts_ : contacts_;
+  const ContactConstraints& cons = solved.constraints;
   Eigen::VectorXd impulse;
-  integrate_bodies(problem_, lambda, def_.world.gravity, def_.time.dt, bodies_, impulse);
-  for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
-    contacts_[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
-    contacts_[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
+  integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse);
+  for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
+    contacts[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
+    contacts[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
+  }
+  if (internal) {  // the public copies: bodies by external index, λ by external contact
+    order_.gather_kinematics(bodies_);
+    for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
+      const Contact& in = internal_contacts_[static_cast<size_t>(order_.internal_contact(c))];
+      contacts_[static_cast<size_t>(c)].lambda_n = in.lambda_n;
+      contacts_[static_cast<size_t>(c)].lambda_t = order_.flipped(c) ? -in.lambda_t : in.lambda_t;
+    }
   }
   contacts_are_previous_ = true;
   ++step_;
-  inflow_.emit(time(), bodies_);
+  inflow_.emit(time(), bodies_);  // appended bodies join the internal order at the next collide()
 }
 
 StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
@@ -125,26 +177,36 @@ StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
   rep.profile.broad_phase_ms = broad_phase_ms_;
   t0 = Clock::now();
   assemble();
-  if (solver.needs_assembled_matrix()) problem_.ensure_assembled_matrix();
+  const bool internal = has_internal_order();
+  LcpProblem& solved = internal ? internal_problem_ : problem_;  // rows follow space when internal
+  if (solver.needs_assembled_matrix()) solved.ensure_assembled_matrix();
   rep.profile.assemble_ms = ms_since(t0);
   rep.contacts = static_cast<int>(contacts_.size());
   rep.rows = problem_.rows();
 
   t0 = Clock::now();
   Eigen::VectorXd lambda0 = guess ? guess(*this) : Eigen::VectorXd::Zero(rep.rows);
-  rep.profile.warmstart_ms = ms_since(t0);
   if (lambda0.size() != rep.rows)
     throw InvalidArgument("World::step: the initial guess has " + std::to_string(lambda0.size()) +
                           " entries, the problem has " + std::to_string(rep.rows) + " rows");
+  if (internal) {
+    order_.rows_to_internal(problem_.constraints, solved.constraints, lambda0, internal_lambda_);
+    lambda0.swap(internal_lambda_);
+  }
+  rep.profile.warmstart_ms = ms_since(t0);
 
   t0 = Clock::now();
-  rep.solve = solver.solve(problem_, lambda0, options);
+  rep.solve = solver.solve(solved, lambda0, options);
   rep.profile.solve_ms = ms_since(t0);
   if (rep.solve.status == SolveStatus::InvalidInput)
     throw InvalidArgument("World::step: the solver rejected the problem: " + rep.solve.message);
 
   t0 = Clock::now();
-  integrate(rep.solve.lambda);
+  integrate_solved(rep.solve.lambda);
+  if (internal) {  // the report's λ in the rows of problem()
+    order_.rows_to_external(problem_.constraints, solved.constraints, rep.solve.lambda, internal_lambda_);
+    rep.solve.lambda.swap(internal_lambda_);
+  }
   rep.profile.integrate_ms = ms_since(t0);
   return rep;
 }

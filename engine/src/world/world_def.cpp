@@ -91,6 +91,11 @@ void WorldDef::validate() const {
   region("[bodies] region", bodies.region, false);
   if (bodies.order != "creation" && bodies.order != "morton")
     throw ConfigError("[bodies] order: expected \"creation\" or \"morton\", got \"" + bodies.order + "\"");
+  if (bodies.internal_order != "none" && bodies.internal_order != "morton")
+    throw ConfigError("[bodies] internal_order: expected \"none\" or \"morton\", got \"" +
+                      bodies.internal_order + "\"");
+  if (bodies.resort_every < 1)
+    throw ConfigError("[bodies] resort_every: expected an integer >= 1, got " + std::to_string(bodies.resort_every));
   non_negative("[inflow] rate", inflow.rate);
   // Every value is finite even where it is unused (an inactive inflow, a circle's size): a NaN
   // in a scene is a mistake wherever it stands.

@@ -16,6 +16,11 @@
 //                at the new time ([[body]] spawn, [inflow]: inflow.hpp)
 //
 // step() runs all stages (forming A when the solver needs it) and returns a per-stage profile.
+//
+// With `[bodies] internal_order = "morton"` the stages work on a copy of the bodies kept in a
+// re-sorted spatial order (internal_body_order.hpp); everything public — bodies(), contacts(),
+// previous_contacts(), problem(), constraints(), pack(), predict(), integrate(λ)'s λ, the
+// guess's input and output, StepReport's λ — stays in the external (creation) order.
 #include <Eigen/Core>
 #include <functional>
 #include <vector>
@@ -24,6 +29,7 @@
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/contact.hpp"
 #include "dc/engine/inflow.hpp"
+#include "dc/engine/internal_body_order.hpp"
 #include "dc/engine/lcp_problem.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
@@ -66,7 +72,12 @@ class World {
 
   [[nodiscard]] const WorldDef& def() const { return def_; }
   [[nodiscard]] const BodyState& bodies() const { return bodies_; }
-  BodyState& bodies() { return bodies_; }
+  /// Mutable bodies: with an internal order, edits reach the engine's working copy at the
+  /// next collide() (every body is copied then; calling this marks the bodies as edited).
+  BodyState& bodies() {
+    bodies_edited_ = true;
+    return bodies_;
+  }
   [[nodiscard]] int step_index() const { return step_; }
   [[nodiscard]] double time() const { return step_ * def_.time.dt; }
 
@@ -75,6 +86,7 @@ class World {
   const LcpProblem& assemble();
   /// Forms A of the assembled problem if it is not formed yet (for assembled solvers, export).
   const LcpProblem& ensure_assembled_matrix();
+  /// λ in the rows of problem() (external order).
   void integrate(const Eigen::VectorXd& lambda);
 
   // ---- results of the stages ---------------------------------------------------------
@@ -132,6 +144,24 @@ class World {
   ShapeNarrowPhase shape_narrow_phase_;  ///< collide() of scenes with a shape table
   double broad_phase_ms_ = 0;
   Inflow inflow_;  ///< appends late bodies at construction and after every integrate()
+
+  // ---- engine-internal body order ([bodies] internal_order; empty/unused when "none") ----
+  [[nodiscard]] bool has_internal_order() const { return def_.bodies.internal_order != "none"; }
+  /// The bodies the stages work on: bodies_, or the internally ordered copy.
+  BodyState& working_bodies() { return has_internal_order() ? order_.state() : bodies_; }
+  /// Brings order_ up to date with bodies_ (appended bodies, user edits) and re-sorts it
+  /// every resort_every steps.
+  void update_internal_order();
+  /// Broad and narrow phase of a circle-only scene on `bodies` into `out` (sorted by key).
+  void collide_circles(const BodyState& bodies, std::vector<Contact>& out);
+  /// integrate() on the problem the stages solved (internal rows when there is an order).
+  void integrate_solved(const Eigen::VectorXd& lambda);
+  InternalBodyOrder order_;
+  std::vector<Contact> internal_contacts_;  ///< this step's contacts in internal order
+  LcpProblem internal_problem_;             ///< their LCP (rows follow space)
+  Eigen::VectorXd internal_lambda_;         ///< integrate(λ)'s λ translated (reused)
+  bool bodies_edited_ = true;               ///< bodies() was called mutably since the last copy
+  int last_resort_step_ = -1;               ///< step_ of the last re-sort (−1: never)
 };
 
 /// Generated (seeded Gaussian, rejection-sampled) plus explicit circles of a definition.

@@ -87,6 +87,15 @@ struct BodiesSection {
   /// of bodies are the same; only the indices (and so the Gauss–Seidel row order) differ.
   /// Explicit [[body]] bodies always follow in file order.
   std::string order = "creation";
+  /// Order in which the engine stores and steps the bodies, behind their stable (external)
+  /// indices: "none" (default; storage order = external order) or "morton" (World keeps the
+  /// bodies, contacts and LCP rows in the Morton order of their current cell of side 2·max
+  /// radius, re-sorted every `resort_every` steps; every public view stays in external order,
+  /// docs/engine.md "Spatial body order"). Circle-only scenes. Changes the Gauss–Seidel row
+  /// order of the solve, hence the trajectory (to the solver's tolerance), not what users see.
+  std::string internal_order = "none";
+  /// With internal_order = "morton": steps between two re-sorts of the internal order (≥ 1).
+  int resort_every = 20;
 
   friend bool operator==(const BodiesSection&, const BodiesSection&) = default;
 };

@@ -1,0 +1,212 @@
+// [bodies] internal_order = "morton": World steps its bodies in a re-sorted spatial order
+// (internal_body_order.hpp) while every public view stays in the external order. Checked: the
+// translation of contacts and rows, that a step agrees with the same step without the order to
+// the solver's tolerance (frictionless: the contact velocities are unique), that everything
+// public is consistent in external order, bit-equal reruns, user edits and appended bodies.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "dc/core/error.hpp"
+#include "dc/engine/internal_body_order.hpp"
+#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/scene.hpp"
+#include "dc/engine/world.hpp"
+
+namespace dc {
+namespace {
+
+/// The seed scene scaled to n circles at the seed's density, with an internal order or not.
+WorldDef pile(const char* internal_order, int n, int resort_every = 5) {
+  WorldDef d;
+  const double side = 3.0 * std::sqrt(static_cast<double>(n));
+  d.world.width = d.world.height = side;
+  d.bodies.count = n;
+  d.bodies.mean = {side / 2, side / 2};
+  d.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
+  d.bodies.internal_order = internal_order;
+  d.bodies.resort_every = resort_every;
+  return d;
+}
+
+/// The builtin warm start written out (the warmstart library is above the engine): previous
+/// λ by key, in the rows of problem().
+Eigen::VectorXd previous_by_key(const World& w) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
+  const std::vector<int> match = match_contacts_by_key(w.previous_contacts(), w.contacts());
+  for (std::size_t c = 0; c < match.size(); ++c)
+    if (match[c] >= 0) {
+      const Contact& p = w.previous_contacts()[static_cast<std::size_t>(match[c])];
+      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
+    }
+  return out;
+}
+
+TEST(InternalBodyOrder, TranslatesContactsToExternalKeysAndFlipsReversedPairs) {
+  InternalBodyOrder order;
+  BodyState s;
+  // External bodies 0..3 on a line, backwards in x: the Morton resort reverses them.
+  for (int k = 0; k < 4; ++k) s.add({10.0 - 2.0 * k, 1.0}, 1.0, 1.0);
+  order.update_from(s, true);
+  order.resort(2.0);
+  EXPECT_EQ(order.external_of(), (std::vector<int>{3, 2, 1, 0}));
+  EXPECT_EQ(order.state().position[0].x, 4.0);
+  // Internal contacts: wall (bottom) with internal body 0, pair (0, 1) internal.
+  Contact wall;
+  wall.key = ContactKey::wall(Wall::Bottom, 0);
+  wall.body_a = static_cast<int>(Wall::Bottom);
+  wall.body_b = 0;
+  wall.normal = {0, 1};
+  Contact pair;
+  pair.key = ContactKey::pair(0, 1);
+  pair.body_a = 0;
+  pair.body_b = 1;
+  pair.normal = {1, 0};
+  pair.lambda_t = 0.5;
+  std::vector<Contact> external;
+  order.contacts_to_external({pair, wall}, 4, external);  // any internal order is sorted
+  ASSERT_EQ(external.size(), 2u);
+  EXPECT_EQ(external[0].key, ContactKey::wall(Wall::Bottom, 3));
+  EXPECT_FALSE(order.flipped(0));
+  EXPECT_EQ(order.internal_contact(0), 1);
+  EXPECT_EQ(external[1].key, ContactKey::pair(2, 3));
+  EXPECT_EQ(external[1].body_a, 2);
+  EXPECT_EQ(external[1].normal.x, -1.0);  // from external body 2 (internal 1) to 3 (internal 0)
+  EXPECT_EQ(external[1].lambda_t, -0.5);
+  EXPECT_TRUE(order.flipped(1));
+  EXPECT_THROW(order.update_from(BodyState{}, false), InvalidArgument);  // bodies only appended
+}
+
+constexpr double kFrictionless = 0.0;
+TEST(InternalBodyOrder, AStepAgreesWithTheExternalOrderToTheSolverTolerance) {
+  // Both worlds start every step from the same state (the plain world's, written into the
+  // other through bodies(): the edit path) and take one step; with internal order the
+  // Gauss–Seidel row order differs, so agreement is to the solve's tolerance: velocity within
+  // 1 % of g Δt, position within Δt times that (as BodyOrder.MortonAgreesWithCreationOrder…).
+  WorldDef da = pile("none", 300), db = pile("morton", 300);
+  da.contact.friction = db.contact.friction = kFrictionless;
+  World a(da), b(db);
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 5000;
+  o.tolerance = 1e-10;
+  double dx = 0, dv = 0;
+  std::size_t most_contacts = 0;
+  for (int s = 0; s < 150; ++s) {
+    b.bodies().position = a.bodies().position;
+    b.bodies().velocity = a.bodies().velocity;
+    b.bodies().angle = a.bodies().angle;
+    b.bodies().omega = a.bodies().omega;
+    const StepReport ra = a.step(*solver, o, previous_by_key), rb = b.step(*solver, o, previous_by_key);
+    ASSERT_EQ(ra.rows, rb.rows);
+    ASSERT_EQ(a.contacts().size(), b.contacts().size());
+    for (std::size_t c = 0; c < a.contacts().size(); ++c) ASSERT_EQ(a.contacts()[c].key, b.contacts()[c].key);
+    for (int r = 0; r < ra.rows; ++r) ASSERT_NEAR(ra.solve.lambda[r], rb.solve.lambda[r], 1e-6) << "row " << r;
+    most_contacts = std::max(most_contacts, a.contacts().size());
+    for (std::size_t k = 0; k < a.bodies().size(); ++k) {
+      dx = std::max(dx, length(a.bodies().position[k] - b.bodies().position[k]));
+      dv = std::max(dv, length(a.bodies().velocity[k] - b.bodies().velocity[k]));
+    }
+  }
+  std::printf("max one-step difference: %.3g m, %.3g m/s\n", dx, dv);
+  EXPECT_GT(most_contacts, 200u);  // the pile is in contact: the row order matters
+  EXPECT_GT(dv, 0.0);  // the row orders do differ
+  const double gdt = length(a.def().world.gravity) * a.def().time.dt;
+  EXPECT_LT(dv, 0.01 * gdt);
+  EXPECT_LT(dx, 0.01 * gdt * a.def().time.dt);
+}
+
+TEST(InternalBodyOrder, PublicViewsAreInExternalOrder) {
+  World plain(pile("none", 300)), w(pile("morton", 300, 3));
+  EXPECT_EQ(w.bodies().radius, plain.bodies().radius);
+  EXPECT_EQ(state_hash(w.bodies()), state_hash(plain.bodies()));  // same start, same numbering
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 50;
+  for (int s = 0; s < 40; ++s) {
+    const StepReport r = w.step(*solver, o, previous_by_key);
+    const World& cw = w;
+    const BodyState& x = cw.bodies();
+    ASSERT_EQ(r.rows, cw.problem().rows());
+    (void)match_contacts_by_key(cw.contacts(), cw.contacts());  // throws unless sorted by key
+    for (int c = 0; c < static_cast<int>(cw.contacts().size()); ++c) {
+      const Contact& k = cw.contacts()[static_cast<std::size_t>(c)];
+      EXPECT_EQ(r.solve.lambda[cw.normal_row(c)], k.lambda_n);
+      if (cw.tangent_row(c) >= 0) EXPECT_EQ(r.solve.lambda[cw.tangent_row(c)], k.lambda_t);
+      if (k.body_a < 0) continue;
+      ASSERT_LT(k.body_a, k.body_b);
+      // Geometry before the step: the normal points from a to b of the external bodies.
+      EXPECT_EQ(cw.constraints()[c].body_a, k.body_a);
+      const Vec2 d = x.position[static_cast<std::size_t>(k.body_b)] - x.position[static_cast<std::size_t>(k.body_a)];
+      EXPECT_GT(dot(d, k.normal), 0.0);
+    }
+  }
+  EXPECT_EQ(w.bodies().radius, plain.bodies().radius);  // constants stay with their bodies
+}
+
+TEST(InternalBodyOrder, RerunsAreBitEqualAndStagesMatchStep) {
+  auto run = [](bool by_stages) {
+    World w(pile("morton", 400, 7));
+    const auto solver = make_solver("pgs");
+    SolverOptions o;
+    o.max_sweeps = 30;
+    for (int s = 0; s < 60; ++s) {
+      if (!by_stages) {
+        w.step(*solver, o, previous_by_key);
+        continue;
+      }
+      w.collide();
+      w.assemble();
+      w.integrate(solver->solve(w.problem(), previous_by_key(w), o).lambda);
+    }
+    return state_hash(w.bodies());
+  };
+  EXPECT_EQ(run(false), run(false));
+  EXPECT_EQ(run(true), run(true));
+  EXPECT_NE(run(false), state_hash(World(pile("morton", 400, 7)).bodies()));
+}
+
+TEST(InternalBodyOrder, InflowBodiesJoinTheInternalOrder) {
+  WorldDef da = pile("none", 100), db = pile("morton", 100);
+  for (WorldDef* d : {&da, &db}) {
+    d->inflow.rate = 200;
+    d->inflow.stop = 10;
+    d->inflow.region = {2, d->world.height - 6, d->world.width - 2, d->world.height - 2};
+    d->contact.friction = kFrictionless;
+  }
+  World a(da), b(db);
+  const auto solver = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 2000;
+  o.tolerance = 1e-10;
+  for (int s = 0; s < 40; ++s) {
+    b.bodies().position = a.bodies().position;
+    b.bodies().velocity = a.bodies().velocity;
+    a.step(*solver, o);
+    b.step(*solver, o);
+    ASSERT_EQ(a.bodies().size(), b.bodies().size()) << "step " << s;
+  }
+  EXPECT_GT(a.bodies().size(), 100u);
+  double dv = 0;
+  for (std::size_t k = 0; k < a.bodies().size(); ++k)
+    dv = std::max(dv, length(a.bodies().velocity[k] - b.bodies().velocity[k]));
+  EXPECT_LT(dv, 1e-3);
+}
+
+TEST(InternalBodyOrder, SceneKeysParseAndBadValuesAreConfigErrors) {
+  const WorldDef d = parse_scene("[bodies]\ninternal_order = \"morton\"\nresort_every = 7\n");
+  EXPECT_EQ(d.bodies.internal_order, "morton");
+  EXPECT_EQ(d.bodies.resort_every, 7);
+  EXPECT_EQ(parse_scene("").bodies.internal_order, "none");
+  EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.resort_every, 7);
+  EXPECT_THROW((void)parse_scene("[bodies]\ninternal_order = \"hilbert\"\n"), ConfigError);
+  EXPECT_THROW((void)parse_scene("[bodies]\nresort_every = 0\n"), ConfigError);
+  WorldDef boxes = pile("morton", 20);
+  boxes.bodies.shape = "box";
+  EXPECT_THROW((void)World(boxes), ConfigError);
+}
+
+}  // namespace
+}  // namespace dc
