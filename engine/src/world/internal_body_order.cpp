@@ -79,7 +79,7 @@ void InternalBodyOrder::contacts_to_external(const std::vector<Contact>& interna
                                              std::vector<Contact>& external) {
   const std::size_t m = internal.size();
   keys_.resize(m);
-  flipped_.assign(m, 0);  // indexed by internal contact until the end of this function
+  flipped_.assign(m, 0);
   // Keys' first index ranges over the walls (−4 … −1) and the bodies: bucket a + 4.
   constexpr int kWallOffset = 4;
   bucket_start_.assign(static_cast<std::size_t>(bodies + kWallOffset + 1), 0);
@@ -109,7 +109,6 @@ void InternalBodyOrder::contacts_to_external(const std::vector<Contact>& interna
   }
   external.resize(m);
   internal_of_contact_.resize(m);
-  std::vector<unsigned char> flipped_external(m);
   for (std::size_t c = 0; c < m; ++c) {
     const auto i = static_cast<std::size_t>(sorted_[c]);
     Contact e = internal[i];
@@ -117,15 +116,77 @@ void InternalBodyOrder::contacts_to_external(const std::vector<Contact>& interna
     e.body_a = e.key.a;
     e.body_b = e.key.b;
     if (flipped_[i]) {
-      e.normal = -e.normal;
-      e.lambda_t = -e.lambda_t;
+      e.normal = -e.normal;  // t = perp(n) turns too; λ_t along it is the same number
       std::swap(e.anchor_a, e.anchor_b);
     }
     external[c] = e;
     internal_of_contact_[c] = static_cast<int>(i);
-    flipped_external[c] = flipped_[i];
   }
-  flipped_.swap(flipped_external);
+}
+
+void InternalBodyOrder::problem_to_external(const LcpProblem& in, const std::vector<Contact>& external_contacts,
+                                            LcpProblem& out) const {
+  ContactConstraints& con = out.constraints;
+  con.clear();
+  con.reserve(external_contacts.size());
+  for (std::size_t c = 0; c < external_contacts.size(); ++c) {
+    const Contact& e = external_contacts[c];
+    const ContactConstraint& k = in.constraints[internal_contact(static_cast<int>(c))];
+    con.add(e.body_a >= 0 ? e.body_a : -1, e.body_b, k.mu, k.feature);
+  }
+  const int rows = con.rows();
+  out.dt = in.dt;
+  out.inv_mass.resize(in.inv_mass.size());
+  for (std::size_t i = 0; i < external_of_.size(); ++i)
+    for (int d = 0; d < 3; ++d)
+      out.inv_mass[3 * external_of_[i] + d] = in.inv_mass[3 * static_cast<Eigen::Index>(i) + d];
+  out.J.resize(rows, in.J.cols());
+  out.J.resizeNonZeros(in.J.nonZeros());
+  const int* const in_outer = in.J.outerIndexPtr();
+  const int* const in_inner = in.J.innerIndexPtr();
+  const double* const in_value = in.J.valuePtr();
+  int* const outer = out.J.outerIndexPtr();
+  int* const inner = out.J.innerIndexPtr();
+  double* const value = out.J.valuePtr();
+  outer[0] = 0;
+  out.b.resize(rows);
+  out.lo.resize(rows);
+  out.hi.resize(rows);
+  out.mu.resize(rows);
+  out.normal_row.assign(static_cast<std::size_t>(rows), -1);
+  // Row ri of `in` → row re of `out`: blocks of 3 columns (x, y, ω of one body), in ascending
+  // external body order, values unchanged.
+  auto copy_row = [&](int ri, int re) {
+    const int begin = in_outer[ri], length = in_outer[ri + 1] - begin;
+    if (length != 3 && length != 6)
+      throw InvalidArgument("InternalBodyOrder: a row of J with " + std::to_string(length) + " entries");
+    int block[2] = {begin, begin + 3};
+    int body[2] = {external_of_[static_cast<std::size_t>(in_inner[begin] / 3)], 0};
+    if (length == 6) {
+      body[1] = external_of_[static_cast<std::size_t>(in_inner[begin + 3] / 3)];
+      if (body[1] < body[0]) std::swap(block[0], block[1]), std::swap(body[0], body[1]);
+    }
+    int at = outer[re];
+    for (int j = 0; j < length / 3; ++j)
+      for (int d = 0; d < 3; ++d, ++at) {
+        inner[at] = 3 * body[j] + d;
+        value[at] = in_value[block[j] + d];
+      }
+    outer[re + 1] = at;
+    out.b[re] = in.b[ri];
+    out.lo[re] = in.lo[ri];  // friction rows: ±∞, their effective bounds are ±μ λ_n
+    out.hi[re] = in.hi[ri];
+    out.mu[re] = in.mu[ri];
+  };
+  for (int c = 0; c < con.size(); ++c) {
+    const ContactConstraint& e = con[c];
+    const ContactConstraint& i = in.constraints[internal_contact(c)];
+    copy_row(i.normal_row, e.normal_row);
+    if (e.tangent_row < 0) continue;
+    copy_row(i.tangent_row, e.tangent_row);
+    out.normal_row[static_cast<std::size_t>(e.tangent_row)] = e.normal_row;
+  }
+  out.A = SparseRowMatrix();
 }
 
 void InternalBodyOrder::rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
@@ -137,7 +198,7 @@ void InternalBodyOrder::rows_to_internal(const ContactConstraints& external, con
     const ContactConstraint& i = internal[internal_contact(c)];
     lambda_internal[i.normal_row] = lambda_external[e.normal_row];
     if (e.tangent_row >= 0)
-      lambda_internal[i.tangent_row] = flipped(c) ? -lambda_external[e.tangent_row] : lambda_external[e.tangent_row];
+      lambda_internal[i.tangent_row] = lambda_external[e.tangent_row];
   }
 }
 
@@ -150,7 +211,7 @@ void InternalBodyOrder::rows_to_external(const ContactConstraints& external, con
     const ContactConstraint& i = internal[internal_contact(c)];
     lambda_external[e.normal_row] = lambda_internal[i.normal_row];
     if (e.tangent_row >= 0)
-      lambda_external[e.tangent_row] = flipped(c) ? -lambda_internal[i.tangent_row] : lambda_internal[i.tangent_row];
+      lambda_external[e.tangent_row] = lambda_internal[i.tangent_row];
   }
 }
 

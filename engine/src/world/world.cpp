@@ -109,8 +109,12 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
 }
 
 const LcpProblem& World::assemble() {
-  if (has_internal_order()) assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_);
-  assemble_lcp(bodies_, contacts_, def_, problem_);
+  if (!has_internal_order()) {
+    assemble_lcp(bodies_, contacts_, def_, problem_);
+    return problem_;
+  }
+  assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_);
+  order_.problem_to_external(internal_problem_, contacts_, problem_);  // the public copy
   return problem_;
 }
 
@@ -160,7 +164,7 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
     for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
       const Contact& in = internal_contacts_[static_cast<size_t>(order_.internal_contact(c))];
       contacts_[static_cast<size_t>(c)].lambda_n = in.lambda_n;
-      contacts_[static_cast<size_t>(c)].lambda_t = order_.flipped(c) ? -in.lambda_t : in.lambda_t;
+      contacts_[static_cast<size_t>(c)].lambda_t = in.lambda_t;
     }
   }
   contacts_are_previous_ = true;

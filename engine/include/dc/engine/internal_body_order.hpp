@@ -9,14 +9,16 @@
 //
 // Orientation: a pair contact's normal points from the lower to the higher body index. When
 // the internal order of a pair's bodies is the reverse of their external order, the external
-// contact has its bodies swapped and n, t = perp(n) and λ_t negated (the normal row of J is
-// the same, the tangent row changes sign); the normal row and λ_n are unchanged.
+// contact has its bodies swapped and n (so t = perp(n)) negated. Its rows of J are the same
+// per body (−n on a, +n on b becomes +n on the old a, −n on the old b: the same entries), so
+// b, λ_n and λ_t are the same numbers in both orders; only the columns move.
 #include <Eigen/Core>
 #include <vector>
 
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
 #include "dc/engine/contact_constraints.hpp"
+#include "dc/engine/lcp_problem.hpp"
 
 namespace dc {
 
@@ -45,8 +47,16 @@ class InternalBodyOrder {
   void contacts_to_external(const std::vector<Contact>& internal, int bodies, std::vector<Contact>& external);
   /// Internal contact of external contact c (of the last contacts_to_external).
   [[nodiscard]] int internal_contact(int c) const { return internal_of_contact_[static_cast<std::size_t>(c)]; }
-  /// True when external contact c has its bodies swapped against its internal contact.
-  [[nodiscard]] bool flipped(int c) const { return flipped_[static_cast<std::size_t>(c)] != 0; }
+  /// `external` ← the problem of `internal` in external order: rows in the order of
+  /// `external_contacts` (the last contacts_to_external's output; normal row, then tangent row
+  /// when μ > 0, as assembly numbers them), J's columns by external body (ascending within a
+  /// row; the values are the same per body), M⁻¹ by external body; A left
+  /// empty (ensure_assembled_matrix()). Equals the assembly of the external contacts on the
+  /// external bodies up to the order of the two bodies' terms in b's sums (last-bit rounding).
+  /// A streaming copy instead of a second assembly with random access to the bodies.
+  /// Throws InvalidArgument for a row with other than 3 or 6 entries (circle-only scenes).
+  void problem_to_external(const LcpProblem& internal, const std::vector<Contact>& external_contacts,
+                           LcpProblem& external) const;
   /// Row vector of the internal problem from one of the external problem (same contacts).
   void rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
                         const Eigen::VectorXd& lambda_external, Eigen::VectorXd& lambda_internal) const;
@@ -58,7 +68,7 @@ class InternalBodyOrder {
   BodyState state_;
   std::vector<int> external_of_;
   std::vector<int> internal_of_contact_;
-  std::vector<unsigned char> flipped_;
+  std::vector<unsigned char> flipped_;  ///< per internal contact: bodies in reverse external order
   std::vector<int> bucket_start_;      ///< contacts_to_external's counting sort (reused)
   std::vector<ContactKey> keys_;       ///< external key of each internal contact (reused)
   std::vector<int> sorted_;            ///< internal contacts in external key order (reused)
