@@ -15,7 +15,6 @@
 #include "dc/engine/scene.hpp"
 #include "dc/engine/step_outcome.hpp"
 #include "dc/engine/world.hpp"
-#include "lcp/assembly.hpp"
 
 namespace dc {
 namespace {
@@ -159,44 +158,6 @@ TEST(InternalBodyOrder, PublicViewsAreInExternalOrder) {
     if (w.tangent_row(c) >= 0) dlambda_t = std::max(dlambda_t, std::abs(lambda[w.tangent_row(c)]));
   EXPECT_GT(dlambda_t, 0.0);  // friction forces are present
   EXPECT_LT(dv, 1e-12);
-}
-
-TEST(InternalBodyOrder, PublicProblemIsTheAssemblyOfThePublicContacts) {
-  // problem() is a permuted copy of the internal problem; it must be what assembling the
-  // public contacts on the public bodies gives: J, bounds, μ and coupling exactly, b to the
-  // rounding of its two-body sums (summed in the other body order when a pair is flipped).
-  World w(pile("morton", 400, 4));
-  const auto solver = make_solver("pgs");
-  SolverOptions o;
-  o.max_sweeps = 30;
-  for (int s = 0; s < 100; ++s) w.step(*solver, o, previous_by_key);
-  w.collide();
-  const LcpProblem& p = w.assemble();
-  LcpProblem ref;
-  assemble_lcp(w.bodies(), w.contacts(), w.def(), ref);
-  ASSERT_GT(p.rows(), 400);  // friction rows too
-  ASSERT_EQ(p.rows(), ref.rows());
-  EXPECT_EQ(p.J.nonZeros(), ref.J.nonZeros());
-  for (int r = 0; r < p.rows(); ++r) {
-    ASSERT_EQ(p.J.outerIndexPtr()[r + 1], ref.J.outerIndexPtr()[r + 1]) << "row " << r;
-    for (int at = p.J.outerIndexPtr()[r]; at < p.J.outerIndexPtr()[r + 1]; ++at) {
-      ASSERT_EQ(p.J.innerIndexPtr()[at], ref.J.innerIndexPtr()[at]) << "row " << r;
-      ASSERT_EQ(p.J.valuePtr()[at], ref.J.valuePtr()[at]) << "row " << r << " column " << p.J.innerIndexPtr()[at];
-    }
-  }
-  EXPECT_EQ(p.inv_mass, ref.inv_mass);
-  EXPECT_EQ(p.lo, ref.lo);
-  EXPECT_EQ(p.hi, ref.hi);
-  EXPECT_EQ(p.mu, ref.mu);
-  EXPECT_EQ(p.normal_row, ref.normal_row);
-  EXPECT_LT((p.b - ref.b).cwiseAbs().maxCoeff(), 1e-12);
-  for (int c = 0; c < p.constraints.size(); ++c) {
-    EXPECT_EQ(p.constraints[c].normal_row, ref.constraints[c].normal_row);
-    EXPECT_EQ(p.constraints[c].tangent_row, ref.constraints[c].tangent_row);
-    EXPECT_EQ(p.constraints[c].body_a, ref.constraints[c].body_a);
-    EXPECT_EQ(p.constraints[c].body_b, ref.constraints[c].body_b);
-  }
-  p.validate();
 }
 
 TEST(InternalBodyOrder, RerunsAreBitEqualAndStagesMatchStep) {

@@ -114,7 +114,11 @@ const LcpProblem& World::assemble() {
     return problem_;
   }
   assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_);
-  order_.problem_to_external(internal_problem_, contacts_, problem_);  // the public copy
+  // The public copy: assembled again from the public contacts and bodies. (A permuted copy of
+  // the internal problem was tried and measured slower at 40,000 bodies: it reads each
+  // internal row's J, b, bounds and μ from seven arrays at random, where assembly reads two
+  // bodies' state per contact.)
+  assemble_lcp(bodies_, contacts_, def_, problem_);
   return problem_;
 }
 

@@ -18,7 +18,6 @@
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
 #include "dc/engine/contact_constraints.hpp"
-#include "dc/engine/lcp_problem.hpp"
 
 namespace dc {
 
@@ -47,16 +46,6 @@ class InternalBodyOrder {
   void contacts_to_external(const std::vector<Contact>& internal, int bodies, std::vector<Contact>& external);
   /// Internal contact of external contact c (of the last contacts_to_external).
   [[nodiscard]] int internal_contact(int c) const { return internal_of_contact_[static_cast<std::size_t>(c)]; }
-  /// `external` ← the problem of `internal` in external order: rows in the order of
-  /// `external_contacts` (the last contacts_to_external's output; normal row, then tangent row
-  /// when μ > 0, as assembly numbers them), J's columns by external body (ascending within a
-  /// row; the values are the same per body), M⁻¹ by external body; A left
-  /// empty (ensure_assembled_matrix()). Equals the assembly of the external contacts on the
-  /// external bodies up to the order of the two bodies' terms in b's sums (last-bit rounding).
-  /// A streaming copy instead of a second assembly with random access to the bodies.
-  /// Throws InvalidArgument for a row with other than 3 or 6 entries (circle-only scenes).
-  void problem_to_external(const LcpProblem& internal, const std::vector<Contact>& external_contacts,
-                           LcpProblem& external) const;
   /// Row vector of the internal problem from one of the external problem (same contacts).
   void rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
                         const Eigen::VectorXd& lambda_external, Eigen::VectorXd& lambda_internal) const;
