@@ -68,13 +68,15 @@ struct Gather {
   int pad_top, pad_left;
   int R, pitch;       ///< padded rows (flat stride 2: rows per phase plane) and row pitch
   float mean, inv;    ///< standardisation
+  int pr0, pr1;       ///< layouts 0 and 1: the padded rows [pr0, pr1) to gather, from xp's row 0
 };
 
 /// One input channel's padded input for the kernel, zero outside the image. Layout 0 (stride
 /// 1, rows or flat): [R][pitch], column p + ix = input column ix, padded row r = input row
 /// r − pad_top (pad_rows). Layout 1 (stride 2, rows): [R][2][pitch], phase φ index i = input
 /// column 2i + φ − pl (pad_rows_s2). Layout 2 (stride 2, flat): four planes (ρ, φ) of
-/// [R][pitch], element (i, j) = padded row 2i + ρ, padded column 2j + φ.
+/// [R][pitch], element (i, j) = padded row 2i + ρ, padded column 2j + φ. Layouts 0 and 1
+/// gather the padded rows [pr0, pr1) only (xp's first row = padded row pr0); layout 2 all.
 template <bool UP, bool STD>
 void gather_channel(const Gather& g, const std::vector<InferencePlan::Columns>& cols, int layout, float* xp) {
   using detail::kLanes;
@@ -83,10 +85,10 @@ void gather_channel(const Gather& g, const std::vector<InferencePlan::Columns>& 
   const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
   const int Wp = g.pitch;
   const long phase = static_cast<long>(g.R) * Wp;  // layout 2
-  const int rows = layout == 2 ? 2 * g.R : g.R;
-  for (int pr = 0; pr < rows; ++pr) {  // padded row
+  const int first = layout == 2 ? 0 : g.pr0, rows = layout == 2 ? 2 * g.R : g.pr1;
+  for (int pr = first; pr < rows; ++pr) {  // padded row
     float* d0 = layout == 2 ? xp + (pr % 2) * 2 * phase + static_cast<long>(pr / 2) * Wp
-                            : xp + static_cast<long>(pr) * Wp * (layout == 1 ? 2 : 1);
+                            : xp + static_cast<long>(pr - first) * Wp * (layout == 1 ? 2 : 1);
     float* d1 = layout == 2 ? d0 + phase : d0 + Wp;  // odd phase (stride 2)
     const int iy = pr - g.pad_top;
     if (iy < 0 || iy >= g.h) {
@@ -144,6 +146,9 @@ bool InferencePlan::compile(Network& net) {
     }
   }
   if (!conv[n - 1]) return false;
+  tmpl_rows_.assign(n, {});
+  need_rows_.assign(n, {});
+  comp_rows_.assign(n, {});
   for (std::size_t i = 0; i < n; ++i)  // every upsample is read by convs only
     for (const int j : net.node_inputs(i))
       if (j >= 0 && !conv[static_cast<std::size_t>(j)] && !conv[i]) return false;
@@ -162,6 +167,7 @@ bool InferencePlan::compile(Network& net) {
     if (conv[i] && !add_step(net, i, conv, head_reads[i] != 0)) return false;
   bases_.assign(block_.size() / detail::kLanes, nullptr);
   out_ = Tensor(out_shape_);
+  calibrate_templates();
   return true;
 #endif
 }
@@ -189,6 +195,7 @@ bool InferencePlan::add_step(Network& net, std::size_t i, const std::vector<char
   for (const int j : net.node_inputs(i)) {
     const bool up = j >= 0 && !conv[static_cast<std::size_t>(j)];
     const int from = up ? net.node_inputs(static_cast<std::size_t>(j))[0] : j;
+    if (std::find(s.inputs.begin(), s.inputs.end(), std::pair{from, up}) == s.inputs.end()) s.inputs.emplace_back(from, up);
     const Shape p = from < 0 ? in_ : net.node_shape(static_cast<std::size_t>(from));
     const Shape stored = from < 0 ? in_ : act_[static_cast<std::size_t>(from)].shape();  // its layout
     for (int c = 0; c < p.c; ++c) {
@@ -249,6 +256,9 @@ void InferencePlan::layout_dense(Step& s, Conv2d& layer, bool plain_layout) {
     floats = static_cast<std::size_t>(s.cin * s.x_plane);
     act_[static_cast<std::size_t>(s.node)] = Tensor(1, s.cout, s.ho, s.wo);
   }
+  tmpl_rows_[static_cast<std::size_t>(s.node)].assign(static_cast<std::size_t>(s.ho), 0);
+  need_rows_[static_cast<std::size_t>(s.node)].assign(static_cast<std::size_t>(s.ho), 0);
+  comp_rows_[static_cast<std::size_t>(s.node)].assign(static_cast<std::size_t>(s.ho), 0);
   pad_.resize(std::max(pad_.size(), floats));
   // The gather's source vectors of one padded row (the same for every row and channel).
   s.cols.clear();
@@ -271,17 +281,17 @@ const float* InferencePlan::plane(const Source& src, const Tensor& x) const {
   return base + static_cast<std::size_t>(src.channel) * static_cast<std::size_t>(src.plane);
 }
 
-// Gathers the step's padded input (concatenation, upsampling and standardisation included)
-// into pad_ — rows as pad_rows / pad_rows_s2 lay them out for Conv2d, or the flat layout —
-// then runs the same arithmetic (direct_tile or direct_flat) over the whole output.
-void InferencePlan::run_dense(const Step& s, const Tensor& x) {
+// Gathers the padded rows [pr0, pr1) of the step's input (concatenation, upsampling and
+// standardisation included) into xp — rows as pad_rows / pad_rows_s2 lay them out for Conv2d
+// — or, for a flat step, its whole flat layout.
+void InferencePlan::gather_rows(const Step& s, const Tensor& x, int pr0, int pr1, float* xp) const {
 #if defined(__AVX512F__)
-  float* xp = pad_.data();
+  const int layout = s.stride == 1 ? 0 : s.flat ? 2 : 1;
+  const long x_plane = s.flat ? s.x_plane : static_cast<long>(pr1 - pr0) * s.pitch * s.stride;
   for (int c = 0; c < s.cin; ++c) {
     const Source& src = s.src[static_cast<std::size_t>(c)];
-    const Gather g{plane(src, x), src.pitch, s.h, s.w, s.pad_top, s.pad_left, s.rows, s.pitch, src.mean, src.inv};
-    float* dst = xp + static_cast<std::size_t>(c) * static_cast<std::size_t>(s.x_plane);
-    const int layout = s.stride == 1 ? 0 : s.flat ? 2 : 1;
+    const Gather g{plane(src, x), src.pitch, s.h, s.w, s.pad_top, s.pad_left, s.rows, s.pitch, src.mean, src.inv, pr0, pr1};
+    float* dst = xp + static_cast<std::size_t>(c) * static_cast<std::size_t>(x_plane);
     if (src.up) {
       src.standardise ? gather_channel<true, true>(g, s.cols, layout, dst) : gather_channel<true, false>(g, s.cols, layout, dst);
     } else {
@@ -289,14 +299,41 @@ void InferencePlan::run_dense(const Step& s, const Tensor& x) {
                       : gather_channel<false, false>(g, s.cols, layout, dst);
     }
   }
+#else
+  (void)s, (void)x, (void)pr0, (void)pr1, (void)xp;
+#endif
+}
+
+// A flat step: its whole input gathered, then direct_flat over the whole output. A rows step:
+// each run of consecutive output rows to compute (plan_rows) gathered and run through
+// direct_tile, then the template rows that are read filled in. The same arithmetic per
+// output element either way.
+void InferencePlan::run_dense(const Step& s, const Tensor& x) {
+#if defined(__AVX512F__)
+  float* xp = pad_.data();
   float* y = act_[static_cast<std::size_t>(s.node)].data();
   if (s.flat) {
+    gather_rows(s, x, 0, s.rows, xp);  // stride 1: s.rows padded rows; stride 2 (layout 2): all
     detail::direct_flat(xp, s.cin, s.x_plane, s.off.data(), s.k * s.k, s.weight.data(), s.cout, s.bias.data(), s.relu, y,
                         static_cast<long>(s.ho) * s.pitch, s.ho * s.pitch);
-  } else {
-    detail::direct_tile(xp, s.cin, s.rows, s.pitch, s.k, s.weight.data(), s.cout, s.bias.data(), s.relu, y, s.ho, s.wo,
-                        0, s.ho, s.stride);
+    return;
   }
+  const std::vector<char>& comp = comp_rows_[static_cast<std::size_t>(s.node)];
+  for (int a = 0; a < s.ho;) {
+    if (!comp[static_cast<std::size_t>(a)]) {
+      ++a;
+      continue;
+    }
+    int b = a + 1;
+    while (b < s.ho && comp[static_cast<std::size_t>(b)]) ++b;
+    // Output row j reads padded rows stride·j + ky, ky < k.
+    const int pr0 = s.stride * a, pr1 = s.stride * (b - 1) + s.k;
+    gather_rows(s, x, pr0, pr1, xp);
+    detail::direct_tile(xp, s.cin, pr1 - pr0, s.pitch, s.k, s.weight.data(), s.cout, s.bias.data(), s.relu, y, s.ho,
+                        s.wo, a, b - a, s.stride);
+    a = b;
+  }
+  fill_template_rows(s);
 #else
   (void)s, (void)x;
 #endif
@@ -361,6 +398,7 @@ const Tensor& InferencePlan::run(const Tensor& features, std::span<const int> pi
     if (step_ms) (*step_ms)[0] = detail::thread_cpu_ms() - t0;
     return out_;
   }
+  plan_rows(features, pixels, false);
   for (std::size_t i = 0; i < steps_.size(); ++i) {
     const double t0 = step_ms ? detail::thread_cpu_ms() : 0.0;
     const Step& s = steps_[i];
