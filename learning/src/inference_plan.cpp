@@ -339,47 +339,51 @@ void InferencePlan::run_dense(const Step& s, const Tensor& x) {
 #endif
 }
 
-// The 1×1 head at the listed pixels: Network::forward_at's arithmetic (blocks of 16 pixels,
-// per pixel fused multiply-adds over the channels from 0, then + bias, then ReLU as
-// std::max(r, 0)), one pixel per lane.
+// The 1×1 head at the listed pixels: Network::forward_at's arithmetic per pixel (fused
+// multiply-adds over the channels from 0, then + bias, then ReLU as std::max(r, 0)), evaluated
+// row by row over the span of columns [head_lo_, head_hi_] that holds the row's listed pixels
+// (plan_rows), 16 neighbouring pixels per vector: contiguous loads of the sources' rows (an
+// upsampled source through a lane permutation) instead of per-pixel gathers. The other
+// pixels of a span are computed too (unspecified output); rows without pixels are skipped.
 void InferencePlan::run_sparse(const Step& s, const Tensor& x, std::span<const int> pixels) {
   const int W = out_shape_.w, P = out_shape_.h * out_shape_.w;
   for (const int p : pixels)
     if (p < 0 || p >= P) throw InvalidArgument("InferencePlan::run: pixel " + std::to_string(p) + " outside the output");
 #if defined(__AVX512F__)
   constexpr int kB = detail::kLanes;
-  const int cin = s.cin;
+  const int cin = s.cin, sw = (W + 1) / 2;
   float* v = block_.data();
-  alignas(64) int full[kB], half[kB];  // the block's pixels in a full-size and an upsampled plane
-  alignas(64) float res[kB];
-  const double inv_w = 1.0 / W;
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (int c = 0; c < cin; ++c) bases_[static_cast<std::size_t>(c)] = plane(s.src[static_cast<std::size_t>(c)], x);
-  for (std::size_t p0 = 0; p0 < pixels.size(); p0 += kB) {
-    const int nb = static_cast<int>(std::min<std::size_t>(kB, pixels.size() - p0));
-    for (int b = 0; b < kB; ++b) {
-      const int p = pixels[p0 + static_cast<std::size_t>(std::min(b, nb - 1))];
-      // ⌊p / W⌋ without an integer division: (p + ½)/W lies ≥ ½/W from an integer.
-      const int Y = static_cast<int>((p + 0.5) * inv_w), X = p - Y * W;
-      full[b] = p;
-      half[b] = (Y / 2) * ((W + 1) / 2) + X / 2;
-    }
-    const __m512i at_full = _mm512_load_si512(full), at_half = _mm512_load_si512(half);
-    for (int c = 0; c < cin; ++c) {
-      const Source& src = s.src[static_cast<std::size_t>(c)];
-      __m512 value = _mm512_i32gather_ps(src.up ? at_half : at_full, bases_[static_cast<std::size_t>(c)], 4);
-      if (src.standardise) value = _mm512_mul_ps(_mm512_sub_ps(value, _mm512_set1_ps(src.mean)), _mm512_set1_ps(src.inv));
-      _mm512_storeu_ps(v + static_cast<std::size_t>(c) * kB, value);
-    }
-    for (int o = 0; o < s.cout; ++o) {
-      const float* wo = s.weight.data() + static_cast<std::size_t>(o) * cin;
-      __m512 acc = _mm512_setzero_ps();
-      for (int c = 0; c < cin; ++c)
-        acc = _mm512_fmadd_ps(_mm512_set1_ps(wo[c]), _mm512_loadu_ps(v + static_cast<std::size_t>(c) * kB), acc);
-      __m512 r = _mm512_add_ps(acc, _mm512_set1_ps(s.bias[static_cast<std::size_t>(o)]));
-      if (s.relu) r = _mm512_max_ps(_mm512_setzero_ps(), r);  // r when NaN or −0, as std::max(r, 0)
-      _mm512_store_ps(res, r);
-      float* yo = out_.data() + static_cast<std::size_t>(o) * P;
-      for (int b = 0; b < nb; ++b) yo[pixels[p0 + static_cast<std::size_t>(b)]] = res[b];
+  for (int Y = 0; Y < out_shape_.h; ++Y) {
+    const int lo = head_lo_[static_cast<std::size_t>(Y)], hi = head_hi_[static_cast<std::size_t>(Y)];
+    for (int x0 = lo; x0 <= hi; x0 += kB) {
+      const auto m = static_cast<__mmask16>((1u << std::min(kB, hi - x0 + 1)) - 1u);
+      const int sbase = x0 / 2, shift = x0 - 2 * sbase;  // lane l reads source column sbase + ((shift + l) >> 1)
+      const auto up_m = static_cast<__mmask16>((1u << std::clamp(sw - sbase, 0, kB)) - 1u);
+      const __m512i idx = _mm512_srai_epi32(_mm512_add_epi32(iota, _mm512_set1_epi32(shift)), 1);
+      for (int c = 0; c < cin; ++c) {
+        const Source& src = s.src[static_cast<std::size_t>(c)];
+        const float* base = bases_[static_cast<std::size_t>(c)];
+        __m512 value;
+        if (src.up) {
+          const __m512 row = _mm512_maskz_loadu_ps(up_m, base + static_cast<std::size_t>(Y / 2) * sw + sbase);
+          value = _mm512_maskz_mov_ps(m, _mm512_permutexvar_ps(idx, row));
+        } else {
+          value = _mm512_maskz_loadu_ps(m, base + static_cast<std::size_t>(Y) * W + x0);
+        }
+        if (src.standardise) value = _mm512_mul_ps(_mm512_sub_ps(value, _mm512_set1_ps(src.mean)), _mm512_set1_ps(src.inv));
+        _mm512_storeu_ps(v + static_cast<std::size_t>(c) * kB, value);
+      }
+      for (int o = 0; o < s.cout; ++o) {
+        const float* wo = s.weight.data() + static_cast<std::size_t>(o) * cin;
+        __m512 acc = _mm512_setzero_ps();
+        for (int c = 0; c < cin; ++c)
+          acc = _mm512_fmadd_ps(_mm512_set1_ps(wo[c]), _mm512_loadu_ps(v + static_cast<std::size_t>(c) * kB), acc);
+        __m512 r = _mm512_add_ps(acc, _mm512_set1_ps(s.bias[static_cast<std::size_t>(o)]));
+        if (s.relu) r = _mm512_max_ps(_mm512_setzero_ps(), r);  // r when NaN or −0, as std::max(r, 0)
+        _mm512_mask_storeu_ps(out_.data() + static_cast<std::size_t>(o) * P + static_cast<std::size_t>(Y) * W + x0, m, r);
+      }
     }
   }
 #else

@@ -65,9 +65,13 @@ void InferencePlan::plan_rows(const Tensor& x, std::span<const int> pixels, bool
   const Step& last = steps_.back();
   if (last.sparse) {
     const int P = out_shape_.h * out_shape_.w;
+    head_lo_.assign(static_cast<std::size_t>(out_shape_.h), out_shape_.w);
+    head_hi_.assign(static_cast<std::size_t>(out_shape_.h), -1);
     for (const int p : pixels) {
       if (p < 0 || p >= P) continue;  // refused by run_sparse
-      const int Y = p / out_shape_.w;
+      const int Y = p / out_shape_.w, X = p - Y * out_shape_.w;
+      head_lo_[static_cast<std::size_t>(Y)] = std::min(head_lo_[static_cast<std::size_t>(Y)], X);
+      head_hi_[static_cast<std::size_t>(Y)] = std::max(head_hi_[static_cast<std::size_t>(Y)], X);
       for (const auto& [node, up] : last.inputs)
         if (node >= 0) need_rows_[static_cast<std::size_t>(node)][static_cast<std::size_t>(up ? Y / 2 : Y)] = 1;
     }

@@ -13,7 +13,8 @@
 //     standardisation z = (v − mean_c)·(1/std_c) happen inside that one copy (no concat,
 //     upsample or standardised-input tensor exists);
 //   * conv + bias + ReLU fused in the kernel (as in Conv2d), no OpenMP region;
-//   * the last node, if a 1×1 stride-1 conv, evaluated only at the requested pixels;
+//   * the last node, if a 1×1 stride-1 conv, evaluated only in the rows of the requested
+//     pixels, over the span of columns that holds them;
 //   * rows-layout convs evaluated only at the output rows that the requested pixels depend
 //     on (demand, propagated backwards from the head's pixels), and not even there when the
 //     row is a *template row*: all the rows it reads are template rows of its sources (for
@@ -141,8 +142,9 @@ class InferencePlan {
   std::vector<Step> steps_;
   std::vector<Tensor> act_;       ///< per node: output of a materialised conv (others empty)
   std::vector<float> pad_;        ///< the kernel's padded rows, sized for the largest step
-  std::vector<float> block_;      ///< the sparse head's gathered pixel block
+  std::vector<float> block_;      ///< the sparse head's block of 16 pixels × its input channels
   std::vector<const float*> bases_;  ///< the sparse head's source planes of this call
+  std::vector<int> head_lo_, head_hi_;  ///< per output row: the listed pixels' first and last column
   Tensor scratch_, out_;
   std::vector<char> empty_in_;                ///< per input row: all raw features +0
   std::vector<std::vector<char>> tmpl_rows_;  ///< per node, per output row: a template row
