@@ -300,13 +300,23 @@ void BM_PgsColoredThreads(benchmark::State& s) {
 }
 
 /// The colouring alone: ns per contact (counter ns_per_contact), from scratch (reuse = 0) or
-/// reusing the previous call's colours (reuse = 1: every contact persists).
+/// reusing the previous call's colours: reuse = 1, the same contacts every call (a repeat: one
+/// comparison pass); reuse = 2, two sets alternated that differ by one contact in the middle
+/// (every call looks each contact up: the general reuse path).
 void BM_ContactColoring(benchmark::State& s) {
   const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
   const std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
   dc::ContactColorer colorer(s.range(1) != 0);
+  dc::ContactConstraints other;  // p's contacts without the middle one
+  for (int c = 0; c < p.constraints.size(); ++c)
+    if (c != p.constraints.size() / 2) other.add(p.constraints[c]);
+  const bool alternate = s.range(1) == 2;
   (void)colorer.color(p.constraints, dyn);
-  for (auto _ : s) benchmark::DoNotOptimize(colorer.color(p.constraints, dyn).colors);
+  bool odd = false;
+  for (auto _ : s) {
+    benchmark::DoNotOptimize(colorer.color(alternate && odd ? other : p.constraints, dyn).colors);
+    odd = !odd;
+  }
   s.counters["colors"] = colorer.last().colors;
   s.counters["reused"] = colorer.last().reused;
   s.counters["ns_per_contact"] = benchmark::Counter(
@@ -352,8 +362,10 @@ BENCHMARK(BM_ContactColoring)
     ->ArgNames({"bodies", "reuse"})
     ->Args({1000, 0})
     ->Args({1000, 1})
+    ->Args({1000, 2})
     ->Args({10000, 0})
     ->Args({10000, 1})
+    ->Args({10000, 2})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsColored)->Unit(benchmark::kMillisecond);
