@@ -1,7 +1,7 @@
 // Google Benchmark of newton-sparse's kernels (dc/engine/newton_sparse.hpp) on a contact-like
 // problem of realistic size: N circles (r = 1, ρ = 1) in a hexagonal pile, each touching its
 // right and upper-right neighbours, floor contacts for the bottom row, friction on (2 rows per
-// contact, μ = 0.5), Δt = 0.01, at rest under gravity (the pile of micro_pgs).
+// contact, μ = 0.5), Δt = 0.01, at rest under gravity (hex_pile.hpp, shared with micro_pgs).
 //
 //   BM_NewtonAnalyze/N/S  CHOLMOD's symbolic analysis of A ∪ diag (ordering + symbolic factor)
 //   BM_NewtonFactorize/N/S one numeric factorisation of A_FF + ρI (every row free), analysis reused
@@ -17,62 +17,14 @@
 
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/newton_sparse.hpp"
+#include "hex_pile.hpp"
 #include "solvers/newton_sparse/sparse_factor.hpp"
 
 namespace {
 
+/// The hex pile (hex_pile.hpp) with A formed.
 dc::LcpProblem pile(int bodies) {
-  const int width = std::max(2, static_cast<int>(std::sqrt(static_cast<double>(bodies))));
-  const double m = M_PI, I = 0.5 * m, dt = 0.01, mu = 0.5;
-  struct C {
-    int a, b;  // b = −1: floor
-    double nx, ny;
-  };
-  std::vector<C> contacts;
-  for (int k = 0; k < bodies; ++k) {
-    const int row = k / width, col = k % width;
-    if (row == 0) contacts.push_back({k, -1, 0.0, 1.0});
-    if (col + 1 < width && k + 1 < bodies) contacts.push_back({k, k + 1, 1.0, 0.0});
-    if (k + width < bodies) contacts.push_back({k, k + width, 0.5, std::sqrt(3.0) / 2});
-  }
-  const int n = 2 * static_cast<int>(contacts.size());
-  std::vector<Eigen::Triplet<double>> trip;
-  dc::LcpProblem p;
-  p.b.resize(n);
-  p.lo = Eigen::VectorXd::Zero(n);
-  p.hi = Eigen::VectorXd::Constant(n, INFINITY);
-  p.mu = Eigen::VectorXd::Zero(n);
-  p.normal_row.assign(static_cast<size_t>(n), -1);
-  for (size_t c = 0; c < contacts.size(); ++c) {
-    const C& k = contacts[c];
-    const int rn = 2 * static_cast<int>(c);
-    for (int r = 0; r < 2; ++r) {
-      const double dx = r == 0 ? k.nx : -k.ny, dy = r == 0 ? k.ny : k.nx;
-      const double ca = k.nx * dy - k.ny * dx, cb = -ca;  // r_a = n, r_b = −n; r × d
-      if (k.b >= 0) {
-        for (const auto& [col, v] : {std::pair{3 * k.a, -dx}, {3 * k.a + 1, -dy}, {3 * k.a + 2, -ca},
-                                     {3 * k.b, dx}, {3 * k.b + 1, dy}, {3 * k.b + 2, cb}})
-          trip.emplace_back(rn + r, col, v);
-      } else {
-        for (const auto& [col, v] : {std::pair{3 * k.a, dx}, {3 * k.a + 1, dy}, {3 * k.a + 2, cb}})
-          trip.emplace_back(rn + r, col, v);
-      }
-    }
-    p.normal_row[static_cast<size_t>(rn + 1)] = rn;
-    p.mu[rn + 1] = mu;
-    p.constraints.add(k.b >= 0 ? k.a : -1, k.b >= 0 ? k.b : k.a, mu);
-  }
-  p.J.resize(n, 3 * bodies);
-  p.J.setFromTriplets(trip.begin(), trip.end());
-  p.inv_mass.resize(3 * bodies);
-  for (int k = 0; k < bodies; ++k) {
-    p.inv_mass[3 * k] = p.inv_mass[3 * k + 1] = 1.0 / m;
-    p.inv_mass[3 * k + 2] = 1.0 / I;
-  }
-  p.dt = dt;
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * bodies);
-  for (int k = 0; k < bodies; ++k) u[3 * k + 1] = -9.81 * dt;
-  p.b = p.J * u;
+  dc::LcpProblem p = dc::bench_fixture::hex_pile(bodies);
   p.ensure_assembled_matrix();
   return p;
 }

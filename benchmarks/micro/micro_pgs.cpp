@@ -34,80 +34,17 @@
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
+#include "hex_pile.hpp"
 #include "lcp/contact_coloring.hpp"
 
 namespace {
 
-/// order 0: contacts in body order (each row shares a body with the previous one: the
-/// Gauss–Seidel dependency chain is serial); order 1: contacts interleaved with a stride
-/// of ~N/7, so consecutive contacts touch different bodies and the CPU can overlap rows.
+/// The hex pile (hex_pile.hpp) with A formed; order 0: rows in body order (the engine's
+/// order), 1: interleaved.
 dc::LcpProblem pile(int bodies, int order) {
-  const int width = std::max(2, static_cast<int>(std::sqrt(static_cast<double>(bodies))));
-  const double m = M_PI, I = 0.5 * m, dt = 0.01, mu = 0.5;
-  struct C {
-    int a, b;  // b = −1: floor
-    double nx, ny;
-  };
-  std::vector<C> contacts;
-  for (int k = 0; k < bodies; ++k) {
-    const int row = k / width, col = k % width;
-    if (row == 0) contacts.push_back({k, -1, 0.0, 1.0});
-    if (col + 1 < width && k + 1 < bodies) contacts.push_back({k, k + 1, 1.0, 0.0});
-    if (k + width < bodies) contacts.push_back({k, k + width, 0.5, std::sqrt(3.0) / 2});
-  }
-  if (order == 1) {
-    std::vector<C> interleaved;
-    const size_t m = contacts.size(), stride = std::max<size_t>(1, m / 7);
-    for (size_t start = 0; start < stride; ++start)
-      for (size_t c = start; c < m; c += stride) interleaved.push_back(contacts[c]);
-    contacts.swap(interleaved);
-  }
-  const int n = 2 * static_cast<int>(contacts.size());
-  std::vector<Eigen::Triplet<double>> trip;
-  dc::LcpProblem p;
-  p.b.resize(n);
-  p.lo = Eigen::VectorXd::Zero(n);
-  p.hi = Eigen::VectorXd::Constant(n, INFINITY);
-  p.mu = Eigen::VectorXd::Zero(n);
-  p.normal_row.assign(static_cast<size_t>(n), -1);
-  for (size_t c = 0; c < contacts.size(); ++c) {
-    const C& k = contacts[c];
-    const int rn = 2 * static_cast<int>(c);
-    const double tx = -k.ny, ty = k.nx;
-    for (int r = 0; r < 2; ++r) {
-      const double dx = r == 0 ? k.nx : tx, dy = r == 0 ? k.ny : ty;
-      // r_a = n (unit radius), r_b = −n; r × d = r_x d_y − r_y d_x
-      const double ca = k.nx * dy - k.ny * dx, cb = -k.nx * dy + k.ny * dx;
-      if (k.b >= 0) {
-        trip.emplace_back(rn + r, 3 * k.a, -dx);
-        trip.emplace_back(rn + r, 3 * k.a + 1, -dy);
-        trip.emplace_back(rn + r, 3 * k.a + 2, -ca);
-        trip.emplace_back(rn + r, 3 * k.b, dx);
-        trip.emplace_back(rn + r, 3 * k.b + 1, dy);
-        trip.emplace_back(rn + r, 3 * k.b + 2, cb);
-      } else {
-        trip.emplace_back(rn + r, 3 * k.a, dx);
-        trip.emplace_back(rn + r, 3 * k.a + 1, dy);
-        trip.emplace_back(rn + r, 3 * k.a + 2, cb);
-      }
-    }
-    p.normal_row[static_cast<size_t>(rn + 1)] = rn;
-    p.mu[rn + 1] = mu;
-    p.constraints.add(k.b >= 0 ? k.a : -1, k.b >= 0 ? k.b : k.a, mu);  // rows (rn, rn + 1)
-  }
-  p.J.resize(n, 3 * bodies);
-  p.J.setFromTriplets(trip.begin(), trip.end());
-  p.inv_mass.resize(3 * bodies);
-  for (int k = 0; k < bodies; ++k) {
-    p.inv_mass[3 * k] = p.inv_mass[3 * k + 1] = 1.0 / m;
-    p.inv_mass[3 * k + 2] = 1.0 / I;
-  }
-  p.dt = dt;
-  // b = J (u + Δt M⁻¹ F_ext): all bodies at rest under gravity.
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(3 * bodies);
-  for (int k = 0; k < bodies; ++k) u[3 * k + 1] = -9.81 * dt;
-  p.b = p.J * u;
-  const dc::SparseRowMatrix Minv_Jt = (p.inv_mass.asDiagonal() * dc::SparseRowMatrix(p.J.transpose())) * dt;
+  dc::LcpProblem p = dc::bench_fixture::hex_pile(
+      bodies, order == 1 ? dc::bench_fixture::HexPileOrder::Interleaved : dc::bench_fixture::HexPileOrder::Bodies);
+  const dc::SparseRowMatrix Minv_Jt = (p.inv_mass.asDiagonal() * dc::SparseRowMatrix(p.J.transpose())) * p.dt;
   p.A = p.J * Minv_Jt;
   p.A.makeCompressed();
   return p;
@@ -363,13 +300,23 @@ void BM_PgsColoredThreads(benchmark::State& s) {
 }
 
 /// The colouring alone: ns per contact (counter ns_per_contact), from scratch (reuse = 0) or
-/// reusing the previous call's colours (reuse = 1: every contact persists).
+/// reusing the previous call's colours: reuse = 1, the same contacts every call (a repeat: one
+/// comparison pass); reuse = 2, two sets alternated that differ by one contact in the middle
+/// (every call looks each contact up: the general reuse path).
 void BM_ContactColoring(benchmark::State& s) {
   const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
   const std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
   dc::ContactColorer colorer(s.range(1) != 0);
+  dc::ContactConstraints other;  // p's contacts without the middle one
+  for (int c = 0; c < p.constraints.size(); ++c)
+    if (c != p.constraints.size() / 2) other.add(p.constraints[c]);
+  const bool alternate = s.range(1) == 2;
   (void)colorer.color(p.constraints, dyn);
-  for (auto _ : s) benchmark::DoNotOptimize(colorer.color(p.constraints, dyn).colors);
+  bool odd = false;
+  for (auto _ : s) {
+    benchmark::DoNotOptimize(colorer.color(alternate && odd ? other : p.constraints, dyn).colors);
+    odd = !odd;
+  }
   s.counters["colors"] = colorer.last().colors;
   s.counters["reused"] = colorer.last().reused;
   s.counters["ns_per_contact"] = benchmark::Counter(
@@ -415,8 +362,10 @@ BENCHMARK(BM_ContactColoring)
     ->ArgNames({"bodies", "reuse"})
     ->Args({1000, 0})
     ->Args({1000, 1})
+    ->Args({1000, 2})
     ->Args({10000, 0})
     ->Args({10000, 1})
+    ->Args({10000, 2})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsColored)->Unit(benchmark::kMillisecond);

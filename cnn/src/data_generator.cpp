@@ -10,11 +10,11 @@
 #include <sstream>
 
 #include "dc/cnn/data_set.hpp"
+#include "dc/cnn/data_set_oracle_solver.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc {
@@ -84,14 +84,7 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
   World world(def);
   FeatureImageBuilder images(params_.image);
   auto builtin = default_warm_starters().make("builtin");
-  const auto pgs = make_solver("pgs");
-  SolverOptions pgs_options;
-  pgs_options.max_sweeps = params_.oracle.sweeps;
-  pgs_options.tolerance = params_.oracle.tolerance;
-  pgs_options.record_theta = false;
-  OracleOptions oracle_options;
-  oracle_options.tolerance = params_.oracle.tolerance;
-  oracle_options.polish_sweeps = params_.oracle.sweeps;
+  const DataSetOracleSolver oracle(params_.oracle);
 
   SimulationRecord rec;
   rec.index = index;
@@ -115,17 +108,7 @@ std::optional<SimulationRecord> SimulationGenerator::run(int index, const std::f
                     std::span<float>(rec.features).subspan(f0));
 
     const Eigen::VectorXd guess = builtin->initial_guess(StepView{world, nullptr});
-    Eigen::VectorXd lambda;
-    double residual = 0;
-    if (params_.oracle.method == OracleKind::Pgs) {
-      SolveResult r = pgs->solve(problem, guess, pgs_options);
-      lambda = std::move(r.lambda);
-      residual = r.residual;
-    } else {
-      OracleSolution o = solve_oracle(problem, &guess, oracle_options);
-      lambda = std::move(o.lambda);
-      residual = o.residual;
-    }
+    auto [lambda, residual] = oracle.solve(problem, guess);
     if (!lambda.allFinite())
       throw std::runtime_error("simulation " + std::to_string(index) + " (seed " + std::to_string(rec.seed) +
                                "), step " + std::to_string(s) + ": the oracle returned a non-finite lambda");

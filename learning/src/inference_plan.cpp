@@ -68,13 +68,15 @@ struct Gather {
   int pad_top, pad_left;
   int R, pitch;       ///< padded rows (flat stride 2: rows per phase plane) and row pitch
   float mean, inv;    ///< standardisation
+  int pr0, pr1;       ///< layouts 0 and 1: the padded rows [pr0, pr1) to gather, from xp's row 0
 };
 
 /// One input channel's padded input for the kernel, zero outside the image. Layout 0 (stride
 /// 1, rows or flat): [R][pitch], column p + ix = input column ix, padded row r = input row
 /// r − pad_top (pad_rows). Layout 1 (stride 2, rows): [R][2][pitch], phase φ index i = input
 /// column 2i + φ − pl (pad_rows_s2). Layout 2 (stride 2, flat): four planes (ρ, φ) of
-/// [R][pitch], element (i, j) = padded row 2i + ρ, padded column 2j + φ.
+/// [R][pitch], element (i, j) = padded row 2i + ρ, padded column 2j + φ. Layouts 0 and 1
+/// gather the padded rows [pr0, pr1) only (xp's first row = padded row pr0); layout 2 all.
 template <bool UP, bool STD>
 void gather_channel(const Gather& g, const std::vector<InferencePlan::Columns>& cols, int layout, float* xp) {
   using detail::kLanes;
@@ -83,10 +85,10 @@ void gather_channel(const Gather& g, const std::vector<InferencePlan::Columns>& 
   const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
   const int Wp = g.pitch;
   const long phase = static_cast<long>(g.R) * Wp;  // layout 2
-  const int rows = layout == 2 ? 2 * g.R : g.R;
-  for (int pr = 0; pr < rows; ++pr) {  // padded row
+  const int first = layout == 2 ? 0 : g.pr0, rows = layout == 2 ? 2 * g.R : g.pr1;
+  for (int pr = first; pr < rows; ++pr) {  // padded row
     float* d0 = layout == 2 ? xp + (pr % 2) * 2 * phase + static_cast<long>(pr / 2) * Wp
-                            : xp + static_cast<long>(pr) * Wp * (layout == 1 ? 2 : 1);
+                            : xp + static_cast<long>(pr - first) * Wp * (layout == 1 ? 2 : 1);
     float* d1 = layout == 2 ? d0 + phase : d0 + Wp;  // odd phase (stride 2)
     const int iy = pr - g.pad_top;
     if (iy < 0 || iy >= g.h) {
@@ -144,6 +146,9 @@ bool InferencePlan::compile(Network& net) {
     }
   }
   if (!conv[n - 1]) return false;
+  tmpl_rows_.assign(n, {});
+  need_rows_.assign(n, {});
+  comp_rows_.assign(n, {});
   for (std::size_t i = 0; i < n; ++i)  // every upsample is read by convs only
     for (const int j : net.node_inputs(i))
       if (j >= 0 && !conv[static_cast<std::size_t>(j)] && !conv[i]) return false;
@@ -162,6 +167,7 @@ bool InferencePlan::compile(Network& net) {
     if (conv[i] && !add_step(net, i, conv, head_reads[i] != 0)) return false;
   bases_.assign(block_.size() / detail::kLanes, nullptr);
   out_ = Tensor(out_shape_);
+  calibrate_templates();
   return true;
 #endif
 }
@@ -189,6 +195,7 @@ bool InferencePlan::add_step(Network& net, std::size_t i, const std::vector<char
   for (const int j : net.node_inputs(i)) {
     const bool up = j >= 0 && !conv[static_cast<std::size_t>(j)];
     const int from = up ? net.node_inputs(static_cast<std::size_t>(j))[0] : j;
+    if (std::find(s.inputs.begin(), s.inputs.end(), std::pair{from, up}) == s.inputs.end()) s.inputs.emplace_back(from, up);
     const Shape p = from < 0 ? in_ : net.node_shape(static_cast<std::size_t>(from));
     const Shape stored = from < 0 ? in_ : act_[static_cast<std::size_t>(from)].shape();  // its layout
     for (int c = 0; c < p.c; ++c) {
@@ -249,6 +256,9 @@ void InferencePlan::layout_dense(Step& s, Conv2d& layer, bool plain_layout) {
     floats = static_cast<std::size_t>(s.cin * s.x_plane);
     act_[static_cast<std::size_t>(s.node)] = Tensor(1, s.cout, s.ho, s.wo);
   }
+  tmpl_rows_[static_cast<std::size_t>(s.node)].assign(static_cast<std::size_t>(s.ho), 0);
+  need_rows_[static_cast<std::size_t>(s.node)].assign(static_cast<std::size_t>(s.ho), 0);
+  comp_rows_[static_cast<std::size_t>(s.node)].assign(static_cast<std::size_t>(s.ho), 0);
   pad_.resize(std::max(pad_.size(), floats));
   // The gather's source vectors of one padded row (the same for every row and channel).
   s.cols.clear();
@@ -271,17 +281,17 @@ const float* InferencePlan::plane(const Source& src, const Tensor& x) const {
   return base + static_cast<std::size_t>(src.channel) * static_cast<std::size_t>(src.plane);
 }
 
-// Gathers the step's padded input (concatenation, upsampling and standardisation included)
-// into pad_ — rows as pad_rows / pad_rows_s2 lay them out for Conv2d, or the flat layout —
-// then runs the same arithmetic (direct_tile or direct_flat) over the whole output.
-void InferencePlan::run_dense(const Step& s, const Tensor& x) {
+// Gathers the padded rows [pr0, pr1) of the step's input (concatenation, upsampling and
+// standardisation included) into xp — rows as pad_rows / pad_rows_s2 lay them out for Conv2d
+// — or, for a flat step, its whole flat layout.
+void InferencePlan::gather_rows(const Step& s, const Tensor& x, int pr0, int pr1, float* xp) const {
 #if defined(__AVX512F__)
-  float* xp = pad_.data();
+  const int layout = s.stride == 1 ? 0 : s.flat ? 2 : 1;
+  const long x_plane = s.flat ? s.x_plane : static_cast<long>(pr1 - pr0) * s.pitch * s.stride;
   for (int c = 0; c < s.cin; ++c) {
     const Source& src = s.src[static_cast<std::size_t>(c)];
-    const Gather g{plane(src, x), src.pitch, s.h, s.w, s.pad_top, s.pad_left, s.rows, s.pitch, src.mean, src.inv};
-    float* dst = xp + static_cast<std::size_t>(c) * static_cast<std::size_t>(s.x_plane);
-    const int layout = s.stride == 1 ? 0 : s.flat ? 2 : 1;
+    const Gather g{plane(src, x), src.pitch, s.h, s.w, s.pad_top, s.pad_left, s.rows, s.pitch, src.mean, src.inv, pr0, pr1};
+    float* dst = xp + static_cast<std::size_t>(c) * static_cast<std::size_t>(x_plane);
     if (src.up) {
       src.standardise ? gather_channel<true, true>(g, s.cols, layout, dst) : gather_channel<true, false>(g, s.cols, layout, dst);
     } else {
@@ -289,60 +299,91 @@ void InferencePlan::run_dense(const Step& s, const Tensor& x) {
                       : gather_channel<false, false>(g, s.cols, layout, dst);
     }
   }
+#else
+  (void)s, (void)x, (void)pr0, (void)pr1, (void)xp;
+#endif
+}
+
+// A flat step: its whole input gathered, then direct_flat over the whole output. A rows step:
+// each run of consecutive output rows to compute (plan_rows) gathered and run through
+// direct_tile, then the template rows that are read filled in. The same arithmetic per
+// output element either way.
+void InferencePlan::run_dense(const Step& s, const Tensor& x) {
+#if defined(__AVX512F__)
+  float* xp = pad_.data();
   float* y = act_[static_cast<std::size_t>(s.node)].data();
   if (s.flat) {
+    gather_rows(s, x, 0, s.rows, xp);  // stride 1: s.rows padded rows; stride 2 (layout 2): all
     detail::direct_flat(xp, s.cin, s.x_plane, s.off.data(), s.k * s.k, s.weight.data(), s.cout, s.bias.data(), s.relu, y,
                         static_cast<long>(s.ho) * s.pitch, s.ho * s.pitch);
-  } else {
-    detail::direct_tile(xp, s.cin, s.rows, s.pitch, s.k, s.weight.data(), s.cout, s.bias.data(), s.relu, y, s.ho, s.wo,
-                        0, s.ho, s.stride);
+    return;
   }
+  const std::vector<char>& comp = comp_rows_[static_cast<std::size_t>(s.node)];
+  for (int a = 0; a < s.ho;) {
+    if (!comp[static_cast<std::size_t>(a)]) {
+      ++a;
+      continue;
+    }
+    int b = a + 1;
+    while (b < s.ho && comp[static_cast<std::size_t>(b)]) ++b;
+    // Output row j reads padded rows stride·j + ky, ky < k.
+    const int pr0 = s.stride * a, pr1 = s.stride * (b - 1) + s.k;
+    gather_rows(s, x, pr0, pr1, xp);
+    detail::direct_tile(xp, s.cin, pr1 - pr0, s.pitch, s.k, s.weight.data(), s.cout, s.bias.data(), s.relu, y, s.ho,
+                        s.wo, a, b - a, s.stride);
+    a = b;
+  }
+  fill_template_rows(s);
 #else
   (void)s, (void)x;
 #endif
 }
 
-// The 1×1 head at the listed pixels: Network::forward_at's arithmetic (blocks of 16 pixels,
-// per pixel fused multiply-adds over the channels from 0, then + bias, then ReLU as
-// std::max(r, 0)), one pixel per lane.
+// The 1×1 head at the listed pixels: Network::forward_at's arithmetic per pixel (fused
+// multiply-adds over the channels from 0, then + bias, then ReLU as std::max(r, 0)), evaluated
+// row by row over the span of columns [head_lo_, head_hi_] that holds the row's listed pixels
+// (plan_rows), 16 neighbouring pixels per vector: contiguous loads of the sources' rows (an
+// upsampled source through a lane permutation) instead of per-pixel gathers. The other
+// pixels of a span are computed too (unspecified output); rows without pixels are skipped.
 void InferencePlan::run_sparse(const Step& s, const Tensor& x, std::span<const int> pixels) {
   const int W = out_shape_.w, P = out_shape_.h * out_shape_.w;
   for (const int p : pixels)
     if (p < 0 || p >= P) throw InvalidArgument("InferencePlan::run: pixel " + std::to_string(p) + " outside the output");
 #if defined(__AVX512F__)
   constexpr int kB = detail::kLanes;
-  const int cin = s.cin;
+  const int cin = s.cin, sw = (W + 1) / 2;
   float* v = block_.data();
-  alignas(64) int full[kB], half[kB];  // the block's pixels in a full-size and an upsampled plane
-  alignas(64) float res[kB];
-  const double inv_w = 1.0 / W;
+  const __m512i iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (int c = 0; c < cin; ++c) bases_[static_cast<std::size_t>(c)] = plane(s.src[static_cast<std::size_t>(c)], x);
-  for (std::size_t p0 = 0; p0 < pixels.size(); p0 += kB) {
-    const int nb = static_cast<int>(std::min<std::size_t>(kB, pixels.size() - p0));
-    for (int b = 0; b < kB; ++b) {
-      const int p = pixels[p0 + static_cast<std::size_t>(std::min(b, nb - 1))];
-      // ⌊p / W⌋ without an integer division: (p + ½)/W lies ≥ ½/W from an integer.
-      const int Y = static_cast<int>((p + 0.5) * inv_w), X = p - Y * W;
-      full[b] = p;
-      half[b] = (Y / 2) * ((W + 1) / 2) + X / 2;
-    }
-    const __m512i at_full = _mm512_load_si512(full), at_half = _mm512_load_si512(half);
-    for (int c = 0; c < cin; ++c) {
-      const Source& src = s.src[static_cast<std::size_t>(c)];
-      __m512 value = _mm512_i32gather_ps(src.up ? at_half : at_full, bases_[static_cast<std::size_t>(c)], 4);
-      if (src.standardise) value = _mm512_mul_ps(_mm512_sub_ps(value, _mm512_set1_ps(src.mean)), _mm512_set1_ps(src.inv));
-      _mm512_storeu_ps(v + static_cast<std::size_t>(c) * kB, value);
-    }
-    for (int o = 0; o < s.cout; ++o) {
-      const float* wo = s.weight.data() + static_cast<std::size_t>(o) * cin;
-      __m512 acc = _mm512_setzero_ps();
-      for (int c = 0; c < cin; ++c)
-        acc = _mm512_fmadd_ps(_mm512_set1_ps(wo[c]), _mm512_loadu_ps(v + static_cast<std::size_t>(c) * kB), acc);
-      __m512 r = _mm512_add_ps(acc, _mm512_set1_ps(s.bias[static_cast<std::size_t>(o)]));
-      if (s.relu) r = _mm512_max_ps(_mm512_setzero_ps(), r);  // r when NaN or −0, as std::max(r, 0)
-      _mm512_store_ps(res, r);
-      float* yo = out_.data() + static_cast<std::size_t>(o) * P;
-      for (int b = 0; b < nb; ++b) yo[pixels[p0 + static_cast<std::size_t>(b)]] = res[b];
+  for (int Y = 0; Y < out_shape_.h; ++Y) {
+    const int lo = head_lo_[static_cast<std::size_t>(Y)], hi = head_hi_[static_cast<std::size_t>(Y)];
+    for (int x0 = lo; x0 <= hi; x0 += kB) {
+      const auto m = static_cast<__mmask16>((1u << std::min(kB, hi - x0 + 1)) - 1u);
+      const int sbase = x0 / 2, shift = x0 - 2 * sbase;  // lane l reads source column sbase + ((shift + l) >> 1)
+      const auto up_m = static_cast<__mmask16>((1u << std::clamp(sw - sbase, 0, kB)) - 1u);
+      const __m512i idx = _mm512_srai_epi32(_mm512_add_epi32(iota, _mm512_set1_epi32(shift)), 1);
+      for (int c = 0; c < cin; ++c) {
+        const Source& src = s.src[static_cast<std::size_t>(c)];
+        const float* base = bases_[static_cast<std::size_t>(c)];
+        __m512 value;
+        if (src.up) {
+          const __m512 row = _mm512_maskz_loadu_ps(up_m, base + static_cast<std::size_t>(Y / 2) * sw + sbase);
+          value = _mm512_maskz_mov_ps(m, _mm512_permutexvar_ps(idx, row));
+        } else {
+          value = _mm512_maskz_loadu_ps(m, base + static_cast<std::size_t>(Y) * W + x0);
+        }
+        if (src.standardise) value = _mm512_mul_ps(_mm512_sub_ps(value, _mm512_set1_ps(src.mean)), _mm512_set1_ps(src.inv));
+        _mm512_storeu_ps(v + static_cast<std::size_t>(c) * kB, value);
+      }
+      for (int o = 0; o < s.cout; ++o) {
+        const float* wo = s.weight.data() + static_cast<std::size_t>(o) * cin;
+        __m512 acc = _mm512_setzero_ps();
+        for (int c = 0; c < cin; ++c)
+          acc = _mm512_fmadd_ps(_mm512_set1_ps(wo[c]), _mm512_loadu_ps(v + static_cast<std::size_t>(c) * kB), acc);
+        __m512 r = _mm512_add_ps(acc, _mm512_set1_ps(s.bias[static_cast<std::size_t>(o)]));
+        if (s.relu) r = _mm512_max_ps(_mm512_setzero_ps(), r);  // r when NaN or −0, as std::max(r, 0)
+        _mm512_mask_storeu_ps(out_.data() + static_cast<std::size_t>(o) * P + static_cast<std::size_t>(Y) * W + x0, m, r);
+      }
     }
   }
 #else
@@ -361,6 +402,7 @@ const Tensor& InferencePlan::run(const Tensor& features, std::span<const int> pi
     if (step_ms) (*step_ms)[0] = detail::thread_cpu_ms() - t0;
     return out_;
   }
+  plan_rows(features, pixels, false);
   for (std::size_t i = 0; i < steps_.size(); ++i) {
     const double t0 = step_ms ? detail::thread_cpu_ms() : 0.0;
     const Step& s = steps_[i];

@@ -5,7 +5,9 @@
 // graphs run the unfused path; bad inputs are refused.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "dc/core/error.hpp"
@@ -167,6 +169,49 @@ TEST(InferencePlan, FusedEqualsTheUnfusedPathOnTheShippedShape) {
         const std::size_t i = static_cast<std::size_t>(c * h * w + p);
         EXPECT_EQ(got[i], want[i]) << h << "x" << w << " channel " << c << " pixel " << p;
       }
+  }
+}
+
+/// Float bit patterns: the skipped rows must give the same bits, −0 and NaN included.
+std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v); }
+
+// A mostly empty box (the seed pile fills the lower part): raw features +0 outside a band of
+// rows, one empty-looking row holding a −0 (not an empty row: −0 standardises to other bits).
+// run() then skips rows the pixels do not depend on and copies template rows; over calls with
+// other pixels and other bands (stale rows in the buffers) it stays equal to the unfused path.
+TEST(InferencePlan, RowsSkippedOnAPartlyEmptyImageGiveTheSameBits) {
+  for (const auto& [h, w] : {std::pair{61, 61}, std::pair{45, 38}}) {
+    for (const bool deep : {false, true}) {
+      Network net(deep ? deep_fast_arch() : test::fast_head_arch(true), Shape{1, 4, h, w});
+      randomise(net, static_cast<std::uint64_t>(h + w + deep));
+      const ChannelStats stats = some_stats(4);
+      InferencePlan plan(net, stats);
+      Rng rng(11);
+      for (const auto& [lo, hi] : {std::pair{0, h / 3}, std::pair{h / 2, h / 2 + 6}, std::pair{h - 9, h}}) {
+        Tensor f(1, 4, h, w);
+        fill_gaussian(f, rng, 2.0);
+        for (int c = 0; c < 4; ++c)
+          for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+              if (y < lo || y >= hi) f.at(0, c, y, x) = 0.0f;
+        const int minus_zero_row = lo > 4 ? lo - 4 : h - 3;
+        f.at(0, 2, minus_zero_row, w / 2) = -0.0f;
+        std::vector<int> band, empty, third = every_third_pixel(h * w);
+        for (int p = 0; p < h * w; ++p) (p / w >= lo && p / w < hi ? band : empty).push_back(p);
+        for (const std::vector<int>* pixels : {&band, &third, &empty, &band}) {
+          const Tensor want = unfused(net, stats, f, *pixels);
+          const Tensor& got = plan.run(f, *pixels);
+          int differ = 0;
+          for (int c = 0; c < 2; ++c)
+            for (const int p : *pixels) {
+              const std::size_t i = static_cast<std::size_t>(c * h * w + p);
+              differ += bits(got[i]) != bits(want[i]);
+            }
+          EXPECT_EQ(differ, 0) << h << "x" << w << " deep " << deep << " band " << lo << ".." << hi << ", "
+                               << pixels->size() << " pixels";
+        }
+      }
+    }
   }
 }
 

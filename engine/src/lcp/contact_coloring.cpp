@@ -26,12 +26,37 @@ void identity(const ContactConstraint& k, int& first, int& other) {
 void ContactColorer::reset() {
   start_.clear();
   entries_.clear();
+  repeatable_ = false;
+}
+
+bool ContactColorer::same_as_last(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic) const {
+  const int nc = contacts.size();
+  if (static_cast<size_t>(nc) != last_keys_.size() || dynamic.size() != last_dynamic_.size()) return false;
+  if (!std::equal(dynamic.begin(), dynamic.end(), last_dynamic_.begin())) return false;
+  // Field by field, without early exit (a branch-free AND over the contacts).
+  bool same = true;
+  const Key* last = last_keys_.data();
+  for (int c = 0; c < nc; ++c) {
+    const ContactConstraint& k = contacts[c];
+    same &= (k.body_a == last[c].body_a) & (k.body_b == last[c].body_b) & (k.feature == last[c].feature);
+  }
+  return same;
 }
 
 const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
                                              std::span<const std::uint8_t> dynamic) {
   const int nc = contacts.size();
   const int nb = static_cast<int>(dynamic.size());
+  if (reuse_ && repeatable_ && same_as_last(contacts, dynamic)) {
+    // Every contact keeps its colour (see the header): the result is last call's, as is the
+    // table for the next call.
+    out_.reused = nc;
+    out_.repeated = true;
+    return out_;
+  }
+  out_.repeated = false;
+  repeatable_ = false;  // until this call completes
+  ++out_.generation;
   out_.color.assign(static_cast<size_t>(nc), ContactColoring::kOverflow);
   out_.colors = out_.reused = out_.overflow = 0;
   used_.assign(static_cast<size_t>(nb), 0);
@@ -88,7 +113,8 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
     }
     take(c, k, std::countr_zero(free));
   }
-  // 3. Remember the colours by first body (counting sort) for the next call.
+  // 3. Remember the colours by first body (counting sort) for the next call, and the contacts'
+  // bodies and features and the flags for the repeat test.
   if (reuse_) {
     start_.assign(static_cast<size_t>(nb) + 1, 0);
     for (int c = 0; c < nc; ++c) {
@@ -98,15 +124,21 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
     }
     for (int k = 0; k < nb; ++k) start_[static_cast<size_t>(k) + 1] += start_[static_cast<size_t>(k)];
     entries_.resize(static_cast<size_t>(nc));
+    last_keys_.resize(static_cast<size_t>(nc));
     std::vector<int>& fill = scratch_;
     fill.assign(start_.begin(), start_.end() - 1);
+    bool each_has_a_dynamic_body = true;
     for (int c = 0; c < nc; ++c) {
       const ContactConstraint& k = contacts[c];
       int first, other;
       identity(k, first, other);
       entries_[static_cast<size_t>(fill[static_cast<size_t>(first)]++)] = {other, k.feature,
                                                                            out_.color[static_cast<size_t>(c)]};
+      last_keys_[static_cast<size_t>(c)] = {k.body_a, k.body_b, k.feature};
+      each_has_a_dynamic_body &= dyn(k.body_a) || dyn(k.body_b);
     }
+    last_dynamic_.assign(dynamic.begin(), dynamic.end());
+    repeatable_ = out_.overflow == 0 && each_has_a_dynamic_body;
   }
   return out_;
 }

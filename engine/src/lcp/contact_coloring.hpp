@@ -11,6 +11,13 @@
 // O(contacts + bodies): a per-body bit mask of used colours (find-first-zero of the OR of two
 // masks) and a counting sort by body for next call's look-up; no hashing, no sort.
 //
+// Repeats. When the contacts' bodies and features (in the same order) and the dynamic flags equal the
+// last call's, the last call had no overflow and each contact has a dynamic body, the rule
+// above gives every contact its last colour (by induction over the contacts: the colours of the
+// earlier contacts with its key are taken on the dynamic body they share, its own is free as
+// last call's colouring is valid), so the call returns last call's result after one comparison
+// pass (`repeated` set). A settled pile repeats its contact set for most steps.
+//
 // At most kMaxColors colours; a contact none of whose colours is free goes to the overflow
 // set (colour kOverflow), which the solver runs serially after the colours (Box2D v3 does the
 // same). With equal circles a body has ≤ 6 neighbours + 2 walls, so overflow does not occur.
@@ -29,6 +36,9 @@ struct ContactColoring {
   int colors = 0;          ///< number of colours used (max colour + 1)
   int reused = 0;          ///< contacts that kept last call's colour
   int overflow = 0;        ///< contacts in the overflow set
+  bool repeated = false;   ///< the contacts' bodies equal the last call's: colours unchanged (see above)
+  /// Counts the calls whose colours were computed (not repeated): equal generations, same colours.
+  std::uint64_t generation = 0;
 };
 
 class ContactColorer {
@@ -51,8 +61,19 @@ class ContactColorer {
     int feature;  // ContactConstraint::feature
     int color;
   };
+  /// The contacts' (body_a, body_b, feature) and the flags equal the last call's.
+  [[nodiscard]] bool same_as_last(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic) const;
+
   bool reuse_;
   ContactColoring out_;
+  // Last call's input and whether a repeat of it keeps every colour (no overflow, every
+  // contact on a dynamic body).
+  struct Key {
+    int body_a, body_b, feature;
+  };
+  std::vector<Key> last_keys_;
+  std::vector<std::uint8_t> last_dynamic_;
+  bool repeatable_ = false;
   // Last call's colours in CSR form by first body: entries_[start_[k] .. start_[k+1]).
   std::vector<int> start_;
   std::vector<Entry> entries_;

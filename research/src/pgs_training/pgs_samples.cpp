@@ -7,12 +7,12 @@
 #include <exception>
 #include <string>
 
+#include "dc/cnn/data_set_oracle_solver.hpp"
 #include "dc/cnn/feature_image.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/contact.hpp"
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
 namespace dc {
@@ -34,14 +34,7 @@ std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index,
   World world(def);
   FeatureImageBuilder images(params.image);
   auto builtin = default_warm_starters().make("builtin");
-  const auto pgs = make_solver("pgs");
-  SolverOptions pgs_options;
-  pgs_options.max_sweeps = params.oracle.sweeps;
-  pgs_options.tolerance = params.oracle.tolerance;
-  pgs_options.record_theta = false;
-  OracleOptions oracle_options;
-  oracle_options.tolerance = params.oracle.tolerance;
-  oracle_options.polish_sweeps = params.oracle.sweeps;
+  const DataSetOracleSolver oracle(params.oracle);
   int recorded = 0;
   for (int s = 0; s < def.time.steps; ++s) {
     if (keep_going && !keep_going()) return out;
@@ -62,12 +55,7 @@ std::vector<PgsSample> replay_simulation(const DataSetParams& params, int index,
                       std::span<float>(sample.features.data(), sample.features.size()));
     }
     const Eigen::VectorXd guess = builtin->initial_guess(StepView{world, nullptr});
-    Eigen::VectorXd lambda;
-    if (params.oracle.method == OracleKind::Pgs) {
-      lambda = pgs->solve(problem, guess, pgs_options).lambda;
-    } else {
-      lambda = solve_oracle(problem, &guess, oracle_options).lambda;
-    }
+    const Eigen::VectorXd lambda = oracle.solve(problem, guess).lambda;
     if (!lambda.allFinite())
       throw std::runtime_error("simulation " + std::to_string(index) + ", step " + std::to_string(s) +
                                ": the oracle returned a non-finite lambda");

@@ -183,6 +183,29 @@ TEST(PgsColored, ReusedBuffersGiveTheResultOfAFreshSolver) {
   }
 }
 
+TEST(PgsColored, RepeatedContactSetReusesTheLayoutWithNewValues) {
+  // The same contacts again (a settled pile's next step): colours and batch layout are kept,
+  // the batches refilled from the new J, b and λ⁰ — the result of a fresh solver on that problem.
+  test::TestRng rng(12);
+  const LcpProblem a = test::random_contact(60, 150, true, rng, 0.5, 4);
+  LcpProblem next = a;
+  next.J *= 1.25;
+  for (int i = 0; i < next.rows(); ++i) next.b[i] += rng.uniform(-0.5, 0.5);
+  Eigen::VectorXd l0(next.rows());
+  for (int i = 0; i < next.rows(); ++i) l0[i] = rng.uniform(0, 1);
+  for (const int threads : {1, 2}) {
+    PgsColoredDef d;
+    d.threads = threads;
+    d.min_batches_per_thread = 1;
+    const auto solver = make_pgs_colored(d);
+    (void)solver->solve(a, Eigen::VectorXd(), sweeps(5));
+    expect_bit_equal(solver->solve(next, l0, sweeps(9)), make_pgs_colored(d)->solve(next, l0, sweeps(9)),
+                     "repeat after a");
+    expect_bit_equal(solver->solve(a, Eigen::VectorXd(), sweeps(9)),
+                     make_pgs_colored(d)->solve(a, Eigen::VectorXd(), sweeps(9)), "a again");
+  }
+}
+
 TEST(PgsColored, NonFiniteIterateStopsEveryKernelAtTheSameSweep) {
   // Two ways to overflow: a λ⁰ whose Δu⁰ = M⁻¹ Jᵀ λ⁰ Δt is not finite (reported in sweep 1, as a
   // check after the sweep would), and normal rows whose b_i/A_ii overflows (λ_n = ∞, and the

@@ -91,6 +91,29 @@ TEST(PgsColoredThreads, ProductsAreThoseOfTheSerialForms) {
   EXPECT_FALSE(finite);
 }
 
+/// The residual's M⁻¹JᵀλΔt by blocks of bodies on threads: the serial form's bits (±0 included:
+/// −0 entries in λ) on random problems, a pile and rows stored out of body order.
+TEST(PgsColoredThreads, TransposeProductByBodyBlocksIsTheSerialOne) {
+  test::TestRng rng(31);
+  std::vector<LcpProblem> problems;
+  problems.push_back(test::random_contact(40, 120, true, rng, 0.5, 4));
+  problems.push_back(test::random_contact(7, 30, false, rng));
+  problems.push_back(pile_problem(60, 40));
+  for (const LcpProblem& p : problems) {
+    Eigen::VectorXd l(p.rows());
+    for (int i = 0; i < p.rows(); ++i) l[i] = i % 5 == 0 ? -0.0 : rng.uniform(-1, 3);
+    Eigen::VectorXd serial = p.J.transpose() * l;  // lcp_problem.cpp's velocity_change
+    for (int c = 0; c < serial.size(); ++c) serial[c] = p.inv_mass[c] * serial[c] * p.dt;
+    for (int threads : {1, 2, 3, 7, 64}) {
+      Eigen::VectorXd du = Eigen::VectorXd::Constant(3, 5.0);
+      colored::scaled_transpose_product(p, l, threads, du);
+      ASSERT_EQ(du.size(), serial.size());
+      EXPECT_EQ(0, std::memcmp(du.data(), serial.data(), sizeof(double) * static_cast<size_t>(du.size())))
+          << threads << " threads, " << p.rows() << " rows";
+    }
+  }
+}
+
 TEST(PgsColoredThreads, RandomProblemsGiveTheSameBitsOnEveryThreadCount) {
   for (const bool friction : {false, true}) {
     for (uint64_t seed = 1; seed <= 2; ++seed) {

@@ -74,6 +74,7 @@ struct Prepared {
   std::vector<double, Eigen::aligned_allocator<double>> du;
   Eigen::VectorXd jt;    // Jᵀλ (scratch of the products, pgs_colored_products.hpp)
   int body_entries = 0;  // kStride·bodies; the zero body follows
+  std::uint64_t generation = 0;  // the colouring (ContactColoring::generation) laid out; 0: none
 };
 
 /// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
@@ -189,6 +190,13 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, Prepared& out) 
       return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
   }
   const ContactColoring& col = colorer.color(cons, out.dynamic);
+  if (col.repeated && col.generation == out.generation) {
+    // The colours of the layout in `out` (same contacts, same order): order, ranges and sizes
+    // stand; the batches are refilled from this problem's J, b and λ⁰ (fill_batch).
+    out.failed.assign(out.batches.size(), -1);
+    return {};
+  }
+  out.generation = col.generation;
   // Contacts per colour (counting sort, contact order kept inside a colour), overflow last.
   const int nc = cons.size(), ncol = col.colors;
   std::vector<int>& start = out.start;

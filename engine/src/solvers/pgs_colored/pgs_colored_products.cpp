@@ -5,6 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
@@ -23,29 +28,128 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
     for (int d = 0; d < 3 && c < ncols; ++d, ++c) du[static_cast<size_t>(kStride) * k + d] = im[c] * jt[c] * p.dt;
 }
 
+namespace {
+
+/// First body of block t of nt over `bodies` bodies (contiguous blocks of near-equal size).
+int block_begin(int bodies, int t, int nt) { return static_cast<int>(static_cast<long>(bodies) * t / nt); }
+
+/// The block holding body b.
+int block_of(int bodies, int b, int nt) {
+  int t = std::min(nt - 1, static_cast<int>(static_cast<long>(b) * nt / std::max(1, bodies)));
+  while (t + 1 < nt && block_begin(bodies, t + 1, nt) <= b) ++t;
+  while (t > 0 && block_begin(bodies, t, nt) > b) --t;
+  return t;
+}
+
+/// Thread tid's part of scaled_transpose_product inside a parallel region of nt threads;
+/// bounds holds 2·nt·nt ints (shared). Ends with a barrier.
+void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, int tid, int nt,
+                            int* bounds) {
+  const int ncols = static_cast<int>(p.J.cols());
+  const int bodies = (ncols + 2) / 3;
+  const ContactConstraints& cons = p.constraints;
+  // 1. From this thread's share of the contacts: per block, the lowest and highest row acting on it.
+  int* lo = bounds + 2 * nt * tid;
+  int* hi = lo + nt;
+  std::fill(lo, lo + nt, std::numeric_limits<int>::max());
+  std::fill(hi, hi + nt, -1);
+  const int nc = cons.size();
+  const int c0 = static_cast<int>(static_cast<long>(nc) * tid / nt), c1 = static_cast<int>(static_cast<long>(nc) * (tid + 1) / nt);
+  for (int c = c0; c < c1; ++c) {
+    const ContactConstraint& k = cons[c];
+    const int rmin = k.tangent_row >= 0 ? std::min(k.normal_row, k.tangent_row) : k.normal_row;
+    const int rmax = std::max(k.normal_row, k.tangent_row);
+    for (const int body : {k.body_a, k.body_b}) {
+      if (body < 0) continue;
+      const int t = block_of(bodies, body, nt);
+      lo[t] = std::min(lo[t], rmin);
+      hi[t] = std::max(hi[t], rmax);
+    }
+  }
+#pragma omp barrier
+  // 2. This thread's block: its columns summed over those rows in ascending order, from 0.
+  int first = std::numeric_limits<int>::max(), last = -1;
+  for (int t = 0; t < nt; ++t) {
+    first = std::min(first, bounds[2 * nt * t + tid]);
+    last = std::max(last, bounds[2 * nt * t + nt + tid]);
+  }
+  const int col0 = 3 * block_begin(bodies, tid, nt), col1 = std::min(ncols, 3 * block_begin(bodies, tid + 1, nt));
+  double* out = du.data();
+  for (int c = col0; c < col1; ++c) out[c] = 0.0;
+  const double* value = p.J.valuePtr();
+  const int* inner = p.J.innerIndexPtr();
+  const int* outer = p.J.outerIndexPtr();
+  const int* nnz = p.J.innerNonZeroPtr();  // null when compressed
+  for (int i = first; i <= last; ++i) {
+    const double l = lambda[i];
+    const int q1 = nnz != nullptr ? outer[i] + nnz[i] : outer[i + 1];
+    for (int q = outer[i]; q < q1; ++q) {
+      const int c = inner[q];
+      if (c >= col0 && c < col1) out[c] += value[q] * l;
+    }
+  }
+  const double* im = p.inv_mass.data();
+  for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * p.dt;
+#pragma omp barrier
+}
+
+}  // namespace
+
+void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
+  if (threads <= 1) {
+    du.noalias() = p.J.transpose() * lambda;
+    for (int c = 0; c < du.size(); ++c) du[c] = p.inv_mass[c] * du[c] * p.dt;
+    return;
+  }
+  du.resize(p.J.cols());
+  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
+#pragma omp parallel num_threads(threads)
+  {
+    int tid = 0, nt = 1;
+#if defined(_OPENMP)
+    tid = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    scaled_transpose_share(p, lambda, du, tid, nt, bounds.data());
+  }
+}
+
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite) {
-  du.noalias() = p.J.transpose() * lambda;  // then Δu = M⁻¹ Jᵀλ Δt in place, column order
-  for (int c = 0; c < du.size(); ++c) du[c] = p.inv_mass[c] * du[c] * p.dt;
+  threads = std::max(1, threads);
+  if (threads > 1) du.resize(p.J.cols());
+  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
   const int n = p.rows();
   double r = 0.0;
   bool nan = false, nonfinite = false;
-#pragma omp parallel for num_threads(std::max(1, threads)) schedule(static) if (threads > 1) \
-    reduction(max : r) reduction(|| : nan, nonfinite)
-  for (int i = 0; i < n; ++i) {
-    // w_i = J_i Δu + b_i as Eigen's row-major product (storage order, from 0), then the natural map.
-    double tmp = 0.0;
-    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
-      tmp += it.value() * du[it.col()];
-    }
-    const double w = tmp + p.b[i];
-    const double l = p.lower(i, lambda), h = p.upper(i, lambda);
-    const double e = std::abs(lambda[i] - std::clamp(lambda[i] - w, l, std::max(l, h)));
-    nonfinite = nonfinite || !std::isfinite(lambda[i]);
-    if (std::isnan(e)) {
-      nan = true;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    int tid = 0, nt = 1;
+#if defined(_OPENMP)
+    tid = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    if (nt > 1) {
+      scaled_transpose_share(p, lambda, du, tid, nt, bounds.data());
     } else {
-      r = std::max(r, e);
+      scaled_transpose_product(p, lambda, 1, du);
+    }
+#pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
+    for (int i = 0; i < n; ++i) {
+      // w_i = J_i Δu + b_i as Eigen's row-major product (storage order, from 0), then the natural map.
+      double tmp = 0.0;
+      for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+        tmp += it.value() * du[it.col()];
+      }
+      const double w = tmp + p.b[i];
+      const double l = p.lower(i, lambda), h = p.upper(i, lambda);
+      const double e = std::abs(lambda[i] - std::clamp(lambda[i] - w, l, std::max(l, h)));
+      nonfinite = nonfinite || !std::isfinite(lambda[i]);
+      if (std::isnan(e)) {
+        nan = true;
+      } else {
+        r = std::max(r, e);
+      }
     }
   }
   all_finite = !nonfinite;

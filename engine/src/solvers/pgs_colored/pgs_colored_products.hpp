@@ -10,6 +10,8 @@
 // purpose: a per-body index that lets threads own bodies cost more to build and to walk (random
 // access into J) than this one sequential pass (≈ 0.4 ms CPU against ≈ 0.15 ms on a
 // 10,000-body pile), so the solver overlaps it with other work instead (Δu⁰ with the packing).
+// The residual's product (nothing to overlap it with) runs on threads by blocks of bodies,
+// each thread walking J's rows in order between bounds taken from the contacts (no index).
 // A row of w = J Δu + b is one dot product (storage order, from 0, then + b_i), and the residual
 // max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)| is a max-reduction (order-free; any NaN → ∞, as the
 // serial form): those rows run on threads.
@@ -24,9 +26,19 @@ namespace dc::colored {
 /// in steady state).
 void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt);
 
+/// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to
+/// lcp_problem.cpp's velocity_change for every thread count. On one thread: Eigen's product.
+/// On more: each thread owns a block of bodies (columns) and sums its columns over the rows in
+/// ascending order, from 0 — Eigen's order per column, so the same bits — reading only the rows
+/// that act on its bodies: those of the contacts on them, whose row range the threads first
+/// bound from their share of the contacts (min/max: order-free). Requires what a successful
+/// packing checked: every row belongs to a contact of p.constraints and acts only on that
+/// contact's bodies.
+void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du);
+
 /// natural_residual(p, λ) bit for bit, using `du` as scratch (Δu in column order, kept by the
-/// caller): Δu on one thread, then the rows on `threads` threads. `all_finite` is set to whether
-/// every λ_i is finite.
+/// caller): Δu by scaled_transpose_product, then the rows, on `threads` threads. `all_finite` is
+/// set to whether every λ_i is finite. Same requirement as scaled_transpose_product.
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite);
 

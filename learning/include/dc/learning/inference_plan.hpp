@@ -13,7 +13,15 @@
 //     standardisation z = (v − mean_c)·(1/std_c) happen inside that one copy (no concat,
 //     upsample or standardised-input tensor exists);
 //   * conv + bias + ReLU fused in the kernel (as in Conv2d), no OpenMP region;
-//   * the last node, if a 1×1 stride-1 conv, evaluated only at the requested pixels.
+//   * the last node, if a 1×1 stride-1 conv, evaluated only in the rows of the requested
+//     pixels, over the span of columns that holds them;
+//   * rows-layout convs evaluated only at the output rows that the requested pixels depend
+//     on (demand, propagated backwards from the head's pixels), and not even there when the
+//     row is a *template row*: all the rows it reads are template rows of its sources (for
+//     the input: rows whose raw features are all +0, the empty part of the box), so that its
+//     values are those of the template row computed once, at compile time, from an all-zero
+//     input (inference_rows.cpp). Exact: the skipped rows' values are either not read or the
+//     same bits.
 // The float operations per output element are those of Model::network_output_at
 // (standardise, Network::forward_at): the same bits, tested on the shipped model.
 //
@@ -28,6 +36,7 @@
 // unfused one runs the network as it is. `net` must outlive the plan.
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dc/learning/channel_stats.hpp"
@@ -104,12 +113,26 @@ class InferencePlan {
     std::vector<Source> src;      ///< cin entries, in concatenation order
     std::vector<float> weight;    ///< packed for the kernel (dense) or [cout][cin] (sparse)
     std::vector<float> bias;      ///< cout entries
+    std::vector<std::pair<int, bool>> inputs;  ///< distinct (node, up) of src: what the rows read
+    bool has_template = false;    ///< rows-layout output rows may be template rows
+    std::vector<float> tmpl;      ///< the template row, [cout][wo]
   };
 
   bool compile(Network& net);
   bool add_step(Network& net, std::size_t i, const std::vector<char>& conv, bool plain_layout);
   void layout_dense(Step& s, Conv2d& layer, bool plain_layout);
   void run_dense(const Step& s, const Tensor& x);
+  void gather_rows(const Step& s, const Tensor& x, int pr0, int pr1, float* xp) const;
+  // Row bookkeeping (inference_rows.cpp).
+  /// Whether output row oy of s reads only template rows (input: empty rows), no padding.
+  [[nodiscard]] bool reads_templates(const Step& s, int oy) const;
+  /// Template flags (forward, from the input's empty rows), then the rows each step must
+  /// compute (backward, from the head's pixels; everything when `all`).
+  void plan_rows(const Tensor& x, std::span<const int> pixels, bool all);
+  /// Runs the plan once on an all-zero input and stores each step's template row.
+  void calibrate_templates();
+  /// Copies s's template into the output rows that are needed, template, not computed.
+  void fill_template_rows(const Step& s);
   void run_sparse(const Step& s, const Tensor& x, std::span<const int> pixels);
   [[nodiscard]] const float* plane(const Source& src, const Tensor& x) const;
 
@@ -119,9 +142,15 @@ class InferencePlan {
   std::vector<Step> steps_;
   std::vector<Tensor> act_;       ///< per node: output of a materialised conv (others empty)
   std::vector<float> pad_;        ///< the kernel's padded rows, sized for the largest step
-  std::vector<float> block_;      ///< the sparse head's gathered pixel block
+  std::vector<float> block_;      ///< the sparse head's block of 16 pixels × its input channels
   std::vector<const float*> bases_;  ///< the sparse head's source planes of this call
+  std::vector<int> head_lo_, head_hi_;  ///< per output row: the listed pixels' first and last column
+  std::vector<char> mark_;        ///< per output pixel: listed in this call
   Tensor scratch_, out_;
+  std::vector<char> empty_in_;                ///< per input row: all raw features +0
+  std::vector<std::vector<char>> tmpl_rows_;  ///< per node, per output row: a template row
+  std::vector<std::vector<char>> need_rows_;  ///< per node, per output row: read by a later step
+  std::vector<std::vector<char>> comp_rows_;  ///< per node, per output row: computed this call
 };
 
 }  // namespace dc
