@@ -14,7 +14,9 @@
 // padding lanes) are read from and never written to.
 //
 // Per-solve costs (what decides whether the faster sweeps pay off at ~100 sweeps per step):
-//  * set-up: the colouring (incremental, contact_coloring.hpp; serial) and the packing of each
+//  * set-up: the input checks (on the threads, pgs_colored_input.hpp), the colouring
+//    (incremental, contact_coloring.hpp; serial; for a repeated contact set one comparison pass,
+//    and the batch layout is kept: only the values are packed anew) and the packing of each
 //    contact's two rows straight from J's compressed row storage into its batch lanes, with
 //    the permuted λ⁰; the batch and Δu buffers are kept by the solver and reused. With threads
 //    the batches are packed in one parallel region, handed out in chunks, while one thread
