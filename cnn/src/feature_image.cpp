@@ -106,7 +106,22 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     values_[4 * k + 3] = bodies.omega[k];
   }
   require_finite_features(values_, {"mass", "vx", "vy", "omega"}, "body", bodies);
-  splat_to_grid(kernel_, points_, values_, body_grid_, &body_weight_);
+  // Every grid is zero outside the rows [dirty_lo_, dirty_hi_]: only those are cleared before
+  // a splat (the pile fills part of the box), and the rows this call writes are collected.
+  const int clear_lo = dirty_lo_, clear_hi = dirty_hi_;
+  int lo = ny_, hi = -1;
+  const auto written = [&](const SplatStats& st) {
+    if (st.row_lo > st.row_hi) return;
+    lo = std::min(lo, st.row_lo);
+    hi = std::max(hi, st.row_hi);
+    // Kept true at every point (a throw may leave this call's grids half done).
+    dirty_lo_ = dirty_lo_ > dirty_hi_ ? st.row_lo : std::min(dirty_lo_, st.row_lo);
+    dirty_hi_ = std::max(dirty_hi_, st.row_hi);
+  };
+  const auto splat = [&](SphGrid& grid, SphGrid* weights) {
+    written(splat_to_grid_rows(kernel_, points_, values_, grid, weights, clear_lo, clear_hi));
+  };
+  splat(body_grid_, &body_weight_);
 
   // Contacts: (nx, ny) at the points plus their weight field (the contact density).
   const bool contact_fields = uses_contact_fields(def_.channels);
@@ -125,10 +140,10 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     // the per-contact values it comes out of their splat (same points, same order: the same S).
     require_finite_features(values_, {"nx", "ny"}, "contact", bodies);
     if (normals) {
-      splat_to_grid(kernel_, points_, values_, contact_grid_, &contact_weight_);
+      splat(contact_grid_, &contact_weight_);
       has_contact_weights_ = true;
     } else if (!uses_contact_values(def_.channels)) {
-      splat_weights(kernel_, points_, contact_weight_);
+      written(splat_weights(kernel_, points_, contact_weight_));
       has_contact_weights_ = true;
     }
   }
@@ -156,7 +171,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(ct.gap);
     }
     require_finite_features(values_, {"lambda_prev_n", "lambda_prev_t", "vrel_n", "vrel_t", "gap"}, "contact", bodies);
-    splat_to_grid(kernel_, points_, values_, contact_values_, density_with_values ? &contact_weight_ : nullptr);
+    splat(contact_values_, density_with_values ? &contact_weight_ : nullptr);
     has_contact_weights_ = contact_fields;
   }
 
@@ -185,7 +200,7 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       values_.push_back(cons.lambda_t(w, static_cast<int>(c)));
     }
     require_finite_features(values_, {"w_prev_n", "w_prev_t"}, "contact", bodies);
-    splat_to_grid(kernel_, points_, values_, w_prev_grid_, nullptr);
+    splat(w_prev_grid_, nullptr);
   }
 
   // Shapes: area samples of every body with (a, a Q_x, a Q_y); coverage = Σ W a is channel 0.
@@ -209,14 +224,22 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
         values_.push_back(a.area * q.y);
       }
     }
-    splat_to_grid(kernel_, points_, values_, shape_grid_, nullptr);
+    splat(shape_grid_, nullptr);
   }
 
+  // Every grid is now zero outside rows [lo, hi]: the channels there are +0 (0 and the
+  // Shepard quotient 0/1 alike), so only the nodes [p0, p1) of those rows are converted.
+  dirty_lo_ = lo;
+  dirty_hi_ = hi;
   const std::size_t P = plane();
+  const std::size_t p0 = lo <= hi ? static_cast<std::size_t>(lo) * nx_ : 0;
+  const std::size_t p1 = lo <= hi ? static_cast<std::size_t>(hi + 1) * nx_ : 0;
   ratio_.resize(P);
   const std::span<const double> S = body_weight_.channel(0);
   for (std::size_t ci = 0; ci < def_.channels.size(); ++ci) {
     float* dst = out.data() + ci * P;
+    std::fill(dst, dst + p0, 0.0f);
+    std::fill(dst + p1, dst + P, 0.0f);
     // Shepard average of grid channel `g` over the weight field `w`: 0 where no support.
     // Written as two branch-free loops (0/1 where w ≤ 0, then the float conversion), which
     // GCC vectorises; the same quotients as num/w where w > 0 and +0 elsewhere.
@@ -224,14 +247,14 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       const double* num = grid.channel(g).data();
       const double* den = w.data();
       double* q = ratio_.data();
-      for (std::size_t p = 0; p < P; ++p) {
+      for (std::size_t p = p0; p < p1; ++p) {
         const double n = num[p], d = den[p];
         q[p] = (d > 0 ? n : 0.0) / (d > 0 ? d : 1.0);
       }
-      for (std::size_t p = 0; p < P; ++p) dst[p] = static_cast<float>(q[p]);
+      for (std::size_t p = p0; p < p1; ++p) dst[p] = static_cast<float>(q[p]);
     };
     auto copy = [&](std::span<const double> src) {
-      for (std::size_t p = 0; p < P; ++p) dst[p] = static_cast<float>(src[p]);
+      for (std::size_t p = p0; p < p1; ++p) dst[p] = static_cast<float>(src[p]);
     };
     switch (def_.channels[ci]) {
       case FeatureChannel::Mass: copy(body_grid_.channel(0)); break;

@@ -24,9 +24,58 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 #include "dc/learning/inference_plan.hpp"
 
 namespace dc {
+
+namespace {
+
+/// Whether the n floats at v are all +0 (bit pattern 0).
+bool all_plus_zero(const float* v, int n) {
+#if defined(__AVX512F__)
+  __m512i bits = _mm512_setzero_si512();
+  for (int i = 0; i < n; i += 16) {
+    const auto m = static_cast<__mmask16>((1u << std::min(16, n - i)) - 1u);
+    bits = _mm512_or_si512(bits, _mm512_maskz_loadu_epi32(m, v + i));
+  }
+  return _mm512_test_epi32_mask(bits, bits) == 0;
+#else
+  std::uint32_t bits = 0;
+  for (int i = 0; i < n; ++i) {
+    std::uint32_t b;
+    std::memcpy(&b, v + i, sizeof b);
+    bits |= b;
+  }
+  return bits == 0;
+#endif
+}
+
+/// The first and last index of a nonzero byte among row[0, n): lo > hi (n, −1) when none.
+void marked_span(const char* row, int n, int& lo, int& hi) {
+  lo = n;
+  hi = -1;
+#if defined(__AVX512BW__)
+  for (int i = 0; i < n; i += 64) {
+    const __mmask64 in = n - i >= 64 ? ~0ULL : (1ULL << (n - i)) - 1ULL;
+    const __mmask64 set = _mm512_test_epi8_mask(_mm512_maskz_loadu_epi8(in, row + i), _mm512_set1_epi8(-1));
+    if (set == 0) continue;
+    if (lo == n) lo = i + static_cast<int>(__builtin_ctzll(set));
+    hi = i + 63 - static_cast<int>(__builtin_clzll(set));
+  }
+#else
+  for (int i = 0; i < n; ++i)
+    if (row[i]) {
+      lo = std::min(lo, i);
+      hi = i;
+    }
+#endif
+}
+
+}  // namespace
 
 bool InferencePlan::reads_templates(const Step& s, int oy) const {
   for (int ky = 0; ky < s.k; ++ky) {
@@ -45,16 +94,9 @@ void InferencePlan::plan_rows(const Tensor& x, std::span<const int> pixels, bool
   const bool templates = std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.has_template; });
   empty_in_.assign(static_cast<std::size_t>(H), 0);
   for (int y = 0; templates && y < H; ++y) {
-    std::uint32_t bits = 0;  // OR of the row's raw bit patterns over all channels: 0 iff all +0
-    for (int c = 0; c < C && bits == 0; ++c) {
-      const float* row = x.data() + (static_cast<std::size_t>(c) * H + y) * W;
-      for (int i = 0; i < W; ++i) {
-        std::uint32_t b;
-        std::memcpy(&b, row + i, sizeof b);
-        bits |= b;
-      }
-    }
-    empty_in_[static_cast<std::size_t>(y)] = bits == 0;
+    bool empty = true;  // the OR of the row's raw bit patterns over all channels is 0: all +0
+    for (int c = 0; c < C && empty; ++c) empty = all_plus_zero(x.data() + (static_cast<std::size_t>(c) * H + y) * W, W);
+    empty_in_[static_cast<std::size_t>(y)] = empty;
   }
   for (const Step& s : steps_) {
     if (s.sparse) continue;
@@ -65,13 +107,18 @@ void InferencePlan::plan_rows(const Tensor& x, std::span<const int> pixels, bool
   const Step& last = steps_.back();
   if (last.sparse) {
     const int P = out_shape_.h * out_shape_.w;
-    head_lo_.assign(static_cast<std::size_t>(out_shape_.h), out_shape_.w);
-    head_hi_.assign(static_cast<std::size_t>(out_shape_.h), -1);
-    for (const int p : pixels) {
-      if (p < 0 || p >= P) continue;  // refused by run_sparse
-      const int Y = p / out_shape_.w, X = p - Y * out_shape_.w;
-      head_lo_[static_cast<std::size_t>(Y)] = std::min(head_lo_[static_cast<std::size_t>(Y)], X);
-      head_hi_[static_cast<std::size_t>(Y)] = std::max(head_hi_[static_cast<std::size_t>(Y)], X);
+    // A byte per output pixel (independent stores, no chain of min/max through memory), then
+    // each row's first and last marked column.
+    mark_.assign(static_cast<std::size_t>(P), 0);
+    for (const int p : pixels)
+      if (p >= 0 && p < P) mark_[static_cast<std::size_t>(p)] = 1;  // others: refused by run_sparse
+    head_lo_.resize(static_cast<std::size_t>(out_shape_.h));
+    head_hi_.resize(static_cast<std::size_t>(out_shape_.h));
+    int* lo = head_lo_.data();
+    int* hi = head_hi_.data();
+    for (int Y = 0; Y < out_shape_.h; ++Y) marked_span(mark_.data() + static_cast<std::size_t>(Y) * out_shape_.w, out_shape_.w, lo[Y], hi[Y]);
+    for (int Y = 0; Y < out_shape_.h; ++Y) {
+      if (hi[Y] < 0) continue;
       for (const auto& [node, up] : last.inputs)
         if (node >= 0) need_rows_[static_cast<std::size_t>(node)][static_cast<std::size_t>(up ? Y / 2 : Y)] = 1;
     }

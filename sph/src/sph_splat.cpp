@@ -68,12 +68,15 @@ SplatStats splat_loop(const Kernel& w, double h, double d, int nx, int ny,
   const double h2 = h * h;
   const double inv_d = 1.0 / d;
   const std::size_t plane = static_cast<std::size_t>(nx) * ny;
+  int rows_lo = ny, rows_hi = -1;
   for (std::size_t k = 0; k < points.size(); ++k) {
     const Vec2 q = points[k];
     int i_lo, i_hi, j_lo, j_hi;
     node_range(q.x, h, inv_d, nx, i_lo, i_hi);
     node_range(q.y, h, inv_d, ny, j_lo, j_hi);
     if (i_lo > i_hi || j_lo > j_hi) { ++st.particles_without_support; continue; }
+    rows_lo = std::min(rows_lo, j_lo);
+    rows_hi = std::max(rows_hi, j_hi);
 
     // Legacy sum-to-one: first pass for Σ_nodes W, then splat W / Σ W.
     double scale = 1.0;
@@ -115,6 +118,10 @@ SplatStats splat_loop(const Kernel& w, double h, double d, int nx, int ny,
     st.nodes_in_support += in_support;
     if (in_support == 0) ++st.particles_without_support;
   }
+  if (rows_lo <= rows_hi) {
+    st.row_lo = rows_lo;
+    st.row_hi = rows_hi;
+  }
   return st;
 }
 
@@ -139,11 +146,9 @@ SplatStats dispatch(const SphKernel& kernel, const SphGrid& geometry,
   bad("unknown kernel type");
 }
 
-}  // namespace
-
-SplatStats splat_to_grid(const SphKernel& kernel, std::span<const Vec2> points,
-                         std::span<const double> values, SphGrid& grid, SphGrid* weights,
-                         bool renormalise_per_particle) {
+// The checks of splat_to_grid: sizes, geometry, finite points and values.
+void require_splat_inputs(std::span<const Vec2> points, std::span<const double> values, const SphGrid& grid,
+                          const SphGrid* weights) {
   const int C = grid.channels();
   if (grid.nodes() == 0) bad("splat into an empty grid");
   if (values.size() != points.size() * static_cast<std::size_t>(C)) {
@@ -161,10 +166,38 @@ SplatStats splat_to_grid(const SphKernel& kernel, std::span<const Vec2> points,
     if (!std::isfinite(values[k]))
       bad("value of point " + std::to_string(k / C) + ", channel " + std::to_string(k % C) +
           " is not finite");
+}
+
+// Zeroes node rows [lo, hi] (clamped) of every channel of g.
+void zero_rows(SphGrid& g, int lo, int hi) {
+  lo = std::max(lo, 0);
+  hi = std::min(hi, g.ny() - 1);
+  if (lo > hi) return;
+  for (int c = 0; c < g.channels(); ++c) {
+    const auto first = g.channel(c).begin() + static_cast<std::ptrdiff_t>(lo) * g.nx();
+    std::fill(first, first + static_cast<std::ptrdiff_t>(hi - lo + 1) * g.nx(), 0.0);
+  }
+}
+
+}  // namespace
+
+SplatStats splat_to_grid(const SphKernel& kernel, std::span<const Vec2> points,
+                         std::span<const double> values, SphGrid& grid, SphGrid* weights,
+                         bool renormalise_per_particle) {
+  require_splat_inputs(points, values, grid, weights);
   grid.fill(0.0);
   if (weights) weights->fill(0.0);
-  return dispatch(kernel, grid, points, values.data(), C, grid.data().data(),
+  return dispatch(kernel, grid, points, values.data(), grid.channels(), grid.data().data(),
                   weights ? weights->data().data() : nullptr, renormalise_per_particle);
+}
+
+SplatStats splat_to_grid_rows(const SphKernel& kernel, std::span<const Vec2> points, std::span<const double> values,
+                              SphGrid& grid, SphGrid* weights, int clear_lo, int clear_hi) {
+  require_splat_inputs(points, values, grid, weights);
+  zero_rows(grid, clear_lo, clear_hi);
+  if (weights) zero_rows(*weights, clear_lo, clear_hi);
+  return dispatch(kernel, grid, points, values.data(), grid.channels(), grid.data().data(),
+                  weights ? weights->data().data() : nullptr, false);
 }
 
 SplatStats splat_weights(const SphKernel& kernel, std::span<const Vec2> points, SphGrid& weights) {

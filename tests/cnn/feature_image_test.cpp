@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "dc/cnn/feature_image.hpp"
 #include "dc/core/error.hpp"
@@ -233,6 +234,41 @@ TEST(FeatureImage, ContactWeightsAreTheReadBacksShepardDenominatorBitForBit) {
     }
     EXPECT_EQ(differ, 0) << channels.size() << " channels";
     EXPECT_EQ(density_differs, 0) << channels.size() << " channels";
+  }
+}
+
+// The builder clears and converts only the grid rows its splats reach (the rows written by the
+// previous call are cleared first): a builder used on another state before gives a fresh
+// builder's image and contact weights bit for bit — a pile low in the box after bodies spread
+// over it and back, for every kind of channel.
+TEST(FeatureImage, AReusedBuilderGivesAFreshBuildersImageBitForBit) {
+  WorldDef wd;
+  wd.bodies.count = 40;
+  wd.bodies.seed = 5;
+  World early(wd), settled(wd);
+  (void)test::step_then_assemble(early, 3, 50);
+  (void)test::step_then_assemble(settled, 150, 50);
+  ASSERT_GT(settled.contacts().size(), 10u);
+  using C = FeatureChannel;
+  const std::vector<std::vector<C>> sets = {
+      {C::Mass, C::Vx, C::Vy, C::Omega, C::ContactDensity, C::LambdaPrevN, C::LambdaPrevT, C::VrelN, C::VrelT, C::Gap},
+      {C::ContactDensity, C::Nx, C::Ny, C::Coverage, C::OrientC, C::OrientS},
+      {C::Mass, C::ContactDensity, C::WPrevN, C::WPrevT}};
+  for (const std::vector<C>& channels : sets) {
+    FeatureImageDef def = FeatureImageDef::for_box(wd.world.width, wd.world.height);
+    def.channels = channels;
+    FeatureImageBuilder reused(def);
+    for (const World* w : {&settled, &early, &settled, &settled}) {
+      std::vector<float> got(reused.feature_size()), want(reused.feature_size());
+      reused.features(w->bodies(), w->contacts(), w->previous_contacts(), &w->problem(), got);
+      FeatureImageBuilder fresh(def);
+      fresh.features(w->bodies(), w->contacts(), w->previous_contacts(), &w->problem(), want);
+      EXPECT_EQ(std::memcmp(got.data(), want.data(), sizeof(float) * got.size()), 0)
+          << channels.size() << " channels, " << w->contacts().size() << " contacts";
+      ASSERT_NE(reused.contact_weights(), nullptr);
+      const std::span<const double> a = reused.contact_weights()->data(), b = fresh.contact_weights()->data();
+      EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * a.size()), 0) << channels.size() << " channels";
+    }
   }
 }
 

@@ -219,6 +219,39 @@ TEST(SphTransfer, PlainModeReturnsTheValueTimesTheInterpolatedWeight) {
   }
 }
 
+// splat_to_grid_rows into a grid zero outside the cleared rows (holding an earlier splat there)
+// gives splat_to_grid's grid and weights bit for bit; the returned rows bound the nonzero ones.
+TEST(SphTransfer, SplatIntoRowsEqualsTheWholeGridSplat) {
+  Rng rng(5);
+  const SphKernel w(SphKernelType::Cubic, 1.2);
+  const SphGridDef def{30, 30, 1.0, 2};
+  SphGrid rows(def), weights_rows(SphGridDef{30, 30, 1.0, 1});
+  int lo = 0, hi = -1;
+  for (const auto& [y0, y1] : {std::pair{20.0, 29.0}, std::pair{0.0, 6.0}, std::pair{3.0, 4.0}, std::pair{40.0, 50.0}}) {
+    std::vector<Vec2> pts;
+    std::vector<double> vals;
+    for (int k = 0; k < 60; ++k) {
+      pts.push_back({rng.uniform(0.0, 30.0), rng.uniform(y0, y1)});
+      vals.push_back(rng.uniform(-1, 1));
+      vals.push_back(rng.uniform(-1, 1));
+    }
+    SphGrid whole(def), weights_whole(SphGridDef{30, 30, 1.0, 1});
+    (void)splat_to_grid(w, pts, vals, whole, &weights_whole);
+    const SplatStats st = splat_to_grid_rows(w, pts, vals, rows, &weights_rows, lo, hi);
+    EXPECT_EQ(std::memcmp(rows.data().data(), whole.data().data(), sizeof(double) * whole.data().size()), 0) << y0;
+    EXPECT_EQ(std::memcmp(weights_rows.data().data(), weights_whole.data().data(),
+                          sizeof(double) * weights_whole.data().size()),
+              0)
+        << y0;
+    for (int j = 0; j < whole.ny(); ++j)
+      for (int i = 0; i < whole.nx(); ++i)
+        if (weights_whole.at(0, j, i) != 0.0) EXPECT_TRUE(j >= st.row_lo && j <= st.row_hi) << j;
+    lo = st.row_lo;
+    hi = st.row_hi;
+  }
+  EXPECT_GT(lo, hi) << "points far above the box reach no row";
+}
+
 TEST(SphTransfer, SplatTouchesOnlyNodesWithinSupportAndMissesNone) {
   Rng rng(77);
   std::vector<Vec2> pts;

@@ -82,6 +82,7 @@ class FeatureImageBuilder {
   std::vector<double> values_;
   std::vector<AreaSample> samples_;
   std::vector<double> ratio_;  // one plane: the Shepard quotients before their float conversion
+  int dirty_lo_ = 0, dirty_hi_ = -1;  // every grid above is zero outside these node rows (empty: all zero)
 };
 
 }  // namespace dc

@@ -145,6 +145,7 @@ class InferencePlan {
   std::vector<float> block_;      ///< the sparse head's block of 16 pixels × its input channels
   std::vector<const float*> bases_;  ///< the sparse head's source planes of this call
   std::vector<int> head_lo_, head_hi_;  ///< per output row: the listed pixels' first and last column
+  std::vector<char> mark_;        ///< per output pixel: listed in this call
   Tensor scratch_, out_;
   std::vector<char> empty_in_;                ///< per input row: all raw features +0
   std::vector<std::vector<char>> tmpl_rows_;  ///< per node, per output row: a template row

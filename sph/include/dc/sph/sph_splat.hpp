@@ -38,6 +38,9 @@ struct SplatStats {
   /// Particles with no node strictly within h: their value never reaches the grid and no
   /// read-back can recover it (happens when h < d·√2/2, or far outside the box).
   std::size_t particles_without_support = 0;
+  /// The node rows the splat may have written: [row_lo, row_hi] (the union of the particles'
+  /// index boxes; empty, row_lo > row_hi, when no particle reaches the grid).
+  int row_lo = 0, row_hi = -1;
 };
 
 /// Splats `values` (particle-major, points.size() × grid.channels()) at `points` into
@@ -54,6 +57,13 @@ SplatStats splat_to_grid(const SphKernel& kernel, std::span<const Vec2> points,
                          std::span<const double> values, SphGrid& grid,
                          SphGrid* weights = nullptr, bool renormalise_per_particle = false);
 
+/// splat_to_grid (no renormalisation) into a `grid` (and `weights`) that is already zero
+/// outside the node rows [clear_lo, clear_hi] — e.g. zero-initialised, or holding an earlier
+/// splat whose SplatStats row range lies there: only those rows are zeroed before the splat,
+/// the same values as splat_to_grid without zeroing the rows it never reaches (the grid is
+/// then zero outside the returned row range). The caller guarantees the zeros.
+SplatStats splat_to_grid_rows(const SphKernel& kernel, std::span<const Vec2> points, std::span<const double> values,
+                              SphGrid& grid, SphGrid* weights, int clear_lo, int clear_hi);
 /// Only the kernel-weight field S of `points` (positions only) into the one-channel grid
 /// `weights`, overwriting it.
 SplatStats splat_weights(const SphKernel& kernel, std::span<const Vec2> points, SphGrid& weights);
