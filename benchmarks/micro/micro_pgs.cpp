@@ -21,6 +21,7 @@
 // (kernel = 2), AVX2 (1) and scalar (0) kernels on the same problems (a kernel the CPU lacks is
 // skipped), and 1 or 2 OpenMP threads (BM_PgsColoredThreads); max_diff_vs_scalar =
 // max_i |λ_i(kernel) − λ_i(scalar)| after the same sweeps (0: bit-equal).
+// BM_PgsColoredAlternating times the set-up when the contact set changes every solve.
 // BM_ContactColoring* time the colouring alone (ns per contact), from scratch and reusing
 // the previous call's colours. The side-by-side table of docs/solvers.md is one run of
 //   build/bin/micro_pgs --benchmark_filter='200/0|SeedScene|Coloring' --benchmark_min_time=0.2
@@ -299,6 +300,36 @@ void BM_PgsColoredThreads(benchmark::State& s) {
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+/// As BM_PgsColoredThreads (J only, 1 sweep: the work around the sweeps), but the solves alternate
+/// between the pile's contacts in body order and interleaved (pile order 1): the same contacts,
+/// so the colours are looked up and reused, but never a repeated set (no layout reuse) — the
+/// set-up of a step whose contacts changed. Reports the CPU time per solve as BM_PgsColoredThreads.
+void BM_PgsColoredAlternating(benchmark::State& s) {
+  std::array<dc::LcpProblem, 2> p = {pile(10000, 0), pile(10000, 1)};
+  for (auto& q : p) q.A = dc::SparseRowMatrix();
+  dc::PgsColoredDef def;
+  def.threads = static_cast<int>(s.range(0));
+  def.min_batches_per_thread = 1;
+  const auto solver = dc::make_pgs_colored(def);
+  dc::SolverOptions o;
+  o.max_sweeps = 1;
+  o.record_theta = false;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p[0].rows());
+  (void)solver->solve(p[1], zero, o);
+  double cpu_process = 0, cpu_main = 0;
+  int k = 0;
+  for (auto _ : s) {
+    const double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), m0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+    Eigen::VectorXd l = solver->solve(p[static_cast<size_t>(k++ % 2)], zero, o).lambda;
+    benchmark::DoNotOptimize(l.data());
+    cpu_process += cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0;
+    cpu_main += cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - m0;
+  }
+  const double n = static_cast<double>(s.iterations());
+  s.counters["cpu_process_ms"] = 1e3 * cpu_process / n;
+  s.counters["cpu_main_ms"] = 1e3 * cpu_main / n;
+}
+
 /// The colouring alone: ns per contact (counter ns_per_contact), from scratch (reuse = 0) or
 /// reusing the previous call's colours: reuse = 1, the same contacts every call (a repeat: one
 /// comparison pass); reuse = 2, two sets alternated that differ by one contact in the middle
@@ -358,6 +389,7 @@ BENCHMARK(BM_PgsColoredThreads)
     ->Args({10000, 1, 2, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+BENCHMARK(BM_PgsColoredAlternating)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ContactColoring)
     ->ArgNames({"bodies", "reuse"})
     ->Args({1000, 0})

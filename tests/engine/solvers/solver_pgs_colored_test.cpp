@@ -187,7 +187,13 @@ TEST(PgsColored, RepeatedContactSetReusesTheLayoutWithNewValues) {
   // The same contacts again (a settled pile's next step): colours and batch layout are kept,
   // the batches refilled from the new J, b and λ⁰ — the result of a fresh solver on that problem.
   test::TestRng rng(12);
-  const LcpProblem a = test::random_contact(60, 150, true, rng, 0.5, 4);
+  const LcpProblem a = pile_problem(100, 150);
+  {  // the same contacts again: a repeat is recognised
+    ContactColorer colorer;
+    const auto dyn = all_dynamic(a);
+    (void)colorer.color(a.constraints, dyn);
+    ASSERT_TRUE(colorer.color(a.constraints, dyn).repeated);
+  }
   LcpProblem next = a;
   next.J *= 1.25;
   for (int i = 0; i < next.rows(); ++i) next.b[i] += rng.uniform(-0.5, 0.5);

@@ -14,7 +14,9 @@
 // padding lanes) are read from and never written to.
 //
 // Per-solve costs (what decides whether the faster sweeps pay off at ~100 sweeps per step):
-//  * set-up: the colouring (incremental, contact_coloring.hpp; serial) and the packing of each
+//  * set-up: the input checks (on the threads, pgs_colored_input.hpp), the colouring
+//    (incremental, contact_coloring.hpp; serial; for a repeated contact set one comparison pass,
+//    and the batch layout is kept: only the values are packed anew) and the packing of each
 //    contact's two rows straight from J's compressed row storage into its batch lanes, with
 //    the permuted λ⁰; the batch and Δu buffers are kept by the solver and reused. With threads
 //    the batches are packed in one parallel region, handed out in chunks, while one thread
@@ -41,6 +43,7 @@
 #include "dc/engine/pgs_colored.hpp"
 #include "lcp/contact_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
@@ -51,7 +54,6 @@ namespace {
 using colored::Batch;
 using colored::kStride;
 using colored::W;
-using solvers::check_input;
 using solvers::finish;
 
 /// Batches [begin, end) of one colour (independent: may run in any order or in parallel),
@@ -340,10 +342,14 @@ class PgsColoredSolver final : public LcpSolver {
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) const override {
-    Eigen::VectorXd lambda;
+    // λ⁰ as given (or zeros): the input checks run on the threads the packing will use.
+    Eigen::VectorXd zeros;
+    const Eigen::VectorXd* start = &lambda0;
     if (p.has_jacobian()) {
-      if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
+      const int threads = effective_threads(p.constraints.size() / W);
+      if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros, start)) return *bad;
     }
+    const Eigen::VectorXd& lambda = *start;
     // The buffers of the last solve (a concurrent solve on the same object gets fresh ones).
     Prepared prep;
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");

@@ -33,12 +33,15 @@ namespace {
 /// First body of block t of nt over `bodies` bodies (contiguous blocks of near-equal size).
 int block_begin(int bodies, int t, int nt) { return static_cast<int>(static_cast<long>(bodies) * t / nt); }
 
-/// The block holding body b.
-int block_of(int bodies, int b, int nt) {
-  int t = std::min(nt - 1, static_cast<int>(static_cast<long>(b) * nt / std::max(1, bodies)));
-  while (t + 1 < nt && block_begin(bodies, t + 1, nt) <= b) ++t;
-  while (t > 0 && block_begin(bodies, t, nt) > b) --t;
-  return t;
+/// The block holding body b; begin[t] = block_begin(bodies, t, nt) for t ≤ nt (a search, not a
+/// division: this runs twice per contact).
+int block_of(const int* begin, int nt, int b) {
+  if (nt <= 8) {
+    int t = 0;
+    while (t + 1 < nt && begin[t + 1] <= b) ++t;
+    return t;
+  }
+  return static_cast<int>(std::upper_bound(begin + 1, begin + nt, b) - (begin + 1));
 }
 
 /// Thread tid's part of scaled_transpose_product inside a parallel region of nt threads;
@@ -49,6 +52,8 @@ void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, 
   const int bodies = (ncols + 2) / 3;
   const ContactConstraints& cons = p.constraints;
   // 1. From this thread's share of the contacts: per block, the lowest and highest row acting on it.
+  std::vector<int> begin(static_cast<size_t>(nt) + 1);
+  for (int t = 0; t <= nt; ++t) begin[static_cast<size_t>(t)] = block_begin(bodies, t, nt);
   int* lo = bounds + 2 * nt * tid;
   int* hi = lo + nt;
   std::fill(lo, lo + nt, std::numeric_limits<int>::max());
@@ -61,7 +66,7 @@ void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, 
     const int rmax = std::max(k.normal_row, k.tangent_row);
     for (const int body : {k.body_a, k.body_b}) {
       if (body < 0) continue;
-      const int t = block_of(bodies, body, nt);
+      const int t = block_of(begin.data(), nt, body);
       lo[t] = std::min(lo[t], rmin);
       hi[t] = std::max(hi[t], rmax);
     }
