@@ -14,19 +14,15 @@
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
+#include "scaled_seed_pile.hpp"
 #include "world/spatial_order.hpp"
 
 namespace dc {
 namespace {
 
-/// The seed scene scaled to n circles at the seed's density (box side 3√n m, σ = 0.465√n m).
+/// The scaled seed pile with its generated bodies numbered in `order`.
 WorldDef pile(const char* order, int n) {
-  WorldDef d;
-  const double side = 3.0 * std::sqrt(static_cast<double>(n));
-  d.world.width = d.world.height = side;
-  d.bodies.count = n;
-  d.bodies.mean = {side / 2, side / 2};
-  d.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
+  WorldDef d = test::scaled_seed_pile(n);
   d.bodies.order = order;
   return d;
 }
@@ -60,7 +56,9 @@ TEST(MortonOrder, IsAPermutationWithNonDecreasingCodes) {
   };
   for (std::size_t i = 1; i < order.size(); ++i) {
     ASSERT_LE(code(order[i - 1]), code(order[i])) << "at " << i;
-    if (code(order[i - 1]) == code(order[i])) EXPECT_LT(order[i - 1], order[i]) << "ties in index order";
+    if (code(order[i - 1]) == code(order[i])) {
+      EXPECT_LT(order[i - 1], order[i]) << "ties in index order";
+    }
   }
   EXPECT_THROW((void)morton_order(x, 0.0), InvalidArgument);
 }

@@ -15,18 +15,14 @@
 #include "dc/engine/scene.hpp"
 #include "dc/engine/step_outcome.hpp"
 #include "dc/engine/world.hpp"
+#include "scaled_seed_pile.hpp"
 
 namespace dc {
 namespace {
 
-/// The seed scene scaled to n circles at the seed's density, with an internal order or not.
+/// The scaled seed pile with an internal order or not.
 WorldDef pile(const char* internal_order, int n, int resort_every = 5) {
-  WorldDef d;
-  const double side = 3.0 * std::sqrt(static_cast<double>(n));
-  d.world.width = d.world.height = side;
-  d.bodies.count = n;
-  d.bodies.mean = {side / 2, side / 2};
-  d.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
+  WorldDef d = test::scaled_seed_pile(n);
   d.bodies.internal_order = internal_order;
   d.bodies.resort_every = resort_every;
   return d;
@@ -133,7 +129,9 @@ TEST(InternalBodyOrder, PublicViewsAreInExternalOrder) {
     for (int c = 0; c < static_cast<int>(cw.contacts().size()); ++c) {
       const Contact& k = cw.contacts()[static_cast<std::size_t>(c)];
       EXPECT_EQ(r.solve.lambda[cw.normal_row(c)], k.lambda_n);
-      if (cw.tangent_row(c) >= 0) EXPECT_EQ(r.solve.lambda[cw.tangent_row(c)], k.lambda_t);
+      if (cw.tangent_row(c) >= 0) {
+        EXPECT_EQ(r.solve.lambda[cw.tangent_row(c)], k.lambda_t);
+      }
       if (k.body_a < 0) continue;
       ASSERT_LT(k.body_a, k.body_b);
       // Geometry before the step: the normal points from a to b of the external bodies.
