@@ -79,7 +79,7 @@ void TrajectoryWriter::buffer_state(const BodyState& s) {
     if (s.size() != n_) {
       flush_buffers();  // buffered states have the old width
       H5File& f = *file_;
-      const hsize_t rows = f.shape("/bodies/position")[0], n = s.size();
+      const hsize_t rows = f.rows("/bodies/position"), n = s.size();
       f.resize("/bodies/position", {rows, n, 2});
       f.resize("/bodies/velocity", {rows, n, 2});
       f.resize("/bodies/angle", {rows, n});

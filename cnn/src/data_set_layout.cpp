@@ -162,10 +162,10 @@ RowCounts committed_rows(const H5File& f) {
   RowCounts r;
   for (const char* p : {kSimsSeed, kSimsBodies, kSimsSamples, kSimsContacts, kSimsResidual})
     if (!f.is_dataset(p)) throw IoError(f.path() + ": " + p + ": missing (truncated or not a data set)");
-  const hsize_t k = f.shape(kSimsSeed).at(0);
+  const hsize_t k = f.rows(kSimsSeed);
   for (const char* p : {kSimsBodies, kSimsSamples, kSimsContacts, kSimsResidual})
-    if (f.shape(p).at(0) < k)
-      throw IoError(f.path() + ": " + p + ": " + std::to_string(f.shape(p).at(0)) + " rows but /sims/seed has " +
+    if (f.rows(p) < k)
+      throw IoError(f.path() + ": " + p + ": " + std::to_string(f.rows(p)) + " rows but /sims/seed has " +
                     std::to_string(k) + " (corrupt data set)");
   r.completed = static_cast<int>(k);
   if (k == 0) return r;
@@ -189,7 +189,7 @@ RowCounts committed_rows(const H5File& f) {
   // /samples/body_count: the last committed sample's rows end where the body rows end.
   const auto last = static_cast<hsize_t>(r.samples);
   if (last > 0 && f.is_dataset("/samples/body_begin") && f.is_dataset("/samples/body_count") &&
-      f.shape("/samples/body_begin").at(0) >= last && f.shape("/samples/body_count").at(0) >= last) {
+      f.rows("/samples/body_begin") >= last && f.rows("/samples/body_count") >= last) {
     const auto b = f.read_rows<std::int64_t>("/samples/body_begin", last - 1, 1);
     const auto c = f.read_rows<std::int32_t>("/samples/body_count", last - 1, 1);
     std::int64_t end = 0;

@@ -46,8 +46,8 @@ DataSetReader::DataSetReader(const std::string& path) : file_(H5File::open_read(
     H5Shape expected = row_shape;
     expected.insert(expected.begin(), kH5Any);
     f.require_shape(p, expected);
-    if (static_cast<std::int64_t>(f.shape(p).at(0)) < n)
-      throw IoError(path + ": " + p + ": has " + std::to_string(f.shape(p).at(0)) + " rows, /sims records " +
+    if (static_cast<std::int64_t>(f.rows(p)) < n)
+      throw IoError(path + ": " + p + ": has " + std::to_string(f.rows(p)) + " rows, /sims records " +
                     std::to_string(n) + " (truncated data set)");
   };
   const auto cf = static_cast<hsize_t>(feature_names_.size()), lc = static_cast<hsize_t>(label_names_.size());

@@ -102,8 +102,8 @@ DataSetWriter DataSetWriter::resume(const std::string& path, const DataSetParams
   // append may have left rows of the simulation that was being written.
   const auto cut = [&](const char* p, std::int64_t n) {
     if (!f.is_dataset(p)) throw IoError(path + ": " + p + ": missing (truncated data set)");
-    if (static_cast<std::int64_t>(f.shape(p).at(0)) < n)
-      throw IoError(path + ": " + p + ": has " + std::to_string(f.shape(p).at(0)) + " rows, the completed " +
+    if (static_cast<std::int64_t>(f.rows(p)) < n)
+      throw IoError(path + ": " + p + ": has " + std::to_string(f.rows(p)) + " rows, the completed " +
                     "simulations need " + std::to_string(n) + " (truncated data set)");
     f.resize_rows(p, static_cast<hsize_t>(n));
   };

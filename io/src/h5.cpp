@@ -455,6 +455,12 @@ H5Shape H5File::shape(std::string_view path) const {
   return d.dims;
 }
 
+hsize_t H5File::rows(std::string_view path) const {
+  const H5Shape dims = shape(path);
+  if (dims.empty()) fail(path, "dataset is a scalar, expected rows");
+  return dims[0];
+}
+
 H5Type H5File::type(std::string_view path) const {
   require_open();
   const ErrorSilencer quiet;

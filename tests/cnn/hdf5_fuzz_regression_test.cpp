@@ -83,3 +83,22 @@ TEST(FuzzRegression, DataSetWithOverflowingSimulationCountsIsAnIoError) {
 
 }  // namespace
 }  // namespace dc
+
+namespace dc {
+namespace {
+
+// fuzz_dataset: a damaged dataspace turned a /sims column into a scalar dataset; committed_rows
+// took its row count as shape().at(0), and the std::out_of_range that escaped was no IoError
+// (the harness aborted; `train` would have printed a vector range-check message). Fixed in
+// io (H5File::rows: a scalar has no rows → IoError) and its callers in cnn and bench.
+TEST(FuzzRegression, DataSetWithAScalarSimulationColumnIsAnIoError) {
+  expect_one_line_io_error(
+      [] {
+        const DataSetReader r(regression("dataset-scalar-sims-column.h5"));
+        (void)r.samples();
+      },
+      "dataset-scalar-sims-column.h5", "dataset is a scalar, expected rows");
+}
+
+}  // namespace
+}  // namespace dc

@@ -188,6 +188,9 @@ class H5File {
   void resize(std::string_view path, const H5Shape& dims);
 
   [[nodiscard]] H5Shape shape(std::string_view path) const;
+  /// Extent of the dataset's first axis (its rows); IoError for a scalar dataset, which has no
+  /// rows (a damaged file can turn a column into one).
+  [[nodiscard]] hsize_t rows(std::string_view path) const;
   [[nodiscard]] H5Type type(std::string_view path) const;
   /// IoError unless the dataset's shape matches `expected` (kH5Any matches any extent).
   void require_shape(std::string_view path, const H5Shape& expected) const;
