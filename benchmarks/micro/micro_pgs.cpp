@@ -262,6 +262,24 @@ double cpu_seconds(clockid_t clock) {
   clock_gettime(clock, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
+/// Runs `solve(k)` for the k-th iteration of the benchmark loop and reports the CPU time of
+/// the whole process (all threads) and of the calling thread per solve, as cpu_process_ms and
+/// cpu_main_ms.
+template <class Solve>
+void time_solves(benchmark::State& s, Solve&& solve) {
+  double cpu_process = 0, cpu_main = 0;
+  int k = 0;
+  for (auto _ : s) {
+    const double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), m0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+    Eigen::VectorXd l = solve(k++);
+    benchmark::DoNotOptimize(l.data());
+    cpu_process += cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0;
+    cpu_main += cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - m0;
+  }
+  const double n = static_cast<double>(s.iterations());
+  s.counters["cpu_process_ms"] = 1e3 * cpu_process / n;
+  s.counters["cpu_main_ms"] = 1e3 * cpu_main / n;
+}
 
 /// 1 vs 2 threads on the 10,000-body pile (Auto kernel), set-up and residual included. Wall time
 /// (UseRealTime) is what a speed-up is, but on a loaded machine it mostly measures preemption;
@@ -285,17 +303,8 @@ void BM_PgsColoredThreads(benchmark::State& s) {
   o.record_theta = false;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
   (void)solver->solve(p, zero, o);  // warm-up (thread pool, colouring)
-  double cpu_process = 0, cpu_main = 0;
-  for (auto _ : s) {
-    const double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), m0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
-    Eigen::VectorXd l = solver->solve(p, zero, o).lambda;
-    benchmark::DoNotOptimize(l.data());
-    cpu_process += cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0;
-    cpu_main += cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - m0;
-  }
+  time_solves(s, [&](int) { return solver->solve(p, zero, o).lambda; });
   const double n = static_cast<double>(s.iterations());
-  s.counters["cpu_process_ms"] = 1e3 * cpu_process / n;
-  s.counters["cpu_main_ms"] = 1e3 * cpu_main / n;
   s.counters["ns_per_row_sweep"] = benchmark::Counter(1e-9 * p.rows() * sweeps * n,
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
@@ -316,18 +325,7 @@ void BM_PgsColoredAlternating(benchmark::State& s) {
   o.record_theta = false;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p[0].rows());
   (void)solver->solve(p[1], zero, o);
-  double cpu_process = 0, cpu_main = 0;
-  int k = 0;
-  for (auto _ : s) {
-    const double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), m0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
-    Eigen::VectorXd l = solver->solve(p[static_cast<size_t>(k++ % 2)], zero, o).lambda;
-    benchmark::DoNotOptimize(l.data());
-    cpu_process += cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0;
-    cpu_main += cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - m0;
-  }
-  const double n = static_cast<double>(s.iterations());
-  s.counters["cpu_process_ms"] = 1e3 * cpu_process / n;
-  s.counters["cpu_main_ms"] = 1e3 * cpu_main / n;
+  time_solves(s, [&](int k) { return solver->solve(p[static_cast<size_t>(k % 2)], zero, o).lambda; });
 }
 
 /// The colouring alone: ns per contact (counter ns_per_contact), from scratch (reuse = 0) or
