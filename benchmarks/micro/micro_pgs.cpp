@@ -331,7 +331,9 @@ void BM_PgsColoredAlternating(benchmark::State& s) {
 /// The colouring alone: ns per contact (counter ns_per_contact), from scratch (reuse = 0) or
 /// reusing the previous call's colours: reuse = 1, the same contacts every call (a repeat: one
 /// comparison pass); reuse = 2, two sets alternated that differ by one contact in the middle
-/// (every call looks each contact up: the general reuse path).
+/// (every call looks each contact up: the general reuse path). threads: the OpenMP threads
+/// of the parallel colouring (same colours for every count); counters chunks and boundary =
+/// the chunks coloured in parallel and the contacts coloured serially after them.
 void BM_ContactColoring(benchmark::State& s) {
   const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
   const std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
@@ -340,14 +342,26 @@ void BM_ContactColoring(benchmark::State& s) {
   for (int c = 0; c < p.constraints.size(); ++c)
     if (c != p.constraints.size() / 2) other.add(p.constraints[c]);
   const bool alternate = s.range(1) == 2;
-  (void)colorer.color(p.constraints, dyn);
+  const int threads = static_cast<int>(s.range(2));
+  (void)colorer.color(p.constraints, dyn, threads);
+  // CPU time of the calling thread and of the process per call (cpu_main_us, cpu_process_us):
+  // with 2 threads under load, 1-thread CPU / max(main, process − main) estimates the speed-up
+  // on free cores (OMP_WAIT_POLICY=passive, see BM_PgsColoredThreads).
+  double cpu_process = 0, cpu_main = 0;
   bool odd = false;
   for (auto _ : s) {
-    benchmark::DoNotOptimize(colorer.color(alternate && odd ? other : p.constraints, dyn).colors);
+    const double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), m0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+    benchmark::DoNotOptimize(colorer.color(alternate && odd ? other : p.constraints, dyn, threads).colors);
+    cpu_process += cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0;
+    cpu_main += cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - m0;
     odd = !odd;
   }
+  s.counters["cpu_process_us"] = 1e6 * cpu_process / static_cast<double>(s.iterations());
+  s.counters["cpu_main_us"] = 1e6 * cpu_main / static_cast<double>(s.iterations());
   s.counters["colors"] = colorer.last().colors;
   s.counters["reused"] = colorer.last().reused;
+  s.counters["chunks"] = colorer.last().chunks;
+  s.counters["boundary"] = colorer.last().boundary;
   s.counters["ns_per_contact"] = benchmark::Counter(
       1e-9 * p.constraints.size() * static_cast<double>(s.iterations()),
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
@@ -389,13 +403,15 @@ BENCHMARK(BM_PgsColoredThreads)
     ->UseRealTime();
 BENCHMARK(BM_PgsColoredAlternating)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ContactColoring)
-    ->ArgNames({"bodies", "reuse"})
-    ->Args({1000, 0})
-    ->Args({1000, 1})
-    ->Args({1000, 2})
-    ->Args({10000, 0})
-    ->Args({10000, 1})
-    ->Args({10000, 2})
+    ->ArgNames({"bodies", "reuse", "threads"})
+    ->Args({1000, 0, 1})
+    ->Args({1000, 1, 1})
+    ->Args({1000, 2, 1})
+    ->Args({10000, 0, 1})
+    ->Args({10000, 1, 1})
+    ->Args({10000, 2, 1})
+    ->Args({10000, 0, 2})
+    ->Args({10000, 2, 2})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsColored)->Unit(benchmark::kMillisecond);

@@ -2,6 +2,7 @@
 #include "lcp/contact_coloring.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <string>
 
@@ -43,8 +44,65 @@ bool ContactColorer::same_as_last(const ContactConstraints& contacts, std::span<
   return same;
 }
 
+ContactColorer::ContactColorer(bool reuse, int chunk) : reuse_(reuse), chunk_(chunk) {
+  if (chunk < 1) throw InvalidArgument("contact colouring: chunk size " + std::to_string(chunk) + " is below 1");
+}
+
+struct ContactColorer::Canvas {
+  const Pair* pair;     // per contact: its dynamic bodies (−1: none)
+  std::uint64_t* used;  // per body: bit c set when colour c holds one of its contacts
+  int* color;           // per contact
+  std::uint8_t* shared;  // per body: 1 when a contact of a chunk not owning its range touches it
+  const int* start;     // last call's table (start_, entries_); prev_bodies = 0: none
+  const Entry* entries;
+  int prev_bodies;
+
+  /// OR of the used-colour masks of contact c's dynamic bodies.
+  [[nodiscard]] std::uint64_t mask_of(int c) const {
+    const Pair p = pair[c];
+    return (p.a >= 0 ? used[p.a] : 0) | (p.b >= 0 ? used[p.b] : 0);
+  }
+  /// Gives contact c colour `colour` and marks it on its dynamic bodies.
+  void take(int c, int colour, Tally& t) const {
+    color[c] = colour;
+    const std::uint64_t bit = std::uint64_t{1} << colour;
+    const Pair p = pair[c];
+    if (p.a >= 0) used[p.a] |= bit;
+    if (p.b >= 0) used[p.b] |= bit;
+    t.colors = std::max(t.colors, colour + 1);
+  }
+  /// Reuse (phases 1, 2): contact c takes the colour of the first entry of last call with its
+  /// key whose colour is free on its bodies.
+  void keep_last(int c, const ContactConstraint& k, Tally& t) const {
+    int first, other;
+    identity(k, first, other);
+    if (first >= prev_bodies) return;
+    for (int e = start[first]; e < start[first + 1]; ++e) {
+      const Entry& en = entries[e];
+      // Several contacts may share a key (two walls of one body have body_a = −1): each
+      // takes the first matching entry whose colour is still free.
+      if (en.other != other || en.feature != k.feature || en.color == ContactColoring::kOverflow) continue;
+      if (((mask_of(c) >> en.color) & 1) == 0) {
+        take(c, en.color, t);
+        ++t.reused;
+        return;
+      }
+    }
+  }
+  /// Phases 3, 4: the lowest colour free on c's bodies, else the overflow set.
+  void take_lowest(int c, Tally& t) const {
+    if (color[c] != ContactColoring::kOverflow) return;  // kept its colour
+    const std::uint64_t free = ~mask_of(c);
+    if (free == 0) {
+      ++t.overflow;
+      return;
+    }
+    take(c, std::countr_zero(free), t);
+  }
+};
+
 const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
-                                             std::span<const std::uint8_t> dynamic) {
+                                             std::span<const std::uint8_t> dynamic, int threads) {
   const int nc = contacts.size();
   const int nb = static_cast<int>(dynamic.size());
   if (reuse_ && repeatable_ && same_as_last(contacts, dynamic)) {
@@ -56,91 +114,187 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
   }
   out_.repeated = false;
   repeatable_ = false;  // until this call completes
-  ++out_.generation;
-  out_.color.assign(static_cast<size_t>(nc), ContactColoring::kOverflow);
-  out_.colors = out_.reused = out_.overflow = 0;
-  used_.assign(static_cast<size_t>(nb), 0);
-  auto dyn = [&](int body) { return body >= 0 && dynamic[static_cast<size_t>(body)] != 0; };
-  auto mask_of = [&](const ContactConstraint& k) {
-    std::uint64_t m = 0;
-    if (dyn(k.body_a)) m |= used_[static_cast<size_t>(k.body_a)];
-    if (dyn(k.body_b)) m |= used_[static_cast<size_t>(k.body_b)];
-    return m;
-  };
-  auto take = [&](int c, const ContactConstraint& k, int colour) {
-    out_.color[static_cast<size_t>(c)] = colour;
-    const std::uint64_t bit = std::uint64_t{1} << colour;
-    if (dyn(k.body_a)) used_[static_cast<size_t>(k.body_a)] |= bit;
-    if (dyn(k.body_b)) used_[static_cast<size_t>(k.body_b)] |= bit;
-    out_.colors = std::max(out_.colors, colour + 1);
-  };
-  for (int c = 0; c < nc; ++c) {
-    const ContactConstraint& k = contacts[c];
-    if (k.body_b >= nb || k.body_a >= nb)
-      throw InvalidArgument("contact colouring: contact " + std::to_string(c) + " names body " +
-                            std::to_string(std::max(k.body_a, k.body_b)) + " of " + std::to_string(nb));
-  }
-  // 1. Persisting contacts keep last call's colour when it is still free on their bodies.
   const bool have_prev = reuse_ && !start_.empty();
-  if (have_prev) {
-    const int prev_bodies = static_cast<int>(start_.size()) - 1;
-    for (int c = 0; c < nc; ++c) {
-      const ContactConstraint& k = contacts[c];
+  const int chunks = std::max(1, nc / chunk_);
+  out_.color.resize(static_cast<size_t>(nc));
+  used_.resize(static_cast<size_t>(nb));
+  pair_.resize(static_cast<size_t>(nc));
+  tally_.assign(static_cast<size_t>(chunks) + 1, Tally{});  // the last: the serial phases
+  bad_.assign(static_cast<size_t>(chunks), -1);
+  if (static_cast<int>(boundary_.size()) < chunks) boundary_.resize(static_cast<size_t>(chunks));
+  if (chunks > 1) {
+    // Chunk q owns the bodies from the first body of its first contact (kept ascending) to the
+    // next chunk's: disjoint ranges, a function of the contacts only.
+    range_.resize(static_cast<size_t>(chunks) + 1);
+    range_[0] = 0;
+    for (int q = 1; q < chunks; ++q) {
       int first, other;
-      identity(k, first, other);
-      if (first >= prev_bodies) continue;
-      for (int e = start_[static_cast<size_t>(first)]; e < start_[static_cast<size_t>(first) + 1]; ++e) {
-        const Entry& en = entries_[static_cast<size_t>(e)];
-        // Several contacts may share a key (two walls of one body have body_a = −1): each
-        // takes the first matching entry whose colour is still free.
-        if (en.other != other || en.feature != k.feature) continue;
-        if (en.color != ContactColoring::kOverflow && ((mask_of(k) >> en.color) & 1) == 0) {
-          take(c, k, en.color);
-          ++out_.reused;
-          break;
+      identity(contacts[chunk_begin(q, chunks, nc)], first, other);
+      range_[static_cast<size_t>(q)] = std::clamp(first, range_[static_cast<size_t>(q) - 1], nb);
+    }
+    range_[static_cast<size_t>(chunks)] = nb;
+    shared_.resize(static_cast<size_t>(nb));
+  }
+  threads = chunks > 1 ? std::clamp(threads, 1, chunks) : 1;
+  const Canvas canvas{pair_.data(),  used_.data(),    out_.color.data(),
+                      shared_.data(), start_.data(), entries_.data(),
+                      have_prev ? static_cast<int>(start_.size()) - 1 : 0};
+  const std::uint8_t* dyn = dynamic.data();
+  Tally& serial = tally_[static_cast<size_t>(chunks)];
+  bool bad = false;
+  // The contacts are read from their 32-byte records once (pass 0) and then from the 8-byte
+  // pairs: the passes are bound by memory traffic (≈ 30 µs per pass over 20,000 records).
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+#pragma omp for schedule(static)
+    for (int b = 0; b < nb; ++b) {
+      canvas.used[b] = 0;
+      if (chunks > 1) canvas.shared[b] = 0;
+    }
+    // Pass 0: the bodies' range check, the pairs, no colour yet, and the shared marks: a
+    // contact's dynamic body outside its chunk's range is touched by two chunks (its range's
+    // owner may touch it as well, and cannot tell): shared. The marks are one value stored by
+    // any number of writers, so the end state does not depend on the threads. (Relaxed atomic
+    // byte stores: plain moves on x86-64.)
+#pragma omp for schedule(static)
+    for (int q = 0; q < chunks; ++q) {
+      const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
+      const ContactConstraint* k = contacts.contacts().data();
+      int* color = canvas.color;
+      Pair* pair = pair_.data();
+      std::uint8_t* shared = canvas.shared;
+      const bool chunked = chunks > 1;
+      const int r0 = chunked ? range_[static_cast<size_t>(q)] : 0, r1 = chunked ? range_[static_cast<size_t>(q) + 1] : 0;
+      int first_bad = -1;
+      for (int c = lo; c < hi; ++c) {
+        color[c] = ContactColoring::kOverflow;
+        const int ka = k[c].body_a, kb = k[c].body_b;
+        if (kb >= nb || ka >= nb) {
+          if (first_bad < 0) first_bad = c;
+          pair[c] = {-1, -1};
+          continue;
+        }
+        const int a = ka >= 0 && dyn[ka] != 0 ? ka : -1;
+        const int b = kb >= 0 && dyn[kb] != 0 ? kb : -1;
+        pair[c] = {a, b};
+        if (chunked) {
+          if (a >= 0 && (a < r0 || a >= r1)) std::atomic_ref<std::uint8_t>(shared[a]).store(1, std::memory_order_relaxed);
+          if (b >= 0 && (b < r0 || b >= r1)) std::atomic_ref<std::uint8_t>(shared[b]).store(1, std::memory_order_relaxed);
         }
       }
+      bad_[static_cast<size_t>(q)] = first_bad;
+    }
+#pragma omp single
+    bad = std::any_of(bad_.begin(), bad_.end(), [](int c) { return c >= 0; });
+    if (!bad) {
+      // Phase 1: interior contacts keep last call's colour where free; the others are listed.
+#pragma omp for schedule(dynamic, 1)
+      for (int q = 0; q < chunks; ++q) {
+        const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
+        std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
+        edge.clear();
+        // Local copies (registers: no reloads through memory the stores might alias).
+        const Canvas cv = canvas;
+        Tally t = tally_[static_cast<size_t>(q)];
+        if (chunks > 1) {
+          // Private: in [r0, r1) and not shared; as one unsigned compare per body.
+          const unsigned r0 = static_cast<unsigned>(range_[static_cast<size_t>(q)]);
+          const unsigned width = static_cast<unsigned>(range_[static_cast<size_t>(q) + 1]) - r0;
+          const std::uint8_t* shared = cv.shared;
+          const Pair* pair = cv.pair;
+          auto is_private = [&](int body) {
+            return body < 0 || (static_cast<unsigned>(body) - r0 < width && shared[body] == 0);
+          };
+          for (int c = lo; c < hi; ++c) {
+            if (!(is_private(pair[c].a) && is_private(pair[c].b))) {
+              edge.push_back(c);
+            } else if (have_prev) {
+              cv.keep_last(c, contacts[c], t);
+            } else {
+              cv.take_lowest(c, t);  // phase 3 at once: without reuse phase 2 does nothing
+            }
+          }
+        } else if (have_prev) {
+          for (int c = lo; c < hi; ++c) cv.keep_last(c, contacts[c], t);
+        }
+        tally_[static_cast<size_t>(q)] = t;
+      }
+      // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
+#pragma omp single
+      if (have_prev)
+        for (int q = 0; q < chunks; ++q)
+          for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
+      // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
+      // colouring from scratch with several chunks).
+#pragma omp for schedule(dynamic, 1)
+      for (int q = 0; q < (have_prev || chunks == 1 ? chunks : 0); ++q) {
+        const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
+        const Canvas cv = canvas;
+        Tally t = tally_[static_cast<size_t>(q)];
+        // Between the chunk's boundary contacts (phase 4's), in contact order.
+        const std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
+        int from = lo;
+        for (size_t e = 0; e <= edge.size(); ++e) {
+          const int to = e < edge.size() ? edge[e] : hi;
+          for (int c = from; c < to; ++c) cv.take_lowest(c, t);
+          from = to + 1;
+        }
+        tally_[static_cast<size_t>(q)] = t;
+      }
+      // Phase 4 (serial, contact order): the other boundary contacts.
+#pragma omp single
+      for (int q = 0; q < chunks; ++q)
+        for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
     }
   }
-  // 2. The rest: the lowest colour free on both bodies, else the overflow set.
-  for (int c = 0; c < nc; ++c) {
-    if (have_prev && out_.color[static_cast<size_t>(c)] != ContactColoring::kOverflow) continue;
-    const ContactConstraint& k = contacts[c];
-    const std::uint64_t free = ~mask_of(k);
-    if (free == 0) {
-      ++out_.overflow;
-      continue;
-    }
-    take(c, k, std::countr_zero(free));
-  }
-  // 3. Remember the colours by first body (counting sort) for the next call, and the contacts'
-  // bodies and features and the flags for the repeat test.
-  if (reuse_) {
-    start_.assign(static_cast<size_t>(nb) + 1, 0);
-    for (int c = 0; c < nc; ++c) {
-      int first, other;
-      identity(contacts[c], first, other);
-      ++start_[static_cast<size_t>(first) + 1];
-    }
-    for (int k = 0; k < nb; ++k) start_[static_cast<size_t>(k) + 1] += start_[static_cast<size_t>(k)];
-    entries_.resize(static_cast<size_t>(nc));
-    last_keys_.resize(static_cast<size_t>(nc));
-    std::vector<int>& fill = scratch_;
-    fill.assign(start_.begin(), start_.end() - 1);
-    bool each_has_a_dynamic_body = true;
-    for (int c = 0; c < nc; ++c) {
+  for (const int c : bad_)
+    if (c >= 0) {
       const ContactConstraint& k = contacts[c];
-      int first, other;
-      identity(k, first, other);
-      entries_[static_cast<size_t>(fill[static_cast<size_t>(first)]++)] = {other, k.feature,
-                                                                           out_.color[static_cast<size_t>(c)]};
-      last_keys_[static_cast<size_t>(c)] = {k.body_a, k.body_b, k.feature};
-      each_has_a_dynamic_body &= dyn(k.body_a) || dyn(k.body_b);
+      throw InvalidArgument("contact colouring: contact " + std::to_string(c) + " names body " +
+                            std::to_string(std::max(k.body_a, k.body_b)) + " of " + std::to_string(nb));
     }
-    last_dynamic_.assign(dynamic.begin(), dynamic.end());
-    repeatable_ = out_.overflow == 0 && each_has_a_dynamic_body;
+  ++out_.generation;
+  out_.chunks = chunks;
+  out_.colors = out_.reused = out_.overflow = out_.boundary = 0;
+  for (int q = 0; q <= chunks; ++q) {
+    const Tally& t = tally_[static_cast<size_t>(q)];
+    out_.colors = std::max(out_.colors, t.colors);
+    out_.reused += t.reused;
+    out_.overflow += t.overflow;
+    if (q < chunks && chunks > 1) out_.boundary += static_cast<int>(boundary_[static_cast<size_t>(q)].size());
   }
+  if (reuse_) remember(contacts, dynamic);
   return out_;
+}
+
+void ContactColorer::remember(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic) {
+  // The colours by first body (counting sort) for the next call, and the contacts' bodies and
+  // features and the flags for the repeat test.
+  const int nc = contacts.size(), nb = static_cast<int>(dynamic.size());
+  start_.assign(static_cast<size_t>(nb) + 1, 0);
+  for (int c = 0; c < nc; ++c) {
+    int first, other;
+    identity(contacts[c], first, other);
+    ++start_[static_cast<size_t>(first) + 1];
+  }
+  for (int k = 0; k < nb; ++k) start_[static_cast<size_t>(k) + 1] += start_[static_cast<size_t>(k)];
+  entries_.resize(static_cast<size_t>(nc));
+  last_keys_.resize(static_cast<size_t>(nc));
+  std::vector<int>& fill = scratch_;
+  fill.assign(start_.begin(), start_.end() - 1);
+  bool each_has_a_dynamic_body = true;
+  auto dyn = [&](int body) { return body >= 0 && dynamic[static_cast<size_t>(body)] != 0; };
+  for (int c = 0; c < nc; ++c) {
+    const ContactConstraint& k = contacts[c];
+    int first, other;
+    identity(k, first, other);
+    entries_[static_cast<size_t>(fill[static_cast<size_t>(first)]++)] = {other, k.feature,
+                                                                         out_.color[static_cast<size_t>(c)]};
+    last_keys_[static_cast<size_t>(c)] = {k.body_a, k.body_b, k.feature};
+    each_has_a_dynamic_body &= dyn(k.body_a) || dyn(k.body_b);
+  }
+  last_dynamic_.assign(dynamic.begin(), dynamic.end());
+  repeatable_ = out_.overflow == 0 && each_has_a_dynamic_body;
 }
 
 bool is_valid_coloring(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic,

@@ -21,6 +21,27 @@
 // At most kMaxColors colours; a contact none of whose colours is free goes to the overflow
 // set (colour kOverflow), which the solver runs serially after the colours (Box2D v3 does the
 // same). With equal circles a body has ≤ 6 neighbours + 2 walls, so overflow does not occur.
+//
+// Threads. The result does not depend on the thread count: the contacts are split into
+// chunks of ≈ `chunk` contacts (max(1, contacts / chunk) chunks of equal size, a function of
+// the contact count only). A dynamic body touched by the contacts of one chunk only is private
+// to that chunk; a contact all of whose dynamic bodies are private to its chunk is interior,
+// the others are boundary contacts. The rule above then runs in four phases:
+//   1. the interior contacts keep their last colour where free (chunks in parallel),
+//   2. the boundary contacts keep theirs (serial, in contact order),
+//   3. the other interior contacts take the lowest free colour (chunks in parallel),
+//   4. the other boundary contacts take theirs (serial, in contact order).
+// A parallel phase reads and writes only the masks of its chunk's private bodies, so a chunk's
+// result does not depend on which thread colours it or when; every phase sees the same masks
+// for any thread count. With one chunk (fewer than 2·chunk contacts) phases 1 and 3 are the
+// serial rule of today's greedy colourer, contact by contact. With several chunks the colours
+// differ from the one-chunk greedy only in the order in which the contacts are visited (all
+// reuses first, then boundary contacts after their chunks); the repeat shortcut stays exact,
+// as its proof holds for any visiting order that keeps contacts with one key in contact order
+// (they share their bodies, so they are all interior to one chunk or all boundary). A chunk
+// of contacts in body order (as the engine and the benchmarks give them) shares ≈ 3 contacts
+// per body of one pile row with its neighbour: ≈ 300 boundary contacts per chunk edge on a
+// 100-body-wide pile.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -36,6 +57,8 @@ struct ContactColoring {
   int colors = 0;          ///< number of colours used (max colour + 1)
   int reused = 0;          ///< contacts that kept last call's colour
   int overflow = 0;        ///< contacts in the overflow set
+  int chunks = 1;          ///< chunks coloured in parallel (see "Threads" above)
+  int boundary = 0;        ///< contacts coloured serially after the chunks (phases 2 and 4)
   bool repeated = false;   ///< the contacts' bodies equal the last call's: colours unchanged (see above)
   /// Counts the calls whose colours were computed (not repeated): equal generations, same colours.
   std::uint64_t generation = 0;
@@ -43,12 +66,20 @@ struct ContactColoring {
 
 class ContactColorer {
  public:
-  /// `reuse` = false colours every call from scratch (greedy in contact order).
-  explicit ContactColorer(bool reuse = true) : reuse_(reuse) {}
+  /// Contacts per chunk of the parallel colouring ("Threads" above): ≈ 300 boundary
+  /// contacts per chunk edge on the 10,000-body benchmark pile, so a chunk of 4,096 leaves
+  /// ≈ 5–7 % of the contacts to the serial phases.
+  static constexpr int kChunk = 4096;
+
+  /// `reuse` = false colours every call from scratch (greedy in contact order); `chunk` = the
+  /// contacts per chunk (≥ 1; small values are for tests). Throws InvalidArgument for chunk < 1.
+  explicit ContactColorer(bool reuse = true, int chunk = kChunk);
 
   /// Colours `contacts`; `dynamic[k]` says whether body k conflicts (size ≥ 1 + max body).
+  /// `threads` (≥ 1) colour the chunks; the result is the same for every thread count.
   /// Throws InvalidArgument when a contact names a body outside `dynamic`.
-  const ContactColoring& color(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic);
+  const ContactColoring& color(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic,
+                               int threads = 1);
 
   /// The last call's result.
   [[nodiscard]] const ContactColoring& last() const { return out_; }
@@ -61,10 +92,24 @@ class ContactColorer {
     int feature;  // ContactConstraint::feature
     int color;
   };
+  /// Counts of one chunk's (or the serial phases') contacts, summed / maxed in chunk order.
+  struct Tally {
+    int reused = 0, overflow = 0, colors = 0;
+  };
+  /// Raw views of the per-call state for the colouring loops (contact_coloring.cpp): keeps the
+  /// hot loops free of reloads through `this`.
+  struct Canvas;
+  /// First contact of chunk q of `chunks` over nc contacts (equal split; q = chunks gives nc).
+  static int chunk_begin(int q, int chunks, int nc) {
+    return static_cast<int>(static_cast<long long>(q) * nc / chunks);
+  }
+  /// The table of this call's colours for the next call, and the repeat test's copy.
+  void remember(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic);
   /// The contacts' (body_a, body_b, feature) and the flags equal the last call's.
   [[nodiscard]] bool same_as_last(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic) const;
 
   bool reuse_;
+  int chunk_;
   ContactColoring out_;
   // Last call's input and whether a repeat of it keeps every colour (no overflow, every
   // contact on a dynamic body).
@@ -79,6 +124,17 @@ class ContactColorer {
   std::vector<Entry> entries_;
   std::vector<std::uint64_t> used_;  // per body: bit c set when colour c holds one of its contacts
   std::vector<int> scratch_;         // fill cursors of the counting sort
+  // Parallel colouring: per chunk its body range, per body its shared mark, per chunk its
+  // boundary contacts in contact order and its tally.
+  std::vector<int> range_;
+  std::vector<std::uint8_t> shared_;
+  struct Pair {
+    int a, b;  // a contact's dynamic bodies (body_a, body_b), −1 where none
+  };
+  std::vector<Pair> pair_;
+  std::vector<int> bad_;  // per chunk: its first contact naming a body outside `dynamic`, or −1
+  std::vector<std::vector<int>> boundary_;
+  std::vector<Tally> tally_;
 };
 
 /// True when no two contacts of one colour (overflow excluded) share a body with dynamic[k] ≠ 0.

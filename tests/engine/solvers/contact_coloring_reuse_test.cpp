@@ -8,8 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <set>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -27,11 +29,48 @@ Key key_of(const ContactConstraint& k) {
   return {k.body_b, -1, k.feature};
 }
 
+/// The contacts in the order the rule visits them, for `chunk` contacts per chunk (0: one chunk):
+/// the interior contacts (every dynamic body private to their chunk: in the chunk's body range
+/// and touched by no contact of another chunk) in contact order, then the others. Written from
+/// the header's definition with sets, no shared code.
+std::vector<int> visiting_order(const ContactConstraints& cons, const std::vector<std::uint8_t>& dyn, int chunk) {
+  const int nc = cons.size(), nb = static_cast<int>(dyn.size());
+  const int chunks = chunk > 0 ? std::max(1, nc / chunk) : 1;
+  std::vector<int> first_contact(static_cast<size_t>(chunks) + 1);
+  for (int q = 0; q <= chunks; ++q) first_contact[static_cast<size_t>(q)] = static_cast<int>(static_cast<long long>(q) * nc / chunks);
+  auto chunk_of = [&](int c) {
+    return static_cast<int>(std::upper_bound(first_contact.begin(), first_contact.end(), c) - first_contact.begin()) - 1;
+  };
+  std::vector<int> range(static_cast<size_t>(chunks) + 1, 0);  // chunk q owns [range[q], range[q+1])
+  for (int q = 1; q < chunks; ++q)
+    range[static_cast<size_t>(q)] =
+        std::min(nb, std::max(range[static_cast<size_t>(q) - 1], std::get<0>(key_of(cons[first_contact[static_cast<size_t>(q)]]))));
+  range[static_cast<size_t>(chunks)] = nb;
+  std::vector<std::set<int>> touched(dyn.size());
+  for (int c = 0; c < nc; ++c)
+    for (int body : {cons[c].body_a, cons[c].body_b})
+      if (body >= 0 && dyn[static_cast<size_t>(body)]) touched[static_cast<size_t>(body)].insert(chunk_of(c));
+  std::vector<int> interior, boundary;
+  for (int c = 0; c < nc; ++c) {
+    const int q = chunk_of(c);
+    bool inside = true;
+    for (int body : {cons[c].body_a, cons[c].body_b})
+      if (body >= 0 && dyn[static_cast<size_t>(body)])
+        inside &= touched[static_cast<size_t>(body)] == std::set<int>{q} && body >= range[static_cast<size_t>(q)] &&
+                  body < range[static_cast<size_t>(q) + 1];
+    (inside ? interior : boundary).push_back(c);
+  }
+  interior.insert(interior.end(), boundary.begin(), boundary.end());
+  return interior;
+}
+
 /// The colouring rule, written for clarity.
 class ReferenceColorer {
  public:
+  explicit ReferenceColorer(int chunk = 0) : chunk_(chunk) {}
   std::vector<int> color(const ContactConstraints& cons, const std::vector<std::uint8_t>& dyn) {
     const int nc = cons.size();
+    const std::vector<int> order = visiting_order(cons, dyn, chunk_);
     std::vector<int> out(static_cast<size_t>(nc), ContactColoring::kOverflow);
     std::vector<std::set<int>> used(dyn.size());
     auto bodies = [&](const ContactConstraint& k) {
@@ -50,7 +89,7 @@ class ReferenceColorer {
       for (int body : bodies(cons[c])) used[static_cast<size_t>(body)].insert(colour);
     };
     std::vector<bool> done(static_cast<size_t>(nc), false);
-    for (int c = 0; c < nc; ++c) {
+    for (const int c : order) {
       const auto it = prev_.find(key_of(cons[c]));
       if (it == prev_.end()) continue;
       for (int colour : it->second) {
@@ -60,7 +99,7 @@ class ReferenceColorer {
         break;
       }
     }
-    for (int c = 0; c < nc; ++c) {
+    for (const int c : order) {
       if (done[static_cast<size_t>(c)]) continue;
       for (int colour = 0; colour < ContactColoring::kMaxColors; ++colour) {
         if (is_free(cons[c], colour)) {
@@ -75,6 +114,7 @@ class ReferenceColorer {
   }
 
  private:
+  int chunk_;
   std::map<Key, std::vector<int>> prev_;  // per identity: colours in contact order
 };
 
@@ -212,6 +252,91 @@ TEST(ContactColoringReuse, ABadBodyKeepsTheLastTable) {
   // The failed call did not replace the table: the next call reuses the first call's colours.
   const ContactConstraints next = perturb(cons, 30, 0.2, 5, false, rng);
   EXPECT_EQ(colorer.color(next, dyn).color, reference.color(next, dyn));
+}
+
+/// A set with locality, as a pile in body order gives: pairs (a, a + 1..width+1), walls on the
+/// low bodies, sorted by first body, so that chunks of it have private bodies.
+ContactConstraints local_set(int bodies, int width, test::TestRng& rng) {
+  ContactConstraints k;
+  for (int a = 0; a < bodies; ++a) {
+    if (a < width && rng.below(2) == 0) k.add(-1, a, 0.5, 0);
+    for (int d : {1, width, width + 1})
+      if (a + d < bodies && rng.below(4) != 0) k.add(a, a + d, rng.below(3) == 0 ? 0.0 : 0.5, rng.below(2));
+  }
+  return sorted_by_first_body(k);
+}
+
+/// The parallel colouring (small chunks, several chunks per set) against the reference rule
+/// with the same visiting order, and the same colours (memcmp) for 1, 2, 3 and 7 threads, over
+/// changing sets (reuse), repeats and static bodies.
+TEST(ContactColoringThreads, ChunksFollowTheRuleAndGiveTheSameColoursOnEveryThreadCount) {
+  constexpr int kChunk = 120;
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    test::TestRng rng(seed);
+    const int bodies = 600 + 40 * static_cast<int>(seed), width = 2 + static_cast<int>(seed % 2);
+    std::vector<std::uint8_t> dyn(static_cast<size_t>(bodies), 1);
+    if (seed % 2 == 0)
+      for (int b = 0; b < bodies; b += 9) dyn[static_cast<size_t>(b)] = 0;
+    std::vector<ContactColorer> colorers;
+    for (int t = 0; t < 4; ++t) colorers.emplace_back(true, kChunk);
+    ReferenceColorer reference(kChunk);
+    ContactConstraints cons = local_set(bodies, width, rng), here;
+    for (int call = 0; call < 9; ++call) {
+      // Every third call repeats the last set; the others perturb it a little (kept sorted, so
+      // that most contacts persist in their chunk).
+      if (call % 3 != 1) here = sorted_by_first_body(cons);
+      const std::vector<int> want = reference.color(here, dyn);
+      const std::string what = "seed " + std::to_string(seed) + " call " + std::to_string(call);
+      const int threads[] = {1, 2, 3, 7};
+      const ContactColoring& one = colorers[0].color(here, dyn, 1);
+      ASSERT_EQ(one.color, want) << what;
+      EXPECT_TRUE(is_valid_coloring(here, dyn, one)) << what;
+      EXPECT_EQ(one.chunks, std::max(1, here.size() / kChunk)) << what;
+      EXPECT_GT(one.chunks, 3) << what;
+      EXPECT_GT(one.boundary, 0) << what;
+      EXPECT_LT(one.boundary, here.size() / 2) << what;  // most contacts are coloured in parallel
+      if (call % 3 == 1 && seed % 2 == 1) {  // (a contact between static bodies is no repeat)
+        EXPECT_TRUE(one.repeated) << what;
+      }
+      if (call > 0 && call % 3 != 1) {
+        EXPECT_GT(one.reused, here.size() / 2) << what;  // persisting contacts keep their colour
+      }
+      for (int t = 1; t < 4; ++t) {
+        const ContactColoring& got = colorers[static_cast<size_t>(t)].color(here, dyn, threads[t]);
+        ASSERT_EQ(got.color.size(), one.color.size());
+        EXPECT_EQ(0, std::memcmp(got.color.data(), one.color.data(), sizeof(int) * one.color.size()))
+            << what << ", " << threads[t] << " threads";
+        EXPECT_EQ(got.colors, one.colors);
+        EXPECT_EQ(got.reused, one.reused);
+        EXPECT_EQ(got.boundary, one.boundary);
+        EXPECT_EQ(got.repeated, one.repeated);
+      }
+      cons = perturb(cons, bodies, 0.05, bodies / 100, false, rng);
+    }
+  }
+}
+
+/// Below two chunks the colouring is the one-chunk greedy rule whatever the thread count, and
+/// a colourer with one huge chunk gives the plain reference's colours on a chunked-size set.
+TEST(ContactColoringThreads, OneChunkIsTheGreedyRule) {
+  test::TestRng rng(31);
+  const ContactConstraints cons = local_set(400, 10, rng);
+  const std::vector<std::uint8_t> dyn(400, 1);
+  ReferenceColorer greedy;
+  const std::vector<int> want = greedy.color(cons, dyn);
+  for (int threads : {1, 3}) {
+    ContactColorer big(false, cons.size() / 2 + 1);  // nc / chunk = 1
+    const ContactColoring& got = big.color(cons, dyn, threads);
+    EXPECT_EQ(got.color, want);
+    EXPECT_EQ(got.chunks, 1);
+    EXPECT_EQ(got.boundary, 0);
+  }
+  // Chunked from scratch: valid, and at most one colour more than the greedy one here.
+  ContactColorer chunked(false, 16);
+  const ContactColoring& c = chunked.color(cons, dyn, 2);
+  EXPECT_TRUE(is_valid_coloring(cons, dyn, c));
+  EXPECT_LE(c.colors, *std::max_element(want.begin(), want.end()) + 2);
+  EXPECT_THROW(ContactColorer(true, 0), InvalidArgument);
 }
 
 }  // namespace

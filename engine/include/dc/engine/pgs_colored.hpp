@@ -45,6 +45,10 @@ struct PgsColoredDef {
   PgsColoredKernel kernel = PgsColoredKernel::Auto;
   /// Reuse last solve's colours where contacts persist (false: greedy colouring from scratch).
   bool reuse_colors = true;
+  /// Contacts per chunk of the parallel colouring (≥ 1; contact_coloring.hpp, "Threads"): a
+  /// function of the contact count only, so the colours do not depend on `threads`. Problems
+  /// with fewer than 2·color_chunk contacts are coloured as one chunk (the serial greedy rule).
+  int color_chunk = 4096;
 };
 
 std::unique_ptr<LcpSolver> make_pgs_colored(const PgsColoredDef& def = {});

@@ -15,7 +15,8 @@
 //
 // Per-solve costs (what decides whether the faster sweeps pay off at ~100 sweeps per step):
 //  * set-up: the input checks (on the threads, pgs_colored_input.hpp), the colouring
-//    (incremental, contact_coloring.hpp; serial; for a repeated contact set one comparison pass,
+//    (incremental, contact_coloring.hpp; chunks of contacts on the threads, the contacts between
+//    chunks serially after them; for a repeated contact set one comparison pass,
 //    and the batch layout is kept: only the values are packed anew) and the packing of each
 //    contact's two rows straight from J's compressed row storage into its batch lanes, with
 //    the permuted λ⁰; the batch and Δu buffers are kept by the solver and reused. With threads
@@ -175,9 +176,10 @@ void pad(Batch& B, int from, int zero, int* row_of) {
   }
 }
 
-/// Orders the contacts by colour and lays out the batches (serial, O(contacts)). Returns an
+/// Orders the contacts by colour and lays out the batches (O(contacts), the colouring and the
+/// counting sort on `threads` threads; the same layout for every thread count). Returns an
 /// error (the reason "pgs" runs instead) when a normal row has bounds other than [0, ∞).
-std::string layout(const LcpProblem& p, ContactColorer& colorer, Prepared& out) {
+std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out) {
   const ContactConstraints& cons = p.constraints;
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
@@ -191,7 +193,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, Prepared& out) 
     if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
       return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
   }
-  const ContactColoring& col = colorer.color(cons, out.dynamic);
+  const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
   if (col.repeated && col.generation == out.generation) {
     // The colours of the layout in `out` (same contacts, same order): order, ranges and sizes
     // stand; the batches are refilled from this problem's J, b and λ⁰ (fill_batch).
@@ -199,19 +201,46 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, Prepared& out) 
     return {};
   }
   out.generation = col.generation;
-  // Contacts per colour (counting sort, contact order kept inside a colour), overflow last.
+  // Contacts per colour (counting sort, contact order kept inside a colour), overflow last. With
+  // threads: each thread counts and places one contiguous block of contacts, at offsets that
+  // put the blocks of a colour in block order: the stable order, whatever the thread count.
   const int nc = cons.size(), ncol = col.colors;
+  const int slots = ncol + 1;
+  auto slot_of = [&](int colour) { return colour == ContactColoring::kOverflow ? ncol : colour; };
+  const int parts = std::max(1, std::min(threads, nc / 4096));
+  std::vector<int> count(static_cast<size_t>(parts) * slots, 0);  // count[part·slots + slot]
   std::vector<int>& start = out.start;
   start.assign(static_cast<size_t>(ncol) + 2, 0);
-  auto slot_of = [&](int colour) { return colour == ContactColoring::kOverflow ? ncol : colour; };
-  for (int c = 0; c < nc; ++c) ++start[static_cast<size_t>(slot_of(col.color[static_cast<size_t>(c)])) + 1];
-  for (int k = 0; k <= ncol; ++k) start[static_cast<size_t>(k) + 1] += start[static_cast<size_t>(k)];
   out.order.resize(static_cast<size_t>(nc));
   out.batch_of.assign(static_cast<size_t>(ncol) + 2, 0);
+  const int* colour_of = col.color.data();
+#pragma omp parallel num_threads(parts) if (parts > 1)
   {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int c = 0; c < nc; ++c)
-      out.order[static_cast<size_t>(fill[static_cast<size_t>(slot_of(col.color[static_cast<size_t>(c)]))]++)] = c;
+#if defined(_OPENMP)
+    const int part = omp_get_thread_num();
+#else
+    const int part = 0;
+#endif
+    const int lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
+    const int hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
+    int* mine = count.data() + static_cast<size_t>(part) * slots;
+    for (int c = lo; c < hi; ++c) ++mine[slot_of(colour_of[c])];
+#pragma omp barrier
+#pragma omp single
+    {
+      // count[part·slots + k] ← the first position of part's contacts of slot k.
+      int at = 0;
+      for (int k = 0; k < slots; ++k) {
+        start[static_cast<size_t>(k)] = at;
+        for (int q = 0; q < parts; ++q) {
+          const int n = count[static_cast<size_t>(q) * slots + k];
+          count[static_cast<size_t>(q) * slots + k] = at;
+          at += n;
+        }
+      }
+      start[static_cast<size_t>(slots)] = at;
+    }
+    for (int c = lo; c < hi; ++c) out.order[static_cast<size_t>(mine[slot_of(colour_of[c])]++)] = c;
   }
   out.ranges.clear();
   int b = 0;
@@ -335,7 +364,7 @@ struct SweepOrder {
 class PgsColoredSolver final : public LcpSolver {
  public:
   explicit PgsColoredSolver(const PgsColoredDef& def)
-      : def_(def), kernel_(kernel_fn(resolve(def.kernel))), colorer_(def.reuse_colors) {}
+      : def_(def), kernel_(kernel_fn(resolve(def.kernel))), colorer_(def.reuse_colors, def.color_chunk) {}
   [[nodiscard]] std::string name() const override { return "pgs-colored"; }
   [[nodiscard]] bool needs_jacobian() const override { return true; }
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
@@ -356,7 +385,7 @@ class PgsColoredSolver final : public LcpSolver {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
       std::swap(prep, cache_);
-      if (why.empty()) why = layout(p, colorer_, prep);
+      if (why.empty()) why = layout(p, colorer_, effective_threads(p.constraints.size() / W), prep);
     }
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel).
     const int np = static_cast<int>(prep.row_of.size());
