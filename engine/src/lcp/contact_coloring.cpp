@@ -52,7 +52,7 @@ struct ContactColorer::Canvas {
   const Pair* pair;     // per contact: its dynamic bodies (−1: none)
   std::uint64_t* used;  // per body: bit c set when colour c holds one of its contacts
   int* color;           // per contact
-  std::uint8_t* shared;  // per body: 1 when a contact of a chunk not owning its range touches it
+  std::uint32_t* shared;  // per body: this call's stamp when a contact of a chunk not owning its range touches it
   const int* start;     // last call's table (start_, entries_); prev_bodies = 0: none
   const Entry* entries;
   int prev_bodies;
@@ -133,7 +133,12 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
       range_[static_cast<size_t>(q)] = std::clamp(first, range_[static_cast<size_t>(q) - 1], nb);
     }
     range_[static_cast<size_t>(chunks)] = nb;
-    shared_.resize(static_cast<size_t>(nb));
+    // The shared marks carry the call's stamp, so they need no clearing between calls.
+    if (++stamp_ == 0) {
+      std::fill(shared_.begin(), shared_.end(), 0u);
+      stamp_ = 1;
+    }
+    shared_.resize(static_cast<size_t>(nb), 0u);
   }
   threads = chunks > 1 ? std::clamp(threads, 1, chunks) : 1;
   const Canvas canvas{pair_.data(),  used_.data(),    out_.color.data(),
@@ -141,16 +146,12 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
                       have_prev ? static_cast<int>(start_.size()) - 1 : 0};
   const std::uint8_t* dyn = dynamic.data();
   Tally& serial = tally_[static_cast<size_t>(chunks)];
-  bool bad = false;
   // The contacts are read from their 32-byte records once (pass 0) and then from the 8-byte
   // pairs: the passes are bound by memory traffic (≈ 30 µs per pass over 20,000 records).
 #pragma omp parallel num_threads(threads) if (threads > 1)
   {
-#pragma omp for schedule(static)
-    for (int b = 0; b < nb; ++b) {
-      canvas.used[b] = 0;
-      if (chunks > 1) canvas.shared[b] = 0;
-    }
+#pragma omp for schedule(static) nowait
+    for (int b = 0; b < nb; ++b) canvas.used[b] = 0;
     // Pass 0: the bodies' range check, the pairs, no colour yet, and the shared marks: a
     // contact's dynamic body outside its chunk's range is touched by two chunks (its range's
     // owner may touch it as well, and cannot tell): shared. The marks are one value stored by
@@ -162,7 +163,8 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
       const ContactConstraint* k = contacts.contacts().data();
       int* color = canvas.color;
       Pair* pair = pair_.data();
-      std::uint8_t* shared = canvas.shared;
+      std::uint32_t* shared = canvas.shared;
+      const std::uint32_t stamp = stamp_;
       const bool chunked = chunks > 1;
       const int r0 = chunked ? range_[static_cast<size_t>(q)] : 0, r1 = chunked ? range_[static_cast<size_t>(q) + 1] : 0;
       int first_bad = -1;
@@ -178,15 +180,15 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
         const int b = kb >= 0 && dyn[kb] != 0 ? kb : -1;
         pair[c] = {a, b};
         if (chunked) {
-          if (a >= 0 && (a < r0 || a >= r1)) std::atomic_ref<std::uint8_t>(shared[a]).store(1, std::memory_order_relaxed);
-          if (b >= 0 && (b < r0 || b >= r1)) std::atomic_ref<std::uint8_t>(shared[b]).store(1, std::memory_order_relaxed);
+          if (a >= 0 && (a < r0 || a >= r1)) std::atomic_ref<std::uint32_t>(shared[a]).store(stamp, std::memory_order_relaxed);
+          if (b >= 0 && (b < r0 || b >= r1)) std::atomic_ref<std::uint32_t>(shared[b]).store(stamp, std::memory_order_relaxed);
         }
       }
       bad_[static_cast<size_t>(q)] = first_bad;
     }
-#pragma omp single
-    bad = std::any_of(bad_.begin(), bad_.end(), [](int c) { return c >= 0; });
-    if (!bad) {
+    // (A contact naming a body outside `dynamic` has no bodies in its pair, and keep_last
+    // reads only last call's table: the phases below run safely, and the call throws after.)
+    {
       // Phase 1: interior contacts keep last call's colour where free; the others are listed.
 #pragma omp for schedule(dynamic, 1)
       for (int q = 0; q < chunks; ++q) {
@@ -200,10 +202,11 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
           // Private: in [r0, r1) and not shared; as one unsigned compare per body.
           const unsigned r0 = static_cast<unsigned>(range_[static_cast<size_t>(q)]);
           const unsigned width = static_cast<unsigned>(range_[static_cast<size_t>(q) + 1]) - r0;
-          const std::uint8_t* shared = cv.shared;
+          const std::uint32_t* shared = cv.shared;
+          const std::uint32_t stamp = stamp_;
           const Pair* pair = cv.pair;
           auto is_private = [&](int body) {
-            return body < 0 || (static_cast<unsigned>(body) - r0 < width && shared[body] == 0);
+            return body < 0 || (static_cast<unsigned>(body) - r0 < width && shared[body] != stamp);
           };
           for (int c = lo; c < hi; ++c) {
             if (!(is_private(pair[c].a) && is_private(pair[c].b))) {
@@ -220,29 +223,33 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
         tally_[static_cast<size_t>(q)] = t;
       }
       // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
+      if (have_prev) {
 #pragma omp single
-      if (have_prev)
         for (int q = 0; q < chunks; ++q)
           for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
+      }
       // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
       // colouring from scratch with several chunks).
+      if (have_prev || chunks == 1) {
 #pragma omp for schedule(dynamic, 1)
-      for (int q = 0; q < (have_prev || chunks == 1 ? chunks : 0); ++q) {
-        const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
-        const Canvas cv = canvas;
-        Tally t = tally_[static_cast<size_t>(q)];
-        // Between the chunk's boundary contacts (phase 4's), in contact order.
-        const std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
-        int from = lo;
-        for (size_t e = 0; e <= edge.size(); ++e) {
-          const int to = e < edge.size() ? edge[e] : hi;
-          for (int c = from; c < to; ++c) cv.take_lowest(c, t);
-          from = to + 1;
+        for (int q = 0; q < chunks; ++q) {
+          const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
+          const Canvas cv = canvas;
+          Tally t = tally_[static_cast<size_t>(q)];
+          // Between the chunk's boundary contacts (phase 4's), in contact order.
+          const std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
+          int from = lo;
+          for (size_t e = 0; e <= edge.size(); ++e) {
+            const int to = e < edge.size() ? edge[e] : hi;
+            for (int c = from; c < to; ++c) cv.take_lowest(c, t);
+            from = to + 1;
+          }
+          tally_[static_cast<size_t>(q)] = t;
         }
-        tally_[static_cast<size_t>(q)] = t;
       }
-      // Phase 4 (serial, contact order): the other boundary contacts.
-#pragma omp single
+      // Phase 4 (serial, contact order): the other boundary contacts (the region's end is the
+      // barrier).
+#pragma omp single nowait
       for (int q = 0; q < chunks; ++q)
         for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
     }

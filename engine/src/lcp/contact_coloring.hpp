@@ -23,25 +23,34 @@
 // same). With equal circles a body has ≤ 6 neighbours + 2 walls, so overflow does not occur.
 //
 // Threads. The result does not depend on the thread count: the contacts are split into
-// chunks of ≈ `chunk` contacts (max(1, contacts / chunk) chunks of equal size, a function of
-// the contact count only). A dynamic body touched by the contacts of one chunk only is private
-// to that chunk; a contact all of whose dynamic bodies are private to its chunk is interior,
-// the others are boundary contacts. The rule above then runs in four phases:
+// max(1, contacts / chunk) chunks of equal size (a function of the contact count only), and
+// chunk q owns the body range [L_q, L_{q+1}): L_0 = 0, L_q = the first body (lower body, or
+// the body of a wall contact) of chunk q's first contact, kept ascending, L_last = bodies. A
+// dynamic body is private to chunk q when it lies in q's range and no contact of another chunk
+// touches it (every contact marks its dynamic bodies outside its chunk's range as shared: one
+// value stored by any number of writers, so the marks do not depend on the threads either). A
+// contact all of whose dynamic bodies are private to its chunk is interior, the others are
+// boundary contacts. The rule above then runs in four phases:
 //   1. the interior contacts keep their last colour where free (chunks in parallel),
 //   2. the boundary contacts keep theirs (serial, in contact order),
 //   3. the other interior contacts take the lowest free colour (chunks in parallel),
 //   4. the other boundary contacts take theirs (serial, in contact order).
 // A parallel phase reads and writes only the masks of its chunk's private bodies, so a chunk's
-// result does not depend on which thread colours it or when; every phase sees the same masks
-// for any thread count. With one chunk (fewer than 2·chunk contacts) phases 1 and 3 are the
-// serial rule of today's greedy colourer, contact by contact. With several chunks the colours
-// differ from the one-chunk greedy only in the order in which the contacts are visited (all
-// reuses first, then boundary contacts after their chunks); the repeat shortcut stays exact,
-// as its proof holds for any visiting order that keeps contacts with one key in contact order
-// (they share their bodies, so they are all interior to one chunk or all boundary). A chunk
-// of contacts in body order (as the engine and the benchmarks give them) shares ≈ 3 contacts
-// per body of one pile row with its neighbour: ≈ 300 boundary contacts per chunk edge on a
-// 100-body-wide pile.
+// result does not depend on which thread colours it or when, and every phase sees the same
+// masks for any thread count. With one chunk (fewer than 2·chunk contacts) phases 1 and 3 are
+// the serial greedy rule above, contact by contact. With several chunks the colours differ
+// from the one-chunk rule only in the visiting order (interior contacts before boundary ones
+// in each pass); the repeat shortcut stays exact, since its proof holds for any visiting order
+// that keeps the contacts with one key in contact order (they share their bodies, so they are
+// all interior to one chunk or all boundary). Chunks of contacts in body order (as the
+// benchmarks and a Morton-ordered engine give them) share the bodies of about one pile row:
+// ≈ 300 boundary contacts per chunk edge on the 100-body-wide benchmark pile (900 of 19,900
+// with 4 chunks). Contacts without spatial locality in their order (the benchmarks'
+// interleaved order) are mostly boundary contacts: correct, but serial.
+//
+// The boundary contacts are coloured after the interior ones, on top: where all colours of
+// the interior pattern are taken around them they need one more (hex pile: 5 colours instead
+// of 4). Colouring them first was tried and gave 6.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -68,7 +77,7 @@ class ContactColorer {
  public:
   /// Contacts per chunk of the parallel colouring ("Threads" above): ≈ 300 boundary
   /// contacts per chunk edge on the 10,000-body benchmark pile, so a chunk of 4,096 leaves
-  /// ≈ 5–7 % of the contacts to the serial phases.
+  /// ≈ 5 % of the contacts to the serial phases (2,048: 12 %; 1,024: 27 %).
   static constexpr int kChunk = 4096;
 
   /// `reuse` = false colours every call from scratch (greedy in contact order); `chunk` = the
@@ -127,7 +136,8 @@ class ContactColorer {
   // Parallel colouring: per chunk its body range, per body its shared mark, per chunk its
   // boundary contacts in contact order and its tally.
   std::vector<int> range_;
-  std::vector<std::uint8_t> shared_;
+  std::vector<std::uint32_t> shared_;  // per body: stamp_ when shared in this call
+  std::uint32_t stamp_ = 0;
   struct Pair {
     int a, b;  // a contact's dynamic bodies (body_a, body_b), −1 where none
   };
