@@ -41,8 +41,9 @@
 // the serial greedy rule above, contact by contact. With several chunks the colours differ
 // from the one-chunk rule only in the visiting order (interior contacts before boundary ones
 // in each pass); the repeat shortcut stays exact, since its proof holds for any visiting order
-// that keeps the contacts with one key in contact order (they share their bodies, so they are
-// all interior to one chunk or all boundary). Chunks of contacts in body order (as the
+// that keeps the contacts with one key in contact order (they share their bodies, so with a
+// dynamic body they are all interior to one chunk or all boundary; contacts without one take
+// the first entry of their key whatever the order, as no colour is ever taken on their bodies). Chunks of contacts in body order (as the
 // benchmarks and a Morton-ordered engine give them) share the bodies of about one pile row:
 // ≈ 300 boundary contacts per chunk edge on the 100-body-wide benchmark pile (900 of 19,900
 // with 4 chunks). Contacts without spatial locality in their order (the benchmarks'
