@@ -8,7 +8,9 @@
 //                                     builtin warm start), then collide + assemble. Counters:
 //                                     features_ms, inference_ms, gather_ms (the starter's own
 //                                     split, mean per call), contacts.
-//   cnn_warm_start_parts/…            the same three parts timed separately in thread CPU µs
+//   cnn_warm_start_parts/…            the same three parts timed separately in thread CPU µs,
+//                                     run as initial_guess runs them (the builder given the key
+//                                     match, the plan the builder's nonzero rows)
 //                                     (cpu_us_features, cpu_us_network = the starter's fused
 //                                     InferencePlan at the stencil nodes, standardisation
 //                                     included, cpu_us_readback = label conversion + Shepard
