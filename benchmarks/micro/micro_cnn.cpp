@@ -8,7 +8,9 @@
 //                                     builtin warm start), then collide + assemble. Counters:
 //                                     features_ms, inference_ms, gather_ms (the starter's own
 //                                     split, mean per call), contacts.
-//   cnn_warm_start_parts/…            the same three parts timed separately in thread CPU µs
+//   cnn_warm_start_parts/…            the same three parts timed separately in thread CPU µs,
+//                                     run as initial_guess runs them (the builder given the key
+//                                     match, the plan the builder's nonzero rows)
 //                                     (cpu_us_features, cpu_us_network = the starter's fused
 //                                     InferencePlan at the stencil nodes, standardisation
 //                                     included, cpu_us_readback = label conversion + Shepard
@@ -23,7 +25,8 @@
 //                                     one counter per node in thread CPU µs (mean per call),
 //                                     the whole output computed (Network::forward).
 //   cnn_plan_steps/…                  the fused InferencePlan's steps (each conv with its gather,
-//                                     the sparse head), one counter per step, thread CPU µs.
+//                                     the sparse head), one counter per step, thread CPU µs, with
+//                                     the builder's nonzero rows (as the starter runs it).
 //
 // Models: DC_CNN_MODELS = comma-separated model files (name = file stem), default the shipped
 // DC_SOURCE_DIR/models/default.h5. Time: CPU time of the one thread (OMP_NUM_THREADS is
@@ -137,13 +140,17 @@ void BM_CnnWarmStartParts(benchmark::State& state, std::string path, int steps) 
   const bool residual = parts.residual;
   const std::vector<int> pixels = stencil_pixels(def, world);
   dc::InferencePlan& plan = starter->inference_plan(world);
+  // As initial_guess: the key match done once (also needed by the residual add), the
+  // builder's nonzero rows handed to the plan.
+  const std::vector<int> match = dc::match_contacts_by_key(world.previous_contacts(), world.contacts());
   double f = 0, n = 0, u = 0, r = 0;
   for (auto _ : state) {
     const double t0 = cpu_ms();
-    builder.features(world.bodies(), world.contacts(), world.previous_contacts(),
-                     std::span<float>(features.data(), features.size()));
+    builder.features(world.bodies(), world.contacts(), world.previous_contacts(), &world.problem(),
+                     std::span<float>(features.data(), features.size()), match);
     const double t1 = cpu_ms();
-    const dc::Tensor& y = plan.run(features, pixels);
+    const auto [lo, hi] = builder.nonzero_rows();
+    const dc::Tensor& y = plan.run(features, pixels, dc::InferencePlan::InputRows{lo, hi});
     const double t2 = cpu_ms();
     benchmark::DoNotOptimize(starter->guess_from_output(world, y, !residual, builder.contact_weights()).data());
     const double t3 = cpu_ms();
@@ -242,8 +249,9 @@ void BM_CnnPlanSteps(benchmark::State& state, std::string path, int steps) {
                       std::span<float>(p.features.data(), p.features.size()));
   dc::InferencePlan& plan = p.starter->inference_plan(world);
   std::vector<double> step_ms, sum(plan.step_count(), 0.0);
+  const auto [lo, hi] = p.builder->nonzero_rows();  // as initial_guess: no scan for empty rows
   for (auto _ : state) {
-    benchmark::DoNotOptimize(plan.run(p.features, pixels, &step_ms).data());
+    benchmark::DoNotOptimize(plan.run(p.features, pixels, dc::InferencePlan::InputRows{lo, hi}, &step_ms).data());
     for (std::size_t i = 0; i < step_ms.size(); ++i) sum[i] += step_ms[i];
   }
   const double n = static_cast<double>(state.iterations());

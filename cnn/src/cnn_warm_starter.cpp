@@ -88,17 +88,26 @@ void cap_network_forces(const World& w, Eigen::VectorXd& v) {
 
 }  // namespace
 
-Eigen::VectorXd CnnWarmStarter::read_back_grid(const World& w, const SphGrid* weights) {
-  points_.clear();
-  for (const Contact& c : w.contacts()) points_.push_back(c.point);
+Eigen::VectorXd CnnWarmStarter::read_back_grid(const World& w, const SphGrid* weights,
+                                               std::span<const BilinearStencil> stencils) {
   if (model_.grid().labels.kind != LabelKind::Gain && weights != nullptr) {
-    // SphTransfer::gather without its splat of S: the same gather_shepard on the same S.
-    readback_.resize(2 * points_.size());
-    unsupported_.resize(points_.size());
-    gather_shepard(grid_, *weights, points_, readback_, unsupported_,
-                   transfer_->def().min_weight_ratio * transfer_->kernel().peak());
+    // SphTransfer::gather without its splat of S: the same gather_shepard on the same S, with
+    // the contacts' stencils when stencil_nodes() has them (the same stencils).
+    const std::size_t n = w.contacts().size();
+    readback_.resize(2 * n);
+    unsupported_.resize(n);
+    const double min_weight = transfer_->def().min_weight_ratio * transfer_->kernel().peak();
+    if (stencils.size() == n) {
+      gather_shepard(grid_, *weights, stencils, readback_, unsupported_, min_weight);
+    } else {
+      points_.clear();
+      for (const Contact& c : w.contacts()) points_.push_back(c.point);
+      gather_shepard(grid_, *weights, points_, readback_, unsupported_, min_weight);
+    }
     return w.constraints().scatter(readback_);
   }
+  points_.clear();
+  for (const Contact& c : w.contacts()) points_.push_back(c.point);
   if (model_.grid().labels.kind != LabelKind::Gain) return w.constraints().scatter(transfer_->gather(grid_, points_));
   // Gain model: δ = λp·ĝ, the load-weighted read-back of the gain field (contact_readback.hpp),
   // the map it was trained through.
@@ -188,8 +197,10 @@ std::span<const int> CnnWarmStarter::stencil_nodes(const World& w) {
     call_ = 1;
   }
   nodes_.clear();
+  stencils_.clear();
   for (const Contact& c : w.contacts()) {
     const BilinearStencil st = grid_.stencil(c.point);
+    stencils_.push_back(st);
     const int is[2] = {st.i0, st.i1}, js[2] = {st.j0, st.j1};
     for (const int j : js)
       for (const int i : is) {
@@ -208,16 +219,21 @@ Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& 
   const int nx = grid_.nx(), ny = grid_.ny();
   require_shape(y.shape(), Shape{1, FeatureImageBuilder::kLabelChannels, ny, nx}, name_ + ": network output");
   Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
-  const auto& contacts = w.contacts();
-  if (contacts.empty()) return out;
+  if (w.contacts().empty()) return out;
+  out = read_back_output(w, y, stencil_nodes(w), contact_weights);
+  if (project) project_feasible(w.problem(), out);
+  return out;
+}
+
+Eigen::VectorXd CnnWarmStarter::read_back_output(const World& w, const Tensor& y, std::span<const int> nodes,
+                                                 const SphGrid* contact_weights) {
   // The Shepard read-back reads only the four nodes of each point's bilinear stencil, so only
   // those are de-standardised and expanded (s·sinh): ~500 of the 2·61·61 outputs on the seed
   // pile. The other nodes of grid_ keep stale values that nothing reads.
   // Gathered into one buffer per channel so that the expansion runs vectorised
   // (Model::label_values: label_value bit for bit).
-  const std::size_t P = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  const std::size_t P = static_cast<std::size_t>(grid_.nx()) * static_cast<std::size_t>(grid_.ny());
   const std::span<double> dst = grid_.data();
-  const std::span<const int> nodes = stencil_nodes(w);
   node_values_.resize(nodes.size());
   for (int ch = 0; ch < FeatureImageBuilder::kLabelChannels; ++ch) {
     const float* src = y.data() + static_cast<std::size_t>(ch) * P;
@@ -226,9 +242,7 @@ Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& 
     model_.label_values(ch, node_values_);
     for (std::size_t n = 0; n < nodes.size(); ++n) to[nodes[n]] = node_values_[n];
   }
-  out = read_back_grid(w, contact_weights);
-  if (project) project_feasible(w.problem(), out);
-  return out;
+  return read_back_grid(w, contact_weights, stencils_);
 }
 
 Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
@@ -249,21 +263,26 @@ Eigen::VectorXd CnnWarmStarter::initial_guess(const StepView& view) {
   if (any_new) {
     auto t0 = Clock::now();
     prepare(w);
-    try {
-      builder_->features(w.bodies(), cur, prev, &w.problem(), std::span<float>(features_.data(), features_.size()));
+    try {  // the key match once per step: the builder's lambda_prev channels reuse prev_of
+      builder_->features(w.bodies(), cur, prev, &w.problem(), std::span<float>(features_.data(), features_.size()),
+                         prev_of);
     } catch (const InvalidArgument& e) {  // a non-finite state: say which starter met it, and where
       throw InvalidArgument(name_ + ": step " + std::to_string(w.step_index() + 1) + ": " + e.what());
     }
     last_.features_ms = ms_since(t0);
     t0 = Clock::now();
+    // The stencil nodes (and stencils) once per step: the network's pixels and the read-back's.
+    const std::span<const int> nodes = stencil_nodes(w);
     const Tensor* raw = nullptr;
     {
       const OmpThreads scope(threads_);
-      raw = &plan_->run(features_, stencil_nodes(w));
+      // The builder's rows outside which the features are +0: the plan need not scan for them.
+      const auto [lo, hi] = builder_->nonzero_rows();
+      raw = &plan_->run(features_, nodes, InferencePlan::InputRows{lo, hi});
     }
     last_.inference_ms = ms_since(t0);
     t0 = Clock::now();
-    out = guess_from_output(w, *raw, false, builder_->contact_weights());
+    out = read_back_output(w, *raw, nodes, builder_->contact_weights());
     cap_network_forces(w, out);
     if (!residual) project_feasible(w.problem(), out);
     if (residual) {

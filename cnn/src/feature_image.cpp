@@ -91,10 +91,24 @@ FeatureImageBuilder::FeatureImageBuilder(FeatureImageDef def)
 
 void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Contact> contacts,
                                    std::span<const Contact> previous, const LcpProblem* problem,
-                                   std::span<float> out) {
+                                   std::span<float> out, std::span<const int> match) {
   if (out.size() != feature_size())
     throw InvalidArgument("FeatureImageBuilder::features: output holds " + std::to_string(out.size()) +
                           " floats, expected " + std::to_string(feature_size()));
+  if (!match.empty() && match.size() != contacts.size())
+    throw InvalidArgument("FeatureImageBuilder::features: " + std::to_string(match.size()) + " key matches for " +
+                          std::to_string(contacts.size()) + " contacts");
+  rows_lo_ = 0;
+  rows_hi_ = nx_ > 0 ? ny_ - 1 : -1;  // until this call's rows are known (a throw leaves them all)
+  // The key match of the contacts with the previous step's, once (lambda_prev and w_prev).
+  std::vector<int> own_match;
+  bool own_matched = false;
+  const auto matched = [&]() -> std::span<const int> {
+    if (!match.empty()) return match;
+    if (!own_matched) own_match = match_contacts_by_key(previous, contacts);
+    own_matched = true;
+    return own_match;
+  };
   // Bodies: one splat of (m, vx, vy, ω) at the centres plus the weight field S = Σ W.
   const std::size_t n = bodies.size();
   points_.assign(bodies.position.begin(), bodies.position.end());
@@ -155,13 +169,12 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
       return std::find(def_.channels.begin(), def_.channels.end(), c) != def_.channels.end();
     };
     const bool want_prev = uses(FeatureChannel::LambdaPrevN) || uses(FeatureChannel::LambdaPrevT);
-    const std::vector<int> match = want_prev ? match_contacts_by_key(previous, contacts)
-                                             : std::vector<int>(contacts.size(), -1);
+    const std::span<const int> m = want_prev ? matched() : std::span<const int>();
     points_.clear();
     values_.clear();
     for (std::size_t c = 0; c < contacts.size(); ++c) {
       const Contact& ct = contacts[c];
-      const Contact* p = match[c] >= 0 ? &previous[static_cast<std::size_t>(match[c])] : nullptr;
+      const Contact* p = want_prev && m[c] >= 0 ? &previous[static_cast<std::size_t>(m[c])] : nullptr;
       const Vec2 u = point_velocity(bodies, ct.body_b, ct.point) - point_velocity(bodies, ct.body_a, ct.point);
       points_.push_back(ct.point);
       values_.push_back(p ? p->lambda_n : 0.0);
@@ -184,11 +197,11 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     if (static_cast<std::size_t>(cons.size()) != contacts.size())
       throw InvalidArgument("FeatureImageBuilder::features: the problem has " + std::to_string(cons.size()) +
                             " contacts, the step " + std::to_string(contacts.size()));
-    const std::vector<int> match = match_contacts_by_key(previous, contacts);
+    const std::span<const int> m = matched();
     Eigen::VectorXd lambda = Eigen::VectorXd::Zero(problem->rows());
     for (std::size_t c = 0; c < contacts.size(); ++c) {
-      if (match[c] < 0) continue;
-      const Contact& p = previous[static_cast<std::size_t>(match[c])];
+      if (m[c] < 0) continue;
+      const Contact& p = previous[static_cast<std::size_t>(m[c])];
       cons.put(static_cast<int>(c), p.lambda_n, p.lambda_t, lambda);
     }
     const Eigen::VectorXd w = lcp_velocity(*problem, lambda);
@@ -231,6 +244,8 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
   // Shepard quotient 0/1 alike), so only the nodes [p0, p1) of those rows are converted.
   dirty_lo_ = lo;
   dirty_hi_ = hi;
+  rows_lo_ = lo;
+  rows_hi_ = hi;
   const std::size_t P = plane();
   const std::size_t p0 = lo <= hi ? static_cast<std::size_t>(lo) * nx_ : 0;
   const std::size_t p1 = lo <= hi ? static_cast<std::size_t>(hi + 1) * nx_ : 0;

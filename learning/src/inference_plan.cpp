@@ -68,15 +68,16 @@ struct Gather {
   int pad_top, pad_left;
   int R, pitch;       ///< padded rows (flat stride 2: rows per phase plane) and row pitch
   float mean, inv;    ///< standardisation
-  int pr0, pr1;       ///< layouts 0 and 1: the padded rows [pr0, pr1) to gather, from xp's row 0
+  int pr0, pr1;       ///< the padded rows [pr0, pr1) to gather
 };
 
 /// One input channel's padded input for the kernel, zero outside the image. Layout 0 (stride
 /// 1, rows or flat): [R][pitch], column p + ix = input column ix, padded row r = input row
 /// r − pad_top (pad_rows). Layout 1 (stride 2, rows): [R][2][pitch], phase φ index i = input
 /// column 2i + φ − pl (pad_rows_s2). Layout 2 (stride 2, flat): four planes (ρ, φ) of
-/// [R][pitch], element (i, j) = padded row 2i + ρ, padded column 2j + φ. Layouts 0 and 1
-/// gather the padded rows [pr0, pr1) only (xp's first row = padded row pr0); layout 2 all.
+/// [R][pitch], element (i, j) = padded row 2i + ρ, padded column 2j + φ. Every layout gathers
+/// the padded rows [pr0, pr1) only; layouts 0 and 1 from xp's first row (= padded row pr0),
+/// layout 2 at their places in the phase planes.
 template <bool UP, bool STD>
 void gather_channel(const Gather& g, const std::vector<InferencePlan::Columns>& cols, int layout, float* xp) {
   using detail::kLanes;
@@ -85,7 +86,7 @@ void gather_channel(const Gather& g, const std::vector<InferencePlan::Columns>& 
   const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
   const int Wp = g.pitch;
   const long phase = static_cast<long>(g.R) * Wp;  // layout 2
-  const int first = layout == 2 ? 0 : g.pr0, rows = layout == 2 ? 2 * g.R : g.pr1;
+  const int first = g.pr0, rows = g.pr1;
   for (int pr = first; pr < rows; ++pr) {  // padded row
     float* d0 = layout == 2 ? xp + (pr % 2) * 2 * phase + static_cast<long>(pr / 2) * Wp
                             : xp + static_cast<long>(pr - first) * Wp * (layout == 1 ? 2 : 1);
@@ -246,8 +247,9 @@ void InferencePlan::layout_dense(Step& s, Conv2d& layer, bool plain_layout) {
       for (int kx = 0; kx < s.k; ++kx)
         s.off.push_back(s2 ? static_cast<int>(((ky % 2) * 2 + kx % 2) * phase) + (ky / 2) * wq + kx / 2 : ky * wq + kx);
     // The kernel reads whole vectors past the last channel's plane (don't-care lanes).
+    // A run starting at t0 = a·Wq (run_dense) reads up to 15 lanes further: one more vector.
     floats = static_cast<std::size_t>(s.cin * s.x_plane + *std::max_element(s.off.begin(), s.off.end()) +
-                                      detail::vec_count(s.ho * wq) * detail::kLanes);
+                                      (detail::vec_count(s.ho * wq) + 1) * detail::kLanes);
     act_[static_cast<std::size_t>(s.node)] = Tensor(1, s.cout, s.ho, wq);
   } else {
     s.rows = s2 ? 2 * (s.ho - 1) + 3 : s.ho + s.k - 1;
@@ -283,7 +285,9 @@ const float* InferencePlan::plane(const Source& src, const Tensor& x) const {
 
 // Gathers the padded rows [pr0, pr1) of the step's input (concatenation, upsampling and
 // standardisation included) into xp — rows as pad_rows / pad_rows_s2 lay them out for Conv2d
-// — or, for a flat step, its whole flat layout.
+// (xp's first row = padded row pr0) — or, for a flat step, into its flat layout (stride 1:
+// xp's first row = padded row pr0 of every channel plane; stride 2: at their places in the
+// phase planes).
 void InferencePlan::gather_rows(const Step& s, const Tensor& x, int pr0, int pr1, float* xp) const {
 #if defined(__AVX512F__)
   const int layout = s.stride == 1 ? 0 : s.flat ? 2 : 1;
@@ -304,21 +308,32 @@ void InferencePlan::gather_rows(const Step& s, const Tensor& x, int pr0, int pr1
 #endif
 }
 
-// A flat step: its whole input gathered, then direct_flat over the whole output. A rows step:
-// each run of consecutive output rows to compute (plan_rows) gathered and run through
-// direct_tile, then the template rows that are read filled in. The same arithmetic per
-// output element either way.
+// A flat step: the output rows [a, b) to compute (plan_rows: one run) — the padded rows they
+// read gathered, then direct_flat over the run t ∈ [a·Wq, b·Wq) of the flat output (output t
+// reads xp[c·x_plane + off[tap] + t] alone, so a run is computed with the whole plane's
+// arithmetic). A rows step: each run of consecutive output rows to compute gathered and run
+// through direct_tile, then the template rows that are read filled in. The same arithmetic
+// per output element either way.
 void InferencePlan::run_dense(const Step& s, const Tensor& x) {
 #if defined(__AVX512F__)
   float* xp = pad_.data();
   float* y = act_[static_cast<std::size_t>(s.node)].data();
+  const std::vector<char>& comp = comp_rows_[static_cast<std::size_t>(s.node)];
   if (s.flat) {
-    gather_rows(s, x, 0, s.rows, xp);  // stride 1: s.rows padded rows; stride 2 (layout 2): all
-    detail::direct_flat(xp, s.cin, s.x_plane, s.off.data(), s.k * s.k, s.weight.data(), s.cout, s.bias.data(), s.relu, y,
-                        static_cast<long>(s.ho) * s.pitch, s.ho * s.pitch);
+    const auto first = std::find(comp.begin(), comp.end(), 1);
+    if (first == comp.end()) return;
+    const int a = static_cast<int>(first - comp.begin());
+    const int b = static_cast<int>(comp.rend() - std::find(comp.rbegin(), comp.rend(), 1));
+    const long t0 = static_cast<long>(a) * s.pitch;
+    if (s.stride == 1) {  // output row oy reads padded rows oy + ky, ky < k
+      gather_rows(s, x, a, b - 1 + s.k, xp + t0);
+    } else {  // output row oy reads padded rows 2·oy + ky, ky < 3 (phase rows oy and oy + 1)
+      gather_rows(s, x, 2 * a, 2 * b + 1, xp);
+    }
+    detail::direct_flat(xp + t0, s.cin, s.x_plane, s.off.data(), s.k * s.k, s.weight.data(), s.cout, s.bias.data(), s.relu,
+                        y + t0, static_cast<long>(s.ho) * s.pitch, static_cast<int>((b - a) * s.pitch));
     return;
   }
-  const std::vector<char>& comp = comp_rows_[static_cast<std::size_t>(s.node)];
   for (int a = 0; a < s.ho;) {
     if (!comp[static_cast<std::size_t>(a)]) {
       ++a;
@@ -392,6 +407,16 @@ void InferencePlan::run_sparse(const Step& s, const Tensor& x, std::span<const i
 }
 
 const Tensor& InferencePlan::run(const Tensor& features, std::span<const int> pixels, std::vector<double>* step_ms) {
+  return run_plan(features, pixels, nullptr, step_ms);
+}
+
+const Tensor& InferencePlan::run(const Tensor& features, std::span<const int> pixels, InputRows rows,
+                                 std::vector<double>* step_ms) {
+  return run_plan(features, pixels, &rows, step_ms);
+}
+
+const Tensor& InferencePlan::run_plan(const Tensor& features, std::span<const int> pixels, const InputRows* rows,
+                                      std::vector<double>* step_ms) {
   require_shape(features.shape(), in_, "InferencePlan::run input");
   if (step_ms) step_ms->assign(step_count(), 0.0);
   if (!fused()) {
@@ -402,7 +427,7 @@ const Tensor& InferencePlan::run(const Tensor& features, std::span<const int> pi
     if (step_ms) (*step_ms)[0] = detail::thread_cpu_ms() - t0;
     return out_;
   }
-  plan_rows(features, pixels, false);
+  plan_rows(features, pixels, false, rows);
   for (std::size_t i = 0; i < steps_.size(); ++i) {
     const double t0 = step_ms ? detail::thread_cpu_ms() : 0.0;
     const Step& s = steps_[i];

@@ -19,7 +19,14 @@
 //
 // Both are exact: every computed element has the arithmetic of the full evaluation, and every
 // element that is read holds the bits the full evaluation would give it. Flat steps (the small
-// 8 × 8 and 4 × 4 outputs) are always computed whole (their rows share vectors).
+// 8 × 8 and 4 × 4 outputs, whose rows share vectors) compute one run of rows, from the first
+// to the last row needed, and copy no template rows: on the seed pile d3 needs the 5 lower of
+// its 8 rows (those d2's needed rows read through the upsampling), e4 3 of its 4.
+//
+// The input's empty rows are either found by scanning the raw features (all channels +0,
+// bit patterns) or handed over by the caller (run() with a row range outside which the
+// features are +0, FeatureImageBuilder::nonzero_rows()): then the rows inside the range are
+// taken as not empty without looking, which only computes rows that could have been copied.
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -89,11 +96,14 @@ bool InferencePlan::reads_templates(const Step& s, int oy) const {
   return true;
 }
 
-void InferencePlan::plan_rows(const Tensor& x, std::span<const int> pixels, bool all) {
+void InferencePlan::plan_rows(const Tensor& x, std::span<const int> pixels, bool all, const InputRows* rows) {
   const int C = in_.c, H = in_.h, W = in_.w;
   const bool templates = std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.has_template; });
   empty_in_.assign(static_cast<std::size_t>(H), 0);
-  for (int y = 0; templates && y < H; ++y) {
+  if (templates && rows != nullptr) {  // the caller's word: +0 outside [lo, hi]
+    for (int y = 0; y < H; ++y) empty_in_[static_cast<std::size_t>(y)] = y < rows->lo || y > rows->hi;
+  }
+  for (int y = 0; templates && rows == nullptr && y < H; ++y) {
     bool empty = true;  // the OR of the row's raw bit patterns over all channels is 0: all +0
     for (int c = 0; c < C && empty; ++c) empty = all_plus_zero(x.data() + (static_cast<std::size_t>(c) * H + y) * W, W);
     empty_in_[static_cast<std::size_t>(y)] = empty;
@@ -130,9 +140,19 @@ void InferencePlan::plan_rows(const Tensor& x, std::span<const int> pixels, bool
     const Step& s = *it;
     if (s.sparse) continue;
     const auto node = static_cast<std::size_t>(s.node);
+    // A flat step computes one run of rows: from its first to its last needed row (no
+    // template copies: its rows share vectors).
+    int flat_lo = s.ho, flat_hi = -1;
+    if (s.flat)
+      for (int oy = 0; oy < s.ho; ++oy)
+        if (all || need_rows_[node][static_cast<std::size_t>(oy)]) {
+          flat_lo = std::min(flat_lo, oy);
+          flat_hi = oy;
+        }
     for (int oy = 0; oy < s.ho; ++oy) {
       const auto r = static_cast<std::size_t>(oy);
-      comp_rows_[node][r] = all || s.flat || (need_rows_[node][r] && !tmpl_rows_[node][r]);
+      comp_rows_[node][r] = s.flat ? oy >= flat_lo && oy <= flat_hi
+                                   : all || (need_rows_[node][r] && !tmpl_rows_[node][r]);
       if (!comp_rows_[node][r]) continue;
       for (int ky = 0; ky < s.k; ++ky) {
         const int iy = s.stride * oy + ky - s.pad_top;
@@ -164,7 +184,7 @@ void InferencePlan::fill_template_rows(const Step& s) {
 void InferencePlan::calibrate_templates() {
   for (Step& s : steps_) s.has_template = !s.sparse;
   const Tensor zero(in_);
-  plan_rows(zero, {}, true);
+  plan_rows(zero, {}, true, nullptr);
   for (const Step& s : steps_)
     if (!s.sparse) run_dense(s, zero);
   bool consistent = true;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 #include "dc/core/error.hpp"
 
@@ -58,11 +59,13 @@ struct Cubic {
 };
 
 // The splat loop. g: value grid data (C channels, may be null when C = 0); s: weight grid
-// (may be null). v: particle-major values with C channels.
-template <class Kernel>
+// (may be null). v: particle-major values with C channels. CC ≥ 0: C known at compile time
+// (= CC), so that the channel loop is unrolled; the same operations per element either way.
+template <class Kernel, int CC>
 SplatStats splat_loop(const Kernel& w, double h, double d, int nx, int ny,
-                      std::span<const Vec2> points, const double* v, int C, double* g,
+                      std::span<const Vec2> points, const double* v, int C_, double* g,
                       double* s, bool renormalise) {
+  const int C = CC >= 0 ? CC : C_;
   SplatStats st;
   st.particles = points.size();
   const double h2 = h * h;
@@ -133,15 +136,27 @@ SplatStats dispatch(const SphKernel& kernel, const SphGrid& geometry,
   const double d = geometry.spacing();
   const int nx = geometry.nx();
   const int ny = geometry.ny();
+  // The channel counts of the feature image's splats (weights only, normals or labels, body
+  // fields, per-contact values) compiled with C fixed; others with C at run time.
+  const auto channels = [&](const auto& w) {
+    using K = std::decay_t<decltype(w)>;
+    switch (C) {
+      case 0: return splat_loop<K, 0>(w, h, d, nx, ny, points, v, C, g, s, renormalise);
+      case 2: return splat_loop<K, 2>(w, h, d, nx, ny, points, v, C, g, s, renormalise);
+      case 4: return splat_loop<K, 4>(w, h, d, nx, ny, points, v, C, g, s, renormalise);
+      case 5: return splat_loop<K, 5>(w, h, d, nx, ny, points, v, C, g, s, renormalise);
+      default: return splat_loop<K, -1>(w, h, d, nx, ny, points, v, C, g, s, renormalise);
+    }
+  };
   switch (kernel.type()) {
     case SphKernelType::Poly6:
     case SphKernelType::Poly6Legacy3d:
-      return splat_loop(Poly6{c, h * h}, h, d, nx, ny, points, v, C, g, s, renormalise);
+      return channels(Poly6{c, h * h});
     case SphKernelType::Spiky:
     case SphKernelType::SpikyLegacy3d:
-      return splat_loop(Spiky{c, h}, h, d, nx, ny, points, v, C, g, s, renormalise);
+      return channels(Spiky{c, h});
     case SphKernelType::Cubic:
-      return splat_loop(Cubic{c, 1.0 / h}, h, d, nx, ny, points, v, C, g, s, renormalise);
+      return channels(Cubic{c, 1.0 / h});
   }
   bad("unknown kernel type");
 }
@@ -220,23 +235,26 @@ void gather_bilinear(const SphGrid& grid, std::span<const Vec2> points, std::spa
   }
 }
 
-std::size_t gather_shepard(const SphGrid& grid, const SphGrid& weights,
-                           std::span<const Vec2> points, std::span<double> out,
-                           std::span<std::uint8_t> unsupported, double min_weight) {
+namespace {
+
+// gather_shepard's checks and loop; stencil(k) gives point k's bilinear stencil.
+template <class Stencil>
+std::size_t shepard_loop(const SphGrid& grid, const SphGrid& weights, std::size_t n, Stencil stencil,
+                         std::span<double> out, std::span<std::uint8_t> unsupported, double min_weight) {
   const int C = grid.channels();
   if (grid.nodes() == 0) bad("gather from an empty grid");
   require_same_geometry(grid, weights, "weight");
   if (weights.channels() != 1) bad("weight grid must have exactly one channel");
-  if (out.size() != points.size() * static_cast<std::size_t>(C))
+  if (out.size() != n * static_cast<std::size_t>(C))
     bad("gather: output holds " + std::to_string(out.size()) + " values, expected " +
-        std::to_string(points.size() * static_cast<std::size_t>(C)));
-  if (unsupported.size() != points.size())
+        std::to_string(n * static_cast<std::size_t>(C)));
+  if (unsupported.size() != n)
     bad("gather: flag buffer holds " + std::to_string(unsupported.size()) + " entries for " +
-        std::to_string(points.size()) + " points");
+        std::to_string(n) + " points");
   if (!(min_weight >= 0.0)) bad("gather: min_weight must be >= 0");
   std::size_t missing = 0;
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    const BilinearStencil st = grid.stencil(points[k]);
+  for (std::size_t k = 0; k < n; ++k) {
+    const BilinearStencil st = stencil(k);
     const double sw = weights.apply(0, st);
     if (!(sw > min_weight)) {
       for (int c = 0; c < C; ++c) out[k * C + c] = 0.0;
@@ -248,6 +266,25 @@ std::size_t gather_shepard(const SphGrid& grid, const SphGrid& weights,
     for (int c = 0; c < C; ++c) out[k * C + c] = grid.apply(c, st) / sw;
   }
   return missing;
+}
+
+}  // namespace
+
+std::size_t gather_shepard(const SphGrid& grid, const SphGrid& weights,
+                           std::span<const Vec2> points, std::span<double> out,
+                           std::span<std::uint8_t> unsupported, double min_weight) {
+  return shepard_loop(grid, weights, points.size(), [&](std::size_t k) { return grid.stencil(points[k]); }, out,
+                      unsupported, min_weight);
+}
+
+std::size_t gather_shepard(const SphGrid& grid, const SphGrid& weights, std::span<const BilinearStencil> stencils,
+                           std::span<double> out, std::span<std::uint8_t> unsupported, double min_weight) {
+  for (const BilinearStencil& st : stencils)
+    if (st.i0 < 0 || st.i1 >= std::max(grid.nx(), 1) || st.i1 < st.i0 || st.j0 < 0 || st.j1 >= std::max(grid.ny(), 1) ||
+        st.j1 < st.j0)
+      bad("gather: a stencil's nodes lie outside the grid");
+  return shepard_loop(grid, weights, stencils.size(), [&](std::size_t k) { return stencils[k]; }, out, unsupported,
+                      min_weight);
 }
 
 }  // namespace dc

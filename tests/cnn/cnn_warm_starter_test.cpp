@@ -343,6 +343,10 @@ TEST(CnnWarmStarter, ReadBackOfTheStencilNodesEqualsTheWholePredictedGrid) {
     const Eigen::VectorXd sparse = cnn.guess_from_output(world, y, false);
     ASSERT_TRUE(whole.allFinite());
     EXPECT_EQ(sparse, whole) << "step " << step;
+    // With the builder's S of the contacts: the Shepard gather from the stencils listed for
+    // the stencil nodes, not from the points.
+    ASSERT_NE(builder.contact_weights(), nullptr);
+    EXPECT_EQ(cnn.guess_from_output(world, y, false, builder.contact_weights()), whole) << "step " << step;
     EXPECT_GT(whole.cwiseAbs().maxCoeff(), 0.0);
     const Eigen::VectorXd star = solve_oracle(world.problem()).lambda;
     world.integrate(star);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "dc/cnn/feature_image.hpp"
@@ -269,6 +270,65 @@ TEST(FeatureImage, AReusedBuilderGivesAFreshBuildersImageBitForBit) {
       const std::span<const double> a = reused.contact_weights()->data(), b = fresh.contact_weights()->data();
       EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * a.size()), 0) << channels.size() << " channels";
     }
+  }
+}
+
+// The cnn starter hands the builder the key match it already has (one match per step) and
+// hands the builder's nonzero rows to the inference plan (no scan of the image): with the
+// match, the image is the builder's own bit for bit (a wrong match changes it: the match is
+// read), and every channel is +0 (bit pattern 0) outside nonzero_rows().
+TEST(FeatureImage, AGivenKeyMatchGivesTheSameImageAndNonzeroRowsBoundIt) {
+  WorldDef wd;
+  wd.bodies.count = 40;
+  wd.bodies.seed = 5;
+  World early(wd), settled(wd);
+  (void)test::step_then_assemble(early, 3, 50);
+  (void)test::step_then_assemble(settled, 150, 50);
+  ASSERT_GT(settled.contacts().size(), 10u);
+  using C = FeatureChannel;
+  const std::vector<std::vector<C>> sets = {
+      {C::Mass, C::Vx, C::Vy, C::Omega, C::ContactDensity, C::LambdaPrevN, C::LambdaPrevT, C::VrelN, C::VrelT, C::Gap},
+      {C::Mass, C::ContactDensity, C::WPrevN, C::WPrevT}};
+  for (const std::vector<C>& channels : sets) {
+    FeatureImageDef def = FeatureImageDef::for_box(wd.world.width, wd.world.height);
+    def.channels = channels;
+    FeatureImageBuilder given(def), own(def);
+    const int nx = given.nx(), ny = given.ny();
+    for (const World* w : {&settled, &early, &settled}) {
+      const std::vector<int> match = match_contacts_by_key(w->previous_contacts(), w->contacts());
+      const bool persistent = std::any_of(match.begin(), match.end(), [](int m) { return m >= 0; });
+      if (w == &settled) {
+        ASSERT_TRUE(persistent);
+      }
+      std::vector<float> got(given.feature_size()), want(given.feature_size()), wrong(given.feature_size());
+      given.features(w->bodies(), w->contacts(), w->previous_contacts(), &w->problem(), got, match);
+      own.features(w->bodies(), w->contacts(), w->previous_contacts(), &w->problem(), want);
+      EXPECT_EQ(std::memcmp(got.data(), want.data(), sizeof(float) * got.size()), 0) << channels.size() << " channels";
+      const auto [lo, hi] = given.nonzero_rows();
+      EXPECT_EQ(given.nonzero_rows(), own.nonzero_rows());
+      EXPECT_TRUE(lo > 0 || hi < ny - 1) << "the pile leaves empty rows";
+      int outside = 0;
+      for (int c = 0; c < given.feature_channels(); ++c)
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i) {
+            std::uint32_t b;
+            const float v = at(got, c, j, i, ny, nx);
+            std::memcpy(&b, &v, sizeof b);
+            if ((j < lo || j > hi) && b != 0) ++outside;
+          }
+      EXPECT_EQ(outside, 0) << "nonzero values outside rows " << lo << ".." << hi;
+      const std::vector<int> none(match.size(), -1);  // every contact new: λ_prev = 0
+      FeatureImageBuilder other(def);
+      other.features(w->bodies(), w->contacts(), w->previous_contacts(), &w->problem(), wrong, none);
+      if (persistent) {
+        EXPECT_NE(std::memcmp(got.data(), wrong.data(), sizeof(float) * got.size()), 0) << "the given match is read";
+      }
+    }
+    std::vector<float> out(given.feature_size());
+    const std::vector<int> short_match(settled.contacts().size() - 1, -1);
+    EXPECT_THROW(given.features(settled.bodies(), settled.contacts(), settled.previous_contacts(), &settled.problem(), out,
+                                short_match),
+                 InvalidArgument);
   }
 }
 

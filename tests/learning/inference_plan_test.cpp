@@ -5,6 +5,7 @@
 // graphs run the unfused path; bad inputs are refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -209,6 +210,60 @@ TEST(InferencePlan, RowsSkippedOnAPartlyEmptyImageGiveTheSameBits) {
             }
           EXPECT_EQ(differ, 0) << h << "x" << w << " deep " << deep << " band " << lo << ".." << hi << ", "
                                << pixels->size() << " pixels";
+        }
+      }
+    }
+  }
+}
+
+// run() with the caller's nonzero input rows (the feature builder's, instead of scanning the
+// image for empty rows) gives the unfused path's bits, for the exact range and a wider one,
+// alternating with scanning calls; a range that wrongly declares nonzero rows empty changes
+// the output (the range is what the plan goes by). The pixel sets demand a part of the rows,
+// so the flat layers compute one run of rows, not their whole output.
+TEST(InferencePlan, GivenNonzeroInputRowsGiveTheScannedRunsBits) {
+  for (const auto& [h, w] : {std::pair{61, 61}, std::pair{45, 38}}) {
+    for (const bool deep : {false, true}) {
+      Network net(deep ? deep_fast_arch() : test::fast_head_arch(true), Shape{1, 4, h, w});
+      randomise(net, static_cast<std::uint64_t>(3 * h + w + deep));
+      const ChannelStats stats = some_stats(4);
+      InferencePlan plan(net, stats);
+      Rng rng(13);
+      for (const auto& [lo, hi] : {std::pair{0, h / 2}, std::pair{h / 3, h / 3 + 8}, std::pair{h - 12, h}}) {
+        Tensor f(1, 4, h, w);
+        fill_gaussian(f, rng, 2.0);
+        for (int c = 0; c < 4; ++c)
+          for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+              if (y < lo || y >= hi) f.at(0, c, y, x) = 0.0f;
+        std::vector<int> band, lower;
+        for (int p = 0; p < h * w; ++p) {
+          if (p / w >= lo && p / w < hi && p % 3 == 0) band.push_back(p);
+          if (p / w < h / 4) lower.push_back(p);
+        }
+        const InferencePlan::InputRows exact{lo, hi - 1}, wider{std::max(lo - 3, 0), std::min(hi + 2, h - 1)};
+        for (const std::vector<int>* pixels : {&band, &lower, &band}) {
+          const Tensor want = unfused(net, stats, f, *pixels);
+          for (int call = 0; call < 3; ++call) {
+            const Tensor& got = call == 0 ? plan.run(f, *pixels, exact) : call == 1 ? plan.run(f, *pixels) : plan.run(f, *pixels, wider);
+            int differ = 0;
+            for (int c = 0; c < 2; ++c)
+              for (const int p : *pixels) {
+                const std::size_t i = static_cast<std::size_t>(c * h * w + p);
+                differ += bits(got[i]) != bits(want[i]);
+              }
+            EXPECT_EQ(differ, 0) << h << "x" << w << " deep " << deep << " band " << lo << ".." << hi << " call " << call
+                                 << ", " << pixels->size() << " pixels";
+          }
+        }
+        if (plan.fused()) {  // the unfused path ignores the range
+          const Tensor want = unfused(net, stats, f, band);
+          const Tensor& got = plan.run(f, band, InferencePlan::InputRows{1, 0});  // "every row +0"
+          int differ = 0;
+          for (int c = 0; c < 2; ++c)
+            for (const int p : band) differ += bits(got[static_cast<std::size_t>(c * h * w + p)]) != bits(want[static_cast<std::size_t>(c * h * w + p)]);
+          EXPECT_GT(differ, 0) << h << "x" << w << " deep " << deep << " band " << lo << ".." << hi
+                               << ": every row declared empty";
         }
       }
     }

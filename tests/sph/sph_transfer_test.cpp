@@ -252,6 +252,77 @@ TEST(SphTransfer, SplatIntoRowsEqualsTheWholeGridSplat) {
   EXPECT_GT(lo, hi) << "points far above the box reach no row";
 }
 
+// The splat with its channel count fixed at compile time (0, 2, 4, 5: the feature image's
+// splats) or not (1, 3) equals the definition node by node, bit for bit: G(c, node) =
+// Σ_k W(|x_node − q_k|²) v_kc and S(node) = Σ_k W, summed over the particles in order.
+TEST(SphTransfer, SplatOfEveryChannelCountEqualsTheDefinitionBitForBit) {
+  Rng rng(23);
+  for (const SphKernelType type : k2d) {
+    const SphKernel w(type, 0.7);
+    for (const int C : {1, 2, 3, 4, 5}) {
+      const SphGridDef def{12, 9, 0.5, C};
+      SphGrid grid(def), weights(SphGridDef{12, 9, 0.5, 1}), want(def), want_w(SphGridDef{12, 9, 0.5, 1});
+      std::vector<Vec2> pts;
+      std::vector<double> vals;
+      for (int k = 0; k < 40; ++k) {
+        pts.push_back({rng.uniform(-0.5, 12.5), rng.uniform(-0.5, 9.5)});
+        for (int c = 0; c < C; ++c) vals.push_back(rng.uniform(-2, 2));
+      }
+      (void)splat_to_grid(w, pts, vals, grid, &weights);
+      for (std::size_t k = 0; k < pts.size(); ++k)
+        for (int j = 0; j < want.ny(); ++j)
+          for (int i = 0; i < want.nx(); ++i) {
+            const double dx = i * 0.5 - pts[k].x, dy = j * 0.5 - pts[k].y;
+            const double r2 = dx * dx + dy * dy;
+            if (!(r2 < w.h() * w.h())) continue;
+            const double wt = w.from_r2(r2);
+            for (int c = 0; c < C; ++c) want.at(c, j, i) += wt * vals[k * static_cast<std::size_t>(C) + static_cast<std::size_t>(c)];
+            want_w.at(0, j, i) += wt;
+          }
+      EXPECT_EQ(std::memcmp(grid.data().data(), want.data().data(), sizeof(double) * want.data().size()), 0)
+          << to_string(type) << " C = " << C;
+      EXPECT_EQ(std::memcmp(weights.data().data(), want_w.data().data(), sizeof(double) * want_w.data().size()), 0)
+          << to_string(type) << " C = " << C;
+    }
+  }
+}
+
+// The Shepard read-back from stencils the caller already has (the cnn starter lists them
+// for the network's pixels) gives the point read-back's values and flags bit for bit: points
+// inside, on the edges, outside the box (clamped) and without support.
+TEST(SphTransfer, ShepardGatherFromGivenStencilsEqualsThePointGatherBitForBit) {
+  Rng rng(17);
+  const SphKernel w(SphKernelType::Poly6, 0.5);
+  const SphGridDef def{30, 30, 0.5, 2};
+  SphGrid grid(def), weights(SphGridDef{30, 30, 0.5, 1});
+  std::vector<Vec2> splatted, queries;
+  std::vector<double> vals;
+  for (int k = 0; k < 80; ++k) {
+    splatted.push_back({rng.uniform(0.0, 30.0), rng.uniform(0.0, 12.0)});
+    vals.push_back(rng.uniform(-1, 1));
+    vals.push_back(rng.uniform(-1, 1));
+  }
+  (void)splat_to_grid(w, splatted, vals, grid, &weights);
+  queries = splatted;
+  for (const Vec2 q : {Vec2{0.0, 0.0}, Vec2{30.0, 30.0}, Vec2{-3.0, 40.0}, Vec2{15.0, 25.0}, Vec2{29.99, 0.01}})
+    queries.push_back(q);  // corners, outside (clamped), far from every splatted point (unsupported)
+  std::vector<BilinearStencil> stencils;
+  for (const Vec2 q : queries) stencils.push_back(grid.stencil(q));
+  std::vector<double> by_points(2 * queries.size()), by_stencils(2 * queries.size(), 7.0);
+  std::vector<std::uint8_t> flags_points(queries.size()), flags_stencils(queries.size(), 9);
+  const double min_weight = 1e-12 * w.peak();
+  const std::size_t a = gather_shepard(grid, weights, queries, by_points, flags_points, min_weight);
+  const std::size_t b = gather_shepard(grid, weights, stencils, by_stencils, flags_stencils, min_weight);
+  EXPECT_EQ(a, b);
+  EXPECT_GT(a, 0u) << "a query point without support";
+  EXPECT_EQ(std::memcmp(by_points.data(), by_stencils.data(), sizeof(double) * by_points.size()), 0);
+  EXPECT_EQ(flags_points, flags_stencils);
+  BilinearStencil outside = stencils.front();
+  outside.i1 = grid.nx();
+  stencils.front() = outside;
+  EXPECT_THROW(gather_shepard(grid, weights, stencils, by_stencils, flags_stencils, min_weight), InvalidArgument);
+}
+
 TEST(SphTransfer, SplatTouchesOnlyNodesWithinSupportAndMissesNone) {
   Rng rng(77);
   std::vector<Vec2> pts;

@@ -102,11 +102,19 @@ class CnnWarmStarter final : public WarmStarter {
   /// for its grid (ConfigError when the network cannot run there) and compiles the
   /// inference plan when missing.
   void prepare(const World& world);
-  /// The grid nodes (j·nx + i) of the bilinear stencils of world's contacts, each once.
+  /// The grid nodes (j·nx + i) of the bilinear stencils of world's contacts, each once; the
+  /// stencils themselves (one per contact, in order) are left in stencils_.
   std::span<const int> stencil_nodes(const World& world);
+  /// guess_from_output without the checks and the projection, for w's contacts (at least
+  /// one) whose stencil_nodes() were just listed: `nodes` and stencils_ are that call's.
+  Eigen::VectorXd read_back_output(const World& w, const Tensor& y, std::span<const int> nodes,
+                                   const SphGrid* contact_weights);
   /// The read-back of grid_ at w's contacts, per row: Shepard, or the gain read-back (λp·ĝ).
   /// `weights`: S of w's contact points when already splatted (Shepard only), else null.
-  Eigen::VectorXd read_back_grid(const World& w, const SphGrid* weights = nullptr);
+  /// `stencils`: the contacts' bilinear stencils when at hand (one per contact; otherwise
+  /// computed from the points), used by the Shepard read-back with given weights.
+  Eigen::VectorXd read_back_grid(const World& w, const SphGrid* weights = nullptr,
+                                 std::span<const BilinearStencil> stencils = {});
 
   Model model_;
   std::string name_;
@@ -120,6 +128,7 @@ class CnnWarmStarter final : public WarmStarter {
   SphGrid grid_;
   std::vector<Vec2> points_;
   std::vector<int> nodes_;       ///< stencil_nodes()
+  std::vector<BilinearStencil> stencils_;  ///< stencil_nodes(): one per contact
   std::vector<float> node_values_;      ///< guess_from_output: the stencil nodes' outputs → labels
   std::vector<double> readback_;        ///< read_back_grid with given weights: (λn, λt) per contact
   std::vector<std::uint8_t> unsupported_;  ///< its per-contact "no kernel support" flags

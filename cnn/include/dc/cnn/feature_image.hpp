@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dc/cnn/shape_samples.hpp"
@@ -41,8 +42,11 @@ class FeatureImageBuilder {
   /// mismatch, unsorted contact lists or non-finite input.
   /// `problem` is the step's assembled LCP (rows ordered by `contacts`, as World::problem()):
   /// only read by the w_prev channels, which throw InvalidArgument when it is null.
+  /// `match`: match_contacts_by_key(previous, contacts) when the caller has it already (one
+  /// entry per contact, read by the lambda_prev and w_prev channels instead of matching the
+  /// keys again); empty = matched here.
   void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
-                const LcpProblem* problem, std::span<float> out);
+                const LcpProblem* problem, std::span<float> out, std::span<const int> match = {});
   /// The same without a problem (no w_prev channel may be listed).
   void features(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
                 std::span<float> out) {
@@ -64,6 +68,9 @@ class FeatureImageBuilder {
   [[nodiscard]] const SphGrid* contact_weights() const {
     return has_contact_weights_ ? &contact_weight_ : nullptr;
   }
+  /// The node rows [lo, hi] (inclusive; lo > hi: none) outside which the last features()
+  /// call wrote +0 into every channel: the rows its splats reach (InferencePlan::InputRows).
+  [[nodiscard]] std::pair<int, int> nonzero_rows() const { return {rows_lo_, rows_hi_}; }
 
  private:
   FeatureImageDef def_;
@@ -83,6 +90,7 @@ class FeatureImageBuilder {
   std::vector<AreaSample> samples_;
   std::vector<double> ratio_;  // one plane: the Shepard quotients before their float conversion
   int dirty_lo_ = 0, dirty_hi_ = -1;  // every grid above is zero outside these node rows (empty: all zero)
+  int rows_lo_ = 0, rows_hi_ = -1;    // nonzero_rows() of the last features() call
 };
 
 }  // namespace dc

@@ -15,8 +15,9 @@
 //   * conv + bias + ReLU fused in the kernel (as in Conv2d), no OpenMP region;
 //   * the last node, if a 1×1 stride-1 conv, evaluated only in the rows of the requested
 //     pixels, over the span of columns that holds them;
-//   * rows-layout convs evaluated only at the output rows that the requested pixels depend
-//     on (demand, propagated backwards from the head's pixels), and not even there when the
+//   * convs evaluated only at the output rows that the requested pixels depend on (demand,
+//     propagated backwards from the head's pixels; a flat-layout conv over one run of rows
+//     from the first to the last one needed), and a rows-layout one not even there when the
 //     row is a *template row*: all the rows it reads are template rows of its sources (for
 //     the input: rows whose raw features are all +0, the empty part of the box), so that its
 //     values are those of the template row computed once, at compile time, from an all-zero
@@ -64,6 +65,19 @@ class InferencePlan {
   /// until the next call. `step_ms` (optional, profiling) receives the calling thread's CPU
   /// milliseconds per step (see step_name), resized to step_count().
   const Tensor& run(const Tensor& features, std::span<const int> pixels, std::vector<double>* step_ms = nullptr);
+
+  /// Input rows [lo, hi] (y, inclusive; empty when lo > hi) outside which every raw feature
+  /// of every channel is +0 (bit pattern 0).
+  struct InputRows {
+    int lo = 0, hi = -1;
+  };
+  /// run() when the caller knows where the features are nonzero (FeatureImageBuilder::
+  /// nonzero_rows() after its features()): the rows outside `rows` are taken as empty and
+  /// those inside as not empty, without scanning the image — the same values at the pixels
+  /// (an empty row inside `rows` is computed instead of copied from the template row, with
+  /// the same bits). The caller guarantees the +0; a wrong range gives wrong values.
+  const Tensor& run(const Tensor& features, std::span<const int> pixels, InputRows rows,
+                    std::vector<double>* step_ms = nullptr);
 
   /// True when the fused path runs (see the header comment), false for the unfused one.
   [[nodiscard]] bool fused() const { return !steps_.empty(); }
@@ -128,7 +142,10 @@ class InferencePlan {
   [[nodiscard]] bool reads_templates(const Step& s, int oy) const;
   /// Template flags (forward, from the input's empty rows), then the rows each step must
   /// compute (backward, from the head's pixels; everything when `all`).
-  void plan_rows(const Tensor& x, std::span<const int> pixels, bool all);
+  /// `rows`: the caller's nonzero input rows (run with InputRows), null = scan the input.
+  void plan_rows(const Tensor& x, std::span<const int> pixels, bool all, const InputRows* rows);
+  const Tensor& run_plan(const Tensor& features, std::span<const int> pixels, const InputRows* rows,
+                         std::vector<double>* step_ms);
   /// Runs the plan once on an all-zero input and stores each step's template row.
   void calibrate_templates();
   /// Copies s's template into the output rows that are needed, template, not computed.

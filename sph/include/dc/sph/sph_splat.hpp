@@ -80,5 +80,10 @@ void gather_bilinear(const SphGrid& grid, std::span<const Vec2> points, std::spa
 std::size_t gather_shepard(const SphGrid& grid, const SphGrid& weights,
                            std::span<const Vec2> points, std::span<double> out,
                            std::span<std::uint8_t> unsupported, double min_weight);
+/// The same with the points' stencils computed by the caller (grid.stencil(points[k]), e.g.
+/// already at hand for listing the nodes they read): the same values bit for bit. Throws
+/// InvalidArgument for a stencil whose nodes lie outside the grid.
+std::size_t gather_shepard(const SphGrid& grid, const SphGrid& weights, std::span<const BilinearStencil> stencils,
+                           std::span<double> out, std::span<std::uint8_t> unsupported, double min_weight);
 
 }  // namespace dc
