@@ -12,11 +12,14 @@
 //   BM_Solve        "pgs", `sweeps` sweeps from the builtin guess (arg 2)
 //   BM_Integrate    World::integrate(λ)    on a copy of the world (the copy is not timed)
 //   BM_Record       TrajectoryRecorder::record_step (recorders of 50 reserved steps, as simulate)
-//   BM_Step         World::step + record_step: everything a step of `simulate` costs
+//   BM_Step         World::step + record_step: everything a step of `simulate --out` costs
+//   BM_StepOnly     World::step alone: a step of `simulate` without --out (nothing reads the
+//                   bodies or contacts between steps)
+// Both steps take the builtin warm start as `simulate` does, World::WarmStart::PreviousLambda.
 //
 // Last argument `morton`: 0 = the generated bodies in creation order (random in space), 1 = the
 // same bodies numbered in Morton order (`[bodies] order = "morton"`, world_def.hpp): the
-// before/after of the spatial body order, side by side in one run. BM_Step also runs 2 =
+// before/after of the spatial body order, side by side in one run. BM_Step(Only) also runs 2 =
 // creation order with the engine-internal order (`[bodies] internal_order = "morton"`: the
 // stages work in a re-sorted spatial order, the public views stay in creation order; the stage
 // benchmarks would time the public, external-order objects, so only the whole step has it).
@@ -198,7 +201,6 @@ void BM_Record(benchmark::State& state) {
 void BM_Step(benchmark::State& state) {
   const Pile& p = pile_of(state, 2);
   const auto solver = dc::make_solver("pgs");
-  const auto builtin = dc::default_warm_starters().make("builtin");
   const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
   std::unique_ptr<dc::TrajectoryRecorder> rec;
   dc::World w = *p.world;
@@ -210,10 +212,24 @@ void BM_Step(benchmark::State& state) {
       rec->reserve_steps(50);
     }
     state.ResumeTiming();
-    const dc::StepReport r =
-        w.step(*solver, o, [&](const dc::World& x) { return builtin->initial_guess(dc::StepView{x, nullptr}); });
+    const dc::StepReport r = w.step(*solver, o, dc::World::WarmStart::PreviousLambda);
     rec->record_step(w, r);
     benchmark::DoNotOptimize(w.bodies().position.data());
+  }
+  report(state, *p.world);
+}
+
+void BM_StepOnly(benchmark::State& state) {
+  const Pile& p = pile_of(state, 2);
+  const auto solver = dc::make_solver("pgs");
+  const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
+  dc::World w = *p.world;
+  for (auto _ : state) {
+    state.PauseTiming();
+    w = *p.world;  // every iteration steps the same state (copy-assigned: memory reused)
+    state.ResumeTiming();
+    const dc::StepReport r = w.step(*solver, o, dc::World::WarmStart::PreviousLambda);
+    benchmark::DoNotOptimize(r.solve.lambda.data());
   }
   report(state, *p.world);
 }
@@ -245,6 +261,7 @@ BENCHMARK(BM_Solve)->Apply(sizes_sweeps)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Integrate)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StepOnly)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

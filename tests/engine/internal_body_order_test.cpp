@@ -63,10 +63,12 @@ TEST(InternalBodyOrder, TranslatesContactsToExternalKeysAndFlipsReversedPairs) {
   pair.normal = {1, 0};
   pair.lambda_t = 0.5;
   std::vector<Contact> external;
-  order.contacts_to_external({pair, wall}, 4, external);  // any internal order is sorted
+  std::vector<int> internal_of;
+  order.external_order({pair, wall}, 4, internal_of);  // any internal order is sorted
+  order.contacts_to_external({pair, wall}, internal_of, external);
   ASSERT_EQ(external.size(), 2u);
   EXPECT_EQ(external[0].key, ContactKey::wall(Wall::Bottom, 3));
-  EXPECT_EQ(order.internal_contact(0), 1);
+  EXPECT_EQ(internal_of[0], 1);
   EXPECT_EQ(external[1].key, ContactKey::pair(2, 3));
   EXPECT_EQ(external[1].body_a, 2);
   EXPECT_EQ(external[1].normal.x, -1.0);  // from external body 2 (internal 1) to 3 (internal 0)
@@ -208,9 +210,13 @@ TEST(InternalBodyOrder, InflowBodiesJoinTheInternalOrder) {
 }
 
 TEST(InternalBodyOrder, SceneKeysParseAndBadValuesAreConfigErrors) {
-  const WorldDef d = parse_scene("[bodies]\ninternal_order = \"morton\"\nresort_every = 7\n");
+  const WorldDef d =
+      parse_scene("[bodies]\ninternal_order = \"morton\"\nresort_every = 7\nresort_decay = 1.25\n");
   EXPECT_EQ(d.bodies.internal_order, "morton");
   EXPECT_EQ(d.bodies.resort_every, 7);
+  EXPECT_EQ(d.bodies.resort_decay, 1.25);
+  EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.resort_decay, 1.25);
+  EXPECT_THROW((void)parse_scene("[bodies]\nresort_decay = 0.5\n"), ConfigError);
   EXPECT_EQ(parse_scene("").bodies.internal_order, "none");
   EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.resort_every, 7);
   EXPECT_THROW((void)parse_scene("[bodies]\ninternal_order = \"hilbert\"\n"), ConfigError);

@@ -29,6 +29,7 @@ class BuiltinWarmStarter final : public WarmStarter {
  public:
   std::string name() const override { return "builtin"; }
   Eigen::VectorXd initial_guess(const StepView& v) override { return builtin_guess(v.world); }
+  [[nodiscard]] bool is_previous_lambda() const override { return true; }
 };
 
 }  // namespace

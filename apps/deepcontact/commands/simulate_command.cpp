@@ -103,11 +103,16 @@ RunFigures step_world(World& world, const WorldDef& def, WarmStarter& starter, T
   double record_s = 0;
   for (int s = 0; s < def.time.steps && !interrupted(); ++s) {
     Eigen::VectorXd guess;  // this step's λ⁰, for an exported problem's /guesses
-    const StepReport r = world.step(*solver, opt, [&](const World& w) {
-      guess = starter.initial_guess(StepView{w, nullptr});
-      return guess;
-    });
-    if (exporter && exporter->due(s + 1)) exporter->write(s + 1, world.problem(), r.solve.lambda, guess);
+    const bool exported = exporter && exporter->due(s + 1);
+    // builtin: the engine's own copy of it (the same λ⁰; with an internal body order it runs
+    // in the internal rows), unless the exported problem needs λ⁰ itself.
+    const StepReport r = starter.is_previous_lambda() && !exported
+                             ? world.step(*solver, opt, World::WarmStart::PreviousLambda)
+                             : world.step(*solver, opt, [&](const World& w) {
+                                 guess = starter.initial_guess(StepView{w, nullptr});
+                                 return guess;
+                               });
+    if (exported) exporter->write(s + 1, world.problem(), r.solve.lambda, guess);
     starter.observe(StepView{world, nullptr}, r.solve.lambda);
     if (!r.solve.lambda.allFinite())
       throw std::runtime_error("step " + std::to_string(s + 1) + ": the solver returned a non-finite λ (" +

@@ -1,6 +1,7 @@
 #include "dc/engine/internal_body_order.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <string>
 #include <type_traits>
 
@@ -63,6 +64,28 @@ void InternalBodyOrder::resort(double cell) {
   });
   std::vector<int> int_scratch;
   permute(external_of_, order, int_scratch);
+  new_of_old_.resize(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) new_of_old_[static_cast<std::size_t>(order[i])] = static_cast<int>(i);
+}
+
+void InternalBodyOrder::rekey(std::vector<Contact>& contacts) const {
+  const auto moved = [&](int i) { return new_of_old_[static_cast<std::size_t>(i)]; };
+  for (Contact& c : contacts) {
+    const int b = moved(c.body_b);
+    if (c.body_a < 0) {
+      c.key = ContactKey{c.key.a, b, c.key.feature};
+    } else {
+      const int a = moved(c.body_a);
+      c.key = ContactKey::pair(a, b, c.key.feature);
+      if (a > b) {  // the pair's bodies changed order: turn the contact as contacts_to_external does
+        c.normal = -c.normal;
+        std::swap(c.anchor_a, c.anchor_b);
+      }
+    }
+    c.body_a = c.key.a;
+    c.body_b = c.key.b;
+  }
+  std::sort(contacts.begin(), contacts.end(), [](const Contact& x, const Contact& y) { return x.key < y.key; });
 }
 
 void InternalBodyOrder::gather_kinematics(BodyState& external) const {
@@ -75,24 +98,36 @@ void InternalBodyOrder::gather_kinematics(BodyState& external) const {
   }
 }
 
-void InternalBodyOrder::contacts_to_external(const std::vector<Contact>& internal, int bodies,
-                                             std::vector<Contact>& external) {
+Contact InternalBodyOrder::external_contact(const Contact& internal) const {
+  Contact e = internal;
+  const int b = external_of_[static_cast<std::size_t>(internal.body_b)];
+  if (internal.body_a < 0) {
+    e.key = ContactKey{internal.key.a, b, internal.key.feature};
+  } else {
+    const int a = external_of_[static_cast<std::size_t>(internal.body_a)];
+    e.key = ContactKey::pair(a, b, internal.key.feature);
+    if (a > b) {
+      e.normal = -e.normal;  // t = perp(n) turns too; λ_t along it is the same number
+      std::swap(e.anchor_a, e.anchor_b);
+    }
+  }
+  e.body_a = e.key.a;
+  e.body_b = e.key.b;
+  return e;
+}
+
+void InternalBodyOrder::external_order(const std::vector<Contact>& internal, int bodies,
+                                       std::vector<int>& internal_of) const {
   const std::size_t m = internal.size();
   keys_.resize(m);
-  flipped_.assign(m, 0);
   // Keys' first index ranges over the walls (−4 … −1) and the bodies: bucket a + 4.
   constexpr int kWallOffset = 4;
   bucket_start_.assign(static_cast<std::size_t>(bodies + kWallOffset + 1), 0);
   for (std::size_t i = 0; i < m; ++i) {
     const Contact& c = internal[i];
     const int b = external_of_[static_cast<std::size_t>(c.body_b)];
-    if (c.body_a < 0) {
-      keys_[i] = ContactKey{c.key.a, b, c.key.feature};
-    } else {
-      const int a = external_of_[static_cast<std::size_t>(c.body_a)];
-      keys_[i] = ContactKey::pair(a, b, c.key.feature);
-      flipped_[i] = a > b;
-    }
+    keys_[i] = c.body_a < 0 ? ContactKey{c.key.a, b, c.key.feature}
+                            : ContactKey::pair(external_of_[static_cast<std::size_t>(c.body_a)], b, c.key.feature);
     ++bucket_start_[static_cast<std::size_t>(keys_[i].a + kWallOffset + 1)];
   }
   for (std::size_t k = 1; k < bucket_start_.size(); ++k) bucket_start_[k] += bucket_start_[k - 1];
@@ -107,47 +142,67 @@ void InternalBodyOrder::contacts_to_external(const std::vector<Contact>& interna
     if (end - begin > 1) std::sort(sorted_.begin() + begin, sorted_.begin() + end, by_key);
     begin = end;
   }
-  external.resize(m);
-  internal_of_contact_.resize(m);
-  for (std::size_t c = 0; c < m; ++c) {
-    const auto i = static_cast<std::size_t>(sorted_[c]);
-    Contact e = internal[i];
-    e.key = keys_[i];
-    e.body_a = e.key.a;
-    e.body_b = e.key.b;
-    if (flipped_[i]) {
-      e.normal = -e.normal;  // t = perp(n) turns too; λ_t along it is the same number
-      std::swap(e.anchor_a, e.anchor_b);
-    }
-    external[c] = e;
-    internal_of_contact_[c] = static_cast<int>(i);
+  internal_of.assign(sorted_.begin(), sorted_.end());
+}
+
+void InternalBodyOrder::contacts_to_external(const std::vector<Contact>& internal, const std::vector<int>& internal_of,
+                                             std::vector<Contact>& external) const {
+  external.resize(internal_of.size());
+  for (std::size_t c = 0; c < internal_of.size(); ++c)
+    external[c] = external_contact(internal[static_cast<std::size_t>(internal_of[c])]);
+}
+
+void InternalBodyOrder::bodies_for_assembly(const std::vector<Vec2>& position, const std::vector<Vec2>& velocity,
+                                            const std::vector<double>& omega, BodyState& external) const {
+  const std::size_t n = external_of_.size();
+  external.position.resize(n);
+  external.velocity.resize(n);
+  external.omega.resize(n);
+  external.inv_mass.resize(n);
+  external.inv_inertia.resize(n);
+  external.shapes = {};
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(external_of_[i]);
+    external.position[k] = position[i];
+    external.velocity[k] = velocity[i];
+    external.omega[k] = omega[i];
+    external.inv_mass[k] = state_.inv_mass[i];
+    external.inv_inertia[k] = state_.inv_inertia[i];
   }
 }
 
 void InternalBodyOrder::rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
-                                         const Eigen::VectorXd& lambda_external,
-                                         Eigen::VectorXd& lambda_internal) const {
+                                         const std::vector<int>& internal_of, const Eigen::VectorXd& lambda_external,
+                                         Eigen::VectorXd& lambda_internal) {
   lambda_internal.setZero(internal.rows());
   for (int c = 0; c < external.size(); ++c) {
     const ContactConstraint& e = external[c];
-    const ContactConstraint& i = internal[internal_contact(c)];
+    const ContactConstraint& i = internal[internal_of[static_cast<std::size_t>(c)]];
     lambda_internal[i.normal_row] = lambda_external[e.normal_row];
     if (e.tangent_row >= 0)
       lambda_internal[i.tangent_row] = lambda_external[e.tangent_row];
   }
 }
 
-void InternalBodyOrder::rows_to_external(const ContactConstraints& external, const ContactConstraints& internal,
-                                         const Eigen::VectorXd& lambda_internal,
-                                         Eigen::VectorXd& lambda_external) const {
-  lambda_external.setZero(external.rows());
-  for (int c = 0; c < external.size(); ++c) {
-    const ContactConstraint& e = external[c];
-    const ContactConstraint& i = internal[internal_contact(c)];
-    lambda_external[e.normal_row] = lambda_internal[i.normal_row];
-    if (e.tangent_row >= 0)
-      lambda_external[e.tangent_row] = lambda_internal[i.tangent_row];
+void InternalBodyOrder::rows_to_external(const ContactConstraints& internal, const std::vector<int>& internal_of,
+                                         const Eigen::VectorXd& lambda_internal, Eigen::VectorXd& lambda_external) {
+  lambda_external.resize(internal.rows());
+  Eigen::Index row = 0;  // external rows: contact by contact, normal then tangent
+  for (const int c : internal_of) {
+    const ContactConstraint& i = internal[c];
+    lambda_external[row++] = lambda_internal[i.normal_row];
+    if (i.tangent_row >= 0) lambda_external[row++] = lambda_internal[i.tangent_row];
   }
+}
+
+InternalBodyOrder::Spread InternalBodyOrder::pair_spread(const std::vector<Contact>& internal) {
+  Spread s;
+  for (const Contact& c : internal)
+    if (c.body_a >= 0) {
+      s.sum += std::abs(c.body_b - c.body_a);
+      ++s.pairs;
+    }
+  return s;
 }
 
 }  // namespace dc

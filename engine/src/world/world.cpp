@@ -3,7 +3,9 @@
 #include <chrono>
 #include <cmath>
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <utility>
 
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
@@ -22,51 +24,138 @@ double ms_since(Clock::time_point t0) {
 }  // namespace
 
 World::World(WorldDef def) : def_(std::move(def)), inflow_(def_) {
+  internal_ = def_.bodies.internal_order != "none";
   bodies_ = make_bodies(def_);
   inflow_.emit(0.0, bodies_);
-  if (has_internal_order()) update_internal_order();
+  if (internal_) update_internal_order();
 }
 
 World::World(WorldDef def, BodyState bodies)
     : def_(std::move(def)), bodies_(std::move(bodies)), inflow_(def_) {
   def_.validate();
+  internal_ = def_.bodies.internal_order != "none";
   const std::size_t n = bodies_.size();
   if (bodies_.angle.size() != n || bodies_.velocity.size() != n || bodies_.omega.size() != n ||
       bodies_.radius.size() != n || bodies_.mass.size() != n || bodies_.inv_mass.size() != n ||
       bodies_.inertia.size() != n || bodies_.inv_inertia.size() != n ||
       (!bodies_.shapes.empty() && bodies_.shapes.size() != n))
     throw InvalidArgument("World: body state arrays have inconsistent sizes");
-  if (has_internal_order()) update_internal_order();
+  if (internal_) update_internal_order();
 }
 
 void World::update_internal_order() {
+  // Edited bodies are copied whole: bring the public copy up to date first (gathered after the
+  // last integrate() unless read since), so that only the user's edits change the state.
+  if (bodies_edited_ && bodies_stale_) gather_bodies();
   order_.update_from(bodies_, bodies_edited_);
   bodies_edited_ = false;
-  if (last_resort_step_ >= 0 && step_ - last_resort_step_ < def_.bodies.resort_every) return;
+  const bool due = last_resort_step_ < 0 || decayed_ || step_ - last_resort_step_ >= def_.bodies.resort_every;
+  if (!due) return;
   double max_radius = 0;
   for (const double r : order_.state().radius) max_radius = std::max(max_radius, r);
-  if (max_radius > 0) order_.resort(2 * max_radius);  // the cell of `[bodies] order = "morton"`
+  if (max_radius > 0) {
+    order_.resort(2 * max_radius);  // the cell of `[bodies] order = "morton"`
+    order_.rekey(internal_previous_);  // the builtin warm start matches by the new internal keys
+    order_stale_ = true;
+  }
   last_resort_step_ = step_;
+  ++resorts_;
+  decayed_ = false;
+  spread_baseline_due_ = true;
+}
+
+void World::gather_bodies() const {
+  order_.gather_kinematics(bodies_);
+  bodies_stale_ = false;
+}
+
+const std::vector<int>& World::public_order() const {
+  if (order_stale_) {
+    order_.external_order(internal_contacts_, static_cast<int>(order_.external_of().size()), internal_of_contact_);
+    order_stale_ = false;
+  }
+  return internal_of_contact_;
+}
+
+const std::vector<Contact>& World::contacts() const {
+  if (contacts_stale_) {
+    order_.contacts_to_external(internal_contacts_, public_order(), contacts_);
+    contacts_stale_ = false;
+  }
+  return contacts_;
+}
+
+const std::vector<Contact>& World::previous_contacts() const {
+  if (contacts_are_previous_) return contacts();
+  if (previous_stale_) {  // keyed in the current internal order (rekey at a re-sort)
+    std::vector<int> internal_of;
+    order_.external_order(internal_previous_, static_cast<int>(order_.external_of().size()), internal_of);
+    order_.contacts_to_external(internal_previous_, internal_of, previous_);
+    previous_stale_ = false;
+  }
+  return previous_;
+}
+
+const LcpProblem& World::problem() const {
+  if (problem_stale_) {  // the public contacts assembled on the bodies as they were at assemble()
+    const BodyState& s = order_.state();
+    if (contacts_are_previous_)
+      order_.bodies_for_assembly(pre_position_, pre_velocity_, pre_omega_, assembly_bodies_);
+    else
+      order_.bodies_for_assembly(s.position, s.velocity, s.omega, assembly_bodies_);
+    assemble_lcp(assembly_bodies_, contacts(), def_, problem_);
+    problem_stale_ = false;
+  }
+  return problem_;
 }
 
 const std::vector<Contact>& World::collide() {
+  collide_stage();
+  return contacts();
+}
+
+void World::collide_stage() {
   if (contacts_are_previous_) {  // the contacts integrate() solved become previous_contacts()
-    previous_.swap(contacts_);
+    if (internal_) {
+      internal_previous_.swap(internal_contacts_);
+      if (!contacts_stale_) previous_.swap(contacts_);
+      previous_stale_ = contacts_stale_;
+    } else {
+      previous_.swap(contacts_);
+    }
     contacts_are_previous_ = false;
   }
-  if (has_internal_order()) {
+  if (internal_) {
     update_internal_order();
     collide_circles(order_.state(), internal_contacts_);
-    order_.contacts_to_external(internal_contacts_, static_cast<int>(bodies_.size()), contacts_);
-    if (def_.contact.restitution > 0) {  // matched by external key; copied back to the rows
-      track_approach_velocities(bodies_, previous_, contacts_);
-      for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
-        Contact& in = internal_contacts_[static_cast<size_t>(order_.internal_contact(c))];
-        in.approach_velocity = contacts_[static_cast<size_t>(c)].approach_velocity;
-        in.restitution_due = contacts_[static_cast<size_t>(c)].restitution_due;
+    contacts_stale_ = problem_stale_ = order_stale_ = true;
+    // Decay: the mean |i − j| of the pairs in contact against its lowest value since the last
+    // re-sort (the order's best; a cloud that settles into a pile lowers it after the sort).
+    // Means compared as Σ₁·n₀ > D·Σ₀·n₁ (integers converted exactly below 2⁵³).
+    const auto& best = spread_at_resort_;
+    const auto below = [](const InternalBodyOrder::Spread& x, const InternalBodyOrder::Spread& y, double factor) {
+      return static_cast<double>(x.sum) * static_cast<double>(y.pairs) <
+             factor * static_cast<double>(y.sum) * static_cast<double>(x.pairs);
+    };
+    if (spread_.pairs > 0) {
+      if (spread_baseline_due_ || best.pairs == 0 || below(spread_, best, 1.0)) {
+        spread_at_resort_ = spread_;
+        spread_baseline_due_ = false;
+      } else {
+        decayed_ = !below(spread_, best, def_.bodies.resort_decay);
       }
     }
-    return contacts_;
+    if (def_.contact.restitution > 0) {  // matched by external key; copied back to the rows
+      (void)contacts();  // builds contacts_, which track_approach_velocities completes
+      track_approach_velocities(std::as_const(*this).bodies(), previous_contacts(), contacts_);
+      const std::vector<int>& internal_of = public_order();
+      for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        Contact& in = internal_contacts_[static_cast<size_t>(internal_of[c])];
+        in.approach_velocity = contacts_[c].approach_velocity;
+        in.restitution_due = contacts_[c].restitution_due;
+      }
+    }
+    return;
   }
   if (!bodies_.shapes.empty()) {  // shapes or static/kinematic bodies (shape_narrow_phase.hpp)
     shape_narrow_phase_.collide(bodies_, def_, broad_phase_, contacts_);
@@ -74,7 +163,6 @@ const std::vector<Contact>& World::collide() {
     collide_circles(bodies_, contacts_);
   }
   if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
-  return contacts_;
 }
 
 void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) {
@@ -102,104 +190,146 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
   const auto t0 = Clock::now();
   broad_phase_.find_pairs(bodies.position, reach_, pairs_);
   broad_phase_ms_ = ms_since(t0);
+  spread_ = {};
   for (const auto& [a, b] : pairs_)
-    if (auto c = circle_circle(bodies, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)]))
+    if (auto c = circle_circle(bodies, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)])) {
       out.push_back(*c);
+      spread_.sum += std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
+      ++spread_.pairs;
+    }
   // Wall contacts were appended in key order and pairs are sorted: `out` is sorted.
 }
 
 const LcpProblem& World::assemble() {
-  if (!has_internal_order()) {
+  assemble_stage();
+  return problem();
+}
+
+void World::assemble_stage() {
+  if (!internal_) {
     assemble_lcp(bodies_, contacts_, def_, problem_);
-    return problem_;
+    return;
   }
+  // The public problem() is assembled on first read (a second assembly, of the public contacts).
   assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_);
-  // The public copy: assembled again from the public contacts and bodies. (A permuted copy of
-  // the internal problem was tried and measured slower at 40,000 bodies: it reads each
-  // internal row's J, b, bounds and μ from seven arrays at random, where assembly reads two
-  // bodies' state per contact.)
-  assemble_lcp(bodies_, contacts_, def_, problem_);
-  return problem_;
+  problem_stale_ = true;
 }
 
 const LcpProblem& World::ensure_assembled_matrix() {
+  const LcpProblem& p = problem();  // the public problem exists from here on
+  (void)p;
   problem_.ensure_assembled_matrix();
   return problem_;
 }
 
 Eigen::VectorXd World::pack(const std::vector<double>& lambda_n,
                             const std::vector<double>& lambda_t) const {
-  return problem_.constraints.scatter(lambda_n, lambda_t);
+  return problem().constraints.scatter(lambda_n, lambda_t);
 }
 
 void World::predict(const Eigen::VectorXd& lambda, StepOutcome& out) const {
-  predict_step(bodies_, contacts_, problem_, def_, lambda, out);
+  predict_step(bodies(), contacts(), problem(), def_, lambda, out);
 }
 
 void World::integrate(const Eigen::VectorXd& lambda) {
-  const int rows = problem_.rows();
+  const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
+  const int rows = solved.rows();
   if (lambda.size() != rows)
     throw InvalidArgument("World::integrate: λ has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(rows) + " rows");
-  const ContactConstraints& cons = problem_.constraints;
-  if (cons.size() != static_cast<int>(contacts_.size()) || cons.rows() != rows)
+  const std::size_t contacts = internal_ ? internal_contacts_.size() : contacts_.size();
+  if (solved.constraints.size() != static_cast<int>(contacts) || solved.constraints.rows() != rows)
     throw InvalidArgument("World::integrate: call collide() and assemble() before integrate()");
-  if (!has_internal_order()) {
+  if (!internal_) {
     integrate_solved(lambda);
     return;
   }
-  order_.rows_to_internal(cons, internal_problem_.constraints, lambda, internal_lambda_);
+  InternalBodyOrder::rows_to_internal(problem().constraints, solved.constraints, public_order(), lambda,
+                                      internal_lambda_);
   integrate_solved(internal_lambda_);
 }
 
 void World::integrate_solved(const Eigen::VectorXd& lambda) {
-  const bool internal = has_internal_order();
-  const LcpProblem& solved = internal ? internal_problem_ : problem_;
-  std::vector<Contact>& contacts = internal ? internal_contacts_ : contacts_;
+  const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
+  std::vector<Contact>& contacts = internal_ ? internal_contacts_ : contacts_;
   const ContactConstraints& cons = solved.constraints;
+  if (internal_ && problem_stale_) {  // what a later first read of problem() assembles on
+    const BodyState& s = order_.state();
+    pre_position_ = s.position;
+    pre_velocity_ = s.velocity;
+    pre_omega_ = s.omega;
+  }
   Eigen::VectorXd impulse;
   integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse);
   for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
     contacts[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
     contacts[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
   }
-  if (internal) {  // the public copies: bodies by external index, λ by external contact
-    order_.gather_kinematics(bodies_);
-    for (int c = 0; c < static_cast<int>(contacts_.size()); ++c) {
-      const Contact& in = internal_contacts_[static_cast<size_t>(order_.internal_contact(c))];
-      contacts_[static_cast<size_t>(c)].lambda_n = in.lambda_n;
-      contacts_[static_cast<size_t>(c)].lambda_t = in.lambda_t;
-    }
-  }
+  if (internal_) bodies_stale_ = contacts_stale_ = true;  // the public views: rebuilt on first read
   contacts_are_previous_ = true;
   ++step_;
-  inflow_.emit(time(), bodies_);  // appended bodies join the internal order at the next collide()
+  // Appended bodies join the internal order at the next collide(); the inflow's overlap test
+  // reads the public bodies, so they are brought up to date first when it may emit.
+  if (internal_ && inflow_.pending()) (void)bodies();
+  inflow_.emit(time(), bodies_);
 }
 
-StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
-                       const InitialGuess& guess) {
+namespace {
+
+/// The builtin warm start on one set of objects (public, or internal: the same numbers per contact).
+Eigen::VectorXd previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
+                                const LcpProblem& problem) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(problem.rows());
+  const std::vector<int> match = match_contacts_by_key(previous, current);
+  for (std::size_t c = 0; c < current.size(); ++c) {
+    if (match[c] < 0) continue;
+    const Contact& p = previous[static_cast<std::size_t>(match[c])];
+    problem.constraints.put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
+  }
+  project_feasible(problem, out);
+  return out;
+}
+
+}  // namespace
+
+StepReport World::step(const LcpSolver& solver, const SolverOptions& options, const InitialGuess& guess) {
+  return step_with(solver, options, &guess);  // an empty function: zeros
+}
+
+StepReport World::step(const LcpSolver& solver, const SolverOptions& options, WarmStart guess) {
+  (void)guess;  // the one engine warm start
+  return step_with(solver, options, nullptr);
+}
+
+StepReport World::step_with(const LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess) {
   StepReport rep;
   auto t0 = Clock::now();
-  collide();
+  collide_stage();
   rep.profile.collide_ms = ms_since(t0);
   rep.profile.broad_phase_ms = broad_phase_ms_;
   t0 = Clock::now();
-  assemble();
-  const bool internal = has_internal_order();
-  LcpProblem& solved = internal ? internal_problem_ : problem_;  // rows follow space when internal
+  assemble_stage();
+  LcpProblem& solved = internal_ ? internal_problem_ : problem_;  // rows follow space when internal
   if (solver.needs_assembled_matrix()) solved.ensure_assembled_matrix();
   rep.profile.assemble_ms = ms_since(t0);
-  rep.contacts = static_cast<int>(contacts_.size());
-  rep.rows = problem_.rows();
+  rep.contacts = static_cast<int>(internal_ ? internal_contacts_.size() : contacts_.size());
+  rep.rows = solved.rows();
 
   t0 = Clock::now();
-  Eigen::VectorXd lambda0 = guess ? guess(*this) : Eigen::VectorXd::Zero(rep.rows);
-  if (lambda0.size() != rep.rows)
-    throw InvalidArgument("World::step: the initial guess has " + std::to_string(lambda0.size()) +
-                          " entries, the problem has " + std::to_string(rep.rows) + " rows");
-  if (internal) {
-    order_.rows_to_internal(problem_.constraints, solved.constraints, lambda0, internal_lambda_);
-    lambda0.swap(internal_lambda_);
+  Eigen::VectorXd lambda0;
+  if (guess == nullptr) {
+    lambda0 = internal_ ? previous_lambda(internal_previous_, internal_contacts_, internal_problem_)
+                        : previous_lambda(previous_contacts(), contacts_, problem_);
+  } else {
+    lambda0 = *guess ? (*guess)(*this) : Eigen::VectorXd::Zero(rep.rows);
+    if (lambda0.size() != rep.rows)
+      throw InvalidArgument("World::step: the initial guess has " + std::to_string(lambda0.size()) +
+                            " entries, the problem has " + std::to_string(rep.rows) + " rows");
+    if (internal_ && *guess) {
+      InternalBodyOrder::rows_to_internal(problem().constraints, solved.constraints, public_order(), lambda0,
+                                          internal_lambda_);
+      lambda0.swap(internal_lambda_);
+    }
   }
   rep.profile.warmstart_ms = ms_since(t0);
 
@@ -211,21 +341,21 @@ StepReport World::step(const LcpSolver& solver, const SolverOptions& options,
 
   t0 = Clock::now();
   integrate_solved(rep.solve.lambda);
-  if (internal) {  // the report's λ in the rows of problem()
-    order_.rows_to_external(problem_.constraints, solved.constraints, rep.solve.lambda, internal_lambda_);
+  if (internal_) {  // the report's λ in the rows of problem() (external contact order)
+    InternalBodyOrder::rows_to_external(solved.constraints, public_order(), rep.solve.lambda, internal_lambda_);
     rep.solve.lambda.swap(internal_lambda_);
   }
   rep.profile.integrate_ms = ms_since(t0);
   return rep;
 }
 
-double World::kinetic_energy() const { return dc::kinetic_energy(bodies_); }
+double World::kinetic_energy() const { return dc::kinetic_energy(bodies()); }
 
-double World::potential_energy() const { return dc::potential_energy(bodies_, def_.world.gravity); }
+double World::potential_energy() const { return dc::potential_energy(bodies(), def_.world.gravity); }
 
 double World::max_penetration() const {
-  double p = 0;
-  for (const Contact& c : contacts_) p = std::max(p, -c.gap);
+  double p = 0;  // a maximum: the same in either contact order
+  for (const Contact& c : internal_ ? internal_contacts_ : contacts_) p = std::max(p, -c.gap);
   return p;
 }
 

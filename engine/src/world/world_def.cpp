@@ -96,6 +96,8 @@ void WorldDef::validate() const {
                       bodies.internal_order + "\"");
   if (bodies.resort_every < 1)
     throw ConfigError("[bodies] resort_every: expected an integer >= 1, got " + std::to_string(bodies.resort_every));
+  if (!(bodies.resort_decay > 1) || !std::isfinite(bodies.resort_decay))
+    throw ConfigError("[bodies] resort_decay: expected a finite number > 1, got " + std::to_string(bodies.resort_decay));
   non_negative("[inflow] rate", inflow.rate);
   // Every value is finite even where it is unused (an inactive inflow, a circle's size): a NaN
   // in a scene is a mistake wherever it stands.

@@ -1,18 +1,23 @@
 #pragma once
 // The engine-internal body order behind stable external indices (`[bodies] internal_order =
 // "morton"`, docs/engine.md "Spatial body order"). World keeps its working copy of the bodies
-// here, sorted by the Morton code of each body's current cell and re-sorted every K steps, so
-// that the broad phase's pairs, the contacts, the LCP rows (contacts sorted by internal key)
-// and J's columns follow space and every stage walks memory with locality. The public
-// objects stay in external order: this class translates contacts (body ids, key, normal
-// orientation) and per-row vectors between the two orders, and copies body state both ways.
+// here, sorted by the Morton code of each body's current cell and re-sorted when the order has
+// decayed (or every `resort_every` steps at the latest), so that the broad phase's pairs, the
+// contacts, the LCP rows (contacts sorted by internal key) and J's columns follow space and
+// every stage walks memory with locality. The public objects stay in external order: this class
+// translates contacts (body ids, key, normal orientation) and per-row vectors between the two
+// orders, and copies body state both ways. World calls the translations lazily, only for
+// the views a caller reads.
 //
 // Orientation: a pair contact's normal points from the lower to the higher body index. When
 // the internal order of a pair's bodies is the reverse of their external order, the external
 // contact has its bodies swapped and n (so t = perp(n)) negated. Its rows of J are the same
-// per body (−n on a, +n on b becomes +n on the old a, −n on the old b: the same entries), so
-// b, λ_n and λ_t are the same numbers in both orders; only the columns move.
+// per body (−n on a, +n on b becomes +n on the old a, −n on the old b: the same entries up to
+// the sign of a zero r × n), so b, λ_n and λ_t are the same numbers in both orders; only the
+// columns move. (The public problem is therefore assembled from the public contacts, not
+// permuted from the internal one: −0 and +0 entries of J would differ.)
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "dc/engine/body_state.hpp"
@@ -37,30 +42,57 @@ class InternalBodyOrder {
   /// Re-sorts the internal order by the Morton code of each body's current cell (side `cell`
   /// [m]; morton_order, ties by current internal index): deterministic.
   void resort(double cell);
+  /// Moves contacts keyed in the internal order before the last resort() to the current one:
+  /// new body ids and keys, the normal and anchors turned where a pair's bodies changed order
+  /// (as contacts_to_external does), sorted by key again. Their external view is unchanged.
+  void rekey(std::vector<Contact>& contacts) const;
   /// Copies the kinematic state (x, θ, v, ω) of every body to its external index.
   void gather_kinematics(BodyState& external) const;
 
-  /// `external` ← `internal` contacts with external body ids and keys, sorted by key (a
-  /// counting sort by the key's first index, then by the rest within each bucket), and
-  /// remembers for each external contact its internal contact and orientation.
-  void contacts_to_external(const std::vector<Contact>& internal, int bodies, std::vector<Contact>& external);
-  /// Internal contact of external contact c (of the last contacts_to_external).
-  [[nodiscard]] int internal_contact(int c) const { return internal_of_contact_[static_cast<std::size_t>(c)]; }
+  /// For each external contact c (the contacts `internal` translated and sorted by external
+  /// key: a counting sort by the key's first index, then by the rest within each bucket) the
+  /// internal contact it comes from: internal_of[c].
+  void external_order(const std::vector<Contact>& internal, int bodies, std::vector<int>& internal_of) const;
+  /// `external` ← the contacts `internal` with external body ids and keys, in the order
+  /// `internal_of` of external_order().
+  void contacts_to_external(const std::vector<Contact>& internal, const std::vector<int>& internal_of,
+                            std::vector<Contact>& external) const;
+  /// `external` ← what assembly reads of the bodies (x, v, ω, 1/m, 1/I; no shapes), by external
+  /// index, from internal kinematic arrays (the current state's or a copy taken before an
+  /// integrate) and the internal constants: assembling the external contacts on it gives the
+  /// public problem bit for bit as assembling them on the public bodies did at that time.
+  void bodies_for_assembly(const std::vector<Vec2>& position, const std::vector<Vec2>& velocity,
+                           const std::vector<double>& omega, BodyState& external) const;
   /// Row vector of the internal problem from one of the external problem (same contacts).
-  void rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
-                        const Eigen::VectorXd& lambda_external, Eigen::VectorXd& lambda_internal) const;
-  /// Row vector of the external problem from one of the internal problem.
-  void rows_to_external(const ContactConstraints& external, const ContactConstraints& internal,
-                        const Eigen::VectorXd& lambda_internal, Eigen::VectorXd& lambda_external) const;
+  static void rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
+                               const std::vector<int>& internal_of, const Eigen::VectorXd& lambda_external,
+                               Eigen::VectorXd& lambda_internal);
+  /// Row vector of the external problem from one of the internal problem. The external rows
+  /// are numbered as assembly numbers them (contact by contact: normal row, then the tangent
+  /// row when μ > 0), so the external constraints need not exist.
+  static void rows_to_external(const ContactConstraints& internal, const std::vector<int>& internal_of,
+                               const Eigen::VectorXd& lambda_internal, Eigen::VectorXd& lambda_external);
+
+  /// Decay measure of the order: Σ |i − j| over the pair contacts (i, j internal body indices)
+  /// and their number. Right after a re-sort the pairs in contact are mostly neighbours in
+  /// memory; as bodies move, their partners drift away in the order and the sum grows.
+  struct Spread {
+    std::int64_t sum = 0;
+    std::int64_t pairs = 0;
+  };
+  [[nodiscard]] static Spread pair_spread(const std::vector<Contact>& internal);
 
  private:
+  /// External view of one internal contact (id, key, orientation).
+  [[nodiscard]] Contact external_contact(const Contact& internal) const;
+
   BodyState state_;
   std::vector<int> external_of_;
-  std::vector<int> internal_of_contact_;
-  std::vector<unsigned char> flipped_;  ///< per internal contact: bodies in reverse external order
-  std::vector<int> bucket_start_;      ///< contacts_to_external's counting sort (reused)
-  std::vector<ContactKey> keys_;       ///< external key of each internal contact (reused)
-  std::vector<int> sorted_;            ///< internal contacts in external key order (reused)
+  std::vector<int> new_of_old_;  ///< internal index after the last resort() of each index before it
+  // external_order()'s scratch (reused; mutable: the translation is a const view of the order).
+  mutable std::vector<int> bucket_start_;
+  mutable std::vector<ContactKey> keys_;
+  mutable std::vector<int> sorted_;
 };
 
 }  // namespace dc

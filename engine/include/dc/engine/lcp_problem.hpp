@@ -78,6 +78,13 @@ struct LcpProblem {
   void validate_constraints() const;
 };
 
+/// Clamps λ into the problem's bounds (λ_n ≥ 0, |λ_t| ≤ μ λ_n, fixed bounds elsewhere) and
+/// replaces non-finite entries by 0, so any guess is a valid PGS starting point: normal
+/// (fixed-bound) rows first, then the friction rows whose bounds depend on them. Each row's
+/// result depends only on its own contact's rows, so the clamp commutes with any permutation
+/// of whole contacts (World's builtin warm start in its internal row order relies on it).
+void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
+
 /// Natural-map residual, the step-length-independent accuracy measure of docs/design.md §2:
 ///   max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)|   with w = A λ + b and the effective bounds.
 /// Zero exactly at a solution; units of λ [N].

@@ -20,7 +20,12 @@
 // With `[bodies] internal_order = "morton"` the stages work on a copy of the bodies kept in a
 // re-sorted spatial order (internal_body_order.hpp); everything public — bodies(), contacts(),
 // previous_contacts(), problem(), constraints(), pack(), predict(), integrate(λ)'s λ, the
-// guess's input and output, StepReport's λ — stays in the external (creation) order.
+// guess's input and output, StepReport's λ — stays in the external (creation) order. Those
+// views are built lazily: a step translates only what is read (bodies(), contacts(), problem()
+// …) after it, on the first read; the builtin warm start (step(…, WarmStart::PreviousLambda))
+// runs in the internal order, so a step nobody looks into pays only for StepReport's λ. The
+// const accessors therefore fill caches: a World is not safe to read from two threads at once
+// with an internal order.
 #include <Eigen/Core>
 #include <functional>
 #include <vector>
@@ -71,10 +76,14 @@ class World {
   World(WorldDef def, BodyState bodies);
 
   [[nodiscard]] const WorldDef& def() const { return def_; }
-  [[nodiscard]] const BodyState& bodies() const { return bodies_; }
+  [[nodiscard]] const BodyState& bodies() const {
+    if (bodies_stale_) gather_bodies();
+    return bodies_;
+  }
   /// Mutable bodies: with an internal order, edits reach the engine's working copy at the
   /// next collide() (every body is copied then; calling this marks the bodies as edited).
   BodyState& bodies() {
+    if (bodies_stale_) gather_bodies();
     bodies_edited_ = true;
     return bodies_;
   }
@@ -90,20 +99,21 @@ class World {
   void integrate(const Eigen::VectorXd& lambda);
 
   // ---- results of the stages ---------------------------------------------------------
-  [[nodiscard]] const std::vector<Contact>& contacts() const { return contacts_; }
+  [[nodiscard]] const std::vector<Contact>& contacts() const;
   /// Contacts of the previous step with their solved λ (the built-in warm start's memory).
-  [[nodiscard]] const std::vector<Contact>& previous_contacts() const {
-    return contacts_are_previous_ ? contacts_ : previous_;
-  }
-  [[nodiscard]] const LcpProblem& problem() const { return problem_; }
+  [[nodiscard]] const std::vector<Contact>& previous_contacts() const;
+  [[nodiscard]] const LcpProblem& problem() const;
   /// The broad phase (its last_pair_tests() measures the last collide()'s work).
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
   /// Wall-clock time of the broad phase in the last collide() [ms] (timing only).
   [[nodiscard]] double last_broad_phase_ms() const { return broad_phase_ms_; }
+  /// Re-sorts of the engine-internal body order so far (0 without one; the first sort at
+  /// construction counts): diagnostics of `[bodies] resort_every` / `resort_decay`.
+  [[nodiscard]] int internal_order_resorts() const { return resorts_; }
   /// Bodies added during the run ([[body]] spawn, [inflow]; inflow.hpp).
   [[nodiscard]] const Inflow& inflow() const { return inflow_; }
   /// Rows, bodies and μ of each current contact (of the last assemble()).
-  [[nodiscard]] const ContactConstraints& constraints() const { return problem_.constraints; }
+  [[nodiscard]] const ContactConstraints& constraints() const { return problem().constraints; }
   /// Row of the normal / tangent constraint of contact c (tangent: −1 when its μ = 0).
   [[nodiscard]] int normal_row(int c) const { return constraints()[c].normal_row; }
   [[nodiscard]] int tangent_row(int c) const { return constraints()[c].tangent_row; }
@@ -119,6 +129,15 @@ class World {
   using InitialGuess = std::function<Eigen::VectorXd(const World&)>;
   StepReport step(const LcpSolver& solver, const SolverOptions& options,
                   const InitialGuess& guess = {});
+  /// Initial guesses the engine computes itself.
+  enum class WarmStart {
+    /// The builtin warm start: the previous step's solved λ of the contact with the same key
+    /// (match_contacts_by_key), 0 for new contacts, clamped by project_feasible — bit for bit
+    /// the warmstart library's `builtin`. With an internal order it is computed in the internal
+    /// rows (previous contacts matched by internal key), with no public view built.
+    PreviousLambda,
+  };
+  StepReport step(const LcpSolver& solver, const SolverOptions& options, WarmStart guess);
 
   // ---- diagnostics -------------------------------------------------------------------
   [[nodiscard]] double kinetic_energy() const;    ///< Σ ½ m v² + ½ I ω² [J]
@@ -127,10 +146,12 @@ class World {
 
  private:
   WorldDef def_;
-  BodyState bodies_;
+  /// With an internal order, bodies_, contacts_, previous_ and problem_ are the public views,
+  /// refreshed on first read after a stage changed them (the *_stale_ flags): mutable caches.
+  mutable BodyState bodies_;
   int step_ = 0;
-  std::vector<Contact> contacts_;
-  std::vector<Contact> previous_;
+  mutable std::vector<Contact> contacts_;
+  mutable std::vector<Contact> previous_;
   /// Set by integrate(): the solved contacts_ are also the previous step's contacts. The next
   /// collide() swaps them into previous_ instead of integrate() copying every contact (a
   /// 128-byte struct per contact: 6 MB a step at 40,000 bodies, memory-bound).
@@ -139,29 +160,56 @@ class World {
   /// buffers of collide() (no allocation per step).
   std::vector<double> spec_, reach_;
   std::vector<std::pair<int, int>> pairs_;
-  LcpProblem problem_;
+  mutable LcpProblem problem_;
   UniformGridBroadPhase broad_phase_;
   ShapeNarrowPhase shape_narrow_phase_;  ///< collide() of scenes with a shape table
   double broad_phase_ms_ = 0;
   Inflow inflow_;  ///< appends late bodies at construction and after every integrate()
 
-  // ---- engine-internal body order ([bodies] internal_order; empty/unused when "none") ----
-  [[nodiscard]] bool has_internal_order() const { return def_.bodies.internal_order != "none"; }
-  /// The bodies the stages work on: bodies_, or the internally ordered copy.
-  BodyState& working_bodies() { return has_internal_order() ? order_.state() : bodies_; }
-  /// Brings order_ up to date with bodies_ (appended bodies, user edits) and re-sorts it
-  /// every resort_every steps.
-  void update_internal_order();
+  /// collide() / assemble() / the step's guess without building the public views.
+  void collide_stage();
+  void assemble_stage();
+  /// The step with `guess` (a user function) or, when it is null, WarmStart::PreviousLambda.
+  StepReport step_with(const LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess);
   /// Broad and narrow phase of a circle-only scene on `bodies` into `out` (sorted by key).
   void collide_circles(const BodyState& bodies, std::vector<Contact>& out);
   /// integrate() on the problem the stages solved (internal rows when there is an order).
   void integrate_solved(const Eigen::VectorXd& lambda);
+
+  // ---- engine-internal body order ([bodies] internal_order; empty/unused when "none") ----
+  bool internal_ = false;  ///< def_.bodies.internal_order != "none"
+  [[nodiscard]] bool has_internal_order() const { return internal_; }
+  /// The bodies the stages work on: bodies_, or the internally ordered copy.
+  BodyState& working_bodies() { return internal_ ? order_.state() : bodies_; }
+  /// Brings order_ up to date with bodies_ (appended bodies, user edits) and re-sorts it when
+  /// the order has decayed (decayed_) or resort_every steps after the last re-sort; previous
+  /// contacts are re-keyed to the new order.
+  void update_internal_order();
+  /// Lazy public views (internal order only): bodies by external index; this step's contacts
+  /// in external key order (internal_of_contact_: the internal contact of each); the previous
+  /// step's; the problem: the public contacts assembled on assembly_bodies_ (the bodies by
+  /// external index as they were at assemble(): pre_* keeps x, v, ω across integrate()).
+  void gather_bodies() const;
+  const std::vector<int>& public_order() const;
   InternalBodyOrder order_;
   std::vector<Contact> internal_contacts_;  ///< this step's contacts in internal order
+  std::vector<Contact> internal_previous_;  ///< the previous step's, keyed in the current internal order
   LcpProblem internal_problem_;             ///< their LCP (rows follow space)
   Eigen::VectorXd internal_lambda_;         ///< integrate(λ)'s λ translated (reused)
-  bool bodies_edited_ = true;               ///< bodies() was called mutably since the last copy
-  int last_resort_step_ = -1;               ///< step_ of the last re-sort (−1: never)
+  mutable std::vector<int> internal_of_contact_;
+  std::vector<Vec2> pre_position_, pre_velocity_;
+  std::vector<double> pre_omega_;
+  mutable BodyState assembly_bodies_;
+  mutable bool bodies_stale_ = false, contacts_stale_ = false, previous_stale_ = false, problem_stale_ = false,
+               order_stale_ = false;
+  bool bodies_edited_ = true;  ///< bodies() was called mutably since the last copy
+  int last_resort_step_ = -1;  ///< step_ of the last re-sort (−1: never)
+  int resorts_ = 0;
+  /// Decay of the internal order: Σ |i − j| and count of the pair contacts of the last
+  /// collide() (counted in collide_circles), and those of the lowest mean since the last re-sort.
+  InternalBodyOrder::Spread spread_, spread_at_resort_;
+  bool spread_baseline_due_ = true;  ///< the next collide() sets spread_at_resort_
+  bool decayed_ = false;             ///< re-sort at the next collide()
 };
 
 /// Generated (seeded Gaussian, rejection-sampled) plus explicit circles of a definition.

@@ -37,6 +37,11 @@ class WarmStarter {
   [[nodiscard]] virtual bool uses_oracle() const { return false; }
   /// Milliseconds the last initial_guess() spent computing the oracle itself (0 if shared).
   [[nodiscard]] virtual double oracle_ms() const { return 0.0; }
+  /// True when initial_guess() is, bit for bit, the engine's own warm start
+  /// World::WarmStart::PreviousLambda (and observe() does nothing): a stepping loop may then
+  /// call World::step(solver, options, World::WarmStart::PreviousLambda), which with an
+  /// engine-internal body order computes it in the internal rows without building the public views.
+  [[nodiscard]] virtual bool is_previous_lambda() const { return false; }
 };
 
 class WarmStarterRegistry;
@@ -78,9 +83,7 @@ class WarmStarterRegistry {
   std::map<std::string, Entry> entries_;
 };
 
-/// Clamps λ into the problem's bounds (λ_n ≥ 0, |λ_t| ≤ μ λ_n, fixed bounds elsewhere) and
-/// replaces non-finite entries by 0, so any guess is a valid PGS starting point.
-void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
+// project_feasible (clamp a guess into the bounds) is the engine's: dc/engine/lcp_problem.hpp.
 
 /// The registry with every starter of this library, the methods: zero, builtin,
 /// builtin-extrapolate, builtin-statics, builtin-gain-extrapolate[:KERNEL:D:H[:NORM]],
