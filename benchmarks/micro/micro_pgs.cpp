@@ -333,11 +333,12 @@ void BM_PgsColoredAlternating(benchmark::State& s) {
 /// comparison pass); reuse = 2, two sets alternated that differ by one contact in the middle
 /// (every call looks each contact up: the general reuse path). threads: the OpenMP threads
 /// of the parallel colouring (same colours for every count); counters chunks and boundary =
-/// the chunks coloured in parallel and the contacts coloured serially after them.
+/// the chunks coloured in parallel and the contacts coloured serially after them. chunk: 0 =
+/// the default serial greedy colouring, else the contacts per chunk of the parallel one.
 void BM_ContactColoring(benchmark::State& s) {
   const dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
   const std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
-  dc::ContactColorer colorer(s.range(1) != 0);
+  dc::ContactColorer colorer(s.range(1) != 0, static_cast<int>(s.range(3)));
   dc::ContactConstraints other;  // p's contacts without the middle one
   for (int c = 0; c < p.constraints.size(); ++c)
     if (c != p.constraints.size() / 2) other.add(p.constraints[c]);
@@ -403,15 +404,17 @@ BENCHMARK(BM_PgsColoredThreads)
     ->UseRealTime();
 BENCHMARK(BM_PgsColoredAlternating)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ContactColoring)
-    ->ArgNames({"bodies", "reuse", "threads"})
-    ->Args({1000, 0, 1})
-    ->Args({1000, 1, 1})
-    ->Args({1000, 2, 1})
-    ->Args({10000, 0, 1})
-    ->Args({10000, 1, 1})
-    ->Args({10000, 2, 1})
-    ->Args({10000, 0, 2})
-    ->Args({10000, 2, 2})
+    ->ArgNames({"bodies", "reuse", "threads", "chunk"})
+    ->Args({1000, 0, 1, 0})
+    ->Args({1000, 1, 1, 0})
+    ->Args({1000, 2, 1, 0})
+    ->Args({10000, 0, 1, 0})
+    ->Args({10000, 1, 1, 0})
+    ->Args({10000, 2, 1, 0})
+    ->Args({10000, 0, 1, dc::ContactColorer::kChunk})
+    ->Args({10000, 2, 1, dc::ContactColorer::kChunk})
+    ->Args({10000, 0, 2, dc::ContactColorer::kChunk})
+    ->Args({10000, 2, 2, dc::ContactColorer::kChunk})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SeedScenePgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SeedScenePgsColored)->Unit(benchmark::kMillisecond);

@@ -82,8 +82,11 @@ class ContactColorer {
   static constexpr int kChunk = 4096;
 
   /// `reuse` = false colours every call from scratch (greedy in contact order); `chunk` = the
-  /// contacts per chunk (≥ 1; small values are for tests). Throws InvalidArgument for chunk < 1.
-  explicit ContactColorer(bool reuse = true, int chunk = kChunk);
+  /// contacts per chunk of the parallel colouring (≥ 1; small values are for tests; kChunk is
+  /// the measured choice), or 0 (the default) = always one chunk: the serial greedy rule, which
+  /// on 2 threads still gives the faster sweeps (one colour fewer, results.md "Threads: the
+  /// colouring in parallel"). Throws InvalidArgument for chunk < 0.
+  explicit ContactColorer(bool reuse = true, int chunk = 0);
 
   /// Colours `contacts`; `dynamic[k]` says whether body k conflicts (size ≥ 1 + max body).
   /// `threads` (≥ 1) colour the chunks; the result is the same for every thread count.
@@ -113,6 +116,9 @@ class ContactColorer {
   static int chunk_begin(int q, int chunks, int nc) {
     return static_cast<int>(static_cast<long long>(q) * nc / chunks);
   }
+  /// The one-chunk rule (phases 1 and 3 of the header over all contacts in order) without the
+  /// chunked path's bookkeeping: fills out_ except `generation`.
+  void color_serial(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic);
   /// The table of this call's colours for the next call, and the repeat test's copy.
   void remember(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic);
   /// The contacts' (body_a, body_b, feature) and the flags equal the last call's.

@@ -336,7 +336,11 @@ TEST(ContactColoringThreads, OneChunkIsTheGreedyRule) {
   const ContactColoring& c = chunked.color(cons, dyn, 2);
   EXPECT_TRUE(is_valid_coloring(cons, dyn, c));
   EXPECT_LE(c.colors, *std::max_element(want.begin(), want.end()) + 2);
-  EXPECT_THROW(ContactColorer(true, 0), InvalidArgument);
+  // The default colourer (chunk 0) is the greedy rule on any set size and thread count.
+  ContactColorer by_default(false);
+  EXPECT_EQ(by_default.color(cons, dyn, 3).color, want);
+  EXPECT_EQ(by_default.last().chunks, 1);
+  EXPECT_THROW(ContactColorer(true, -1), InvalidArgument);
 }
 
 }  // namespace

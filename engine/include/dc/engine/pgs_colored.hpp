@@ -45,10 +45,13 @@ struct PgsColoredDef {
   PgsColoredKernel kernel = PgsColoredKernel::Auto;
   /// Reuse last solve's colours where contacts persist (false: greedy colouring from scratch).
   bool reuse_colors = true;
-  /// Contacts per chunk of the parallel colouring (≥ 1; contact_coloring.hpp, "Threads"): a
-  /// function of the contact count only, so the colours do not depend on `threads`. Problems
-  /// with fewer than 2·color_chunk contacts are coloured as one chunk (the serial greedy rule).
-  int color_chunk = 4096;
+  /// Contacts per chunk of the parallel colouring (contact_coloring.hpp, "Threads"; 4,096 is
+  /// the measured choice): a function of the contact count only, so the colours do not depend
+  /// on `threads`. Problems with fewer than 2·color_chunk contacts are coloured as one chunk.
+  /// 0 (the default) = the serial greedy colouring always: the chunked one needs one colour
+  /// more on large piles (hex pile of 10,000: 5 instead of 4), which costs the 2-thread sweeps
+  /// more than the parallel colouring saves (results.md "Threads: the colouring in parallel").
+  int color_chunk = 0;
 };
 
 std::unique_ptr<LcpSolver> make_pgs_colored(const PgsColoredDef& def = {});
