@@ -238,14 +238,21 @@ TEST(FeatureImage, ContactWeightsAreTheReadBacksShepardDenominatorBitForBit) {
   }
 }
 
+/// The 40-circle seed scene (seed 5) of the builder-reuse tests: stepped 3 steps it is spread
+/// over the box, 150 steps a pile low in it.
+WorldDef forty_circles() {
+  WorldDef wd;
+  wd.bodies.count = 40;
+  wd.bodies.seed = 5;
+  return wd;
+}
+
 // The builder clears and converts only the grid rows its splats reach (the rows written by the
 // previous call are cleared first): a builder used on another state before gives a fresh
 // builder's image and contact weights bit for bit — a pile low in the box after bodies spread
 // over it and back, for every kind of channel.
 TEST(FeatureImage, AReusedBuilderGivesAFreshBuildersImageBitForBit) {
-  WorldDef wd;
-  wd.bodies.count = 40;
-  wd.bodies.seed = 5;
+  const WorldDef wd = forty_circles();
   World early(wd), settled(wd);
   (void)test::step_then_assemble(early, 3, 50);
   (void)test::step_then_assemble(settled, 150, 50);
@@ -278,9 +285,7 @@ TEST(FeatureImage, AReusedBuilderGivesAFreshBuildersImageBitForBit) {
 // match, the image is the builder's own bit for bit (a wrong match changes it: the match is
 // read), and every channel is +0 (bit pattern 0) outside nonzero_rows().
 TEST(FeatureImage, AGivenKeyMatchGivesTheSameImageAndNonzeroRowsBoundIt) {
-  WorldDef wd;
-  wd.bodies.count = 40;
-  wd.bodies.seed = 5;
+  const WorldDef wd = forty_circles();
   World early(wd), settled(wd);
   (void)test::step_then_assemble(early, 3, 50);
   (void)test::step_then_assemble(settled, 150, 50);

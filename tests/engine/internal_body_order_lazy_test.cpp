@@ -16,6 +16,7 @@
 #include "dc/engine/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "lcp/assembly.hpp"
+#include "previous_lambda_by_key.hpp"
 #include "scaled_seed_pile.hpp"
 
 namespace dc {
@@ -88,13 +89,7 @@ void expect_same_problem(const LcpProblem& p, const LcpProblem& q) {
 /// The builtin warm start written out over the public views (what the warmstart library's
 /// `builtin` computes).
 Eigen::VectorXd builtin_over_public_views(const World& w) {
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
-  const std::vector<int> match = match_contacts_by_key(w.previous_contacts(), w.contacts());
-  for (std::size_t c = 0; c < match.size(); ++c)
-    if (match[c] >= 0) {
-      const Contact& p = w.previous_contacts()[static_cast<std::size_t>(match[c])];
-      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-    }
+  Eigen::VectorXd out = test::previous_lambda_by_key(w);
   project_feasible(w.problem(), out);
   return out;
 }

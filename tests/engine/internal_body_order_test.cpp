@@ -15,6 +15,7 @@
 #include "dc/engine/scene.hpp"
 #include "dc/engine/step_outcome.hpp"
 #include "dc/engine/world.hpp"
+#include "previous_lambda_by_key.hpp"
 #include "scaled_seed_pile.hpp"
 
 namespace dc {
@@ -26,19 +27,6 @@ WorldDef pile(const char* internal_order, int n, int resort_every = 5) {
   d.bodies.internal_order = internal_order;
   d.bodies.resort_every = resort_every;
   return d;
-}
-
-/// The builtin warm start written out (the warmstart library is above the engine): previous
-/// λ by key, in the rows of problem().
-Eigen::VectorXd previous_by_key(const World& w) {
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
-  const std::vector<int> match = match_contacts_by_key(w.previous_contacts(), w.contacts());
-  for (std::size_t c = 0; c < match.size(); ++c)
-    if (match[c] >= 0) {
-      const Contact& p = w.previous_contacts()[static_cast<std::size_t>(match[c])];
-      w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-    }
-  return out;
 }
 
 TEST(InternalBodyOrder, TranslatesContactsToExternalKeysAndFlipsReversedPairs) {
@@ -96,7 +84,7 @@ TEST(InternalBodyOrder, AStepAgreesWithTheExternalOrderToTheSolverTolerance) {
     b.bodies().velocity = a.bodies().velocity;
     b.bodies().angle = a.bodies().angle;
     b.bodies().omega = a.bodies().omega;
-    const StepReport ra = a.step(*solver, o, previous_by_key), rb = b.step(*solver, o, previous_by_key);
+    const StepReport ra = a.step(*solver, o, test::previous_lambda_by_key), rb = b.step(*solver, o, test::previous_lambda_by_key);
     ASSERT_EQ(ra.rows, rb.rows);
     ASSERT_EQ(a.contacts().size(), b.contacts().size());
     for (std::size_t c = 0; c < a.contacts().size(); ++c) ASSERT_EQ(a.contacts()[c].key, b.contacts()[c].key);
@@ -123,7 +111,7 @@ TEST(InternalBodyOrder, PublicViewsAreInExternalOrder) {
   SolverOptions o;
   o.max_sweeps = 50;
   for (int s = 0; s < 100; ++s) {
-    const StepReport r = w.step(*solver, o, previous_by_key);
+    const StepReport r = w.step(*solver, o, test::previous_lambda_by_key);
     const World& cw = w;
     const BodyState& x = cw.bodies();
     ASSERT_EQ(r.rows, cw.problem().rows());
@@ -147,7 +135,7 @@ TEST(InternalBodyOrder, PublicViewsAreInExternalOrder) {
   // through the translation does what predict() says the public problem does with it.
   w.collide();
   w.assemble();
-  const Eigen::VectorXd lambda = solver->solve(w.problem(), previous_by_key(w), o).lambda;
+  const Eigen::VectorXd lambda = solver->solve(w.problem(), test::previous_lambda_by_key(w), o).lambda;
   StepOutcome predicted;
   w.predict(lambda, predicted);
   w.integrate(lambda);
@@ -168,12 +156,12 @@ TEST(InternalBodyOrder, RerunsAreBitEqualAndStagesMatchStep) {
     o.max_sweeps = 30;
     for (int s = 0; s < 60; ++s) {
       if (!by_stages) {
-        w.step(*solver, o, previous_by_key);
+        w.step(*solver, o, test::previous_lambda_by_key);
         continue;
       }
       w.collide();
       w.assemble();
-      w.integrate(solver->solve(w.problem(), previous_by_key(w), o).lambda);
+      w.integrate(solver->solve(w.problem(), test::previous_lambda_by_key(w), o).lambda);
     }
     return state_hash(w.bodies());
   };

@@ -176,6 +176,18 @@ TEST(InferencePlan, FusedEqualsTheUnfusedPathOnTheShippedShape) {
 /// Float bit patterns: the skipped rows must give the same bits, −0 and NaN included.
 std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v); }
 
+/// 4 channels of h × w Gaussian features (σ 2) in rows [lo, hi), +0 everywhere else: an image
+/// whose empty rows the plan can skip or copy from its template rows.
+Tensor banded_features(Rng& rng, int h, int w, int lo, int hi) {
+  Tensor f(1, 4, h, w);
+  fill_gaussian(f, rng, 2.0);
+  for (int c = 0; c < 4; ++c)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (y < lo || y >= hi) f.at(0, c, y, x) = 0.0f;
+  return f;
+}
+
 // A mostly empty box (the seed pile fills the lower part): raw features +0 outside a band of
 // rows, one empty-looking row holding a −0 (not an empty row: −0 standardises to other bits).
 // run() then skips rows the pixels do not depend on and copies template rows; over calls with
@@ -189,12 +201,7 @@ TEST(InferencePlan, RowsSkippedOnAPartlyEmptyImageGiveTheSameBits) {
       InferencePlan plan(net, stats);
       Rng rng(11);
       for (const auto& [lo, hi] : {std::pair{0, h / 3}, std::pair{h / 2, h / 2 + 6}, std::pair{h - 9, h}}) {
-        Tensor f(1, 4, h, w);
-        fill_gaussian(f, rng, 2.0);
-        for (int c = 0; c < 4; ++c)
-          for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-              if (y < lo || y >= hi) f.at(0, c, y, x) = 0.0f;
+        Tensor f = banded_features(rng, h, w, lo, hi);
         const int minus_zero_row = lo > 4 ? lo - 4 : h - 3;
         f.at(0, 2, minus_zero_row, w / 2) = -0.0f;
         std::vector<int> band, empty, third = every_third_pixel(h * w);
@@ -230,12 +237,7 @@ TEST(InferencePlan, GivenNonzeroInputRowsGiveTheScannedRunsBits) {
       InferencePlan plan(net, stats);
       Rng rng(13);
       for (const auto& [lo, hi] : {std::pair{0, h / 2}, std::pair{h / 3, h / 3 + 8}, std::pair{h - 12, h}}) {
-        Tensor f(1, 4, h, w);
-        fill_gaussian(f, rng, 2.0);
-        for (int c = 0; c < 4; ++c)
-          for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-              if (y < lo || y >= hi) f.at(0, c, y, x) = 0.0f;
+        Tensor f = banded_features(rng, h, w, lo, hi);
         std::vector<int> band, lower;
         for (int p = 0; p < h * w; ++p) {
           if (p / w >= lo && p / w < hi && p % 3 == 0) band.push_back(p);

@@ -48,71 +48,6 @@ ContactColorer::ContactColorer(bool reuse, int chunk) : reuse_(reuse), chunk_(ch
   if (chunk < 0) throw InvalidArgument("contact colouring: chunk size " + std::to_string(chunk) + " is negative");
 }
 
-void ContactColorer::color_serial(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic) {
-  // The one-chunk rule straight from the contact records: no pair copy, no shared marks (the
-  // chunked path's bookkeeping costs ≈ 30 % of a serial colouring, results.md "Threads: the
-  // colouring in parallel").
-  const int nc = contacts.size();
-  const int nb = static_cast<int>(dynamic.size());
-  for (int c = 0; c < nc; ++c) {
-    const ContactConstraint& k = contacts[c];
-    if (k.body_b >= nb || k.body_a >= nb)
-      throw InvalidArgument("contact colouring: contact " + std::to_string(c) + " names body " +
-                            std::to_string(std::max(k.body_a, k.body_b)) + " of " + std::to_string(nb));
-  }
-  out_.color.assign(static_cast<size_t>(nc), ContactColoring::kOverflow);
-  out_.colors = out_.reused = out_.overflow = out_.boundary = 0;
-  out_.chunks = 1;
-  used_.assign(static_cast<size_t>(nb), 0);
-  auto dyn = [&](int body) { return body >= 0 && dynamic[static_cast<size_t>(body)] != 0; };
-  auto mask_of = [&](const ContactConstraint& k) {
-    std::uint64_t m = 0;
-    if (dyn(k.body_a)) m |= used_[static_cast<size_t>(k.body_a)];
-    if (dyn(k.body_b)) m |= used_[static_cast<size_t>(k.body_b)];
-    return m;
-  };
-  auto take = [&](int c, const ContactConstraint& k, int colour) {
-    out_.color[static_cast<size_t>(c)] = colour;
-    const std::uint64_t bit = std::uint64_t{1} << colour;
-    if (dyn(k.body_a)) used_[static_cast<size_t>(k.body_a)] |= bit;
-    if (dyn(k.body_b)) used_[static_cast<size_t>(k.body_b)] |= bit;
-    out_.colors = std::max(out_.colors, colour + 1);
-  };
-  // 1. Persisting contacts keep last call's colour when it is still free on their bodies.
-  const bool have_prev = reuse_ && !start_.empty();
-  if (have_prev) {
-    const int prev_bodies = static_cast<int>(start_.size()) - 1;
-    for (int c = 0; c < nc; ++c) {
-      const ContactConstraint& k = contacts[c];
-      int first, other;
-      identity(k, first, other);
-      if (first >= prev_bodies) continue;
-      for (int e = start_[static_cast<size_t>(first)]; e < start_[static_cast<size_t>(first) + 1]; ++e) {
-        const Entry& en = entries_[static_cast<size_t>(e)];
-        // Several contacts may share a key (two walls of one body have body_a = −1): each
-        // takes the first matching entry whose colour is still free.
-        if (en.other != other || en.feature != k.feature) continue;
-        if (en.color != ContactColoring::kOverflow && ((mask_of(k) >> en.color) & 1) == 0) {
-          take(c, k, en.color);
-          ++out_.reused;
-          break;
-        }
-      }
-    }
-  }
-  // 2. The rest: the lowest colour free on both bodies, else the overflow set.
-  for (int c = 0; c < nc; ++c) {
-    if (have_prev && out_.color[static_cast<size_t>(c)] != ContactColoring::kOverflow) continue;
-    const ContactConstraint& k = contacts[c];
-    const std::uint64_t free = ~mask_of(k);
-    if (free == 0) {
-      ++out_.overflow;
-      continue;
-    }
-    take(c, k, std::countr_zero(free));
-  }
-}
-
 struct ContactColorer::Canvas {
   const Pair* pair;     // per contact: its dynamic bodies (−1: none)
   std::uint64_t* used;  // per body: bit c set when colour c holds one of its contacts
@@ -179,14 +114,8 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
   }
   out_.repeated = false;
   repeatable_ = false;  // until this call completes
-  if (chunk_ == 0 || nc < 2 * chunk_) {
-    color_serial(contacts, dynamic);
-    ++out_.generation;
-    if (reuse_) remember(contacts, dynamic);
-    return out_;
-  }
   const bool have_prev = reuse_ && !start_.empty();
-  const int chunks = std::max(1, nc / chunk_);
+  const int chunks = chunk_ == 0 ? 1 : std::max(1, nc / chunk_);  // 0: one chunk, the serial rule
   out_.color.resize(static_cast<size_t>(nc));
   used_.resize(static_cast<size_t>(nb));
   pair_.resize(static_cast<size_t>(nc));

@@ -116,9 +116,6 @@ class ContactColorer {
   static int chunk_begin(int q, int chunks, int nc) {
     return static_cast<int>(static_cast<long long>(q) * nc / chunks);
   }
-  /// The one-chunk rule (phases 1 and 3 of the header over all contacts in order) without the
-  /// chunked path's bookkeeping: fills out_ except `generation`.
-  void color_serial(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic);
   /// The table of this call's colours for the next call, and the repeat test's copy.
   void remember(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic);
   /// The contacts' (body_a, body_b, feature) and the flags equal the last call's.
