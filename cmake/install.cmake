@@ -9,7 +9,7 @@
 # Nothing installed names the source or build tree, so P can be moved.
 include(CMakePackageConfigHelpers)
 
-set(DC_INSTALLED_LIBRARIES dc_core dc_sph dc_io dc_engine dc_warmstart dc_learning dc_cnn dc_bench dc_research)
+set(DC_INSTALLED_LIBRARIES dc_core dc_sph dc_io dc_lcp dc_engine dc_warmstart dc_learning dc_cnn dc_bench dc_research)
 foreach(lib ${DC_INSTALLED_LIBRARIES})
   string(REPLACE "dc_" "" short ${lib})
   set_target_properties(${lib} PROPERTIES EXPORT_NAME ${short})

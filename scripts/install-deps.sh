@@ -19,7 +19,7 @@ packages=(
   libhdf5-dev        # trajectories, data sets, models, bench results (C and C++ API)
   libcli11-dev       # command line of the deepcontact executable
   libtomlplusplus-dev # scene files
-  libsuitesparse-dev # CHOLMOD: sparse Cholesky of the newton-sparse solver (engine/src/solvers/newton_sparse/)
+  libsuitesparse-dev # CHOLMOD: sparse Cholesky of the newton-sparse solver (lcp/src/solvers/newton_sparse/)
   libgtest-dev libgmock-dev googletest # unit tests
   libbenchmark-dev   # micro-benchmarks of the hot kernels
   libomp-dev         # OpenMP runtime headers (g++ uses libgomp; clang needs libomp)

@@ -1,7 +1,7 @@
 #pragma once
 // Test helper shared by the suites (engine and up): advance a world a number of steps with PGS
 // at a fixed sweep budget — a pile forms or settles — then collide and assemble the next step.
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 
 namespace dc::test {

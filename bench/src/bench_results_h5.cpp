@@ -3,7 +3,7 @@
 #include <span>
 #include <vector>
 
-#include "bench_statistics_report.hpp"
+#include "report/bench_statistics_report.hpp"
 #include "dc/bench/bench_report.hpp"
 #include "dc/bench/solver_summary.hpp"
 #include "dc/engine/scene.hpp"

@@ -8,7 +8,7 @@
 
 #include "dc/bench/json_writer.hpp"
 #include "dc/bench/provenance.hpp"
-#include "report_format.hpp"
+#include "report/report_format.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/io/atomic_file.hpp"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "dc/bench/bench_results.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 
 namespace dc::bench {
 

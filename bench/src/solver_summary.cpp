@@ -7,7 +7,7 @@
 #include "dc/bench/quantiles.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
-#include "report_format.hpp"
+#include "report/report_format.hpp"
 
 namespace dc::bench {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/engine/broad_phase.hpp"
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

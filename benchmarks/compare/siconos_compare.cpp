@@ -38,10 +38,10 @@
 #include <string>
 #include <vector>
 
-#include "dc/bench/problem_file.hpp"
-#include "dc/engine/fc2d_dat_file.hpp"
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/proximal_point.hpp"
+#include "dc/lcp/problem_file.hpp"
+#include "dc/lcp/fc2d_dat_file.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/proximal_point.hpp"
 
 extern "C" {
 #include <fclib.h>
@@ -167,7 +167,7 @@ int sweeps_to_reach(const dc::LcpSolver& solver, const dc::LcpProblem& lcp, cons
 }
 
 /// One of our solvers by name; "proximal:NAME" = the proximal-point route around NAME
-/// (dc/engine/proximal_point.hpp), to the exact tolerance. Iterative solvers run the sweeps
+/// (dc/lcp/proximal_point.hpp), to the exact tolerance. Iterative solvers run the sweeps
 /// that reach `tol` (sweeps_to_reach, at most 3000), exact ones to their own tolerance.
 Outcome run_ours(const std::string& name, const dc::Fc2dProblem& p, double tol, int repeat) {
   const dc::LcpProblem lcp = dc::fc2d_to_lcp(p);

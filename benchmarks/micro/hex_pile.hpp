@@ -10,7 +10,7 @@
 #include <cmath>
 #include <vector>
 
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 
 namespace dc::bench_fixture {
 

@@ -46,7 +46,7 @@
 #include <vector>
 
 #include "dc/cnn/cnn_warm_starter.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/learning/labels.hpp"
 #include "dc/learning/model_file.hpp"

@@ -1,4 +1,4 @@
-// Google Benchmark of newton-sparse's kernels (dc/engine/newton_sparse.hpp) on a contact-like
+// Google Benchmark of newton-sparse's kernels (dc/lcp/newton_sparse.hpp) on a contact-like
 // problem of realistic size: N circles (r = 1, ρ = 1) in a hexagonal pile, each touching its
 // right and upper-right neighbours, floor contacts for the bottom row, friction on (2 rows per
 // contact, μ = 0.5), Δt = 0.01, at rest under gravity (hex_pile.hpp, shared with micro_pgs).
@@ -15,8 +15,8 @@
 #include <cmath>
 #include <vector>
 
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/newton_sparse.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/newton_sparse.hpp"
 #include "hex_pile.hpp"
 #include "solvers/newton_sparse/sparse_factor.hpp"
 

@@ -1,7 +1,7 @@
 // Google Benchmark of "nncg" (PGS sweeps with nonlinear conjugate-gradient momentum,
-// engine/src/solvers/nncg.cpp) against "pgs" on the same problems, side by side in one process:
+// lcp/src/solvers/nncg.cpp) against "pgs" on the same problems, side by side in one process:
 //
-//  BM_SweepCost/<solver>   a 12 × 40 resting pile (tests/engine/solvers/solver_test_problems.hpp,
+//  BM_SweepCost/<solver>   a 12 × 40 resting pile (tests/lcp/solver_test_problems.hpp,
 //                          deep_pile: 480 circles, 1,900 rows), 200 sweeps from λ⁰ = 0, tolerance 0:
 //                          the cost of one iteration, ns_per_row_sweep = CPU time / (rows · sweeps).
 //                          nncg's iteration is one of pgs's sweeps plus O(rows + bodies) vector work.
@@ -13,8 +13,8 @@
 //   build/bin/micro_nncg --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
 
-#include "../../tests/engine/solvers/solver_test_problems.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "../../tests/lcp/solver_test_problems.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 
 namespace {
 

@@ -17,7 +17,7 @@
 // BM_SeedScene* time one full 3000-sweep solve of the seed scene's settled pile (default
 // WorldDef, 400 steps of "pgs" with 200 sweeps, then collide + assemble).
 //
-// pgs-colored (colour-ordered PGS, dc/engine/pgs_colored.hpp): BM_PgsColored* run its AVX-512
+// pgs-colored (colour-ordered PGS, dc/lcp/pgs_colored.hpp): BM_PgsColored* run its AVX-512
 // (kernel = 2), AVX2 (1) and scalar (0) kernels on the same problems (a kernel the CPU lacks is
 // skipped), and 1 or 2 OpenMP threads (BM_PgsColoredThreads); max_diff_vs_scalar =
 // max_i |λ_i(kernel) − λ_i(scalar)| after the same sweeps (0: bit-equal).
@@ -32,11 +32,11 @@
 #include <ctime>
 #include <vector>
 
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/pgs_colored.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 #include "hex_pile.hpp"
-#include "lcp/contact_coloring.hpp"
+#include "solvers/pgs_colored/contact_coloring.hpp"
 
 namespace {
 

@@ -36,8 +36,8 @@
 #include <memory>
 
 #include "collision/narrow_phase.hpp"
-#include "dc/bench/trajectory_recorder.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/trajectory_recorder.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

@@ -21,7 +21,7 @@ uptime
 "$BUILD/bin/deepcontact" simulate --scene "$ROOT/scenes/deep.toml" --steps 500 \
   --export-problems "$OUT/deep" --every 250
 # Ours: newton-sparse, nncg (3000 sweeps) and the proximal-point route around newton-sparse
-# (dc/engine/proximal_point.hpp). Siconos: NSGS in sparse-block storage, capped at MAX_ITER
+# (dc/lcp/proximal_point.hpp). Siconos: NSGS in sparse-block storage, capped at MAX_ITER
 # iterations (default 20000: one NSGS solve of the 7002-contact file stays within seconds); where
 # it stops at the cap its residual is above ours and NSGS / ours is a lower bound of the speed-up.
 # CPG and Lemke (dense) are left out here: minutes per problem of a few hundred contacts.

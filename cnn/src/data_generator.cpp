@@ -13,7 +13,7 @@
 #include "dc/cnn/data_set_oracle_solver.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 
 namespace {

@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "dc/core/vec2.hpp"
-#include "dc/engine/lcp_problem.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_problem.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "dc/core/error.hpp"
-#include "dc/engine/dat_file.hpp"
+#include "dc/lcp/dat_file.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {

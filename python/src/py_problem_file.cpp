@@ -1,10 +1,10 @@
 // deepcontact.read_problem / write_problem: problem files of every kind (Siconos LCP and 2D
-// frictional-contact .dat, FCLIB .hdf5; dc/bench/problem_file.hpp, docs/lcp.md).
+// frictional-contact .dat, FCLIB .hdf5; dc/lcp/problem_file.hpp, docs/lcp.md).
 #include <pybind11/stl.h>
 
 #include <optional>
 
-#include "dc/bench/problem_file.hpp"
+#include "dc/lcp/problem_file.hpp"
 #include "dc/core/error.hpp"
 #include "py_common.hpp"
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "dc/bench/trajectory_recorder.hpp"
+#include "dc/engine/trajectory_recorder.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/scene.hpp"
 #include "py_common.hpp"

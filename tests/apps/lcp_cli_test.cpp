@@ -9,9 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "dc/engine/dat_file.hpp"
-#include "dc/engine/lcp_problem.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/dat_file.hpp"
+#include "dc/lcp/lcp_problem.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 
 namespace dc {
 namespace {

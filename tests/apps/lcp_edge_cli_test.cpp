@@ -1,5 +1,5 @@
 // LCP edge cases end to end through `deepcontact lcp solve` (docs/robustness.md). The solvers'
-// own edge-case behaviour is unit-tested in tests/engine/solvers/solver_edge_test.cpp; this file
+// own edge-case behaviour is unit-tested in tests/lcp/solver_edge_test.cpp; this file
 // checks what a user of the command sees for the same degenerate files: the exit status
 // matches the JSON status (0 converged, 3 infeasible, 1 anything else), the status says what
 // happened, nothing hangs, and no output ever contains a NaN or an Inf (JSON has neither;
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "apps/cli_helpers.hpp"
-#include "dc/engine/dat_file.hpp"
+#include "dc/lcp/dat_file.hpp"
 
 namespace dc {
 namespace {

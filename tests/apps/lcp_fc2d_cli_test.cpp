@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "apps/cli_helpers.hpp"
-#include "dc/bench/problem_file.hpp"
-#include "dc/engine/fc2d_dat_file.hpp"
+#include "dc/lcp/problem_file.hpp"
+#include "dc/lcp/fc2d_dat_file.hpp"
 
 namespace dc {
 namespace {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "apps/cli_helpers.hpp"
-#include "dc/engine/dat_file.hpp"
+#include "dc/lcp/dat_file.hpp"
 
 namespace dc {
 namespace {

@@ -26,7 +26,7 @@
 #include <numbers>
 
 #include "dc/bench/stress_scenarios.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 
 namespace dc {

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <string>
 
-#include "dc/bench/trajectory_recorder.hpp"
+#include "dc/engine/trajectory_recorder.hpp"
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/io/h5.hpp"
 

@@ -10,9 +10,9 @@
 #include <optional>
 #include <string>
 
-#include "dc/bench/trajectory_recorder.hpp"
-#include "dc/bench/trajectory_writer.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/engine/trajectory_recorder.hpp"
+#include "dc/engine/trajectory_writer.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/io/h5.hpp"

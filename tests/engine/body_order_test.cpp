@@ -11,7 +11,7 @@
 #include <tuple>
 
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 #include "scaled_seed_pile.hpp"

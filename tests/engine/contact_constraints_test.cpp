@@ -8,10 +8,10 @@
 
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
-#include "dc/engine/contact_constraints.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/contact_constraints.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "engine/solvers/solver_test_problems.hpp"
+#include "lcp/solver_test_problems.hpp"
 
 namespace dc {
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "collision/narrow_phase.hpp"
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "dc/engine/shape.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
 #include "dc/engine/step_outcome.hpp"

@@ -7,7 +7,7 @@
 #include <numbers>
 
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 

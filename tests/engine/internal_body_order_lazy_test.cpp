@@ -13,9 +13,9 @@
 
 #include "dc/core/error.hpp"
 #include "dc/engine/internal_body_order.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "lcp/assembly.hpp"
+#include "assembly/assembly.hpp"
 #include "previous_lambda_by_key.hpp"
 #include "scaled_seed_pile.hpp"
 

@@ -11,7 +11,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/engine/internal_body_order.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/step_outcome.hpp"
 #include "dc/engine/world.hpp"

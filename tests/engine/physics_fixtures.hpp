@@ -4,7 +4,7 @@
 // solve tight enough that the LCP's conditions hold to ~1e-12.
 #include <numbers>
 
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 
 namespace dc::test {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "physics_fixtures.hpp"
 

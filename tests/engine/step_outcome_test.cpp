@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/engine/step_outcome.hpp"
 

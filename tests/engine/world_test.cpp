@@ -11,7 +11,7 @@
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
 #include "dc/engine/broad_phase.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "settled_pile.hpp"
 

@@ -12,8 +12,8 @@
 #include <string_view>
 
 #include "dc/core/error.hpp"
-#include "dc/engine/dat_file.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/dat_file.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "fuzz_common.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

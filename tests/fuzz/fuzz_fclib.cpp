@@ -9,7 +9,7 @@
 #include <cstdint>
 
 #include "dc/core/error.hpp"
-#include "dc/io/fclib_file.hpp"
+#include "dc/lcp/fclib_file.hpp"
 #include "fuzz_common.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -12,7 +12,7 @@
 #include "dc/cnn/data_set.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/research/pgs_samples.hpp"
 #include "dc/research/pgs_trainer.hpp"

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

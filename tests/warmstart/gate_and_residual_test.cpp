@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "dc/warmstart/oracle.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 #include "floor_discs.hpp"

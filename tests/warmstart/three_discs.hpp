@@ -1,7 +1,7 @@
 #pragma once
 // Three discs (two on the floor, one in the air) under a sideways pull, for the warm-starter
 // tests: builtin's key matching, copy and the registry.
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 
 namespace dc::test {

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "starters.hpp"
 
 namespace dc {

@@ -31,7 +31,7 @@
 #include <utility>
 #include <vector>
 
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "dc/sph/sph_grid.hpp"
 #include "dc/warmstart/active_set_solve.hpp"
 #include "starters.hpp"

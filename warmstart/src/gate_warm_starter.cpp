@@ -10,7 +10,7 @@
 // model from ever starting PGS further from the solution than builtin by its own measure.
 // Cost: two matrix-free residual evaluations (each O(nnz J), ≈ one PGS sweep) on top of
 // INNER's guess; timed with the guess.
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "starters.hpp"
 
 namespace dc {

@@ -29,11 +29,11 @@
 #include "commands/commands.hpp"
 #include "dc/bench/json_writer.hpp"
 #include "dc/core/error.hpp"
-#include "dc/bench/problem_file.hpp"
+#include "dc/lcp/problem_file.hpp"
 #include "dc/io/output_path.hpp"
-#include "dc/engine/dat_file.hpp"
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/proximal_point.hpp"
+#include "dc/lcp/dat_file.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/proximal_point.hpp"
 
 namespace dc::cli {
 namespace {

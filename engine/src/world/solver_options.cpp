@@ -1,5 +1,5 @@
 // solver_options: a scene's [solver] section → SolverOptions (lcp_solver.hpp).
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world_def.hpp"
 
 namespace dc {

@@ -10,7 +10,7 @@
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/broad_phase.hpp"
-#include "lcp/assembly.hpp"
+#include "assembly/assembly.hpp"
 #include "world/restitution.hpp"
 
 namespace dc {

@@ -11,7 +11,7 @@
 #include "dc/cnn/feature_image.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/contact.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

@@ -38,7 +38,7 @@ Eigen::VectorXd GuessProjection::forward(const LcpProblem& p, const Eigen::Vecto
   const int n = p.rows();
   Eigen::VectorXd lam = x;
   piece_.assign(static_cast<std::size_t>(n), 0);
-  // project_feasible's order and clamps (engine/src/lcp/lcp_problem.cpp).
+  // project_feasible's order and clamps (lcp/src/problem/lcp_problem.cpp).
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(lam[i])) {
       lam[i] = 0.0;

@@ -12,7 +12,7 @@
 
 #include "dc/bench/quantiles.hpp"
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 
 namespace dc {

@@ -2,10 +2,10 @@
 // options do what the section says when a solver runs with them.
 #include <gtest/gtest.h>
 
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world_def.hpp"
-#include "engine/solvers/solver_test_problems.hpp"
+#include "lcp/solver_test_problems.hpp"
 
 namespace dc {
 namespace {

@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "dc/core/error.hpp"
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/pgs_colored.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
-#include "engine/solvers/solver_test_problems.hpp"
-#include "lcp/contact_coloring.hpp"
+#include "lcp/solver_test_problems.hpp"
+#include "solvers/pgs_colored/contact_coloring.hpp"
 
 namespace dc {
 namespace {

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "dc/engine/lcp_solver.hpp"
-#include "dc/engine/pgs_colored.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
-#include "engine/solvers/solver_test_problems.hpp"
+#include "lcp/solver_test_problems.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 

@@ -1,4 +1,4 @@
-// The two-point manifold block of "pgs" (engine/src/solvers/pgs_manifold_block.hpp): on a
+// The two-point manifold block of "pgs" (lcp/src/solvers/pgs_manifold_block.hpp): on a
 // problem that is one manifold, one sweep is the exact solution of the 2 × 2 LCP in each of
 // its four cases (= lemke); an ill-conditioned manifold runs row by row; on a settled box pile
 // the block and the row-by-row order converge to the same solution.
@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
-#include "engine/solvers/solver_test_problems.hpp"
+#include "lcp/solver_test_problems.hpp"
 
 namespace dc {
 namespace {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "dc/bench/theta_rows.hpp"
-#include "dc/bench/trajectory_recorder.hpp"
+#include "dc/engine/trajectory_recorder.hpp"
 #include "dc/engine/world_def.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "dc/engine/body_state.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/engine/world_def.hpp"
 

@@ -7,8 +7,8 @@
 #include <memory>
 
 #include "dc/cnn/data_set.hpp"
-#include "dc/engine/lcp_problem.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_problem.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/warmstart/oracle.hpp"
 
 namespace dc {

@@ -11,7 +11,7 @@
 #include "dc/cnn/shape_samples.hpp"
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "dc/learning/feature_channels.hpp"
 #include "dc/sph/sph_grid.hpp"
 #include "dc/sph/sph_kernel.hpp"

@@ -22,7 +22,7 @@
 
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
-#include "dc/engine/contact_constraints.hpp"
+#include "dc/lcp/contact_constraints.hpp"
 
 namespace dc {
 

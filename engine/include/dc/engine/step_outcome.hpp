@@ -12,7 +12,7 @@
 
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "dc/engine/world_def.hpp"
 
 namespace dc {

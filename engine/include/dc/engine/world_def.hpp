@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dc/core/vec2.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 
 namespace dc {
 
@@ -175,6 +176,11 @@ struct WorldDef {
   /// Field-by-field equality (tests, round trips of scene files).
   friend bool operator==(const WorldDef&, const WorldDef&) = default;
 };
+
+/// The options a scene's `[solver]` section asks for (docs/scenes.md): max_sweeps = sweeps,
+/// tolerance and omega copied, every other field at its default (θ recorded, no
+/// checkpoints). The one place that maps the persisted section to the solver's options.
+SolverOptions solver_options(const SolverSection& solver);
 
 /// The seed scene (identical to WorldDef{}; spelled out for readability at call sites).
 inline WorldDef default_world_def() { return WorldDef{}; }

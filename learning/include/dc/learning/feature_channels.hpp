@@ -38,7 +38,7 @@
 // per-contact channels lambda_prev_*, vrel_*, gap are Shepard NUMERATORS like the labels
 // (same kernel, same points): a label minus lambda_prev is the splat of λ* − λ_prev, the
 // target of a residual model (labels.hpp, LabelKind::Residual). vrel and gap are what the
-// LCP's b is made of (b_n = vrel_n + Δt g·n + gap terms, engine/src/lcp/assembly.cpp).
+// LCP's b is made of (b_n = vrel_n + Δt g·n + gap terms, engine/src/assembly/assembly.cpp).
 // w_prev is the right-hand side of the correction: for the rows that stay active the exact
 // correction δ = λ* − λ_prev solves A δ = −w_prev, so a predictor of δ is a learned
 // (non-local) inverse of A applied to it — where builtin is right, w_prev is ≈ 0.

@@ -19,7 +19,7 @@
 
 #include "dc/cnn/contact_readback.hpp"
 #include "dc/cnn/data_set.hpp"
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 #include "dc/learning/labels.hpp"
 #include "dc/learning/tensor.hpp"
 

@@ -1,13 +1,13 @@
 #pragma once
 // UnrolledPgs: k sweeps of the engine's matrix-free projected Gauss–Seidel ("pgs",
-// engine/src/solvers/pgs_matrix_free.cpp) on one contact LCP, differentiable with respect to
+// lcp/src/solvers/pgs_matrix_free.cpp) on one contact LCP, differentiable with respect to
 // the initial guess λ⁰ by reverse mode (docs/design.md §8.5: train the warm start for what PGS
 // pays). Same rows, same row order, same floating-point operations in the same order as the
 // engine's kernels, so forward(λ⁰, k) returns the engine's λ after k fixed sweeps bit for bit
 // (up to the sign of zero; tested) — the row-by-row engine kernels, i.e. "pgs" with
 // SolverOptions::block_manifolds = false. On problems with two-point manifolds (two contacts
 // of one body pair with one normal: polygon faces) the engine's default "pgs" solves each
-// manifold's normal rows as one 2 × 2 block instead (engine/src/solvers/pgs_manifold_block.hpp)
+// manifold's normal rows as one 2 × 2 block instead (lcp/src/solvers/pgs_manifold_block.hpp)
 // and its iterates differ from these (same fixed point); circle scenes, the ones trained on,
 // have no such manifolds, so there the two agree bit for bit.
 //
@@ -38,7 +38,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "dc/engine/lcp_problem.hpp"
+#include "dc/lcp/lcp_problem.hpp"
 
 namespace dc {
 

@@ -4,8 +4,8 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "dc/engine/lcp_problem.hpp"
-#include "dc/engine/lcp_solver.hpp"
+#include "dc/lcp/lcp_problem.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 
 namespace dc {
 

@@ -83,7 +83,7 @@ class WarmStarterRegistry {
   std::map<std::string, Entry> entries_;
 };
 
-// project_feasible (clamp a guess into the bounds) is the engine's: dc/engine/lcp_problem.hpp.
+// project_feasible (clamp a guess into the bounds) is the engine's: dc/lcp/lcp_problem.hpp.
 
 /// The registry with every starter of this library, the methods: zero, builtin,
 /// builtin-extrapolate, builtin-statics, builtin-gain-extrapolate[:KERNEL:D:H[:NORM]],

@@ -1,0 +1,93 @@
+#pragma once
+// LCP problem files in the Siconos numerics `.dat` text format (docs/design.md §7, docs/lcp.md), as
+// written by Siconos' linearComplementarity_printInFile / NM_write_in_file / SBM_write_in_file
+// and read by linearComplementarity_newFromFile / NM_new_from_file / SBM_new_from_file:
+//
+//     n                      problem size
+//     storage                0 = dense, 1 = sparse block (Siconos' SparseBlockStructuredMatrix)
+//     rows                   (= n)
+//     cols                   (= n)
+//   dense (0):
+//     rows<TAB>cols          repeated size line of the dense block
+//     M, column-major: M(0,j) M(1,j) … M(n−1,j), one column per line, j = 0 … n−1
+//   sparse block (1):
+//     nbblocks               number of stored (non-zero) blocks; 0 = M is zero, nothing follows
+//     R                      number of block rows
+//     C                      number of block columns
+//     r_0 … r_{R−1}          cumulative block-row sizes (block row i = rows r_{i−1} … r_i − 1)
+//     c_0 … c_{C−1}          cumulative block-column sizes
+//     filled1                number of row pointers (R + 1, or fewer if trailing block rows are empty)
+//     filled2                number of blocks (= nbblocks)
+//     p_0 … p_{filled1−1}    row pointers: the blocks of block row i are p_i … p_{i+1} − 1
+//     k_0 … k_{filled2−1}    block-column index of each block
+//     then for each block b in order: the number b, then its entries column-major
+//   then, in both storages:
+//     q(0) … q(n−1)
+//     anything else          a remark (Siconos' reader stops after q): kept as DatFile::comment
+//
+// The LCP is w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0, i.e. LcpProblem::standard(M, q) with M
+// sparse (zeros not stored). The reader is liberal with whitespace (any mix of spaces,
+// tabs, newlines; line breaks are not required where Siconos puts them) but strict about
+// everything up to the last entry of q: a missing file, truncated data, a non-numeric token,
+// NaN/Inf, n ≤ 0 or n > 100000, sizes that disagree, a storage type other than 0 and 1,
+// block sizes that do not add up to n, a row pointer or column index out of range, a
+// repeated block, a block number out of order, or sizes the file is too short to hold —
+// throws dc::IoError with one line naming the file, the line and the problem. It checks
+// every size against the bytes left before allocating and never blocks.
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+
+#include "dc/lcp/lcp_problem.hpp"
+
+namespace dc {
+
+/// Largest n the reader accepts (a dense 100000² matrix is 80 GB already).
+inline constexpr long long kMaxDatSize = 100000;
+
+/// Longest remark after q kept in DatFile::comment [bytes]; the rest is dropped.
+inline constexpr size_t kMaxDatComment = 4096;
+
+/// Siconos NumericsMatrix storage types the reader and writer understand.
+enum class DatStorage { Dense = 0, SparseBlock = 1 };
+
+/// A parsed .dat file: the problem, how M was stored, and the remark after q.
+struct DatFile {
+  LcpProblem problem;
+  DatStorage storage = DatStorage::Dense;
+  /// Text after the last entry of q, leading/trailing whitespace removed, at most
+  /// kMaxDatComment bytes, invalid UTF-8 bytes replaced by '?'. Empty when there is none.
+  std::string comment;
+};
+
+/// Reads FILE.dat (either storage). Throws IoError.
+DatFile read_dat_file(const std::string& path);
+
+/// Parses the text of a .dat file; `name` is used in error messages. Throws IoError.
+DatFile parse_dat_file(std::string_view text, const std::string& name);
+
+/// read_dat_file(path).problem: a standard LCP (lo = 0, hi = +∞, no friction).
+LcpProblem read_lcp_dat(const std::string& path);
+
+/// parse_dat_file(text, name).problem.
+LcpProblem parse_lcp_dat(std::string_view text, const std::string& name);
+
+/// Writes M, q in dense storage (numbers with %.17g, so a round trip is exact).
+/// Throws IoError if the file cannot be written, InvalidArgument if sizes disagree.
+void write_lcp_dat(const std::string& path, const Eigen::MatrixXd& M, const Eigen::VectorXd& q);
+
+/// Text of the file write_lcp_dat writes.
+std::string format_lcp_dat(const Eigen::MatrixXd& M, const Eigen::VectorXd& q);
+
+/// Text of M, q in sparse-block storage (1) with square diagonal block structure: blocks of
+/// `block_size` rows/columns (the last one smaller if block_size does not divide n); only
+/// blocks with a non-zero entry are stored. Numbers with %.17g (exact round trip), integers
+/// followed by a tab as Siconos writes them. Throws InvalidArgument if sizes disagree or
+/// block_size < 1.
+std::string format_lcp_dat_blocks(const SparseRowMatrix& M, const Eigen::VectorXd& q, int block_size);
+
+/// Writes format_lcp_dat_blocks(M, q, block_size) to `path`. Throws IoError / InvalidArgument.
+void write_lcp_dat_blocks(const std::string& path, const SparseRowMatrix& M, const Eigen::VectorXd& q,
+                          int block_size);
+
+}  // namespace dc

@@ -1,0 +1,106 @@
+#pragma once
+// The contact LCP of one step (docs/design.md §2), in the form every solver consumes:
+//
+//     w = A λ + b,   lo_i ≤ λ_i ≤ hi_i,  and for each row exactly one of
+//       λ_i = lo_i and w_i ≥ 0,   λ_i = hi_i and w_i ≤ 0,   lo_i < λ_i < hi_i and w_i = 0.
+//
+// Friction rows have bounds that depend on the solution: hi_i = μ_i λ_{n(i)}, lo_i = −hi_i,
+// where n(i) = normal_row[i] is the normal row of the same contact. Rows with
+// normal_row[i] < 0 have the fixed bounds lo_i, hi_i (lo = 0, hi = +∞ for normal rows and
+// for standard LCPs read from files).
+//
+// A problem assembled from a world carries J, M⁻¹ and Δt and its contact constraints (which
+// rows belong to which contact and bodies); the matrix-free solvers work on those. Its
+// A = J M⁻¹ Jᵀ Δt is NOT formed by assembly: whoever needs A (the assembled solvers, export
+// to a .dat file, a test) calls ensure_assembled_matrix() first — World::step and the bench
+// do so when their solver says needs_assembled_matrix(). An assembled solver handed a
+// problem without A forms it for that one solve (correct, but paid per call). A problem read
+// from a file has only A and b (no J, no constraints).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "dc/lcp/contact_constraints.hpp"
+
+namespace dc {
+
+using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+struct LcpProblem {
+  /// n × n, row-major [m/(N·s)] for contact problems; 0 × 0 until ensure_assembled_matrix()
+  /// for a problem assembled from a world.
+  SparseRowMatrix A;
+  Eigen::VectorXd b;           ///< n [m/s]
+  Eigen::VectorXd lo;          ///< n, fixed lower bounds (ignored for friction rows)
+  Eigen::VectorXd hi;          ///< n, fixed upper bounds (+∞ allowed; ignored for friction rows)
+  std::vector<int> normal_row; ///< n; −1, or the normal row a friction row is coupled to
+  Eigen::VectorXd mu;          ///< n; friction coefficient of friction rows (0 elsewhere)
+
+  // Optional matrix-free representation (empty when the problem came from a file).
+  SparseRowMatrix J;           ///< n × 3·bodies, columns (v_x, v_y, ω) per body
+  Eigen::VectorXd inv_mass;    ///< 3·bodies, diagonal of M⁻¹
+  double dt = 0.0;             ///< Δt [s] with A = J M⁻¹ Jᵀ Δt
+  /// Rows, bodies and μ of each contact (empty when the problem came from a file). When not
+  /// empty its rows() equals rows() and it agrees with normal_row and mu (validate()).
+  ContactConstraints constraints;
+
+  [[nodiscard]] int rows() const { return static_cast<int>(b.size()); }
+  [[nodiscard]] bool has_jacobian() const { return J.rows() == rows() && J.rows() > 0 && dt > 0; }
+  /// True when A is present (always for problems from files; after ensure_assembled_matrix()
+  /// for assembled ones).
+  [[nodiscard]] bool has_assembled_matrix() const { return A.rows() == rows() && A.cols() == rows(); }
+  /// Forms A = J M⁻¹ Jᵀ Δt (sparse, row-major, exact zeros pruned) when it is absent and J is
+  /// present; otherwise does nothing. Explicit and non-const on purpose: no hidden cache.
+  void ensure_assembled_matrix();
+  [[nodiscard]] bool is_friction_row(int i) const { return normal_row[static_cast<size_t>(i)] >= 0; }
+
+  /// Effective bounds of row i at the current iterate λ.
+  [[nodiscard]] double lower(int i, const Eigen::VectorXd& lambda) const {
+    const int n = normal_row[static_cast<size_t>(i)];
+    return n < 0 ? lo[i] : -mu[i] * std::max(0.0, lambda[n]);
+  }
+  [[nodiscard]] double upper(int i, const Eigen::VectorXd& lambda) const {
+    const int n = normal_row[static_cast<size_t>(i)];
+    return n < 0 ? hi[i] : mu[i] * std::max(0.0, lambda[n]);
+  }
+
+  /// Standard LCP (lo = 0, hi = +∞, no friction) from dense or sparse A and b.
+  static LcpProblem standard(const Eigen::MatrixXd& A, const Eigen::VectorXd& b);
+  static LcpProblem standard(const SparseRowMatrix& A, const Eigen::VectorXd& b);
+
+  /// Throws InvalidArgument if sizes disagree, an entry is non-finite, a bound pair is
+  /// inverted, a friction row points at a non-normal row, neither A nor J is present, or the
+  /// constraints disagree with the rows (a row owned by no or two contacts, a tangent row not
+  /// coupled to its contact's normal row, a μ that differs from mu, a body outside J).
+  void validate() const;
+
+ private:
+  void validate_constraints() const;
+};
+
+/// Clamps λ into the problem's bounds (λ_n ≥ 0, |λ_t| ≤ μ λ_n, fixed bounds elsewhere) and
+/// replaces non-finite entries by 0, so any guess is a valid PGS starting point: normal
+/// (fixed-bound) rows first, then the friction rows whose bounds depend on them. Each row's
+/// result depends only on its own contact's rows, so the clamp commutes with any permutation
+/// of whole contacts (World's builtin warm start in its internal row order relies on it).
+void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
+
+/// Natural-map residual, the step-length-independent accuracy measure of docs/design.md §2:
+///   max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)|   with w = A λ + b and the effective bounds.
+/// Zero exactly at a solution; units of λ [N].
+double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda);
+
+/// The same natural map in the 2-norm, ‖λ − mid(lo, λ − w, hi)‖₂ [N]: the whole error rather
+/// than its worst row (gate-l2). +∞ when an entry is not finite.
+double natural_residual_l2(const LcpProblem& p, const Eigen::VectorXd& lambda);
+
+/// w = A λ + b. A problem with J is evaluated matrix-free, w = J (Δt M⁻¹ Jᵀ λ) + b (O(nnz J),
+/// A need not be formed; equal to A λ + b up to round-off), a problem from a file with A.
+Eigen::VectorXd lcp_velocity(const LcpProblem& p, const Eigen::VectorXd& lambda);
+
+/// A λ alone (lcp_velocity without b) [m/s]: matrix-free, J (Δt M⁻¹ Jᵀ λ), with the same
+/// operations as lcp_velocity when p has J; else A λ. For Krylov solves on A (builtin-coarse's
+/// Galerkin CG, the active-set CGLS) outside the engine.
+Eigen::VectorXd lcp_apply(const LcpProblem& p, const Eigen::VectorXd& lambda);
+
+}  // namespace dc

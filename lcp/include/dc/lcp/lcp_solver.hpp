@@ -1,0 +1,82 @@
+#pragma once
+// One interface for every LCP solver variant. Input: the problem (A, b, bounds), an initial
+// guess λ⁰ (the warm start) and options. Output: λ, a status that says what happened, the
+// number of sweeps, the per-sweep convergence measure θ_k = max_i |λ_i^k − λ_i^{k−1}| and
+// the final natural-map residual. No solver loops forever or returns NaN: a solver that
+// cannot make progress says so in `status` and returns its last finite iterate.
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dc/lcp/lcp_problem.hpp"
+
+namespace dc {
+
+enum class SolveStatus {
+  Converged,     ///< θ_k ≤ tolerance (iterative) or complementarity error within tolerance (exact)
+  SweepLimit,    ///< ran the maximum number of sweeps without meeting the tolerance
+                 ///< (the normal outcome in fixed-sweep mode, tolerance = 0)
+  Diverged,      ///< iterates became non-finite or grew without bound; λ is the last finite iterate
+  Infeasible,    ///< proved to have no solution (verified Farkas certificate or exhaustive
+                 ///< enumeration; docs/lcp.md), never merely because a method gave up
+  Failed,        ///< the method broke down (singular pivot, line search failure, ...)
+  InvalidInput,  ///< the problem violates LcpProblem::validate or the solver's requirements
+};
+const char* to_string(SolveStatus s);
+
+struct SolverOptions {
+  int max_sweeps = 3000;     ///< sweep (iteration) limit
+  double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance; 0 = fixed-sweep mode
+  double omega = 1.0;        ///< relaxation (psor; 1 = Gauss–Seidel); jacobi uses it as damping
+  /// "pgs" only: solve the two normal rows of each two-point manifold (two contacts of one
+  /// body pair with one normal, e.g. a box face on a face) as one 2 × 2 LCP, exactly, like
+  /// Box2D's block solver (lcp/src/solvers/pgs_manifold_block.hpp; docs/lcp.md). false =
+  /// the row-by-row order of every row (the behaviour before the block, for comparison).
+  /// Problems without such manifolds (circle scenes) give the same iterates either way.
+  bool block_manifolds = true;
+  bool record_theta = true;  ///< fill SolveResult::theta (one entry per sweep)
+  /// Exact methods: target complementarity error, relative to max(1, ‖b‖∞).
+  double exact_tolerance = 1e-9;
+  /// Sweeps after which `on_checkpoint` is called with the current iterate (sorted, ≥ 1).
+  /// Used by the bench to sample the speed/accuracy trade in one run; empty = never.
+  std::vector<int> checkpoints;
+  std::function<void(int sweep, const Eigen::VectorXd& lambda)> on_checkpoint;
+};
+
+struct SolveResult {
+  Eigen::VectorXd lambda;
+  SolveStatus status = SolveStatus::Failed;
+  int sweeps = 0;                 ///< sweeps (or pivots / Newton iterations) performed
+  std::vector<double> theta;      ///< θ_k for k = 1..sweeps (when recorded)
+  double residual = 0.0;          ///< natural_residual at the returned λ
+  std::string message;            ///< human-readable detail for non-converged statuses
+};
+
+class LcpSolver {
+ public:
+  virtual ~LcpSolver() = default;
+  [[nodiscard]] virtual std::string name() const = 0;
+  /// True when the solver needs LcpProblem::J (matrix-free variants).
+  [[nodiscard]] virtual bool needs_jacobian() const { return false; }
+  /// True when the solver works on A = J M⁻¹ Jᵀ Δt: callers that solve an assembled problem
+  /// repeatedly call LcpProblem::ensure_assembled_matrix() first (World::step and the bench
+  /// do); handed a problem without A, such a solver forms it for that solve only.
+  [[nodiscard]] virtual bool needs_assembled_matrix() const { return true; }
+  [[nodiscard]] virtual SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
+                                          const SolverOptions& options) const = 0;
+};
+
+/// Solver by name: "pgs" (matrix-free PGS on body velocities; the engine default),
+/// "pgs-colored" (colour-ordered PGS, SIMD batches of 8 contacts; "pgs-colored:N" with N
+/// OpenMP threads, "pgs-colored:N:K" with kernel K = auto, avx512, avx2 or scalar), "pgs-assembled" (PGS on the sparse A, the seed's form), "psor", "jacobi",
+/// "lemke" (exact pivoting, standard LCPs), "newton" (minimum-map Newton, box bounds and
+/// friction), "newton-sparse" (warm-started semismooth Newton with friction coupled in the
+/// Jacobian and CHOLMOD factorisations; dc/lcp/newton_sparse.hpp), "nncg" (pgs's sweeps
+/// with nonlinear conjugate-gradient momentum and restarts). Throws ConfigError listing the
+/// valid names for an unknown one.
+std::unique_ptr<LcpSolver> make_solver(std::string_view name);
+std::vector<std::string> solver_names();
+
+}  // namespace dc

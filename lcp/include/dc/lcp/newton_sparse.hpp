@@ -1,0 +1,112 @@
+#pragma once
+// "newton-sparse": a warm-started semismooth Newton method for the engine's exact box-friction
+// LCP (docs/solvers.md "newton-sparse"), with sparse factorisations from SuiteSparse CHOLMOD.
+//
+// It drives the natural map of lcp_problem.hpp to zero,
+//     H(λ)_i = λ_i − mid(lo_i(λ), λ_i − w_i, hi_i(λ)),   w = A λ + b,
+// with lo/hi = ∓μ max(0, λ_n) on friction rows, so the friction bounds move with λ_n inside
+// every Newton step (no staggered passes over frozen bounds). The guess λ⁰ fixes the first
+// modes (free / at lower / at upper) of every row. Each iteration solves the generalised
+// Newton system restricted to the free rows F,
+//     (A_FF + ρI + A_FC S) Δ_F = −w_F − A_FC d_C,
+// where the clamped rows C move by Δ_C = d_C + S Δ_F (d: to the bound; S: a sliding tangent
+// row follows ±μ Δ_n of its free normal row) and ρ = regularization·max_i A_ii makes the
+// rank-deficient A_FF (more contact rows than body dofs) factorisable. A_FF + ρI is
+// factorised by CHOLMOD (symbolic analysis kept while A's pattern holds, across iterations
+// and solves); the friction coupling A_FC S, which makes the Jacobian non-symmetric, is
+// handled by GMRES preconditioned with that factor. A merit line search on ½‖H‖² (PGS
+// sweeps when it fails) globalises the method. It stops on the UNREGULARISED natural map.
+//
+// Status: Converged only when natural_residual(λ) ≤ target was checked on the returned λ
+// (target = options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞));
+// SweepLimit when max_sweeps Newton iterations ran without reaching it; Failed when the
+// iteration stalled (no decrease of the residual for `max_stalls` iterations); InvalidInput
+// for an invalid problem or guess (e.g. NaN in λ⁰). λ is always finite: the best iterate.
+#include <memory>
+
+#include "dc/lcp/lcp_solver.hpp"
+
+namespace dc {
+
+struct NewtonSparseDef {
+  /// ρ / max_i A_ii: proximal regularisation of the free block (dimensionless, default 1e-10).
+  /// Only the step uses it; convergence is judged on the unregularised natural map.
+  double regularization = 1e-10;
+  /// PGS sweeps (assembled, coupled friction bounds) before each Newton direction (default 0).
+  int smoothing_sweeps = 0;
+  /// PGS sweeps taken instead of a step when the line search fails (default 5), doubled after
+  /// each further consecutive failure up to 256× (PGS carries a degenerate iterate onwards).
+  int fallback_sweeps = 5;
+  /// Halvings of the step length α before the line search fails (α ≥ 2^−max_backtracks; default 10).
+  int max_backtracks = 10;
+  /// Levenberg–Marquardt damping: after a failed line search ρ grows 100-fold and the direction
+  /// is recomputed, up to ρ = max_damping·max_i A_ii (default 1e2); after a full step
+  /// ρ shrinks 10-fold back towards regularization·max_i A_ii.
+  double max_damping = 1e2;
+  /// Armijo constant σ: accept α when ½‖H(λ_α)‖² ≤ (1 − 2σα)·½‖H(λ)‖² (default 1e-4).
+  double armijo = 1e-4;
+  /// With sliding friction coupled: false = GMRES preconditioned with the CHOLMOD factor of
+  /// the symmetric part (default); true = factorise the exact non-symmetric Newton matrix by
+  /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails). On impact
+  /// (250 bodies, from builtin) true took 199 instead of 318 ms per step (docs/solvers.md).
+  bool coupled_lu = false;
+  /// GMRES for the friction coupling: restart length, iteration cap per Newton step and the
+  /// relative residual it stops at (defaults 30, 120, 1e-12).
+  int krylov_restart = 30;
+  int krylov_max = 120;
+  double krylov_tolerance = 1e-12;
+  /// Inexact Newton (Eisenstat–Walker style forcing): GMRES stops at the relative residual
+  /// η_k = max(krylov_tolerance, min(krylov_forcing, ‖H(λ_k)‖₂ / ‖H(λ⁰)‖₂)) instead of
+  /// krylov_tolerance (dimensionless, default 1e-2; 0 = always krylov_tolerance). Far from the
+  /// solution a direction with ‖K Δ + H‖ ≤ η‖H‖, η < 1, is still a descent direction of ½‖H‖²;
+  /// η_k → 0 with the residual keeps the local convergence superlinear. On impact (250 bodies,
+  /// from builtin) it halved GMRES iterations and time per step at equal Newton iterations.
+  double krylov_forcing = 1e-2;
+  /// true: CHOLMOD (simplicial or supernodal, CHOLMOD chooses); false: Eigen's SimplicialLDLT,
+  /// the fallback CHOLMOD also falls back to when it reports a non-positive pivot (default true).
+  bool cholmod = true;
+  /// false: CHOLMOD's simplicial LDLᵀ (no BLAS); true: CHOLMOD picks supernodal LLᵀ (BLAS)
+  /// where the fill favours it (default false: a threaded BLAS stalls on a loaded machine).
+  bool supernodal = false;
+  /// Keep CHOLMOD's symbolic analysis while the pattern of A is unchanged (default true).
+  bool reuse_analysis = true;
+  /// Consecutive iterations without a new best residual before the solve stops as Failed
+  /// (default 20).
+  int max_stalls = 20;
+};
+
+/// Work and time of one solve [ms are wall-clock, single thread].
+struct NewtonSparseStats {
+  int iterations = 0;         ///< Newton iterations (directions computed)
+  int full_steps = 0;         ///< steps accepted with α = 1
+  int line_search_trials = 0; ///< merit evaluations inside line searches
+  int failed_line_searches = 0;
+  int dampings = 0;           ///< ρ increases after failed line searches
+  int pgs_sweeps = 0;         ///< smoothing and fallback sweeps
+  int analyses = 0;           ///< symbolic analyses (ordering + symbolic factor)
+  int factorizations = 0;     ///< numeric factorisations
+  int fallback_factorizations = 0;  ///< of those, by SimplicialLDLT / SparseLU instead of CHOLMOD
+  int lu_factorizations = 0;  ///< of those, sparse LU of the coupled system (coupled_lu)
+  int krylov_iterations = 0;  ///< GMRES iterations in all (0 without sliding friction coupling)
+  double analyze_ms = 0, factor_ms = 0, solve_ms = 0, total_ms = 0;
+};
+
+class NewtonSparseSolver final : public LcpSolver {
+ public:
+  explicit NewtonSparseSolver(const NewtonSparseDef& def = {});
+  ~NewtonSparseSolver() override;
+  [[nodiscard]] std::string name() const override { return "newton-sparse"; }
+  [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
+                                  const SolverOptions& options) const override;
+  /// Statistics of the last solve of this object.
+  [[nodiscard]] NewtonSparseStats last_stats() const;
+
+ private:
+  struct State;  // the cached symbolic analysis and the last statistics (mutex-guarded)
+  NewtonSparseDef def_;
+  std::unique_ptr<State> state_;
+};
+
+std::unique_ptr<LcpSolver> make_newton_sparse(const NewtonSparseDef& def = {});
+
+}  // namespace dc

@@ -1,0 +1,59 @@
+#pragma once
+// The proximal-point route: an exact solver (newton-sparse) applied to a sequence of shifted
+// problems, for assembled LCPs whose A is singular or slightly indefinite — e.g. Siconos'
+// granular 2D frictional-contact files, whose W was printed with six digits (`%g`) and so
+// has small negative eigenvalues (docs/lcp.md "Siconos' own 2D test problems").
+//
+// Outer iteration k solves, with the inner solver started from λ_k,
+//     w = (A + δ_k I) λ + (b − δ_k λ_k),   same bounds and friction coupling,
+// whose solution λ_{k+1} satisfies the original conditions up to the term δ_k (λ_{k+1} − λ_k):
+// a fixed point is a solution of the original LCP. A + δ I is positive definite once δ exceeds
+// the most negative eigenvalue of A, so each inner solve is well posed even where Newton on A
+// itself stalls; the outer iteration converges like the proximal-point method (linearly, the
+// faster the smaller δ). δ adapts: it shrinks `shrink`-fold after each converged inner solve
+// (faster outer convergence) and grows by the same factor, restarting from the best iterate,
+// after an inner solve that did not converge (the shifted problem was still too ill-posed);
+// it never shrinks again below a shift that failed.
+//
+// Status: Converged only when the natural residual of the ORIGINAL problem at the returned λ
+// is ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞));
+// SweepLimit after max_outer outer iterations; λ is the best iterate seen. `sweeps` counts
+// inner iterations in all.
+#include <string>
+
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/newton_sparse.hpp"
+
+namespace dc {
+
+struct ProximalPointDef {
+  /// First shift δ_0 relative to max_i A_ii (dimensionless, default 1e-6).
+  double initial_shift = 1e-6;
+  /// Smallest and largest shift relative to max_i A_ii (defaults 1e-8 and 1e-2).
+  double min_shift = 1e-8;
+  double max_shift = 1e-2;
+  /// Factor δ shrinks by after a converged inner solve and grows by after a failed one (default 10).
+  double shrink = 10.0;
+  /// Outer iterations at most (default 200).
+  int max_outer = 200;
+  /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
+  int inner_iterations = 200;
+  /// The inner solver (default "newton-sparse"; any name make_solver accepts that reaches
+  /// exact_tolerance on a positive definite problem).
+  std::string inner_solver = "newton-sparse";
+  /// Settings of the inner solver when it is "newton-sparse": its defaults except exact GMRES
+  /// directions (krylov_forcing = 0) — with the inexact default the warm-started inner solves
+  /// of Siconos' 7002-contact file stalled above the exact tolerance.
+  NewtonSparseDef newton_sparse = [] {
+    NewtonSparseDef d;
+    d.krylov_forcing = 0.0;
+    return d;
+  }();
+};
+
+/// Solves `problem` by the proximal-point route above. The problem must carry A (a problem
+/// with only J is assembled for this call). Throws InvalidArgument for an invalid def.
+SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
+                                 const SolverOptions& options, const ProximalPointDef& def = {});
+
+}  // namespace dc

@@ -1,0 +1,55 @@
+#pragma once
+// Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the packed batch of 8 contacts of one
+// colour and the three sweep kernels over batches (scalar, AVX2, AVX-512), which perform per lane
+// the same floating-point operations in the same order, so all three give bit-identical iterates,
+// θ and non-finite flags.
+//
+// Kernel contract. sweep_*(batches, b0, b1, in, out, u, acc) solves batches [b0, b1) in order:
+// contact k of batch bi reads λ^{k−1} from in[16·bi + k] (normal) and in[16·bi + 8 + k]
+// (tangent), writes λ^k to the same entries of `out` (in ≠ out: the caller keeps the previous
+// sweep's iterate without copying it), and updates Δu in place (kStride doubles per body, the
+// zero body at `Prepared::body_entries` is read, never written). acc.theta = max(acc.theta,
+// max |λ^k − λ^{k−1}|); acc.bad is set when a new λ (or a tangent row's unprojected value) or
+// one of the 6 body velocities a contact stores is ±∞ or NaN — the Δu check is fused into the
+// sweep (x·0 + … is NaN exactly when some x is not finite), so no pass over Δu follows a sweep.
+#include <cstdint>
+
+namespace dc::colored {
+
+constexpr int W = 8;        // lanes per batch (one AVX-512 register, two AVX2 registers)
+constexpr int kStride = 4;  // doubles per body in Δu (v_x, v_y, ω, padding)
+
+struct alignas(64) Batch {
+  double jn[6][W], mjn[6][W], jt[6][W], mjt[6][W];  // J_i/A_ii and M⁻¹J_iᵀΔt per slot
+  double bn[W], bt[W], mu[W];                       // b_i/A_ii [N], μ
+  std::int32_t la[W], lb[W];                        // Δu offsets (4·body; zero body if absent)
+  std::uint8_t ka[W], kb[W];                        // 1 when the lane writes body a / b back
+  int count = 0;                                    // lanes in use (the rest: zero padding)
+};
+static_assert(sizeof(Batch) % 64 == 0);
+
+struct Acc {
+  double theta = 0.0;
+  bool bad = false;
+};
+
+using SweepKernel = void (*)(const Batch* batches, int b0, int b1, const double* in, double* out, double* u,
+                             Acc& acc);
+
+void sweep_scalar(const Batch* batches, int b0, int b1, const double* in, double* out, double* u, Acc& acc);
+/// Defined only where the compiler can target the ISA (x86-64 GCC/Clang); call only when
+/// cpu_has_avx2() / cpu_has_avx512() is true.
+void sweep_avx2(const Batch* batches, int b0, int b1, const double* in, double* out, double* u, Acc& acc);
+void sweep_avx512(const Batch* batches, int b0, int b1, const double* in, double* out, double* u, Acc& acc);
+
+/// This build has the kernel and this CPU (and OS) runs it: AVX2 + FMA, AVX-512 F/DQ/VL.
+bool cpu_has_avx2();
+bool cpu_has_avx512();
+/// The CPU's vendor is AMD (x86-64 GCC/Clang builds; false elsewhere).
+bool cpu_is_amd();
+
+// std::max(a, b) and std::min(a, b) as the vector kernels write them (compare + select).
+inline double max_of(double a, double b) { return (a < b) ? b : a; }
+inline double min_of(double a, double b) { return (b < a) ? b : a; }
+
+}  // namespace dc::colored

@@ -1,0 +1,92 @@
+// The proximal-point route around an exact solver (dc/lcp/proximal_point.hpp).
+#include "dc/lcp/proximal_point.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "dc/core/error.hpp"
+#include "solvers/solver_common.hpp"
+
+namespace dc {
+
+namespace {
+
+void check_def(const ProximalPointDef& d) {
+  const auto positive = [](double x) { return std::isfinite(x) && x > 0; };
+  if (!positive(d.initial_shift) || !positive(d.min_shift) || !positive(d.max_shift) || d.min_shift > d.max_shift)
+    throw InvalidArgument("proximal point: shifts must be finite, > 0, min_shift <= max_shift");
+  if (!(std::isfinite(d.shrink) && d.shrink > 1)) throw InvalidArgument("proximal point: shrink must be > 1");
+  if (d.max_outer < 1 || d.inner_iterations < 1)
+    throw InvalidArgument("proximal point: max_outer and inner_iterations must be >= 1");
+}
+
+/// The shifted problem A + δ I with A alone (no J: lcp_velocity would otherwise evaluate the
+/// unshifted J M⁻¹ Jᵀ Δt matrix-free) and the contact structure kept for the solvers.
+LcpProblem shifted(const LcpProblem& p, double delta) {
+  LcpProblem s;
+  SparseRowMatrix I(p.rows(), p.rows());
+  I.setIdentity();
+  s.A = p.A + delta * I;
+  s.b = p.b;
+  s.lo = p.lo;
+  s.hi = p.hi;
+  s.normal_row = p.normal_row;
+  s.mu = p.mu;
+  return s;
+}
+
+}  // namespace
+
+SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
+                                 const SolverOptions& options, const ProximalPointDef& def) {
+  check_def(def);
+  std::optional<LcpProblem> local;
+  const LcpProblem& p = solvers::with_assembled_matrix(problem, local);
+  Eigen::VectorXd lambda;
+  if (auto bad = solvers::check_input(p, lambda0, "proximal point", lambda)) return *bad;
+  const auto inner = def.inner_solver == "newton-sparse" ? make_newton_sparse(def.newton_sparse) : make_solver(def.inner_solver);
+  const double target = options.tolerance > 0 ? options.tolerance : options.exact_tolerance * solvers::rhs_scale(p);
+  const double diag = p.rows() > 0 ? p.A.diagonal().cwiseAbs().maxCoeff() : 0.0;
+  SolverOptions inner_options;
+  inner_options.max_sweeps = def.inner_iterations;
+  inner_options.record_theta = false;
+  inner_options.exact_tolerance = options.exact_tolerance;
+
+  SolveResult out;  // λ and residual: the best iterate
+  out.lambda = lambda;
+  out.residual = natural_residual(p, lambda);
+  Eigen::VectorXd centre = lambda;  // λ_k
+  double shift = def.initial_shift;
+  double floor = def.min_shift;  // raised above every shift whose inner solve failed
+  for (int k = 0; k < def.max_outer && out.residual > target && diag > 0; ++k) {
+    const double delta = shift * diag;
+    LcpProblem sub = shifted(p, delta);
+    sub.b = p.b - delta * centre;
+    const SolveResult r = inner->solve(sub, centre, inner_options);
+    out.sweeps += r.sweeps;
+    const double residual = natural_residual(p, r.lambda);
+    if (residual < out.residual) {
+      out.lambda = r.lambda;
+      out.residual = residual;
+    }
+    if (r.status == SolveStatus::Converged) {
+      // The proximal step is the method's progress even when it raises the residual of the
+      // original problem for a while (that residual is not monotone along the iteration).
+      centre = r.lambda;
+      shift = std::max(floor, shift / def.shrink);
+    } else {
+      // Too small a shift for this problem: never go back to it (shrinking again would only
+      // oscillate between a failed and a converged shift and lose the progress in between).
+      centre = out.lambda;
+      shift = std::min(def.max_shift, shift * def.shrink);
+      floor = std::max(floor, shift);
+    }
+  }
+  out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
+  if (out.status != SolveStatus::Converged) out.message = "proximal point: outer iteration limit reached";
+  solvers::finish(p, out);
+  return out;
+}
+
+}  // namespace dc

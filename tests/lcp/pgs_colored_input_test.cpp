@@ -1,0 +1,121 @@
+// pgs-colored's input checks on threads (pgs_colored_input.hpp) against the serial ones
+// (solver_common.hpp's check_input = LcpProblem::validate + the initial guess): the same
+// verdict and the same message for valid problems and for each kind of broken input, on 1, 2
+// and 3 threads; a valid λ⁰ is used in place (no copy), an empty one becomes zeros.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "lcp/solver_test_problems.hpp"
+#include "solvers/pgs_colored/pgs_colored_input.hpp"
+#include "solvers/solver_common.hpp"
+
+namespace dc {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// p's contacts rebuilt with `edit` applied to each (rows named as edited).
+void edit_contacts(LcpProblem& p, const std::function<void(int, ContactConstraint&)>& edit) {
+  ContactConstraints out;
+  for (int c = 0; c < p.constraints.size(); ++c) {
+    ContactConstraint k = p.constraints[c];
+    edit(c, k);
+    out.add(k);
+  }
+  p.constraints = out;
+}
+
+void expect_same_verdict(const LcpProblem& p, const Eigen::VectorXd& l0, const std::string& what) {
+  Eigen::VectorXd copy;
+  const auto serial = solvers::check_input(p, l0, "pgs-colored", copy);
+  for (const int threads : {1, 2, 3}) {
+    Eigen::VectorXd zeros;
+    const Eigen::VectorXd* start = nullptr;
+    const auto mine = colored::check_input(p, l0, "pgs-colored", threads, zeros, start);
+    ASSERT_EQ(mine.has_value(), serial.has_value()) << what << ", " << threads << " threads";
+    if (serial) {
+      EXPECT_EQ(mine->message, serial->message) << what;
+      EXPECT_EQ(mine->status, serial->status) << what;
+      EXPECT_TRUE(mine->lambda.isApprox(serial->lambda)) << what;
+    } else {
+      ASSERT_NE(start, nullptr) << what;
+      EXPECT_EQ(*start, copy) << what;
+      if (l0.size() > 0) {
+        EXPECT_EQ(start, &l0) << what << ": λ⁰ is used in place";
+      }
+    }
+  }
+}
+
+TEST(PgsColoredInput, SameVerdictAndMessageAsTheSerialChecks) {
+  test::TestRng rng(41);
+  const LcpProblem good = test::random_contact(30, 80, true, rng, 0.5, 3);
+  const int n = good.rows();
+  Eigen::VectorXd l0(n);
+  for (int i = 0; i < n; ++i) l0[i] = rng.uniform(0, 1);
+  expect_same_verdict(good, l0, "valid");
+  expect_same_verdict(good, Eigen::VectorXd(), "valid, no λ⁰");
+  LcpProblem assembled = good;
+  assembled.ensure_assembled_matrix();
+  expect_same_verdict(assembled, l0, "valid with A");
+  LcpProblem matrix_free = good;
+  matrix_free.A = SparseRowMatrix();  // J only, as the engine hands it over
+  expect_same_verdict(matrix_free, l0, "valid, matrix-free");
+  matrix_free.b[3] = kNaN;
+  expect_same_verdict(matrix_free, l0, "matrix-free, b NaN");
+
+  std::vector<std::pair<std::string, std::function<void(LcpProblem&, Eigen::VectorXd&)>>> broken = {
+      {"b NaN", [](LcpProblem& p, Eigen::VectorXd&) { p.b[p.rows() - 2] = kNaN; }},
+      {"λ⁰ NaN", [](LcpProblem&, Eigen::VectorXd& l) { l[5] = kNaN; }},
+      {"λ⁰ size", [](LcpProblem&, Eigen::VectorXd& l) { l.conservativeResize(l.size() - 1); }},
+      {"A not finite", [](LcpProblem& p, Eigen::VectorXd&) {
+         p.ensure_assembled_matrix();
+         p.A.valuePtr()[p.A.nonZeros() - 1] = INFINITY;
+       }},
+      {"negative mu", [](LcpProblem& p, Eigen::VectorXd&) {
+         const int t = p.constraints[4].tangent_row >= 0 ? p.constraints[4].tangent_row : p.constraints[3].tangent_row;
+         p.mu[t] = -1.0;
+       }},
+      {"bounds", [](LcpProblem& p, Eigen::VectorXd&) { p.lo[p.constraints[2].normal_row] = 2.0, p.hi[p.constraints[2].normal_row] = 1.0; }},
+      {"dt", [](LcpProblem& p, Eigen::VectorXd&) { p.dt = 0.0; }},
+      {"body beyond J", [](LcpProblem& p, Eigen::VectorXd&) {
+         edit_contacts(p, [&](int c, ContactConstraint& k) {
+           if (c == 9) k.body_b = static_cast<int>(p.J.cols() / 3) + 1;
+         });
+       }},
+      {"row claimed twice", [](LcpProblem& p, Eigen::VectorXd&) {
+         const int row = p.constraints[6].normal_row;
+         edit_contacts(p, [&](int c, ContactConstraint& k) {
+           if (c == 11) k.normal_row = row;
+         });
+       }},
+      {"tangent not coupled", [](LcpProblem& p, Eigen::VectorXd&) {
+         int c = 0;
+         while (!p.constraints[c].has_friction()) ++c;
+         p.mu[p.constraints[c].tangent_row] *= 2.0;
+       }},
+      {"normal row is a friction row", [](LcpProblem& p, Eigen::VectorXd&) {
+         int f = 0;
+         while (!p.constraints[f].has_friction()) ++f;
+         edit_contacts(p, [&](int c, ContactConstraint& k) {
+           if (c == f) std::swap(k.normal_row, k.tangent_row);
+         });
+       }},
+  };
+  for (const auto& [what, edit] : broken) {
+    LcpProblem p = good;
+    Eigen::VectorXd l = l0;
+    edit(p, l);
+    expect_same_verdict(p, l, what);
+    Eigen::VectorXd copy;
+    EXPECT_TRUE(solvers::check_input(p, l, "pgs-colored", copy).has_value()) << what << " is rejected";
+  }
+}
+
+}  // namespace
+}  // namespace dc

@@ -1,0 +1,83 @@
+// The proximal-point route (dc/lcp/proximal_point.hpp): it must reach the exact tolerance
+// on Siconos' 2020-contact granular file, whose W (printed with six digits) is indefinite,
+// agree with newton-sparse where both converge, and refuse invalid settings and guesses.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "dc/core/error.hpp"
+#include "dc/lcp/fc2d_dat_file.hpp"
+#include "dc/lcp/fc2d_problem.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/proximal_point.hpp"
+#include "lcp/solver_test_problems.hpp"
+
+namespace dc {
+namespace {
+
+using namespace test;
+
+const std::string kData = std::string(DC_SOURCE_DIR) + "/tests/data/fc2d/";
+
+double exact_bound(const LcpProblem& p) { return 1e-9 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()); }
+
+TEST(ProximalPoint, SolvesTheIndefiniteGranular2020File) {
+  const LcpProblem p = fc2d_to_lcp(read_fc2d_dat(kData + "fc2d_granularflowonwall_02020_00213.dat").problem);
+  SolverOptions o;
+  const SolveResult r = solve_proximal_point(p, Eigen::VectorXd(), o);
+  EXPECT_EQ(r.status, SolveStatus::Converged) << r.message;
+  EXPECT_LE(natural_residual(p, r.lambda), exact_bound(p));
+  EXPECT_EQ(r.residual, natural_residual(p, r.lambda));
+}
+
+TEST(ProximalPoint, AgreesWithNewtonSparseOnAPile) {
+  // A resting pile has more contact rows than degrees of freedom (A singular): reactions need
+  // not be unique, velocities w = A λ + b are (A positive semidefinite).
+  LcpProblem p = deep_pile(6, 6, 0.5);
+  p.ensure_assembled_matrix();
+  p = without_jacobian(p);
+  SolverOptions o;
+  const SolveResult a = solve_proximal_point(p, Eigen::VectorXd(), o);
+  const SolveResult b = make_solver("newton-sparse")->solve(p, Eigen::VectorXd(), o);
+  ASSERT_EQ(a.status, SolveStatus::Converged) << a.message;
+  ASSERT_EQ(b.status, SolveStatus::Converged) << b.message;
+  EXPECT_LE(natural_residual(p, a.lambda), exact_bound(p));
+  const Eigen::VectorXd wa = p.A * a.lambda + p.b, wb = p.A * b.lambda + p.b;
+  EXPECT_LE((wa - wb).lpNorm<Eigen::Infinity>(), 1e-6 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
+}
+
+TEST(ProximalPoint, RerunIsBitEqual) {
+  TestRng rng(7);
+  LcpProblem p = random_contact(12, 30, true, rng);
+  p.ensure_assembled_matrix();
+  SolverOptions o;
+  const SolveResult a = solve_proximal_point(p, Eigen::VectorXd(), o);
+  const SolveResult b = solve_proximal_point(p, Eigen::VectorXd(), o);
+  EXPECT_EQ(a.lambda, b.lambda);
+  EXPECT_EQ(a.sweeps, b.sweeps);
+}
+
+TEST(ProximalPoint, RefusesInvalidSettingsAndGuesses) {
+  TestRng rng(3);
+  const LcpProblem p = without_jacobian(random_contact(6, 10, true, rng));
+  SolverOptions o;
+  ProximalPointDef bad;
+  bad.initial_shift = -1;
+  EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
+  bad = {};
+  bad.shrink = 1;
+  EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
+  bad = {};
+  bad.min_shift = 1.0;
+  EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
+  Eigen::VectorXd nan_guess = Eigen::VectorXd::Zero(p.rows());
+  nan_guess[0] = std::numeric_limits<double>::quiet_NaN();
+  const SolveResult r = solve_proximal_point(p, nan_guess, o);
+  EXPECT_EQ(r.status, SolveStatus::InvalidInput);
+  EXPECT_TRUE(r.lambda.allFinite());
+}
+
+}  // namespace
+}  // namespace dc
