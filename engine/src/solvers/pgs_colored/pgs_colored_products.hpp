@@ -7,9 +7,9 @@
 // Why the same bits. (Jᵀλ)_c is a sum over the rows acting on column c; Eigen's product of a
 // row-major J's transpose with λ scatters row after row, adding J_ic·λ_i to 0 in ascending row
 // order; velocity_change below is that product (then Δu_c = M⁻¹_c·s_c·Δt). It stays serial on
-// purpose: a per-body index that lets threads own bodies cost more to build and to walk (random
-// access into J) than this one sequential pass (≈ 0.4 ms CPU against ≈ 0.15 ms on a
-// 10,000-body pile), so the solver overlaps it with other work instead (Δu⁰ with the packing).
+// purpose: a per-body index that lets threads own bodies costs more to build and to walk (random
+// access into J) than this one sequential pass, so the solver overlaps it with other work
+// instead (Δu⁰ with the packing).
 // The residual's product (nothing to overlap it with) runs on threads by blocks of bodies,
 // each thread walking J's rows in order between bounds taken from the contacts (no index).
 // A row of w = J Δu + b is one dot product (storage order, from 0, then + b_i), and the residual
