@@ -1,24 +1,14 @@
 #pragma once
-// "pgs-colored": matrix-free projected Gauss–Seidel in colour order (docs/design.md §8.4). The contacts
-// are coloured (contact_coloring.hpp: no two contacts of a colour share a dynamic body) and a
-// sweep solves colour 0, then colour 1, …, then the overflow set; the contacts of one colour
-// are independent, so 8 of them are solved at once in SIMD lanes (double precision, normal +
-// tangent row per contact as in "pgs", body velocities gathered and scattered per lane) and the
-// batches of one colour can run on several threads (OpenMP). Three kernels: AVX-512 (one zmm
-// register per 8 lanes), AVX2 (two ymm registers) and scalar; the AVX ones are compiled in every
-// x86-64 build and chosen at run time from the CPU (PgsColoredKernel::Auto).
-//
-// Same iteration as "pgs" in another row order: same fixed points, different iterates and
-// sweep counts. The lane arithmetic is that of the scalar kernel operation for operation
-// (explicit FMAs, the same tree sums, the clamps as compare-and-select with the semantics of
-// the scalar branches), so the three kernels and every thread count give bit-identical
-// iterates.
-//
-// Colours are reused from the solver's previous solve where contacts persist (the solver
-// object keeps that state: solves are deterministic for a fixed sequence of problems; two
-// solves of the same problem in a row use the same colouring). Problems the coloured kernels
-// do not cover (no contact constraints, singular rows, rows with other bounds) are solved by
-// "pgs" instead, and the result's message says so.
+// "pgs-colored": matrix-free projected Gauss–Seidel in colour order (docs/design.md §8.4,
+// docs/lcp.md "`pgs-colored`"). The contacts are coloured (contact_coloring.hpp) and a sweep
+// solves colour 0, 1, …, then the overflow set; 8 contacts of a colour are solved at once in
+// SIMD lanes (normal + tangent row as in "pgs") and a colour's batches can run on OpenMP threads.
+// Kernels AVX-512, AVX2 and scalar, chosen at run time (PgsColoredKernel::Auto). Same fixed
+// points as "pgs", other iterates. The lane arithmetic is the scalar kernel's operation for
+// operation, so every kernel and thread count gives bit-identical iterates. The solver object
+// keeps last solve's colours (reused where contacts persist): solves are deterministic for a
+// fixed sequence of problems. Problems the kernels do not cover (no contact constraints,
+// singular rows, other bounds) are solved by "pgs", and the result's message says so.
 #include <memory>
 
 #include "dc/engine/lcp_solver.hpp"
