@@ -24,7 +24,7 @@ struct NewtonSparseDef {
   /// PGS sweeps (assembled, coupled friction bounds) before each Newton direction (default 0).
   int smoothing_sweeps = 0;
   /// PGS sweeps taken instead of a step when the line search fails (default 5), doubled after
-  /// each further consecutive failure up to 256× (PGS carries a degenerate iterate onwards).
+  /// each further consecutive failure, at most 2⁸-fold (PGS carries a degenerate iterate onwards).
   int fallback_sweeps = 5;
   /// Halvings of the step length α before the line search fails (α ≥ 2^−max_backtracks; default 10).
   int max_backtracks = 10;
@@ -36,8 +36,8 @@ struct NewtonSparseDef {
   double armijo = 1e-4;
   /// With sliding friction coupled: false = GMRES preconditioned with the CHOLMOD factor of
   /// the symmetric part (default); true = factorise the exact non-symmetric Newton matrix by
-  /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails). On impact
-  /// (250 bodies, from builtin) true took 199 instead of 318 ms per step (docs/solvers.md).
+  /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails); faster where
+  /// many contacts slide (docs/solvers.md "Goals on the hard families").
   bool coupled_lu = false;
   /// GMRES for the friction coupling: restart length, iteration cap per Newton step and the
   /// relative residual it stops at (defaults 30, 120, 1e-12).

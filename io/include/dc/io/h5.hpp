@@ -265,7 +265,7 @@ class AtomicH5File {
   void commit();
   /// Seals the file at commit with a hash of all its bytes, verified by every open before
   /// libhdf5 reads it (for files whose damage libhdf5 cannot survive, e.g. virtual datasets'
-  /// mappings; readers without the check, such as h5py, read the file as before). Costs one
+  /// mappings; readers without the check, such as h5py, read it as an unsealed file). Costs one
   /// pass over the file per open: for small files.
   void add_whole_file_hash() { whole_file_hash_ = true; }
 
