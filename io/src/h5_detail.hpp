@@ -275,7 +275,7 @@ inline Handle string_type(H5StringKind kind, std::size_t size) {
 
 /// A damaged file can announce any extent, and a reader that allocates what the header says
 /// (rather than what the file holds) turns a flipped byte into a multi-terabyte allocation.
-/// Deflate expands at most ~1032:1, so no honest dataset or attribute holds more than ~1100×
+/// Deflate expands at most ~1032:1, so no honest dataset or attribute holds more than ~1100 times
 /// the file's size (+1 MiB of slack for small files and fill values). Computed in long double:
 /// the product of a damaged extent may overflow hsize_t.
 inline bool plausible_allocation(hid_t file, const H5Shape& dims, std::size_t element_size) {

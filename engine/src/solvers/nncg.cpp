@@ -55,8 +55,8 @@ class NncgMomentum {
   /// factor of the next move, β = ‖Δf_k‖²/‖Δf_{k−1}‖², or a restart when β > 1.
   double after_sweep(const double* lam) {
     // Four partial sums and maxima (rows i ≡ j mod 4), combined in a fixed order: a single
-    // running sum would put one add latency per row on a dependency chain (measured: the
-    // iteration cost 1.6 sweeps instead of ~1.2), and the order stays the same on every build.
+    // running sum would put one add latency per row on a dependency chain, and the order stays
+    // the same on every build.
     double th0 = 0, th1 = 0, th2 = 0, th3 = 0, sq0 = 0, sq1 = 0, sq2 = 0, sq3 = 0;
     const size_t n = p_.size();
     auto at = [&](size_t i, double& th, double& sq) {

@@ -17,7 +17,8 @@ namespace dc {
 
 /// The sweep kernel of pgs-colored (all give the same iterates bit for bit).
 enum class PgsColoredKernel {
-  Auto,    ///< AVX2 (+ FMA) on AMD CPUs (measured as fast or faster there), else AVX-512 if
+  Auto,    ///< AVX2 (+ FMA) on AMD CPUs (at least as fast there: Zen runs 512-bit
+           ///< operations as two halves), else AVX-512 if
            ///< present, else AVX2, else scalar
   Avx512,  ///< AVX-512 F/DQ/VL: 8 lanes per register
   Avx2,    ///< AVX2 + FMA: 4 lanes per register, two per batch
@@ -35,12 +36,13 @@ struct PgsColoredDef {
   PgsColoredKernel kernel = PgsColoredKernel::Auto;
   /// Reuse last solve's colours where contacts persist (false: greedy colouring from scratch).
   bool reuse_colors = true;
-  /// Contacts per chunk of the parallel colouring (contact_coloring.hpp, "Threads"; 4,096 is
-  /// the measured choice): a function of the contact count only, so the colours do not depend
-  /// on `threads`. Problems with fewer than 2·color_chunk contacts are coloured as one chunk.
-  /// 0 (the default) = the serial greedy colouring always: the chunked one needs one colour
-  /// more on large piles (hex pile of 10,000: 5 instead of 4), which costs the 2-thread sweeps
-  /// more than the parallel colouring saves (results.md "Threads: the colouring in parallel").
+  /// Contacts per chunk of the parallel colouring (docs/lcp.md "Contact colouring: repeats and
+  /// chunks"; ContactColorer::kChunk is the benchmarked choice): a function of the contact
+  /// count only, so the colours do not depend on `threads`. Problems with fewer than
+  /// 2·color_chunk contacts are coloured as one chunk. 0 (the default) = the serial greedy
+  /// colouring always: the chunked one needs one colour more on large piles, which costs the
+  /// 2-thread sweeps more than the parallel colouring saves (results.md "Threads: the colouring
+  /// in parallel").
   int color_chunk = 0;
 };
 
