@@ -75,7 +75,7 @@ inline bool write_failed_on_stack() {
   return found;
 }
 
-/// After a failed write, libhdf5 1.10.8 can no longer close the file: H5Fclose retries the
+/// After a failed write, libhdf5 1.10.8 cannot close the file: H5Fclose retries the
 /// writes, fails, and leaves a dangling id on which the library's own cleanup at exit then
 /// crashes (SIGSEGV). So the file's descriptor is pointed at an anonymous in-memory file
 /// (memfd): what the close still writes lands there and vanishes, the close succeeds, and

@@ -31,7 +31,7 @@ class InternalBodyOrder {
   /// Brings the internal state up to date with `external`: bodies appended to it since the
   /// last call join at the end of the internal order; with `copy_all` every body's fields are
   /// copied (edits made through World::bodies()). Throws InvalidArgument when `external` has
-  /// fewer bodies than before or a shape table (the internal order is for circle-only scenes).
+  /// fewer bodies than the last call or a shape table (the internal order is for circle-only scenes).
   void update_from(const BodyState& external, bool copy_all);
   /// Re-sorts the internal order by the Morton code of each body's current cell (side `cell`
   /// [m]; morton_order, ties by current internal index): deterministic.
