@@ -3,11 +3,13 @@
 // in a box with up to four walls, stepped by semi-implicit Euler with a velocity-level contact
 // LCP (docs/design.md §2, docs/engine.md "One step"). A step is a sequence of stages, each
 // callable on its own so that a benchmark can solve the identical LCP from several guesses:
-//   collide()    broad + narrow phase → contacts sorted by key (e > 0: approach velocities)
+//   collide()    broad (uniform grid) + narrow phase → contacts sorted by key (e > 0: approach
+//                velocities, restitution.hpp)
 //   assemble()   contact constraints, J (sparse), M⁻¹, b, bounds; A = J M⁻¹ Jᵀ Δt on demand
 //   [solve]      any LcpSolver, from any λ⁰ (the warm start)
-//   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ), x ← x + Δt v, θ ← θ + Δt ω; stores λ in the
-//                contacts (previous_contacts()), then appends bodies entering at the new time
+//   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ), x ← x + Δt v, θ ← θ + Δt ω (step_outcome.hpp);
+//                stores λ in the contacts (previous_contacts()), then appends the bodies that
+//                enter at the new time ([[body]] spawn, [inflow]: inflow.hpp)
 // step() runs all stages and returns a per-stage profile. With `internal_order = "morton"` the
 // stages run on a re-sorted copy of the bodies; everything public stays in creation order and is
 // translated lazily on first read, so the const accessors fill caches: such a World is not safe
