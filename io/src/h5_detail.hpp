@@ -75,7 +75,7 @@ inline bool write_failed_on_stack() {
   return found;
 }
 
-/// After a failed write, libhdf5 1.10.8 can no longer close the file: H5Fclose retries the
+/// After a failed write, libhdf5 1.10.8 cannot close the file: H5Fclose retries the
 /// writes, fails, and leaves a dangling id on which the library's own cleanup at exit then
 /// crashes (SIGSEGV). So the file's descriptor is pointed at an anonymous in-memory file
 /// (memfd): what the close still writes lands there and vanishes, the close succeeds, and
@@ -275,7 +275,7 @@ inline Handle string_type(H5StringKind kind, std::size_t size) {
 
 /// A damaged file can announce any extent, and a reader that allocates what the header says
 /// (rather than what the file holds) turns a flipped byte into a multi-terabyte allocation.
-/// Deflate expands at most ~1032:1, so no honest dataset or attribute holds more than ~1100×
+/// Deflate expands at most ~1032:1, so no honest dataset or attribute holds more than ~1100 times
 /// the file's size (+1 MiB of slack for small files and fill values). Computed in long double:
 /// the product of a damaged extent may overflow hsize_t.
 inline bool plausible_allocation(hid_t file, const H5Shape& dims, std::size_t element_size) {

@@ -6,7 +6,8 @@
 // libhdf5 1.10.8 aborts the process on some damaged mappings ("buffer overflow detected" in
 // H5S_select_deserialize) when the dataset is opened — so the data set manifest (all virtual
 // datasets) is sealed with it and checked before libhdf5 reads a byte. HDF5 ignores bytes
-// past its end-of-file address: h5py and older readers open a sealed file as before. FNV-1a
+// past its end-of-file address: h5py and readers without the check open a sealed file
+// like any other. FNV-1a
 // detects any single changed byte (every step is a bijection of the state), i.e. every
 // single bit flip, including flips inside the trailer (its length or hash then disagree).
 #include <string>

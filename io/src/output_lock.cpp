@@ -36,7 +36,7 @@ bool lock_whole_file(int fd) {
 
 OutputLock::OutputLock(const std::string& target) : path_(target + ".lock") {
   // The previous holder unlinks the file while holding the lock: a lock taken on a file that
-  // is no longer under the name (same inode check) is retried on the new file.
+  // has been unlinked from the name (same inode check) is retried on the new file.
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw IoError(path_ + ": cannot create the lock file: " + std::strerror(errno));

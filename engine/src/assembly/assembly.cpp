@@ -86,8 +86,8 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
         vt_f += sign * dt * dot(t, g);
       }
     };
-    // Same order of the sums as before (body a, then body b); the columns of the body with
-    // the lower index come first in each row.
+    // The sums run body a, then body b (this order fixes the rounding of vn, vt); the columns of
+    // the body with the lower index come first in each row.
     if (kc.body_a >= 0) {
       const bool a_first = ct.body_a < ct.body_b;
       add_body(ct.body_a, -1.0, a_first ? 0 : 3);

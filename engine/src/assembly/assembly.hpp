@@ -1,20 +1,15 @@
 #pragma once
-// Assembly of the step's contact LCP (docs/design.md §2), explicitly, as the seed writes it:
-//
+// Assembly of the step's contact LCP (docs/design.md §2, docs/engine.md "Rows"):
 //   J (sparse, rows × 3n):  normal row   [ −nᵀ, −(r_a × n),  nᵀ, (r_b × n) ]
 //                           tangent row  [ −tᵀ, −(r_a × t),  tᵀ, (r_b × t) ]   (only if μ > 0)
-//   M⁻¹ = diag(1/m_1, 1/m_1, 1/I_1, …)
-//   A = J M⁻¹ Jᵀ Δt                     [m/(N·s)]  (λ is a force [N]; formed on demand)
+//   M⁻¹ = diag(1/m_1, 1/m_1, 1/I_1, …);  A = J M⁻¹ Jᵀ Δt [m/(N·s)], λ a force [N], not formed here
 //   b = J (u + Δt M⁻¹ F_ext) + stabilisation   [m/s]
-//
-// Rows: assembly first builds LcpProblem::constraints (contact c, in contact order, owns its
-// normal row and, when its μ > 0, the tangent row right after it; see contact_constraints.hpp)
-// and then J and b row by row. A is not formed (LcpProblem::ensure_assembled_matrix).
-// Stabilisation of normal rows (all configurable in ContactSection):
-//   gap g > 0 (speculative):   b_n += g / Δt
-//   gap g ≤ 0 (Baumgarte):     b_n += β · min(0, g + slop) / Δt
-//   restitution e > 0, bounce due and stored approach v_a < −threshold:
-//                              b_n = min(b_n, J_n u + J_n Δt M⁻¹ F_ext + e · v_a)   (restitution.hpp)
+// LcpProblem::constraints first (contact c owns its normal row and, when μ > 0, the tangent row
+// right after it; contact_constraints.hpp), then J and b row by row. Stabilisation of normal rows
+// (ContactSection):  gap g > 0 (speculative): b_n += g / Δt;
+//   gap g ≤ 0 (Baumgarte): b_n += β · min(0, g + slop) / Δt;
+//   restitution e > 0, bounce due, stored approach v_a < −threshold:
+//     b_n = min(b_n, J_n u + J_n Δt M⁻¹ F_ext + e · v_a)   (restitution.hpp)
 #include <vector>
 
 #include "dc/engine/body_state.hpp"

@@ -80,8 +80,8 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   // a cell and its neighbours, each neighbouring pair of cells visited once (the half
   // stencil: same cell later entries, right; then upper-left, upper, upper-right). Cells are
   // row-major, so a cell and its right neighbour, and the three cells above, are each one
-  // contiguous run of entries. Before, a body entered every cell its box touched (3.5 cells
-  // on average for the seed's circles): 3.5× the entries and a corner rule to skip duplicates.
+  // contiguous run of entries. A body is not entered in every cell its box touches because that
+  // multiplies the entries and needs a corner rule to skip duplicate pairs.
   cell_of_body_.resize(static_cast<size_t>(n));
   const long long ncell = nx * ny;
   cell_start_.assign(static_cast<size_t>(ncell + 1), 0);

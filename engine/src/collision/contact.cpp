@@ -22,9 +22,8 @@ const char* wall_name(int id) {
 namespace dc {
 
 std::vector<int> match_contacts_by_key(std::span<const Contact> previous, std::span<const Contact> current) {
-  // The sortedness checks ride along the merge pass, so each list is read once instead of
-  // three passes over two lists of 128-byte contacts (at 40,000 bodies 6 MB each, out of
-  // cache). Every adjacent pair of each list is still compared.
+  // The sortedness checks ride along the merge pass, so each list is read in one pass (large
+  // contact lists are out of cache). Every adjacent pair of each list is still compared.
   const auto unsorted = [](const char* which) {
     return InvalidArgument(std::string("match_contacts_by_key: the ") + which + " contacts are not sorted by key");
   };

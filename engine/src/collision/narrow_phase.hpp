@@ -28,7 +28,7 @@ std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double wid
 
 /// Signed gap [m] of contact c's pair (two circles, or a circle and the wall c.body_a of the
 /// width × height box) at the positions of `s`, computed as circle_circle / circle_wall do.
-/// Used to measure what a step did to this step's contacts (StepOutcome). A contact with a
+/// Measures what a step did to this step's contacts (StepOutcome). A contact with a
 /// non-circle (shape table present) is re-measured from its witness anchors instead.
 double contact_gap(const BodyState& s, const Contact& c, double width, double height);
 

@@ -23,8 +23,8 @@ inline constexpr double kMaxMagnitude = 1e100;
 void validate_derived_quantities(const WorldDef& def);
 
 /// ConfigError "[bodies] count: …" when the generated bodies cannot fit: more than
-/// kMaxGeneratedBodies, or more circle area than the densest packing of circles (π/√12 ≈
-/// 90.7 %) of where they are placed (the [bodies] region within the box; with the Gaussian,
+/// kMaxGeneratedBodies, or more circle area than the densest packing of circles (a fraction
+/// π/√12 ≈ 0.907) of where they are placed (the [bodies] region within the box; with the Gaussian,
 /// the box and the disk of radius 6 σ + r around the mean, outside which no body lands in
 /// practice: P = e^-18 per attempt). Checked when the bodies are made (World), not by
 /// WorldDef::validate: a data set's template scene states a count that each simulation

@@ -1,31 +1,13 @@
-// "nncg": the nonsmooth nonlinear conjugate gradient method of Silcowitz, Niebe and Erleben
-// ("A nonsmooth nonlinear conjugate gradient method for interactive contact force problems",
-// The Visual Computer 26, 2010; Bullet's btNNCGConstraintSolver): PGS sweeps with the
-// momentum of Fletcher–Reeves nonlinear CG and a restart.
-//
-// PGS is a fixed-point map λ ↦ G(λ); the sweep's change Δf_k = G(λ) − λ plays the part of a
-// negative gradient. With the Fletcher–Reeves factor
-//     β_k = ‖Δf_k‖² / ‖Δf_{k−1}‖²
-// the search direction is p_k = β_k p_{k−1} + Δf_k (p_1 = Δf_1) and the iterate moves by the
-// extra β_k p_{k−1} after each sweep. β_k > 1 means the sweep's change grew: the momentum points
-// the wrong way (a contact changed mode), so the direction restarts (p_k = 0, no extra move) —
-// the method then is plain PGS until the changes shrink again. On a linear, symmetric problem
-// whose active set has settled this is CG on the Gauss–Seidel-preconditioned system, which is
-// why it needs far fewer sweeps than PGS where PGS is slow: the smooth, low-frequency error of
-// a deep pile that PGS removes one layer per sweep.
-//
-// Here the extra move is applied lazily, at the start of the next sweep, which gives the same
-// sequence of sweeps as applying it at once (Bullet) but returns, records and checkpoints only
-// post-sweep iterates: every returned λ is the output of a projecting sweep (feasible like
-// pgs's), never the unprojected λ + β p. θ_k = max_i |λ_i^k − λ_i^{k−1}| between returned
-// iterates (momentum included), so the tolerance means what it means for pgs.
-//
-// Cost per iteration: one sweep of the matrix-free kernel ("pgs", MatrixFreeSweep, the same
-// segments and manifold blocks) plus O(rows + bodies) vector work — Δu is linear in λ, so the
-// momentum's velocity change is kept as a vector too (pu = M⁻¹ Jᵀ p Δt, updated from the sweep's
-// own change of Δu) and no product with J is needed. The sums ‖Δf‖² are explicit loops in a
-// fixed order (no Eigen packet-order reductions: bit-equal across builds). A problem without J runs the
-// same method on the assembled sweep (assembled_sweep.hpp), with the momentum on λ alone.
+// "nncg": nonsmooth nonlinear conjugate gradient (Silcowitz, Niebe, Erleben, The Visual
+// Computer 26, 2010; Bullet's btNNCGConstraintSolver): PGS sweeps with Fletcher–Reeves
+// momentum. Sweep change Δf_k = G(λ) − λ, β_k = ‖Δf_k‖²/‖Δf_{k−1}‖²; β_k > 1 restarts (p = 0:
+// plain PGS), else p_k = β_k p_{k−1} + Δf_k and λ moves by β_k p_{k−1}. The move is applied at
+// the start of the next sweep (the same sequence of sweeps as Bullet), so every returned,
+// recorded or checkpointed λ is a projecting sweep's output (feasible), and θ_k compares
+// returned iterates, momentum included. One iteration = one "pgs" sweep (MatrixFreeSweep) plus
+// O(rows + bodies): pu = M⁻¹ Jᵀ p Δt is kept as a vector, so no product with J. The sums ‖Δf‖²
+// are explicit loops in a fixed order (bit-equal across builds). Without J the same method runs
+// on the assembled sweep (assembled_sweep.hpp), the momentum on λ alone. docs/solvers.md "nncg".
 #include <cmath>
 #include <optional>
 #include <string>
@@ -73,8 +55,8 @@ class NncgMomentum {
   /// factor of the next move, β = ‖Δf_k‖²/‖Δf_{k−1}‖², or a restart when β > 1.
   double after_sweep(const double* lam) {
     // Four partial sums and maxima (rows i ≡ j mod 4), combined in a fixed order: a single
-    // running sum would put one add latency per row on a dependency chain (measured: the
-    // iteration cost 1.6 sweeps instead of ~1.2), and the order stays the same on every build.
+    // running sum would put one add latency per row on a dependency chain, and the order stays
+    // the same on every build.
     double th0 = 0, th1 = 0, th2 = 0, th3 = 0, sq0 = 0, sq1 = 0, sq2 = 0, sq3 = 0;
     const size_t n = p_.size();
     auto at = [&](size_t i, double& th, double& sq) {

@@ -1,78 +1,15 @@
-// "pgs": matrix-free projected Gauss–Seidel on body velocities (the engine default, the
-// Box2D form of the seed's iteration). This file is its sweep (MatrixFreeSweep,
-// matrix_free_sweep.hpp, also the sweep of "nncg"); the solver is pgs_matrix_free_solver.cpp. A = J M⁻¹ Jᵀ Δt is never formed; the solver keeps
-//
-//     Δu = M⁻¹ Jᵀ λ Δt          (3 entries per body: Δv_x, Δv_y [m/s], Δω [rad/s])
-//
-// so that the row residual is r_i = A_i·λ + b_i = J_i·Δu + b_i, and after a row update
-// λ_i ← λ_i + δ it restores the invariant with Δu += (M⁻¹ J_iᵀ Δt) δ. Each contact row
-// touches at most two bodies, so one row costs 6 multiply-adds for r_i, a clamp and 6 for
-// the update. J_i and b_i are pre-scaled by 1/A_ii in a "prepare" stage, so the step
-// λ_i − r_i/A_ii costs no multiply or divide on the row-to-row dependency chain.
-//
-// Cost model (why the kernels look as they do). A sweep is latency-bound, not
-// throughput-bound: row i+1 cannot start before the Δu entries that row i wrote are
-// available, and the chain load Δu → 6 FMAs in a tree → subtract → clamp → δ → FMA → store
-// is ≈ 25 cycles per row on this class of core, ≈ 8 ns, which is what the row-by-row kernel
-// measured (the throughput of 12 FMAs + 20 loads per row would allow ≈ 2 ns). So the
-// kernels shorten that chain while performing the same floating-point operations in the
-// same order (finite iterates are those of the previous row-by-row kernel bit for bit, up
-// to the sign of zero, and therefore those of pgs-assembled to round-off; micro_pgs
-// reports the difference as max_diff_vs_baseline):
-//
-//  The kernels are chosen from the problem's contact constraints (LcpProblem::constraints:
-//  the rows, bodies and μ of each contact), never guessed from the sparsity of J.
-//  * A contact with friction (normal row i with bounds [0, ∞) immediately followed by its
-//    tangent row i+1; both act on the contact's two bodies) is solved as one block: the 6 velocity
-//    entries of its two bodies are loaded once, updated by the normal row, read by the
-//    tangent row from registers, and stored once. The tangent row takes its friction bound
-//    ±μ max(0, λ_n) from the register holding the fresh λ_n. This removes one
-//    store→load forwarding of Δu (≈ 7–8 cycles on Zen) and one of λ_n per contact from
-//    the chain, and halves loads/stores.
-//  * Two-point manifolds (SolverOptions::block_manifolds, default on): two consecutive
-//    contacts of one body pair with one normal (a polygon face on a face or a wall) have
-//    their two normal rows solved as one 2 × 2 LCP, exactly, as Box2D's block solver does,
-//    with both tangent rows right before it (pgs_manifold_block.hpp: formulas, order,
-//    conditioning test). This is a different Gauss–Seidel step than the row-by-row one (same
-//    fixed point): such problems no longer follow pgs-assembled iterate for iterate. Circle
-//    scenes have no manifolds, so everything said here about identical iterates holds there.
-//  * Wall contacts have one body. Instead of one shared dummy body that is read and
-//    written (which chained every wall contact of a sweep to the previous one through
-//    memory), the missing body is read from a "zero" body that is never written and
-//    written to a "sink" body that is never read: its coefficients are exact zeros, so
-//    J·0 adds +0 and the discarded update is 0·δ — same values, no false dependency.
-//  * Normal rows of contacts without friction (μ = 0) whose bounds are [0, ∞) use a kernel
-//    with the clamp max(y, 0) (a branch, see below) and no bound loads.
-//  * Everything else (singular rows A_ii ≤ 0, friction rows not right after their normal
-//    row, rows with other fixed bounds, and every row of a problem built with J but without
-//    constraint structure) goes through the general row kernel, unchanged from the previous
-//    version.
-//  * The clamps of normal rows and the λ_n = 0 case of tangent rows are predictable
-//    branches, not min/max: for an inactive
-//    contact (λ_n stays 0, typical for speculative and separating contacts) the branch
-//    predictor supplies λ_n = 0 and λ_t = 0 (bound ±μ·0) without waiting for the
-//    residuals, so such a contact leaves the chain except for its FMA updates of Δu.
-//    The values are those of max(y, 0) and clamp(y, −0, 0) (up to the sign of zero); a
-//    NaN residual still sets the non-finite flag. Measured 2–20 % faster than the
-//    branch-free tangent clamp (7 % on the seed scene); forcing the normal clamp
-//    branch-free (maxsd) was 25–40 % slower.
-//  The prepare stage cuts the row sequence into runs of one kind ("segments") in row
-//  order, so the Gauss–Seidel order is exactly the seed's, and each run is a loop over
-//  contiguous structs.
-//
-// Tried and rejected (measured with benchmarks/micro/micro_pgs.cpp): carrying body a of consecutive
-// contacts in registers (select loaded-or-carried by bit masks) made every contact depend
-// on the previous one through the select — it serialised independent contacts and was
-// 50–60 % slower; computing the tangent residual as r_t⁰ + (A_tn/A_tt)·δ_n to take the
-// normal update off the tangent's chain changed the iterates at round-off level (≤ 1e-12 N
-// after 200 sweeps) and gave no measurable gain. Not done: skipping the exact-zero angular
-// terms of circle normal rows would not apply to real scenes (for body pairs r × n comes
-// out ~1e-17, not 0, because the contact point is rounded) and saves throughput, which is
-// not the bottleneck.
-//
-// θ_k = max |Δλ| and the non-finite flag are accumulated off the dependency chain; after
-// each sweep Δu is checked with allFinite (O(bodies)) because a velocity that overflowed
-// would make later residuals meaningless even while λ stays finite (clamped).
+// "pgs": matrix-free projected Gauss–Seidel on body velocities (the engine default). This
+// file is its sweep (MatrixFreeSweep, matrix_free_sweep.hpp, also the sweep of "nncg"); the
+// solver is pgs_matrix_free_solver.cpp. A = J M⁻¹ Jᵀ Δt is never formed; the invariant is
+//     Δu = M⁻¹ Jᵀ λ Δt   (3 entries per body: Δv_x, Δv_y [m/s], Δω [rad/s]),
+// so r_i = A_i·λ + b_i = J_i·Δu + b_i and a row update λ_i += δ restores it with
+// Δu += (M⁻¹ J_iᵀ Δt) δ. J_i, b_i are pre-scaled by 1/A_ii in the prepare stage. Kernels are
+// chosen per run of rows from LcpProblem::constraints, never from J's sparsity; they perform
+// the row-by-row operations in the same order (bit-equal iterates up to the sign of zero, so
+// pgs-assembled's to round-off), except two-point manifold blocks (a different Gauss–Seidel
+// step, same fixed point). θ_k and the non-finite flag are accumulated off the dependency
+// chain; Δu is checked with allFinite after each sweep (an overflowed velocity spoils later
+// residuals while λ stays clamped). Kernel design and cost model: docs/lcp.md "The `pgs` kernels".
 #include <array>
 #include <cmath>
 #include <limits>
@@ -341,7 +278,7 @@ std::string prepare(const LcpProblem& p, bool block_manifolds, MatrixFreeRows& o
       if (std::string err = pack(i + 1, t); !err.empty()) return err;
       if (!t.singular) {
         add(Kind::Contact, i, 2, static_cast<int>(out.contact.size()));
-        // Filled in place (a braced temporary was copied with `rep movs`, 232 bytes).
+        // Filled in place: a braced temporary would be built and then copied.
         ContactBlock& cb = out.contact.emplace_back();
         cb.jn = r.j;
         cb.mjn = r.mj;
@@ -451,8 +388,8 @@ DC_PGS_FMA_CLONES void sweep_normal(const NormalRow* __restrict row, int count, 
   acc.bad = bad;
 }
 
-// GCC's SLP vectoriser packs pairs of the 6 velocity entries into vectors and extracts
-// them again with shuffles, which puts extra latency on the chain: measured 3–8 % slower.
+// GCC's SLP vectoriser is off here: it packs pairs of the 6 velocity entries into vectors
+// and extracts them again with shuffles, which puts extra latency on the chain.
 [[gnu::optimize("no-tree-slp-vectorize")]] DC_PGS_FMA_CLONES void sweep_contacts(const ContactBlock* __restrict c,
                                                                 int count, double* __restrict lam,
                                                                 double* __restrict u, SweepAcc& acc) {
@@ -471,7 +408,7 @@ DC_PGS_FMA_CLONES void sweep_normal(const NormalRow* __restrict row, int count, 
       const double res = (c->bn + s0) + (s1 + s2);
       const double old = lam[0];
       const double y = old - res;
-      if (y < 0.0) {  // = std::max(y, 0.0), as a branch: see the cost model at the top
+      if (y < 0.0) {  // = std::max(y, 0.0), as a branch: see docs/lcp.md "The `pgs` kernels"
         xn = 0.0;
       } else {
         xn = y;
@@ -496,7 +433,7 @@ DC_PGS_FMA_CLONES void sweep_normal(const NormalRow* __restrict row, int count, 
       const double old = lam[1];
       const double t = c->mu * std::max(0.0, xn);
       const double y = old - res;
-      const double x = friction_clamp(y, t, bad);  // a branch on t, see the cost model
+      const double x = friction_clamp(y, t, bad);  // a branch on t (docs/lcp.md "The `pgs` kernels")
       const double d = x - old;
       lam[1] = x;
       a0 = std::fma(c->mjt[0], d, a0);

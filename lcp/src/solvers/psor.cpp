@@ -1,7 +1,7 @@
 // "psor": projected successive over-relaxation on the assembled A,
 //   λ_i ← proj(λ_i − ω r_i / A_ii),  ω = options.omega.
 // ω = 1 is pgs-assembled bit for bit. For symmetric PSD A the iteration converges for
-// 0 < ω < 2 (Cryer); other ω are rejected as InvalidInput.
+// 0 < ω < 2 (Cryer); other ω give InvalidInput.
 #include <cmath>
 
 #include "solvers/solver_common.hpp"

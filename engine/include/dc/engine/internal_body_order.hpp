@@ -1,21 +1,15 @@
 #pragma once
 // The engine-internal body order behind stable external indices (`[bodies] internal_order =
-// "morton"`, docs/engine.md "Spatial body order"). World keeps its working copy of the bodies
-// here, sorted by the Morton code of each body's current cell and re-sorted when the order has
-// decayed (or every `resort_every` steps at the latest), so that the broad phase's pairs, the
-// contacts, the LCP rows (contacts sorted by internal key) and J's columns follow space and
-// every stage walks memory with locality. The public objects stay in external order: this class
-// translates contacts (body ids, key, normal orientation) and per-row vectors between the two
-// orders, and copies body state both ways. World calls the translations lazily, only for
-// the views a caller reads.
-//
-// Orientation: a pair contact's normal points from the lower to the higher body index. When
-// the internal order of a pair's bodies is the reverse of their external order, the external
-// contact has its bodies swapped and n (so t = perp(n)) negated. Its rows of J are the same
-// per body (−n on a, +n on b becomes +n on the old a, −n on the old b: the same entries up to
-// the sign of a zero r × n), so b, λ_n and λ_t are the same numbers in both orders; only the
-// columns move. (The public problem is therefore assembled from the public contacts, not
-// permuted from the internal one: −0 and +0 entries of J would differ.)
+// "morton"`, docs/engine.md "Engine-internal order"). World's working copy of the bodies is
+// sorted by the Morton code of each body's current cell, re-sorted when the order has decayed
+// (or every `resort_every` steps), so the pairs, contacts, LCP rows and J's columns follow space.
+// The public objects stay in external order: this class translates contacts and per-row vectors
+// and copies body state both ways; World translates lazily, only the views a caller reads.
+// Orientation: a pair contact's normal points from the lower to the higher body index; when the
+// internal order of a pair is the reverse of the external one, the external contact has its
+// bodies swapped and n (so t = perp(n)) negated — the same J entries per body up to the sign of a
+// zero r × n, so b, λ_n, λ_t are the same numbers. The public problem is therefore assembled from
+// the public contacts, not permuted from the internal one (−0 and +0 entries of J would differ).
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -37,7 +31,7 @@ class InternalBodyOrder {
   /// Brings the internal state up to date with `external`: bodies appended to it since the
   /// last call join at the end of the internal order; with `copy_all` every body's fields are
   /// copied (edits made through World::bodies()). Throws InvalidArgument when `external` has
-  /// fewer bodies than before or a shape table (the internal order is for circle-only scenes).
+  /// fewer bodies than the last call or a shape table (the internal order is for circle-only scenes).
   void update_from(const BodyState& external, bool copy_all);
   /// Re-sorts the internal order by the Morton code of each body's current cell (side `cell`
   /// [m]; morton_order, ties by current internal index): deterministic.

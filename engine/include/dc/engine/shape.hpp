@@ -1,21 +1,16 @@
 #pragma once
-// Body shapes and motion types (docs/design.md §8.1–8.2, docs/engine.md "Shapes").
-//
-// A body is a circle (radius r), a convex polygon (3..16 counter-clockwise vertices in the
-// body frame, centroid at the origin) or an ellipse (semi-axes a, b along the body's x and y
-// axes). Boxes and regular polygons are polygons built by make_box / make_regular_polygon.
-// Mass properties come from the shape and the areal density ρ:
+// Body shapes and motion types (docs/design.md §8.1–8.2, docs/engine.md "Shapes"). A body is a
+// circle (radius r), a convex polygon (3..16 counter-clockwise body-frame vertices, centroid at
+// the origin; make_box, make_regular_polygon) or an ellipse (semi-axes a, b along body x, y).
+// Mass from the areal density ρ:
 //   polygon, c_i = v_i × v_{i+1}:  A = ½ Σ c_i,  centroid = Σ (v_i + v_{i+1}) c_i / (6A),
-//                                  I = ρ/12 Σ c_i (v_i·v_i + v_i·v_{i+1} + v_{i+1}·v_{i+1})
-//                                  (about the centroid, after the vertices are shifted to it)
-//   ellipse:                       m = ρ π a b,  I = m (a² + b²)/4
-// A body's position is its centre of mass, so a polygon given with an off-centre vertex list
-// is shifted (ShapeDef::centroid_offset says by how much, to place it where the file meant).
-//
-// Motion: dynamic bodies obey the contact LCP; static and kinematic bodies have infinite mass
-// (inverse mass and inertia 0), create contacts with dynamic bodies only and have no columns
-// in J. A kinematic body moves with its prescribed velocity and angular velocity, optionally
-// rotating about a world pivot (drums): x ← p + R(ω Δt)(x − p), v = ω × (x − p).
+//     I = ρ/12 Σ c_i (v_i·v_i + v_i·v_{i+1} + v_{i+1}·v_{i+1})  (about the centroid)
+//   ellipse:  m = ρ π a b,  I = m (a² + b²)/4
+// A body's position is its centre of mass, so an off-centre vertex list is shifted
+// (ShapeDef::centroid_offset says by how much). Static and kinematic bodies have infinite mass
+// (inverse mass and inertia 0), contacts with dynamic bodies only and no columns in J; a
+// kinematic body moves with its prescribed velocities, optionally about a world pivot (drums):
+// x ← p + R(ω Δt)(x − p), v = ω × (x − p).
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -1,26 +1,15 @@
 #pragma once
-// Narrow phase for non-circle shapes (docs/design.md §8.1). Circle–circle and circle–wall stay in
-// narrow_phase.hpp (analytic, the seed's path). Here:
-//
-//   polygon–wall, ellipse–wall   analytic (deepest vertices of the edge most anti-parallel to
-//                                the wall normal; the ellipse's support point), exact
-//   circle–polygon               analytic (Box2D's Voronoi-region test), exact
-//   polygon–polygon              separating-axis test (Box2D's b2FindMaxSeparation), exact
-//   pairs with an ellipse        libccd on support functions (GJK+EPA by default, or MPR),
-//                                each shape inflated by its speculative reach δ so that pairs
-//                                with 0 < gap < δ_a + δ_b overlap and get their distance:
-//                                gap = δ_a + δ_b − depth
-//                                then the normal is polished by a 1D maximisation of the
-//                                support separation n·(s_b(−n) − s_a(n)) over the angle of n
-//   polygon–polygon              a manifold of up to two points: reference face (largest
-//                                separation; or, on request, most aligned with libccd's
-//                                normal), incident face clipped
-//                                against its side planes (Sutherland–Hodgman), points kept
-//                                below the reference face + threshold; feature ids from the
-//                                (edge, vertex) indices that made each point
-//
-// libccd is 3D: a 2D shape is embedded as a prism of half-height H (H > any in-plane depth,
-// so the minimum-penetration direction is always in the plane).
+// Narrow phase for non-circle shapes (docs/design.md §8.1, docs/engine.md "Shapes"); circle–
+// circle and circle–wall are in narrow_phase.hpp. Polygon–wall, ellipse–wall (deepest vertices /
+// support point), circle–polygon (Voronoi regions) and polygon–polygon (separating axes, Box2D's
+// b2FindMaxSeparation) are analytic and exact. Pairs with an ellipse go to libccd (GJK+EPA by
+// default, or MPR) with each shape inflated by its speculative reach δ, so gap = δ_a + δ_b −
+// depth, then the normal is polished by maximising n·(s_b(−n) − s_a(n)) over its angle.
+// Polygon–polygon gives up to two points: reference face (largest separation, or the one most
+// aligned with libccd's normal on request), incident face clipped against its side planes
+// (Sutherland–Hodgman), points below reference face + threshold; feature ids from the (edge,
+// vertex) indices. libccd is 3D: a 2D shape is a prism of half-height H > any in-plane depth,
+// so the minimum-penetration direction is always in the plane.
 #include <cstdint>
 
 #include "dc/core/vec2.hpp"

@@ -1,31 +1,19 @@
 #pragma once
 // The 2D impulse engine: circles, convex polygons and ellipses (dynamic, static or kinematic)
-// in a box with up to four walls, stepped by semi-implicit Euler with a velocity-level
-// contact LCP (docs/design.md §2). A step is a sequence of named stages
-// (Box2D style), each callable on its own so that a benchmark can solve the identical LCP
-// with several initial guesses:
-//
-//   collide()    broad phase (uniform grid) + narrow phase → contacts sorted by key
-//                (with e > 0 also each contact's approach velocity, restitution.hpp)
-//   assemble()   contact constraints (rows of each contact), J (sparse), M⁻¹, b, bounds;
-//                A = J M⁻¹ Jᵀ Δt only on demand (ensure_assembled_matrix())
+// in a box with up to four walls, stepped by semi-implicit Euler with a velocity-level contact
+// LCP (docs/design.md §2, docs/engine.md "One step"). A step is a sequence of stages, each
+// callable on its own so that a benchmark can solve the identical LCP from several guesses:
+//   collide()    broad (uniform grid) + narrow phase → contacts sorted by key (e > 0: approach
+//                velocities, restitution.hpp)
+//   assemble()   contact constraints, J (sparse), M⁻¹, b, bounds; A = J M⁻¹ Jᵀ Δt on demand
 //   [solve]      any LcpSolver, from any λ⁰ (the warm start)
-//   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ),  x ← x + Δt v,  θ ← θ + Δt ω
-//                (integrate_bodies, step_outcome.hpp); stores λ in the contacts (kept as
-//                previous_contacts() for warm starts); then appends the bodies that enter
-//                at the new time ([[body]] spawn, [inflow]: inflow.hpp)
-//
-// step() runs all stages (forming A when the solver needs it) and returns a per-stage profile.
-//
-// With `[bodies] internal_order = "morton"` the stages work on a copy of the bodies kept in a
-// re-sorted spatial order (internal_body_order.hpp); everything public — bodies(), contacts(),
-// previous_contacts(), problem(), constraints(), pack(), predict(), integrate(λ)'s λ, the
-// guess's input and output, StepReport's λ — stays in the external (creation) order. Those
-// views are built lazily: a step translates only what is read (bodies(), contacts(), problem()
-// …) after it, on the first read; the builtin warm start (step(…, WarmStart::PreviousLambda))
-// runs in the internal order, so a step nobody looks into pays only for StepReport's λ. The
-// const accessors therefore fill caches: a World is not safe to read from two threads at once
-// with an internal order.
+//   integrate(λ) u ← u + Δt M⁻¹ (F_ext + Jᵀ λ), x ← x + Δt v, θ ← θ + Δt ω (step_outcome.hpp);
+//                stores λ in the contacts (previous_contacts()), then appends the bodies that
+//                enter at the new time ([[body]] spawn, [inflow]: inflow.hpp)
+// step() runs all stages and returns a per-stage profile. With `internal_order = "morton"` the
+// stages run on a re-sorted copy of the bodies; everything public stays in creation order and is
+// translated lazily on first read, so the const accessors fill caches: such a World is not safe
+// to read from two threads at once (docs/engine.md "Engine-internal order").
 #include <Eigen/Core>
 #include <functional>
 #include <vector>

@@ -4,7 +4,7 @@
 // fsynced after the rename, so the new name survives a power cut too. A kill at any instant
 // leaves either the old `path` or the new one, never a mix (at worst a stale `path.tmp`,
 // which the next write replaces). On failure (e.g. a full disk: ENOSPC, or EFBIG past a
-// file-size limit) the temporary is removed and `path` keeps its earlier content. HDF5 files
+// file-size limit) the temporary is removed and `path` keeps its content. HDF5 files
 // have the same guarantee through dc::AtomicH5File (h5.hpp).
 #include <string>
 #include <string_view>

@@ -1,44 +1,16 @@
 #pragma once
-// A small RAII layer on the HDF5 C API, shared by every HDF5 writer and reader of the
-// project (trajectories, data sets, models, bench results; layouts in docs/formats.md).
-//
-//   auto out = dc::AtomicH5File("results.h5");            // built in memory
-//   out->write<double>("/bodies/position", xs, {steps, n, 2});
-//   out->create_dataset<float>("/samples/lambda", {0, 64}, {.extendible = true, .deflate = 4});
-//   out->append_rows<float>("/samples/lambda", row);       // grows the first axis
-//   out->set_attribute("/", "format", "deepcontact-results");
-//   out.commit();                                          // results.h5.tmp, renamed → results.h5
-//
-//   const auto in = dc::H5File::open_read("results.h5");
-//   auto xs = in.read<double>("/bodies/position", {dc::kH5Any, n, 2});  // checks the shape
-//
-// Conventions (docs/formats.md, "HDF5 conventions"):
-//   * Object paths are absolute ("/a/b/c"; a leading '/' may be omitted). Creating a
-//     dataset or group creates the missing intermediate groups.
-//   * Elements are double, float, int32, int64 or uint8, stored little-endian
-//     (IEEE F64LE/F32LE, STD I32LE/I64LE/U8LE), row-major (C order), as h5py/numpy expect.
-//   * Writes require the stored type to be exactly T (no silent narrowing); reads also
-//     accept stored types that convert to T without loss (float32 → double, int32 → int64,
-//     uint8 → any), so files written by h5py with a wider-than-needed dtype still load.
-//   * Shape 0-rank ({}) is a scalar dataset. An extendible dataset has an unlimited first
-//     axis, is chunked, and grows with append_rows() (also across close/reopen: resume).
-//
-// Errors: every failing HDF5 call throws dc::IoError with one line naming the file, the
-// object path and the operation, plus HDF5's innermost reason when it has one, e.g.
-//   "results.h5: /bodies/position: dataset has shape (3,5) but (3,5,2) was expected".
-// Contract violations by the caller (buffer size ≠ product of the shape, compression level
-// outside 0..9, using a closed file) throw dc::InvalidArgument.
-//
-// HDF5's automatic error-stack printing is switched off for the duration of each call of
-// this helper (saved and restored by a scope guard), so users see exceptions, not stderr
-// noise, and code outside the helper keeps whatever setting it had. Debian's libhdf5 is
-// built thread-safe, where that setting is per thread, so the guard does not race with
-// other threads. Objects of this layer are not themselves synchronised: use one H5File per
-// thread (HDF5 serialises the calls internally anyway).
-//
-// Part of dc_io, which links HDF5 PRIVATE: this header does not include <hdf5.h>, and an
-// open file is held as an opaque id (HDF5's hid_t is a 64-bit integer; io/src/h5.cpp checks
-// that both hsize_t and hid_t match the types declared here).
+// A small RAII layer on the HDF5 C API for every HDF5 writer and reader of the project (layouts
+// and conventions: docs/formats.md "HDF5 conventions"). Paths are absolute (missing groups are
+// created); elements are double, float, int32, int64 or uint8, little-endian, row-major; writes
+// store exactly T, reads accept types that convert to T without loss; shape {} is a scalar, an
+// extendible dataset has an unlimited, chunked first axis grown by append_rows().
+// Errors: a failing HDF5 call throws dc::IoError with one line naming the file, the object path
+// and the operation (plus HDF5's innermost reason); caller contract violations (buffer size ≠
+// product of the shape, compression level outside 0..9, a closed file) throw dc::InvalidArgument.
+// HDF5's error-stack printing is off during each call of this layer (scope guard, per thread in
+// Debian's thread-safe libhdf5). Objects are not synchronised: one H5File per thread.
+// dc_io links HDF5 PRIVATE: no <hdf5.h> here; an open file is an opaque id (h5.cpp checks that
+// hsize_t and hid_t match the types declared here).
 #include <concepts>
 #include <cstdint>
 #include <optional>
@@ -106,6 +78,14 @@ enum class H5StringKind { Variable, Fixed };
 
 /// An open HDF5 file. Move-only; the destructor closes it (errors ignored — call close()
 /// to see them). All object paths are relative to the root group.
+///
+///   auto out = dc::AtomicH5File("results.h5");            // built in memory
+///   out->write<double>("/bodies/position", xs, {steps, n, 2});
+///   out->create_dataset<float>("/samples/lambda", {0, 64}, {.extendible = true, .deflate = 4});
+///   out->append_rows<float>("/samples/lambda", row);       // grows the first axis
+///   out.commit();                                          // results.h5.tmp, renamed → results.h5
+///   const auto in = dc::H5File::open_read("results.h5");
+///   auto xs = in.read<double>("/bodies/position", {dc::kH5Any, n, 2});  // checks the shape
 ///
 /// Full disk: when a write of a writable file fails at the system level (ENOSPC, EFBIG),
 /// the IoError is thrown and the file is abandoned — its descriptor is moved to an anonymous
@@ -285,7 +265,7 @@ class AtomicH5File {
   void commit();
   /// Seals the file at commit with a hash of all its bytes, verified by every open before
   /// libhdf5 reads it (for files whose damage libhdf5 cannot survive, e.g. virtual datasets'
-  /// mappings; readers without the check, such as h5py, read the file as before). Costs one
+  /// mappings; readers without the check, such as h5py, read it as an unsealed file). Costs one
   /// pass over the file per open: for small files.
   void add_whole_file_hash() { whole_file_hash_ = true; }
 

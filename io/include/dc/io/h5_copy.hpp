@@ -1,6 +1,6 @@
 #pragma once
-// Re-writing an HDF5 file through dc::H5File, e.g. to give a file written before checksums
-// existed (or by h5py) the checksums of this layer (docs/formats.md "Checksums").
+// Re-writing an HDF5 file through dc::H5File, e.g. to give a file without checksums (an
+// older file, or one written by h5py) the checksums of this layer (docs/formats.md "Checksums").
 #include <string>
 
 namespace dc {

@@ -1,25 +1,14 @@
 #pragma once
-// The contact constraints of one step: for each contact, which LCP rows it owns, which two
-// bodies those rows act on and how they are coupled (docs/design.md §2). Assembly builds it next to
-// J and b (LcpProblem::constraints); the matrix-free PGS kernels, the warm starters, the data
-// generator and the bench read rows from it instead of re-deriving them from a global
-// friction switch or re-inferring contact blocks from the sparsity of J.
-//
-// Rows of contact c, in contact order:   normal row n_c   (λ_n ≥ 0, non-penetration)
-//                                        tangent row t_c  (|λ_t| ≤ μ_c λ_n, friction) — only
-//                                                          when μ_c > 0, otherwise −1
-// so a scene with one μ > 0 has rows (2c, 2c+1) and a μ = 0 scene row c, but nothing may
-// rely on that: μ is per contact, and a scene may mix frictionless and frictional contacts.
-//
-// A contact acts on body_b (≥ 0) and on body_a, or on body_b alone when body_a = −1 (a wall;
-// later a static body). Several contacts may share a body pair (a polygon edge against a
-// face gives two points); `feature` tells them apart, so that a contact's identity is
-// (pair, feature), as in ContactKey.
-//
-// The per-contact view of a solution is the pair (λ_n, λ_t) with λ_t = 0 for a contact
-// without a tangent row; put/lambda_n/lambda_t, scatter and gather convert between it and the
-// row vector of the LCP. Interleaved per-contact arrays hold [λ_n,0, λ_t,0, λ_n,1, λ_t,1, …]
-// (the layout of the data sets' lambda_star and of the SPH / CNN label channels).
+// The contact constraints of one step: for each contact, its LCP rows, the two bodies they act
+// on and their coupling (docs/design.md §2, docs/engine.md "Rows"). Assembly builds it next to J
+// and b (LcpProblem::constraints); PGS kernels, warm starters, the data generator and the bench
+// read rows from it, never from a global friction switch or J's sparsity.
+// Rows of contact c: normal row n_c (λ_n ≥ 0) and tangent row t_c (|λ_t| ≤ μ_c λ_n) only when
+// μ_c > 0, else −1. Nothing may rely on rows (2c, 2c+1) or c: μ is per contact and may be mixed.
+// A contact acts on body_b (≥ 0) and body_a, or on body_b alone when body_a = −1 (a wall).
+// Contacts may share a body pair; `feature` tells them apart: identity (pair, feature), as in
+// ContactKey. Per contact a solution is (λ_n, λ_t), λ_t = 0 without a tangent row; interleaved
+// arrays hold [λ_n,0, λ_t,0, λ_n,1, λ_t,1, …] (data sets' lambda_star, SPH / CNN label channels).
 #include <Eigen/Core>
 #include <cstddef>
 #include <span>

@@ -1,39 +1,14 @@
 #pragma once
-// LCP problem files in the Siconos numerics `.dat` text format (docs/design.md §7, docs/lcp.md), as
-// written by Siconos' linearComplementarity_printInFile / NM_write_in_file / SBM_write_in_file
-// and read by linearComplementarity_newFromFile / NM_new_from_file / SBM_new_from_file:
-//
-//     n                      problem size
-//     storage                0 = dense, 1 = sparse block (Siconos' SparseBlockStructuredMatrix)
-//     rows                   (= n)
-//     cols                   (= n)
-//   dense (0):
-//     rows<TAB>cols          repeated size line of the dense block
-//     M, column-major: M(0,j) M(1,j) … M(n−1,j), one column per line, j = 0 … n−1
-//   sparse block (1):
-//     nbblocks               number of stored (non-zero) blocks; 0 = M is zero, nothing follows
-//     R                      number of block rows
-//     C                      number of block columns
-//     r_0 … r_{R−1}          cumulative block-row sizes (block row i = rows r_{i−1} … r_i − 1)
-//     c_0 … c_{C−1}          cumulative block-column sizes
-//     filled1                number of row pointers (R + 1, or fewer if trailing block rows are empty)
-//     filled2                number of blocks (= nbblocks)
-//     p_0 … p_{filled1−1}    row pointers: the blocks of block row i are p_i … p_{i+1} − 1
-//     k_0 … k_{filled2−1}    block-column index of each block
-//     then for each block b in order: the number b, then its entries column-major
-//   then, in both storages:
-//     q(0) … q(n−1)
-//     anything else          a remark (Siconos' reader stops after q): kept as DatFile::comment
-//
-// The LCP is w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0, i.e. LcpProblem::standard(M, q) with M
-// sparse (zeros not stored). The reader is liberal with whitespace (any mix of spaces,
-// tabs, newlines; line breaks are not required where Siconos puts them) but strict about
-// everything up to the last entry of q: a missing file, truncated data, a non-numeric token,
-// NaN/Inf, n ≤ 0 or n > 100000, sizes that disagree, a storage type other than 0 and 1,
-// block sizes that do not add up to n, a row pointer or column index out of range, a
-// repeated block, a block number out of order, or sizes the file is too short to hold —
-// throws dc::IoError with one line naming the file, the line and the problem. It checks
-// every size against the bytes left before allocating and never blocks.
+// LCP problem files in the Siconos numerics `.dat` text format, storage 0 (dense) and 1 (sparse
+// block), as Siconos' linearComplementarity_printInFile / NM_write_in_file / SBM_write_in_file
+// write them; layout: docs/lcp.md "The `.dat` format", docs/design.md §7. The LCP is
+// w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0, i.e. LcpProblem::standard(M, q) with M sparse (zeros not
+// stored); text after q is a remark, kept as DatFile::comment. The reader is liberal with
+// whitespace but strict up to the last entry of q: a missing file, truncated data, a non-numeric
+// token, NaN/Inf, n ≤ 0 or n > 100000, disagreeing sizes, another storage type, block sizes not
+// adding up to n, an index out of range, a repeated or out-of-order block, or sizes the file is
+// too short to hold throw dc::IoError with one line naming the file, the line and the problem.
+// Every size is checked against the bytes left before allocating; reading never blocks.
 #include <Eigen/Core>
 #include <string>
 #include <string_view>

@@ -1,25 +1,9 @@
 #pragma once
-// 2D frictional-contact problems in the Siconos numerics `.dat` text format, as written by
-// Siconos' frictionContact_printInFile and read by frictionContact_newFromFile
-// (numerics/src/FrictionContact/FrictionContactProblem.c; docs/lcp.md, docs/formats.md):
-//
-//     d                      dimension of the contact law: 2 (3 is refused: 3D friction)
-//     nc                     number of contacts (W is 2nc × 2nc)
-//     storage                0 = dense, 1 = sparse block, 2 = sparse (CSparse print format)
-//     rows                   (= 2nc)
-//     cols                   (= 2nc)
-//     W                      dense (0) and sparse block (1) as in LCP files (dat_file.hpp);
-//                            sparse (2): the origin (1 triplet, 2 compressed column,
-//                            3 compressed row), then CSparse's cs_print text:
-//                              CSparse Version …            (one line, skipped)
-//                              [csr: |triplet: ]M-by-N, nzmax: Z nnz: K[, 1-norm: x]
-//                              compressed: per column (row) j "col j : locations a to b",
-//                              then b − a + 1 lines "i : x"; triplet: K lines "i j : x"
-//                            (values printed by Siconos with %g: 6 significant digits)
-//     q(0) … q(2nc−1)
-//     μ(0) … μ(nc−1)
-//     anything else          a remark, kept as Fc2dDatFile::comment
-//
+// 2D frictional-contact problems in the Siconos numerics `.dat` text format, as Siconos'
+// frictionContact_printInFile writes and frictionContact_newFromFile reads them: d = 2 (3D
+// friction refused), nc contacts, W (2nc × 2nc) in storage 0 (dense), 1 (sparse block, as
+// dat_file.hpp) or 2 (CSparse's cs_print text), then q (2nc) and μ (nc); text after μ is
+// Fc2dDatFile::comment. Layout: docs/formats.md (frictionContact files), docs/lcp.md.
 // Validated like the LCP reader: every count checked against the bytes left before anything
 // of that size is allocated, nothing read past the end, one-line dc::IoError
 // "FILE: line L: what" for a missing or empty file, truncated data, non-numbers, NaN/Inf,

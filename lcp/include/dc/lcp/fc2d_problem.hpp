@@ -1,20 +1,14 @@
 #pragma once
 // The 2D frictional-contact problem of Siconos numerics (FrictionContactProblem, dimension 2)
-// and FCLIB (local problem, spacedim 2), and its relation to the engine's box-friction LCP.
-//
-// With nc contacts and the reactions r = (r_n,0, r_t,0, r_n,1, r_t,1, …) (per contact the
-// normal, then the tangent component; units of impulse [N·s] for the engine's problems), the
-// local velocity is u = W r + q (2nc entries [m/s]) and each contact obeys Coulomb's law
-//
-//     0 ≤ r_n ⊥ u_n ≥ 0,   |r_t| ≤ μ r_n,   |r_t| < μ r_n ⇒ u_t = 0,
-//     r_t = μ r_n ⇒ u_t ≤ 0,   r_t = −μ r_n ⇒ u_t ≥ 0.
-//
-// In 2D this is exactly the engine's box-friction LCP (lcp_problem.hpp): A = W, b = q, the
-// normal rows with bounds [0, ∞), the tangent rows coupled to their normal row with bounds
-// ±μ r_n. A solution of one is a solution of the other, and the natural-map residual of the
-// LCP, max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)|, is zero exactly at a Coulomb solution.
-// (Siconos measures the same solutions through De Saxcé's form, u_n + μ|u_t| against the
-// cone's dual, normalised by max(‖r‖, ‖u‖, ‖q‖): a different number, zero at the same points.)
+// and FCLIB (local, spacedim 2), and its relation to the engine's box-friction LCP. With nc
+// contacts, reactions r = (r_n,0, r_t,0, r_n,1, …) [N·s for the engine's problems] and local
+// velocity u = W r + q (2nc entries [m/s]), each contact obeys Coulomb's law
+//     0 ≤ r_n ⊥ u_n ≥ 0,  |r_t| ≤ μ r_n,  |r_t| < μ r_n ⇒ u_t = 0,  r_t = ±μ r_n ⇒ ∓u_t ≥ 0.
+// In 2D this is exactly the box-friction LCP (lcp_problem.hpp): A = W, b = q, normal rows in
+// [0, ∞), tangent rows in ±μ r_n; the natural-map residual max_i |λ_i − mid(lo_i, λ_i − w_i,
+// hi_i)| is zero exactly at a Coulomb solution. Siconos measures the same solutions through De
+// Saxcé's form (u_n + μ|u_t| against the dual cone, normalised by max(‖r‖, ‖u‖, ‖q‖)): a
+// different number, zero at the same points.
 #include <Eigen/Core>
 #include <vector>
 

@@ -1,25 +1,12 @@
 #pragma once
-// FCLIB local frictional-contact problems (the HDF5 format of the FCLIB benchmark collection,
-// https://frictionalcontactlibrary.github.io; Debian's libfclib 3.1.0 reads and writes the
-// same files), spacedim 2 only. Layout (docs/formats.md "FCLIB"):
-//
-//   /fclib_local/spacedim          int32 (1): 2 (3 is refused: 3D friction)
-//   /fclib_local/W/{m,n,nz,nzmax}  int32 (1) each: m = n = 2nc; nz = −1 compressed columns,
-//                                  −2 compressed rows, ≥ 0 a triplet list of nz entries
-//   /fclib_local/W/p, i            int32: compressed: p = n+1 column (row) starts, i = nzmax
-//                                  row (column) indices; triplet: p = column, i = row index
-//                                  of each entry (CSparse's convention)
-//   /fclib_local/W/x               float64: the values (nzmax, or nz for a triplet list)
-//   /fclib_local/vectors/q         float64 (2nc);  /fclib_local/vectors/mu  float64 (nc)
-//   /solution/{u,r}                float64 (2nc) each: velocity u = W r + q and reaction r
-//   /guesses/number_of_guesses     int32 (1);  /guesses/1, /guesses/2, …: {u, r} as /solution
-//
-// This reader does not use libfclib: libfclib trusts the sizes stored in the file (it reads a
-// dataset into a buffer sized by W/m, W/nz, …, and calls exit(1) on any HDF5 error), so a
-// damaged file could overflow its buffers or end the process. Here every size is checked
-// against the datasets' shapes before reading, every index against the matrix, every value
-// for finiteness; errors are one-line dc::IoError messages "FILE: what". The tests check
-// that libfclib reads what this writer writes and the other way round.
+// FCLIB local frictional-contact problems (the HDF5 format of the FCLIB collection,
+// https://frictionalcontactlibrary.github.io), spacedim 2 only: /fclib_local/{spacedim, W/{m,n,
+// nz,nzmax,p,i,x}, vectors/{q,mu}}, optional /solution/{u,r} and /guesses; layout and index
+// conventions in docs/formats.md "FCLIB local problems". libfclib reads what this writer writes
+// and the other way round (tested). libfclib is not used to read because it trusts the sizes
+// stored in the file and calls exit(1) on an HDF5 error; here every size is checked against the
+// datasets' shapes before reading, every index against the matrix, every value for finiteness,
+// and errors are one-line dc::IoError messages "FILE: what".
 #include <cstdint>
 #include <optional>
 #include <string>

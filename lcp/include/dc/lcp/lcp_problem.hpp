@@ -1,20 +1,13 @@
 #pragma once
 // The contact LCP of one step (docs/design.md §2), in the form every solver consumes:
-//
 //     w = A λ + b,   lo_i ≤ λ_i ≤ hi_i,  and for each row exactly one of
 //       λ_i = lo_i and w_i ≥ 0,   λ_i = hi_i and w_i ≤ 0,   lo_i < λ_i < hi_i and w_i = 0.
-//
-// Friction rows have bounds that depend on the solution: hi_i = μ_i λ_{n(i)}, lo_i = −hi_i,
-// where n(i) = normal_row[i] is the normal row of the same contact. Rows with
-// normal_row[i] < 0 have the fixed bounds lo_i, hi_i (lo = 0, hi = +∞ for normal rows and
-// for standard LCPs read from files).
-//
-// A problem assembled from a world carries J, M⁻¹ and Δt and its contact constraints (which
-// rows belong to which contact and bodies); the matrix-free solvers work on those. Its
-// A = J M⁻¹ Jᵀ Δt is NOT formed by assembly: whoever needs A (the assembled solvers, export
-// to a .dat file, a test) calls ensure_assembled_matrix() first — World::step and the bench
-// do so when their solver says needs_assembled_matrix(). An assembled solver handed a
-// problem without A forms it for that one solve (correct, but paid per call). A problem read
+// Friction rows: hi_i = μ_i λ_{n(i)}, lo_i = −hi_i, n(i) = normal_row[i]; rows with
+// normal_row[i] < 0 have fixed bounds (lo = 0, hi = +∞ for normal rows and standard LCPs).
+// An assembled problem carries J, M⁻¹, Δt and its contact constraints (the matrix-free solvers
+// use those); A = J M⁻¹ Jᵀ Δt is NOT formed by assembly: whoever needs A calls
+// ensure_assembled_matrix() first (World::step and the bench do when needs_assembled_matrix());
+// an assembled solver handed a problem without A forms it for that one solve. A problem read
 // from a file has only A and b (no J, no constraints).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -33,7 +33,7 @@ struct SolverOptions {
   /// "pgs" only: solve the two normal rows of each two-point manifold (two contacts of one
   /// body pair with one normal, e.g. a box face on a face) as one 2 × 2 LCP, exactly, like
   /// Box2D's block solver (lcp/src/solvers/pgs_manifold_block.hpp; docs/lcp.md). false =
-  /// the row-by-row order of every row (the behaviour before the block, for comparison).
+  /// the row-by-row order of every row (for comparison).
   /// Problems without such manifolds (circle scenes) give the same iterates either way.
   bool block_manifolds = true;
   bool record_theta = true;  ///< fill SolveResult::theta (one entry per sweep)

@@ -1,27 +1,16 @@
 #pragma once
-// "newton-sparse": a warm-started semismooth Newton method for the engine's exact box-friction
-// LCP (docs/solvers.md "newton-sparse"), with sparse factorisations from SuiteSparse CHOLMOD.
-//
-// It drives the natural map of lcp_problem.hpp to zero,
-//     H(λ)_i = λ_i − mid(lo_i(λ), λ_i − w_i, hi_i(λ)),   w = A λ + b,
-// with lo/hi = ∓μ max(0, λ_n) on friction rows, so the friction bounds move with λ_n inside
-// every Newton step (no staggered passes over frozen bounds). The guess λ⁰ fixes the first
-// modes (free / at lower / at upper) of every row. Each iteration solves the generalised
-// Newton system restricted to the free rows F,
-//     (A_FF + ρI + A_FC S) Δ_F = −w_F − A_FC d_C,
-// where the clamped rows C move by Δ_C = d_C + S Δ_F (d: to the bound; S: a sliding tangent
-// row follows ±μ Δ_n of its free normal row) and ρ = regularization·max_i A_ii makes the
-// rank-deficient A_FF (more contact rows than body dofs) factorisable. A_FF + ρI is
-// factorised by CHOLMOD (symbolic analysis kept while A's pattern holds, across iterations
-// and solves); the friction coupling A_FC S, which makes the Jacobian non-symmetric, is
-// handled by GMRES preconditioned with that factor. A merit line search on ½‖H‖² (PGS
-// sweeps when it fails) globalises the method. It stops on the UNREGULARISED natural map.
-//
-// Status: Converged only when natural_residual(λ) ≤ target was checked on the returned λ
-// (target = options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞));
-// SweepLimit when max_sweeps Newton iterations ran without reaching it; Failed when the
-// iteration stalled (no decrease of the residual for `max_stalls` iterations); InvalidInput
-// for an invalid problem or guess (e.g. NaN in λ⁰). λ is always finite: the best iterate.
+// "newton-sparse": warm-started semismooth Newton for the engine's exact box-friction LCP
+// (docs/solvers.md "newton-sparse"), sparse factorisations by SuiteSparse CHOLMOD. It drives
+//     H(λ)_i = λ_i − mid(lo_i(λ), λ_i − w_i, hi_i(λ)),   w = A λ + b,   lo/hi = ∓μ max(0, λ_n)
+// to zero, the friction bounds moving with λ_n inside every step. Each iteration solves, on
+// the free rows F (clamped rows C move by Δ_C = d_C + S Δ_F),
+//     (A_FF + ρI + A_FC S) Δ_F = −w_F − A_FC d_C,   ρ = regularization·max_i A_ii,
+// A_FF + ρI by CHOLMOD (analysis kept while A's pattern holds), the coupling by preconditioned
+// GMRES; a line search on ½‖H‖² (PGS sweeps when it fails) globalises. It stops on the
+// UNREGULARISED natural map. Status: Converged only when natural_residual(λ) ≤ target was
+// checked on the returned λ (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞));
+// SweepLimit after max_sweeps iterations; Failed after `max_stalls` iterations without decrease;
+// InvalidInput for an invalid problem or guess. λ is always finite: the best iterate.
 #include <memory>
 
 #include "dc/lcp/lcp_solver.hpp"
@@ -35,7 +24,7 @@ struct NewtonSparseDef {
   /// PGS sweeps (assembled, coupled friction bounds) before each Newton direction (default 0).
   int smoothing_sweeps = 0;
   /// PGS sweeps taken instead of a step when the line search fails (default 5), doubled after
-  /// each further consecutive failure up to 256× (PGS carries a degenerate iterate onwards).
+  /// each further consecutive failure, at most 2⁸-fold (PGS carries a degenerate iterate onwards).
   int fallback_sweeps = 5;
   /// Halvings of the step length α before the line search fails (α ≥ 2^−max_backtracks; default 10).
   int max_backtracks = 10;
@@ -47,8 +36,8 @@ struct NewtonSparseDef {
   double armijo = 1e-4;
   /// With sliding friction coupled: false = GMRES preconditioned with the CHOLMOD factor of
   /// the symmetric part (default); true = factorise the exact non-symmetric Newton matrix by
-  /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails). On impact
-  /// (250 bodies, from builtin) true took 199 instead of 318 ms per step (docs/solvers.md).
+  /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails); faster where
+  /// many contacts slide (docs/solvers.md "Goals on the hard families").
   bool coupled_lu = false;
   /// GMRES for the friction coupling: restart length, iteration cap per Newton step and the
   /// relative residual it stops at (defaults 30, 120, 1e-12).

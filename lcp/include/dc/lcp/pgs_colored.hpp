@@ -1,24 +1,14 @@
 #pragma once
-// "pgs-colored": matrix-free projected Gauss–Seidel in colour order (docs/design.md §8.4). The contacts
-// are coloured (contact_coloring.hpp: no two contacts of a colour share a dynamic body) and a
-// sweep solves colour 0, then colour 1, …, then the overflow set; the contacts of one colour
-// are independent, so 8 of them are solved at once in SIMD lanes (double precision, normal +
-// tangent row per contact as in "pgs", body velocities gathered and scattered per lane) and the
-// batches of one colour can run on several threads (OpenMP). Three kernels: AVX-512 (one zmm
-// register per 8 lanes), AVX2 (two ymm registers) and scalar; the AVX ones are compiled in every
-// x86-64 build and chosen at run time from the CPU (PgsColoredKernel::Auto).
-//
-// Same iteration as "pgs" in another row order: same fixed points, different iterates and
-// sweep counts. The lane arithmetic is that of the scalar kernel operation for operation
-// (explicit FMAs, the same tree sums, the clamps as compare-and-select with the semantics of
-// the scalar branches), so the three kernels and every thread count give bit-identical
-// iterates.
-//
-// Colours are reused from the solver's previous solve where contacts persist (the solver
-// object keeps that state: solves are deterministic for a fixed sequence of problems; two
-// solves of the same problem in a row use the same colouring). Problems the coloured kernels
-// do not cover (no contact constraints, singular rows, rows with other bounds) are solved by
-// "pgs" instead, and the result's message says so.
+// "pgs-colored": matrix-free projected Gauss–Seidel in colour order (docs/design.md §8.4,
+// docs/lcp.md "`pgs-colored`"). The contacts are coloured (contact_coloring.hpp) and a sweep
+// solves colour 0, 1, …, then the overflow set; 8 contacts of a colour are solved at once in
+// SIMD lanes (normal + tangent row as in "pgs") and a colour's batches can run on OpenMP threads.
+// Kernels AVX-512, AVX2 and scalar, chosen at run time (PgsColoredKernel::Auto). Same fixed
+// points as "pgs", other iterates. The lane arithmetic is the scalar kernel's operation for
+// operation, so every kernel and thread count gives bit-identical iterates. The solver object
+// keeps last solve's colours (reused where contacts persist): solves are deterministic for a
+// fixed sequence of problems. Problems the kernels do not cover (no contact constraints,
+// singular rows, other bounds) are solved by "pgs", and the result's message says so.
 #include <memory>
 
 #include "dc/lcp/lcp_solver.hpp"
@@ -27,7 +17,8 @@ namespace dc {
 
 /// The sweep kernel of pgs-colored (all give the same iterates bit for bit).
 enum class PgsColoredKernel {
-  Auto,    ///< AVX2 (+ FMA) on AMD CPUs (measured as fast or faster there), else AVX-512 if
+  Auto,    ///< AVX2 (+ FMA) on AMD CPUs (at least as fast there: Zen runs 512-bit
+           ///< operations as two halves), else AVX-512 if
            ///< present, else AVX2, else scalar
   Avx512,  ///< AVX-512 F/DQ/VL: 8 lanes per register
   Avx2,    ///< AVX2 + FMA: 4 lanes per register, two per batch
@@ -45,12 +36,13 @@ struct PgsColoredDef {
   PgsColoredKernel kernel = PgsColoredKernel::Auto;
   /// Reuse last solve's colours where contacts persist (false: greedy colouring from scratch).
   bool reuse_colors = true;
-  /// Contacts per chunk of the parallel colouring (contact_coloring.hpp, "Threads"; 4,096 is
-  /// the measured choice): a function of the contact count only, so the colours do not depend
-  /// on `threads`. Problems with fewer than 2·color_chunk contacts are coloured as one chunk.
-  /// 0 (the default) = the serial greedy colouring always: the chunked one needs one colour
-  /// more on large piles (hex pile of 10,000: 5 instead of 4), which costs the 2-thread sweeps
-  /// more than the parallel colouring saves (results.md "Threads: the colouring in parallel").
+  /// Contacts per chunk of the parallel colouring (docs/lcp.md "Contact colouring: repeats and
+  /// chunks"; ContactColorer::kChunk is the benchmarked choice): a function of the contact
+  /// count only, so the colours do not depend on `threads`. Problems with fewer than
+  /// 2·color_chunk contacts are coloured as one chunk. 0 (the default) = the serial greedy
+  /// colouring always: the chunked one needs one colour more on large piles, which costs the
+  /// 2-thread sweeps more than the parallel colouring saves (results.md "Threads: the colouring
+  /// in parallel").
   int color_chunk = 0;
 };
 

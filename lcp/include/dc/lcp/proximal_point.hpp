@@ -1,24 +1,15 @@
 #pragma once
-// The proximal-point route: an exact solver (newton-sparse) applied to a sequence of shifted
-// problems, for assembled LCPs whose A is singular or slightly indefinite — e.g. Siconos'
-// granular 2D frictional-contact files, whose W was printed with six digits (`%g`) and so
-// has small negative eigenvalues (docs/lcp.md "Siconos' own 2D test problems").
-//
-// Outer iteration k solves, with the inner solver started from λ_k,
-//     w = (A + δ_k I) λ + (b − δ_k λ_k),   same bounds and friction coupling,
-// whose solution λ_{k+1} satisfies the original conditions up to the term δ_k (λ_{k+1} − λ_k):
-// a fixed point is a solution of the original LCP. A + δ I is positive definite once δ exceeds
-// the most negative eigenvalue of A, so each inner solve is well posed even where Newton on A
-// itself stalls; the outer iteration converges like the proximal-point method (linearly, the
-// faster the smaller δ). δ adapts: it shrinks `shrink`-fold after each converged inner solve
-// (faster outer convergence) and grows by the same factor, restarting from the best iterate,
-// after an inner solve that did not converge (the shifted problem was still too ill-posed);
-// it never shrinks again below a shift that failed.
-//
-// Status: Converged only when the natural residual of the ORIGINAL problem at the returned λ
-// is ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞));
-// SweepLimit after max_outer outer iterations; λ is the best iterate seen. `sweeps` counts
-// inner iterations in all.
+// The proximal-point route: an exact solver (newton-sparse) on a sequence of shifted problems,
+// for assembled LCPs whose A is singular or slightly indefinite (e.g. Siconos' granular 2D files,
+// W printed with `%g`; docs/lcp.md "Singular and indefinite W"). Outer iteration k solves, from λ_k,
+//     w = (A + δ_k I) λ + (b − δ_k λ_k),   same bounds and friction coupling;
+// a fixed point solves the original LCP, and A + δI is positive definite when δ exceeds the most
+// negative eigenvalue of A. δ shrinks `shrink`-fold after a converged inner solve and grows by the
+// same factor (restarting from the best iterate) after one that did not converge; it never
+// shrinks below a shift that failed. Status: Converged only when the natural residual of the
+// ORIGINAL problem at the returned λ is ≤ target (options.tolerance [N] when > 0, else
+// exact_tolerance·max(1, ‖b‖∞)); SweepLimit after max_outer outer iterations; λ is the best
+// iterate seen. `sweeps` counts inner iterations in all.
 #include <string>
 
 #include "dc/lcp/lcp_solver.hpp"

@@ -1,21 +1,13 @@
 #pragma once
 // Newton-type solver for a box LCP with FIXED bounds, the inner solver of "newton" (and of
-// the polish step of "lemke"):
-//
-//     w = A λ + c,   lo ≤ λ ≤ hi,   H(λ)_i = λ_i − mid(lo_i, λ_i − w_i, hi_i) = 0.
-//
-// Newton direction (minimum map): H is piecewise linear; its generalised Jacobian has
-// identity rows for the clamped rows (λ_i − w_i ≤ lo_i or ≥ hi_i: Δ_i = bound − λ_i) and rows
-// of A for the free set F, so a step solves only (A_FF + ρI) Δ_F = −(w_F + A_FC Δ_C).
-// ρ = 1e-10·max_i A_ii regularises the free blocks of rank-deficient contact matrices
-// J M⁻¹ Jᵀ (more rows than body dofs), whose A_FF is singular.
-//
-// Globalisation:
-//  * symmetric A (every contact problem): the box LCP is the convex box QP
-//    min q(λ) = ½λᵀAλ + cᵀλ, lo ≤ λ ≤ hi. Each iteration is one projected Gauss–Seidel sweep
-//    (always decreases q, fixes the active set) followed by the Newton step along the
-//    projection arc P(λ + αΔ) with Armijo backtracking on q. Both parts are monotone in q,
-//    so the iteration cannot cycle; once the active set is right the Newton step is exact.
+// "lemke"'s polish):  w = A λ + c,  lo ≤ λ ≤ hi,  H(λ)_i = λ_i − mid(lo_i, λ_i − w_i, hi_i) = 0.
+// Minimum-map Newton: clamped rows get Δ_i = bound − λ_i, the free set F solves
+// (A_FF + ρI) Δ_F = −(w_F + A_FC Δ_C), ρ = 1e-10·max_i A_ii (A_FF of J M⁻¹ Jᵀ is singular
+// when there are more rows than body dofs). Globalisation:
+//  * symmetric A (every contact problem): the convex box QP min ½λᵀAλ + cᵀλ; each iteration is
+//    a PGS sweep (decreases q, fixes the active set), then the Newton step along the projection
+//    arc P(λ + αΔ) with Armijo backtracking on q. Both are monotone in q, so it cannot cycle;
+//    with the right active set the Newton step is exact.
 //  * non-symmetric A (general LCPs from files): Armijo backtracking on ½‖H‖²; when it fails
 //    a PGS sweep is taken instead (no global guarantee; the caller falls back to PGS).
 #include <functional>

@@ -1,25 +1,15 @@
 #pragma once
-// What a standard LCP  w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0  can be *proved* not to have:
-// the evidence behind the `infeasible` status (docs/lcp.md "What infeasible proves").
-//
-// 1. Farkas certificate. If some y ≥ 0 has Mᵀy ≤ 0 and qᵀy < 0, then for every z ≥ 0
-//    yᵀ(Mz + q) = (Mᵀy)ᵀz + qᵀy < 0, so some w_i < 0: not even the linear part
-//    {z ≥ 0, Mz + q ≥ 0} has a point, let alone a complementary one. By Farkas' lemma such
-//    a y exists exactly when that set is empty. It is found by solving the LP
-//    "y ≥ 0, Mᵀy ≤ 0, qᵀy ≤ −1" as the LCP of its KKT conditions, whose matrix is
-//    skew-symmetric (hence copositive-plus, so Lemke's method decides it), and it is checked
-//    on the original data afterwards — the check, not the search, is the proof. For
-//    copositive-plus M (e.g. M + Mᵀ positive semidefinite) an LCP without solution always
-//    has an empty feasible set (Lemke's theorem), so this certificate covers them all.
-// 2. Exhaustive enumeration (small n). Every solution with support α = {i : z_i > 0}
-//    satisfies M_αα z_α = −q_α. If every principal submatrix M_αα is nonsingular, each
-//    solution is therefore the basic solution of one of the 2ⁿ index sets α, so finding all
-//    2ⁿ basic solutions infeasible proves there is none. With a singular M_αα it proves
-//    nothing (solutions can then lie off the bases) and the enumeration says so.
-// Both checks are in floating point: a certificate is accepted when each (Mᵀy)_j is ≤ 0 up
-// to 1e-12 of Σ_i |M_ij| y_i (the round-off of the sum) and qᵀy is clearly negative; an
-// enumeration proves infeasibility only if every M_αα has reciprocal condition ≥ 1e-10 and
-// every basic solution misses feasibility by a clear margin.
+// What a standard LCP  w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0  can be *proved* not to have: the
+// evidence behind the `infeasible` status (docs/lcp.md "What `infeasible` proves", with proofs).
+// 1. Farkas certificate: y ≥ 0 with Mᵀy ≤ 0 and qᵀy < 0 (then no z ≥ 0 has Mz + q ≥ 0), found
+//    as the LCP of the KKT conditions of "y ≥ 0, Mᵀy ≤ 0, qᵀy ≤ −1" (skew-symmetric, so Lemke
+//    decides it) and then checked on the original data — the check, not the search, is the proof.
+// 2. Exhaustive enumeration (small n): if every principal submatrix M_αα is nonsingular, every
+//    solution is the basic solution of one of the 2ⁿ index sets, so all 2ⁿ infeasible proves
+//    there is none; a singular M_αα makes it prove nothing, and the enumeration says so.
+// Floating-point margins: a certificate needs each (Mᵀy)_j ≤ 1e-12·Σ_i |M_ij| y_i and qᵀy clearly
+// negative; an enumeration needs every M_αα with reciprocal condition ≥ 1e-10 and every basic
+// solution to miss feasibility by a clear margin.
 #include <Eigen/Core>
 #include <functional>
 #include <string>

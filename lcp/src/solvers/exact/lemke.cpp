@@ -1,28 +1,14 @@
 // "lemke": Lemke's complementary pivoting for the standard LCP
-//
-//     w = M z + q,   z ≥ 0,  w ≥ 0,  zᵀw = 0        (M = A, q = b; all lo = 0, hi = ∞)
-//
-// Scaling first: symmetric Jacobi scaling M̃ = S M S, q̃ = S q with S = diag(1/√M_ii) (1 where
-// M_ii ≤ 0) makes badly scaled problems (diagonal spanning 1e-4…1e4) well scaled — z = S z̃
-// maps solutions one to one — and then M̃/‖M̃‖max, q̃/‖q̃‖∞ so values near overflow do no harm.
-//
-// First attempt: the pivoting of lemke_pivoting.hpp with covering vector d = 1 (pivot cap
-// 50·n + 10). When z₀ leaves, the solution is refined: with S = the basic z's it satisfies
-// M_SS z_S = −q_S, z_{S̄} = 0; one LU solve of that system plus two steps of iterative
-// refinement recover full accuracy; if the complementarity error max_i |min(z_i, w_i)| is
-// still above exact_tolerance·max(1,‖q‖∞), newton polishes. Converged only when that
-// residual, evaluated on the original problem, is within the tolerance.
-//
-// Ray termination proves infeasibility only for copositive-plus M; Lemke's method also rays
-// out on problems that have solutions (e.g. tests/data/lcp/nonsym_three_solutions.dat). So
-// when the first attempt does not end in a verified solution, the solver goes on, in order:
-//   1. a Farkas certificate (lcp_proofs.hpp; n ≤ 500): found and verified → Infeasible;
-//   2. three other covering vectors d (deterministic, entries in [0.1, 1]);
-//   3. n ≤ 16: the 2ⁿ complementary bases — a feasible one → Converged; all nonsingular and
-//      none feasible → Infeasible (a proof; lcp_proofs.hpp);
-//   4. n ≤ 200: newton from four starts (0, the scale vector, two deterministic random ones);
-// and reports Failed, naming what was tried, if none of them solves or proves anything.
-// `sweeps` counts the pivots of all Lemke runs plus the newton iterations spent.
+//     w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0        (M = A, q = b; all lo = 0, hi = ∞).
+// Scaling: M̃ = S M S, q̃ = S q, S = diag(1/√M_ii) (1 where M_ii ≤ 0), z = S z̃, then M̃/‖M̃‖max,
+// q̃/‖q̃‖∞. First attempt: lemke_pivoting.hpp with covering vector d = 1 (cap 50·n + 10); when
+// z₀ leaves, an LU solve of M_SS z_S = −q_S plus two refinement steps, then a newton polish if
+// max_i |min(z_i, w_i)| > exact_tolerance·max(1, ‖q‖∞). Converged only when that residual, on the
+// original problem, is within the tolerance. A ray proves nothing (Lemke also rays out on
+// solvable problems), so on no verified solution it goes on, in order: a Farkas certificate
+// (lcp_proofs.hpp, n ≤ 500) → Infeasible; three other covering vectors; n ≤ 16: the 2ⁿ
+// complementary bases (a proof either way); n ≤ 200: newton from four deterministic starts;
+// else Failed, naming the attempts. `sweeps` counts all pivots plus newton iterations.
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdint>

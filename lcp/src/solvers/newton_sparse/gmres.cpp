@@ -39,7 +39,7 @@ KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen:
         w -= H(i, k) * V[static_cast<size_t>(i)];
       }
       H(k + 1, k) = std::sqrt(dot_in_order(w, w));
-      for (int i = 0; i < k; ++i) {  // earlier Givens rotations
+      for (int i = 0; i < k; ++i) {  // the Givens rotations of columns < k
         const double t = cs[i] * H(i, k) + sn[i] * H(i + 1, k);
         H(i + 1, k) = -sn[i] * H(i, k) + cs[i] * H(i + 1, k);
         H(i, k) = t;

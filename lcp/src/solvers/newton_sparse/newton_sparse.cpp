@@ -272,7 +272,7 @@ class NewtonSparseRun {
       if (!step_.damp()) break;
     }
     // A failed or short step (α < 1/16: the modes are still far from right) is followed by PGS
-    // sweeps, doubled after each further such iteration up to 256×: where the modes are too
+    // sweeps, doubled after each further such iteration up to 2⁸ times: where the modes are too
     // degenerate for Newton (far more rows than body dofs) PGS carries the iterate onwards.
     const bool good = stepped && alpha >= 1.0 / 16;
     failures_ = good ? 0 : failures_ + 1;

@@ -95,8 +95,7 @@ FreeBlockFactor::FreeBlockFactor(bool use_cholmod, bool reuse_analysis, bool sup
   impl_->use_cholmod = use_cholmod;
   impl_->reuse = reuse_analysis;
   // Simplicial LDLᵀ needs no BLAS. Supernodal LLᵀ calls BLAS, and a multi-threaded BLAS
-  // (Debian's OpenBLAS-pthread) on a loaded machine made one 4000-row factorisation 239 ms of
-  // wall time for 9 ms of CPU (micro_newton, OPENBLAS_NUM_THREADS=2 vs 8.6 ms with 1 thread).
+  // (Debian's OpenBLAS-pthread) on a loaded machine spends far more wall time than CPU time.
   impl_->cholmod.setMode(supernodal ? Eigen::CholmodAuto : Eigen::CholmodLDLt);
 }
 

@@ -1,57 +1,14 @@
 #pragma once
 // Greedy graph colouring of a step's contacts for the colour-ordered PGS ("pgs-colored",
-// docs/design.md §8.4 "Faster PGS"): no two contacts of one colour share a dynamic body, so the
-// contacts of a colour can be solved at the same time (SIMD lanes, threads). Walls (body −1)
-// and bodies with M⁻¹ = 0 (static, kinematic) do not conflict: the solver never writes them.
-//
-// Incremental: a ContactColorer remembers the colour of every contact of its last call,
-// keyed by (lower body, other body, feature) — the contact's identity, as in ContactKey —
-// and a contact that persists keeps its colour when that colour is still free on its
-// bodies; the others (new contacts, lost colours) take the lowest free colour. Cost per call
-// O(contacts + bodies): a per-body bit mask of used colours (find-first-zero of the OR of two
-// masks) and a counting sort by body for next call's look-up; no hashing, no sort.
-//
-// Repeats. When the contacts' bodies and features (in the same order) and the dynamic flags equal the
-// last call's, the last call had no overflow and each contact has a dynamic body, the rule
-// above gives every contact its last colour (by induction over the contacts: the colours of the
-// earlier contacts with its key are taken on the dynamic body they share, its own is free as
-// last call's colouring is valid), so the call returns last call's result after one comparison
-// pass (`repeated` set). A settled pile repeats its contact set for most steps.
-//
-// At most kMaxColors colours; a contact none of whose colours is free goes to the overflow
-// set (colour kOverflow), which the solver runs serially after the colours (Box2D v3 does the
-// same). With equal circles a body has ≤ 6 neighbours + 2 walls, so overflow does not occur.
-//
-// Threads. The result does not depend on the thread count: the contacts are split into
-// max(1, contacts / chunk) chunks of equal size (a function of the contact count only), and
-// chunk q owns the body range [L_q, L_{q+1}): L_0 = 0, L_q = the first body (lower body, or
-// the body of a wall contact) of chunk q's first contact, kept ascending, L_last = bodies. A
-// dynamic body is private to chunk q when it lies in q's range and no contact of another chunk
-// touches it (every contact marks its dynamic bodies outside its chunk's range as shared: one
-// value stored by any number of writers, so the marks do not depend on the threads either). A
-// contact all of whose dynamic bodies are private to its chunk is interior, the others are
-// boundary contacts. The rule above then runs in four phases:
-//   1. the interior contacts keep their last colour where free (chunks in parallel),
-//   2. the boundary contacts keep theirs (serial, in contact order),
-//   3. the other interior contacts take the lowest free colour (chunks in parallel),
-//   4. the other boundary contacts take theirs (serial, in contact order).
-// A parallel phase reads and writes only the masks of its chunk's private bodies, so a chunk's
-// result does not depend on which thread colours it or when, and every phase sees the same
-// masks for any thread count. With one chunk (fewer than 2·chunk contacts) phases 1 and 3 are
-// the serial greedy rule above, contact by contact. With several chunks the colours differ
-// from the one-chunk rule only in the visiting order (interior contacts before boundary ones
-// in each pass); the repeat shortcut stays exact, since its proof holds for any visiting order
-// that keeps the contacts with one key in contact order (they share their bodies, so with a
-// dynamic body they are all interior to one chunk or all boundary; contacts without one take
-// the first entry of their key whatever the order, as no colour is ever taken on their bodies). Chunks of contacts in body order (as the
-// benchmarks and a Morton-ordered engine give them) share the bodies of about one pile row:
-// ≈ 300 boundary contacts per chunk edge on the 100-body-wide benchmark pile (900 of 19,900
-// with 4 chunks). Contacts without spatial locality in their order (the benchmarks'
-// interleaved order) are mostly boundary contacts: correct, but serial.
-//
-// The boundary contacts are coloured after the interior ones, on top: where all colours of
-// the interior pattern are taken around them they need one more (hex pile: 5 colours instead
-// of 4). Colouring them first was tried and gave 6.
+// docs/design.md §8.4): no two contacts of one colour share a dynamic body, so a colour's
+// contacts can be solved at the same time. Walls (body −1) and bodies with M⁻¹ = 0 do not
+// conflict: the solver never writes them. A contact takes the lowest colour free on its
+// bodies; with reuse, a persisting contact (key: lower body, other body, feature) keeps last
+// call's colour when still free. Cost O(contacts + bodies): per-body bit masks and a counting
+// sort by body, no hashing. At most kMaxColors colours, the rest go to the overflow set (run
+// serially after the colours). A repeated contact set returns last call's result unchanged;
+// the result never depends on the thread count. The repeat proof, the chunked four-phase rule
+// and the choice of order: docs/lcp.md "Contact colouring: repeats and chunks".
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -67,23 +24,23 @@ struct ContactColoring {
   int colors = 0;          ///< number of colours used (max colour + 1)
   int reused = 0;          ///< contacts that kept last call's colour
   int overflow = 0;        ///< contacts in the overflow set
-  int chunks = 1;          ///< chunks coloured in parallel (see "Threads" above)
+  int chunks = 1;          ///< chunks coloured in parallel (docs/lcp.md "Contact colouring")
   int boundary = 0;        ///< contacts coloured serially after the chunks (phases 2 and 4)
-  bool repeated = false;   ///< the contacts' bodies equal the last call's: colours unchanged (see above)
+  bool repeated = false;   ///< the contacts' bodies equal the last call's: colours unchanged
   /// Counts the calls whose colours were computed (not repeated): equal generations, same colours.
   std::uint64_t generation = 0;
 };
 
 class ContactColorer {
  public:
-  /// Contacts per chunk of the parallel colouring ("Threads" above): ≈ 300 boundary
-  /// contacts per chunk edge on the 10,000-body benchmark pile, so a chunk of 4,096 leaves
-  /// ≈ 5 % of the contacts to the serial phases (2,048: 12 %; 1,024: 27 %).
+  /// Contacts per chunk of the parallel colouring (docs/lcp.md "Contact colouring: repeats
+  /// and chunks"): large enough that the boundary contacts, coloured serially, are a small
+  /// part of a body-ordered pile's contacts.
   static constexpr int kChunk = 4096;
 
   /// `reuse` = false colours every call from scratch (greedy in contact order); `chunk` = the
   /// contacts per chunk of the parallel colouring (≥ 1; small values are for tests; kChunk is
-  /// the measured choice), or 0 (the default) = always one chunk: the serial greedy rule, which
+  /// the benchmarked choice), or 0 (the default) = always one chunk: the serial greedy rule, which
   /// on 2 threads still gives the faster sweeps (one colour fewer, results.md "Threads: the
   /// colouring in parallel"). Throws InvalidArgument for chunk < 0.
   explicit ContactColorer(bool reuse = true, int chunk = 0);
@@ -96,7 +53,7 @@ class ContactColorer {
 
   /// The last call's result.
   [[nodiscard]] const ContactColoring& last() const { return out_; }
-  /// Forgets the previous step's colours (the next call colours from scratch).
+  /// Forgets the last call's colours (the next call colours from scratch).
   void reset();
 
  private:

@@ -1,31 +1,13 @@
 // "pgs-colored": colour-ordered matrix-free PGS, 8 contacts per lane group
-// (dc/lcp/pgs_colored.hpp). The design follows Box2D v3's graph-coloured solver (colours
-// with per-body bit sets, constraints stored wide in structure-of-arrays form, an overflow set
-// solved serially) with double precision and this engine's row form (J_i / A_ii pre-scaled
-// as in "pgs", the same FMAs and tree sums). This file: the set-up (packing the problem into
-// batches) and the sweep driver; the kernels are pgs_colored_{scalar,avx2,avx512}.cpp.
-//
-// Data layout (pgs_colored_batch.hpp). A Batch holds 8 contacts of one colour in SoA form,
-// 27 × 8 doubles of coefficients and 2 × 8 body offsets, 1.9 kB; the batches are stored colour
-// after colour, so a sweep streams them in order. λ is kept in a permuted vector during the
-// sweeps (16 entries per batch: 8 λ_n, then 8 λ_t), mapped back to the row order at
-// checkpoints and at the end. Δu (M⁻¹ Jᵀ λ Δt) is stored 4 doubles per body (Δv_x, Δv_y, Δω,
-// 0: 32 bytes), followed by a zero body that absent bodies (walls, bodies with M⁻¹ = 0,
-// padding lanes) are read from and never written to.
-//
-// Per-solve costs (what decides whether the faster sweeps pay off at ~100 sweeps per step):
-//  * set-up: the input checks (on the threads, pgs_colored_input.hpp), the colouring
-//    (incremental, contact_coloring.hpp; chunks of contacts on the threads, the contacts between
-//    chunks serially after them; for a repeated contact set one comparison pass,
-//    and the batch layout is kept: only the values are packed anew) and the packing of each
-//    contact's two rows straight from J's compressed row storage into its batch lanes, with
-//    the permuted λ⁰; the batch and Δu buffers are kept by the solver and reused. With threads
-//    the batches are packed in one parallel region, handed out in chunks, while one thread
-//    computes Δu⁰ (a serial pass over J, overlapped): each batch is written by one thread from
-//    its own inputs, so the result depends neither on the thread count nor on the schedule;
-//  * per sweep: nothing but the kernel — λ^{k−1} is read from one buffer and λ^k written to
-//    the other (run_sweeps_double_buffered: no copy of λ for the last finite iterate), and the
-//    Δu finiteness check is fused into the kernels (pgs_colored_batch.hpp).
+// (dc/lcp/pgs_colored.hpp), after Box2D v3's graph-coloured solver, in double precision
+// with "pgs"'s row form (J_i / A_ii pre-scaled, the same FMAs and tree sums). This file: the
+// set-up (input checks, colouring, packing into batches) and the sweep driver; the kernels
+// are pgs_colored_{scalar,avx2,avx512}.cpp, the layout is pgs_colored_batch.hpp. λ lives in a
+// permuted vector during the sweeps (per batch 8 λ_n, then 8 λ_t) and is mapped back at
+// checkpoints and at the end. With threads each batch is written by one thread from its own
+// inputs, so the result depends neither on the thread count nor on the schedule. A sweep does
+// nothing but the kernel: λ^{k−1} and λ^k live in two buffers (run_sweeps_double_buffered)
+// and the Δu finiteness check is fused into the kernels. Design: docs/lcp.md "`pgs-colored`".
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -564,7 +546,7 @@ class PgsColoredSolver final : public LcpSolver {
 
   PgsColoredDef def_;
   colored::SweepKernel kernel_;
-  // The colouring of the previous solve (reused where contacts persist) and the buffers;
+  // The colouring of the last solve (reused where contacts persist) and the buffers;
   // guarded so that a solver shared between threads stays correct.
   mutable ContactColorer colorer_;
   mutable Prepared cache_;
@@ -585,9 +567,8 @@ bool pgs_colored_kernel_available(PgsColoredKernel kernel) {
 
 PgsColoredKernel pgs_colored_auto_kernel() {
   // AMD cores (Zen 4) execute 512-bit operations as two 256-bit halves: there the AVX2 kernel
-  // was as fast as the AVX-512 one on 1,000- and 10,000-body piles and 25 % faster on the seed
-  // scene (it skips the all-padding half of a colour's last batch; micro_pgs). Elsewhere the
-  // AVX-512 kernel is preferred (not measured on such a CPU here).
+  // is at least as fast (it also skips the all-padding half of a colour's last batch; micro_pgs,
+  // results.md "Speed of the contact solver"). Elsewhere the AVX-512 kernel is preferred.
   if (colored::cpu_has_avx512() && !(colored::cpu_has_avx2() && colored::cpu_is_amd())) return PgsColoredKernel::Avx512;
   if (colored::cpu_has_avx2()) return PgsColoredKernel::Avx2;
   return PgsColoredKernel::Scalar;

@@ -3,15 +3,10 @@
 // x86-64 build and chosen at run time (cpu_has_avx512). Per lane the operations of sweep_scalar
 // in its order (explicit FMAs, the same tree sums, the clamps as compare-and-select), so the
 // iterates are the scalar kernel's bit for bit.
-//
-// Gather/scatter (where this design wins or loses). Like Box2D v3 (float body state padded to 32
-// bytes, 8 loads + a transpose), a lane group loads its 8 bodies with 8 256-bit loads and
-// transposes them into 3 registers (v_x, v_y, ω: 4 inserts, 4 unpacks, 3 two-source permutes),
-// and writes them back with the inverse transpose and 8 masked 256-bit stores (lanes of absent
-// bodies masked off: nothing is written to a shared dummy, so no false sharing between threads).
-// The first version used hardware gathers/scatters (vgatherdpd/vscatterdpd, 6 + 6 per batch): on
-// Zen 4 the scatters alone made it only 1.35× faster than the scalar lane loop
-// (benchmarks/micro/micro_pgs.cpp). Bodies of one colour are distinct, so the stores never collide.
+// Bodies: 8 256-bit loads transposed into 3 registers (v_x, v_y, ω), written back by the inverse
+// transpose and 8 masked 256-bit stores (absent bodies masked off: no shared dummy, no false
+// sharing). Hardware gathers/scatters (vgatherdpd/vscatterdpd) are not used because they are
+// slower than the transposes. Bodies of one colour are distinct, so the stores never collide.
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)

@@ -6,8 +6,8 @@
 //
 // Kernel contract. sweep_*(batches, b0, b1, in, out, u, acc) solves batches [b0, b1) in order:
 // contact k of batch bi reads λ^{k−1} from in[16·bi + k] (normal) and in[16·bi + 8 + k]
-// (tangent), writes λ^k to the same entries of `out` (in ≠ out: the caller keeps the previous
-// sweep's iterate without copying it), and updates Δu in place (kStride doubles per body, the
+// (tangent), writes λ^k to the same entries of `out` (in ≠ out: the caller keeps λ^{k−1}
+// without copying it), and updates Δu in place (kStride doubles per body, the
 // zero body at `Prepared::body_entries` is read, never written). acc.theta = max(acc.theta,
 // max |λ^k − λ^{k−1}|); acc.bad is set when a new λ (or a tangent row's unprojected value) or
 // one of the 6 body velocities a contact stores is ±∞ or NaN — the Δu check is fused into the

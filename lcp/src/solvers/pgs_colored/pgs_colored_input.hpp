@@ -1,8 +1,8 @@
 #pragma once
 // Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the input checks of a solve
 // (LcpProblem::validate and the initial guess, solver_common.hpp's check_input) with their
-// per-row and per-contact scans on threads. On a 10,000-body pile these scans were ≈ 0.2 ms of
-// serial work in every solve, with the copy of λ⁰ that the solver no longer makes.
+// per-row and per-contact scans on threads, because serial they are a noticeable part of every
+// solve on large piles; λ⁰ is used in place, never copied.
 #include <optional>
 #include <string>
 
@@ -14,7 +14,7 @@ namespace dc::colored {
 /// check_input(p, lambda0, solver) of solver_common.hpp, the same verdict and message: the scans
 /// of b, the bounds, μ, A, λ⁰ and the contacts run on `threads` threads and only say whether
 /// everything passed (an order-free AND); on a failure the serial check runs and names the first
-/// bad entry as before. On success returns nullopt and sets `start` to lambda0, or to `zeros`
+/// bad entry with check_input's message. On success returns nullopt and sets `start` to lambda0, or to `zeros`
 /// (resized to the rows and zeroed) when lambda0 is empty — no copy of λ⁰.
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0, const std::string& solver,
                                        int threads, Eigen::VectorXd& zeros, const Eigen::VectorXd*& start);

@@ -17,8 +17,8 @@ namespace dc::colored {
 
 void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
                      Eigen::VectorXd& jt) {
-  // Eigen's own product (as lcp_problem.cpp's, into a kept buffer): its contiguous scatter runs
-  // ≈ 2.5× faster than one straight into the strided Δu (c/3 and c%3 per entry).
+  // Eigen's own product (as lcp_problem.cpp's, into a kept buffer): its contiguous scatter is
+  // faster than one straight into the strided Δu (c/3 and c%3 per entry).
   jt.noalias() = p.J.transpose() * lambda;
   const size_t entries = static_cast<size_t>(kStride) * (static_cast<size_t>(bodies) + 1);
   std::fill(du, du + entries, 0.0);

@@ -2,19 +2,12 @@
 // Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the products with J around the sweeps —
 // Δu⁰ = M⁻¹ Jᵀ λ⁰ Δt before them, the natural residual after them — bit for bit equal to the
 // serial forms in lcp_problem.cpp (velocity_change, natural_residual), so a solve's result does
-// not depend on the threads.
-//
-// Why the same bits. (Jᵀλ)_c is a sum over the rows acting on column c; Eigen's product of a
-// row-major J's transpose with λ scatters row after row, adding J_ic·λ_i to 0 in ascending row
-// order; velocity_change below is that product (then Δu_c = M⁻¹_c·s_c·Δt). It stays serial on
-// purpose: a per-body index that lets threads own bodies cost more to build and to walk (random
-// access into J) than this one sequential pass (≈ 0.4 ms CPU against ≈ 0.15 ms on a
-// 10,000-body pile), so the solver overlaps it with other work instead (Δu⁰ with the packing).
-// The residual's product (nothing to overlap it with) runs on threads by blocks of bodies,
-// each thread walking J's rows in order between bounds taken from the contacts (no index).
-// A row of w = J Δu + b is one dot product (storage order, from 0, then + b_i), and the residual
-// max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)| is a max-reduction (order-free; any NaN → ∞, as the
-// serial form): those rows run on threads.
+// not depend on the threads. (Jᵀλ)_c is Eigen's row-major scatter: J_ic·λ_i added to 0 in
+// ascending row order. velocity_change is that product, serial on purpose: a per-body index for
+// threads costs more to build and walk than one sequential pass, so the solver overlaps it with
+// the packing. The residual's Jᵀλ runs on threads by blocks of bodies, each walking J's rows in
+// order between bounds from the contacts; a row of w = J Δu + b is one dot product (storage
+// order, from 0, then + b_i), and the max-reduction is order-free (any NaN → ∞, as serial).
 #include "dc/lcp/lcp_problem.hpp"
 
 namespace dc::colored {
