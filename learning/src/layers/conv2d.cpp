@@ -18,8 +18,8 @@ namespace {
 // Target size of one X_col tile in floats (256 KiB): fits L2 together with Wᵀ and the
 // output tile, so the GEMM streams from cache instead of memory.
 constexpr long kTileFloats = 64 * 1024;
-// Below this many multiply-adds a call runs on one thread: a parallel region costs a few
-// µs even on an idle machine, and much more when the cores are shared. It is also below
+// Below this many multiply-adds a call runs on one thread: opening a parallel region costs
+// more than such a call's arithmetic, and much more when the cores are shared. It is also below
 // the size at which Eigen would parallelise a single GEMM itself (work ≥ 2·50 000), so
 // Eigen never opens nested parallel regions here: all threading is ours.
 constexpr double kParallelMacs = 1e5;

@@ -1,17 +1,13 @@
 #pragma once
-// Private: the direct convolution kernels shared by Conv2d (training and inference) and the
-// fused inference plan (inference_plan.cpp). AVX-512 builds only; elsewhere
-// direct_available() is false and the other entry points must not be called.
-//
-// Direct convolution (no X_col, no GEMM packing), for an output row of at most 4 vectors of
-// 16 floats (Wo ≤ 64). The input rows a tile needs are copied once into a zero-padded
-// buffer xp [C][R][Wp] (padded row r = input row oy0 + r − p, column p + ix = input column
-// ix, zeros around; Wp leaves room for the last vector of every shifted row), and the
-// weights are packed as wpk [Cout/OB][C][k][k][OB]. Each output row × OB output channels is
-// accumulated in OB·VB zmm registers over (c, ky, kx): one unaligned load of the shifted
-// input row per vector and one broadcast weight per channel. The summation order of an
-// output element is (c, ky, kx), then + bias, then the optional ReLU, whatever the tile,
-// the thread or the caller: the plan and Conv2d::forward give the same bits.
+// Private: the direct convolution kernels shared by Conv2d and the fused inference plan.
+// AVX-512 builds only; elsewhere direct_available() is false and the other entry points must
+// not be called. For an output row of at most 4 vectors of 16 floats (Wo ≤ 64): the input rows
+// a tile needs are copied into a zero-padded buffer xp [C][R][Wp] (padded row r = input row
+// oy0 + r − p, column p + ix = input column ix; Wp leaves room for the last vector of every
+// shifted row), weights packed as wpk [Cout/OB][C][k][k][OB], each output row × OB channels
+// accumulated in OB·VB zmm registers. The summation order of an output element is (c, ky, kx),
+// then + bias, then the optional ReLU, whatever the tile, thread or caller: the plan and
+// Conv2d::forward give the same bits.
 #include <vector>
 
 namespace dc::detail {
