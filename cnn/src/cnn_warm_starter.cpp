@@ -54,9 +54,8 @@ std::vector<double> previous_pairs(const World& w) {
 /// weight of every dynamic body (the most a static load path can carry) and −b_i / A_ii is the
 /// force that, acting alone, stops row i's approach velocity (b holds the free velocity with
 /// the Baumgarte and restitution targets; A_ii = Δt Σ_j J_ij² M⁻¹_jj). The network's S·sinh
-/// head turns an extrapolated output into an exponentially large one: the shipped model's
-/// corrections reach 1e10 N on 1 % of the seed pile's steps (λ* stays below 1e4 N) and overflow
-/// to inf once the state leaves its training range; with few PGS sweeps such a guess injects
+/// head turns an extrapolated output into an exponentially large one, far above any λ*, and
+/// into inf once the state leaves its training range; with few PGS sweeps such a guess injects
 /// energy that the sweeps cannot take out, and the run diverges (docs/learning.md "Bounded
 /// guesses"). The cap bounds the guess, not the solution: PGS still reaches any larger λ*.
 Eigen::VectorXd force_caps(const World& w) {

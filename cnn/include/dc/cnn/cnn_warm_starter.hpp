@@ -39,8 +39,8 @@ class CnnWarmStarter final : public WarmStarter {
  public:
   /// `name` is the full starter name ("cnn", "cnn:PATH", "cnn-hybrid"). `inference_threads`
   /// bounds the OpenMP threads of predict() (set around the call and restored): a batch-1
-  /// pass of the small U-Net is ~20 fork–joins of < 1 ms each, which one thread runs
-  /// fastest on a loaded machine (docs/learning.md "Speed").
+  /// pass is a chain of short fork–joins, which one thread runs fastest on a loaded machine
+  /// (docs/learning.md "Speed").
   CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads = 1);
   /// load_model(path) (IoError with the path) then the constructor above.
   static std::unique_ptr<CnnWarmStarter> load(const std::filesystem::path& path, std::string name, bool hybrid,

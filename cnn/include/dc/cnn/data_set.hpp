@@ -33,12 +33,12 @@ inline constexpr int kDataSetFormatVersion = 1;
 /// The method that computes λ* (stored as the root attribute `oracle_method`).
 enum class OracleKind {
   /// Matrix-free PGS from the builtin warm start (previous step's λ by key) until θ ≤
-  /// tolerance or `sweeps` sweeps — ≈ 7 ms per step of the seed scene, worst natural-map
-  /// residual ≈ 5e-5 N. The default.
+  /// tolerance or `sweeps` sweeps. The default: within the data-generation budget
+  /// (docs/design.md §6).
   Pgs,
   /// solve_oracle (minimum-map Newton, then a PGS polish when needed) from the builtin warm
-  /// start — residual ≈ 2e-7 N but ≈ 35 ms per step, too slow for data generation, whose
-  /// budget is ~10 ms of CPU per step (docs/design.md §6).
+  /// start — a smaller residual than Pgs at a cost beyond the data-generation budget
+  /// (docs/design.md §6).
   Newton,
 };
 /// "pgs" / "newton".
