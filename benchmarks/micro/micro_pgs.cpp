@@ -351,7 +351,7 @@ void BM_ContactColoring(benchmark::State& s) {
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-// The seed scene: one full 3000-sweep solve (the thesis' fixed budget) per iteration.
+// The seed scene: one full 3000-sweep solve (the bench's fixed budget) per iteration.
 constexpr int kSeedSweeps = 3000;
 void BM_SeedScenePgs(benchmark::State& s) { run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs"); }
 void BM_SeedScenePgsBaseline(benchmark::State& s) {

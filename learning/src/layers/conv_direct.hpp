@@ -16,7 +16,7 @@ constexpr int kLanes = 16;  ///< floats per AVX-512 vector
 constexpr int kMaxVec = 4;  ///< Wo ≤ 64
 
 /// True when this build has the direct kernels and they serve stride s at output width wo:
-/// stride 1 (any odd k) only; callers use the stride-2 (3×3) kernel where
+/// stride 1 (any odd k) only; callers use the stride-2 (3 × 3) kernel where
 /// direct_available(1, wo) holds.
 bool direct_available(int s, int wo);
 /// Vectors of 16 lanes per output row.
@@ -25,7 +25,7 @@ inline int vec_count(int wo) { return (wo + kLanes - 1) / kLanes; }
 int block_channels(int wo, int cout);
 /// Row pitch of a stride-1 padded buffer: whole vectors plus the k − 1 halo.
 inline int padded_width(int wo, int k) { return vec_count(wo) * kLanes + k - 1; }
-/// Row pitch of each column phase of a stride-2 (3×3) padded buffer.
+/// Row pitch of each column phase of a stride-2 (3 × 3) padded buffer.
 inline int padded_width_s2(int wo) { return vec_count(wo) * kLanes + 1; }
 
 /// wpk[(b·C + c)·k² + tap][j] = w(o = b·OB + j, c, tap), zero for o ≥ Cout, where

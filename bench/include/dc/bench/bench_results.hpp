@@ -26,7 +26,7 @@ struct BenchOptions {
   WorldDef scene;                       ///< evaluation scene (its [bodies] seed is replaced per run)
   std::vector<std::string> warmstarts;  ///< starter specs, e.g. {"zero", "builtin", "copy:2"}
   std::vector<std::uint64_t> seeds{1};  ///< scene seeds (each one simulation)
-  int sweeps = 3000;                    ///< fixed sweeps of the convergence run (seed: 3000)
+  int sweeps = 3000;                    ///< fixed sweeps of the convergence run
   double tolerance = 1e-2;              ///< θ threshold [N] (= 1e-4 N·s impulse at Δt = 0.01)
   Mode mode = Mode::Paired;
   std::string solver = "pgs";           ///< iterative solver under test

@@ -157,8 +157,8 @@ struct Scenario {
   double energy_tol = 0;           ///< energy growth must be ≤ this [J]
   bool check_momentum = false;     ///< drift must be ≤ 1e-9 · momentum scale
   /// Broad-phase scaling row: compare collide_min_ms against the row `linear_ref` (index
-  /// into the scenario list, −1 = none) and require ≤ 2 × (count ratio) (docs/robustness.md:
-  /// 2.5k → 10k bodies crosses the L1-TLB/L2 size on this machine and costs ~6.5× for 4×).
+  /// into the scenario list, −1 = none) and require ≤ 2 × (count ratio): the factor 2 leaves room for
+  /// cache and TLB effects at large body counts (docs/robustness.md).
   int linear_ref = -1;
 };
 

@@ -6,7 +6,7 @@
 // requested pixels depend on, template rows copied (docs/learning.md "The fused inference plan").
 // Contract: the float operations per output element are those of Model::network_output_at
 // (same bits). Fused when the build has the AVX-512 direct kernels and the graph is conv and
-// upsample nodes (last node a conv, outputs ≤ 64 wide, stride 1 or 3×3 stride 2); otherwise
+// upsample nodes (last node a conv, outputs ≤ 64 wide, stride 1 or 3 × 3 stride 2); otherwise
 // run() standardises a copy and calls Network::forward_at, with the same results.
 // Rebuild a plan after changing the network's weights, the statistics or the input size (a
 // fused plan copies them when built). `net` must outlive the plan.
@@ -91,7 +91,7 @@ class InferencePlan {
     int node = 0;                 ///< network node index
     int cin = 0, cout = 0, k = 1, stride = 1;
     bool relu = false;
-    bool sparse = false;          ///< the 1×1 head, at the listed pixels only
+    bool sparse = false;          ///< the 1 × 1 head, at the listed pixels only
     int h = 0, w = 0, ho = 0, wo = 0;  ///< (virtual) input and output size
     int pad_top = 0, pad_left = 0;
     bool flat = false;            ///< direct_flat (small outputs) instead of direct_tile

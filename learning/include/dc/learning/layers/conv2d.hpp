@@ -6,7 +6,7 @@
 //
 //   y[n, o, oy, ox] = b[o] + Σ_{c, ky, kx} w[o, c, ky, kx] · x[n, c, oy·s + ky − pt, ox·s + kx − pl]
 //
-// Direct AVX-512 kernels for output rows ≤ 64 wide (stride 1; forward also 3×3 stride 2),
+// Direct AVX-512 kernels for output rows ≤ 64 wide (stride 1; forward also 3 × 3 stride 2),
 // im2col + GEMM otherwise (docs/learning.md "Conv2d kernels"). Backward sums per-group dW
 // accumulators in group order; groups depend on the batch size only, so results are
 // deterministic for any thread count.
