@@ -227,8 +227,7 @@ Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& 
 Eigen::VectorXd CnnWarmStarter::read_back_output(const World& w, const Tensor& y, std::span<const int> nodes,
                                                  const SphGrid* contact_weights) {
   // The Shepard read-back reads only the four nodes of each point's bilinear stencil, so only
-  // those are de-standardised and expanded (s·sinh): ~500 of the 2·61·61 outputs on the seed
-  // pile. The other nodes of grid_ keep stale values that nothing reads.
+  // those are de-standardised and expanded (s·sinh), a small share of the outputs. The other nodes of grid_ keep stale values that nothing reads.
   // Gathered into one buffer per channel so that the expansion runs vectorised
   // (Model::label_values: label_value bit for bit).
   const std::size_t P = static_cast<std::size_t>(grid_.nx()) * static_cast<std::size_t>(grid_.ny());
