@@ -1,17 +1,14 @@
 #pragma once
 // SphTransfer: the particle → grid → particle round trip with one grid, one kernel and one
-// normalisation mode, reusing its buffers (grids allocated in the constructor, output buffers
-// grown to the largest point count; no allocation in steady state). Modes (docs/sph.md
+// normalisation mode, reusing its buffers (no allocation in steady state). Modes (docs/sph.md
 // "Normalisation modes and the round-trip guarantee"):
-//   Shepard         G = Σ W v, S = Σ W; v̂(q) = bilinear(G)(q) / bilinear(S)(q). An isolated
-//                   particle's value survives exactly (up to rounding) whenever some node of
-//                   q's cell lies strictly within h (always when h > d·√2/2). Where
-//                   bilinear(S)(q) ≤ min_weight_ratio · W(0, h) the point is unsupported and
-//                   gets 0 (never NaN). The kernel's constant cancels.
+//   Shepard         G = Σ W v, S = Σ W; v̂(q) = bilinear(G)(q) / bilinear(S)(q): an isolated
+//                   particle's value survives exactly (up to rounding) when some node of q's
+//                   cell lies strictly within h (always when h > d·√2/2); where bilinear(S)(q)
+//                   ≤ min_weight_ratio · W(0, h) the point is unsupported and gets 0, never NaN.
 //   None            G = Σ W v read back as bilinear(G)(q): the grid is a density (1/m²).
-//   SumToOneLegacy  each particle's weights renormalised to sum to 1 over its nodes, plain
-//                   bilinear back: loses most of an isolated value (docs/design.md §4 trap);
-//                   kept to reproduce it, never the default.
+//   SumToOneLegacy  weights renormalised to sum to 1 per particle, plain bilinear back: loses
+//                   most of an isolated value (docs/design.md §4); kept to reproduce it.
 // Shepard's S depends only on the query points, so gather() of a grid from elsewhere (a
 // predicted label grid) rebuilds S from the points it is given.
 #include <cstddef>
