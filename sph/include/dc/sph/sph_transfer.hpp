@@ -8,7 +8,7 @@
 //                   ≤ min_weight_ratio · W(0, h) the point is unsupported and gets 0, never NaN.
 //   None            G = Σ W v read back as bilinear(G)(q): the grid is a density (1/m²).
 //   SumToOneLegacy  weights renormalised to sum to 1 per particle, plain bilinear back: loses
-//                   most of an isolated value (docs/design.md §4); kept to reproduce it.
+//                   most of an isolated value (docs/design.md §4); never the default.
 // Shepard's S depends only on the query points, so gather() of a grid from elsewhere (a
 // predicted label grid) rebuilds S from the points it is given.
 #include <cstddef>
