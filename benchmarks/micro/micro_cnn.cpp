@@ -1,36 +1,11 @@
-// Google Benchmark of the whole `cnn` warm start (target ≤ 0.1 ms, docs/design.md §5):
-// feature image + inference
-// + Shepard read-back at the contacts, on the seed scene, batch 1, one thread — exactly what
-// `deepcontact bench` times as the cnn's warm-start ms.
-//
-//   cnn_warm_start/<model>/step:<k>   CnnWarmStarter::initial_guess on the seed scene (default
-//                                     WorldDef, seed 1) after k steps of "pgs" (300 sweeps,
-//                                     builtin warm start), then collide + assemble. Counters:
-//                                     features_ms, inference_ms, gather_ms (the starter's own
-//                                     split, mean per call), contacts.
-//   cnn_warm_start_parts/…            the same three parts timed separately in thread CPU µs,
-//                                     run as initial_guess runs them (the builder given the key
-//                                     match, the plan the builder's nonzero rows)
-//                                     (cpu_us_features, cpu_us_network = the starter's fused
-//                                     InferencePlan at the stencil nodes, standardisation
-//                                     included, cpu_us_readback = label conversion + Shepard
-//                                     gather + projection) and, side by side in the same
-//                                     iteration, cpu_us_network_unfused = the unfused path
-//                                     (Model::network_output_at: standardise a copy,
-//                                     Network::forward_at); the benchmark's own time includes it.
-//   cnn_warm_start_predict_all/…      the same with the whole-grid read-back: predict()
-//                                     converts all 2·61·61 outputs (de-standardise, s·sinh).
-//   cnn_layers/<model>/step:<k>       Model::predict's parts: standardise, every network node
-//                                     (conv incl. its concatenation, upsample, ...), de-standardise;
-//                                     one counter per node in thread CPU µs (mean per call),
-//                                     the whole output computed (Network::forward).
-//   cnn_plan_steps/…                  the fused InferencePlan's steps (each conv with its gather,
-//                                     the sparse head), one counter per step, thread CPU µs, with
-//                                     the builder's nonzero rows (as the starter runs it).
-//
-// Models: DC_CNN_MODELS = comma-separated model files (name = file stem), default the shipped
-// DC_SOURCE_DIR/models/default.h5. Time: CPU time of the one thread (OMP_NUM_THREADS is
-// irrelevant: the starter sets 1 around predict, and so does this file for cnn_layers).
+// Google Benchmark of the whole `cnn` warm start (docs/design.md §5): feature image +
+// inference + Shepard read-back at the contacts, on the seed scene, batch 1, one thread —
+// what `deepcontact bench` times as the cnn's warm start. Families: cnn_warm_start (the
+// starter's own split), cnn_warm_start_parts (each part in thread CPU µs, plus the unfused
+// network), cnn_warm_start_predict_all (the whole-grid read-back), cnn_layers (per network
+// node), cnn_plan_steps (per fused-plan step); benchmark list and counters in docs/bench.md
+// "Micro benchmarks". Models: DC_CNN_MODELS (comma-separated files), default
+// DC_SOURCE_DIR/models/default.h5. Time: CPU time of the one thread.
 //   build/bin/micro_cnn --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 #include <omp.h>
@@ -187,9 +162,9 @@ void BM_CnnWarmStart(benchmark::State& state, std::string path, int steps) {
   state.counters["contacts"] = static_cast<double>(world.contacts().size());
 }
 
-// The earlier, whole-grid pipeline: Model::predict (de-standardise and s·sinh at every node),
-// the whole label grid copied, then the read-back (guess_from_labels); the residual
-// correction's final add/projection (a few µs) is left out. Same features and network.
+// The whole-grid pipeline: Model::predict (de-standardise and s·sinh at every node), the
+// whole label grid copied, then the read-back (guess_from_labels); the residual correction's
+// final add/projection is left out. Same features and network.
 void BM_CnnWarmStartPredictAll(benchmark::State& state, std::string path, int steps) {
   const dc::World& world = seed_world(steps);
   StarterParts p(path, world);

@@ -1,6 +1,6 @@
 // Google Benchmarks of the CNN hot paths (dc_learning):
-//   conv2d_forward / conv2d_backward   61×61, 16→32 channels, k3, stride 1 or 2, batch 1 or 32
-//   unet_small/infer_b1                 default U-Net (4 in, 2 out, 61×61) inference, batch 1
+//   conv2d_forward / conv2d_backward   61 × 61, 16→32 channels, k3, stride 1 or 2, batch 1 or 32
+//   unet_small/infer_b1                 default U-Net (4 in, 2 out, 61 × 61) inference, batch 1
 //   unet_small/train_step_b32           forward + weighted-free MSE + backward + SGD step, batch 32
 //   unet_deep/infer_b1, unet_deep_slim/infer_b1, unet_fast/infer_b1
 //                                       the arch files models/arch/unet-{deep,deep-slim,fast}.toml with the

@@ -1,15 +1,10 @@
 // Google Benchmark of "nncg" (PGS sweeps with nonlinear conjugate-gradient momentum,
-// lcp/src/solvers/nncg.cpp) against "pgs" on the same problems, side by side in one process:
-//
-//  BM_SweepCost/<solver>   a 12 × 40 resting pile (tests/lcp/solver_test_problems.hpp,
-//                          deep_pile: 480 circles, 1,900 rows), 200 sweeps from λ⁰ = 0, tolerance 0:
-//                          the cost of one iteration, ns_per_row_sweep = CPU time / (rows · sweeps).
-//                          nncg's iteration is one of pgs's sweeps plus O(rows + bodies) vector work.
-//  BM_ToTolerance/<solver>/<layers>  12-wide piles of 10, 20, 40, 80 layers, from λ⁰ = 0 until
-//                          θ ≤ 1e-3 N (bodies weigh 31 N; cap 100,000 sweeps): CPU time per solve,
-//                          `sweeps` the sweeps it took (PGS's grow with the depth squared, nncg's
-//                          about linearly).
-//
+// lcp/src/solvers/nncg.cpp) against "pgs" on the same problems, in one process:
+//  BM_SweepCost/<solver>  the 12 × 40 deep_pile of tests/lcp/solver_test_problems.hpp,
+//                         200 sweeps from λ⁰ = 0, tolerance 0: ns_per_row_sweep = CPU time /
+//                         (rows · sweeps); nncg's iteration is a pgs sweep plus O(rows + bodies).
+//  BM_ToTolerance/<solver>/<layers>  12-wide piles of 10, 20, 40, 80 layers from λ⁰ = 0 until
+//                         θ ≤ 1e-3 N (cap 100,000 sweeps): CPU time per solve and `sweeps`.
 //   build/bin/micro_nncg --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
 

@@ -1,29 +1,12 @@
-// Google Benchmark of the PGS sweep, matrix-free ("pgs") and assembled ("pgs-assembled"),
-// on a contact-like problem of realistic size: N circles (r = 1, ρ = 1) packed in a
-// hexagonal pile, each touching its right and upper-right neighbours (≈ 2 contacts per
-// body) plus floor contacts for the bottom row, friction on (2 rows per contact), Δt = 0.01.
-// Rows come in body order as a sorted broad phase would give them.
-//
-// Argument order: 0 = contacts in body order (the engine's order), 1 = interleaved.
-// Counter ns_per_row_sweep = CPU time / (rows · sweeps) in nanoseconds (Google Benchmark
-// prints it with an "s" suffix because it is an inverted rate; the number is ns). Each benchmark iteration is one
-// solve of S sweeps (tolerance 0, θ not recorded), so validation and the "prepare" stage are
-// included once per S sweeps; S = 1 shows that fixed overhead, S = 200 the sweep cost.
-//
-// BM_PgsBaseline is a benchmark-only copy of the row-by-row kernel that "pgs" used before
-// the contact-block kernels (commit b7fdc08), timed in the same process for a before/after
-// comparison on a noisy shared machine; every benchmark also reports max_diff_vs_baseline,
-// max_i |λ_i − λ_i(baseline)| after the same sweeps (0: the iterates are bit-identical).
-// BM_SeedScene* time one full 3000-sweep solve of the seed scene's settled pile (default
-// WorldDef, 400 steps of "pgs" with 200 sweeps, then collide + assemble).
-//
-// pgs-colored (colour-ordered PGS, dc/lcp/pgs_colored.hpp): BM_PgsColored* run its AVX-512
-// (kernel = 2), AVX2 (1) and scalar (0) kernels on the same problems (a kernel the CPU lacks is
-// skipped), and 1 or 2 OpenMP threads (BM_PgsColoredThreads); max_diff_vs_scalar =
-// max_i |λ_i(kernel) − λ_i(scalar)| after the same sweeps (0: bit-equal).
-// BM_PgsColoredAlternating times the set-up when the contact set changes every solve.
-// BM_ContactColoring* time the colouring alone (ns per contact), from scratch and reusing
-// the previous call's colours. The side-by-side table of docs/solvers.md is one run of
+// Google Benchmark of the PGS sweep, matrix-free ("pgs") and assembled ("pgs-assembled"), on
+// a hexagonal pile of N circles (r = 1, ρ = 1, ≈ 2 contacts per body plus floor contacts,
+// friction on, Δt = 0.01), rows in body order (argument 0) or interleaved (1). One iteration
+// is one solve of S sweeps (tolerance 0); counter ns_per_row_sweep = CPU time / (rows · sweeps)
+// [ns]. BM_PgsBaseline is a benchmark-only row-by-row kernel timed in the same process as the
+// reference; every benchmark reports max_diff_vs_baseline (0: bit-identical iterates).
+// BM_SeedScene*, BM_PgsColored* (AVX-512 / AVX2 / scalar kernels, 1 or 2 threads,
+// max_diff_vs_scalar), BM_ContactColoring*: docs/bench.md "Micro benchmarks". The table of
+// docs/solvers.md is one run of
 //   build/bin/micro_pgs --benchmark_filter='200/0|SeedScene|Coloring' --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
 
@@ -51,12 +34,12 @@ dc::LcpProblem pile(int bodies, int order) {
   return p;
 }
 
-// ---- baseline: the row-by-row matrix-free kernel of commit b7fdc08 ----------------------
-// A benchmark-only copy of the previous "pgs" sweep (one packed 152-byte row per LCP row,
-// the tangent row reading λ_n and Δu back from memory, wall rows writing a shared dummy
-// body), kept so that old and new kernels are timed in the same process under the same
-// load. Fixed sweeps only; it keeps the per-sweep costs of the real driver (the copy of λ
-// for the last finite iterate, allFinite over Δu) so that the comparison is fair.
+// ---- baseline: a row-by-row matrix-free kernel ------------------------------------------
+// A benchmark-only row-by-row sweep (one packed 152-byte row per LCP row, the tangent row
+// reading λ_n and Δu back from memory, wall rows writing a shared dummy body), timed in the
+// same process under the same load as the contact-block kernels. Fixed sweeps only; it keeps
+// the per-sweep costs of the real driver (the copy of λ for the last finite iterate, allFinite
+// over Δu) so that the comparison is fair.
 namespace baseline {
 
 struct PackedRow {
@@ -368,7 +351,7 @@ void BM_ContactColoring(benchmark::State& s) {
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-// The seed scene: one full 3000-sweep solve (the thesis' fixed budget) per iteration.
+// The seed scene: one full 3000-sweep solve (the bench's fixed budget) per iteration.
 constexpr int kSeedSweeps = 3000;
 void BM_SeedScenePgs(benchmark::State& s) { run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs"); }
 void BM_SeedScenePgsBaseline(benchmark::State& s) {

@@ -1,17 +1,12 @@
-// Google Benchmark of the narrow phase per pair (docs/design.md §8.1): libccd's GJK+EPA and MPR against
-// the analytic paths the engine keeps, on overlapping or speculative (gap > 0) pairs.
-//
-//   BM_CircleCircleAnalytic       narrow_phase's circle_circle (the seed's path)
-//   BM_CirclePolygonAnalytic      Box2D-style Voronoi test (kept: exact and cheaper)
-//   BM_CirclePolygonCcd/{0,1}     the same pair through libccd (0 GJK+EPA, 1 MPR)
-//   BM_BoxBoxSat                  box–box: separating-axis test + two-point clipping (the engine's path)
-//   BM_BoxBoxCcd/{0,1}            box–box: libccd normal + the same clipping (polygon_sat = false)
-//   BM_BoxBoxCcdOnly/{0,1}        box–box: libccd alone (normal and depth, no manifold)
-//   BM_EllipseEllipseCcd/{0,1}    ellipse–ellipse (only libccd: no analytic test)
-//   BM_BoxWallAnalytic            polygon–plane (kept)
-//
-// Each pair is one of 64 poses (random angles, centre distances spread over overlap and
-// speculative gap), cycled, so branch prediction does not see one pose only. Reproduce:
+// Google Benchmark of the narrow phase per pair (docs/design.md §8.1): libccd's GJK+EPA (0) and
+// MPR (1) against the engine's analytic paths, on overlapping or speculative (gap > 0) pairs:
+//   BM_CircleCircleAnalytic, BM_CirclePolygonAnalytic (Box2D-style Voronoi test),
+//   BM_CirclePolygonCcd/{0,1}, BM_BoxBoxSat (SAT + two-point clipping, the engine's path),
+//   BM_BoxBoxCcd/{0,1} (libccd normal + the same clipping, polygon_sat = false),
+//   BM_BoxBoxCcdOnly/{0,1} (normal and depth only), BM_EllipseEllipseCcd/{0,1} (libccd only: no
+//   analytic test), BM_BoxWallAnalytic (polygon–plane).
+// Each pair cycles through 64 poses (random angles, distances over overlap and speculative gap)
+// so branch prediction does not see one pose only.
 //   cmake --build build --target micro_shapes && build/bin/micro_shapes
 #include <benchmark/benchmark.h>
 

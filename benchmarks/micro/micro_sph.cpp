@@ -43,7 +43,7 @@ SphTransferDef seed_def(SphKernelType kernel, double d, SphNormalisation mode) {
   return def;
 }
 
-// Args: 0 = poly6 d = h = 0.5 (61×61), 1 = spiky d = h = 0.25 (121×121); points.
+// Args: 0 = poly6 d = h = 0.5 (61 × 61), 1 = spiky d = h = 0.25 (121 × 121); points.
 SphTransferDef def_of(const benchmark::State& state, SphNormalisation mode) {
   return state.range(0) == 0 ? seed_def(SphKernelType::Poly6, 0.5, mode)
                              : seed_def(SphKernelType::Spiky, 0.25, mode);

@@ -1,33 +1,12 @@
-// Google Benchmark of the stages of one World::step (linear step cost, docs/design.md §8.4) on the
-// seed scene family scaled to n circles at the seed's density: box side 3√n m (30 m for
-// n = 100), Gaussian mean at the centre, σ = 0.465√n m (4.65 m for n = 100), r = 1, μ = 0.5,
-// Δt = 0.01 — the scenes of benchmarks/scripts/step-scaling.sh. The pile is first simulated for
-// kSettleSteps steps (20 PGS sweeps, builtin warm start), once per n, then each stage is
-// timed on that state:
-//
-//   BM_Collide      World::collide()       broad phase + narrow phase (+ the wall tests)
-//   BM_BroadPhase   UniformGridBroadPhase::find_pairs alone (same reach as collide)
-//   BM_Assemble     World::assemble()      constraints, J, b, bounds
-//   BM_WarmStart    builtin warm starter   match by key + project
-//   BM_Solve        "pgs", `sweeps` sweeps from the builtin guess (arg 2)
-//   BM_Integrate    World::integrate(λ)    on a copy of the world (the copy is not timed)
-//   BM_Record       TrajectoryRecorder::record_step (recorders of 50 reserved steps, as simulate)
-//   BM_Step         World::step + record_step: everything a step of `simulate --out` costs
-//   BM_StepOnly     World::step alone: a step of `simulate` without --out (nothing reads the
-//                   bodies or contacts between steps)
-// Both steps take the builtin warm start as `simulate` does, World::WarmStart::PreviousLambda.
-//
-// Last argument `morton`: 0 = the generated bodies in creation order (random in space), 1 = the
-// same bodies numbered in Morton order (`[bodies] order = "morton"`, world_def.hpp): the
-// before/after of the spatial body order, side by side in one run. BM_Step(Only) also runs 2 =
-// creation order with the engine-internal order (`[bodies] internal_order = "morton"`: the
-// stages work in a re-sorted spatial order, the public views stay in creation order; the stage
-// benchmarks would time the public, external-order objects, so only the whole step has it).
-//
-// Counter us_per_row = CPU time / (LCP rows of the state) in microseconds (printed with an
-// "s" suffix because it is an inverted rate; the number is µs per contact row and step):
-// the figure that must stay flat from 1,000 to 40,000 bodies. CPU time (Google Benchmark's
-// default), so the ratios between sizes hold on a loaded machine better than wall time.
+// Google Benchmark of the stages of one World::step (linear step cost, docs/design.md §8.4)
+// on the seed scene family scaled to n circles at the seed's density (box side 3√n m,
+// σ = 0.465√n m, r = 1, μ = 0.5, Δt = 0.01; benchmarks/scripts/step-scaling.sh), settled for
+// kSettleSteps steps once per n, then each stage timed on that state: BM_Collide,
+// BM_BroadPhase, BM_Assemble, BM_WarmStart, BM_Solve, BM_Integrate, BM_Record, BM_Step
+// (`simulate --out`), BM_StepOnly (`simulate`); both steps use the builtin warm start. Last
+// argument: 0 = creation order, 1 = Morton body order, 2 (whole step only) = the engine-internal
+// Morton order. Counter us_per_row = CPU time / LCP rows [µs], which must stay flat with the
+// body count (docs/bench.md "Micro benchmarks").
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

@@ -54,9 +54,8 @@ std::vector<double> previous_pairs(const World& w) {
 /// weight of every dynamic body (the most a static load path can carry) and −b_i / A_ii is the
 /// force that, acting alone, stops row i's approach velocity (b holds the free velocity with
 /// the Baumgarte and restitution targets; A_ii = Δt Σ_j J_ij² M⁻¹_jj). The network's S·sinh
-/// head turns an extrapolated output into an exponentially large one: the shipped model's
-/// corrections reach 1e10 N on 1 % of the seed pile's steps (λ* stays below 1e4 N) and overflow
-/// to inf once the state leaves its training range; with few PGS sweeps such a guess injects
+/// head turns an extrapolated output into an exponentially large one, far above any λ*, and
+/// into inf once the state leaves its training range; with few PGS sweeps such a guess injects
 /// energy that the sweeps cannot take out, and the run diverges (docs/learning.md "Bounded
 /// guesses"). The cap bounds the guess, not the solution: PGS still reaches any larger λ*.
 Eigen::VectorXd force_caps(const World& w) {
@@ -228,8 +227,7 @@ Eigen::VectorXd CnnWarmStarter::guess_from_output(const World& w, const Tensor& 
 Eigen::VectorXd CnnWarmStarter::read_back_output(const World& w, const Tensor& y, std::span<const int> nodes,
                                                  const SphGrid* contact_weights) {
   // The Shepard read-back reads only the four nodes of each point's bilinear stencil, so only
-  // those are de-standardised and expanded (s·sinh): ~500 of the 2·61·61 outputs on the seed
-  // pile. The other nodes of grid_ keep stale values that nothing reads.
+  // those are de-standardised and expanded (s·sinh), a small share of the outputs. The other nodes of grid_ keep stale values that nothing reads.
   // Gathered into one buffer per channel so that the expansion runs vectorised
   // (Model::label_values: label_value bit for bit).
   const std::size_t P = static_cast<std::size_t>(grid_.nx()) * static_cast<std::size_t>(grid_.ny());

@@ -22,7 +22,7 @@ inline constexpr const char* kLabels = "/samples/labels";
 /// and each shard, is kDataSetFormatVersion (1).
 inline constexpr int kShardedFormatVersion = 2;
 
-/// Samples per chunk of the image datasets (one 61×61×5 float32 feature row is 74 KB).
+/// Samples per chunk of the image datasets (one 61 × 61 × 5 float32 feature row is 74 KB).
 inline constexpr hsize_t kImageChunkRows = 4;
 inline constexpr int kDeflate = 4;
 /// Rows per chunk of the uncompressed per-sample index (8 KiB of int64) and of /sims: the

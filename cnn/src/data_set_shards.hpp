@@ -1,21 +1,12 @@
 #pragma once
 // Private to the data-set generation and reader: the sharded layout (format_version 2,
-// docs/formats.md "Data set").
-//
-//   OUT                     the manifest: root attributes, /sims/*, the per-sample index
-//                           /samples/{sim,step,body_begin,body_count,contact_begin,contact_count,
-//                           residual} (global row offsets), /shards/{file,bytes}, and the bulk
-//                           datasets (/samples/features, /samples/labels, /bodies/*,
-//                           /contacts/*) as HDF5 virtual datasets over the shards, so a reader —
-//                           ours or h5py — sees the single-file layout's datasets
-//   OUT.shards/RUN/sim-NNNNNN.h5   simulation NNNNNN as a one-simulation data set
-//                           (format_version 1 layout, its own row offsets)
-//   OUT.partial             while a run is incomplete: "deepcontact-generate run RUN"
-//
-// Commit protocol: a shard is built in memory and written with write_file_atomically (tmp,
-// fsync, rename, directory fsync), so a shard under its final name is complete; the manifest
-// is written the same way once all M shards exist. A kill at any instant leaves committed
-// shards intact and at most one `.tmp` per worker, which resume discards.
+// docs/formats.md "Sharded layout"). OUT is the manifest (root attributes, /sims/*, the
+// per-sample index with global row offsets, /shards/{file,bytes}, and the bulk datasets as HDF5
+// virtual datasets over the shards, so any reader sees the single-file layout);
+// OUT.shards/RUN/sim-NNNNNN.h5 is one simulation in the format_version 1 layout; OUT.partial
+// ("deepcontact-generate run RUN") exists while a run is incomplete. Every file is written with
+// write_file_atomically (tmp, fsync, rename, directory fsync), the manifest after all M shards:
+// a kill leaves committed shards intact and at most one `.tmp` per worker, which resume discards.
 #include <string>
 #include <vector>
 

@@ -48,7 +48,7 @@ RunIdentity training_run_identity(const DataSetReader& r, const std::string& arc
           {"deadzone", num(s.labels.deadzone)},
           // The buffer fixes the visiting order of a training split larger than it.
           {"shuffle_buffer", std::to_string(t.shuffle_buffer)}};
-  // Only when set, so checkpoints written before --first-step existed stay resumable.
+  // Only when set, so checkpoints without a first_step key stay resumable.
   if (s.first_step > 0) id.emplace_back("first_step", std::to_string(s.first_step));
   return id;
 }

@@ -1,28 +1,12 @@
 #pragma once
 // Deterministic, vectorisable sinh of a float: the label expansion G = s·sinh(z) of a model
 // with label_scale s > 0 (labels.hpp), evaluated at every node the cnn starter reads back.
-//
-// Why not std::sinh(float): glibc's sinhf (via expm1f) costs ~10 ns a call and is an opaque
-// libm call, so the ~1,500 expansions per warm start on the seed pile cannot be vectorised
-// (half of the read-back's time), and libm may choose CPU-specific variants at load time.
-// This version uses only IEEE 754 add, subtract, multiply, divide and bit operations in a
-// fixed order (the tree is compiled with -ffp-contract=off, so none is fused), in double:
-// it returns the same bits in every build (native, portable, with or without FMA) and on
-// every x86-64 CPU, and GCC vectorises a loop of it (AVX-512: 8 lanes).
-//
-// Algorithm, with a = |z| in double and the sign restored at the end (sinh is odd):
-//   * a < 1: the Taylor series a + a³/3! + … + a¹⁷/17!; the first omitted term
-//     a¹⁹/19! < 8.3·10⁻¹⁸ relative.
-//   * a ≥ 1: E = eᵃ by Cody–Waite reduction a = k·ln2 + r, |r| ≤ ln2/2 (k = round(a/ln2)
-//     by the 1.5·2⁵² shift, ln2 split into a 32-bit head, so k·ln2_hi is exact, and a tail),
-//     eʳ by its Taylor series to r¹³/13! (omitted r¹⁴/14! < 4.3·10⁻¹⁸), 2ᵏ built from the
-//     exponent bits; then sinh a = (E − 1/E)/2, where the subtraction loses < 1.3 bits.
-//     a is clamped to 90 first: sinh 90 = 6.1·10³⁸ > FLT_MAX, so every a ≥ 89.42 becomes
-//     ±inf when rounded to float, as sinhf does, and eᵃ never overflows the double.
-// The double result is within ~3·10⁻¹⁶ relative of sinh z, so its one rounding to float is
-// the correctly rounded sinhf(z) unless sinh z lies within that distance of a midpoint
-// between two floats (glibc's sinhf itself is not correctly rounded: the two can differ in
-// the last bit). NaN gives NaN, ±inf gives ±inf, ±0 gives ±0.
+// Contract: IEEE 754 add, subtract, multiply, divide and bit operations only, in a fixed
+// order (the tree is compiled with -ffp-contract=off), in double: the same bits in every build
+// and on every x86-64 CPU, unlike libm's sinhf, and GCC vectorises a loop of it. Taylor series
+// for |z| < 1, Cody–Waite eᵃ otherwise, |z| clamped to 90; within ~3·10⁻¹⁶ relative before the
+// one rounding to float. NaN → NaN, ±inf → ±inf, ±0 → ±0. Derivation and error bounds:
+// docs/learning.md "Deterministic sinh".
 #include <bit>
 #include <cmath>
 #include <cstdint>

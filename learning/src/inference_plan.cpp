@@ -213,7 +213,7 @@ bool InferencePlan::add_step(Network& net, std::size_t i, const std::vector<char
   if (s.sparse) {
     s.weight.assign(layer.weight().data(), layer.weight().data() + static_cast<std::size_t>(s.cout) * s.cin);
     block_.resize(std::max(block_.size(), static_cast<std::size_t>(s.cin) * detail::kLanes));
-    if (s.ho != s.h || s.wo != s.w) return false;  // a 1×1 stride-1 conv keeps the size
+    if (s.ho != s.h || s.wo != s.w) return false;  // a 1 × 1 stride-1 conv keeps the size
     for (const Source& src : s.src)  // full-size planes, or upsampled ones of ⌈W/2⌉ columns
       if (src.pitch != (src.up ? (s.w + 1) / 2 : s.w) || src.w != src.pitch) return false;
   } else {
@@ -354,7 +354,7 @@ void InferencePlan::run_dense(const Step& s, const Tensor& x) {
 #endif
 }
 
-// The 1×1 head at the listed pixels: Network::forward_at's arithmetic per pixel (fused
+// The 1 × 1 head at the listed pixels: Network::forward_at's arithmetic per pixel (fused
 // multiply-adds over the channels from 0, then + bias, then ReLU as std::max(r, 0)), evaluated
 // row by row over the span of columns [head_lo_, head_hi_] that holds the row's listed pixels
 // (plan_rows), 16 neighbouring pixels per vector: contiguous loads of the sources' rows (an

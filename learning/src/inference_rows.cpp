@@ -1,32 +1,10 @@
-// InferencePlan's row bookkeeping: which output rows of each rows-layout step run() computes.
-//
-// Demand. The head reads its sources only in the rows of the requested pixels (through a
-// nearest upsampling: row Y/2), and a conv's output row oy reads its input rows
-// stride·oy + ky − pad_top (ky < k) of every source. Propagated backwards from the head, this
-// gives the rows each step must provide; the others are left as they are (stale values from
-// an earlier call that nothing of this call reads). On the seed pile the contacts, hence the
-// stencil nodes, lie in the lower half of the box: d1 and d2 need about half their rows.
-//
-// Templates. Where the box is empty (no body or contact within a kernel support) every raw
-// feature is 0, so the standardised input rows there are all equal. An output row that reads
-// only such rows (and no padding) therefore has the same values in every such row, and
-// recursively for the next layer: call a row a *template row* when every row it reads is a
-// template row of its source (the input's template rows: all raw features +0, bit for bit —
-// −0 would standardise to other bits). Its values are the step's template row, computed once
-// by running the plan on an all-zero input (calibrate_templates); run() copies it instead of
-// computing the row. On the seed pile the upper half of e1's and a third of e2's rows are
-// template rows.
-//
-// Both are exact: every computed element has the arithmetic of the full evaluation, and every
-// element that is read holds the bits the full evaluation would give it. Flat steps (the small
-// 8 × 8 and 4 × 4 outputs, whose rows share vectors) compute one run of rows, from the first
-// to the last row needed, and copy no template rows: on the seed pile d3 needs the 5 lower of
-// its 8 rows (those d2's needed rows read through the upsampling), e4 3 of its 4.
-//
-// The input's empty rows are either found by scanning the raw features (all channels +0,
-// bit patterns) or handed over by the caller (run() with a row range outside which the
-// features are +0, FeatureImageBuilder::nonzero_rows()): then the rows inside the range are
-// taken as not empty without looking, which only computes rows that could have been copied.
+// InferencePlan's row bookkeeping: which output rows of each step run() computes (demand,
+// propagated backwards from the head's pixels) and which it copies from the step's template
+// row (rows that read only empty-box rows). Both are exact: every computed element has the
+// arithmetic of the full evaluation and every element that is read holds its bits. Flat steps
+// compute one run of rows and copy no template rows. The input's empty rows are scanned (all
+// channels +0 as bit patterns) or handed over by the caller; rows inside a handed range are
+// taken as not empty. Derivation: docs/learning.md "The fused inference plan".
 #include <algorithm>
 #include <cstdint>
 #include <cstring>

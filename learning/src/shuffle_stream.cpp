@@ -12,8 +12,8 @@ namespace dc {
 
 namespace {
 
-/// The identity on 0 … n − 1 shuffled by Fisher–Yates from rng (n − 1 draws): the order the
-/// Trainer has always used for a split held in memory.
+/// The identity on 0 … n − 1 shuffled by Fisher–Yates from rng (n − 1 draws): the order of a
+/// split held in memory.
 std::vector<std::size_t> fisher_yates(std::size_t n, Rng& rng) {
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), std::size_t{0});

@@ -1,19 +1,11 @@
-// The LCP solved on a given active set (active_set_solve.hpp). Per contact, by its mode:
-//   Separating:     λ_n = λ_t = 0 (fixed);
-//   Sticking:       λ_n, λ_t free, equations w_n = 0, w_t = 0;
-//   Sliding ±:      λ_n free, λ_t = ±μ λ_n, equation w_n = 0.
-// With the free variables x and λ = L x (a sliding friction row follows its normal), the
-// equations are the square system S A L x = −S b (S selects the equation rows: the rows of
-// the free variables). It is singular where the pile is statically indeterminate (more rows
-// than body degrees of freedom: the null space of A); the guess is the solution nearest
-// base's free values x_b,
-//
-//     x = x_b + argmin ‖y‖  s.t.  S A L y = −S (A L x_b + b)       (least squares if inconsistent)
-//
-// the minimum-norm (least-squares) solution by a complete orthogonal decomposition of the
-// dense S A L, then λ⁰ = project(L x). What the active set does not give is the strict
-// inequalities (λ_n > 0 of touching contacts, |λ_t| < μ λ_n of sticking ones, w ≥ 0 of
-// separating ones): only the projection enforces them.
+// The LCP solved on a given active set (active_set_solve.hpp; docs/bench.md). Per contact:
+// Separating λ_n = λ_t = 0; Sticking λ_n, λ_t free with w_n = w_t = 0; Sliding ± λ_n free,
+// λ_t = ±μ λ_n, w_n = 0. With the free variables x and λ = L x the equations are S A L x = −S b
+// (S selects the free rows), singular where the pile is statically indeterminate; the guess is
+// the solution nearest base's free values x_b,
+//     x = x_b + argmin ‖y‖  s.t.  S A L y = −S (A L x_b + b)   (least squares if inconsistent)
+// by a complete orthogonal decomposition of the dense S A L, then λ⁰ = project(L x). The
+// strict inequalities (λ_n > 0, |λ_t| < μ λ_n, w ≥ 0) are enforced by the projection alone.
 #include "dc/warmstart/active_set_solve.hpp"
 
 #include <Eigen/QR>

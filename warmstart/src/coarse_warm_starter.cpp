@@ -1,30 +1,13 @@
 // builtin-coarse: builtin plus a Galerkin coarse-grid correction of its load — the coarse
-// half of a two-grid cycle, computed from the LCP itself (no oracle, no learning).
-//
-// Why: PGS is Gauss–Seidel on the contacts. It removes an error that varies from contact to
-// contact in a few sweeps but an error that is smooth over the pile — "this region carries
-// 10 % too much load" — only by diffusing it contact by contact, in ~L² sweeps for a pile L
-// contacts deep. That smooth error is exactly what builtin's memory has after an impact or a
-// settling step, and exactly what the oracle bound `sph-gain` (a gain field on the grid)
-// removes. Multigrid removes it by solving the problem restricted to a coarse space; here the
-// coarse space is a gain field on a grid of spacing D, as in `sph-gain`:
-//
+// half of a two-grid cycle, computed from the LCP itself (docs/bench.md "Non-learned
+// baselines"). Why: Gauss–Seidel removes contact-to-contact error quickly but an error smooth
+// over the pile only by diffusion; the coarse space is a gain field on a grid of spacing D:
 //     λ(g) = λ_b + P g,   (P g)_i = s_i · Σ_nodes β_i,node g_kind(i),node
-//
-// with λ_b builtin's guess, s_i = λ_b,i on the rows that carry load in λ_b (normal rows with
-// λ_n > 0, friction rows strictly inside the cone with λ_t ≠ 0; every other row has s_i = 0),
-// β the bilinear weights of the contact point and kind(i) ∈ {normal, friction}: two channels.
-// On the rows that stay strictly inside their bounds the LCP is the linear system A λ + b = 0,
-// i.e. the minimum of the energy E(λ) = ½ λᵀAλ + bᵀλ (for frictionless contacts PGS is
-// coordinate descent on E). Minimising E over the coarse space gives the Galerkin equations
-//
-//     (Pᵀ A P) g = −Pᵀ (A λ_b + b)                            (two channels × nodes unknowns)
-//
-// solved by ITER conjugate-gradient iterations from g = 0 (Pᵀ A P is symmetric positive
-// semi-definite; nodes no loaded contact reaches have zero rows and stay 0). A is applied
-// matrix-free, A x = J (Δt M⁻¹ (Jᵀ x)): one iteration costs about one PGS sweep. λ⁰ = λ_b + P g,
-// projected into the bounds (a gain below −1 is clipped at λ_n = 0). Contacts without load
-// in λ_b (new ones) keep builtin's 0: the coarse space cannot move them.
+// s_i = λ_b,i on the rows that carry load in λ_b (λ_n > 0; friction rows strictly inside the
+// cone with λ_t ≠ 0; else 0), β the bilinear weights, kind ∈ {normal, friction}. Minimising
+// E(λ) = ½ λᵀAλ + bᵀλ over the coarse space gives (Pᵀ A P) g = −Pᵀ (A λ_b + b), solved by ITER
+// CG iterations from g = 0 (PSD; unreached nodes stay 0) with A x = J (Δt M⁻¹ (Jᵀ x)) applied
+// matrix-free. λ⁰ = λ_b + P g projected into the bounds; unloaded (new) contacts keep 0.
 #include <algorithm>
 #include <optional>
 #include <string>

@@ -1,19 +1,13 @@
-// builtin-gain-extrapolate[:KERNEL:D:H]: builtin scaled by last step's SMOOTHED load change.
-//
-// builtin-extrapolate continues each contact's own line 2 λ^{t−1} − λ^{t−2}; per contact that
-// change is noisy (PGS stops at a tolerance, contacts flicker), and it measured 1.02× builtin's
-// sweeps on impact. The sph-gain oracle (sph_gain_warm_starter.cpp) shows that what builtin
-// misses there is mostly a smooth gain field. This starter estimates that field from the last
-// two solved steps instead of from λ*, and applies it once more:
-//
+// builtin-gain-extrapolate[:KERNEL:D:H]: builtin scaled by last step's smoothed load change
+// (docs/bench.md "Non-learned baselines"). Per-contact extrapolation is noisy (PGS stops at a
+// tolerance, contacts flicker); this estimates sph-gain's smooth gain field from the last two
+// solved steps instead of from λ*, and applies it again:
 //     N_r(x) = Σ_c W(|x − p_c|) (λ^{t−1}_c,r − λ^{t−2}_c,r) λ^{t−2}_c,r
-//     D_r(x) = Σ_c W(|x − p_c|) (λ^{t−2}_c,r)²                 (c: contacts of step t−1 seen at t−2)
+//     D_r(x) = Σ_c W(|x − p_c|) (λ^{t−2}_c,r)²              (c: contacts of step t−1 seen at t−2)
 //     λ⁰_k,r = λ^{t−1}_k,r (1 + bilinear(N_r)(q_k) / bilinear(D_r)(q_k))   (ĝ = 0 where D = 0)
-//
-// p_c are step t−1's contact points, q_k this step's; contacts new at t get 0, contacts without
-// a t−2 value contribute nothing to the field. Projected onto the feasible set. Not an oracle:
-// it uses only solved history. The memory of λ^{t−2} is dropped when the world's step index
-// does not advance by exactly one between calls (as builtin-extrapolate).
+// p_c step t−1's contact points, q_k this step's; new contacts get 0. Projected onto the
+// feasible set. Not an oracle. The λ^{t−2} memory is dropped when the world's step index does
+// not advance by exactly one between calls.
 #include <optional>
 
 #include "dc/sph/sph_splat.hpp"

@@ -6,7 +6,7 @@
 //   gate-l2  scores by ‖r‖₂ (the whole error, not its worst contact: PGS's sweep count is set
 //            by the slow, spread-out part of the error more than by one bad contact).
 // Why: a learned model that is good on its family can be harmful off it (models/impact.h5
-// needs 2.65× builtin's sweeps on the seed pile, docs/research.md); the gate keeps such a
+// needs more sweeps than builtin on the seed pile, docs/research.md); the gate keeps such a
 // model from ever starting PGS further from the solution than builtin by its own measure.
 // Cost: two matrix-free residual evaluations (each O(nnz J), ≈ one PGS sweep) on top of
 // INNER's guess; timed with the guess.

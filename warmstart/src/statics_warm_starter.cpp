@@ -1,16 +1,12 @@
-// builtin-statics: builtin, plus a statics-based guess for the contacts that have no
-// history (new this step). The static guess is a top-down load propagation:
+// builtin-statics: builtin, plus a top-down load propagation for contacts without history:
 //   * "up" is −g/|g|; bodies are processed from the highest (largest x·up) to the lowest;
-//   * body k carries its weight m_k|g| plus the load handed to it from above, L_k;
-//   * its support contacts are its closing contacts (gap ≤ [contact] slop + margin) whose
-//     force on k points up: s_c = n_c·up for k = body_b (the force on b is +λ n),
-//     −n_c·up for k = body_a; only s_c > 0.05 counts (side contacts carry nothing);
-//   * L_k is split over them in proportion to s_c, with the normal forces chosen so the
-//     vertical components add up to L_k: λ_c = L_k s_c / Σ s_c'²;
-//   * the other body of a support contact receives the vertical component λ_c s_c.
-// λ is a force [N] in this engine (docs/design.md §2: a circle resting on the floor carries
-// λ_n = m g), so a column of circles gets λ_n = the weight of everything above the contact.
-// Friction rows get 0. Contacts with history keep builtin's previous λ.
+//   * body k carries its weight m_k|g| plus the load L_k handed to it from above;
+//   * its support contacts are its closing contacts (gap ≤ [contact] slop + margin) whose force on k
+//     points up: s_c = n_c·up for k = body_b (the force on b is +λ n), −n_c·up for k = body_a;
+//     only s_c > 0.05 counts (side contacts carry nothing);
+//   * λ_c = L_k s_c / Σ s_c'² (vertical components add up to L_k); the other body receives λ_c s_c.
+// λ is a force [N] (docs/design.md §2), so a column of circles gets λ_n = the weight above the
+// contact. Friction rows get 0; contacts with history keep builtin's λ.
 #include <algorithm>
 #include <cmath>
 #include <numeric>

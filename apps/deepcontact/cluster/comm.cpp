@@ -63,8 +63,7 @@ MpiSession::MpiSession(int& argc, char**& argv) {
 MpiSession::~MpiSession() {
   if (!initialised_) return;
   // MPI_Finalize waits for the slowest rank in a busy loop; while rank 0 writes a report
-  // for half a minute the others would burn a core each (measured: bench's report took 3×
-  // longer). Wait sleeping first.
+  // the others would burn a core each and slow it down. Wait sleeping first.
   world().barrier();
   MPI_Finalize();
 }
@@ -115,7 +114,7 @@ std::vector<Bytes> Comm::gather(const Bytes& mine, int root) const {
 
 // Point-to-point waits (and barrier) poll with a short sleep instead of MPI's busy wait: the waiting
 // thread (generate's writer) shares its rank's cores with that rank's simulation workers,
-// and a busy wait would take a core from them (measured: docs/cluster.md).
+// and a busy wait would take a core from them (docs/cluster.md).
 static void idle_wait() { std::this_thread::sleep_for(std::chrono::microseconds(500)); }
 
 void Comm::send(const Bytes& data, int dest, int tag) const {

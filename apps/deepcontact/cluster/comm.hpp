@@ -1,17 +1,12 @@
 #pragma once
-// dc::cli::Comm: the few collective operations the commands need to run across MPI ranks
-// (docs/cluster.md), behind an interface without MPI headers.
-//
-// The same `deepcontact` binary runs alone or under `mpirun -n K` / `srun`: MpiSession (one,
-// in main()) initialises MPI only when a launcher started the process (OMPI_COMM_WORLD_SIZE,
-// PMIX_RANK, PMI_SIZE set) and the build found MPI; otherwise world() is the serial
-// communicator (rank 0 of 1) and every operation is a local no-op. Messages are byte
-// buffers (byte_buffer.hpp packs them); reductions are element-wise sums in a fixed order
-// for a fixed rank count.
-//
-// Threads: MPI is initialised with MPI_THREAD_FUNNELED; only the main thread calls Comm.
-// Waiting: barrier, send and receive sleep between polls (a waiting rank leaves its cores
-// to the work); broadcast, gather, sum, min, max are MPI's blocking collectives.
+// dc::cli::Comm: the few collective operations the commands need across MPI ranks
+// (docs/cluster.md), behind an interface without MPI headers. MpiSession (one, in main())
+// initialises MPI only when a launcher started the process (OMPI_COMM_WORLD_SIZE, PMIX_RANK,
+// PMI_SIZE set) and the build found MPI; otherwise world() is the serial communicator and every
+// operation a local no-op. Messages are byte buffers (byte_buffer.hpp); reductions are
+// element-wise sums in a fixed order for a fixed rank count. MPI_THREAD_FUNNELED: only the main
+// thread calls Comm. barrier, send and receive sleep between polls (a waiting rank leaves its
+// cores to the work); broadcast, gather, sum, min, max are MPI's blocking collectives.
 #include <cstdint>
 #include <optional>
 #include <span>

@@ -1,23 +1,13 @@
-// `deepcontact lcp solve FILE [--kind lcp|fc2d] [--solver NAME] [--sweeps N] [--tol T] [--proximal]`: solve
-// one problem from a file — a Siconos numerics LCP .dat (storage 0 or 1), a Siconos 2D
-// frictional-contact .dat (storage 0, 1 or 2) or an FCLIB local problem (.hdf5, spacedim 2);
-// docs/lcp.md — and print the result as JSON on stdout:
-//
-//     {"problem": "fc2d", "z": [...], "w": [...], "mu": [...], "status": "converged",
-//      "sweeps": k, "residual": r, "solve_seconds": s, "solver": "newton", "message": "...",
-//      "comment": "..."}
-//
-// A frictional problem is solved as its box-friction LCP: z = reactions (per contact normal,
-// tangent), w = W z + q, residual = the natural-map residual of the 2D Coulomb problem; "mu"
-// only for fc2d; solve_seconds = CPU time of the solve alone.
-// numbers with %.17g (round-trip exact), non-finite as null (JsonWriter, json_writer.hpp);
-// "comment" is the remark after q (empty if none; stderr says it was ignored). Exit status: 0 when solved (status converged), 3 when the
-// solver proved the problem infeasible, 1 for any other status (sweep_limit, diverged,
-// failed, invalid_input) and for errors (unreadable/malformed file, unknown solver: one
-// line on stderr from main()).
-//
-// `deepcontact lcp convert IN.dat OUT.dat [--storage 0|1] [--block B]` rewrites a file in
-// dense (0) or sparse-block (1, square blocks of B rows) storage.
+// `deepcontact lcp solve FILE [--kind lcp|fc2d] [--solver NAME] [--sweeps N] [--tol T] [--proximal]`:
+// solve one problem (Siconos LCP .dat storage 0/1, Siconos 2D frictional-contact .dat storage
+// 0/1/2, FCLIB .hdf5 spacedim 2; docs/lcp.md) and print JSON on stdout: problem, z, w, mu (fc2d
+// only), status, sweeps, residual, solve_seconds (CPU time of the solve alone), solver, message,
+// comment (the remark after q). A frictional problem is solved as its box-friction LCP
+// (z = reactions per contact normal, tangent; w = W z + q; residual = natural map of the 2D
+// Coulomb problem). Numbers %.17g, non-finite as null (json_writer.hpp). Exit status
+// (docs/cli.md): 0 converged, 3 proven infeasible, 1 any other status or an error.
+// `deepcontact lcp convert IN.dat OUT.dat [--storage 0|1] [--block B]` rewrites a file in dense
+// (0) or sparse-block (1, square blocks of B rows) storage.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>

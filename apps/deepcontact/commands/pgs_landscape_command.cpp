@@ -42,7 +42,7 @@ void run(const LandscapeArgs& a) {
   check_output_file(a.out);  // before the simulations are replayed
   PgsLandscapeStudyDef def = a.study;
   def.probe.loss = parse_pgs_loss(a.loss);
-  def.validate();  // before the thread count, as always: a bad option is reported first
+  def.validate();  // ahead of the thread count: a bad option is reported first
   if (a.threads > 0) omp_set_num_threads(a.threads);
   const PgsLandscapeStudy study = run_pgs_landscape_study(def);
   write_file_atomically(a.out, pgs_landscape_csv(study));

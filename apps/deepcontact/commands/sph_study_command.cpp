@@ -59,7 +59,7 @@ SphStudyDef study_def(const StudyArgs& a) {
   def.sweeps = a.sweeps;
   def.min_lambda = a.min_lambda;
   // The scalar options are checked before the lists are parsed (the lists are still the valid
-  // defaults here), so a bad --steps is reported before a bad --kernels, as it always was.
+  // defaults here), so a bad --steps is reported ahead of a bad --kernels.
   def.validate();
   def.seeds = bench::parse_seed_range(a.seeds);
   def.kernels.clear();

@@ -1,28 +1,13 @@
-// deepcontact train: fit the CNN (dc_learning) to a data set written by `deepcontact generate`
-// (docs/design.md §5; docs/learning.md "Training").
-//
-//   data set ──(every K-th sample of each simulation)──▶ samples ──split by simulation──▶
-//   train / validation ──▶ Trainer (SGD, standardisation from the training split) ──▶
-//   OUT (best validation loss so far), OUT.ckpt (latest state), OUT.loss.csv, OUT.loss.png
-//
-// The samples stay on disk (DataSetSamples): the Trainer reads them a block at a time and
-// holds at most --shuffle-buffer training samples, so the data set may be larger than RAM.
-//
-// Crash safety: after every epoch the best model is written to OUT and the latest state
-// (weights + random stream + momentum + history) to OUT.ckpt, both atomically (write
-// .tmp, rename), so a kill at any moment leaves the last finished epoch on disk. `--resume`
-// reloads OUT.ckpt, checks that it belongs to the same data and options, and continues
-// with the next epoch; with the same --threads the result is bit-identical to an
-// uninterrupted run. SIGINT sets a flag (the handler does nothing else) that the trainer
-// polls between minibatches; the unfinished epoch is dropped and the command exits 130.
-//
-// The domain lives in the libraries: the Trainer and the label definition (dc_learning:
-// trainer.hpp, labels.hpp, the inverse of the cnn starter's read-back), the samples and their
-// targets, the checkpoint format and run identity (dc_cnn: training_data.hpp,
-// train_checkpoint.hpp), training through PGS (dc_research: pgs_training_run.hpp). This
-// command parses options and runs the steps of a regression run — check the options, build the
-// TrainDef, load the data, set up the model (fresh or resumed), train with per-epoch files,
-// report — printing as it goes; --loss pgs-* goes to train_through_pgs.cpp.
+// deepcontact train: fit the CNN to a data set written by `deepcontact generate` (docs/design.md
+// §5; docs/learning.md "Training"): every K-th sample of each simulation, split by simulation
+// into train / validation, Trainer → OUT (best validation loss), OUT.ckpt (latest state),
+// OUT.loss.csv, OUT.loss.png. Samples stay on disk; at most --shuffle-buffer are held.
+// After every epoch OUT and OUT.ckpt are written atomically, so a kill leaves the last
+// finished epoch; `--resume` checks OUT.ckpt belongs to the same data and options and
+// continues (bit-identical with the same --threads). SIGINT sets a flag the trainer polls
+// between minibatches; the unfinished epoch is dropped and the command exits 130. The domain
+// lives in the libraries (trainer.hpp, labels.hpp, training_data.hpp, train_checkpoint.hpp);
+// this file parses options and runs a regression run; --loss pgs-* goes to train_through_pgs.cpp.
 #include <CLI/CLI.hpp>
 #include <omp.h>
 

@@ -160,7 +160,7 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
   j.key("warmstarters").begin_object(JsonWriter::Layout::Lines);
   for (const auto& x : s) starter_summary_json(j, r, x, zero);
   j.end_object();
-  if (!r.pairs.empty()) {  // only with --solvers: a run without them writes what it always wrote
+  if (!r.pairs.empty()) {  // only with --solvers: a run without them has no "solvers" key
     j.key("solvers");
     solver_pairs_json(j, summarise_solver_pairs(r));
     j.key("accuracy").value(r.options.accuracy);

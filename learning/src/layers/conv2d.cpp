@@ -18,8 +18,8 @@ namespace {
 // Target size of one X_col tile in floats (256 KiB): fits L2 together with Wᵀ and the
 // output tile, so the GEMM streams from cache instead of memory.
 constexpr long kTileFloats = 64 * 1024;
-// Below this many multiply-adds a call runs on one thread: a parallel region costs a few
-// µs even on an idle machine, and much more when the cores are shared. It is also below
+// Below this many multiply-adds a call runs on one thread: opening a parallel region costs
+// more than such a call's arithmetic, and much more when the cores are shared. It is also below
 // the size at which Eigen would parallelise a single GEMM itself (work ≥ 2·50 000), so
 // Eigen never opens nested parallel regions here: all threading is ours.
 constexpr double kParallelMacs = 1e5;
@@ -124,7 +124,7 @@ static void im2col_planes(const float* x, int channels, int h, int w, int k, int
 // The direct dW kernel (the forward and dX kernels are in conv_direct.cpp).
 namespace {
 #if defined(__AVX512F__)
-// dWᵀ (K × Cout, column-major, K = C·9) += Σ_pixels dY ⊗ shifted x for a 3×3 stride-1 conv
+// dWᵀ (K × Cout, column-major, K = C·9) += Σ_pixels dY ⊗ shifted x for a 3 × 3 stride-1 conv
 // over a whole sample: xp [C][Ho+2][Wp] padded input (p = 1); dY[o, j, lane] at
 // dy[o·dy_plane + j·dy_row + lane], zero for lanes ≥ Wo up to VB·16. Per (c, ky) and OB output channels, 3·OB vector accumulators (one
 // per kx) run over all rows; each lane sum is reduced once at the end.
@@ -239,7 +239,7 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   grow(col_, static_cast<std::size_t>(T));
   for (int t = 0; t < T; ++t) grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * K);
   if (s_ == 2 && k_ == 3 && direct_available(1, g.wo)) {
-    // Stride 2 (3×3): the same kernel on column-phase-split padded rows.
+    // Stride 2 (3 × 3): the same kernel on column-phase-split padded rows.
     const int Wp = detail::padded_width_s2(g.wo);
     pack_weights(weight_.data(), K, 1, cout_, cin_, 9, block_channels(g.wo, cout_), wpk_);
     // Rows per tile: C·(2·rows + 1)·2·Wp ≤ kTileFloats.
@@ -327,7 +327,7 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   const bool direct = flip && dx != nullptr && direct_available(s_, g.wo);
   const int Wp = padded_width(g.wo, k_);
   const bool by_sample = N >= 2;
-  // dW directly from a padded copy of the whole sample (3×3, stride 1, a batch).
+  // dW directly from a padded copy of the whole sample (3 × 3, stride 1, a batch).
   const bool direct_dw = flip && k_ == 3 && by_sample && direct_available(s_, g.wo);
   // Work split into groups, each with its own dW/db accumulator; groups are summed in
   // group order afterwards. A batch (N ≥ 2) is cut into ≤ 16 runs of consecutive

@@ -1,17 +1,13 @@
 #pragma once
-// Private: the direct convolution kernels shared by Conv2d (training and inference) and the
-// fused inference plan (inference_plan.cpp). AVX-512 builds only; elsewhere
-// direct_available() is false and the other entry points must not be called.
-//
-// Direct convolution (no X_col, no GEMM packing), for an output row of at most 4 vectors of
-// 16 floats (Wo ≤ 64). The input rows a tile needs are copied once into a zero-padded
-// buffer xp [C][R][Wp] (padded row r = input row oy0 + r − p, column p + ix = input column
-// ix, zeros around; Wp leaves room for the last vector of every shifted row), and the
-// weights are packed as wpk [Cout/OB][C][k][k][OB]. Each output row × OB output channels is
-// accumulated in OB·VB zmm registers over (c, ky, kx): one unaligned load of the shifted
-// input row per vector and one broadcast weight per channel. The summation order of an
-// output element is (c, ky, kx), then + bias, then the optional ReLU, whatever the tile,
-// the thread or the caller: the plan and Conv2d::forward give the same bits.
+// Private: the direct convolution kernels shared by Conv2d and the fused inference plan.
+// AVX-512 builds only; elsewhere direct_available() is false and the other entry points must
+// not be called. For an output row of at most 4 vectors of 16 floats (Wo ≤ 64): the input rows
+// a tile needs are copied into a zero-padded buffer xp [C][R][Wp] (padded row r = input row
+// oy0 + r − p, column p + ix = input column ix; Wp leaves room for the last vector of every
+// shifted row), weights packed as wpk [Cout/OB][C][k][k][OB], each output row × OB channels
+// accumulated in OB·VB zmm registers. The summation order of an output element is (c, ky, kx),
+// then + bias, then the optional ReLU, whatever the tile, thread or caller: the plan and
+// Conv2d::forward give the same bits.
 #include <vector>
 
 namespace dc::detail {
@@ -20,7 +16,7 @@ constexpr int kLanes = 16;  ///< floats per AVX-512 vector
 constexpr int kMaxVec = 4;  ///< Wo ≤ 64
 
 /// True when this build has the direct kernels and they serve stride s at output width wo:
-/// stride 1 (any odd k) only; callers use the stride-2 (3×3) kernel where
+/// stride 1 (any odd k) only; callers use the stride-2 (3 × 3) kernel where
 /// direct_available(1, wo) holds.
 bool direct_available(int s, int wo);
 /// Vectors of 16 lanes per output row.
@@ -29,7 +25,7 @@ inline int vec_count(int wo) { return (wo + kLanes - 1) / kLanes; }
 int block_channels(int wo, int cout);
 /// Row pitch of a stride-1 padded buffer: whole vectors plus the k − 1 halo.
 inline int padded_width(int wo, int k) { return vec_count(wo) * kLanes + k - 1; }
-/// Row pitch of each column phase of a stride-2 (3×3) padded buffer.
+/// Row pitch of each column phase of a stride-2 (3 × 3) padded buffer.
 inline int padded_width_s2(int wo) { return vec_count(wo) * kLanes + 1; }
 
 /// wpk[(b·C + c)·k² + tap][j] = w(o = b·OB + j, c, tap), zero for o ≥ Cout, where

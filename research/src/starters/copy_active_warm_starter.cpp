@@ -1,20 +1,12 @@
-// copy-active (oracle diagnostic): builtin-active's guess (dc/warmstart/active_set_solve.hpp,
-// builtin_active_warm_starter.cpp) on the active set of this step's λ* — which contacts
-// separate, which stick, which slide and in which direction — not on builtin's remembered one:
-// an oracle bound of a predictor of the active set.
-//   copy-active:F  builtin-active's active set with a share F ∈ [0, 1] of the contacts where it
-//                  disagrees with λ*'s corrected to λ*'s mode: how good must a predictor of the
-//                  mode CHANGES be to pay (F = 0 is builtin-active, F = 1 copy-active). Which
-//                  contacts are corrected is fixed by a hash of the contact key, u(key) < F, so
-//                  the corrected set grows with F (nested) and is the same in every run.
-//   copy-active:normal, copy-active:friction  builtin-active's active set with only one half of
-//                  λ*'s corrected: normal = which contacts touch (a contact λ* loads that
-//                  builtin separates sticks; builtin's friction mode is kept where both touch),
-//                  friction = the stick/slide mode where both touch. Is one half the hard part?
-// Dense, O(rows³): a diagnostic for piles of a few hundred bodies (kMaxDenseDiagnosticRows).
-//   copy-active-cg[:ITER]  the same with the minimum-norm solve done matrix-free by ITER CGLS
-//                  steps (default 100; solve_on_active_set_cgls): what the active-set route
-//                  costs without the dense factorisation.
+// copy-active (oracle diagnostic): builtin-active's guess (active_set_solve.hpp) on the active
+// set of this step's λ* instead of builtin's remembered one: the bound of an active-set
+// predictor (docs/bench.md, docs/research.md "How complete the active set must be").
+//   copy-active:F  builtin-active's set with a share F ∈ [0, 1] of its disagreements with λ*
+//                  corrected, chosen by u(hash of contact key) < F: nested in F, same every run.
+//   copy-active:normal, :friction  only which contacts touch, or only the stick/slide mode
+//                  where both touch, taken from λ*.
+//   copy-active-cg[:ITER]  the minimum-norm solve by ITER CGLS steps (default 100), matrix-free.
+// The dense variants are O(rows³), refused above kMaxDenseDiagnosticRows.
 #include <cstdint>
 #include <string>
 #include <utility>

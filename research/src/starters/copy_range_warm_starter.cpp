@@ -1,22 +1,12 @@
 // copy-range: a diagnostic oracle — builtin plus only the part of the correction δ = λ* − λ_b
-// that the LCP velocity sees.
-//
-// A pile of circles is statically indeterminate: it has more contact rows than body degrees
-// of freedom, so A = J M⁻¹ Jᵀ Δt has a null space N(A) (on the impact family 15–30 % of its
-// eigenvalues are 0). A change of λ inside N(A) leaves every velocity w = A λ + b unchanged —
-// it only redistributes forces through the contact network — and the LCP solution is in
-// general not unique there. Split δ = δ_⊥ + δ_0 with δ_⊥ ∈ range(A), δ_0 ∈ N(A):
-//
+// the LCP velocity sees (docs/bench.md "Non-learned baselines"). A pile is statically
+// indeterminate, so A = J M⁻¹ Jᵀ Δt has a null space in which a change of λ only redistributes
+// forces. With δ = δ_⊥ + δ_0, δ_⊥ ∈ range(A):
 //     λ⁰ = project(λ_b + δ_⊥),   δ_⊥ = V_r V_rᵀ δ
-//
-// where V_r are the eigenvectors of A whose eigenvalue exceeds 10⁻⁸ of the largest. Before
-// projection λ⁰ has exactly the velocities of λ* (A δ_⊥ = A δ); what it lacks is the force
-// redistribution δ_0 that makes λ* satisfy its bounds (λ_n ≥ 0, |λ_t| ≤ μ λ_n). How many
-// sweeps PGS still needs from it measures which of the two parts of builtin's error PGS pays
-// for (docs/research.md "Where PGS's sweeps go").
-//
-// Cost: a dense symmetric eigendecomposition, O(rows³) — a diagnostic for piles of a few
-// hundred bodies, refused above kMaxDenseDiagnosticRows rows (starters.hpp).
+// V_r the eigenvectors of A whose eigenvalue exceeds 10⁻⁸ of the largest. Unprojected, λ⁰ has
+// exactly λ*'s velocities; it lacks the redistribution δ_0 that puts λ* in its bounds
+// (docs/research.md "Where PGS's sweeps go"). A dense eigendecomposition, O(rows³): refused
+// above kMaxDenseDiagnosticRows rows (starters.hpp).
 #include <Eigen/Eigenvalues>
 #include <string>
 

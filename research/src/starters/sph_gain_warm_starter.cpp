@@ -1,20 +1,11 @@
-// sph-gain / sph-gain-add: oracle bounds of a MULTIPLICATIVE grid correction of builtin.
-//
-// sph-residual (sph_warm_starter.cpp) reads back an additive correction δ = λ* − λ_prev from
-// the grid; its sub-grid part is lost, and on a pile the correction has much sub-grid detail:
-// after an impact every load-bearing contact (force chain) carries more, the others do not.
-// That detail is already in λ_prev. A gain field g(x) with λ⁰ = λ_prev·(1 + g(p)) keeps it and
-// leaves the grid only the smooth part — how much more load passes through this region.
-//
-// Per row kind r ∈ {n, t} (splatted at the contact points p_c with the kernel W):
-//
+// sph-gain / sph-gain-add: oracle bounds of a multiplicative grid correction of builtin.
+// An additive grid correction loses the correction's sub-grid detail (force chains), which is
+// already in λ_prev; a gain field λ⁰ = λ_prev·(1 + g(p)) keeps it. Per row kind r ∈ {n, t}:
 //     N_r(x) = Σ_c W(|x − p_c|) δ_c,r λp_c,r        D_r(x) = Σ_c W(|x − p_c|) λp_c,r²
 //     ĝ_r(p) = bilinear(N_r)(p) / bilinear(D_r)(p)  (0 where bilinear(D_r)(p) = 0)
-//
-// the kernel-weighted least-squares gain around p — exact for an isolated contact (ĝ = δ/λp),
-// like the Shepard read-back is for an additive value. Contacts with λp = 0 (new ones) get no
-// gain; `sph-gain-add` adds the Shepard read-back of the remainder δ − ĝ·λp (what a model with
-// a gain and an additive output would predict). Both are oracles (they use this step's λ*).
+// the kernel-weighted least-squares gain, exact for an isolated contact (ĝ = δ/λp). Contacts
+// with λp = 0 get no gain; sph-gain-add adds the Shepard read-back of the remainder δ − ĝ·λp.
+// Both use this step's λ*.
 #include <chrono>
 #include <optional>
 

@@ -18,7 +18,7 @@
 
 namespace dc::bench {
 
-/// The earlier theses' median iterations to θ ≤ 1e-4 N·s (docs/design.md §6), or "" if none.
+/// The reference theses' median iterations to θ ≤ 1e-4 N·s (docs/design.md §6), or "" if none.
 std::string thesis_reference(const std::string& starter);
 
 /// True when the theses' figures apply: the seed scene (any seed, any number of steps). On

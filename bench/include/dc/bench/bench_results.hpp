@@ -1,18 +1,13 @@
 #pragma once
-// What a bench run produced (docs/design.md §6, docs/bench.md): the options it ran with and,
-// for every step of every evaluation scene and every warm starter, the convergence history
-// θ_k of a fixed-sweep PGS run, the sweeps until θ ≤ tol, the time of the guess and of a
-// tolerance-mode solve, and at a set of sweep budgets the residual, λ error against the
-// oracle, penetration and energy after the step (the speed/accuracy trade).
-//
-// The runner fills these (bench_runner.hpp), the summaries and the statistics read them
-// (bench_summary.hpp, bench_statistics.hpp) and the report writes them (bench_report.hpp);
-// apps/deepcontact/cluster/mpi_bench.cpp merges them across ranks field by field.
-//
-// Modes:
-//   paired  (default) every starter solves the identical LCP of every step of one reference
-//           trajectory (advanced with the oracle λ*), so differences are paired.
-//   rollout every starter drives its own simulation with its fixed-sweep λ, as the theses did.
+// What a bench run produced (docs/design.md §6, docs/bench.md): the options and, for every
+// step of every evaluation scene and every warm starter, the convergence history θ_k of a
+// fixed-sweep PGS run, the sweeps until θ ≤ tol, the time of the guess and of a tolerance-mode
+// solve, and at a set of sweep budgets the residual, λ error against the oracle, penetration
+// and energy after the step. Filled by bench_runner.hpp, read by bench_summary.hpp and
+// bench_statistics.hpp, written by bench_report.hpp; merged across ranks field by field by
+// apps/deepcontact/cluster/mpi_bench.cpp. Modes: paired (default) — every starter solves the
+// identical LCP of every step of one reference trajectory advanced with λ*; rollout — every
+// starter drives its own simulation with its fixed-sweep λ.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -31,7 +26,7 @@ struct BenchOptions {
   WorldDef scene;                       ///< evaluation scene (its [bodies] seed is replaced per run)
   std::vector<std::string> warmstarts;  ///< starter specs, e.g. {"zero", "builtin", "copy:2"}
   std::vector<std::uint64_t> seeds{1};  ///< scene seeds (each one simulation)
-  int sweeps = 3000;                    ///< fixed sweeps of the convergence run (seed: 3000)
+  int sweeps = 3000;                    ///< fixed sweeps of the convergence run
   double tolerance = 1e-2;              ///< θ threshold [N] (= 1e-4 N·s impulse at Δt = 0.01)
   Mode mode = Mode::Paired;
   std::string solver = "pgs";           ///< iterative solver under test

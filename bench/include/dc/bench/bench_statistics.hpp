@@ -1,28 +1,14 @@
 #pragma once
-// Bench statistics that carry their uncertainty (seeds, not steps, set it): bootstrap 95 % confidence
-// intervals of the median and mean sweeps to tolerance and total time per step, per starter,
-// and of their ratios to `zero` and `builtin`. Method and caveats: docs/bench.md
-// "Uncertainty".
-//
-// Hierarchical (two-stage) bootstrap. A bench run has G scene seeds, and seed g has n_g
-// evaluated steps. One replicate draws G seeds with replacement, then, for every drawn seed,
-// n_g of its steps with replacement, and evaluates the statistic on the pooled draw. The
-// interval is the percentile interval [q_{α/2}, q_{1−α/2}] of B replicates (α = 1 − level).
-// Steps of one trajectory are correlated; resampling seeds carries that correlation into the
-// interval, resampling steps as well makes it slightly conservative when the seeds hardly
-// differ. With few seeds (G ≲ 5) percentile intervals are too narrow (see docs/bench.md).
-//
-// Paired mode: every starter solves the identical steps, so one draw of (seed, step) indices
-// per replicate serves every starter (paired bootstrap: a ratio's numerator and denominator
-// are evaluated on the same resampled steps). Rollout mode: each starter has its own
-// trajectory, so each is resampled independently (its own random stream), and a ratio is the
-// quotient of two independent replicates.
-//
-// Deterministic: the draws come from dc::Rng seeded from BootstrapDef::seed (and, in rollout
-// mode, the starter's name), so a report is reproducible bit for bit.
-//
-// The estimates are median_of / mean_of and the interval bounds quantile_sorted
-// (quantiles.hpp).
+// Bench statistics that carry their uncertainty (seeds, not steps, set it): bootstrap
+// percentile intervals of the median and mean sweeps to tolerance and total time per step,
+// per starter, and of their ratios to `zero` and `builtin` (method and caveats: docs/bench.md
+// "Uncertainty"). Hierarchical bootstrap: a replicate draws the G seeds with replacement,
+// then n_g steps of every drawn seed with replacement; the interval is [q_{α/2}, q_{1−α/2}] of
+// B replicates. Paired mode: one draw of (seed, step) indices per replicate serves every
+// starter, so a ratio's numerator and denominator see the same steps; rollout mode: each
+// starter is resampled independently (its own stream). Deterministic: the draws come from
+// dc::Rng seeded from BootstrapDef::seed (and, in rollout mode, the starter's name), so a
+// report is reproducible bit for bit. Estimates: median_of / mean_of; bounds: quantile_sorted.
 #include <cstdint>
 #include <limits>
 #include <string>

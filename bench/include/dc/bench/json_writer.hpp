@@ -1,25 +1,14 @@
 #pragma once
 // The one JSON writer of the deepcontact executable (summary.json of `bench --out`, the
-// result of `lcp solve`): a small streaming builder, so no command writes JSON by hand.
-//
-//   JsonWriter j;
-//   j.begin_object(JsonWriter::Layout::Lines);     // {\n  "a": 1,\n  "b": [1, 2]\n}\n
-//   j.key("a").value(1);
-//   j.key("b").begin_array().value(1).value(2).end_array();
-//   j.end_object();
-//   std::string text = j.str();
-//
-// Policy (docs/bench.md, docs/lcp.md):
-//   * strings are escaped per RFC 8259: quote and backslash by a backslash, \n and \t by their
-//     short escapes, every other control character below 0x20 as \u00XX; bytes ≥ 0x80 are
-//     copied unchanged (the input is taken to be UTF-8);
-//   * a double is written with %.17g (round-trip exact: parsing the text gives the same
-//     double); NaN and ±Inf, which JSON cannot express, are written as null;
-//   * integers are written exactly; booleans as true / false.
-// Layout: Inline containers separate members by ", " and keys from values by ": " on one
-// line; Lines containers put each member on its own line, indented two spaces per level.
-// A misuse (value without key inside an object, key outside one, unbalanced end_*, str()
-// before the top-level value is complete) throws InvalidArgument.
+// result of `lcp solve`): a streaming builder, e.g.
+//   j.begin_object(JsonWriter::Layout::Lines); j.key("a").value(1); j.end_object(); j.str();
+// Policy (docs/bench.md, docs/lcp.md): strings escaped per RFC 8259 (quote and backslash by a
+// backslash, \n and \t short, other control characters below 0x20 as \u00XX, bytes ≥ 0x80
+// copied: the input is taken to be UTF-8); doubles with %.17g (round-trip exact), NaN and ±Inf
+// as null; integers exactly; booleans true / false. Inline containers separate members by
+// ", " and keys by ": " on one line; Lines containers put each member on its own line,
+// indented two spaces per level. Misuse (value without key in an object, key outside one,
+// unbalanced end_*, str() on an incomplete top-level value) throws InvalidArgument.
 #include <cstdint>
 #include <optional>
 #include <span>

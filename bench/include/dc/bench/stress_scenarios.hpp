@@ -1,20 +1,13 @@
 #pragma once
 // Extreme scenes (docs/robustness.md): the scene builders and the instrumented stepping loop
-// shared by tests/engine/extreme_scene_test.cpp (light versions, asserted) and
-// `deepcontact stress` (heavier sweeps, tabulated). Everything here is deterministic; the
-// only non-deterministic number is wall time.
-//
-// What a run measures (RunStats) and why each measure is defined the way it is:
-//  * penetration: the largest overlap of two circles or of a circle and a wall, computed
-//    from the body state after each step by an independent geometric check (not from the
-//    engine's own contact list, which only holds pairs within the speculative margin);
-//  * energy growth: max over t of E_t − min_{s≤t} E_s with E = kinetic + potential. With
-//    e = 0 the exact dynamics never gain energy, semi-implicit Euler loses ½ m g² Δt² per
-//    free step, so any growth is injected by the solver (Baumgarte pushing penetrations
-//    apart, or an unconverged λ). Measured against the running minimum, so a slowly
-//    leaking loss followed by a kick is still caught;
-//  * momentum drift: max_t |P_t − P_0| relative to Σ m |v_0| (meaningful only without walls
-//    and gravity, where every contact force acts in equal and opposite pairs);
+// shared by tests/engine/extreme_scene_test.cpp (light versions, asserted) and `deepcontact
+// stress` (heavier sweeps, tabulated). Deterministic except for wall time. RunStats:
+//  * penetration: the largest circle–circle or circle–wall overlap after each step, by an
+//    independent geometric check (the engine's contact list holds only pairs within margin);
+//  * energy growth: max_t (E_t − min_{s≤t} E_s), E = kinetic + potential; with e = 0 the
+//    dynamics never gain energy, so growth is injected by the solver; the running minimum
+//    catches a slow leak followed by a kick;
+//  * momentum drift: max_t |P_t − P_0| / Σ m |v_0| (meaningful without walls and gravity);
 //  * solver statuses per step with rows, median sweeps and the worst natural-map residual.
 #include <cstdint>
 #include <optional>
@@ -164,8 +157,8 @@ struct Scenario {
   double energy_tol = 0;           ///< energy growth must be ≤ this [J]
   bool check_momentum = false;     ///< drift must be ≤ 1e-9 · momentum scale
   /// Broad-phase scaling row: compare collide_min_ms against the row `linear_ref` (index
-  /// into the scenario list, −1 = none) and require ≤ 2 × (count ratio) (docs/robustness.md:
-  /// 2.5k → 10k bodies crosses the L1-TLB/L2 size on this machine and costs ~6.5× for 4×).
+  /// into the scenario list, −1 = none) and require ≤ 2 × (count ratio): the factor 2 leaves room for
+  /// cache and TLB effects at large body counts (docs/robustness.md).
   int linear_ref = -1;
 };
 

@@ -1,34 +1,16 @@
 #pragma once
 // The learned warm starters (docs/design.md §4–5; docs/learning.md "The cnn warm starter"):
-//
-//   cnn         body state + this step's contacts → feature image (FeatureImageBuilder, the
-//               data set's builder and settings) → Model::predict → label grid (λ_n, λ_t
-//               Shepard numerators) → SphTransfer::gather at the contact points (Shepard:
-//               divided by the interpolated kernel-weight field of the points) → projected
-//               into the bounds. Exactly the `sph` starter's read-back, with the predicted
-//               grid in place of the oracle's splat. A RESIDUAL model (ModelGrid::labels, labels.hpp;
-//               model.hpp) predicts the splat of λ* − λ_prev from features that include the
-//               builtin guess (lambda_prev_n/t): then λ⁰ = λ_prev (by key, 0 if new) + the
-//               read-back soft-thresholded by the model's correction_deadzone τ
-//               (sign(δ)·max(|δ| − τ, 0)), projected — builtin plus a learned correction.
-//   cnn-hybrid  builtin (the previous step's λ by key) for persistent contacts, the cnn
-//               prediction for contacts that are new this step; steps without new contacts
-//               skip the network altogether. A non-oracle starter.
-//
-// Model selection (cnn_starter_options.hpp): `cnn:PATH` / `cnn-hybrid:PATH`, else
-// WarmStartEnv::model_path, else the default passed to add_cnn_warm_starters (the CLI passes
-// dc::data_path("models/default.h5"), the shipped model). A missing or unreadable model is an
-// IoError when the starter is made.
-//
-// The model file stores the grid (d, h, kernel, nx, ny) and the feature channel names it was
-// trained on; the starter rebuilds the feature image with exactly those, on the scene's box.
-// When that box gives another node count than the training grid, the (fully convolutional)
-// network is re-targeted to the scene's nx × ny with the same weights (Network::set_input_size):
-// one model runs on any box size. A network that cannot (a dense layer, an explicit upsample
-// size) is refused with a ConfigError naming the model's and the scene's grid.
-//
-// Cost: initial_guess() is the whole cost the bench times (feature image + inference +
-// gather); last_timing() splits the last call, total_timing() sums all calls.
+//   cnn         feature image of this step (the model's grid and channels, on the scene's box)
+//               → Model::predict → label grid → Shepard read-back at the contact points
+//               (SphTransfer::gather, the `sph` starter's read-back) → projected into the
+//               bounds. A residual model (labels.hpp) gives λ⁰ = λ_prev (by key, 0 if new) +
+//               the read-back soft-thresholded by its correction_deadzone τ, projected.
+//   cnn-hybrid  builtin (the previous step's λ by key) for persistent contacts, cnn for the
+//               new ones; steps without new contacts skip the network. A non-oracle starter.
+// Model: `cnn:PATH`, else WarmStartEnv::model_path, else the default given to
+// add_cnn_warm_starters; a missing or unreadable model is an IoError when the starter is made.
+// A fully convolutional network is re-targeted to the scene's node count with the same
+// weights (Network::set_input_size); one that cannot is refused with a ConfigError.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -57,8 +39,8 @@ class CnnWarmStarter final : public WarmStarter {
  public:
   /// `name` is the full starter name ("cnn", "cnn:PATH", "cnn-hybrid"). `inference_threads`
   /// bounds the OpenMP threads of predict() (set around the call and restored): a batch-1
-  /// pass of the small U-Net is ~20 fork–joins of < 1 ms each, which one thread runs
-  /// fastest on a loaded machine (docs/learning.md "Speed").
+  /// pass is a chain of short fork–joins, which one thread runs fastest on a loaded machine
+  /// (docs/learning.md "Speed").
   CnnWarmStarter(Model model, std::string name, bool hybrid, int inference_threads = 1);
   /// load_model(path) (IoError with the path) then the constructor above.
   static std::unique_ptr<CnnWarmStarter> load(const std::filesystem::path& path, std::string name, bool hybrid,

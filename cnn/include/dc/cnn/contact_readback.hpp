@@ -1,22 +1,13 @@
 #pragma once
 // ContactReadback: the read-back of a model's two-channel output grid G at a step's contact
-// points, as an explicit linear map v = R G with its adjoint Ḡ += Rᵀ v̄, for training through
+// points as an explicit linear map v = R G with its adjoint Ḡ += Rᵀ v̄, for training through
 // the solver (pgs_trainer.hpp) and for the cnn starter. Two kinds (labels.hpp LabelKind):
-//
-//   Shepard (absolute and residual models; what the cnn starter does with SphTransfer::gather):
-//       v_k,c = bilinear(G_c)(q_k) / bilinear(S)(q_k)        (0 where q_k has no kernel support)
-//     S is the kernel-weight field of the points themselves (positions only, never G).
-//
-//   Gain (gain models, sph_gain_warm_starter.cpp's oracle with a predicted gain field):
-//       v_k,c = λp_k,c · bilinear(D_c ⊙ G_c)(q_k) / bilinear(D_c)(q_k)    (0 where bilinear(D_c) = 0)
-//     with D_c = Σ_k W(|x − q_k|) λp_k,c² the splat of the builtin guess's squares: G_c is a gain
-//     field and v the correction λp·ĝ it makes — the load-weighted average of the node gains
-//     around q_k, times the contact's own λ_prev. For G = N/D (N = Σ W δ λp) this is exactly
-//     sph-gain's read-back. D depends on λ_prev only (known before the solve), so v is linear in G.
-//
-// Shepard evaluates SphGrid::apply's expression (bit-equal to SphTransfer::gather); Gain stores
-// four coefficients per point and channel. Tested against SphTransfer::gather and the sph-gain
-// oracle, adjoint against forward.
+//   Shepard: v_k,c = bilinear(G_c)(q_k) / bilinear(S)(q_k) (0 without kernel support), S the
+//            kernel-weight field of the points alone; bit-equal to SphTransfer::gather.
+//   Gain:    v_k,c = λp_k,c · bilinear(D_c ⊙ G_c)(q_k) / bilinear(D_c)(q_k) (0 where
+//            bilinear(D_c) = 0), D_c = Σ_k W(|x − q_k|) λp_k,c² the splat of the builtin guess's
+//            squares: G is a gain field; for G = N/D this is sph-gain's read-back. D depends on
+//            λ_prev only (known ahead of the solve), so v is linear in G.
 #include <array>
 #include <span>
 #include <vector>

@@ -1,24 +1,15 @@
 #pragma once
-// The training data set of the CNN (docs/design.md §4–5; layout in docs/formats.md "Data set"): one
-// HDF5 file holding, for every step with contacts of M seeded simulations, the feature
-// image (body state → grid), the label image (oracle λ* → grid), and the raw body state and
-// contacts (with λ*) behind them, so a trainer can also measure the λ error at the contacts.
-//
-// Three pieces, each in its own source file:
-//   SimulationGenerator (data_generator.cpp)   runs simulation i of a data set → SimulationRecord
-//   DataSetWriter       (data_set_writer.cpp)  appends records in simulation order; resumable
-//   DataSetReader       (data_set_reader.cpp)  opens, validates, and loads samples/simulations
-// and generate_data_set (data_set_generation.hpp) runs the first two over a whole data set:
-// parallel simulations, in-order writing, resume.
-//
-// DataSetWriter writes the single-file layout (format_version 1) by appending in place: it
-// appends a simulation's sample, body and contact rows, then its /sims row — /sims/seed last
-// of all, the commit mark — and flushes. The number of completed simulations is the length
-// of /sims/seed; every other dataset may hold extra rows of an interrupted append, which
-// resume() and the reader ignore. That survives SIGINT-style stops between appends, but not a
-// SIGKILL inside one (libhdf5 updates its metadata in place), so `generate` does not use it:
-// generate_data_set writes one complete file per simulation (a shard) and a manifest read by
-// DataSetReader like a single file (data_set_generation.hpp, docs/formats.md).
+// The training data set of the CNN (docs/design.md §4–5; layout in docs/formats.md "Data
+// set"): for every step with contacts of M seeded simulations, the feature image, the label
+// image (oracle λ* → grid), and the raw body state and contacts (with λ*) behind them.
+// SimulationGenerator (data_generator.cpp) runs simulation i → SimulationRecord;
+// DataSetWriter (data_set_writer.cpp) appends records in simulation order; DataSetReader
+// (data_set_reader.cpp) opens, validates and loads; generate_data_set
+// (data_set_generation.hpp) runs the first two over a whole data set.
+// DataSetWriter's single-file layout (format_version 1) appends in place, /sims/seed last as
+// the commit mark: the completed simulations are the length of /sims/seed and extra rows of an
+// interrupted append are ignored. It survives stops between appends, not a SIGKILL inside one
+// (libhdf5 updates metadata in place), so `generate` writes shards instead.
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -42,12 +33,12 @@ inline constexpr int kDataSetFormatVersion = 1;
 /// The method that computes λ* (stored as the root attribute `oracle_method`).
 enum class OracleKind {
   /// Matrix-free PGS from the builtin warm start (previous step's λ by key) until θ ≤
-  /// tolerance or `sweeps` sweeps — ≈ 7 ms per step of the seed scene, worst natural-map
-  /// residual ≈ 5e-5 N. The default.
+  /// tolerance or `sweeps` sweeps. The default: within the data-generation budget
+  /// (docs/design.md §6).
   Pgs,
   /// solve_oracle (minimum-map Newton, then a PGS polish when needed) from the builtin warm
-  /// start — residual ≈ 2e-7 N but ≈ 35 ms per step, too slow for data generation, whose
-  /// budget is ~10 ms of CPU per step (docs/design.md §6).
+  /// start — a smaller residual than Pgs at a cost beyond the data-generation budget
+  /// (docs/design.md §6).
   Newton,
 };
 /// "pgs" / "newton".

@@ -1,24 +1,14 @@
 #pragma once
-// A whole data set in one call (`deepcontact generate`; layout in docs/formats.md "Data
-// set"): M simulations of a seed family run in parallel, each committed as its own shard
-// file, resumable after any kill.
-//
-// Commit protocol (no kill can break it): simulation i is built in memory as a complete
-// one-simulation file and written as OUT.shards/RUN/sim-i.h5 through a temporary name, fsync
-// and rename, so a shard under its final name is always complete and nothing that was
-// reported committed (on_committed) is ever touched again. While the run is incomplete,
-// OUT.partial names RUN. When all M shards exist, the manifest OUT (the single-file layout's
-// datasets, the bulk ones as virtual datasets over the shards) is written the same way,
-// OUT.partial is removed and so are the shards of a data set that OUT replaced (--force).
-// `resume` discards the incomplete tail (the `.tmp` of shards being written when the run
-// stopped) and computes only the missing simulations. OUT.lock (dc::OutputLock) keeps a
-// second run off the same OUT.
-//
-// Threads: simulations run on OpenMP worker threads; each is a pure function of its index
-// (SimulationGenerator), and each worker writes the shard of the simulation it ran, so every
-// shard — and the manifest — is the same for any thread or process count. Memory: one
-// simulation per worker. When `keep_going` returns false (SIGINT, SIGTERM) the workers drop
-// their unfinished simulations and generate_data_set returns with finished = false.
+// A whole data set in one call (`deepcontact generate`; layout and commit protocol in
+// docs/formats.md "Sharded layout", "Interruption and resume"): M simulations of a seed family
+// run in parallel, each committed as its own shard OUT.shards/RUN/sim-i.h5 (atomic write), then
+// the manifest OUT. A shard under its final name is complete and nothing reported committed
+// (on_committed) is touched again; OUT.partial names RUN while the run is incomplete; `resume`
+// discards the `.tmp` tail and computes only the missing simulations; OUT.lock keeps a second
+// run off OUT. Each simulation is a pure function of its index and each worker writes the
+// shard it ran, so every shard and the manifest are the same for any thread or process count.
+// Memory: one simulation per worker. When `keep_going` returns false the workers drop their
+// unfinished simulations and generate_data_set returns with finished = false.
 #include <cstdint>
 #include <functional>
 #include <string>

@@ -1,20 +1,11 @@
 #pragma once
 // The files of a training run (`deepcontact train`, docs/learning.md "Training"): OUT, the
-// best model with its /training provenance, and the checkpoint OUT.ckpt, a
-// model file (model_file.hpp) holding the latest weights plus the group /train_state:
-//
-//   /train_state                  attrs epochs_done (int32), rng_type (string),
-//                                       momentum_buffers (int32), run_<key> (string) for every
-//                                       key of the run identity
-//   /train_state/rng_state        uint8 [bytes]   raw state of the run's random stream
-//   /train_state/validation_simulations  int32 [V]
-//   /train_state/history          float64 [epochs, 4]: train loss, validation loss, lr, seconds
-//   /train_state/momentum/<i>     float32 [size of parameter i]   SGD momentum buffers
-//
-// A run resumes only from a checkpoint of the same run: same data, architecture and every
-// option that changes the result (the run identity; not the thread count, which changes only
-// the last bits). With the same threads, the resumed run is bit-identical to an uninterrupted
-// one (trainer.hpp, TrainState).
+// best model with its /training provenance, and the checkpoint OUT.ckpt, a model file
+// (model_file.hpp) holding the latest weights plus the group /train_state (epochs_done, the
+// run's random stream, validation simulations, loss history, momentum buffers; layout in
+// docs/learning.md "Training checkpoints"). A run resumes only from a checkpoint of the same
+// run identity (same data, architecture and every result-changing option; not the thread
+// count). With the same threads the resumed run is bit-identical to an uninterrupted one.
 #include <filesystem>
 #include <string>
 #include <utility>

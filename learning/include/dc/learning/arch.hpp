@@ -1,26 +1,13 @@
 #pragma once
 // Architecture description: the text form of a Network, stored verbatim in model files and
-// accepted by `train --arch FILE`.
-//
-// Format (TOML). A file is a name plus an ordered array of [[layer]] tables; each layer is
-// one graph node and may only read nodes defined before it:
-//
-//   name = "unet61"                 # free text
-//   [[layer]]
-//   name   = "e1"                   # unique; default "layer<i>"; "input" is the net input
-//   type   = "conv"                 # conv | relu | dropout | dense | upsample
-//   input  = "input"                # node name, or a list → concatenated along channels;
-//                                   # default: the previous layer (the input for the first)
-//   out    = 16                     # conv: output channels (input channels are inferred)
-//   kernel = 3                      # conv: odd kernel size            (default 3)
-//   stride = 1                      # conv: stride                     (default 1)
-//   relu   = true                   # conv/dense: fused ReLU           (default false)
-//   # dropout: rate = 0.1
-//   # dense:   out = 64  or  out = [2, 61, 61]  (output sample shape C, H, W)
-//   # upsample: match = "e1" (take H×W of that node) or size = [61, 61]; default 2H×2W
-//
-// The last layer is the network output. Shapes are resolved when a Network is built for
-// a concrete input (C, H, W), so one arch serves 4–7 input channels and any grid size.
+// accepted by `train --arch FILE`. TOML: a `name` plus an ordered array of [[layer]] tables
+// (name, type = conv | relu | dropout | dense | upsample, input = node or list → channel concat,
+// default the previous layer; conv: out, kernel (odd, 3), stride (1), relu; dropout: rate;
+// dense: out = N or [C, H, W]; upsample: match = "node" or size = [H, W], default 2H×2W).
+// Each layer is one graph node and may only read nodes defined earlier in the file; the last
+// is the network output. Shapes are resolved when a Network is built for a concrete input
+// (C, H, W), so one arch serves any channel count and grid size (docs/learning.md "Networks
+// and the arch format").
 #include <array>
 #include <filesystem>
 #include <string>
@@ -64,9 +51,9 @@ struct ArchSpec {
 ///   u1 upsample(match e1) → d1 conv([u1,e1])→16 relu → out conv→out_channels (linear)
 ArchSpec default_arch(int out_channels = 2, double dropout = 0.1);
 
-/// The seed's dense-head network: conv→32 s2 relu, conv→32 s2 relu, dropout, dense to
-/// [out_channels, out_h, out_w]. For 61×61 that is 32·16·16 = 8192 → 7442 outputs,
-/// ≈ 61 M weights (the thesis' net had 64.5 M; its exact layer list is not recorded).
+/// The dense-head network ("seed-dense"): conv→32 s2 relu, conv→32 s2 relu, dropout, dense to
+/// [out_channels, out_h, out_w]. For 61 × 61 that is 32·16·16 = 8192 → 7442 outputs,
+/// ≈ 61 M weights.
 ArchSpec seed_dense_arch(int out_channels = 2, int out_h = 61, int out_w = 61, double dropout = 0.1);
 
 /// True for the names of the built-in architectures: "" and "default" (default_arch),

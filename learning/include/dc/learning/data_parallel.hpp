@@ -1,22 +1,15 @@
 #pragma once
-// Data-parallel SGD across processes (docs/cluster.md): the Trainer's hook for summing minibatch
-// gradients over processes, without any MPI here (apps/deepcontact/cluster/mpi_train.cpp implements it with
-// MPI_Allreduce).
-//
-// With a group of K > 1 processes, every process holds the whole data set, the same
-// weights and the same random stream. Each minibatch of b samples is split into K contiguous
-// shards ([b·r/K, b·(r+1)/K) for process r); a process runs forward and backward on its
-// shard only — the dropout layers draw the masks of the whole batch and keep the shard's
-// (Dropout::set_batch_window), so the random stream stays the one-process stream — and the
-// group sums (den_r · ∇_r, num_r, den_r) over processes, den_r being the shard's MSE
-// denominator: ∇ = Σ den_r ∇_r / Σ den_r is the whole batch's gradient and the same on every
-// process, so every process takes the same SGD step. The validation loss is computed
-// by every process on the whole validation split (identical everywhere).
-//
-// What differs from one process: the batch's gradient is summed in another grouping (per
-// shard in float, then across shards in double), so weights and losses agree with the
-// one-process run to rounding, not bit for bit; for a fixed K and thread count a run is
-// deterministic. K = 1 (no group) is the one-process code path exactly.
+// Data-parallel SGD across processes (docs/learning.md "Threads and determinism",
+// docs/cluster.md): the Trainer's hook for summing minibatch gradients over processes, without
+// MPI here (apps/deepcontact/cluster/mpi_train.cpp implements it with MPI_Allreduce).
+// K > 1 processes hold the whole data set, the same weights and the same random stream; process
+// r runs the contiguous shard [b·r/K, b·(r+1)/K) of each minibatch (Dropout::set_batch_window
+// draws the whole batch's masks and keeps the shard's), and the group sums (den_r·∇_r, num_r,
+// den_r), den_r the shard's MSE denominator, so ∇ = Σ den_r ∇_r / Σ den_r is the whole batch's
+// gradient on every process. The validation loss is computed on the whole split everywhere.
+// Summation grouping differs from one process (per shard in float, across shards in double):
+// weights agree with the one-process run to rounding; for fixed K and thread count a run is
+// deterministic. K = 1 is the one-process code path exactly.
 #include <span>
 
 namespace dc {

@@ -1,40 +1,15 @@
 #pragma once
 // InferencePlan: a compiled, forward-only evaluation of a Network for one sample on one
-// thread — what the cnn warm starter runs every step.
-//
-// Network::forward pays a fixed cost per node whatever its size (≈ 5–8 µs on the shipped
-// 13-node U-Net: packing the weights, the channel concatenation, the upsampling, the padded
-// copy of the input, an OpenMP region, buffer checks), and the input standardisation is one
-// more pass over the feature image. The plan removes all of it:
-//   * weights packed once, at compile time, for the direct convolution kernels;
-//   * every buffer (node outputs, one padded-row buffer, the head's block) allocated once;
-//   * each conv's input gathered straight into the kernel's zero-padded rows from its
-//     sources: the channel concatenation, the nearest 2× upsampling and the input
-//     standardisation z = (v − mean_c)·(1/std_c) happen inside that one copy (no concat,
-//     upsample or standardised-input tensor exists);
-//   * conv + bias + ReLU fused in the kernel (as in Conv2d), no OpenMP region;
-//   * the last node, if a 1×1 stride-1 conv, evaluated only in the rows of the requested
-//     pixels, over the span of columns that holds them;
-//   * convs evaluated only at the output rows that the requested pixels depend on (demand,
-//     propagated backwards from the head's pixels; a flat-layout conv over one run of rows
-//     from the first to the last one needed), and a rows-layout one not even there when the
-//     row is a *template row*: all the rows it reads are template rows of its sources (for
-//     the input: rows whose raw features are all +0, the empty part of the box), so that its
-//     values are those of the template row computed once, at compile time, from an all-zero
-//     input (inference_rows.cpp). Exact: the skipped rows' values are either not read or the
-//     same bits.
-// The float operations per output element are those of Model::network_output_at
-// (standardise, Network::forward_at): the same bits, tested on the shipped model.
-//
-// Fused when the build has the AVX-512 direct kernels and the graph is conv and upsample
-// nodes only (every upsample read by convs alone, from the input or a conv), the last node
-// a conv, every conv's output at most 64 wide, stride 1 or (3×3) stride 2 — the shipped
-// unet-fast and its relatives. Otherwise run() is the unfused path (standardise a copy,
-// Network::forward_at), with the same results.
-//
-// Rebuild a plan after changing the network's weights, the statistics or the input size: a
-// fused plan is a snapshot (it copies the weights, biases and statistics when built), the
-// unfused one runs the network as it is. `net` must outlive the plan.
+// thread — what the cnn warm starter runs every step. Weights packed and buffers allocated
+// once; each conv's input gathered into the direct kernel's padded rows with concatenation,
+// upsampling and standardisation folded in; convs evaluated only at the output rows the
+// requested pixels depend on, template rows copied (docs/learning.md "The fused inference plan").
+// Contract: the float operations per output element are those of Model::network_output_at
+// (same bits). Fused when the build has the AVX-512 direct kernels and the graph is conv and
+// upsample nodes (last node a conv, outputs ≤ 64 wide, stride 1 or 3 × 3 stride 2); otherwise
+// run() standardises a copy and calls Network::forward_at, with the same results.
+// Rebuild a plan after changing the network's weights, the statistics or the input size (a
+// fused plan copies them when built). `net` must outlive the plan.
 #include <span>
 #include <string>
 #include <utility>
@@ -116,7 +91,7 @@ class InferencePlan {
     int node = 0;                 ///< network node index
     int cin = 0, cout = 0, k = 1, stride = 1;
     bool relu = false;
-    bool sparse = false;          ///< the 1×1 head, at the listed pixels only
+    bool sparse = false;          ///< the 1 × 1 head, at the listed pixels only
     int h = 0, w = 0, ho = 0, wo = 0;  ///< (virtual) input and output size
     int pad_top = 0, pad_left = 0;
     bool flat = false;            ///< direct_flat (small outputs) instead of direct_tile

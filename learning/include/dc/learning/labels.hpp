@@ -1,19 +1,11 @@
 #pragma once
 // What a model's label grid is (docs/learning.md "Residual models", "Label scale"): one
-// definition used in both directions —
-//
-//   training (`deepcontact train`, training_labels):
-//       data-set label L (Shepard numerators of λ*, feature_image.hpp)
-//         ── residual: L − (lambda_prev_n, lambda_prev_t) feature channels (the splat of λ* − λ_prev)
-//         ── asinh compression: y = asinh(L / s)            (s = LabelDef::scale > 0)
-//         ──▶ the network's target (then standardised by the model's output stats)
-//
-//   read-back (Model::predict + the cnn starter, cnn_warm_starter.cpp):
-//       network output ── s·sinh(y) (expand_labels) ──▶ label grid ── SPH gather at the contacts ──▶ δ
-//         ── residual: soft threshold δ ← sign(δ)·max(|δ| − τ, 0) (apply_deadzone, τ = LabelDef::deadzone)
-//                      then λ⁰ = λ_prev (by key) + δ
-//         ── absolute: λ⁰ = δ
-//         ──▶ projected into the bounds.
+// definition used in both directions.
+//   training:  label L (Shepard numerators of λ*) ── residual: L − lambda_prev channels
+//              ── asinh(L / s) (s = LabelDef::scale > 0) ──▶ the network's target
+//   read-back: output ── s·sinh(y) (expand_labels) ──▶ label grid ── SPH gather ──▶ δ
+//              ── residual: δ ← sign(δ)·max(|δ| − τ, 0) (τ = LabelDef::deadzone),
+//                 λ⁰ = λ_prev (by key) + δ;  absolute: λ⁰ = δ  ──▶ projected into the bounds.
 #include <span>
 #include <string_view>
 #include <utility>
@@ -50,8 +42,8 @@ struct LabelDef {
   double scale = 0.0;
   /// Residual models: soft threshold τ ≥ 0 [N] on the read-back correction of every row,
   /// δ ← sign(δ)·max(|δ| − τ, 0), before it is added to λ_prev. A correction within the
-  /// network's noise level leaves builtin's value alone: on a settled pile builtin is exact
-  /// and a 1–2 % correction noise would cost it ~50 sweeps (docs/learning.md). 0 = off.
+  /// network's noise level leaves builtin's value alone: where builtin is already exact a small
+  /// noisy correction costs PGS sweeps (docs/learning.md "Residual models"). 0 = off.
   /// (File attribute correction_deadzone.)
   double deadzone = 0.0;
   /// ConfigError naming the field: scale or deadzone negative or not finite.

@@ -16,11 +16,11 @@ namespace dc {
 /// The grid a model was trained on (docs/design.md §4) and what its input and output mean:
 /// the feature image it reads (kernel, node spacing, support, channels), its output channel
 /// names and the label definition. The default is a valid model grid: the data set's
-/// default feature image on the seed's 30 × 30 box (61 × 61 nodes), absolute labels.
+/// default feature image on a 30 × 30 box (61 × 61 nodes), absolute labels.
 struct ModelGrid {
   /// The feature image of the training data: image.sph.kernel, image.sph.grid.spacing (d),
   /// image.sph.support (h), image.channels, on the training box image.sph.grid.width/height.
-  /// The cnn starter rebuilds it on the scene's box and requires the same node counts.
+  /// A user rebuilds it on its own box and requires the same node counts.
   /// A loaded model's box is (nx − 1)·d × (ny − 1)·d: the file stores node counts only.
   FeatureImageDef image = FeatureImageDef::for_box(30.0, 30.0);
   /// Output channel names, in order ("lambda_n", "lambda_t" for a warm-start model; an empty

@@ -1,23 +1,13 @@
 #pragma once
-// Model files (HDF5, via dc::H5File). Layout, format version 2 (version 1 files, which lack
-// /grid label_kind, still load as "absolute" models):
-//
-//   /                      attrs  format = "deepcontact-cnn-model", format_version = 2 (int32),
-//                                 input_shape = [C_in, ny, nx], output_shape = [C_out, ny, nx] (int32)
-//   /arch                  string dataset: the ArchSpec TOML text (arch.hpp)
-//   /weights/<node>/<p>    float32, shape of the parameter tensor: conv weight [Cout, Cin, k, k],
-//                          conv bias [1, Cout, 1, 1], dense weight [O, D, 1, 1], bias [1, O, 1, 1]
-//   /normalisation/{input_mean,input_std,output_mean,output_std}   float32 [C]
-//   /grid                  group attrs d, h (float64), kernel (string), nx, ny (int32),
-//                          label_kind (string, "absolute" | "residual"), label_scale (float64,
-//                          asinh compression of the labels, 0 = none), correction_deadzone
-//                          (float64 [N], residual models' soft threshold) — version ≥ 2;
-//   /grid/feature_channels, /grid/label_channels   1-D string datasets
-//
-// In memory the grid is typed (ModelGrid: FeatureImageDef, LabelDef); load_model parses the
-// stored names and rejects an unknown kernel, feature channel or label kind (IoError).
-//
-// save_model writes "<path>.tmp" and renames it onto <path> when complete.
+// Model files (HDF5, via dc::H5File), format version 2: root attributes format =
+// "deepcontact-cnn-model", format_version, input_shape, output_shape; /arch (the ArchSpec TOML
+// text); /weights/<node>/<param> (float32, the parameter tensor's shape);
+// /normalisation/{input,output}_{mean,std}; /grid attributes d, h, kernel, nx, ny, label_kind,
+// label_scale, correction_deadzone; /grid/feature_channels, /grid/label_channels. Version-1
+// files (without the three label attributes) load as absolute models. Field types and units:
+// docs/learning.md "Model files". load_model parses the stored names into a typed ModelGrid
+// and rejects an unknown kernel, feature channel or label kind (IoError). save_model writes
+// "<path>.tmp" and renames it onto <path> when complete.
 #include <filesystem>
 #include <functional>
 

@@ -37,7 +37,7 @@ class Network {
   /// in each node (its concatenation included; a one-thread figure), resized to size().
   const Tensor& forward(const Tensor& x, bool training, std::vector<double>* node_ms = nullptr);
   /// Inference of one sample [1, C, H, W] at selected output pixels only (indices y·W + x of
-  /// the output plane; the cnn starter reads ~500 of 61·61). When the last node is a 1×1,
+  /// the output plane; the cnn starter reads the contacts' stencil nodes). When the last node is a 1 × 1,
   /// stride-1 conv, it and the nearest upsamplings read by it alone are evaluated at
   /// `pixels` only (a "per-node head" at full resolution costs no full-resolution buffers);
   /// every other node runs as in forward(). Otherwise this is forward(). `out` is resized to

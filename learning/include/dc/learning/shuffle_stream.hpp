@@ -1,25 +1,13 @@
 #pragma once
 // The training split as a stream of shuffled, standardised samples with bounded memory
-// (docs/learning.md "Training", docs/robustness.md "Memory of train").
-//
-// Two regimes, chosen by the split's size n against the buffer bound B (samples):
-//
-//  * n ≤ B ("whole"): the split is read once, standardised and kept; each epoch visits it in
-//    a Fisher–Yates permutation of all n samples (n − 1 draws of the run's stream). This is the
-//    order the Trainer always used, so small data sets train bit-identically to before.
-//  * n > B ("buffered"): the split is cut into read blocks of L consecutive samples (one run
-//    of rows each: chunked, mostly sequential file reads). Each epoch draws a Fisher–Yates
-//    permutation of the blocks (⌈n/L⌉ − 1 draws), then streams: whenever a whole block fits
-//    into the buffer (≤ B samples resident) the next block of the permutation is read; the
-//    next sample of the epoch is a uniform draw among the resident ones (one draw per sample),
-//    which leaves the buffer. Every sample is visited exactly once per epoch; at most B are
-//    held; a sample's position in the epoch is random within about B samples of its block's
-//    place in the block permutation (the tf.data shuffle buffer, fed by shuffled blocks).
-//
-// The epoch's whole plan (its order and when each block is read) is drawn from the run's stream
-// when the epoch starts, before any dropout mask: the draws are a function of (n, B, L) and
-// the stream only, the same on every process of a data-parallel group, and a resumed run
-// continues them exactly.
+// (docs/learning.md "Sample order and memory", docs/robustness.md "Memory of train").
+// n ≤ B (buffer bound, samples): the split is read once and kept; each epoch is a
+// Fisher–Yates permutation of all n (n − 1 draws). n > B: read blocks of L consecutive samples
+// in a Fisher–Yates block order, each next sample a uniform draw among the ≤ B resident ones
+// (the tf.data shuffle buffer fed by shuffled blocks). Every sample is visited exactly once per
+// epoch. The epoch's whole plan is drawn from the run's stream when the epoch starts, ahead of
+// any dropout mask: a function of (n, B, L) and the stream only, the same on every process of
+// a data-parallel group, and a resumed run continues it exactly.
 #include <cstddef>
 #include <vector>
 

@@ -1,20 +1,14 @@
 #pragma once
 // Trainer: minibatch SGD over a data set read a few samples at a time (sample_source.hpp).
-//
-// Per run:  split the samples by simulation id into training and validation (so correlated
-// frames of one simulation never straddle the split, docs/design.md §4), compute the channel
-// standardisation from the training split only (one streaming pass), (re)initialise the
-// weights, then for each epoch visit the training samples in a shuffled order
-// (shuffle_stream.hpp: a Fisher–Yates permutation when the split fits the shuffle buffer, a
-// buffered block shuffle with at most TrainDef::shuffle_buffer samples in memory otherwise),
-// run minibatches of forward → weighted MSE (in standardised label units) → backward →
-// optimiser step, and evaluate the validation loss in inference mode (read in data order).
-//
-// Determinism: one dc::Rng seeded from TrainDef::seed drives the split, the initial
-// weights, the shuffles and the dropout masks, in that order; all reductions have a fixed
-// order for a fixed OpenMP thread count. Two runs with the same seed, thread count and
-// shuffle buffer give bit-identical weights and loss histories; the buffer matters only when
-// the training split is larger than it.
+// Per run: split the samples by simulation id into training and validation (correlated
+// frames of one simulation never straddle the split, docs/design.md §4), standardise the
+// channels from the training split only, (re)initialise the weights, then per epoch visit the
+// training samples in shuffle_stream.hpp's order with minibatches of forward → weighted MSE (in
+// standardised label units) → backward → optimiser step, and evaluate the validation loss in
+// inference mode (data order). Determinism: one dc::Rng seeded from TrainDef::seed drives the
+// split, the initial weights, the shuffles and the dropout masks, in that order; reductions
+// have a fixed order for a fixed OpenMP thread count, so the same seed, thread count and
+// shuffle buffer give bit-identical weights and losses.
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -27,10 +21,10 @@
 
 namespace dc {
 
-/// Defaults are the seed's hyper-parameters where it had them (lr 5e-3, validation 0.2).
+/// Training hyper-parameters; the defaults are those of `deepcontact train`.
 struct TrainDef {
   int epochs = 100;
-  int batch_size = 32;                 ///< the seed used 200; 32 trains faster per epoch on 2 cores
+  int batch_size = 32;                 ///< samples per minibatch
   double learning_rate = 5e-3;
   std::string schedule = "constant";   ///< constant | step | cosine (lr_schedule.hpp)
   double momentum = 0.9;
@@ -40,7 +34,7 @@ struct TrainDef {
   bool initialize = true;              ///< false: continue from the model's current weights
   std::uint64_t seed = 1;
   /// Training samples held in memory at most (shuffle_stream.hpp). A training split of at most
-  /// this many samples is kept whole and visited in a Fisher–Yates order (as always); a larger
+  /// this many samples is kept whole and visited in a Fisher–Yates order; a larger
   /// one is streamed through a shuffle buffer of this size, which changes the visiting order.
   /// 2048 samples ≈ 210 MB at the default 61 × 61 grid with 5 feature and 2 label channels.
   std::size_t shuffle_buffer = 2048;

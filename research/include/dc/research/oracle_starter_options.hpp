@@ -1,18 +1,13 @@
 #pragma once
-// The options of dc_research's starters that take an argument, one struct each, and the one
-// place their command-line forms are parsed, on dc_warmstart's StarterArgument (the same
-// one-line ConfigError "warm starter 'SPEC': expected …" as the methods' options). A factory
-// calls its parser and builds the starter from the struct; docs/bench.md "Starters and their
-// arguments" lists the same forms.
-//
+// The options of dc_research's starters that take an argument, one struct each, parsed in one
+// place on dc_warmstart's StarterArgument (same one-line ConfigError as the methods' options;
+// the forms are listed in docs/bench.md "Starters and their arguments"):
 //   copy[:D]                              CopyStarterOptions     parse_copy_options
 //   copy-noise:R                          CopyNoiseOptions       parse_copy_noise_options
 //   copy-active[:F|:normal|:friction]     CopyActiveOptions      parse_copy_active_options
 //   random[:SEED]                         RandomStarterOptions   parse_random_options
-// and, shared with dc_warmstart's starters (starter_options.hpp):
-//   copy-active-cg[:ITER]                 CglsStarterOptions     parse_cgls_options
-//   sph, sph-residual, sph-gain,          SphTransferDef         parse_sph_options
-//   sph-gain-add [:KERNEL:D:H[:NORM]]
+// shared with dc_warmstart (starter_options.hpp): copy-active-cg[:ITER] (parse_cgls_options),
+// sph, sph-residual, sph-gain, sph-gain-add [:KERNEL:D:H[:NORM]] (parse_sph_options).
 // copy-range and bad take no argument (reject_argument).
 #include <cstdint>
 #include <optional>

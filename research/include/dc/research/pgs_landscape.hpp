@@ -1,30 +1,12 @@
 #pragma once
 // PgsLandscape: how the solver-unrolled objective J_K of one sample (pgs_trainer.hpp) behaves
-// on lines through builtin's start G = 0, for several horizons K — the diagnostic of why
-// long horizons do not train (docs/research.md "Why long horizons do not train").
-//
-// For each horizon K, at G = 0 (builtin, J_K = 0 exactly):
-//   g_K = dJ_K/dG               the reverse-mode gradient the trainer follows (2·ny·nx entries),
-//   d_K = −g_K / rms(g_K)        steepest descent scaled to RMS 1 per grid entry,
-//   slope_K = g_K·d_K = −‖g_K‖·√n   what the gradient predicts: J_K(ε d_K) ≈ slope_K·ε,
-//   J_K(ε d_K) for ε in `steps`  the line a gradient step moves along,
-//   J_K(ε d_1)                   along the SHORTEST horizon's descent direction (is the
-//                                direction that K_1 sweeps reward still downhill after K?),
-//   J_K(t G*) for t in `path`    along the straight path to G*, the least-squares grid field
-//                                of the exact correction (below): is the way to a good
-//                                field downhill for the objective at K?
-//   cos(g_K, g_1), cos(−g_K, G*) does the gradient at K point where the short horizon's does,
-//                                and towards the good field?
-// G* = argmin ‖R G − δ‖₂ with R the sample's read-back (ContactReadback: Shepard or gain) and
-// δ = (λ* − λ_prev) per contact pair, by CGLS from G = 0 (`cgls_iterations` iterations:
-// early stopping is the regularisation; the nodes no contact sees stay 0). It is the best
-// field of the model's own output space in the least-squares sense, i.e. what a perfect
-// network of this parametrisation would be trained towards by a regression loss.
-//
-// Where the unrolled map is smooth at the scale of a step, J(ε d)/ε stays near the slope up
-// to the ε a step takes; where PGS's piecewise-linear pieces (one per active set of the K
-// sweeps) are small at that scale, J(ε d) is not predicted by the gradient beyond a tiny ε,
-// and a gradient method cannot follow the objective.
+// on lines through builtin's start G = 0 for several horizons K — the diagnostic of why long
+// horizons do not train (docs/research.md "Why long horizons do not train"). Per K: the
+// gradient g_K, the RMS-1 descent direction d_K, the predicted slope, J_K along d_K, along the
+// shortest horizon's d_1 and along the straight path to G*, and the cosines between them
+// (docs/learning.md "The objective's landscape"). G* = argmin ‖R G − δ‖₂ (R the read-back,
+// δ = λ* − λ_prev per contact) by CGLS from G = 0, early stopping as the regularisation: the
+// field a perfect network would be regressed towards.
 #include <vector>
 
 #include "dc/research/least_squares_field.hpp"

@@ -1,17 +1,11 @@
 #pragma once
-// The training examples of the solver-unrolled loss (pgs_trainer.hpp): per step, what the
-// network sees (the feature image) and the LCP the guess is for (J, M⁻¹, b, bounds, μ,
-// contact constraints), builtin's λ_prev, λ* and the contact read-back.
-//
-// Where they come from: the data set file already fixes its simulations completely — its
-// DataSetParams (scene, seeds, counts, feature image, oracle) are stored, and simulation i is a
-// pure function of (params, i) (SimulationGenerator). collect_pgs_samples REPLAYS those
-// simulations with the generator's own loop (same trajectory: the world advanced with the
-// oracle's λ*) and keeps the problem of every `every`-th recorded step. So the solver-trained
-// and the regression-trained models see the same samples (tested: the replayed feature images
-// equal the file's), and the file format stays as it is: storing J/b/bounds per step would
-// make the data sets several times larger for what one replay (one oracle solve per step)
-// recomputes.
+// The training examples of the solver-unrolled loss (pgs_trainer.hpp): per step, the feature
+// image, the LCP the guess is for (J, M⁻¹, b, bounds, μ, contact constraints), builtin's
+// λ_prev, λ* and the contact read-back. A data set stores its DataSetParams and simulation i is
+// a pure function of (params, i), so collect_pgs_samples replays the simulations with the
+// generator's own loop and keeps every `every`-th recorded step's problem: the solver-trained
+// and regression-trained models see the same samples (the replayed feature images equal the
+// file's), and the file need not store J/b/bounds per step.
 #include <Eigen/Core>
 #include <functional>
 #include <span>

@@ -1,24 +1,14 @@
 #pragma once
 // Training the warm start through the solver (docs/design.md §8.5; docs/learning.md "Training
-// through PGS"). For one sample the chain is
-//
-//   network output y → de-standardise z = y·σ + m → expand G = s·sinh(z) (label scale s > 0)
-//   → read-back at the contacts v = R G (ContactReadback) → λ⁰ = proj(λ_prev + v)
-//   → k sweeps of PGS (UnrolledPgs) → L_k = Σ r_i² (scaled natural map, pgs-residual) or
-//     Σ (λ_k − λ*)² (pgs-distance)
-//
-// and the per-sample objective is   J = log(L_k + ε) − log(L_k^builtin + ε),   ε = rows·f²
-// (f = `floor` [N], default 10⁻² N, the bench's tolerance): PGS pays sweeps in proportion to
-// log(error), so J is (up to the convergence rate) the sweeps saved or lost against builtin's
-// own start after k sweeps, on the same scale for a resting and an impacted step; J < 0 means
-// better than builtin. Every map in the chain is linear or piecewise linear except sinh, so the
-// gradient is exact almost everywhere (tested against central differences).
-//
-// Only residual models (λ⁰ = λ_prev + correction) are trained this way: a network output of 0
-// is builtin itself (J = 0), a well-defined start. The model to train is given (typically a
-// regression model of the same data, `deepcontact train --init`): it fixes architecture,
-// grid, standardisation and label scale. Its dead zone is not applied in training (its
-// derivative is 0 around a zero correction, which would stop the gradient at the start).
+// through PGS"). Per sample: y → z = y·σ + m → G = s·sinh(z) → v = R G (ContactReadback) →
+// λ⁰ = proj(λ_prev + v) → k sweeps (UnrolledPgs) → L_k (pgs-residual: Σ r_i²; pgs-distance:
+// Σ (λ_k − λ*)²), and J = log(L_k + ε) − log(L_k^builtin + ε), ε = rows·f² (f = `floor` [N]).
+// PGS pays sweeps in proportion to log(error), so J is the sweeps saved (J < 0) or lost
+// against builtin, on one scale for resting and impacted steps. Every map is piecewise linear
+// except sinh: the gradient is exact almost everywhere. Only residual models train this way
+// (output 0 is builtin, J = 0); the --init model fixes architecture, grid, standardisation and
+// label scale. Its dead zone is not applied in training (its zero derivative would stop the
+// gradient at the start).
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>

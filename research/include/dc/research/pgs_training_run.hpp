@@ -1,22 +1,14 @@
 #pragma once
-// A run of `deepcontact train --loss pgs-*` (docs/learning.md "Training through PGS"): what
-// turns a data set and a residual --init model into a model trained through PGS, with its
-// files. The steps:
-//
-//   1. open the data set and load --init; rebuild it on the data set's grid (regridded:
-//      the box may differ, the fully convolutional network takes every parameter over by
-//      name, as the cnn starter does on another box), with the data set's dead zone; for
-//      --gain from a residual model, zero the output layer so training starts at builtin;
-//   2. replay the data set's simulations to get each kept step's LCP (pgs_samples.hpp);
-//   3. evaluate the --init model's validation objective (the reference the run should beat);
-//   4. train through k unrolled PGS sweeps (pgs_trainer.hpp), writing after every epoch
-//      OUT.loss.csv (epoch,train_objective,validation_objective,validation_improved,seconds)
-//      and, when the epoch's score (validation objective, or the training one without
-//      validation) is the best so far, OUT — both atomically, so a kill leaves the last
+// A run of `deepcontact train --loss pgs-*` (docs/learning.md "Training through PGS"):
+//   1. open the data set, load --init and rebuild it on the data set's grid with its dead zone
+//      (for --gain from a residual model, the output layer zeroed so training starts at builtin);
+//   2. replay the simulations for each kept step's LCP (pgs_samples.hpp);
+//   3. evaluate --init's validation objective (the reference to beat);
+//   4. train through k unrolled sweeps (pgs_trainer.hpp), writing after every epoch OUT.loss.csv
+//      (epoch,train_objective,validation_objective,validation_improved,seconds) and, when the
+//      epoch's score is the best so far, OUT — both atomically, so a kill leaves the last
 //      finished epoch on disk.
-//
-// The caller sees the run through hooks (progress lines, an interrupt predicate); nothing here
-// prints or handles signals.
+// The caller sees the run through hooks; nothing here prints or handles signals.
 #include <cstddef>
 #include <functional>
 #include <string>

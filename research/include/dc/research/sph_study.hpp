@@ -1,19 +1,12 @@
 #pragma once
 // The SPH round-trip study (docs/sph.md "The round-trip study", `deepcontact sph-study`): how
-// much of the solved contact forces survives the SPH round trip particle → grid → particle,
-// over kernels, grid spacings d, supports h/d and normalisation modes. This is the ceiling of
-// every grid-based warm start (sph, cnn): the error measured here is what the grid alone
-// costs, before any learning.
-//
-// For each scene seed the scene is simulated with its own solver; after each step the
-// contacts carry their solved λ = (λ_n, λ_t) at their points. Every setting then splats all
-// contacts of a step and reads them back at the contact points; the relative error
-// |λ_rt − λ|₂ / |λ|₂ is collected over contacts with |λ_n| > min_lambda.
-//
-// run_sph_study measures; sph_study_csv / sph_study_markdown / write_sph_study / plot_sph_study
-// turn the results into sph_study.csv (one row per setting), sph_study.md (tables, best
-// setting, legacy loss) and the heat maps sph_study_<normalisation>.png
-// (research/plots/sph_study.py).
+// much of the solved contact forces survives particle → grid → particle over kernels, spacings
+// d, supports h/d and normalisation modes — the ceiling of every grid-based warm start (sph,
+// cnn). Each scene seed is simulated with its own solver; every setting splats all contacts
+// of a step and reads them back at the contact points; the relative error |λ_rt − λ|₂ / |λ|₂ is
+// collected over contacts with |λ_n| > min_lambda. run_sph_study computes; sph_study_csv /
+// sph_study_markdown / write_sph_study / plot_sph_study write sph_study.csv (one row per
+// setting), sph_study.md and the heat maps sph_study_<normalisation>.png (research/plots/sph_study.py).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

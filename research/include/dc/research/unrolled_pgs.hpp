@@ -1,38 +1,16 @@
 #pragma once
-// UnrolledPgs: k sweeps of the engine's matrix-free projected Gauss–Seidel ("pgs",
-// lcp/src/solvers/pgs_matrix_free.cpp) on one contact LCP, differentiable with respect to
-// the initial guess λ⁰ by reverse mode (docs/design.md §8.5: train the warm start for what PGS
-// pays). Same rows, same row order, same floating-point operations in the same order as the
-// engine's kernels, so forward(λ⁰, k) returns the engine's λ after k fixed sweeps bit for bit
-// (up to the sign of zero; tested) — the row-by-row engine kernels, i.e. "pgs" with
-// SolverOptions::block_manifolds = false. On problems with two-point manifolds (two contacts
-// of one body pair with one normal: polygon faces) the engine's default "pgs" solves each
-// manifold's normal rows as one 2 × 2 block instead (lcp/src/solvers/pgs_manifold_block.hpp)
-// and its iterates differ from these (same fixed point); circle scenes, the ones trained on,
-// have no such manifolds, so there the two agree bit for bit.
-//
-// One row update (J_i and b_i pre-scaled by 1/A_ii, Δu = Δt M⁻¹ Jᵀ λ kept as the state):
-//     r = J_i·Δu + b_i,  y = λ_i − r,  x = P_i(y; λ_n(i)),  d = x − λ_i,  λ_i ← x,  Δu += (Δt M⁻¹ J_iᵀ) d
-// with P_i = max(0, ·) for a normal row and clamp(·, −μλ_n⁺, μλ_n⁺) for a friction row (λ_n the
-// current, i.e. this sweep's, normal value). P is piecewise linear: x = y (interior),
-// x = 0 / a fixed bound (no dependence), or x = ±μ λ_n (a friction bound, linear in λ_n). The
-// forward pass records which piece each row took in each sweep (one byte per row per sweep)
-// and the reverse pass applies the transposed linear maps in reverse order:
-//     d̄ = (Δt M⁻¹ J_iᵀ)·Δū,  x̄ = λ̄_i + d̄,  ȳ = ∂x/∂y · x̄,  λ̄_n += ∂x/∂λ_n · x̄,
-//     λ̄_i ← ȳ − d̄,  Δū ← Δū − J_iᵀ ȳ   (Δū of the row's bodies, replaced, not summed)
-// and finally λ̄⁰ += J (Δt M⁻¹ Δū⁰) for Δu⁰ = Δt M⁻¹ Jᵀ λ⁰. The gradient is exact wherever no
-// row sits exactly on a kink (a set of measure zero; at a kink the piece taken in the forward
-// pass is used, a one-sided derivative).
-//
-// Losses (each returns the value and adds its gradient to dλ_k and dΔu_k):
-//  * residual_loss: Σ_i r_i² of the SCALED natural map r_i = λ_i − P_i(λ_i − w_i/A_ii) at λ_k,
-//    w = Aλ + b. Scaling by 1/A_ii puts every row in newtons (A_ii ~ Δt/m, so the unscaled map
-//    mixes N with m/s and weights light bodies 1/m² more); r_i is the step a Jacobi sweep would
-//    take, the quantity θ_k measures for Gauss–Seidel. Zero exactly at a solution. Needs no λ*.
-//  * distance_loss: Σ_i (λ_k,i − λ*_i)² against an oracle solution.
-//
-// Requirements: a problem assembled from a world (J, M⁻¹, Δt and contact constraints; every
-// row owned by a contact; no singular row A_ii ≤ 0): InvalidArgument otherwise.
+// UnrolledPgs: k sweeps of the engine's row-by-row matrix-free projected Gauss–Seidel ("pgs"
+// with SolverOptions::block_manifolds = false) on one contact LCP, differentiable with respect
+// to the initial guess λ⁰ by reverse mode (docs/design.md §8.5). Same rows, row order and
+// floating-point operations as the engine's kernels, so forward(λ⁰, k) is the engine's λ after
+// k sweeps bit for bit (up to the sign of zero); the default "pgs" differs only on two-point
+// manifolds (polygon faces), which circle scenes do not have. The forward pass records the
+// projection piece of every row per sweep; the reverse pass applies the transposed maps in
+// reverse order — exact except on kinks (derivation: docs/learning.md "Unrolled PGS and its
+// adjoint"). Losses: residual_loss Σ r_i² of the natural map scaled by 1/A_ii [N²] (no λ*
+// needed) and distance_loss Σ (λ_k − λ*)²; each adds its gradient to dλ_k and dΔu_k.
+// Requires a problem assembled from a world, every row owned by a contact, A_ii > 0:
+// InvalidArgument otherwise.
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>

@@ -1,30 +1,14 @@
 #pragma once
-// A regular multi-channel grid over the simulation box [0, W] × [0, H] (docs/design.md §4).
-//
-// Nodes:   x_i = i·d,  i = 0 … nx−1,   nx = floor(W/d + 1e-9) + 1
-//          y_j = j·d,  j = 0 … ny−1,   ny = floor(H/d + 1e-9) + 1
-// (61 × 61 for d = 0.5 on 30 × 30; 121 × 121 for d = 0.25). The 1e-9 absorbs the rounding
-// of W/d when W is a multiple of d. When W is not a multiple of d the last node lies
-// before the wall (x_{nx−1} < W).
-//
-// Storage (one contiguous std::vector<double>): channel-major, then ROW j (y) major,
-// COLUMN i (x) minor:
-//
-//     value(c, j, i)  at  index (c·ny + j)·nx + i
-//
-// i.e. each channel is an image with y as rows and x as columns — the NCHW layout the CNN
-// consumes (N, C, H = ny, W = nx). Orientation: row j = 0 is y = 0, the BOTTOM of the box
-// (no image flip: when written out as a picture, row 0 is the bottom row, so plotting code
-// must use origin="lower").
-//
-// Grid → point: bilinear interpolation (the seed's eqs. 6a, 6b, 7): with u = x/d, v = y/d,
-// i0 = ⌊u⌋, j0 = ⌊v⌋, fx = u − i0, fy = v − j0:
-//
-//     f(x, y) = (1−fy)[(1−fx) f(j0, i0) + fx f(j0, i0+1)] + fy[(1−fx) f(j0+1, i0) + fx f(j0+1, i0+1)]
-//
-// Points are CLAMPED to the node rectangle [0, (nx−1)d] × [0, (ny−1)d] first, so a point on
-// or slightly beyond a wall (wall contacts of penetrating bodies) reads the border value
-// (constant extrapolation) instead of reading outside the array.
+// A regular multi-channel grid over the simulation box [0, W] × [0, H] (docs/design.md §4,
+// docs/sph.md "Grid layout and orientation"). Nodes x_i = i·d, i < nx = floor(W/d + 1e-9) + 1
+// (the 1e-9 absorbs the rounding of W/d), likewise y_j; when W is not a multiple of d the last
+// node lies short of the wall. Storage: one std::vector<double>, value(c, j, i) at
+// (c·ny + j)·nx + i — NCHW with H = ny, W = nx; row j = 0 is y = 0, the bottom of the box (no
+// flip: plot with origin="lower"). Grid → point: bilinear with u = x/d, v = y/d, i0 = ⌊u⌋,
+// j0 = ⌊v⌋, fx = u − i0, fy = v − j0:
+//   f = (1−fy)[(1−fx) f(j0, i0) + fx f(j0, i0+1)] + fy[(1−fx) f(j0+1, i0) + fx f(j0+1, i0+1)]
+// Points are clamped to the node rectangle first, so a point on or beyond a wall reads the
+// border value instead of reading outside the array.
 #include <cstddef>
 #include <span>
 #include <vector>

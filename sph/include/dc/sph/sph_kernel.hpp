@@ -1,26 +1,14 @@
 #pragma once
-// SPH smoothing kernels W(r, h) for the particle → grid transfer (docs/design.md §4, docs/sph.md).
-//
-// The transfer is two-dimensional, so a kernel must be normalised over the PLANE:
-//
-//     ∫_{R²} W(|r|, h) dA = ∫_0^h W(r, h) 2π r dr = 1          (W in 1/m², r and h in m)
-//
-// With this normalisation a grid value G(node) = Σ_k W(|x_node − q_k|, h) v_k is a
-// density of v per m², and Σ_nodes G d² ≈ Σ_k v_k (for d ≪ h).
-//
-// Kernels (all have compact support r ≤ h and vanish at r = h):
-//   poly6   W = 4/(π h⁸) (h² − r²)³                       (Müller et al. 2003, 2D constant)
-//   spiky   W = 10/(π h⁵) (h − r)³                        (Desbrun & Gascuel, 2D constant)
-//   cubic   W = σ (6q³ − 6q² + 1)   for q = r/h ≤ ½,      (Monaghan's M4 cubic B-spline,
-//           W = σ 2 (1 − q)³        for ½ < q ≤ 1,         written with support h)
-//           σ = 40/(7π h²)
-//
-// The slides of the seed thesis print the THREE-dimensional constants 315/(64π h⁹) and
-// 15/(π h⁶). Integrated over the plane they give 315/(256 h) and 3/(2 h) — not 1, and not
-// even dimensionless (1/m). They are exposed only as the explicitly named study options
-// "poly6-legacy3d" and "spiky-legacy3d" so that the earlier theses' mistake can be
-// measured; nothing selects them by default. (With Shepard normalisation the kernel
-// constant cancels, which is one reason that mode is robust; see sph_transfer.hpp.)
+// SPH smoothing kernels W(r, h) for the particle → grid transfer (docs/design.md §4,
+// docs/sph.md "Kernels: why 2D constants"). The transfer is two-dimensional, so a kernel is
+// normalised over the plane: ∫_0^h W(r, h) 2π r dr = 1 (W in 1/m², r and h in m); a grid value
+// G = Σ_k W v_k is then a density of v per m². All kernels have support r ≤ h and vanish there:
+//   poly6   W = 4/(π h⁸) (h² − r²)³
+//   spiky   W = 10/(π h⁵) (h − r)³
+//   cubic   W = σ (6q³ − 6q² + 1) for q = r/h ≤ ½, σ 2 (1 − q)³ for ½ < q ≤ 1, σ = 40/(7π h²)
+// "poly6-legacy3d" and "spiky-legacy3d" use the three-dimensional constants 315/(64π h⁹) and
+// 15/(π h⁶), which do not integrate to 1 over the plane; they are explicitly named study
+// options that reproduce the legacy mode (docs/sph.md "The legacy modes"), never a default.
 #include <cmath>
 #include <string>
 #include <string_view>

@@ -1,25 +1,13 @@
 #pragma once
-// The two halves of the SPH transfer as free functions over caller-owned grids
-// (SphTransfer in sph_transfer.hpp bundles them with buffers and a normalisation mode).
-//
-// Splatting, particle → grid (the seed's "mapping contacts into a grid image"):
-//
-//     G(c, node) = Σ_k W(|x_node − q_k|, h) · v_{k,c}          (value field, 1/m² · unit of v)
-//     S(node)    = Σ_k W(|x_node − q_k|, h)                    (kernel-weight field, 1/m²)
-//
-// S is the Shepard denominator: it depends on the particle POSITIONS only, so for contacts
-// it is known before the solve. Neighbour search is by cells: each particle visits only
-// the node index box [⌈(q_x − h)/d⌉, ⌊(q_x + h)/d⌋] × [⌈(q_y − h)/d⌉, ⌊(q_y + h)/d⌋]
-// (clipped to the grid), i.e. at most (2h/d + 1)² nodes — cost O(particles · (h/d)²),
-// independent of the grid size (apart from zeroing it).
-//
-// Grid → particle: bilinear interpolation (SphGrid::stencil), optionally divided by the
-// bilinear interpolant of S (Shepard): v̂(q) = bilinear(G)(q) / bilinear(S)(q). For an
-// isolated particle G = v·S node by node, so v̂ = v exactly (up to rounding); in general v̂
-// is a convex combination of the particle values whose support reaches q's cell.
-//
-// Value layout: particle-major, values[k·C + c] for particle k and channel c (the rows of
-// an N × C row-major matrix), for inputs and outputs alike.
+// The two halves of the SPH transfer as free functions over caller-owned grids (SphTransfer
+// bundles them with buffers and a normalisation mode; docs/sph.md "Splatting").
+//   G(c, node) = Σ_k W(|x_node − q_k|, h) · v_{k,c}   (1/m² · unit of v)
+//   S(node)    = Σ_k W(|x_node − q_k|, h)             (kernel-weight field, 1/m²)
+// S depends on the particle positions only, so for contacts it is known ahead of the solve.
+// Each particle visits only the node box [⌈(q − h)/d⌉, ⌊(q + h)/d⌋] per axis (clipped):
+// O(particles · (h/d)²), independent of the grid size apart from zeroing it. Read-back:
+// bilinear (SphGrid::stencil), optionally divided by bilinear(S) (Shepard), which returns an
+// isolated particle's value exactly. Values are particle-major, values[k·C + c].
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -47,8 +35,8 @@ struct SplatStats {
 /// `grid`, overwriting it. When `weights` is non-null (one channel, same nx, ny, d as
 /// `grid`) it is overwritten with the kernel-weight field S.
 ///
-/// `renormalise_per_particle` is the LEGACY sum-to-one mode of the earlier theses: each
-/// particle's weights over the nodes it touches are divided by their sum before
+/// `renormalise_per_particle` is the legacy sum-to-one mode (docs/sph.md "The legacy modes"):
+/// each particle's weights over the nodes it touches are divided by their sum ahead of
 /// splatting (so Σ_nodes w = 1 per particle); `weights` then receives those renormalised
 /// weights. With plain bilinear read-back this loses most of the value (docs/sph.md).
 ///
@@ -58,7 +46,7 @@ SplatStats splat_to_grid(const SphKernel& kernel, std::span<const Vec2> points,
                          SphGrid* weights = nullptr, bool renormalise_per_particle = false);
 
 /// splat_to_grid (no renormalisation) into a `grid` (and `weights`) that is already zero
-/// outside the node rows [clear_lo, clear_hi] — e.g. zero-initialised, or holding an earlier
+/// outside the node rows [clear_lo, clear_hi] — e.g. zero-initialised, or holding a former
 /// splat whose SplatStats row range lies there: only those rows are zeroed before the splat,
 /// the same values as splat_to_grid without zeroing the rows it never reaches (the grid is
 /// then zero outside the returned row range). The caller guarantees the zeros.

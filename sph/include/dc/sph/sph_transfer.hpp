@@ -1,29 +1,16 @@
 #pragma once
 // SphTransfer: the particle → grid → particle round trip with one grid, one kernel and one
-// normalisation mode, reusing its buffers across calls (no allocation in steady state:
-// the grids are allocated once in the constructor, the output buffers grow to the largest
-// point count seen and are then reused).
-//
-// Normalisation modes (docs/sph.md has the derivations and measured losses):
-//
-//   Shepard         splat G = Σ W v and S = Σ W; read back v̂(q) = bilinear(G)(q) / bilinear(S)(q).
-//                   An isolated particle's value survives the round trip EXACTLY (up to
-//                   rounding) for any kernel and any (d, h) for which some node of q's cell
-//                   lies strictly within h (always when h > d·√2/2). Where bilinear(S)(q) ≤
-//                   min_weight_ratio · W(0, h) the point is flagged unsupported and gets 0
-//                   (never NaN). The kernel's constant cancels in the ratio.
-//   None            plain: splat G = Σ W v, read back bilinear(G)(q). The value comes back
-//                   scaled by ≈ W d²-sums, i.e. the grid is a density (1/m²) not a value.
-//   SumToOneLegacy  the earlier theses' mode: each particle's weights renormalised to sum
-//                   to 1 over the nodes it touches, plain bilinear back, no Shepard. An
-//                   isolated particle returns only a fraction of its value (the share of
-//                   its mass on the four corners of its cell, weighted bilinearly) — the
-//                   docs/design.md §4 trap; kept to reproduce it, never the default.
-//
-// Gathering a grid that did not come from this object's last splat (e.g. a CNN-predicted
-// label grid) in Shepard mode: the denominator S depends only on the query points'
-// positions (the contact points, known before the solve), so gather() rebuilds S from
-// the points it is given.
+// normalisation mode, reusing its buffers (no allocation in steady state). Modes (docs/sph.md
+// "Normalisation modes and the round-trip guarantee"):
+//   Shepard         G = Σ W v, S = Σ W; v̂(q) = bilinear(G)(q) / bilinear(S)(q): an isolated
+//                   particle's value survives exactly (up to rounding) when some node of q's
+//                   cell lies strictly within h (always when h > d·√2/2); where bilinear(S)(q)
+//                   ≤ min_weight_ratio · W(0, h) the point is unsupported and gets 0, never NaN.
+//   None            G = Σ W v read back as bilinear(G)(q): the grid is a density (1/m²).
+//   SumToOneLegacy  weights renormalised to sum to 1 per particle, plain bilinear back: loses
+//                   most of an isolated value (docs/design.md §4); never the default.
+// Shepard's S depends only on the query points, so gather() of a grid from elsewhere (a
+// predicted label grid) rebuilds S from the points it is given.
 #include <cstddef>
 #include <cstdint>
 #include <span>

@@ -10,9 +10,9 @@
 namespace dc {
 
 /// The oracle's route: an iterative stage from the guess, then Newton-type polishing only where
-/// the iterate is not yet accurate. The defaults are the fastest route measured on the seed
-/// scene (docs/solvers.md "The oracle": nncg + newton-sparse, ~3× less oracle time than PGS +
-/// newton and more accurate on its hardest steps).
+/// the iterate is not yet accurate. The defaults (nncg + newton-sparse) are the fastest
+/// route on the seed scene and the more accurate one on its hardest steps (docs/solvers.md
+/// "The oracle").
 struct OracleOptions {
   /// Stage 1: iterative solver from the guess until θ ≤ polish_theta or polish_sweeps. nncg
   /// reaches a tight θ in about a quarter of PGS's sweeps on settled piles; where it stalls the

@@ -1,17 +1,14 @@
 #pragma once
-// Grid-based warm starters built on the SPH transfer (docs/design.md §4):
-//   sph       this step's λ* → grid (kernel W, spacing d, support h) → back at the contact
-//             points: the best any grid-based predictor (the CNN) can do; uses the oracle.
-//   sph-prev  the previous step's solved λ at the previous contact points → grid → this
-//             step's contact points: a non-oracle grid starter (the "SPH of the past").
-//   sph-residual  builtin + the grid read-back of this step's correction λ* − λ_builtin
-//             (splatted at the contact points): the best a *residual* grid predictor (a
-//             residual cnn model, λ⁰ = λ_prev + read-back) can do with this transfer; an
-//             oracle. Unlike sph it keeps builtin's exact per-contact detail and loses only
-//             the correction's sub-grid part.
-//   sph-gain, sph-gain-add  builtin × (1 + a grid GAIN field of the correction) (+ the
-//             remainder's additive read-back): the bound of a multiplicative grid correction,
-//             which leaves the per-contact detail to λ_prev (sph_gain_warm_starter.cpp); oracles.
+// Grid-based warm starters built on the SPH transfer (docs/design.md §4, docs/bench.md):
+//   sph           this step's λ* → grid → back at the contact points: the bound of any grid
+//                 predictor (the CNN); an oracle.
+//   sph-prev      the previous step's solved λ at its contact points → grid → this step's
+//                 contact points; not an oracle.
+//   sph-residual  builtin + the read-back of the splatted correction λ* − λ_builtin: the bound
+//                 of a residual grid predictor; an oracle.
+//   sph-gain, sph-gain-add  builtin × (1 + a grid gain field of the correction) (+ the
+//                 remainder's additive read-back): the bound of a multiplicative grid
+//                 correction (sph_gain_warm_starter.cpp); oracles.
 // Options: `sph:KERNEL:D:H[:NORMALISATION]`, e.g. `sph:spiky:0.25:0.25`, `sph:poly6:0.5:0.5:legacy`.
 #include <optional>
 #include <span>

@@ -1,19 +1,12 @@
 #pragma once
-// The shared parsers a starter's options are built on (starter_options.hpp here, dc_research's
-// oracle_starter_options.hpp, dc_cnn's cnn_starter_options.hpp; a user's own starter may use
-// them too). A starter is named "NAME" or "NAME:ARG" (WarmStartSpec); ARG may hold several
-// ':'-separated fields ("builtin-coarse:0.5:10"). Every failure is the same one-line ConfigError
-// naming the whole spec and the form the starter expects,
-//
+// The shared parsers a starter's options are built on (starter_options.hpp, dc_research's
+// oracle_starter_options.hpp, dc_cnn's cnn_starter_options.hpp; a user's starter may use them).
+// A starter is named "NAME" or "NAME:ARG" (WarmStartSpec), ARG holding ':'-separated fields.
+// Every failure is one ConfigError naming the whole spec and the expected form:
 //     warm starter 'builtin-coarse:x': expected builtin-coarse[:D[:ITER]] with D > 0 [m] and ITER >= 1
-//
-// so a mistyped item of --warmstarts (or of a gate's INNER) points at itself and at its fix.
-//
-// Numbers follow the rules of std::stoi / std::stod / std::stoull: leading white space is
-// skipped, the rest of the field must be the number (no trailing text), values the type cannot
-// hold are refused. These are the rules each starter parsed its argument with before the options
-// were parsed in one place, so every argument accepted then is accepted now ("copy:+3",
-// "builtin-coarse:0x1p0", "copy-noise:1e-2").
+// Numbers follow std::stoi / std::stod / std::stoull: leading white space skipped, no trailing
+// text, values the type cannot hold refused ("copy:+3", "builtin-coarse:0x1p0",
+// "copy-noise:1e-2" are accepted).
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -46,7 +39,7 @@ class StarterArgument {
   [[nodiscard]] double positive_number(const std::string& field) const;
   /// A finite number in [lo, hi] (std::stod rules); hi = +∞ accepts every finite number ≥ lo.
   [[nodiscard]] double number(const std::string& field, double lo, double hi) const;
-  /// An unsigned 64-bit integer (std::stoull rules, so "-1" wraps to 2⁶⁴ − 1 as it always did).
+  /// An unsigned 64-bit integer (std::stoull rules, so "-1" wraps to 2⁶⁴ − 1).
   [[nodiscard]] std::uint64_t unsigned_integer(const std::string& field) const;
 
   /// ConfigError "warm starter 'SPEC': expected USAGE".

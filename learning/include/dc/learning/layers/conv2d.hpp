@@ -1,36 +1,15 @@
 #pragma once
-// Conv2d: k×k convolution (cross-correlation, like every DL framework) with stride s and
-// "same" padding, optional fused ReLU.
-//
-// Shapes: x [N, Cin, H, W] → y [N, Cout, Ho, Wo] with Ho = ⌈H/s⌉, Wo = ⌈W/s⌉. The total
-// padding per axis is max((Ho−1)·s + k − H, 0), split as ⌊·/2⌋ before and the rest after
-// (TensorFlow's "SAME"; for odd k and s ∈ {1, 2} on odd sizes it equals PyTorch's
-// padding = (k−1)/2).
+// Conv2d: k×k convolution (cross-correlation) with stride s and "same" padding, optional
+// fused ReLU. x [N, Cin, H, W] → y [N, Cout, Ho, Wo], Ho = ⌈H/s⌉, Wo = ⌈W/s⌉; total padding
+// per axis max((Ho−1)·s + k − H, 0), ⌊·/2⌋ before and the rest after (TensorFlow "SAME"; for
+// odd k and s ∈ {1, 2} on odd sizes PyTorch's padding = (k−1)/2).
 //
 //   y[n, o, oy, ox] = b[o] + Σ_{c, ky, kx} w[o, c, ky, kx] · x[n, c, oy·s + ky − pt, ox·s + kx − pl]
 //
-// Implementation, stride 1 with AVX-512 and Wo ≤ 64 (the default U-Net's 61×61 and 31×31
-// layers): direct convolution from a zero-padded copy of the tile's input rows, each output
-// row × a few channels accumulated in registers (no X_col, no GEMM packing); dX likewise
-// from padded dY rows with the flipped kernel; dW (3×3, batch ≥ 2) from padded x and dY of
-// a whole sample with vector accumulators. The forward of a 3×3 stride-2 conv uses the same
-// kernel on padded rows split into even/odd column phases (its backward stays im2col).
-// Otherwise (im2col + GEMM): for a tile of P output pixels the patch matrix
-// X_col (P × K, K = Cin·k², column (c,ky,kx) holds the shifted input plane) is built in a
-// per-thread scratch buffer, then Y_tile (P × Cout) = X_col · Wᵀ with Wᵀ the weight tensor
-// [Cout, Cin, k, k] viewed as a column-major K × Cout matrix. Because a sample of y is a
-// column-major (Ho·Wo) × Cout matrix, the GEMM result lands in place. Tiles are a few
-// output rows so that X_col stays in L2.
-//
-// Backward:  dWᵀ += X_colᵀ · dY   (K × Cout),   db += Σ_p dY[p, :],
-//            stride 1: dX = "same" conv of dY with the flipped, channel-transposed kernel
-//                      (one GEMM per tile, P × Cout·k² times Cout·k² × Cin, written in place);
-//            stride s > 1: dX_col = dY · W (P × K), scattered back (col2im, adjoint of im2col).
-// Threads: forward runs OpenMP over (sample, tile) items; backward over groups of
-// samples (or over the tiles of a single sample), each group with its own dW accumulator,
-// summed in group order. Groups depend on the batch size only and are scheduled
-// dynamically: the result is deterministic for any thread count, and a thread that is
-// descheduled on a busy machine does not hold the others up.
+// Direct AVX-512 kernels for output rows ≤ 64 wide (stride 1; forward also 3 × 3 stride 2),
+// im2col + GEMM otherwise (docs/learning.md "Conv2d kernels"). Backward sums per-group dW
+// accumulators in group order; groups depend on the batch size only, so results are
+// deterministic for any thread count.
 #include <string>
 #include <vector>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Dense (fully connected) layer on the flattened sample: x [N, C, H, W] is read as N
 // vectors of D = C·H·W, y [N, Co, Ho, Wo] as N vectors of O = Co·Ho·Wo (so a dense head can
-// emit a whole label image, as in the seed's architecture).
+// emit a whole label image, as seed_dense_arch does).
 //
 //   y = W x + b,  W [O, D] stored row-major = column-major D × O matrix Wᵀ.
 //   Forward  Y (O × N) = Wᵀᵀ · X (D × N);   backward  dWᵀ = X · dYᵀ,  db = Σ_n dY,  dX = Wᵀ · dY.

@@ -3,7 +3,7 @@
 // encoder with odd sizes (61 → 31 → 16) can be mirrored exactly (16 → 31 → 61):
 //   y[n, c, Y, X] = x[n, c, ⌊Y/2⌋, ⌊X/2⌋],  Ho ∈ {2H − 1, 2H}, Wo ∈ {2W − 1, 2W}.
 // Backward is the exact adjoint: dx[n, c, i, j] = Σ_{⌊Y/2⌋ = i, ⌊X/2⌋ = j} dy[n, c, Y, X]
-// (2×2 blocks, truncated at an odd border).
+// (2 × 2 blocks, truncated at an odd border).
 #include "dc/learning/layers/layer.hpp"
 
 namespace dc {
