@@ -60,5 +60,6 @@ step "a C++ consumer: find_package(DeepContact), a custom solver variant"
 cmake -S "$ROOT/examples/cpp" -B "$WORK/consumer" -DCMAKE_PREFIX_PATH="$WORK/moved" >/dev/null
 cmake --build "$WORK/consumer" -j "${JOBS:-2}" >/dev/null
 "$WORK/consumer/custom_solver"
+"$WORK/consumer/solve_problem_file" "$ROOT/tests/data/fc2d/FrictionContactProblem00031.dat"
 echo
 echo "check-install: pip, CMake install (moved prefix) and the C++ consumer work"

@@ -11,10 +11,6 @@
 namespace dc::py {
 namespace {
 
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
 pyb::object read_problem(pyb::object path) {
   ProblemFile f = read_problem_file(path_string(path));
   pyb::object out = make_fields();
@@ -58,8 +54,7 @@ void write_problem(pyb::object path, pyb::object problem, pyb::object solution, 
   const Eigen::VectorXd sol = solution.is_none() ? Eigen::VectorXd() : as_reactions(solution, "solution");
   std::vector<Eigen::VectorXd> gs;
   for (pyb::handle g : guesses) gs.push_back(as_reactions(g, "guess"));
-  write_fc2d_problem(p, fc, ends_with(p, ".hdf5") || ends_with(p, ".h5") ? ProblemFormat::Fclib : ProblemFormat::SiconosFc,
-                     sol, gs);
+  write_fc2d_problem(p, fc, problem_format_for_path(p, ProblemKind::Fc2d), sol, gs);
 }
 
 }  // namespace

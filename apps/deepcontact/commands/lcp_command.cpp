@@ -115,23 +115,18 @@ void run_lcp_convert(const LcpConvertArgs& a) {
   if (a.storage != 0 && a.storage != 1) throw ConfigError("--storage must be 0 (dense) or 1 (sparse block)");
   if (a.block < 0) throw ConfigError("--block must be >= 1");
   check_output_file(a.out);
-  const ProblemFormat format = !a.format.empty() ? parse_problem_format(a.format)
-                               : ends_with(a.out, ".hdf5") ? ProblemFormat::Fclib
-                                                           : ProblemFormat::SiconosLcp;
+  ProblemWriteDef def;
+  // Without --format: FCLIB for OUT.hdf5, else the Siconos LCP .dat (a frictional problem then
+  // needs --format siconos-fc, said below).
+  def.format = !a.format.empty() ? parse_problem_format(a.format)
+               : ends_with(a.out, ".hdf5") ? ProblemFormat::Fclib
+                                           : ProblemFormat::SiconosLcp;
+  def.storage = a.storage;
+  def.block = a.block;
   const ProblemFile f = read_problem_file(a.in, forced_kind(a.kind));
-  if (format == ProblemFormat::SiconosLcp) {
-    if (f.kind == ProblemKind::Fc2d)
-      throw ConfigError(a.in + ": a frictional problem is written with --format siconos-fc or as OUT.hdf5 (FCLIB)");
-    if (a.storage == 0)
-      write_lcp_dat(a.out, Eigen::MatrixXd(f.lcp.A), f.lcp.b);
-    else
-      write_lcp_dat_blocks(a.out, f.lcp.A, f.lcp.b, a.block > 0 ? a.block : f.lcp.rows());
-  } else {
-    if (f.kind != ProblemKind::Fc2d)
-      throw ConfigError(a.in + ": an LCP has no friction; only frictional problems are written as " +
-                        to_string(format));
-    write_fc2d_problem(a.out, f.fc2d, format, f.solution, f.guesses);
-  }
+  if (def.format == ProblemFormat::SiconosLcp && f.kind == ProblemKind::Fc2d)
+    throw ConfigError(a.in + ": a frictional problem is written with --format siconos-fc or as OUT.hdf5 (FCLIB)");
+  write_problem_file(a.out, f, def);
   if (!f.comment.empty())
     std::fprintf(stderr, "deepcontact: note: %s: the text after %s was not copied\n", a.in.c_str(),
                  f.kind == ProblemKind::Lcp ? "q" : "mu");

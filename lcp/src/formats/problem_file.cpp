@@ -3,6 +3,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <string_view>
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/dat_file.hpp"
@@ -138,6 +140,30 @@ void write_fc2d_problem(const std::string& path, const Fc2dProblem& p, ProblemFo
   if (solution.size() > 0) f.solution = solution_of(p, solution);
   for (const Eigen::VectorXd& g : guesses) f.guesses.push_back(solution_of(p, g));
   write_fclib_local(path, f);
+}
+
+ProblemFormat problem_format_for_path(const std::string& path, ProblemKind kind) {
+  const auto ends_with = [&](const char* tail) { return std::string_view(path).ends_with(tail); };
+  if (ends_with(".hdf5") || ends_with(".h5")) return ProblemFormat::Fclib;
+  return kind == ProblemKind::Fc2d ? ProblemFormat::SiconosFc : ProblemFormat::SiconosLcp;
+}
+
+void write_problem_file(const std::string& path, const ProblemFile& file, const ProblemWriteDef& def) {
+  if (def.storage != 0 && def.storage != 1) throw ConfigError("storage must be 0 (dense) or 1 (sparse block)");
+  if (def.block < 0) throw ConfigError("block must be >= 1");
+  const ProblemFormat format = def.format ? *def.format : problem_format_for_path(path, file.kind);
+  if (format == ProblemFormat::SiconosLcp) {
+    if (file.kind == ProblemKind::Fc2d)
+      throw ConfigError(path + ": a frictional problem is written as siconos-fc or FCLIB (.hdf5), not as an LCP .dat");
+    if (def.storage == 0)
+      write_lcp_dat(path, Eigen::MatrixXd(file.lcp.A), file.lcp.b);
+    else
+      write_lcp_dat_blocks(path, file.lcp.A, file.lcp.b, def.block > 0 ? def.block : file.lcp.rows());
+    return;
+  }
+  if (file.kind != ProblemKind::Fc2d)
+    throw ConfigError(path + ": an LCP has no friction; only frictional problems are written as " + to_string(format));
+  write_fc2d_problem(path, file.fc2d, format, file.solution, file.guesses);
 }
 
 }  // namespace dc

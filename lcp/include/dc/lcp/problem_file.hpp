@@ -54,6 +54,24 @@ void write_fc2d_problem(const std::string& path, const Fc2dProblem& p, ProblemFo
                         const Eigen::VectorXd& solution = Eigen::VectorXd(),
                         const std::vector<Eigen::VectorXd>& guesses = {});
 
+/// The format a file name asks for: FCLIB for `.hdf5` or `.h5`; otherwise the Siconos .dat of
+/// the problem's kind (LCP or frictional contact).
+ProblemFormat problem_format_for_path(const std::string& path, ProblemKind kind);
+
+/// How write_problem_file lays out a Siconos LCP .dat (the other formats have one layout).
+struct ProblemWriteDef {
+  std::optional<ProblemFormat> format;  ///< empty = problem_format_for_path
+  int storage = 0;                      ///< LCP .dat: 0 dense, 1 sparse block
+  int block = 0;                        ///< LCP .dat with storage 1: block size (0 = one block)
+};
+
+/// Writes `file` (as read_problem_file returns it) in the format `def` names or the path asks
+/// for: an LCP as Siconos LCP .dat (dense or sparse block), a frictional problem as FCLIB (with
+/// its solution and guesses) or Siconos frictional-contact .dat (write_fc2d_problem). The
+/// remark after the last vector of a .dat file is not written. Throws ConfigError for a format
+/// that cannot hold the problem's kind or a bad storage/block, IoError when writing fails.
+void write_problem_file(const std::string& path, const ProblemFile& file, const ProblemWriteDef& def = {});
+
 /// FCLIB local problem ↔ the engine's frictional problem (W, q, μ copied bit for bit).
 Fc2dProblem fc2d_from_fclib(const FclibLocalProblem& f);
 FclibLocalProblem fclib_from_fc2d(const Fc2dProblem& p);
