@@ -21,7 +21,8 @@ from setuptools.command.build_py import build_py
 
 ROOT = pathlib.Path(__file__).resolve().parent
 # The data root keeps the source tree's relative paths (core/include/dc/core/install_paths.hpp).
-DATA = ["models", "scenes", "bench/plots", "research/plots", "python/deepcontact/trajectory.py"]
+# research/plots is not among them: the module does not link dc_research (docs/python.md).
+DATA = ["models", "scenes", "bench/plots", "python/deepcontact/trajectory.py"]
 
 
 def project_version():

@@ -61,7 +61,7 @@ int sweeps_to_tolerance(const std::vector<double>& theta, double tolerance) {
 
 /// Sweeps to tol with the higher cap: a step that did not reach tol within o.sweeps
 /// continues from the convergence run's last iterate (PGS only carries λ between sweeps).
-int sweeps_to_tolerance_high(const LcpSolver& solver, const LcpProblem& p, const SolveResult& fr, int to_tol,
+int sweeps_to_tolerance_high(LcpSolver& solver, const LcpProblem& p, const SolveResult& fr, int to_tol,
                              const BenchOptions& o) {
   if (to_tol >= 0) return to_tol;
   SolverOptions more;
@@ -77,7 +77,7 @@ int sweeps_to_tolerance_high(const LcpSolver& solver, const LcpProblem& p, const
 /// in paired mode). Returns the fixed-sweep solution (rollout integrates with it); `guess`, when
 /// given, receives λ⁰ (the solver comparison starts every solver from it).
 Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::VectorXd& oracle,
-                                 bool share_oracle, const LcpSolver& solver, const BenchOptions& o,
+                                 bool share_oracle, LcpSolver& solver, const BenchOptions& o,
                                  const std::vector<int>& budgets, StarterRecord& rec,
                                  StepOutcome& outcome, Eigen::VectorXd* guess = nullptr) {
   const LcpProblem& p = world.problem();
@@ -145,7 +145,7 @@ Eigen::VectorXd evaluate_starter(World& world, WarmStarter& ws, const Eigen::Vec
 }
 
 /// The reference λ of a step without the tight oracle: builtin + PGS to tol / 100.
-OracleSolution cheap_reference(const World& w, const LcpProblem& p, const LcpSolver& solver, const BenchOptions& o) {
+OracleSolution cheap_reference(const World& w, const LcpProblem& p, LcpSolver& solver, const BenchOptions& o) {
   const auto builtin = default_warm_starters().make("builtin");  // stateless: cheap to make per step
   const Eigen::VectorXd guess = builtin->initial_guess(StepView{w, nullptr});
   SolverOptions so;
@@ -160,7 +160,7 @@ OracleSolution cheap_reference(const World& w, const LcpProblem& p, const LcpSol
 }
 
 /// Warm-up: advance `w` by o.warmup_steps with builtin + PGS until tol (nothing recorded).
-void warm_up(World& w, const LcpSolver& solver, const BenchOptions& o) {
+void warm_up(World& w, LcpSolver& solver, const BenchOptions& o) {
   const auto builtin = default_warm_starters().make("builtin");
   SolverOptions so;
   so.max_sweeps = o.sweeps;
@@ -185,7 +185,7 @@ struct AssembledStep {
   double collide_ms = 0, assemble_ms = 0;
 };
 
-AssembledStep collide_and_assemble(World& w, const LcpSolver& solver) {
+AssembledStep collide_and_assemble(World& w, LcpSolver& solver) {
   AssembledStep out;
   auto ts = Clock::now();
   w.collide();

@@ -103,7 +103,7 @@ SolverOptions solver_options(const WorldDef& def) {
   return o;
 }
 
-RunStats run_world(World& world, const LcpSolver& solver, const SolverOptions& options,
+RunStats run_world(World& world, LcpSolver& solver, const SolverOptions& options,
                    const RunConfig& config) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();

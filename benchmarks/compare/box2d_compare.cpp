@@ -197,7 +197,7 @@ class TimedSolver final : public dc::LcpSolver {
   [[nodiscard]] bool needs_jacobian() const override { return s_->needs_jacobian(); }
   [[nodiscard]] bool needs_assembled_matrix() const override { return s_->needs_assembled_matrix(); }
   [[nodiscard]] dc::SolveResult solve(const dc::LcpProblem& p, const Eigen::VectorXd& l0,
-                                      const dc::SolverOptions& o) const override {
+                                      const dc::SolverOptions& o) override {
     const double t0 = thread_cpu_s();
     dc::SolveResult r = s_->solve(p, l0, o);
     cpu_s += thread_cpu_s() - t0;

@@ -152,7 +152,7 @@ bool is_exact(const std::string& name) {
 /// An iterative solver (pgs, nncg, …) at equal residual: the fewest sweeps whose iterate has
 /// independent_residual ≤ tol, found by one run with a checkpoint after every sweep (not
 /// timed); `max_sweeps` when no sweep reaches it.
-int sweeps_to_reach(const dc::LcpSolver& solver, const dc::LcpProblem& lcp, const dc::Fc2dProblem& p, double tol,
+int sweeps_to_reach(dc::LcpSolver& solver, const dc::LcpProblem& lcp, const dc::Fc2dProblem& p, double tol,
                     int max_sweeps) {
   dc::SolverOptions opt;
   opt.record_theta = false;

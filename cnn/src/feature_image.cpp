@@ -109,7 +109,54 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     own_matched = true;
     return own_match;
   };
-  // Bodies: one splat of (m, vx, vy, ω) at the centres plus the weight field S = Σ W.
+  // Every grid is zero outside the rows [dirty_lo_, dirty_hi_]: only those are cleared before
+  // a splat (the pile fills part of the box), and the rows this call writes are collected.
+  SplatRows rows{dirty_lo_, dirty_hi_, ny_, -1};
+  splat_bodies(bodies, rows);
+  const bool density_with_values = splat_contact_fields(bodies, contacts, rows);
+  if (uses_contact_values(def_.channels)) {
+    const auto uses = [&](FeatureChannel c) {
+      return std::find(def_.channels.begin(), def_.channels.end(), c) != def_.channels.end();
+    };
+    const bool want_prev = uses(FeatureChannel::LambdaPrevN) || uses(FeatureChannel::LambdaPrevT);
+    splat_contact_values(bodies, contacts, previous, want_prev ? matched() : std::span<const int>(),
+                         density_with_values, rows);
+  }
+  if (needs_lcp_problem(def_.channels)) {
+    if (problem == nullptr)
+      throw InvalidArgument("FeatureImageBuilder::features: channels w_prev_n/w_prev_t need the step's LcpProblem");
+    if (static_cast<std::size_t>(problem->constraints.size()) != contacts.size())
+      throw InvalidArgument("FeatureImageBuilder::features: the problem has " +
+                            std::to_string(problem->constraints.size()) + " contacts, the step " +
+                            std::to_string(contacts.size()));
+    splat_w_prev(bodies, contacts, previous, *problem, matched(), rows);
+  }
+  if (uses_shape_fields(def_.channels)) splat_shapes(bodies, rows);
+
+  // Every grid is now zero outside rows [lo, hi].
+  dirty_lo_ = rows.lo;
+  dirty_hi_ = rows.hi;
+  rows_lo_ = rows.lo;
+  rows_hi_ = rows.hi;
+  write_channels(out, rows.lo, rows.hi);
+}
+
+void FeatureImageBuilder::mark_written(int row_lo, int row_hi, SplatRows& rows) {
+  if (row_lo > row_hi) return;
+  rows.lo = std::min(rows.lo, row_lo);
+  rows.hi = std::max(rows.hi, row_hi);
+  // Kept true at every point (a throw may leave this call's grids half done).
+  dirty_lo_ = dirty_lo_ > dirty_hi_ ? row_lo : std::min(dirty_lo_, row_lo);
+  dirty_hi_ = std::max(dirty_hi_, row_hi);
+}
+
+void FeatureImageBuilder::splat_points(SphGrid& grid, SphGrid* weights, SplatRows& rows) {
+  const SplatStats st = splat_to_grid_rows(kernel_, points_, values_, grid, weights, rows.clear_lo, rows.clear_hi);
+  mark_written(st.row_lo, st.row_hi, rows);
+}
+
+// Bodies: one splat of (m, vx, vy, ω) at the centres plus the weight field S = Σ W.
+void FeatureImageBuilder::splat_bodies(const BodyState& bodies, SplatRows& rows) {
   const std::size_t n = bodies.size();
   points_.assign(bodies.position.begin(), bodies.position.end());
   values_.resize(4 * n);
@@ -120,24 +167,12 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     values_[4 * k + 3] = bodies.omega[k];
   }
   require_finite_features(values_, {"mass", "vx", "vy", "omega"}, "body", bodies);
-  // Every grid is zero outside the rows [dirty_lo_, dirty_hi_]: only those are cleared before
-  // a splat (the pile fills part of the box), and the rows this call writes are collected.
-  const int clear_lo = dirty_lo_, clear_hi = dirty_hi_;
-  int lo = ny_, hi = -1;
-  const auto written = [&](const SplatStats& st) {
-    if (st.row_lo > st.row_hi) return;
-    lo = std::min(lo, st.row_lo);
-    hi = std::max(hi, st.row_hi);
-    // Kept true at every point (a throw may leave this call's grids half done).
-    dirty_lo_ = dirty_lo_ > dirty_hi_ ? st.row_lo : std::min(dirty_lo_, st.row_lo);
-    dirty_hi_ = std::max(dirty_hi_, st.row_hi);
-  };
-  const auto splat = [&](SphGrid& grid, SphGrid* weights) {
-    written(splat_to_grid_rows(kernel_, points_, values_, grid, weights, clear_lo, clear_hi));
-  };
-  splat(body_grid_, &body_weight_);
+  splat_points(body_grid_, &body_weight_, rows);
+}
 
-  // Contacts: (nx, ny) at the points plus their weight field (the contact density).
+// Contacts: (nx, ny) at the points plus their weight field (the contact density).
+bool FeatureImageBuilder::splat_contact_fields(const BodyState& bodies, std::span<const Contact> contacts,
+                                               SplatRows& rows) {
   const bool contact_fields = uses_contact_fields(def_.channels);
   has_contact_weights_ = false;
   if (contact_fields) {
@@ -154,98 +189,92 @@ void FeatureImageBuilder::features(const BodyState& bodies, std::span<const Cont
     // the per-contact values it comes out of their splat (same points, same order: the same S).
     require_finite_features(values_, {"nx", "ny"}, "contact", bodies);
     if (normals) {
-      splat(contact_grid_, &contact_weight_);
+      splat_points(contact_grid_, &contact_weight_, rows);
       has_contact_weights_ = true;
     } else if (!uses_contact_values(def_.channels)) {
-      written(splat_weights(kernel_, points_, contact_weight_));
+      const SplatStats st = splat_weights(kernel_, points_, contact_weight_);
+      mark_written(st.row_lo, st.row_hi, rows);
       has_contact_weights_ = true;
     }
   }
-  const bool density_with_values = contact_fields && !has_contact_weights_;
+  return contact_fields && !has_contact_weights_;
+}
 
-  // Per-contact values (numerators, like the labels): builtin λ, relative velocity, gap.
-  if (uses_contact_values(def_.channels)) {
-    const auto uses = [&](FeatureChannel c) {
-      return std::find(def_.channels.begin(), def_.channels.end(), c) != def_.channels.end();
-    };
-    const bool want_prev = uses(FeatureChannel::LambdaPrevN) || uses(FeatureChannel::LambdaPrevT);
-    const std::span<const int> m = want_prev ? matched() : std::span<const int>();
-    points_.clear();
-    values_.clear();
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
-      const Contact& ct = contacts[c];
-      const Contact* p = want_prev && m[c] >= 0 ? &previous[static_cast<std::size_t>(m[c])] : nullptr;
-      const Vec2 u = point_velocity(bodies, ct.body_b, ct.point) - point_velocity(bodies, ct.body_a, ct.point);
-      points_.push_back(ct.point);
-      values_.push_back(p ? p->lambda_n : 0.0);
-      values_.push_back(p ? p->lambda_t : 0.0);
-      values_.push_back(dot(u, ct.normal));
-      values_.push_back(dot(u, perp(ct.normal)));
-      values_.push_back(ct.gap);
-    }
-    require_finite_features(values_, {"lambda_prev_n", "lambda_prev_t", "vrel_n", "vrel_t", "gap"}, "contact", bodies);
-    splat(contact_values_, density_with_values ? &contact_weight_ : nullptr);
-    has_contact_weights_ = contact_fields;
+// Per-contact values (numerators, like the labels): builtin λ, relative velocity, gap. `match`
+// is empty when no lambda_prev channel is listed (λ_prev is then 0).
+void FeatureImageBuilder::splat_contact_values(const BodyState& bodies, std::span<const Contact> contacts,
+                                               std::span<const Contact> previous, std::span<const int> match,
+                                               bool density_with_values, SplatRows& rows) {
+  const bool want_prev = !match.empty();
+  points_.clear();
+  values_.clear();
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const Contact& ct = contacts[c];
+    const Contact* p = want_prev && match[c] >= 0 ? &previous[static_cast<std::size_t>(match[c])] : nullptr;
+    const Vec2 u = point_velocity(bodies, ct.body_b, ct.point) - point_velocity(bodies, ct.body_a, ct.point);
+    points_.push_back(ct.point);
+    values_.push_back(p ? p->lambda_n : 0.0);
+    values_.push_back(p ? p->lambda_t : 0.0);
+    values_.push_back(dot(u, ct.normal));
+    values_.push_back(dot(u, perp(ct.normal)));
+    values_.push_back(ct.gap);
   }
+  require_finite_features(values_, {"lambda_prev_n", "lambda_prev_t", "vrel_n", "vrel_t", "gap"}, "contact", bodies);
+  splat_points(contact_values_, density_with_values ? &contact_weight_ : nullptr, rows);
+  has_contact_weights_ = uses_contact_fields(def_.channels);
+}
 
-  // The builtin guess's LCP velocity w = A λ_prev + b per contact (matrix-free when the
-  // problem has J): the violation that the correction λ* − λ_prev has to undo.
-  if (needs_lcp_problem(def_.channels)) {
-    if (problem == nullptr)
-      throw InvalidArgument("FeatureImageBuilder::features: channels w_prev_n/w_prev_t need the step's LcpProblem");
-    const ContactConstraints& cons = problem->constraints;
-    if (static_cast<std::size_t>(cons.size()) != contacts.size())
-      throw InvalidArgument("FeatureImageBuilder::features: the problem has " + std::to_string(cons.size()) +
-                            " contacts, the step " + std::to_string(contacts.size()));
-    const std::span<const int> m = matched();
-    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(problem->rows());
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
-      if (m[c] < 0) continue;
-      const Contact& p = previous[static_cast<std::size_t>(m[c])];
-      cons.put(static_cast<int>(c), p.lambda_n, p.lambda_t, lambda);
-    }
-    const Eigen::VectorXd w = lcp_velocity(*problem, lambda);
-    points_.clear();
-    values_.clear();
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
-      points_.push_back(contacts[c].point);
-      values_.push_back(cons.lambda_n(w, static_cast<int>(c)));
-      values_.push_back(cons.lambda_t(w, static_cast<int>(c)));
-    }
-    require_finite_features(values_, {"w_prev_n", "w_prev_t"}, "contact", bodies);
-    splat(w_prev_grid_, nullptr);
+// The builtin guess's LCP velocity w = A λ_prev + b per contact (matrix-free when the problem
+// has J): the violation that the correction λ* − λ_prev has to undo.
+void FeatureImageBuilder::splat_w_prev(const BodyState& bodies, std::span<const Contact> contacts,
+                                       std::span<const Contact> previous, const LcpProblem& problem,
+                                       std::span<const int> match, SplatRows& rows) {
+  const ContactConstraints& cons = problem.constraints;
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(problem.rows());
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    if (match[c] < 0) continue;
+    const Contact& p = previous[static_cast<std::size_t>(match[c])];
+    cons.put(static_cast<int>(c), p.lambda_n, p.lambda_t, lambda);
   }
-
-  // Shapes: area samples of every body with (a, a Q_x, a Q_y); coverage = Σ W a is channel 0.
-  if (uses_shape_fields(def_.channels)) {
-    // Sample spacing h/2: the kernels of neighbouring samples overlap (a smooth plateau).
-    const double spacing = 0.5 * def_.sph.support;
-    points_.clear();
-    values_.clear();
-    for (std::size_t k = 0; k < n; ++k) {
-      samples_.clear();
-      append_area_samples(bodies, k, spacing, samples_);
-      const bool round = bodies.shapes.empty() || bodies.shapes.kind[k] == ShapeKind::Circle;
-      // A disc's samples need no rotation (and its Q is 0): no cos/sin for circle-only scenes.
-      const double c = round ? 1.0 : std::cos(bodies.angle[k]), s = round ? 0.0 : std::sin(bodies.angle[k]);
-      const Vec2 q = rotate_nematic(body_frame_nematic(bodies, k), c, s);
-      const Vec2 x = bodies.position[k];
-      for (const AreaSample& a : samples_) {
-        points_.push_back(x + Vec2{c * a.point.x - s * a.point.y, s * a.point.x + c * a.point.y});
-        values_.push_back(a.area);
-        values_.push_back(a.area * q.x);
-        values_.push_back(a.area * q.y);
-      }
-    }
-    splat(shape_grid_, nullptr);
+  const Eigen::VectorXd w = lcp_velocity(problem, lambda);
+  points_.clear();
+  values_.clear();
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    points_.push_back(contacts[c].point);
+    values_.push_back(cons.lambda_n(w, static_cast<int>(c)));
+    values_.push_back(cons.lambda_t(w, static_cast<int>(c)));
   }
+  require_finite_features(values_, {"w_prev_n", "w_prev_t"}, "contact", bodies);
+  splat_points(w_prev_grid_, nullptr, rows);
+}
 
-  // Every grid is now zero outside rows [lo, hi]: the channels there are +0 (0 and the
-  // Shepard quotient 0/1 alike), so only the nodes [p0, p1) of those rows are converted.
-  dirty_lo_ = lo;
-  dirty_hi_ = hi;
-  rows_lo_ = lo;
-  rows_hi_ = hi;
+// Shapes: area samples of every body with (a, a Q_x, a Q_y); coverage = Σ W a is channel 0.
+void FeatureImageBuilder::splat_shapes(const BodyState& bodies, SplatRows& rows) {
+  // Sample spacing h/2: the kernels of neighbouring samples overlap (a smooth plateau).
+  const double spacing = 0.5 * def_.sph.support;
+  points_.clear();
+  values_.clear();
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    samples_.clear();
+    append_area_samples(bodies, k, spacing, samples_);
+    const bool round = bodies.shapes.empty() || bodies.shapes.kind[k] == ShapeKind::Circle;
+    // A disc's samples need no rotation (and its Q is 0): no cos/sin for circle-only scenes.
+    const double c = round ? 1.0 : std::cos(bodies.angle[k]), s = round ? 0.0 : std::sin(bodies.angle[k]);
+    const Vec2 q = rotate_nematic(body_frame_nematic(bodies, k), c, s);
+    const Vec2 x = bodies.position[k];
+    for (const AreaSample& a : samples_) {
+      points_.push_back(x + Vec2{c * a.point.x - s * a.point.y, s * a.point.x + c * a.point.y});
+      values_.push_back(a.area);
+      values_.push_back(a.area * q.x);
+      values_.push_back(a.area * q.y);
+    }
+  }
+  splat_points(shape_grid_, nullptr, rows);
+}
+
+// The channels there are +0 outside rows [lo, hi] (0 and the Shepard quotient 0/1 alike), so
+// only the nodes [p0, p1) of those rows are converted.
+void FeatureImageBuilder::write_channels(std::span<float> out, int lo, int hi) {
   const std::size_t P = plane();
   const std::size_t p0 = lo <= hi ? static_cast<std::size_t>(lo) * nx_ : 0;
   const std::size_t p1 = lo <= hi ? static_cast<std::size_t>(hi + 1) * nx_ : 0;

@@ -20,7 +20,7 @@ class SymmetricGaussSeidel final : public dc::LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "sym-gs"; }
   [[nodiscard]] dc::SolveResult solve(const dc::LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                      const dc::SolverOptions& o) const override {
+                                      const dc::SolverOptions& o) override {
     dc::SolveResult r;
     r.lambda = lambda0.size() == p.rows() ? lambda0 : Eigen::VectorXd::Zero(p.rows()).eval();
     for (r.sweeps = 1; r.sweeps <= o.max_sweeps; ++r.sweeps) {

@@ -22,7 +22,7 @@ class DampedJacobi final : public dc::LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "damped-jacobi"; }
   [[nodiscard]] dc::SolveResult solve(const dc::LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                      const dc::SolverOptions& o) const override {
+                                      const dc::SolverOptions& o) override {
     dc::SolveResult r;
     r.lambda = lambda0.size() == p.rows() ? lambda0 : Eigen::VectorXd::Zero(p.rows()).eval();
     const Eigen::VectorXd diag = p.A.diagonal();

@@ -81,8 +81,8 @@ def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="
     """Run the warm-start benchmark of ``deepcontact bench`` and return its summary as a dict
     (the content of summary.json; with ``out`` the whole report is written there too).
 
-    warmstarts: names ("zero", "builtin", "copy:2", …; None = the CLI's default list) and/or
-    Python warm starters. An instance is used for every seed; a class (or factory) is called
+    warmstarts: names of warmstarters() ("zero", "builtin", "cnn", …; None = the CLI's default
+    list without its oracles and controls) and/or Python warm starters. An instance is used for every seed; a class (or factory) is called
     once per seed for a fresh starter, as the C++ ones are. seeds: an iterable of ints, an int,
     or "A..B". quick: as ``--quick`` (one seed unless ``seeds`` is given, the short starter
     list). sweeps/tol/solver/steps/model/set: as the CLI's options. The GIL is released

@@ -14,7 +14,6 @@
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/provenance.hpp"
 #include "dc/core/error.hpp"
-#include "dc/research/research_starters.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {
@@ -36,7 +35,7 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
                   const std::string& mode, pyb::object out, pyb::object sweeps, double tol, const std::string& solver,
                   pyb::object steps, const std::string& model, bool progress, pyb::object solvers, double accuracy,
                   int jobs) {
-  WarmStarterRegistry registry = cli_registry();
+  WarmStarterRegistry registry = user_registry();
   bench::BenchOptions o;
   o.scene = scene_from_python(scene, set);
   o.seeds = seeds.is_none() ? std::vector<std::uint64_t>{1} : seeds_from_python(seeds);
@@ -60,7 +59,7 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
   // initial_guess) is called once per seed, like the C++ factories; an instance is shared.
   pyb::list items;  // keeps every object alive for the run
   if (warmstarts.is_none()) {
-    for (const auto& n : default_bench_starters(shipped_model(), quick)) items.append(pyb::str(n));
+    for (const auto& n : default_python_bench_starters(quick)) items.append(pyb::str(n));
   } else {
     for (auto w : warmstarts) items.append(w);
   }
@@ -133,7 +132,7 @@ void bind_bench(pyb::module_& m) {
         "'median_total_ms'}}}. accuracy: its target R (`--accuracy`), natural-map residual <= R x the heaviest "
         "body's weight m g (default 1e-6). jobs: seeds run at once on their own threads (`--jobs`); the results "
         "equal one thread's bar the timings.");
-  m.def("warmstarters", [] { return cli_registry().names(); }, "Names of the C++ warm starters.");
+  m.def("warmstarters", [] { return user_registry().names(); }, "Names of the C++ warm starters.");
 }
 
 }  // namespace dc::py

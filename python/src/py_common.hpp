@@ -108,9 +108,14 @@ WorldDef scene_from_python(pyb::handle scene, pyb::handle set);
 std::unique_ptr<WarmStarter> make_python_warm_starter(pyb::handle obj);
 /// The shipped model, models/default.h5 of the source tree the module was built from.
 std::filesystem::path shipped_model();
-/// Every C++ starter, as the CLI has them (all_warm_starters: methods, cnn with the shipped
-/// model, oracles and controls).
-WarmStarterRegistry cli_registry();
+/// The starters a user's run draws from: default_warm_starters() and the cnn starters with the
+/// shipped model. The oracles and negative controls of dc_research are not linked into the
+/// module (`deepcontact bench` has them; docs/python.md).
+WarmStarterRegistry user_registry();
+/// bench(warmstarts=None)'s list: zero, builtin, builtin-extrapolate, builtin-statics,
+/// sph-prev (quick: zero, builtin), plus cnn when the shipped model exists — `deepcontact
+/// bench`'s default list without its oracles and controls.
+std::vector<std::string> default_python_bench_starters(bool quick);
 
 // ---- registration (one file each) -------------------------------------------------
 void bind_errors(pyb::module_& m);

@@ -1,7 +1,7 @@
 // Warm starters written in Python (deepcontact.WarmStarter and any duck-typed object), and
 // the C++ registry the module uses.
+#include "dc/cnn/cnn_warm_starter.hpp"
 #include "dc/core/error.hpp"
-#include "dc/research/research_starters.hpp"
 #include "py_common.hpp"
 #include "dc/core/install_paths.hpp"
 
@@ -83,6 +83,18 @@ std::unique_ptr<WarmStarter> make_python_warm_starter(pyb::handle obj) {
 
 std::filesystem::path shipped_model() { return data_path("models/default.h5"); }
 
-WarmStarterRegistry cli_registry() { return all_warm_starters(shipped_model()); }
+WarmStarterRegistry user_registry() {
+  WarmStarterRegistry r = default_warm_starters();
+  add_cnn_warm_starters(r, shipped_model());
+  return r;
+}
+
+std::vector<std::string> default_python_bench_starters(bool quick) {
+  std::vector<std::string> out = {"zero", "builtin"};
+  if (!quick) out.insert(out.end(), {"builtin-extrapolate", "builtin-statics", "sph-prev"});
+  // cnn only when the shipped model is there, as in `deepcontact bench`'s default list.
+  if (std::filesystem::exists(shipped_model())) out.push_back("cnn");
+  return out;
+}
 
 }  // namespace dc::py

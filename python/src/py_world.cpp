@@ -168,7 +168,7 @@ pyb::object step(PyWorld& self, const std::optional<std::string>& solver_name, p
   if (pyb::isinstance<pyb::str>(warmstart)) {
     const auto spec = warmstart.cast<std::string>();
     auto& slot = self.starters[spec];
-    if (!slot) slot = cli_registry().make(spec);
+    if (!slot) slot = user_registry().make(spec);
     ws = slot.get();
   } else if (!warmstart.is_none()) {
     python_starter = make_python_warm_starter(warmstart);

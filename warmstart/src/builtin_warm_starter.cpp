@@ -29,10 +29,13 @@ class BuiltinWarmStarter final : public WarmStarter {
  public:
   std::string name() const override { return "builtin"; }
   Eigen::VectorXd initial_guess(const StepView& v) override { return builtin_guess(v.world); }
-  [[nodiscard]] bool is_previous_lambda() const override { return true; }
 };
 
 }  // namespace
+
+bool is_builtin_warm_starter(const WarmStarter& starter) {
+  return dynamic_cast<const BuiltinWarmStarter*>(&starter) != nullptr;
+}
 
 std::unique_ptr<WarmStarter> make_builtin_warm_starter(const WarmStartSpec& spec, const WarmStartEnv&) {
   reject_argument(spec);

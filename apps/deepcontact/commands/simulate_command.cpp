@@ -101,12 +101,13 @@ RunFigures step_world(World& world, const WorldDef& def, WarmStarter& starter, T
   RunFigures f;
   const double cpu0 = process_cpu_seconds();
   double record_s = 0;
+  const bool engine_builtin = is_builtin_warm_starter(starter);
   for (int s = 0; s < def.time.steps && !interrupted(); ++s) {
     Eigen::VectorXd guess;  // this step's λ⁰, for an exported problem's /guesses
     const bool exported = exporter && exporter->due(s + 1);
     // builtin: the engine's own copy of it (the same λ⁰; with an internal body order it runs
     // in the internal rows), unless the exported problem needs λ⁰ itself.
-    const StepReport r = starter.is_previous_lambda() && !exported
+    const StepReport r = engine_builtin && !exported
                              ? world.step(*solver, opt, World::WarmStart::PreviousLambda)
                              : world.step(*solver, opt, [&](const World& w) {
                                  guess = starter.initial_guess(StepView{w, nullptr});

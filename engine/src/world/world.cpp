@@ -292,16 +292,16 @@ Eigen::VectorXd previous_lambda(const std::vector<Contact>& previous, const std:
 
 }  // namespace
 
-StepReport World::step(const LcpSolver& solver, const SolverOptions& options, const InitialGuess& guess) {
+StepReport World::step(LcpSolver& solver, const SolverOptions& options, const InitialGuess& guess) {
   return step_with(solver, options, &guess);  // an empty function: zeros
 }
 
-StepReport World::step(const LcpSolver& solver, const SolverOptions& options, WarmStart guess) {
+StepReport World::step(LcpSolver& solver, const SolverOptions& options, WarmStart guess) {
   (void)guess;  // the one engine warm start
   return step_with(solver, options, nullptr);
 }
 
-StepReport World::step_with(const LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess) {
+StepReport World::step_with(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess) {
   StepReport rep;
   auto t0 = Clock::now();
   collide_stage();

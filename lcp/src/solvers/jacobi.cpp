@@ -17,7 +17,7 @@ class JacobiSolver final : public LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "jacobi"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     std::optional<LcpProblem> local;
     const LcpProblem& p = with_assembled_matrix(problem, local);
     Eigen::VectorXd lambda;

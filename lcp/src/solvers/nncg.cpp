@@ -136,7 +136,7 @@ class NncgSolver final : public LcpSolver {
   [[nodiscard]] bool needs_jacobian() const override { return true; }
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     if (!p.has_jacobian()) {
       return solve_assembled(p, lambda0, o);
     }

@@ -27,7 +27,7 @@ class PgsAssembledSolver final : public LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "pgs-assembled"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     return solve_assembled_gauss_seidel(p, lambda0, o, 1.0, name());
   }
 };

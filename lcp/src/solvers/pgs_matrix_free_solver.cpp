@@ -18,7 +18,7 @@ class PgsMatrixFreeSolver final : public LcpSolver {
   [[nodiscard]] bool needs_jacobian() const override { return true; }
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     if (!p.has_jacobian()) {
       // A problem from a file has only A: run the same iteration in its assembled form.
       SolveResult r = solve_assembled_gauss_seidel(p, lambda0, o, 1.0, name());

@@ -13,7 +13,7 @@ class PsorSolver final : public LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "psor"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     if (!(o.omega > 0 && o.omega < 2)) {
       SolveResult r;
       r.status = SolveStatus::InvalidInput;

@@ -303,32 +303,49 @@ void Conv2d::forward(const Tensor& x, Tensor& y, bool /*training*/) {
   }
 }
 
+/// What one backward() call computes and how its work is split (derived from the shapes only).
+struct Conv2d::BackwardPlan {
+  int N, K, Kf, rpt, ntiles, plane, T, Wp, groups, fpad_top, fpad_left;
+  std::size_t dy_sample;
+  bool flip, direct, by_sample, direct_dw, shared_col;
+};
+
 void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor* dx) {
   const Geometry g = geometry(x.shape());
   const int N = x.n();
   require_shape(dy.shape(), {N, cout_, g.ho, g.wo}, "Conv2d::backward dy");
   require_shape(y.shape(), dy.shape(), "Conv2d::backward y");
   if (dx != nullptr) dx->resize(x.shape());
-  const int K = cin_ * k_ * k_;
-  const int Kf = cout_ * k_ * k_;  // patch length of dY for the stride-1 dX
-  const int rpt = g.rows_per_tile;
-  const int ntiles = (g.ho + rpt - 1) / rpt;
-  const int plane = g.ho * g.wo;
-  const std::size_t dy_sample = static_cast<std::size_t>(cout_) * plane;
-  const double macs = double(N) * g.ho * g.wo * K * cout_;
-  const int T = macs >= kParallelMacs ? detail::max_threads() : 1;
+  const BackwardPlan b = backward_plan(g, N, dx != nullptr);
+  prepare_backward(b, g, y, dy, dx);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(b.T) if (b.T > 1)
+  for (int q = 0; q < b.groups; ++q) backward_group(b, g, q, x, y, dy, dx);
+  reduce_backward(b, g, dx);
+}
+
+Conv2d::BackwardPlan Conv2d::backward_plan(const Geometry& g, int N, bool has_dx) const {
+  BackwardPlan b{};
+  b.N = N;
+  b.K = cin_ * k_ * k_;
+  b.Kf = cout_ * k_ * k_;  // patch length of dY for the stride-1 dX
+  b.rpt = g.rows_per_tile;
+  b.ntiles = (g.ho + b.rpt - 1) / b.rpt;
+  b.plane = g.ho * g.wo;
+  b.dy_sample = static_cast<std::size_t>(cout_) * b.plane;
+  const double macs = double(N) * g.ho * g.wo * b.K * cout_;
+  b.T = macs >= kParallelMacs ? detail::max_threads() : 1;
   // dX. For stride 1 it is itself a "same" convolution of dY with the kernel flipped in
   // space and transposed in channels, padded by k−1−pt (= pt for odd k):
   //   dx[c, iy, ix] = Σ_{o, ky', kx'} Wf[(o, ky', kx'), c] · dy[o, iy + ky' − pt, ix + kx' − pl],
   //   Wf[(o, ky', kx'), c] = w[o, c, k−1−ky', k−1−kx'],
   // so each dX tile is one GEMM (P × Cout·k²)·(Cout·k² × Cin) written in place: no dX_col of
   // P × Cin·k² and no scatter. Other strides use dX_col = dY·W and col2im.
-  const bool flip = s_ == 1;
-  const bool direct = flip && dx != nullptr && direct_available(s_, g.wo);
-  const int Wp = padded_width(g.wo, k_);
-  const bool by_sample = N >= 2;
+  b.flip = s_ == 1;
+  b.direct = b.flip && has_dx && direct_available(s_, g.wo);
+  b.Wp = padded_width(g.wo, k_);
+  b.by_sample = N >= 2;
   // dW directly from a padded copy of the whole sample (3 × 3, stride 1, a batch).
-  const bool direct_dw = flip && k_ == 3 && by_sample && direct_available(s_, g.wo);
+  b.direct_dw = b.flip && k_ == 3 && b.by_sample && direct_available(s_, g.wo);
   // Work split into groups, each with its own dW/db accumulator; groups are summed in
   // group order afterwards. A batch (N ≥ 2) is cut into ≤ 16 runs of consecutive
   // samples; a single sample into its row tiles. The grouping depends on N only, and
@@ -336,125 +353,154 @@ void Conv2d::backward(const Tensor& x, const Tensor& y, const Tensor& dy, Tensor
   // deterministic for any thread count, and dynamic scheduling lets a running thread take
   // over the work of a descheduled one. For a single sample with stride ≠ 1 the tiles
   // write dX_col rows of one shared P × K buffer and col2im runs once afterwards.
-  const int groups = by_sample ? std::min(N, 16) : ntiles;
-  const bool shared_col = dx != nullptr && !by_sample && !flip;
+  b.groups = b.by_sample ? std::min(N, 16) : b.ntiles;
+  b.shared_col = has_dx && !b.by_sample && !b.flip;
+  b.fpad_top = k_ - 1 - g.pad_top;
+  b.fpad_left = k_ - 1 - g.pad_left;
+  return b;
+}
+
+void Conv2d::prepare_backward(const BackwardPlan& b, const Geometry& g, const Tensor& y, const Tensor& dy,
+                              Tensor* dx) {
+  const int T = b.T;
   grow(col_, static_cast<std::size_t>(T));
   grow(dyr_, static_cast<std::size_t>(T));
-  grow(dw_, static_cast<std::size_t>(groups));
-  grow(db_, static_cast<std::size_t>(groups));
-  if (direct) grow(pad_, static_cast<std::size_t>(T));
+  grow(dw_, static_cast<std::size_t>(b.groups));
+  grow(db_, static_cast<std::size_t>(b.groups));
+  if (b.direct) grow(pad_, static_cast<std::size_t>(T));
   for (int t = 0; t < T; ++t) {
-    grow(col_[t], static_cast<Eigen::Index>(rpt) * g.wo * std::max(K, flip && !direct ? Kf : 0));
-    if (direct) grow(pad_[t], static_cast<Eigen::Index>(cout_) * (rpt + k_ - 1) * Wp);
-    if (direct_dw) {
+    grow(col_[t], static_cast<Eigen::Index>(b.rpt) * g.wo * std::max(b.K, b.flip && !b.direct ? b.Kf : 0));
+    if (b.direct) grow(pad_[t], static_cast<Eigen::Index>(cout_) * (b.rpt + k_ - 1) * b.Wp);
+    if (b.direct_dw) {
       grow(xpad_, static_cast<std::size_t>(T));
       grow(dyz_, static_cast<std::size_t>(T));
-      grow(xpad_[t], static_cast<Eigen::Index>(cin_) * (g.h + 2) * Wp);
-      grow(dyz_[t], static_cast<Eigen::Index>(cout_) * (g.ho + 2) * Wp);
+      grow(xpad_[t], static_cast<Eigen::Index>(cin_) * (g.h + 2) * b.Wp);
+      grow(dyz_[t], static_cast<Eigen::Index>(cout_) * (g.ho + 2) * b.Wp);
     }
-    if (relu_ && by_sample) grow(dyr_[t], static_cast<Eigen::Index>(dy_sample));
+    if (relu_ && b.by_sample) grow(dyr_[t], static_cast<Eigen::Index>(b.dy_sample));
   }
-  for (int q = 0; q < groups; ++q) {
-    dw_[q].setZero(K, cout_);
+  for (int q = 0; q < b.groups; ++q) {
+    dw_[q].setZero(b.K, cout_);
     db_[q].setZero(cout_);
   }
-  if (shared_col) grow(dxcol_, static_cast<Eigen::Index>(plane) * K);
-  if (dx != nullptr && !flip && by_sample) dx->set_zero();
+  if (b.shared_col) grow(dxcol_, static_cast<Eigen::Index>(b.plane) * b.K);
+  if (dx != nullptr && !b.flip && b.by_sample) dx->set_zero();
   // d/dz relu(z) = [y > 0]: dY is masked once per sample (it is read by neighbouring
   // tiles of the stride-1 dX). For a single sample, mask it before the tiles start.
-  if (relu_ && !by_sample) {
+  if (relu_ && !b.by_sample) {
     grow(dymask_, static_cast<Eigen::Index>(dy.size()));
     dymask_.head(static_cast<Eigen::Index>(dy.size())) = (y.flat().array() > 0.0f).select(dy.flat(), 0.0f);
   }
-  const CMatMap Wt(weight_.data(), K, cout_);
-  if (flip && dx != nullptr) {
-    wflip_.resize(Kf, cin_);
+  if (b.flip && dx != nullptr) {
+    wflip_.resize(b.Kf, cin_);
     for (int o = 0; o < cout_; ++o)
       for (int c = 0; c < cin_; ++c)
         for (int ky = 0; ky < k_; ++ky)
           for (int kx = 0; kx < k_; ++kx)
             wflip_((o * k_ + (k_ - 1 - ky)) * k_ + (k_ - 1 - kx), c) = weight_(o, c, ky, kx);
-    if (direct) pack_weights(wflip_.data(), Kf, 1, cin_, cout_, k_ * k_, block_channels(g.wo, cin_), wpkf_);
+    if (b.direct) pack_weights(wflip_.data(), b.Kf, 1, cin_, cout_, k_ * k_, block_channels(g.wo, cin_), wpkf_);
   }
-  const int fpad_top = k_ - 1 - g.pad_top, fpad_left = k_ - 1 - g.pad_left;
+}
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(T) if (T > 1)
-  for (int q = 0; q < groups; ++q) {
-    const int tid = detail::thread_id();
-    Eigen::MatrixXf& dW = dw_[q];
-    Eigen::VectorXf& db = db_[q];
-    float* col = col_[tid].data();
-    // Group q: samples [n_lo, n_hi) with all tiles, or tile q of sample 0.
-    const int n_lo = by_sample ? static_cast<int>(static_cast<long>(N) * q / groups) : 0;
-    const int n_hi = by_sample ? static_cast<int>(static_cast<long>(N) * (q + 1) / groups) : 1;
-    for (int n = n_lo; n < n_hi; ++n) {
-      const int t_lo = by_sample ? 0 : q;
-      const int t_hi = by_sample ? ntiles : q + 1;
-      const float* gs = dy.sample(n);  // dL/dz of sample n, [Cout, Ho, Wo]
-      if (relu_ && by_sample) {
-        float* m = dyr_[tid].data();
-        const float* ys = y.sample(n);
-        for (std::size_t i = 0; i < dy_sample; ++i) m[i] = ys[i] > 0.0f ? gs[i] : 0.0f;
-        gs = m;
-      } else if (relu_) {
-        gs = dymask_.data();
-      }
-      float* dxs = dx == nullptr ? nullptr : dx->sample(n);
-      if (direct_dw) {
-        float* xp = xpad_[tid].data();
-        float* dz = dyz_[tid].data();
-        // Padded x and dY of the whole sample (p = 1): dY's padding leaves zero lanes
-        // beyond Wo (Wp = VB·16 + 2), as direct_dw3 needs; the same buffer feeds dX.
-        pad_rows(x.sample(n), nullptr, cin_, g.h, g.w, 1, 0, g.h + 2, Wp, xp);
-        pad_rows(gs, nullptr, cout_, g.ho, g.wo, 1, 0, g.ho + 2, Wp, dz);
-        direct_dw_sample(xp, cin_, Wp, dz + Wp + 1, static_cast<long>(g.ho + 2) * Wp, Wp, cout_, g.ho, g.wo, dW.data());
-        db.noalias() += CStridedMap(gs, plane, cout_, Eigen::OuterStride<>(plane)).colwise().sum().transpose();
-        if (dxs != nullptr) direct_tile(dz, cout_, g.ho + 2, Wp, k_, wpkf_.data(), cin_, nullptr, false, dxs, g.h, g.w, 0, g.h);
-        continue;
-      }
-      for (int tile = t_lo; tile < t_hi; ++tile) {
-        const int oy0 = tile * rpt;
-        const int oy1 = std::min(g.ho, oy0 + rpt);
-        const int P = (oy1 - oy0) * g.wo;
-        const std::size_t off = static_cast<std::size_t>(oy0) * g.wo;
-        CStridedMap G(gs + off, P, cout_, Eigen::OuterStride<>(plane));
-        MatMap C(col, P, K);
-        if (!direct_dw) {
-          im2col(x.sample(n), g, oy0, oy1, col);
-          dW.noalias() += C.transpose() * G;
-          db.noalias() += G.colwise().sum().transpose();
-        }
-        if (dxs == nullptr) continue;
-        if (direct) {
-          // dX rows [oy0, oy1) from dY rows [oy0 − p, oy1 + p): the same direct kernel.
-          const int R = (oy1 - oy0) + k_ - 1;
-          float* dyp = pad_[tid].data();
-          pad_rows(gs, nullptr, cout_, g.ho, g.wo, fpad_top, oy0, R, Wp, dyp);
-          direct_tile(dyp, cout_, R, Wp, k_, wpkf_.data(), cin_, nullptr, false, dxs, g.h, g.w, oy0, oy1 - oy0);
-        } else if (flip) {
-          // Input rows [oy0, oy1) (stride 1: the input grid is the output grid).
-          im2col_planes(gs, cout_, g.ho, g.wo, k_, 1, fpad_top, fpad_left, g.w, oy0, oy1, col);
-          StridedMap DX(dxs + off, P, cin_, Eigen::OuterStride<>(g.h * g.w));
-          DX.noalias() = MatMap(col, P, Kf) * wflip_;
-        } else if (shared_col) {
-          StridedMap(dxcol_.data() + off, P, K, Eigen::OuterStride<>(plane)).noalias() = G * Wt.transpose();
-        } else {
-          C.noalias() = G * Wt.transpose();
-          col2im(col, g, oy0, oy1, dxs);
-        }
-      }
+// dL/dz of sample n, [Cout, Ho, Wo]: dY masked by the fused ReLU (into thread tid's buffer
+// for a batch; the mask made by prepare_backward for a single sample).
+const float* Conv2d::masked_dy(const BackwardPlan& b, int n, int tid, const Tensor& y, const Tensor& dy) {
+  const float* gs = dy.sample(n);
+  if (relu_ && b.by_sample) {
+    float* m = dyr_[tid].data();
+    const float* ys = y.sample(n);
+    for (std::size_t i = 0; i < b.dy_sample; ++i) m[i] = ys[i] > 0.0f ? gs[i] : 0.0f;
+    return m;
+  }
+  if (relu_) return dymask_.data();
+  return gs;
+}
+
+// Group q: samples [n_lo, n_hi) with all tiles, or tile q of sample 0.
+void Conv2d::backward_group(const BackwardPlan& b, const Geometry& g, int q, const Tensor& x, const Tensor& y,
+                            const Tensor& dy, Tensor* dx) {
+  const int tid = detail::thread_id();
+  const int N = b.N;
+  const int n_lo = b.by_sample ? static_cast<int>(static_cast<long>(N) * q / b.groups) : 0;
+  const int n_hi = b.by_sample ? static_cast<int>(static_cast<long>(N) * (q + 1) / b.groups) : 1;
+  for (int n = n_lo; n < n_hi; ++n) {
+    const float* gs = masked_dy(b, n, tid, y, dy);
+    float* dxs = dx == nullptr ? nullptr : dx->sample(n);
+    if (b.direct_dw) {
+      backward_sample_direct(b, g, q, n, x, gs, dxs);
+    } else {
+      backward_tiles(b, g, q, n, b.by_sample ? 0 : q, b.by_sample ? b.ntiles : q + 1, x, gs, dxs);
     }
   }
-  if (shared_col) {
+}
+
+// dW, db and dX of sample n by the direct kernels (3×3, stride 1).
+void Conv2d::backward_sample_direct(const BackwardPlan& b, const Geometry& g, int q, int n, const Tensor& x,
+                                    const float* gs, float* dxs) {
+  const int tid = detail::thread_id();
+  const int Wp = b.Wp, plane = b.plane;
+  float* xp = xpad_[tid].data();
+  float* dz = dyz_[tid].data();
+  // Padded x and dY of the whole sample (p = 1): dY's padding leaves zero lanes
+  // beyond Wo (Wp = VB·16 + 2), as direct_dw3 needs; the same buffer feeds dX.
+  pad_rows(x.sample(n), nullptr, cin_, g.h, g.w, 1, 0, g.h + 2, Wp, xp);
+  pad_rows(gs, nullptr, cout_, g.ho, g.wo, 1, 0, g.ho + 2, Wp, dz);
+  direct_dw_sample(xp, cin_, Wp, dz + Wp + 1, static_cast<long>(g.ho + 2) * Wp, Wp, cout_, g.ho, g.wo, dw_[q].data());
+  db_[q].noalias() += CStridedMap(gs, plane, cout_, Eigen::OuterStride<>(plane)).colwise().sum().transpose();
+  if (dxs != nullptr) direct_tile(dz, cout_, g.ho + 2, Wp, k_, wpkf_.data(), cin_, nullptr, false, dxs, g.h, g.w, 0, g.h);
+}
+
+// dW, db (im2col + GEMM) and dX of the row tiles [t_lo, t_hi) of sample n.
+void Conv2d::backward_tiles(const BackwardPlan& b, const Geometry& g, int q, int n, int t_lo, int t_hi,
+                            const Tensor& x, const float* gs, float* dxs) {
+  const int tid = detail::thread_id();
+  const int K = b.K, plane = b.plane, rpt = b.rpt;
+  Eigen::MatrixXf& dW = dw_[q];
+  Eigen::VectorXf& db = db_[q];
+  float* col = col_[tid].data();
+  const CMatMap Wt(weight_.data(), K, cout_);
+  for (int tile = t_lo; tile < t_hi; ++tile) {
+    const int oy0 = tile * rpt;
+    const int oy1 = std::min(g.ho, oy0 + rpt);
+    const int P = (oy1 - oy0) * g.wo;
+    const std::size_t off = static_cast<std::size_t>(oy0) * g.wo;
+    CStridedMap G(gs + off, P, cout_, Eigen::OuterStride<>(plane));
+    MatMap C(col, P, K);
+    im2col(x.sample(n), g, oy0, oy1, col);
+    dW.noalias() += C.transpose() * G;
+    db.noalias() += G.colwise().sum().transpose();
+    if (dxs == nullptr) continue;
+    if (b.direct) {
+      // dX rows [oy0, oy1) from dY rows [oy0 − p, oy1 + p): the same direct kernel.
+      const int R = (oy1 - oy0) + k_ - 1;
+      float* dyp = pad_[tid].data();
+      pad_rows(gs, nullptr, cout_, g.ho, g.wo, b.fpad_top, oy0, R, b.Wp, dyp);
+      direct_tile(dyp, cout_, R, b.Wp, k_, wpkf_.data(), cin_, nullptr, false, dxs, g.h, g.w, oy0, oy1 - oy0);
+    } else if (b.flip) {
+      // Input rows [oy0, oy1) (stride 1: the input grid is the output grid).
+      im2col_planes(gs, cout_, g.ho, g.wo, k_, 1, b.fpad_top, b.fpad_left, g.w, oy0, oy1, col);
+      StridedMap DX(dxs + off, P, cin_, Eigen::OuterStride<>(g.h * g.w));
+      DX.noalias() = MatMap(col, P, b.Kf) * wflip_;
+    } else if (b.shared_col) {
+      StridedMap(dxcol_.data() + off, P, K, Eigen::OuterStride<>(plane)).noalias() = G * Wt.transpose();
+    } else {
+      C.noalias() = G * Wt.transpose();
+      col2im(col, g, oy0, oy1, dxs);
+    }
+  }
+}
+
+void Conv2d::reduce_backward(const BackwardPlan& b, const Geometry& g, Tensor* dx) {
+  if (b.shared_col) {
     dx->set_zero();
     col2im(dxcol_.data(), g, 0, g.ho, dx->data());
   }
   // Fixed-order reduction over groups.
-  MatMap dWt(dweight_.data(), K, cout_);
+  MatMap dWt(dweight_.data(), b.K, cout_);
   Eigen::Map<Eigen::VectorXf> dB(dbias_.data(), cout_);
   dWt = dw_[0];
   dB = db_[0];
-  for (int q = 1; q < groups; ++q) {
+  for (int q = 1; q < b.groups; ++q) {
     dWt += dw_[q];
     dB += db_[q];
   }

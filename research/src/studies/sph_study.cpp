@@ -56,7 +56,7 @@ Eigen::VectorXd previous_lambda(const World& w) {
 }
 
 /// Simulates one seed; returns the sampled frames (steps with at least one contact).
-std::vector<Frame> simulate(WorldDef def, const LcpSolver& solver, const SolverOptions& opt, int every) {
+std::vector<Frame> simulate(WorldDef def, LcpSolver& solver, const SolverOptions& opt, int every) {
   World world(std::move(def));
   std::vector<Frame> frames;
   const int steps = world.def().time.steps;

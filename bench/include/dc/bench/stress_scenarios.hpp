@@ -81,7 +81,7 @@ struct RunStats {
 
 /// Steps `world` with `solver`/`options` and the named warm starter, measuring as it goes.
 /// Never throws for a numerical failure: a non-finite value ends the run with nonfinite set.
-RunStats run_world(World& world, const LcpSolver& solver, const SolverOptions& options,
+RunStats run_world(World& world, LcpSolver& solver, const SolverOptions& options,
                    const RunConfig& config);
 
 // ---- scene builders ------------------------------------------------------------------------

@@ -73,6 +73,27 @@ class FeatureImageBuilder {
   [[nodiscard]] std::pair<int, int> nonzero_rows() const { return {rows_lo_, rows_hi_}; }
 
  private:
+  /// The node rows of one features() call: [clear_lo, clear_hi] the rows its splats clear (the
+  /// grids are zero elsewhere), [lo, hi] the union of the rows they wrote.
+  struct SplatRows {
+    int clear_lo, clear_hi;
+    int lo, hi;
+  };
+  // The steps of features(), in call order; each fills points_/values_ and splats them.
+  void mark_written(int row_lo, int row_hi, SplatRows& rows);
+  void splat_points(SphGrid& grid, SphGrid* weights, SplatRows& rows);
+  void splat_bodies(const BodyState& bodies, SplatRows& rows);
+  /// Returns whether the contact density is left to the per-contact values' splat.
+  bool splat_contact_fields(const BodyState& bodies, std::span<const Contact> contacts, SplatRows& rows);
+  void splat_contact_values(const BodyState& bodies, std::span<const Contact> contacts,
+                            std::span<const Contact> previous, std::span<const int> match, bool density_with_values,
+                            SplatRows& rows);
+  void splat_w_prev(const BodyState& bodies, std::span<const Contact> contacts, std::span<const Contact> previous,
+                    const LcpProblem& problem, std::span<const int> match, SplatRows& rows);
+  void splat_shapes(const BodyState& bodies, SplatRows& rows);
+  /// The grids' rows [lo, hi] as the float channels of `out` (+0 elsewhere).
+  void write_channels(std::span<float> out, int lo, int hi);
+
   FeatureImageDef def_;
   SphKernel kernel_;
   int nx_ = 0, ny_ = 0;

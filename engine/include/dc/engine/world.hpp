@@ -115,7 +115,7 @@ class World {
   // ---- one whole step ----------------------------------------------------------------
   /// Returns λ⁰ for the current (collided, assembled) problem; empty function = zeros.
   using InitialGuess = std::function<Eigen::VectorXd(const World&)>;
-  StepReport step(const LcpSolver& solver, const SolverOptions& options,
+  StepReport step(LcpSolver& solver, const SolverOptions& options,
                   const InitialGuess& guess = {});
   /// Initial guesses the engine computes itself.
   enum class WarmStart {
@@ -125,7 +125,7 @@ class World {
     /// rows (previous contacts matched by internal key), with no public view built.
     PreviousLambda,
   };
-  StepReport step(const LcpSolver& solver, const SolverOptions& options, WarmStart guess);
+  StepReport step(LcpSolver& solver, const SolverOptions& options, WarmStart guess);
 
   // ---- diagnostics -------------------------------------------------------------------
   [[nodiscard]] double kinetic_energy() const;    ///< Σ ½ m v² + ½ I ω² [J]
@@ -158,7 +158,7 @@ class World {
   void collide_stage();
   void assemble_stage();
   /// The step with `guess` (a user function) or, when it is null, WarmStart::PreviousLambda.
-  StepReport step_with(const LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess);
+  StepReport step_with(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess);
   /// Broad and narrow phase of a circle-only scene on `bodies` into `out` (sorted by key).
   void collide_circles(const BodyState& bodies, std::vector<Contact>& out);
   /// integrate() on the problem the stages solved (internal rows when there is an order).

@@ -54,6 +54,9 @@ struct SolveResult {
   std::string message;            ///< human-readable detail for non-converged statuses
 };
 
+/// A solver object may keep reusable state between solves (pgs-colored: the previous colouring
+/// and its buffers; newton-sparse: the symbolic analysis), so `solve` is not const: use one
+/// solver object per thread (make_solver makes a fresh one).
 class LcpSolver {
  public:
   virtual ~LcpSolver() = default;
@@ -65,7 +68,7 @@ class LcpSolver {
   /// do); handed a problem without A, such a solver forms it for that solve only.
   [[nodiscard]] virtual bool needs_assembled_matrix() const { return true; }
   [[nodiscard]] virtual SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                          const SolverOptions& options) const = 0;
+                                          const SolverOptions& options) = 0;
 };
 
 /// Solver by name: "pgs" (matrix-free PGS on body velocities; the engine default),

@@ -86,12 +86,12 @@ class NewtonSparseSolver final : public LcpSolver {
   ~NewtonSparseSolver() override;
   [[nodiscard]] std::string name() const override { return "newton-sparse"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& options) const override;
+                                  const SolverOptions& options) override;
   /// Statistics of the last solve of this object.
   [[nodiscard]] NewtonSparseStats last_stats() const;
 
  private:
-  struct State;  // the cached symbolic analysis and the last statistics (mutex-guarded)
+  struct State;  // the cached symbolic analysis and the last statistics (one solve at a time)
   NewtonSparseDef def_;
   std::unique_ptr<State> state_;
 };

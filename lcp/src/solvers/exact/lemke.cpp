@@ -134,7 +134,7 @@ class LemkeSolver final : public LcpSolver {
  public:
   [[nodiscard]] std::string name() const override { return "lemke"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     std::optional<LcpProblem> local;
     const LcpProblem& p = with_assembled_matrix(problem, local);
     Eigen::VectorXd lambda;

@@ -30,7 +30,7 @@ class NewtonSolver final : public LcpSolver {
   explicit NewtonSolver(bool seek_certificate) : seek_certificate_(seek_certificate) {}
   [[nodiscard]] std::string name() const override { return "newton"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     std::optional<LcpProblem> local;
     const LcpProblem& p = with_assembled_matrix(problem, local);
     Eigen::VectorXd lambda;

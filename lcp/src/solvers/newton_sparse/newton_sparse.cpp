@@ -15,7 +15,6 @@
 #include <Eigen/SparseLU>
 #include <chrono>
 #include <cmath>
-#include <mutex>
 #include <optional>
 
 #include "dc/lcp/newton_sparse.hpp"
@@ -30,7 +29,6 @@ namespace dc {
 
 struct NewtonSparseSolver::State {
   explicit State(const NewtonSparseDef& d) : factor(d.cholmod, d.reuse_analysis, d.supernodal) {}
-  std::mutex mutex;  // one solve at a time per solver object (the factor is shared state)
   solvers::FreeBlockFactor factor;
   NewtonSparseStats last;
 };
@@ -323,15 +321,11 @@ NewtonSparseSolver::NewtonSparseSolver(const NewtonSparseDef& def)
 
 NewtonSparseSolver::~NewtonSparseSolver() = default;
 
-NewtonSparseStats NewtonSparseSolver::last_stats() const {
-  std::lock_guard lock(state_->mutex);
-  return state_->last;
-}
+NewtonSparseStats NewtonSparseSolver::last_stats() const { return state_->last; }
 
 SolveResult NewtonSparseSolver::solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                      const SolverOptions& o) const {
+                                      const SolverOptions& o) {
   const auto t0 = solvers::Clock::now();
-  std::lock_guard lock(state_->mutex);
   NewtonSparseStats st;
   std::optional<LcpProblem> local;
   const LcpProblem* p = &solvers::with_assembled_matrix(problem, local);

@@ -115,6 +115,50 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
   out_.repeated = false;
   repeatable_ = false;  // until this call completes
   const bool have_prev = reuse_ && !start_.empty();
+  const int chunks = prepare(contacts, nb);
+  threads = chunks > 1 ? std::clamp(threads, 1, chunks) : 1;
+  const Canvas canvas{pair_.data(),  used_.data(),    out_.color.data(),
+                      shared_.data(), start_.data(), entries_.data(),
+                      have_prev ? static_cast<int>(start_.size()) - 1 : 0};
+  const std::uint8_t* dyn = dynamic.data();
+  Tally& serial = tally_[static_cast<size_t>(chunks)];
+  // The contacts are read from their 32-byte records once (pass 0) and then from the 8-byte
+  // pairs: the passes are bound by memory traffic (≈ 30 µs per pass over 20,000 records).
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+#pragma omp for schedule(static) nowait
+    for (int b = 0; b < nb; ++b) canvas.used[b] = 0;
+#pragma omp for schedule(static)
+    for (int q = 0; q < chunks; ++q) pair_chunk(q, chunks, contacts, dyn, nb, canvas);
+    // (A contact naming a body outside `dynamic` has no bodies in its pair, and keep_last
+    // reads only last call's table: the phases below run safely, and the call throws after.)
+#pragma omp for schedule(dynamic, 1)
+    for (int q = 0; q < chunks; ++q) keep_chunk(q, chunks, contacts, canvas, have_prev);
+    // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
+    if (have_prev) {
+#pragma omp single
+      for (int q = 0; q < chunks; ++q)
+        for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
+    }
+    // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
+    // colouring from scratch with several chunks).
+    if (have_prev || chunks == 1) {
+#pragma omp for schedule(dynamic, 1)
+      for (int q = 0; q < chunks; ++q) lowest_chunk(q, chunks, nc, canvas);
+    }
+    // Phase 4 (serial, contact order): the other boundary contacts (the region's end is the
+    // barrier).
+#pragma omp single nowait
+    for (int q = 0; q < chunks; ++q)
+      for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
+  }
+  finish(contacts, nb, chunks);
+  if (reuse_) remember(contacts, dynamic);
+  return out_;
+}
+
+int ContactColorer::prepare(const ContactConstraints& contacts, int nb) {
+  const int nc = contacts.size();
   const int chunks = chunk_ == 0 ? 1 : std::max(1, nc / chunk_);  // 0: one chunk, the serial rule
   out_.color.resize(static_cast<size_t>(nc));
   used_.resize(static_cast<size_t>(nb));
@@ -140,120 +184,94 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
     }
     shared_.resize(static_cast<size_t>(nb), 0u);
   }
-  threads = chunks > 1 ? std::clamp(threads, 1, chunks) : 1;
-  const Canvas canvas{pair_.data(),  used_.data(),    out_.color.data(),
-                      shared_.data(), start_.data(), entries_.data(),
-                      have_prev ? static_cast<int>(start_.size()) - 1 : 0};
-  const std::uint8_t* dyn = dynamic.data();
-  Tally& serial = tally_[static_cast<size_t>(chunks)];
-  // The contacts are read from their 32-byte records in pass 0 only, then from the 8-byte
-  // pairs: the passes are bound by memory traffic.
-#pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-#pragma omp for schedule(static) nowait
-    for (int b = 0; b < nb; ++b) canvas.used[b] = 0;
-    // Pass 0: the bodies' range check, the pairs, no colour yet, and the shared marks: a
-    // contact's dynamic body outside its chunk's range is touched by two chunks (its range's
-    // owner may touch it as well, and cannot tell): shared. The marks are one value stored by
-    // any number of writers, so the end state does not depend on the threads. (Relaxed atomic
-    // byte stores: plain moves on x86-64.)
-#pragma omp for schedule(static)
-    for (int q = 0; q < chunks; ++q) {
-      const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
-      const ContactConstraint* k = contacts.contacts().data();
-      int* color = canvas.color;
-      Pair* pair = pair_.data();
-      std::uint32_t* shared = canvas.shared;
-      const std::uint32_t stamp = stamp_;
-      const bool chunked = chunks > 1;
-      const int r0 = chunked ? range_[static_cast<size_t>(q)] : 0, r1 = chunked ? range_[static_cast<size_t>(q) + 1] : 0;
-      int first_bad = -1;
-      for (int c = lo; c < hi; ++c) {
-        color[c] = ContactColoring::kOverflow;
-        const int ka = k[c].body_a, kb = k[c].body_b;
-        if (kb >= nb || ka >= nb) {
-          if (first_bad < 0) first_bad = c;
-          pair[c] = {-1, -1};
-          continue;
-        }
-        const int a = ka >= 0 && dyn[ka] != 0 ? ka : -1;
-        const int b = kb >= 0 && dyn[kb] != 0 ? kb : -1;
-        pair[c] = {a, b};
-        if (chunked) {
-          if (a >= 0 && (a < r0 || a >= r1)) std::atomic_ref<std::uint32_t>(shared[a]).store(stamp, std::memory_order_relaxed);
-          if (b >= 0 && (b < r0 || b >= r1)) std::atomic_ref<std::uint32_t>(shared[b]).store(stamp, std::memory_order_relaxed);
-        }
-      }
-      bad_[static_cast<size_t>(q)] = first_bad;
+  return chunks;
+}
+
+// A contact's dynamic body outside its chunk's range is touched by two chunks (its range's
+// owner may touch it as well, and cannot tell): shared. The marks are one value stored by any
+// number of writers, so the end state does not depend on the threads. (Relaxed atomic stores:
+// plain moves on x86-64.)
+void ContactColorer::pair_chunk(int q, int chunks, const ContactConstraints& contacts, const std::uint8_t* dyn,
+                                int nb, const Canvas& canvas) {
+  const int nc = contacts.size();
+  const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
+  const ContactConstraint* k = contacts.contacts().data();
+  int* color = canvas.color;
+  Pair* pair = pair_.data();
+  std::uint32_t* shared = canvas.shared;
+  const std::uint32_t stamp = stamp_;
+  const bool chunked = chunks > 1;
+  const int r0 = chunked ? range_[static_cast<size_t>(q)] : 0, r1 = chunked ? range_[static_cast<size_t>(q) + 1] : 0;
+  int first_bad = -1;
+  for (int c = lo; c < hi; ++c) {
+    color[c] = ContactColoring::kOverflow;
+    const int ka = k[c].body_a, kb = k[c].body_b;
+    if (kb >= nb || ka >= nb) {
+      if (first_bad < 0) first_bad = c;
+      pair[c] = {-1, -1};
+      continue;
     }
-    // (A contact naming a body outside `dynamic` has no bodies in its pair, and keep_last
-    // reads only last call's table: the phases below run safely, and the call throws after.)
-    {
-      // Phase 1: interior contacts keep last call's colour where free; the others are listed.
-#pragma omp for schedule(dynamic, 1)
-      for (int q = 0; q < chunks; ++q) {
-        const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
-        std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
-        edge.clear();
-        // Local copies (registers: no reloads through memory the stores might alias).
-        const Canvas cv = canvas;
-        Tally t = tally_[static_cast<size_t>(q)];
-        if (chunks > 1) {
-          // Private: in [r0, r1) and not shared; as one unsigned compare per body.
-          const unsigned r0 = static_cast<unsigned>(range_[static_cast<size_t>(q)]);
-          const unsigned width = static_cast<unsigned>(range_[static_cast<size_t>(q) + 1]) - r0;
-          const std::uint32_t* shared = cv.shared;
-          const std::uint32_t stamp = stamp_;
-          const Pair* pair = cv.pair;
-          auto is_private = [&](int body) {
-            return body < 0 || (static_cast<unsigned>(body) - r0 < width && shared[body] != stamp);
-          };
-          for (int c = lo; c < hi; ++c) {
-            if (!(is_private(pair[c].a) && is_private(pair[c].b))) {
-              edge.push_back(c);
-            } else if (have_prev) {
-              cv.keep_last(c, contacts[c], t);
-            } else {
-              cv.take_lowest(c, t);  // phase 3 at once: without reuse phase 2 does nothing
-            }
-          }
-        } else if (have_prev) {
-          for (int c = lo; c < hi; ++c) cv.keep_last(c, contacts[c], t);
-        }
-        tally_[static_cast<size_t>(q)] = t;
-      }
-      // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
-      if (have_prev) {
-#pragma omp single
-        for (int q = 0; q < chunks; ++q)
-          for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
-      }
-      // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
-      // colouring from scratch with several chunks).
-      if (have_prev || chunks == 1) {
-#pragma omp for schedule(dynamic, 1)
-        for (int q = 0; q < chunks; ++q) {
-          const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
-          const Canvas cv = canvas;
-          Tally t = tally_[static_cast<size_t>(q)];
-          // Between the chunk's boundary contacts (phase 4's), in contact order.
-          const std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
-          int from = lo;
-          for (size_t e = 0; e <= edge.size(); ++e) {
-            const int to = e < edge.size() ? edge[e] : hi;
-            for (int c = from; c < to; ++c) cv.take_lowest(c, t);
-            from = to + 1;
-          }
-          tally_[static_cast<size_t>(q)] = t;
-        }
-      }
-      // Phase 4 (serial, contact order): the other boundary contacts (the region's end is the
-      // barrier).
-#pragma omp single nowait
-      for (int q = 0; q < chunks; ++q)
-        for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
+    const int a = ka >= 0 && dyn[ka] != 0 ? ka : -1;
+    const int b = kb >= 0 && dyn[kb] != 0 ? kb : -1;
+    pair[c] = {a, b};
+    if (chunked) {
+      if (a >= 0 && (a < r0 || a >= r1)) std::atomic_ref<std::uint32_t>(shared[a]).store(stamp, std::memory_order_relaxed);
+      if (b >= 0 && (b < r0 || b >= r1)) std::atomic_ref<std::uint32_t>(shared[b]).store(stamp, std::memory_order_relaxed);
     }
   }
+  bad_[static_cast<size_t>(q)] = first_bad;
+}
+
+void ContactColorer::keep_chunk(int q, int chunks, const ContactConstraints& contacts, const Canvas& canvas,
+                                bool have_prev) {
+  const int nc = contacts.size();
+  const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
+  std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
+  edge.clear();
+  // Local copies (registers: no reloads through memory the stores might alias).
+  const Canvas cv = canvas;
+  Tally t = tally_[static_cast<size_t>(q)];
+  if (chunks > 1) {
+    // Private: in [r0, r1) and not shared; as one unsigned compare per body.
+    const unsigned r0 = static_cast<unsigned>(range_[static_cast<size_t>(q)]);
+    const unsigned width = static_cast<unsigned>(range_[static_cast<size_t>(q) + 1]) - r0;
+    const std::uint32_t* shared = cv.shared;
+    const std::uint32_t stamp = stamp_;
+    const Pair* pair = cv.pair;
+    auto is_private = [&](int body) {
+      return body < 0 || (static_cast<unsigned>(body) - r0 < width && shared[body] != stamp);
+    };
+    for (int c = lo; c < hi; ++c) {
+      if (!(is_private(pair[c].a) && is_private(pair[c].b))) {
+        edge.push_back(c);
+      } else if (have_prev) {
+        cv.keep_last(c, contacts[c], t);
+      } else {
+        cv.take_lowest(c, t);  // phase 3 at once: without reuse phase 2 does nothing
+      }
+    }
+  } else if (have_prev) {
+    for (int c = lo; c < hi; ++c) cv.keep_last(c, contacts[c], t);
+  }
+  tally_[static_cast<size_t>(q)] = t;
+}
+
+void ContactColorer::lowest_chunk(int q, int chunks, int nc, const Canvas& canvas) {
+  const int lo = chunk_begin(q, chunks, nc), hi = chunk_begin(q + 1, chunks, nc);
+  const Canvas cv = canvas;
+  Tally t = tally_[static_cast<size_t>(q)];
+  // Between the chunk's boundary contacts (phase 4's), in contact order.
+  const std::vector<int>& edge = boundary_[static_cast<size_t>(q)];
+  int from = lo;
+  for (size_t e = 0; e <= edge.size(); ++e) {
+    const int to = e < edge.size() ? edge[e] : hi;
+    for (int c = from; c < to; ++c) cv.take_lowest(c, t);
+    from = to + 1;
+  }
+  tally_[static_cast<size_t>(q)] = t;
+}
+
+void ContactColorer::finish(const ContactConstraints& contacts, int nb, int chunks) {
   for (const int c : bad_)
     if (c >= 0) {
       const ContactConstraint& k = contacts[c];
@@ -270,8 +288,6 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
     out_.overflow += t.overflow;
     if (q < chunks && chunks > 1) out_.boundary += static_cast<int>(boundary_[static_cast<size_t>(q)].size());
   }
-  if (reuse_) remember(contacts, dynamic);
-  return out_;
 }
 
 void ContactColorer::remember(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic) {

@@ -73,6 +73,20 @@ class ContactColorer {
   static int chunk_begin(int q, int chunks, int nc) {
     return static_cast<int>(static_cast<long long>(q) * nc / chunks);
   }
+  // The steps of color(), in call order (contact_coloring.cpp).
+  /// Sizes the per-call buffers for nc contacts on nb bodies and, with several chunks, the
+  /// chunks' body ranges and a new stamp; returns the number of chunks.
+  int prepare(const ContactConstraints& contacts, int nb);
+  /// Pass 0 over chunk q: no colour yet, the pairs, the range check, the shared marks.
+  void pair_chunk(int q, int chunks, const ContactConstraints& contacts, const std::uint8_t* dynamic, int nb,
+                  const Canvas& canvas);
+  /// Phase 1 over chunk q: interior contacts keep last call's colour (or, colouring from
+  /// scratch with several chunks, take the lowest free one); boundary contacts are listed.
+  void keep_chunk(int q, int chunks, const ContactConstraints& contacts, const Canvas& canvas, bool have_prev);
+  /// Phase 3 over chunk q: its interior contacts without a colour take the lowest free one.
+  void lowest_chunk(int q, int chunks, int nc, const Canvas& canvas);
+  /// Throws for a contact naming a body outside `dynamic`; sums the tallies into out_.
+  void finish(const ContactConstraints& contacts, int nb, int chunks);
   /// The table of this call's colours for the next call, and the repeat test's copy.
   void remember(const ContactConstraints& contacts, std::span<const std::uint8_t> dynamic);
   /// The contacts' (body_a, body_b, feature) and the flags equal the last call's.

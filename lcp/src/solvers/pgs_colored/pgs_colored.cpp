@@ -14,8 +14,8 @@
 #include <cstring>
 #include <exception>
 #include <limits>
-#include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #if defined(_OPENMP)
@@ -352,7 +352,7 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
-                                  const SolverOptions& o) const override {
+                                  const SolverOptions& o) override {
     // λ⁰ as given (or zeros): the input checks run on the threads the packing will use.
     Eigen::VectorXd zeros;
     const Eigen::VectorXd* start = &lambda0;
@@ -361,14 +361,11 @@ class PgsColoredSolver final : public LcpSolver {
       if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros, start)) return *bad;
     }
     const Eigen::VectorXd& lambda = *start;
-    // The buffers of the last solve (a concurrent solve on the same object gets fresh ones).
-    Prepared prep;
+    // The buffers of the last solve, taken out of the solver for this one: an exception drops
+    // them, so the next solve lays out afresh instead of reusing a half-written layout.
+    Prepared prep = std::exchange(cache_, Prepared{});
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      std::swap(prep, cache_);
-      if (why.empty()) why = layout(p, colorer_, effective_threads(p.constraints.size() / W), prep);
-    }
+    if (why.empty()) why = layout(p, colorer_, effective_threads(p.constraints.size() / W), prep);
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel).
     const int np = static_cast<int>(prep.row_of.size());
     Eigen::VectorXd lp(why.empty() ? np : 0), other(why.empty() ? np : 0);
@@ -378,11 +375,11 @@ class PgsColoredSolver final : public LcpSolver {
       SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
       if (r.status != SolveStatus::InvalidInput)
         r.message = "pgs-colored: " + why + ": ran pgs" + (r.message.empty() ? std::string() : "; " + r.message);
-      keep(prep);
+      cache_ = std::move(prep);
       return r;
     }
     SolveResult r = sweeps(p, std::move(lp), std::move(other), bad_start, o, prep);
-    keep(prep);
+    cache_ = std::move(prep);
     return r;
   }
 
@@ -539,18 +536,12 @@ class PgsColoredSolver final : public LcpSolver {
     return out;
   }
 
-  void keep(Prepared& prep) const {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    std::swap(prep, cache_);
-  }
-
   PgsColoredDef def_;
   colored::SweepKernel kernel_;
-  // The colouring of the last solve (reused where contacts persist) and the buffers;
-  // guarded so that a solver shared between threads stays correct.
-  mutable ContactColorer colorer_;
-  mutable Prepared cache_;
-  mutable std::mutex mutex_;
+  // The colouring of the last solve (reused where contacts persist) and its buffers: the
+  // reason solve() is not const (one solver object per thread, lcp_solver.hpp).
+  ContactColorer colorer_;
+  Prepared cache_;
 };
 
 }  // namespace

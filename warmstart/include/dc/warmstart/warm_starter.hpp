@@ -37,11 +37,6 @@ class WarmStarter {
   [[nodiscard]] virtual bool uses_oracle() const { return false; }
   /// Milliseconds the last initial_guess() spent computing the oracle itself (0 if shared).
   [[nodiscard]] virtual double oracle_ms() const { return 0.0; }
-  /// True when initial_guess() is, bit for bit, the engine's own warm start
-  /// World::WarmStart::PreviousLambda (and observe() does nothing): a stepping loop may then
-  /// call World::step(solver, options, World::WarmStart::PreviousLambda), which with an
-  /// engine-internal body order computes it in the internal rows without building the public views.
-  [[nodiscard]] virtual bool is_previous_lambda() const { return false; }
 };
 
 class WarmStarterRegistry;
@@ -91,6 +86,14 @@ class WarmStarterRegistry {
 /// gate:INNER, gate-l2:INNER (options: starter_options.hpp). dc_cnn adds cnn and cnn-hybrid
 /// (add_cnn_warm_starters), dc_research the oracles and controls (add_research_starters).
 WarmStarterRegistry default_warm_starters();
+
+/// True when `starter` is this library's `builtin` (default_warm_starters().make("builtin")):
+/// its λ⁰ is, bit for bit, the engine's World::WarmStart::PreviousLambda and its observe() does
+/// nothing, so a stepping loop may call World::step(solver, options,
+/// World::WarmStart::PreviousLambda) instead, which under an engine-internal body order forms
+/// λ⁰ in the internal rows without building the public views. A type test, not a virtual of
+/// the interface: no other starter can claim it.
+[[nodiscard]] bool is_builtin_warm_starter(const WarmStarter& starter);
 
 /// The static load guess of builtin-statics for every contact of w's current step
 /// (statics_warm_starter.cpp): bodies top-down, each body's weight plus the load resting on

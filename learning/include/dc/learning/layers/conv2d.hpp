@@ -47,6 +47,19 @@ class Conv2d final : public Layer {
   [[nodiscard]] Geometry geometry(const Shape& in) const;
   void im2col(const float* x, const Geometry& g, int oy0, int oy1, float* col) const;
   void col2im(const float* col, const Geometry& g, int oy0, int oy1, float* dx) const;
+  // The steps of backward() (conv2d.cpp): its plan (sizes, path, work groups), the scratch,
+  // one work group (a run of samples, or one row tile of a single sample), the reduction.
+  struct BackwardPlan;
+  [[nodiscard]] BackwardPlan backward_plan(const Geometry& g, int N, bool has_dx) const;
+  void prepare_backward(const BackwardPlan& b, const Geometry& g, const Tensor& y, const Tensor& dy, Tensor* dx);
+  const float* masked_dy(const BackwardPlan& b, int n, int tid, const Tensor& y, const Tensor& dy);
+  void backward_group(const BackwardPlan& b, const Geometry& g, int q, const Tensor& x, const Tensor& y,
+                      const Tensor& dy, Tensor* dx);
+  void backward_sample_direct(const BackwardPlan& b, const Geometry& g, int q, int n, const Tensor& x,
+                              const float* gs, float* dxs);
+  void backward_tiles(const BackwardPlan& b, const Geometry& g, int q, int n, int t_lo, int t_hi, const Tensor& x,
+                      const float* gs, float* dxs);
+  void reduce_backward(const BackwardPlan& b, const Geometry& g, Tensor* dx);
 
   int cin_, cout_, k_, s_;
   bool relu_;
