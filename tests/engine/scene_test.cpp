@@ -116,7 +116,7 @@ position = [5.0, 6.0]
   EXPECT_EQ(d.contact.slop, 0.01);
   EXPECT_EQ(d.contact.margin, 0.03);
   EXPECT_EQ(d.contact.restitution_threshold, 2.5);
-  EXPECT_EQ(d.solver.name, "psor");
+  EXPECT_EQ(d.solver.name, SolverId{SolverKind::Psor});
   EXPECT_EQ(d.solver.sweeps, 50);
   EXPECT_EQ(d.solver.tolerance, 1e-6);
   EXPECT_EQ(d.solver.omega, 1.3);
@@ -324,9 +324,9 @@ TEST(SceneOverride, SetsOneKey) {
   apply_override(d, "world.walls=[top]");  // quotes eaten by a shell
   EXPECT_EQ(d.world.walls, (std::array<bool, 4>{false, false, false, true}));
   apply_override(d, "solver.name=\"psor\"");
-  EXPECT_EQ(d.solver.name, "psor");
+  EXPECT_EQ(d.solver.name, SolverId{SolverKind::Psor});
   apply_override(d, "solver.name=jacobi");  // bare word for string keys
-  EXPECT_EQ(d.solver.name, "jacobi");
+  EXPECT_EQ(d.solver.name, SolverId{SolverKind::Jacobi});
   apply_override(d, "world.gravity=[0, -1.62]");
   EXPECT_EQ(d.world.gravity, (Vec2{0.0, -1.62}));
   apply_override(d, "bodies.seed=7");
@@ -398,7 +398,8 @@ TEST(SceneRoundTrip, AwkwardValuesSurviveBitExactly) {
   d.contact.friction = 0.0;
   d.contact.restitution = std::nextafter(1.0, 0.0);
   d.contact.slop = 5e-324;  // smallest subnormal
-  d.solver.name = "we\"ird\\name\t";
+  d.family.name = "we\"ird\\name\t";
+  d.solver.name = SolverId{SolverKind::PgsColored, 3, PgsColoredKernel::Scalar};
   d.solver.tolerance = 123456789.125;
   d.solver.sweeps = std::numeric_limits<int>::max();
   d.bodies.count = 0;
