@@ -195,30 +195,24 @@ std::vector<Vec2> read_points(const toml::node& n, const Origin& o, std::string_
   return out;
 }
 
-/// A named value (solver, shape, motion, order): the string parsed once, here. An unknown name
-/// gives the parser's one-line message naming the key, after the source like validate()'s.
+/// A named value (solver, shape, motion, order): the string parsed once, here, with the
+/// messages these names have always had: the parser's line naming the key after the source
+/// (as validate()'s), and for a solver make_solver's own line (it names the solver).
 template <class F>
 F read_named(const toml::node& n, const Origin& o, std::string_view key) {
   const std::string name = read_string(n, o, key);
-  const std::string k(key);
-  try {
-    if constexpr (std::is_same_v<F, SolverId>) {
-      try {
-        return SolverId::parse(name);
-      } catch (const ConfigError& e) {
-        throw ConfigError(k + ": " + e.what());
-      }
-    } else if constexpr (std::is_same_v<F, BodyShape>) {
-      return parse_body_shape(name, k);
-    } else if constexpr (std::is_same_v<F, Motion>) {
-      return parse_motion(name, k);
-    } else if constexpr (std::is_same_v<F, BodyOrder>) {
-      return parse_body_order(name, k);
-    } else {
-      return parse_internal_order(name, k);
+  if constexpr (std::is_same_v<F, SolverId>) {
+    return SolverId::parse(name);
+  } else {
+    const std::string k(key);
+    try {
+      if constexpr (std::is_same_v<F, BodyShape>) return parse_body_shape(name, k);
+      else if constexpr (std::is_same_v<F, Motion>) return parse_motion(name, k);
+      else if constexpr (std::is_same_v<F, BodyOrder>) return parse_body_order(name, k);
+      else return parse_internal_order(name, k);
+    } catch (const ConfigError& e) {
+      throw ConfigError(o.source + ": " + e.what());
     }
-  } catch (const ConfigError& e) {
-    throw ConfigError(o.source + ": " + e.what());
   }
 }
 
