@@ -105,17 +105,17 @@ struct BodiesSection {
   /// Placement region [x0, y0, x1, y1] [m]: all zero ⇒ the Gaussian (mean, sigma); otherwise
   /// centres ~ U(region) (rejection-sampled against overlap and the walls) — tall boxes.
   std::array<double, 4> region{0.0, 0.0, 0.0, 0.0};
-  /// Numbering of the generated bodies: Creation ("creation", default; the order they were placed in,
-  /// random in space) or Morton ("morton": the same bodies, renumbered by the Morton code of their
-  /// initial cell of side 2·max radius, so neighbours get close indices: cache locality for
-  /// large piles, docs/engine.md "Step cost against size"). The random stream and the set
+  /// Numbering of the generated bodies: Creation ("creation", default; the order they were
+  /// placed in, random in space) or Morton ("morton": the same bodies, renumbered by the Morton
+  /// code of their initial cell of side 2·max radius, so neighbours get close indices: cache
+  /// locality for large piles, docs/engine.md "Step cost against size"). The random stream and the set
   /// of bodies are the same; only the indices (and so the Gauss–Seidel row order) differ.
   /// Explicit [[body]] bodies always follow in file order.
   BodyOrder order = BodyOrder::Creation;
   /// Order in which the engine stores and steps the bodies, behind their stable (external)
-  /// indices: None ("none", default; storage order = external order) or Morton ("morton": World keeps the
-  /// bodies, contacts and LCP rows in the Morton order of their current cell of side 2·max
-  /// radius, re-sorted when it has decayed — see resort_decay — or every `resort_every` steps at
+  /// indices: None ("none", default; storage order = external order) or Morton ("morton": World
+  /// keeps the bodies, contacts and LCP rows in the Morton order of their current cell of side
+  /// 2·max radius, re-sorted when it has decayed — see resort_decay — or every `resort_every` steps at
   /// the latest; every public view stays in external order and is built only when read,
   /// docs/engine.md "Spatial body order"). Circle-only scenes. Changes the Gauss–Seidel row
   /// order of the solve, hence the trajectory (to the solver's tolerance), not what users see.
