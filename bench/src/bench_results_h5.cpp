@@ -133,7 +133,7 @@ void write_results_h5(const BenchResults& r, const Provenance& p, const std::str
   f.set_attribute("/", "format", "deepcontact-bench-results");
   f.set_attribute<std::int32_t>("/", "format_version", 1);
   f.set_attribute("/", "mode", r.options.mode == Mode::Paired ? "paired" : "rollout");
-  f.set_attribute("/", "solver", r.options.solver);
+  f.set_attribute("/", "solver", to_string(r.options.solver));
   f.set_attribute<std::int32_t>("/", "sweeps", r.options.sweeps);
   f.set_attribute<double>("/", "tolerance", r.options.tolerance);
   f.set_attribute("/", "scene", scene_to_toml(r.options.scene));

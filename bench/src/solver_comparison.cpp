@@ -43,7 +43,7 @@ SolverComparison::SolverComparison(const BenchOptions& o, BenchResults& r) : o_(
   if (o.solvers.empty()) return;
   if (o.mode != Mode::Paired) throw ConfigError("bench: --solvers needs paired mode (identical LCPs for every pair)");
   if (!(o.accuracy > 0) || !std::isfinite(o.accuracy)) throw ConfigError("bench: --accuracy must be a finite number > 0");
-  for (const std::string& solver : o.solvers) {
+  for (const SolverId& solver : o.solvers) {
     for (const StarterRecord& starter : r.starters) {
       trace_.push_back(make_solver(solver));
       timed_.push_back(make_solver(solver));

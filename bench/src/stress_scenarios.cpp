@@ -344,7 +344,7 @@ WorldDef box_stack(int n, Vec2 size) {
   WorldDef d = explicit_scene(std::max(10.0, 4 * size.x), n * size.y + 5);
   for (int k = 0; k < n; ++k) {
     BodyDef b;
-    b.shape = "box";
+    b.shape = BodyShape::Box;
     b.size = size;
     b.position = {0.5 * d.world.width, (k + 0.5) * size.y};
     d.body.push_back(b);
@@ -358,7 +358,7 @@ WorldDef box_pyramid(int base) {
   for (int row = 0; row < base; ++row)
     for (int i = 0; i < base - row; ++i) {
       BodyDef b;
-      b.shape = "box";
+      b.shape = BodyShape::Box;
       b.position = {5.0 + 0.5 * row + i + 0.5, row + 0.5};
       d.body.push_back(b);
     }
@@ -366,7 +366,7 @@ WorldDef box_pyramid(int base) {
   return d;
 }
 
-WorldDef shape_extremes(const std::string& shape, Vec2 dims, int count) {
+WorldDef shape_extremes(BodyShape shape, Vec2 dims, int count) {
   WorldDef d = explicit_scene(20.0, 20.0);
   d.bodies.count = count;
   d.bodies.shape = shape;
@@ -512,12 +512,12 @@ std::vector<Scenario> stress_scenarios(bool quick) {
   // stack and pyramid use the builtin warm start and 300 sweeps (row-by-row PGS needs that
   // many on two-point manifolds, docs/engine.md).
   {
-    WorldDef d = shape_extremes("box", {2.0, 0.1}, quick ? 20 : 40);
+    WorldDef d = shape_extremes(BodyShape::Box, {2.0, 0.1}, quick ? 20 : 40);
     d.time.steps = quick ? 200 : 400;
     out.push_back(make("shapes", "thin boxes 2 x 0.1, n=" + std::to_string(d.bodies.count), d, 30, 0.02, energy_bound(d)));
   }
   {
-    WorldDef d = shape_extremes("ellipse", {1.0, 0.1}, quick ? 20 : 40);
+    WorldDef d = shape_extremes(BodyShape::Ellipse, {1.0, 0.1}, quick ? 20 : 40);
     d.time.steps = quick ? 200 : 400;
     out.push_back(make("shapes", "ellipses aspect 10 (1 x 0.1), n=" + std::to_string(d.bodies.count), d, 30, 0.02,
                        energy_bound(d)));

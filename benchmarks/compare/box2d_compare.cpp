@@ -140,7 +140,7 @@ dc::WorldDef box_scenario_def(dc::WorldDef def, const std::string& scenario) {
   def.body.clear();
   for (const dc::Vec2 x : box_positions(def, scenario)) {
     dc::BodyDef b;
-    b.shape = "box";
+    b.shape = dc::BodyShape::Box;
     b.size = {1.0, 1.0};
     b.position = x;
     b.density = 1.0;
@@ -228,7 +228,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     dc::WorldDef def = dc::load_scene(a.scene);
-    if (a.solver.empty()) a.solver = def.solver.name;
+    if (a.solver.empty()) a.solver = dc::to_string(def.solver.name);
     const int steps = a.steps >= 0 ? a.steps : def.time.steps;
     const int iterations = a.iterations >= 0 ? a.iterations : def.solver.sweeps;
     def.solver.sweeps = iterations;

@@ -173,8 +173,8 @@ Outcome run_ours(const std::string& name, const dc::Fc2dProblem& p, double tol, 
   const dc::LcpProblem lcp = dc::fc2d_to_lcp(p);
   const bool proximal = name.starts_with("proximal:");
   dc::ProximalPointDef route;
-  if (proximal) route.inner_solver = name.substr(9);
-  const auto solver = dc::make_solver(proximal ? route.inner_solver : name);
+  if (proximal) route.inner_solver = dc::SolverId::parse(name.substr(9));
+  const auto solver = proximal ? dc::make_solver(route.inner_solver) : dc::make_solver(name);
   dc::SolverOptions opt;
   opt.record_theta = false;
   if (!is_exact(name)) opt.max_sweeps = sweeps_to_reach(*solver, lcp, p, tol, opt.max_sweeps);

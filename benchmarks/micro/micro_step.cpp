@@ -34,8 +34,8 @@ dc::WorldDef scaled_seed_scene(int n, int order) {
   def.bodies.mean = {side / 2, side / 2};
   def.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
   def.solver.sweeps = kSettleSweeps;
-  def.bodies.order = order == 1 ? "morton" : "creation";
-  def.bodies.internal_order = order == 2 ? "morton" : "none";
+  def.bodies.order = order == 1 ? dc::BodyOrder::Morton : dc::BodyOrder::Creation;
+  def.bodies.internal_order = order == 2 ? dc::InternalOrder::Morton : dc::InternalOrder::None;
   return def;
 }
 

@@ -42,11 +42,11 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
   if (!steps.is_none()) o.scene.time.steps = steps.cast<int>();
   o.sweeps = sweeps.is_none() ? o.scene.solver.sweeps : sweeps.cast<int>();
   o.tolerance = tol;
-  o.solver = solver;
+  o.solver = SolverId::parse(solver);
   o.env.model_path = model;
   if (!solvers.is_none()) {
     if (pyb::isinstance<pyb::str>(solvers)) throw pyb::type_error("solvers: a list of solver names, e.g. ['pgs', 'nncg']");
-    for (auto s : solvers) o.solvers.push_back(s.cast<std::string>());
+    for (auto s : solvers) o.solvers.push_back(SolverId::parse(s.cast<std::string>()));
     if (o.solvers.empty()) throw ConfigError("bench: solvers is empty (None turns the solver comparison off)");
   }
   o.accuracy = accuracy;

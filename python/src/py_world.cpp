@@ -157,7 +157,7 @@ pyb::object current_contacts(const World& w) {
 pyb::object step(PyWorld& self, const std::optional<std::string>& solver_name, pyb::object warmstart,
                  std::optional<int> sweeps, std::optional<double> tol) {
   World& w = self.mutable_world();
-  const auto solver = make_solver(solver_name.value_or(w.def().solver.name));
+  const auto solver = solver_name ? make_solver(*solver_name) : make_solver(w.def().solver.name);  // a name is parsed here
   SolverOptions opt = solver_options(w.def().solver);  // as `deepcontact simulate`
   if (sweeps) opt.max_sweeps = *sweeps;
   if (tol) opt.tolerance = *tol;

@@ -19,7 +19,7 @@ bench::BenchOptions three_seeds() {
   o.scene.time.steps = 60;
   o.seeds = {5, 3, 4};  // not sorted: the joined results follow this order
   o.warmstarts = {"zero", "builtin", "sph-prev"};
-  o.solvers = {"pgs", "nncg"};
+  o.solvers = {SolverId{SolverKind::Pgs}, SolverId{SolverKind::Nncg}};
   o.max_sweeps = 1500;
   return o;
 }

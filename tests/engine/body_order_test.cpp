@@ -21,7 +21,7 @@ namespace dc {
 namespace {
 
 /// The scaled seed pile with its generated bodies numbered in `order`.
-WorldDef pile(const char* order, int n) {
+WorldDef pile(BodyOrder order, int n) {
   WorldDef d = test::scaled_seed_pile(n);
   d.bodies.order = order;
   return d;
@@ -64,7 +64,7 @@ TEST(MortonOrder, IsAPermutationWithNonDecreasingCodes) {
 }
 
 TEST(BodyOrder, MortonNumbersTheSameBodiesCloserInSpace) {
-  const World a(pile("creation", 400)), b(pile("morton", 400));
+  const World a(pile(BodyOrder::Creation, 400)), b(pile(BodyOrder::Morton, 400));
   auto sorted = [](const BodyState& s) {
     std::vector<std::tuple<double, double, double>> v;
     for (std::size_t k = 0; k < s.size(); ++k) v.emplace_back(s.position[k].x, s.position[k].y, s.radius[k]);
@@ -83,7 +83,7 @@ TEST(BodyOrder, MortonNumbersTheSameBodiesCloserInSpace) {
 }
 
 TEST(BodyOrder, ExplicitBodiesFollowInFileOrder) {
-  WorldDef d = pile("morton", 50);
+  WorldDef d = pile(BodyOrder::Morton, 50);
   BodyDef e1, e2;
   e1.position = {2.0, 19.0};
   e2.position = {19.0, 19.0};
@@ -96,7 +96,7 @@ TEST(BodyOrder, ExplicitBodiesFollowInFileOrder) {
 
 TEST(BodyOrder, MortonRerunsAreBitEqual) {
   auto run = [] {
-    World w(pile("morton", 200));
+    World w(pile(BodyOrder::Morton, 200));
     const auto solver = make_solver("pgs");
     SolverOptions o;
     o.max_sweeps = 100;
@@ -117,7 +117,7 @@ TEST(BodyOrder, MortonAgreesWithCreationOrderToTheSolverTolerance) {
   // state (the creation world's, copied into the morton world by the numbering) and compares
   // one step: the velocity difference must stay below 1 % of what gravity adds in a step
   // (g Δt = 0.098 m/s), the position difference below Δt times that.
-  WorldDef da = pile("creation", 200), db = pile("morton", 200);
+  WorldDef da = pile(BodyOrder::Creation, 200), db = pile(BodyOrder::Morton, 200);
   da.contact.friction = db.contact.friction = kFriction;
   World a(da), b(db);
   std::vector<std::size_t> slot(a.bodies().size());  // morton index of creation body k
@@ -156,13 +156,13 @@ TEST(BodyOrder, MortonAgreesWithCreationOrderToTheSolverTolerance) {
 }
 
 TEST(BodyOrder, SceneKeyParsesAndRejectsUnknownOrders) {
-  EXPECT_EQ(parse_scene("[bodies]\norder = \"morton\"\n").bodies.order, "morton");
-  EXPECT_EQ(parse_scene("").bodies.order, "creation");
+  EXPECT_EQ(parse_scene("[bodies]\norder = \"morton\"\n").bodies.order, BodyOrder::Morton);
+  EXPECT_EQ(parse_scene("").bodies.order, BodyOrder::Creation);
   EXPECT_THROW((void)parse_scene("[bodies]\norder = \"hilbert\"\n"), ConfigError);
   WorldDef d;
   apply_override(d, "bodies.order=\"morton\"");
-  EXPECT_EQ(d.bodies.order, "morton");
-  EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.order, "morton");
+  EXPECT_EQ(d.bodies.order, BodyOrder::Morton);
+  EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.order, BodyOrder::Morton);
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ namespace {
 
 WorldDef pile(int n, int resort_every, double restitution = 0.0) {
   WorldDef d = test::scaled_seed_pile(n);
-  d.bodies.internal_order = "morton";
+  d.bodies.internal_order = InternalOrder::Morton;
   d.bodies.resort_every = resort_every;
   d.contact.restitution = restitution;
   return d;

@@ -22,7 +22,7 @@ namespace dc {
 namespace {
 
 /// The scaled seed pile with an internal order or not.
-WorldDef pile(const char* internal_order, int n, int resort_every = 5) {
+WorldDef pile(InternalOrder internal_order, int n, int resort_every = 5) {
   WorldDef d = test::scaled_seed_pile(n);
   d.bodies.internal_order = internal_order;
   d.bodies.resort_every = resort_every;
@@ -70,7 +70,7 @@ TEST(InternalBodyOrder, AStepAgreesWithTheExternalOrderToTheSolverTolerance) {
   // other through bodies(): the edit path) and take one step; with internal order the
   // Gauss–Seidel row order differs, so agreement is to the solve's tolerance: velocity within
   // 1 % of g Δt, position within Δt times that (as BodyOrder.MortonAgreesWithCreationOrder…).
-  WorldDef da = pile("none", 300), db = pile("morton", 300);
+  WorldDef da = pile(InternalOrder::None, 300), db = pile(InternalOrder::Morton, 300);
   da.contact.friction = db.contact.friction = kFrictionless;
   World a(da), b(db);
   const auto solver = make_solver("pgs");
@@ -104,7 +104,7 @@ TEST(InternalBodyOrder, AStepAgreesWithTheExternalOrderToTheSolverTolerance) {
 }
 
 TEST(InternalBodyOrder, PublicViewsAreInExternalOrder) {
-  World plain(pile("none", 300)), w(pile("morton", 300, 3));
+  World plain(pile(InternalOrder::None, 300)), w(pile(InternalOrder::Morton, 300, 3));
   EXPECT_EQ(w.bodies().radius, plain.bodies().radius);
   EXPECT_EQ(state_hash(w.bodies()), state_hash(plain.bodies()));  // same start, same numbering
   const auto solver = make_solver("pgs");
@@ -150,7 +150,7 @@ TEST(InternalBodyOrder, PublicViewsAreInExternalOrder) {
 
 TEST(InternalBodyOrder, RerunsAreBitEqualAndStagesMatchStep) {
   auto run = [](bool by_stages) {
-    World w(pile("morton", 400, 7));
+    World w(pile(InternalOrder::Morton, 400, 7));
     const auto solver = make_solver("pgs");
     SolverOptions o;
     o.max_sweeps = 30;
@@ -167,11 +167,11 @@ TEST(InternalBodyOrder, RerunsAreBitEqualAndStagesMatchStep) {
   };
   EXPECT_EQ(run(false), run(false));
   EXPECT_EQ(run(true), run(true));
-  EXPECT_NE(run(false), state_hash(World(pile("morton", 400, 7)).bodies()));
+  EXPECT_NE(run(false), state_hash(World(pile(InternalOrder::Morton, 400, 7)).bodies()));
 }
 
 TEST(InternalBodyOrder, InflowBodiesJoinTheInternalOrder) {
-  WorldDef da = pile("none", 100), db = pile("morton", 100);
+  WorldDef da = pile(InternalOrder::None, 100), db = pile(InternalOrder::Morton, 100);
   for (WorldDef* d : {&da, &db}) {
     d->inflow.rate = 200;
     d->inflow.stop = 10;
@@ -200,17 +200,17 @@ TEST(InternalBodyOrder, InflowBodiesJoinTheInternalOrder) {
 TEST(InternalBodyOrder, SceneKeysParseAndBadValuesAreConfigErrors) {
   const WorldDef d =
       parse_scene("[bodies]\ninternal_order = \"morton\"\nresort_every = 7\nresort_decay = 1.25\n");
-  EXPECT_EQ(d.bodies.internal_order, "morton");
+  EXPECT_EQ(d.bodies.internal_order, InternalOrder::Morton);
   EXPECT_EQ(d.bodies.resort_every, 7);
   EXPECT_EQ(d.bodies.resort_decay, 1.25);
   EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.resort_decay, 1.25);
   EXPECT_THROW((void)parse_scene("[bodies]\nresort_decay = 0.5\n"), ConfigError);
-  EXPECT_EQ(parse_scene("").bodies.internal_order, "none");
+  EXPECT_EQ(parse_scene("").bodies.internal_order, InternalOrder::None);
   EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.resort_every, 7);
   EXPECT_THROW((void)parse_scene("[bodies]\ninternal_order = \"hilbert\"\n"), ConfigError);
   EXPECT_THROW((void)parse_scene("[bodies]\nresort_every = 0\n"), ConfigError);
-  WorldDef boxes = pile("morton", 20);
-  boxes.bodies.shape = "box";
+  WorldDef boxes = pile(InternalOrder::Morton, 20);
+  boxes.bodies.shape = BodyShape::Box;
   EXPECT_THROW((void)World(boxes), ConfigError);
 }
 

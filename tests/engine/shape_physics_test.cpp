@@ -27,9 +27,9 @@ WorldDef empty_world(double mu, std::array<bool, 4> walls = {false, false, true,
   return d;
 }
 
-BodyDef box(Vec2 x, Vec2 size, double angle = 0.0, const char* motion = "dynamic") {
+BodyDef box(Vec2 x, Vec2 size, double angle = 0.0, Motion motion = Motion::Dynamic) {
   BodyDef b;
-  b.shape = "box";
+  b.shape = BodyShape::Box;
   b.position = x;
   b.size = size;
   b.angle = angle;
@@ -74,7 +74,7 @@ TEST(ShapePhysics, OffCentreLoadSplitsByTheLever) {
     BodyDef c;
     c.position = {x, 10};
     c.radius = 0.5;
-    c.motion = "static";
+    c.motion = Motion::Static;
     d.body.push_back(c);
   }
   d.body.push_back(box({24, 10.75}, {12, 0.5}));
@@ -94,7 +94,7 @@ TEST(ShapePhysics, OffCentreLoadSplitsByTheLever) {
 WorldDef ramp(double theta, double mu, const BodyDef& body_on_top, double half_height) {
   WorldDef d = empty_world(mu, {false, false, false, false});
   const Vec2 c{50, 50}, n{-std::sin(theta), std::cos(theta)};
-  d.body.push_back(box(c, {60, 1}, theta, "static"));
+  d.body.push_back(box(c, {60, 1}, theta, Motion::Static));
   BodyDef b = body_on_top;
   b.position = c + (0.5 + half_height) * n;
   b.angle = theta;
@@ -200,7 +200,7 @@ TEST(ShapePhysics, TwentyBoxStackStandsTenSeconds) {
 World ellipse_on_floor(double angle) {
   WorldDef d = empty_world(0.8);
   BodyDef e;
-  e.shape = "ellipse";
+  e.shape = BodyShape::Ellipse;
   e.semi_axes = {1.5, 0.5};
   e.angle = angle;
   // Lowest point of the rotated ellipse on the floor.
@@ -232,7 +232,7 @@ WorldDef drum(double omega) {
   const Vec2 p{20, 20};
   for (int k = 0; k < 16; ++k) {
     const double phi = 2 * kPi * k / 16;
-    BodyDef b = box(p + 6.5 * Vec2{std::cos(phi), std::sin(phi)}, {2.6, 1.0}, phi + 0.5 * kPi, "kinematic");
+    BodyDef b = box(p + 6.5 * Vec2{std::cos(phi), std::sin(phi)}, {2.6, 1.0}, phi + 0.5 * kPi, Motion::Kinematic);
     b.omega = omega;
     b.pivot = p;
     d.body.push_back(b);

@@ -77,7 +77,7 @@ std::size_t write_report_directory(const bench::BenchResults& r, const std::stri
 /// records are joined with the rest (mpi_bench.cpp).
 void set_solver_comparison(const BenchArgs& a, bench::BenchOptions& o) {
   if (a.solvers.empty()) return;
-  o.solvers = bench::split_list(a.solvers);
+  for (const std::string& name : bench::split_list(a.solvers)) o.solvers.push_back(SolverId::parse(name));
   o.accuracy = a.accuracy;
 }
 
@@ -113,7 +113,7 @@ bench::BenchOptions bench_options(const BenchArgs& a, const WarmStarterRegistry&
   if (a.steps > 0) o.scene.time.steps = a.steps;
   o.sweeps = a.sweeps > 0 ? a.sweeps : o.scene.solver.sweeps;
   o.tolerance = a.tol;
-  o.solver = a.solver;
+  o.solver = SolverId::parse(a.solver);
   o.jobs = a.jobs;
   o.env.model_path = a.model;
   set_solver_comparison(a, o);

@@ -72,7 +72,8 @@ void print_solution(const ProblemFile& f, const SolveResult& r, double seconds, 
 }
 
 void run_lcp_solve(const LcpSolveArgs& a) {
-  const auto solver = make_solver(a.solver);  // ConfigError for an unknown name
+  const SolverId id = SolverId::parse(a.solver);  // ConfigError for an unknown name
+  const auto solver = make_solver(id);
   if (a.sweeps < 0) throw ConfigError("--sweeps must be >= 0");
   if (!(a.tol >= 0) || !std::isfinite(a.tol)) throw ConfigError("--tol must be finite and >= 0");
   const ProblemFile f = read_problem_file(a.file, forced_kind(a.kind));
@@ -84,7 +85,7 @@ void run_lcp_solve(const LcpSolveArgs& a) {
   o.tolerance = a.tol;
   o.record_theta = false;
   ProximalPointDef route;
-  route.inner_solver = a.solver;
+  route.inner_solver = id;
   SolverOptions exact;  // the route solves to the exact tolerance 1e-9·max(1, ‖q‖∞), its own limits
   exact.record_theta = false;
   const double t0 = cpu_seconds();

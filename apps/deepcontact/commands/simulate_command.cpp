@@ -185,7 +185,7 @@ void run(const SimulateArgs& a) {
         "sweeps per step with contacts (max %d%s), worst natural-map residual %.3g N; max penetration %.3g m; "
         "total energy %.6g J -> %.6g J; final state hash %016llx.%s%s\n",
         describe_bodies(world.bodies()).c_str(), def.time.steps, def.time.steps * def.time.dt, def.time.dt, wall,
-        static_cast<long long>(f.contacts), f.max_contacts, def.solver.name.c_str(), a.warmstart.c_str(),
+        static_cast<long long>(f.contacts), f.max_contacts, to_string(def.solver.name).c_str(), a.warmstart.c_str(),
         f.sweeps.empty() ? 0 : f.sweeps[f.sweeps.size() / 2], f.sweeps.empty() ? 0 : f.sweeps.back(),
         def.solver.tolerance > 0 ? (", " + std::to_string(f.nonconverged) + " steps did not reach the tolerance").c_str() : "",
         f.worst_residual, f.max_pen, e0, e1, hash, a.out.empty() ? "" : " Trajectory: ", a.out.c_str());

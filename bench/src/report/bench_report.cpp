@@ -180,7 +180,7 @@ std::string summary_json(const BenchResults& r, const std::vector<StarterSummary
   for (const std::uint64_t seed : r.options.seeds) j.value(seed);
   j.end_array();
   j.key("mode").value(r.options.mode == Mode::Paired ? "paired" : "rollout");
-  j.key("solver").value(r.options.solver);
+  j.key("solver").value(to_string(r.options.solver));
   j.key("sweeps").value(r.options.sweeps);
   j.key("tolerance").value(r.options.tolerance);
   j.key("evaluated_steps").value(r.starters.empty() ? std::size_t{0} : r.starters[0].sweeps_to_tol.size());
@@ -210,8 +210,8 @@ std::string report_intro_markdown(const BenchResults& r) {
   const int steps = r.starters.empty() ? 0 : static_cast<int>(r.starters[0].sweeps_to_tol.size());
   md << "# DeepContact warm-start benchmark: family `" << (r.options.family.empty() ? "seed" : r.options.family)
      << "`\n\n";
-  md << "Mode **" << (r.options.mode == Mode::Paired ? "paired" : "rollout") << "**, solver `" << r.options.solver
-     << "`, " << r.options.sweeps << " sweeps, tolerance θ ≤ " << r.options.tolerance << " N, " << steps
+  md << "Mode **" << (r.options.mode == Mode::Paired ? "paired" : "rollout") << "**, solver `"
+     << to_string(r.options.solver) << "`, " << r.options.sweeps << " sweeps, tolerance θ ≤ " << r.options.tolerance << " N, " << steps
      << " evaluated steps (" << r.skipped_steps << " steps without contacts skipped) over scene seeds";
   for (auto s : r.options.seeds) md << ' ' << s;
   md << ". Wall time " << fmt("%.1f", r.wall_seconds) << " s.";

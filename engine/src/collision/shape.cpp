@@ -48,6 +48,22 @@ Motion parse_motion(const std::string& name, const std::string& where) {
   bad_shape(where, "unknown motion '" + name + "' (expected dynamic, static or kinematic)");
 }
 
+const char* to_string(BodyShape s) {
+  switch (s) {
+    case BodyShape::Circle: return "circle";
+    case BodyShape::Box: return "box";
+    case BodyShape::Polygon: return "polygon";
+    case BodyShape::Ellipse: return "ellipse";
+  }
+  return "unknown";
+}
+
+BodyShape parse_body_shape(const std::string& name, const std::string& key) {
+  for (BodyShape s : {BodyShape::Circle, BodyShape::Box, BodyShape::Polygon, BodyShape::Ellipse})
+    if (name == to_string(s)) return s;
+  bad_shape(key, "unknown shape '" + name + "' (expected circle, box, polygon or ellipse)");
+}
+
 double ShapeDef::area() const {
   switch (kind) {
     case ShapeKind::Circle: return std::numbers::pi * radius * radius;
@@ -182,22 +198,22 @@ ShapeDef make_ellipse(Vec2 semi_axes, const std::string& where) {
   return s;
 }
 
-ShapeDef build_shape(const std::string& shape, double radius, Vec2 size, int sides,
-                     const std::vector<Vec2>& vertices, Vec2 semi_axes, const std::string& where) {
-  if (shape == "circle") {
-    if (!(radius > 0) || !std::isfinite(radius)) bad_shape(where + "radius", "expected a number > 0");
-    return make_circle(radius);
+ShapeDef build_shape(BodyShape shape, double radius, Vec2 size, int sides, const std::vector<Vec2>& vertices,
+                     Vec2 semi_axes, const std::string& where) {
+  switch (shape) {
+    case BodyShape::Circle:
+      if (!(radius > 0) || !std::isfinite(radius)) bad_shape(where + "radius", "expected a number > 0");
+      return make_circle(radius);
+    case BodyShape::Box: return make_box(size, where + "shape \"box\"");
+    case BodyShape::Ellipse: return make_ellipse(semi_axes, where + "shape \"ellipse\"");
+    case BodyShape::Polygon:
+      if (!vertices.empty() && sides != 0)
+        bad_shape(where + "sides", "give either vertices or sides (a regular polygon), not both");
+      if (!vertices.empty()) return make_polygon(vertices, where + "vertices");
+      if (sides == 0) bad_shape(where + "shape \"polygon\"", "needs vertices = [[x, y], ...] or sides = N");
+      return make_regular_polygon(sides, radius, where + "sides");
   }
-  if (shape == "box") return make_box(size, where + "shape \"box\"");
-  if (shape == "ellipse") return make_ellipse(semi_axes, where + "shape \"ellipse\"");
-  if (shape == "polygon") {
-    if (!vertices.empty() && sides != 0)
-      bad_shape(where + "sides", "give either vertices or sides (a regular polygon), not both");
-    if (!vertices.empty()) return make_polygon(vertices, where + "vertices");
-    if (sides == 0) bad_shape(where + "shape \"polygon\"", "needs vertices = [[x, y], ...] or sides = N");
-    return make_regular_polygon(sides, radius, where + "sides");
-  }
-  bad_shape(where + "shape", "unknown shape '" + shape + "' (expected circle, box, polygon or ellipse)");
+  bad_shape(where + "shape", "invalid BodyShape " + std::to_string(static_cast<int>(shape)));
 }
 
 void ShapeTable::add(const ShapeDef& shape, Motion m, bool with_pivot, Vec2 p) {

@@ -66,7 +66,7 @@ std::string fmt_body(std::size_t i, const BodyDef& b) {
 /// The order in which the generated bodies at `centres` are numbered ([bodies] order):
 /// placement order, or Morton order over cells of side 2·max_r (the broad phase's cell).
 std::vector<int> generated_order(const BodiesSection& g, const std::vector<Vec2>& centres, double max_r) {
-  if (g.order == "morton" && !centres.empty()) return morton_order(centres, 2 * max_r);
+  if (g.order == BodyOrder::Morton && !centres.empty()) return morton_order(centres, 2 * max_r);
   std::vector<int> order(centres.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
   return order;
@@ -74,9 +74,9 @@ std::vector<int> generated_order(const BodiesSection& g, const std::vector<Vec2>
 
 /// True when the definition has only dynamic circles: the seed's generator, unchanged.
 bool circles_only(const WorldDef& def) {
-  if (def.bodies.shape != "circle") return false;
+  if (def.bodies.shape != BodyShape::Circle) return false;
   for (const BodyDef& b : def.body)
-    if (b.shape != "circle" || b.motion != "dynamic") return false;
+    if (b.shape != BodyShape::Circle || b.motion != Motion::Dynamic) return false;
   return true;
 }
 
@@ -118,8 +118,7 @@ BodyState make_shaped_bodies(const WorldDef& def) {
     if (b.spawn > 0) continue;  // enters later (Inflow; validate() allows it for dynamic circles only)
     const std::string where = "[[body]] #" + std::to_string(i + 1) + " ";
     const ShapeDef sd = build_shape(b.shape, b.radius, b.size, b.sides, b.vertices, b.semi_axes, where);
-    const Motion m = parse_motion(b.motion, where + "motion");
-    ex.add_shaped(sd, m, b.position, b.density, b.velocity, b.angle, b.omega, b.pivot.has_value(),
+    ex.add_shaped(sd, b.motion, b.position, b.density, b.velocity, b.angle, b.omega, b.pivot.has_value(),
                   b.pivot.value_or(Vec2{}));
   }
   if (ex.shapes.empty()) ex.shapes.add_circles(0);

@@ -195,6 +195,27 @@ std::vector<Vec2> read_points(const toml::node& n, const Origin& o, std::string_
   return out;
 }
 
+/// A named value (solver, shape, motion, order): the string parsed once, here, with the
+/// messages these names have always had: the parser's line naming the key after the source
+/// (as validate()'s), and for a solver make_solver's own line (it names the solver).
+template <class F>
+F read_named(const toml::node& n, const Origin& o, std::string_view key) {
+  const std::string name = read_string(n, o, key);
+  if constexpr (std::is_same_v<F, SolverId>) {
+    return SolverId::parse(name);
+  } else {
+    const std::string k(key);
+    try {
+      if constexpr (std::is_same_v<F, BodyShape>) return parse_body_shape(name, k);
+      else if constexpr (std::is_same_v<F, Motion>) return parse_motion(name, k);
+      else if constexpr (std::is_same_v<F, BodyOrder>) return parse_body_order(name, k);
+      else return parse_internal_order(name, k);
+    } catch (const ConfigError& e) {
+      throw ConfigError(o.source + ": " + e.what());
+    }
+  }
+}
+
 /// Reads `node` into the field `ref` points at; shared by sections and [[body]] keys.
 template <class Owner>
 void assign(Owner& owner, const scene_detail::Ref<Owner>& ref, const toml::node& node, const Origin& o,
@@ -211,7 +232,8 @@ void assign(Owner& owner, const scene_detail::Ref<Owner>& ref, const toml::node&
         else if constexpr (std::is_same_v<F, std::optional<Vec2>>) field = read_vec2(node, o, key);
         else if constexpr (std::is_same_v<F, std::vector<Vec2>>) field = read_points(node, o, key);
         else if constexpr (std::is_same_v<F, std::array<double, 4>>) field = read_region(node, o, key);
-        else field = read_walls(node, o, key);
+        else if constexpr (std::is_same_v<F, std::array<bool, 4>>) field = read_walls(node, o, key);
+        else field = read_named<F>(node, o, key);
       },
       ref);
 }
@@ -367,6 +389,13 @@ std::string format_value(Owner& owner, const scene_detail::Ref<Owner>& ref, std:
           return std::to_string(field);
         } else if constexpr (std::is_same_v<F, std::string>) {
           return format_string(field);
+        } else if constexpr (std::is_same_v<F, SolverId>) {
+          return format_string(to_string(field));
+        } else if constexpr (std::is_same_v<F, Motion>) {
+          return format_string(motion_name(field));
+        } else if constexpr (std::is_same_v<F, BodyShape> || std::is_same_v<F, BodyOrder> ||
+                             std::is_same_v<F, InternalOrder>) {
+          return format_string(to_string(field));
         } else if constexpr (std::is_same_v<F, Vec2>) {
           return concat({"[", format_double(field.x), ", ", format_double(field.y), "]"});
         } else if constexpr (std::is_same_v<F, std::optional<Vec2>>) {

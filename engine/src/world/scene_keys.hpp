@@ -15,7 +15,8 @@
 
 namespace dc::scene_detail {
 
-/// How a key's TOML value is read (also selects the field type in Ref).
+/// How a key's TOML value is read (the field type in Ref says what it becomes: a String key
+/// sets a std::string or one of the named enumerations, parsed from the string).
 enum class Kind { Number, Int, Seed, String, Vec2, Walls, Points, OptionalVec2, Region };
 
 /// Accessor of the field a key sets, one alternative per field type. Plain function
@@ -24,7 +25,8 @@ template <class Owner>
 using Ref = std::variant<double& (*)(Owner&), int& (*)(Owner&), std::uint64_t& (*)(Owner&),
                          std::string& (*)(Owner&), Vec2& (*)(Owner&), std::array<bool, 4>& (*)(Owner&),
                          std::vector<Vec2>& (*)(Owner&), std::optional<Vec2>& (*)(Owner&),
-                         std::array<double, 4>& (*)(Owner&)>;
+                         std::array<double, 4>& (*)(Owner&), SolverId& (*)(Owner&), BodyShape& (*)(Owner&),
+                         Motion& (*)(Owner&), BodyOrder& (*)(Owner&), InternalOrder& (*)(Owner&)>;
 
 struct SectionKey {
   std::string_view section;

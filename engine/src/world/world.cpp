@@ -24,7 +24,7 @@ double ms_since(Clock::time_point t0) {
 }  // namespace
 
 World::World(WorldDef def) : def_(std::move(def)), inflow_(def_) {
-  internal_ = def_.bodies.internal_order != "none";
+  internal_ = def_.bodies.internal_order != InternalOrder::None;
   bodies_ = make_bodies(def_);
   inflow_.emit(0.0, bodies_);
   if (internal_) update_internal_order();
@@ -33,7 +33,7 @@ World::World(WorldDef def) : def_(std::move(def)), inflow_(def_) {
 World::World(WorldDef def, BodyState bodies)
     : def_(std::move(def)), bodies_(std::move(bodies)), inflow_(def_) {
   def_.validate();
-  internal_ = def_.bodies.internal_order != "none";
+  internal_ = def_.bodies.internal_order != InternalOrder::None;
   const std::size_t n = bodies_.size();
   if (bodies_.angle.size() != n || bodies_.velocity.size() != n || bodies_.omega.size() != n ||
       bodies_.radius.size() != n || bodies_.mass.size() != n || bodies_.inv_mass.size() != n ||

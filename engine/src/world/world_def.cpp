@@ -58,6 +58,21 @@ void finite_shape_values(const std::string& key, Vec2 size, Vec2 semi_axes, cons
 
 }  // namespace
 
+const char* to_string(BodyOrder o) { return o == BodyOrder::Morton ? "morton" : "creation"; }
+const char* to_string(InternalOrder o) { return o == InternalOrder::Morton ? "morton" : "none"; }
+
+BodyOrder parse_body_order(const std::string& name, const std::string& key) {
+  if (name == "creation") return BodyOrder::Creation;
+  if (name == "morton") return BodyOrder::Morton;
+  throw ConfigError(key + ": expected \"creation\" or \"morton\", got \"" + name + "\"");
+}
+
+InternalOrder parse_internal_order(const std::string& name, const std::string& key) {
+  if (name == "none") return InternalOrder::None;
+  if (name == "morton") return InternalOrder::Morton;
+  throw ConfigError(key + ": expected \"none\" or \"morton\", got \"" + name + "\"");
+}
+
 void WorldDef::validate() const {
   positive("[world] width", world.width);
   positive("[world] height", world.height);
@@ -89,11 +104,6 @@ void WorldDef::validate() const {
                     "[bodies] ");
   radius_max("[bodies] radius_max", bodies.radius_max, bodies.radius);
   region("[bodies] region", bodies.region, false);
-  if (bodies.order != "creation" && bodies.order != "morton")
-    throw ConfigError("[bodies] order: expected \"creation\" or \"morton\", got \"" + bodies.order + "\"");
-  if (bodies.internal_order != "none" && bodies.internal_order != "morton")
-    throw ConfigError("[bodies] internal_order: expected \"none\" or \"morton\", got \"" +
-                      bodies.internal_order + "\"");
   if (bodies.resort_every < 1)
     throw ConfigError("[bodies] resort_every: expected an integer >= 1, got " + std::to_string(bodies.resort_every));
   if (!(bodies.resort_decay > 1) || !std::isfinite(bodies.resort_decay))
@@ -131,14 +141,14 @@ void WorldDef::validate() const {
     positive(k + "density", b.density);
     finite_shape_values(k, b.size, b.semi_axes, b.vertices);
     (void)build_shape(b.shape, b.radius, b.size, b.sides, b.vertices, b.semi_axes, k);
-    const Motion m = parse_motion(b.motion, k + "motion");
+    const Motion m = b.motion;
     if (b.pivot) {
       finite(k + "pivot[0]", b.pivot->x);
       finite(k + "pivot[1]", b.pivot->y);
       if (m != Motion::Kinematic) throw ConfigError(k + "pivot: only a kinematic body has a pivot");
     }
     non_negative(k + "spawn", b.spawn);
-    if (b.spawn > 0 && (b.shape != "circle" || m != Motion::Dynamic))
+    if (b.spawn > 0 && (b.shape != BodyShape::Circle || m != Motion::Dynamic))
       throw ConfigError(k + "spawn: only a dynamic circle can enter later (spawn > 0)");
   }
   validate_derived_quantities(*this);  // masses, energies and counts the values imply

@@ -45,7 +45,8 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   const LcpProblem& p = solvers::with_assembled_matrix(problem, local);
   Eigen::VectorXd lambda;
   if (auto bad = solvers::check_input(p, lambda0, "proximal point", lambda)) return *bad;
-  const auto inner = def.inner_solver == "newton-sparse" ? make_newton_sparse(def.newton_sparse) : make_solver(def.inner_solver);
+  const auto inner = def.inner_solver.kind == SolverKind::NewtonSparse ? make_newton_sparse(def.newton_sparse)
+                                                                        : make_solver(def.inner_solver);
   const double target = options.tolerance > 0 ? options.tolerance : options.exact_tolerance * solvers::rhs_scale(p);
   const double diag = p.rows() > 0 ? p.A.diagonal().cwiseAbs().maxCoeff() : 0.0;
   SolverOptions inner_options;

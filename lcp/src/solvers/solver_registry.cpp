@@ -1,4 +1,4 @@
-// Names → solvers (make_solver, solver_names) and SolveStatus names.
+// Names ⇄ SolverId → solvers (make_solver, solver_names) and SolveStatus names.
 #include <charconv>
 #include <string>
 
@@ -22,14 +22,16 @@ const char* to_string(SolveStatus s) {
   return "unknown";
 }
 
-std::vector<std::string> solver_names() {
-  return {"pgs", "pgs-colored", "pgs-assembled", "psor", "jacobi", "lemke", "newton", "newton-sparse", "nncg"};
-}
-
 namespace {
 
-/// "pgs-colored:<threads>[:<kernel>]": OpenMP threads ≥ 1, kernel auto|avx512|avx2|scalar.
-PgsColoredDef pgs_colored_def(std::string_view name) {
+constexpr SolverKind kKinds[] = {SolverKind::Pgs,    SolverKind::PgsColored, SolverKind::PgsAssembled,
+                                 SolverKind::Psor,   SolverKind::Jacobi,     SolverKind::Lemke,
+                                 SolverKind::Newton, SolverKind::NewtonSparse, SolverKind::Nncg};
+constexpr PgsColoredKernel kKernels[] = {PgsColoredKernel::Auto, PgsColoredKernel::Avx512, PgsColoredKernel::Avx2,
+                                         PgsColoredKernel::Scalar};
+
+/// The suffix of "pgs-colored:<threads>[:<kernel>]": OpenMP threads ≥ 1, kernel auto|avx512|avx2|scalar.
+SolverId pgs_colored_id(std::string_view name) {
   const auto bad = [&] {
     return ConfigError("LCP solver '" + std::string(name) +
                        "': expected pgs-colored:<threads>[:<kernel>], threads >= 1, kernel auto|avx512|avx2|scalar");
@@ -40,39 +42,80 @@ PgsColoredDef pgs_colored_def(std::string_view name) {
     k = t.substr(colon + 1);
     t = t.substr(0, colon);
   }
-  PgsColoredDef def;
-  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), def.threads);
-  if (ec != std::errc() || end != t.data() + t.size() || def.threads < 1) throw bad();
-  if (colon == std::string_view::npos) return def;
-  bool known = false;
-  for (PgsColoredKernel kernel :
-       {PgsColoredKernel::Auto, PgsColoredKernel::Avx512, PgsColoredKernel::Avx2, PgsColoredKernel::Scalar})
-    if (k == to_string(kernel)) {
-      def.kernel = kernel;
-      known = true;
-    }
-  if (!known) throw bad();
-  if (!pgs_colored_kernel_available(def.kernel))
-    throw ConfigError("LCP solver '" + std::string(name) + "': this CPU cannot run the " + std::string(k) + " kernel");
-  return def;
+  SolverId id{SolverKind::PgsColored};
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), id.threads);
+  if (ec != std::errc() || end != t.data() + t.size() || id.threads < 1) throw bad();
+  if (colon == std::string_view::npos) return id;
+  for (PgsColoredKernel kernel : kKernels)
+    if (k == to_string(kernel)) id.kernel = kernel;
+  if (!id.kernel) throw bad();
+  return id;
 }
 
 }  // namespace
 
-std::unique_ptr<LcpSolver> make_solver(std::string_view name) {
-  if (name == "pgs") return solvers::make_pgs_matrix_free();
-  if (name == "pgs-colored") return solvers::make_pgs_colored();
-  if (name.starts_with("pgs-colored:")) return make_pgs_colored(pgs_colored_def(name));
-  if (name == "pgs-assembled") return solvers::make_pgs_assembled();
-  if (name == "psor") return solvers::make_psor();
-  if (name == "jacobi") return solvers::make_jacobi();
-  if (name == "lemke") return solvers::make_lemke();
-  if (name == "newton") return solvers::make_newton();
-  if (name == "newton-sparse") return make_newton_sparse();
-  if (name == "nncg") return solvers::make_nncg();
+const char* to_string(SolverKind kind) {
+  switch (kind) {
+    case SolverKind::Pgs: return "pgs";
+    case SolverKind::PgsColored: return "pgs-colored";
+    case SolverKind::PgsAssembled: return "pgs-assembled";
+    case SolverKind::Psor: return "psor";
+    case SolverKind::Jacobi: return "jacobi";
+    case SolverKind::Lemke: return "lemke";
+    case SolverKind::Newton: return "newton";
+    case SolverKind::NewtonSparse: return "newton-sparse";
+    case SolverKind::Nncg: return "nncg";
+  }
+  return "unknown";
+}
+
+std::vector<std::string> solver_names() {
+  std::vector<std::string> out;
+  for (SolverKind k : kKinds) out.emplace_back(to_string(k));
+  return out;
+}
+
+SolverId SolverId::parse(std::string_view name) {
+  for (SolverKind k : kKinds)
+    if (name == to_string(k)) return SolverId{k};
+  if (name.starts_with("pgs-colored:")) return pgs_colored_id(name);
   std::string valid;
   for (const auto& n : solver_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw ConfigError("unknown LCP solver '" + std::string(name) + "' (valid: " + valid + ")");
 }
+
+std::string to_string(const SolverId& id) {
+  std::string out = to_string(id.kind);
+  if (id.kind != SolverKind::PgsColored || id.threads == 0) return out;
+  out += ":" + std::to_string(id.threads);
+  if (id.kernel) out += std::string(":") + to_string(*id.kernel);
+  return out;
+}
+
+std::unique_ptr<LcpSolver> make_solver(const SolverId& id) {
+  switch (id.kind) {
+    case SolverKind::Pgs: return solvers::make_pgs_matrix_free();
+    case SolverKind::PgsColored: {
+      if (id.threads == 0) return solvers::make_pgs_colored();
+      PgsColoredDef def;
+      def.threads = id.threads;
+      def.kernel = id.kernel.value_or(PgsColoredKernel::Auto);
+      if (!pgs_colored_kernel_available(def.kernel))
+        throw ConfigError("LCP solver '" + to_string(id) + "': this CPU cannot run the " + to_string(def.kernel) +
+                          " kernel");
+      return make_pgs_colored(def);
+    }
+    case SolverKind::PgsAssembled: return solvers::make_pgs_assembled();
+    case SolverKind::Psor: return solvers::make_psor();
+    case SolverKind::Jacobi: return solvers::make_jacobi();
+    case SolverKind::Lemke: return solvers::make_lemke();
+    case SolverKind::Newton: return solvers::make_newton();
+    case SolverKind::NewtonSparse: return make_newton_sparse();
+    case SolverKind::Nncg: return solvers::make_nncg();
+  }
+  throw ConfigError("make_solver: invalid SolverKind " + std::to_string(static_cast<int>(id.kind)));
+}
+
+std::unique_ptr<LcpSolver> make_solver(std::string_view name) { return make_solver(SolverId::parse(name)); }
 
 }  // namespace dc

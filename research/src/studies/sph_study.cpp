@@ -136,7 +136,7 @@ SphStudyResults run_sph_study(const WorldDef& scene, const SphStudyDef& def, con
   if (def.sweeps > 0) opt.max_sweeps = def.sweeps;
   opt.record_theta = false;
   out.steps = world.time.steps;
-  out.solver = world.solver.name;
+  out.solver = to_string(world.solver.name);
   out.sweeps = opt.max_sweeps;
 
   const auto t_sim = std::chrono::steady_clock::now();

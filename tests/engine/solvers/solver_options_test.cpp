@@ -33,7 +33,7 @@ TEST(SolverOptionsFromScene, SolversObeyTheSection) {
   test::TestRng rng(7);
   const LcpProblem p = test::random_contact(20, 40, true, rng);
   SolverSection s;
-  s.name = "psor";
+  s.name = SolverId{SolverKind::Psor};
   s.sweeps = 9;  // fixed-sweep mode: exactly `sweeps` sweeps
   const auto solver = make_solver(s.name);
   const SolveResult capped = solver->solve(p, Eigen::VectorXd(), solver_options(s));

@@ -45,7 +45,7 @@ SolveResult solve_on(const LcpProblem& p, const Eigen::VectorXd& l0, int threads
 }
 
 /// The settled seed-family pile (n circles) after `steps` steps of pgs.
-LcpProblem pile_problem(int bodies, int steps, const std::string& order = "creation") {
+LcpProblem pile_problem(int bodies, int steps, BodyOrder order = BodyOrder::Creation) {
   WorldDef def = default_world_def();
   def.bodies.order = order;
   def.bodies.count = bodies;
@@ -155,7 +155,7 @@ TEST(PgsColoredThreads, PileGivesTheSameBitsOnEveryThreadCount) {
 /// contacts fall into many chunks: λ, θ and residual of whole solves bit-equal for 1, 2, 3 and 7
 /// threads, on two successive problems (the second reuses the first's colours) and a repeat.
 TEST(PgsColoredThreads, ChunkedColouringGivesTheSameBitsOnEveryThreadCount) {
-  const LcpProblem first = pile_problem(400, 60, "morton"), second = pile_problem(400, 61, "morton");
+  const LcpProblem first = pile_problem(400, 60, BodyOrder::Morton), second = pile_problem(400, 61, BodyOrder::Morton);
   ASSERT_GT(first.constraints.size(), 6 * 16);  // ≥ 6 chunks
   auto run = [&](int threads) {
     PgsColoredDef d;

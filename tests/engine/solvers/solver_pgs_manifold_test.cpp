@@ -173,7 +173,7 @@ LcpProblem boxes_problem(bool pyramid, double mu, int steps) {
   for (int row = 0; row < rows; ++row)
     for (int k = 0; k < base - (pyramid ? row : 0); ++k) {
       BodyDef b;
-      b.shape = "box";
+      b.shape = BodyShape::Box;
       b.size = {1, 1};
       b.position = {20 + (k - 0.5 * (base - (pyramid ? row : 0) - 1)) * 1.05, 0.5 + row};
       d.body.push_back(b);

@@ -29,7 +29,7 @@ struct BenchOptions {
   int sweeps = 3000;                    ///< fixed sweeps of the convergence run
   double tolerance = 1e-2;              ///< θ threshold [N] (= 1e-4 N·s impulse at Δt = 0.01)
   Mode mode = Mode::Paired;
-  std::string solver = "pgs";           ///< iterative solver under test
+  SolverId solver{SolverKind::Pgs};     ///< iterative solver under test (`--solver`, parsed there)
   /// Sweep budgets of the speed/accuracy trade (sorted, ≤ sweeps); empty = log-spaced.
   std::vector<int> budgets;
   WarmStartEnv env;
@@ -54,8 +54,8 @@ struct BenchOptions {
   bool keep_theta = false;
   /// Solver comparison (docs/bench.md "Solver comparison"; paired mode only): every solver here
   /// solves every evaluated LCP from every starter's guess (the same λ⁰ for each solver).
-  /// Empty = off: the bench runs as without it.
-  std::vector<std::string> solvers;
+  /// Empty = off: the bench runs as without it. (`--solvers`, parsed there.)
+  std::vector<SolverId> solvers;
   /// Accuracy target R of the comparison (dimensionless, default 1e-6): a λ is accurate when its
   /// natural-map residual [N] is at most R · max_i(m_i |g|) [N], the heaviest body's weight in
   /// the step's LCP — the residual as a share of the step's largest weight impulse

@@ -139,9 +139,9 @@ WorldDef free_collision(int count, double ratio, double mu);
 WorldDef box_stack(int n, Vec2 size);
 /// A pyramid of unit boxes, `base` in the bottom row, each row offset by half a box.
 WorldDef box_pyramid(int base);
-/// `count` generated bodies of one shape ("box": size = dims; "ellipse": semi_axes = dims)
+/// `count` generated bodies of one shape (Box: size = dims; Ellipse: semi_axes = dims)
 /// falling into a 20 × 20 box.
-WorldDef shape_extremes(const std::string& shape, Vec2 dims, int count);
+WorldDef shape_extremes(BodyShape shape, Vec2 dims, int count);
 
 // ---- the stress table ---------------------------------------------------------------------
 

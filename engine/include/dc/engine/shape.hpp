@@ -22,11 +22,20 @@ namespace dc {
 enum class ShapeKind : std::uint8_t { Circle = 0, Polygon = 1, Ellipse = 2 };
 enum class Motion : std::uint8_t { Dynamic = 0, Static = 1, Kinematic = 2 };
 
+/// The shape a scene asks for (`shape` of [bodies] and [[body]], BodyDef, BodiesSection): a
+/// box is built as a ShapeKind::Polygon (make_box), so it has no ShapeKind of its own.
+enum class BodyShape : std::uint8_t { Circle, Box, Polygon, Ellipse };
+
 /// "circle" / "polygon" / "ellipse"; "dynamic" / "static" / "kinematic".
 const char* shape_kind_name(ShapeKind k);
 const char* motion_name(Motion m);
 /// Parses a motion name; throws ConfigError "<where>: unknown motion '<name>' ..." otherwise.
 Motion parse_motion(const std::string& name, const std::string& where);
+/// "circle" / "box" / "polygon" / "ellipse" (the scene files' spelling).
+const char* to_string(BodyShape s);
+/// Parses a shape name; throws ConfigError "<key>: unknown shape '<name>' (expected circle,
+/// box, polygon or ellipse)" otherwise (key = "[bodies] shape", "[[body]] #3 shape", …).
+BodyShape parse_body_shape(const std::string& name, const std::string& key);
 
 /// Polygons: at most this many vertices (and at least 3).
 inline constexpr int kMaxPolygonVertices = 16;
@@ -61,11 +70,11 @@ ShapeDef make_regular_polygon(int sides, double r, const std::string& where);
 /// An ellipse with semi-axes a, b > 0.
 ShapeDef make_ellipse(Vec2 semi_axes, const std::string& where);
 
-/// The shape a scene's keys describe (docs/scenes.md): shape = "circle" (radius), "box"
-/// (size), "polygon" (vertices, or sides + radius for a regular one) or "ellipse"
-/// (semi_axes). Throws ConfigError "<where> <key>: ..." for an unknown shape name, conflicting
-/// keys (both vertices and sides) or an invalid shape.
-ShapeDef build_shape(const std::string& shape, double radius, Vec2 size, int sides,
+/// The shape a scene's keys describe (docs/scenes.md): shape = Circle (radius), Box (size),
+/// Polygon (vertices, or sides + radius for a regular one) or Ellipse (semi_axes). Throws
+/// ConfigError "<where> <key>: ..." for conflicting keys (both vertices and sides) or an
+/// invalid shape.
+ShapeDef build_shape(BodyShape shape, double radius, Vec2 size, int sides,
                      const std::vector<Vec2>& vertices, Vec2 semi_axes, const std::string& where);
 
 /// The shape of every body, as flat parallel arrays (the layout of the trajectory file's

@@ -3,6 +3,9 @@
 // the documented defaults. The defaults reproduce the seed scene of the thesis
 // (docs/design.md §3): 100 circles of radius 1 in a 30 × 30 box, Δt = 0.01 s, 600 steps,
 // 3000 PGS sweeps. Every field maps 1:1 to a TOML key `[section] key` (docs/scenes.md).
+// Enumerations are typed (SolverId, BodyShape, Motion, BodyOrder, InternalOrder); their
+// names are read and written only where users give them: scene files and `--set`
+// (scene.hpp), CLI options and Python arguments.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -11,8 +14,27 @@
 
 #include "dc/core/vec2.hpp"
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/engine/shape.hpp"
 
 namespace dc {
+
+/// Numbering of the generated bodies (`[bodies] order`, BodiesSection::order).
+enum class BodyOrder : std::uint8_t {
+  Creation,  ///< "creation": the order they were placed in
+  Morton,    ///< "morton": renumbered by the Morton code of their initial cell
+};
+/// Order in which the engine stores and steps the bodies (`[bodies] internal_order`).
+enum class InternalOrder : std::uint8_t {
+  None,    ///< "none": storage order = external order
+  Morton,  ///< "morton": Morton order of the current cell, re-sorted as it decays
+};
+/// "creation" / "morton"; "none" / "morton" (the scene files' spelling).
+const char* to_string(BodyOrder o);
+const char* to_string(InternalOrder o);
+/// Parse the scene spelling; throw ConfigError "<key>: expected \"creation\" or \"morton\", got
+/// \"<name>\"" (resp. "none" or "morton") otherwise.
+BodyOrder parse_body_order(const std::string& name, const std::string& key);
+InternalOrder parse_internal_order(const std::string& name, const std::string& key);
 
 struct WorldSection {
   double width = 30.0;            ///< box extent along x [m]; the box is [0, width] × [0, height]
@@ -52,7 +74,9 @@ struct ContactSection {
 };
 
 struct SolverSection {
-  std::string name = "pgs";  ///< LCP solver (see make_solver: pgs, pgs-colored, pgs-assembled, psor, jacobi, lemke, newton, newton-sparse, nncg)
+  /// LCP solver (make_solver; spelled pgs, pgs-colored[:N[:K]], pgs-assembled, psor, jacobi,
+  /// lemke, newton, newton-sparse, nncg).
+  SolverId name{SolverKind::Pgs};
   int sweeps = 3000;         ///< maximum sweeps per step (the seed's fixed 3000)
   double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance [N]; 0 ⇒ always run `sweeps` sweeps
   double omega = 1.0;        ///< relaxation for psor (1 = PGS)
@@ -70,7 +94,7 @@ struct BodiesSection {
   int max_attempts = 1000000;    ///< rejection-sampling budget before giving up (error)
   // Shape of the generated bodies (as [[body]]; shape.hpp). Non-circles are placed by their
   // bounding circle and get a uniformly random angle (drawn after the position).
-  std::string shape = "circle";  ///< "circle" | "box" | "polygon" | "ellipse"
+  BodyShape shape = BodyShape::Circle;  ///< "circle" | "box" | "polygon" | "ellipse"
   Vec2 size{1.0, 1.0};           ///< box: width, height [m]
   int sides = 0;                 ///< regular polygon: sides (3..16), circumradius = radius
   std::vector<Vec2> vertices;    ///< explicit convex polygon, body frame, CCW [m]
@@ -81,21 +105,21 @@ struct BodiesSection {
   /// Placement region [x0, y0, x1, y1] [m]: all zero ⇒ the Gaussian (mean, sigma); otherwise
   /// centres ~ U(region) (rejection-sampled against overlap and the walls) — tall boxes.
   std::array<double, 4> region{0.0, 0.0, 0.0, 0.0};
-  /// Numbering of the generated bodies: "creation" (default; the order they were placed in,
-  /// random in space) or "morton" (the same bodies, renumbered by the Morton code of their
-  /// initial cell of side 2·max radius, so neighbours get close indices: cache locality for
-  /// large piles, docs/engine.md "Step cost against size"). The random stream and the set
+  /// Numbering of the generated bodies: Creation ("creation", default; the order they were
+  /// placed in, random in space) or Morton ("morton": the same bodies, renumbered by the Morton
+  /// code of their initial cell of side 2·max radius, so neighbours get close indices: cache
+  /// locality for large piles, docs/engine.md "Step cost against size"). The random stream and the set
   /// of bodies are the same; only the indices (and so the Gauss–Seidel row order) differ.
   /// Explicit [[body]] bodies always follow in file order.
-  std::string order = "creation";
+  BodyOrder order = BodyOrder::Creation;
   /// Order in which the engine stores and steps the bodies, behind their stable (external)
-  /// indices: "none" (default; storage order = external order) or "morton" (World keeps the
-  /// bodies, contacts and LCP rows in the Morton order of their current cell of side 2·max
-  /// radius, re-sorted when it has decayed — see resort_decay — or every `resort_every` steps at
+  /// indices: None ("none", default; storage order = external order) or Morton ("morton": World
+  /// keeps the bodies, contacts and LCP rows in the Morton order of their current cell of side
+  /// 2·max radius, re-sorted when it has decayed — see resort_decay — or every `resort_every` steps at
   /// the latest; every public view stays in external order and is built only when read,
   /// docs/engine.md "Spatial body order"). Circle-only scenes. Changes the Gauss–Seidel row
   /// order of the solve, hence the trajectory (to the solver's tolerance), not what users see.
-  std::string internal_order = "none";
+  InternalOrder internal_order = InternalOrder::None;
   /// With internal_order = "morton": the most steps between two re-sorts of the internal order
   /// (≥ 1; 1 = re-sort every step).
   int resort_every = 100;
@@ -117,12 +141,12 @@ struct BodyDef {
   double omega = 0.0;            ///< [rad/s]; a kinematic body's prescribed angular velocity
   double radius = 1.0;           ///< circle radius; regular polygon circumradius [m]
   double density = 1.0;          ///< areal density [kg/m²]
-  std::string shape = "circle";  ///< "circle" | "box" | "polygon" | "ellipse"
+  BodyShape shape = BodyShape::Circle;  ///< "circle" | "box" | "polygon" | "ellipse"
   Vec2 size{1.0, 1.0};           ///< box: width, height [m]
   int sides = 0;                 ///< regular polygon: number of sides (3..16); 0 = not regular
   std::vector<Vec2> vertices;    ///< explicit convex polygon, body frame, CCW [m]
   Vec2 semi_axes{1.0, 0.5};      ///< ellipse: a, b [m]
-  std::string motion = "dynamic";  ///< "dynamic" | "static" | "kinematic"
+  Motion motion = Motion::Dynamic;  ///< "dynamic" | "static" | "kinematic"
   std::optional<Vec2> pivot;     ///< kinematic: rotate about this world point at omega [m]
   /// Time [s] at which the body enters the world (0 = from the start). A later body is
   /// appended (its index follows every body present before it) at the first step with

@@ -6,6 +6,7 @@
 // cannot make progress says so in `status` and returns its last finite iterate.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -71,15 +72,59 @@ class LcpSolver {
                                           const SolverOptions& options) = 0;
 };
 
-/// Solver by name: "pgs" (matrix-free PGS on body velocities; the engine default),
-/// "pgs-colored" (colour-ordered PGS, SIMD batches of 8 contacts; "pgs-colored:N" with N
-/// OpenMP threads, "pgs-colored:N:K" with kernel K = auto, avx512, avx2 or scalar), "pgs-assembled" (PGS on the sparse A, the seed's form), "psor", "jacobi",
-/// "lemke" (exact pivoting, standard LCPs), "newton" (minimum-map Newton, box bounds and
-/// friction), "newton-sparse" (warm-started semismooth Newton with friction coupled in the
-/// Jacobian and CHOLMOD factorisations; dc/lcp/newton_sparse.hpp), "nncg" (pgs's sweeps
-/// with nonlinear conjugate-gradient momentum and restarts). Throws ConfigError listing the
-/// valid names for an unknown one.
+/// The LCP solvers make_solver builds; each has one spelling (solver_names, SolverId::parse).
+enum class SolverKind {
+  Pgs,           ///< "pgs": matrix-free PGS on body velocities (the engine default)
+  PgsColored,    ///< "pgs-colored": colour-ordered PGS, SIMD batches of 8 contacts (pgs_colored.hpp)
+  PgsAssembled,  ///< "pgs-assembled": PGS on the sparse A (the seed's form)
+  Psor,          ///< "psor"
+  Jacobi,        ///< "jacobi"
+  Lemke,         ///< "lemke": exact pivoting, standard LCPs
+  Newton,        ///< "newton": minimum-map Newton, box bounds and friction
+  NewtonSparse,  ///< "newton-sparse": semismooth Newton, CHOLMOD (newton_sparse.hpp)
+  Nncg,          ///< "nncg": pgs's sweeps with nonlinear conjugate-gradient momentum and restarts
+};
+/// The spelling of `kind` ("pgs", "pgs-colored", …, the entries of solver_names()).
+const char* to_string(SolverKind kind);
+
+/// The sweep kernel of pgs-colored (all give the same iterates bit for bit; pgs_colored.hpp).
+enum class PgsColoredKernel {
+  Auto,    ///< AVX2 (+ FMA) on AMD CPUs (at least as fast there: Zen runs 512-bit
+           ///< operations as two halves), else AVX-512 if present, else AVX2, else scalar
+  Avx512,  ///< AVX-512 F/DQ/VL: 8 lanes per register
+  Avx2,    ///< AVX2 + FMA: 4 lanes per register, two per batch
+  Scalar,  ///< one lane at a time (portable)
+};
+
+/// A solver as a value: its kind and, for pgs-colored, the threads and kernel its name may
+/// spell ("pgs-colored:N" with N ≥ 1 OpenMP threads, "pgs-colored:N:K" with kernel K = auto,
+/// avx512, avx2 or scalar). Names are read once, where users give them (scene files, CLI
+/// options, Python), by parse; to_string gives back the spelling parse read.
+struct SolverId {
+  SolverKind kind = SolverKind::Pgs;
+  /// PgsColored only: the threads N of "pgs-colored:N" (≥ 1); 0 = not spelled ("pgs-colored",
+  /// which runs one thread).
+  int threads = 0;
+  /// PgsColored with threads only: the kernel K of "pgs-colored:N:K"; empty = not spelled (Auto).
+  std::optional<PgsColoredKernel> kernel;
+
+  /// Reads a name. Throws ConfigError "unknown LCP solver '<name>' (valid: <solver_names()>)",
+  /// or "LCP solver '<name>': expected pgs-colored:<threads>[:<kernel>], …" for a malformed
+  /// pgs-colored suffix.
+  static SolverId parse(std::string_view name);
+
+  friend bool operator==(const SolverId&, const SolverId&) = default;
+};
+/// The name parse reads back to `id` (parse(to_string(id)) == id).
+std::string to_string(const SolverId& id);
+
+/// The solver `id` names (SolverKind). pgs-colored with threads/kernel: PgsColoredDef with
+/// them; throws ConfigError "LCP solver '<name>': this CPU cannot run the <K> kernel" for a
+/// kernel pgs_colored_kernel_available refuses.
+std::unique_ptr<LcpSolver> make_solver(const SolverId& id);
+/// make_solver(SolverId::parse(name)): the same ConfigErrors as parse for an unknown name.
 std::unique_ptr<LcpSolver> make_solver(std::string_view name);
+/// The spellings of every SolverKind, in enum order (the list error messages name).
 std::vector<std::string> solver_names();
 
 }  // namespace dc

@@ -15,15 +15,7 @@
 
 namespace dc {
 
-/// The sweep kernel of pgs-colored (all give the same iterates bit for bit).
-enum class PgsColoredKernel {
-  Auto,    ///< AVX2 (+ FMA) on AMD CPUs (at least as fast there: Zen runs 512-bit
-           ///< operations as two halves), else AVX-512 if
-           ///< present, else AVX2, else scalar
-  Avx512,  ///< AVX-512 F/DQ/VL: 8 lanes per register
-  Avx2,    ///< AVX2 + FMA: 4 lanes per register, two per batch
-  Scalar,  ///< one lane at a time (portable)
-};
+// PgsColoredKernel, the sweep kernel, is declared in lcp_solver.hpp (SolverId names it).
 
 struct PgsColoredDef {
   /// OpenMP threads for the set-up and the batches of a colour (1 = serial; 0 = OpenMP's

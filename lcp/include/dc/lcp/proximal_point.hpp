@@ -29,9 +29,9 @@ struct ProximalPointDef {
   int max_outer = 200;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
-  /// The inner solver (default "newton-sparse"; any name make_solver accepts that reaches
+  /// The inner solver (default newton-sparse; any solver make_solver makes that reaches
   /// exact_tolerance on a positive definite problem).
-  std::string inner_solver = "newton-sparse";
+  SolverId inner_solver{SolverKind::NewtonSparse};
   /// Settings of the inner solver when it is "newton-sparse": its defaults except exact GMRES
   /// directions (krylov_forcing = 0) — with the inexact default the warm-started inner solves
   /// of Siconos' 7002-contact file stalled above the exact tolerance.

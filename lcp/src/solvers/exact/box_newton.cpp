@@ -157,14 +157,17 @@ BoxNewtonOutcome box_newton(const BoxNewtonSystem& s, Eigen::VectorXd& lambda, d
   for (int it = 0;; ++it) {
     out.residual = res;
     if (!std::isfinite(res)) {
+      out.stop = BoxNewtonStop::NonFinite;
       out.why = "non-finite residual";
       return out;
     }
     if (res <= target) {
       out.converged = true;
+      out.stop = BoxNewtonStop::Converged;
       return out;
     }
     if (it >= max_iter) {
+      out.stop = BoxNewtonStop::IterationLimit;
       out.why = "iteration limit";
       return out;
     }
@@ -224,6 +227,7 @@ BoxNewtonOutcome box_newton(const BoxNewtonSystem& s, Eigen::VectorXd& lambda, d
     if (on_step) on_step(lambda, (lambda - start).cwiseAbs().maxCoeff());
     if (failures > std::max(20, max_iter / 2)) {
       out.residual = res;
+      out.stop = BoxNewtonStop::NoProgress;
       out.why = why.empty() ? "line search failed repeatedly" : why;
       return out;
     }

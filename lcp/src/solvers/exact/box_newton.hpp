@@ -17,11 +17,20 @@
 
 namespace dc::solvers {
 
+/// How box_newton ended (callers decide on this, never on the text of `why`).
+enum class BoxNewtonStop {
+  Converged,       ///< ‖H‖∞ ≤ target
+  NonFinite,       ///< the residual became non-finite
+  IterationLimit,  ///< max_iter iterations without reaching the target
+  NoProgress,      ///< the Newton direction or its line search failed repeatedly
+};
+
 struct BoxNewtonOutcome {
-  bool converged = false;
+  bool converged = false;  ///< stop == Converged
+  BoxNewtonStop stop = BoxNewtonStop::IterationLimit;
   int iterations = 0;
   double residual = 0.0;  ///< ‖H‖∞ at the returned λ
-  std::string why;        ///< reason when not converged
+  std::string why;        ///< the reason in words when not converged (messages only)
 };
 
 struct BoxNewtonSystem {

@@ -220,10 +220,14 @@ class NewtonSparseRun {
     best_res_ = v_.max_abs;
     const int max_iter = std::max(0, o_.max_sweeps);
     int stalls = 0;
+    // Why the loop ended: only the iteration limit is a SweepLimit, the others are failures.
+    // `why` says the same in words, for the message.
+    enum class Stop { IterationLimit, NoFiniteIterate, Stalled } stop = Stop::IterationLimit;
     std::string why = "iteration limit";
     while (v_.max_abs > target) {
       if (st_.iterations >= max_iter) break;
       if (!iterate(lambda)) {
+        stop = Stop::NoFiniteIterate;
         why = "no finite iterate";
         break;
       }
@@ -232,6 +236,7 @@ class NewtonSparseRun {
         best_ = lambda;
         stalls = 0;
       } else if (++stalls >= def_.max_stalls) {
+        stop = Stop::Stalled;
         why = "stalled: no decrease of the residual in " + std::to_string(stalls) + " iterations";
         break;
       }
@@ -243,7 +248,7 @@ class NewtonSparseRun {
       r.status = SolveStatus::Converged;
       cp_.flush_final(r.lambda);
     } else {
-      r.status = why == "iteration limit" ? SolveStatus::SweepLimit : SolveStatus::Failed;
+      r.status = stop == Stop::IterationLimit ? SolveStatus::SweepLimit : SolveStatus::Failed;
       r.message += (r.message.empty() ? "" : "; ") + why + ": residual " + std::to_string(r.residual) +
                    " N above target " + std::to_string(target) + " N";
     }
