@@ -434,7 +434,7 @@ void Conv2d::backward_group(const BackwardPlan& b, const Geometry& g, int q, con
   }
 }
 
-// dW, db and dX of sample n by the direct kernels (3×3, stride 1).
+// dW, db and dX of sample n by the direct kernels (3 × 3, stride 1).
 void Conv2d::backward_sample_direct(const BackwardPlan& b, const Geometry& g, int q, int n, const Tensor& x,
                                     const float* gs, float* dxs) {
   const int tid = detail::thread_id();

@@ -123,7 +123,7 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
   const std::uint8_t* dyn = dynamic.data();
   Tally& serial = tally_[static_cast<size_t>(chunks)];
   // The contacts are read from their 32-byte records once (pass 0) and then from the 8-byte
-  // pairs: the passes are bound by memory traffic (≈ 30 µs per pass over 20,000 records).
+  // pairs: the passes are bound by memory traffic.
 #pragma omp parallel num_threads(threads) if (threads > 1)
   {
 #pragma omp for schedule(static) nowait
