@@ -2,6 +2,7 @@
 // `--set` overrides and the scene_to_toml ⇄ parse_scene round trip.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -494,6 +495,35 @@ TEST(SceneNames, UnknownSpellingsGiveOneLineErrorsNamingTheKey) {
   EXPECT_EQ(config_error([&] { apply_override(d, "solver.name=pgs-colored:0"); }),
             config_error([] { (void)SolverId::parse("pgs-colored:0"); }));
   EXPECT_TRUE(d == WorldDef{});
+}
+
+}  // namespace
+}  // namespace dc
+
+namespace dc {
+namespace {
+
+// `--scene hopper` and World(scene="hopper"): a name without '/' that is not a file reads the
+// shipped scene of that name (dc::data_path, here the build tree's share/deepcontact).
+TEST(ShippedScenes, ANameReadsTheShippedFile) {
+  const WorldDef by_path = load_scene(std::string(DC_SOURCE_DIR) + "/scenes/column.toml");
+  EXPECT_EQ(load_scene("column"), by_path);
+  EXPECT_EQ(load_scene("column.toml"), by_path);
+  const auto names = shipped_scenes();
+  EXPECT_NE(std::find(names.begin(), names.end(), "hopper"), names.end());
+  EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
+}
+
+TEST(ShippedScenes, AnUnknownNameListsTheShippedScenes) {
+  try {
+    (void)load_scene("no-such-scene");
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no-such-scene: cannot read scene file: no such file"), std::string::npos) << what;
+    EXPECT_NE(what.find("column"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
 }
 
 }  // namespace

@@ -11,7 +11,8 @@
 namespace dc::cli {
 
 void SceneArgs::add_options(CLI::App& cmd) {
-  cmd.add_option("--scene", file, "Scene file (TOML, docs/scenes.md); default: the seed scene");
+  cmd.add_option("--scene", file,
+                 "Scene file (TOML, docs/scenes.md) or the name of a shipped scene (e.g. hopper, impact); default: the seed scene");
   cmd.add_option("--set", sets, "Override a scene key: section.key=value (repeatable), e.g. --set time.dt=0.005");
 }
 

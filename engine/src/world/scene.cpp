@@ -23,6 +23,7 @@
 
 #include "dc/core/closest_name.hpp"
 #include "dc/core/error.hpp"
+#include "dc/core/install_paths.hpp"
 #include "world/scene_keys.hpp"
 
 namespace dc {
@@ -453,11 +454,38 @@ WorldDef parse_scene(std::string_view toml_text, std::string_view source_name) {
   return def;
 }
 
-WorldDef load_scene(const std::string& path) {
+std::string find_scene(const std::string& name) {
   namespace fs = std::filesystem;
   std::error_code ec;
+  if (fs::exists(name, ec) || name.find('/') != std::string::npos) return name;
+  const std::string stem = name.ends_with(".toml") ? name.substr(0, name.size() - 5) : name;
+  const fs::path dir = data_path("scenes");
+  const fs::path shipped = dir / (stem + ".toml");
+  if (!stem.empty() && fs::is_regular_file(shipped, ec)) return shipped.string();
+  return name;
+}
+
+std::vector<std::string> shipped_scenes() {
+  namespace fs = std::filesystem;
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(data_path("scenes"), ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().extension() == ".toml") names.push_back(it->path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+WorldDef load_scene(const std::string& name) {
+  namespace fs = std::filesystem;
+  const std::string path = find_scene(name);
+  std::error_code ec;
   const auto status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) throw IoError(path + ": cannot read scene file: no such file");
+  if (ec || !fs::exists(status)) {
+    std::string shipped;
+    for (const auto& n : shipped_scenes()) shipped += (shipped.empty() ? "" : ", ") + n;
+    throw IoError(path + ": cannot read scene file: no such file, nor a shipped scene of that name (shipped: " +
+                  (shipped.empty() ? "none found" : shipped) + ")");
+  }
   if (!fs::is_regular_file(status)) throw IoError(path + ": cannot read scene file: not a regular file");
   const auto size = fs::file_size(path, ec);
   if (ec) throw IoError(path + ": cannot read scene file: " + ec.message());
