@@ -190,6 +190,36 @@ TEST_P(StatusProperty, NoConvergedWithoutASolution) {
   EXPECT_GT(converged, 0) << solver << " never converged: the test would check nothing";
 }
 
+// A problem scaled by 1e12 (A ≈ 1e12, b ≈ 1, λ ≈ 1e-12): one sweep moves λ by less than any
+// absolute θ tolerance, so the sweep solvers stop after it — at a λ that is not a solution.
+TEST(StatusProperty, ThetaStopOnABadlyScaledProblemIsNoSolutionClaim) {
+  TestRng rng(12);
+  const LcpProblem base = test::random_spd(4, rng);
+  const LcpProblem p = LcpProblem::standard(Eigen::MatrixXd(1e12 * base.A.toDense()), -Eigen::VectorXd::Ones(4));
+  SolverOptions o;
+  o.tolerance = 1e-6;
+  for (const char* name : {"pgs", "pgs-assembled", "nncg", "psor"}) {
+    const SolveResult r = make_solver(name)->solve(p, Eigen::VectorXd(), o);
+    if (r.status == SolveStatus::Converged)
+      EXPECT_LE(natural_residual(p, r.lambda), 1e-9) << name;
+    else
+      EXPECT_EQ(r.status, SolveStatus::ToleranceReached) << name << ": " << to_string(r.status);
+  }
+  const SolveResult exact = make_solver("newton")->solve(p, Eigen::VectorXd(), o);
+  EXPECT_EQ(exact.status, SolveStatus::Converged) << exact.message;
+}
+
+// The proximal route around a solver that refuses the problem reports the refusal.
+TEST(StatusProperty, ProximalRouteReportsItsInnerSolversRefusal) {
+  TestRng rng(3);
+  const LcpProblem p = test::random_contact(3, 3, true, rng);
+  ProximalPointDef def;
+  def.inner_solver = SolverId{SolverKind::Lemke, 0, std::nullopt};
+  const SolveResult r = solve_proximal_point(p, Eigen::VectorXd(), SolverOptions{}, def);
+  EXPECT_EQ(r.status, SolveStatus::InvalidInput) << r.message;
+  EXPECT_NE(r.message.find("lemke"), std::string::npos) << r.message;
+}
+
 std::vector<std::string> all_solvers() {
   std::vector<std::string> s = solver_names();
   s.push_back("proximal");
