@@ -23,7 +23,8 @@ print(f"step 300: {len(world.contacts.gap)} contacts, {problem.rows} rows, A wit
 
 # What each status means (docs/lcp.md); every non-converged row also prints the solver's own message.
 MEANING = {
-    "converged": "reached the tolerance",
+    "converged": "the returned λ passes the solution test (natural residual ≤ 1e-9·‖b‖∞)",
+    "tolerance_reached": "stopped at θ ≤ tol, but the returned λ does not pass the solution test: no solution claimed",
     "sweep_limit": "ran every sweep without reaching the tolerance (slow convergence, the last iterate is returned)",
     "diverged": "the iterates grew without bound (undamped jacobi on a pile: pass omega < 1 as damping)",
     "failed": "the method broke down (singular pivot, stalled line search, …; see its message)",
@@ -37,11 +38,11 @@ results = {name: dc.solve(problem, name, sweeps=3000, tol=1e-6) for name in dc.s
 solved = {n: r for n, r in results.items() if len(r.lam) and np.isfinite(r.residual)}
 ref_name = min(solved, key=lambda n: solved[n].residual) if solved else None
 print(f"reference λ: {ref_name}'s (the smallest residual)")
-print(f"{'solver':14} {'status':13} {'sweeps':>6} {'residual [N]':>13} {'|λ − λ_ref|∞':>14}")
+print(f"{'solver':14} {'status':17} {'sweeps':>6} {'residual [N]':>13} {'|λ − λ_ref|∞':>14}")
 curves = {}
 for name, r in results.items():
     err = np.max(np.abs(r.lam - solved[ref_name].lam)) if ref_name and len(r.lam) else float("nan")
-    print(f"{name:14} {r.status:13} {r.sweeps:6d} {r.residual:13.3e} {err:14.3e}")
+    print(f"{name:14} {r.status:17} {r.sweeps:6d} {r.residual:13.3e} {err:14.3e}")
     if len(r.theta):
         curves[name] = np.asarray(r.theta)
 print()

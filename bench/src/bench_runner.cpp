@@ -69,7 +69,7 @@ int sweeps_to_tolerance_high(LcpSolver& solver, const LcpProblem& p, const Solve
   more.tolerance = o.tolerance;
   more.record_theta = false;
   const SolveResult mr = solver.solve(p, fr.lambda, more);
-  return mr.status == SolveStatus::Converged ? o.sweeps + mr.sweeps : -1;
+  return stopped_at_tolerance(mr.status) ? o.sweeps + mr.sweeps : -1;  // θ ≤ tol, solution or not
 }
 
 /// Everything one starter does on one step: guess, fixed-sweep run with checkpoints, timed

@@ -147,6 +147,7 @@ RunStats run_world(World& world, LcpSolver& solver, const SolverOptions& options
         case SolveStatus::Failed: ++st.failed; break;
         case SolveStatus::Infeasible: ++st.infeasible; break;
         case SolveStatus::InvalidInput: ++st.invalid; break;
+        case SolveStatus::ToleranceReached: ++st.tolerance_reached; break;
       }
       if (std::isnan(r.residual)) {
         st.garbage = "step " + std::to_string(s + 1) + ": NaN residual";

@@ -114,7 +114,7 @@ void bind_problem(pyb::module_& m) {
       .def_property_readonly("lam", [](pyb::object self) { return view(self.cast<PyResult&>().r.lambda, self); },
                              "The returned λ (numpy view).")
       .def_property_readonly("status", [](const PyResult& r) { return std::string(to_string(r.r.status)); },
-                             "converged | sweep_limit | diverged | infeasible | failed | invalid_input "
+                             "converged | tolerance_reached | sweep_limit | diverged | infeasible | failed | invalid_input "
                              "(docs/lcp.md explains each).")
       .def_property_readonly("sweeps", [](const PyResult& r) { return r.r.sweeps; },
                              "Sweeps (or pivots / Newton iterations) performed.")

@@ -147,7 +147,7 @@ TEST(ExtremeScene, PgsReportsNonConvergenceOnAHeavyOnLightStack) {
       EXPECT_NEAR(rep.solve.residual, natural_residual(w.problem(), rep.solve.lambda),
                   1e-9 * std::max(1.0, rep.solve.residual));
     } else {
-      EXPECT_EQ(rep.solve.status, SolveStatus::Converged);
+      EXPECT_TRUE(stopped_at_tolerance(rep.solve.status)) << to_string(rep.solve.status);
       EXPECT_LE(rep.solve.theta.empty() ? 0.0 : rep.solve.theta.back(), d.solver.tolerance);
     }
   }

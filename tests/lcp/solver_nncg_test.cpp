@@ -71,7 +71,7 @@ TEST(SolverNncg, FewerSweepsThanPgsOnADeepPile) {
   const SolverOptions o = tolerance_mode(1e-4, 30000);  // θ ≤ 1e-4 N, bodies weigh 31 N
   const SolveResult pgs = make_solver("pgs")->solve(p, {}, o);
   const SolveResult nncg = make_solver("nncg")->solve(p, {}, o);
-  ASSERT_EQ(nncg.status, SolveStatus::Converged) << nncg.message;
+  ASSERT_TRUE(stopped_at_tolerance(nncg.status)) << to_string(nncg.status) << ": " << nncg.message;
   RecordProperty("pgs_sweeps", pgs.sweeps);
   RecordProperty("nncg_sweeps", nncg.sweeps);
   EXPECT_LT(2 * nncg.sweeps, pgs.sweeps) << "pgs " << pgs.sweeps << " (" << to_string(pgs.status) << "), nncg "

@@ -54,7 +54,7 @@ def test_compare_solvers_explains_every_status(tmp_path):
     assert p.returncode == 0, p.stderr[-2000:]
     rows = [line.split() for line in p.stdout.splitlines() if line.split() and line.split()[0] in p.stdout
             and len(line.split()) > 1 and line.split()[1] in
-            ("converged", "sweep_limit", "diverged", "infeasible", "failed", "invalid_input")]
+            ("converged", "tolerance_reached", "sweep_limit", "diverged", "infeasible", "failed", "invalid_input")]
     assert rows, p.stdout
     for status in {r[1] for r in rows}:
         if status != "converged":

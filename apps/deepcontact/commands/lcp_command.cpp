@@ -86,7 +86,7 @@ void run_lcp_solve(const LcpSolveArgs& a) {
   o.record_theta = false;
   ProximalPointDef route;
   route.inner_solver = id;
-  SolverOptions exact;  // the route solves to the exact tolerance 1e-9·max(1, ‖q‖∞), its own limits
+  SolverOptions exact;  // the route solves to the solution test (solution_target), its own limits
   exact.record_theta = false;
   const double t0 = cpu_seconds();
   const SolveResult r = a.proximal ? solve_proximal_point(f.lcp, Eigen::VectorXd(), exact, route)
@@ -144,7 +144,7 @@ void add_lcp_command(CLI::App& app) {
       "Solve an LCP (w = M z + q, z >= 0, w >= 0, z'w = 0) or a 2D frictional-contact problem (u = W r + q, "
       "Coulomb per contact; solved as its box-friction LCP) read from a Siconos .dat or FCLIB .hdf5 file and "
       "print {\"problem\", \"z\", \"w\", [\"mu\",] \"status\", \"sweeps\", \"residual\", \"solve_seconds\", "
-      "\"comment\"} as JSON. Exit status: 0 converged, 3 infeasible (proved: Farkas certificate or exhaustive "
+      "\"comment\"} as JSON. Exit status: 0 converged (z passes the solution test), 3 infeasible (proved: Farkas certificate or exhaustive "
       "enumeration), 1 otherwise or on error. See docs/lcp.md.");
   solve->add_option("file", args->file,
                     "Problem file: Siconos LCP .dat, Siconos 2D frictional-contact .dat, or FCLIB .hdf5 (spacedim 2)")

@@ -130,7 +130,7 @@ RunFigures step_world(World& world, const WorldDef& def, WarmStarter& starter, T
     if (r.rows > 0) {
       f.sweeps.push_back(r.solve.sweeps);
       f.worst_residual = std::max(f.worst_residual, r.solve.residual);
-      if (def.solver.tolerance > 0 && r.solve.status != SolveStatus::Converged) ++f.nonconverged;
+      if (def.solver.tolerance > 0 && !stopped_at_tolerance(r.solve.status)) ++f.nonconverged;
     }
     f.max_pen = std::max(f.max_pen, world.max_penetration());
     f.max_contacts = std::max(f.max_contacts, r.contacts);

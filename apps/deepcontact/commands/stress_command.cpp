@@ -85,6 +85,7 @@ const std::vector<Column>& columns() {
        }},
       {"nan", [](const Row& r) { return std::string(r.stats.nonfinite ? "yes" : "no"); }},
       {"converged", [](const Row& r) { return pct(r.stats.converged, r.stats.solves); }},
+      {"tolerance_reached", [](const Row& r) { return pct(r.stats.tolerance_reached, r.stats.solves); }},
       {"sweep_limit", [](const Row& r) { return pct(r.stats.sweep_limit, r.stats.solves); }},
       {"diverged", [](const Row& r) { return pct(r.stats.diverged, r.stats.solves); }},
       {"failed", [](const Row& r) { return pct(r.stats.failed + r.stats.invalid + r.stats.infeasible, r.stats.solves); }},

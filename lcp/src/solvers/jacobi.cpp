@@ -27,7 +27,7 @@ class JacobiSolver final : public LcpSolver {
       r.status = SolveStatus::InvalidInput;
       r.lambda = lambda;
       r.message = "jacobi: damping omega = " + std::to_string(o.omega) + " is outside (0, 1]";
-      finish(p, r);
+      finish(p, r, o, StopRule::Tolerance);
       return r;
     }
     const int n = p.rows();
@@ -66,7 +66,7 @@ class JacobiSolver final : public LcpSolver {
       r.message += (r.message.empty() ? "" : "; ") +
                    std::string("undamped Jacobi (omega = 1) need not converge on contact problems; "
                                "try omega < 1");
-    finish(p, r);
+    finish(p, r, o, StopRule::Tolerance);
     return r;
   }
 };

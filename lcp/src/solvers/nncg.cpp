@@ -126,7 +126,7 @@ SolveResult solve_assembled(const LcpProblem& problem, const Eigen::VectorXd& la
   r.message = "no Jacobian in the problem: ran the assembled form of NNCG" + (r.message.empty() ? "" : "; " + r.message);
   note_restarts(momentum, r);
   report_singular_rows(p, kernel.singular_rows(), r);
-  finish(p, r);
+  finish(p, r, o, StopRule::Tolerance);
   return r;
 }
 
@@ -154,7 +154,7 @@ class NncgSolver final : public LcpSolver {
     });
     note_restarts(momentum, r);
     report_singular_rows(p, sweeper.singular_rows(), r);
-    finish(p, r);
+    finish(p, r, o, StopRule::Tolerance);
     return r;
   }
 };

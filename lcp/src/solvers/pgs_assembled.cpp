@@ -18,7 +18,7 @@ SolveResult solve_assembled_gauss_seidel(const LcpProblem& problem, const Eigen:
     return kernel.sweep(l, omega, nonfinite);
   });
   report_singular_rows(p, kernel.singular_rows(), r);
-  finish(p, r);
+  finish(p, r, o, StopRule::Tolerance);
   return r;
 }
 

@@ -37,7 +37,7 @@ class PgsMatrixFreeSolver final : public LcpSolver {
       return sweeper.sweep(l.data(), du.data(), nonfinite);
     });
     report_singular_rows(p, sweeper.singular_rows(), r);
-    finish(p, r);
+    finish(p, r, o, StopRule::Tolerance);
     return r;
   }
 };

@@ -47,7 +47,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   if (auto bad = solvers::check_input(p, lambda0, "proximal point", lambda)) return *bad;
   const auto inner = def.inner_solver.kind == SolverKind::NewtonSparse ? make_newton_sparse(def.newton_sparse)
                                                                         : make_solver(def.inner_solver);
-  const double target = options.tolerance > 0 ? options.tolerance : options.exact_tolerance * solvers::rhs_scale(p);
+  const double target = options.tolerance > 0 ? options.tolerance : solution_target(p, options);
   const double diag = p.rows() > 0 ? p.A.diagonal().cwiseAbs().maxCoeff() : 0.0;
   SolverOptions inner_options;
   inner_options.max_sweeps = def.inner_iterations;
@@ -66,6 +66,15 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     sub.b = p.b - delta * centre;
     const SolveResult r = inner->solve(sub, centre, inner_options);
     out.sweeps += r.sweeps;
+    if (r.status == SolveStatus::InvalidInput) {
+      // The inner solver refuses this kind of problem (lemke on friction rows): every shifted
+      // problem has the same rows, so say so instead of running out the outer iterations.
+      out.status = SolveStatus::InvalidInput;
+      out.message = "proximal point: " + r.message;
+      out.lambda = lambda;
+      solvers::finish(p, out, options, solvers::StopRule::Solution);
+      return out;
+    }
     const double residual = natural_residual(p, r.lambda);
     if (residual < out.residual) {
       out.lambda = r.lambda;
@@ -86,7 +95,8 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   }
   out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
   if (out.status != SolveStatus::Converged) out.message = "proximal point: outer iteration limit reached";
-  solvers::finish(p, out);
+  // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
+  solvers::finish(p, out, options, options.tolerance > 0 ? solvers::StopRule::Tolerance : solvers::StopRule::Solution);
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "solvers/solver_common.hpp"
 
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -56,7 +57,18 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   return std::nullopt;
 }
 
-void finish(const LcpProblem& p, SolveResult& r) {
+SolveStatus decide_status(const LcpProblem& p, double residual, SolveStatus provisional, StopRule rule,
+                          const SolverOptions& o) {
+  const bool holds = residual <= solution_target(p, o);  // false for NaN
+  switch (provisional) {
+    case SolveStatus::Converged:
+      if (holds) return SolveStatus::Converged;
+      return rule == StopRule::Tolerance ? SolveStatus::ToleranceReached : SolveStatus::Failed;
+    default: return provisional;
+  }
+}
+
+void finish(const LcpProblem& p, SolveResult& r, const SolverOptions& o, StopRule rule) {
   if (!r.lambda.allFinite()) {
     // Defensive: a solver must never hand back NaN/Inf. Replace by zero and say so.
     r.lambda = Eigen::VectorXd::Zero(p.rows());
@@ -65,6 +77,19 @@ void finish(const LcpProblem& p, SolveResult& r) {
     r.message += (r.message.empty() ? "" : "; ") + std::string("non-finite solution replaced by zero");
   }
   r.residual = natural_residual(p, r.lambda);
+  settle_status(p, r, o, rule);
+}
+
+void settle_status(const LcpProblem& p, SolveResult& r, const SolverOptions& o, StopRule rule) {
+  const SolveStatus claimed = r.status;
+  r.status = decide_status(p, r.residual, claimed, rule, o);
+  if (claimed == SolveStatus::Converged && r.status != SolveStatus::Converged) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s; natural residual %.3g above the solution target %.3g",
+                  rule == StopRule::Tolerance ? "stopped at the tolerance" : "no verified solution", r.residual,
+                  solution_target(p, o));
+    r.message += (r.message.empty() ? "" : "; ") + std::string(buf);
+  }
 }
 
 RowBounds::RowBounds(const LcpProblem& p) {
@@ -141,8 +166,22 @@ SolveResult refuse_matrix_free(const LcpProblem& p, Eigen::VectorXd lambda, cons
   r.status = SolveStatus::InvalidInput;
   r.lambda = std::move(lambda);
   r.message = solver + ": " + why + "; use pgs-assembled";
-  finish(p, r);
+  finish(p, r, SolverOptions{}, StopRule::Solution);
   return r;
 }
 
 }  // namespace dc::solvers
+
+namespace dc {
+
+double solution_target(const LcpProblem& problem, const SolverOptions& options) {
+  double s = std::numeric_limits<double>::min();
+  for (int i = 0; i < problem.b.size(); ++i) s = std::max(s, std::abs(problem.b[i]));
+  return options.exact_tolerance * s;
+}
+
+bool stopped_at_tolerance(SolveStatus s) {
+  return s == SolveStatus::Converged || s == SolveStatus::ToleranceReached;
+}
+
+}  // namespace dc

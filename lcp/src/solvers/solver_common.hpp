@@ -30,8 +30,27 @@ int first_nonstandard_row(const LcpProblem& p);
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                        const std::string& solver, Eigen::VectorXd& lambda);
 
-/// Fills residual (natural map) and guards against a non-finite λ in a finished result.
-void finish(const LcpProblem& p, SolveResult& r);
+/// What a solver's provisional `Converged` stands for when it hands its result to finish:
+/// the caller's stopping rule held (θ_k ≤ tolerance, or a residual ≤ options.tolerance [N]),
+/// or the method's own claim of a solution (exact methods, iterating to solution_target).
+enum class StopRule { Tolerance, Solution };
+
+/// The one rule that decides every solver's status (docs/lcp.md "Statuses"). `provisional` is
+/// what stopped the method (Converged = its stopping rule `rule` held). Returns Converged
+/// exactly when the provisional status is Converged and `residual` (the natural residual at
+/// the returned λ) is ≤ solution_target(p, o); a provisional Converged that fails the test
+/// becomes ToleranceReached (rule Tolerance) or Failed (rule Solution); every other status
+/// (SweepLimit: the budget ran out, whatever λ is worth) is kept.
+SolveStatus decide_status(const LcpProblem& p, double residual, SolveStatus provisional, StopRule rule,
+                          const SolverOptions& o);
+
+/// Finishes a result whose r.status is provisional: guards against a non-finite λ, fills
+/// residual (natural map) and sets r.status = decide_status(…); a demoted claim is explained
+/// in r.message. Every solver ends here (or in refuse/InvalidInput paths, never Converged).
+void finish(const LcpProblem& p, SolveResult& r, const SolverOptions& o, StopRule rule);
+/// finish's last part for a result whose r.residual is already the natural residual of a
+/// finite r.lambda: r.status = decide_status(…) and the message of a demoted claim.
+void settle_status(const LcpProblem& p, SolveResult& r, const SolverOptions& o, StopRule rule);
 
 /// The finished InvalidInput result of a matrix-free solver whose sweep could not be prepared
 /// for this problem (`why`, from MatrixFreeSweep::prepare): λ unchanged, the message names the

@@ -18,6 +18,7 @@ const char* to_string(SolveStatus s) {
     case SolveStatus::Infeasible: return "infeasible";
     case SolveStatus::Failed: return "failed";
     case SolveStatus::InvalidInput: return "invalid_input";
+    case SolveStatus::ToleranceReached: return "tolerance_reached";
   }
   return "unknown";
 }

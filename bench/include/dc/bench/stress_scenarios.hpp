@@ -72,6 +72,7 @@ struct RunStats {
   bool nonfinite = false;        ///< a NaN/Inf appeared in the state or in λ
   int solves = 0;                ///< steps with at least one row
   int converged = 0, sweep_limit = 0, diverged = 0, failed = 0, infeasible = 0, invalid = 0;
+  int tolerance_reached = 0;     ///< stopped at θ ≤ tolerance without passing the solution test
   double median_sweeps = 0;      ///< over the steps with rows
   double max_residual = 0;       ///< worst natural-map residual of the returned λ [N]
   int max_rows = 0;              ///< largest LCP of the run

@@ -3,7 +3,8 @@
 // guess λ⁰ (the warm start) and options. Output: λ, a status that says what happened, the
 // number of sweeps, the per-sweep convergence measure θ_k = max_i |λ_i^k − λ_i^{k−1}| and
 // the final natural-map residual. No solver loops forever or returns NaN: a solver that
-// cannot make progress says so in `status` and returns its last finite iterate.
+// cannot make progress says so in `status` and returns its last finite iterate. `converged`
+// is a checked fact about the returned λ, never a stopping rule (solution_target).
 #include <functional>
 #include <memory>
 #include <optional>
@@ -15,8 +16,12 @@
 
 namespace dc {
 
+/// The outcome of a solve. Every solver's status is decided by one shared rule
+/// (lcp/src/solvers/solver_common.hpp, decide_status): `Converged` only when the returned λ
+/// passes the solution test natural_residual(p, λ) ≤ solution_target(p, options).
+/// The integer values are stored in trajectory files (/solver/status): append, never renumber.
 enum class SolveStatus {
-  Converged,     ///< θ_k ≤ tolerance (iterative) or complementarity error within tolerance (exact)
+  Converged,     ///< the solution test holds on the returned λ (whatever stopped the method)
   SweepLimit,    ///< ran the maximum number of sweeps without meeting the tolerance
                  ///< (the normal outcome in fixed-sweep mode, tolerance = 0)
   Diverged,      ///< iterates became non-finite or grew without bound; λ is the last finite iterate
@@ -24,8 +29,15 @@ enum class SolveStatus {
                  ///< enumeration; docs/lcp.md), never merely because a method gave up
   Failed,        ///< the method broke down (singular pivot, line search failure, ...)
   InvalidInput,  ///< the problem violates LcpProblem::validate or the solver's requirements
+  /// The stopping rule the caller set held (θ_k ≤ tolerance for the sweep methods, residual
+  /// ≤ tolerance [N] for newton-sparse and the proximal route) but the solution test does
+  /// not: the run ended where asked, and λ is not claimed to be a solution.
+  ToleranceReached,
 };
 const char* to_string(SolveStatus s);
+/// True for the statuses of a run that stopped on its tolerance: Converged or ToleranceReached
+/// (the bench's sweeps-to-tol protocol and simulate's "reached the tolerance" count).
+bool stopped_at_tolerance(SolveStatus s);
 
 struct SolverOptions {
   int max_sweeps = 3000;     ///< sweep (iteration) limit
@@ -38,7 +50,8 @@ struct SolverOptions {
   /// Problems without such manifolds (circle scenes) give the same iterates either way.
   bool block_manifolds = true;
   bool record_theta = true;  ///< fill SolveResult::theta (one entry per sweep)
-  /// Exact methods: target complementarity error, relative to max(1, ‖b‖∞).
+  /// The solution test every `Converged` passes, relative to the problem's scale:
+  /// natural_residual ≤ exact_tolerance·‖b‖∞ (solution_target). The exact methods iterate to it.
   double exact_tolerance = 1e-9;
   /// Sweeps after which `on_checkpoint` is called with the current iterate (sorted, ≥ 1).
   /// Used by the bench to sample the speed/accuracy trade in one run; empty = never.
@@ -54,6 +67,13 @@ struct SolveResult {
   double residual = 0.0;          ///< natural_residual at the returned λ
   std::string message;            ///< human-readable detail for non-converged statuses
 };
+
+/// The solution test's target [units of the natural residual]: options.exact_tolerance·‖b‖∞
+/// (‖b‖∞ at least the smallest normal double). ‖b‖∞ is the natural residual of λ = 0 (for
+/// rows whose bounds contain 0), so the test asks for a reduction by exact_tolerance from
+/// the trivial guess, whatever the units or the scale of A and b. A solver returns Converged
+/// only when natural_residual(problem, λ) ≤ this value.
+double solution_target(const LcpProblem& problem, const SolverOptions& options);
 
 /// A solver object may keep reusable state between solves (pgs-colored: the previous colouring
 /// and its buffers; newton-sparse: the symbolic analysis), so `solve` is not const: use one

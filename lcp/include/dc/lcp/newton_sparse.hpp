@@ -7,9 +7,9 @@
 //     (A_FF + ρI + A_FC S) Δ_F = −w_F − A_FC d_C,   ρ = regularization·max_i A_ii,
 // A_FF + ρI by CHOLMOD (analysis kept while A's pattern holds), the coupling by preconditioned
 // GMRES; a line search on ½‖H‖² (PGS sweeps when it fails) globalises. It stops on the
-// UNREGULARISED natural map. Status: Converged only when natural_residual(λ) ≤ target was
-// checked on the returned λ (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞));
-// SweepLimit after max_sweeps iterations; Failed after `max_stalls` iterations without decrease;
+// UNREGULARISED natural map at target = options.tolerance [N] when > 0, else solution_target.
+// Status: Converged only when the returned λ passes the solution test (solution_target); a stop
+// at a looser options.tolerance is ToleranceReached; SweepLimit after max_sweeps iterations; Failed after `max_stalls` iterations without decrease;
 // InvalidInput for an invalid problem or guess. λ is always finite: the best iterate.
 #include <memory>
 

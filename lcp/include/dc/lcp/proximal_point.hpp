@@ -6,10 +6,12 @@
 // a fixed point solves the original LCP, and A + δI is positive definite when δ exceeds the most
 // negative eigenvalue of A. δ shrinks `shrink`-fold after a converged inner solve and grows by the
 // same factor (restarting from the best iterate) after one that did not converge; it never
-// shrinks below a shift that failed. Status: Converged only when the natural residual of the
-// ORIGINAL problem at the returned λ is ≤ target (options.tolerance [N] when > 0, else
-// exact_tolerance·max(1, ‖b‖∞)); SweepLimit after max_outer outer iterations; λ is the best
-// iterate seen. `sweeps` counts inner iterations in all.
+// shrinks below a shift that failed. It stops when the natural residual of the ORIGINAL problem
+// at the best iterate is ≤ target (options.tolerance [N] when > 0, else solution_target): then
+// Converged when that λ passes the solution test (solution_target), else ToleranceReached;
+// SweepLimit after max_outer outer iterations; InvalidInput, with the inner solver's message,
+// when the inner solver refuses the problem (lemke on friction rows). λ is the best iterate
+// seen. `sweeps` counts inner iterations in all.
 #include <string>
 
 #include "dc/lcp/lcp_solver.hpp"

@@ -146,18 +146,18 @@ class LemkeSolver final : public LcpSolver {
       r.lambda = lambda;
       r.message = "lemke: row " + std::to_string(i) +
                   " is not a standard LCP row (needs lo = 0, hi = inf, no friction); use newton";
-      finish(p, r);
+      finish(p, r, o, StopRule::Solution);
       return r;
     }
     SolveResult r;
-    const double target = o.exact_tolerance * rhs_scale(p);
+    const double target = solution_target(p, o);
     CheckpointCursor cp(o);
     auto done = [&](SolveStatus status, const Eigen::VectorXd& z, std::string message) {
       r.status = status;
       r.lambda = z;
       r.message = std::move(message);
       if (status == SolveStatus::Converged) cp.flush_final(z);
-      finish(p, r);
+      finish(p, r, o, StopRule::Solution);
       return r;
     };
     if (n == 0 || p.b.minCoeff() >= 0) return done(SolveStatus::Converged, Eigen::VectorXd::Zero(n), "");

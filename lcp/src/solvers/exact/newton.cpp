@@ -36,7 +36,7 @@ class NewtonSolver final : public LcpSolver {
     Eigen::VectorXd lambda;
     if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
     const int n = p.rows();
-    const double target = o.exact_tolerance * rhs_scale(p);
+    const double target = solution_target(p, o);
     const int max_steps = std::max(1, o.max_sweeps);
     SolveResult r;
     r.status = SolveStatus::Failed;
@@ -149,7 +149,7 @@ class NewtonSolver final : public LcpSolver {
     }
     r.sweeps = steps;
     r.lambda = lambda;
-    finish(p, r);
+    finish(p, r, o, StopRule::Solution);
     return r;
   }
 

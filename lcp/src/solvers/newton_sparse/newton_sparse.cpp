@@ -243,15 +243,17 @@ class NewtonSparseRun {
     }
     r.lambda = best_;
     r.sweeps = st_.iterations;
-    finish(p_, r);
-    if (r.residual <= target) {
+    const double residual = natural_residual(p_, r.lambda);
+    if (residual <= target) {
       r.status = SolveStatus::Converged;
       cp_.flush_final(r.lambda);
     } else {
       r.status = stop == Stop::IterationLimit ? SolveStatus::SweepLimit : SolveStatus::Failed;
-      r.message += (r.message.empty() ? "" : "; ") + why + ": residual " + std::to_string(r.residual) +
+      r.message += (r.message.empty() ? "" : "; ") + why + ": residual " + std::to_string(residual) +
                    " N above target " + std::to_string(target) + " N";
     }
+    // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
+    finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);
     return r;
   }
 
@@ -344,7 +346,7 @@ SolveResult NewtonSparseSolver::solve(const LcpProblem& problem, const Eigen::Ve
     local->A.makeCompressed();
     p = &*local;
   }
-  const double target = o.tolerance > 0 ? o.tolerance : o.exact_tolerance * solvers::rhs_scale(*p);
+  const double target = o.tolerance > 0 ? o.tolerance : solution_target(*p, o);
   state_->factor.bind(p->A, solvers::is_symmetric(p->A));
   solvers::NewtonSparseRun run(*p, def_, o, state_->factor, st);
   SolveResult r = run.run(std::move(lambda), target);

@@ -38,6 +38,8 @@ using colored::Batch;
 using colored::kStride;
 using colored::W;
 using solvers::finish;
+using solvers::settle_status;
+using solvers::StopRule;
 
 /// Batches [begin, end) of one colour (independent: may run in any order or in parallel),
 /// or of the overflow set (serial = true: one contact per batch, in order).
@@ -441,7 +443,10 @@ class PgsColoredSolver final : public LcpSolver {
     r.lambda = unpermute(prep, r.lambda, p.rows(), threads);
     bool finite = false;
     r.residual = colored::natural_residual(p, r.lambda, threads, prep.jt, finite);
-    if (!finite) finish(p, r);  // the defensive replacement of a non-finite λ (and its residual)
+    if (finite)
+      settle_status(p, r, o, StopRule::Tolerance);
+    else
+      finish(p, r, o, StopRule::Tolerance);  // the defensive replacement of a non-finite λ (and its residual)
     return r;
   }
 
