@@ -112,6 +112,13 @@ TEST(HostileReader, ACsparseTripletGivenTwiceIsRefusedWithItsRowAndColumn) {
                            "    0 0 : 2\n    1 1 : 3\n    0 0 : 1\n-1 0.5\n0.3\n";
   const std::string msg = test::io_error([&] { parse_fc2d_dat(text, "dup.dat"); });
   EXPECT_NE(msg.find("entry (0,0) is given twice"), std::string::npos) << msg;
+  // Its header also fits a 2×2 LCP: neither kind reads it, and the message is the fc2d one,
+  // the kind that read further.
+  const std::string path = temp_path("dup.dat");
+  std::ofstream(path) << text;
+  const std::string via_file = test::io_error([&] { read_problem_file(path); });
+  EXPECT_NE(via_file.find("entry (0,0) is given twice"), std::string::npos) << via_file;
+  fs::remove(path);
 }
 
 TEST(HostileReader, WritersRefuseWhatTheReadersRefuse) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "dc/core/error.hpp"
+#include "dc/lcp/dat_file.hpp"
 #include "formats/dat_tokens.hpp"
 
 namespace dc {
@@ -167,6 +168,15 @@ std::vector<long long> leading_integers(std::string_view text, int count) {
   return v;
 }
 
+/// The line L of a Tokens::fail message "NAME: line L: …" (0 when it has none).
+long long error_line(std::string_view message, const std::string& name) {
+  const std::string prefix = name + ": line ";
+  if (!message.starts_with(prefix)) return 0;
+  long long line = 0;
+  std::from_chars(message.data() + prefix.size(), message.data() + message.size(), line);
+  return line;
+}
+
 }  // namespace
 
 Fc2dDatFile parse_fc2d_dat(std::string_view text, const std::string& name) {
@@ -213,12 +223,19 @@ DatKind detect_dat_kind(std::string_view text, const std::string& name) {
   long long dnc = 0;  // d·nc, checked: a huge nc must not wrap onto the row count
   const bool fc = h.size() >= 5 && (h[0] == 2 || h[0] == 3) && h[2] >= 0 && h[2] <= 2 &&
                   !__builtin_mul_overflow(h[0], h[1], &dnc) && h[3] == dnc && h[4] == h[3];
-  if (lcp && fc) {
+  if (lcp && fc) {  // "2 1 2 2 2 …": a 2×2 LCP of storage 1 or one contact; the kind that reads
+    long long fc_line = 0;
     try {
       parse_fc2d_dat(text, name);
       return DatKind::Fc2d;
-    } catch (const IoError&) {
+    } catch (const IoError& e) {
+      fc_line = error_line(e.what(), name);
+    }
+    try {
+      parse_dat_file(text, name);
       return DatKind::Lcp;
+    } catch (const IoError& e) {  // neither: the kind read further names the damage
+      return error_line(e.what(), name) >= fc_line ? DatKind::Lcp : DatKind::Fc2d;
     }
   }
   if (fc) return DatKind::Fc2d;
