@@ -485,7 +485,7 @@ std::vector<T> H5File::read(std::string_view path) const {
     fail(path, std::string("dataset holds ") + (d.type ? to_string(*d.type) : "an unsupported type") + " but " +
                    to_string(type_of<T>()) + " was requested");
   }
-  if (!d.virtual_layout && !plausible_allocation(id_, d.dims, sizeof(T)))
+  if (!countable(d.dims, sizeof(T)) || (!d.virtual_layout && !plausible_allocation(id_, d.dims, sizeof(T))))
     fail(path, "dataset shape " + to_string(d.dims) + " is more than the file can hold (damaged file?)");
   std::vector<T> out(static_cast<std::size_t>(product(d.dims)));
   if (!out.empty() && H5Dread(d.ds.get(), memory_type(type_of<T>()), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
@@ -515,7 +515,7 @@ std::vector<T> H5File::read_rows(std::string_view path, hsize_t first_row, hsize
   }
   H5Shape block = d.dims;
   block[0] = count;
-  if (!d.virtual_layout && !plausible_allocation(id_, block, sizeof(T)))
+  if (!countable(block, sizeof(T)) || (!d.virtual_layout && !plausible_allocation(id_, block, sizeof(T))))
     fail(path, "dataset shape " + to_string(d.dims) + " is more than the file can hold (damaged file?)");
   std::vector<T> out(static_cast<std::size_t>(product(block)));
   if (out.empty()) return out;

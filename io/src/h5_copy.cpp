@@ -128,6 +128,7 @@ void copy_group(const SourceInfo& src, const H5File& in, H5File& out, const std:
   copy_attributes(src, in, out, group);
   for (const std::string& child : in.children(group)) {
     const std::string path = (group == "/" ? "/" : group + "/") + child;
+    in.require_in_file(path);  // a copy would turn a missing source into checksummed zeros
     if (in.is_group(path)) {
       copy_group(src, in, out, path);
     } else if (in.is_dataset(path)) {

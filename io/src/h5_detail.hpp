@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -201,10 +202,23 @@ inline bool converts_losslessly(H5Type stored, H5Type wanted) {
   }
 }
 
+/// Product of the extents from axis `from` on; the largest hsize_t when it overflows (a
+/// damaged extent), which no allocation or data size matches.
 inline hsize_t product(const H5Shape& s, std::size_t from = 0) {
   hsize_t p = 1;
-  for (std::size_t i = from; i < s.size(); ++i) p *= s[i];
+  for (std::size_t i = from; i < s.size(); ++i)
+    if (__builtin_mul_overflow(p, s[i], &p)) return std::numeric_limits<hsize_t>::max();
   return p;
+}
+
+/// True when `dims` elements of `element_size` bytes can be counted in std::size_t (checked
+/// before allocating what a file's header announces).
+inline bool countable(const H5Shape& dims, std::size_t element_size) {
+  std::size_t bytes = element_size;
+  for (const hsize_t d : dims)
+    if (d > std::numeric_limits<std::size_t>::max() || __builtin_mul_overflow(bytes, static_cast<std::size_t>(d), &bytes))
+      return false;
+  return bytes <= static_cast<std::size_t>(std::numeric_limits<std::ptrdiff_t>::max());
 }
 
 /// File-access properties of every file this layer creates: the HDF5 1.10 file format (low

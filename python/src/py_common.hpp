@@ -16,6 +16,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "dc/core/vec2.hpp"
@@ -38,7 +39,14 @@ pyb::array_t<double> view(const std::vector<double>& v, pyb::handle base);
 pyb::array_t<double> view(const Eigen::VectorXd& v, pyb::handle base);
 /// Copy of a vector into a new array.
 pyb::array_t<double> copy(const Eigen::VectorXd& v);
-/// A float64 vector from any array-like (ValueError naming `what` for a wrong shape).
+/// `a` with numpy's writeable flag cleared (a view callers must not change).
+pyb::array read_only(pyb::array a);
+/// TypeError naming `what` unless `obj` (array-like or scipy.sparse) holds real numbers:
+/// booleans, integers or floats — complex (its imaginary part would be dropped), object,
+/// text and record arrays are refused.
+void require_real_numbers(pyb::handle obj, const std::string& what);
+/// A float64 vector from any array-like of real numbers (TypeError for complex or object
+/// arrays, ValueError naming `what` for a wrong shape).
 Eigen::VectorXd to_vector(pyb::handle obj, const std::string& what);
 /// to_vector, and a ValueError naming `what` unless it has exactly `n` entries.
 Eigen::VectorXd to_vector_of_size(pyb::handle obj, const std::string& what, Eigen::Index n);
@@ -47,7 +55,8 @@ pyb::object csr_view(const SparseRowMatrix& m, pyb::handle base);
 /// Any scipy.sparse matrix or dense array-like → row-major sparse (ValueError on bad input:
 /// not 2-D, row pointers or column indices outside the shape, sizes that do not match).
 SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what);
-/// A str or os.PathLike as a path string (TypeError otherwise).
+/// A str or os.PathLike giving a str, as a path string: TypeError for anything else (bytes
+/// included), ValueError for an empty path or one holding a NUL.
 std::string path_string(pyb::handle path);
 /// A deepcontact.Fields (dict with attribute access) — the package defines the class.
 pyb::object make_fields();
@@ -78,10 +87,37 @@ struct PyWorld {
   /// assemble, 'i' integrate with the λ it was given. The engine is deterministic, so
   /// replaying them on World(scene) gives the bit-equal world: that is what pickle stores.
   std::vector<std::pair<char, Eigen::VectorXd>> history;
+  /// The thread inside a call that changes the owned world (step, collide, assemble,
+  /// integrate), or no thread. Read and written with the GIL held; the engine runs without it.
+  std::thread::id changing{};
 
+  /// The world to read: RuntimeError while another thread changes it (the engine runs
+  /// without the GIL); the changing thread itself (a warm starter's callback) may read.
   [[nodiscard]] const World& get() const;
   World& mutable_world();
 };
+
+/// Held for the whole of a call that changes a PyWorld's owned world: a second such call
+/// raises RuntimeError — from another thread (a World is stepped by one thread at a time;
+/// copy.copy gives each thread its own) or re-entered from a warm starter on the same
+/// thread — and so does a read from another thread meanwhile. Also refuses (InvalidArgument)
+/// a body state broken through the writable World.bodies views (check_bodies).
+class WorldChange {
+ public:
+  explicit WorldChange(PyWorld& w, const char* call);
+  ~WorldChange() { w_.changing = std::thread::id{}; }
+  WorldChange(const WorldChange&) = delete;
+  WorldChange& operator=(const WorldChange&) = delete;
+  World& world() { return *w_.owned; }
+
+ private:
+  PyWorld& w_;
+};
+
+/// InvalidArgument naming `call`, the body and the value unless every body keeps the
+/// engine's invariants: position, velocity, angle, ω finite; radius finite and > 0; mass,
+/// inertia, their inverses and density finite and >= 0 (0: a static body).
+void check_bodies(const BodyState& s, const char* call);
 
 /// The Python view of a dc::StepView: a borrowed World plus a copy of the oracle λ*.
 /// Call expire() when the C++ call it belongs to returns.

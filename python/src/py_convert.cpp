@@ -34,7 +34,27 @@ pyb::array_t<double> view(const Eigen::VectorXd& v, pyb::handle base) {
 
 pyb::array_t<double> copy(const Eigen::VectorXd& v) { return view(v, pyb::none()); }
 
+pyb::array read_only(pyb::array a) {
+  a.attr("setflags")(pyb::arg("write") = false);
+  return a;
+}
+
+void require_real_numbers(pyb::handle obj, const std::string& what) {
+  auto np = pyb::module_::import("numpy");
+  pyb::object dtype;
+  if (pyb::module_::import("scipy.sparse").attr("issparse")(obj).cast<bool>()) dtype = obj.attr("dtype");
+  else if (pyb::hasattr(obj, "dtype")) dtype = obj.attr("dtype");
+  else dtype = np.attr("asarray")(obj).attr("dtype");
+  // b boolean, i/u integers, f floating: exact in float64 or rounded; c complex would lose
+  // its imaginary part, O/U/S/V (objects, text, records) are no numbers.
+  const std::string kind = pyb::str(np.attr("dtype")(dtype).attr("kind"));
+  if (kind != "b" && kind != "i" && kind != "u" && kind != "f")
+    throw pyb::type_error(what + ": expected real numbers, got an array of dtype " +
+                          pyb::str(dtype).cast<std::string>() + (kind == "c" ? " (complex)" : ""));
+}
+
 Eigen::VectorXd to_vector(pyb::handle obj, const std::string& what) {
+  require_real_numbers(obj, what);
   auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(obj);
   if (!a) throw pyb::value_error(what + ": expected an array of numbers");
   if (a.ndim() != 1) throw pyb::value_error(what + ": expected a 1-D array, got " + std::to_string(a.ndim()) + "-D");
@@ -46,9 +66,14 @@ Eigen::VectorXd to_vector(pyb::handle obj, const std::string& what) {
 pyb::object csr_view(const SparseRowMatrix& m, pyb::handle base) {
   if (!m.isCompressed()) throw InvalidArgument("csr_view: matrix is not compressed");
   const auto rows = static_cast<pyb::ssize_t>(m.rows()), nnz = static_cast<pyb::ssize_t>(m.nonZeros());
-  pyb::array_t<int> indptr({rows + 1}, {static_cast<pyb::ssize_t>(sizeof(int))}, m.outerIndexPtr(), base);
-  pyb::array_t<int> indices({nnz}, {static_cast<pyb::ssize_t>(sizeof(int))}, m.innerIndexPtr(), base);
-  pyb::array_t<double> data({nnz}, {static_cast<pyb::ssize_t>(sizeof(double))}, m.valuePtr(), base);
+  // Read-only: an index written through a view (indices[0] = 10**6) would send the solvers
+  // outside the matrix, and the problem is checked only when it is made.
+  pyb::array indptr = read_only(
+      pyb::array_t<int>({rows + 1}, {static_cast<pyb::ssize_t>(sizeof(int))}, m.outerIndexPtr(), base));
+  pyb::array indices =
+      read_only(pyb::array_t<int>({nnz}, {static_cast<pyb::ssize_t>(sizeof(int))}, m.innerIndexPtr(), base));
+  pyb::array data =
+      read_only(pyb::array_t<double>({nnz}, {static_cast<pyb::ssize_t>(sizeof(double))}, m.valuePtr(), base));
   auto csr = pyb::module_::import("scipy.sparse").attr("csr_matrix");
   return csr(pyb::make_tuple(data, indices, indptr), pyb::arg("shape") = pyb::make_tuple(m.rows(), m.cols()),
              pyb::arg("copy") = false);
@@ -94,6 +119,7 @@ Eigen::VectorXd to_vector_of_size(pyb::handle obj, const std::string& what, Eige
 }
 
 SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what) {
+  require_real_numbers(obj, what);
   auto sp = pyb::module_::import("scipy.sparse");
   pyb::object csr;
   if (sp.attr("issparse")(obj).cast<bool>()) {
@@ -123,7 +149,22 @@ SparseRowMatrix to_sparse(pyb::handle obj, const std::string& what) {
 }
 
 std::string path_string(pyb::handle path) {
-  return pyb::str(pyb::module_::import("os").attr("fspath")(path)).cast<std::string>();
+  // os.fspath also passes bytes, which str() would turn into "b'…'"; a NUL would end the
+  // path early in the C library (x.dat\0junk opens x.dat).
+  pyb::object p;
+  try {
+    p = pyb::module_::import("os").attr("fspath")(path);
+  } catch (const pyb::error_already_set& e) {
+    if (!e.matches(PyExc_TypeError)) throw;
+    p = pyb::none();
+  }
+  if (!pyb::isinstance<pyb::str>(p))
+    throw pyb::type_error("a path must be a str or os.PathLike giving a str, got " +
+                          pyb::str(pyb::type::of(path).attr("__name__")).cast<std::string>());
+  std::string s = p.cast<std::string>();
+  if (s.find('\0') != std::string::npos) throw pyb::value_error("a path must not contain a NUL character");
+  if (s.empty()) throw pyb::value_error("a path must not be empty");
+  return s;
 }
 
 pyb::object make_fields() {

@@ -52,7 +52,8 @@ pyb::object problem_to_python(LcpProblem p) {
 void bind_problem(pyb::module_& m) {
   pyb::class_<PyProblem>(m, "Problem",
                          "An LCP w = A λ + b, lo ≤ λ ≤ hi (friction rows: |λ_t| ≤ μ λ_n of normal_row). Arrays are "
-                         "views into the problem (no copies); A and J are scipy.sparse.csr_matrix views.")
+                         "read-only views into the problem (no copies; copy them to change a problem and make a new "
+                         "Problem); A and J are scipy.sparse.csr_matrix views of read-only arrays.")
       .def(pyb::init([](pyb::object A, pyb::object b, pyb::object lo, pyb::object hi, pyb::object mu,
                         pyb::object normal_row) {
              return PyProblem{std::make_shared<LcpProblem>(problem_from_python(A, b, lo, hi, mu, normal_row))};
@@ -79,16 +80,16 @@ void bind_problem(pyb::module_& m) {
                              },
                              "The contact Jacobian J (rows × 3·bodies) as a csr_matrix view, or None for a "
                              "problem given by A alone.")
-      .def_property_readonly("b", [](pyb::object self) { return view(self.cast<PyProblem&>().p->b, self); },
+      .def_property_readonly("b", [](pyb::object self) { return read_only(view(self.cast<PyProblem&>().p->b, self)); },
                              "The constant term b of w = A λ + b (numpy view).")
-      .def_property_readonly("lo", [](pyb::object self) { return view(self.cast<PyProblem&>().p->lo, self); },
+      .def_property_readonly("lo", [](pyb::object self) { return read_only(view(self.cast<PyProblem&>().p->lo, self)); },
                              "Lower bounds of λ (numpy view; friction rows: overwritten by −μ λ_n).")
-      .def_property_readonly("hi", [](pyb::object self) { return view(self.cast<PyProblem&>().p->hi, self); },
+      .def_property_readonly("hi", [](pyb::object self) { return read_only(view(self.cast<PyProblem&>().p->hi, self)); },
                              "Upper bounds of λ (numpy view; +inf on normal rows).")
-      .def_property_readonly("mu", [](pyb::object self) { return view(self.cast<PyProblem&>().p->mu, self); },
+      .def_property_readonly("mu", [](pyb::object self) { return read_only(view(self.cast<PyProblem&>().p->mu, self)); },
                              "Friction coefficient per row (0 on normal rows; numpy view).")
       .def_property_readonly("inv_mass",
-                             [](pyb::object self) { return view(self.cast<PyProblem&>().p->inv_mass, self); },
+                             [](pyb::object self) { return read_only(view(self.cast<PyProblem&>().p->inv_mass, self)); },
                              "M⁻¹ as a vector (1/m, 1/m, 1/I per body; numpy view; empty without J).")
       .def_property_readonly("normal_row",
                              [](const PyProblem& p) {

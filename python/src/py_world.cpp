@@ -13,6 +13,9 @@
 namespace dc::py {
 
 const World& PyWorld::get() const {
+  if (changing != std::thread::id{} && changing != std::this_thread::get_id())
+    throw std::runtime_error("World: another thread is stepping this World; a World is used by one thread at a "
+                             "time (copy.copy(world) gives each thread its own)");
   if (owned) return *owned;
   if (!borrowed)
     throw InvalidArgument("this World is a warm-starter view that has expired (view.world is valid only during "
@@ -156,7 +159,8 @@ pyb::object current_contacts(const World& w) {
 
 pyb::object step(PyWorld& self, const std::optional<std::string>& solver_name, pyb::object warmstart,
                  std::optional<int> sweeps, std::optional<double> tol) {
-  World& w = self.mutable_world();
+  WorldChange change(self, "World.step");
+  World& w = change.world();
   const auto solver = solver_name ? make_solver(*solver_name) : make_solver(w.def().solver.name);  // a name is parsed here
   SolverOptions opt = solver_options(w.def().solver);  // as `deepcontact simulate`
   if (sweeps) opt.max_sweeps = *sweeps;
@@ -204,6 +208,7 @@ pyb::object step(PyWorld& self, const std::optional<std::string>& solver_name, p
 /// A copy of an owned world (the engine state and its history; named starters start afresh).
 std::shared_ptr<PyWorld> copy_world(const PyWorld& self) {
   if (!self.owned) throw InvalidArgument("a warm starter's view.world cannot be copied (copy the World you step)");
+  self.get();  // not while another thread steps it
   auto out = std::make_shared<PyWorld>();
   out->owned = std::make_unique<World>(*self.owned);
   out->history = self.history;
@@ -213,6 +218,7 @@ std::shared_ptr<PyWorld> copy_world(const PyWorld& self) {
 /// pickle: the complete scene (TOML) and the stages applied since; loading replays them.
 pyb::tuple world_state(const PyWorld& self) {
   if (!self.owned) throw InvalidArgument("a warm starter's view.world cannot be pickled (pickle the World you step)");
+  self.get();  // not while another thread steps it
   pyb::list ops;
   for (const auto& [op, lam] : self.history)
     ops.append(pyb::make_tuple(std::string(1, op), op == 'i' ? pyb::object(copy(lam)) : pyb::object(pyb::none())));
@@ -255,7 +261,8 @@ void bind_world(pyb::module_& m) {
            "({\"section.key\": value} or [\"section.key=value\", …]).")
       .def("collide",
            [](PyWorld& self) {
-             World& w = self.mutable_world();
+             WorldChange change(self, "World.collide");
+             World& w = change.world();
              {
                pyb::gil_scoped_release release;
                w.collide();
@@ -266,7 +273,8 @@ void bind_world(pyb::module_& m) {
            "Broad + narrow phase; returns this step's contacts.")
       .def("assemble",
            [](PyWorld& self) {
-             World& w = self.mutable_world();
+             WorldChange change(self, "World.assemble");
+             World& w = change.world();
              {
                pyb::gil_scoped_release release;
                w.assemble();
@@ -277,7 +285,8 @@ void bind_world(pyb::module_& m) {
            "Contact rows, J, M⁻¹, b and bounds; returns the Problem (A formed when .A is read).")
       .def("integrate",
            [](PyWorld& self, pyb::object lam) {
-             World& w = self.mutable_world();
+             WorldChange change(self, "World.integrate");
+             World& w = change.world();
              const Eigen::VectorXd l = lam.is_none() ? Eigen::VectorXd::Zero(w.problem().rows()).eval()
                                                      : to_vector(lam, "lam");
              if (l.size() != w.problem().rows())
@@ -299,7 +308,8 @@ void bind_world(pyb::module_& m) {
            pyb::arg("sweeps") = pyb::none(), pyb::arg("tol") = pyb::none(),
            "One whole step (collide, assemble, warm start, solve, integrate), as `deepcontact simulate` does it. "
            "solver, sweeps, tol: None = the scene's [solver] name, sweeps and tolerance. warmstart: a starter name "
-           "(warmstarters()), a Python starter object, or None (zeros). Returns a Fields report: contacts, rows, "
+           "(warmstarters()), a Python starter object, or None (zeros). One thread at a time: a step from another "
+           "thread while this one runs, or from inside a warm starter, raises RuntimeError. Returns a Fields report: contacts, rows, "
            "solve (the Result), lam, status, sweeps, theta, residual, profile (ms per stage).")
       .def("_write_trajectory",
            [](const PyWorld& self, pyb::object path) {
@@ -313,7 +323,9 @@ void bind_world(pyb::module_& m) {
       .def_property_readonly("bodies", [](pyb::object self) { return body_fields(self.cast<PyWorld&>(), self); },
                              "Body state as numpy arrays (views into the world: they follow the simulation): "
                              "position (n, 2), angle, velocity (n, 2), omega, mass, radius, density, inertia, "
-                             "inv_mass, inv_inertia.")
+                             "inv_mass, inv_inertia. Writes are checked at the next step, collide, assemble or "
+                             "integrate (a ValueError for a non-finite value, radius <= 0 or a negative mass, "
+                             "inertia or inverse).")
       .def_property_readonly("contacts", [](const PyWorld& self) { return current_contacts(self.get()); },
                              "This step's contacts (copies): body_a, body_b, key, point, normal, gap, lambda "
                              "(λ_n, λ_t), approach_velocity; normal_row, tangent_row once assembled.")

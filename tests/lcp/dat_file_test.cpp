@@ -41,7 +41,7 @@ TEST(DatFile, RoundTripIsExact) {
 
 TEST(DatFile, MatrixIsColumnMajorOneColumnPerLine) {
   // M = [[1, 2], [3, 4]] is written column by column: "1 3" then "2 4".
-  const LcpProblem p = parse_lcp_dat("2\n0\n2\n2\n2\t2\n1 3 \n2 4 \n-1 -2 ", "mem");
+  const LcpProblem p = parse_lcp_dat("2\n0\n2\n2\n2\t2\n1 3 \n2 4 \n-1 -2 \n", "mem");
   EXPECT_EQ(p.A.coeff(0, 1), 2.0);
   EXPECT_EQ(p.A.coeff(1, 0), 3.0);
   EXPECT_EQ(p.b[1], -2.0);
@@ -98,10 +98,10 @@ TEST(DatSiconos, RemarkAfterQIsKeptAsComment) {
   EXPECT_EQ(f.problem.b[1], -2.0);
   EXPECT_EQ(f.storage, DatStorage::Dense);
   EXPECT_EQ(parse_dat_file(head + "  \n", "mem").comment, "");
-  EXPECT_EQ(parse_dat_file(head + " 7 8", "mem").comment, "7 8");  // Siconos stops after q, so do we
+  EXPECT_EQ(parse_dat_file(head + " 7 8\n", "mem").comment, "7 8");  // Siconos stops after q, so do we
   // Invalid UTF-8 and control characters become '?', valid UTF-8 stays; the length is capped.
-  EXPECT_EQ(parse_dat_file(head + " Cottle\xe2\x80\x93Pang \xff\x01!", "mem").comment, "Cottle\xe2\x80\x93Pang ??!");
-  EXPECT_EQ(parse_dat_file(head + " " + std::string(10000, 'x'), "mem").comment.size(), kMaxDatComment);
+  EXPECT_EQ(parse_dat_file(head + " Cottle\xe2\x80\x93Pang \xff\x01!\n", "mem").comment, "Cottle\xe2\x80\x93Pang ??!");
+  EXPECT_EQ(parse_dat_file(head + " " + std::string(10000, 'x') + "\n", "mem").comment.size(), kMaxDatComment);
   // Malformed numbers before the end of q stay errors.
   expect_io_error("2\n0\n2\n2\n2\t2\n1 3\n2 4\n-1 Remark", "entry 1 of q is not a number");
   expect_io_error("2\n0\n2\n2\n2\t2\n1 3\n2 Remark -1 -2", "not a number");
@@ -162,7 +162,7 @@ TEST(DatSiconos, SparseBlockWriterRoundTripsForEveryBlockSize) {
 TEST(DatSiconos, MalformedSparseBlockFilesThrowIoError) {
   // n = 2, two 1×1 block rows and columns, blocks (0,0) and (1,1).
   const std::string h = "2\n1\n2\n2\n";
-  const std::string good = h + "2\n2\n2\n1\t2\t\n1\t2\t\n3\n2\n0\t1\t2\t\n0\t1\t\n0\n4\n1\n5\n-1 -1";
+  const std::string good = h + "2\n2\n2\n1\t2\t\n1\t2\t\n3\n2\n0\t1\t2\t\n0\t1\t\n0\n4\n1\n5\n-1 -1\n";
   EXPECT_EQ(Eigen::MatrixXd(parse_lcp_dat(good, "mem").A), (Eigen::MatrixXd(2, 2) << 4, 0, 0, 5).finished());
   std::string pad;  // enough numbers after a header error that no "too short" check fires first
   for (int i = 0; i < 30; ++i) pad += " 0";

@@ -33,6 +33,7 @@ DatFile parse_dat_file(std::string_view text, const std::string& name) {
   dat::need_numbers(tok, static_cast<long double>(n), "q");
   Eigen::VectorXd q(n);
   for (long long i = 0; i < n; ++i) q[i] = tok.number("q", i);
+  dat::need_line_end(tok, "the last entry of q");
   f.comment = dat::clean_comment(tok.rest());  // Siconos' reader stops after q as well
   f.problem = LcpProblem::standard(M, q);
   return f;
@@ -49,6 +50,8 @@ LcpProblem read_lcp_dat(const std::string& path) { return read_dat_file(path).pr
 std::string format_lcp_dat(const Eigen::MatrixXd& M, const Eigen::VectorXd& q) {
   if (M.rows() != M.cols() || M.rows() != q.size())
     throw InvalidArgument("write_lcp_dat: M must be n×n and q of size n");
+  dat::require_writable_values(M.data(), M.size(), "write_lcp_dat: M");
+  dat::require_writable_values(q.data(), q.size(), "write_lcp_dat: q");
   const long long n = q.size();
   std::string out;
   char buf[40];
@@ -80,6 +83,12 @@ std::string format_lcp_dat_blocks(const SparseRowMatrix& M, const Eigen::VectorX
   if (M.rows() != M.cols() || M.rows() != q.size())
     throw InvalidArgument("write_lcp_dat_blocks: M must be n×n and q of size n");
   if (block_size < 1) throw InvalidArgument("write_lcp_dat_blocks: block size must be >= 1");
+  for (int k = 0; k < M.outerSize(); ++k)
+    for (SparseRowMatrix::InnerIterator it(M, k); it; ++it)
+      if (!std::isfinite(it.value()))
+        throw InvalidArgument("write_lcp_dat_blocks: M(" + std::to_string(it.row()) + "," + std::to_string(it.col()) +
+                              ") is not finite; the reader refuses it");
+  dat::require_writable_values(q.data(), q.size(), "write_lcp_dat_blocks: q");
   const int n = static_cast<int>(q.size());
   const int nb = (n + block_size - 1) / block_size;  // block rows = block columns
   auto start = [&](int b) { return std::min(n, b * block_size); };

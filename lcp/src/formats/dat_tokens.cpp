@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -175,15 +177,41 @@ void write_text(const std::string& path, const std::string& text) {
 std::string read_whole_file(const std::string& path, const char* what) {
   // A directory opens as a stream and fails only at the first read; name it instead.
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, not a " + what);
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(status)) throw IoError(path + ": is a directory, not a " + what);
+  const bool regular = std::filesystem::is_regular_file(status);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open " + what);
-  std::ostringstream ss;
-  ss << in.rdbuf();
+  // A regular file: its size, and no more (it may grow while read). Anything else: chunks
+  // up to the cap, one byte more tells that it is longer.
+  const std::uintmax_t size = regular ? std::filesystem::file_size(path, ec) : 0;
+  const std::uintmax_t limit = regular && !ec ? size : kMaxDatStreamBytes + 1;
+  std::string text;
+  while (text.size() < limit && in) {
+    const size_t chunk = static_cast<size_t>(std::min<std::uintmax_t>(limit - text.size(), size_t{1} << 20));
+    const size_t old = text.size();
+    text.resize(old + chunk);
+    in.read(text.data() + old, static_cast<std::streamsize>(chunk));
+    text.resize(old + static_cast<size_t>(in.gcount()));
+  }
   if (in.bad()) throw IoError(path + ": read error");
-  std::string text = ss.str();
+  if (!regular && text.size() > kMaxDatStreamBytes)
+    throw IoError(path + ": not a regular file and longer than " + std::to_string(kMaxDatStreamBytes >> 20) +
+                  " MiB (the limit for a pipe or device); refused");
   if (text.empty()) throw IoError(path + ": file is empty");
   return text;
+}
+
+void need_line_end(Tokens& tok, const std::string& what) {
+  if (tok.rest().find('\n') == std::string_view::npos)
+    tok.fail(what + " is not followed by a line end: the file may be cut inside its last number (truncated?)");
+}
+
+void require_writable_values(const double* v, long long count, const std::string& where) {
+  if (count <= 0) throw InvalidArgument(where + ": no values (n = 0): the reader refuses an empty problem");
+  for (long long i = 0; i < count; ++i)
+    if (!std::isfinite(v[i]))
+      throw InvalidArgument(where + ": entry " + std::to_string(i) + " is not finite; the reader refuses it");
 }
 
 }  // namespace dc::dat

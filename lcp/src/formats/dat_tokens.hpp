@@ -120,6 +120,15 @@ std::string clean_comment(std::string_view rest);
 /// last one none) fit into the bytes left.
 void need_numbers(Tokens& tok, long double count, const std::string& what);
 
+/// Fails unless a line end follows the last number read (`what` names it): a file cut
+/// inside its last number (0.9 → 9) would otherwise be read with another value. Siconos
+/// ends every vector with "\n", and so do the writers here.
+void need_line_end(Tokens& tok, const std::string& what);
+
+/// InvalidArgument unless every value is finite and there is at least one (`where` names
+/// the writer and the vector): the writers refuse what the reader refuses.
+void require_writable_values(const double* v, long long count, const std::string& where);
+
 /// Dense storage (0) of an n × n matrix: the repeated size line, then M column-major.
 SparseRowMatrix parse_dense(Tokens& tok, long long n);
 
@@ -132,7 +141,9 @@ void append_number(std::string& out, double v, const char* sep);
 /// Writes `text` to `path`. Throws IoError.
 void write_text(const std::string& path, const std::string& text);
 
-/// The whole file (IoError when missing, unreadable or empty; `what` names the kind of file).
+/// The whole file (IoError when missing, unreadable or empty; `what` names the kind of file):
+/// a regular file up to its size, anything else (a pipe, /dev/zero) up to kMaxDatStreamBytes
+/// (IoError beyond).
 std::string read_whole_file(const std::string& path, const char* what);
 
 }  // namespace dc::dat

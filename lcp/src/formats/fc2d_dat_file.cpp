@@ -1,10 +1,12 @@
 #include "dc/lcp/fc2d_dat_file.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <string>
 #include <vector>
 
 #include "dc/core/error.hpp"
+#include "dc/lcp/dat_file.hpp"
 #include "formats/dat_tokens.hpp"
 
 namespace dc {
@@ -93,6 +95,23 @@ void parse_compressed(Tokens& tok, long long n, long long nnz, bool by_row,
     tok.fail("the columns/rows hold " + std::to_string(next) + " entries, but nnz = " + std::to_string(nnz));
 }
 
+/// CSparse's triplet list: nnz lines "i j : x". An entry given twice is refused (CSparse's
+/// cs_compress would sum the two; formats.md calls it an error), named by its row and column.
+void parse_triplets(Tokens& tok, long long n, long long nnz, std::vector<Eigen::Triplet<double, int>>& trip) {
+  std::vector<std::pair<long long, long long>> at;  // (row, column) of every entry, zeros included
+  at.reserve(static_cast<size_t>(nnz));
+  for (long long k = 0; k < nnz; ++k) {
+    const long long i = index_in(tok, n, "a row index"), j = index_in(tok, n, "a column index");
+    expect(tok, ":", "between a triplet's indices and its value");
+    at.emplace_back(i, j);
+    if (const double x = tok.number("W", k); x != 0.0) trip.emplace_back(static_cast<int>(i), static_cast<int>(j), x);
+  }
+  std::sort(at.begin(), at.end());
+  if (const auto dup = std::adjacent_find(at.begin(), at.end()); dup != at.end())
+    tok.fail("entry (" + std::to_string(dup->first) + "," + std::to_string(dup->second) +
+             ") is given twice in the triplet list");
+}
+
 /// Sparse storage (2): origin, then CSparse's cs_print text (layout in fc2d_dat_file.hpp).
 SparseRowMatrix parse_csparse(Tokens& tok, long long n) {
   const long long origin = tok.integer("the sparse origin (1 triplet, 2 csc, 3 csr)");
@@ -125,16 +144,12 @@ SparseRowMatrix parse_csparse(Tokens& tok, long long n) {
   std::vector<Eigen::Triplet<double, int>> trip;
   trip.reserve(static_cast<size_t>(nnz));
   if (triplet) {
-    for (long long k = 0; k < nnz; ++k) {
-      const long long i = index_in(tok, n, "a row index"), j = index_in(tok, n, "a column index");
-      expect(tok, ":", "between a triplet's indices and its value");
-      if (const double x = tok.number("W", k); x != 0.0) trip.emplace_back(static_cast<int>(i), static_cast<int>(j), x);
-    }
+    parse_triplets(tok, n, nnz, trip);
   } else {
     parse_compressed(tok, n, nnz, csr, trip);
   }
   SparseRowMatrix M(n, n);
-  M.setFromTriplets(trip.begin(), trip.end());  // a triplet list sums repeated entries, as CSparse does
+  M.setFromTriplets(trip.begin(), trip.end());  // no entry twice (checked above)
   return M;
 }
 
@@ -153,6 +168,15 @@ std::vector<long long> leading_integers(std::string_view text, int count) {
   return v;
 }
 
+/// The line L of a Tokens::fail message "NAME: line L: …" (0 when it has none).
+long long error_line(std::string_view message, const std::string& name) {
+  const std::string prefix = name + ": line ";
+  if (!message.starts_with(prefix)) return 0;
+  long long line = 0;
+  std::from_chars(message.data() + prefix.size(), message.data() + message.size(), line);
+  return line;
+}
+
 }  // namespace
 
 Fc2dDatFile parse_fc2d_dat(std::string_view text, const std::string& name) {
@@ -162,7 +186,7 @@ Fc2dDatFile parse_fc2d_dat(std::string_view text, const std::string& name) {
   if (dim != 2) tok.fail("dimension " + std::to_string(dim) + " is not 2 (a 2D frictional-contact problem)");
   const long long nc = tok.integer("the number of contacts");
   if (nc <= 0) tok.fail("number of contacts " + std::to_string(nc) + " must be positive");
-  if (2 * nc > kMaxDatSize)
+  if (nc > kMaxDatSize / 2)  // compared before 2·nc is formed: a huge nc would overflow
     tok.fail("number of contacts " + std::to_string(nc) + " exceeds the limit " + std::to_string(kMaxDatSize / 2));
   const long long n = 2 * nc;
   const long long storage = tok.integer("the storage type");
@@ -184,6 +208,7 @@ Fc2dDatFile parse_fc2d_dat(std::string_view text, const std::string& name) {
     f.problem.mu[c] = tok.number("mu", c);
     if (f.problem.mu[c] < 0) tok.fail("mu of contact " + std::to_string(c) + " is negative");
   }
+  dat::need_line_end(tok, "the last friction coefficient mu");
   f.comment = dat::clean_comment(tok.rest());
   return f;
 }
@@ -195,14 +220,22 @@ Fc2dDatFile read_fc2d_dat(const std::string& path) {
 DatKind detect_dat_kind(std::string_view text, const std::string& name) {
   const std::vector<long long> h = leading_integers(text, 5);
   const bool lcp = h.size() >= 4 && (h[1] == 0 || h[1] == 1) && h[2] == h[0] && h[3] == h[0];
-  const bool fc = h.size() >= 5 && (h[0] == 2 || h[0] == 3) && h[2] >= 0 && h[2] <= 2 && h[3] == h[0] * h[1] &&
-                  h[4] == h[3];
-  if (lcp && fc) {
+  long long dnc = 0;  // d·nc, checked: a huge nc must not wrap onto the row count
+  const bool fc = h.size() >= 5 && (h[0] == 2 || h[0] == 3) && h[2] >= 0 && h[2] <= 2 &&
+                  !__builtin_mul_overflow(h[0], h[1], &dnc) && h[3] == dnc && h[4] == h[3];
+  if (lcp && fc) {  // "2 1 2 2 2 …": a 2×2 LCP of storage 1 or one contact; the kind that reads
+    long long fc_line = 0;
     try {
       parse_fc2d_dat(text, name);
       return DatKind::Fc2d;
-    } catch (const IoError&) {
+    } catch (const IoError& e) {
+      fc_line = error_line(e.what(), name);
+    }
+    try {
+      parse_dat_file(text, name);
       return DatKind::Lcp;
+    } catch (const IoError& e) {  // neither: the kind read further names the damage
+      return error_line(e.what(), name) >= fc_line ? DatKind::Lcp : DatKind::Fc2d;
     }
   }
   if (fc) return DatKind::Fc2d;

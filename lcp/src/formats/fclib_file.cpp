@@ -12,8 +12,15 @@ namespace {
 constexpr const char* kW = "/fclib_local/W/";
 
 /// One int32 stored as a dataset of shape (1) (libfclib's way) or a scalar.
-std::int64_t scalar_int(const H5File& f, const std::string& path) {
+/// IoError unless `path` is a dataset whose values are in this file (no virtual dataset, no
+/// external link or storage: HDF5 reads a missing source as zeros).
+void require_dataset(const H5File& f, const std::string& path) {
+  f.require_in_file(path);
   if (!f.is_dataset(path)) throw IoError(f.path() + ": " + path + " is missing");
+}
+
+std::int64_t scalar_int(const H5File& f, const std::string& path) {
+  require_dataset(f, path);
   const H5Shape s = f.shape(path);
   if (!(s.empty() || (s.size() == 1 && s[0] == 1)))
     throw IoError(f.path() + ": " + path + " has shape " + to_string(s) + ", expected one number");
@@ -22,7 +29,7 @@ std::int64_t scalar_int(const H5File& f, const std::string& path) {
 
 template <H5Element T>
 std::vector<T> vector_of(const H5File& f, const std::string& path, std::int64_t count) {
-  if (!f.is_dataset(path)) throw IoError(f.path() + ": " + path + " is missing");
+  require_dataset(f, path);
   f.require_shape(path, {static_cast<hsize_t>(count)});
   return f.read<T>(path);
 }
@@ -151,6 +158,12 @@ void check_problem(const FclibLocalProblem& p, const std::string& where) {
   auto check_sol = [&](const FclibSolution& s) {
     if (s.r.size() != static_cast<size_t>(p.rows) || s.u.size() != static_cast<size_t>(p.rows))
       throw InvalidArgument(where + ": a solution or guess must have r and u of 2nc entries");
+    try {  // the reader refuses non-finite values: write none
+      check_finite(s.r, where + ": a solution or guess's r");
+      check_finite(s.u, where + ": a solution or guess's u");
+    } catch (const IoError& e) {
+      throw InvalidArgument(e.what());
+    }
   };
   if (p.solution) check_sol(*p.solution);
   for (const FclibSolution& g : p.guesses) check_sol(g);

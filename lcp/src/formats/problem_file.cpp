@@ -9,6 +9,7 @@
 #include "dc/core/error.hpp"
 #include "dc/lcp/dat_file.hpp"
 #include "dc/lcp/fc2d_dat_file.hpp"
+#include "formats/dat_tokens.hpp"
 
 namespace dc {
 namespace {
@@ -104,14 +105,8 @@ ProblemFile read_problem_file(const std::string& path, std::optional<ProblemKind
     if (f.solution) out.solution = to_vector(f.solution->r);
     for (const FclibSolution& g : f.guesses) out.guesses.push_back(to_vector(g.r));
   } else {
-    // A directory opens as a stream on Linux and fails only at the first read, with the
-    // C++ library's message; say what it is instead.
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, not a problem file");
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw IoError(path + ": cannot open problem file");
-    std::string text((std::istreambuf_iterator<char>(probe)), std::istreambuf_iterator<char>());
-    if (text.empty()) throw IoError(path + ": file is empty");
+    // Bounded by the file's size, or kMaxDatStreamBytes for a pipe or device.
+    const std::string text = dat::read_whole_file(path, "problem file");
     out.kind = force ? *force : detect_dat_kind(text, path) == DatKind::Fc2d ? ProblemKind::Fc2d : ProblemKind::Lcp;
     if (out.kind == ProblemKind::Lcp) {
       DatFile d = parse_dat_file(text, path);

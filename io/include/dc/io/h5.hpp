@@ -127,6 +127,13 @@ class H5File {
   [[nodiscard]] std::vector<std::string> children(std::string_view group) const;
   /// Unlinks a group or dataset (e.g. to replace it). The space is not reclaimed in place.
   void remove(std::string_view path);
+  /// IoError naming `path` unless its object is stored in this file: reached through an
+  /// external link (another file), a virtual dataset (rows mapped from other files) or a
+  /// dataset with external raw storage are refused. HDF5 reads a missing source of these as
+  /// the fill value (zeros) without an error, so a reader that must not accept substitutes
+  /// (a problem file, copy_h5_file) checks every object first. An absent object (no
+  /// external link on its path) passes: the caller's read says it is missing.
+  void require_in_file(std::string_view path) const;
 
   // ---- numeric datasets ----------------------------------------------------------------
   /// Creates a dataset of T with the given shape (rows may be 0 when extendible). An

@@ -11,7 +11,9 @@ namespace dc {
 /// (H5StringKind: the global heap of variable-length ones has no checksum), and the layout
 /// and Fletcher-32 checksums are this layer's. Reading `from` verifies
 /// whatever checksums it already has. Throws IoError naming the object it cannot copy (types
-/// this layer does not handle: compound, enum, references, >1 string per attribute, …).
+/// this layer does not handle: compound, enum, references, >1 string per attribute, …),
+/// and objects whose values are not in `from` (H5File::require_in_file: external links,
+/// virtual datasets such as a data set manifest's, external storage).
 void copy_h5_file(const std::string& from, const std::string& to);
 
 }  // namespace dc

@@ -6,8 +6,11 @@
 // stored); text after q is a remark, kept as DatFile::comment. The reader is liberal with
 // whitespace but strict up to the last entry of q: a missing file, truncated data, a non-numeric
 // token, NaN/Inf, n ≤ 0 or n > 100000, disagreeing sizes, another storage type, block sizes not
-// adding up to n, an index out of range, a repeated or out-of-order block, or sizes the file is
-// too short to hold throw dc::IoError with one line naming the file, the line and the problem.
+// adding up to n, an index out of range, a repeated or out-of-order block, sizes the file is
+// too short to hold, or a last entry of q without a line end after it (a file cut inside its
+// last number: Siconos ends every vector with "\n") throw dc::IoError with one line naming
+// the file, the line and the problem. The writers refuse what the reader refuses (n = 0,
+// NaN/Inf: InvalidArgument).
 // Every size is checked against the bytes left before allocating; reading never blocks.
 #include <Eigen/Core>
 #include <string>
@@ -19,6 +22,10 @@ namespace dc {
 
 /// Largest n the reader accepts (a dense 100000² matrix is 80 GB already).
 inline constexpr long long kMaxDatSize = 100000;
+
+/// Most bytes read from a `.dat` that is not a regular file (a pipe, a character device
+/// such as /dev/zero) [bytes]: more is refused. A regular file is read up to its size.
+inline constexpr size_t kMaxDatStreamBytes = size_t{256} << 20;
 
 /// Longest remark after q kept in DatFile::comment [bytes]; the rest is dropped.
 inline constexpr size_t kMaxDatComment = 4096;
