@@ -5,11 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
 #include "lcp/solver_test_problems.hpp"
+#include "solvers/prox_newton/body_newton.hpp"
+#include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/exact_line_search.hpp"
+#include "solvers/prox_newton/frozen_subproblem.hpp"
 
 namespace dc {
 namespace {
@@ -177,6 +181,46 @@ TEST(ProxNewton, InvalidGuessIsInvalidInput) {
   EXPECT_TRUE(r.lambda.allFinite());
 }
 
+// The frozen box: friction rows at ∓μ max(0, λ_n^k) of the centre, fixed bounds elsewhere; and
+// the subproblem's unique solution is the same in body space and in the dual form, inside it.
+TEST(ProxNewtonSubproblem, BodySpaceAndDualFormSolveTheSameFrozenProblem) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 1000);
+    const LcpProblem p = test::random_contact(30, 60, true, rng, 0.4);
+    Eigen::VectorXd centre(p.rows());
+    for (int i = 0; i < p.rows(); ++i) centre[i] = rng.uniform(-2, 5);
+    project_feasible(p, centre);
+    solvers::prox::FrozenSubproblem sub;
+    const double delta = 1e-3 * p.A.diagonal().maxCoeff();
+    solvers::prox::freeze(p, centre, delta, sub);
+    for (int i = 0; i < p.rows(); ++i) {
+      if (!p.is_friction_row(i)) {
+        EXPECT_EQ(sub.lo[i], p.lo[i]);
+        EXPECT_EQ(sub.hi[i], p.hi[i]);
+        continue;
+      }
+      const double s = p.mu[i] * std::max(0.0, centre[p.normal_row[static_cast<size_t>(i)]]);
+      EXPECT_EQ(sub.hi[i], s);
+      EXPECT_EQ(sub.lo[i], -s);
+    }
+    sub.tolerance = 1e-12;
+    sub.max_iterations = 50;
+    Eigen::VectorXd a = centre, b = centre;
+    solvers::prox::BodyNewton body;
+    body.bind(p);
+    solvers::prox::DualNewton dual;
+    dual.bind(p.A);
+    const auto ra = body.solve(sub, a), rb = dual.solve(sub, b);
+    EXPECT_TRUE(ra.converged) << seed;
+    EXPECT_TRUE(rb.converged) << seed;
+    EXPECT_LE((a - b).cwiseAbs().maxCoeff(), 1e-8) << seed;
+    for (int i = 0; i < p.rows(); ++i) {
+      EXPECT_GE(a[i], sub.lo[i]);
+      EXPECT_LE(a[i], sub.hi[i]);
+    }
+  }
+}
+
 // The line search's t minimises f along the line: no sampled t does better, and f' vanishes.
 TEST(ProxNewtonLineSearch, FindsTheMinimumOfThePiecewiseQuadraticCost) {
   test::TestRng rng(42);
@@ -195,17 +239,14 @@ TEST(ProxNewtonLineSearch, FindsTheMinimumOfThePiecewiseQuadraticCost) {
     double s0 = 0, c0 = 0;
     solvers::prox::line_slope(in, 0.0, s0, c0);
     in.a = -std::abs(rng.uniform(0.5, 3.0)) - std::max(0.0, s0);  // make d a descent direction
-    // f(t) − f(0) by integrating the slope exactly enough on a fine grid.
+    // f(t) − f(0) from the row costs φ(y) = −λ* y − ½δλ*², λ* = clamp(−y/δ, lo, hi).
+    const auto phi = [&](int i, double yy) {
+      const double l = std::clamp(-yy / delta, lo[i], hi[i]);
+      return -l * yy - 0.5 * delta * l * l;
+    };
     const auto cost = [&](double t) {
-      double f = 0.0, prev = 0.0;
-      solvers::prox::line_slope(in, 0.0, prev, c0);
-      const int k = 4000;
-      for (int j = 1; j <= k; ++j) {
-        double s = 0, c = 0;
-        solvers::prox::line_slope(in, t * j / k, s, c);
-        f += 0.5 * (s + prev) * t / k;
-        prev = s;
-      }
+      double f = in.a * t + 0.5 * in.q * t * t;
+      for (int i = 0; i < n; ++i) f += phi(i, y[i] + t * e[i]) - phi(i, y[i]);
       return f;
     };
     const solvers::prox::LineSearchResult r = solvers::prox::exact_line_search(in);
