@@ -3,6 +3,7 @@
 #include "dc/lcp/prox_newton.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -47,6 +48,13 @@ void check_def(const ProxNewtonDef& d) {
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0)
     throw InvalidArgument("prox-newton: finish_iterations and safeguard_sweeps must be >= 0");
+}
+
+/// x in %.3g form (residuals span many decades).
+std::string sci(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
 }
 
 /// Which part produced the returned iterate.
@@ -94,7 +102,7 @@ class ProxRun {
                 std::to_string(st_.factorizations) + " factorisations, " + std::to_string(st_.safeguard_sweeps) +
                 " nncg sweeps";
     if (r.status != SolveStatus::Converged)
-      r.message += "; residual " + std::to_string(r.residual) + " N above target " + std::to_string(target_) + " N";
+      r.message += "; residual " + sci(r.residual) + " N above target " + sci(target_) + " N";
     return r;
   }
 
