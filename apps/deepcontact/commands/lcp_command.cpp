@@ -159,7 +159,7 @@ void add_lcp_command(CLI::App& app) {
       ->capture_default_str();
   solve->add_option("--tol", args->tol,
                     "Iterative solvers: stop when max change per sweep <= tol (0 = run all sweeps); "
-                    "newton-sparse: natural-map residual target (0 = 1e-9*max(1,|q|inf)); "
+                    "newton-sparse, prox-newton: natural-map residual target (0 = 1e-9*max(1,|q|inf)); "
                     "lemke/newton solve to 1e-9*max(1,|q|inf)")
       ->capture_default_str();
   solve->add_flag("--proximal", args->proximal,

@@ -6,6 +6,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/newton_sparse.hpp"
 #include "dc/lcp/pgs_colored.hpp"
+#include "dc/lcp/prox_newton.hpp"
 #include "solvers/solvers.hpp"
 
 namespace dc {
@@ -27,7 +28,8 @@ namespace {
 
 constexpr SolverKind kKinds[] = {SolverKind::Pgs,    SolverKind::PgsColored, SolverKind::PgsAssembled,
                                  SolverKind::Psor,   SolverKind::Jacobi,     SolverKind::Lemke,
-                                 SolverKind::Newton, SolverKind::NewtonSparse, SolverKind::Nncg};
+                                 SolverKind::Newton, SolverKind::NewtonSparse, SolverKind::Nncg,
+                                 SolverKind::ProxNewton};
 constexpr PgsColoredKernel kKernels[] = {PgsColoredKernel::Auto, PgsColoredKernel::Avx512, PgsColoredKernel::Avx2,
                                          PgsColoredKernel::Scalar};
 
@@ -66,6 +68,7 @@ const char* to_string(SolverKind kind) {
     case SolverKind::Newton: return "newton";
     case SolverKind::NewtonSparse: return "newton-sparse";
     case SolverKind::Nncg: return "nncg";
+    case SolverKind::ProxNewton: return "prox-newton";
   }
   return "unknown";
 }
@@ -113,6 +116,7 @@ std::unique_ptr<LcpSolver> make_solver(const SolverId& id) {
     case SolverKind::Newton: return solvers::make_newton();
     case SolverKind::NewtonSparse: return make_newton_sparse();
     case SolverKind::Nncg: return solvers::make_nncg();
+    case SolverKind::ProxNewton: return make_prox_newton();
   }
   throw ConfigError("make_solver: invalid SolverKind " + std::to_string(static_cast<int>(id.kind)));
 }

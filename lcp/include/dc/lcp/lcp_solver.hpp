@@ -103,6 +103,7 @@ enum class SolverKind {
   Newton,        ///< "newton": minimum-map Newton, box bounds and friction
   NewtonSparse,  ///< "newton-sparse": semismooth Newton, CHOLMOD (newton_sparse.hpp)
   Nncg,          ///< "nncg": pgs's sweeps with nonlinear conjugate-gradient momentum and restarts
+  ProxNewton,    ///< "prox-newton": proximal Newton on convex frozen-friction subproblems (prox_newton.hpp)
 };
 /// The spelling of `kind` ("pgs", "pgs-colored", …, the entries of solver_names()).
 const char* to_string(SolverKind kind);

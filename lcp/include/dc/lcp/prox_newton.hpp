@@ -1,0 +1,94 @@
+#pragma once
+// "prox-newton": hard-Coulomb accuracy through convex subproblems only (docs/solvers.md
+// "prox-newton"). Outer pass k freezes the friction bounds at s = μ max(0, λ_n^k) (Tresca) and
+// adds a proximal term ½ δ_k ‖λ − λ^k‖²: the subproblem
+//     min_λ ½ λᵀ(A + δ_k I)λ + (b − δ_k λ^k)ᵀλ,   λ_n ≥ 0, |λ_t| ≤ s_t, fixed bounds elsewhere,
+// is a strongly convex box QP. Its solution becomes λ^{k+1}; s and δ are updated (δ shrinks
+// while the hard residual falls, grows when it does not). A fixed point with δ > 0 solves the
+// hard problem: λ = λ^k makes the proximal term vanish and s = μ λ_n the Coulomb bounds.
+//
+// The subproblem is solved
+//   * in body space when the problem carries J and M⁻¹ (LcpProblem::has_jacobian()): in
+//     velocity changes v [m/s], minimising ½ vᵀ(M/Δt)v + Σ_i φ_i((J v + c)_i), c = b − δλ^k,
+//     with φ_i the half-quadratic y²/(2δ)·[y < 0] on normal rows and the Huber friction loss
+//     (y²/(2δ) for |y| ≤ sδ, s|y| − ½δs² beyond) on friction rows; Newton on the SPD
+//     H = M/Δt + Jᵀ D J (D_ii = 1/δ on the quadratic pieces), 3 unknowns per body, CHOLMOD with
+//     the analysis kept while the pattern holds, and an exact line search on the piecewise
+//     quadratic cost; λ_i = clamp(−y_i/δ, lo_i, hi_i);
+//   * in the dual form otherwise (problems from files): projected Newton on A + δI (the free
+//     block factorised by newton-sparse's FreeBlockFactor) with the QP energy as merit.
+// Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
+// the hard problem finish the solve; when the outer passes run out or stall, nncg from the best
+// iterate is the safeguard. SolveResult::message names the part that finished ("prox", "newton-sparse
+// finish" or "nncg safeguard") and the counts; `sweeps` counts Newton iterations (inner and finish;
+// the safeguard's sweeps are in the message).
+//
+// Status: Converged only when the natural residual of the HARD problem at the returned λ is
+// ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞)); SweepLimit when
+// the Newton iteration budget (options.max_sweeps) ran out; Failed otherwise (stalled).
+#include <memory>
+
+#include "dc/lcp/lcp_solver.hpp"
+
+namespace dc {
+
+struct ProxNewtonDef {
+  /// First proximal weight δ_0 relative to max_i A_ii (dimensionless, default 1e-2).
+  double initial_shift = 1e-2;
+  /// Smallest and largest δ relative to max_i A_ii (defaults 1e-6 and 1e2). Body space reads
+  /// λ = −y/δ from velocities: a smaller δ amplifies their round-off by 1/δ.
+  double min_shift = 1e-6;
+  double max_shift = 1e2;
+  /// δ shrinks by this factor after a pass that lowered the hard residual, and grows by it after
+  /// one that did not (default 10).
+  double shrink = 10.0;
+  /// Outer (proximal/Tresca) passes at most (default 100).
+  int max_outer = 100;
+  /// Newton iterations per subproblem at most (default 30).
+  int inner_iterations = 30;
+  /// Subproblem accuracy: its own natural residual [N] relative to max(hard target, best hard
+  /// residual so far) (inexact proximal point; default 1e-2).
+  double inner_tolerance = 0.01;
+  /// Newton iterations of the newton-sparse finish once the modes repeat (default 3; 0 = none).
+  int finish_iterations = 3;
+  /// nncg sweeps of the safeguard (default 2000; 0 = none).
+  int safeguard_sweeps = 2000;
+  /// Solve the subproblem in body space when the problem has J (default true; false = dual
+  /// form always).
+  bool body_space = true;
+  /// Passes without a new best hard residual before the outer loop stops (default 8).
+  int max_stalls = 8;
+};
+
+/// Work of one solve.
+struct ProxNewtonStats {
+  int outer = 0;            ///< outer passes
+  int newton = 0;           ///< Newton iterations in subproblems
+  int finish_newton = 0;    ///< newton-sparse iterations of the finish
+  int safeguard_sweeps = 0; ///< nncg sweeps of the safeguard
+  int factorizations = 0;   ///< numeric factorisations (subproblems and finish)
+  int analyses = 0;         ///< symbolic analyses
+  int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
+};
+
+class ProxNewtonSolver final : public LcpSolver {
+ public:
+  explicit ProxNewtonSolver(const ProxNewtonDef& def = {});
+  ~ProxNewtonSolver() override;
+  [[nodiscard]] std::string name() const override { return "prox-newton"; }
+  // needs_assembled_matrix() stays true: the dual form and the newton-sparse finish read A
+  // (body space does not; handed a problem without A, the finish forms it for that solve).
+  [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
+                                  const SolverOptions& options) override;
+  /// Statistics of the last solve of this object.
+  [[nodiscard]] ProxNewtonStats last_stats() const;
+
+ private:
+  struct State;  // factorisations kept across solves, the last statistics
+  ProxNewtonDef def_;
+  std::unique_ptr<State> state_;
+};
+
+std::unique_ptr<LcpSolver> make_prox_newton(const ProxNewtonDef& def = {});
+
+}  // namespace dc

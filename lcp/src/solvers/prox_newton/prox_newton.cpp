@@ -1,0 +1,255 @@
+// "prox-newton" (dc/lcp/prox_newton.hpp): the outer proximal/Tresca loop, the finish and the
+// safeguard. Every stop test and the status go through status.hpp.
+#include "dc/lcp/prox_newton.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "dc/core/error.hpp"
+#include "dc/lcp/newton_sparse.hpp"
+#include "solvers/prox_newton/body_newton.hpp"
+#include "solvers/prox_newton/dual_newton.hpp"
+#include "solvers/prox_newton/frozen_subproblem.hpp"
+#include "solvers/prox_newton/status.hpp"
+#include "solvers/exact/box_newton.hpp"
+#include "solvers/solver_common.hpp"
+#include "solvers/solvers.hpp"
+
+namespace dc {
+namespace solvers::prox {
+
+/// The machinery a solver object keeps across solves (factorisations and their analyses).
+struct ProxParts {
+  DualNewton dual;
+  BodyNewton body;
+  NewtonSparseSolver finish;
+};
+
+}  // namespace solvers::prox
+
+struct ProxNewtonSolver::State {
+  solvers::prox::ProxParts parts;
+  ProxNewtonStats last;
+};
+
+namespace solvers::prox {
+namespace {
+
+void check_def(const ProxNewtonDef& d) {
+  const auto positive = [](double x) { return std::isfinite(x) && x > 0; };
+  if (!positive(d.initial_shift) || !positive(d.min_shift) || !positive(d.max_shift) || d.min_shift > d.max_shift)
+    throw InvalidArgument("prox-newton: shifts must be finite, > 0, min_shift <= max_shift");
+  if (!(std::isfinite(d.shrink) && d.shrink > 1)) throw InvalidArgument("prox-newton: shrink must be > 1");
+  if (d.max_outer < 1 || d.inner_iterations < 1 || d.max_stalls < 1)
+    throw InvalidArgument("prox-newton: max_outer, inner_iterations and max_stalls must be >= 1");
+  if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
+  if (d.finish_iterations < 0 || d.safeguard_sweeps < 0)
+    throw InvalidArgument("prox-newton: finish_iterations and safeguard_sweeps must be >= 0");
+}
+
+/// x in %.3g form (residuals span many decades).
+std::string sci(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+/// Which part produced the returned iterate.
+enum class Finisher { Guess, Prox, NewtonSparse, Nncg };
+
+const char* to_string(Finisher f) {
+  switch (f) {
+    case Finisher::Guess: return "the guess";
+    case Finisher::Prox: return "prox";
+    case Finisher::NewtonSparse: return "newton-sparse finish";
+    case Finisher::Nncg: return "nncg safeguard";
+  }
+  return "?";
+}
+
+/// One solve: the outer loop over frozen subproblems, then finish and safeguard.
+class ProxRun {
+ public:
+  ProxRun(const LcpProblem& p, const ProxNewtonDef& def, const SolverOptions& o, ProxParts& s,
+          ProxNewtonStats& st, bool body, bool convex)
+      : p_(p), def_(def), o_(o), s_(s), st_(st), body_(body), convex_(convex), target_(status_target(p, o)), cp_(o) {}
+
+  SolveResult run(Eigen::VectorXd lambda) {
+    project_feasible(p_, lambda);
+    best_ = lambda;
+    best_res_ = hard_residual(p_, lambda);
+    if (!std::isfinite(best_res_)) {
+      best_ = lambda = Eigen::VectorXd::Zero(p_.rows());
+      best_res_ = hard_residual(p_, lambda);
+    }
+    if (convex_) {
+      outer(lambda);
+    } else {
+      finish_with_newton_sparse(lambda, budget_left());
+    }
+    if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
+    SolveResult r;
+    r.lambda = best_;
+    r.sweeps = st_.newton + st_.finish_newton;
+    finish(p_, r);
+    r.status = final_status(r.residual, target_, budget_left() <= 0);
+    if (r.status == SolveStatus::Converged) cp_.flush_final(r.lambda);
+    r.message = std::string("finished by ") + to_string(by_) + ": " + std::to_string(st_.outer) + " passes, " +
+                std::to_string(st_.newton) + " Newton + " + std::to_string(st_.finish_newton) + " finish iterations, " +
+                std::to_string(st_.factorizations) + " factorisations, " + std::to_string(st_.safeguard_sweeps) +
+                " nncg sweeps";
+    if (r.status != SolveStatus::Converged)
+      r.message += "; residual " + sci(r.residual) + " N above target " + sci(target_) + " N";
+    return r;
+  }
+
+ private:
+  [[nodiscard]] int budget_left() const { return std::max(0, o_.max_sweeps) - st_.newton - st_.finish_newton; }
+
+  /// Keeps λ when it beats the best hard residual; true when it did.
+  bool consider(const Eigen::VectorXd& lambda, double res, Finisher by) {
+    if (!(res < best_res_)) return false;
+    best_ = lambda;
+    best_res_ = res;
+    by_ = by;
+    return true;
+  }
+
+  void outer(Eigen::VectorXd& lambda) {
+    const double diag = body_ ? s_.body.max_diagonal() : (p_.rows() > 0 ? p_.A.diagonal().maxCoeff() : 0.0);
+    if (!(diag > 0)) return;
+    double shift = def_.initial_shift;
+    int stalls = 0;
+    std::vector<char> last_modes, finished_modes;
+    FrozenSubproblem sub;
+    for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0; ++k) {
+      ++st_.outer;
+      freeze(p_, lambda, shift * diag, sub);
+      // Inexact proximal point: the subproblem is solved to a fraction of the hard residual
+      // (far away) and of the target (near the solution).
+      sub.tolerance = def_.inner_tolerance * std::max(target_, best_res_);
+      sub.max_iterations = std::min(def_.inner_iterations, budget_left());
+      Eigen::VectorXd next = lambda;
+      const SubproblemOutcome so = body_ ? s_.body.solve(sub, next) : s_.dual.solve(sub, next);
+      st_.newton += so.iterations;
+      st_.factorizations += so.factorizations;
+      st_.analyses += so.analyses;
+      st_.line_search_steps += so.line_search_steps;
+      const double res = hard_residual(p_, next);
+      const bool improved = consider(next, res, Finisher::Prox);
+      // The proximal step is progress even when the hard residual rises for a pass; a failed
+      // subproblem solve restarts from the best iterate with a larger δ.
+      const bool usable = (so.converged || improved) && std::isfinite(res);
+      lambda = usable ? next : best_;
+      shift = improved ? std::max(def_.min_shift, shift / def_.shrink) : std::min(def_.max_shift, shift * def_.shrink);
+      stalls = improved ? 0 : stalls + 1;
+      cp_.after(st_.newton + st_.finish_newton, best_);
+      if (reached(best_res_, target_) || stalls >= def_.max_stalls) break;
+      std::vector<char> modes = hard_modes(p_, lambda);
+      if (modes == last_modes && modes != finished_modes && def_.finish_iterations > 0) {
+        finished_modes = modes;
+        finish_with_newton_sparse(lambda, def_.finish_iterations);
+      }
+      last_modes = std::move(modes);
+    }
+  }
+
+  /// At most `iterations` newton-sparse iterations on the hard problem from λ.
+  void finish_with_newton_sparse(Eigen::VectorXd& lambda, int iterations) {
+    if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
+    SolverOptions fo;
+    fo.max_sweeps = std::min(iterations, budget_left());
+    fo.tolerance = target_;
+    fo.record_theta = false;
+    if (fo.max_sweeps <= 0) return;
+    const SolveResult r = s_.finish.solve(*assembled_, lambda, fo);
+    const NewtonSparseStats fs = s_.finish.last_stats();
+    st_.finish_newton += fs.iterations;
+    st_.factorizations += fs.factorizations;
+    st_.analyses += fs.analyses;
+    const double res = hard_residual(p_, r.lambda);
+    if (consider(r.lambda, res, Finisher::NewtonSparse)) lambda = r.lambda;
+  }
+
+  /// nncg from the best iterate in chunks until the target or safeguard_sweeps.
+  void safeguard() {
+    const auto nncg = make_nncg();
+    SolverOptions so;
+    so.record_theta = false;
+    so.tolerance = 0.0;
+    Eigen::VectorXd lambda = best_;
+    constexpr int kChunk = 100;
+    while (st_.safeguard_sweeps < def_.safeguard_sweeps && !reached(best_res_, target_)) {
+      so.max_sweeps = std::min(kChunk, def_.safeguard_sweeps - st_.safeguard_sweeps);
+      const SolveResult r = nncg->solve(p_, lambda, so);
+      st_.safeguard_sweeps += std::max(r.sweeps, 1);
+      if (!r.lambda.allFinite()) break;
+      lambda = r.lambda;
+      consider(lambda, hard_residual(p_, lambda), Finisher::Nncg);
+      if (r.status != SolveStatus::SweepLimit && r.status != SolveStatus::Converged) break;
+    }
+  }
+
+  const LcpProblem& p_;
+  const ProxNewtonDef& def_;
+  const SolverOptions& o_;
+  ProxParts& s_;
+  ProxNewtonStats& st_;
+  bool body_, convex_;
+  double target_;
+  CheckpointCursor cp_;
+  Eigen::VectorXd best_;
+  double best_res_ = INFINITY;
+  Finisher by_ = Finisher::Guess;
+  std::optional<LcpProblem> local_;
+  const LcpProblem* assembled_ = nullptr;
+};
+
+}  // namespace
+}  // namespace solvers::prox
+
+ProxNewtonSolver::ProxNewtonSolver(const ProxNewtonDef& def) : def_(def), state_(std::make_unique<State>()) {
+  solvers::prox::check_def(def_);
+}
+
+ProxNewtonSolver::~ProxNewtonSolver() = default;
+
+ProxNewtonStats ProxNewtonSolver::last_stats() const { return state_->last; }
+
+SolveResult ProxNewtonSolver::solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0, const SolverOptions& o) {
+  ProxNewtonStats st;
+  Eigen::VectorXd lambda;
+  const bool body = def_.body_space && problem.has_jacobian() && problem.inv_mass.size() == problem.J.cols();
+  std::optional<LcpProblem> local;
+  const LcpProblem* p = &problem;
+  if (!body) p = &solvers::with_assembled_matrix(problem, local);
+  if (auto bad = solvers::check_input(*p, lambda0, name(), lambda)) {
+    state_->last = st;
+    return *bad;
+  }
+  // The dual form needs a symmetric A (a QP); a non-symmetric A (a general LCP from a file) has
+  // no convex subproblem, and newton-sparse alone takes the whole budget.
+  bool convex = body;
+  if (body) {
+    state_->parts.body.bind(*p);
+  } else {
+    if (!p->A.isCompressed()) {  // the factor's pattern key reads the compressed arrays
+      if (!local) local.emplace(*p);
+      local->A.makeCompressed();
+      p = &*local;
+    }
+    convex = solvers::is_symmetric(p->A);
+    if (convex) state_->parts.dual.bind(p->A);
+  }
+  solvers::prox::ProxRun run(*p, def_, o, state_->parts, st, body, convex);
+  SolveResult r = run.run(std::move(lambda));
+  state_->last = st;
+  return r;
+}
+
+std::unique_ptr<LcpSolver> make_prox_newton(const ProxNewtonDef& def) { return std::make_unique<ProxNewtonSolver>(def); }
+
+}  // namespace dc

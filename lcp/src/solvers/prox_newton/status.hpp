@@ -1,0 +1,32 @@
+#pragma once
+// The one place prox-newton decides whether an iterate is a solution: the natural-map residual
+// of the HARD problem (Coulomb bounds moving with λ_n, no proximal term, no regularisation)
+// against the target every exact solver uses. Every stop test and the final status of the
+// solver go through these functions.
+#include <Eigen/Core>
+
+#include "dc/lcp/lcp_problem.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "solvers/solver_common.hpp"
+
+namespace dc::solvers::prox {
+
+/// target [N]: options.tolerance when > 0, else exact_tolerance·max(1, ‖b‖∞).
+inline double status_target(const LcpProblem& p, const SolverOptions& o) {
+  return o.tolerance > 0 ? o.tolerance : o.exact_tolerance * rhs_scale(p);
+}
+
+/// max_i |λ_i − mid(lo_i(λ), λ_i − w_i, hi_i(λ))| of the hard problem [N].
+inline double hard_residual(const LcpProblem& p, const Eigen::VectorXd& lambda) { return natural_residual(p, lambda); }
+
+/// True when a hard residual meets the target.
+inline bool reached(double residual, double target) { return residual <= target; }
+
+/// The status of a finished solve: Converged when reached; else SweepLimit when the iteration
+/// budget ran out, Failed when the method stopped for another reason.
+inline SolveStatus final_status(double residual, double target, bool budget_exhausted) {
+  if (reached(residual, target)) return SolveStatus::Converged;
+  return budget_exhausted ? SolveStatus::SweepLimit : SolveStatus::Failed;
+}
+
+}  // namespace dc::solvers::prox
