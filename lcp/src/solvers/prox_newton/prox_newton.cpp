@@ -94,8 +94,9 @@ class ProxRun {
     SolveResult r;
     r.lambda = best_;
     r.sweeps = st_.newton + st_.finish_newton;
-    finish(p_, r);
-    r.status = final_status(r.residual, target_, budget_left() <= 0);
+    // Provisional status from the hard residual; the shared rule (solver_common) then decides.
+    r.status = final_status(hard_residual(p_, r.lambda), target_, budget_left() <= 0);
+    finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);
     if (r.status == SolveStatus::Converged) cp_.flush_final(r.lambda);
     r.message = std::string("finished by ") + to_string(by_) + ": " + std::to_string(st_.outer) + " passes, " +
                 std::to_string(st_.newton) + " Newton + " + std::to_string(st_.finish_newton) + " finish iterations, " +

@@ -1,8 +1,8 @@
 #pragma once
 // The one place prox-newton decides whether an iterate is a solution: the natural-map residual
 // of the HARD problem (Coulomb bounds moving with λ_n, no proximal term, no regularisation)
-// against the target every exact solver uses. Every stop test and the final status of the
-// solver go through these functions.
+// against the target every exact solver uses. Every stop test goes through these functions;
+// the final status is then decided by the shared rule (solver_common.hpp, decide_status).
 #include <Eigen/Core>
 
 #include "dc/lcp/lcp_problem.hpp"
@@ -11,9 +11,9 @@
 
 namespace dc::solvers::prox {
 
-/// target [N]: options.tolerance when > 0, else exact_tolerance·max(1, ‖b‖∞).
+/// target [N]: options.tolerance when > 0, else the shared solution target (solution_target).
 inline double status_target(const LcpProblem& p, const SolverOptions& o) {
-  return o.tolerance > 0 ? o.tolerance : o.exact_tolerance * rhs_scale(p);
+  return o.tolerance > 0 ? o.tolerance : solution_target(p, o);
 }
 
 /// max_i |λ_i − mid(lo_i(λ), λ_i − w_i, hi_i(λ))| of the hard problem [N].
