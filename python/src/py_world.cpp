@@ -64,10 +64,12 @@ WorldDef scene_from_python(pyb::handle scene, pyb::handle set) {
   if (!scene.is_none()) {
     auto os = pyb::module_::import("os");
     const bool pathlike = pyb::isinstance(scene, os.attr("PathLike"));
-    const std::string text = pyb::str(pathlike ? os.attr("fspath")(scene) : scene).cast<std::string>();
+    if (!pathlike && !pyb::isinstance<pyb::str>(scene))
+      throw pyb::type_error("scene: expected None, TOML text (str) or a path (str or os.PathLike)");
+    const std::string text = pathlike ? path_string(scene) : scene.cast<std::string>();
     // A path unless it is clearly TOML text (a newline, '=' or '['), like --scene F.
     const bool is_text = !pathlike && text.find_first_of("\n=[") != std::string::npos;
-    d = is_text ? parse_scene(text, "<scene>") : load_scene(text);
+    d = is_text ? parse_scene(text, "<scene>") : load_scene(path_string(pyb::str(text)));  // no NUL
   }
   if (!set.is_none()) {
     if (pyb::isinstance<pyb::dict>(set)) {

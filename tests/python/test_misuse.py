@@ -61,6 +61,8 @@ def test_paths_are_str_or_pathlike_without_nul(dc, tmp_path):
     with pytest.raises(ValueError, match="NUL"):
         dc.write_lcp_dat(str(tmp_path / "y.dat") + "\x00", np.eye(2), -np.ones(2))
     assert not (tmp_path / "y.dat").exists()
+    with pytest.raises(TypeError, match="scene"):
+        dc.World(scene=b"scenes/seed.toml")
 
 
 def test_an_endless_device_is_refused(dc):

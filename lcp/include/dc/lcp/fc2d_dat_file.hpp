@@ -8,8 +8,10 @@
 // of that size is allocated, nothing read past the end, one-line dc::IoError
 // "FILE: line L: what" for a missing or empty file, truncated data, non-numbers, NaN/Inf,
 // nc ≤ 0 or 2nc > kMaxDatSize, a dimension other than 2, sizes that disagree, a negative μ,
-// and the storage errors (a column header out of sequence, a row index out of range, an entry
-// given twice, …).
+// the storage errors (a column header out of sequence, a row index out of range, an entry
+// given twice — also in a CSparse triplet list —, …), and a last μ without a line end after it
+// (possibly cut inside its last number). Read like the LCP reader: a regular file up to its
+// size, a pipe or device up to kMaxDatStreamBytes.
 #include <string>
 #include <string_view>
 
