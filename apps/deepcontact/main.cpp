@@ -13,6 +13,7 @@
 #include "commands/usage_error.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/install_paths.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc::cli {
 int& exit_status() {
@@ -22,6 +23,7 @@ int& exit_status() {
 }  // namespace dc::cli
 
 int main(int argc, char** argv) {
+  dc::h5_skip_exit_cleanup();  // first: a file a failed write left open must not crash the exit (h5.hpp)
   // Past a file-size limit (ulimit -f) the kernel would kill us with SIGXFSZ mid-write; ignored,
   // the write fails with EFBIG instead and the error path reports it in one line and cleans up.
   std::signal(SIGXFSZ, SIG_IGN);
