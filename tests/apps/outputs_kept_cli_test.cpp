@@ -107,7 +107,7 @@ TEST(OutputsKeptCli, InterruptedSimulateKeepsTheEarlierTrajectory) {
 TEST(OutputsKeptCli, DatOutputOnAFullDiskKeepsTheEarlierFile) {
   const test::TempDir dir;
   const std::string out = dir / "out.dat";
-  const std::string args = "lcp convert \"" + kData + "blocks_sparse.dat\" " + out + " --storage 0";
+  const std::string args = "lcp convert \"" + kData + "contact_12.dat\" " + out + " --storage 0";
   ASSERT_EQ(test::run_cli(args).exit_code, 0);
   const std::string before = test::slurp_file(out);
   ASSERT_GT(before.size(), 600u);
