@@ -117,7 +117,8 @@ for ((i = 0; i < KO; i++)); do
 done
 echo "kill-test: train: $KO SIGKILLs (totals so far: lost $lost, unreadable $unreadable, crashes $crashes, mixes $mixes)"
 
-# ---- bench: a killed run leaves DIR absent or complete; a rerun succeeds -----------------
+# ---- bench: a killed run leaves DIR absent, complete, or holding only its partial-run-*
+# folder (the report is moved in only when complete); a rerun succeeds ------------------
 BENCH=(bench --warmstarts zero,builtin --seeds 1 --steps 30 --sweeps 50 --set world.width=12 --set world.height=12
        --set bodies.count=12 --set bodies.mean=[6.0,6.0] --set bodies.sigma=2.0)
 s=$(now); "$DC" "${BENCH[@]}" --out "$work/bref" >/dev/null || exit 1; T=$(elapsed "$s")
@@ -125,7 +126,7 @@ for ((i = 0; i < KO; i++)); do
   out=$work/b; rm -rf "$out" "$out".*
   "$DC" "${BENCH[@]}" --out "$out" >/dev/null 2>&1 & pid=$!
   sleep "$(instant "$T")"; kill -KILL $pid 2>/dev/null; wait $pid 2>/dev/null
-  if [ -e "$out" ]; then
+  if [ -e "$out" ] && [ -n "$(ls "$out" | grep -v '^partial-run-')" ]; then
     { readable "$out/results.h5" && $PY -c "import json,sys; json.load(open(sys.argv[1]))" "$out/summary.json"; } \
       || { unreadable=$((unreadable + 1)); echo "kill-test: bench kill $i: incomplete $out"; }
   fi

@@ -1,6 +1,7 @@
 // deepcontact: the command-line front end. Thin subcommands over dc_engine, dc_warmstart
 // and dc_learning; see `deepcontact --help` and docs/cli.md.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -12,6 +13,7 @@
 #include "commands/usage_error.hpp"
 #include "dc/core/error.hpp"
 #include "dc/core/install_paths.hpp"
+#include "dc/io/h5.hpp"
 
 namespace dc::cli {
 int& exit_status() {
@@ -21,6 +23,10 @@ int& exit_status() {
 }  // namespace dc::cli
 
 int main(int argc, char** argv) {
+  dc::h5_skip_exit_cleanup();  // first: a file a failed write left open must not crash the exit (h5.hpp)
+  // Past a file-size limit (ulimit -f) the kernel would kill us with SIGXFSZ mid-write; ignored,
+  // the write fails with EFBIG instead and the error path reports it in one line and cleans up.
+  std::signal(SIGXFSZ, SIG_IGN);
   const dc::cli::MpiSession mpi(argc, argv);  // MPI only under mpirun/srun (docs/cluster.md)
   CLI::App app{
       "DeepContact: how much can a warm start speed up the contact solver of a rigid-body "

@@ -358,21 +358,28 @@ void H5File::write(std::string_view path, std::span<const T> data, const H5Shape
   if (data.empty()) return;
   const ErrorSilencer quiet;
   Handle ds(H5Dopen2(id_, object_name(path).c_str(), H5P_DEFAULT), H5Dclose);
-  if (!ds.valid() || H5Dwrite(ds.get(), memory_type(type_of<T>()), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+  if (!ds.valid() || H5Dwrite(ds.get(), memory_type(type_of<T>()), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0 ||
+      ds.close() < 0)  // the chunk cache is written at the close
     fail(path, "cannot write dataset");
 }
 
 namespace {
-/// Writes `data` into rows [first, first + rows) of an open dataset.
-bool write_row_block(hid_t ds, const H5Shape& dims, hsize_t first, hsize_t rows, hid_t mem_type, const void* data) {
+/// Writes `data` into rows [first, first + rows) of an open dataset; on failure calls
+/// `on_error` (which throws) while the dataspaces are still open: closing them is an HDF5
+/// call, which would clear the error stack that says whether the write hit the disk's limit
+/// (H5File::fail abandons the file then, before any flush can fail).
+template <class OnError>
+void write_row_block(hid_t ds, const H5Shape& dims, hsize_t first, hsize_t rows, hid_t mem_type, const void* data,
+                     const OnError& on_error) {
   Handle file_space(H5Dget_space(ds), H5Sclose);
   H5Shape start(dims.size(), 0), count = dims;
   start[0] = first;
   count[0] = rows;
   Handle mem_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose);
-  return file_space.valid() && mem_space.valid() &&
-         H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr) >= 0 &&
-         H5Dwrite(ds, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data) >= 0;
+  if (!file_space.valid() || !mem_space.valid() ||
+      H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr) < 0 ||
+      H5Dwrite(ds, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data) < 0)
+    on_error();
 }
 }  // namespace
 
@@ -397,8 +404,9 @@ hsize_t H5File::append_rows(std::string_view path, std::span<const T> data) {
   H5Shape grown = d.dims;
   grown[0] += rows;
   if (H5Dset_extent(d.ds.get(), grown.data()) < 0) fail(path, "cannot extend dataset to " + to_string(grown));
-  if (!write_row_block(d.ds.get(), grown, d.dims[0], rows, memory_type(type_of<T>()), data.data()))
-    fail(path, "cannot write appended rows");
+  write_row_block(d.ds.get(), grown, d.dims[0], rows, memory_type(type_of<T>()), data.data(),
+                  [&] { fail(path, "cannot write appended rows"); });
+  if (d.ds.close() < 0) fail(path, "cannot write appended rows");  // the chunk cache is written here
   return grown[0];
 }
 
@@ -422,8 +430,10 @@ void H5File::write_rows(std::string_view path, hsize_t first_row, std::span<cons
     fail(path, "rows [" + std::to_string(first_row) + ", " + std::to_string(first_row + rows) +
                    ") are outside the dataset's " + std::to_string(d.dims[0]) + " rows");
   }
-  if (rows > 0 && !write_row_block(d.ds.get(), d.dims, first_row, rows, memory_type(type_of<T>()), data.data()))
-    fail(path, "cannot write rows");
+  if (rows > 0)
+    write_row_block(d.ds.get(), d.dims, first_row, rows, memory_type(type_of<T>()), data.data(),
+                    [&] { fail(path, "cannot write rows"); });
+  if (d.ds.close() < 0) fail(path, "cannot write rows");  // the chunk cache is written here
 }
 
 void H5File::resize_rows(std::string_view path, hsize_t rows) {
@@ -570,7 +580,7 @@ void H5File::write_strings(std::string_view path, const std::vector<std::string>
     for (std::size_t i = 0; i < values.size(); ++i) std::copy(values[i].begin(), values[i].end(), &buffer[i * size]);
     rc = H5Dwrite(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data());
   }
-  if (rc < 0) fail(path, "cannot write string dataset");
+  if (rc < 0 || ds.close() < 0) fail(path, "cannot write string dataset");
   // Variable-length strings' bytes are in the global heap, which HDF5 does not checksum: store
   // a hash of them in the (checksummed) object header.
   if (kind == H5StringKind::Variable) set_attribute<std::int64_t>(path, kStringsChecksum, strings_checksum(values));
@@ -644,5 +654,7 @@ std::int64_t h5_open_object_count() {
   if (n < 0) throw IoError(with_reason("HDF5: cannot count the open objects"));
   return static_cast<std::int64_t>(n);
 }
+
+bool h5_skip_exit_cleanup() { return H5dont_atexit() >= 0; }
 
 }  // namespace dc

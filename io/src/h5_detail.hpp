@@ -47,6 +47,14 @@ inline std::string hdf5_reason() {
   };
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk, &out);
   H5Eclear2(H5E_DEFAULT);
+  // A failed POSIX write is described with time, buffer address and sizes; its cause is the
+  // system's message ("file write failed: No space left on device").
+  if (const std::size_t at = out.find("error message = '"); at != std::string::npos) {
+    const std::size_t from = at + 17, to = out.find('\'', from);
+    const std::size_t colon = out.find(':');
+    if (to != std::string::npos && colon != std::string::npos && colon < at)
+      out = out.substr(0, colon) + ": " + out.substr(from, to - from);
+  }
   for (char& c : out)
     if (c == '\n' || c == '\r' || c == '\t') c = ' ';
   return out;
@@ -76,13 +84,19 @@ inline bool write_failed_on_stack() {
   return found;
 }
 
-/// After a failed write, libhdf5 1.10.8 cannot close the file: H5Fclose retries the
-/// writes, fails, and leaves a dangling id on which the library's own cleanup at exit then
-/// crashes (SIGSEGV). So the file's descriptor is pointed at an anonymous in-memory file
-/// (memfd): what the close still writes lands there and vanishes, the close succeeds, and
-/// the file on disk stays as a crash at the moment of the failure would have left it (the
-/// readers refuse such a file with an IoError; `generate --resume` cuts it back). Only for
-/// the default sec2 driver, whose handle is the POSIX descriptor.
+/// After a failed write, libhdf5 1.10.8 cannot close the file: a flush that fails leaves its
+/// metadata cache's skip list enabled, so every later flush and H5Fclose fail ("slist already
+/// enabled?"), the id stays, and the library's own cleanup at exit crashes on it (SIGSEGV).
+/// So a failed write must be seen where it happens (every write path checks its H5Dwrite and
+/// the dataset's close, which writes the chunk cache, while the error stack still says why),
+/// and the file's descriptor is then pointed at a sink before any flush: what the close still
+/// writes lands there and vanishes, the close succeeds, and the file on disk stays as a crash
+/// at the moment of the failure would have left it (the readers refuse such a file with an
+/// IoError; `generate --resume` cuts it back). The sink is an anonymous in-memory file
+/// (memfd). Under a file-size limit (EFBIG) the close still fails — it truncates the file to a
+/// size past the limit, in a memfd as on disk — which is why a program calls
+/// h5_skip_exit_cleanup() (h5.hpp). Only for the default sec2 driver, whose handle is the
+/// POSIX descriptor.
 inline void abandon_writes(hid_t file) {
   const hid_t fapl = H5Fget_access_plist(file);
   if (fapl < 0) return;
@@ -127,9 +141,14 @@ class Handle {
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
   ~Handle() { reset(); }
-  void reset() {
-    if (id_ >= 0 && close_ != nullptr) close_(id_);
+  void reset() { (void)close(); }
+  /// Closes the id now and returns what the close returned (< 0: failed; HDF5's error stack
+  /// holds why). Closing a dataset writes its cached chunks: a write path closes it this way
+  /// and checks, so a full disk is seen there and not only at a later flush of the file.
+  herr_t close() {
+    const herr_t rc = id_ >= 0 && close_ != nullptr ? close_(id_) : 0;
     id_ = -1;
+    return rc;
   }
   [[nodiscard]] hid_t get() const { return id_; }
   [[nodiscard]] bool valid() const { return id_ >= 0; }

@@ -1,14 +1,18 @@
 #include "dc/io/output_path.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <cerrno>
 #include <cstring>
+#include <algorithm>
 #include <filesystem>
+#include <vector>
 
 #include "dc/core/error.hpp"
+#include "dc/io/atomic_file.hpp"
 
 namespace dc {
 
@@ -22,11 +26,15 @@ fs::path parent_of(const std::string& path) {
   return parent.empty() ? fs::path(".") : parent;
 }
 
-/// Creates a new empty directory named `prefix` + 6 random characters (mkdtemp) and returns
-/// its name; "" with errno set on failure.
+/// Creates a new empty directory `prefix` + "PID-N" (the first free N) with mode 0777 less the
+/// umask, as mkdir(1) would; "" with errno set on failure.
 std::string make_unique_directory(const std::string& prefix) {
-  std::string name = prefix + "XXXXXX";
-  return ::mkdtemp(name.data()) != nullptr ? name : std::string();
+  for (int n = 0; n < 1000; ++n) {
+    std::string name = prefix + std::to_string(::getpid()) + "-" + std::to_string(n);
+    if (::mkdir(name.c_str(), 0777) == 0) return name;
+    if (errno != EEXIST) return {};
+  }
+  return {};
 }
 
 std::string without_trailing_slashes(std::string path) {
@@ -63,44 +71,71 @@ void check_output_directory(const std::string& path) {
   std::error_code ec;
   if (fs::exists(path, ec) && !fs::is_directory(path, ec))
     throw IoError(path + ": exists and is not a directory, but an output directory is to be written there");
-  require_writable_directory(parent_of(without_trailing_slashes(path)), path + ": cannot write the output directory");
+  const std::string dir = without_trailing_slashes(path);
+  if (fs::is_directory(dir, ec)) require_writable_directory(dir, path + ": cannot write the output directory");
+  else require_writable_directory(parent_of(dir), path + ": cannot write the output directory");
 }
 
-std::string make_staging_directory(const std::string& dir) {
-  const std::string target = without_trailing_slashes(dir);
-  const std::string staging = make_unique_directory(target + ".tmp-");
-  if (staging.empty()) throw IoError(target + ": cannot create a staging directory next to it: " + std::strerror(errno));
-  return staging;
-}
+namespace {
 
-void replace_directory_atomically(const std::string& staging, const std::string& dir) {
-  const std::string target = without_trailing_slashes(dir);
+bool is_partial_run(const std::string& name) { return name.rfind(kPartialRunPrefix, 0) == 0; }
+
+/// The names in `dir` (not "." or ".."); IoError naming `dir` when it cannot be listed.
+std::vector<std::string> entries_of(const std::string& dir) {
+  std::vector<std::string> names;
   std::error_code ec;
-  std::string aside;
-  if (fs::exists(target, ec)) {
-    // rename(2) may replace an empty directory: reserve a unique empty one, move DIR onto it.
-    aside = make_unique_directory(target + ".old-");
-    if (aside.empty()) throw IoError(target + ": cannot reserve a name to move the earlier output aside: " + std::strerror(errno));
-    fs::rename(target, aside, ec);
-    if (ec) throw IoError(target + ": cannot move the earlier output aside: " + ec.message());
-  }
-  fs::rename(staging, target, ec);
-  if (ec) {
-    std::error_code ignored;
-    if (!aside.empty()) fs::rename(aside, target, ignored);
-    throw IoError(target + ": cannot rename " + staging + " onto it: " + ec.message());
-  }
-  if (!aside.empty()) fs::remove_all(aside, ec);  // best effort: the new DIR is already in place
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    names.push_back(it->path().filename().string());
+  if (ec) throw IoError(dir + ": cannot list the output directory: " + ec.message());
+  return names;
 }
 
-void write_directory_atomically(const std::string& dir, const std::function<void(const std::string&)>& write) {
-  const std::string staging = make_staging_directory(dir);
+/// Moves every entry of `staging` into `dir` (replacing namesakes), then removes the owned
+/// entries of `dir` that this run did not write and the stale partial-run folders.
+void move_into(const std::string& staging, const std::string& dir, const OwnedName& owned) {
+  const std::vector<std::string> written = entries_of(staging);
+  std::error_code ec;
+  for (const std::string& name : written) {
+    const fs::path to = fs::path(dir) / name;
+    if (fs::is_directory(to, ec)) fs::remove_all(to, ec);  // rename(2) does not replace a full folder
+    fs::rename(fs::path(staging) / name, to, ec);
+    if (ec) throw IoError(to.string() + ": cannot move the new output into place: " + ec.message());
+  }
+  fs::remove(staging, ec);
+  for (const std::string& name : entries_of(dir)) {
+    const bool rewritten = std::find(written.begin(), written.end(), name) != written.end();
+    if ((owned(name) && !rewritten) || is_partial_run(name)) fs::remove_all(fs::path(dir) / name, ec);
+  }
+  sync_path(dir);
+}
+
+}  // namespace
+
+void check_owned_directory(const std::string& dir, const OwnedName& owned, const std::string& what) {
+  check_output_directory(dir);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return;
+  for (const std::string& name : entries_of(dir))
+    if (!owned(name) && !is_partial_run(name))
+      throw IoError(without_trailing_slashes(dir) + ": holds " + name + ", which " + what +
+                    " did not write; choose a new or empty directory (nothing there is replaced or removed)");
+}
+
+void write_into_owned_directory(const std::string& dir_text, const OwnedName& owned,
+                                const std::function<void(const std::string&)>& write) {
+  const std::string dir = without_trailing_slashes(dir_text);
+  std::error_code ec;
+  const bool created = fs::create_directory(dir, ec);
+  if (ec) throw IoError(dir + ": cannot create the output directory: " + ec.message());
+  const std::string staging = make_unique_directory((fs::path(dir) / kPartialRunPrefix).string());
+  if (staging.empty()) throw IoError(dir + ": cannot create a staging folder in it: " + std::strerror(errno));
   try {
     write(staging);
-    replace_directory_atomically(staging, dir);
+    move_into(staging, dir, owned);
   } catch (...) {
     std::error_code ignored;
     fs::remove_all(staging, ignored);
+    if (created) fs::remove(dir, ignored);  // only when empty: nothing else is touched
     throw;
   }
 }

@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -13,7 +14,9 @@
 #include "dc/bench/list_options.hpp"
 #include "dc/bench/progress_bar.hpp"
 #include "dc/bench/provenance.hpp"
+#include "dc/bench/report_directory.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/output_lock.hpp"
 #include "py_common.hpp"
 
 namespace dc::py {
@@ -89,6 +92,10 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
 
   const bool to_dir = !out.is_none();
   const std::string dir = to_dir ? pyb::str(pyb::module_::import("os").attr("fspath")(out)).cast<std::string>() : "";
+  // The same rule as `bench --out DIR` (report_directory.hpp): checked and locked before the run.
+  if (to_dir) bench::check_report_directory(dir);
+  std::optional<OutputLock> lock;
+  if (to_dir) lock.emplace(bench::report_lock_target(dir));
   std::string json;
   {
     pyb::gil_scoped_release release;
@@ -100,7 +107,7 @@ pyb::object bench(pyb::object scene, pyb::object set, pyb::object warmstarts, py
     });
     if (bar) bar->finish();
     if (to_dir) {
-      bench::write_report(r, dir);
+      bench::write_report_directory(r, dir);
     } else {
       const bench::BenchStatistics stats = bench::bench_statistics(r);
       json = bench::summary_json(r, bench::summarise(r), bench::collect_provenance(), &stats);

@@ -56,8 +56,11 @@ inline std::string slurp_file(const std::string& path) {
 /// Runs `DC_CLI <args>` as run_cli() does, but in a child whose files may not grow past
 /// `max_file_bytes` (setrlimit(RLIMIT_FSIZE)) and which ignores SIGXFSZ, so a write beyond
 /// the limit fails with EFBIG as on a full disk instead of killing the process. stdout goes
-/// to /dev/null (not limited); stderr is captured (it stays far below the limit).
-inline CliResult run_cli_with_file_limit(const std::string& args, std::size_t max_file_bytes) {
+/// to /dev/null (not limited); stderr is captured (it stays far below the limit). With
+/// `ignore_sigxfsz` false the child keeps SIGXFSZ's default (kill): what a shell's `ulimit -f`
+/// gives, so deepcontact must ignore the signal itself.
+inline CliResult run_cli_with_file_limit(const std::string& args, std::size_t max_file_bytes,
+                                         bool ignore_sigxfsz = true) {
   const auto dir = std::filesystem::temp_directory_path();
   const std::string err_file = (dir / ("dc_cli_fsize_err_" + std::to_string(::getpid()) + ".txt")).string();
   const std::string cmd = "exec " + std::string(DC_CLI) + " " + args + " >/dev/null 2>" + err_file;
@@ -66,7 +69,7 @@ inline CliResult run_cli_with_file_limit(const std::string& args, std::size_t ma
   if (pid < 0) return r;
   if (pid == 0) {
     const rlimit limit{static_cast<rlim_t>(max_file_bytes), static_cast<rlim_t>(max_file_bytes)};
-    std::signal(SIGXFSZ, SIG_IGN);  // an ignored signal stays ignored across exec
+    std::signal(SIGXFSZ, ignore_sigxfsz ? SIG_IGN : SIG_DFL);  // an ignored signal stays ignored across exec
     if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) ::_exit(126);
     ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);

@@ -70,25 +70,35 @@ TEST(OutputPathCli, BenchReplacesAnEarlierReportOnlyWithACompleteNewOne) {
   test::TempDir dir;
   const std::string out = dir.file("report");
   ASSERT_EQ(test::run_cli(small_bench("1..2", out)).exit_code, 0);
-  std::ofstream(out + "/stale.txt") << "left by the user or an earlier run";
   const std::string first = test::slurp(out + "/summary.json");
   ASSERT_NE(first.find("\"seeds\": [1, 2]"), std::string::npos) << first;
 
+  // A file the bench did not write blocks the directory: refused before the run, naming it.
+  std::ofstream(out + "/stale.txt") << "left by the user";
+  const auto refused = test::run_cli(small_bench("3..3", out));
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("stale.txt"), std::string::npos) << refused.err;
+  EXPECT_EQ(test::slurp(out + "/stale.txt"), "left by the user");
+  EXPECT_EQ(test::slurp(out + "/summary.json"), first);
+  std::filesystem::remove(out + "/stale.txt");
+
   // A run that fails before its report exists (its scene is refused after the check of --out
-  // passed) and a killed run leave the earlier report as it was; so does a run that cannot
-  // even start its staging directory.
+  // passed) leaves the earlier report as it was.
   EXPECT_EQ(test::run_cli(small_bench("3..3", out) + " --set time.dt=-1").exit_code, 1);
   EXPECT_EQ(test::slurp(out + "/summary.json"), first);
-  EXPECT_TRUE(std::filesystem::exists(out + "/stale.txt"));
 
-  // A complete new run replaces the whole directory: nothing of the earlier one is left.
+  // A complete new run replaces the earlier report: nothing of the earlier one is left (a
+  // file of an earlier size sweep, which this run does not write, goes too).
+  std::ofstream(out + "/scale.md") << "an earlier size sweep";
   const auto r = test::run_cli(small_bench("3..3", out));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(test::slurp(out + "/summary.json").find("\"seeds\": [3]"), std::string::npos);
-  EXPECT_FALSE(std::filesystem::exists(out + "/stale.txt"));
+  EXPECT_FALSE(std::filesystem::exists(out + "/scale.md"));
   EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
   for (const auto& e : std::filesystem::directory_iterator(dir.path()))  // no staging or old directories left
     EXPECT_EQ(e.path().filename(), "report") << e.path();
+  for (const auto& e : std::filesystem::directory_iterator(out))
+    EXPECT_NE(e.path().filename().string().rfind("partial-run-", 0), 0u) << e.path();
 }
 
 }  // namespace

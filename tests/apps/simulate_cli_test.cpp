@@ -122,7 +122,8 @@ TEST(SimulateCli, BadInputIsOneLineAndNonZero) {
 }
 
 // SIGTERM (a batch system's time limit) stops simulate at the next step: the trajectory of
-// the steps done is committed under OUT (complete, readable), one line says so, exit 143.
+// the steps done is committed under OUT-STEM.interrupted.h5 (complete, readable; OUT itself is
+// not written), one line says so, exit 143.
 TEST(SimulateCli, SigtermCommitsTheStepsDoneAndExits143) {
   test::TempDir dir;
   const std::string out = dir.file("run.h5"), err = dir.file("err.txt");
@@ -137,7 +138,8 @@ TEST(SimulateCli, SigtermCommitsTheStepsDoneAndExits143) {
   const std::string log = test::slurp(err);
   EXPECT_NE(log.find("interrupted by SIGTERM after "), std::string::npos) << log;
   EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
-  const H5File f = H5File::open_read(out);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const H5File f = H5File::open_read(dir.file("run.interrupted.h5"));
   const auto S = f.shape("/solver/sweeps").at(0);
   EXPECT_GT(S, 0u);
   EXPECT_LT(S, 1000000u);

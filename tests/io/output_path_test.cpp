@@ -4,7 +4,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
+#include <sys/stat.h>
 
 #include "dc/core/error.hpp"
 #include "io/io_error.hpp"
@@ -47,28 +49,67 @@ TEST(OutputPath, ADirectoryNeedsAWritableParentAndIsNoFile) {
   expect_names(io_error([&] { check_output_directory("/proc/report"); }), "/proc/report", "cannot create files");
 }
 
-TEST(OutputPath, ADirectoryIsReplacedOnlyByACompleteNewOne) {
+std::string slurp_text(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// The names a test command writes.
+bool owned(const std::string& name) { return name == "new.txt" || name == "old.txt"; }
+
+std::size_t entries(const fs::path& dir) {
+  return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}));
+}
+
+TEST(OutputPath, ADirectoryHoldingOtherFilesIsRefusedNamingOne) {
+  test::TempDir dir;
+  const std::string out = dir / "report";
+  check_owned_directory(out, owned, "the test");  // new
+  fs::create_directory(out);
+  check_owned_directory(out, owned, "the test");  // empty
+  std::ofstream(out + "/old.txt") << "old";
+  fs::create_directory(out + "/partial-run-1-0");  // what a killed run leaves
+  check_owned_directory(out, owned, "the test");  // an earlier output
+  fs::create_directory(out + "/mydata");
+  expect_names(io_error([&] { check_owned_directory(out, owned, "the test"); }), "mydata", "the test did not write");
+}
+
+TEST(OutputPath, AnEarlierOutputIsReplacedOnlyByACompleteNewOne) {
   test::TempDir dir;
   const std::string out = dir / "report";
   fs::create_directory(out);
   std::ofstream(out + "/old.txt") << "old";
+  fs::create_directory(out + "/partial-run-1-0");
   // A writer that fails half-way leaves the old directory exactly as it was, and no staging.
-  EXPECT_THROW(write_directory_atomically(out,
+  EXPECT_THROW(write_into_owned_directory(out, owned,
                                           [](const std::string& staging) {
                                             std::ofstream(staging + "/new.txt") << "half";
                                             throw IoError("disk full");
                                           }),
                IoError);
-  EXPECT_TRUE(fs::exists(out + "/old.txt"));
+  EXPECT_EQ(slurp_text(out + "/old.txt"), "old");
   EXPECT_FALSE(fs::exists(out + "/new.txt"));
-  // A complete one replaces it: nothing of the old one is left.
-  write_directory_atomically(out, [](const std::string& staging) { std::ofstream(staging + "/new.txt") << "new"; });
-  EXPECT_TRUE(fs::exists(out + "/new.txt"));
-  EXPECT_FALSE(fs::exists(out + "/old.txt"));
-  // A directory that did not exist yet is created the same way.
-  write_directory_atomically(dir / "fresh", [](const std::string& staging) { std::ofstream(staging + "/a") << "a"; });
-  EXPECT_TRUE(fs::exists(dir / "fresh/a"));
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator{}), 2) << "staging left behind";
+  EXPECT_EQ(entries(out), 2u);
+  // A complete one replaces it: nothing of the old one is left, stale partial runs included.
+  write_into_owned_directory(out, owned, [](const std::string& staging) { std::ofstream(staging + "/new.txt") << "new"; });
+  EXPECT_EQ(slurp_text(out + "/new.txt"), "new");
+  EXPECT_EQ(entries(out), 1u);
+  // A directory that did not exist is created; one a failed write created is removed again.
+  write_into_owned_directory(dir / "fresh", owned, [](const std::string& staging) { std::ofstream(staging + "/new.txt") << "a"; });
+  EXPECT_TRUE(fs::exists(dir / "fresh/new.txt"));
+  EXPECT_THROW(write_into_owned_directory(dir / "failed", owned, [](const std::string&) { throw IoError("disk full"); }),
+               IoError);
+  EXPECT_EQ(entries(dir.path()), 2u);
+}
+
+TEST(OutputPath, AnOutputDirectoryFollowsTheUmask) {
+  test::TempDir dir;
+  const mode_t old = ::umask(027);
+  write_into_owned_directory(dir / "d", owned, [](const std::string& staging) { std::ofstream(staging + "/new.txt") << "a"; });
+  ::umask(old);
+  struct stat st {};
+  ASSERT_EQ(::stat((dir / "d").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0750u);
 }
 
 }  // namespace

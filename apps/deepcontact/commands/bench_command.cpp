@@ -17,10 +17,10 @@
 #include "dc/bench/bench_summary.hpp"
 #include "dc/bench/list_options.hpp"
 #include "dc/bench/progress_bar.hpp"
+#include "dc/bench/report_directory.hpp"
 #include "dc/bench/scale_sweep.hpp"
 #include "dc/core/error.hpp"
 #include "dc/io/output_lock.hpp"
-#include "dc/io/output_path.hpp"
 #include "dc/research/research_starters.hpp"
 #include <filesystem>
 
@@ -52,26 +52,6 @@ struct BenchArgs {
   double accuracy = 1e-6;
   int jobs = 1;
 };
-
-/// Writes the bench report into a staging directory next to `out` and renames it onto `out`
-/// (an earlier run's directory is replaced only now, never mixed with this one). A report whose
-/// plots could not be made is still this run's complete report (report.md says what is
-/// missing): it replaces `out` too, and then the error is reported. Returns the file count.
-std::size_t write_report_directory(const bench::BenchResults& r, const std::string& out) {
-  std::vector<std::string> files;
-  std::string incomplete;
-  write_directory_atomically(out, [&](const std::string& dir) {
-    try {
-      files = bench::write_report(r, dir);
-    } catch (const IoError& e) {
-      if (!std::filesystem::exists(std::filesystem::path(dir) / "report.md")) throw;  // written last
-      incomplete = e.what();
-      for (std::size_t at; (at = incomplete.find(dir)) != std::string::npos;) incomplete.replace(at, dir.size(), out);
-    }
-  });
-  if (!incomplete.empty()) throw IoError(incomplete);
-  return files.size();
-}
 
 /// --solvers / --accuracy (the solver comparison, docs/bench.md); across MPI ranks the pairs'
 /// records are joined with the rest (mpi_bench.cpp).
@@ -155,8 +135,7 @@ void run_size_sweep(const BenchArgs& a, const bench::BenchOptions& o, const Warm
   if (sbar) sbar->finish();
   std::printf("%s", bench::format_scale_table(points, false).c_str());
   if (!a.out.empty()) {
-    std::vector<std::string> files;  // built next to --out and renamed onto it when complete
-    write_directory_atomically(a.out, [&](const std::string& dir) { files = bench::write_scale_report(points, axis, dir); });
+    const auto files = bench::write_scale_report_directory(points, axis, a.out);  // report_directory.hpp
     std::printf("report: %s/scale.md (%zu files)\n", a.out.c_str(), files.size());
   }
 }
@@ -196,18 +175,18 @@ void run_bench(const BenchArgs& a, const bench::BenchOptions& o, const WarmStart
               r.starters.empty() ? 0 : r.starters[0].sweeps_to_tol.size(), r.skipped_steps, r.wall_seconds);
   if (!a.out.empty()) {
     const auto tw = std::chrono::steady_clock::now();
-    const std::size_t files = write_report_directory(r, a.out);
+    const std::size_t files = bench::write_report_directory(r, a.out).size();
     std::printf("report: %s/report.md (%zu files, written in %.2f s)\n", a.out.c_str(), files,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - tw).count());
   }
 }
 
 void run(const BenchArgs& a) {
-  if (!a.out.empty()) check_output_directory(a.out);  // before the bench runs
+  if (!a.out.empty()) bench::check_report_directory(a.out);  // before the bench runs (report_directory.hpp)
   // DIR.lock keeps a second bench off the same DIR (the later rename would replace the first's
   // report with its own); only rank 0 writes the report.
   std::optional<OutputLock> lock;
-  if (!a.out.empty() && world().is_root()) lock.emplace(a.out);
+  if (!a.out.empty() && world().is_root()) lock.emplace(bench::report_lock_target(a.out));
   WarmStarterRegistry registry = all_warm_starters(shipped_model());
   if (a.list) {
     std::printf("%s", registry.help().c_str());
@@ -235,7 +214,10 @@ void add_bench_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--mode", args->mode, "paired (identical LCPs for every starter) or rollout (own trajectories)")
       ->capture_default_str();
-  cmd->add_option("--out", args->out, "Write summary.json, results.h5, plots and report.md into this directory");
+  cmd->add_option("--out", args->out,
+                  "Write summary.json, results.h5, plots and report.md into this directory: a new or empty one, or an "
+                  "earlier bench output (its files are replaced when the new report is complete); a directory holding "
+                  "anything else is refused before the run, naming the file in the way (--out . works)");
   cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-colored, pgs-assembled, psor, jacobi, nncg)")
       ->capture_default_str();
   cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -142,8 +143,18 @@ RunFigures step_world(World& world, const WorldDef& def, WarmStarter& starter, T
   return f;
 }
 
+/// Where an interrupted run's steps go: OUT with ".interrupted" before its extension
+/// (run.h5 → run.interrupted.h5), so that a complete OUT of an earlier run stays as it was.
+std::string interrupted_name(const std::string& out) {
+  const std::filesystem::path p(out);
+  return (p.parent_path() / (p.stem().string() + ".interrupted" + p.extension().string())).string();
+}
+
 void run(const SimulateArgs& a) {
   if (!a.out.empty()) check_output_file(a.out);  // before any work: a bad --out costs nothing
+  std::optional<ProblemExporter> exporter;  // creates and checks the folder before the run
+  if (!a.export_dir.empty())
+    exporter.emplace(ProblemExportDef{a.export_dir, a.export_every, parse_problem_format(a.export_format)});
   WorldDef def = a.scene.load();
   if (a.steps >= 0) def.time.steps = a.steps;
   const auto t0 = std::chrono::steady_clock::now();
@@ -158,18 +169,17 @@ void run(const SimulateArgs& a) {
   }
   const SigintGuard stop_signals;
   const double e0 = world.kinetic_energy() + world.potential_energy();
-  std::optional<ProblemExporter> exporter;
-  if (!a.export_dir.empty())
-    exporter.emplace(ProblemExportDef{a.export_dir, a.export_every, parse_problem_format(a.export_format)});
   RunFigures f = step_world(world, def, *starter, out ? &*out : nullptr, exporter ? &*exporter : nullptr);
-  if (out) out->commit();
   if (interrupted()) {
-    std::fprintf(stderr, "deepcontact: interrupted by %s after %d of %d steps%s%s\n", interrupt_signal_name(), f.steps,
-                 def.time.steps, out ? "; the trajectory of those steps is in " : " (nothing written)",
-                 out ? a.out.c_str() : "");
+    const std::string partial = a.out.empty() ? "" : interrupted_name(a.out);
+    if (out) out->commit(partial);
+    std::fprintf(stderr, "deepcontact: interrupted by %s after %d of %d steps%s%s%s\n", interrupt_signal_name(), f.steps,
+                 def.time.steps, out ? "; the trajectory of those steps is in " : " (nothing written)", partial.c_str(),
+                 out ? (" (" + a.out + " is as it was)").c_str() : "");
     exit_status() = interrupt_exit_status();
     return;
   }
+  if (out) out->commit();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::sort(f.sweeps.begin(), f.sweeps.end());
   const double e1 = world.kinetic_energy() + world.potential_energy();
@@ -204,7 +214,8 @@ void add_simulate_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--out", args->out,
                   "Write the trajectory to this HDF5 file (streamed to OUT.tmp, renamed when complete; SIGINT/"
-                  "SIGTERM/SIGUSR1 stop at the next step and keep the steps done)");
+                  "SIGTERM/SIGUSR1 stop at the next step and keep the steps done in OUT-STEM.interrupted.h5, "
+                  "leaving OUT as it was)");
   cmd->add_option("--warmstart", args->warmstart, "Warm starter used by the solver (see `bench --list`)")
       ->capture_default_str();
   cmd->add_flag("--hash", args->hash,

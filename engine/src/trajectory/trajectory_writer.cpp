@@ -147,14 +147,16 @@ void TrajectoryWriter::flush_buffers() {
   append(f, "/solver/profile", profile_);
 }
 
-void TrajectoryWriter::commit() {
+void TrajectoryWriter::commit() { commit(path_); }
+
+void TrajectoryWriter::commit(const std::string& target) {
   if (committed_) return;
   flush_buffers();
   trajectory::write_body_tables(*file_, n_, radius_, mass_, shapes_);
   file_->close();
   file_.reset();
   sync_path(tmp_);
-  durable_rename(tmp_, path_);
+  durable_rename(tmp_, target);
   committed_ = true;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "dc/core/error.hpp"
+#include "dc/io/atomic_file.hpp"
 #include "dc/lcp/dat_file.hpp"
 #include "formats/dat_tokens.hpp"
 
@@ -167,11 +168,7 @@ void append_number(std::string& out, double v, const char* sep) {
 }
 
 void write_text(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw IoError(path + ": cannot open for writing");
-  out << text;
-  out.flush();
-  if (!out) throw IoError(path + ": write error");
+  write_file_atomically(path, text);  // PATH.tmp, fsync, rename: a failed write leaves PATH as it was
 }
 
 std::string read_whole_file(const std::string& path, const char* what) {

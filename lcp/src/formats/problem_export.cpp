@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "dc/core/error.hpp"
+#include "dc/io/output_path.hpp"
 #include "dc/lcp/fc2d_problem.hpp"
 
 namespace dc {
@@ -16,6 +17,7 @@ ProblemExporter::ProblemExporter(ProblemExportDef def) : def_(std::move(def)) {
   std::error_code ec;
   std::filesystem::create_directories(def_.dir, ec);
   if (ec) throw IoError(def_.dir + ": cannot create the export folder: " + ec.message());
+  check_output_directory(def_.dir);  // a read-only folder is refused now, not at the first export
 }
 
 std::string ProblemExporter::write(int step, const LcpProblem& problem, const Eigen::VectorXd& lambda,

@@ -39,6 +39,9 @@ class TrajectoryWriter {
   /// Writes the body tables of the latest state, flushes, closes, fsyncs and renames OUT.tmp
   /// onto OUT. IoError on failure (OUT unchanged, OUT.tmp removed).
   void commit();
+  /// The same, renaming OUT.tmp onto `target` instead of OUT (an interrupted run's steps under
+  /// a name that says so, leaving OUT as it was). `target` must be in OUT's file system.
+  void commit(const std::string& target);
 
   [[nodiscard]] int steps() const { return steps_; }
   [[nodiscard]] std::int64_t contacts() const { return contacts_; }

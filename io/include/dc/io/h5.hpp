@@ -295,4 +295,11 @@ class AtomicH5File {
 /// "infinite loop closing library" at exit).
 [[nodiscard]] std::int64_t h5_open_object_count();
 
+/// For a program's main(), before anything else touches HDF5: libhdf5 then registers no
+/// exit-time cleanup. Under a file-size limit (EFBIG) a file whose writes failed cannot be
+/// closed at all (its close must truncate it to a size past the limit), and libhdf5's own
+/// cleanup at exit crashes on the id left open; a program whose files are all closed by their
+/// owners before main returns needs no such cleanup. Returns false if HDF5 was already in use.
+bool h5_skip_exit_cleanup();
+
 }  // namespace dc

@@ -15,26 +15,34 @@ namespace dc {
 void check_output_file(const std::string& path);
 
 /// The same for an output directory (e.g. `bench --out DIR`): not empty, not an existing
-/// non-directory, and its parent is a writable directory (DIR is built under a temporary
-/// name next to it and renamed, so the parent is what must be writable). An existing DIR is
-/// fine: it is replaced only when the new one is complete (replace_directory_atomically).
+/// non-directory; an existing DIR must be a writable directory (the outputs are built inside
+/// it), a new one needs a writable parent. Whether DIR's contents may be replaced is
+/// check_owned_directory's question.
 void check_output_directory(const std::string& path);
 
-/// A fresh, empty directory next to `dir` ("DIR.tmp-XXXXXX" in DIR's parent) to build the
-/// outputs in; IoError when it cannot be created.
-std::string make_staging_directory(const std::string& dir);
+/// Says whether an entry of an output directory (a bare name, e.g. "report.md") is one that
+/// the command writes: only such entries are ever replaced or removed.
+using OwnedName = std::function<bool(const std::string& name)>;
 
-/// Moves the finished `staging` directory onto `dir`: an existing `dir` is first renamed
-/// aside ("DIR.old-XXXXXX"), then `staging` renamed onto `dir`, then the old one removed; if the
-/// second rename fails the old one is put back. A reader therefore sees the old DIR or the new
-/// one, never a mix of two runs (between the two renames there is an instant without DIR). A
-/// kill before this call leaves DIR untouched and a stale staging directory next to it.
-void replace_directory_atomically(const std::string& staging, const std::string& dir);
+/// The prefix of the staging folder inside an output directory ("DIR/partial-run-PID-N"):
+/// what a run killed before it finished leaves behind, under a name that says so.
+inline constexpr const char* kPartialRunPrefix = "partial-run-";
 
-/// A whole output directory, all or nothing: `write(staging)` fills a staging directory next to
-/// `dir` (make_staging_directory), which then replaces `dir` (replace_directory_atomically). If
-/// `write` throws, the staging directory is removed, `dir` is left as it was and the exception
-/// propagates. Call check_output_directory(dir) before the work that produces the content.
-void write_directory_atomically(const std::string& dir, const std::function<void(const std::string& staging)>& write);
+/// check_output_directory, and: an existing `dir` may hold only entries `owned` accepts (an
+/// earlier run's output) or partial-run folders. Otherwise IoError with one line naming the
+/// first entry in the way ("DIR: holds NAME, which <what> did not write; …"), so a command
+/// never deletes or replaces a file it did not write. `what` names the command.
+void check_owned_directory(const std::string& dir, const OwnedName& owned, const std::string& what);
+
+/// Writes a command's output files into `dir` (created if missing; mode 0777 less the umask,
+/// like mkdir): `write(staging)` fills a fresh folder `dir/partial-run-PID-N`; when it
+/// returns, the earlier entries of `dir` that `owned` accepts and this run did not write are
+/// removed, each new entry is renamed into `dir` (replacing its namesake), stale partial-run
+/// folders are removed and `dir` is fsynced. If `write` throws, the staging folder is removed,
+/// `dir` keeps every earlier byte (a `dir` this call created is removed again) and the
+/// exception propagates. Call check_owned_directory first, and hold `dir`'s OutputLock (a
+/// second writer's staging folder would otherwise count as stale).
+void write_into_owned_directory(const std::string& dir, const OwnedName& owned,
+                                const std::function<void(const std::string& staging)>& write);
 
 }  // namespace dc

@@ -26,7 +26,8 @@ struct ProblemExportDef {
 class ProblemExporter {
  public:
   /// Creates `def.dir`. Throws ConfigError for every < 1 or a format other than fclib and
-  /// siconos-fc, IoError when the folder cannot be created.
+  /// siconos-fc, IoError when the folder cannot be created or no file can be created in it (checked
+  /// here, before the run that exports).
   explicit ProblemExporter(ProblemExportDef def);
 
   /// True when step `step` (1-based) is to be exported.
