@@ -96,7 +96,7 @@ TEST(H5Checksum, ADamagedChunkOrStringIsAOneLineErrorNamingTheObject) {
 TEST(H5Checksum, AFileWithoutChecksumsLoadsAndItsCopyHasThemWithEqualValues) {
   test::TempDir dir;
   const std::string old = std::string(DC_SOURCE_DIR) + "/tests/io/data/trajectory-before-checksums.h5";
-  const std::string before = test::dump_h5(old);  // read unchecked, as before
+  const std::string before = test::dump_h5(old);  // read without the checksum test
   const std::string copy = dir / "copy.h5";
   copy_h5_file(old, copy);
   EXPECT_EQ(test::dump_h5(copy), before);
@@ -127,7 +127,7 @@ TEST(H5Checksum, TheShippedModelDetectsEveryFlipThatChangesAValue) {
 // damaged mappings made libhdf5 1.10.8 abort or crash in H5Dopen. A file sealed with a hash of
 // all its bytes (AtomicH5File::add_whole_file_hash, what data set manifests use) is checked
 // before libhdf5 reads it: a flip in every byte of the heap — and of the trailer's length and
-// hash — is a one-line error; h5py-style readers that ignore the trailer read it as before.
+// hash — is a one-line error; h5py-style readers that ignore the trailer read it unchanged.
 TEST(H5Checksum, ASealedFileRefusesEveryFlipOfItsVirtualDatasetMappings) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "parts");

@@ -92,7 +92,7 @@ TEST(ShuffleStream, ASplitThatFitsIsVisitedInTheFisherYatesOrderOfBefore) {
   for (std::size_t i = expected.size(); i > 1; --i) std::swap(expected[i - 1], expected[b.uniform_int(i)]);
   EXPECT_EQ(plan.order, expected);
   EXPECT_TRUE(plan.blocks_before.empty());
-  EXPECT_EQ(a.save_state(), b.save_state());  // the same draws, so the dropout masks follow as before
+  EXPECT_EQ(a.save_state(), b.save_state());  // the same draws, so the dropout masks are equal too
   EXPECT_THROW((void)plan_epoch(5, 0, 1, a), InvalidArgument);
 }
 

@@ -3,7 +3,7 @@
 // https://frictionalcontactlibrary.github.io), spacedim 2 only: /fclib_local/{spacedim, W/{m,n,
 // nz,nzmax,p,i,x}, vectors/{q,mu}}, optional /solution/{u,r} and /guesses; layout and index
 // conventions in docs/formats.md "FCLIB local problems". libfclib reads what this writer writes
-// and the other way round (tested). libfclib is not used to read because it trusts the sizes
+// and the other way round (tested). this reader does not call libfclib because it trusts the sizes
 // stored in the file and calls exit(1) on an HDF5 error; here every size is checked against the
 // datasets' shapes before reading, every index against the matrix, every value for finiteness,
 // and errors are one-line dc::IoError messages "FILE: what".
