@@ -45,6 +45,9 @@ def main():
         md = os.path.join(root, render.RESULTS_DIR, name + ".md")
         if not os.path.exists(md) or open(md).read() != render.part_markdown(record):
             problems.append(f"{os.path.relpath(md, root)}: differs from {render.JSON_PATH}")
+    index = os.path.join(root, render.RESULTS_DIR, "README.md")
+    if not os.path.exists(index) or open(index).read() != render.index_markdown(data):
+        problems.append(f"{os.path.relpath(index, root)}: differs from {render.JSON_PATH}")
     for p in problems:
         print(f"results-markers: {p}")
     print(f"results-markers: {quotes} quotes, {len(data['parts'])} parts, {len(problems)} problems")

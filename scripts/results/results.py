@@ -110,6 +110,8 @@ def write_all(root, data):
     for name, record in data["parts"].items():
         with open(os.path.join(root, render.RESULTS_DIR, name + ".md"), "w") as fh:
             fh.write(render.part_markdown(record))
+    with open(os.path.join(root, render.RESULTS_DIR, "README.md"), "w") as fh:
+        fh.write(render.index_markdown(data))
     for path in render.doc_files(root):
         text = open(path).read()
         new = render.fill_markers(text, data, os.path.relpath(path, root))
