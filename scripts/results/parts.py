@@ -10,6 +10,7 @@ import os
 import re
 import shutil
 import statistics
+import subprocess
 import time
 
 
@@ -113,6 +114,45 @@ def part_siconos(ctx):
                       "(impact steps 105, 210; deep steps 250, 500): CPU seconds of one solve (REPEAT=1), NSGS capped at "
                       "20,000 iterations, residual in each side's own measure (docs/lcp.md)."),
              "columns": ["problem", "contacts", "side", "solver", "status", "iterations", "CPU s", "residual"], "rows": rows}
+    return [block], []
+
+
+def lcp_solve(ctx, path, args):
+    """`deepcontact lcp solve FILE ARGS…`: its JSON (z, w, mu dropped), or the error line."""
+    cmd = [ctx.bin("deepcontact"), "lcp", "solve", path, *args]
+    ctx.runs.append(ctx.pretty(cmd, None))
+    r = subprocess.run(cmd, cwd=ctx.root, text=True, capture_output=True)
+    try:
+        return json.loads(r.stdout)
+    except json.JSONDecodeError:
+        lines = [ln for ln in r.stderr.splitlines() if "error" in ln]
+        return {"status": "error", "message": (lines or ["exit %d" % r.returncode])[-1]}
+
+
+def part_lcp(ctx):
+    """`lcp solve` on every Siconos 2D test file: the default route, `newton`, the proximal route."""
+    files = sorted(glob.glob(os.path.join(ctx.root, "tests", "data", "fc2d", "*.dat")))
+    routes = [("no options", []), ("`--solver newton`", ["--solver", "newton"]),
+              ("`--solver newton-sparse --proximal`", ["--solver", "newton-sparse", "--proximal"])]
+    rows = []
+    for f in files:
+        with open(f) as fh:
+            contacts = fh.read(200).split()[1]
+        row = [f"`{os.path.basename(f)}`", contacts]
+        for _, args in routes:
+            j = lcp_solve(ctx, f, args)
+            if j.get("status") in ("error", "invalid_input"):
+                row.append(f"{j['status']}: {j.get('message', '').split(' (')[0][:70]}")
+                continue
+            it = j.get("sweeps", j.get("iterations", "?"))
+            row.append(f"{j.get('solver', '?')}: {j['status']}, {it} it., residual {j['residual']:.1e}, "
+                       f"{j['solve_seconds']:.3g} s")
+        rows.append(row)
+    block = {"name": "lcp-siconos-files", "title": "`lcp solve` on Siconos' 2D test problems",
+             "note": ("Every file of tests/data/fc2d/ (Siconos numerics' 2D FrictionContactProblem test data): solver, "
+                      "status, iterations, the natural-map residual (absolute) and the CPU seconds of the solve, from the "
+                      "JSON of `deepcontact lcp solve FILE`."),
+             "columns": ["file", "contacts"] + [r[0] for r in routes], "rows": rows}
     return [block], []
 
 
@@ -247,5 +287,6 @@ def part_build(ctx):
 PARTS = {"bench": ("Default bench", part_bench),
          "solvers": ("Solver × warm start", part_solvers),
          "siconos": ("Side by side with Siconos", part_siconos),
+         "lcp": ("lcp solve on Siconos' test problems", part_lcp),
          "speed": ("Speed: kernels, step, threads, peers", part_speed),
          "build": ("Build, tests and sizes", part_build)}
