@@ -236,7 +236,7 @@ def block_peers(ctx):
             if re.search(r"run CPU|ratio|per row", line):
                 rows.append([what, f"`{prog} {' '.join(args)}`".replace(" `", "`"), line.strip()])
     return {"name": "speed-peers", "title": "Against other engines (seed scene)",
-            "note": "The comparison programs' own summary lines." + (" " + "; ".join(skipped) + "." if skipped else ""),
+            "note": "The comparison programs' own summary lines." + (" " + "; ".join(skipped) + "." if skipped and rows else ""),
             "columns": ["peer", "command", "result"], "rows": rows, "skipped": "; ".join(skipped)}
 
 
