@@ -36,7 +36,7 @@ def ci(x, spec):
 
 def part_bench(ctx):
     """The default bench (every default starter, the seed scene), on fewer seeds."""
-    seeds = "1..8" if ctx.full else "1..2"
+    seeds = "1..8" if ctx.full else "1..4"
     out = os.path.join(ctx.tmp, "bench")
     shutil.rmtree(out, ignore_errors=True)
     t0 = time.time()
@@ -54,7 +54,7 @@ def part_bench(ctx):
              "note": (f"`deepcontact bench --seeds {seeds}`: solver `{s['solver']}`, {s['sweeps']} sweeps, θ ≤ "
                       f"{s['tolerance']} N, {s['evaluated_steps']} evaluated steps, medians over steps with bootstrap 95 % "
                       "intervals; `*` = oracle starter (reads this step's solution; its cost is not in total)."
-                      + ("" if ctx.full else " Seeds 1..2 instead of the default 1..8 (time budget): intervals are wider.")),
+                      + ("" if ctx.full else " Seeds 1..4 instead of the default 1..8 (time budget): intervals are wider.")),
              "columns": ["warm starter", "sweeps to tol (median)", "never", "warm start ms", "solve ms", "total ms (median)",
                          "total / zero"], "rows": rows}
     files = sorted(os.listdir(out))
@@ -76,7 +76,7 @@ def load_table_module(ctx):
 
 def part_solvers(ctx):
     """Solver × warm start per scene family (research/scripts/solver-comparison.sh), STEPS per seed."""
-    steps = "10" if ctx.full else "2"
+    steps = "10" if ctx.full else "6"
     out = os.path.join(ctx.tmp, "solvers")
     shutil.rmtree(out, ignore_errors=True)
     ctx.run([os.path.join("research", "scripts", "solver-comparison.sh"), ctx.build, out],
@@ -90,7 +90,7 @@ def part_solvers(ctx):
              "note": (f"Paired bench with `--solvers pgs,nncg,newton-sparse --accuracy 1e-6`: reached R = share of steps whose "
                       "natural-map residual reaches 1e-6 · max_i m_i |g| within 10,000 iterations; total = warm start + solve "
                       "to θ ≤ 1e-2 N; medians with bootstrap 95 % intervals. "
-                      f"{steps} evaluated steps per seed" + ("" if ctx.full else " (STEPS=2 instead of 10: time budget)")
+                      f"{steps} evaluated steps per seed" + ("" if ctx.full else " (STEPS=6 instead of 10: time budget)")
                       + ". Runs: " + "; ".join(notes) + "."),
              "columns": cols, "rows": rows}
     return [block], []
@@ -214,7 +214,7 @@ def block_step(ctx):
 
 
 def block_threads(ctx):
-    reps = "5" if ctx.full else "3"
+    reps = "5"
     runs = gbench(ctx, "micro_pgs", "PgsColoredThreads/bodies:10000/sweeps:(100|1)/threads:(1|2)/assembled:0",
                   [f"--benchmark_repetitions={reps}"])
     key = lambda n: tuple(int(x) for x in re.search(r"sweeps:(\d+)/threads:(\d+)", n).groups())
