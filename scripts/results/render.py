@@ -28,11 +28,18 @@ def table(block):
     return "\n".join(out)
 
 
+def sizes(stamp):
+    """Whether the part ran the documented sizes (FULL=1) or the shortened ones."""
+    if "FULL=1" in stamp["command"]:
+        return "documented sizes"
+    return "shortened sizes for the time budget (each block's note says how; FULL=1 runs the documented ones)"
+
+
 def stamp_line(stamp):
-    """One line of provenance: commit, CPU, cores, load, date, command."""
+    """One line of provenance: commit, CPU, cores, load, date, command, sizes."""
     return (f"commit `{stamp['commit']}`, {stamp['cpu']}, {stamp['cores']} cores, load average "
             f"{stamp['load_before']} → {stamp['load_after']}, {stamp['date']}, {stamp['wall_seconds']} s; "
-            f"`{stamp['command']}`")
+            f"`{stamp['command']}`, {'documented' if 'FULL=1' in stamp['command'] else 'shortened'} sizes")
 
 
 def part_markdown(record):
@@ -43,8 +50,7 @@ def part_markdown(record):
              f"- commit: `{s['commit']}`", f"- CPU: {s['cpu']}, {s['cores']} cores",
              f"- load average (1, 5, 15 min): before {s['load_before']}, after {s['load_after']}",
              f"- date: {s['date']}", f"- wall time: {s['wall_seconds']} s", f"- command: `{s['command']}`"]
-    if s.get("sizes"):
-        lines.append(f"- sizes: {s['sizes']}")
+    lines.append(f"- sizes: {sizes(s)}")
     lines.append("- runs:")
     lines += [f"  - `{c}`" for c in s["runs"]]
     for note in record.get("notes", []):
