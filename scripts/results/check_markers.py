@@ -13,6 +13,7 @@ Checks agreement only, never the timings themselves. Runs nothing; standard libr
 """
 import json
 import os
+import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -31,6 +32,9 @@ def main():
     for doc in render.doc_files(root):
         rel = os.path.relpath(doc, root)
         text = open(doc).read()
+        opened = len(re.findall(r"<!-- results:[a-z0-9-]+ -->", text))
+        if opened != len(render.MARKER.findall(text)):
+            problems.append(f"{rel}: a `<!-- results:NAME -->` marker without its own line or its `<!-- /results -->`")
         for m in render.MARKER.finditer(text):
             quotes += 1
             line = text[:m.start()].count("\n") + 1
