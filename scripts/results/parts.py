@@ -276,7 +276,9 @@ def part_build(ctx):
         try:
             ctx.run(cmd, env=env, capture=False)
         except subprocess.CalledProcessError as e:  # a failing test still gives the times; the stamp says so
-            failed.append(f"{label} exited with {e.returncode}")
+            log = os.path.join(d, "Testing", "Temporary", "LastTestsFailed.log")
+            names = [ln.split(":", 1)[-1].strip() for ln in open(log)] if os.path.exists(log) else []
+            failed.append(f"{label} exited with {e.returncode}" + (f" (failed: {', '.join(names)})" if names else ""))
             if label != "ctest":
                 raise
         times[label] = time.time() - t0
