@@ -74,7 +74,7 @@ def cpu_model():
     return platform.processor() or "unknown CPU"
 
 
-def commit(root, build):
+def commit(root, build, binaries=True):
     """The tree's commit (with `-dirty` when tracked files differ) and the binaries' when they differ."""
     git = lambda *a: subprocess.run(["git", *a], cwd=root, text=True, capture_output=True).stdout.strip()
     head = git("rev-parse", "--short=12", "HEAD")
@@ -85,7 +85,7 @@ def commit(root, build):
         binary = version.split("commit ")[1].split(")")[0] if "commit " in version else ""
     except OSError:
         binary = ""
-    if binary and not head.startswith(binary) and not binary.startswith(head):
+    if binaries and binary and not head.startswith(binary) and not binary.startswith(head):
         return f"{head}{dirty} (binaries {binary})"
     return head + dirty
 
@@ -95,7 +95,8 @@ def run_part(ctx, name, argv):
     ctx.runs = []
     load_before, t0 = load_average(), time.time()
     blocks, notes = fn(ctx)
-    stamp = {"commit": commit(ctx.root, ctx.build), "cpu": cpu_model(), "cores": ctx.cores, "load_before": load_before,
+    stamp = {"commit": commit(ctx.root, ctx.build, binaries=name != "build"), "cpu": cpu_model(), "cores": ctx.cores,
+             "load_before": load_before,
              "load_after": load_average(), "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
              "wall_seconds": round(time.time() - t0), "command": f"make results PART={name}" + (" FULL=1" if ctx.full else ""),
              "runs": ctx.runs}
