@@ -45,8 +45,9 @@ class Context:
         return os.path.join(self.build, "bin", name)
 
     def pretty(self, cmd, env):
-        words = [os.path.relpath(w, self.root) if os.path.isabs(w) and w.startswith(self.root) else w for w in cmd]
-        prefix = " ".join(f"{k}={v}" for k, v in (env or {}).items())
+        rel = lambda w: os.path.relpath(w, self.root) if os.path.isabs(w) and w.startswith(self.root) else w
+        words = [rel(w) for w in cmd]
+        prefix = " ".join(f"{k}={rel(v)}" for k, v in (env or {}).items())
         return (prefix + " " if prefix else "") + shlex.join(words)
 
     def run(self, cmd, env=None, capture=True):
