@@ -3,11 +3,11 @@
 //
 //   build/bin/box2d3_compare [--n 100,1000,10000] [--steps 600] [--rounds 3]
 //                            [--ours pgs-colored:16,pgs-colored:32,pgs:16,pgs:32]
-//                            [--v3 4:30,8:100] [--stack-steps 600] [--skip-pile] [--skip-stack]
+//                            [--v3 4:30,8:100] [--stack-steps 600] [--pyramid BASE] [--skip-pile] [--skip-stack]
 //
 // Scenes: the seed pile scaled to n circles at the seed's density (box side 30·√(n/100) m,
 // σ = 4.65·√(n/100) m, r = 1, μ = 0.5, e = 0, Δt = 0.01 s), and the 20-box stack of the stress
-// scenes (1 × 1 m boxes on the floor). Both engines get the bodies of our World (position,
+// scenes (1 × 1 m boxes on the floor), and with --pyramid BASE the stress scenes' box pyramid. Both engines get the bodies of our World (position,
 // angle, velocity, shape, density), the walls, gravity, μ and e; Box2D v3 keeps its own contact
 // model (soft step, sub-steps, relaxation, restitution) with sleeping off and one worker.
 // A v3 configuration is SUBSTEPS:HERTZ (b2World_Step's sub-step count, b2WorldDef::contactHertz;
@@ -340,7 +340,7 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
 
 int main(int argc, char** argv) {
   std::string ns = "100,1000,10000", ours = "pgs-colored:16,pgs-colored:32,pgs:16,pgs:32", v3 = "4:30,8:100";
-  int steps = 600, rounds = 3, stack_steps = 600;
+  int steps = 600, rounds = 3, stack_steps = 600, pyramid = 0;
   bool skip_pile = false, skip_stack = false;
   CLI::App app{"Box2D v3 vs DeepContact: the scaled seed pile and a 20-box stack, ms per step and quality"};
   app.add_option("--n", ns, "Body counts of the scaled seed pile, comma-separated (default 100,1000,10000)");
@@ -349,6 +349,8 @@ int main(int argc, char** argv) {
   app.add_option("--ours", ours, "Our configurations SOLVER:SWEEPS, comma-separated");
   app.add_option("--v3", v3, "Box2D v3 configurations SUBSTEPS:CONTACT_HERTZ, comma-separated (v3 defaults: 4:30)");
   app.add_option("--stack-steps", stack_steps, "Steps of the 20-box stack run (default 600)")->check(CLI::PositiveNumber);
+  app.add_option("--pyramid", pyramid, "Also run the box pyramid of this base (0 = not; --stack-steps steps)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--skip-pile", skip_pile, "Do not run the piles");
   app.add_flag("--skip-stack", skip_stack, "Do not run the box stack");
   CLI11_PARSE(app, argc, argv);
@@ -362,6 +364,9 @@ int main(int argc, char** argv) {
       dc::WorldDef d = dc::stress::box_stack(20, {1.0, 1.0});
       compare("20-box stack", d, configs, stack_steps, 1, true);
     }
+    if (pyramid > 0)
+      compare("box pyramid, base " + std::to_string(pyramid), dc::stress::box_pyramid(pyramid), configs, stack_steps, 1,
+              true);
     if (!skip_pile) {
       std::stringstream ss(ns);
       std::string item;
