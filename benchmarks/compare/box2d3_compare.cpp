@@ -21,7 +21,8 @@
 //    b2Profile::step (wall-clock timers whose ratio survives preemption better than their
 //    values) ÷ (2 rows per touching point × sub-steps × 2 passes); ours: solver CPU ÷ (rows ×
 //    sweeps) including the solver's per-solve set-up, and the marginal sweep cost from a
-//    SOLVER:16 and SOLVER:32 pair ((solver ms/step at 32 − at 16) ÷ (rows × 16));
+//    SOLVER:16 and SOLVER:32 pair ((solver ms/step at 32 − at 16) ÷ (rows × 16)), and from it the
+//    solver's per-solve set-up (solver ms/step at 16 − 16 sweeps at the marginal cost);
 //  * overlap: the largest overlap between touching bodies at the end of the run, by one
 //    geometric check for both engines (dc::stress::max_overlap on the final positions);
 //  * stack drift: the largest horizontal displacement of a box of the stack from its start.
@@ -306,13 +307,14 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
   std::printf("\n## %s: %zu bodies, %d steps of %g s, %d rounds (load %s)\n", title.c_str(), initial.bodies().size(),
               steps, def.time.dt, rounds, loadavg().c_str());
   std::printf("| configuration | ms/step (median) | min–max | rows/step | ns/row·pass | marginal ns/row·sweep | "
-              "overlap mm | %s |\n|---|---:|---:|---:|---:|---:|---:|---:|\n", stack ? "drift mm" : "ms/step ÷ v3 first");
+              "solver set-up ms/step | overlap mm | %s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+              stack ? "drift mm" : "ms/step ÷ first");
   const double ref = configs.empty() ? 0 : median(ms[0]);
   for (size_t i = 0; i < configs.size(); ++i) {
     const Config& c = configs[i];
     const Run& r = last[i];
     const double med = median(ms[i]);
-    double per_pass = 0, marginal = NAN;
+    double per_pass = 0, marginal = NAN, setup = NAN;
     if (c.v3) {
       per_pass = 1e6 * med * r.pass_share / std::max(1.0, r.rows_per_step * c.substeps * 2);
     } else {
@@ -322,15 +324,17 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
           const double a = last[i].solver_cpu_s / steps, b = last[j].solver_cpu_s / steps;
           const double rows = 0.5 * (last[i].rows_per_step + last[j].rows_per_step);
           marginal = 1e9 * (b - a) / std::max(1.0, rows * c.sweeps);
+          setup = 1e3 * (a - (b - a));
         }
     }
-    char last_col[32], marginal_col[32] = "–";
+    char last_col[32], marginal_col[32] = "–", setup_col[32] = "–";
     if (!std::isnan(marginal)) std::snprintf(marginal_col, sizeof marginal_col, "%.2f", marginal);
+    if (!std::isnan(setup)) std::snprintf(setup_col, sizeof setup_col, "%.3f", setup);
     if (stack) std::snprintf(last_col, sizeof last_col, "%.2f", 1e3 * r.drift);
     else std::snprintf(last_col, sizeof last_col, "%.2f", ref > 0 ? med / ref : 0.0);
-    std::printf("| %s | %.4f | %.4f–%.4f | %.0f | %.2f | %s | %.2f | %s |\n", c.label().c_str(), med,
+    std::printf("| %s | %.4f | %.4f–%.4f | %.0f | %.2f | %s | %s | %.2f | %s |\n", c.label().c_str(), med,
                 *std::min_element(ms[i].begin(), ms[i].end()), *std::max_element(ms[i].begin(), ms[i].end()),
-                r.rows_per_step, per_pass, marginal_col,
+                r.rows_per_step, per_pass, marginal_col, setup_col,
                 1e3 * r.overlap, last_col);
   }
   std::fflush(stdout);
