@@ -276,7 +276,8 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     int& b = pairs ? np : nb;
     out.batch_of[static_cast<size_t>(k)] = b;
     if (count_k > 0) out.ranges.push_back({b, b + count_k, overflow, pairs});
-    (pairs ? out.slot_of_pair : out.slot_of_batch).insert((pairs ? out.slot_of_pair : out.slot_of_batch).end(), count_k, k);
+    std::vector<int>& batch_slots = pairs ? out.slot_of_pair : out.slot_of_batch;
+    batch_slots.insert(batch_slots.end(), count_k, k);
     b += count_k;
   }
   out.batches.resize(static_cast<size_t>(nb));  // reused storage: every lane is written by the fill
