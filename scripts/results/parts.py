@@ -232,10 +232,44 @@ def block_threads(ctx):
             "columns": ["threads", "solve of 100 sweeps ms", "solve of 1 sweep ms", "per sweep µs"], "rows": rows}
 
 
+def box2d3_rows(out):
+    """Rows [scene, configuration, ms/step, ns/row·pass, last column] of box2d3_compare's Markdown tables."""
+    rows, scene, cols = [], "", []
+    for line in out.splitlines():
+        if line.startswith("## "):
+            scene, cols = line[3:].split(" (load")[0], []
+        elif line.startswith("|") and not line.startswith("|---"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if not cols:
+                cols = cells
+                continue
+            cell = dict(zip(cols, cells))
+            rows.append([scene, cell.get("configuration", "?"), cell.get("ms/step (median)", "?"),
+                         cell.get("ns/row·pass", "?"), f"{cols[-1]}: {cells[-1]}"])
+    return rows
+
+
+def block_peers_v3(ctx):
+    """Box2D v3 built from source (-DBOX2D3_DIR): benchmarks/compare/box2d3_compare, shortened sizes."""
+    block = {"name": "speed-peers-v3", "title": "Against Box2D v3", "columns": [], "rows": [], "note": "",
+             "skipped": "box2d3_compare not built (configure with -DBOX2D3_DIR=<Box2D v3 sources>)"}
+    if not os.path.exists(ctx.bin("box2d3_compare")):
+        print(f"results: speed: {block['skipped']}: skipped")
+        return block
+    args = [] if ctx.full else ["--n", "1000", "--rounds", "1", "--pyramid", "20"]
+    rows = box2d3_rows(ctx.run([ctx.bin("box2d3_compare"), *args]))
+    block.update({"rows": rows, "skipped": "" if rows else "box2d3_compare printed no table",
+                  "note": (f"`box2d3_compare {' '.join(args)}`: CPU ms per step (median), ns per row and solver pass, "
+                           "and the program's last column (the stack's drift, or the time relative to the first "
+                           "configuration); benchmarks/compare/README.md explains the configurations."
+                           + ("" if ctx.full else " One round, 1,000 bodies (time budget).")),
+                  "columns": ["scene", "configuration", "ms/step", "ns/row·pass", "last column"]})
+    return block
+
+
 def block_peers(ctx):
     rows, skipped = [], []
-    for prog, args, what in [("box2d_compare", ["--solver", "pgs"], "Box2D 2.4.1"),
-                             ("box2d3_compare", [], "Box2D v3")]:
+    for prog, args, what in [("box2d_compare", ["--solver", "pgs"], "Box2D 2.4.1")]:
         if not os.path.exists(ctx.bin(prog)):
             msg = f"{prog} not built ({what} not installed): skipped"
             print(f"results: speed: {msg}")
@@ -245,7 +279,7 @@ def block_peers(ctx):
         for line in out.splitlines():
             if re.search(r"run CPU|ratio|per row", line):
                 rows.append([what, f"`{prog} {' '.join(args)}`".replace(" `", "`"), line.strip()])
-    return {"name": "speed-peers", "title": "Against other engines (seed scene)",
+    return {"name": "speed-peers", "title": "Against Box2D 2.4.1 (seed scene)",
             "note": "The comparison programs' own summary lines." + (" " + "; ".join(skipped) + "." if skipped and rows else ""),
             "columns": ["peer", "command", "result"], "rows": rows, "skipped": "; ".join(skipped)}
 
@@ -255,7 +289,8 @@ def part_speed(ctx):
     env_before = os.environ.get("OMP_WAIT_POLICY")
     os.environ["OMP_WAIT_POLICY"] = "active"
     try:
-        return [block_kernels(ctx), block_cnn(ctx), block_step(ctx), block_threads(ctx), block_peers(ctx)], []
+        return [block_kernels(ctx), block_cnn(ctx), block_step(ctx), block_threads(ctx), block_peers(ctx),
+                block_peers_v3(ctx)], []
     finally:
         if env_before is None:
             del os.environ["OMP_WAIT_POLICY"]

@@ -10,6 +10,7 @@
 #include "dc/core/error.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
+#include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
 #include "lcp/solver_test_problems.hpp"
 #include "solvers/pgs_colored/contact_coloring.hpp"
@@ -43,6 +44,19 @@ LcpProblem pile_problem(int bodies, int steps) {
   SolverOptions o = sweeps(100);
   o.record_theta = false;
   for (int k = 0; k < steps; ++k) world.step(*pgs, o);
+  world.collide();
+  return world.assemble();
+}
+
+/// A box pyramid (base `base`, two-point manifolds on every face) after `steps` steps of pgs.
+LcpProblem pyramid_problem(int base, int steps, double mu = 0.5) {
+  WorldDef def = stress::box_pyramid(base);
+  def.contact.friction = mu;
+  World world(def);
+  const auto pgs = make_solver("pgs");
+  SolverOptions o = sweeps(100);
+  o.record_theta = false;
+  for (int k = 0; k < steps; ++k) world.step(*pgs, o, World::WarmStart::PreviousLambda);
   world.collide();
   return world.assemble();
 }
@@ -163,6 +177,56 @@ TEST(PgsColored, PileKernelsThreadsBitEqual) {
   for (const PgsColoredDef& d : kernel_defs())
     expect_bit_equal(s, make_pgs_colored(d)->solve(p, Eigen::VectorXd(), sweeps(40)), to_string(d.kernel));
   expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, Eigen::VectorXd(), sweeps(40)), "2 threads");
+}
+
+TEST(PgsColored, ManifoldKernelsThreadsBitEqual) {
+  // A pyramid of base 12: 78 boxes, most faces two-point manifolds, several pair batches per
+  // colour (full and partial lane groups), friction and frictionless.
+  for (double mu : {0.5, 0.0}) {
+    const LcpProblem p = pyramid_problem(12, 20, mu);
+    PgsColoredDef threaded;
+    threaded.threads = 2;
+    threaded.min_batches_per_thread = 1;
+    Eigen::VectorXd l0 = Eigen::VectorXd::Zero(p.rows());
+    for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
+    for (int k : {1, 5, 40}) {
+      const SolveResult s = make_pgs_colored()->solve(p, l0, sweeps(k));
+      ASSERT_EQ(s.status, SolveStatus::SweepLimit) << s.message;
+      for (const PgsColoredDef& d : kernel_defs())
+        expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
+      expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
+    }
+  }
+}
+
+TEST(PgsColored, ManifoldsReachTheFixedPointOfPgs) {
+  // Frictionless: the LCP is a convex QP, which both Gauss–Seidel orders solve.
+  const LcpProblem p = pyramid_problem(8, 30, 0.0);
+  const SolveResult a = make_solver("pgs")->solve(p, Eigen::VectorXd(), sweeps(20000, 1e-10));
+  const SolveResult c = make_solver("pgs-colored")->solve(p, Eigen::VectorXd(), sweeps(20000, 1e-10));
+  EXPECT_TRUE(c.message.empty()) << c.message;  // no fallback to pgs
+  EXPECT_LE(a.residual, 1e-6);
+  EXPECT_LE(c.residual, 1e-6);
+  const Eigen::VectorXd ua = p.inv_mass.asDiagonal() * (p.J.transpose() * a.lambda) * p.dt;
+  const Eigen::VectorXd uc = p.inv_mass.asDiagonal() * (p.J.transpose() * c.lambda) * p.dt;
+  EXPECT_LE(max_abs(ua - uc), 1e-6);
+}
+
+TEST(PgsColored, TwentyBoxStackStandsAsWithPgs) {
+  // The two-point manifold block in the colour kernels: 100 sweeps with the builtin warm start
+  // keep the 20-box stack straight for 10 s, as they do for pgs (ShapePhysics test).
+  World w(stress::box_stack(20, {1.0, 1.0}));
+  const std::vector<Vec2> start = w.bodies().position;
+  const auto solver = make_solver("pgs-colored");
+  SolverOptions o = sweeps(100, 1e-9);
+  o.record_theta = false;
+  double drift = 0;
+  for (int s = 0; s < 1000; ++s) {
+    w.step(*solver, o, World::WarmStart::PreviousLambda);
+    for (size_t k = 0; k < start.size(); ++k) drift = std::max(drift, std::abs(w.bodies().position[k].x - start[k].x));
+  }
+  EXPECT_LT(drift, 0.01);  // 1 % of the width
+  EXPECT_NEAR(w.bodies().position[19].y, start[19].y, 0.1);
 }
 
 TEST(PgsColored, ReusedBuffersGiveTheResultOfAFreshSolver) {

@@ -15,13 +15,16 @@
 //     H = M/Δt + Jᵀ D J (D_ii = 1/δ on the quadratic pieces), 3 unknowns per body, CHOLMOD with
 //     the analysis kept while the pattern holds, and an exact line search on the piecewise
 //     quadratic cost; λ_i = clamp(−y_i/δ, lo_i, hi_i);
-//   * in the dual form otherwise (problems from files): projected Newton on A + δI (the free
-//     block factorised by newton-sparse's FreeBlockFactor) with the QP energy as merit.
+//   * in the dual form otherwise (problems from files): the box LCP w = (A + δI)λ + c with the
+//     frozen bounds by newton-sparse's semismooth Newton (no friction coupling: one CHOLMOD
+//     factorisation per iteration, the analysis kept across passes).
 // Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
-// the hard problem finish the solve; when the outer passes run out or stall, nncg from the best
-// iterate is the safeguard. SolveResult::message names the part that finished ("prox", "newton-sparse
-// finish" or "nncg safeguard") and the counts; `sweeps` counts Newton iterations (inner and finish;
-// the safeguard's sweeps are in the message).
+// the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
+// above the target, the proximal-point route from the best iterate (`proximal_finish`), then nncg
+// as the safeguard. SolveResult::message names the part that finished ("prox", "newton-sparse
+// finish", "proximal newton-sparse finish" or "nncg safeguard") and the counts; `sweeps` counts
+// Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
+// `factorizations` counts the passes' and the short finish's, not the proximal finish's.
 //
 // Status: Converged only when the natural residual of the HARD problem at the returned λ is
 // ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞)); SweepLimit when
@@ -29,6 +32,7 @@
 #include <memory>
 
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/proximal_point.hpp"
 
 namespace dc {
 
@@ -56,15 +60,31 @@ struct ProxNewtonDef {
   /// Solve the subproblem in body space when the problem has J (default true; false = dual
   /// form always).
   bool body_space = true;
-  /// Passes without a new best hard residual before the outer loop stops (default 8).
-  int max_stalls = 8;
+  /// Passes without a new best hard residual before the outer loop stops (default 2): the
+  /// frozen-bound (Tresca) fixed point converges linearly at best, and once it stops
+  /// improving the proximal finish takes over.
+  int max_stalls = 2;
+  /// After the passes, when the target is not reached: the proximal-point route
+  /// (solve_proximal_point: newton-sparse on A + δI around λ_k, bounds moving with λ_n) from the
+  /// best iterate (default true). Its iterations count in the budget and in `finish_newton`.
+  bool proximal_finish = true;
+  /// Settings of that route: its defaults except δ_0 = 1e-6·max A_ii and newton-sparse's own
+  /// inexact GMRES forcing (krylov_forcing = 1e-2): it starts near the solution, where inexact
+  /// directions cost fewer GMRES iterations and the proximal outer loop absorbs their error.
+  ProximalPointDef finish_route = [] {
+    ProximalPointDef d;
+    d.initial_shift = 1e-6;
+    d.newton_sparse.krylov_forcing = 1e-2;
+    return d;
+  }();
 };
 
 /// Work of one solve.
 struct ProxNewtonStats {
   int outer = 0;            ///< outer passes
   int newton = 0;           ///< Newton iterations in subproblems
-  int finish_newton = 0;    ///< newton-sparse iterations of the finish
+  int finish_newton = 0;    ///< newton-sparse iterations of the finishes (both kinds)
+  int proximal_finish_newton = 0;  ///< of those, in the proximal-point finish
   int safeguard_sweeps = 0; ///< nncg sweeps of the safeguard
   int factorizations = 0;   ///< numeric factorisations (subproblems and finish)
   int analyses = 0;         ///< symbolic analyses

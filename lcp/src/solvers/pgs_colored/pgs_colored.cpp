@@ -1,9 +1,10 @@
 // "pgs-colored": colour-ordered matrix-free PGS, 8 contacts per lane group
 // (dc/lcp/pgs_colored.hpp), after Box2D v3's graph-coloured solver, in double precision
-// with "pgs"'s row form (J_i / A_ii pre-scaled, the same FMAs and tree sums). This file: the
-// set-up (input checks, colouring, packing into batches) and the sweep driver; the kernels
-// are pgs_colored_{scalar,avx2,avx512}.cpp, the layout is pgs_colored_batch.hpp. λ lives in a
-// permuted vector during the sweeps (per batch 8 λ_n, then 8 λ_t) and is mapped back at
+// with "pgs"'s row form (J_i / A_ii pre-scaled, the same FMAs and tree sums) and its two-point
+// manifold block. This file: the input checks, the packing run and the sweep driver; the
+// set-up (colouring, manifold pairs, batches) is pgs_colored_layout.cpp, the kernels are
+// pgs_colored_{scalar,avx2,avx512}.cpp, the batch layout is pgs_colored_batch.hpp. λ lives in a
+// permuted vector during the sweeps (pgs_colored_layout.hpp) and is mapped back at
 // checkpoints and at the end. With threads each batch is written by one thread from its own
 // inputs, so the result depends neither on the thread count nor on the schedule. A sweep does
 // nothing but the kernel: λ^{k−1} and λ^k live in two buffers (run_sweeps_double_buffered)
@@ -27,6 +28,7 @@
 #include "solvers/pgs_colored/contact_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
+#include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
@@ -36,252 +38,13 @@ namespace {
 
 using colored::Batch;
 using colored::kStride;
+using colored::Prepared;
+using colored::Range;
 using colored::W;
 using solvers::finish;
 using solvers::settle_status;
 using solvers::StopRule;
 
-/// Batches [begin, end) of one colour (independent: may run in any order or in parallel),
-/// or of the overflow set (serial = true: one contact per batch, in order).
-struct Range {
-  int begin, end;
-  bool serial;
-};
-
-/// The packed problem and the solve's buffers; kept by the solver between solves.
-struct Prepared {
-  std::vector<Batch> batches;
-  std::vector<Range> ranges;
-  std::vector<int> row_of;    // permuted slot → LCP row (−1: padding or no tangent row)
-  std::vector<int> order;     // contact of each lane, colour after colour
-  std::vector<int> start;     // first lane of each colour (overflow last)
-  std::vector<int> batch_of;  // first batch of each colour
-  std::vector<std::uint8_t> dynamic;
-  std::vector<int> failed;    // per batch: its first contact that cannot be packed, or −1
-  std::vector<double, Eigen::aligned_allocator<double>> du;
-  Eigen::VectorXd jt;    // Jᵀλ (scratch of the products, pgs_colored_products.hpp)
-  int body_entries = 0;  // kStride·bodies; the zero body follows
-  std::uint64_t generation = 0;  // the colouring (ContactColoring::generation) laid out; 0: none
-};
-
-/// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
-/// lane `lane` of j/mj, unscaled: j = J_i, mj = M⁻¹ J_iᵀ Δt, b = b_i, diag = A_ii (summed in slot
-/// order as "pgs"'s pack_row); scale_rows divides by A_ii afterwards, 8 lanes at once. False
-/// when the row acts on another body.
-bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
-              int lane) {
-  double r[6] = {0, 0, 0, 0, 0, 0};
-  // The usual storage (what the engine assembles): the columns a, a+1, a+2 (, bb, bb+1, bb+2)
-  // once each, in order; then each r_s is 0 + J_is, as the general loop below sums it (−0 → +0).
-  const double* value = p.J.valuePtr();
-  const int q0 = p.J.outerIndexPtr()[i];
-  const int n = (p.J.isCompressed() ? p.J.outerIndexPtr()[i + 1] : q0 + p.J.innerNonZeroPtr()[i]) - q0;
-  const int* col = p.J.innerIndexPtr() + q0;
-  if (n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
-      (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2))) {
-    for (int s = 0; s < n; ++s) r[s] = 0.0 + value[q0 + s];
-  } else {
-    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
-      const int c = static_cast<int>(it.col());
-      if (c >= a && c < a + 3) {
-        r[c - a] += it.value();
-      } else if (bb >= 0 && c >= bb && c < bb + 3) {
-        r[3 + c - bb] += it.value();
-      } else {
-        return false;
-      }
-    }
-  }
-  const double* im = p.inv_mass.data();
-  double d = 0.0;
-  for (int s = 0; s < 6; ++s) {
-    const int off = s < 3 ? a : bb;
-    const double m = off < 0 ? 0.0 : r[s] * im[off + s % 3] * p.dt;
-    if (off >= 0) d += r[s] * m;
-    j[s][lane] = r[s];
-    mj[s][lane] = m;
-  }
-  b[lane] = p.b[i];
-  diag[lane] = d;
-  return true;
-}
-
-/// j ← j/A_ii and b ← b/A_ii on all lanes (padding lanes: A_ii = 1, zero rows); false when a
-/// lane's A_ii is not > 0 or 1/A_ii is not finite. The same products as a lane-by-lane scaling.
-bool scale_rows(double (*j)[W], double* b, const double* diag) {
-  double inv[W];
-  bool ok = true;
-  for (int lane = 0; lane < W; ++lane) {
-    inv[lane] = 1.0 / diag[lane];
-    ok &= diag[lane] > 0 && std::isfinite(inv[lane]);
-  }
-  for (int s = 0; s < 6; ++s)
-    for (int lane = 0; lane < W; ++lane) j[s][lane] *= inv[lane];
-  for (int lane = 0; lane < W; ++lane) b[lane] *= inv[lane];
-  return ok;
-}
-
-/// Packs contact c into lane `lane` of B (rows unscaled, see pack_row); false when one of its
-/// rows acts on another body.
-bool pack_contact(const LcpProblem& p, const std::vector<std::uint8_t>& dynamic, int zero, int c, Batch& B, int lane,
-                  int* row_of, double* diag_n, double* diag_t) {
-  const ContactConstraint& k = p.constraints[c];
-  const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
-  const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
-  const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;  // columns of J
-  if (!pack_row(p, k.normal_row, a, bb, B.jn, B.mjn, B.bn, diag_n, lane)) return false;
-  if (k.has_friction()) {
-    if (!pack_row(p, k.tangent_row, a, bb, B.jt, B.mjt, B.bt, diag_t, lane)) return false;
-    B.mu[lane] = k.mu;
-  } else {
-    for (int s = 0; s < 6; ++s) B.jt[s][lane] = B.mjt[s][lane] = 0.0;
-    B.bt[lane] = B.mu[lane] = 0.0;
-    diag_t[lane] = 1.0;
-  }
-  const bool da = dynamic[static_cast<size_t>(first)] != 0;
-  const bool db = second >= 0 && dynamic[static_cast<size_t>(second)] != 0;
-  B.la[lane] = da ? kStride * first : zero;
-  B.lb[lane] = db ? kStride * second : zero;
-  B.ka[lane] = da ? 1 : 0;
-  B.kb[lane] = db ? 1 : 0;
-  row_of[lane] = k.normal_row;
-  row_of[W + lane] = k.tangent_row;
-  return true;
-}
-
-/// Zero coefficients, the zero body and no stores for lanes [from, W) of B (padding).
-void pad(Batch& B, int from, int zero, int* row_of) {
-  for (int lane = from; lane < W; ++lane) {
-    for (int s = 0; s < 6; ++s) B.jn[s][lane] = B.mjn[s][lane] = B.jt[s][lane] = B.mjt[s][lane] = 0.0;
-    B.bn[lane] = B.bt[lane] = B.mu[lane] = 0.0;
-    B.la[lane] = B.lb[lane] = zero;
-    B.ka[lane] = B.kb[lane] = 0;
-    row_of[lane] = row_of[W + lane] = -1;
-  }
-}
-
-/// Orders the contacts by colour and lays out the batches (O(contacts), the colouring and the
-/// counting sort on `threads` threads; the same layout for every thread count). Returns an
-/// error (the reason "pgs" runs instead) when a normal row has bounds other than [0, ∞).
-std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out) {
-  const ContactConstraints& cons = p.constraints;
-  if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
-  const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
-  out.body_entries = kStride * bodies;
-  out.dynamic.assign(static_cast<size_t>(bodies), 0);
-  const int ncols = static_cast<int>(p.inv_mass.size());
-  for (int c = 0; c < ncols; ++c)
-    if (p.inv_mass[c] != 0.0) out.dynamic[static_cast<size_t>(c / 3)] = 1;
-  for (int c = 0; c < cons.size(); ++c) {
-    const int i = cons[c].normal_row;
-    if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
-      return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
-  }
-  const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
-  if (col.repeated && col.generation == out.generation) {
-    // The colours of the layout in `out` (same contacts, same order): order, ranges and sizes
-    // stand; the batches are refilled from this problem's J, b and λ⁰ (fill_batch).
-    out.failed.assign(out.batches.size(), -1);
-    return {};
-  }
-  out.generation = col.generation;
-  // Contacts per colour (counting sort, contact order kept inside a colour), overflow last. With
-  // threads: each thread counts and places one contiguous block of contacts, at offsets that
-  // put the blocks of a colour in block order: the stable order, whatever the thread count.
-  const int nc = cons.size(), ncol = col.colors;
-  const int slots = ncol + 1;
-  auto slot_of = [&](int colour) { return colour == ContactColoring::kOverflow ? ncol : colour; };
-  const int parts = std::max(1, std::min(threads, nc / 4096));
-  std::vector<int> count(static_cast<size_t>(parts) * slots, 0);  // count[part·slots + slot]
-  std::vector<int>& start = out.start;
-  start.assign(static_cast<size_t>(ncol) + 2, 0);
-  out.order.resize(static_cast<size_t>(nc));
-  out.batch_of.assign(static_cast<size_t>(ncol) + 2, 0);
-  const int* colour_of = col.color.data();
-#pragma omp parallel num_threads(parts) if (parts > 1)
-  {
-#if defined(_OPENMP)
-    const int part = omp_get_thread_num();
-#else
-    const int part = 0;
-#endif
-    const int lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
-    const int hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
-    int* mine = count.data() + static_cast<size_t>(part) * slots;
-    for (int c = lo; c < hi; ++c) ++mine[slot_of(colour_of[c])];
-#pragma omp barrier
-#pragma omp single
-    {
-      // count[part·slots + k] ← the first position of part's contacts of slot k.
-      int at = 0;
-      for (int k = 0; k < slots; ++k) {
-        start[static_cast<size_t>(k)] = at;
-        for (int q = 0; q < parts; ++q) {
-          const int n = count[static_cast<size_t>(q) * slots + k];
-          count[static_cast<size_t>(q) * slots + k] = at;
-          at += n;
-        }
-      }
-      start[static_cast<size_t>(slots)] = at;
-    }
-    for (int c = lo; c < hi; ++c) out.order[static_cast<size_t>(mine[slot_of(colour_of[c])]++)] = c;
-  }
-  out.ranges.clear();
-  int b = 0;
-  for (int k = 0; k <= ncol; ++k) {
-    out.batch_of[static_cast<size_t>(k)] = b;
-    const int n = start[static_cast<size_t>(k) + 1] - start[static_cast<size_t>(k)];
-    const bool overflow = k == ncol;
-    const int nb = overflow ? n : (n + W - 1) / W;
-    if (nb > 0) out.ranges.push_back({b, b + nb, overflow});
-    b += nb;
-  }
-  out.batch_of[static_cast<size_t>(ncol) + 1] = b;
-  out.batches.resize(static_cast<size_t>(b));  // reused storage: every lane is written below
-  out.row_of.resize(static_cast<size_t>(b) * 2 * W);
-  out.failed.assign(static_cast<size_t>(b), -1);
-  return {};
-}
-
-/// Fills batch `bi` (colour slot k) from the ordered contacts and its 2·W entries of the permuted
-/// λ⁰ (lp and other; 0 for padding); records in out.failed[bi] the first of its contacts whose
-/// rows cannot be packed (another body, A_ii not > 0).
-void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int k, int bi, bool overflow,
-                double* lp, double* other) {
-  const int zero = out.body_entries;
-  Batch& B = out.batches[static_cast<size_t>(bi)];
-  int* row_of = out.row_of.data() + static_cast<size_t>(bi) * 2 * W;
-  const int per = overflow ? 1 : W;
-  const int s0 = out.start[static_cast<size_t>(k)] + (bi - out.batch_of[static_cast<size_t>(k)]) * per;
-  const int lanes = std::min(per, out.start[static_cast<size_t>(k) + 1] - s0);
-  double diag_n[W], diag_t[W];  // 1 for padding lanes and rows that failed to pack
-  std::fill(diag_n, diag_n + W, 1.0);
-  std::fill(diag_t, diag_t + W, 1.0);
-  int& failed = out.failed[static_cast<size_t>(bi)];
-  for (int lane = 0; lane < lanes; ++lane) {
-    const int c = out.order[static_cast<size_t>(s0 + lane)];
-    if (!pack_contact(p, out.dynamic, zero, c, B, lane, row_of, diag_n, diag_t) && failed < 0) failed = c;
-  }
-  pad(B, lanes, zero, row_of);
-  const bool ok_n = scale_rows(B.jn, B.bn, diag_n), ok_t = scale_rows(B.jt, B.bt, diag_t);
-  if ((!ok_n || !ok_t) && failed < 0) {  // name the first singular contact of the batch
-    for (int lane = 0; lane < lanes && failed < 0; ++lane) {
-      const double dn = diag_n[lane], dt = diag_t[lane];
-      if (!(dn > 0 && std::isfinite(1.0 / dn)) || !(dt > 0 && std::isfinite(1.0 / dt)))
-        failed = out.order[static_cast<size_t>(s0 + lane)];
-    }
-  }
-  B.count = lanes;
-  const size_t s0p = static_cast<size_t>(bi) * 2 * W;
-  for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
-}
-
-/// The first contact (in batch order) whose rows cannot be packed, as the reason "pgs" runs.
-std::string first_failure(const Prepared& out) {
-  for (const int c : out.failed)
-    if (c >= 0) return "contact " + std::to_string(c) + "'s rows are singular or act on another body";
-  return {};
-}
 
 /// True when no entry of x[0..n) is ±∞ or NaN: an OR over the exponent bits (integer ops, so
 /// the compiler vectorises it).
@@ -305,32 +68,46 @@ PgsColoredKernel resolve(PgsColoredKernel k) {
   return pgs_colored_auto_kernel();
 }
 
-colored::SweepKernel kernel_fn(PgsColoredKernel k) {
+/// The kernels of one ISA: single-contact batches and two-point manifold batches.
+struct Kernels {
+  colored::SweepKernel single;
+  colored::PairKernel pairs;
+};
+
+Kernels kernel_fn(PgsColoredKernel k) {
   switch (k) {
-    case PgsColoredKernel::Avx512: return colored::sweep_avx512;
-    case PgsColoredKernel::Avx2: return colored::sweep_avx2;
-    default: return colored::sweep_scalar;
+    case PgsColoredKernel::Avx512: return {colored::sweep_avx512, colored::sweep_pairs_avx512};
+    case PgsColoredKernel::Avx2: return {colored::sweep_avx2, colored::sweep_pairs_avx2};
+    default: return {colored::sweep_scalar, colored::sweep_pairs_scalar};
   }
+}
+
+/// Batches [lo, hi) of range rg with the kernel of its kind (pair batches' λ from pair_base).
+inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg, int lo, int hi, const double* in,
+                      double* out, double* u, colored::Acc& acc) {
+  if (rg.pairs)
+    kern.pairs(prep.pairs.data(), lo, hi, in + prep.pair_base, out + prep.pair_base, u, acc);
+  else
+    kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
 }
 
 /// Thread tid's share (of nt) of one sweep: each colour's batches split statically (contiguous
 /// blocks, so a thread keeps the same region of the pile from colour to colour), the overflow
 /// set on thread 0, a barrier after each colour. The thread's θ and flag go to `mine` before the
 /// last barrier, so after it every thread's share is visible.
-void sweep_share(const Prepared& prep, colored::SweepKernel sweep, const double* in, double* out, double* u, int tid,
+void sweep_share(const Prepared& prep, const Kernels& sweep, const double* in, double* out, double* u, int tid,
                  int nt, colored::Acc& mine) {
   colored::Acc local;
-  const Batch* batches = prep.batches.data();
   const int nr = static_cast<int>(prep.ranges.size());
   for (int k = 0; k < nr; ++k) {
     const Range& rg = prep.ranges[static_cast<size_t>(k)];
     if (rg.serial) {
-      if (tid == 0) sweep(batches, rg.begin, rg.end, in, out, u, local);
+      if (tid == 0) run_range(prep, sweep, rg, rg.begin, rg.end, in, out, u, local);
     } else {
       const int n = rg.end - rg.begin;
       const int lo = rg.begin + static_cast<int>(static_cast<long>(n) * tid / nt);
       const int hi = rg.begin + static_cast<int>(static_cast<long>(n) * (tid + 1) / nt);
-      sweep(batches, lo, hi, in, out, u, local);
+      run_range(prep, sweep, rg, lo, hi, in, out, u, local);
     }
     if (k == nr - 1) mine = local;
 #pragma omp barrier
@@ -367,7 +144,7 @@ class PgsColoredSolver final : public LcpSolver {
     // them, so the next solve lays out afresh instead of reusing a half-written layout.
     Prepared prep = std::exchange(cache_, Prepared{});
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");
-    if (why.empty()) why = layout(p, colorer_, effective_threads(p.constraints.size() / W), prep);
+    if (why.empty()) why = colored::layout(p, colorer_, effective_threads(p.constraints.size() / W), prep);
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel).
     const int np = static_cast<int>(prep.row_of.size());
     Eigen::VectorXd lp(why.empty() ? np : 0), other(why.empty() ? np : 0);
@@ -406,11 +183,10 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& prep, double* lp,
                                  double* other, bool& bad_start) const {
     const int nb = static_cast<int>(prep.batches.size());
-    const int threads = effective_threads(nb);
-    const int nk = static_cast<int>(prep.start.size()) - 1;  // colour slots, overflow last
+    const int jobs = nb + static_cast<int>(prep.pairs.size());  // batches, then pair batches
+    const int threads = effective_threads(jobs);
     const int bodies = prep.body_entries / kStride;
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
-    const int* first_batch = prep.batch_of.data();  // nk + 1 ascending offsets
     bool bad = false;
 #pragma omp parallel num_threads(threads) if (threads > 1)
     {
@@ -420,13 +196,15 @@ class PgsColoredSolver final : public LcpSolver {
         bad = !all_finite(prep.du.data(), prep.body_entries);
       }
 #pragma omp for schedule(dynamic, 16) nowait
-      for (int bi = 0; bi < nb; ++bi) {
-        const int k = static_cast<int>(std::upper_bound(first_batch, first_batch + nk + 1, bi) - first_batch) - 1;
-        fill_batch(p, lambda, prep, k, bi, k == nk - 1, lp, other);
+      for (int bi = 0; bi < jobs; ++bi) {
+        if (bi < nb)
+          colored::fill_batch(p, lambda, prep, bi, lp, other);
+        else
+          colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
       }
     }
     bad_start = bad;
-    return first_failure(prep);
+    return colored::first_failure(prep);
   }
 
   /// The sweeps from the permuted λ⁰ (lp = other) on the packed problem; λ back in row order, its
@@ -434,7 +212,7 @@ class PgsColoredSolver final : public LcpSolver {
   /// permutation back and the residual's rows run on them too.
   [[nodiscard]] SolveResult sweeps(const LcpProblem& p, Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                    const SolverOptions& o, Prepared& prep) const {
-    const int threads = effective_threads(static_cast<int>(prep.batches.size()));
+    const int threads = effective_threads(static_cast<int>(prep.batches.size() + prep.pairs.size()));
     SolverOptions po = o;
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), threads)); };
@@ -453,14 +231,14 @@ class PgsColoredSolver final : public LcpSolver {
   /// The sweeps on one thread.
   [[nodiscard]] SolveResult sweeps_serial(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                           const SolverOptions& o, Prepared& prep) const {
-    const colored::SweepKernel sweep = kernel_;
+    const Kernels sweep = kernel_;
     return solvers::run_sweeps_double_buffered(
         std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
           colored::Acc acc;
           acc.bad = bad_start;
           bad_start = false;
           for (const Range& rg : prep.ranges)
-            sweep(prep.batches.data(), rg.begin, rg.end, in.data(), out.data(), prep.du.data(), acc);
+            run_range(prep, sweep, rg, rg.begin, rg.end, in.data(), out.data(), prep.du.data(), acc);
           if (!std::isfinite(acc.theta)) acc.bad = true;
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
@@ -476,7 +254,7 @@ class PgsColoredSolver final : public LcpSolver {
                                             const SolverOptions& o, Prepared& prep, int threads) const {
     SolveResult r;
 #if defined(_OPENMP)
-    const colored::SweepKernel sweep = kernel_;
+    const Kernels sweep = kernel_;
     SweepOrder order;
     std::vector<colored::Acc> share(static_cast<size_t>(threads));
     std::exception_ptr error;
@@ -542,7 +320,7 @@ class PgsColoredSolver final : public LcpSolver {
   }
 
   PgsColoredDef def_;
-  colored::SweepKernel kernel_;
+  Kernels kernel_;
   // The colouring of the last solve (reused where contacts persist) and its buffers: the
   // reason solve() is not const (one solver object per thread, lcp_solver.hpp).
   ContactColorer colorer_;

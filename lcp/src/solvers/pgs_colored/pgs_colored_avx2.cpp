@@ -125,7 +125,114 @@ DC_AVX2 inline void half(const Batch& B, int h, const double* lin, double* lout,
   store4(u, B.lb + h, B.kb + h, v0, v1, v2);
 }
 
+/// Lanes where x ≥ 0 (false for NaN), as the scalar kernel's x >= 0.0.
+DC_AVX2 inline __m256d ge0(__m256d x) { return _mm256_cmp_pd(x, _mm256_setzero_pd(), _CMP_GE_OQ); }
+
+/// A pair lane group's tangent row (sweep_pairs_scalar's pair_tangent on lanes h..h+3).
+DC_AVX2 inline __m256d pair_tangent(const double (*jt)[W], const double (*mjt)[W], const double* bt, const double* mu,
+                                    int h, __m256d ln, __m256d old, __m256d& a0, __m256d& a1, __m256d& a2,
+                                    __m256d& v0, __m256d& v1, __m256d& v2, __m256d& theta, int& bad) {
+  const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+  const __m256d res = residual(jt, bt, h, a0, a1, a2, v0, v1, v2);
+  const __m256d pos = _mm256_and_pd(_mm256_cmp_pd(zero, ln, _CMP_LT_OQ), ln);  // max_of(0, λ_n)
+  const __m256d t = _mm256_mul_pd(L(mu + h), pos);
+  const __m256d y = _mm256_sub_pd(old, res);
+  const __m256d nt = _mm256_xor_pd(t, sign);
+  const __m256d m1 = _mm256_blendv_pd(y, nt, _mm256_cmp_pd(y, nt, _CMP_LT_OQ));
+  const __m256d c = _mm256_blendv_pd(m1, t, _mm256_cmp_pd(t, m1, _CMP_LT_OQ));
+  const __m256d active = _mm256_cmp_pd(zero, t, _CMP_LT_OQ);
+  const __m256d x = _mm256_and_pd(active, c);
+  bad |= nonfinite(_mm256_blendv_pd(y, x, active));
+  const __m256d d = _mm256_sub_pd(x, old);
+  update(mjt, h, d, a0, a1, a2, v0, v1, v2);
+  theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
+  return x;
+}
+
+/// Lanes h..h+3 of pair batch P (λ at lin/lout + 32·bi): sweep_pairs_scalar's operations.
+DC_AVX2 inline void pair_half(const PairBatch& P, int h, const double* lin, double* lout, double* u, __m256d& theta,
+                              int& bad) {
+  const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+  __m256d a0, a1, a2, v0, v1, v2;
+  load4(u, P.la + h, a0, a1, a2);
+  load4(u, P.lb + h, v0, v1, v2);
+  const __m256d l0 = LU(lin + h), l1 = LU(lin + 2 * W + h);
+  _mm256_storeu_pd(lout + W + h, pair_tangent(P.jt0, P.mjt0, P.bt0, P.mu0, h, l0, LU(lin + W + h), a0, a1, a2, v0,
+                                              v1, v2, theta, bad));
+  _mm256_storeu_pd(lout + 3 * W + h, pair_tangent(P.jt1, P.mjt1, P.bt1, P.mu1, h, l1, LU(lin + 3 * W + h), a0, a1,
+                                                  a2, v0, v1, v2, theta, bad));
+  const __m256d res0 = residual(P.jn0, P.bn0, h, a0, a1, a2, v0, v1, v2);
+  const __m256d res1 = residual(P.jn1, P.bn1, h, a0, a1, a2, v0, v1, v2);
+  const __m256d c01 = L(P.c01 + h), c10 = L(P.c10 + h), inv_det = L(P.inv_det + h);
+  const __m256d beta0 = _mm256_sub_pd(_mm256_sub_pd(res0, l0), _mm256_mul_pd(c01, l1));
+  const __m256d beta1 = _mm256_sub_pd(_mm256_sub_pd(res1, l1), _mm256_mul_pd(c10, l0));
+  const __m256d both0 = _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(c01, beta1), beta0), inv_det);
+  const __m256d both1 = _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(c10, beta0), beta1), inv_det);
+  const __m256d nb0 = _mm256_xor_pd(beta0, sign), nb1 = _mm256_xor_pd(beta1, sign);
+  const __m256d y0 = _mm256_sub_pd(l0, res0);
+  const __m256d f0 = _mm256_andnot_pd(_mm256_cmp_pd(y0, zero, _CMP_LT_OQ), y0);
+  const __m256d y1 = _mm256_sub_pd(l1, _mm256_add_pd(res1, _mm256_mul_pd(c10, _mm256_sub_pd(f0, l0))));
+  const __m256d f1 = _mm256_andnot_pd(_mm256_cmp_pd(y1, zero, _CMP_LT_OQ), y1);
+  const __m256d blk = _mm256_cmp_pd(zero, L(P.block + h), _CMP_LT_OQ);
+  const __m256d case1 = _mm256_and_pd(blk, _mm256_and_pd(ge0(both0), ge0(both1)));
+  const __m256d case2 =
+      _mm256_and_pd(blk, _mm256_and_pd(ge0(nb0), ge0(_mm256_add_pd(_mm256_mul_pd(c10, nb0), beta1))));
+  const __m256d case3 =
+      _mm256_and_pd(blk, _mm256_and_pd(ge0(nb1), ge0(_mm256_add_pd(_mm256_mul_pd(c01, nb1), beta0))));
+  const __m256d case4 = _mm256_and_pd(blk, _mm256_and_pd(ge0(beta0), ge0(beta1)));
+  __m256d x0 = _mm256_blendv_pd(f0, zero, _mm256_or_pd(case3, case4));
+  x0 = _mm256_blendv_pd(x0, nb0, case2);
+  x0 = _mm256_blendv_pd(x0, both0, case1);
+  __m256d x1 = _mm256_blendv_pd(f1, zero, case4);
+  x1 = _mm256_blendv_pd(x1, nb1, case3);
+  x1 = _mm256_blendv_pd(x1, zero, case2);
+  x1 = _mm256_blendv_pd(x1, both1, case1);
+  bad |= nonfinite(x0) | nonfinite(x1);
+  const __m256d d0 = _mm256_sub_pd(x0, l0), d1 = _mm256_sub_pd(x1, l1);
+  _mm256_storeu_pd(lout + h, x0);
+  _mm256_storeu_pd(lout + 2 * W + h, x1);
+  update(P.mjn0, h, d0, a0, a1, a2, v0, v1, v2);
+  update(P.mjn1, h, d1, a0, a1, a2, v0, v1, v2);
+  theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d0));
+  theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d1));
+  const __m256d z = _mm256_add_pd(
+      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(a0, zero), _mm256_mul_pd(a1, zero)),
+                    _mm256_add_pd(_mm256_mul_pd(a2, zero), _mm256_mul_pd(v0, zero))),
+      _mm256_add_pd(_mm256_mul_pd(v1, zero), _mm256_mul_pd(v2, zero)));
+  bad |= _mm256_movemask_pd(_mm256_cmp_pd(z, z, _CMP_UNORD_Q));
+  store4(u, P.la + h, P.ka + h, a0, a1, a2);
+  store4(u, P.lb + h, P.kb + h, v0, v1, v2);
+}
+
+/// max_of over the 4 lanes of θ, into acc.
+DC_AVX2 inline void reduce(__m256d theta, int bad, Acc& acc) {
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, theta);
+  double m = lanes[0];
+  for (int k = 1; k < 4; ++k) m = max_of(m, lanes[k]);
+  acc.theta = max_of(acc.theta, m);
+  acc.bad = acc.bad || bad != 0;
+}
+
 }  // namespace
+
+DC_AVX2 void sweep_pairs_avx2(const PairBatch* __restrict pairs, int b0, int b1, const double* __restrict in,
+                              double* __restrict out, double* __restrict u, Acc& acc) {
+  __m256d theta = _mm256_set1_pd(acc.theta);
+  int bad = 0;
+  for (int bi = b0; bi < b1; ++bi) {
+    const PairBatch& P = pairs[bi];
+    const double* lin = in + static_cast<long>(bi) * 4 * W;
+    double* lout = out + static_cast<long>(bi) * 4 * W;
+    pair_half(P, 0, lin, lout, u, theta, bad);
+    if (P.count > 4) {
+      pair_half(P, 4, lin, lout, u, theta, bad);
+    } else {
+      for (int r = 0; r < 4; ++r) _mm256_storeu_pd(lout + r * W + 4, _mm256_setzero_pd());
+    }
+  }
+  reduce(theta, bad, acc);
+}
 
 DC_AVX2 void sweep_avx2(const Batch* __restrict batches, int b0, int b1, const double* __restrict in,
                         double* __restrict out, double* __restrict u, Acc& acc) {
@@ -145,12 +252,7 @@ DC_AVX2 void sweep_avx2(const Batch* __restrict batches, int b0, int b1, const d
       _mm256_storeu_pd(lout + W + 4, _mm256_setzero_pd());
     }
   }
-  alignas(32) double lanes[4];
-  _mm256_store_pd(lanes, theta);
-  double m = lanes[0];
-  for (int k = 1; k < 4; ++k) m = max_of(m, lanes[k]);
-  acc.theta = max_of(acc.theta, m);
-  acc.bad = acc.bad || bad != 0;
+  reduce(theta, bad, acc);
 }
 
 bool cpu_has_avx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
@@ -162,6 +264,7 @@ bool cpu_is_amd() { return __builtin_cpu_is("amd"); }
 
 namespace dc::colored {
 void sweep_avx2(const Batch*, int, int, const double*, double*, double*, Acc&) {}
+void sweep_pairs_avx2(const PairBatch*, int, int, const double*, double*, double*, Acc&) {}
 bool cpu_has_avx2() { return false; }
 bool cpu_is_amd() { return false; }
 }  // namespace dc::colored

@@ -89,7 +89,105 @@ DC_AVX512 inline void update(const double (*mj)[W], __m512d d, __m512d& a0, __m5
   v2 = _mm512_fmadd_pd(L(mj[5]), d, v2);
 }
 
+/// Lanes where x ≥ 0 (false for NaN), as the scalar kernel's x >= 0.0.
+DC_AVX512 inline __mmask8 ge0(__m512d x) { return _mm512_cmp_pd_mask(x, _mm512_setzero_pd(), _CMP_GE_OQ); }
+
+/// A pair batch's tangent row (sweep_pairs_scalar's pair_tangent on 8 lanes); returns the new λ_t.
+DC_AVX512 inline __m512d pair_tangent(const double (*jt)[W], const double (*mjt)[W], const double* bt,
+                                      const double* mu, __m512d ln, __m512d old, __m512d& a0, __m512d& a1,
+                                      __m512d& a2, __m512d& v0, __m512d& v1, __m512d& v2, __m512d& theta,
+                                      __mmask8& bad) {
+  const __m512d zero = _mm512_setzero_pd(), sign = _mm512_set1_pd(-0.0);
+  const __m512d res = residual(jt, bt, a0, a1, a2, v0, v1, v2);
+  const __m512d pos = _mm512_mask_mov_pd(zero, _mm512_cmp_pd_mask(zero, ln, _CMP_LT_OQ), ln);
+  const __m512d t = _mm512_mul_pd(L(mu), pos);
+  const __m512d y = _mm512_sub_pd(old, res);
+  const __m512d nt = _mm512_xor_pd(t, sign);
+  const __m512d m1 = _mm512_mask_mov_pd(y, _mm512_cmp_pd_mask(y, nt, _CMP_LT_OQ), nt);
+  const __m512d c = _mm512_mask_mov_pd(m1, _mm512_cmp_pd_mask(t, m1, _CMP_LT_OQ), t);
+  const __mmask8 active = _mm512_cmp_pd_mask(zero, t, _CMP_LT_OQ);
+  const __m512d x = _mm512_mask_mov_pd(zero, active, c);
+  bad |= nonfinite(_mm512_mask_mov_pd(y, active, x));
+  update(mjt, _mm512_sub_pd(x, old), a0, a1, a2, v0, v1, v2);
+  theta = _mm512_max_pd(theta, absv(_mm512_sub_pd(x, old)));
+  return x;
+}
+
+/// One pair batch (λ at lin/lout + 32·bi): sweep_pairs_scalar's operations on 8 lanes.
+DC_AVX512 inline void pair_batch(const PairBatch& P, const double* lin, double* lout, double* u, __m512d& theta,
+                                 __mmask8& bad) {
+  const __m512d zero = _mm512_setzero_pd();
+  __m512d a0, a1, a2, v0, v1, v2;
+  load8(u, P.la, a0, a1, a2);
+  load8(u, P.lb, v0, v1, v2);
+  const __m512d l0 = LU(lin), l1 = LU(lin + 2 * W);
+  _mm512_storeu_pd(lout + W, pair_tangent(P.jt0, P.mjt0, P.bt0, P.mu0, l0, LU(lin + W), a0, a1, a2, v0, v1, v2,
+                                          theta, bad));
+  _mm512_storeu_pd(lout + 3 * W, pair_tangent(P.jt1, P.mjt1, P.bt1, P.mu1, l1, LU(lin + 3 * W), a0, a1, a2, v0, v1,
+                                              v2, theta, bad));
+  const __m512d res0 = residual(P.jn0, P.bn0, a0, a1, a2, v0, v1, v2);
+  const __m512d res1 = residual(P.jn1, P.bn1, a0, a1, a2, v0, v1, v2);
+  const __m512d c01 = L(P.c01), c10 = L(P.c10), inv_det = L(P.inv_det);
+  const __m512d beta0 = _mm512_sub_pd(_mm512_sub_pd(res0, l0), _mm512_mul_pd(c01, l1));
+  const __m512d beta1 = _mm512_sub_pd(_mm512_sub_pd(res1, l1), _mm512_mul_pd(c10, l0));
+  const __m512d both0 = _mm512_mul_pd(_mm512_sub_pd(_mm512_mul_pd(c01, beta1), beta0), inv_det);
+  const __m512d both1 = _mm512_mul_pd(_mm512_sub_pd(_mm512_mul_pd(c10, beta0), beta1), inv_det);
+  const __m512d sign = _mm512_set1_pd(-0.0);
+  const __m512d nb0 = _mm512_xor_pd(beta0, sign), nb1 = _mm512_xor_pd(beta1, sign);
+  const __m512d y0 = _mm512_sub_pd(l0, res0);
+  const __m512d f0 = _mm512_mask_mov_pd(y0, _mm512_cmp_pd_mask(y0, zero, _CMP_LT_OQ), zero);
+  const __m512d y1 = _mm512_sub_pd(l1, _mm512_add_pd(res1, _mm512_mul_pd(c10, _mm512_sub_pd(f0, l0))));
+  const __m512d f1 = _mm512_mask_mov_pd(y1, _mm512_cmp_pd_mask(y1, zero, _CMP_LT_OQ), zero);
+  const __mmask8 blk = _mm512_cmp_pd_mask(zero, L(P.block), _CMP_LT_OQ);
+  const __mmask8 case1 = blk & ge0(both0) & ge0(both1);
+  const __mmask8 case2 = blk & ge0(nb0) & ge0(_mm512_add_pd(_mm512_mul_pd(c10, nb0), beta1));
+  const __mmask8 case3 = blk & ge0(nb1) & ge0(_mm512_add_pd(_mm512_mul_pd(c01, nb1), beta0));
+  const __mmask8 case4 = blk & ge0(beta0) & ge0(beta1);
+  __m512d x0 = _mm512_mask_mov_pd(f0, static_cast<__mmask8>(case3 | case4), zero);
+  x0 = _mm512_mask_mov_pd(x0, case2, nb0);
+  x0 = _mm512_mask_mov_pd(x0, case1, both0);
+  __m512d x1 = _mm512_mask_mov_pd(f1, case4, zero);
+  x1 = _mm512_mask_mov_pd(x1, case3, nb1);
+  x1 = _mm512_mask_mov_pd(x1, case2, zero);
+  x1 = _mm512_mask_mov_pd(x1, case1, both1);
+  bad |= nonfinite(x0) | nonfinite(x1);
+  const __m512d d0 = _mm512_sub_pd(x0, l0), d1 = _mm512_sub_pd(x1, l1);
+  _mm512_storeu_pd(lout, x0);
+  _mm512_storeu_pd(lout + 2 * W, x1);
+  update(P.mjn0, d0, a0, a1, a2, v0, v1, v2);
+  update(P.mjn1, d1, a0, a1, a2, v0, v1, v2);
+  theta = _mm512_max_pd(theta, absv(d0));
+  theta = _mm512_max_pd(theta, absv(d1));
+  const __m512d z = _mm512_add_pd(
+      _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(a0, zero), _mm512_mul_pd(a1, zero)),
+                    _mm512_add_pd(_mm512_mul_pd(a2, zero), _mm512_mul_pd(v0, zero))),
+      _mm512_add_pd(_mm512_mul_pd(v1, zero), _mm512_mul_pd(v2, zero)));
+  bad |= _mm512_cmp_pd_mask(z, z, _CMP_UNORD_Q);
+  store8(u, P.la, P.ka, a0, a1, a2);
+  store8(u, P.lb, P.kb, v0, v1, v2);
+}
+
+/// max_of over the 8 lanes of θ, into acc (by hand: GCC 12 warns about an uninitialised
+/// temporary inside _mm512_reduce_max_pd; θ ≥ 0, so the order does not matter).
+DC_AVX512 inline void reduce(__m512d theta, __mmask8 bad, Acc& acc) {
+  alignas(64) double lanes[W];
+  _mm512_store_pd(lanes, theta);
+  double m = lanes[0];
+  for (int k = 1; k < W; ++k) m = max_of(m, lanes[k]);
+  acc.theta = max_of(acc.theta, m);
+  acc.bad = acc.bad || bad != 0;
+}
+
 }  // namespace
+
+DC_AVX512 void sweep_pairs_avx512(const PairBatch* __restrict pairs, int b0, int b1, const double* __restrict in,
+                                  double* __restrict out, double* __restrict u, Acc& acc) {
+  __m512d theta = _mm512_set1_pd(acc.theta);
+  __mmask8 bad = 0;
+  for (int bi = b0; bi < b1; ++bi)
+    pair_batch(pairs[bi], in + static_cast<long>(bi) * 4 * W, out + static_cast<long>(bi) * 4 * W, u, theta, bad);
+  reduce(theta, bad, acc);
+}
 
 DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, const double* __restrict in,
                             double* __restrict out, double* __restrict u, Acc& acc) {
@@ -143,14 +241,7 @@ DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, con
     store8(u, B.la, B.ka, a0, a1, a2);
     store8(u, B.lb, B.kb, v0, v1, v2);
   }
-  // Horizontal max by hand (GCC 12 warns about an uninitialised temporary inside
-  // _mm512_reduce_max_pd); θ ≥ 0, so the order does not matter.
-  alignas(64) double lanes[W];
-  _mm512_store_pd(lanes, theta);
-  double m = lanes[0];
-  for (int k = 1; k < W; ++k) m = max_of(m, lanes[k]);
-  acc.theta = max_of(acc.theta, m);
-  acc.bad = acc.bad || bad != 0;
+  reduce(theta, bad, acc);
 }
 
 bool cpu_has_avx512() {
@@ -164,6 +255,7 @@ bool cpu_has_avx512() {
 
 namespace dc::colored {
 void sweep_avx512(const Batch*, int, int, const double*, double*, double*, Acc&) {}
+void sweep_pairs_avx512(const PairBatch*, int, int, const double*, double*, double*, Acc&) {}
 bool cpu_has_avx512() { return false; }
 }  // namespace dc::colored
 

@@ -10,6 +10,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/newton_sparse.hpp"
+#include "dc/lcp/proximal_point.hpp"
 #include "solvers/prox_newton/body_newton.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
@@ -58,13 +59,14 @@ std::string sci(double x) {
 }
 
 /// Which part produced the returned iterate.
-enum class Finisher { Guess, Prox, NewtonSparse, Nncg };
+enum class Finisher { Guess, Prox, NewtonSparse, ProximalPoint, Nncg };
 
 const char* to_string(Finisher f) {
   switch (f) {
     case Finisher::Guess: return "the guess";
     case Finisher::Prox: return "prox";
     case Finisher::NewtonSparse: return "newton-sparse finish";
+    case Finisher::ProximalPoint: return "proximal newton-sparse finish";
     case Finisher::Nncg: return "nncg safeguard";
   }
   return "?";
@@ -90,6 +92,7 @@ class ProxRun {
     } else {
       finish_with_newton_sparse(lambda, budget_left());
     }
+    if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point();
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
     SolveResult r;
     r.lambda = best_;
@@ -145,7 +148,10 @@ class ProxRun {
       // subproblem solve restarts from the best iterate with a larger δ.
       const bool usable = (so.converged || improved) && std::isfinite(res);
       lambda = usable ? next : best_;
-      shift = improved ? std::max(def_.min_shift, shift / def_.shrink) : std::min(def_.max_shift, shift * def_.shrink);
+      // δ follows the subproblem: a solved one allows a smaller δ (a longer proximal step), an
+      // unsolved one asks for a larger (better conditioned) one. The hard residual is not
+      // monotone along the proximal iteration, so it does not steer δ.
+      shift = so.converged ? std::max(def_.min_shift, shift / def_.shrink) : std::min(def_.max_shift, shift * def_.shrink);
       stalls = improved ? 0 : stalls + 1;
       cp_.after(st_.newton + st_.finish_newton, best_);
       if (reached(best_res_, target_) || stalls >= def_.max_stalls) break;
@@ -173,6 +179,25 @@ class ProxRun {
     st_.analyses += fs.analyses;
     const double res = hard_residual(p_, r.lambda);
     if (consider(r.lambda, res, Finisher::NewtonSparse)) lambda = r.lambda;
+  }
+
+  /// The proximal-point route (newton-sparse on the hard problem shifted by δI around λ_k) from
+  /// the best iterate: hard-Coulomb Newton steps that stay well posed on a singular A.
+  void finish_by_proximal_point() {
+    if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
+    const int budget = budget_left();
+    if (budget <= 0) return;
+    ProximalPointDef pd = def_.finish_route;
+    pd.inner_iterations = std::min(pd.inner_iterations, budget);
+    SolverOptions fo;
+    fo.tolerance = target_;
+    fo.record_theta = false;
+    fo.exact_tolerance = o_.exact_tolerance;
+    const SolveResult r = solve_proximal_point(*assembled_, best_, fo, pd);
+    st_.finish_newton += r.sweeps;
+    st_.proximal_finish_newton += r.sweeps;
+    if (r.lambda.size() == p_.rows() && r.lambda.allFinite())
+      consider(r.lambda, hard_residual(p_, r.lambda), Finisher::ProximalPoint);
   }
 
   /// nncg from the best iterate in chunks until the target or safeguard_sweeps.

@@ -1,0 +1,385 @@
+// box2d3_compare: the same bodies in Box2D v3 (built from source, -DBOX2D3_DIR=…) and in
+// DeepContact, the same Δt and number of steps, timed in one process (benchmarks/compare/README.md).
+//
+//   build/bin/box2d3_compare [--n 100,1000,10000] [--steps 600] [--rounds 3]
+//                            [--ours pgs-colored:16,pgs-colored:32,pgs:16,pgs:32]
+//                            [--v3 4:30,8:100] [--stack-steps 600] [--pyramid BASE] [--skip-pile] [--skip-stack]
+//
+// Scenes: the seed pile scaled to n circles at the seed's density (box side 30·√(n/100) m,
+// σ = 4.65·√(n/100) m, r = 1, μ = 0.5, e = 0, Δt = 0.01 s), and the 20-box stack of the stress
+// scenes (1 × 1 m boxes on the floor), and with --pyramid BASE the stress scenes' box pyramid. Both engines get the bodies of our World (position,
+// angle, velocity, shape, density), the walls, gravity, μ and e; Box2D v3 keeps its own contact
+// model (soft step, sub-steps, relaxation, restitution) with sleeping off and one worker.
+// A v3 configuration is SUBSTEPS:HERTZ (b2World_Step's sub-step count, b2WorldDef::contactHertz;
+// v3's defaults are 4 sub-steps and 30 Hz). Ours is SOLVER:SWEEPS with a fixed sweep count
+// (tolerance 0) and the builtin warm start, as `simulate` runs it.
+//
+// Reported per configuration:
+//  * ms/step: CPU time of the stepping thread (CLOCK_THREAD_CPUTIME_ID) around each step,
+//    median over `rounds` runs, the configurations alternated inside each round;
+//  * ns per row·pass: v3: the CPU time × the share of solveImpulses + relaxImpulses in
+//    b2Profile::step (wall-clock timers whose ratio survives preemption better than their
+//    values) ÷ (2 rows per touching point × sub-steps × 2 passes); ours: solver CPU ÷ (rows ×
+//    sweeps) including the solver's per-solve set-up, and the marginal sweep cost from a
+//    SOLVER:16 and SOLVER:32 pair ((solver ms/step at 32 − at 16) ÷ (rows × 16)), and from it the
+//    solver's per-solve set-up (solver ms/step at 16 − 16 sweeps at the marginal cost);
+//  * overlap: the largest overlap between touching bodies at the end of the run, by one
+//    geometric check for both engines (dc::stress::max_overlap on the final positions);
+//  * stack drift: the largest horizontal displacement of a box of the stack from its start.
+#include <box2d/box2d.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dc/bench/stress_scenarios.hpp"
+#include "dc/engine/stress_scenes.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace {
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+std::string first_line_of(const std::string& path, const std::string& prefix) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(prefix, 0) == 0) return line;
+  return "?";
+}
+
+std::string loadavg() { return first_line_of("/proc/loadavg", ""); }
+
+/// The CPU model of /proc/cpuinfo ("model name : …").
+std::string cpu_model() {
+  const std::string line = first_line_of("/proc/cpuinfo", "model name");
+  const size_t colon = line.find(':');
+  return colon == std::string::npos ? line : line.substr(colon + 2);
+}
+
+/// One engine configuration: Box2D v3 (substeps, contact hertz) or ours (solver, sweeps).
+struct Config {
+  bool v3 = false;
+  int substeps = 4;
+  float hertz = 30;
+  std::string solver;
+  int sweeps = 16;
+  [[nodiscard]] std::string label() const {
+    char b[96];
+    if (v3) std::snprintf(b, sizeof b, "box2d v3 %d substeps %g Hz", substeps, static_cast<double>(hertz));
+    else std::snprintf(b, sizeof b, "ours %s %d sweeps", solver.c_str(), sweeps);
+    return b;
+  }
+};
+
+/// The result of one run of one configuration.
+struct Run {
+  double cpu_s = 0;          ///< Σ step CPU time
+  double solver_cpu_s = 0;   ///< ours: CPU time inside the solver's solve calls
+  double pass_share = 0;     ///< v3: (solveImpulses + relaxImpulses) / step, from b2Profile
+  double rows_per_step = 0;  ///< LCP rows (ours) or 2 × touching points (v3), mean over steps
+  double overlap = 0;        ///< largest overlap at the end [m]
+  double drift = 0;          ///< largest |x − x₀| of a body at the end [m]
+};
+
+std::vector<Config> parse_configs(const std::string& list, bool v3) {
+  std::vector<Config> out;
+  std::stringstream ss(list);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (item.empty()) continue;
+    const size_t colon = item.find(':');
+    if (colon == std::string::npos) throw CLI::ValidationError(v3 ? "--v3" : "--ours", "expected A:B, got '" + item + "'");
+    Config c;
+    c.v3 = v3;
+    if (v3) {
+      c.substeps = std::stoi(item.substr(0, colon));
+      c.hertz = std::stof(item.substr(colon + 1));
+    } else {
+      c.solver = item.substr(0, colon);
+      c.sweeps = std::stoi(item.substr(colon + 1));
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+/// The seed scene scaled to n circles at the seed's density.
+dc::WorldDef scaled_seed(int n) {
+  dc::WorldDef def = dc::default_world_def();
+  const double s = std::sqrt(n / 100.0);
+  def.world.width = def.world.height = 30.0 * s;
+  def.bodies.count = n;
+  def.bodies.mean = {15.0 * s, 15.0 * s};
+  def.bodies.sigma = 4.65 * s;
+  return def;
+}
+
+// ---- Box2D v3 ---------------------------------------------------------------------------
+
+/// v3 world with our World's bodies (circles and polygons), walls, gravity, μ and e.
+b2WorldId make_v3_world(const dc::WorldDef& def, const dc::BodyState& s, const Config& c,
+                        std::vector<b2BodyId>& bodies) {
+  b2WorldDef wd = b2DefaultWorldDef();
+  wd.gravity = {static_cast<float>(def.world.gravity.x), static_cast<float>(def.world.gravity.y)};
+  wd.enableSleep = false;
+  wd.contactHertz = c.hertz;
+  wd.restitutionThreshold = static_cast<float>(def.contact.restitution_threshold);
+  const b2WorldId w = b2CreateWorld(&wd);
+  b2ShapeDef sd = b2DefaultShapeDef();
+  sd.material.friction = static_cast<float>(def.contact.friction);
+  sd.material.restitution = static_cast<float>(def.contact.restitution);
+  b2BodyDef gd = b2DefaultBodyDef();
+  const b2BodyId ground = b2CreateBody(w, &gd);
+  const float W = static_cast<float>(def.world.width), H = static_cast<float>(def.world.height);
+  const b2Vec2 corners[4][2] = {{{0, 0}, {0, H}}, {{W, 0}, {W, H}}, {{0, 0}, {W, 0}}, {{0, H}, {W, H}}};
+  for (int k = 0; k < 4; ++k) {  // left, right, bottom, top (WorldSection::walls order)
+    if (!def.world.walls[static_cast<size_t>(k)]) continue;
+    const b2Segment seg{corners[k][0], corners[k][1]};
+    b2CreateSegmentShape(ground, &sd, &seg);
+  }
+  bodies.clear();
+  for (size_t k = 0; k < s.size(); ++k) {
+    b2BodyDef bd = b2DefaultBodyDef();
+    bd.type = s.is_dynamic(k) ? b2_dynamicBody : b2_staticBody;
+    bd.position = {static_cast<float>(s.position[k].x), static_cast<float>(s.position[k].y)};
+    bd.rotation = b2MakeRot(static_cast<float>(s.angle[k]));
+    bd.linearVelocity = {static_cast<float>(s.velocity[k].x), static_cast<float>(s.velocity[k].y)};
+    bd.angularVelocity = static_cast<float>(s.omega[k]);
+    bd.enableSleep = false;
+    const b2BodyId b = b2CreateBody(w, &bd);
+    sd.density = static_cast<float>(s.density[k]);
+    if (s.shapes.empty() || s.shapes.kind[k] == dc::ShapeKind::Circle) {
+      const b2Circle circle{{0, 0}, static_cast<float>(s.radius[k])};
+      b2CreateCircleShape(b, &sd, &circle);
+    } else if (s.shapes.kind[k] == dc::ShapeKind::Polygon && s.shapes.vertex_count(k) <= B2_MAX_POLYGON_VERTICES) {
+      b2Vec2 pts[B2_MAX_POLYGON_VERTICES];
+      const int nv = s.shapes.vertex_count(k);
+      for (int i = 0; i < nv; ++i) {
+        const dc::Vec2 v = s.shapes.vertices[static_cast<size_t>(s.shapes.vertex_offset[k] + i)];
+        pts[i] = {static_cast<float>(v.x), static_cast<float>(v.y)};
+      }
+      const b2Hull hull = b2ComputeHull(pts, nv);
+      const b2Polygon poly = b2MakePolygon(&hull, 0.0f);
+      b2CreatePolygonShape(b, &sd, &poly);
+    } else {
+      throw std::runtime_error("body " + std::to_string(k) + ": shape has no Box2D v3 counterpart here");
+    }
+    bodies.push_back(b);
+  }
+  return w;
+}
+
+/// 2 × the touching manifold points of the world (each contact counted once).
+double v3_rows(const std::vector<b2BodyId>& bodies, std::vector<b2ContactData>& buf) {
+  long points = 0;
+  for (const b2BodyId b : bodies) {
+    const int cap = b2Body_GetContactCapacity(b);
+    if (static_cast<int>(buf.size()) < cap) buf.resize(static_cast<size_t>(cap));
+    const int n = b2Body_GetContactData(b, buf.data(), cap);
+    for (int i = 0; i < n; ++i) {
+      const b2BodyId a = b2Shape_GetBody(buf[static_cast<size_t>(i)].shapeIdA);
+      const b2BodyId o = b2Shape_GetBody(buf[static_cast<size_t>(i)].shapeIdB);
+      const b2BodyId other = B2_ID_EQUALS(a, b) ? o : a;
+      // Count from shape A's body, or from the dynamic side of a contact with a static body.
+      if (B2_ID_EQUALS(a, b) || b2Body_GetType(other) != b2_dynamicBody) points += buf[static_cast<size_t>(i)].manifold.pointCount;
+    }
+  }
+  return 2.0 * static_cast<double>(points);
+}
+
+Run run_v3(const dc::WorldDef& def, const dc::BodyState& start, const Config& c, int steps) {
+  std::vector<b2BodyId> bodies;
+  const b2WorldId w = make_v3_world(def, start, c, bodies);
+  std::vector<b2ContactData> buf;
+  Run r;
+  double passes_ms = 0, step_ms = 0, rows = 0;
+  int counted = 0;
+  const int count_every = std::max(1, steps / 30);  // the row count is sampled outside the timing
+  for (int s = 0; s < steps; ++s) {
+    const double t0 = thread_cpu_s();
+    b2World_Step(w, static_cast<float>(def.time.dt), c.substeps);
+    r.cpu_s += thread_cpu_s() - t0;
+    const b2Profile p = b2World_GetProfile(w);
+    passes_ms += p.solveImpulses + p.relaxImpulses;
+    step_ms += p.step;
+    if (s % count_every == 0) {
+      rows += v3_rows(bodies, buf);
+      ++counted;
+    }
+  }
+  r.pass_share = step_ms > 0 ? passes_ms / step_ms : 0;
+  r.rows_per_step = rows / std::max(1, counted);
+  dc::BodyState end = start;
+  for (size_t k = 0; k < bodies.size(); ++k) {
+    const b2Pos x = b2Body_GetPosition(bodies[k]);
+    end.position[k] = {x.x, x.y};
+    end.angle[k] = b2Rot_GetAngle(b2Body_GetRotation(bodies[k]));
+    r.drift = std::max(r.drift, std::abs(end.position[k].x - start.position[k].x));
+  }
+  r.overlap = dc::stress::max_overlap(end, def.world);
+  b2DestroyWorld(w);
+  return r;
+}
+
+// ---- ours -------------------------------------------------------------------------------
+
+/// Times the wrapped solver's solve calls (thread CPU time).
+class TimedSolver final : public dc::LcpSolver {
+ public:
+  explicit TimedSolver(std::unique_ptr<dc::LcpSolver> s) : s_(std::move(s)) {}
+  [[nodiscard]] std::string name() const override { return s_->name(); }
+  [[nodiscard]] bool needs_jacobian() const override { return s_->needs_jacobian(); }
+  [[nodiscard]] bool needs_assembled_matrix() const override { return s_->needs_assembled_matrix(); }
+  [[nodiscard]] dc::SolveResult solve(const dc::LcpProblem& p, const Eigen::VectorXd& l0,
+                                      const dc::SolverOptions& o) override {
+    const double t0 = thread_cpu_s();
+    dc::SolveResult r = s_->solve(p, l0, o);
+    cpu_s += thread_cpu_s() - t0;
+    return r;
+  }
+  double cpu_s = 0;
+
+ private:
+  std::unique_ptr<dc::LcpSolver> s_;
+};
+
+Run run_ours(dc::WorldDef def, const Config& c, int steps) {
+  def.solver.sweeps = c.sweeps;
+  def.solver.tolerance = 0.0;
+  dc::World world(def);
+  const std::vector<dc::Vec2> start = world.bodies().position;
+  TimedSolver solver(dc::make_solver(c.solver));
+  dc::SolverOptions o = dc::solver_options(def.solver);
+  o.record_theta = false;
+  const auto starter = dc::default_warm_starters().make("builtin");
+  Run r;
+  double rows = 0;
+  for (int s = 0; s < steps; ++s) {
+    const double t0 = thread_cpu_s();
+    const dc::StepReport rep = world.step(solver, o, [&](const dc::World& w) {
+      return starter->initial_guess(dc::StepView{w, nullptr});
+    });
+    starter->observe(dc::StepView{world, nullptr}, rep.solve.lambda);
+    r.cpu_s += thread_cpu_s() - t0;
+    rows += rep.rows;
+  }
+  r.solver_cpu_s = solver.cpu_s;
+  r.rows_per_step = rows / std::max(1, steps);
+  for (size_t k = 0; k < start.size(); ++k)
+    r.drift = std::max(r.drift, std::abs(world.bodies().position[k].x - start[k].x));
+  r.overlap = dc::stress::max_overlap(world.bodies(), def.world);
+  return r;
+}
+
+// ---- the table ----------------------------------------------------------------------------
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+/// Runs every configuration `rounds` times, alternated, on `def`; prints one row each.
+void compare(const std::string& title, const dc::WorldDef& def, const std::vector<Config>& configs, int steps,
+             int rounds, bool stack) {
+  const dc::World initial(def);
+  std::vector<std::vector<double>> ms(configs.size());
+  std::vector<Run> last(configs.size());
+  for (int round = 0; round < rounds; ++round)
+    for (size_t i = 0; i < configs.size(); ++i) {
+      last[i] = configs[i].v3 ? run_v3(def, initial.bodies(), configs[i], steps) : run_ours(def, configs[i], steps);
+      ms[i].push_back(1e3 * last[i].cpu_s / steps);
+    }
+  std::printf("\n## %s: %zu bodies, %d steps of %g s, %d rounds (load %s)\n", title.c_str(), initial.bodies().size(),
+              steps, def.time.dt, rounds, loadavg().c_str());
+  std::printf("| configuration | ms/step (median) | min–max | rows/step | ns/row·pass | marginal ns/row·sweep | "
+              "solver set-up ms/step | overlap mm | %s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+              stack ? "drift mm" : "ms/step ÷ first");
+  const double ref = configs.empty() ? 0 : median(ms[0]);
+  for (size_t i = 0; i < configs.size(); ++i) {
+    const Config& c = configs[i];
+    const Run& r = last[i];
+    const double med = median(ms[i]);
+    double per_pass = 0, marginal = NAN, setup = NAN;
+    if (c.v3) {
+      per_pass = 1e6 * med * r.pass_share / std::max(1.0, r.rows_per_step * c.substeps * 2);
+    } else {
+      per_pass = 1e9 * r.solver_cpu_s / steps / std::max(1.0, r.rows_per_step * c.sweeps);
+      for (size_t j = 0; j < configs.size(); ++j)  // the same solver at twice the sweeps
+        if (!configs[j].v3 && configs[j].solver == c.solver && configs[j].sweeps == 2 * c.sweeps) {
+          const double a = last[i].solver_cpu_s / steps, b = last[j].solver_cpu_s / steps;
+          const double rows = 0.5 * (last[i].rows_per_step + last[j].rows_per_step);
+          marginal = 1e9 * (b - a) / std::max(1.0, rows * c.sweeps);
+          setup = 1e3 * (a - (b - a));
+        }
+    }
+    char last_col[32], marginal_col[32] = "–", setup_col[32] = "–";
+    if (!std::isnan(marginal)) std::snprintf(marginal_col, sizeof marginal_col, "%.2f", marginal);
+    if (!std::isnan(setup)) std::snprintf(setup_col, sizeof setup_col, "%.3f", setup);
+    if (stack) std::snprintf(last_col, sizeof last_col, "%.2f", 1e3 * r.drift);
+    else std::snprintf(last_col, sizeof last_col, "%.2f", ref > 0 ? med / ref : 0.0);
+    std::printf("| %s | %.4f | %.4f–%.4f | %.0f | %.2f | %s | %s | %.2f | %s |\n", c.label().c_str(), med,
+                *std::min_element(ms[i].begin(), ms[i].end()), *std::max_element(ms[i].begin(), ms[i].end()),
+                r.rows_per_step, per_pass, marginal_col, setup_col,
+                1e3 * r.overlap, last_col);
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string ns = "100,1000,10000", ours = "pgs-colored:16,pgs-colored:32,pgs:16,pgs:32", v3 = "4:30,8:100";
+  int steps = 600, rounds = 3, stack_steps = 600, pyramid = 0;
+  bool skip_pile = false, skip_stack = false;
+  CLI::App app{"Box2D v3 vs DeepContact: the scaled seed pile and a 20-box stack, ms per step and quality"};
+  app.add_option("--n", ns, "Body counts of the scaled seed pile, comma-separated (default 100,1000,10000)");
+  app.add_option("--steps", steps, "Steps of each pile run (default 600)")->check(CLI::PositiveNumber);
+  app.add_option("--rounds", rounds, "Alternated rounds; ms/step is their median (default 3)")->check(CLI::PositiveNumber);
+  app.add_option("--ours", ours, "Our configurations SOLVER:SWEEPS, comma-separated");
+  app.add_option("--v3", v3, "Box2D v3 configurations SUBSTEPS:CONTACT_HERTZ, comma-separated (v3 defaults: 4:30)");
+  app.add_option("--stack-steps", stack_steps, "Steps of the 20-box stack run (default 600)")->check(CLI::PositiveNumber);
+  app.add_option("--pyramid", pyramid, "Also run the box pyramid of this base (0 = not; --stack-steps steps)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--skip-pile", skip_pile, "Do not run the piles");
+  app.add_flag("--skip-stack", skip_stack, "Do not run the box stack");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    std::vector<Config> configs = parse_configs(v3, true);
+    for (const Config& c : parse_configs(ours, false)) configs.push_back(c);
+    std::printf("CPU: %s\nBox2D v3 %d.%d.%d, one worker, sleeping off; load at start %s\n",
+                cpu_model().c_str(), b2GetVersion().major, b2GetVersion().minor,
+                b2GetVersion().revision, loadavg().c_str());
+    if (!skip_stack) {
+      dc::WorldDef d = dc::stress::box_stack(20, {1.0, 1.0});
+      compare("20-box stack", d, configs, stack_steps, 1, true);
+    }
+    if (pyramid > 0)
+      compare("box pyramid, base " + std::to_string(pyramid), dc::stress::box_pyramid(pyramid), configs, stack_steps, 1,
+              true);
+    if (!skip_pile) {
+      std::stringstream ss(ns);
+      std::string item;
+      while (std::getline(ss, item, ','))
+        if (!item.empty()) compare("seed pile", scaled_seed(std::stoi(item)), configs, steps, rounds, false);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "box2d3_compare: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

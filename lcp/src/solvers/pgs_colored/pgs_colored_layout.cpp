@@ -1,0 +1,367 @@
+// The set-up of "pgs-colored" (pgs_colored_layout.hpp): the manifold pairs, the order of the
+// contacts by colour, and the packing of rows into single and pair batches.
+#include "solvers/pgs_colored/pgs_colored_layout.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+#include "solvers/pgs_manifold_block.hpp"
+
+namespace dc::colored {
+namespace {
+
+/// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
+/// lane `lane` of j/mj, unscaled: j = J_i, mj = M⁻¹ J_iᵀ Δt, b = b_i, diag = A_ii (summed in slot
+/// order as "pgs"'s pack_row); scale_rows divides by A_ii afterwards, 8 lanes at once. False
+/// when the row acts on another body.
+bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
+              int lane) {
+  double r[6] = {0, 0, 0, 0, 0, 0};
+  // The usual storage (what the engine assembles): the columns a, a+1, a+2 (, bb, bb+1, bb+2)
+  // once each, in order; then each r_s is 0 + J_is, as the general loop below sums it (−0 → +0).
+  const double* value = p.J.valuePtr();
+  const int q0 = p.J.outerIndexPtr()[i];
+  const int n = (p.J.isCompressed() ? p.J.outerIndexPtr()[i + 1] : q0 + p.J.innerNonZeroPtr()[i]) - q0;
+  const int* col = p.J.innerIndexPtr() + q0;
+  if (n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
+      (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2))) {
+    for (int s = 0; s < n; ++s) r[s] = 0.0 + value[q0 + s];
+  } else {
+    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+      const int c = static_cast<int>(it.col());
+      if (c >= a && c < a + 3) {
+        r[c - a] += it.value();
+      } else if (bb >= 0 && c >= bb && c < bb + 3) {
+        r[3 + c - bb] += it.value();
+      } else {
+        return false;
+      }
+    }
+  }
+  const double* im = p.inv_mass.data();
+  double d = 0.0;
+  for (int s = 0; s < 6; ++s) {
+    const int off = s < 3 ? a : bb;
+    const double m = off < 0 ? 0.0 : r[s] * im[off + s % 3] * p.dt;
+    if (off >= 0) d += r[s] * m;
+    j[s][lane] = r[s];
+    mj[s][lane] = m;
+  }
+  b[lane] = p.b[i];
+  diag[lane] = d;
+  return true;
+}
+
+/// j ← j/A_ii and b ← b/A_ii on all lanes (padding lanes: A_ii = 1, zero rows); false when a
+/// lane's A_ii is not > 0 or 1/A_ii is not finite. The same products as a lane-by-lane scaling.
+bool scale_rows(double (*j)[W], double* b, const double* diag) {
+  double inv[W];
+  bool ok = true;
+  for (int lane = 0; lane < W; ++lane) {
+    inv[lane] = 1.0 / diag[lane];
+    ok &= diag[lane] > 0 && std::isfinite(inv[lane]);
+  }
+  for (int s = 0; s < 6; ++s)
+    for (int lane = 0; lane < W; ++lane) j[s][lane] *= inv[lane];
+  for (int lane = 0; lane < W; ++lane) b[lane] *= inv[lane];
+  return ok;
+}
+
+/// The rows of one contact in a lane: normal and tangent coefficients, b, μ.
+struct RowSet {
+  double (*jn)[W];
+  double (*mjn)[W];
+  double (*jt)[W];
+  double (*mjt)[W];
+  double *bn, *bt, *mu;
+};
+
+/// Packs contact c into lane `lane` of rs (rows unscaled, see pack_row), its bodies' Δu offsets
+/// into la/lb and store flags into ka/kb, its rows into row_n/row_t; false when one of its rows
+/// acts on another body.
+bool pack_contact(const LcpProblem& p, const std::vector<std::uint8_t>& dynamic, int zero, int c, const RowSet& rs,
+                  std::int32_t* la, std::int32_t* lb, std::uint8_t* ka, std::uint8_t* kb, int lane, int* row_n,
+                  int* row_t, double* diag_n, double* diag_t) {
+  const ContactConstraint& k = p.constraints[c];
+  const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+  const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+  const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;  // columns of J
+  if (!pack_row(p, k.normal_row, a, bb, rs.jn, rs.mjn, rs.bn, diag_n, lane)) return false;
+  if (k.has_friction()) {
+    if (!pack_row(p, k.tangent_row, a, bb, rs.jt, rs.mjt, rs.bt, diag_t, lane)) return false;
+    rs.mu[lane] = k.mu;
+  } else {
+    for (int s = 0; s < 6; ++s) rs.jt[s][lane] = rs.mjt[s][lane] = 0.0;
+    rs.bt[lane] = rs.mu[lane] = 0.0;
+    diag_t[lane] = 1.0;
+  }
+  const bool da = dynamic[static_cast<size_t>(first)] != 0;
+  const bool db = second >= 0 && dynamic[static_cast<size_t>(second)] != 0;
+  la[lane] = da ? kStride * first : zero;
+  lb[lane] = db ? kStride * second : zero;
+  ka[lane] = da ? 1 : 0;
+  kb[lane] = db ? 1 : 0;
+  row_n[lane] = k.normal_row;
+  row_t[lane] = k.tangent_row;
+  return true;
+}
+
+/// Zero rows for lanes [from, W) of rs (padding).
+void pad_rows(const RowSet& rs, int from, int* row_n, int* row_t) {
+  for (int lane = from; lane < W; ++lane) {
+    for (int s = 0; s < 6; ++s) rs.jn[s][lane] = rs.mjn[s][lane] = rs.jt[s][lane] = rs.mjt[s][lane] = 0.0;
+    rs.bn[lane] = rs.bt[lane] = rs.mu[lane] = 0.0;
+    row_n[lane] = row_t[lane] = -1;
+  }
+}
+
+/// The zero body and no stores for lanes [from, W).
+void pad_bodies(int from, int zero, std::int32_t* la, std::int32_t* lb, std::uint8_t* ka, std::uint8_t* kb) {
+  for (int lane = from; lane < W; ++lane) {
+    la[lane] = lb[lane] = zero;
+    ka[lane] = kb[lane] = 0;
+  }
+}
+
+/// True when rows i0 and i1 of J are stored alike (the engine's storage: the columns of the
+/// contact's bodies in order) and their linear parts (the normal) are bit-equal.
+bool same_normal(const LcpProblem& p, int i0, int i1) {
+  auto extent = [&](int i) {
+    const int q0 = p.J.outerIndexPtr()[i];
+    return (p.J.isCompressed() ? p.J.outerIndexPtr()[i + 1] : q0 + p.J.innerNonZeroPtr()[i]) - q0;
+  };
+  const int n = extent(i0);
+  if (n != extent(i1) || (n != 3 && n != 6)) return false;
+  const int q0 = p.J.outerIndexPtr()[i0], q1 = p.J.outerIndexPtr()[i1];
+  const int* c0 = p.J.innerIndexPtr() + q0;
+  const int* c1 = p.J.innerIndexPtr() + q1;
+  const double* v0 = p.J.valuePtr() + q0;
+  const double* v1 = p.J.valuePtr() + q1;
+  for (int s = 0; s < n; ++s)
+    if (c0[s] != c1[s]) return false;
+  for (int s = 0; s < n; s += 3)
+    if (c0[s] % 3 != 0 || c0[s + 1] != c0[s] + 1 || c0[s + 2] != c0[s] + 2 || v0[s] != v1[s] || v0[s + 1] != v1[s + 1])
+      return false;
+  return true;
+}
+
+/// The two-point manifolds: contact c and c + 1 form one ("pgs"'s pairing, pgs_matrix_free.cpp)
+/// when they have the same body_a and body_b, different features, a tangent row each exactly
+/// when the other has one, rows in the order n0 (t0) n1 (t1), and the same normal (bit-equal
+/// linear parts of J). partner[c] = c + 1, partner[c + 1] = −2, else −1.
+void find_pairs(const LcpProblem& p, std::vector<int>& partner) {
+  const ContactConstraints& cons = p.constraints;
+  const int nc = cons.size();
+  partner.assign(static_cast<size_t>(nc), -1);
+  for (int c = 0; c + 1 < nc; ++c) {
+    const ContactConstraint& k0 = cons[c];
+    const ContactConstraint& k1 = cons[c + 1];
+    const bool fr = k0.has_friction();
+    if (k1.body_a != k0.body_a || k1.body_b != k0.body_b || k1.feature == k0.feature || k1.has_friction() != fr)
+      continue;
+    if (fr && (k0.tangent_row != k0.normal_row + 1 || k1.tangent_row != k1.normal_row + 1)) continue;
+    if (k1.normal_row != k0.normal_row + (fr ? 2 : 1) || !same_normal(p, k0.normal_row, k1.normal_row)) continue;
+    partner[static_cast<size_t>(c)] = c + 1;
+    partner[static_cast<size_t>(c) + 1] = -2;
+    ++c;
+  }
+}
+
+/// Lane count and first ordered lane of batch `local` of slot k (the overflow slots, the last
+/// two: one lane per batch).
+void lanes_of(const Prepared& out, int k, int local, int& s0, int& lanes) {
+  const int slots = static_cast<int>(out.start.size()) - 1;
+  const int per = k >= slots - 2 ? 1 : W;
+  s0 = out.start[static_cast<size_t>(k)] + local * per;
+  lanes = std::min(per, out.start[static_cast<size_t>(k) + 1] - s0);
+}
+
+/// Records in `failed` the first of lanes [0, lanes) whose normal or tangent A_ii is not > 0.
+void name_singular(const Prepared& out, int s0, int lanes, const double* dn, const double* dt, int& failed) {
+  for (int lane = 0; lane < lanes && failed < 0; ++lane)
+    if (!(dn[lane] > 0 && std::isfinite(1.0 / dn[lane])) || !(dt[lane] > 0 && std::isfinite(1.0 / dt[lane])))
+      failed = out.order[static_cast<size_t>(s0 + lane)];
+}
+
+}  // namespace
+
+std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out) {
+  const ContactConstraints& cons = p.constraints;
+  if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
+  const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
+  out.body_entries = kStride * bodies;
+  out.dynamic.assign(static_cast<size_t>(bodies), 0);
+  const int ncols = static_cast<int>(p.inv_mass.size());
+  for (int c = 0; c < ncols; ++c)
+    if (p.inv_mass[c] != 0.0) out.dynamic[static_cast<size_t>(c / 3)] = 1;
+  for (int c = 0; c < cons.size(); ++c) {
+    const int i = cons[c].normal_row;
+    if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
+      return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
+  }
+  const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
+  std::vector<int> partner;
+  find_pairs(p, partner);
+  if (col.repeated && col.generation == out.generation && partner == out.partner) {
+    // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
+    // and sizes stand; the batches are refilled from this problem's J, b and λ⁰.
+    out.failed.assign(out.batches.size() + out.pairs.size(), -1);
+    return {};
+  }
+  out.generation = col.generation;
+  out.partner = std::move(partner);
+  // Lead contacts (single contacts and first points of a pair) per slot: 2·colour for singles,
+  // 2·colour + 1 for pairs (a pair takes its first point's colour: its second point has the same
+  // bodies), overflow last; a counting sort keeping contact order inside a slot. With threads:
+  // each thread counts and places one contiguous block of contacts, at offsets that put the
+  // blocks of a slot in block order: the stable order, whatever the thread count.
+  const int nc = cons.size(), ncol = col.colors;
+  const int slots = 2 * (ncol + 1);
+  const int* colour_of = col.color.data();
+  const int* part_of = out.partner.data();
+  auto slot_of = [&](int c) {
+    const int colour = colour_of[c] == ContactColoring::kOverflow ? ncol : colour_of[c];
+    return 2 * colour + (part_of[c] >= 0 ? 1 : 0);
+  };
+  const int parts = std::max(1, std::min(threads, nc / 4096));
+  std::vector<int> count(static_cast<size_t>(parts) * slots, 0);  // count[part·slots + slot]
+  std::vector<int>& start = out.start;
+  start.assign(static_cast<size_t>(slots) + 1, 0);
+  out.order.resize(static_cast<size_t>(nc));
+  out.batch_of.assign(static_cast<size_t>(slots) + 1, 0);
+#pragma omp parallel num_threads(parts) if (parts > 1)
+  {
+#if defined(_OPENMP)
+    const int part = omp_get_thread_num();
+#else
+    const int part = 0;
+#endif
+    const int lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
+    const int hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
+    int* mine = count.data() + static_cast<size_t>(part) * slots;
+    for (int c = lo; c < hi; ++c)
+      if (part_of[c] != -2) ++mine[slot_of(c)];
+#pragma omp barrier
+#pragma omp single
+    {
+      // count[part·slots + k] ← the first position of part's contacts of slot k.
+      int at = 0;
+      for (int k = 0; k < slots; ++k) {
+        start[static_cast<size_t>(k)] = at;
+        for (int q = 0; q < parts; ++q) {
+          const int n = count[static_cast<size_t>(q) * slots + k];
+          count[static_cast<size_t>(q) * slots + k] = at;
+          at += n;
+        }
+      }
+      start[static_cast<size_t>(slots)] = at;
+    }
+    for (int c = lo; c < hi; ++c)
+      if (part_of[c] != -2) out.order[static_cast<size_t>(mine[slot_of(c)]++)] = c;
+  }
+  out.order.resize(static_cast<size_t>(start[static_cast<size_t>(slots)]));
+  out.ranges.clear();
+  out.slot_of_batch.clear();
+  out.slot_of_pair.clear();
+  int nb = 0, np = 0;
+  for (int k = 0; k < slots; ++k) {
+    const bool pairs = (k & 1) != 0, overflow = k / 2 == ncol;
+    const int n = start[static_cast<size_t>(k) + 1] - start[static_cast<size_t>(k)];
+    const int count_k = overflow ? n : (n + W - 1) / W;
+    int& b = pairs ? np : nb;
+    out.batch_of[static_cast<size_t>(k)] = b;
+    if (count_k > 0) out.ranges.push_back({b, b + count_k, overflow, pairs});
+    std::vector<int>& batch_slots = pairs ? out.slot_of_pair : out.slot_of_batch;
+    batch_slots.insert(batch_slots.end(), count_k, k);
+    b += count_k;
+  }
+  out.batches.resize(static_cast<size_t>(nb));  // reused storage: every lane is written by the fill
+  out.pairs.resize(static_cast<size_t>(np));
+  out.pair_base = 2 * W * nb;
+  out.row_of.resize(static_cast<size_t>(nb) * 2 * W + static_cast<size_t>(np) * 4 * W);
+  out.failed.assign(static_cast<size_t>(nb + np), -1);
+  return {};
+}
+
+void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int bi, double* lp, double* other) {
+  const int zero = out.body_entries;
+  Batch& B = out.batches[static_cast<size_t>(bi)];
+  int* row_of = out.row_of.data() + static_cast<size_t>(bi) * 2 * W;
+  const int k = out.slot_of_batch[static_cast<size_t>(bi)];
+  int s0 = 0, lanes = 0;
+  lanes_of(out, k, bi - out.batch_of[static_cast<size_t>(k)], s0, lanes);
+  double diag_n[W], diag_t[W];  // 1 for padding lanes and rows that failed to pack
+  std::fill(diag_n, diag_n + W, 1.0);
+  std::fill(diag_t, diag_t + W, 1.0);
+  int& failed = out.failed[static_cast<size_t>(bi)];
+  const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
+  for (int lane = 0; lane < lanes; ++lane) {
+    const int c = out.order[static_cast<size_t>(s0 + lane)];
+    if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n, diag_t) &&
+        failed < 0)
+      failed = c;
+  }
+  pad_rows(rs, lanes, row_of, row_of + W);
+  pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
+  const bool ok_n = scale_rows(B.jn, B.bn, diag_n), ok_t = scale_rows(B.jt, B.bt, diag_t);
+  if ((!ok_n || !ok_t) && failed < 0) name_singular(out, s0, lanes, diag_n, diag_t, failed);
+  B.count = lanes;
+  const size_t s0p = static_cast<size_t>(bi) * 2 * W;
+  for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
+}
+
+void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int pi, double* lp, double* other) {
+  const int zero = out.body_entries;
+  PairBatch& P = out.pairs[static_cast<size_t>(pi)];
+  const size_t base = static_cast<size_t>(out.pair_base) + static_cast<size_t>(pi) * 4 * W;
+  int* row_of = out.row_of.data() + base;
+  const int k = out.slot_of_pair[static_cast<size_t>(pi)];
+  int s0 = 0, lanes = 0;
+  lanes_of(out, k, pi - out.batch_of[static_cast<size_t>(k)], s0, lanes);
+  double dn0[W], dt0[W], dn1[W], dt1[W];
+  for (double* d : {dn0, dt0, dn1, dt1}) std::fill(d, d + W, 1.0);
+  int& failed = out.failed[out.batches.size() + static_cast<size_t>(pi)];
+  const RowSet r0{P.jn0, P.mjn0, P.jt0, P.mjt0, P.bn0, P.bt0, P.mu0};
+  const RowSet r1{P.jn1, P.mjn1, P.jt1, P.mjt1, P.bn1, P.bt1, P.mu1};
+  for (int lane = 0; lane < lanes; ++lane) {
+    const int c = out.order[static_cast<size_t>(s0 + lane)];
+    const int c1 = out.partner[static_cast<size_t>(c)];
+    bool ok = pack_contact(p, out.dynamic, zero, c, r0, P.la, P.lb, P.ka, P.kb, lane, row_of, row_of + W, dn0, dt0);
+    ok = ok && pack_contact(p, out.dynamic, zero, c1, r1, P.la, P.lb, P.ka, P.kb, lane, row_of + 2 * W,
+                            row_of + 3 * W, dn1, dt1);
+    if (!ok && failed < 0) failed = c;
+    // A_01 = J_0 M⁻¹ J_1ᵀ Δt from the unscaled rows, summed in slot order as "pgs" does.
+    double a01 = 0.0;
+    for (int s = 0; s < 6; ++s) a01 += P.jn0[s][lane] * P.mjn1[s][lane];
+    const bool block = ok && solvers::manifold_block_conditioned(dn0[lane], dn1[lane], a01);
+    P.c01[lane] = ok ? a01 / dn0[lane] : 0.0;
+    P.c10[lane] = ok ? a01 / dn1[lane] : 0.0;
+    P.inv_det[lane] = block ? 1.0 / (1.0 - P.c01[lane] * P.c10[lane]) : 0.0;
+    P.block[lane] = block ? 1.0 : 0.0;
+  }
+  pad_rows(r0, lanes, row_of, row_of + W);
+  pad_rows(r1, lanes, row_of + 2 * W, row_of + 3 * W);
+  pad_bodies(lanes, zero, P.la, P.lb, P.ka, P.kb);
+  for (int lane = lanes; lane < W; ++lane) P.c01[lane] = P.c10[lane] = P.inv_det[lane] = P.block[lane] = 0.0;
+  const bool ok = scale_rows(P.jn0, P.bn0, dn0) & scale_rows(P.jt0, P.bt0, dt0) & scale_rows(P.jn1, P.bn1, dn1) &
+                  scale_rows(P.jt1, P.bt1, dt1);
+  if (!ok && failed < 0) {
+    name_singular(out, s0, lanes, dn0, dt0, failed);
+    name_singular(out, s0, lanes, dn1, dt1, failed);
+  }
+  P.count = lanes;
+  for (int s = 0; s < 4 * W; ++s) lp[base + s] = other[base + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
+}
+
+std::string first_failure(const Prepared& out) {
+  for (const int c : out.failed)
+    if (c >= 0) return "contact " + std::to_string(c) + "'s rows are singular or act on another body";
+  return {};
+}
+
+}  // namespace dc::colored

@@ -1,0 +1,67 @@
+#pragma once
+// Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the packed problem and its set-up. layout()
+// orders the contacts by colour into batches of single contacts (Batch) and of two-point
+// manifolds (PairBatch: the two contacts of one body pair with one normal in one lane, solved
+// with the 2 × 2 normal block as "pgs" does); fill_batch / fill_pair pack the rows. The sweep
+// driver is pgs_colored.cpp, the kernels pgs_colored_{scalar,avx2,avx512}.cpp.
+//
+// Permuted λ: the single batches' slots first (16 per batch: 8 λ_n, 8 λ_t), then the pair
+// batches' from Prepared::pair_base (32 per batch: λ_n0, λ_t0, λ_n1, λ_t1, 8 each).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dc/lcp/lcp_problem.hpp"
+#include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/pgs_colored_batch.hpp"
+
+namespace dc::colored {
+
+/// Batches [begin, end) of one colour (independent: may run in any order or in parallel),
+/// or of the overflow set (serial = true: one contact or manifold per batch, in order); of
+/// single contacts, or of pairs (pairs = true: indices into Prepared::pairs).
+struct Range {
+  int begin, end;
+  bool serial;
+  bool pairs;
+};
+
+/// The packed problem and the solve's buffers; kept by the solver between solves.
+struct Prepared {
+  std::vector<Batch> batches;
+  std::vector<PairBatch> pairs;
+  std::vector<Range> ranges;
+  std::vector<int> row_of;    // permuted slot → LCP row (−1: padding or no tangent row)
+  std::vector<int> order;     // lead contact of each lane, slot after slot
+  std::vector<int> start;     // first lane of each slot: 2·colour (singles), 2·colour + 1 (pairs); overflow last
+  std::vector<int> batch_of;  // per slot: its first batch (single slots) or pair batch (pair slots)
+  std::vector<int> slot_of_batch, slot_of_pair;  // per batch / pair batch: its slot
+  std::vector<int> partner;   // per contact: its manifold's second contact, −2 when it is one, else −1
+  std::vector<std::uint8_t> dynamic;
+  std::vector<int> failed;    // per batch, then per pair batch: its first contact that cannot be packed, or −1
+  std::vector<double, Eigen::aligned_allocator<double>> du;
+  Eigen::VectorXd jt;    // Jᵀλ (scratch of the products, pgs_colored_products.hpp)
+  int body_entries = 0;  // kStride·bodies; the zero body follows
+  int pair_base = 0;     // first permuted slot of the pair batches (2·W·batches)
+  std::uint64_t generation = 0;  // the colouring (ContactColoring::generation) laid out; 0: none
+};
+
+/// Orders the contacts by colour and lays out the batches (O(contacts), the colouring and the
+/// counting sort on `threads` threads; the same layout for every thread count). Returns an
+/// error (the reason "pgs" runs instead) when a normal row has bounds other than [0, ∞).
+std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out);
+
+/// Fills batch `bi` from the ordered contacts and its 2·W entries of the permuted λ⁰ (lp and
+/// other; 0 for padding); records in out.failed[bi] the first of its contacts whose rows cannot be
+/// packed (another body, A_ii not > 0).
+void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int bi, double* lp, double* other);
+/// The same for pair batch `pi` (4·W entries from out.pair_base + 4·W·pi; failures at
+/// out.failed[batches + pi]).
+void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int pi, double* lp, double* other);
+
+/// The first contact (in batch order) whose rows cannot be packed, as the reason "pgs" runs.
+std::string first_failure(const Prepared& out);
+
+}  // namespace dc::colored
