@@ -74,8 +74,18 @@ WorldDef scene_from_python(pyb::handle scene, pyb::handle set) {
   if (!set.is_none()) {
     if (pyb::isinstance<pyb::dict>(set)) {
       for (auto [k, v] : set.cast<pyb::dict>()) apply_override(d, pyb::str(k).cast<std::string>() + "=" + toml_value(v));
+    } else if (pyb::isinstance<pyb::str>(set)) {  // one override, as after one --set
+      apply_override(d, set.cast<std::string>());
+    } else if (pyb::isinstance<pyb::list>(set) || pyb::isinstance<pyb::tuple>(set)) {
+      for (auto item : set) {
+        if (!pyb::isinstance<pyb::str>(item))
+          throw pyb::type_error("set: expected \"section.key=value\" strings in the list, got " +
+                                pyb::repr(item).cast<std::string>());
+        apply_override(d, item.cast<std::string>());
+      }
     } else {
-      for (auto item : set) apply_override(d, pyb::str(item).cast<std::string>());
+      throw pyb::type_error("set: expected a dict {\"section.key\": value} or a list of \"section.key=value\" "
+                            "strings, got " + std::string(pyb::str(pyb::type::handle_of(set).attr("__name__"))));
     }
   }
   d.validate();
