@@ -33,8 +33,8 @@ TEST(DefaultRoute, AFrictionalProblemIsSolvedByNewtonSparse) {
 }
 
 TEST(DefaultRoute, TheProximalRouteTakesOverWhereThePlainRunStops) {
-  // Two plain iterations cannot solve 00727: the proximal route continues from the plain run's
-  // best iterate and passes the solution test; both runs count in `sweeps`.
+  // Two plain iterations cannot solve 00727: the proximal route takes over and passes the
+  // solution test; both runs count in `sweeps`.
   const ProblemFile f = read_problem_file(kData + "fc2d/FrictionContactProblem00727.dat");
   DefaultRouteDef def;
   def.plain_iterations = 2;

@@ -44,7 +44,6 @@ RouteResult solve_with_default_route(const LcpProblem& problem, const SolverOpti
   if (is_standard_lcp(problem)) return solve_lcp(problem, options, def);
   const SolverOptions exact = exact_options(options);
   RouteResult out;
-  Eigen::VectorXd start;
   int sweeps = 0;
   if (def.plain) {
     SolverOptions o = exact;
@@ -56,9 +55,10 @@ RouteResult solve_with_default_route(const LcpProblem& problem, const SolverOpti
     if (out.result.status == SolveStatus::Converged || out.result.status == SolveStatus::InvalidInput ||
         !def.proximal)
       return out;
-    start = out.result.lambda;
   }
-  SolveResult prox = solve_proximal_point(problem, start, exact, ProximalPointDef{});
+  // From λ = 0, not from the plain run's best iterate: a stalled Newton iterate of an
+  // indefinite W is a poor start for the shifted problems (they then hit their outer limit).
+  SolveResult prox = solve_proximal_point(problem, Eigen::VectorXd(), exact, ProximalPointDef{});
   sweeps += prox.sweeps;
   out.route += out.route.empty() ? "proximal:newton-sparse" : " then proximal:newton-sparse";
   const bool better = !def.plain || prox.status == SolveStatus::Converged || !(out.result.residual <= prox.residual);

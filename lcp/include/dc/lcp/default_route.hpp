@@ -8,8 +8,8 @@
 //     semismooth Newton `newton-sparse` to the solution test, at most `plain_iterations`
 //     iterations; when it does not pass the solution test (it stalls on singular or slightly
 //     indefinite W, e.g. Siconos' granular files), the proximal-point route around
-//     newton-sparse (proximal_point.hpp) from the plain run's best iterate. The better of the
-//     two answers (smaller natural residual) is returned.
+//     newton-sparse (proximal_point.hpp) from λ = 0. The better of the two answers (smaller
+//     natural residual) is returned.
 #include <string>
 
 #include "dc/lcp/lcp_solver.hpp"
