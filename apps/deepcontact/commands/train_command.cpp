@@ -24,6 +24,7 @@
 #include "cluster/comm.hpp"
 #include "cluster/mpi_train.hpp"
 #include "cluster/sigint_guard.hpp"
+#include "commands/cli_common.hpp"
 #include "commands/commands.hpp"
 #include "commands/train_through_pgs.hpp"
 #include "dc/bench/progress_bar.hpp"
@@ -284,6 +285,7 @@ void run(const TrainArgs& a) {
   if (a.data.empty()) throw ConfigError("--data is required");
   if (a.out.empty()) throw ConfigError("--out is required");
   check_output_file(a.out);  // before the data set is read: OUT, OUT.ckpt and OUT.loss.csv live there
+  check_output_extension("--out", a.out, kHdf5Extensions, "an HDF5 model file");
   // OUT.lock keeps a second train (or a resume) off the same OUT, OUT.ckpt and OUT.loss.csv
   // whatever HDF5_USE_FILE_LOCKING says; only rank 0 writes them.
   std::optional<OutputLock> lock;
