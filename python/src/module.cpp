@@ -2,6 +2,7 @@
 // (python/deepcontact/__init__.py; docs/python.md). The GIL is released while C++ runs and
 // taken again for every call into a warm starter written in Python.
 #include "dc/core/install_paths.hpp"
+#include "dc/io/h5.hpp"
 #include "py_common.hpp"
 
 namespace {
@@ -18,6 +19,9 @@ std::string python_version() {
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
+  // First, as in the CLI's main: a file a failed write left open must not crash the exit;
+  // the other HDF5 users of the process (h5py) keep libhdf5's cleanup otherwise (h5.hpp).
+  dc::h5_cleanup_at_exit_unless_abandoned();
   m.doc() = "DeepContact engine, LCP solvers, warm starters and bench (C++ core)";
   m.attr("__version__") = python_version();
   m.attr("__commit__") = dc::git_commit();
