@@ -3,6 +3,7 @@
 // forever), and a pipe with a writer is read whole, its first bytes included (the HDF5
 // signature check must not consume them).
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 

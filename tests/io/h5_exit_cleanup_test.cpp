@@ -45,7 +45,8 @@ TEST(H5ExitCleanup, AnAbandonedFileDoesNotCrashTheExit) {
         if (!h5_cleanup_at_exit_unless_abandoned()) std::_Exit(3);  // HDF5 was in use already
         if (!fail_a_write(path)) std::_Exit(4);
         if (!h5_abandoned_file_open()) std::_Exit(5);  // under EFBIG the close fails: still open
-        std::exit(0);  // runs the atexit handlers
+        std::filesystem::remove_all(dir.path());       // this process's own TempDir
+        std::exit(0);                                  // runs the atexit handlers
       },
       testing::ExitedWithCode(0), "");
 }
@@ -62,6 +63,7 @@ TEST(H5ExitCleanup, WithoutAFailedWriteNothingIsAbandoned) {
           f.write<double>("/v", std::vector<double>(4, 2.0), {4});
         }
         if (h5_abandoned_file_open()) std::_Exit(5);
+        std::filesystem::remove_all(dir.path());
         std::exit(0);  // libhdf5's cleanup runs (H5close) and must not fail
       },
       testing::ExitedWithCode(0), "");
