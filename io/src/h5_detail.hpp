@@ -97,9 +97,6 @@ inline bool write_failed_on_stack() {
 /// size past the limit, in a memfd as on disk — which is why a program calls
 /// h5_skip_exit_cleanup() (h5.hpp). Only for the default sec2 driver, whose handle is the
 /// POSIX descriptor.
-/// The name of that sink (memfd_create's name: /proc/self/fd shows "/memfd:NAME (deleted)").
-inline constexpr const char* kAbandonedSinkName = "dc-abandoned-hdf5";
-
 inline void abandon_writes(hid_t file) {
   const hid_t fapl = H5Fget_access_plist(file);
   if (fapl < 0) return;
@@ -107,7 +104,7 @@ inline void abandon_writes(hid_t file) {
   H5Pclose(fapl);
   void* handle = nullptr;
   if (driver != H5FD_SEC2 || H5Fget_vfd_handle(file, H5P_DEFAULT, &handle) < 0 || handle == nullptr) return;
-  const int sink = ::memfd_create(kAbandonedSinkName, MFD_CLOEXEC);
+  const int sink = ::memfd_create("dc-abandoned-hdf5", MFD_CLOEXEC);
   if (sink < 0) return;
   ::dup2(sink, *static_cast<int*>(handle));  // closes the disk file, keeps the descriptor number
   ::close(sink);

@@ -19,9 +19,9 @@ std::string python_version() {
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
-  // First, as in the CLI's main: a file a failed write left open must not crash the exit;
-  // the other HDF5 users of the process (h5py) keep libhdf5's cleanup otherwise (h5.hpp).
-  dc::h5_cleanup_at_exit_unless_abandoned();
+  // First, as in the CLI's main: libhdf5's exit-time cleanup crashes after a failed write
+  // (h5.hpp). Files of h5py in the same process are then not closed for it at exit: close them.
+  dc::h5_skip_exit_cleanup();
   m.doc() = "DeepContact engine, LCP solvers, warm starters and bench (C++ core)";
   m.attr("__version__") = python_version();
   m.attr("__commit__") = dc::git_commit();

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "dc/core/error.hpp"
 #include "dc/io/atomic_file.hpp"
 #include "dc/io/h5_copy.hpp"
 #include "py_common.hpp"
@@ -30,7 +31,7 @@ void bind_io(pyb::module_& m) {
         try {
           sync_path(tmp);
           durable_rename(tmp, to);
-        } catch (const IoError&) {
+        } catch (const dc::IoError&) {
           std::error_code ignored;
           std::filesystem::remove(tmp, ignored);
           throw;

@@ -302,15 +302,4 @@ class AtomicH5File {
 /// owners before main returns needs no such cleanup. Returns false if HDF5 was already in use.
 bool h5_skip_exit_cleanup();
 
-/// For a library loaded into a host program that may use HDF5 itself (the Python module next
-/// to h5py): libhdf5's exit-time cleanup still runs — it closes the host's open files — but
-/// is skipped when a file this layer abandoned after a failed write is still open (its close
-/// failed, and the cleanup would crash on it). Call before anything touches HDF5; returns
-/// false if HDF5 was already in use (then libhdf5's own cleanup runs at exit, unconditionally).
-bool h5_cleanup_at_exit_unless_abandoned();
-
-/// Whether a file abandoned after a failed write (see h5_detail.hpp abandon_writes) is still
-/// open in this process, i.e. libhdf5 could not close it.
-[[nodiscard]] bool h5_abandoned_file_open();
-
 }  // namespace dc
