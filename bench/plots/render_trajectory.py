@@ -350,13 +350,16 @@ def main(argv=None):
     ap.add_argument("--frame", type=int)
     ap.add_argument("--every", type=int)
     ap.add_argument("--no-progress", action="store_true")
+    # The caller writes --out under a temporary name and renames it onto this one.
+    ap.add_argument("--report-as", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     try:
         n = render(a.trajectory, a.out, frame=a.frame, every=a.every, progress=not a.no_progress)
     except (RenderError, IoError, OSError) as e:
-        print(f"deepcontact: error: {e}", file=sys.stderr)
+        message = str(e).replace(a.out, a.report_as) if a.report_as else str(e)
+        print(f"deepcontact: error: {message}", file=sys.stderr)
         return 1
-    print(f"render: {a.out} ({n} frame{'s' if n != 1 else ''})")
+    print(f"render: {a.report_as or a.out} ({n} frame{'s' if n != 1 else ''})")
     return 0
 
 

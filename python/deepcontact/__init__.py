@@ -135,9 +135,27 @@ def render(trajectory: Union[str, os.PathLike[str]], out: Union[str, os.PathLike
     step, or with ``frame=K`` one PNG of state K with the forces of step K. Returns the
     number of frames written; a wrong extension, an ``out`` that is a directory or a frame
     out of range raise ``render_trajectory.RenderError`` (one line) before anything is drawn."""
+    import os
+
     from . import render_trajectory
 
-    return render_trajectory.render(str(trajectory), str(out), frame=frame, every=every, progress=progress)
+    out = str(out)
+    render_trajectory.check_output(out, frame, every)  # the path the user gave, not the temporary
+    # Drawn into OUT.tmp.EXT (the extension picks the format) and renamed onto OUT only when
+    # complete: a failed or interrupted render leaves an earlier OUT as it was.
+    tmp = out + ".tmp" + os.path.splitext(out)[1]
+    try:
+        n = render_trajectory.render(str(trajectory), tmp, frame=frame, every=every, progress=progress)
+    except BaseException as e:
+        if os.path.isfile(tmp):
+            os.remove(tmp)
+        if isinstance(e, render_trajectory.RenderError):  # name the file the caller asked for
+            raise render_trajectory.RenderError(str(e).replace(tmp, out)) from None
+        raise
+    from ._core import _commit_file
+
+    _commit_file(tmp, out)
+    return n
 
 
 def _render_world(world):

@@ -146,8 +146,12 @@ pyb::object contact_fields(std::span<const Contact> cs, const ContactConstraints
 
 namespace {
 
-pyb::object body_fields(const PyWorld& self, pyb::handle owner) {
-  const BodyState& s = self.get().bodies();
+pyb::object body_fields(PyWorld& self, pyb::handle owner) {
+  // The views point into the body arrays: bodies added later ([inflow], spawns) must not
+  // move them (a view would read freed memory), so room for all of them is reserved first.
+  // A view keeps the shape it was made with: the bodies that existed then.
+  const BodyState& s = self.get().bodies();  // RuntimeError while another thread steps it
+  if (self.owned) self.owned->reserve_added_bodies();
   const pyb::handle base = self.owned ? owner : pyb::none();  // a borrowed world's arrays are copies
   pyb::object f = make_fields();
   f["position"] = view(s.position, base);

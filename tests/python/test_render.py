@@ -117,3 +117,25 @@ def test_frame_label_stays_off_the_scene(dc, run_h5):
         import matplotlib.pyplot as plt
 
         plt.close(scene.fig)
+
+
+def test_a_failed_render_keeps_the_earlier_image(dc, run_h5, tmp_path, monkeypatch):
+    from deepcontact import render_trajectory
+
+    out = tmp_path / "run.gif"
+    out.write_bytes(b"earlier image")
+
+    def fails_half_way(scene, frames, fps, path, progress):
+        with open(path, "wb") as f:
+            f.write(b"partial")
+        raise OSError(f"{path}: No space left on device")
+
+    monkeypatch.setattr(render_trajectory, "write_gif", fails_half_way)
+    with pytest.raises(OSError):
+        dc.render(run_h5, out, every=20, progress=False)
+    assert out.read_bytes() == b"earlier image"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.gif"]
+    monkeypatch.undo()
+    assert dc.render(run_h5, out, every=20, progress=False) > 1
+    assert out.read_bytes()[:6] == b"GIF89a"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.gif"]
