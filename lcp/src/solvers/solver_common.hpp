@@ -76,6 +76,9 @@ class CheckpointCursor {
   explicit CheckpointCursor(const SolverOptions& o);
   /// After sweep k.
   void after(int k, const Eigen::VectorXd& lambda);
+  /// For methods whose iterates come k at a time (an outer iteration of several inner ones):
+  /// the last checkpoint ≤ k not yet passed sees λ (the earlier ones are skipped).
+  void reach(int k, const Eigen::VectorXd& lambda);
   /// A solver that stopped early at tolerance: the remaining checkpoints see the final λ
   /// (a larger budget would not have been used).
   void flush_final(const Eigen::VectorXd& lambda);
