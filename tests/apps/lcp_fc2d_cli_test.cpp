@@ -65,8 +65,8 @@ std::string expect_solved(const std::string& name, const std::string& solver_arg
 
 TEST(LcpFc2dCli, SolvesEverySiconos2dFileWithNoOptions) {
   // Every 2D file of Siconos' test data (tests/data/fc2d, listed from the folder) by the
-  // default route: newton-sparse, and the proximal-point route where it stalls — the granular
-  // files whose W is indefinite after Siconos' 6-digit print (docs/lcp.md "The default route").
+  // default route: newton-sparse, and prox-newton where it stalls — the granular files whose W
+  // is indefinite after Siconos' 6-digit print (docs/lcp.md "The default route").
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(kData))
     if (e.path().extension() == ".dat") names.push_back(e.path().filename().string());
@@ -75,8 +75,8 @@ TEST(LcpFc2dCli, SolvesEverySiconos2dFileWithNoOptions) {
   for (const std::string& name : names) {
     const std::string out = expect_solved(name, "");
     const std::string route = member(out, "route");
-    EXPECT_TRUE(route == "\"newton-sparse\"" || route == "\"newton-sparse then proximal:newton-sparse\"") << route;
-    EXPECT_EQ(route.find("proximal") != std::string::npos, member(out, "solver") == "\"proximal:newton-sparse\"")
+    EXPECT_TRUE(route == "\"newton-sparse\"" || route == "\"newton-sparse then prox-newton\"") << route;
+    EXPECT_EQ(route.find("prox-newton") != std::string::npos, member(out, "solver") == "\"prox-newton\"")
         << name << ": " << route;
   }
 }

@@ -32,21 +32,22 @@ TEST(DefaultRoute, AFrictionalProblemIsSolvedByNewtonSparse) {
   EXPECT_LE(r.result.residual, solution_target(f.lcp, SolverOptions{}));
 }
 
-TEST(DefaultRoute, TheProximalRouteTakesOverWhereThePlainRunStops) {
-  // Two plain iterations cannot solve 00727: the proximal route takes over and passes the
-  // solution test; both runs count in `sweeps`.
+TEST(DefaultRoute, ProxNewtonTakesOverWhereThePlainRunStops) {
+  // Two plain iterations cannot solve 00727: prox-newton takes over and passes the solution
+  // test; both runs count in `sweeps`, and the message says why the plain run stopped.
   const ProblemFile f = read_problem_file(kData + "fc2d/FrictionContactProblem00727.dat");
   DefaultRouteDef def;
   def.plain_iterations = 2;
   const RouteResult r = solve_with_default_route(f.lcp, SolverOptions{}, def);
-  EXPECT_EQ(r.route, "newton-sparse then proximal:newton-sparse");
-  EXPECT_EQ(r.solver, "proximal:newton-sparse");
+  EXPECT_EQ(r.route, "newton-sparse then prox-newton");
+  EXPECT_EQ(r.solver, "prox-newton");
   EXPECT_EQ(r.result.status, SolveStatus::Converged) << r.result.message;
+  EXPECT_LE(r.result.residual, solution_target(f.lcp, SolverOptions{}));
   EXPECT_GT(r.result.sweeps, 2);
   EXPECT_EQ(r.result.message.rfind("newton-sparse: sweep_limit", 0), 0u) << r.result.message;
   def.plain = false;
   const RouteResult p = solve_with_default_route(f.lcp, SolverOptions{}, def);
-  EXPECT_EQ(p.route, "proximal:newton-sparse");
+  EXPECT_EQ(p.route, "prox-newton");
   EXPECT_EQ(p.result.status, SolveStatus::Converged) << p.result.message;
   def.plain = true;
   def.proximal = false;

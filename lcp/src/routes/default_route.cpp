@@ -39,38 +39,59 @@ RouteResult solve_lcp(const LcpProblem& problem, const SolverOptions& given, con
 
 }  // namespace
 
+namespace {
+
+/// The stages of the frictional route, run in order; the answer kept is the first that passes
+/// the solution test, else the one with the smallest natural residual.
+class Stages {
+ public:
+  void add(SolveResult next, const std::string& name) {
+    out_.route += (out_.route.empty() ? "" : " then ") + name;
+    sweeps_ += next.sweeps;
+    const std::string summary = name + ": " + to_string(next.status) + " (" + next.message + ")";
+    const bool first = history_.empty();
+    history_ += (first ? "" : "; ") + summary;
+    if (first || next.status == SolveStatus::Converged || !(out_.result.residual <= next.residual)) {
+      out_.result = std::move(next);
+      out_.solver = name;
+    }
+    // One stage: its own message; several: what each said, in order.
+    if (!first) out_.result.message = history_;
+    out_.result.sweeps = sweeps_;
+  }
+  /// Converged, or refused (an invalid problem every later stage refuses too).
+  [[nodiscard]] bool settled() const {
+    return out_.result.status == SolveStatus::Converged || out_.result.status == SolveStatus::InvalidInput;
+  }
+  [[nodiscard]] bool empty() const { return history_.empty(); }
+  RouteResult take() { return std::move(out_); }
+
+ private:
+  RouteResult out_;
+  std::string history_;
+  int sweeps_ = 0;
+};
+
+}  // namespace
+
 RouteResult solve_with_default_route(const LcpProblem& problem, const SolverOptions& options,
                                      const DefaultRouteDef& def) {
   if (is_standard_lcp(problem)) return solve_lcp(problem, options, def);
   const SolverOptions exact = exact_options(options);
-  RouteResult out;
-  int sweeps = 0;
+  Stages stages;
   if (def.plain) {
     SolverOptions o = exact;
     o.max_sweeps = std::max(0, std::min(options.max_sweeps, def.plain_iterations));
-    out.result = make_solver(solver(SolverKind::NewtonSparse))->solve(problem, Eigen::VectorXd(), o);
-    out.solver = out.route = "newton-sparse";
-    sweeps = out.result.sweeps;
-    // Converged, or refused (an invalid problem the proximal route would refuse too).
-    if (out.result.status == SolveStatus::Converged || out.result.status == SolveStatus::InvalidInput ||
-        !def.proximal)
-      return out;
+    stages.add(make_solver(solver(SolverKind::NewtonSparse))->solve(problem, Eigen::VectorXd(), o), "newton-sparse");
+    if (stages.settled() || !def.proximal) return stages.take();
   }
-  // From λ = 0, not from the plain run's best iterate: a stalled Newton iterate of an
-  // indefinite W is a poor start for the shifted problems (they then hit their outer limit).
-  SolveResult prox = solve_proximal_point(problem, Eigen::VectorXd(), exact, ProximalPointDef{});
-  sweeps += prox.sweeps;
-  out.route += out.route.empty() ? "proximal:newton-sparse" : " then proximal:newton-sparse";
-  const bool better = !def.plain || prox.status == SolveStatus::Converged || !(out.result.residual <= prox.residual);
-  const std::string plain_note =
-      def.plain ? "newton-sparse: " + std::string(to_string(out.result.status)) + " (" + out.result.message + "); " : "";
-  if (better) {
-    out.result = std::move(prox);
-    out.solver = "proximal:newton-sparse";
-  }
-  out.result.message = plain_note + "proximal:newton-sparse: " + (better ? out.result.message : prox.message);
-  out.result.sweeps = sweeps;
-  return out;
+  // prox-newton from λ = 0: convex frozen-friction passes, then its own proximal finish.
+  stages.add(make_solver(solver(SolverKind::ProxNewton))->solve(problem, Eigen::VectorXd(), exact), "prox-newton");
+  if (stages.settled()) return stages.take();
+  // The proximal-point route around newton-sparse from λ = 0, not from a stalled iterate: a
+  // stalled Newton iterate of an indefinite W is a poor start for the shifted problems.
+  stages.add(solve_proximal_point(problem, Eigen::VectorXd(), exact, ProximalPointDef{}), "proximal:newton-sparse");
+  return stages.take();
 }
 
 }  // namespace dc

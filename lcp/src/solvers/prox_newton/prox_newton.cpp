@@ -99,13 +99,15 @@ class ProxRun {
     r.sweeps = st_.newton + st_.finish_newton;
     // Provisional status from the hard residual; the shared rule (solver_common) then decides.
     r.status = final_status(hard_residual(p_, r.lambda), target_, budget_left() <= 0);
-    finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);
-    if (r.status == SolveStatus::Converged) cp_.flush_final(r.lambda);
+    // The message first: finish appends the shared rule's explanation when it demotes a claim.
     r.message = std::string("finished by ") + to_string(by_) + ": " + std::to_string(st_.outer) + " passes, " +
                 std::to_string(st_.newton) + " Newton + " + std::to_string(st_.finish_newton) + " finish iterations, " +
                 std::to_string(st_.factorizations) + " factorisations, " + std::to_string(st_.safeguard_sweeps) +
                 " nncg sweeps";
-    if (r.status != SolveStatus::Converged)
+    const bool claimed = r.status == SolveStatus::Converged;
+    finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);
+    if (r.status == SolveStatus::Converged) cp_.flush_final(r.lambda);
+    if (!claimed && r.status != SolveStatus::Converged)
       r.message += "; residual " + sci(r.residual) + " N above target " + sci(target_) + " N";
     return r;
   }
