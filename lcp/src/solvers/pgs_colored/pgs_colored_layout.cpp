@@ -212,7 +212,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
       return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
   }
   const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
-  std::vector<int> partner;
+  std::vector<int>& partner = out.next_partner;  // kept: no allocation in steady state
   find_pairs(p, partner);
   if (col.repeated && col.generation == out.generation && partner == out.partner) {
     // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
@@ -221,7 +221,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     return {};
   }
   out.generation = col.generation;
-  out.partner = std::move(partner);
+  out.partner.swap(partner);
   // Lead contacts (single contacts and first points of a pair) per slot: 2·colour for singles,
   // 2·colour + 1 for pairs (a pair takes its first point's colour: its second point has the same
   // bodies), overflow last; a counting sort keeping contact order inside a slot. With threads:
