@@ -26,7 +26,16 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
   const double* im = p.inv_mass.data();
   const double* v = jt.data();
   const double dt = p.dt;
-  for (int k = 0; k < bodies; ++k) {
+  const int whole = std::min(ncols / 3, bodies);
+  for (int k = 0; k < whole; ++k) {
+    double* out = du + static_cast<size_t>(kStride) * k;
+    const int c = 3 * k;
+    out[0] = im[c] * v[c] * dt;
+    out[1] = im[c + 1] * v[c + 1] * dt;
+    out[2] = im[c + 2] * v[c + 2] * dt;
+    out[3] = 0.0;
+  }
+  for (int k = whole; k < bodies; ++k) {  // a body with fewer than three columns in J
     double* out = du + static_cast<size_t>(kStride) * k;
     for (int d = 0; d < 3; ++d) {
       const int c = 3 * k + d;
