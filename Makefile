@@ -6,7 +6,7 @@ JOBS       ?= $(shell nproc)
 CMAKE_ARGS ?=
 DC          = $(BUILD)/bin/deepcontact
 
-.PHONY: all deps configure build test bench bench-quick model sanitize fuzz clean
+.PHONY: all deps configure build test bench bench-quick results model sanitize fuzz clean
 
 all: build
 
@@ -30,6 +30,13 @@ bench: build
 
 bench-quick: build
 	$(DC) bench --quick --out results-quick
+
+# Regenerates every figure the README and docs/ quote: docs/results/*.md, docs/results/results.json
+# and the blocks between <!-- results:NAME --> markers (scripts/results/results.py; ~25 min on
+# 2 cores with the shortened sizes, FULL=1 for the documented ones). One part alone:
+# make results PART=bench|solvers|siconos|speed|build (comma-separated for several).
+results: build
+	/usr/bin/python3 scripts/results/results.py --build $(BUILD) $(if $(PART),--part $(PART)) $(if $(FULL),--full)
 
 # Retrain the shipped default model (docs/learning.md gives the exact pipeline).
 model: build

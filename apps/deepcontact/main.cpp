@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   dc::cli::add_train_command(app);
   dc::cli::add_stress_command(app);
   dc::cli::add_render_command(app);
+  dc::cli::accept_exact_integers(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -153,9 +153,10 @@ class Scene:
 
         self.traj = traj
         self.fig = plt.figure(figsize=FIGSIZE, dpi=dpi)
-        # Fixed boxes (the equal-aspect scene shrinks inside its box): nothing is clipped.
-        self.ax = ax = self.fig.add_axes([0.11, 0.09, 0.72, 0.88])
-        cax = self.fig.add_axes([0.855, 0.17, 0.028, 0.72])
+        # Fixed boxes (the equal-aspect scene shrinks inside its box): nothing is clipped. The
+        # label (time, step, contacts) has its own strip above the scene, off the walls and bodies.
+        self.ax = ax = self.fig.add_axes([0.11, 0.09, 0.72, 0.80])
+        cax = self.fig.add_axes([0.855, 0.13, 0.028, 0.72])
         w, h = traj.width, traj.height
         pad = 0.03 * max(w, h)
         ax.set_xlim(-pad, w + pad)
@@ -188,9 +189,7 @@ class Scene:
         cb = self.fig.colorbar(sm, cax=cax)
         cb.set_label("contact force λ_n [N]", fontsize=8)
         cb.ax.tick_params(labelsize=7)
-        self.label = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", ha="left", fontsize=9,
-                             family="monospace", zorder=5,
-                             bbox=dict(boxstyle="round,pad=0.25", facecolor="white", alpha=0.85, edgecolor="none"))
+        self.label = self.fig.text(0.11, 0.985, "", va="top", ha="left", fontsize=9, family="monospace", zorder=5)
 
     def draw(self, k):
         t = self.traj
@@ -351,13 +350,16 @@ def main(argv=None):
     ap.add_argument("--frame", type=int)
     ap.add_argument("--every", type=int)
     ap.add_argument("--no-progress", action="store_true")
+    # The caller writes --out under a temporary name and renames it onto this one.
+    ap.add_argument("--report-as", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     try:
         n = render(a.trajectory, a.out, frame=a.frame, every=a.every, progress=not a.no_progress)
     except (RenderError, IoError, OSError) as e:
-        print(f"deepcontact: error: {e}", file=sys.stderr)
+        message = str(e).replace(a.out, a.report_as) if a.report_as else str(e)
+        print(f"deepcontact: error: {message}", file=sys.stderr)
         return 1
-    print(f"render: {a.out} ({n} frame{'s' if n != 1 else ''})")
+    print(f"render: {a.report_as or a.out} ({n} frame{'s' if n != 1 else ''})")
     return 0
 
 

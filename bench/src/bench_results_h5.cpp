@@ -104,6 +104,10 @@ void write_solver_pairs_h5(H5File& f, const BenchResults& r) {
     f.write<double>(g + "/total_ms", p.total_ms, {n});
     f.write<double>(g + "/final_accuracy", p.final_accuracy, {n});
     f.write<double>(g + "/weight_scale", p.weight_scale, {n});
+    const std::vector<std::int32_t> fac(p.factorizations.begin(), p.factorizations.end());
+    const std::vector<std::int32_t> outer(p.outer_passes.begin(), p.outer_passes.end());
+    f.write<std::int32_t>(g + "/factorizations", fac, {n});
+    f.write<std::int32_t>(g + "/outer_passes", outer, {n});
     f.write<std::int64_t>(g + "/trace_offsets", off, {off.size()});
     f.write<double>(g + "/trace_ms", p.trace_ms, {t});
     f.write<double>(g + "/trace_accuracy", p.trace_accuracy, {t});

@@ -2,8 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 #include "dc/core/error.hpp"
+#include "dc/lcp/newton_sparse.hpp"
+#include "dc/lcp/prox_newton.hpp"
 
 namespace dc::bench {
 namespace {
@@ -19,6 +22,25 @@ struct Trace {
   double reached_ms = 0.0;  // solve time until then [ms]
   double last = 0.0;        // accuracy of the last traced point
 };
+
+/// The work of `solver`'s last solve: (factorisations, outer passes), −1 where it does not count
+/// them. prox-newton's proximal finish (newton-sparse on A + δI) factorises once per Newton
+/// iteration at least: counted so (its damping retries are not).
+std::pair<int, int> last_work(const LcpSolver& solver) {
+  if (const auto* ns = dynamic_cast<const NewtonSparseSolver*>(&solver))
+    return {ns->last_stats().factorizations, -1};
+  if (const auto* pn = dynamic_cast<const ProxNewtonSolver*>(&solver)) {
+    const ProxNewtonStats st = pn->last_stats();
+    return {st.factorizations + st.proximal_finish_newton, st.outer};
+  }
+  return {-1, -1};
+}
+
+/// True for the solvers last_work reads.
+bool counts_work(const LcpSolver& solver) {
+  return dynamic_cast<const NewtonSparseSolver*>(&solver) != nullptr ||
+         dynamic_cast<const ProxNewtonSolver*>(&solver) != nullptr;
+}
 
 }  // namespace
 
@@ -73,8 +95,10 @@ void SolverComparison::run(const LcpProblem& p, Vec2 gravity, std::size_t starte
     Trace tr;
     tr.last = initial;
     double run_ms = 0.0;
+    std::pair<int, int> work{-1, -1};
     if (initial <= o_.accuracy) {
       tr.reached = 0;
+      if (counts_work(*trace_[k])) work = {0, dynamic_cast<const ProxNewtonSolver*>(trace_[k].get()) ? 0 : -1};
     } else {
       SolverOptions so;
       so.max_sweeps = cap;
@@ -107,6 +131,7 @@ void SolverComparison::run(const LcpProblem& p, Vec2 gravity, std::size_t starte
       run_ms = ms_since(t0) - callback_ms;
       if (res.status == SolveStatus::InvalidInput)
         throw InvalidArgument("bench: solver '" + rec.solver + "' rejected the problem: " + res.message);
+      work = last_work(*trace_[k]);
       // Checkpoints after the solver stopped see its final λ: they count at its own iterations.
       if (tr.reached > res.sweeps) tr.reached = res.sweeps;
       if (tr.reached < 0 && res.residual / scale <= o_.accuracy) {  // stopped between checkpoints
@@ -120,6 +145,8 @@ void SolverComparison::run(const LcpProblem& p, Vec2 gravity, std::size_t starte
     rec.iterations_to_accuracy.push_back(tr.reached);
     rec.ms_to_accuracy.push_back(warmstart_ms + (tr.reached >= 0 ? tr.reached_ms : run_ms));
     rec.final_accuracy.push_back(tr.last);
+    rec.factorizations.push_back(work.first);
+    rec.outer_passes.push_back(work.second);
     rec.trace_offsets.push_back(rec.trace_ms.size());
     // 2. The timed solve to the run's θ tolerance (the starters' total column, for this solver),
     //    with the comparison's cap.

@@ -1,5 +1,6 @@
 #include "dc/bench/solver_summary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -13,7 +14,7 @@ namespace dc::bench {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kColumns = 4;  // reached (0/1), ms to R, iterations to R, total ms
+constexpr int kColumns = 6;  // reached (0/1), ms to R, iterations to R, total ms, factorisations, outer passes
 
 int comparison_cap(const BenchOptions& o) { return o.max_sweeps > 0 ? o.max_sweeps : o.sweeps; }
 
@@ -26,6 +27,8 @@ std::vector<std::vector<double>> pair_columns(const SolverPairRecord& p, int cap
     c[1].push_back(p.ms_to_accuracy[k]);
     c[2].push_back(it >= 0 ? it : cap);
     c[3].push_back(p.total_ms[k]);
+    c[4].push_back(std::max(0, p.factorizations[k]));
+    c[5].push_back(std::max(0, p.outer_passes[k]));
   }
   return c;
 }
@@ -88,6 +91,14 @@ std::vector<SolverPairSummary> summarise_solver_pairs(const BenchResults& r, con
     s.ms_to_accuracy = interval(i, 1, false);
     s.iterations_to_accuracy = interval(i, 2, false);
     s.total_ms = interval(i, 3, false);
+    const auto counted = [](const std::vector<int>& v) {
+      return !v.empty() && std::all_of(v.begin(), v.end(), [](int x) { return x >= 0; });
+    };
+    if (counted(r.pairs[i].factorizations)) {
+      s.factorizations = interval(i, 4, false);
+      s.p99_factorizations = quantile(all.columns[col(i, 4)], 0.99);
+    }
+    if (counted(r.pairs[i].outer_passes)) s.outer_passes = interval(i, 5, false);
     if (any && ref < r.pairs.size()) {
       const double ref_total = median_of(all.columns[col(ref, 3)]);
       s.ms_to_accuracy_ratio = percentile_interval(s.ms_to_accuracy.estimate / ref_total,
@@ -111,6 +122,11 @@ void solver_pairs_json(JsonWriter& j, const std::vector<SolverPairSummary>& s) {
       j.key("median_ms_to_accuracy").value(s[i].ms_to_accuracy.estimate);
       j.key("median_iterations_to_accuracy").value(s[i].iterations_to_accuracy.estimate);
       j.key("median_total_ms").value(s[i].total_ms.estimate);
+      if (std::isfinite(s[i].factorizations.estimate)) {
+        j.key("median_factorizations").value(s[i].factorizations.estimate);
+        j.key("p99_factorizations").value(s[i].p99_factorizations);
+      }
+      if (std::isfinite(s[i].outer_passes.estimate)) j.key("median_outer_passes").value(s[i].outer_passes.estimate);
       j.end_object();
     }
     j.end_object();
@@ -131,14 +147,19 @@ std::string solver_pairs_markdown(const BenchResults& r, const std::vector<Solve
      << " iterations and the whole run's time). `ms to R` and `total ms` include the warm start; `total ms` is the "
         "solve to θ ≤ " << fmt("%g", r.options.tolerance)
      << " N (for newton-sparse: residual ≤ that). Medians over steps with bootstrap 95 % intervals (seeds, then "
-        "steps); `/pgs+builtin` divides by pgs+builtin's median total ms.\n\n";
-  md << "| solver | starter | reached | ms to R | iterations to R | total ms | ms to R /pgs+builtin | total /pgs+builtin |\n";
-  md << "|---|---|---:|---:|---:|---:|---:|---:|\n";
+        "steps); `/pgs+builtin` divides by pgs+builtin's median total ms. `factorisations` (median [interval], "
+        "p99) and `outer passes` count the work of the solve from λ⁰ to R/100 (where the traced solve stops), for "
+        "the solvers that count them (newton-sparse, prox-newton).\n\n";
+  md << "| solver | starter | reached | ms to R | iterations to R | total ms | ms to R /pgs+builtin | total /pgs+builtin "
+        "| factorisations | p99 fact. | outer passes |\n";
+  md << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& x : s)
     md << "| " << x.solver << " | " << x.starter << " | " << interval_text(x.reached_share, "%.2f") << " | "
        << interval_text(x.ms_to_accuracy, "%.3g") << " | " << interval_text(x.iterations_to_accuracy, "%.0f") << " | "
        << interval_text(x.total_ms, "%.3g") << " | " << interval_text(x.ms_to_accuracy_ratio, "%.3g") << " | "
-       << interval_text(x.total_ratio, "%.3g") << " |\n";
+       << interval_text(x.total_ratio, "%.3g") << " | " << interval_text(x.factorizations, "%.0f") << " | "
+       << (std::isfinite(x.p99_factorizations) ? fmt("%.0f", x.p99_factorizations) : std::string("-")) << " | "
+       << interval_text(x.outer_passes, "%.0f") << " |\n";
   md << "\n";
   return md.str();
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The MPI figures of docs/cluster.md "Measured": wall and CPU time of generate --sims 16 and
+# The MPI figures of docs/cluster.md "Measuring it": wall and CPU time of generate --sims 16 and
 # of a quick bench over 4 seeds at K = 1 and K = 2 ranks (one thread per rank), with the
 # writer's/gatherer's share, and training samples/s at K = 1 and 2.
 # Usage: benchmarks/scripts/mpi-timings.sh [BUILD_DIR] [STEPS]   (STEPS per simulation/seed, default 600)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reproduces the pgs-colored figures of docs/results.md ("Speed of the solver"): the ns per row
+# The pgs-colored figures in full (`make results PART=speed` runs a subset): the ns per row
 # per sweep table (one micro_pgs run, all rows side by side: pgs, pgs-colored's AVX-512, AVX2 and
 # scalar kernels, the scalar reference loop), 1 vs 2 threads on the 10,000-body pile, the
 # colouring cost, Box2D 2.4.1 vs ours on the seed scene (each kernel), and the bench's sweeps

@@ -50,7 +50,8 @@ void durable_rename(const std::string& from, const std::string& to) {
 
 void write_file_atomically(const std::string& path, std::string_view bytes) {
   const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // 0666 less the umask, as for any file a program creates (and as libhdf5 creates its files).
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) throw IoError(tmp + ": cannot open for writing: " + std::strerror(errno));
   // fsync before the rename: without it a crash of the machine can leave the new name on an
   // empty or partial file (ext4's delayed allocation). A failing fsync or close (the last

@@ -655,6 +655,4 @@ std::int64_t h5_open_object_count() {
   return static_cast<std::int64_t>(n);
 }
 
-bool h5_skip_exit_cleanup() { return H5dont_atexit() >= 0; }
-
 }  // namespace dc

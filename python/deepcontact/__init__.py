@@ -7,6 +7,11 @@ Python) and the warm-start bench. See docs/python.md.
         report = w.step(warmstart="builtin")
     print(w.bodies.position[:3], report.sweeps)
 """
+from __future__ import annotations
+
+import typing
+
+from . import _core
 from ._core import (  # noqa: F401  (the C++ core, deepcontact/_core*.so)
     __commit__,
     __version__,
@@ -17,15 +22,25 @@ from ._core import (  # noqa: F401  (the C++ core, deepcontact/_core*.so)
     Result,
     StepView,
     World,
-    copy_hdf5,
-    read_lcp_dat,
-    read_problem,
-    solve,
-    solvers,
-    warmstarters,
-    write_lcp_dat,
-    write_problem,
 )
+from ._signatures import signed as _signed
+
+if typing.TYPE_CHECKING:  # names of the annotations (strings at run time)
+    import os
+    from typing import Any, Iterable, Mapping, Optional, Sequence, Union
+
+    import numpy
+    import numpy.typing
+
+# The C++ functions, wrapped so that inspect.signature (and help()) show their parameters.
+copy_hdf5 = _signed(_core.copy_hdf5)
+read_lcp_dat = _signed(_core.read_lcp_dat)
+read_problem = _signed(_core.read_problem)
+solve = _signed(_core.solve)
+solvers = _signed(_core.solvers)
+warmstarters = _signed(_core.warmstarters)
+write_lcp_dat = _signed(_core.write_lcp_dat)
+write_problem = _signed(_core.write_problem)
 from ._core import bench as _bench
 
 
@@ -56,18 +71,18 @@ class WarmStarter:
     :class:`World` valid during the call only.
     """
 
-    def name(self):
+    def name(self) -> str:
         """The name in bench reports (default: the class name)."""
         return type(self).__name__
 
-    def initial_guess(self, view):  # pragma: no cover - abstract
+    def initial_guess(self, view: StepView) -> numpy.typing.ArrayLike:  # pragma: no cover - abstract
         """λ⁰ for this step: one float per row of ``view.world.problem`` (``len == view.rows``)."""
         raise NotImplementedError(f"{type(self).__name__}.initial_guess(view) is not implemented")
 
-    def observe(self, view, solved):
+    def observe(self, view: StepView, solved: numpy.typing.NDArray[numpy.float64]) -> None:
         """Called after each step's solve with the solved λ (default: nothing)."""
 
-    def uses_oracle(self):
+    def uses_oracle(self) -> bool:
         """True when the guess uses ``view.oracle`` (this step's λ*): an upper bound, marked ``*``."""
         return False
 
@@ -75,9 +90,14 @@ class WarmStarter:
 _DEFAULT_SEEDS = (1, 2)
 
 
-def bench(scene=None, warmstarts=None, seeds=_DEFAULT_SEEDS, quick=False, mode="paired", out=None, *,
-          set={}, sweeps=None, tol=1e-2, solver="pgs", steps=None, model="", progress=False, solvers=None,
-          accuracy=1e-6, jobs=1):
+def bench(scene: Union[str, os.PathLike[str], None] = None,
+          warmstarts: Optional[Sequence[Union[str, WarmStarter, type]]] = None,
+          seeds: Union[Iterable[int], int, str] = _DEFAULT_SEEDS, quick: bool = False, mode: str = "paired",
+          out: Union[str, os.PathLike[str], None] = None, *,
+          set: Union[Mapping[str, object], Sequence[str], str] = {}, sweeps: Optional[int] = None,
+          tol: float = 1e-2, solver: str = "pgs", steps: Optional[int] = None, model: str = "",
+          progress: bool = False, solvers: Optional[Sequence[str]] = None, accuracy: float = 1e-6,
+          jobs: int = 1) -> dict[str, Any]:
     """Run the warm-start benchmark of ``deepcontact bench`` and return its summary as a dict
     (the content of summary.json; with ``out`` the whole report is written there too).
 
@@ -109,14 +129,33 @@ from .trajectory import Trajectory, read_trajectory  # noqa: E402,F401
 from .starters import PyBuiltin, previous_lambda_by_key  # noqa: E402,F401
 
 
-def render(trajectory, out, frame=None, every=None, progress=True):
+def render(trajectory: Union[str, os.PathLike[str]], out: Union[str, os.PathLike[str]], frame: Optional[int] = None,
+           every: Optional[int] = None, progress: bool = True) -> int:
     """Draw a trajectory file (``deepcontact render``): a GIF/MP4 of every ``every``-th
     step, or with ``frame=K`` one PNG of state K with the forces of step K. Returns the
     number of frames written; a wrong extension, an ``out`` that is a directory or a frame
     out of range raise ``render_trajectory.RenderError`` (one line) before anything is drawn."""
+    import os
+
     from . import render_trajectory
 
-    return render_trajectory.render(str(trajectory), str(out), frame=frame, every=every, progress=progress)
+    out = str(out)
+    render_trajectory.check_output(out, frame, every)  # the path the user gave, not the temporary
+    # Drawn into OUT.tmp.EXT (the extension picks the format) and renamed onto OUT only when
+    # complete: a failed or interrupted render leaves an earlier OUT as it was.
+    tmp = out + ".tmp" + os.path.splitext(out)[1]
+    try:
+        n = render_trajectory.render(str(trajectory), tmp, frame=frame, every=every, progress=progress)
+    except BaseException as e:
+        if os.path.isfile(tmp):
+            os.remove(tmp)
+        if isinstance(e, render_trajectory.RenderError):  # name the file the caller asked for
+            raise render_trajectory.RenderError(str(e).replace(tmp, out)) from None
+        raise
+    from ._core import _commit_file
+
+    _commit_file(tmp, out)
+    return n
 
 
 def _render_world(world):
@@ -132,6 +171,7 @@ def _render_world(world):
 
 __all__ = [
     "ConfigError", "InvalidArgument", "IoError", "Problem", "Result", "StepView", "World", "Fields",
-    "WarmStarter", "bench", "read_lcp_dat", "write_lcp_dat", "solve", "solvers", "warmstarters",
+    "WarmStarter", "bench", "read_lcp_dat", "write_lcp_dat", "read_problem", "write_problem", "copy_hdf5",
+    "solve", "solvers", "warmstarters",
     "Trajectory", "read_trajectory", "render", "PyBuiltin", "previous_lambda_by_key",
 ]

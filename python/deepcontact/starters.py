@@ -7,12 +7,14 @@ that ``PyBuiltin`` gives exactly the C++ ``builtin``'s sweeps in a paired bench
 (tests/python/test_warmstart.py); benchmarks/scripts/python-starter-overhead.py uses it to time the
 cost of a Python starter; examples/custom_warm_starter.py extends the rule.
 """
+from __future__ import annotations
+
 import numpy as np
 
-from . import WarmStarter
+from . import StepView, WarmStarter  # noqa: F401  (StepView: annotations)
 
 
-def previous_lambda_by_key(view):
+def previous_lambda_by_key(view: StepView) -> tuple[np.typing.NDArray[np.float64], np.typing.NDArray[np.bool_]]:
     """λ⁰ by builtin's rule and the mask of contacts that had no previous match.
 
     Returns ``(lam0, new)``: ``lam0`` has one float per LCP row of ``view.world`` (the
@@ -38,10 +40,10 @@ def previous_lambda_by_key(view):
 class PyBuiltin(WarmStarter):
     """``builtin`` in Python: the previous step's solved λ of the contact with the same key."""
 
-    def name(self):
+    def name(self) -> str:
         """``"py-builtin"``."""
         return "py-builtin"
 
-    def initial_guess(self, view):
+    def initial_guess(self, view: StepView) -> np.typing.NDArray[np.float64]:
         """The previous step's solved λ by contact key (0 for new contacts)."""
         return previous_lambda_by_key(view)[0]

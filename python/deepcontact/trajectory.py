@@ -7,7 +7,10 @@ docs/formats.md, "Trajectory") into numpy arrays.
 
 Pure h5py/numpy (no C++ needed), so ``deepcontact render`` can use it from the source tree.
 """
+from __future__ import annotations
+
 import tomllib
+import typing
 
 import numpy as np
 
@@ -16,6 +19,10 @@ try:
 except ImportError:  # loaded on its own (bench/plots/render_trajectory.py)
     class IoError(OSError):
         """A file could not be read or is not what it should be (one line, naming it)."""
+
+if typing.TYPE_CHECKING:  # names of the annotations (strings at run time)
+    import os
+    from typing import Optional, Union
 
 FORMAT = "deepcontact-trajectory"
 WALL_NAMES = {-1: "left", -2: "right", -3: "bottom", -4: "top"}
@@ -39,7 +46,7 @@ class Trajectory:
     vertex_offset (n+1), vertices (V, 2) in the body frame, semi_axes (n, 2)).
     """
 
-    def __init__(self, path):
+    def __init__(self, path: Union[str, os.PathLike[str]]) -> None:
         import h5py  # imported here: `import deepcontact` must not need h5py
 
         self.path = str(path)
@@ -125,17 +132,17 @@ class Trajectory:
         return None
 
     @property
-    def steps(self):
+    def steps(self) -> int:
         """Number of steps S (states are 0 … S)."""
         return self.position.shape[0] - 1
 
     @property
-    def bodies(self):
+    def bodies(self) -> int:
         """Number of bodies n (the last state's; bodies that enter later are NaN before)."""
         return self.position.shape[1]
 
     @property
-    def inertia(self):
+    def inertia(self) -> np.typing.NDArray[np.float64]:
         """Moment of inertia of each body about its centre (n,) [kg·m²], from its shape and
         mass (uniform density): circle ½·m·r², ellipse ¼·m·(a² + b²), polygon (and box) from
         its body-frame vertices. The engine's values (``World.bodies.inertia``) are the same."""
@@ -153,12 +160,12 @@ class Trajectory:
                     inertia[b] = _polygon_inertia(v, self.mass[b])
         return inertia
 
-    def time(self, k):
+    def time(self, k: int) -> float:
         """Simulated time of state k [s]: (start_step + k)·dt (a file recorded after a warm-up
         keeps its true time)."""
         return (self.start_step + k) * self.dt
 
-    def frame(self, k):
+    def frame(self, k: int) -> np.typing.NDArray[np.uint8]:
         """State k drawn as ``deepcontact render --frame k`` draws it (bodies, walls, the forces
         solved in step k, time and step): an (H, W, 3) uint8 numpy array, e.g. for
         ``PIL.Image.fromarray(t.frame(k))`` or ``plt.imshow`` in a notebook."""
@@ -173,7 +180,7 @@ class Trajectory:
         finally:
             plt.close(scene.fig)
 
-    def step_contacts(self, k):
+    def step_contacts(self, k: int) -> dict[str, np.typing.NDArray]:
         """The contacts solved in step k (found at state k); empty for k = S."""
         if not 0 <= k <= self.steps:
             raise IndexError(f"{self.path}: step {k} is outside 0..{self.steps}")
@@ -181,7 +188,7 @@ class Trajectory:
         hi = int(self.step_offset[k + 1]) if k < self.steps else lo
         return {name: a[lo:hi] for name, a in self.contacts.items()}
 
-    def polygon(self, body):
+    def polygon(self, body: int) -> Optional[np.typing.NDArray[np.float64]]:
         """Body-frame vertices (m, 2) of a polygon body, or None."""
         if self.shapes is None or "vertices" not in self.shapes or "vertex_offset" not in self.shapes:
             return None
@@ -190,7 +197,7 @@ class Trajectory:
             return None
         return self.shapes["vertices"][off[body]:off[body + 1]]
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.position.shape[0]
 
     def __repr__(self):
@@ -208,6 +215,6 @@ def _polygon_inertia(v, mass):
     return about_origin - mass * (centroid @ centroid)
 
 
-def read_trajectory(path):
+def read_trajectory(path: Union[str, os.PathLike[str]]) -> Trajectory:
     """A trajectory file as a :class:`Trajectory` (IoError with one line naming the file)."""
     return Trajectory(path)

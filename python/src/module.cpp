@@ -2,6 +2,7 @@
 // (python/deepcontact/__init__.py; docs/python.md). The GIL is released while C++ runs and
 // taken again for every call into a warm starter written in Python.
 #include "dc/core/install_paths.hpp"
+#include "dc/io/h5.hpp"
 #include "py_common.hpp"
 
 namespace {
@@ -18,6 +19,9 @@ std::string python_version() {
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
+  // First, as in the CLI's main: libhdf5's exit-time cleanup crashes after a failed write
+  // (h5.hpp). Files of h5py in the same process are then not closed for it at exit: close them.
+  dc::h5_skip_exit_cleanup();
   m.doc() = "DeepContact engine, LCP solvers, warm starters and bench (C++ core)";
   m.attr("__version__") = python_version();
   m.attr("__commit__") = dc::git_commit();

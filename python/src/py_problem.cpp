@@ -27,6 +27,9 @@ LcpProblem problem_from_python(pyb::handle A, pyb::handle b, pyb::handle lo, pyb
                                pyb::handle normal_row) {
   LcpProblem p;
   p.A = to_sparse(A, "A");
+  if (p.A.rows() != p.A.cols())
+    throw InvalidArgument("Problem: A must be square (one row and one column per unknown), got " +
+                          std::to_string(p.A.rows()) + " x " + std::to_string(p.A.cols()));
   p.b = to_vector(b, "b");
   const int n = p.rows();
   p.lo = lo.is_none() ? Eigen::VectorXd::Zero(n) : to_vector(lo, "lo");

@@ -48,7 +48,8 @@ void write_problem(pyb::object path, pyb::object problem, pyb::object solution, 
     fc.mu = to_vector(problem["mu"], "mu");
   }
   auto as_reactions = [&](pyb::handle v, const char* what) {
-    const Eigen::VectorXd x = to_vector(v, what);
+    // A Result of solve() stands for its λ (the solved rows of `problem`).
+    const Eigen::VectorXd x = pyb::isinstance<PyResult>(v) ? v.cast<const PyResult&>().r.lambda : to_vector(v, what);
     return map ? fc2d_reactions(*map, x) : x;
   };
   const Eigen::VectorXd sol = solution.is_none() ? Eigen::VectorXd() : as_reactions(solution, "solution");
@@ -70,7 +71,7 @@ void bind_problem_file(pyb::module_& m) {
   m.def("write_problem", &write_problem, pyb::arg("path"), pyb::arg("problem"), pyb::arg("solution") = pyb::none(),
         pyb::arg("guesses") = pyb::tuple(),
         "Write a 2D frictional-contact problem: FCLIB when path ends in .hdf5 (or .h5), with solution as /solution "
-        "and each guess as a /guesses entry (u = W r + q is computed for each), otherwise a Siconos frictional-"
+        "and each guess as a /guesses entry (vectors, or Results of solve()) (u = W r + q is computed for each), otherwise a Siconos frictional-"
         "contact .dat (sparse-block storage; solution and guesses are not written: the format has no place for "
         "them). problem is what read_problem returned (or any mapping with 'W', 'q', 'mu' per contact; vectors "
         "per contact normal, tangent), or a Problem of the engine (World.problem), whose contacts are reordered "

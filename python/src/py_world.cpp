@@ -74,8 +74,18 @@ WorldDef scene_from_python(pyb::handle scene, pyb::handle set) {
   if (!set.is_none()) {
     if (pyb::isinstance<pyb::dict>(set)) {
       for (auto [k, v] : set.cast<pyb::dict>()) apply_override(d, pyb::str(k).cast<std::string>() + "=" + toml_value(v));
+    } else if (pyb::isinstance<pyb::str>(set)) {  // one override, as after one --set
+      apply_override(d, set.cast<std::string>());
+    } else if (pyb::isinstance<pyb::list>(set) || pyb::isinstance<pyb::tuple>(set)) {
+      for (auto item : set) {
+        if (!pyb::isinstance<pyb::str>(item))
+          throw pyb::type_error("set: expected \"section.key=value\" strings in the list, got " +
+                                pyb::repr(item).cast<std::string>());
+        apply_override(d, item.cast<std::string>());
+      }
     } else {
-      for (auto item : set) apply_override(d, pyb::str(item).cast<std::string>());
+      throw pyb::type_error("set: expected a dict {\"section.key\": value} or a list of \"section.key=value\" "
+                            "strings, got " + std::string(pyb::str(pyb::type::handle_of(set).attr("__name__"))));
     }
   }
   d.validate();
@@ -136,8 +146,12 @@ pyb::object contact_fields(std::span<const Contact> cs, const ContactConstraints
 
 namespace {
 
-pyb::object body_fields(const PyWorld& self, pyb::handle owner) {
-  const BodyState& s = self.get().bodies();
+pyb::object body_fields(PyWorld& self, pyb::handle owner) {
+  // The views point into the body arrays: bodies added later ([inflow], spawns) must not
+  // move them (a view would read freed memory), so room for all of them is reserved first.
+  // A view keeps the shape it was made with: the bodies that existed then.
+  const BodyState& s = self.get().bodies();  // RuntimeError while another thread steps it
+  if (self.owned) self.owned->reserve_added_bodies();
   const pyb::handle base = self.owned ? owner : pyb::none();  // a borrowed world's arrays are copies
   pyb::object f = make_fields();
   f["position"] = view(s.position, base);

@@ -4,8 +4,8 @@
 # each from zero, builtin, cnn and copy, accuracy target R = 1e-6 (natural-map residual relative
 # to the heaviest weight), cap 10,000 iterations, θ ≤ 1e-2 N for the total column — on the
 # family's held-out evaluation seeds ([family] seeds; the models were trained on others), then
-# research/scripts/solver-comparison-table.py writes the table into docs/solvers.md and a line
-# into docs/results.md.
+# research/scripts/solver-comparison-table.py prints the table. `make results PART=solvers` runs
+# this script (STEPS=2) and writes the table into docs/results/solvers.md and the docs' quotes.
 #
 #   research/scripts/solver-comparison.sh [BUILD_DIR] [OUT_DIR]   (defaults: build, results/solvers)
 #
@@ -14,7 +14,7 @@
 # SEEDS (instead of each family's seeds), STEPS=N (evaluated steps per seed, default 10),
 # DEEP_ORACLE=1 (the oracle on the settled deep pile too, which `copy` needs; default off: deep
 # then runs --no-oracle without copy), SOLVERS (default pgs,nncg,newton-sparse), NO_DOCS=1 (do not
-# touch the docs).
+# print the table).
 # Bounded: ~10 evaluated steps per seed and 2 seeds (1 on deep) keep a family to a few minutes
 # on 2 idle cores; it is not part of `make test`. The CPU model and the load are recorded next
 # to the reports (OUT_DIR/machine.txt) and in the table.
@@ -61,6 +61,6 @@ want drum && run drum 1..2 --scene scenes/drum.toml --warmstarts "$S" $(window 1
 want polydisperse && run polydisperse 1..2 --scene scenes/polydisperse.toml --warmstarts "$S" $(window 185)
 want box_pile && run box_pile 1..2 --scene scenes/box_pile.toml --warmstarts "$S" $(window 250)
 if [[ "${NO_DOCS:-0}" != 1 ]]; then
-  /usr/bin/python3 research/scripts/solver-comparison-table.py "$OUT" docs/solvers.md docs/results.md
+  /usr/bin/python3 research/scripts/solver-comparison-table.py "$OUT"
 fi
 echo "solver-comparison: reports under $OUT/*/report.md"

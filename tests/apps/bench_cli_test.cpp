@@ -49,6 +49,13 @@ TEST(BenchCli, RolloutModeWritesTheCompleteReport) {
       EXPECT_TRUE(std::filesystem::exists(dir.file(png))) << mode << ": " << png << "\n" << test::slurp(dir.file("plots.log"));
       EXPECT_NE(md.find(std::string("](") + png + ")"), std::string::npos) << mode << ": " << png;
     }
+    // The frame is rendered in the staging folder, which is gone when the report is complete:
+    // render.log names the report's own file, not that folder.
+    if (std::filesystem::exists(dir.file("render.log"))) {
+      const std::string log = test::slurp(dir.file("render.log"));
+      EXPECT_NE(log.find("render: reference_frame.png"), std::string::npos) << log;
+      EXPECT_EQ(log.find("partial-run"), std::string::npos) << log;
+    }
     const std::string js = test::slurp(dir.file("summary.json"));
     EXPECT_NE(js.find("\"statistics\""), std::string::npos);
     EXPECT_NE(js.find(mode == "paired" ? "\"paired\": true" : "\"paired\": false"), std::string::npos);

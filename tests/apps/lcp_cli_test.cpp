@@ -156,6 +156,47 @@ TEST(LcpCli, BadFileGivesOneLineErrorAndNonZeroExit) {
   EXPECT_NE(unknown.err.find("lemke"), std::string::npos) << unknown.err;
 }
 
+TEST(LcpCli, WithoutASolverEveryLcpFileTakesLemkesRoute) {
+  // The default route of an LCP is lemke: the same answer, status and exit code as naming it;
+  // the JSON says which route ran. Every file of tests/data/lcp, listed from the folder.
+  int files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(DC_SOURCE_DIR) + "/tests/data/lcp")) {
+    if (e.path().extension() != ".dat") continue;
+    SCOPED_TRACE(e.path().string());
+    ++files;
+    const CliRun d = run_cli("lcp solve \"" + e.path().string() + "\"");
+    const CliRun l = run_cli("lcp solve \"" + e.path().string() + "\" --solver lemke");
+    EXPECT_EQ(d.exit_code, l.exit_code) << d.err;
+    EXPECT_NE(d.exit_code, 2) << d.err;
+    EXPECT_EQ(json_field(d.out, "route"), "\"lemke\"");
+    EXPECT_EQ(json_field(d.out, "solver"), "\"lemke\"");
+    EXPECT_EQ(json_field(d.out, "status"), json_field(l.out, "status"));
+    EXPECT_EQ(json_array(d.out, "z"), json_array(l.out, "z"));
+    EXPECT_EQ(d.out.find("\"r\": ["), std::string::npos);
+  }
+  EXPECT_GE(files, 9);
+}
+
+TEST(LcpCli, MessagesPrintSmallNumbersReadably) {
+  // A stalled Newton reports its residual and target in %g, never as 0.000000.
+  const CliRun r = run_cli(std::string("lcp solve \"") + DC_SOURCE_DIR +
+                           "/tests/data/fc2d/FrictionContactProblem00727.dat\" --solver newton-sparse --sweeps 2 --tol 1e-12");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  const std::string msg = json_field(r.out, "message");
+  EXPECT_NE(msg.find("above target 1e-12 N"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("0.000000"), std::string::npos) << msg;
+}
+
+TEST(LcpCli, AnIntegerOptionTakesAnExactIntegerInAnyNotation) {
+  const std::string file = std::string("\"") + DC_SOURCE_DIR + "/tests/data/lcp/small_spd.dat\" --solver pgs-assembled --tol 0";
+  const CliRun a = run_cli("lcp solve " + file + " --sweeps 1e1");
+  EXPECT_EQ(a.exit_code, 1) << a.err;
+  EXPECT_EQ(json_field(a.out, "sweeps"), "10");
+  const CliRun b = run_cli("lcp solve " + file + " --sweeps 2.5");
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("--sweeps: 2.5 is not an integer"), std::string::npos) << b.err;
+}
+
 TEST(LcpCli, HelpDescribesTheCommand) {
   const CliRun r = run_cli("lcp solve --help");
   EXPECT_EQ(r.exit_code, 0);

@@ -39,36 +39,55 @@ std::string member(const std::string& json, const std::string& key) {
 }
 
 /// Solves one file of tests/data/fc2d with `solver_args` and checks the answer from the file:
-/// converged, w = W z + q, and the natural residual of z ≤ 1e-8·max(1, ‖q‖∞).
-void expect_solved(const std::string& name, const std::string& solver_args) {
+/// converged, u = W r + q, and the natural residual of r ≤ 1e-8·max(1, ‖q‖∞). Returns the JSON.
+std::string expect_solved(const std::string& name, const std::string& solver_args) {
   SCOPED_TRACE(name);
   const test::CliResult r = test::run_cli("lcp solve \"" + kData + name + "\" " + solver_args);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");  // no note: Siconos' isComplete flag after mu is read as what it is
   EXPECT_EQ(member(r.out, "problem"), "\"fc2d\"");
+  EXPECT_EQ(r.out.find("\"z\""), std::string::npos);  // FCLIB's names for a frictional problem
   EXPECT_EQ(member(r.out, "status"), "\"converged\"");
   EXPECT_GE(std::stod(member(r.out, "solve_seconds")), 0.0);
   const Fc2dProblem p = read_fc2d_dat(kData + name).problem;
-  const Eigen::VectorXd z = array_of(r.out, "z"), w = array_of(r.out, "w"), mu = array_of(r.out, "mu");
-  ASSERT_EQ(z.size(), p.q.size());
+  const Eigen::VectorXd z = array_of(r.out, "r"), w = array_of(r.out, "u"), mu = array_of(r.out, "mu");
+  if (z.size() != p.q.size()) {
+    ADD_FAILURE() << r.out.substr(0, 300);
+    return r.out;
+  }
   EXPECT_EQ(mu, p.mu);
   EXPECT_LE((w - (p.W * z + p.q)).lpNorm<Eigen::Infinity>(), 1e-12 * std::max(1.0, w.lpNorm<Eigen::Infinity>()));
   const double res = fc2d_natural_residual(p, z);
   EXPECT_EQ(res, std::stod(member(r.out, "residual")));
   EXPECT_LE(res, 1e-8 * std::max(1.0, p.q.lpNorm<Eigen::Infinity>()));
+  return r.out;
 }
 
-TEST(LcpFc2dCli, SolvesSiconos2dFilesAsFrictionalProblems) {
-  // Every 2D file of Siconos' test data: newton up to 727 contacts; the granular 2020 and 7002
-  // ones, whose W is indefinite after Siconos' 6-digit print (newton stalls), by the
-  // proximal-point route around newton-sparse (docs/lcp.md).
-  for (const char* name : {"FC2D_SliderCrankLagrangian00000.dat", "FC2D_SliderCrankLagrangian00001.dat",
-                           "FrictionContactProblem00031.dat", "FrictionContactProblem00071.dat",
-                           "FrictionContactProblem00237.dat", "FrictionContactProblem00374.dat",
-                           "FrictionContactProblem00394.dat", "FrictionContactProblem00727.dat",
-                           "fc2d_granularflowonwall_00667_00000.dat"})
-    expect_solved(name, "--solver newton");
-  for (const char* name : {"fc2d_granularflowonwall_02020_00213.dat", "fc2d_granularflowonwall_07002_00801.dat"})
-    expect_solved(name, "--solver newton-sparse --proximal");
+TEST(LcpFc2dCli, SolvesEverySiconos2dFileWithNoOptions) {
+  // Every 2D file of Siconos' test data (tests/data/fc2d, listed from the folder) by the
+  // default route: newton-sparse, and the proximal-point route where it stalls — the granular
+  // files whose W is indefinite after Siconos' 6-digit print (docs/lcp.md "The default route").
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(kData))
+    if (e.path().extension() == ".dat") names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  ASSERT_GE(names.size(), 11u);
+  for (const std::string& name : names) {
+    const std::string out = expect_solved(name, "");
+    const std::string route = member(out, "route");
+    EXPECT_TRUE(route == "\"newton-sparse\"" || route == "\"newton-sparse then proximal:newton-sparse\"") << route;
+    EXPECT_EQ(route.find("proximal") != std::string::npos, member(out, "solver") == "\"proximal:newton-sparse\"")
+        << name << ": " << route;
+  }
+}
+
+TEST(LcpFc2dCli, ANamedSolverRunsAloneAndSaysSo) {
+  // --solver keeps its meaning: that solver, and the route is just its name.
+  const std::string a = expect_solved("FrictionContactProblem00071.dat", "--solver newton");
+  EXPECT_EQ(member(a, "route"), "\"newton\"");
+  EXPECT_EQ(member(a, "solver"), "\"newton\"");
+  const std::string b = expect_solved("FC2D_SliderCrankLagrangian00000.dat", "--solver newton-sparse --proximal");
+  EXPECT_EQ(member(b, "route"), "\"proximal:newton-sparse\"");
 }
 
 TEST(LcpFc2dCli, KindIsDetectedOrForced) {
@@ -100,7 +119,7 @@ TEST(LcpFc2dCli, SiconosToFclibToSiconosIsBitEqualAndSolvesTheSame) {
     }
     const test::CliResult s1 = test::run_cli("lcp solve \"" + kData + name + "\" --solver newton");
     const test::CliResult s2 = test::run_cli("lcp solve " + h5 + " --solver newton");
-    EXPECT_EQ(array_of(s1.out, "z"), array_of(s2.out, "z"));
+    EXPECT_EQ(array_of(s1.out, "r"), array_of(s2.out, "r"));
   }
   // An LCP is not written as a frictional problem, nor a frictional one as an LCP.
   const test::CliResult e1 = test::run_cli("lcp convert \"" + std::string(DC_SOURCE_DIR) +
@@ -160,6 +179,8 @@ TEST(LcpFc2dCli, SimulateExportsEachStepsProblemWithSolutionAndGuess) {
     EXPECT_LE((u - (f.fc2d.W * f.solution + f.fc2d.q)).lpNorm<Eigen::Infinity>(), 1e-12 * scale);
     const test::CliResult s = test::run_cli("lcp solve " + out + "/" + step + " --solver newton");
     EXPECT_EQ(s.exit_code, 0) << s.err;
+    const test::CliResult d = test::run_cli("lcp solve " + out + "/" + step);  // the default route
+    EXPECT_EQ(d.exit_code, 0) << d.err << d.out.substr(0, 200);
   }
   const test::CliResult dat =
       test::run_cli("simulate --steps 20 --export-problems " + out + " --every 20 --format siconos-fc");

@@ -103,3 +103,37 @@ TEST(OutputPathCli, BenchReplacesAnEarlierReportOnlyWithACompleteNewOne) {
 
 }  // namespace
 }  // namespace dc
+
+namespace dc {
+namespace {
+
+/// Refused at the door because of the output's name: exit 1, one line naming the file and
+/// the extensions expected, nothing written.
+void expect_wrong_extension(const test::CliResult& r, const std::string& path, const std::string& expected) {
+  expect_refused_before_work(r, path);
+  EXPECT_NE(r.err.find("expected a name ending in " + expected), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(OutputPathCli, AnOutputNamedForAnotherFormatIsRefused) {
+  test::TempDir dir;
+  const std::string data = std::string(DC_SOURCE_DIR) + "/tests/data/";
+  expect_wrong_extension(test::run_cli("simulate " + kSmallScene + "--steps 400 --out " + dir.file("run.txt")),
+                         dir.file("run.txt"), ".h5 or .hdf5");
+  expect_wrong_extension(test::run_cli("generate --sims 2 --steps 20 --out " + dir.file("d.txt")), dir.file("d.txt"),
+                         ".h5 or .hdf5");
+  expect_wrong_extension(test::run_cli("train --data " + dir.file("nope.h5") + " --out " + dir.file("m.txt")),
+                         dir.file("m.txt"), ".h5 or .hdf5");
+  expect_wrong_extension(test::run_cli("pgs-landscape --data " + dir.file("nope.h5") + " --out " + dir.file("l.txt")),
+                         dir.file("l.txt"), ".csv");
+  expect_wrong_extension(test::run_cli("lcp convert " + data + "lcp/small_spd.dat " + dir.file("p.txt")),
+                         dir.file("p.txt"), ".dat");
+  expect_wrong_extension(test::run_cli("lcp convert " + data + "lcp/small_spd.dat " + dir.file("p.dat") + " --format fclib"),
+                         dir.file("p.dat"), ".h5 or .hdf5");
+  // The names that fit are taken (.h5 is FCLIB, like .hdf5; the case of the extension is free).
+  EXPECT_EQ(test::run_cli("lcp convert " + data + "fc2d/FrictionContactProblem00394.dat " + dir.file("p.h5")).exit_code, 0);
+  EXPECT_EQ(test::run_cli("simulate " + kSmallScene + "--steps 2 --out " + dir.file("run.HDF5")).exit_code, 0);
+}
+
+}  // namespace
+}  // namespace dc

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <filesystem>
 #include <string>
 
@@ -134,6 +135,50 @@ TEST(OutputsKeptCli, FileSizeLimitEndsInOneLineNotASignal) {
   EXPECT_EQ(r.err.rfind("deepcontact: error: ", 0), 0u) << r.err;
   EXPECT_TRUE(test::slurp_file(out) == before);
   expect_no_leftovers(dir.path());
+}
+
+// generate under ulimit -f as a shell sets it: its shard cannot be written; one line naming
+// the shard, exit 1, no signal, and nothing under the final name (the partial run stays
+// resumable under OUT.partial and OUT.shards).
+TEST(OutputsKeptCli, GenerateUnderAFileSizeLimitEndsInOneLineNamingTheFile) {
+  const test::TempDir dir;
+  const std::string out = dir / "data.h5";
+  const auto r = test::run_cli_with_file_limit(
+      "generate --sims 2 --count 10..12 --steps 20 --threads 1" + kScene + " --out " + out, 8192,
+      /*ignore_sigxfsz=*/false);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("deepcontact: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("data.h5.shards/"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  expect_no_leftovers(dir.path());
+}
+
+/// A stand-in for the renderer's Python (DC_BENCH_PYTHON): writes `bytes` to the path after
+/// --out, then exits with `code`.
+std::string fake_renderer(const test::TempDir& dir, const std::string& bytes, int code) {
+  const std::string path = dir / ("fake-python-" + std::to_string(code));
+  std::ofstream(path) << "#!/bin/sh\nwhile [ $# -gt 0 ]; do [ \"$1\" = --out ] && printf '" << bytes
+                      << "' > \"$2\"; shift; done\nexit " << code << "\n";
+  fs::permissions(path, fs::perms::owner_all);
+  return path;
+}
+
+// render draws into OUT.tmp.EXT and renames only a complete image onto OUT: a renderer that
+// fails after writing part of its output leaves the earlier OUT byte for byte.
+TEST(OutputsKeptCli, FailedRenderKeepsTheEarlierImage) {
+  const test::TempDir dir;
+  const std::string out = dir / "run.gif";
+  std::ofstream(out) << "earlier image";
+  for (const auto& [code, expected] : {std::pair{1, std::string("earlier image")}, {0, std::string("new image")}}) {
+    ::setenv("DC_BENCH_PYTHON", fake_renderer(dir, code ? "partial" : "new image", code).c_str(), 1);
+    const auto r = test::run_cli("render " + (dir / "missing.h5") + " --out " + out);
+    ::unsetenv("DC_BENCH_PYTHON");
+    EXPECT_EQ(r.exit_code, code) << r.err;
+    EXPECT_EQ(test::slurp_file(out), expected) << "renderer exit " << code;
+    EXPECT_FALSE(fs::exists(out + ".tmp.gif")) << "renderer exit " << code;
+  }
 }
 
 // An export folder no file can be created in (/proc, also for root) is refused before the

@@ -97,3 +97,41 @@ TEST(Labels, SimulateCountsBodiesByShape) {
 
 }  // namespace
 }  // namespace dc
+
+namespace dc {
+namespace {
+
+TEST(UsageErrors, AValueThatIsNoNumberSaysSo) {
+  const auto r = test::run_cli("simulate --steps abc");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--steps: 'abc' is not an integer"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("out of range"), std::string::npos) << r.err;
+  const auto f = test::run_cli("lcp solve x.dat --tol abc");
+  EXPECT_NE(f.err.find("--tol: 'abc' is not a number"), std::string::npos) << f.err;
+  const auto big = test::run_cli("simulate --steps 99999999999");
+  EXPECT_NE(big.err.find("--steps: 99999999999 is out of range"), std::string::npos) << big.err;
+}
+
+TEST(UsageErrors, AnExactIntegerInScientificNotationIsTaken) {
+  const auto r = test::run_cli("simulate --steps 1e1");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(" for 10 steps"), std::string::npos) << r.out;
+  const auto frac = test::run_cli("simulate --steps 2.5");
+  EXPECT_EQ(frac.exit_code, 2);
+  EXPECT_NE(frac.err.find("--steps: 2.5 is not an integer"), std::string::npos) << frac.err;
+}
+
+TEST(UsageErrors, AMisspelledInnerSubcommandSuggestsTheClosest) {
+  const auto r = test::run_cli("lcp solv f.dat");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("unknown subcommand 'solv'; did you mean 'solve'?"), std::string::npos) << r.err;
+  const auto none = test::run_cli("lcp");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("deepcontact lcp needs a subcommand: solve or convert"), std::string::npos) << none.err;
+  const auto top = test::run_cli("simulat --steps 3");
+  EXPECT_NE(top.err.find("unknown subcommand 'simulat'; did you mean 'simulate'?"), std::string::npos) << top.err;
+}
+
+}  // namespace
+}  // namespace dc

@@ -111,6 +111,45 @@ TEST(SolverComparison, SummaryHasTheFourFiguresPerPairWithIntervals) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 
+TEST(SolverComparison, NewtonSolversReportTheirFactorisationsAndProxNewtonItsPasses) {
+  auto o = comparison_run();
+  o.scene.time.steps = 40;
+  o.seeds = {3};
+  o.warmstarts = {"builtin"};
+  o.solvers = {SolverId{SolverKind::Pgs}, SolverId{SolverKind::NewtonSparse}, SolverId{SolverKind::ProxNewton}};
+  const auto r = bench::run_bench(o, default_warm_starters());
+  ASSERT_EQ(r.pairs.size(), 3u);
+  int solved = 0;
+  for (std::size_t k = 0; k < r.pairs[0].seed.size(); ++k) {
+    EXPECT_EQ(r.pairs[0].factorizations[k], -1) << "pgs does not factorise";
+    EXPECT_EQ(r.pairs[0].outer_passes[k], -1);
+    EXPECT_EQ(r.pairs[1].outer_passes[k], -1) << "newton-sparse has no outer passes";
+    for (std::size_t i : {1u, 2u}) {
+      const auto& p = r.pairs[i];
+      // A solve that took Newton iterations factorised at least once; none when λ⁰ was at R.
+      if (p.iterations_to_accuracy[k] > 0) {
+        EXPECT_GE(p.factorizations[k], 1) << p.solver << " step " << k;
+        ++solved;
+      }
+      if (p.iterations_to_accuracy[k] == 0) EXPECT_EQ(p.factorizations[k], 0) << p.solver;
+    }
+    EXPECT_GE(r.pairs[2].outer_passes[k], 0);
+  }
+  EXPECT_GT(solved, 0);
+  const auto s = bench::summarise_solver_pairs(r);
+  EXPECT_TRUE(std::isnan(s[0].factorizations.estimate));
+  EXPECT_TRUE(std::isnan(s[1].outer_passes.estimate));
+  for (std::size_t i : {1u, 2u}) {
+    EXPECT_LE(s[i].factorizations.lo, s[i].factorizations.estimate);
+    EXPECT_GE(s[i].factorizations.hi, s[i].factorizations.estimate);
+    EXPECT_GE(s[i].p99_factorizations, s[i].factorizations.estimate);
+  }
+  EXPECT_TRUE(std::isfinite(s[2].outer_passes.estimate));
+  const std::string json = bench::summary_json(r, bench::summarise(r), bench::collect_provenance());
+  for (const char* key : {"\"median_factorizations\"", "\"p99_factorizations\"", "\"median_outer_passes\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
 TEST(SolverComparison, RefusesRolloutModeUnknownSolversAndABadTarget) {
   auto o = comparison_run();
   o.scene.time.steps = 5;

@@ -6,10 +6,12 @@
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <utility>
 #include <sys/stat.h>
 
 #include "dc/core/error.hpp"
 #include "io/io_error.hpp"
+#include "dc/io/atomic_file.hpp"
 #include "dc/io/output_path.hpp"
 #include "temp_dir.hpp"
 
@@ -110,6 +112,19 @@ TEST(OutputPath, AnOutputDirectoryFollowsTheUmask) {
   struct stat st {};
   ASSERT_EQ(::stat((dir / "d").c_str(), &st), 0);
   EXPECT_EQ(st.st_mode & 0777, 0750u);
+}
+
+// An output file gets 0666 less the umask, as any file a program creates (and as libhdf5's).
+TEST(OutputPath, AnOutputFileFollowsTheUmask) {
+  test::TempDir dir;
+  for (const auto& [mask, mode] : {std::pair<mode_t, mode_t>{002, 0664}, {022, 0644}, {077, 0600}}) {
+    const mode_t old = ::umask(mask);
+    write_file_atomically(dir / "out.json", "{}");
+    ::umask(old);
+    struct stat st {};
+    ASSERT_EQ(::stat((dir / "out.json").c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, mode) << "umask " << mask;
+  }
 }
 
 }  // namespace

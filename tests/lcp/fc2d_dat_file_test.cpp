@@ -93,6 +93,31 @@ TEST(Fc2dDatFile, ExactSolverReportsHonestlyWhereItStalls) {
     EXPECT_FALSE(r.message.empty());
 }
 
+TEST(Fc2dDatFile, SiconosCompletenessFlagIsReadAsSuchAndOtherTextIsAComment) {
+  // frictionContact_printInFile writes isComplete (0 or 1) after mu: a flag, not a remark.
+  const std::string body = "2\n1\n0\n2\n2\n2\t2\n2 0.5 0.5 3\n-1 0.5\n0.3\n";
+  struct Case {
+    const char* tail;
+    int flag;
+    const char* comment;
+  };
+  for (const Case& c : {Case{"", -1, ""}, Case{"1\n", 1, ""}, Case{"0\n", 0, ""}, Case{"  1  \n", 1, ""},
+                        Case{"1\nsolved by NSGS\n", 1, "solved by NSGS"}, Case{"12\n", -1, "12"},
+                        Case{"1x\n", -1, "1x"}, Case{"a remark\n", -1, "a remark"}}) {
+    SCOPED_TRACE(c.tail);
+    const Fc2dDatFile f = parse_fc2d_dat(body + c.tail, "mem");
+    EXPECT_EQ(f.is_complete, c.flag);
+    EXPECT_EQ(f.comment, c.comment);
+  }
+  int flagged = 0;
+  for (const SiconosFile& f : kFiles) {
+    const Fc2dDatFile d = read_fc2d_dat(kData + f.name);
+    EXPECT_EQ(d.comment, "") << f.name;  // Siconos' own files carry the flag or nothing
+    flagged += d.is_complete == 1;
+  }
+  EXPECT_GT(flagged, 0);
+}
+
 TEST(Fc2dDatFile, RoundTripIsBitExactInBothWrittenStorages) {
   for (const char* name : {"FrictionContactProblem00071.dat", "FrictionContactProblem00374.dat",
                            "fc2d_granularflowonwall_00667_00000.dat"}) {

@@ -4,6 +4,7 @@
 // pile, honest statuses, bit-equal reruns.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "dc/lcp/lcp_solver.hpp"
@@ -139,6 +140,49 @@ TEST(SolverNncg, WithoutJacobianRunsTheAssembledFormToTheSameSolution) {
   ASSERT_EQ(as.status, SolveStatus::Converged) << as.message;
   EXPECT_NE(as.message.find("assembled"), std::string::npos);
   EXPECT_LT((mf.lambda - as.lambda).cwiseAbs().maxCoeff(), 1e-8 * std::max(1.0, mf.lambda.cwiseAbs().maxCoeff()));
+}
+
+}  // namespace
+}  // namespace dc
+
+namespace dc {
+namespace {
+
+/// A = B Bᵀ with B of rank < n (symmetric PSD, singular): where a momentum move can cancel
+/// a sweep's change away from a solution.
+LcpProblem psd_singular_problem(test::TestRng& rng) {
+  const int n = 2 + rng.below(5);
+  Eigen::MatrixXd B(n, 1 + rng.below(n - 1));
+  for (Eigen::Index i = 0; i < B.size(); ++i) B.data()[i] = rng.uniform(-1, 1);
+  const Eigen::MatrixXd A = B * B.transpose();
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) b[i] = rng.uniform(-1, 1);
+  return LcpProblem::standard(0.5 * (A + A.transpose()), b);
+}
+
+/// How far (in units of tol) a pgs sweep may still move λ where nncg stopped on θ ≤ tol.
+constexpr double kThetaStopFactor = 10.0;
+
+// θ is what it is for pgs, the change of a sweep: when nncg stops on θ ≤ tol, a pgs sweep
+// from the λ it returns moves λ by at most a modest multiple of tol. Counting the momentum
+// move in θ (λ_k − λ_{k−1}) let a move that cancelled the sweep's change stop nncg at points
+// a pgs sweep moves by orders of magnitude more.
+TEST(SolverNncg, ThetaIsTheSweepsOwnChange) {
+  test::TestRng rng(2024);
+  constexpr double kTol = 1e-8;
+  int stops = 0;
+  double worst = 0;
+  for (int t = 0; t < 1000; ++t) {
+    const LcpProblem p = psd_singular_problem(rng);
+    const SolveResult r = make_solver("nncg")->solve(p, {}, tolerance_mode(kTol, 5000));
+    if (r.status != SolveStatus::ToleranceReached && r.status != SolveStatus::Converged) continue;
+    ++stops;
+    const SolveResult one = make_solver("pgs-assembled")->solve(p, r.lambda, tolerance_mode(0.0, 1));
+    ASSERT_EQ(one.theta.size(), 1u);
+    worst = std::max(worst, one.theta[0] / kTol);
+  }
+  EXPECT_GT(stops, 500);
+  EXPECT_LE(worst, kThetaStopFactor) << "a pgs sweep from nncg's stopping point moved λ by " << worst << " × tol";
 }
 
 }  // namespace

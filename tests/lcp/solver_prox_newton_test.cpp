@@ -6,7 +6,11 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <string>
+#include <vector>
 
+#include "dc/lcp/fc2d_dat_file.hpp"
+#include "dc/lcp/fc2d_problem.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
 #include "lcp/solver_test_problems.hpp"
@@ -106,6 +110,30 @@ TEST(ProxNewton, SolvesTheHardProblemWithoutTheSafeguard) {
       EXPECT_LE(velocity_gap(c, ref.lambda, b.lambda), 1e-6) << form << " seed " << seed;
     }
   }
+}
+
+TEST(ProxNewton, CheckpointsFollowTheFinishesInOrderAndEndAtTheAnswer) {
+  // Siconos' granular file: the passes stop above the target and the proximal finish solves
+  // it; the caller's checkpoints must see the finish's iterates, not only the passes' best.
+  const LcpProblem p = fc2d_to_lcp(
+      read_fc2d_dat(std::string(DC_SOURCE_DIR) + "/tests/data/fc2d/fc2d_granularflowonwall_02020_00213.dat").problem);
+  SolverOptions o = options();
+  for (int k = 1; k <= o.max_sweeps; ++k) o.checkpoints.push_back(k);
+  std::vector<int> seen;
+  std::vector<Eigen::VectorXd> iterates;
+  o.on_checkpoint = [&](int k, const Eigen::VectorXd& lambda) {
+    seen.push_back(k);
+    if (iterates.empty() || iterates.back() != lambda) iterates.push_back(lambda);
+  };
+  ProxNewtonSolver s;
+  const SolveResult r = s.solve(p, {}, o);
+  ASSERT_EQ(r.status, SolveStatus::Converged) << r.message;
+  const ProxNewtonStats st = s.last_stats();
+  ASSERT_GT(st.finish_newton, 0) << r.message;
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_LT(seen[i - 1], seen[i]);
+  EXPECT_EQ(iterates.back(), r.lambda);
+  // The passes show at most one iterate each; the rest come from the finishes.
+  EXPECT_GT(static_cast<int>(iterates.size()), st.outer + 1);
 }
 
 TEST(ProxNewton, FromTheSolutionConvergesInAtMostOneIteration) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/fc2d_dat_file.hpp"
@@ -57,6 +58,24 @@ TEST(ProximalPoint, RerunIsBitEqual) {
   const SolveResult b = solve_proximal_point(p, Eigen::VectorXd(), o);
   EXPECT_EQ(a.lambda, b.lambda);
   EXPECT_EQ(a.sweeps, b.sweeps);
+}
+
+TEST(ProximalPoint, CheckpointsSeeTheBestIterateInOrderAndTheAnswerLast) {
+  const LcpProblem p = fc2d_to_lcp(read_fc2d_dat(kData + "fc2d_granularflowonwall_02020_00213.dat").problem);
+  SolverOptions o;
+  for (int k = 1; k <= 2000; ++k) o.checkpoints.push_back(k);
+  std::vector<int> seen;
+  Eigen::VectorXd last;
+  o.on_checkpoint = [&](int k, const Eigen::VectorXd& lambda) {
+    seen.push_back(k);
+    last = lambda;
+  };
+  const SolveResult r = solve_proximal_point(p, Eigen::VectorXd(), o);
+  ASSERT_EQ(r.status, SolveStatus::Converged) << r.message;
+  ASSERT_GT(seen.size(), 1u);
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_LT(seen[i - 1], seen[i]);
+  EXPECT_EQ(seen.back(), 2000) << "a converged solve passes the rest of the checkpoints its answer";
+  EXPECT_EQ(last, r.lambda);
 }
 
 TEST(ProximalPoint, RefusesInvalidSettingsAndGuesses) {

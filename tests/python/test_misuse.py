@@ -152,3 +152,73 @@ def test_body_views_that_break_invariants_are_refused_at_the_next_step(dc, field
         view[3] = value
     with pytest.raises(ValueError, match=f"World.step: body 3: {rule} = .* must be"):
         w.step()
+
+
+# Pouring bodies in through [inflow]: 3 per step for 20 steps, into an empty box.
+POUR = {"bodies.count": 0, "inflow.region": [1.0, 10.0, 19.0, 19.0], "inflow.radius": 0.4,
+        "inflow.velocity": [0.0, -5.0], "inflow.start": 0.0, "inflow.stop": 0.2, "inflow.rate": 300.0}
+
+
+def test_body_views_stay_valid_while_the_inflow_adds_bodies(dc):
+    w = dc.World(set=POUR)
+    w.step()
+    held = w.bodies
+    n0 = len(held.radius)
+    assert n0 > 0
+    address = held.position.__array_interface__["data"][0]
+    for _ in range(25):
+        w.step()
+    now = w.bodies
+    assert len(now.radius) > 4 * n0  # bodies were added after the views were taken
+    # The storage did not move: the held views still look at the world's own arrays (before,
+    # the arrays were reallocated as bodies came in and the held views read freed memory).
+    assert now.position.__array_interface__["data"][0] == address
+    assert np.array_equal(held.position, now.position[:n0])
+    assert np.array_equal(held.radius, now.radius[:n0])
+    held.velocity[0, 0] = 1.25  # a write through an old view reaches the world
+    assert w.bodies.velocity[0, 0] == 1.25
+
+
+WRITE_UNDER_LIMIT = """
+import os, resource, sys
+import deepcontact as dc
+w = dc.World(set={"bodies.count": 40, "bodies.mean": [15.0, 5.0], "bodies.sigma": 3.0})
+for _ in range(3):
+    w.step()
+out = sys.argv[1]
+w._write_trajectory(os.path.join(out, "earlier.h5"))
+resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))  # Python ignores SIGXFSZ: writes fail with EFBIG
+failed = 0
+for write in (lambda: w._write_trajectory(os.path.join(out, "t.h5")),
+              lambda: dc.copy_hdf5(os.path.join(out, "earlier.h5"), os.path.join(out, "copy.h5")),
+              lambda: dc.bench(scene=None, set={"bodies.count": 12, "bodies.mean": [6.0, 6.0], "bodies.sigma": 2.0,
+                                                 "world.width": 12, "world.height": 12},
+                               warmstarts=["zero"], seeds=[1], steps=5, mode="rollout",
+                               out=os.path.join(out, "b"))):
+    try:
+        write()
+    except OSError as e:
+        failed += 1
+        print(type(e).__name__, e, file=sys.stderr)
+print(failed)
+if len(sys.argv) > 2:
+    w._write_trajectory(os.path.join(out, "last.h5"))  # uncaught: exit 1 with a traceback
+"""
+
+
+@pytest.mark.parametrize("uncaught", [False, True])
+def test_a_failed_write_ends_the_process_cleanly(dc, tmp_path, uncaught):
+    import subprocess
+    import sys
+
+    script = tmp_path / "write.py"
+    script.write_text(WRITE_UNDER_LIMIT)
+    out = tmp_path / "out"
+    out.mkdir()
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    args = [sys.executable, str(script), str(out)] + (["uncaught"] if uncaught else [])
+    p = subprocess.run(args, capture_output=True, text=True, env=env, timeout=300)
+    # Before: libhdf5's exit-time cleanup could crash on a file a failed write left open.
+    assert p.returncode == (1 if uncaught else 0), (p.returncode, p.stderr[-2000:])
+    assert p.stdout.strip().splitlines()[0] == "3", p.stdout + p.stderr[-2000:]
+    assert [f.name for f in out.iterdir() if f.name.endswith(".tmp")] == []

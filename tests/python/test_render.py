@@ -98,3 +98,44 @@ def test_world_render_and_trajectory_frame_agree_on_the_time(dc, tmp_path):
     t = dc.read_trajectory(tmp_path / "state.h5")
     assert t.steps == 0 and t.start_step == 7 and t.time(0) == w.time
     assert t.frame(0).shape == w.render().shape
+
+
+def test_frame_label_stays_off_the_scene(dc, run_h5):
+    # The label (time, step, contacts) sits above the scene: its box meets neither the walls
+    # (the top-left corner of the box) nor anything drawn inside the axes.
+    from deepcontact import render_trajectory
+
+    scene = render_trajectory.Scene(dc.read_trajectory(run_h5))
+    try:
+        scene.draw(5)
+        renderer = scene.fig.canvas.get_renderer()
+        label = scene.label.get_window_extent(renderer)
+        axes = scene.ax.get_window_extent(renderer)
+        assert scene.label.get_text().startswith("t =")
+        assert label.y0 > axes.y1, (label, axes)  # wholly above the scene's box, walls included
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(scene.fig)
+
+
+def test_a_failed_render_keeps_the_earlier_image(dc, run_h5, tmp_path, monkeypatch):
+    from deepcontact import render_trajectory
+
+    out = tmp_path / "run.gif"
+    out.write_bytes(b"earlier image")
+
+    def fails_half_way(scene, frames, fps, path, progress):
+        with open(path, "wb") as f:
+            f.write(b"partial")
+        raise OSError(f"{path}: No space left on device")
+
+    monkeypatch.setattr(render_trajectory, "write_gif", fails_half_way)
+    with pytest.raises(OSError):
+        dc.render(run_h5, out, every=20, progress=False)
+    assert out.read_bytes() == b"earlier image"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.gif"]
+    monkeypatch.undo()
+    assert dc.render(run_h5, out, every=20, progress=False) > 1
+    assert out.read_bytes()[:6] == b"GIF89a"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.gif"]

@@ -77,6 +77,8 @@ void per_step_fields(const Io& io, bench::BenchResults& r, bool send_theta = tru
     io(q.total_ms);
     io(q.final_accuracy);
     io(q.weight_scale);
+    io(q.factorizations);
+    io(q.outer_passes);
     io(q.trace_offsets);
     io(q.trace_ms);
     io(q.trace_accuracy);

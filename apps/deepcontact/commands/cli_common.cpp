@@ -1,6 +1,8 @@
 #include "commands/cli_common.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <sstream>
 
@@ -21,6 +23,18 @@ WorldDef SceneArgs::load() const {
   for (const auto& s : sets) apply_override(d, s);
   d.validate();
   return d;
+}
+
+void check_output_extension(const std::string& option, const std::string& path,
+                            const std::vector<std::string>& extensions, const std::string& what) {
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const auto& e : extensions)
+    if (lower.size() > e.size() && lower.compare(lower.size() - e.size(), e.size(), e) == 0) return;
+  std::string list;
+  for (std::size_t i = 0; i < extensions.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == extensions.size() ? " or " : ", ") + extensions[i];
+  throw ConfigError(option + " " + path + ": expected a name ending in " + list + " (" + what + ")");
 }
 
 /// The shipped model (docs/learning.md "Default model"), found relative to the executable

@@ -21,6 +21,15 @@ struct SceneArgs {
   [[nodiscard]] WorldDef load() const;
 };
 
+/// Throws ConfigError "OPTION PATH: expected a name ending in E1 or E2 (WHAT)" unless `path`
+/// ends in one of `extensions` (e.g. {".h5", ".hdf5"}; compared case-insensitively), so that a
+/// file's name says what it holds (`--out run.txt` would otherwise hold HDF5).
+void check_output_extension(const std::string& option, const std::string& path,
+                            const std::vector<std::string>& extensions, const std::string& what);
+
+/// The extensions of an HDF5 output: .h5, .hdf5.
+inline const std::vector<std::string> kHdf5Extensions{".h5", ".hdf5"};
+
 /// The shipped model, models/default.h5 of the source tree the executable was built from: the
 /// cnn starter's default and the reason the bench runs cnn by default.
 std::filesystem::path shipped_model();

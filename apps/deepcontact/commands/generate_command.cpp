@@ -123,6 +123,7 @@ void print_summary(const DataSetParams& params, const DataSetGenerationReport& r
 
 void run(const GenerateArgs& a) {
   check_output_file(a.out);  // before any simulation
+  check_output_extension("--out", a.out, kHdf5Extensions, "the HDF5 manifest of the data set");
   DataSetGenerationDef def;  // generate_data_set checks --sims, --out, --threads and the files
   def.params = make_params(a);
   def.out = a.out;

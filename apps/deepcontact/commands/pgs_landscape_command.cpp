@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "commands/cli_common.hpp"
 #include "commands/commands.hpp"
 #include "dc/io/atomic_file.hpp"
 #include "dc/io/output_path.hpp"
@@ -40,6 +41,7 @@ void print_medians(const PgsLandscapeStudy& study) {
 
 void run(const LandscapeArgs& a) {
   check_output_file(a.out);  // before the simulations are replayed
+  check_output_extension("--out", a.out, {".csv"}, "a CSV table");
   PgsLandscapeStudyDef def = a.study;
   def.probe.loss = parse_pgs_loss(a.loss);
   def.validate();  // ahead of the thread count: a bad option is reported first

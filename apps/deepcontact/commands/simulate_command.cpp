@@ -151,7 +151,10 @@ std::string interrupted_name(const std::string& out) {
 }
 
 void run(const SimulateArgs& a) {
-  if (!a.out.empty()) check_output_file(a.out);  // before any work: a bad --out costs nothing
+  if (!a.out.empty()) {  // before any work: a bad --out costs nothing
+    check_output_file(a.out);
+    check_output_extension("--out", a.out, kHdf5Extensions, "an HDF5 trajectory");
+  }
   std::optional<ProblemExporter> exporter;  // creates and checks the folder before the run
   if (!a.export_dir.empty())
     exporter.emplace(ProblemExportDef{a.export_dir, a.export_every, parse_problem_format(a.export_format)});

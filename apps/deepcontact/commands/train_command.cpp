@@ -24,6 +24,7 @@
 #include "cluster/comm.hpp"
 #include "cluster/mpi_train.hpp"
 #include "cluster/sigint_guard.hpp"
+#include "commands/cli_common.hpp"
 #include "commands/commands.hpp"
 #include "commands/train_through_pgs.hpp"
 #include "dc/bench/progress_bar.hpp"
@@ -32,6 +33,7 @@
 #include "dc/cnn/train_checkpoint.hpp"
 #include "dc/cnn/training_data.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/atomic_file.hpp"
 #include "dc/io/output_lock.hpp"
 #include "dc/io/output_path.hpp"
 #include "dc/io/h5.hpp"
@@ -209,13 +211,28 @@ TrainResult train_with_checkpoints(const TrainArgs& a, Trainer& trainer, const T
   return result;
 }
 
-/// OUT.loss.png from OUT.loss.csv (bench/plots/loss_curve.py); a failure only warns.
+/// OUT.loss.png from OUT.loss.csv (bench/plots/loss_curve.py), drawn into OUT.loss.png.tmp.png
+/// and renamed onto OUT.loss.png when complete; a failure only warns (and leaves no temporary).
 void plot_loss_curve(const std::string& out) {
   const std::string script = data_path("bench/plots/loss_curve.py").string();
   const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string cmd = py + " '" + script + "' '" + out + ".loss.csv' '" + out + ".loss.png' >/dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0 || !fs::exists(out + ".loss.png"))
-    std::fprintf(stderr, "deepcontact train: warning: the loss-curve plot failed (%s)\n", cmd.c_str());
+  const std::string png = out + ".loss.png", tmp = png + ".tmp.png";
+  const std::string cmd = py + " '" + script + "' '" + out + ".loss.csv' '" + tmp + "' >/dev/null 2>&1";
+  std::string failure;
+  if (std::system(cmd.c_str()) != 0 || !fs::exists(tmp)) {
+    failure = cmd;
+  } else {
+    try {
+      sync_path(tmp);
+      durable_rename(tmp, png);
+    } catch (const IoError& e) {
+      failure = e.what();
+    }
+  }
+  if (failure.empty()) return;
+  std::error_code ignored;
+  fs::remove(tmp, ignored);
+  std::fprintf(stderr, "deepcontact train: warning: the loss-curve plot failed (%s)\n", failure.c_str());
 }
 
 /// The finished run: final files, the plot, and the best model in plain (unweighted)
@@ -284,6 +301,7 @@ void run(const TrainArgs& a) {
   if (a.data.empty()) throw ConfigError("--data is required");
   if (a.out.empty()) throw ConfigError("--out is required");
   check_output_file(a.out);  // before the data set is read: OUT, OUT.ckpt and OUT.loss.csv live there
+  check_output_extension("--out", a.out, kHdf5Extensions, "an HDF5 model file");
   // OUT.lock keeps a second train (or a resume) off the same OUT, OUT.ckpt and OUT.loss.csv
   // whatever HDF5_USE_FILE_LOCKING says; only rank 0 writes them.
   std::optional<OutputLock> lock;

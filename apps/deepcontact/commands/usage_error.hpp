@@ -20,6 +20,11 @@ inline constexpr int kUsageExitStatus = 2;
 /// The one-line message of a parse error of `app` for the command line `args` (argv[1..]).
 std::string usage_error_message(const CLI::App& app, const CLI::ParseError& error, const std::vector<std::string>& args);
 
+/// Lets every integer option of `app` and its subcommands take an exact integer in any numeric
+/// notation ("--sweeps 1e3" = 1000); a value with a fraction ("2.5") stays an error. Call
+/// after every option is added.
+void accept_exact_integers(CLI::App& app);
+
 /// The candidate closest to `word` by edit distance, or "" when none is close (more than a
 /// third of the word's length, at least 2, edits away).
 std::string closest_name(const std::string& word, const std::vector<std::string>& candidates);

@@ -32,7 +32,7 @@ std::string renderer_command() {
   return cmd;
 }
 
-int run_renderer(const std::vector<std::string>& args, const std::string& log) {
+int run_renderer(const std::vector<std::string>& args, const std::string& log, const std::string& cwd) {
   std::vector<std::string> words{python_interpreter(), renderer_script()};
   words.insert(words.end(), args.begin(), args.end());
   if (!log.empty()) words.push_back("--no-progress");
@@ -50,6 +50,7 @@ int run_renderer(const std::vector<std::string>& args, const std::string& log) {
         close(fd);
       }
     }
+    if (!cwd.empty() && chdir(cwd.c_str()) != 0) _exit(127);
     execvp(argv[0], argv.data());
     _exit(127);
   }
@@ -68,8 +69,11 @@ std::string reference_frame_markdown(const BenchResults& r, const fs::path& dir,
   std::error_code ec;
   fs::remove(png, ec);
   const int frame = r.reference->steps() - 1;  // the last step: the settled pile and its forces
-  const int code = run_renderer({h5.string(), "--frame", std::to_string(frame), "--out", png.string()},
-                                (dir / "render.log").string());
+  // Run inside `dir` with bare names: `dir` is a staging folder renamed when the report is
+  // complete, so render.log names the report's files, not the folder that is gone by then.
+  const int code = run_renderer({h5.filename().string(), "--frame", std::to_string(frame), "--out",
+                                 png.filename().string()},
+                                (dir / "render.log").string(), dir.string());
   std::string md = "## Reference trajectory\n\n";
   if (code == 0 && fs::exists(png)) {
     files.push_back(png.string());

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "dc/core/error.hpp"
+#include "dc/core/number_text.hpp"
 #include "det_math.hpp"
 
 namespace dc {
@@ -128,7 +129,7 @@ ShapeDef make_polygon(const std::vector<Vec2>& v, const std::string& where) {
     c6 += ci * (p + q);
   }
   if (a2 < 0) bad_shape(where, "polygon vertices are clockwise; list them counter-clockwise");
-  if (!(0.5 * a2 >= 1e-10)) bad_shape(where, "polygon is degenerate (area " + std::to_string(0.5 * a2) + " m^2)");
+  if (!(0.5 * a2 >= 1e-10)) bad_shape(where, "polygon is degenerate (area " + g_text(0.5 * a2) + " m^2)");
   // Convexity: every turn strictly to the left (collinear or repeated vertices are degenerate).
   for (int i = 0; i < n; ++i) {
     const Vec2 p = v[(i + n - 1) % n], q = v[i], r = v[(i + 1) % n];

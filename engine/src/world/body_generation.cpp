@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "dc/core/error.hpp"
+#include "dc/core/number_text.hpp"
 #include "dc/core/rng.hpp"
 #include "dc/engine/shape_collide.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
@@ -127,8 +128,8 @@ BodyState make_shaped_bodies(const WorldDef& def) {
     const auto ii = static_cast<size_t>(i);
     if (ex.shapes.is_dynamic(ii) && !shape_inside_box(ex, i, def.world))
       throw ConfigError("[[body]] #" + std::to_string(i + 1) + " (" + shape_kind_name(ex.shapes.kind[ii]) +
-                        ") lies (partly) outside the box [0, " + std::to_string(def.world.width) + "] x [0, " +
-                        std::to_string(def.world.height) + "]");
+                        ") lies (partly) outside the box [0, " + g_text(def.world.width) + "] x [0, " +
+                        g_text(def.world.height) + "]");
     for (int j = 0; j < i; ++j) {
       if (!ex.shapes.is_dynamic(ii) && !ex.shapes.is_dynamic(static_cast<size_t>(j))) continue;
       const double tol = 1e-9 * std::max(1.0, ex.radius[ii] + ex.radius[static_cast<size_t>(j)]);
@@ -251,8 +252,8 @@ BodyState make_bodies(const WorldDef& def) {
     const BodyDef& b = def.body[i];
     if (!inside_box(b.position, b.radius, def.world))
       throw ConfigError(fmt_body(i, b) + " lies (partly) outside the box [0, " +
-                        std::to_string(def.world.width) + "] x [0, " +
-                        std::to_string(def.world.height) + "]");
+                        g_text(def.world.width) + "] x [0, " +
+                        g_text(def.world.height) + "]");
     if (b.spawn > 0) continue;
     const int o = placed.overlapping(b.position, b.radius);
     if (o >= 0)

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "dc/core/error.hpp"
+#include "dc/core/number_text.hpp"
 
 namespace dc {
 namespace {
@@ -29,7 +30,7 @@ std::uint64_t morton_code(std::uint32_t i, std::uint32_t j) { return spread_bits
 
 std::vector<int> morton_order(std::span<const Vec2> centres, double cell) {
   if (!(cell > 0) || !std::isfinite(cell))
-    throw InvalidArgument("morton_order: the cell side must be finite and > 0, got " + std::to_string(cell));
+    throw InvalidArgument("morton_order: the cell side must be finite and > 0, got " + g_text(cell));
   double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
   for (const Vec2 c : centres) {
     x0 = std::min(x0, c.x);

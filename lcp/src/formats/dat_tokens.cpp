@@ -1,9 +1,14 @@
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "dc/core/error.hpp"
@@ -171,30 +176,56 @@ void write_text(const std::string& path, const std::string& text) {
   write_file_atomically(path, text);  // PATH.tmp, fsync, rename: a failed write leaves PATH as it was
 }
 
-std::string read_whole_file(const std::string& path, const char* what) {
-  // A directory opens as a stream and fails only at the first read; name it instead.
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(path, ec);
-  if (std::filesystem::is_directory(status)) throw IoError(path + ": is a directory, not a " + what);
-  const bool regular = std::filesystem::is_regular_file(status);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open " + what);
-  // A regular file: its size, and no more (it may grow while read). Anything else: chunks
-  // up to the cap, one byte more tells that it is longer.
-  const std::uintmax_t size = regular ? std::filesystem::file_size(path, ec) : 0;
-  const std::uintmax_t limit = regular && !ec ? size : kMaxDatStreamBytes + 1;
-  std::string text;
-  while (text.size() < limit && in) {
+namespace {
+
+/// Reads up to `limit` bytes of `fd` (fewer at its end). False with errno set on a read error.
+bool read_up_to(int fd, std::uintmax_t limit, std::string& text) {
+  while (text.size() < limit) {
     const size_t chunk = static_cast<size_t>(std::min<std::uintmax_t>(limit - text.size(), size_t{1} << 20));
     const size_t old = text.size();
     text.resize(old + chunk);
-    in.read(text.data() + old, static_cast<std::streamsize>(chunk));
-    text.resize(old + static_cast<size_t>(in.gcount()));
+    const ssize_t n = ::read(fd, text.data() + old, chunk);
+    if (n < 0 && errno == EINTR) {
+      text.resize(old);
+      continue;
+    }
+    text.resize(old + static_cast<size_t>(std::max<ssize_t>(n, 0)));
+    if (n < 0) return false;
+    if (n == 0) break;
   }
-  if (in.bad()) throw IoError(path + ": read error");
+  return true;
+}
+
+}  // namespace
+
+std::string read_whole_file(const std::string& path, const char* what) {
+  // O_NONBLOCK: opening a FIFO that no process has open for writing returns at once instead
+  // of waiting for a writer forever; such a FIFO then reads as empty and is refused below.
+  // The reads themselves block (a writer that is there is waited for).
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw IoError(path + ": cannot open " + what + ": " + std::strerror(errno));
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw IoError(path + ": cannot open " + what + ": " + std::strerror(errno));
+  // A directory opens and fails only at the first read; name it instead.
+  if (S_ISDIR(st.st_mode)) throw IoError(path + ": is a directory, not a " + what);
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) < 0)
+    throw IoError(path + ": cannot open " + what + ": " + std::strerror(errno));
+  const bool regular = S_ISREG(st.st_mode);
+  // A regular file: its size, and no more (it may grow while read). Anything else: chunks
+  // up to the cap, one byte more tells that it is longer.
+  const std::uintmax_t limit = regular ? static_cast<std::uintmax_t>(st.st_size) : kMaxDatStreamBytes + 1;
+  std::string text;
+  if (!read_up_to(fd, limit, text)) throw IoError(path + ": read error: " + std::strerror(errno));
   if (!regular && text.size() > kMaxDatStreamBytes)
     throw IoError(path + ": not a regular file and longer than " + std::to_string(kMaxDatStreamBytes >> 20) +
                   " MiB (the limit for a pipe or device); refused");
+  if (text.empty() && S_ISFIFO(st.st_mode))
+    throw IoError(path + ": a FIFO with nothing written to it (no writer had it open when it was read); refused");
   if (text.empty()) throw IoError(path + ": file is empty");
   return text;
 }

@@ -1,6 +1,7 @@
 #include "dc/lcp/fc2d_dat_file.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <string>
 #include <vector>
@@ -177,6 +178,19 @@ long long error_line(std::string_view message, const std::string& name) {
   return line;
 }
 
+/// Siconos' isComplete flag at the start of `rest` (the text after μ): a lone 0 or 1 followed by
+/// white space or the end. Returns it (−1 when absent) and removes it from `rest`.
+int take_is_complete_flag(std::string_view& rest) {
+  auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  std::size_t i = 0;
+  while (i < rest.size() && space(rest[i])) ++i;
+  if (i >= rest.size() || (rest[i] != '0' && rest[i] != '1')) return -1;
+  if (i + 1 < rest.size() && !space(rest[i + 1])) return -1;
+  const int flag = rest[i] - '0';
+  rest.remove_prefix(i + 1);
+  return flag;
+}
+
 }  // namespace
 
 Fc2dDatFile parse_fc2d_dat(std::string_view text, const std::string& name) {
@@ -209,7 +223,9 @@ Fc2dDatFile parse_fc2d_dat(std::string_view text, const std::string& name) {
     if (f.problem.mu[c] < 0) tok.fail("mu of contact " + std::to_string(c) + " is negative");
   }
   dat::need_line_end(tok, "the last friction coefficient mu");
-  f.comment = dat::clean_comment(tok.rest());
+  std::string_view rest = tok.rest();
+  f.is_complete = take_is_complete_flag(rest);
+  f.comment = dat::clean_comment(rest);
   return f;
 }
 

@@ -15,8 +15,12 @@ namespace dc {
 namespace {
 
 /// True when the file starts with HDF5's signature (a superblock at offset 0, as every file
-/// HDF5 writes without a user block has).
+/// HDF5 writes without a user block has). Only a regular file is looked into: HDF5 reads only
+/// those, and peeking into a pipe would consume what the .dat reader needs (or, for a FIFO
+/// with no writer, wait forever).
 bool is_hdf5(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   char head[8] = {};
   in.read(head, 8);

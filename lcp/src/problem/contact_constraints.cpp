@@ -4,6 +4,7 @@
 #include <string>
 
 #include "dc/core/error.hpp"
+#include "dc/core/number_text.hpp"
 
 namespace dc {
 
@@ -27,7 +28,7 @@ int ContactConstraints::add(int body_a, int body_b, double mu, int feature) {
                           "); need body_b >= 0 and body_a = -1 or another body");
   if (!(mu >= 0) || !std::isfinite(mu))
     throw InvalidArgument("ContactConstraints::add: contact " + std::to_string(contacts_.size()) +
-                          " has friction coefficient " + std::to_string(mu) + "; need a finite mu >= 0");
+                          " has friction coefficient " + g_text(mu) + "; need a finite mu >= 0");
   ContactConstraint& k = contacts_.emplace_back();
   k.body_a = body_a;
   k.body_b = body_b;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "dc/core/error.hpp"
+#include "dc/core/number_text.hpp"
 
 namespace dc {
 
@@ -24,7 +25,7 @@ void Fc2dProblem::validate() const {
   for (long long c = 0; c < nc; ++c)
     if (!(mu[c] >= 0) || !std::isfinite(mu[c]))
       throw InvalidArgument("frictional-contact problem: mu of contact " + std::to_string(c) + " is " +
-                            std::to_string(mu[c]) + " (must be finite and >= 0)");
+                            g_text(mu[c]) + " (must be finite and >= 0)");
 }
 
 LcpProblem fc2d_to_lcp(const Fc2dProblem& p) {

@@ -10,6 +10,7 @@
 
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
+#include "dc/core/number_text.hpp"
 
 namespace dc::solvers {
 namespace {
@@ -26,7 +27,7 @@ class JacobiSolver final : public LcpSolver {
       SolveResult r;
       r.status = SolveStatus::InvalidInput;
       r.lambda = lambda;
-      r.message = "jacobi: damping omega = " + std::to_string(o.omega) + " is outside (0, 1]";
+      r.message = "jacobi: damping omega = " + g_text(o.omega) + " is outside (0, 1]";
       finish(p, r, o, StopRule::Tolerance);
       return r;
     }

@@ -3,8 +3,9 @@
 // momentum. Sweep change Δf_k = G(λ) − λ, β_k = ‖Δf_k‖²/‖Δf_{k−1}‖²; β_k > 1 restarts (p = 0:
 // plain PGS), else p_k = β_k p_{k−1} + Δf_k and λ moves by β_k p_{k−1}. The move is applied at
 // the start of the next sweep (the same sequence of sweeps as Bullet), so every returned,
-// recorded or checkpointed λ is a projecting sweep's output (feasible), and θ_k compares
-// returned iterates, momentum included. One iteration = one "pgs" sweep (MatrixFreeSweep) plus
+// recorded or checkpointed λ is a projecting sweep's output (feasible), and θ_k = ‖Δf_k‖∞ is
+// the sweep's own change, without the move: a move that cancels the sweep's change would
+// otherwise show θ ≈ 0 away from a solution. One iteration = one "pgs" sweep (MatrixFreeSweep) plus
 // O(rows + bodies): pu = M⁻¹ Jᵀ p Δt is kept as a vector, so no product with J. The sums ‖Δf‖²
 // are explicit loops in a fixed order (bit-equal across builds). Without J the same method runs
 // on the assembled sweep (assembled_sweep.hpp), the momentum on λ alone. docs/solvers.md "nncg".
@@ -22,13 +23,13 @@ namespace dc::solvers {
 namespace {
 
 /// The NNCG state between sweeps: direction p (and its Δu image pu), the sweep's starting point,
-/// the last extra move (for θ) and the factor of the next one. `velocity_entries` = 0: no Δu
+/// and the factor of the next move. `velocity_entries` = 0: no Δu
 /// (assembled form). Two passes over the rows per iteration besides the sweep: after it, θ and
 /// ‖Δf‖²; before the next, the direction update and the move fused in one loop.
 class NncgMomentum {
  public:
   NncgMomentum(int rows, int velocity_entries)
-      : p_(static_cast<size_t>(rows), 0.0), move_(p_), start_(p_),
+      : p_(static_cast<size_t>(rows), 0.0), start_(p_),
         pu_(static_cast<size_t>(velocity_entries), 0.0), start_u_(pu_) {}
 
   /// Before a sweep: p ← β p + Δf (or 0 after a restart), λ += β p_old (Δu too), and the
@@ -39,7 +40,6 @@ class NncgMomentum {
     for (size_t i = 0; i < p_.size(); ++i) {
       const double m = beta * p_[i];
       p_[i] = keep ? m + (lam[i] - start_[i]) : 0.0;
-      move_[i] = m;
       lam[i] += m;
       start_[i] = lam[i];
     }
@@ -51,8 +51,8 @@ class NncgMomentum {
     }
   }
 
-  /// After the sweep: θ_k against the previous returned iterate (the move included) and the
-  /// factor of the next move, β = ‖Δf_k‖²/‖Δf_{k−1}‖², or a restart when β > 1.
+  /// After the sweep: θ_k = max_i |Δf_k,i| [N], the sweep's change from its own starting
+  /// point (the move excluded), and the factor of the next move, β = ‖Δf_k‖²/‖Δf_{k−1}‖², or a restart when β > 1.
   double after_sweep(const double* lam) {
     // Four partial sums and maxima (rows i ≡ j mod 4), combined in a fixed order: a single
     // running sum would put one add latency per row on a dependency chain, and the order stays
@@ -61,7 +61,7 @@ class NncgMomentum {
     const size_t n = p_.size();
     auto at = [&](size_t i, double& th, double& sq) {
       const double df = lam[i] - start_[i];
-      th = std::max(th, std::abs(df + move_[i]));
+      th = std::max(th, std::abs(df));
       sq += df * df;
     };
     size_t i = 0;
@@ -99,7 +99,7 @@ class NncgMomentum {
 
  private:
   enum class Next { First, Momentum, Restart };
-  std::vector<double> p_, move_, start_;  // per row [N]
+  std::vector<double> p_, start_;  // per row [N]
   std::vector<double> pu_, start_u_;      // per Δu entry [m/s, rad/s]
   double prev_norm2_ = 0.0, beta_ = 0.0;
   Next next_ = Next::First;

@@ -54,6 +54,8 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   inner_options.record_theta = false;
   inner_options.exact_tolerance = options.exact_tolerance;
 
+  // Checkpoints after each outer iteration, at the inner iterations so far (CheckpointCursor::reach).
+  solvers::CheckpointCursor cp(options);
   SolveResult out;  // λ and residual: the best iterate
   out.lambda = lambda;
   out.residual = natural_residual(p, lambda);
@@ -80,6 +82,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       out.lambda = r.lambda;
       out.residual = residual;
     }
+    cp.reach(out.sweeps, out.lambda);
     if (r.status == SolveStatus::Converged) {
       // The proximal step is the method's progress even when it raises the residual of the
       // original problem for a while (that residual is not monotone along the iteration).
@@ -94,6 +97,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     }
   }
   out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
+  if (out.status == SolveStatus::Converged) cp.flush_final(out.lambda);
   if (out.status != SolveStatus::Converged) out.message = "proximal point: outer iteration limit reached";
   // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
   solvers::finish(p, out, options, options.tolerance > 0 ? solvers::StopRule::Tolerance : solvers::StopRule::Solution);

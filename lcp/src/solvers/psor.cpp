@@ -6,6 +6,7 @@
 
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
+#include "dc/core/number_text.hpp"
 
 namespace dc::solvers {
 namespace {
@@ -19,7 +20,7 @@ class PsorSolver final : public LcpSolver {
       r.status = SolveStatus::InvalidInput;
       r.lambda = lambda0.size() == p.rows() && lambda0.allFinite() ? lambda0
                                                                    : Eigen::VectorXd::Zero(p.rows());
-      r.message = "psor: relaxation omega = " + std::to_string(o.omega) + " is outside (0, 2)";
+      r.message = "psor: relaxation omega = " + g_text(o.omega) + " is outside (0, 2)";
       r.residual = std::numeric_limits<double>::infinity();
       return r;
     }

@@ -130,6 +130,14 @@ void CheckpointCursor::after(int k, const Eigen::VectorXd& lambda) {
   }
 }
 
+void CheckpointCursor::reach(int k, const Eigen::VectorXd& lambda) {
+  size_t last = next_;
+  while (last < ks_.size() && ks_[last] <= k) ++last;
+  if (last == next_) return;
+  next_ = last;
+  o_.on_checkpoint(ks_[last - 1], lambda);
+}
+
 void CheckpointCursor::flush_final(const Eigen::VectorXd& lambda) {
   for (; next_ < ks_.size(); ++next_) o_.on_checkpoint(ks_[next_], lambda);
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "dc/core/number_text.hpp"
 #include "dc/lcp/lcp_problem.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 
@@ -75,6 +76,9 @@ class CheckpointCursor {
   explicit CheckpointCursor(const SolverOptions& o);
   /// After sweep k.
   void after(int k, const Eigen::VectorXd& lambda);
+  /// For methods whose iterates come k at a time (an outer iteration of several inner ones):
+  /// the last checkpoint ≤ k not yet passed sees λ (the earlier ones are skipped).
+  void reach(int k, const Eigen::VectorXd& lambda);
   /// A solver that stopped early at tolerance: the remaining checkpoints see the final λ
   /// (a larger budget would not have been used).
   void flush_final(const Eigen::VectorXd& lambda);
@@ -129,8 +133,8 @@ inline bool after_finite_sweep(int k, double theta, const Eigen::VectorXd& lambd
   }
   if (theta > 1e12 * std::max(theta1, 1e-300) && k > 1) {
     res.status = SolveStatus::Diverged;
-    res.message = "iterates grow without bound (theta grew from " + std::to_string(theta1) + " to " +
-                  std::to_string(theta) + " by sweep " + std::to_string(k) + ")";
+    res.message = "iterates grow without bound (theta grew from " + g_text(theta1) + " to " +
+                  g_text(theta) + " by sweep " + std::to_string(k) + ")";
     return true;
   }
   return false;

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <utility>
 
 #include "dc/core/error.hpp"
+#include "dc/io/atomic_file.hpp"
 #include "dc/research/sph_study.hpp"
 #include "dc/core/install_paths.hpp"
 
@@ -22,12 +22,6 @@ std::string num(double v, int digits = 6) {
   std::ostringstream os;
   os << std::defaultfloat << std::setprecision(digits) << v;
   return os.str();
-}
-
-void write_file(const fs::path& p, const std::string& text) {
-  std::ofstream f(p);
-  f << text;
-  if (!f) throw IoError(p.string() + ": cannot write");
 }
 
 void write_introduction(std::ostream& md, const SphStudyResults& r, std::string_view scene, std::string_view seeds) {
@@ -162,8 +156,8 @@ void write_sph_study(const SphStudyResults& r, const fs::path& dir, std::string_
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw IoError(dir.string() + ": cannot create directory: " + ec.message());
-  write_file(dir / "sph_study.csv", sph_study_csv(r));
-  write_file(dir / "sph_study.md", sph_study_markdown(r, scene, seeds));
+  write_file_atomically((dir / "sph_study.csv").string(), sph_study_csv(r));
+  write_file_atomically((dir / "sph_study.md").string(), sph_study_markdown(r, scene, seeds));
 }
 
 int plot_sph_study(const fs::path& dir) {

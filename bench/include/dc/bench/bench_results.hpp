@@ -83,6 +83,10 @@ struct SolverPairRecord {
   std::vector<double> total_ms;             ///< warm start + solve to θ ≤ tol (BenchOptions::tolerance) [ms]
   std::vector<double> final_accuracy;       ///< accuracy (residual / weight scale) where the trace ended
   std::vector<double> weight_scale;         ///< max_i m_i |g| of the step [N]
+  /// Work of the trace's solve (from λ⁰ until the solver stopped at R·scale/100 or the cap), for
+  /// solvers that count it (newton-sparse, prox-newton); −1 for the others: numeric
+  /// factorisations, and prox-newton's outer (proximal/Tresca) passes (−1 for newton-sparse).
+  std::vector<int> factorizations, outer_passes;
   /// The trace of each step: (ms since the warm start began, accuracy) at λ⁰ and at the
   /// checkpoints until R was reached; points trace_offsets[k] … trace_offsets[k+1]−1 are step k's.
   std::vector<std::size_t> trace_offsets{0};

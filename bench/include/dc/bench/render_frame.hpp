@@ -13,9 +13,11 @@ namespace dc::bench {
 std::string renderer_command();
 
 /// Runs the renderer with `args` (its command line after the script). stdout/stderr are
-/// inherited, or go to `log` when it is not empty. Returns the exit status (128 + signal if
-/// killed, 127 if it could not be started).
-int run_renderer(const std::vector<std::string>& args, const std::string& log);
+/// inherited, or go to `log` when it is not empty (opened before the change of directory).
+/// With `cwd` not empty the renderer runs there, so relative names in `args` are relative to
+/// it (and what it prints names them so). Returns the exit status (128 + signal if killed, 127
+/// if it could not be started).
+int run_renderer(const std::vector<std::string>& args, const std::string& log, const std::string& cwd = "");
 
 /// Paired bench: writes the reference trajectory of the first seed to DIR/reference.h5,
 /// renders its last step with contacts to DIR/reference_frame.png (log: DIR/render.log) and

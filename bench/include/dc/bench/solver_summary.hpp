@@ -5,6 +5,7 @@
 // (bench_statistics.hpp: seeds, then steps within a seed; one draw for all pairs, which solved
 // identical LCPs), and the ratios to pgs+builtin's median total time. The summary.json object
 // "solvers", the report.md table and results.h5's /solvers group are written from it.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,13 +27,18 @@ struct SolverPairSummary {
   /// median ms to R / pgs+builtin's median total ms, and median total ms / the same (NaN when
   /// that pair did not run).
   Interval ms_to_accuracy_ratio, total_ratio;
+  /// Work of the trace's solves (SolverPairRecord::factorizations, outer_passes): medians with
+  /// intervals and the 99th percentile of factorisations; NaN for a solver that does not count it.
+  Interval factorizations, outer_passes;
+  double p99_factorizations = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// One summary per pair, in the order of BenchResults::pairs (empty without --solvers).
 std::vector<SolverPairSummary> summarise_solver_pairs(const BenchResults& r, const BootstrapDef& def = {});
 
 /// The "solvers" object of summary.json: {SOLVER: {STARTER: {"reached_share",
-/// "median_ms_to_accuracy", "median_iterations_to_accuracy", "median_total_ms"}}}.
+/// "median_ms_to_accuracy", "median_iterations_to_accuracy", "median_total_ms"}}}, and for
+/// solvers that count them "median_factorizations", "p99_factorizations", "median_outer_passes".
 void solver_pairs_json(JsonWriter& j, const std::vector<SolverPairSummary>& s);
 
 /// report.md's "Solver comparison" section: what was measured, and the table with intervals.

@@ -75,6 +75,12 @@ class World {
     bodies_edited_ = true;
     return bodies_;
   }
+  /// Reserves room in the body arrays for every body the inflow will still add, so that
+  /// from now on adding bodies never moves them: pointers into bodies() (Python's numpy
+  /// views of World.bodies) stay valid for the rest of the run.
+  void reserve_added_bodies() {
+    bodies_.reserve(bodies_.size() + static_cast<std::size_t>(inflow_.total() - inflow_.added()));
+  }
   [[nodiscard]] int step_index() const { return step_; }
   [[nodiscard]] double time() const { return step_ * def_.time.dt; }
 

@@ -127,7 +127,7 @@ struct BodiesSection {
   /// when the mean |i − j| of the internal indices of the body pairs in contact reaches
   /// resort_decay times its lowest value since the last re-sort (> 1; counted in the narrow
   /// phase's loop, no extra pass). Bodies that move away from their neighbours in the
-  /// order raise it; a settled pile keeps it (docs/results.md "Lazy public views …").
+  /// order raise it; a settled pile keeps it (docs/engine.md "Step cost against size").
   double resort_decay = 1.5;
 
   friend bool operator==(const BodiesSection&, const BodiesSection&) = default;

@@ -2,8 +2,10 @@
 // 2D frictional-contact problems in the Siconos numerics `.dat` text format, as Siconos'
 // frictionContact_printInFile writes and frictionContact_newFromFile reads them: d = 2 (3D
 // friction refused), nc contacts, W (2nc × 2nc) in storage 0 (dense), 1 (sparse block, as
-// dat_file.hpp) or 2 (CSparse's cs_print text), then q (2nc) and μ (nc); text after μ is
-// Fc2dDatFile::comment. Layout: docs/formats.md (frictionContact files), docs/lcp.md.
+// dat_file.hpp) or 2 (CSparse's cs_print text), then q (2nc) and μ (nc), then optionally
+// Siconos' `isComplete` flag (one integer, 0 or 1, that frictionContact_printInFile writes after
+// μ and frictionContact_newFromFile reads back; Fc2dDatFile::is_complete); any other text after
+// μ (or after the flag) is Fc2dDatFile::comment. Layout: docs/formats.md (frictionContact files), docs/lcp.md.
 // Validated like the LCP reader: every count checked against the bytes left before anything
 // of that size is allocated, nothing read past the end, one-line dc::IoError
 // "FILE: line L: what" for a missing or empty file, truncated data, non-numbers, NaN/Inf,
@@ -27,7 +29,10 @@ enum class Fc2dStorage { Dense = 0, SparseBlock = 1, Sparse = 2 };
 struct Fc2dDatFile {
   Fc2dProblem problem;
   Fc2dStorage storage = Fc2dStorage::Dense;
-  std::string comment;  ///< text after μ, as DatFile::comment
+  /// Siconos' isComplete flag after μ (0 or 1; −1 when the file has none). It says nothing
+  /// about W, q or μ and is not written back.
+  int is_complete = -1;
+  std::string comment;  ///< text after μ and the flag, as DatFile::comment
 };
 
 /// Parses the text of a frictional-contact .dat file; `name` is used in messages. Throws IoError.

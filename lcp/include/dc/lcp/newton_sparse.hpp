@@ -37,7 +37,7 @@ struct NewtonSparseDef {
   /// With sliding friction coupled: false = GMRES preconditioned with the CHOLMOD factor of
   /// the symmetric part (default); true = factorise the exact non-symmetric Newton matrix by
   /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails); faster where
-  /// many contacts slide (docs/solvers.md "Goals on the hard families").
+  /// many contacts slide (docs/solvers.md "What limits newton-sparse").
   bool coupled_lu = false;
   /// GMRES for the friction coupling: restart length, iteration cap per Newton step and the
   /// relative residual it stops at (defaults 30, 120, 1e-12).

@@ -33,8 +33,8 @@ struct PgsColoredDef {
   /// count only, so the colours do not depend on `threads`. Problems with fewer than
   /// 2·color_chunk contacts are coloured as one chunk. 0 (the default) = the serial greedy
   /// colouring always: the chunked one needs one colour more on large piles, which costs the
-  /// 2-thread sweeps more than the parallel colouring saves (results.md "Threads: the colouring
-  /// in parallel").
+  /// 2-thread sweeps more than the parallel colouring saves (docs/lcp.md "pgs-colored",
+  /// "Alternatives considered").
   int color_chunk = 0;
 };
 

@@ -60,10 +60,12 @@ struct ProxNewtonDef {
   /// Solve the subproblem in body space when the problem has J (default true; false = dual
   /// form always).
   bool body_space = true;
-  /// Passes without a new best hard residual before the outer loop stops (default 2): the
-  /// frozen-bound (Tresca) fixed point converges linearly at best, and once it stops
-  /// improving the proximal finish takes over.
-  int max_stalls = 2;
+  /// Passes without a new best hard residual before the outer loop stops (default 1): the
+  /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
+  /// improve, a further one rarely does (on piles with more contact rows than degrees of
+  /// freedom λ_n moves along A's null space and the frozen bounds go stale): the proximal
+  /// finish takes over.
+  int max_stalls = 1;
   /// After the passes, when the target is not reached: the proximal-point route
   /// (solve_proximal_point: newton-sparse on A + δI around λ_k, bounds moving with λ_n) from the
   /// best iterate (default true). Its iterations count in the budget and in `finish_newton`.

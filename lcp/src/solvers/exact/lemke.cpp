@@ -16,6 +16,7 @@
 
 #include "solvers/exact/lcp_proofs.hpp"
 #include "solvers/exact/lemke_pivoting.hpp"
+#include "dc/core/number_text.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 
@@ -125,7 +126,7 @@ Attempt attempt(const LcpProblem& p, const Scaled& s, const Eigen::VectorXd& d, 
   }
   a.solved = a.res <= target;
   if (!a.solved)
-    a.why = "complementarity error " + std::to_string(a.res) + " above tolerance " + std::to_string(target) +
+    a.why = "complementarity error " + g_text(a.res) + " above tolerance " + g_text(target) +
             " after refinement";
   return a;
 }
@@ -231,7 +232,7 @@ class LemkeSolver final : public LcpSolver {
           best = nr.lambda;
         }
       }
-      tried += "; newton from 4 starts (best residual " + std::to_string(newton_best) + ")";
+      tried += "; newton from 4 starts (best residual " + g_text(newton_best) + ")";
     }
     return done(SolveStatus::Failed, best, head + "; no solution and no proof of infeasibility: " + tried);
   }

@@ -17,6 +17,7 @@
 
 #include "solvers/assembled_sweep.hpp"
 #include "solvers/exact/box_newton.hpp"
+#include "dc/core/number_text.hpp"
 #include "solvers/exact/lcp_proofs.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
@@ -136,8 +137,8 @@ class NewtonSolver final : public LcpSolver {
       } else {
         r.status = SolveStatus::Failed;
         r.message = "newton stalled (" + why + ") and a PGS polish of " + std::to_string(polish) +
-                    " sweeps did not reach residual " + std::to_string(target) +
-                    " (best " + std::to_string(best_res) + ")";
+                    " sweeps did not reach residual " + g_text(target) +
+                    " (best " + g_text(best_res) + ")";
       }
     }
     if (r.status == SolveStatus::Converged) cp.flush_final(lambda);

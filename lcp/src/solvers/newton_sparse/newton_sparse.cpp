@@ -19,6 +19,7 @@
 
 #include "dc/lcp/newton_sparse.hpp"
 #include "solvers/assembled_sweep.hpp"
+#include "dc/core/number_text.hpp"
 #include "solvers/exact/box_newton.hpp"
 #include "solvers/newton_sparse/gmres.hpp"
 #include "solvers/newton_sparse/natural_map.hpp"
@@ -249,8 +250,8 @@ class NewtonSparseRun {
       cp_.flush_final(r.lambda);
     } else {
       r.status = stop == Stop::IterationLimit ? SolveStatus::SweepLimit : SolveStatus::Failed;
-      r.message += (r.message.empty() ? "" : "; ") + why + ": residual " + std::to_string(residual) +
-                   " N above target " + std::to_string(target) + " N";
+      r.message += (r.message.empty() ? "" : "; ") + why + ": residual " + g_text(residual) +
+                   " N above target " + g_text(target) + " N";
     }
     // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
     finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);

@@ -41,8 +41,8 @@ class ContactColorer {
   /// `reuse` = false colours every call from scratch (greedy in contact order); `chunk` = the
   /// contacts per chunk of the parallel colouring (≥ 1; small values are for tests; kChunk is
   /// the benchmarked choice), or 0 (the default) = always one chunk: the serial greedy rule, which
-  /// on 2 threads still gives the faster sweeps (one colour fewer, results.md "Threads: the
-  /// colouring in parallel"). Throws InvalidArgument for chunk < 0.
+  /// on 2 threads still gives the faster sweeps (one colour fewer; docs/lcp.md "pgs-colored",
+  /// "Alternatives considered"). Throws InvalidArgument for chunk < 0.
   explicit ContactColorer(bool reuse = true, int chunk = 0);
 
   /// Colours `contacts`; `dynamic[k]` says whether body k conflicts (size ≥ 1 + max body).

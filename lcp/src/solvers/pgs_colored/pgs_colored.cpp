@@ -343,7 +343,7 @@ bool pgs_colored_kernel_available(PgsColoredKernel kernel) {
 PgsColoredKernel pgs_colored_auto_kernel() {
   // AMD cores (Zen 4) execute 512-bit operations as two 256-bit halves: there the AVX2 kernel
   // is at least as fast (it also skips the all-padding half of a colour's last batch; micro_pgs,
-  // results.md "Speed of the contact solver"). Elsewhere the AVX-512 kernel is preferred.
+  // docs/lcp.md "pgs-colored"). Elsewhere the AVX-512 kernel is preferred.
   if (colored::cpu_has_avx512() && !(colored::cpu_has_avx2() && colored::cpu_is_amd())) return PgsColoredKernel::Avx512;
   if (colored::cpu_has_avx2()) return PgsColoredKernel::Avx2;
   return PgsColoredKernel::Scalar;

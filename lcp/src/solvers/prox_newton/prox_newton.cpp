@@ -172,6 +172,7 @@ class ProxRun {
     fo.tolerance = target_;
     fo.record_theta = false;
     if (fo.max_sweeps <= 0) return;
+    forward_checkpoints(fo);
     const SolveResult r = s_.finish.solve(*assembled_, lambda, fo);
     const NewtonSparseStats fs = s_.finish.last_stats();
     st_.finish_newton += fs.iterations;
@@ -193,11 +194,22 @@ class ProxRun {
     fo.tolerance = target_;
     fo.record_theta = false;
     fo.exact_tolerance = o_.exact_tolerance;
+    forward_checkpoints(fo);
     const SolveResult r = solve_proximal_point(*assembled_, best_, fo, pd);
     st_.finish_newton += r.sweeps;
     st_.proximal_finish_newton += r.sweeps;
     if (r.lambda.size() == p_.rows() && r.lambda.allFinite())
       consider(r.lambda, hard_residual(p_, r.lambda), Finisher::ProximalPoint);
+  }
+
+  /// The caller's checkpoints still ahead, numbered from the iterations done so far, for a
+  /// finish's own iteration count: its iterate at each reaches the caller through cp_.
+  void forward_checkpoints(SolverOptions& fo) {
+    if (!o_.on_checkpoint) return;
+    const int base = st_.newton + st_.finish_newton;
+    for (const int k : o_.checkpoints)
+      if (k > base) fo.checkpoints.push_back(k - base);
+    fo.on_checkpoint = [this, base](int it, const Eigen::VectorXd& lambda) { cp_.after(base + it, lambda); };
   }
 
   /// nncg from the best iterate in chunks until the target or safeguard_sweeps.

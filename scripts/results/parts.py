@@ -1,0 +1,372 @@
+"""The parts of `make results`: each runs the project's own programs and returns its blocks
+(scripts/results/render.py describes a block). Sizes are chosen so that a whole run stays
+within ~25 minutes on 2 cores; each part says what it shortened in its notes.
+"""
+import csv
+import glob
+import importlib.util
+import json
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import time
+
+
+def mb(path):
+    """Size in MB (10^6 bytes) of a file or a directory tree."""
+    if os.path.isfile(path):
+        return os.path.getsize(path) / 1e6
+    total = 0
+    for d, _, files in os.walk(path):
+        total += sum(os.path.getsize(os.path.join(d, f)) for f in files if not os.path.islink(os.path.join(d, f)))
+    return total / 1e6
+
+
+def gbench(ctx, binary, pattern, extra=()):
+    """Runs a Google Benchmark binary with a filter; its JSON "benchmarks" entries."""
+    out = ctx.run([ctx.bin(binary), f"--benchmark_filter={pattern}", "--benchmark_format=json", *extra])
+    return json.loads(out)["benchmarks"]
+
+
+def ci(x, spec):
+    return f"{x['estimate']:{spec}} [{x['lo']:{spec}}, {x['hi']:{spec}}]"
+
+
+def part_bench(ctx):
+    """The default bench (every default starter, the seed scene), on fewer seeds."""
+    seeds = "1..8" if ctx.full else "1..4"
+    out = os.path.join(ctx.tmp, "bench")
+    shutil.rmtree(out, ignore_errors=True)
+    t0 = time.time()
+    ctx.run([ctx.bin("deepcontact"), "bench", "--seeds", seeds, "--jobs", str(ctx.cores), "--out", out], capture=False)
+    wall = time.time() - t0
+    s = json.load(open(os.path.join(out, "summary.json")))
+    st = s["statistics"]["warmstarters"]
+    rows = []
+    for name, w in s["warmstarters"].items():
+        oracle = " *" if w["uses_oracle"] else ""
+        rows.append([f"`{name}`{oracle}", ci(st[name]["median_sweeps_to_tol"], ".0f"), f"{100 * w['unconverged_share']:.1f} %",
+                     f"{w['warmstart_ms']:.4f}", f"{w['solve_ms']:.3f}", ci(st[name]["median_total_ms"], ".3f"),
+                     f"{w['total_ratio_to_zero']:.3f}"])
+    table = {"name": "bench-default", "title": "Default bench: warm starters on the seed scene",
+             "note": (f"`deepcontact bench --seeds {seeds}`: solver `{s['solver']}`, {s['sweeps']} sweeps, θ ≤ "
+                      f"{s['tolerance']} N, {s['evaluated_steps']} evaluated steps, medians over steps with bootstrap 95 % "
+                      "intervals; `*` = oracle starter (reads this step's solution; its cost is not in total)."
+                      + ("" if ctx.full else " Seeds 1..4 instead of the default 1..8 (time budget): intervals are wider.")),
+             "columns": ["warm starter", "sweeps to tol (median)", "never", "warm start ms", "solve ms", "total ms (median)",
+                         "total / zero"], "rows": rows}
+    files = sorted(os.listdir(out))
+    run = {"name": "bench-run", "title": "What the bench run writes",
+           "note": "Wall time of the run above and the size of its output directory.",
+           "columns": ["command", "wall s", "results.h5 MB", "directory MB", "files"],
+           "rows": [[f"`deepcontact bench --seeds {seeds} --jobs {ctx.cores}`", f"{wall:.0f}",
+                     f"{mb(os.path.join(out, 'results.h5')):.1f}", f"{mb(out):.1f}", str(len(files))]]}
+    return [table, run], []
+
+
+def load_table_module(ctx):
+    path = os.path.join(ctx.root, "research", "scripts", "solver-comparison-table.py")
+    spec = importlib.util.spec_from_file_location("solver_comparison_table", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def part_solvers(ctx):
+    """Solver × warm start per scene family (research/scripts/solver-comparison.sh), STEPS per seed."""
+    steps = "10" if ctx.full else "6"
+    out = os.path.join(ctx.tmp, "solvers")
+    shutil.rmtree(out, ignore_errors=True)
+    ctx.run([os.path.join("research", "scripts", "solver-comparison.sh"), ctx.build, out],
+            env={"NO_DOCS": "1", "STEPS": steps}, capture=False)
+    markdown, notes = load_table_module(ctx).table(out)
+    lines = [ln for ln in markdown.splitlines()[2:] if ln.startswith("|")]
+    rows = [[c.strip() for c in ln.strip("|").split("|")] for ln in lines]
+    cols = ["family", "solver + start", "reached R", "ms to R", "iterations to R", "total ms", "ms to R / pgs+builtin total",
+            "total / pgs+builtin total"]
+    block = {"name": "solver-warmstart", "title": "Solver × warm start per scene family",
+             "note": (f"Paired bench with `--solvers pgs,nncg,newton-sparse --accuracy 1e-6`: reached R = share of steps whose "
+                      "natural-map residual reaches 1e-6 · max_i m_i |g| within 10,000 iterations; total = warm start + solve "
+                      "to θ ≤ 1e-2 N; medians with bootstrap 95 % intervals. "
+                      f"{steps} evaluated steps per seed" + ("" if ctx.full else " (STEPS=6 instead of 10: time budget)")
+                      + ". Runs: " + "; ".join(notes) + "."),
+             "columns": cols, "rows": rows}
+    return [block], []
+
+
+def part_siconos(ctx):
+    """Siconos numerics' NSGS and ours on the same frictional problems (benchmarks/scripts/siconos-figures.sh)."""
+    if not os.path.exists(ctx.bin("siconos_compare")):
+        return [{"name": "siconos", "title": "Side by side with Siconos", "columns": [], "rows": [], "note": "",
+                 "skipped": "siconos_compare not built (scripts/install-deps.sh --siconos)"}], []
+    out = os.path.join(ctx.tmp, "siconos")
+    shutil.rmtree(out, ignore_errors=True)
+    ctx.run([os.path.join("benchmarks", "scripts", "siconos-figures.sh"), ctx.build, out], env={"REPEAT": "1"}, capture=False)
+    rows = []
+    with open(os.path.join(out, "compare.csv")) as fh:
+        for r in csv.DictReader(fh):
+            rows.append([f"`{os.path.basename(r['file'])}`", r["contacts"], r["side"], r["solver"], r["status"], r["iterations"],
+                         f"{float(r['cpu_seconds']):.4g}", f"{float(r['residual']):.2e}"])
+    block = {"name": "siconos", "title": "Side by side with Siconos",
+             "note": ("`siconos_compare` on Siconos' 2D test files of ≥ 300 contacts and on problems exported by the engine "
+                      "(impact steps 105, 210; deep steps 250, 500): CPU seconds of one solve (REPEAT=1), NSGS capped at "
+                      "20,000 iterations, residual in each side's own measure (docs/lcp.md)."),
+             "columns": ["problem", "contacts", "side", "solver", "status", "iterations", "CPU s", "residual"], "rows": rows}
+    return [block], []
+
+
+def lcp_solve(ctx, path, args):
+    """`deepcontact lcp solve FILE ARGS…`: its JSON (z, w, mu dropped), or the error line."""
+    cmd = [ctx.bin("deepcontact"), "lcp", "solve", path, *args]
+    ctx.runs.append(ctx.pretty(cmd, None))
+    r = subprocess.run(cmd, cwd=ctx.root, text=True, capture_output=True)
+    try:
+        return json.loads(r.stdout)
+    except json.JSONDecodeError:
+        lines = [ln for ln in r.stderr.splitlines() if "error" in ln]
+        return {"status": "error", "message": (lines or ["exit %d" % r.returncode])[-1]}
+
+
+def part_lcp(ctx):
+    """`lcp solve` on every Siconos 2D test file: the default route, `newton`, the proximal route."""
+    files = sorted(glob.glob(os.path.join(ctx.root, "tests", "data", "fc2d", "*.dat")))
+    routes = [("no options", []), ("`--solver newton`", ["--solver", "newton"]),
+              ("`--solver newton-sparse --proximal`", ["--solver", "newton-sparse", "--proximal"])]
+    rows = []
+    for f in files:
+        with open(f) as fh:
+            contacts = fh.read(200).split()[1]
+        row = [f"`{os.path.basename(f)}`", contacts]
+        for _, args in routes:
+            j = lcp_solve(ctx, f, args)
+            if j.get("status") in ("error", "invalid_input"):
+                row.append(f"{j['status']}: {j.get('message', '').split(' (')[0][:70]}")
+                continue
+            it = j.get("sweeps", j.get("iterations", "?"))
+            row.append(f"{j.get('solver', '?')}: {j['status']}, {it} it., residual {j['residual']:.1e}, "
+                       f"{j['solve_seconds']:.3g} s")
+        rows.append(row)
+    block = {"name": "lcp-siconos-files", "title": "`lcp solve` on Siconos' 2D test problems",
+             "note": ("Every file of tests/data/fc2d/ (Siconos numerics' 2D FrictionContactProblem test data): solver, "
+                      "status, iterations, the natural-map residual (absolute) and the CPU seconds of the solve, from the "
+                      "JSON of `deepcontact lcp solve FILE`."),
+             "columns": ["file", "contacts"] + [r[0] for r in routes], "rows": rows}
+    return [block], []
+
+
+def median_by(entries, key, field):
+    groups = {}
+    for e in entries:
+        if e.get("run_type") == "iteration":
+            groups.setdefault(key(e["name"]), []).append(e[field])
+    return {k: statistics.median(v) for k, v in groups.items()}
+
+
+def block_kernels(ctx):
+    pgs = gbench(ctx, "micro_pgs", "BM_SeedScenePgs(Colored|Baseline)?$|BM_(PgsColored|PgsBaseline)/bodies:(1000|10000)/"
+                 "sweeps:200/order:0(/kernel:2)?$", ["--benchmark_min_time=0.2"])
+    ns = {e["name"]: e["ns_per_row_sweep"] for e in pgs if "ns_per_row_sweep" in e}
+    rows = []
+    for label, ours, ref in [("seed pile (micro_pgs BM_SeedScene*)", "BM_SeedScenePgsColored", "BM_SeedScenePgsBaseline"),
+                             ("1,000-body pile", "BM_PgsColored/bodies:1000/sweeps:200/order:0/kernel:2",
+                              "BM_PgsBaseline/bodies:1000/sweeps:200/order:0"),
+                             ("10,000-body pile", "BM_PgsColored/bodies:10000/sweeps:200/order:0/kernel:2",
+                              "BM_PgsBaseline/bodies:10000/sweeps:200/order:0")]:
+        if ours in ns and ref in ns:
+            rows.append([f"`pgs-colored` AVX-512 vs the scalar loop, {label}", f"{ns[ours]:.2f} vs {ns[ref]:.2f} ns per row·sweep",
+                         f"{ns[ours] / ns[ref]:.2f}×"])
+    if "BM_SeedScenePgs" in ns and "BM_SeedScenePgsBaseline" in ns:
+        rows.append(["`pgs` (default) vs the scalar loop, seed pile", f"{ns['BM_SeedScenePgs']:.2f} vs "
+                     f"{ns['BM_SeedScenePgsBaseline']:.2f} ns per row·sweep", f"{ns['BM_SeedScenePgs'] / ns['BM_SeedScenePgsBaseline']:.2f}×"])
+    return {"name": "speed-kernels", "title": "PGS kernels (Google Benchmark, CPU time)",
+            "note": "`micro_pgs` with `--benchmark_min_time=0.2`, one thread; the scalar loop is `BM_PgsBaseline`.",
+            "columns": ["what", "measured", "ratio"], "rows": rows}
+
+
+def block_cnn(ctx):
+    cnn = gbench(ctx, "micro_cnn", "^cnn_warm_start/default", ["--benchmark_min_time=0.2"])
+    rows = []
+    for e in cnn:
+        if e["name"].startswith("cnn_warm_start/"):
+            rows.append([f"seed pile, {e['name'].split('/')[-1].replace(':', ' ')}", f"{e.get('contacts', 0):.0f}",
+                         f"{e['cpu_time']:.0f}"] + [f"{1e3 * e[k]:.0f}" if k in e else "–"
+                                                      for k in ("features_ms", "inference_ms", "gather_ms")])
+    return {"name": "speed-cnn", "title": "The cnn warm start (shipped model, one thread)",
+            "note": "`micro_cnn --benchmark_filter=^cnn_warm_start/default --benchmark_min_time=0.2`: CPU µs per warm start "
+                    "and its parts (feature image, network inference, the gather of the forces at the contacts).",
+            "columns": ["state", "contacts", "total µs", "features µs", "inference µs", "gather µs"], "rows": rows}
+
+
+def block_step(ctx):
+    step = gbench(ctx, "micro_step", "BM_StepOnly/bodies:(1000|10000|40000)/sweeps:20/morton:(0|1|2)$", ["--benchmark_min_time=0.1"])
+    us = {e["name"]: e["us_per_row"] for e in step if "us_per_row" in e}
+    rows = []
+    for m, label in [(0, "creation order"), (1, "`[bodies] order = \"morton\"`"), (2, "`internal_order = \"morton\"`")]:
+        vals = [us.get(f"BM_StepOnly/bodies:{n}/sweeps:20/morton:{m}") for n in (1000, 10000, 40000)]
+        if None in vals:
+            continue
+        rows.append([label] + [f"{v:.3f}" for v in vals] + [f"{vals[2] / vals[0]:.2f}×"])
+    return {"name": "speed-step", "title": "One step per contact row against size",
+            "note": "`micro_step --benchmark_filter=BM_StepOnly…/sweeps:20` (all stages, 20 PGS sweeps), µs per contact row.",
+            "columns": ["body order", "1,000 bodies", "10,000 bodies", "40,000 bodies", "40,000 / 1,000"], "rows": rows}
+
+
+def block_threads(ctx):
+    reps = "5"
+    runs = gbench(ctx, "micro_pgs", "PgsColoredThreads/bodies:10000/sweeps:(100|1)/threads:(1|2)/assembled:0",
+                  [f"--benchmark_repetitions={reps}"])
+    key = lambda n: tuple(int(x) for x in re.search(r"sweeps:(\d+)/threads:(\d+)", n).groups())
+    med = median_by(runs, key, "real_time")
+    rows = []
+    per_sweep = {t: (med[(100, t)] - med[(1, t)]) / 99 for t in (1, 2) if (100, t) in med and (1, t) in med}
+    for t in sorted(per_sweep):
+        rows.append([str(t), f"{med[(100, t)]:.3f}", f"{med[(1, t)]:.3f}", f"{1e3 * per_sweep[t]:.1f}"])
+    if len(per_sweep) == 2:
+        rows.append(["2 / 1 speed-up", f"{med[(100, 1)] / med[(100, 2)]:.2f}×", f"{med[(1, 1)] / med[(1, 2)]:.2f}×",
+                     f"{per_sweep[1] / per_sweep[2]:.2f}×"])
+    return {"name": "speed-threads", "title": "Threads: pgs-colored on the 10,000-body pile",
+            "note": (f"`micro_pgs` BM_PgsColoredThreads, wall time, medians of {reps} repetitions (OMP_WAIT_POLICY=active). "
+                     "Wall-clock speed-ups mean something only at a load average below ~1 (see the stamp)."),
+            "columns": ["threads", "solve of 100 sweeps ms", "solve of 1 sweep ms", "per sweep µs"], "rows": rows}
+
+
+def box2d3_rows(out):
+    """Rows [scene, configuration, ms/step, ns/row·pass, last column] of box2d3_compare's Markdown tables."""
+    rows, scene, cols = [], "", []
+    for line in out.splitlines():
+        if line.startswith("## "):
+            scene, cols = line[3:].split(" (load")[0], []
+        elif line.startswith("|") and not line.startswith("|---"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if not cols:
+                cols = cells
+                continue
+            cell = dict(zip(cols, cells))
+            rows.append([scene, cell.get("configuration", "?"), cell.get("ms/step (median)", "?"),
+                         cell.get("ns/row·pass", "?"), f"{cols[-1]}: {cells[-1]}"])
+    return rows
+
+
+def block_peers_v3(ctx):
+    """Box2D v3 built from source (-DBOX2D3_DIR): benchmarks/compare/box2d3_compare, shortened sizes."""
+    block = {"name": "speed-peers-v3", "title": "Against Box2D v3", "columns": [], "rows": [], "note": "",
+             "skipped": "box2d3_compare not built (configure with -DBOX2D3_DIR=<Box2D v3 sources>)"}
+    if not os.path.exists(ctx.bin("box2d3_compare")):
+        print(f"results: speed: {block['skipped']}: skipped")
+        return block
+    args = [] if ctx.full else ["--n", "1000", "--rounds", "1", "--pyramid", "20"]
+    rows = box2d3_rows(ctx.run([ctx.bin("box2d3_compare"), *args]))
+    block.update({"rows": rows, "skipped": "" if rows else "box2d3_compare printed no table",
+                  "note": (f"`box2d3_compare {' '.join(args)}`: CPU ms per step (median), ns per row and solver pass, "
+                           "and the program's last column (the stack's drift, or the time relative to the first "
+                           "configuration); benchmarks/compare/README.md explains the configurations."
+                           + ("" if ctx.full else " One round, 1,000 bodies (time budget).")),
+                  "columns": ["scene", "configuration", "ms/step", "ns/row·pass", "last column"]})
+    return block
+
+
+def block_peers(ctx):
+    rows, skipped = [], []
+    for prog, args, what in [("box2d_compare", ["--solver", "pgs"], "Box2D 2.4.1")]:
+        if not os.path.exists(ctx.bin(prog)):
+            msg = f"{prog} not built ({what} not installed): skipped"
+            print(f"results: speed: {msg}")
+            skipped.append(msg)
+            continue
+        out = ctx.run([ctx.bin(prog), *args])
+        for line in out.splitlines():
+            if re.search(r"run CPU|ratio|per row", line):
+                rows.append([what, f"`{prog} {' '.join(args)}`".replace(" `", "`"), line.strip()])
+    return {"name": "speed-peers", "title": "Against Box2D 2.4.1 (seed scene)",
+            "note": "The comparison programs' own summary lines." + (" " + "; ".join(skipped) + "." if skipped and rows else ""),
+            "columns": ["peer", "command", "result"], "rows": rows, "skipped": "; ".join(skipped)}
+
+
+def part_speed(ctx):
+    """Kernels, one step, threads, peers."""
+    env_before = os.environ.get("OMP_WAIT_POLICY")
+    os.environ["OMP_WAIT_POLICY"] = "active"
+    try:
+        return [block_kernels(ctx), block_cnn(ctx), block_step(ctx), block_threads(ctx), block_peers(ctx),
+                block_peers_v3(ctx)], []
+    finally:
+        if env_before is None:
+            del os.environ["OMP_WAIT_POLICY"]
+        else:
+            os.environ["OMP_WAIT_POLICY"] = env_before
+
+
+def part_build(ctx):
+    """A clean Release build without ccache, then the test suite, in a fresh directory."""
+    d = os.path.join(ctx.tmp, "build")
+    shutil.rmtree(d, ignore_errors=True)
+    env = {"CCACHE_DISABLE": "1"}
+    times, failed = {}, []
+    for label, cmd in [("configure", ["cmake", "-S", ".", "-B", d, "-DCMAKE_BUILD_TYPE=Release"]),
+                       ("build", ["cmake", "--build", d, "-j", str(ctx.cores)]),
+                       ("ctest", ["ctest", "--test-dir", d, "-j", str(ctx.cores), "--output-on-failure"])]:
+        t0 = time.time()
+        try:
+            ctx.run(cmd, env=env, capture=False)
+        except subprocess.CalledProcessError as e:  # a failing test still gives the times; the stamp says so
+            log = os.path.join(d, "Testing", "Temporary", "LastTestsFailed.log")
+            names = [ln.split(":", 1)[-1].strip() for ln in open(log)] if os.path.exists(log) else []
+            failed.append(f"{label} exited with {e.returncode}" + (f" (failed: {', '.join(names)})" if names else ""))
+            if label != "ctest":
+                raise
+        times[label] = time.time() - t0
+    total = sum(times.values())
+    pch = sum(os.path.getsize(p) for p in glob.glob(os.path.join(d, "**", "*.gch"), recursive=True)) / 1e6
+    objs = sum(os.path.getsize(p) for p in glob.glob(os.path.join(d, "**", "*.o"), recursive=True)) / 1e6
+    timing = {"name": "build-times", "title": "Build and test times (clean clone, no ccache)",
+              "note": ("The steps of `make test` after the Debian packages are installed (scripts/install-deps.sh not timed), "
+                       f"in a fresh build directory, `-j {ctx.cores}`, CCACHE_DISABLE=1." + (" " + "; ".join(failed) + "." if failed else "")),
+              "columns": ["step", "wall"], "rows": [[k, f"{v / 60:.1f} min ({v:.0f} s)"] for k, v in times.items()]
+              + [["total", f"{total / 60:.1f} min ({total:.0f} s)"]]}
+    sizes = {"name": "sizes", "title": "Sizes after the build and the test suite",
+             "note": "`du`-style totals of the fresh build directory (10^6 bytes).",
+             "columns": ["what", "MB"],
+             "rows": [["build directory", f"{mb(d):.0f}"], ["of which precompiled headers (*.gch)", f"{pch:.0f}"],
+                      ["of which object files (*.o)", f"{objs:.0f}"],
+                      ["`bin/deepcontact`", f"{mb(os.path.join(d, 'bin', 'deepcontact')):.1f}"]]}
+    if not ctx.keep:
+        shutil.rmtree(d, ignore_errors=True)
+    return [timing, sizes], []
+
+
+def part_python(ctx):
+    """What a warm starter written in Python costs per call (benchmarks/scripts/python-starter-overhead.py)."""
+    env = {"PYTHONPATH": os.path.join(ctx.build, "python")}
+    probe = subprocess.run(["/usr/bin/python3", "-c", "import deepcontact"], env=dict(os.environ, **env),
+                           capture_output=True, text=True)
+    block = {"name": "python-starter", "title": "A warm starter written in Python", "columns": [], "rows": [],
+             "note": "", "skipped": "the Python module is not built (target dc_python)"}
+    if probe.returncode != 0:
+        print("results: python: the module is not built (cmake --build BUILD --target dc_python): skipped")
+        return [block], []
+    out = ctx.run(["/usr/bin/python3", os.path.join("benchmarks", "scripts", "python-starter-overhead.py"), "--steps", "200"],
+                  env=env)
+    rows = []
+    for line in out.splitlines():
+        w = line.split()
+        if len(w) == 3 and w[0] in ("zero", "py-zero", "builtin", "py-builtin"):
+            lang = "Python" if w[0].startswith("py-") else "C++"
+            rows.append([f"`{w[0]}` ({lang})", w[1], w[2]])
+    block.update({"rows": rows, "skipped": "",
+                  "note": ("Seed scene, seed 1, 200 steps: the bench times `initial_guess()` itself, so a Python starter's "
+                           "warm start includes taking the GIL, building the view, the call and the conversion of its "
+                           "array. `py-zero` returns `np.zeros(view.rows)`, `py-builtin` is builtin as a Python dict; the "
+                           "sweeps are identical (the same guess, bit for bit). Medians of wall-clock times."),
+                  "columns": ["starter", "median warm start per step µs", "median sweeps to tol"]})
+    return [block], []
+
+
+PARTS = {"bench": ("Default bench", part_bench),
+         "solvers": ("Solver × warm start", part_solvers),
+         "siconos": ("Side by side with Siconos", part_siconos),
+         "lcp": ("lcp solve on Siconos' test problems", part_lcp),
+         "speed": ("Speed: kernels, step, threads, peers", part_speed),
+         "python": ("A warm starter written in Python", part_python),
+         "build": ("Build, tests and sizes", part_build)}
