@@ -137,7 +137,7 @@ class PgsColoredSolver final : public LcpSolver {
     const Eigen::VectorXd* start = &lambda0;
     if (p.has_jacobian()) {
       const int threads = effective_threads(p.constraints.size() / W);
-      if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros, start)) return *bad;
+      if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros, start, owner_)) return *bad;
     }
     const Eigen::VectorXd& lambda = *start;
     // The buffers of the last solve, taken out of the solver for this one: an exception drops
@@ -325,6 +325,7 @@ class PgsColoredSolver final : public LcpSolver {
   // reason solve() is not const (one solver object per thread, lcp_solver.hpp).
   ContactColorer colorer_;
   Prepared cache_;
+  std::vector<int> owner_;  // scratch of the input checks
 };
 
 }  // namespace

@@ -61,7 +61,8 @@ bool contact_ok(const LcpProblem& p, int c) {
 }  // namespace
 
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0, const std::string& solver,
-                                       int threads, Eigen::VectorXd& zeros, const Eigen::VectorXd*& start) {
+                                       int threads, Eigen::VectorXd& zeros, const Eigen::VectorXd*& start,
+                                       std::vector<int>& owner) {
   auto serial = [&]() -> std::optional<SolveResult> {
     if (auto bad = solvers::check_input(p, lambda0, solver, zeros)) return bad;
     start = &zeros;  // (not reached when the checks above are complete)
@@ -72,7 +73,8 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   // owner[r] = the contact claiming row r. The contacts own n rows in all (sizes_ok), so each
   // row is owned once exactly when no row is claimed twice: then every claim reads back its
   // own contact. A row claimed twice keeps one writer's index and the other contact sees it.
-  std::vector<int> owner(static_cast<size_t>(nc > 0 ? n : 0));
+  // Only claimed rows are read back, after the claims: stale entries are never read.
+  owner.resize(static_cast<size_t>(nc > 0 ? n : 0));
   if (lambda0.size() == 0) zeros.resize(n);
   bool ok = true;
 #pragma omp parallel num_threads(std::max(1, threads)) if (threads > 1) reduction(&& : ok)

@@ -196,16 +196,23 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
   out.body_entries = kStride * bodies;
   out.dynamic.assign(static_cast<size_t>(bodies), 0);
+  // A body conflicts when one of its three M⁻¹ entries is not 0: per body, without branches or
+  // divisions (this pass is over all bodies, which outnumber the contacts of a sparse pile).
   const int ncols = static_cast<int>(p.inv_mass.size());
-  for (int c = 0; c < ncols; ++c)
-    if (p.inv_mass[c] != 0.0) out.dynamic[static_cast<size_t>(c / 3)] = 1;
+  const double* im = p.inv_mass.data();
+  std::uint8_t* dyn = out.dynamic.data();
+  const int whole = std::min(ncols / 3, bodies);
+  for (int k = 0; k < whole; ++k)
+    dyn[k] = static_cast<std::uint8_t>((im[3 * k] != 0.0) | (im[3 * k + 1] != 0.0) | (im[3 * k + 2] != 0.0));
+  for (int c = 3 * whole; c < ncols; ++c)
+    if (im[c] != 0.0 && c / 3 < bodies) dyn[c / 3] = 1;
   for (int c = 0; c < cons.size(); ++c) {
     const int i = cons[c].normal_row;
     if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
       return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
   }
   const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
-  std::vector<int> partner;
+  std::vector<int>& partner = out.next_partner;  // kept: no allocation in steady state
   find_pairs(p, partner);
   if (col.repeated && col.generation == out.generation && partner == out.partner) {
     // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
@@ -214,7 +221,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     return {};
   }
   out.generation = col.generation;
-  out.partner = std::move(partner);
+  out.partner.swap(partner);
   // Lead contacts (single contacts and first points of a pair) per slot: 2·colour for singles,
   // 2·colour + 1 for pairs (a pair takes its first point's colour: its second point has the same
   // bodies), overflow last; a counting sort keeping contact order inside a slot. With threads:

@@ -20,12 +20,30 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
   // Eigen's own product (as lcp_problem.cpp's, into a kept buffer): its contiguous scatter is
   // faster than one straight into the strided Δu (c/3 and c%3 per entry).
   jt.noalias() = p.J.transpose() * lambda;
-  const size_t entries = static_cast<size_t>(kStride) * (static_cast<size_t>(bodies) + 1);
-  std::fill(du, du + entries, 0.0);
+  // Every entry written once (no zero-fill first): a body's three velocities, 0 for columns past
+  // J's and for the padding entry; then the zero body.
   const int ncols = static_cast<int>(jt.size());
   const double* im = p.inv_mass.data();
-  for (int k = 0, c = 0; c < ncols; ++k)
-    for (int d = 0; d < 3 && c < ncols; ++d, ++c) du[static_cast<size_t>(kStride) * k + d] = im[c] * jt[c] * p.dt;
+  const double* v = jt.data();
+  const double dt = p.dt;
+  const int whole = std::min(ncols / 3, bodies);
+  for (int k = 0; k < whole; ++k) {
+    double* out = du + static_cast<size_t>(kStride) * k;
+    const int c = 3 * k;
+    out[0] = im[c] * v[c] * dt;
+    out[1] = im[c + 1] * v[c + 1] * dt;
+    out[2] = im[c + 2] * v[c + 2] * dt;
+    out[3] = 0.0;
+  }
+  for (int k = whole; k < bodies; ++k) {  // a body with fewer than three columns in J
+    double* out = du + static_cast<size_t>(kStride) * k;
+    for (int d = 0; d < 3; ++d) {
+      const int c = 3 * k + d;
+      out[d] = c < ncols ? im[c] * v[c] * dt : 0.0;
+    }
+    out[3] = 0.0;
+  }
+  std::fill(du + static_cast<size_t>(kStride) * bodies, du + static_cast<size_t>(kStride) * (bodies + 1), 0.0);
 }
 
 namespace {
