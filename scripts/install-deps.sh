@@ -9,6 +9,7 @@
 #   scripts/install-deps.sh --siconos  also Siconos numerics, its Python module and libfclib: only for
 #                                      benchmarks/compare/siconos_compare (built when they are present)
 #                                      and the FCLIB compatibility tests against libfclib (docs/lcp.md)
+#   scripts/install-deps.sh --box2d    also Box2D 2.4.1 (libbox2d-dev): only for benchmarks/compare/box2d_compare
 set -euo pipefail
 
 packages=(
@@ -34,6 +35,7 @@ for arg in "$@"; do
     --torch) packages+=(python3-torch) ;;
     --fuzz) packages+=(clang libclang-rt-dev) ;;
     --siconos) packages+=(libsiconos-numerics-dev python3-siconos libfclib-dev) ;;
+    --box2d) packages+=(libbox2d-dev) ;;
     *) echo "install-deps.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
