@@ -24,7 +24,7 @@ TEST(DefaultRoute, AStandardLcpIsSolvedByLemke) {
 }
 
 TEST(DefaultRoute, AFrictionalProblemIsSolvedByNewtonSparse) {
-  const ProblemFile f = read_problem_file(kData + "fc2d/FrictionContactProblem00727.dat");
+  const ProblemFile f = read_problem_file(kData + "fc2d/FrictionContactProblem00071.dat");
   ASSERT_FALSE(is_standard_lcp(f.lcp));
   const RouteResult r = solve_with_default_route(f.lcp);
   EXPECT_EQ(r.route, "newton-sparse");
