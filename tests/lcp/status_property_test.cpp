@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/prox_newton.hpp"
 #include "dc/lcp/proximal_point.hpp"
 #include "solver_test_problems.hpp"
 
@@ -125,6 +126,14 @@ SolveResult run(const std::string& solver, const LcpProblem& p, const SolverOpti
     SolverOptions po = o;
     po.tolerance = 0.0;  // `lcp solve --proximal` runs it to the solution test
     return solve_proximal_point(p, Eigen::VectorXd(), po, def);
+  }
+  if (solver == "prox-newton") {
+    ProxNewtonDef def;  // every stage runs; the claim is what is tested, not the patience
+    def.max_outer = 6;
+    def.finish_route.max_outer = 6;
+    def.finish_route.inner_iterations = 50;
+    def.safeguard_sweeps = 300;
+    return make_prox_newton(def)->solve(p, Eigen::VectorXd(), o);
   }
   return make_solver(solver)->solve(p, Eigen::VectorXd(), o);
 }
