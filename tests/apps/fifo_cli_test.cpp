@@ -1,6 +1,6 @@
 // Problem files that are not regular files (docs/robustness.md "Readers that refuse damage"):
-// a FIFO that no process writes is refused at once with one line (it used to block the reader
-// forever), and a pipe with a writer is read whole, its first bytes included (the HDF5
+// a FIFO that no process writes is refused at once with one line (opening it blocking would wait
+// forever for a writer), and a pipe with a writer is read whole, its first bytes included (the HDF5
 // signature check must not consume them).
 #include <fcntl.h>
 #include <gtest/gtest.h>
