@@ -44,14 +44,12 @@
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "timed_solver.hpp"
 
 namespace {
 
-double thread_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using dc::compare::thread_cpu_s;
+using dc::compare::TimedSolver;
 
 std::string first_line_of(const std::string& path, const std::string& prefix) {
   std::ifstream in(path);
@@ -236,26 +234,6 @@ Run run_v3(const dc::WorldDef& def, const dc::BodyState& start, const Config& c,
 }
 
 // ---- ours -------------------------------------------------------------------------------
-
-/// Times the wrapped solver's solve calls (thread CPU time).
-class TimedSolver final : public dc::LcpSolver {
- public:
-  explicit TimedSolver(std::unique_ptr<dc::LcpSolver> s) : s_(std::move(s)) {}
-  [[nodiscard]] std::string name() const override { return s_->name(); }
-  [[nodiscard]] bool needs_jacobian() const override { return s_->needs_jacobian(); }
-  [[nodiscard]] bool needs_assembled_matrix() const override { return s_->needs_assembled_matrix(); }
-  [[nodiscard]] dc::SolveResult solve(const dc::LcpProblem& p, const Eigen::VectorXd& l0,
-                                      const dc::SolverOptions& o) override {
-    const double t0 = thread_cpu_s();
-    dc::SolveResult r = s_->solve(p, l0, o);
-    cpu_s += thread_cpu_s() - t0;
-    return r;
-  }
-  double cpu_s = 0;
-
- private:
-  std::unique_ptr<dc::LcpSolver> s_;
-};
 
 Run run_ours(dc::WorldDef def, const Config& c, int steps) {
   def.solver.sweeps = c.sweeps;

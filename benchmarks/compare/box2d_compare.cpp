@@ -38,14 +38,12 @@
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "timed_solver.hpp"
 
 namespace {
 
-double thread_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using dc::compare::thread_cpu_s;
+using dc::compare::TimedSolver;
 
 struct Args {
   std::string scene = std::string(DC_SOURCE_DIR) + "/scenes/seed.toml";
@@ -188,27 +186,6 @@ Box2dRun run_box2d(const dc::WorldDef& def, const Args& a, int steps, int iterat
   }
   return r;
 }
-
-/// Times the wrapped solver's solve calls (thread CPU time) and counts rows × sweeps.
-class TimedSolver final : public dc::LcpSolver {
- public:
-  explicit TimedSolver(std::unique_ptr<dc::LcpSolver> s) : s_(std::move(s)) {}
-  [[nodiscard]] std::string name() const override { return s_->name(); }
-  [[nodiscard]] bool needs_jacobian() const override { return s_->needs_jacobian(); }
-  [[nodiscard]] bool needs_assembled_matrix() const override { return s_->needs_assembled_matrix(); }
-  [[nodiscard]] dc::SolveResult solve(const dc::LcpProblem& p, const Eigen::VectorXd& l0,
-                                      const dc::SolverOptions& o) override {
-    const double t0 = thread_cpu_s();
-    dc::SolveResult r = s_->solve(p, l0, o);
-    cpu_s += thread_cpu_s() - t0;
-    row_sweeps += static_cast<double>(p.rows()) * r.sweeps;
-    return r;
-  }
-  mutable double cpu_s = 0, row_sweeps = 0;
-
- private:
-  std::unique_ptr<dc::LcpSolver> s_;
-};
 
 }  // namespace
 
