@@ -222,20 +222,27 @@ class PgsColoredSolver final : public LcpSolver {
     const int bodies = prep.body_entries / kStride;
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
-#pragma omp parallel num_threads(threads) if (threads > 1)
-    {
-#pragma omp single nowait
+    auto delta_u0 = [&] {
+      colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt);
+      bad = !all_finite(prep.du.data(), prep.body_entries);
+    };
+    auto fill = [&](int bi) {
+      if (bi < nb)
+        colored::fill_batch(p, lambda, prep, bi, lp, other);
+      else
+        colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
+    };
+    if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
+      delta_u0();
+      laps.lap(&PgsColoredProfile::du0);
+      for (int bi = 0; bi < jobs; ++bi) fill(bi);
+    } else {
+#pragma omp parallel num_threads(threads)
       {
-        colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt);
-        bad = !all_finite(prep.du.data(), prep.body_entries);
-        if (threads <= 1) laps.lap(&PgsColoredProfile::du0);  // (on one thread it runs first)
-      }
+#pragma omp single nowait
+        delta_u0();
 #pragma omp for schedule(dynamic, 16) nowait
-      for (int bi = 0; bi < jobs; ++bi) {
-        if (bi < nb)
-          colored::fill_batch(p, lambda, prep, bi, lp, other);
-        else
-          colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
+        for (int bi = 0; bi < jobs; ++bi) fill(bi);
       }
     }
     bad_start = bad;
@@ -284,7 +291,8 @@ class PgsColoredSolver final : public LcpSolver {
           if (!std::isfinite(acc.theta)) acc.bad = true;
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
-        });
+        },
+        &prep.other);
   }
 
   /// The sweeps on `threads` threads in one parallel region for the whole solve (no fork and
@@ -350,13 +358,18 @@ class PgsColoredSolver final : public LcpSolver {
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
     Eigen::VectorXd out(rows);
     const int np = static_cast<int>(prep.row_of.size());
-#pragma omp parallel num_threads(threads) if (threads > 1)
-    {
+    auto scatter = [&] {
 #pragma omp for schedule(static)
       for (int i = 0; i < rows; ++i) out[i] = 0.0;
 #pragma omp for schedule(static)
       for (int s = 0; s < np; ++s)
         if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
+    };
+    if (threads > 1) {
+#pragma omp parallel num_threads(threads)
+      scatter();
+    } else {
+      scatter();  // (orphaned loops: no parallel region, which would allocate a team)
     }
     return out;
   }

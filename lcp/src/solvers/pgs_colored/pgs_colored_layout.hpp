@@ -40,6 +40,7 @@ struct Prepared {
   std::vector<int> slot_of_batch, slot_of_pair;  // per batch / pair batch: its slot
   std::vector<int> partner;   // per contact: its manifold's second contact, −2 when it is one, else −1
   std::vector<int> next_partner;  // scratch of layout(): this problem's pairs before they replace `partner`
+  std::vector<int> count;         // scratch of layout()'s counting sort
   std::vector<std::uint8_t> dynamic;
   std::vector<int> failed;    // per batch, then per pair batch: its first contact that cannot be packed, or −1
   std::vector<double, Eigen::aligned_allocator<double>> du;
