@@ -196,35 +196,6 @@ void name_singular(const Prepared& out, int s0, int lanes, const double* dn, con
       failed = out.order[static_cast<size_t>(s0 + lane)];
 }
 
-/// Software prefetch for the batches after the one starting at ordered lane s0 (a hint only:
-/// what the packing will read, in a three-batch pipeline along the dependent loads). The
-/// contacts of a colour are spread over the whole problem, so the hardware prefetcher does not
-/// see these reads coming. Three batches ahead: the contacts' constraint records; two ahead:
-/// their rows' J offsets, b, λ⁰ and their bodies' M⁻¹; one ahead: their rows of J.
-void prefetch_ahead(const LcpProblem& p, const Eigen::VectorXd& lambda, const Prepared& out, int s0) {
-  const int* order = out.order.data();
-  const int n = static_cast<int>(out.order.size());
-  const ContactConstraints& cons = p.constraints;
-  const int* outer = p.J.outerIndexPtr();
-  for (int lane = 0; lane < W; ++lane) {
-    if (const int s = s0 + 3 * W + lane; s < n) __builtin_prefetch(&cons[order[s]]);
-    if (const int s = s0 + 2 * W + lane; s < n) {
-      const ContactConstraint& k = cons[order[s]];
-      __builtin_prefetch(outer + k.normal_row);
-      __builtin_prefetch(p.b.data() + k.normal_row);
-      __builtin_prefetch(lambda.data() + k.normal_row);
-      __builtin_prefetch(p.inv_mass.data() + 3 * k.body_b);
-      if (k.body_a >= 0) __builtin_prefetch(p.inv_mass.data() + 3 * k.body_a);
-    }
-    if (const int s = s0 + W + lane; s < n) {
-      const int q = outer[cons[order[s]].normal_row];
-      __builtin_prefetch(p.J.valuePtr() + q);
-      __builtin_prefetch(p.J.valuePtr() + q + 8);
-      __builtin_prefetch(p.J.innerIndexPtr() + q);
-    }
-  }
-}
-
 }  // namespace
 
 std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out, double* coloring_s) {
@@ -354,7 +325,6 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   std::fill(diag_t, diag_t + W, 1.0);
   int& failed = out.failed[static_cast<size_t>(bi)];
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
-  prefetch_ahead(p, lambda, out, s0);
   for (int lane = 0; lane < lanes; ++lane) {
     const int c = out.order[static_cast<size_t>(s0 + lane)];
     if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n, diag_t) &&
@@ -383,7 +353,6 @@ void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out
   int& failed = out.failed[out.batches.size() + static_cast<size_t>(pi)];
   const RowSet r0{P.jn0, P.mjn0, P.jt0, P.mjt0, P.bn0, P.bt0, P.mu0};
   const RowSet r1{P.jn1, P.mjn1, P.jt1, P.mjt1, P.bn1, P.bt1, P.mu1};
-  prefetch_ahead(p, lambda, out, s0);
   for (int lane = 0; lane < lanes; ++lane) {
     const int c = out.order[static_cast<size_t>(s0 + lane)];
     const int c1 = out.partner[static_cast<size_t>(c)];

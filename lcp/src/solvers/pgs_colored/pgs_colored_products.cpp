@@ -141,14 +141,10 @@ namespace {
 
 /// |natural map| of row i at λ with w_i = J_i Δu + b_i as Eigen's row-major product (storage
 /// order, from 0, then + b_i); sets `nonfinite` when λ_i is not finite.
-inline double row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, const double* du, int i,
+inline double row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& du, int i,
                         bool& nonfinite) {
-  const double* value = p.J.valuePtr();
-  const int* inner = p.J.innerIndexPtr();
-  const int q0 = p.J.outerIndexPtr()[i];
-  const int q1 = p.J.isCompressed() ? p.J.outerIndexPtr()[i + 1] : q0 + p.J.innerNonZeroPtr()[i];
   double tmp = 0.0;
-  for (int q = q0; q < q1; ++q) tmp += value[q] * du[inner[q]];
+  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) tmp += it.value() * du[it.col()];
   const double w = tmp + p.b[i];
   const double l = p.lower(i, lambda), h = p.upper(i, lambda);
   nonfinite = nonfinite || !std::isfinite(lambda[i]);
@@ -165,7 +161,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
   if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
     scaled_transpose_product(p, lambda, 1, du);
     for (int i = 0; i < n; ++i) {
-      const double e = row_error(p, lambda, du.data(), i, nonfinite);
+      const double e = row_error(p, lambda, du, i, nonfinite);
       if (std::isnan(e)) {
         nan = true;
       } else {
@@ -191,7 +187,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     }
 #pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
     for (int i = 0; i < n; ++i) {
-      const double e = row_error(p, lambda, du.data(), i, nonfinite);
+      const double e = row_error(p, lambda, du, i, nonfinite);
       if (std::isnan(e)) {
         nan = true;
       } else {
