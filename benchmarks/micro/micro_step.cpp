@@ -6,17 +6,25 @@
 // (`simulate --out`), BM_StepOnly (`simulate`); both steps use the builtin warm start. Last
 // argument: 0 = creation order, 1 = Morton body order, 2 (whole step only) = the engine-internal
 // Morton order. Counter us_per_row = CPU time / LCP rows [µs], which must stay flat with the
-// body count (docs/bench.md "Micro benchmarks").
+// body count (docs/bench.md "Micro benchmarks"). BM_StepStages: consecutive steps of the pile
+// with "pgs" or "pgs-colored", each stage (and pgs-colored's set-up parts) in thread CPU time
+// per contact row, and the heap allocations of each stage per step (counting_malloc.hpp);
+// benchmarks/scripts/step-stages.sh prints them as a table.
 #include <benchmark/benchmark.h>
+#include <time.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
+#include <string>
+#include <utility>
 
 #include "collision/narrow_phase.hpp"
 #include "dc/engine/trajectory_recorder.hpp"
+#include "counting_malloc.hpp"
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 
@@ -213,6 +221,97 @@ void BM_StepOnly(benchmark::State& state) {
   report(state, *p.world);
 }
 
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// Thread CPU seconds and allocations of the stages of consecutive steps.
+struct StageTally {
+  static constexpr int kStages = 5;  // collide, assemble, warm start, solve, integrate
+  static constexpr const char* kName[kStages] = {"collide", "assemble", "warm", "solve", "integrate"};
+  double seconds[kStages] = {};
+  long allocs[kStages] = {};
+  double t = 0;
+  long a = 0;
+  void begin() {
+    a = dc::bench::AllocationCounter::count();
+    t = thread_cpu_s();
+  }
+  void lap(int stage) {
+    const double now = thread_cpu_s();
+    const long an = dc::bench::AllocationCounter::count();
+    seconds[stage] += now - t;
+    allocs[stage] += an - a;
+    t = now;
+    a = an;
+  }
+};
+
+/// One step of w by its public stages (World::step's sequence; the builtin warm start), timed.
+void timed_step(dc::World& w, dc::LcpSolver& solver, const dc::SolverOptions& o, dc::WarmStarter& builtin,
+                StageTally& tally) {
+  tally.begin();
+  w.collide();
+  tally.lap(0);
+  w.assemble();
+  tally.lap(1);
+  const Eigen::VectorXd guess = builtin.initial_guess(dc::StepView{w, nullptr});
+  tally.lap(2);
+  const dc::SolveResult r = solver.solve(w.problem(), guess, o);
+  tally.lap(3);
+  w.integrate(r.lambda);
+  tally.lap(4);
+}
+
+/// Consecutive steps of the settled pile (args: bodies, solver 0 = "pgs" / 1 = "pgs-colored",
+/// morton): counters ns_<stage> and, for pgs-colored, ns_<part> of its solve per contact row
+/// (thread CPU time), allocs_<stage> per step (after kWarmSteps untimed steps: steady state).
+void BM_StepStages(benchmark::State& state) {
+  constexpr int kWarmSteps = 3;
+  const Pile& p = pile_of(state, 2);
+  const bool colored = state.range(1) == 1;
+  dc::PgsColoredProfile prof;
+  dc::PgsColoredDef def;
+  def.profile = &prof;
+  const auto solver = colored ? dc::make_pgs_colored(def) : dc::make_solver("pgs");
+  const auto builtin = dc::default_warm_starters().make("builtin");
+  const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
+  dc::World w = *p.world;  // stepped on from the pile: a fixed iteration count keeps it near it
+  StageTally tally;
+  for (int k = 0; k < kWarmSteps; ++k) timed_step(w, *solver, o, *builtin, tally);
+  tally = StageTally{};
+  prof = dc::PgsColoredProfile{};
+  double rows = 0;
+  long steps = 0;
+  dc::bench::AllocationCounter::start();
+  for (auto _ : state) {
+    timed_step(w, *solver, o, *builtin, tally);
+    rows += w.problem().rows();
+    ++steps;
+  }
+  dc::bench::AllocationCounter::stop();
+  double total = 0;
+  long allocs = 0;
+  for (int s = 0; s < StageTally::kStages; ++s) {
+    state.counters[std::string("ns_") + StageTally::kName[s]] = 1e9 * tally.seconds[s] / rows;
+    state.counters[std::string("allocs_") + StageTally::kName[s]] = static_cast<double>(tally.allocs[s]) / steps;
+    total += tally.seconds[s];
+    allocs += tally.allocs[s];
+  }
+  state.counters["ns_total"] = 1e9 * total / rows;
+  state.counters["allocs_step"] = static_cast<double>(allocs) / steps;
+  state.counters["rows"] = rows / steps;
+  if (colored) {
+    const std::pair<const char*, double> parts[] = {
+        {"checks", prof.checks}, {"coloring", prof.coloring}, {"ordering", prof.ordering}, {"pack", prof.pack},
+        {"du0", prof.du0},       {"sweeps", prof.sweeps},     {"unpermute", prof.unpermute},
+        {"residual", prof.residual}};
+    for (const auto& [name, sec] : parts) state.counters[std::string("ns_solve_") + name] = 1e9 * sec / rows;
+  }
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "morton"});
   for (int n : {1000, 2500, 10000, 40000})
@@ -232,6 +331,13 @@ void sizes_sweeps_orders(benchmark::internal::Benchmark* b) {
       for (int morton : {0, 1, 2}) b->Args({n, sweeps, morton});
 }
 
+void sizes_solvers(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies", "colored", "morton"});
+  for (int n : {1000, 10000, 40000})
+    for (int colored : {0, 1})
+      for (int morton : {0, 1}) b->Args({n, colored, morton});
+}
+
 BENCHMARK(BM_Collide)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BroadPhase)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Assemble)->Apply(sizes)->Unit(benchmark::kMicrosecond);
@@ -241,6 +347,7 @@ BENCHMARK(BM_Integrate)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnly)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StepStages)->Apply(sizes_solvers)->Iterations(30)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -128,8 +128,9 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
       out.normal_row[static_cast<size_t>(rt)] = rn;
     }
   }
-  // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix).
-  out.A = SparseRowMatrix();
+  // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix). Emptied only
+  // when formed: an empty SparseRowMatrix allocates its outer index, every step.
+  if (out.A.rows() != 0 || out.A.cols() != 0 || out.A.nonZeros() != 0) out.A = SparseRowMatrix();
 }
 
 }  // namespace dc

@@ -179,10 +179,11 @@ SolveResult run_sweeps(const LcpProblem& /*p*/, Eigen::VectorXd lambda, const So
 /// `sweep(in, out, nonfinite)` returns θ_k. The buffers swap after every finite sweep, so
 /// on a non-finite iterate the other buffer still holds the last finite one and no sweep
 /// pays run_sweeps' copy of λ. `other` must have λ's size (its entries that the kernel never
-/// writes must equal λ's). Same statuses, messages, checkpoints and θ as run_sweeps.
+/// writes must equal λ's). Same statuses, messages, checkpoints and θ as run_sweeps. `spare`,
+/// when set, receives the buffer that does not hold the result (its storage, for reuse).
 template <class Sweep>
 SolveResult run_sweeps_double_buffered(Eigen::VectorXd lambda, Eigen::VectorXd other, const SolverOptions& o,
-                                       Sweep&& sweep) {
+                                       Sweep&& sweep, Eigen::VectorXd* spare = nullptr) {
   SolveResult res;
   res.status = SolveStatus::SweepLimit;
   const int max_sweeps = std::max(0, o.max_sweeps);
@@ -205,6 +206,7 @@ SolveResult run_sweeps_double_buffered(Eigen::VectorXd lambda, Eigen::VectorXd o
   }
   res.sweeps = done;
   res.lambda = std::move(lambda);
+  if (spare != nullptr) spare->swap(other);
   return res;
 }
 

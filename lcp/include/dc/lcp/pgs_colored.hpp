@@ -17,6 +17,22 @@ namespace dc {
 
 // PgsColoredKernel, the sweep kernel, is declared in lcp_solver.hpp (SolverId names it).
 
+/// Thread CPU seconds of the parts of pgs-colored's solves, summed over the solves that ran the
+/// colour-ordered sweeps (timing only: nothing a solve computes depends on it). The parts run
+/// in this order; `pack` excludes `du0`, which overlaps it when there are threads (then the
+/// figures are the calling thread's only).
+struct PgsColoredProfile {
+  double checks = 0;     ///< the input checks (LcpProblem::validate and λ⁰)
+  double coloring = 0;   ///< ContactColorer::color
+  double ordering = 0;   ///< the rest of the layout: manifold pairs, counting sort into batches
+  double pack = 0;       ///< filling the batches and the permuted λ⁰
+  double du0 = 0;        ///< Δu⁰ = M⁻¹Jᵀλ⁰Δt
+  double sweeps = 0;     ///< the sweeps
+  double unpermute = 0;  ///< λ back in row order
+  double residual = 0;   ///< the natural residual and the status
+  long solves = 0;
+};
+
 struct PgsColoredDef {
   /// OpenMP threads for the set-up and the batches of a colour (1 = serial; 0 = OpenMP's
   /// default). Problems with fewer than `min_batches_per_thread`·threads batches of 8
@@ -36,6 +52,9 @@ struct PgsColoredDef {
   /// 2-thread sweeps more than the parallel colouring saves (docs/lcp.md "pgs-colored",
   /// "Alternatives considered").
   int color_chunk = 0;
+  /// When set, every solve adds the times of its parts here (PgsColoredProfile; the caller
+  /// keeps it alive while the solver is used).
+  PgsColoredProfile* profile = nullptr;
 };
 
 std::unique_ptr<LcpSolver> make_pgs_colored(const PgsColoredDef& def = {});

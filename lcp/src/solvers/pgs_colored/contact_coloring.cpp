@@ -124,33 +124,48 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
   Tally& serial = tally_[static_cast<size_t>(chunks)];
   // The contacts are read from their 32-byte records once (pass 0) and then from the 8-byte
   // pairs: the passes are bound by memory traffic.
-#pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-#pragma omp for schedule(static) nowait
+  if (threads <= 1) {
+    // The phases below in order, without a parallel region (libgomp allocates a team even for
+    // a region that runs serially, and a work-share for an orphaned dynamic loop).
     for (int b = 0; b < nb; ++b) canvas.used[b] = 0;
-#pragma omp for schedule(static)
     for (int q = 0; q < chunks; ++q) pair_chunk(q, chunks, contacts, dyn, nb, canvas);
-    // (A contact naming a body outside `dynamic` has no bodies in its pair, and keep_last
-    // reads only last call's table: the phases below run safely, and the call throws after.)
-#pragma omp for schedule(dynamic, 1)
     for (int q = 0; q < chunks; ++q) keep_chunk(q, chunks, contacts, canvas, have_prev);
-    // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
-    if (have_prev) {
-#pragma omp single
+    if (have_prev)
       for (int q = 0; q < chunks; ++q)
         for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
-    }
-    // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
-    // colouring from scratch with several chunks).
-    if (have_prev || chunks == 1) {
-#pragma omp for schedule(dynamic, 1)
+    if (have_prev || chunks == 1)
       for (int q = 0; q < chunks; ++q) lowest_chunk(q, chunks, nc, canvas);
-    }
-    // Phase 4 (serial, contact order): the other boundary contacts (the region's end is the
-    // barrier).
-#pragma omp single nowait
     for (int q = 0; q < chunks; ++q)
       for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
+  } else {
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static) nowait
+      for (int b = 0; b < nb; ++b) canvas.used[b] = 0;
+#pragma omp for schedule(static)
+      for (int q = 0; q < chunks; ++q) pair_chunk(q, chunks, contacts, dyn, nb, canvas);
+      // (A contact naming a body outside `dynamic` has no bodies in its pair, and keep_last
+      // reads only last call's table: the phases below run safely, and the call throws after.)
+#pragma omp for schedule(dynamic, 1)
+      for (int q = 0; q < chunks; ++q) keep_chunk(q, chunks, contacts, canvas, have_prev);
+      // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
+      if (have_prev) {
+#pragma omp single
+        for (int q = 0; q < chunks; ++q)
+          for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
+      }
+      // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
+      // colouring from scratch with several chunks).
+      if (have_prev || chunks == 1) {
+#pragma omp for schedule(dynamic, 1)
+        for (int q = 0; q < chunks; ++q) lowest_chunk(q, chunks, nc, canvas);
+      }
+      // Phase 4 (serial, contact order): the other boundary contacts (the region's end is the
+      // barrier).
+#pragma omp single nowait
+      for (int q = 0; q < chunks; ++q)
+        for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
+    }
   }
   finish(contacts, nb, chunks);
   if (reuse_) remember(contacts, dynamic);

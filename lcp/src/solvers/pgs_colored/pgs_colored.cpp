@@ -19,6 +19,8 @@
 #include <utility>
 #include <vector>
 
+#include <time.h>
+
 #if defined(_OPENMP)
 #include <omp.h>
 #endif
@@ -58,6 +60,29 @@ bool all_finite(const double* x, int n) {
   }
   return any == 0;
 }
+
+/// Adds the thread CPU time since the last lap to a PgsColoredProfile field; does nothing
+/// without a profile (no clock read).
+class Laps {
+ public:
+  explicit Laps(PgsColoredProfile* p) : p_(p), t_(p != nullptr ? now() : 0.0) {}
+  void lap(double PgsColoredProfile::*field) {
+    if (p_ == nullptr) return;
+    const double t = now();
+    p_->*field += t - t_;
+    t_ = t;
+  }
+  [[nodiscard]] PgsColoredProfile* profile() const { return p_; }
+
+ private:
+  static double now() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  }
+  PgsColoredProfile* p_;
+  double t_;
+};
 
 PgsColoredKernel resolve(PgsColoredKernel k) {
   if (k != PgsColoredKernel::Auto) {
@@ -132,24 +157,32 @@ class PgsColoredSolver final : public LcpSolver {
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
+    Laps laps(def_.profile);
     // λ⁰ as given (or zeros): the input checks run on the threads the packing will use.
-    Eigen::VectorXd zeros;
     const Eigen::VectorXd* start = &lambda0;
     if (p.has_jacobian()) {
       const int threads = effective_threads(p.constraints.size() / W);
-      if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros, start, owner_)) return *bad;
+      if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros_, start, owner_)) return *bad;
     }
+    laps.lap(&PgsColoredProfile::checks);
     const Eigen::VectorXd& lambda = *start;
     // The buffers of the last solve, taken out of the solver for this one: an exception drops
     // them, so the next solve lays out afresh instead of reusing a half-written layout.
     Prepared prep = std::exchange(cache_, Prepared{});
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");
-    if (why.empty()) why = colored::layout(p, colorer_, effective_threads(p.constraints.size() / W), prep);
-    // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel).
+    double* coloring_s = laps.profile() != nullptr ? &laps.profile()->coloring : nullptr;
+    const double coloring_before = coloring_s != nullptr ? *coloring_s : 0.0;
+    if (why.empty()) why = colored::layout(p, colorer_, effective_threads(p.constraints.size() / W), prep, coloring_s);
+    laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
+    if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
+    // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel),
+    // in the storage of the last solve's.
     const int np = static_cast<int>(prep.row_of.size());
-    Eigen::VectorXd lp(why.empty() ? np : 0), other(why.empty() ? np : 0);
+    Eigen::VectorXd lp = std::move(prep.lp), other = std::move(prep.other);
+    lp.resize(why.empty() ? np : 0);
+    other.resize(why.empty() ? np : 0);
     bool bad_start = false;
-    if (why.empty()) why = pack(p, lambda, prep, lp.data(), other.data(), bad_start);
+    if (why.empty()) why = pack(p, lambda, prep, lp.data(), other.data(), bad_start, laps);
     if (!why.empty()) {
       SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
       if (r.status != SolveStatus::InvalidInput)
@@ -157,7 +190,8 @@ class PgsColoredSolver final : public LcpSolver {
       cache_ = std::move(prep);
       return r;
     }
-    SolveResult r = sweeps(p, std::move(lp), std::move(other), bad_start, o, prep);
+    SolveResult r = sweeps(p, std::move(lp), std::move(other), bad_start, o, prep, laps);
+    if (laps.profile() != nullptr) ++laps.profile()->solves;
     cache_ = std::move(prep);
     return r;
   }
@@ -181,50 +215,65 @@ class PgsColoredSolver final : public LcpSolver {
   /// the result depends neither on the thread count nor on the schedule. bad_start: Δu⁰ is not
   /// finite (an overflowing λ⁰).
   [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& prep, double* lp,
-                                 double* other, bool& bad_start) const {
+                                 double* other, bool& bad_start, Laps& laps) const {
     const int nb = static_cast<int>(prep.batches.size());
     const int jobs = nb + static_cast<int>(prep.pairs.size());  // batches, then pair batches
     const int threads = effective_threads(jobs);
     const int bodies = prep.body_entries / kStride;
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
-#pragma omp parallel num_threads(threads) if (threads > 1)
-    {
-#pragma omp single nowait
+    auto delta_u0 = [&] {
+      colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt);
+      bad = !all_finite(prep.du.data(), prep.body_entries);
+    };
+    auto fill = [&](int bi) {
+      if (bi < nb)
+        colored::fill_batch(p, lambda, prep, bi, lp, other);
+      else
+        colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
+    };
+    if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
+      delta_u0();
+      laps.lap(&PgsColoredProfile::du0);
+      for (int bi = 0; bi < jobs; ++bi) fill(bi);
+    } else {
+#pragma omp parallel num_threads(threads)
       {
-        colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt);
-        bad = !all_finite(prep.du.data(), prep.body_entries);
-      }
+#pragma omp single nowait
+        delta_u0();
 #pragma omp for schedule(dynamic, 16) nowait
-      for (int bi = 0; bi < jobs; ++bi) {
-        if (bi < nb)
-          colored::fill_batch(p, lambda, prep, bi, lp, other);
-        else
-          colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
+        for (int bi = 0; bi < jobs; ++bi) fill(bi);
       }
     }
     bad_start = bad;
-    return colored::first_failure(prep);
+    std::string failure = colored::first_failure(prep);
+    laps.lap(&PgsColoredProfile::pack);
+    return failure;
   }
 
   /// The sweeps from the permuted λ⁰ (lp = other) on the packed problem; λ back in row order, its
   /// natural residual (bit-identical to finish's, pgs_colored_products.hpp). With threads, the
   /// permutation back and the residual's rows run on them too.
   [[nodiscard]] SolveResult sweeps(const LcpProblem& p, Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
-                                   const SolverOptions& o, Prepared& prep) const {
+                                   const SolverOptions& o, Prepared& prep, Laps& laps) const {
     const int threads = effective_threads(static_cast<int>(prep.batches.size() + prep.pairs.size()));
     SolverOptions po = o;
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), threads)); };
     SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep)
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
-    r.lambda = unpermute(prep, r.lambda, p.rows(), threads);
+    laps.lap(&PgsColoredProfile::sweeps);
+    Eigen::VectorXd permuted = std::move(r.lambda);
+    r.lambda = unpermute(prep, permuted, p.rows(), threads);
+    prep.lp = std::move(permuted);  // storage for the next solve's λ⁰
+    laps.lap(&PgsColoredProfile::unpermute);
     bool finite = false;
     r.residual = colored::natural_residual(p, r.lambda, threads, prep.jt, finite);
     if (finite)
       settle_status(p, r, o, StopRule::Tolerance);
     else
       finish(p, r, o, StopRule::Tolerance);  // the defensive replacement of a non-finite λ (and its residual)
+    laps.lap(&PgsColoredProfile::residual);
     return r;
   }
 
@@ -242,7 +291,8 @@ class PgsColoredSolver final : public LcpSolver {
           if (!std::isfinite(acc.theta)) acc.bad = true;
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
-        });
+        },
+        &prep.other);
   }
 
   /// The sweeps on `threads` threads in one parallel region for the whole solve (no fork and
@@ -308,13 +358,18 @@ class PgsColoredSolver final : public LcpSolver {
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
     Eigen::VectorXd out(rows);
     const int np = static_cast<int>(prep.row_of.size());
-#pragma omp parallel num_threads(threads) if (threads > 1)
-    {
+    auto scatter = [&] {
 #pragma omp for schedule(static)
       for (int i = 0; i < rows; ++i) out[i] = 0.0;
 #pragma omp for schedule(static)
       for (int s = 0; s < np; ++s)
         if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
+    };
+    if (threads > 1) {
+#pragma omp parallel num_threads(threads)
+      scatter();
+    } else {
+      scatter();  // (orphaned loops: no parallel region, which would allocate a team)
     }
     return out;
   }
@@ -326,6 +381,7 @@ class PgsColoredSolver final : public LcpSolver {
   ContactColorer colorer_;
   Prepared cache_;
   std::vector<int> owner_;  // scratch of the input checks
+  Eigen::VectorXd zeros_;   // λ⁰ when the caller passes none
 };
 
 }  // namespace

@@ -76,18 +76,20 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   // Only claimed rows are read back, after the claims: stale entries are never read.
   owner.resize(static_cast<size_t>(nc > 0 ? n : 0));
   if (lambda0.size() == 0) zeros.resize(n);
-  bool ok = true;
-#pragma omp parallel num_threads(std::max(1, threads)) if (threads > 1) reduction(&& : ok)
-  {
+  // The three scans as orphaned static loops: on one thread no parallel region is entered
+  // (libgomp allocates a team even for a region that runs serially).
+  std::atomic<bool> ok{true};  // cleared by a thread whose share failed (an order-free AND)
+  auto scans = [&] {
+    bool mine = true;
 #pragma omp for schedule(static) nowait
     for (int i = 0; i < n; ++i) {
-      ok = ok && row_ok(p, lambda0, i);
+      mine = mine && row_ok(p, lambda0, i);
       if (lambda0.size() == 0) zeros[i] = 0.0;
     }
 #pragma omp for schedule(static)
     for (int c = 0; c < nc; ++c) {
       const bool good = contact_ok(p, c);
-      ok = ok && good;
+      mine = mine && good;
       if (!good) continue;
       const ContactConstraint& k = p.constraints[c];
       std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).store(c, std::memory_order_relaxed);
@@ -98,12 +100,19 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
     for (int c = 0; c < nc; ++c) {
       const ContactConstraint& k = p.constraints[c];
       if (k.normal_row < 0 || k.normal_row >= n || k.tangent_row >= n) continue;  // failed above
-      ok = ok && std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).load(std::memory_order_relaxed) == c;
+      mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).load(std::memory_order_relaxed) == c;
       if (k.has_friction())
-        ok = ok && std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).load(std::memory_order_relaxed) == c;
+        mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).load(std::memory_order_relaxed) == c;
     }
+    if (!mine) ok.store(false, std::memory_order_relaxed);
+  };
+  if (threads > 1) {
+#pragma omp parallel num_threads(threads)
+    scans();
+  } else {
+    scans();
   }
-  if (!ok) return serial();
+  if (!ok.load(std::memory_order_relaxed)) return serial();
   start = lambda0.size() == 0 ? &zeros : &lambda0;
   return std::nullopt;
 }

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include <time.h>
+
 #if defined(_OPENMP)
 #include <omp.h>
 #endif
@@ -14,6 +16,12 @@
 
 namespace dc::colored {
 namespace {
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 /// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
 /// lane `lane` of j/mj, unscaled: j = J_i, mj = M⁻¹ J_iᵀ Δt, b = b_i, diag = A_ii (summed in slot
@@ -190,7 +198,7 @@ void name_singular(const Prepared& out, int s0, int lanes, const double* dn, con
 
 }  // namespace
 
-std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out) {
+std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out, double* coloring_s) {
   const ContactConstraints& cons = p.constraints;
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
@@ -211,7 +219,9 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
       return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
   }
+  const double t0 = coloring_s != nullptr ? thread_cpu_s() : 0.0;
   const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
+  if (coloring_s != nullptr) *coloring_s += thread_cpu_s() - t0;
   std::vector<int>& partner = out.next_partner;  // kept: no allocation in steady state
   find_pairs(p, partner);
   if (col.repeated && col.generation == out.generation && partner == out.partner) {
@@ -236,13 +246,15 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     return 2 * colour + (part_of[c] >= 0 ? 1 : 0);
   };
   const int parts = std::max(1, std::min(threads, nc / 4096));
-  std::vector<int> count(static_cast<size_t>(parts) * slots, 0);  // count[part·slots + slot]
+  std::vector<int>& count = out.count;  // count[part·slots + slot]
+  count.assign(static_cast<size_t>(parts) * slots, 0);
   std::vector<int>& start = out.start;
   start.assign(static_cast<size_t>(slots) + 1, 0);
   out.order.resize(static_cast<size_t>(nc));
   out.batch_of.assign(static_cast<size_t>(slots) + 1, 0);
-#pragma omp parallel num_threads(parts) if (parts > 1)
-  {
+  // The sort as orphaned constructs: on one part no parallel region is entered (libgomp
+  // allocates a team even for a region that runs serially).
+  auto sort = [&] {
 #if defined(_OPENMP)
     const int part = omp_get_thread_num();
 #else
@@ -270,6 +282,12 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     }
     for (int c = lo; c < hi; ++c)
       if (part_of[c] != -2) out.order[static_cast<size_t>(mine[slot_of(c)]++)] = c;
+  };
+  if (parts > 1) {
+#pragma omp parallel num_threads(parts)
+    sort();
+  } else {
+    sort();
   }
   out.order.resize(static_cast<size_t>(start[static_cast<size_t>(slots)]));
   out.ranges.clear();

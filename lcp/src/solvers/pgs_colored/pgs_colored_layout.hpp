@@ -40,10 +40,12 @@ struct Prepared {
   std::vector<int> slot_of_batch, slot_of_pair;  // per batch / pair batch: its slot
   std::vector<int> partner;   // per contact: its manifold's second contact, −2 when it is one, else −1
   std::vector<int> next_partner;  // scratch of layout(): this problem's pairs before they replace `partner`
+  std::vector<int> count;         // scratch of layout()'s counting sort
   std::vector<std::uint8_t> dynamic;
   std::vector<int> failed;    // per batch, then per pair batch: its first contact that cannot be packed, or −1
   std::vector<double, Eigen::aligned_allocator<double>> du;
   Eigen::VectorXd jt;    // Jᵀλ (scratch of the products, pgs_colored_products.hpp)
+  Eigen::VectorXd lp, other;  // storage of the permuted λ: handed to the sweeps, returned after them
   int body_entries = 0;  // kStride·bodies; the zero body follows
   int pair_base = 0;     // first permuted slot of the pair batches (2·W·batches)
   std::uint64_t generation = 0;  // the colouring (ContactColoring::generation) laid out; 0: none
@@ -52,7 +54,9 @@ struct Prepared {
 /// Orders the contacts by colour and lays out the batches (O(contacts), the colouring and the
 /// counting sort on `threads` threads; the same layout for every thread count). Returns an
 /// error (the reason "pgs" runs instead) when a normal row has bounds other than [0, ∞).
-std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out);
+/// `coloring_s` (timing only): when set, the thread CPU seconds of the colouring are added to it.
+std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out,
+                   double* coloring_s = nullptr);
 
 /// Fills batch `bi` from the ordered contacts and its 2·W entries of the permuted λ⁰ (lp and
 /// other; 0 for padding); records in out.failed[bi] the first of its contacts whose rows cannot be

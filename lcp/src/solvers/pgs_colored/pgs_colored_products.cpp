@@ -137,15 +137,43 @@ void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda
   }
 }
 
+namespace {
+
+/// |natural map| of row i at λ with w_i = J_i Δu + b_i as Eigen's row-major product (storage
+/// order, from 0, then + b_i); sets `nonfinite` when λ_i is not finite.
+inline double row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& du, int i,
+                        bool& nonfinite) {
+  double tmp = 0.0;
+  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) tmp += it.value() * du[it.col()];
+  const double w = tmp + p.b[i];
+  const double l = p.lower(i, lambda), h = p.upper(i, lambda);
+  nonfinite = nonfinite || !std::isfinite(lambda[i]);
+  return std::abs(lambda[i] - std::clamp(lambda[i] - w, l, std::max(l, h)));
+}
+
+}  // namespace
+
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite) {
-  threads = std::max(1, threads);
-  if (threads > 1) du.resize(p.J.cols());
-  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
   const int n = p.rows();
   double r = 0.0;
   bool nan = false, nonfinite = false;
-#pragma omp parallel num_threads(threads) if (threads > 1)
+  if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
+    scaled_transpose_product(p, lambda, 1, du);
+    for (int i = 0; i < n; ++i) {
+      const double e = row_error(p, lambda, du, i, nonfinite);
+      if (std::isnan(e)) {
+        nan = true;
+      } else {
+        r = std::max(r, e);
+      }
+    }
+    all_finite = !nonfinite;
+    return nan ? std::numeric_limits<double>::infinity() : r;
+  }
+  du.resize(p.J.cols());
+  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
+#pragma omp parallel num_threads(threads)
   {
     int tid = 0, nt = 1;
 #if defined(_OPENMP)
@@ -159,15 +187,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     }
 #pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
     for (int i = 0; i < n; ++i) {
-      // w_i = J_i Δu + b_i as Eigen's row-major product (storage order, from 0), then the natural map.
-      double tmp = 0.0;
-      for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
-        tmp += it.value() * du[it.col()];
-      }
-      const double w = tmp + p.b[i];
-      const double l = p.lower(i, lambda), h = p.upper(i, lambda);
-      const double e = std::abs(lambda[i] - std::clamp(lambda[i] - w, l, std::max(l, h)));
-      nonfinite = nonfinite || !std::isfinite(lambda[i]);
+      const double e = row_error(p, lambda, du, i, nonfinite);
       if (std::isnan(e)) {
         nan = true;
       } else {
