@@ -60,6 +60,12 @@ struct ProxNewtonDef {
   /// Solve the subproblem in body space when the problem has J (default true; false = dual
   /// form always).
   bool body_space = true;
+  /// Body space: the subproblem's friction bounds follow the iterate inside the Newton loop
+  /// (s = μ max(0, λ_n) of the same λ: the hard proximal subproblem, semismooth Newton with the
+  /// friction coupling, body_newton.hpp) instead of staying frozen at the pass's centre
+  /// (default false: on the engine's piles its passes take more Newton iterations than the
+  /// frozen passes and the proximal finish they hand over to).
+  bool coupled_bounds = false;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of
@@ -91,6 +97,8 @@ struct ProxNewtonStats {
   int factorizations = 0;   ///< numeric factorisations (subproblems and finish)
   int analyses = 0;         ///< symbolic analyses
   int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
+  int full_steps = 0;       ///< body space, coupled bounds: Newton steps taken whole
+  int krylov = 0;           ///< body space, coupled bounds: GMRES iterations of the directions
 };
 
 class ProxNewtonSolver final : public LcpSolver {

@@ -134,6 +134,7 @@ class ProxRun {
     for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0; ++k) {
       ++st_.outer;
       freeze(p_, lambda, shift * diag, sub);
+      sub.coupled = body_ && def_.coupled_bounds;
       // Inexact proximal point: the subproblem is solved to a fraction of the hard residual
       // (far away) and of the target (near the solution).
       sub.tolerance = def_.inner_tolerance * std::max(target_, best_res_);
@@ -144,6 +145,8 @@ class ProxRun {
       st_.factorizations += so.factorizations;
       st_.analyses += so.analyses;
       st_.line_search_steps += so.line_search_steps;
+      st_.full_steps += so.full_steps;
+      st_.krylov += so.krylov_iterations;
       const double res = hard_residual(p_, next);
       const bool improved = consider(next, res, Finisher::Prox);
       // The proximal step is progress even when the hard residual rises for a pass; a failed
