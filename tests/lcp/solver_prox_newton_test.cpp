@@ -81,8 +81,12 @@ TEST(ProxNewton, SameContactVelocitiesAsNewtonOnFrictionProblems) {
     const LcpProblem c = test::random_contact(30, 25, true, rng);
     const SolveResult a = make_solver("newton")->solve(c, {}, options(3000));
     ASSERT_EQ(a.status, SolveStatus::Converged) << a.message;
-    for (const auto& [form, p] : both_forms(c)) {
-      const SolveResult b = prox(p);
+    auto forms = both_forms(c);
+    forms.emplace_back("body space, coupled bounds", c);
+    for (const auto& [form, p] : forms) {
+      ProxNewtonDef def;
+      def.coupled_bounds = form == "body space, coupled bounds";
+      const SolveResult b = prox(p, {}, def);
       ASSERT_EQ(b.status, SolveStatus::Converged) << form << ": " << b.message;
       EXPECT_LE(velocity_gap(c, a.lambda, b.lambda), 1e-6) << form << " seed " << seed;
       for (int i = 0; i < p.rows(); ++i) {  // inside the friction box
@@ -245,6 +249,69 @@ TEST(ProxNewtonSubproblem, BodySpaceAndDualFormSolveTheSameFrozenProblem) {
     for (int i = 0; i < p.rows(); ++i) {
       EXPECT_GE(a[i], sub.lo[i]);
       EXPECT_LE(a[i], sub.hi[i]);
+    }
+  }
+}
+
+// Coupled bounds (the hard proximal subproblem): the body-space λ solves the shifted hard problem
+// (A + δI)λ + b − δλ^k with the friction bounds μ max(0, λ_n) of that same λ, not the frozen
+// box; it agrees with newton-sparse on that shifted problem.
+TEST(ProxNewtonSubproblem, CoupledBodySpaceSolvesTheShiftedHardProblem) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 1100);
+    LcpProblem p = test::random_contact(30, 40, true, rng, 0.4);
+    p.ensure_assembled_matrix();
+    Eigen::VectorXd centre(p.rows());
+    for (int i = 0; i < p.rows(); ++i) centre[i] = rng.uniform(-2, 5);
+    project_feasible(p, centre);
+    const double delta = 1e-2 * p.A.diagonal().maxCoeff();
+    solvers::prox::FrozenSubproblem sub;
+    solvers::prox::freeze(p, centre, delta, sub);
+    sub.coupled = true;
+    sub.tolerance = 1e-11;
+    sub.max_iterations = 100;
+    Eigen::VectorXd a = centre;
+    solvers::prox::BodyNewton body;
+    body.bind(p);
+    const auto ra = body.solve(sub, a);
+    EXPECT_TRUE(ra.converged) << seed;
+    LcpProblem shifted = test::without_jacobian(p);
+    shifted.A = SparseRowMatrix(shifted.A + delta * SparseRowMatrix(Eigen::VectorXd::Ones(p.rows()).asDiagonal()));
+    shifted.A.makeCompressed();
+    shifted.b = p.b - delta * centre;
+    EXPECT_LE(natural_residual(shifted, a), 1e-9) << seed;
+    const SolveResult ref = make_solver("newton-sparse")->solve(shifted, centre, options());
+    ASSERT_EQ(ref.status, SolveStatus::Converged) << ref.message;
+    EXPECT_LE((lcp_velocity(shifted, a) - lcp_velocity(shifted, ref.lambda)).cwiseAbs().maxCoeff(), 1e-7) << seed;
+  }
+}
+
+// The factor kept across solves (same D and δ) never stands in for another: a BodyNewton that
+// solved other subproblems first returns bit for bit what a fresh one returns.
+TEST(ProxNewtonSubproblem, KeptFactorGivesTheSameIteratesAsAFreshOne) {
+  test::TestRng rng(1200);
+  const LcpProblem p = test::random_contact(25, 40, true, rng, 0.4);
+  const double diag = p.A.diagonal().maxCoeff();
+  solvers::prox::BodyNewton kept;
+  kept.bind(p);
+  for (const bool coupled : {false, true}) {
+    for (const double shift : {1e-2, 1e-3, 1e-3}) {
+      Eigen::VectorXd centre(p.rows());
+      for (int i = 0; i < p.rows(); ++i) centre[i] = rng.uniform(-1, 3);
+      project_feasible(p, centre);
+      solvers::prox::FrozenSubproblem sub;
+      solvers::prox::freeze(p, centre, shift * diag, sub);
+      sub.coupled = coupled;
+      sub.tolerance = 1e-10;
+      sub.max_iterations = 60;
+      solvers::prox::BodyNewton fresh;
+      fresh.bind(p);
+      Eigen::VectorXd a = centre, b = centre;
+      const auto ra = kept.solve(sub, a), rb = fresh.solve(sub, b);
+      EXPECT_EQ(a, b) << coupled << " " << shift;
+      EXPECT_EQ(ra.iterations, rb.iterations);
+      EXPECT_LE(ra.factorizations, rb.factorizations);
+      EXPECT_LE(ra.factorizations, ra.iterations);
     }
   }
 }

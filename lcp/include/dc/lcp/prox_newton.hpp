@@ -13,8 +13,10 @@
 //     with φ_i the half-quadratic y²/(2δ)·[y < 0] on normal rows and the Huber friction loss
 //     (y²/(2δ) for |y| ≤ sδ, s|y| − ½δs² beyond) on friction rows; Newton on the SPD
 //     H = M/Δt + Jᵀ D J (D_ii = 1/δ on the quadratic pieces), 3 unknowns per body, CHOLMOD with
-//     the analysis kept while the pattern holds, and an exact line search on the piecewise
-//     quadratic cost; λ_i = clamp(−y_i/δ, lo_i, hi_i);
+//     the analysis kept while the pattern holds (the factor while D and δ do), and an exact line
+//     search on the piecewise quadratic cost; λ_i = clamp(−y_i/δ, lo_i, hi_i); with
+//     `coupled_bounds` the friction bounds follow the iterate (the hard proximal subproblem,
+//     body_newton.hpp);
 //   * in the dual form otherwise (problems from files): the box LCP w = (A + δI)λ + c with the
 //     frozen bounds by newton-sparse's semismooth Newton (no friction coupling: one CHOLMOD
 //     factorisation per iteration, the analysis kept across passes).
@@ -50,6 +52,10 @@ struct ProxNewtonDef {
   int max_outer = 100;
   /// Newton iterations per subproblem at most (default 30).
   int inner_iterations = 30;
+  /// Of those, in body space at most (default 8): on the engine's piles a body-space pass that
+  /// has not met its tolerance within a few iterations rarely lowers the hard residual, and the
+  /// proximal finish starts from the best iterate either way.
+  int body_inner_iterations = 8;
   /// Subproblem accuracy: its own natural residual [N] relative to max(hard target, best hard
   /// residual so far) (inexact proximal point; default 1e-2).
   double inner_tolerance = 0.01;
@@ -60,6 +66,12 @@ struct ProxNewtonDef {
   /// Solve the subproblem in body space when the problem has J (default true; false = dual
   /// form always).
   bool body_space = true;
+  /// Body space: the subproblem's friction bounds follow the iterate inside the Newton loop
+  /// (s = μ max(0, λ_n) of the same λ: the hard proximal subproblem, semismooth Newton with the
+  /// friction coupling, body_newton.hpp) instead of staying frozen at the pass's centre
+  /// (default false: on the engine's piles its passes take more Newton iterations than the
+  /// frozen passes and the proximal finish they hand over to).
+  bool coupled_bounds = false;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of
@@ -91,6 +103,8 @@ struct ProxNewtonStats {
   int factorizations = 0;   ///< numeric factorisations (subproblems and finish)
   int analyses = 0;         ///< symbolic analyses
   int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
+  int full_steps = 0;       ///< body space, coupled bounds: Newton steps taken whole
+  int krylov = 0;           ///< body space, coupled bounds: GMRES iterations of the directions
 };
 
 class ProxNewtonSolver final : public LcpSolver {

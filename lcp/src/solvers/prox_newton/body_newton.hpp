@@ -6,10 +6,21 @@
 // over velocity changes v [m/s] (3 per body): φ_i is y²/(2δ) where λ_i(y) = clamp(−y/δ, lo_i, hi_i)
 // is interior and linear beyond (a half-quadratic on normal rows, the Huber friction loss with
 // bound s on friction rows), and the optimum gives λ = λ(J v + c), v = W Jᵀ λ. Newton on
-//     ∇f = W⁻¹ v − Jᵀ λ(y),   H = W⁻¹ + Jᵀ D J,   D_ii = 1/δ on the quadratic pieces,
+//     F(v) = ∇f = W⁻¹ v − Jᵀ λ(y),   H = W⁻¹ + Jᵀ D J,   D_ii = 1/δ on the quadratic pieces,
 // H SPD however many rows are redundant, factorised by CHOLMOD (newton-sparse's FreeBlockFactor
-// with every row free; analysis kept while H's pattern holds), then the exact line search of
-// exact_line_search.hpp. The stop test is the dual subproblem's own natural residual at λ(y).
+// with every row free; analysis kept while H's pattern holds, the factor kept while D and δ
+// do), then the exact line search of exact_line_search.hpp.
+//
+// Coupled (sub.coupled, the hard proximal subproblem): a friction row's bound follows the
+// iterate, s_t = μ max(0, λ_n(y)). F(v) = 0 is then no gradient (Coulomb friction has no
+// potential): its Jacobian K = H + Jᵀ C J adds C_tn = σ μ/δ for a friction row t on the bound
+// σ s_t whose normal row n is interior. The direction solves K d = −F by GMRES preconditioned
+// with H's factor (K H⁻¹ − I has rank ≤ the sliding rows): semismooth Newton, as newton-sparse's
+// coupled step. The step is the longest of t = 1, ½, ¼, … that lowers the merit FᵀWF by the
+// Armijo fraction; when none does, the exact line search on the cost with the current
+// iterate's bounds frozen (along a descent direction of that cost: K's when it is one, else
+// H's), and the bounds follow at the next iterate.
+// The stop test is the dual subproblem's natural residual at λ(y) against λ's own bounds.
 #include <Eigen/Core>
 #include <vector>
 
@@ -30,10 +41,21 @@ class BodyNewton {
   SubproblemOutcome solve(const FrozenSubproblem& sub, Eigen::VectorXd& lambda);
 
  private:
-  /// λ(y), the quadratic-piece mask D and the dual residual at v; returns that residual.
-  double evaluate(const FrozenSubproblem& sub, Eigen::VectorXd& lambda);
-  /// H = W⁻¹ + Jᵀ D J with the mask of the last evaluate().
-  void assemble_hessian(double delta);
+  /// The point v_ with everything read from it: y, λ(y), its bounds, D, C, Jᵀλ, the residual.
+  struct Point {
+    Eigen::VectorXd v, y, lambda, lo, hi, dmask, coupling, Jtl, g;
+    double residual = 0, merit = 0;  // dual residual [N]; FᵀWF
+  };
+  /// Fills pt from pt.v: λ(y), the bounds and masks, and the dual residual; returns it.
+  double evaluate(const FrozenSubproblem& sub, Point& pt);
+  /// Factorises H for pt's D unless the kept factor is of the same D and δ; false on failure.
+  bool factorize(const Point& pt, double delta, NewtonSparseStats& st);
+  /// The Newton direction d_ at pt: coupled (GMRES) when sliding rows couple, else H⁻¹; the
+  /// result is a descent direction of the cost with pt's bounds frozen. False when none.
+  bool direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out, bool& coupled_step);
+
+  /// Coupled: a backtracking step along d_ that lowers FᵀWF enough (Armijo); false if none.
+  bool step_on_merit(const FrozenSubproblem& sub, SubproblemOutcome& out);
 
   const LcpProblem* p_ = nullptr;
   SparseRowMatrix Jt_, H_, Winv_diag_;
@@ -41,7 +63,11 @@ class BodyNewton {
   double max_diag_ = 0.0;
   FreeBlockFactor factor_;
   std::vector<char> all_free_;
-  Eigen::VectorXd v_, y_, d_, e_, g_, Jtl_, u_, wt_, dmask_;
+  std::vector<int> friction_, other_;  // row indices by kind, in order
+  Eigen::VectorXd factored_mask_;      // D of the kept factor (empty: none)
+  double factored_delta_ = 0.0;
+  Point cur_, trial_;
+  Eigen::VectorXd d_, e_, g_, u_, wt_, jx_, kx_;
 };
 
 }  // namespace dc::solvers::prox

@@ -17,6 +17,9 @@ struct FrozenSubproblem {
   double delta = 0;        ///< δ [m/(N·s)]
   double tolerance = 0;    ///< stop when the subproblem's natural residual is ≤ this [N]
   int max_iterations = 0;  ///< Newton iterations at most
+  /// Body space only: friction bounds follow the iterate (s_i = μ_i max(0, λ_n) of the same λ)
+  /// instead of lo/hi: the hard proximal subproblem. lo/hi still bound the other rows.
+  bool coupled = false;
 };
 
 /// Work of one subproblem solve.
@@ -24,6 +27,8 @@ struct SubproblemOutcome {
   int iterations = 0;         ///< Newton iterations
   int line_search_steps = 0;  ///< merit trials or 1D Newton steps
   int factorizations = 0, analyses = 0;
+  int full_steps = 0;         ///< body space, coupled: Newton steps accepted whole (t = 1)
+  int krylov_iterations = 0;  ///< body space, coupled: GMRES iterations for the coupled direction
   bool converged = false;     ///< subproblem residual ≤ tolerance
   bool failed = false;        ///< no usable direction (factorisation failed, non-finite values)
 };

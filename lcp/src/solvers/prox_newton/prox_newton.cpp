@@ -44,8 +44,8 @@ void check_def(const ProxNewtonDef& d) {
   if (!positive(d.initial_shift) || !positive(d.min_shift) || !positive(d.max_shift) || d.min_shift > d.max_shift)
     throw InvalidArgument("prox-newton: shifts must be finite, > 0, min_shift <= max_shift");
   if (!(std::isfinite(d.shrink) && d.shrink > 1)) throw InvalidArgument("prox-newton: shrink must be > 1");
-  if (d.max_outer < 1 || d.inner_iterations < 1 || d.max_stalls < 1)
-    throw InvalidArgument("prox-newton: max_outer, inner_iterations and max_stalls must be >= 1");
+  if (d.max_outer < 1 || d.inner_iterations < 1 || d.body_inner_iterations < 1 || d.max_stalls < 1)
+    throw InvalidArgument("prox-newton: max_outer, inner_iterations, body_inner_iterations and max_stalls must be >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0)
     throw InvalidArgument("prox-newton: finish_iterations and safeguard_sweeps must be >= 0");
@@ -134,16 +134,20 @@ class ProxRun {
     for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0; ++k) {
       ++st_.outer;
       freeze(p_, lambda, shift * diag, sub);
+      sub.coupled = body_ && def_.coupled_bounds;
       // Inexact proximal point: the subproblem is solved to a fraction of the hard residual
       // (far away) and of the target (near the solution).
       sub.tolerance = def_.inner_tolerance * std::max(target_, best_res_);
-      sub.max_iterations = std::min(def_.inner_iterations, budget_left());
+      sub.max_iterations = std::min(body_ ? std::min(def_.inner_iterations, def_.body_inner_iterations) : def_.inner_iterations,
+                                    budget_left());
       Eigen::VectorXd next = lambda;
       const SubproblemOutcome so = body_ ? s_.body.solve(sub, next) : s_.dual.solve(sub, next);
       st_.newton += so.iterations;
       st_.factorizations += so.factorizations;
       st_.analyses += so.analyses;
       st_.line_search_steps += so.line_search_steps;
+      st_.full_steps += so.full_steps;
+      st_.krylov += so.krylov_iterations;
       const double res = hard_residual(p_, next);
       const bool improved = consider(next, res, Finisher::Prox);
       // The proximal step is progress even when the hard residual rises for a pass; a failed
