@@ -40,7 +40,7 @@ void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::str
 SolveResult solve_on(const LcpProblem& p, const Eigen::VectorXd& l0, int threads, int k) {
   PgsColoredDef d;
   d.threads = threads;
-  d.min_batches_per_thread = 1;  // thread even the small test problems
+  d.min_batches_per_thread = 0;  // thread even the small test problems
   return make_pgs_colored(d)->solve(p, l0, sweeps(k));
 }
 
@@ -160,7 +160,7 @@ TEST(PgsColoredThreads, ChunkedColouringGivesTheSameBitsOnEveryThreadCount) {
   auto run = [&](int threads) {
     PgsColoredDef d;
     d.threads = threads;
-    d.min_batches_per_thread = 1;
+    d.min_batches_per_thread = 0;
     d.color_chunk = 16;
     const auto solver = make_pgs_colored(d);
     std::vector<SolveResult> r;
@@ -211,7 +211,7 @@ TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepL
   auto run = [&](int threads, double tol, std::vector<Eigen::VectorXd>& seen) {
     PgsColoredDef d;
     d.threads = threads;
-    d.min_batches_per_thread = 1;
+    d.min_batches_per_thread = 0;
     SolverOptions o = sweeps(200);
     o.tolerance = tol;
     o.checkpoints = {2, 7};
@@ -232,7 +232,7 @@ TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepL
   }
   PgsColoredDef d;
   d.threads = 2;
-  d.min_batches_per_thread = 1;
+  d.min_batches_per_thread = 0;
   SolverOptions o = sweeps(20);
   o.checkpoints = {5};
   o.on_checkpoint = [](int, const Eigen::VectorXd&) { throw std::runtime_error("stop here"); };
