@@ -153,16 +153,13 @@ class PgsColoredSolver final : public LcpSolver {
     return r;
   }
 
-  /// Threads for `batches` batches of 8 contacts swept in `ranges` colour ranges (a wait per
-  /// range and sweep): def_.threads (0: OpenMP's default) when the ranges average at least
-  /// min_batches_per_thread batches per thread, else 1, so small problems stay on one thread.
+  /// Threads for `batches` batches in `ranges` colour ranges (threads_for): def_.threads (0:
+  /// OpenMP's default), or 1 for a small problem or when the pacer chose a serial solve.
   [[nodiscard]] int effective_threads(long batches, size_t ranges) const {
 #if defined(_OPENMP)
-    int t = serial_solve_ ? 1 : def_.threads > 0 ? def_.threads : omp_get_max_threads();
-    const long need = static_cast<long>(std::max(0, def_.min_batches_per_thread)) * t *
-                      static_cast<long>(std::max<size_t>(1, ranges));
-    if (t > 1 && batches < need) t = 1;
-    return std::max(1, t);
+    if (serial_solve_) return 1;
+    const int t = std::max(1, def_.threads > 0 ? def_.threads : omp_get_max_threads());
+    return colored::threads_for(t, def_.min_batches_per_thread, batches, ranges);
 #else
     (void)batches;
     (void)ranges;

@@ -1,13 +1,23 @@
 #pragma once
-// Whether pgs-colored's next solve runs on its threads: only while they pay. The wall time per
-// unit of work of threaded and of serial solves is kept as two moving averages; when threaded
-// solves are not at least kPays times faster (the other core busy with another program, or the
-// problem too small), the next solves run serially, for 1, 2, 4, … up to kMaxSkip solves between
-// threaded probes. A serial probe after every kRefresh threaded solves keeps the serial figure
-// current. The thread count never changes a result (pgs_colored.cpp), only the time it takes.
+// Whether pgs-colored's solves run on threads: only problems large enough (threads_for), and only
+// while threads pay (ThreadPacer: the wall time per unit of work of threaded and of serial solves
+// is kept as two moving averages; when threaded solves are not at least 1 / kPays times faster,
+// e.g. with the other core busy with another program, the next solves run serially, for 1, 2,
+// 4, … up to kMaxSkip solves between threaded probes; a serial probe after every kRefresh
+// threaded solves keeps the serial figure current). The thread count never changes a result (pgs_colored.cpp), only the time it takes.
 #include <algorithm>
+#include <cstddef>
 
 namespace dc::colored {
+
+/// Threads for `batches` batches of 8 contacts swept in `ranges` colour ranges (each a wait
+/// between the threads per sweep): `requested` when the ranges average at least
+/// `min_per_thread` batches per thread (0: always), else 1, so small problems stay on one thread.
+inline int threads_for(int requested, int min_per_thread, long batches, std::size_t ranges) {
+  const long need = static_cast<long>(std::max(0, min_per_thread)) * requested *
+                    static_cast<long>(std::max<std::size_t>(1, ranges));
+  return requested > 1 && batches >= need ? requested : 1;
+}
 
 class ThreadPacer {
  public:
