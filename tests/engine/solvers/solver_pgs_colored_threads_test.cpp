@@ -242,16 +242,16 @@ TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepL
 
 TEST(PgsColoredThreads, SmallProblemsStayOnOneThread) {
   using colored::threads_for;
-  // A 1,000-body pile: about 300 batches in 6 colour ranges, 50 per range: fewer than 32 per thread.
-  EXPECT_EQ(1, threads_for(2, 32, 300, 6));
-  // A 10,000-body pile: about 3,000 batches in 7 ranges.
-  EXPECT_EQ(2, threads_for(2, 32, 3000, 7));
+  // micro_step's 1,000-body pile: about 100 batches in 6 colour ranges, fewer than 32 per thread.
+  EXPECT_EQ(1, threads_for(2, 32, 100, 6));
+  // Its 10,000-body pile: about 770 batches in 6 ranges.
+  EXPECT_EQ(2, threads_for(2, 32, 770, 6));
   EXPECT_EQ(1, threads_for(4, 32, 3000, 30));  // more threads need more batches per range
   EXPECT_EQ(1, threads_for(1, 0, 3000, 7));    // one thread asked for
   EXPECT_EQ(2, threads_for(2, 0, 1, 7));       // 0: every problem on the threads
   EXPECT_EQ(2, threads_for(2, 32, 64, 0));     // no ranges yet: counted as one
   // The solver's default threshold keeps the threads' waits out of small problems.
-  EXPECT_EQ(1, threads_for(2, PgsColoredDef{}.min_batches_per_thread, 300, 6));
+  EXPECT_EQ(1, threads_for(2, PgsColoredDef{}.min_batches_per_thread, 100, 6));
 }
 
 TEST(PgsColoredThreads, PacerKeepsThreadsOnlyWhileTheyPay) {
