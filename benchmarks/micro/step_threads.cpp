@@ -1,7 +1,8 @@
 // step_threads: whole steps of the scaled seed pile with pgs-colored on 1 and 2 threads,
 // alternated inside each round, timed per step by the wall clock and by the CPU time of the
 // stepping thread (the second is what a busy machine disturbs least). Reported per body count
-// and thread count: medians over all timed steps, and the load average before and after.
+// and thread count: medians over all timed steps (and the wall clock's mean, which counts rare
+// slow steps), and the load average before and after.
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
 //                          [--sweeps 20] [--min-batches -1]
@@ -53,6 +54,12 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
+double mean(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (const double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
+}
+
 dc::SolverOptions fixed_sweeps(int sweeps) {
   dc::SolverOptions o;
   o.max_sweeps = sweeps;
@@ -99,8 +106,8 @@ int main(int argc, char** argv) {
   const dc::SolverOptions o = fixed_sweeps(sweeps);
   std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; load %s\n", sweeps, steps, rounds,
               load_average().c_str());
-  std::printf("| bodies | threads | wall ms/step | thread CPU ms/step | process CPU ms/step | wall 1/T |\n");
-  std::printf("|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| bodies | threads | wall ms/step | wall mean | thread CPU ms/step | process CPU ms/step | wall 1/T |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const int n : parse_ints(ns)) {
     const dc::World start = settled_pile(n);
     std::vector<Series> series;
@@ -131,8 +138,8 @@ int main(int argc, char** argv) {
     const double base = median(series.front().wall_ms);
     for (size_t j = 0; j < series.size(); ++j) {
       const double wall = median(series[j].wall_ms);
-      std::printf("| %d | %d | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall, median(series[j].cpu_ms),
-                  median(proc[j]), base / wall);
+      std::printf("| %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall, mean(series[j].wall_ms),
+                  median(series[j].cpu_ms), median(proc[j]), base / wall);
     }
   }
   std::printf("# load after: %s\n", load_average().c_str());

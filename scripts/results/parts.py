@@ -236,7 +236,8 @@ def block_step_threads(ctx):
     """Whole pgs-colored steps on 1 and 2 threads (benchmarks/micro/step_threads.cpp), as users get them."""
     args = ["--n", "1000,10000", "--steps", "20", "--rounds", "3" if not ctx.full else "7"]
     block = {"name": "speed-step-threads", "title": "Threads: whole pgs-colored steps, 1 and 2 threads",
-             "columns": ["bodies", "threads", "wall ms/step", "thread CPU ms/step", "process CPU ms/step", "wall 1 / T"],
+             "columns": ["bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step", "process CPU ms/step",
+                         "wall 1 / T"],
              "rows": [], "skipped": "", "note": ""}
     if not os.path.exists(ctx.bin("step_threads")):
         block["skipped"] = "step_threads not built"

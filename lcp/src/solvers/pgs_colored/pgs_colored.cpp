@@ -107,6 +107,7 @@ class PgsColoredSolver final : public LcpSolver {
     // Threads only while they pay (ThreadPacer), unless min_batches_per_thread = 0 forces them.
     const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0;
     serial_solve_ = paced && !pacer_.threaded_next();
+    serial_setup_ = paced && !pacer_.proven();
     solved_ = Solved{};
     const auto t0 = std::chrono::steady_clock::now();
     SolveResult r = solve_packed(p, lambda0, o);
@@ -126,7 +127,7 @@ class PgsColoredSolver final : public LcpSolver {
     Eigen::VectorXd zeros;
     const Eigen::VectorXd* start = &lambda0;
     if (p.has_jacobian()) {
-      const int threads = effective_threads(p.constraints.size() / W, expected_ranges());
+      const int threads = setup_threads(p.constraints.size() / W, expected_ranges());
       if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros, start, owner_)) return *bad;
     }
     const Eigen::VectorXd& lambda = *start;
@@ -135,7 +136,7 @@ class PgsColoredSolver final : public LcpSolver {
     const size_t ranges_before = expected_ranges();
     Prepared prep = std::exchange(cache_, Prepared{});
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");
-    if (why.empty()) why = colored::layout(p, colorer_, effective_threads(p.constraints.size() / W, ranges_before), prep);
+    if (why.empty()) why = colored::layout(p, colorer_, setup_threads(p.constraints.size() / W, ranges_before), prep);
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel).
     const int np = static_cast<int>(prep.row_of.size());
     Eigen::VectorXd lp(why.empty() ? np : 0), other(why.empty() ? np : 0);
@@ -167,6 +168,12 @@ class PgsColoredSolver final : public LcpSolver {
 #endif
   }
 
+  /// Threads for the set-up's parallel regions (checks, layout, packing, the permutation back,
+  /// the residual): effective_threads, or 1 while the pacer has not seen threaded solves pay.
+  [[nodiscard]] int setup_threads(long batches, size_t ranges) const {
+    return serial_setup_ ? 1 : effective_threads(batches, ranges);
+  }
+
   /// The colour ranges a solve is expected to sweep before its layout: the last solve's, else
   /// kNominalRanges.
   [[nodiscard]] size_t expected_ranges() const {
@@ -184,7 +191,7 @@ class PgsColoredSolver final : public LcpSolver {
                                  double* other, bool& bad_start) const {
     const int nb = static_cast<int>(prep.batches.size());
     const int jobs = nb + static_cast<int>(prep.pairs.size());  // batches, then pair batches
-    const int threads = effective_threads(jobs, prep.ranges.size());
+    const int threads = setup_threads(jobs, prep.ranges.size());
     const int bodies = prep.body_entries / kStride;
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
@@ -214,15 +221,16 @@ class PgsColoredSolver final : public LcpSolver {
                                    const SolverOptions& o, Prepared& prep) {
     const long batches = static_cast<long>(prep.batches.size() + prep.pairs.size());
     const int threads = effective_threads(batches, prep.ranges.size());
+    const int setup = serial_setup_ ? 1 : threads;  // the permutation back and the residual
     solved_ = Solved{batches, threads};
     SolverOptions po = o;
     if (o.on_checkpoint)
-      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), threads)); };
+      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), setup)); };
     SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep)
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
-    r.lambda = unpermute(prep, r.lambda, p.rows(), threads);
+    r.lambda = unpermute(prep, r.lambda, p.rows(), setup);
     bool finite = false;
-    r.residual = colored::natural_residual(p, r.lambda, threads, prep.jt, finite);
+    r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite);
     if (finite)
       settle_status(p, r, o, StopRule::Tolerance);
     else
@@ -334,6 +342,7 @@ class PgsColoredSolver final : public LcpSolver {
   Solved solved_;
   colored::ThreadPacer pacer_;
   bool serial_solve_ = false;  // this solve runs on one thread (the pacer's choice)
+  bool serial_setup_ = false;  // this solve's set-up runs on one thread (a probe, or serial)
 };
 
 }  // namespace

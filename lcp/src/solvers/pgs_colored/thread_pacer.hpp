@@ -29,6 +29,11 @@ class ThreadPacer {
   /// True when the next solve should use the threads.
   [[nodiscard]] bool threaded_next() const { return skip_ == 0 && !(serial_ == 0.0 && threaded_ > 0.0); }
 
+  /// True when the threaded solves measured since the last backoff paid: the set-up's parallel
+  /// regions (whose waits cannot hand a descheduled thread's share to another) run on the
+  /// threads only then, not on probes.
+  [[nodiscard]] bool proven() const { return serial_ > 0.0 && threaded_ > 0.0 && threaded_ <= kPays * serial_; }
+
   /// A solve of `work` units (> 0) took `seconds` of wall time, threaded or not.
   void record(bool threaded, double seconds, double work) {
     const double c = seconds / work;
