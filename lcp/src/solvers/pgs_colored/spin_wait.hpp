@@ -3,6 +3,9 @@
 // other thread is usually microseconds away), then yield the core (the awaited thread may be
 // queued behind another program on it), then sleep on a futex until notified. A waiter that
 // sleeps costs the notifier one system call; one that never sleeps costs it one atomic load.
+// Protocol: a waiter reads the word, counts itself in `sleepers`, checks its condition and sleeps
+// only while the word is unchanged; a notifier makes the condition true, then, if any waiter is
+// counted, changes the word and wakes all.
 #include <atomic>
 #include <chrono>
 #include <climits>
@@ -55,9 +58,11 @@ class WakeWord {
     }
   }
 
+  /// After making a condition true: wakes the sleeping waiters, if any (one load otherwise).
   void notify() {
+    if (sleepers_.load() == 0) return;  // a waiter not yet counted sees the condition when counted
     word_.fetch_add(1);
-    if (sleepers_.load() > 0) wake_all();
+    wake_all();
   }
 
  private:

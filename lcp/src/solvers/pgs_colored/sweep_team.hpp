@@ -21,22 +21,24 @@ namespace dc::colored {
 
 class SweepTeam {
  public:
-  /// Batches per claim of a colour's block (the serial overflow set is one claim).
+  /// Batches per claim: an eighth of the block, at least kChunk (the serial overflow set is one
+  /// claim).
   static constexpr int kChunk = 8;
 
   SweepTeam(const std::vector<Range>& ranges, int threads)
       : nt_(std::max(1, threads)), nr_(static_cast<int>(ranges.size())), blocks_(static_cast<size_t>(nr_ * nt_)),
-        cursors_(blocks_.size()), done_(static_cast<size_t>(nr_)), slots_(static_cast<size_t>(nt_)) {
+        cursors_(blocks_.size()), done_(blocks_.size()), total_(static_cast<size_t>(nr_)),
+        slots_(static_cast<size_t>(nt_)) {
     for (int k = 0; k < nr_; ++k) {
       const Range& rg = ranges[static_cast<size_t>(k)];
       const long n = rg.end - rg.begin;
       for (int b = 0; b < nt_; ++b) {
         Block& bl = blocks_[static_cast<size_t>(k * nt_ + b)];
-        bl.serial = rg.serial;
         bl.lo = rg.serial ? (b == 0 ? rg.begin : rg.end) : rg.begin + static_cast<int>(n * b / nt_);
         bl.hi = rg.serial ? rg.end : rg.begin + static_cast<int>(n * (b + 1) / nt_);
+        bl.chunk = rg.serial ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo) / 8);
       }
-      done_[static_cast<size_t>(k)].total = n;
+      total_[static_cast<size_t>(k)] = n;
     }
   }
 
@@ -72,7 +74,7 @@ class SweepTeam {
         while (claim(k, b, s, lo, hi)) {
           if (mine.sweep != s) mine = Slot{s, Acc{}};
           run(k, lo, hi, mine.acc);
-          add_done(k, hi - lo, s);
+          add_done(k, tid, hi - lo, s);
         }
       }
     }
@@ -99,18 +101,17 @@ class SweepTeam {
 
  private:
   struct Block {
-    int lo = 0, hi = 0;
-    bool serial = false;
+    int lo = 0, hi = 0, chunk = kChunk;
   };
   /// A block's next batch, tagged with sweep + 1 in the high half (a claim of an earlier sweep
   /// finds a later tag and takes nothing; an earlier tag means the block is untouched this sweep).
   struct alignas(64) Cursor {
     std::atomic<std::uint64_t> next{0};
   };
-  /// Batches of a range done over all sweeps so far (sweep s is complete at (s + 1)·total).
+  /// Batches of a range done by one thread over all sweeps so far (written by that thread only;
+  /// sweep s of range k is complete when the threads' counts sum to (s + 1)·total_[k]).
   struct alignas(64) Done {
     std::atomic<std::int64_t> count{0};
-    std::int64_t total = 0;
   };
   /// A thread's θ and flag of sweep `sweep` (written only by that thread).
   struct alignas(64) Slot {
@@ -130,7 +131,7 @@ class SweepTeam {
       if (ctag > tag) return false;
       const int pos = ctag < tag ? bl.lo : static_cast<int>(c & 0xffffffff);
       if (pos >= bl.hi) return false;
-      const int end = bl.serial ? bl.hi : std::min(bl.hi, pos + kChunk);
+      const int end = std::min(bl.hi, pos + bl.chunk);
       if (cur.compare_exchange_weak(c, tag | static_cast<std::uint32_t>(end))) {
         lo = pos;
         hi = end;
@@ -139,21 +140,28 @@ class SweepTeam {
     }
   }
 
-  void add_done(int k, int n, int s) {
-    Done& d = done_[static_cast<size_t>(k)];
-    if (d.count.fetch_add(n) + n == (s + 1) * d.total) wake_.notify();
+  void add_done(int k, int tid, int n, int s) {
+    std::atomic<std::int64_t>& c = done_[static_cast<size_t>(k * nt_ + tid)].count;
+    c.store(c.load(std::memory_order_relaxed) + n);
+    if (complete(k, s)) wake_.notify();
+  }
+
+  /// Every batch of range k is done in sweep s (each count read once; they only grow).
+  bool complete(int k, int s) const {
+    std::int64_t sum = 0;
+    for (int t = 0; t < nt_; ++t) sum += done_[static_cast<size_t>(k * nt_ + t)].count.load();
+    return sum >= (s + 1) * total_[static_cast<size_t>(k)];
   }
 
   void wait_done(int k, int s) {
-    const Done& d = done_[static_cast<size_t>(k)];
-    const std::int64_t target = (s + 1) * d.total;
-    wake_.wait([&] { return d.count.load() >= target || stopped_.load(); });
+    wake_.wait([&] { return complete(k, s) || stopped_.load(); });
   }
 
   int nt_, nr_;
   std::vector<Block> blocks_;
   std::vector<Cursor> cursors_;
-  std::vector<Done> done_;
+  std::vector<Done> done_;  // per range and thread
+  std::vector<std::int64_t> total_;
   std::vector<Slot> slots_;
   std::atomic<int> seq_{-1};
   std::atomic<const double*> in_{nullptr};
