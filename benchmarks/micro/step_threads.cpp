@@ -106,7 +106,8 @@ int main(int argc, char** argv) {
   const dc::SolverOptions o = fixed_sweeps(sweeps);
   std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; load %s\n", sweeps, steps, rounds,
               load_average().c_str());
-  std::printf("| bodies | threads | wall ms/step | wall mean | thread CPU ms/step | process CPU ms/step | wall 1/T |\n");
+  std::printf("| bodies | threads | wall ms/step | wall mean | thread CPU ms/step | process CPU ms/step | "
+              "wall 1/T |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const int n : parse_ints(ns)) {
     const dc::World start = settled_pile(n);
@@ -138,8 +139,8 @@ int main(int argc, char** argv) {
     const double base = median(series.front().wall_ms);
     for (size_t j = 0; j < series.size(); ++j) {
       const double wall = median(series[j].wall_ms);
-      std::printf("| %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall, mean(series[j].wall_ms),
-                  median(series[j].cpu_ms), median(proc[j]), base / wall);
+      std::printf("| %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall,
+                  mean(series[j].wall_ms), median(series[j].cpu_ms), median(proc[j]), base / wall);
     }
   }
   std::printf("# load after: %s\n", load_average().c_str());

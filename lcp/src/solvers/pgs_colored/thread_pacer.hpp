@@ -4,7 +4,8 @@
 // is kept as two moving averages; when threaded solves are not at least 1 / kPays times faster,
 // e.g. with the other core busy with another program, the next solves run serially, for 1, 2,
 // 4, … up to kMaxSkip solves between threaded probes; a serial probe after every kRefresh
-// threaded solves keeps the serial figure current). The thread count never changes a result (pgs_colored.cpp), only the time it takes.
+// threaded solves keeps the serial figure current). The thread count never changes a result
+// (pgs_colored.cpp), only the time it takes.
 #include <algorithm>
 #include <cstddef>
 
