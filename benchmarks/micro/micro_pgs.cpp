@@ -218,7 +218,7 @@ void run_colored(benchmark::State& state, const dc::LcpProblem& p, int sweeps, d
   dc::PgsColoredDef def;
   def.kernel = kernel;
   def.threads = threads;
-  def.min_batches_per_thread = 1;
+  def.min_batches_per_thread = 0;
   const auto solver = dc::make_pgs_colored(def);
   dc::PgsColoredDef scalar_def;
   scalar_def.kernel = dc::PgsColoredKernel::Scalar;
@@ -279,7 +279,7 @@ void BM_PgsColoredThreads(benchmark::State& s) {
   const int sweeps = static_cast<int>(s.range(1));
   dc::PgsColoredDef def;
   def.threads = static_cast<int>(s.range(2));
-  def.min_batches_per_thread = 1;
+  def.min_batches_per_thread = 0;
   const auto solver = dc::make_pgs_colored(def);
   dc::SolverOptions o;
   o.max_sweeps = sweeps;
@@ -301,7 +301,7 @@ void BM_PgsColoredAlternating(benchmark::State& s) {
   for (auto& q : p) q.A = dc::SparseRowMatrix();
   dc::PgsColoredDef def;
   def.threads = static_cast<int>(s.range(0));
-  def.min_batches_per_thread = 1;
+  def.min_batches_per_thread = 0;
   const auto solver = dc::make_pgs_colored(def);
   dc::SolverOptions o;
   o.max_sweeps = 1;

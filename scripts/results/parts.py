@@ -232,6 +232,26 @@ def block_threads(ctx):
             "columns": ["threads", "solve of 100 sweeps ms", "solve of 1 sweep ms", "per sweep µs"], "rows": rows}
 
 
+def block_step_threads(ctx):
+    """Whole pgs-colored steps on 1 and 2 threads (benchmarks/micro/step_threads.cpp), as users get them."""
+    args = ["--n", "1000,10000", "--steps", "20", "--rounds", "3" if not ctx.full else "7"]
+    block = {"name": "speed-step-threads", "title": "Threads: whole pgs-colored steps, 1 and 2 threads",
+             "columns": ["bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step", "process CPU ms/step",
+                         "wall 1 / T"],
+             "rows": [], "skipped": "", "note": ""}
+    if not os.path.exists(ctx.bin("step_threads")):
+        block["skipped"] = "step_threads not built"
+        print(f"results: speed: {block['skipped']}: skipped")
+        return block
+    out = ctx.run([ctx.bin("step_threads"), *args])
+    block["rows"] = [[c.strip() for c in line.strip().strip("|").split("|")]
+                     for line in out.splitlines() if re.match(r"\|\s*\d", line)]
+    block["note"] = (f"`step_threads {' '.join(args)}`: micro_step's pile, 20 sweeps per step, the solver's defaults "
+                     "(threads only where they pay), 1 and 2 threads alternated; medians over the timed steps. "
+                     "Wall-clock ratios mean something only at a load average below ~1 (see the stamp).")
+    return block
+
+
 def box2d3_rows(out):
     """Rows [scene, configuration, ms/step, ns/row·pass, last column] of box2d3_compare's Markdown tables."""
     rows, scene, cols = [], "", []
@@ -289,8 +309,8 @@ def part_speed(ctx):
     env_before = os.environ.get("OMP_WAIT_POLICY")
     os.environ["OMP_WAIT_POLICY"] = "active"
     try:
-        return [block_kernels(ctx), block_cnn(ctx), block_step(ctx), block_threads(ctx), block_peers(ctx),
-                block_peers_v3(ctx)], []
+        return [block_kernels(ctx), block_cnn(ctx), block_step(ctx), block_threads(ctx), block_step_threads(ctx),
+                block_peers(ctx), block_peers_v3(ctx)], []
     finally:
         if env_before is None:
             del os.environ["OMP_WAIT_POLICY"]

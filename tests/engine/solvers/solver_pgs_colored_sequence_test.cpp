@@ -77,7 +77,7 @@ std::vector<PgsColoredDef> paths() {
   }
   PgsColoredDef two;
   two.threads = 2;
-  two.min_batches_per_thread = 1;
+  two.min_batches_per_thread = 0;
   out.push_back(two);
   return out;
 }

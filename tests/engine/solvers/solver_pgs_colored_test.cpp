@@ -149,7 +149,7 @@ TEST_P(PgsColoredPaths, KernelsAndThreadsAreBitEqual) {
   const bool friction = GetParam();
   PgsColoredDef threaded;
   threaded.threads = 2;
-  threaded.min_batches_per_thread = 1;
+  threaded.min_batches_per_thread = 0;
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     test::TestRng rng(seed);
     const LcpProblem p = test::random_contact(60, 150, friction, rng, 0.5, 4);
@@ -172,7 +172,7 @@ TEST(PgsColored, PileKernelsThreadsBitEqual) {
   const LcpProblem p = pile_problem(400, 60);
   PgsColoredDef threaded;
   threaded.threads = 2;
-  threaded.min_batches_per_thread = 1;
+  threaded.min_batches_per_thread = 0;
   const SolveResult s = make_pgs_colored()->solve(p, Eigen::VectorXd(), sweeps(40));
   for (const PgsColoredDef& d : kernel_defs())
     expect_bit_equal(s, make_pgs_colored(d)->solve(p, Eigen::VectorXd(), sweeps(40)), to_string(d.kernel));
@@ -186,7 +186,7 @@ TEST(PgsColored, ManifoldKernelsThreadsBitEqual) {
     const LcpProblem p = pyramid_problem(12, 20, mu);
     PgsColoredDef threaded;
     threaded.threads = 2;
-    threaded.min_batches_per_thread = 1;
+    threaded.min_batches_per_thread = 0;
     Eigen::VectorXd l0 = Eigen::VectorXd::Zero(p.rows());
     for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
     for (int k : {1, 5, 40}) {
@@ -266,7 +266,7 @@ TEST(PgsColored, RepeatedContactSetReusesTheLayoutWithNewValues) {
   for (const int threads : {1, 2}) {
     PgsColoredDef d;
     d.threads = threads;
-    d.min_batches_per_thread = 1;
+    d.min_batches_per_thread = 0;
     const auto solver = make_pgs_colored(d);
     (void)solver->solve(a, Eigen::VectorXd(), sweeps(5));
     expect_bit_equal(solver->solve(next, l0, sweeps(9)), make_pgs_colored(d)->solve(next, l0, sweeps(9)),

@@ -15,6 +15,7 @@
 #include "lcp/solver_test_problems.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
+#include "solvers/pgs_colored/thread_pacer.hpp"
 
 namespace dc {
 namespace {
@@ -40,7 +41,7 @@ void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::str
 SolveResult solve_on(const LcpProblem& p, const Eigen::VectorXd& l0, int threads, int k) {
   PgsColoredDef d;
   d.threads = threads;
-  d.min_batches_per_thread = 1;  // thread even the small test problems
+  d.min_batches_per_thread = 0;  // thread even the small test problems
   return make_pgs_colored(d)->solve(p, l0, sweeps(k));
 }
 
@@ -160,7 +161,7 @@ TEST(PgsColoredThreads, ChunkedColouringGivesTheSameBitsOnEveryThreadCount) {
   auto run = [&](int threads) {
     PgsColoredDef d;
     d.threads = threads;
-    d.min_batches_per_thread = 1;
+    d.min_batches_per_thread = 0;
     d.color_chunk = 16;
     const auto solver = make_pgs_colored(d);
     std::vector<SolveResult> r;
@@ -211,7 +212,7 @@ TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepL
   auto run = [&](int threads, double tol, std::vector<Eigen::VectorXd>& seen) {
     PgsColoredDef d;
     d.threads = threads;
-    d.min_batches_per_thread = 1;
+    d.min_batches_per_thread = 0;
     SolverOptions o = sweeps(200);
     o.tolerance = tol;
     o.checkpoints = {2, 7};
@@ -232,11 +233,80 @@ TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepL
   }
   PgsColoredDef d;
   d.threads = 2;
-  d.min_batches_per_thread = 1;
+  d.min_batches_per_thread = 0;
   SolverOptions o = sweeps(20);
   o.checkpoints = {5};
   o.on_checkpoint = [](int, const Eigen::VectorXd&) { throw std::runtime_error("stop here"); };
   EXPECT_THROW((void)make_pgs_colored(d)->solve(p, Eigen::VectorXd(), o), std::runtime_error);
+}
+
+TEST(PgsColoredThreads, SmallProblemsStayOnOneThread) {
+  using colored::threads_for;
+  // micro_step's 1,000-body pile: about 100 batches in 6 colour ranges, fewer than 32 per thread.
+  EXPECT_EQ(1, threads_for(2, 32, 100, 6));
+  // Its 10,000-body pile: about 770 batches in 6 ranges.
+  EXPECT_EQ(2, threads_for(2, 32, 770, 6));
+  EXPECT_EQ(1, threads_for(4, 32, 3000, 30));  // more threads need more batches per range
+  EXPECT_EQ(1, threads_for(1, 0, 3000, 7));    // one thread asked for
+  EXPECT_EQ(2, threads_for(2, 0, 1, 7));       // 0: every problem on the threads
+  EXPECT_EQ(2, threads_for(2, 32, 64, 0));     // no ranges yet: counted as one
+  // The solver's default threshold keeps the threads' waits out of small problems.
+  EXPECT_EQ(1, threads_for(2, PgsColoredDef{}.min_batches_per_thread, 100, 6));
+}
+
+TEST(PgsColoredThreads, PacerKeepsThreadsOnlyWhileTheyPay) {
+  colored::ThreadPacer pacer;
+  ASSERT_TRUE(pacer.threaded_next());  // the first solve tries the threads
+  pacer.record(true, 1.0, 1.0);
+  ASSERT_FALSE(pacer.threaded_next());  // then one serial solve to compare with
+  pacer.record(false, 1.0, 1.0);
+  // Threads at half the serial time: kept, with a serial probe after every kRefresh solves.
+  int serial = 0;
+  for (int k = 0; k < 4 * (colored::ThreadPacer::kRefresh + 1); ++k) {
+    const bool threaded = pacer.threaded_next();
+    serial += threaded ? 0 : 1;
+    pacer.record(threaded, threaded ? 0.5 : 1.0, 1.0);
+  }
+  EXPECT_EQ(4, serial);
+  // Threads slower than serial (the other core busy): serial solves, with threaded probes
+  // 1, 2, 4, … kMaxSkip solves apart.
+  std::vector<int> gaps;
+  int gap = 0;
+  for (int k = 0; k < 400; ++k) {
+    const bool threaded = pacer.threaded_next();
+    if (threaded) {
+      gaps.push_back(gap);
+      gap = 0;
+    } else {
+      ++gap;
+    }
+    pacer.record(threaded, threaded ? 2.0 : 1.0, 1.0);
+  }
+  ASSERT_GE(gaps.size(), 8u);
+  EXPECT_EQ(1, gaps[1]);
+  EXPECT_EQ(2, gaps[2]);
+  EXPECT_EQ(4, gaps[3]);
+  EXPECT_EQ(colored::ThreadPacer::kMaxSkip, gaps.back());
+  // Paying again: the threads are kept from the next probe on.
+  for (int k = 0; k < 200 && !pacer.threaded_next(); ++k) pacer.record(false, 1.0, 1.0);
+  ASSERT_TRUE(pacer.threaded_next());
+  pacer.record(true, 0.5, 1.0);
+  EXPECT_TRUE(pacer.threaded_next());
+}
+
+/// A solver that paces its threads (min_batches_per_thread > 0) runs some solves threaded and
+/// some serially: a sequence of solves gives the bits of the serial solver's sequence.
+TEST(PgsColoredThreads, PacedSolvesGiveTheSameBitsAsOneThread) {
+  const LcpProblem a = pile_problem(300, 20), b = pile_problem(300, 24);
+  PgsColoredDef one, two;
+  two.threads = 2;
+  two.min_batches_per_thread = 1;
+  const auto s1 = make_pgs_colored(one), s2 = make_pgs_colored(two);
+  for (int k = 0; k < 8; ++k) {
+    const LcpProblem& p = k % 3 == 2 ? b : a;
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
+    expect_same_bits(s1->solve(p, zero, sweeps(30)), s2->solve(p, zero, sweeps(30)), "solve " + std::to_string(k));
+  }
 }
 
 }  // namespace

@@ -35,8 +35,11 @@ struct PgsColoredProfile {
 
 struct PgsColoredDef {
   /// OpenMP threads for the set-up and the batches of a colour (1 = serial; 0 = OpenMP's
-  /// default). Problems with fewer than `min_batches_per_thread`·threads batches of 8
-  /// contacts run serially.
+  /// default). A problem runs on one thread unless its colour ranges (each a wait between the
+  /// threads per sweep) average at least `min_batches_per_thread`·threads batches of 8
+  /// contacts; 0 threads every problem. The threads' waits spin briefly, then yield, then sleep,
+  /// and a descheduled thread's share of a colour is taken by the others (docs/lcp.md
+  /// "pgs-colored", Threads).
   int threads = 1;
   int min_batches_per_thread = 32;
   /// Which kernel sweeps (default Auto). make_pgs_colored throws InvalidArgument for a kernel

@@ -10,6 +10,7 @@
 // nothing but the kernel: λ^{k−1} and λ^k live in two buffers (run_sweeps_double_buffered)
 // and the Δu finiteness check is fused into the kernels. Design: docs/lcp.md "`pgs-colored`".
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -32,6 +33,8 @@
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
+#include "solvers/pgs_colored/sweep_team.hpp"
+#include "solvers/pgs_colored/thread_pacer.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 
@@ -116,37 +119,6 @@ inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg
     kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
 }
 
-/// Thread tid's share (of nt) of one sweep: each colour's batches split statically (contiguous
-/// blocks, so a thread keeps the same region of the pile from colour to colour), the overflow
-/// set on thread 0, a barrier after each colour. The thread's θ and flag go to `mine` before the
-/// last barrier, so after it every thread's share is visible.
-void sweep_share(const Prepared& prep, const Kernels& sweep, const double* in, double* out, double* u, int tid,
-                 int nt, colored::Acc& mine) {
-  colored::Acc local;
-  const int nr = static_cast<int>(prep.ranges.size());
-  for (int k = 0; k < nr; ++k) {
-    const Range& rg = prep.ranges[static_cast<size_t>(k)];
-    if (rg.serial) {
-      if (tid == 0) run_range(prep, sweep, rg, rg.begin, rg.end, in, out, u, local);
-    } else {
-      const int n = rg.end - rg.begin;
-      const int lo = rg.begin + static_cast<int>(static_cast<long>(n) * tid / nt);
-      const int hi = rg.begin + static_cast<int>(static_cast<long>(n) * (tid + 1) / nt);
-      run_range(prep, sweep, rg, lo, hi, in, out, u, local);
-    }
-    if (k == nr - 1) mine = local;
-#pragma omp barrier
-  }
-  if (nr == 0) mine = local;
-}
-
-/// What thread 0 (running the sweep driver) tells the others before each sweep.
-struct SweepOrder {
-  const double* in = nullptr;
-  double* out = nullptr;
-  bool stop = false;
-};
-
 class PgsColoredSolver final : public LcpSolver {
  public:
   explicit PgsColoredSolver(const PgsColoredDef& def)
@@ -157,22 +129,42 @@ class PgsColoredSolver final : public LcpSolver {
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
+    // Threads only while they pay (ThreadPacer), unless min_batches_per_thread = 0 forces them.
+    const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0;
+    serial_solve_ = paced && !pacer_.threaded_next();
+    serial_setup_ = paced && !pacer_.proven();
+    solved_ = Solved{};
+    const auto t0 = std::chrono::steady_clock::now();
+    SolveResult r = solve_packed(p, lambda0, o);
+    if (paced && solved_.batches > 0) {
+      const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - t0;
+      pacer_.record(solved_.threads > 1, wall.count(), static_cast<double>(solved_.batches) * (r.sweeps + 2));
+    }
+    return r;
+  }
+
+ private:
+  /// The solve itself: the checks, the layout and packing, the sweeps, or "pgs" for problems
+  /// the kernels do not cover.
+  [[nodiscard]] SolveResult solve_packed(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+                                         const SolverOptions& o) {
     Laps laps(def_.profile);
     // λ⁰ as given (or zeros): the input checks run on the threads the packing will use.
     const Eigen::VectorXd* start = &lambda0;
     if (p.has_jacobian()) {
-      const int threads = effective_threads(p.constraints.size() / W);
+      const int threads = setup_threads(p.constraints.size() / W, expected_ranges());
       if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros_, start, owner_)) return *bad;
     }
     laps.lap(&PgsColoredProfile::checks);
     const Eigen::VectorXd& lambda = *start;
     // The buffers of the last solve, taken out of the solver for this one: an exception drops
     // them, so the next solve lays out afresh instead of reusing a half-written layout.
+    const size_t ranges_before = expected_ranges();
     Prepared prep = std::exchange(cache_, Prepared{});
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");
     double* coloring_s = laps.profile() != nullptr ? &laps.profile()->coloring : nullptr;
     const double coloring_before = coloring_s != nullptr ? *coloring_s : 0.0;
-    if (why.empty()) why = colored::layout(p, colorer_, effective_threads(p.constraints.size() / W), prep, coloring_s);
+    if (why.empty()) why = colored::layout(p, colorer_, setup_threads(p.constraints.size() / W, ranges_before), prep, coloring_s);
     laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
     if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel),
@@ -196,17 +188,32 @@ class PgsColoredSolver final : public LcpSolver {
     return r;
   }
 
- private:
-  [[nodiscard]] int effective_threads(int batches) const {
+  /// Threads for `batches` batches in `ranges` colour ranges (threads_for): def_.threads (0:
+  /// OpenMP's default), or 1 for a small problem or when the pacer chose a serial solve.
+  [[nodiscard]] int effective_threads(long batches, size_t ranges) const {
 #if defined(_OPENMP)
-    int t = def_.threads > 0 ? def_.threads : omp_get_max_threads();
-    if (t > 1 && batches < def_.min_batches_per_thread * t) t = 1;
-    return std::max(1, t);
+    if (serial_solve_) return 1;
+    const int t = std::max(1, def_.threads > 0 ? def_.threads : omp_get_max_threads());
+    return colored::threads_for(t, def_.min_batches_per_thread, batches, ranges);
 #else
     (void)batches;
+    (void)ranges;
     return 1;
 #endif
   }
+
+  /// Threads for the set-up's parallel regions (checks, layout, packing, the permutation back,
+  /// the residual): effective_threads, or 1 while the pacer has not seen threaded solves pay.
+  [[nodiscard]] int setup_threads(long batches, size_t ranges) const {
+    return serial_setup_ ? 1 : effective_threads(batches, ranges);
+  }
+
+  /// The colour ranges a solve is expected to sweep before its layout: the last solve's, else
+  /// kNominalRanges.
+  [[nodiscard]] size_t expected_ranges() const {
+    return cache_.ranges.empty() ? kNominalRanges : cache_.ranges.size();
+  }
+  static constexpr size_t kNominalRanges = 8;
 
   /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
   /// M⁻¹Jᵀλ⁰Δt, in one parallel region: one thread takes Δu⁰ (a serial pass over J,
@@ -218,7 +225,7 @@ class PgsColoredSolver final : public LcpSolver {
                                  double* other, bool& bad_start, Laps& laps) const {
     const int nb = static_cast<int>(prep.batches.size());
     const int jobs = nb + static_cast<int>(prep.pairs.size());  // batches, then pair batches
-    const int threads = effective_threads(jobs);
+    const int threads = setup_threads(jobs, prep.ranges.size());
     const int bodies = prep.body_entries / kStride;
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
@@ -255,20 +262,23 @@ class PgsColoredSolver final : public LcpSolver {
   /// natural residual (bit-identical to finish's, pgs_colored_products.hpp). With threads, the
   /// permutation back and the residual's rows run on them too.
   [[nodiscard]] SolveResult sweeps(const LcpProblem& p, Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
-                                   const SolverOptions& o, Prepared& prep, Laps& laps) const {
-    const int threads = effective_threads(static_cast<int>(prep.batches.size() + prep.pairs.size()));
+                                   const SolverOptions& o, Prepared& prep, Laps& laps) {
+    const long batches = static_cast<long>(prep.batches.size() + prep.pairs.size());
+    const int threads = effective_threads(batches, prep.ranges.size());
+    const int setup = serial_setup_ ? 1 : threads;  // the permutation back and the residual
+    solved_ = Solved{batches, threads};
     SolverOptions po = o;
     if (o.on_checkpoint)
-      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), threads)); };
+      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), setup)); };
     SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep)
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
     laps.lap(&PgsColoredProfile::sweeps);
     Eigen::VectorXd permuted = std::move(r.lambda);
-    r.lambda = unpermute(prep, permuted, p.rows(), threads);
+    r.lambda = unpermute(prep, permuted, p.rows(), setup);
     prep.lp = std::move(permuted);  // storage for the next solve's λ⁰
     laps.lap(&PgsColoredProfile::unpermute);
     bool finite = false;
-    r.residual = colored::natural_residual(p, r.lambda, threads, prep.jt, finite);
+    r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite);
     if (finite)
       settle_status(p, r, o, StopRule::Tolerance);
     else
@@ -296,38 +306,40 @@ class PgsColoredSolver final : public LcpSolver {
   }
 
   /// The sweeps on `threads` threads in one parallel region for the whole solve (no fork and
-  /// join per sweep): thread 0 runs the sweep driver (checkpoints, tolerance, callbacks) and,
-  /// per sweep, releases the others with a barrier; all take their share (sweep_share); θ and
-  /// the flag are combined in thread order as max / or, so the result does not depend on the
-  /// thread count. An exception of the driver (a callback) ends the region and is rethrown.
+  /// join per sweep): thread 0 runs the sweep driver (checkpoints, tolerance, callbacks) and
+  /// publishes each sweep; every thread takes chunks of each colour's batches (SweepTeam, which
+  /// lets the present threads do the share of a descheduled one); θ and the flag are combined as
+  /// max / or, so the result does not depend on the thread count or the schedule. An exception of
+  /// the driver (a callback) ends the region and is rethrown.
   [[nodiscard]] SolveResult sweeps_threaded(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                             const SolverOptions& o, Prepared& prep, int threads) const {
     SolveResult r;
 #if defined(_OPENMP)
     const Kernels sweep = kernel_;
-    SweepOrder order;
-    std::vector<colored::Acc> share(static_cast<size_t>(threads));
+    colored::SweepTeam team(prep.ranges, threads);
     std::exception_ptr error;
+    double* u = prep.du.data();
 #pragma omp parallel num_threads(threads)
     {
-      const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
-      double* u = prep.du.data();
+      const int tid = omp_get_thread_num();
+      const double* in = nullptr;
+      double* out = nullptr;
+      auto run = [&](int k, int lo, int hi, colored::Acc& acc) {
+        run_range(prep, sweep, prep.ranges[static_cast<size_t>(k)], lo, hi, in, out, u, acc);
+      };
       if (tid == 0) {
         try {
+          int s = 0;
           r = solvers::run_sweeps_double_buffered(
               std::move(lp), std::move(other), o,
-              [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
-                order.in = in.data();
-                order.out = out.data();
-#pragma omp barrier
-                sweep_share(prep, sweep, order.in, order.out, u, 0, nt, share[0]);
-                colored::Acc acc;
-                acc.bad = bad_start;
+              [&](const Eigen::VectorXd& vin, Eigen::VectorXd& vout, bool& nonfinite) {
+                in = vin.data();
+                out = vout.data();
+                team.start(s, in, out);
+                team.share(s, 0, run);
+                colored::Acc acc = team.finish(s++);
+                acc.bad = acc.bad || bad_start;
                 bad_start = false;
-                for (int t = 0; t < nt; ++t) {
-                  acc.theta = colored::max_of(acc.theta, share[static_cast<size_t>(t)].theta);
-                  acc.bad = acc.bad || share[static_cast<size_t>(t)].bad;
-                }
                 if (!std::isfinite(acc.theta)) acc.bad = true;
                 nonfinite = nonfinite || acc.bad;
                 return acc.theta;
@@ -335,14 +347,10 @@ class PgsColoredSolver final : public LcpSolver {
         } catch (...) {
           error = std::current_exception();
         }
-        order.stop = true;
-#pragma omp barrier
+        team.stop();
       } else {
-        for (;;) {
-#pragma omp barrier
-          if (order.stop) break;
-          sweep_share(prep, sweep, order.in, order.out, u, tid, nt, share[static_cast<size_t>(tid)]);
-        }
+        int s = -1;
+        for (int last = -1; team.next(last, s, in, out); last = s) team.share(s, tid, run);
       }
     }
     if (error) std::rethrow_exception(error);
@@ -382,6 +390,15 @@ class PgsColoredSolver final : public LcpSolver {
   Prepared cache_;
   std::vector<int> owner_;  // scratch of the input checks
   Eigen::VectorXd zeros_;   // λ⁰ when the caller passes none
+  /// What the last solve swept: its batches (0: it ran "pgs" instead) and its sweeps' threads.
+  struct Solved {
+    long batches = 0;
+    int threads = 1;
+  };
+  Solved solved_;
+  colored::ThreadPacer pacer_;
+  bool serial_solve_ = false;  // this solve runs on one thread (the pacer's choice)
+  bool serial_setup_ = false;  // this solve's set-up runs on one thread (a probe, or serial)
 };
 
 }  // namespace

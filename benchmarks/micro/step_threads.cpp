@@ -1,0 +1,148 @@
+// step_threads: whole steps of the scaled seed pile with pgs-colored on 1 and 2 threads,
+// alternated inside each round, timed per step by the wall clock and by the CPU time of the
+// stepping thread (the second is what a busy machine disturbs least). Reported per body count
+// and thread count: medians over all timed steps (and the wall clock's mean, which counts rare
+// slow steps), and the load average before and after.
+//
+//   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
+//                          [--sweeps 20] [--min-batches -1]
+//
+// --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
+// every problem). The pile and its settling are those of micro_step (150 steps of pgs).
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dc/engine/world.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
+
+namespace {
+
+double clock_s(clockid_t id) {
+  timespec ts{};
+  clock_gettime(id, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + ", " + b + ", " + c;
+}
+
+std::vector<int> parse_ints(const std::string& s) {
+  std::vector<int> v;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');) v.push_back(std::stoi(item));
+  return v;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+double mean(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (const double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
+}
+
+dc::SolverOptions fixed_sweeps(int sweeps) {
+  dc::SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  return o;
+}
+
+/// micro_step's scaled seed pile of n circles after 150 steps of pgs.
+dc::World settled_pile(int n) {
+  dc::WorldDef def = dc::default_world_def();
+  const double side = 3.0 * std::sqrt(static_cast<double>(n));
+  def.world.width = def.world.height = side;
+  def.bodies.count = n;
+  def.bodies.mean = {side / 2, side / 2};
+  def.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
+  def.solver.sweeps = 20;
+  dc::World w(def);
+  const auto pgs = dc::make_solver("pgs");
+  const dc::SolverOptions o = fixed_sweeps(20);
+  for (int k = 0; k < 150; ++k) w.step(*pgs, o, dc::World::WarmStart::PreviousLambda);
+  return w;
+}
+
+struct Series {
+  int threads = 1;
+  std::unique_ptr<dc::LcpSolver> solver;
+  std::vector<double> wall_ms, cpu_ms;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
+  std::string ns = "1000,10000", ts = "1,2";
+  int steps = 40, rounds = 5, sweeps = 20, min_batches = -1;
+  app.add_option("--n", ns, "body counts, comma-separated");
+  app.add_option("--threads", ts, "thread counts, comma-separated");
+  app.add_option("--steps", steps, "timed steps per configuration and round");
+  app.add_option("--rounds", rounds, "rounds (the configurations alternate inside each)");
+  app.add_option("--sweeps", sweeps, "sweeps per step (tolerance 0)");
+  app.add_option("--min-batches", min_batches, "PgsColoredDef::min_batches_per_thread (-1: default)");
+  CLI11_PARSE(app, argc, argv);
+  const dc::SolverOptions o = fixed_sweeps(sweeps);
+  std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; load %s\n", sweeps, steps, rounds,
+              load_average().c_str());
+  std::printf("| bodies | threads | wall ms/step | wall mean | thread CPU ms/step | process CPU ms/step | "
+              "wall 1/T |\n");
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const int n : parse_ints(ns)) {
+    const dc::World start = settled_pile(n);
+    std::vector<Series> series;
+    std::vector<double> process_ms;
+    for (const int t : parse_ints(ts)) {
+      dc::PgsColoredDef def;
+      def.threads = t;
+      if (min_batches >= 0) def.min_batches_per_thread = min_batches;
+      series.push_back(Series{t, dc::make_pgs_colored(def), {}, {}});
+    }
+    std::vector<std::vector<double>> proc(series.size());
+    for (int r = -1; r < rounds; ++r) {  // round −1: warm-up, not timed
+      for (size_t j = 0; j < series.size(); ++j) {
+        Series& s = series[r % 2 ? series.size() - 1 - j : j];  // alternate the order by round
+        const size_t si = static_cast<size_t>(&s - series.data());
+        dc::World w = start;
+        for (int k = 0; k < steps; ++k) {
+          const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
+                       p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+          (void)w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
+          if (r < 0) continue;
+          s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
+          s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
+          proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
+        }
+      }
+    }
+    const double base = median(series.front().wall_ms);
+    for (size_t j = 0; j < series.size(); ++j) {
+      const double wall = median(series[j].wall_ms);
+      std::printf("| %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall,
+                  mean(series[j].wall_ms), median(series[j].cpu_ms), median(proc[j]), base / wall);
+    }
+  }
+  std::printf("# load after: %s\n", load_average().c_str());
+  return 0;
+}
