@@ -34,10 +34,12 @@ SolveResult prox(const LcpProblem& p, const Eigen::VectorXd& lambda0 = {}, const
   return ProxNewtonSolver(def).solve(p, lambda0, options());
 }
 
-/// Without the nncg safeguard: the outer loop and the newton-sparse finish alone.
+/// Without the nncg safeguard and the pivoting finish: the outer loop and the newton-sparse
+/// finishes alone.
 ProxNewtonDef no_safeguard() {
   ProxNewtonDef d;
   d.safeguard_sweeps = 0;
+  d.pivot_rows = 0;
   return d;
 }
 

@@ -19,6 +19,7 @@ void check_def(const ProximalPointDef& d) {
   if (!(std::isfinite(d.shrink) && d.shrink > 1)) throw InvalidArgument("proximal point: shrink must be > 1");
   if (d.max_outer < 1 || d.inner_iterations < 1)
     throw InvalidArgument("proximal point: max_outer and inner_iterations must be >= 1");
+  if (d.max_stalls < 0) throw InvalidArgument("proximal point: max_stalls must be >= 0");
 }
 
 /// The shifted problem A + δ I with A alone (no J: lcp_velocity would otherwise evaluate the
@@ -53,6 +54,9 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   inner_options.max_sweeps = def.inner_iterations;
   inner_options.record_theta = false;
   inner_options.exact_tolerance = options.exact_tolerance;
+  // A caller's target below the solution target binds the inner solves too: an inner solve
+  // that stops above it returns its start unchanged and the outer loop cannot progress.
+  if (options.tolerance > 0) inner_options.tolerance = std::min(target, solution_target(p, options));
 
   // Checkpoints after each outer iteration, at the inner iterations so far (CheckpointCursor::reach).
   solvers::CheckpointCursor cp(options);
@@ -62,7 +66,10 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   Eigen::VectorXd centre = lambda;  // λ_k
   double shift = def.initial_shift;
   double floor = def.min_shift;  // raised above every shift whose inner solve failed
-  for (int k = 0; k < def.max_outer && out.residual > target && diag > 0; ++k) {
+  int stalls = 0;                // consecutive outer iterations without a new best
+  for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
+                  (def.max_stalls == 0 || stalls < def.max_stalls);
+       ++k) {
     const double delta = shift * diag;
     LcpProblem sub = shifted(p, delta);
     sub.b = p.b - delta * centre;
@@ -78,9 +85,11 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       return out;
     }
     const double residual = natural_residual(p, r.lambda);
+    ++stalls;
     if (residual < out.residual) {
       out.lambda = r.lambda;
       out.residual = residual;
+      stalls = 0;
     }
     cp.reach(out.sweeps, out.lambda);
     if (r.status == SolveStatus::Converged) {
@@ -98,7 +107,10 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   }
   out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
   if (out.status == SolveStatus::Converged) cp.flush_final(out.lambda);
-  if (out.status != SolveStatus::Converged) out.message = "proximal point: outer iteration limit reached";
+  if (out.status != SolveStatus::Converged)
+    out.message = def.max_stalls > 0 && stalls >= def.max_stalls
+                      ? "proximal point: " + std::to_string(stalls) + " outer iterations without a new best residual"
+                      : "proximal point: outer iteration limit reached";
   // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
   solvers::finish(p, out, options, options.tolerance > 0 ? solvers::StopRule::Tolerance : solvers::StopRule::Solution);
   return out;

@@ -22,9 +22,11 @@
 //     factorisation per iteration, the analysis kept across passes).
 // Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
 // the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
-// above the target, the proximal-point route from the best iterate (`proximal_finish`), then nncg
-// as the safeguard. SolveResult::message names the part that finished ("prox", "newton-sparse
-// finish", "proximal newton-sparse finish" or "nncg safeguard") and the counts; `sweeps` counts
+// above the target, the proximal-point route from the best iterate (`proximal_finish`); then, on
+// small contact problems, Lemke's pivoting on the problem as a standard LCP (`pivot_rows`),
+// then nncg as the safeguard. SolveResult::message names the part that finished ("prox",
+// "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish" or "nncg
+// safeguard") and the counts; `sweeps` counts
 // Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
 // `factorizations` counts the passes' and the short finish's, not the proximal finish's.
 //
@@ -78,19 +80,32 @@ struct ProxNewtonDef {
   /// freedom λ_n moves along A's null space and the frozen bounds go stale): the proximal
   /// finish takes over.
   int max_stalls = 1;
+  /// Dual form: once δ is at min_shift, a pass that lowers the best hard residual by less than
+  /// this factor also counts as a stall (default 0.5): there the passes converge linearly at that
+  /// rate or worse, and the proximal finish converges faster from the same iterate.
+  double pass_progress = 0.5;
   /// After the passes, when the target is not reached: the proximal-point route
   /// (solve_proximal_point: newton-sparse on A + δI around λ_k, bounds moving with λ_n) from the
   /// best iterate (default true). Its iterations count in the budget and in `finish_newton`.
   bool proximal_finish = true;
-  /// Settings of that route: its defaults except δ_0 = 1e-6·max A_ii and newton-sparse's own
+  /// Settings of that route: its defaults except δ_0 = 1e-6·max A_ii, newton-sparse's own
   /// inexact GMRES forcing (krylov_forcing = 1e-2): it starts near the solution, where inexact
-  /// directions cost fewer GMRES iterations and the proximal outer loop absorbs their error.
+  /// directions cost fewer GMRES iterations and the proximal outer loop absorbs their error;
+  /// and max_stalls = 10: stopped after 10 outer iterations without a new best (a problem the
+  /// route does not solve is then reported in a fraction of its 200 outer iterations).
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
     d.newton_sparse.krylov_forcing = 1e-2;
+    d.max_stalls = 10;
     return d;
   }();
+  /// After the proximal finish, when the target is still not reached: the pivoting finish
+  /// (pivot_finish.hpp: the contact problem as a standard LCP by Lemke's method, then the
+  /// newton-sparse finish from its answer) on problems whose split LCP (normal rows + 3 per
+  /// friction row) has at most this many unknowns (default 1200: its dense tableau is O(N²)
+  /// memory and work per pivot; 0 = none).
+  int pivot_rows = 1200;
 };
 
 /// Work of one solve.
@@ -105,6 +120,7 @@ struct ProxNewtonStats {
   int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
   int full_steps = 0;       ///< body space, coupled bounds: Newton steps taken whole
   int krylov = 0;           ///< body space, coupled bounds: GMRES iterations of the directions
+  int pivots = 0;           ///< Lemke pivots of the pivoting finish
 };
 
 class ProxNewtonSolver final : public LcpSolver {

@@ -29,6 +29,9 @@ struct ProximalPointDef {
   double shrink = 10.0;
   /// Outer iterations at most (default 200).
   int max_outer = 200;
+  /// Stop after this many consecutive outer iterations without a new best residual (default 0:
+  /// never; only max_outer stops the route).
+  int max_stalls = 0;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
   /// The inner solver (default newton-sparse; any solver make_solver makes that reaches

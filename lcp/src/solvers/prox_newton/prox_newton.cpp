@@ -14,6 +14,7 @@
 #include "solvers/prox_newton/body_newton.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
+#include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"
 #include "solvers/solver_common.hpp"
@@ -44,11 +45,13 @@ void check_def(const ProxNewtonDef& d) {
   if (!positive(d.initial_shift) || !positive(d.min_shift) || !positive(d.max_shift) || d.min_shift > d.max_shift)
     throw InvalidArgument("prox-newton: shifts must be finite, > 0, min_shift <= max_shift");
   if (!(std::isfinite(d.shrink) && d.shrink > 1)) throw InvalidArgument("prox-newton: shrink must be > 1");
+  if (!(d.pass_progress > 0 && d.pass_progress <= 1))
+    throw InvalidArgument("prox-newton: pass_progress must be in (0, 1]");
   if (d.max_outer < 1 || d.inner_iterations < 1 || d.body_inner_iterations < 1 || d.max_stalls < 1)
     throw InvalidArgument("prox-newton: max_outer, inner_iterations, body_inner_iterations and max_stalls must be >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
-  if (d.finish_iterations < 0 || d.safeguard_sweeps < 0)
-    throw InvalidArgument("prox-newton: finish_iterations and safeguard_sweeps must be >= 0");
+  if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0)
+    throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps and pivot_rows must be >= 0");
 }
 
 /// x in %.3g form (residuals span many decades).
@@ -59,7 +62,7 @@ std::string sci(double x) {
 }
 
 /// Which part produced the returned iterate.
-enum class Finisher { Guess, Prox, NewtonSparse, ProximalPoint, Nncg };
+enum class Finisher { Guess, Prox, NewtonSparse, ProximalPoint, Pivot, Nncg };
 
 const char* to_string(Finisher f) {
   switch (f) {
@@ -67,6 +70,7 @@ const char* to_string(Finisher f) {
     case Finisher::Prox: return "prox";
     case Finisher::NewtonSparse: return "newton-sparse finish";
     case Finisher::ProximalPoint: return "proximal newton-sparse finish";
+    case Finisher::Pivot: return "lemke pivoting finish";
     case Finisher::Nncg: return "nncg safeguard";
   }
   return "?";
@@ -93,6 +97,7 @@ class ProxRun {
       finish_with_newton_sparse(lambda, budget_left());
     }
     if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point();
+    if (!reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
     SolveResult r;
     r.lambda = best_;
@@ -103,7 +108,8 @@ class ProxRun {
     r.message = std::string("finished by ") + to_string(by_) + ": " + std::to_string(st_.outer) + " passes, " +
                 std::to_string(st_.newton) + " Newton + " + std::to_string(st_.finish_newton) + " finish iterations, " +
                 std::to_string(st_.factorizations) + " factorisations, " + std::to_string(st_.safeguard_sweeps) +
-                " nncg sweeps";
+                " nncg sweeps" +
+                (st_.pivots > 0 ? ", " + std::to_string(st_.pivots) + " lemke pivots" : std::string());
     const bool claimed = r.status == SolveStatus::Converged;
     finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);
     if (r.status == SolveStatus::Converged) cp_.flush_final(r.lambda);
@@ -149,7 +155,12 @@ class ProxRun {
       st_.full_steps += so.full_steps;
       st_.krylov += so.krylov_iterations;
       const double res = hard_residual(p_, next);
+      const double before = best_res_;
       const bool improved = consider(next, res, Finisher::Prox);
+      // In the dual form at min_shift the passes converge linearly: a slow one is a stall (the
+      // proximal finish converges faster from the same iterate).
+      const bool slow = !body_ && shift <= def_.min_shift * (1 + 1e-9) && res > def_.pass_progress * before;
+      const bool progressed = improved && !slow;
       // The proximal step is progress even when the hard residual rises for a pass; a failed
       // subproblem solve restarts from the best iterate with a larger δ.
       const bool usable = (so.converged || improved) && std::isfinite(res);
@@ -158,7 +169,7 @@ class ProxRun {
       // unsolved one asks for a larger (better conditioned) one. The hard residual is not
       // monotone along the proximal iteration, so it does not steer δ.
       shift = so.converged ? std::max(def_.min_shift, shift / def_.shrink) : std::min(def_.max_shift, shift * def_.shrink);
-      stalls = improved ? 0 : stalls + 1;
+      stalls = progressed ? 0 : stalls + 1;
       cp_.after(st_.newton + st_.finish_newton, best_);
       if (reached(best_res_, target_) || stalls >= def_.max_stalls) break;
       std::vector<char> modes = hard_modes(p_, lambda);
@@ -206,6 +217,27 @@ class ProxRun {
     st_.proximal_finish_newton += r.sweeps;
     if (r.lambda.size() == p_.rows() && r.lambda.allFinite())
       consider(r.lambda, hard_residual(p_, r.lambda), Finisher::ProximalPoint);
+  }
+
+  /// Lemke's pivoting on the split LCP (pivot_finish.hpp) when it is small enough, then the
+  /// newton-sparse finish from its answer (round-off of the tableau) for the iterations left.
+  void finish_by_pivoting() {
+    if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
+    const int size = pivot_lcp_size(*assembled_);
+    if (size < 0 || size > def_.pivot_rows) return;
+    const PivotOutcome po = pivot_solve(*assembled_);
+    st_.pivots += po.pivots;
+    if (!po.lambda) return;
+    Eigen::VectorXd lambda = *po.lambda;
+    consider(lambda, hard_residual(p_, lambda), Finisher::Pivot);
+    // Newton from Lemke's point even when the tableau's round-off left it worse than the best
+    // iterate: its row modes are the ones that matter.
+    if (!reached(best_res_, target_)) {
+      constexpr int kPolishIterations = 30;  // quadratic from the right modes; more only wanders
+      const double before = best_res_;
+      finish_with_newton_sparse(lambda, kPolishIterations);
+      if (best_res_ < before) by_ = Finisher::Pivot;
+    }
   }
 
   /// The caller's checkpoints still ahead, numbered from the iterations done so far, for a
