@@ -129,6 +129,11 @@ struct SolverId {
   /// PgsColored with threads only: the kernel K of "pgs-colored:N:K"; empty = not spelled (Auto).
   std::optional<PgsColoredKernel> kernel;
 
+  constexpr SolverId() = default;
+  /// The solver `k`, with pgs-colored's threads `n` and kernel `kernel_k` as parse reads them.
+  constexpr explicit SolverId(SolverKind k, int n = 0, std::optional<PgsColoredKernel> kernel_k = std::nullopt)
+      : kind(k), threads(n), kernel(kernel_k) {}
+
   /// Reads a name. Throws ConfigError "unknown LCP solver '<name>' (valid: <solver_names()>)",
   /// or "LCP solver '<name>': expected pgs-colored:<threads>[:<kernel>], …" for a malformed
   /// pgs-colored suffix.
