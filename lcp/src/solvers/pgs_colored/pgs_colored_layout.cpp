@@ -190,7 +190,8 @@ void name_singular(const Prepared& out, int s0, int lanes, const double* dn, con
 
 }  // namespace
 
-std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out) {
+std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
+                   Prepared& out) {
   const ContactConstraints& cons = p.constraints;
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
@@ -211,9 +212,10 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
       return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
   }
-  const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
   std::vector<int>& partner = out.next_partner;  // kept: no allocation in steady state
   find_pairs(p, partner);
+  const ContactColoring& col =
+      ordered != nullptr ? ordered->color(cons, out.dynamic, partner) : colorer.color(cons, out.dynamic, threads);
   if (col.repeated && col.generation == out.generation && partner == out.partner) {
     // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
     // and sizes stand; the batches are refilled from this problem's J, b and λ⁰.
