@@ -82,23 +82,13 @@ Kernels kernel_fn(PgsColoredKernel k) {
   }
 }
 
-/// Lanes up to which a lone batch runs the scalar kernel: a vector kernel does a whole lane
-/// group's work for it, the scalar kernel only its lanes (all kernels give the same bits).
-constexpr int kScalarLanes = 2;
-
-/// Batches [lo, hi) of range rg with the kernel of its kind (pair batches' λ from pair_base); the
-/// overflow set (one lane per batch) and a colour of one batch of at most kScalarLanes lanes (a
-/// short colour of a stack's contact chain) with the scalar kernel.
+/// Batches [lo, hi) of range rg with the kernel of its kind (pair batches' λ from pair_base).
 inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg, int lo, int hi, const double* in,
                       double* out, double* u, colored::Acc& acc) {
-  if (rg.pairs) {
-    const bool few = rg.serial || (hi - lo == 1 && prep.pairs[static_cast<size_t>(lo)].count <= kScalarLanes);
-    (few ? colored::sweep_pairs_scalar : kern.pairs)(prep.pairs.data(), lo, hi, in + prep.pair_base,
-                                                     out + prep.pair_base, u, acc);
-  } else {
-    const bool few = rg.serial || (hi - lo == 1 && prep.batches[static_cast<size_t>(lo)].count <= kScalarLanes);
-    (few ? colored::sweep_scalar : kern.single)(prep.batches.data(), lo, hi, in, out, u, acc);
-  }
+  if (rg.pairs)
+    kern.pairs(prep.pairs.data(), lo, hi, in + prep.pair_base, out + prep.pair_base, u, acc);
+  else
+    kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
 }
 
 /// Thread tid's share (of nt) of one sweep: each colour's batches split statically (contiguous
@@ -154,7 +144,8 @@ class PgsColoredSolver final : public LcpSolver {
     // them, so the next solve lays out afresh instead of reusing a half-written layout.
     Prepared prep = std::exchange(cache_, Prepared{});
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");
-    if (why.empty()) why = colored::layout(p, colorer_, def_.ordered_colors ? &ordered_ : nullptr, effective_threads(p.constraints.size() / W), prep);
+    colored::OrderedColorer* ordered = def_.ordered_colors ? &ordered_ : nullptr;
+    if (why.empty()) why = colored::layout(p, colorer_, ordered, effective_threads(p.constraints.size() / W), prep);
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel).
     const int np = static_cast<int>(prep.row_of.size());
     Eigen::VectorXd lp(why.empty() ? np : 0), other(why.empty() ? np : 0);
