@@ -44,10 +44,10 @@ echo "check-determinism: portable build of deepcontact: $((t1 - t0)) s"
 
 # name | simulate arguments. Together they cover friction and μ = 0, generated and explicit
 # bodies, other sizes and box, fixed sweeps and tolerance mode, the builtin, sph and copy
-# warm starters, the Newton oracle (box_newton) as the stepping solver, pgs-colored (its
-# kernel is chosen at run time in every build; the rows below the table compare its scalar,
-# AVX2 and AVX-512 kernels in the native build), the Morton body numbering, and the shape scenes (boxes, ellipses,
-# polygons, static and kinematic bodies).
+# warm starters, the Newton oracle (box_newton) as the stepping solver, the default solver
+# pgs-colored (its kernel is chosen at run time in every build; the rows below the table
+# compare its scalar, AVX2 and AVX-512 kernels in both builds) and pgs, the Morton body
+# numbering, and the shape scenes (boxes, ellipses, polygons, static and kinematic bodies).
 scenes=(
   "seed (600 steps, 3000 sweeps)|"
   "frictionless (mu = 0)|--scene scenes/frictionless.toml --steps 200"
@@ -56,7 +56,7 @@ scenes=(
 --set world.width=20.0 --set world.height=20.0 --set bodies.mean=[10.0,8.0] --set bodies.sigma=3.0 \
 --set solver.tolerance=0.01 --steps 150 --warmstart sph"
   "small (newton solver, copy)|--scene scenes/small.toml --set solver.name=newton --warmstart copy"
-  "seed, pgs-colored (AVX-512 vs scalar kernel)|--set solver.name=pgs-colored --steps 300"
+  "seed, pgs (300 steps)|--set solver.name=pgs --steps 300"
   # [bodies] order = "morton": the generated bodies renumbered by integer Morton codes.
   "seed, bodies in Morton order (300 steps)|--set bodies.order=morton --steps 300"
   # Shape scenes: polygon SAT + clipping, libccd ellipse pairs with the normal

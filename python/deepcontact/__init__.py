@@ -95,7 +95,7 @@ def bench(scene: Union[str, os.PathLike[str], None] = None,
           seeds: Union[Iterable[int], int, str] = _DEFAULT_SEEDS, quick: bool = False, mode: str = "paired",
           out: Union[str, os.PathLike[str], None] = None, *,
           set: Union[Mapping[str, object], Sequence[str], str] = {}, sweeps: Optional[int] = None,
-          tol: float = 1e-2, solver: str = "pgs", steps: Optional[int] = None, model: str = "",
+          tol: float = 1e-2, solver: str = "pgs-colored", steps: Optional[int] = None, model: str = "",
           progress: bool = False, solvers: Optional[Sequence[str]] = None, accuracy: float = 1e-6,
           jobs: int = 1) -> dict[str, Any]:
     """Run the warm-start benchmark of ``deepcontact bench`` and return its summary as a dict

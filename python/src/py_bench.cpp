@@ -129,7 +129,7 @@ void bind_bench(pyb::module_& m) {
   m.def("bench", &bench, pyb::arg("scene") = pyb::none(), pyb::arg("set") = pyb::dict(),
         pyb::arg("warmstarts") = pyb::none(), pyb::arg("seeds") = pyb::make_tuple(1, 2), pyb::arg("quick") = false,
         pyb::arg("mode") = "paired", pyb::arg("out") = pyb::none(), pyb::arg("sweeps") = pyb::none(),
-        pyb::arg("tol") = 1e-2, pyb::arg("solver") = "pgs", pyb::arg("steps") = pyb::none(),
+        pyb::arg("tol") = 1e-2, pyb::arg("solver") = "pgs-colored", pyb::arg("steps") = pyb::none(),
         pyb::arg("model") = "", pyb::arg("progress") = false, pyb::arg("solvers") = pyb::none(),
         pyb::arg("accuracy") = 1e-6, pyb::arg("jobs") = 1,
         "The warm-start benchmark (`deepcontact bench`); returns the summary (summary.json) as a dict.\n\n"

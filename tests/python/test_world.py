@@ -48,7 +48,7 @@ def test_morton_numbering_is_the_same_in_python_and_in_trajectories(dc, tmp_path
 def test_default_step_arguments_are_the_seed_solver(dc):
     a, b = dc.World(set={"bodies.count": 10, "bodies.sigma": 2.0}), dc.World(set={"bodies.count": 10, "bodies.sigma": 2.0})
     for _ in range(40):
-        a.step()  # "pgs", "builtin", 3000 sweeps, tol 0
+        a.step()  # "pgs-colored", "builtin", 3000 sweeps, tol 0
         b.step(solver=None, warmstart="builtin", sweeps=None, tol=None)  # the scene's (seed) values
     assert a.hash == b.hash
 
@@ -71,7 +71,7 @@ def test_stages_by_hand_equal_step(dc):
     ref = dc.World(set=SMALL)
     w = dc.World(set=SMALL)
     for _ in range(SMALL["time.steps"]):
-        ref.step(sweeps=200)
+        ref.step(solver="pgs", sweeps=200)
         w.collide()
         p = w.assemble()
         r = dc.solve(p, "pgs", sweeps=200, tol=0.0, lambda0=builtin_guess(w))

@@ -35,7 +35,7 @@ struct BenchArgs {
   double tol = 1e-2;
   std::string mode = "paired";
   std::string out;
-  std::string solver = "pgs";
+  std::string solver = "pgs-colored";
   std::string model;
   int steps = 0;
   bool quick = false;
@@ -218,7 +218,7 @@ void add_bench_command(CLI::App& app) {
                   "Write summary.json, results.h5, plots and report.md into this directory: a new or empty one, or an "
                   "earlier bench output (its files are replaced when the new report is complete); a directory holding "
                   "anything else is refused before the run, naming the file in the way (--out . works)");
-  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs, pgs-colored, pgs-assembled, psor, jacobi, nncg)")
+  cmd->add_option("--solver", args->solver, "Iterative solver under test (pgs-colored, pgs, pgs-assembled, psor, jacobi, nncg)")
       ->capture_default_str();
   cmd->add_option("--model", args->model, "CNN model file for the cnn starter (default: the shipped model)");
   cmd->add_option("--steps", args->steps, "Steps per scene (default: the scene's [time] steps)");

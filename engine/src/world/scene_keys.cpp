@@ -37,7 +37,7 @@ std::span<const SectionKey> section_keys() {
       {"contact", "restitution_threshold", Kind::Number, DC_FIELD(double, WorldDef, contact.restitution_threshold),
        "approach speed below which restitution is ignored [m/s]"},
       {"solver", "name", Kind::String, DC_FIELD(SolverId, WorldDef, solver.name),
-       "pgs, pgs-colored[:threads], pgs-assembled, psor, jacobi, lemke, newton"},
+       "pgs-colored[:threads] (default), pgs, pgs-assembled, psor, jacobi, lemke, newton"},
       {"solver", "sweeps", Kind::Int, DC_FIELD(int, WorldDef, solver.sweeps), "maximum sweeps per step (>= 1)"},
       {"solver", "tolerance", Kind::Number, DC_FIELD(double, WorldDef, solver.tolerance),
        "stop when theta_k <= tolerance [N]; 0 = always run all sweeps"},

@@ -29,7 +29,7 @@ struct BenchOptions {
   int sweeps = 3000;                    ///< fixed sweeps of the convergence run
   double tolerance = 1e-2;              ///< θ threshold [N] (= 1e-4 N·s impulse at Δt = 0.01)
   Mode mode = Mode::Paired;
-  SolverId solver{SolverKind::Pgs};     ///< iterative solver under test (`--solver`, parsed there)
+  SolverId solver{SolverKind::PgsColored};     ///< iterative solver under test (`--solver`, parsed there)
   /// Sweep budgets of the speed/accuracy trade (sorted, ≤ sweeps); empty = log-spaced.
   std::vector<int> budgets;
   WarmStartEnv env;

@@ -75,8 +75,9 @@ struct ContactSection {
 
 struct SolverSection {
   /// LCP solver (make_solver; spelled pgs, pgs-colored[:N[:K]], pgs-assembled, psor, jacobi,
-  /// lemke, newton, newton-sparse, nncg).
-  SolverId name{SolverKind::Pgs};
+  /// lemke, newton, newton-sparse, nncg). The default pgs-colored sweeps in "pgs"'s row order
+  /// (its colours follow contact order), one thread, SIMD kernels.
+  SolverId name{SolverKind::PgsColored};
   int sweeps = 3000;         ///< maximum sweeps per step (the seed's fixed 3000)
   double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance [N]; 0 ⇒ always run `sweeps` sweeps
   double omega = 1.0;        ///< relaxation for psor (1 = PGS)

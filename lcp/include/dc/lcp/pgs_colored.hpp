@@ -1,10 +1,11 @@
 #pragma once
 // "pgs-colored": matrix-free projected Gauss–Seidel in colour order (docs/design.md §8.4,
-// docs/lcp.md "`pgs-colored`"). The contacts are coloured (contact_coloring.hpp) and a sweep
-// solves colour 0, 1, …, then the overflow set; 8 contacts of a colour are solved at once in
-// SIMD lanes (normal + tangent row as in "pgs") and a colour's batches can run on OpenMP threads.
-// Kernels AVX-512, AVX2 and scalar, chosen at run time (PgsColoredKernel::Auto). Same fixed
-// points as "pgs", other iterates. The lane arithmetic is the scalar kernel's operation for
+// docs/lcp.md "`pgs-colored`"). The contacts are coloured (by default in contact order,
+// ordered_coloring.hpp) and a sweep solves colour 0, 1, …, then the overflow set; 8 contacts of a
+// colour are solved at once in SIMD lanes (normal + tangent row as in "pgs") and a colour's
+// batches can run on OpenMP threads. Kernels AVX-512, AVX2 and scalar, chosen at run time
+// (PgsColoredKernel::Auto). Same fixed points as "pgs"; with the ordered colouring also its
+// iterates while the contact chains fit in 64 colours. The lane arithmetic is the scalar kernel's operation for
 // operation, so every kernel and thread count gives bit-identical iterates. The solver object
 // keeps last solve's colours (reused where contacts persist): solves are deterministic for a
 // fixed sequence of problems. Problems the kernels do not cover (no contact constraints,
@@ -45,7 +46,13 @@ struct PgsColoredDef {
   /// Which kernel sweeps (default Auto). make_pgs_colored throws InvalidArgument for a kernel
   /// this build or CPU cannot run (pgs_colored_kernel_available).
   PgsColoredKernel kernel = PgsColoredKernel::Auto;
-  /// Reuse last solve's colours where contacts persist (false: greedy colouring from scratch).
+  /// Colour in contact order (true, the default): each contact takes the colour after those of
+  /// its bodies' earlier contacts, so the sweep visits every two contacts that share a body in
+  /// "pgs"'s order and gives its iterates while the chains fit in 64 colours (docs/lcp.md
+  /// "Colour order"). false: the greedy colouring (the lowest free colour; reuse_colors and
+  /// color_chunk apply only to it), fewer colours but a red–black order on stacks.
+  bool ordered_colors = true;
+  /// Greedy colouring: reuse last solve's colours where contacts persist (false: from scratch).
   bool reuse_colors = true;
   /// Contacts per chunk of the parallel colouring (docs/lcp.md "Contact colouring: repeats and
   /// chunks"; ContactColorer::kChunk is the benchmarked choice): a function of the contact

@@ -164,7 +164,10 @@ class PgsColoredSolver final : public LcpSolver {
     std::string why = p.has_jacobian() ? std::string() : std::string("no Jacobian");
     double* coloring_s = laps.profile() != nullptr ? &laps.profile()->coloring : nullptr;
     const double coloring_before = coloring_s != nullptr ? *coloring_s : 0.0;
-    if (why.empty()) why = colored::layout(p, colorer_, setup_threads(p.constraints.size() / W, ranges_before), prep, coloring_s);
+    colored::OrderedColorer* ordered = def_.ordered_colors ? &ordered_ : nullptr;
+    if (why.empty())
+      why = colored::layout(p, colorer_, ordered, setup_threads(p.constraints.size() / W, ranges_before), prep,
+                            coloring_s);
     laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
     if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel),
@@ -387,6 +390,7 @@ class PgsColoredSolver final : public LcpSolver {
   // The colouring of the last solve (reused where contacts persist) and its buffers: the
   // reason solve() is not const (one solver object per thread, lcp_solver.hpp).
   ContactColorer colorer_;
+  colored::OrderedColorer ordered_;
   Prepared cache_;
   std::vector<int> owner_;  // scratch of the input checks
   Eigen::VectorXd zeros_;   // λ⁰ when the caller passes none

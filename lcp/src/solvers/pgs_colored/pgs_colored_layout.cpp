@@ -158,10 +158,32 @@ bool same_normal(const LcpProblem& p, int i0, int i1) {
   return true;
 }
 
+/// The conditioning test of "pgs"'s pairing (manifold_block_conditioned) on normal rows i0 and i1
+/// stored alike (same_normal): A_00, A_11 and A_01 summed in slot order as pack_row and fill_pair
+/// sum them, so the pairs are "pgs"'s.
+bool block_conditioned(const LcpProblem& p, int i0, int i1) {
+  const int q0 = p.J.outerIndexPtr()[i0], q1 = p.J.outerIndexPtr()[i1];
+  const int n = (p.J.isCompressed() ? p.J.outerIndexPtr()[i0 + 1] : q0 + p.J.innerNonZeroPtr()[i0]) - q0;
+  const int* col = p.J.innerIndexPtr() + q0;
+  const double* v0 = p.J.valuePtr() + q0;
+  const double* v1 = p.J.valuePtr() + q1;
+  double a00 = 0.0, a11 = 0.0, a01 = 0.0;
+  for (int s = 0; s < n; ++s) {
+    const double im = p.inv_mass[col[s]];
+    const double r0 = 0.0 + v0[s], r1 = 0.0 + v1[s];
+    const double m0 = r0 * im * p.dt, m1 = r1 * im * p.dt;
+    a00 += r0 * m0;
+    a11 += r1 * m1;
+    a01 += r0 * m1;
+  }
+  return solvers::manifold_block_conditioned(a00, a11, a01);
+}
+
 /// The two-point manifolds: contact c and c + 1 form one ("pgs"'s pairing, pgs_matrix_free.cpp)
 /// when they have the same body_a and body_b, different features, a tangent row each exactly
-/// when the other has one, rows in the order n0 (t0) n1 (t1), and the same normal (bit-equal
-/// linear parts of J). partner[c] = c + 1, partner[c + 1] = −2, else −1.
+/// when the other has one, rows in the order n0 (t0) n1 (t1), the same normal (bit-equal
+/// linear parts of J) and a well-conditioned 2 × 2 normal block; the others are single contacts,
+/// solved as "pgs" solves them. partner[c] = c + 1, partner[c + 1] = −2, else −1.
 void find_pairs(const LcpProblem& p, std::vector<int>& partner) {
   const ContactConstraints& cons = p.constraints;
   const int nc = cons.size();
@@ -173,7 +195,9 @@ void find_pairs(const LcpProblem& p, std::vector<int>& partner) {
     if (k1.body_a != k0.body_a || k1.body_b != k0.body_b || k1.feature == k0.feature || k1.has_friction() != fr)
       continue;
     if (fr && (k0.tangent_row != k0.normal_row + 1 || k1.tangent_row != k1.normal_row + 1)) continue;
-    if (k1.normal_row != k0.normal_row + (fr ? 2 : 1) || !same_normal(p, k0.normal_row, k1.normal_row)) continue;
+    if (k1.normal_row != k0.normal_row + (fr ? 2 : 1) || !same_normal(p, k0.normal_row, k1.normal_row) ||
+        !block_conditioned(p, k0.normal_row, k1.normal_row))
+      continue;
     partner[static_cast<size_t>(c)] = c + 1;
     partner[static_cast<size_t>(c) + 1] = -2;
     ++c;
@@ -198,7 +222,8 @@ void name_singular(const Prepared& out, int s0, int lanes, const double* dn, con
 
 }  // namespace
 
-std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out, double* coloring_s) {
+std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
+                   Prepared& out, double* coloring_s) {
   const ContactConstraints& cons = p.constraints;
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
@@ -219,11 +244,12 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Pr
     if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
       return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
   }
-  const double t0 = coloring_s != nullptr ? thread_cpu_s() : 0.0;
-  const ContactColoring& col = colorer.color(cons, out.dynamic, threads);
-  if (coloring_s != nullptr) *coloring_s += thread_cpu_s() - t0;
   std::vector<int>& partner = out.next_partner;  // kept: no allocation in steady state
   find_pairs(p, partner);
+  const double t0 = coloring_s != nullptr ? thread_cpu_s() : 0.0;
+  const ContactColoring& col =
+      ordered != nullptr ? ordered->color(cons, out.dynamic, partner) : colorer.color(cons, out.dynamic, threads);
+  if (coloring_s != nullptr) *coloring_s += thread_cpu_s() - t0;
   if (col.repeated && col.generation == out.generation && partner == out.partner) {
     // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
     // and sizes stand; the batches are refilled from this problem's J, b and λ⁰.

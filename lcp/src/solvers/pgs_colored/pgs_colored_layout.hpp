@@ -15,6 +15,7 @@
 
 #include "dc/lcp/lcp_problem.hpp"
 #include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/ordered_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 namespace dc::colored {
@@ -52,11 +53,12 @@ struct Prepared {
 };
 
 /// Orders the contacts by colour and lays out the batches (O(contacts), the colouring and the
-/// counting sort on `threads` threads; the same layout for every thread count). Returns an
-/// error (the reason "pgs" runs instead) when a normal row has bounds other than [0, ∞).
+/// counting sort on `threads` threads; the same layout for every thread count). The colours are
+/// `ordered`'s (ordered_coloring.hpp) when it is given, else `colorer`'s. Returns an error (the
+/// reason "pgs" runs instead) when a normal row has bounds other than [0, ∞).
 /// `coloring_s` (timing only): when set, the thread CPU seconds of the colouring are added to it.
-std::string layout(const LcpProblem& p, ContactColorer& colorer, int threads, Prepared& out,
-                   double* coloring_s = nullptr);
+std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
+                   Prepared& out, double* coloring_s = nullptr);
 
 /// Fills batch `bi` from the ordered contacts and its 2·W entries of the permuted λ⁰ (lp and
 /// other; 0 for padding); records in out.failed[bi] the first of its contacts whose rows cannot be

@@ -1,0 +1,130 @@
+// The colour order of "pgs-colored" (ordered_coloring.hpp): colouring in contact order sweeps
+// every two contacts that share a dynamic body in "pgs"'s order, so while the chains fit in the
+// colours its iterates are those of "pgs" bit for bit (the kernels perform pgs's operations per
+// contact and manifold); the greedy colouring stays available and reaches the same fixed point.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
+#include "dc/engine/stress_scenes.hpp"
+#include "dc/engine/world.hpp"
+#include "lcp/solver_test_problems.hpp"
+#include "solvers/pgs_colored/ordered_coloring.hpp"
+
+namespace dc {
+namespace {
+
+SolverOptions sweeps(int k) {
+  SolverOptions o;
+  o.max_sweeps = k;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  return o;
+}
+
+/// The problem of `def`'s world after `steps` steps of pgs (100 sweeps, previous λ as start).
+LcpProblem settled_problem(const WorldDef& def, int steps) {
+  World world(def);
+  const auto pgs = make_solver("pgs");
+  for (int k = 0; k < steps; ++k) world.step(*pgs, sweeps(100), World::WarmStart::PreviousLambda);
+  world.collide();
+  return world.assemble();
+}
+
+/// The seed-family pile of n circles (box side ∝ √n).
+WorldDef pile_def(int n) {
+  WorldDef def = default_world_def();
+  def.bodies.count = n;
+  const double side = 30.0 * std::sqrt(n / 100.0);
+  def.world.width = def.world.height = side;
+  def.bodies.mean = {side / 2, side / 2};
+  def.bodies.sigma = 4.65 * std::sqrt(n / 100.0);
+  return def;
+}
+
+/// λ of a warm-started solve: a start with both signs on friction rows and zeros on some normals.
+Eigen::VectorXd start_of(const LcpProblem& p) {
+  Eigen::VectorXd l0(p.rows());
+  for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
+  return l0;
+}
+
+std::vector<PgsColoredDef> kernel_defs() {
+  std::vector<PgsColoredDef> out;
+  for (PgsColoredKernel k : {PgsColoredKernel::Scalar, PgsColoredKernel::Avx2, PgsColoredKernel::Avx512}) {
+    if (!pgs_colored_kernel_available(k)) continue;
+    PgsColoredDef d;
+    d.kernel = k;
+    out.push_back(d);
+  }
+  return out;
+}
+
+TEST(PgsColoredOrder, ContactsSharingABodyAreColouredInContactOrder) {
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    test::TestRng rng(seed);
+    const LcpProblem p = test::random_contact(40, 60, true, rng);
+    const std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
+    const std::vector<int> partner(static_cast<size_t>(p.constraints.size()), -1);
+    colored::OrderedColorer colorer;
+    const ContactColoring& c = colorer.color(p.constraints, dyn, partner);
+    ASSERT_TRUE(is_valid_coloring(p.constraints, dyn, c));
+    ASSERT_LT(c.colors, ContactColoring::kMaxColors);  // no chain wrapped round
+    for (int i = 0; i < p.constraints.size(); ++i)
+      for (int j = i + 1; j < p.constraints.size(); ++j) {
+        const ContactConstraint &a = p.constraints[i], &b = p.constraints[j];
+        const bool share = (a.body_a >= 0 && (a.body_a == b.body_a || a.body_a == b.body_b)) ||
+                           (a.body_b >= 0 && (a.body_b == b.body_a || a.body_b == b.body_b));
+        if (share) EXPECT_LT(c.color[static_cast<size_t>(i)], c.color[static_cast<size_t>(j)]) << i << ", " << j;
+      }
+    // The same contacts again: the same colours, marked as a repeat of the same generation.
+    const std::uint64_t generation = c.generation;
+    const ContactColoring& again = colorer.color(p.constraints, dyn, partner);
+    EXPECT_TRUE(again.repeated);
+    EXPECT_EQ(again.generation, generation);
+  }
+}
+
+void expect_iterates_of_pgs(const LcpProblem& p, const char* what) {
+  const Eigen::VectorXd l0 = start_of(p);
+  for (int k : {1, 7, 30}) {
+    const SolveResult a = make_solver("pgs")->solve(p, l0, sweeps(k));
+    for (const PgsColoredDef& d : kernel_defs()) {
+      const SolveResult c = make_pgs_colored(d)->solve(p, l0, sweeps(k));
+      ASSERT_TRUE(c.message.empty()) << c.message;  // the colour kernels ran, not the fallback
+      ASSERT_EQ(a.lambda.size(), c.lambda.size());
+      for (Eigen::Index i = 0; i < a.lambda.size(); ++i)
+        ASSERT_EQ(a.lambda[i], c.lambda[i]) << what << ", " << k << " sweeps, " << to_string(d.kernel) << ", row " << i;
+    }
+  }
+}
+
+TEST(PgsColoredOrder, IteratesAreThoseOfPgsOnAPyramidAndAPile) {
+  // The box pyramid: two-point manifolds on every face, each box on two below (base 10: chains
+  // of fewer than 64 contacts); the seed pile: single contacts with friction.
+  expect_iterates_of_pgs(settled_problem(stress::box_pyramid(10), 20), "pyramid");
+  expect_iterates_of_pgs(settled_problem(pile_def(100), 100), "pile");
+}
+
+TEST(PgsColoredOrder, GreedyColouringReachesTheFixedPointOfTheOrderedOne) {
+  WorldDef def = stress::box_pyramid(8);
+  def.contact.friction = 0.0;  // a convex QP: every Gauss–Seidel order converges to its solution
+  const LcpProblem p = settled_problem(def, 30);
+  PgsColoredDef greedy;
+  greedy.ordered_colors = false;
+  SolverOptions o = sweeps(20000);
+  o.tolerance = 1e-10;
+  const SolveResult a = make_pgs_colored()->solve(p, Eigen::VectorXd(), o);
+  const SolveResult b = make_pgs_colored(greedy)->solve(p, Eigen::VectorXd(), o);
+  EXPECT_LE(a.residual, 1e-6);
+  EXPECT_LE(b.residual, 1e-6);
+  const Eigen::VectorXd ua = p.inv_mass.asDiagonal() * (p.J.transpose() * a.lambda) * p.dt;
+  const Eigen::VectorXd ub = p.inv_mass.asDiagonal() * (p.J.transpose() * b.lambda) * p.dt;
+  EXPECT_LE((ua - ub).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+}  // namespace
+}  // namespace dc
