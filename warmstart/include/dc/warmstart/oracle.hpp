@@ -10,21 +10,22 @@
 namespace dc {
 
 /// The oracle's route: an iterative stage from the guess, then Newton-type polishing only where
-/// the iterate is not yet accurate. The defaults (nncg + newton-sparse) are the fastest
-/// route on the seed scene and the more accurate one on its hardest steps (docs/solvers.md
-/// "The oracle").
+/// the iterate is not yet accurate. The defaults (nncg ≤ 2000 sweeps to θ ≤ 1e-9 N, then
+/// prox-newton, then newton) are the fastest accurate route on the seed scene's steps
+/// (benchmarks/micro/micro_oracle.cpp compares the routes; docs/solvers.md "The oracle").
 struct OracleOptions {
-  /// Stage 1: iterative solver from the guess until θ ≤ polish_theta or polish_sweeps. nncg
-  /// reaches a tight θ in about a quarter of PGS's sweeps on settled piles; where it stalls the
-  /// cap hands over to stage 2 early rather than sweeping on.
+  /// Stage 1: iterative solver from the guess until θ ≤ polish_theta or polish_sweeps ("" = no
+  /// stage 1: stage 2 starts from the guess). From the previous step's λ* most steps end here;
+  /// on the others the cap hands over to stage 2 early rather than sweeping on.
   std::string iterative = "nncg";
-  int polish_sweeps = 5000;       ///< sweep cap of stage 1
-  double polish_theta = 1e-11;    ///< stopping θ of stage 1 [N]
+  int polish_sweeps = 2000;       ///< sweep cap of stage 1
+  double polish_theta = 1e-9;     ///< stopping θ of stage 1 [N]
   /// Stage 2 (when stage 1 is not accurate): a Newton-type method from stage 1's iterate.
-  std::string solver = "newton-sparse";
+  /// prox-newton reaches the tolerance on every seed step where newton-sparse's line search
+  /// stalls on some.
+  std::string solver = "prox-newton";
   /// Stage 3 (when stage 2 is not accurate either): another method from the better iterate
-  /// ("" = none). The staggered min-map newton rescues the few steps where newton-sparse's
-  /// line search stalls.
+  /// ("" = none): the staggered min-map newton.
   std::string fallback_solver = "newton";
   double tolerance = 1e-9;        ///< natural-map residual accepted [N], relative to max(1, ‖λ‖∞)
 };
@@ -37,7 +38,7 @@ struct OracleSolution {
 };
 
 /// Solves `p` tightly: stage 1 is the iterative solver from `guess` (zeros if null or not finite)
-/// until θ ≤ polish_theta; while the natural residual is not within tolerance, stage 2 and then
+/// until θ ≤ polish_theta (none when `iterative` is empty: method "guess…"); while the natural residual is not within tolerance, stage 2 and then
 /// stage 3 run from the most accurate iterate so far, and the most accurate one is returned.
 OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess = nullptr,
                             const OracleOptions& options = {});
