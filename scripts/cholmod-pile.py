@@ -6,9 +6,9 @@ prox-newton's body-space H = M/Δt + Jᵀ D J). Both modes run alternated, ROUND
 build/bin/micro_newton with DC_CHOLMOD=simplicial|supernodal (docs/solvers.md "CHOLMOD: simplicial
 or supernodal") and OPENBLAS_NUM_THREADS=1; medians of CPU time. Prints the CPU model and the load.
 
-    scripts/cholmod-pile.py [--build build] [--bodies 10000] [--rounds 3] [--json]
+    scripts/cholmod-pile.py [--build build] [--bodies 10000] [--rounds 3] [--quick] [--json]
 
-Not part of `make test`: at 10,000 bodies a round takes about a minute on 2 cores.
+--quick leaves out prox-newton's solves (the long part at 10,000 bodies). Not part of `make test`.
 """
 import argparse
 import json
@@ -40,10 +40,11 @@ def machine():
     return model, os.cpu_count(), open("/proc/loadavg").read().split()[:3]
 
 
-def measure(build, bodies, rounds):
+def measure(build, bodies, rounds, quick):
     """{(what, mode): {"ms": [...], counters…}} over the rounds, modes alternated within each round."""
     binary = os.path.join(build, "bin", "micro_newton")
-    pattern = (f"BM_PileSolve/bodies:{bodies}/|BM_NewtonFactorize/{bodies}/0$|BM_BodyFactorize/{bodies}/0$")
+    solves = f"BM_PileSolve/bodies:{bodies}/solver:0/" if quick else f"BM_PileSolve/bodies:{bodies}/"
+    pattern = f"{solves}|BM_NewtonFactorize/{bodies}/0$|BM_BodyFactorize/{bodies}/0$"
     got = {}
     for r in range(rounds):
         for mode in (MODES if r % 2 == 0 else MODES[::-1]):
@@ -68,10 +69,11 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("--bodies", type=int, default=10000, choices=(1000, 10000))
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--quick", action="store_true", help="without prox-newton's solves")
     ap.add_argument("--json", action="store_true", help="print the figures as JSON instead of a table")
     a = ap.parse_args()
     load_before = machine()[2]
-    got = measure(a.build, a.bodies, a.rounds)
+    got = measure(a.build, a.bodies, a.rounds, a.quick)
     model, cores, load_after = machine()
     rows = []
     for what in dict.fromkeys(w for w, _ in got):
@@ -84,7 +86,7 @@ def main():
                      "newton": s.get("newton"), "residual_over_target": s.get("residual_over_target"),
                      "residual_over_target_supernodal": p.get("residual_over_target"), "contacts": s.get("contacts")})
     stamp = {"cpu": model, "cores": cores, "load_before": load_before, "load_after": load_after, "bodies": a.bodies,
-             "rounds": a.rounds}
+             "rounds": a.rounds, "quick": a.quick}
     if a.json:
         print(json.dumps({"stamp": stamp, "rows": rows}, indent=1))
         return 0

@@ -55,18 +55,18 @@ TEST(Oracle, StageTwoRunsWhenStageOneIsNotAccurate) {
 }
 
 TEST(Oracle, EveryRouteFindsTheSameUniqueSolution) {
-  // SPD A: a unique λ*, so the default route (prox-newton in stage 2), newton-sparse in stage 2
-  // and no stage 1 at all must agree on it, each within the tolerance.
+  // SPD A: a unique λ*, so the default route, prox-newton after a newton-sparse stage of one
+  // iteration, and no stage 1 at all must agree on it, each within the tolerance.
   const LcpProblem p = random_lcp(8, 50.0, 5);
-  OracleOptions defaults, ns, no_stage_one;
-  defaults.polish_sweeps = ns.polish_sweeps = 2;  // too few: stage 2 has to run
-  ns.solver = "newton-sparse";
+  OracleOptions defaults, capped, no_stage_one;
+  defaults.polish_sweeps = capped.polish_sweeps = 2;  // too few: stage 2 has to run
+  capped.solver_iterations = 1;                       // too few: stage 3 has to run
   no_stage_one.iterative = "";
   const OracleSolution a = solve_oracle(p, nullptr, defaults);
-  const OracleSolution b = solve_oracle(p, nullptr, ns);
+  const OracleSolution b = solve_oracle(p, nullptr, capped);
   const OracleSolution c = solve_oracle(p, nullptr, no_stage_one);
-  EXPECT_EQ(a.method.rfind("nncg+prox-newton", 0), 0u) << a.method;
-  EXPECT_EQ(b.method.rfind("nncg+newton-sparse", 0), 0u) << b.method;
+  EXPECT_EQ(a.method.rfind("nncg+newton-sparse", 0), 0u) << a.method;
+  EXPECT_EQ(b.method, "nncg+newton-sparse+prox-newton");
   EXPECT_EQ(c.method.rfind("guess+", 0), 0u) << c.method;
   for (const OracleSolution* s : {&a, &b, &c}) {
     EXPECT_TRUE(s->accurate) << s->method;

@@ -42,6 +42,7 @@ OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess,
     SolverOptions so;
     so.record_theta = false;
     so.exact_tolerance = o.tolerance;
+    if (name == &o.solver && o.solver_iterations > 0) so.max_sweeps = o.solver_iterations;
     const SolveResult r = make_solver(*name)->solve(p, out.lambda, so);
     if (r.lambda.size() != n || !r.lambda.allFinite()) continue;
     const double res = natural_residual(p, r.lambda);

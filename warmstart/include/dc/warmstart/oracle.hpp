@@ -10,9 +10,10 @@
 namespace dc {
 
 /// The oracle's route: an iterative stage from the guess, then Newton-type polishing only where
-/// the iterate is not yet accurate. The defaults (nncg ≤ 2000 sweeps to θ ≤ 1e-9 N, then
-/// prox-newton, then newton) are the fastest accurate route on the seed scene's steps
-/// (benchmarks/micro/micro_oracle.cpp compares the routes; docs/solvers.md "The oracle").
+/// the iterate is not yet accurate. The defaults (nncg ≤ 2000 sweeps to θ ≤ 1e-9 N, then at most
+/// 10 newton-sparse iterations, then prox-newton) are the fastest accurate route of those
+/// benchmarks/micro/micro_oracle.cpp compares on the seed scene's steps and through the impact
+/// (docs/solvers.md "The oracle").
 struct OracleOptions {
   /// Stage 1: iterative solver from the guess until θ ≤ polish_theta or polish_sweeps ("" = no
   /// stage 1: stage 2 starts from the guess). From the previous step's λ* most steps end here;
@@ -21,12 +22,15 @@ struct OracleOptions {
   int polish_sweeps = 2000;       ///< sweep cap of stage 1
   double polish_theta = 1e-9;     ///< stopping θ of stage 1 [N]
   /// Stage 2 (when stage 1 is not accurate): a Newton-type method from stage 1's iterate.
-  /// prox-newton reaches the tolerance on every seed step where newton-sparse's line search
-  /// stalls on some.
-  std::string solver = "prox-newton";
+  /// newton-sparse converges in a few iterations where its modes are right; where they are
+  /// not, its line search stalls, so it is capped and hands over.
+  std::string solver = "newton-sparse";
+  /// Iteration cap of stage 2 (0 = SolverOptions' default).
+  int solver_iterations = 10;
   /// Stage 3 (when stage 2 is not accurate either): another method from the better iterate
-  /// ("" = none): the staggered min-map newton.
-  std::string fallback_solver = "newton";
+  /// ("" = none). prox-newton solves only convex subproblems on the way and reaches the
+  /// tolerance on the steps where newton-sparse stalls.
+  std::string fallback_solver = "prox-newton";
   double tolerance = 1e-9;        ///< natural-map residual accepted [N], relative to max(1, ‖λ‖∞)
 };
 
