@@ -34,7 +34,7 @@ bench-quick: build
 # Regenerates every figure the README and docs/ quote: docs/results/*.md, docs/results/results.json
 # and the blocks between <!-- results:NAME --> markers (scripts/results/results.py; ~25 min on
 # 2 cores with the shortened sizes, FULL=1 for the documented ones). One part alone:
-# make results PART=bench|solvers|siconos|speed|build (comma-separated for several).
+# make results PART=bench|solvers|starters|cholmod|siconos|speed|build (comma-separated for several).
 results: build
 	/usr/bin/python3 scripts/results/results.py --build $(BUILD) $(if $(PART),--part $(PART)) $(if $(FULL),--full)
 

@@ -114,18 +114,20 @@ void write_solver_pairs_h5(H5File& f, const BenchResults& r) {
   }
   f.write_strings("/solvers/pair_names", names);
   f.write_strings("/solvers/pair_groups", groups);
-  // The summary with its bootstrap intervals: (pairs × 6 × 3), figures in the order of
-  // /solvers/interval_figures, each (estimate, lo, hi).
+  // The summary with its bootstrap intervals: (pairs × 8 × 3), figures in the order of
+  // /solvers/interval_figures, each (estimate, lo, hi); NaN where a pair does not count a figure
+  // (factorisations and outer passes: only the solvers that count them).
   const std::vector<SolverPairSummary> sum = summarise_solver_pairs(r);
   std::vector<double> iv;
   for (const SolverPairSummary& x : sum)
     for (const Interval& v : {x.reached_share, x.ms_to_accuracy, x.iterations_to_accuracy, x.total_ms,
-                              x.ms_to_accuracy_ratio, x.total_ratio})
+                              x.ms_to_accuracy_ratio, x.total_ratio, x.factorizations, x.outer_passes})
       iv.insert(iv.end(), {v.estimate, v.lo, v.hi});
-  f.write<double>("/solvers/intervals", iv, {sum.size(), 6, 3});
+  f.write<double>("/solvers/intervals", iv, {sum.size(), 8, 3});
   f.write_strings("/solvers/interval_figures", {"reached_share", "median_ms_to_accuracy", "median_iterations_to_accuracy",
                                                 "median_total_ms", "ms_to_accuracy_over_pgs_builtin_total",
-                                                "total_over_pgs_builtin_total"});
+                                                "total_over_pgs_builtin_total", "median_factorizations",
+                                                "median_outer_passes"});
 }
 
 }  // namespace

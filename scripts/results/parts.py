@@ -96,6 +96,98 @@ def part_solvers(ctx):
     return [block], []
 
 
+# The families of the solver × starter table: (family, scene, cnn model, first evaluated step,
+# evaluated steps shortened / full). Seeds 5 (shortened) or 5, 6 (full; deep: 5): held out from
+# tuning. impact_1000 uses the impact model (the same family at 1,000 bodies).
+STARTER_FAMILIES = [("impact", "impact", "impact", 195, 2, 8), ("impact_1000", "impact_1000", "impact", 221, 1, 6),
+                    ("deep settled", "deep", "deep", 480, 1, 6), ("pour", "pour", "pour", 200, 2, 6),
+                    ("polydisperse", "polydisperse", "polydisperse", 185, 2, 6),
+                    ("box_pile", "box_pile", "box_pile", 250, 2, 6)]
+STARTER_SOLVERS = "prox-newton,newton-sparse,nncg,pgs"
+
+
+def solver_pairs_h5(path):
+    """{(solver, starter): {figure: (estimate, lo, hi)}, "p99_factorizations", "steps"} of a bench's results.h5."""
+    import h5py
+    import numpy as np
+    text = lambda v: v.decode() if isinstance(v, bytes) else str(v)
+    pairs = {}
+    with h5py.File(path, "r") as f:
+        s = f["solvers"]
+        figures = [text(x) for x in s["interval_figures"][()]]
+        iv = s["intervals"][()]
+        for i, g in enumerate(text(x) for x in s["pair_groups"][()]):
+            key = (text(s[g].attrs["solver"]), text(s[g].attrs["starter"]))
+            pairs[key] = {fig: tuple(float(v) for v in iv[i, j]) for j, fig in enumerate(figures)}
+            fac = s[g]["factorizations"][()]
+            pairs[key]["p99_factorizations"] = float(np.percentile(fac, 99)) if len(fac) and fac.min() >= 0 else None
+            pairs[key]["steps"] = len(s[g]["seed"])
+    return pairs
+
+
+def part_starters(ctx):
+    """Warm start × solver, prox-newton included: `deepcontact bench --solvers … --accuracy 1e-6` per family."""
+    rows, runs = [], []
+    os.makedirs(os.path.join(ctx.tmp, "starters"), exist_ok=True)
+    for family, scene, model, first, short, full in STARTER_FAMILIES:
+        steps = full if ctx.full else short
+        seeds = ("5" if scene == "deep" else "5,6") if ctx.full else "5"
+        out = os.path.join(ctx.tmp, "starters", scene)
+        shutil.rmtree(out, ignore_errors=True)
+        starters = f"zero,builtin,builtin-extrapolate,cnn:models/{model}.h5,copy"
+        t0 = time.time()
+        ctx.run([ctx.bin("deepcontact"), "bench", "--solvers", STARTER_SOLVERS, "--accuracy", "1e-6", "--sweeps", "1000",
+                 "--max-sweeps", "10000", "--scene", f"scenes/{scene}.toml", "--warmstarts", starters, "--seeds", seeds,
+                 "--jobs", str(min(ctx.cores, len(seeds.split(",")))), "--warmup-steps", str(first),
+                 "--steps", str(first + steps), "--out", out], capture=False)
+        runs.append(f"{family} steps {first}–{first + steps - 1}, seeds {seeds}, {time.time() - t0:.0f} s")
+        pairs = solver_pairs_h5(os.path.join(out, "results.h5"))
+        for (solver, starter), x in pairs.items():
+            fac = "–" if x["median_factorizations"][0] != x["median_factorizations"][0] else \
+                f"{ci(dict(zip(('estimate', 'lo', 'hi'), x['median_factorizations'])), '.0f')} ({x['p99_factorizations']:.0f})"
+            iv = lambda k, spec: ci(dict(zip(("estimate", "lo", "hi"), x[k])), spec) if x[k][0] == x[k][0] else "–"
+            rows.append([family, solver, "cnn" if starter.startswith("cnn:") else starter, iv("reached_share", ".2f"),
+                         iv("median_iterations_to_accuracy", ".0f"), fac, iv("median_ms_to_accuracy", ".3g"),
+                         iv("ms_to_accuracy_over_pgs_builtin_total", ".3g")])
+    block = {"name": "solver-starter", "title": "Warm start × solver to R = 1e-6, prox-newton included",
+             "note": ("Per family `deepcontact bench --solvers " + STARTER_SOLVERS + " --accuracy 1e-6 --sweeps 1000 "
+                      "--max-sweeps 10000 --warmstarts zero,builtin,builtin-extrapolate,cnn:models/MODEL.h5,copy` (paired: "
+                      "every pair solves the identical LCPs; cnn = the family's shipped model, impact's for impact_1000; "
+                      "copy = this step's oracle λ*). reached = share of steps at R within 10,000 iterations; iterations "
+                      "to R = Newton iterations (prox-newton, newton-sparse) or sweeps (nncg, pgs), never-reached steps at "
+                      "the cap; factorisations = numeric factorisations of the traced solve down to R/100, median (p99); "
+                      "ms to R includes the warm start; medians with bootstrap 95 % intervals; wall-clock ms, the pairs "
+                      "interleaved step by step. " + ("" if ctx.full else "Shortened (time budget): seed 5 only, 1–2 "
+                      "evaluated steps per family, so the intervals are those of one or two steps; `FULL=1`: seeds 5, 6 "
+                      "and 6–8 steps. ") + "Runs: " + "; ".join(runs) + "."),
+             "columns": ["family", "solver", "starter", "reached R", "iterations to R", "factorisations (p99)", "ms to R",
+                         "ms to R / pgs+builtin total"], "rows": rows}
+    return [block], []
+
+
+def part_cholmod(ctx):
+    """CHOLMOD simplicial against supernodal on the 10,000-body pile (scripts/cholmod-pile.py)."""
+    args = ["--bodies", "10000", "--rounds", "1" if ctx.full else "3"] + ([] if ctx.full else ["--quick"])
+    got = json.loads(ctx.run(["/usr/bin/python3", os.path.join("scripts", "cholmod-pile.py"), "--build", ctx.build,
+                              "--json", *args]))
+    rows, contacts = [], got["rows"][0]["contacts"] if got["rows"] else 0
+    for r in got["rows"]:
+        fac = "–" if r["factorizations"] is None else f"{r['factorizations']:.0f} / {r['factorizations_supernodal']:.0f}"
+        res = "–" if r["residual_over_target"] is None else \
+            f"{r['residual_over_target']:.2g} / {r['residual_over_target_supernodal']:.2g}"
+        rows.append([r["what"], f"{r['simplicial_ms']:.1f}", f"{r['supernodal_ms']:.1f}", f"{r['ratio']:.2f}", fac, res])
+    block = {"name": "cholmod-10k", "title": "CHOLMOD simplicial against supernodal, 10,000-body pile",
+             "note": (f"`scripts/cholmod-pile.py {' '.join(args)}`: micro_newton on the hexagonal pile of micro_pgs "
+                      f"(10,000 bodies, {contacts:.0f} contacts), DC_CHOLMOD=simplicial "
+                      "and =supernodal alternated, OPENBLAS_NUM_THREADS=1, CPU ms (medians over the rounds): one numeric "
+                      "factorisation of each solver's matrix" + (", and one solve (≤ 300 Newton iterations) to R = 1e-6 of the "
+                      "weight from zero and from 2000 nncg sweeps." if ctx.full else ". Shortened (time budget): the "
+                      "factorisations only (`FULL=1`: one round with the solves, which take minutes).")),
+             "columns": ["what", "simplicial ms", "supernodal ms", "supernodal / simplicial",
+                         "factorisations (simpl. / supern.)", "residual / target (simpl. / supern.)"], "rows": rows}
+    return [block], []
+
+
 def part_siconos(ctx):
     """Siconos numerics' NSGS and ours on the same frictional problems (benchmarks/scripts/siconos-figures.sh)."""
     if not os.path.exists(ctx.bin("siconos_compare")):
@@ -385,6 +477,8 @@ def part_python(ctx):
 
 PARTS = {"bench": ("Default bench", part_bench),
          "solvers": ("Solver × warm start", part_solvers),
+         "starters": ("Warm start × solver, prox-newton included", part_starters),
+         "cholmod": ("CHOLMOD simplicial or supernodal, 10,000 bodies", part_cholmod),
          "siconos": ("Side by side with Siconos", part_siconos),
          "lcp": ("lcp solve on Siconos' test problems", part_lcp),
          "speed": ("Speed: kernels, step, threads, peers", part_speed),

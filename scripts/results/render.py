@@ -28,7 +28,7 @@ def table(block):
     return "\n".join(out)
 
 
-SHORTENED = {"bench", "solvers", "speed"}  # the parts whose sizes FULL=1 changes
+SHORTENED = {"bench", "solvers", "starters", "cholmod", "speed"}  # the parts whose sizes FULL=1 changes
 
 
 def shortened(record):

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """`make results`: regenerates every figure the README and the docs quote.
 
-    scripts/results/results.py [--build DIR] [--part bench,solvers,siconos,speed,build] [--full] [--keep]
+    scripts/results/results.py [--build DIR] [--part bench,solvers,starters,cholmod,siconos,speed,build] [--full] [--keep]
 
 Each part runs the project's programs (scripts/results/parts.py) and writes
 docs/results/<part>.md; all parts together are docs/results/results.json. Every part is stamped

@@ -4,6 +4,7 @@
 // keys docs/bench.md names.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bench/bench_fixtures.hpp"
@@ -12,6 +13,8 @@
 #include "dc/bench/solver_summary.hpp"
 #include "dc/bench/provenance.hpp"
 #include "dc/core/error.hpp"
+#include "dc/io/h5.hpp"
+#include "temp_dir.hpp"
 
 namespace dc {
 namespace {
@@ -148,6 +151,26 @@ TEST(SolverComparison, NewtonSolversReportTheirFactorisationsAndProxNewtonItsPas
   const std::string json = bench::summary_json(r, bench::summarise(r), bench::collect_provenance());
   for (const char* key : {"\"median_factorizations\"", "\"p99_factorizations\"", "\"median_outer_passes\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
+  // results.h5 carries the same intervals under the figure names docs/bench.md lists.
+  const test::TempDir dir;
+  bench::write_results_h5(r, bench::collect_provenance(), dir / "results.h5");
+  const H5File f = H5File::open_read(dir / "results.h5");
+  const auto figures = f.read_strings("/solvers/interval_figures");
+  ASSERT_EQ(figures.size(), 8u);
+  const auto iv = f.read<double>("/solvers/intervals", {s.size(), figures.size(), 3});
+  const auto at = [&](std::size_t pair, const std::string& figure, int k) {
+    const auto j = static_cast<std::size_t>(std::find(figures.begin(), figures.end(), figure) - figures.begin());
+    EXPECT_LT(j, figures.size()) << figure;
+    return iv[(pair * figures.size() + j) * 3 + static_cast<std::size_t>(k)];
+  };
+  EXPECT_TRUE(std::isnan(at(0, "median_factorizations", 0))) << "pgs";
+  EXPECT_TRUE(std::isnan(at(1, "median_outer_passes", 0))) << "newton-sparse";
+  for (std::size_t i : {1u, 2u}) {
+    EXPECT_EQ(at(i, "median_factorizations", 0), s[i].factorizations.estimate);
+    EXPECT_EQ(at(i, "median_factorizations", 1), s[i].factorizations.lo);
+    EXPECT_EQ(at(i, "median_factorizations", 2), s[i].factorizations.hi);
+  }
+  EXPECT_EQ(at(2, "median_outer_passes", 0), s[2].outer_passes.estimate);
 }
 
 TEST(SolverComparison, RefusesRolloutModeUnknownSolversAndABadTarget) {

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cstdlib>
 
+#include "dc/core/error.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/newton_sparse.hpp"
 #include "lcp/solver_test_problems.hpp"
@@ -118,6 +120,34 @@ TEST(NewtonSparse, SparseFileAndFactorisationPathsAgree) {
       EXPECT_LE((lcp_velocity(file, r->lambda) - lcp_velocity(file, a.lambda)).cwiseAbs().maxCoeff(), 1e-6);
     }
   }
+}
+
+/// Sets DC_CHOLMOD for the lifetime of the object, then unsets it.
+struct CholmodSwitch {
+  explicit CholmodSwitch(const char* mode) { ::setenv("DC_CHOLMOD", mode, 1); }
+  ~CholmodSwitch() { ::unsetenv("DC_CHOLMOD"); }
+  CholmodSwitch(const CholmodSwitch&) = delete;
+  CholmodSwitch& operator=(const CholmodSwitch&) = delete;
+};
+
+TEST(NewtonSparse, TheCholmodSwitchChangesTheFactorisationNotTheSolution) {
+  // DC_CHOLMOD=simplicial|supernodal overrides the solvers' own choice (docs/solvers.md): both
+  // give the same contact velocities, as prox-newton (body space) does; any other value is a
+  // ConfigError.
+  test::TestRng rng(611);
+  const LcpProblem p = test::random_contact(60, 120, true, rng);
+  const SolveResult plain = newton_sparse(p);
+  ASSERT_EQ(plain.status, SolveStatus::Converged) << plain.message;
+  for (const char* mode : {"simplicial", "supernodal"}) {
+    const CholmodSwitch on(mode);
+    for (const char* name : {"newton-sparse", "prox-newton"}) {
+      const SolveResult r = make_solver(name)->solve(p, {}, options(3000));
+      ASSERT_EQ(r.status, SolveStatus::Converged) << mode << " " << name << ": " << r.message;
+      EXPECT_LE((lcp_velocity(p, r.lambda) - lcp_velocity(p, plain.lambda)).cwiseAbs().maxCoeff(), 1e-6) << mode << " " << name;
+    }
+  }
+  const CholmodSwitch bad("fastest");
+  EXPECT_THROW((void)newton_sparse(p), ConfigError);
 }
 
 TEST(NewtonSparse, DenseAndSparseStorageGiveTheSameIterates) {

@@ -54,6 +54,27 @@ TEST(Oracle, StageTwoRunsWhenStageOneIsNotAccurate) {
   EXPECT_GT(natural_residual(p, pgs2), 1e3 * s.residual);
 }
 
+TEST(Oracle, EveryRouteFindsTheSameUniqueSolution) {
+  // SPD A: a unique λ*, so the default route, prox-newton after a newton-sparse stage of one
+  // iteration, and no stage 1 at all must agree on it, each within the tolerance.
+  const LcpProblem p = random_lcp(8, 50.0, 5);
+  OracleOptions defaults, capped, no_stage_one;
+  defaults.polish_sweeps = capped.polish_sweeps = 2;  // too few: stage 2 has to run
+  capped.solver_iterations = 1;                       // too few: stage 3 has to run
+  no_stage_one.iterative = "";
+  const OracleSolution a = solve_oracle(p, nullptr, defaults);
+  const OracleSolution b = solve_oracle(p, nullptr, capped);
+  const OracleSolution c = solve_oracle(p, nullptr, no_stage_one);
+  EXPECT_EQ(a.method.rfind("nncg+newton-sparse", 0), 0u) << a.method;
+  EXPECT_EQ(b.method, "nncg+newton-sparse+prox-newton");
+  EXPECT_EQ(c.method.rfind("guess+", 0), 0u) << c.method;
+  for (const OracleSolution* s : {&a, &b, &c}) {
+    EXPECT_TRUE(s->accurate) << s->method;
+    EXPECT_LE((s->lambda - a.lambda).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, a.lambda.cwiseAbs().maxCoeff()))
+        << s->method;
+  }
+}
+
 TEST(Oracle, EmptyProblem) {
   const OracleSolution s = solve_oracle(LcpProblem::standard(Eigen::MatrixXd(0, 0), Eigen::VectorXd(0)));
   EXPECT_EQ(s.method, "empty");

@@ -20,16 +20,21 @@ OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess,
     return res <= o.tolerance * std::max(1.0, l.cwiseAbs().maxCoeff());
   };
 
-  // Stage 1: the iterative solver from the guess to a tight θ. From a good guess (the previous
-  // step's λ* matched by key) this is the cheapest accurate solve on contact piles (~ms).
-  SolverOptions po;
-  po.record_theta = false;
-  po.max_sweeps = o.polish_sweeps;
-  po.tolerance = o.polish_theta;
-  const SolveResult q = make_solver(o.iterative)->solve(p, start, po);
-  out.lambda = q.lambda.size() == n && q.lambda.allFinite() ? q.lambda : start;
+  // Stage 1: the iterative solver from the guess to a tight θ ("" = none: stage 2 starts from
+  // the guess).
+  if (o.iterative.empty()) {
+    out.lambda = start;
+    out.method = "guess";
+  } else {
+    SolverOptions po;
+    po.record_theta = false;
+    po.max_sweeps = o.polish_sweeps;
+    po.tolerance = o.polish_theta;
+    const SolveResult q = make_solver(o.iterative)->solve(p, start, po);
+    out.lambda = q.lambda.size() == n && q.lambda.allFinite() ? q.lambda : start;
+    out.method = o.iterative;
+  }
   out.residual = natural_residual(p, out.lambda);
-  out.method = o.iterative;
   // Stages 2 and 3: Newton-type methods from the most accurate iterate; each result is kept
   // only if it is more accurate.
   for (const std::string* name : {&o.solver, &o.fallback_solver}) {
@@ -37,6 +42,7 @@ OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess,
     SolverOptions so;
     so.record_theta = false;
     so.exact_tolerance = o.tolerance;
+    if (name == &o.solver && o.solver_iterations > 0) so.max_sweeps = o.solver_iterations;
     const SolveResult r = make_solver(*name)->solve(p, out.lambda, so);
     if (r.lambda.size() != n || !r.lambda.allFinite()) continue;
     const double res = natural_residual(p, r.lambda);

@@ -4,7 +4,11 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <chrono>
+#include <cstdlib>
 #include <optional>
+#include <string>
+
+#include "dc/core/error.hpp"
 
 namespace dc::solvers {
 namespace {
@@ -14,6 +18,19 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// The benchmark switch DC_CHOLMOD (docs/solvers.md "CHOLMOD: simplicial or supernodal"):
+/// "simplicial" or "supernodal" overrides the caller's choice for every factor made while it is
+/// set (newton-sparse, prox-newton's body space, the proximal finish); unset or empty: the
+/// caller's choice.
+bool supernodal_choice(bool requested) {
+  const char* env = std::getenv("DC_CHOLMOD");
+  if (env == nullptr || *env == '\0') return requested;
+  const std::string v(env);
+  if (v == "supernodal") return true;
+  if (v == "simplicial") return false;
+  throw ConfigError("DC_CHOLMOD: '" + v + "' is neither 'simplicial' nor 'supernodal'");
 }
 
 }  // namespace
@@ -96,7 +113,7 @@ FreeBlockFactor::FreeBlockFactor(bool use_cholmod, bool reuse_analysis, bool sup
   impl_->reuse = reuse_analysis;
   // Simplicial LDLᵀ needs no BLAS. Supernodal LLᵀ calls BLAS, and a multi-threaded BLAS
   // (Debian's OpenBLAS-pthread) on a loaded machine spends far more wall time than CPU time.
-  impl_->cholmod.setMode(supernodal ? Eigen::CholmodAuto : Eigen::CholmodLDLt);
+  impl_->cholmod.setMode(supernodal_choice(supernodal) ? Eigen::CholmodAuto : Eigen::CholmodLDLt);
 }
 
 FreeBlockFactor::~FreeBlockFactor() = default;

@@ -10,22 +10,27 @@
 namespace dc {
 
 /// The oracle's route: an iterative stage from the guess, then Newton-type polishing only where
-/// the iterate is not yet accurate. The defaults (nncg + newton-sparse) are the fastest
-/// route on the seed scene and the more accurate one on its hardest steps (docs/solvers.md
-/// "The oracle").
+/// the iterate is not yet accurate. The defaults (nncg ≤ 2000 sweeps to θ ≤ 1e-9 N, then at most
+/// 10 newton-sparse iterations, then prox-newton) are the fastest accurate route of those
+/// benchmarks/micro/micro_oracle.cpp compares on the seed scene's steps and through the impact
+/// (docs/solvers.md "The oracle").
 struct OracleOptions {
-  /// Stage 1: iterative solver from the guess until θ ≤ polish_theta or polish_sweeps. nncg
-  /// reaches a tight θ in about a quarter of PGS's sweeps on settled piles; where it stalls the
-  /// cap hands over to stage 2 early rather than sweeping on.
+  /// Stage 1: iterative solver from the guess until θ ≤ polish_theta or polish_sweeps ("" = no
+  /// stage 1: stage 2 starts from the guess). From the previous step's λ* most steps end here;
+  /// on the others the cap hands over to stage 2 early rather than sweeping on.
   std::string iterative = "nncg";
-  int polish_sweeps = 5000;       ///< sweep cap of stage 1
-  double polish_theta = 1e-11;    ///< stopping θ of stage 1 [N]
+  int polish_sweeps = 2000;       ///< sweep cap of stage 1
+  double polish_theta = 1e-9;     ///< stopping θ of stage 1 [N]
   /// Stage 2 (when stage 1 is not accurate): a Newton-type method from stage 1's iterate.
+  /// newton-sparse converges in a few iterations where its modes are right; where they are
+  /// not, its line search stalls, so it is capped and hands over.
   std::string solver = "newton-sparse";
+  /// Iteration cap of stage 2 (0 = SolverOptions' default).
+  int solver_iterations = 10;
   /// Stage 3 (when stage 2 is not accurate either): another method from the better iterate
-  /// ("" = none). The staggered min-map newton rescues the few steps where newton-sparse's
-  /// line search stalls.
-  std::string fallback_solver = "newton";
+  /// ("" = none). prox-newton solves only convex subproblems on the way and reaches the
+  /// tolerance on the steps where newton-sparse stalls.
+  std::string fallback_solver = "prox-newton";
   double tolerance = 1e-9;        ///< natural-map residual accepted [N], relative to max(1, ‖λ‖∞)
 };
 
@@ -37,7 +42,7 @@ struct OracleSolution {
 };
 
 /// Solves `p` tightly: stage 1 is the iterative solver from `guess` (zeros if null or not finite)
-/// until θ ≤ polish_theta; while the natural residual is not within tolerance, stage 2 and then
+/// until θ ≤ polish_theta (none when `iterative` is empty: method "guess…"); while the natural residual is not within tolerance, stage 2 and then
 /// stage 3 run from the most accurate iterate so far, and the most accurate one is returned.
 OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess = nullptr,
                             const OracleOptions& options = {});
