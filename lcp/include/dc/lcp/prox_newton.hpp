@@ -90,14 +90,14 @@ struct ProxNewtonDef {
   bool proximal_finish = true;
   /// Settings of that route: its defaults except δ_0 = 1e-6·max A_ii, newton-sparse's own
   /// inexact GMRES forcing (krylov_forcing = 1e-2): it starts near the solution, where inexact
-  /// directions cost fewer GMRES iterations and the proximal outer loop absorbs their error;
-  /// and max_stalls = 10: stopped after 10 outer iterations without a new best (a problem the
-  /// route does not solve is then reported in a fraction of its 200 outer iterations).
+  /// directions cost fewer GMRES iterations and the proximal outer loop absorbs their error.
+  /// Its stall limit stays off (max_stalls = 0): on deep settled piles the route improves
+  /// again after long plateaus and reaches the target only when allowed its outer iterations.
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
     d.newton_sparse.krylov_forcing = 1e-2;
-    d.max_stalls = 10;
+    d.max_stalls = 0;
     return d;
   }();
   /// After the proximal finish, when the target is still not reached: the pivoting finish
