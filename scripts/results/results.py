@@ -5,8 +5,8 @@
 
 Each part runs the project's programs (scripts/results/parts.py) and writes
 docs/results/<part>.md; all parts together are docs/results/results.json. Every part is stamped
-with the commit, the CPU model, the core count, the load average before and after, the date,
-its wall time and the exact commands. Then the blocks between `<!-- results:NAME -->` and
+with the commit, the CPU model, the core count, the load average before and after, its wall
+time and the exact commands (results.json also records the date). Then the blocks between `<!-- results:NAME -->` and
 `<!-- /results -->` in README.md, DEVELOPERS.md and docs/*.md are rewritten from the JSON
 (scripts/results/check_markers.py checks that they agree, in CI).
 
