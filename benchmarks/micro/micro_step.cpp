@@ -27,6 +27,7 @@
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
+#include "scaled_seed_pile.hpp"
 
 namespace {
 
@@ -35,25 +36,14 @@ constexpr int kSettleSweeps = 20;
 
 /// `order`: 0 creation, 1 Morton numbering, 2 creation numbering with the internal order.
 dc::WorldDef scaled_seed_scene(int n, int order) {
-  dc::WorldDef def = dc::default_world_def();
-  const double side = 3.0 * std::sqrt(static_cast<double>(n));
-  def.world.width = def.world.height = side;
-  def.bodies.count = n;
-  def.bodies.mean = {side / 2, side / 2};
-  def.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
+  dc::WorldDef def = dc::bench_micro::scaled_seed_pile(n);
   def.solver.sweeps = kSettleSweeps;
   def.bodies.order = order == 1 ? dc::BodyOrder::Morton : dc::BodyOrder::Creation;
   def.bodies.internal_order = order == 2 ? dc::InternalOrder::Morton : dc::InternalOrder::None;
   return def;
 }
 
-dc::SolverOptions fixed_sweeps(int sweeps) {
-  dc::SolverOptions o;
-  o.max_sweeps = sweeps;
-  o.tolerance = 0.0;
-  o.record_theta = false;
-  return o;
-}
+using dc::bench_micro::fixed_sweeps;
 
 /// The settled pile of n bodies, collided and assembled, with the builtin guess and the
 /// 20-sweep solution of its current problem. Built on first use (a 40,000-body pile takes

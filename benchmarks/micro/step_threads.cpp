@@ -24,6 +24,7 @@
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
+#include "scaled_seed_pile.hpp"
 
 namespace {
 
@@ -60,22 +61,11 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
 }
 
-dc::SolverOptions fixed_sweeps(int sweeps) {
-  dc::SolverOptions o;
-  o.max_sweeps = sweeps;
-  o.tolerance = 0.0;
-  o.record_theta = false;
-  return o;
-}
+using dc::bench_micro::fixed_sweeps;
 
 /// micro_step's scaled seed pile of n circles after 150 steps of pgs.
 dc::World settled_pile(int n) {
-  dc::WorldDef def = dc::default_world_def();
-  const double side = 3.0 * std::sqrt(static_cast<double>(n));
-  def.world.width = def.world.height = side;
-  def.bodies.count = n;
-  def.bodies.mean = {side / 2, side / 2};
-  def.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(n));
+  dc::WorldDef def = dc::bench_micro::scaled_seed_pile(n);
   def.solver.sweeps = 20;
   dc::World w(def);
   const auto pgs = dc::make_solver("pgs");

@@ -12,6 +12,8 @@
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
 #include "lcp/solver_test_problems.hpp"
+#include "pgs_colored_kernels.hpp"
+#include "engine/scaled_seed_pile.hpp"
 #include "solvers/pgs_colored/ordered_coloring.hpp"
 
 namespace dc {
@@ -34,33 +36,11 @@ LcpProblem settled_problem(const WorldDef& def, int steps) {
   return world.assemble();
 }
 
-/// The seed-family pile of n circles (box side ∝ √n).
-WorldDef pile_def(int n) {
-  WorldDef def = default_world_def();
-  def.bodies.count = n;
-  const double side = 30.0 * std::sqrt(n / 100.0);
-  def.world.width = def.world.height = side;
-  def.bodies.mean = {side / 2, side / 2};
-  def.bodies.sigma = 4.65 * std::sqrt(n / 100.0);
-  return def;
-}
-
 /// λ of a warm-started solve: a start with both signs on friction rows and zeros on some normals.
 Eigen::VectorXd start_of(const LcpProblem& p) {
   Eigen::VectorXd l0(p.rows());
   for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
   return l0;
-}
-
-std::vector<PgsColoredDef> kernel_defs() {
-  std::vector<PgsColoredDef> out;
-  for (PgsColoredKernel k : {PgsColoredKernel::Scalar, PgsColoredKernel::Avx2, PgsColoredKernel::Avx512}) {
-    if (!pgs_colored_kernel_available(k)) continue;
-    PgsColoredDef d;
-    d.kernel = k;
-    out.push_back(d);
-  }
-  return out;
 }
 
 TEST(PgsColoredOrder, ContactsSharingABodyAreColouredInContactOrder) {
@@ -92,7 +72,7 @@ void expect_iterates_of_pgs(const LcpProblem& p, const char* what) {
   const Eigen::VectorXd l0 = start_of(p);
   for (int k : {1, 7, 30}) {
     const SolveResult a = make_solver("pgs")->solve(p, l0, sweeps(k));
-    for (const PgsColoredDef& d : kernel_defs()) {
+    for (const PgsColoredDef& d : test::pgs_colored_kernel_defs()) {
       const SolveResult c = make_pgs_colored(d)->solve(p, l0, sweeps(k));
       ASSERT_TRUE(c.message.empty()) << c.message;  // the colour kernels ran, not the fallback
       ASSERT_EQ(a.lambda.size(), c.lambda.size());
@@ -106,7 +86,7 @@ TEST(PgsColoredOrder, IteratesAreThoseOfPgsOnAPyramidAndAPile) {
   // The box pyramid: two-point manifolds on every face, each box on two below (base 10: chains
   // of fewer than 64 contacts); the seed pile: single contacts with friction.
   expect_iterates_of_pgs(settled_problem(stress::box_pyramid(10), 20), "pyramid");
-  expect_iterates_of_pgs(settled_problem(pile_def(100), 100), "pile");
+  expect_iterates_of_pgs(settled_problem(test::scaled_seed_pile(100), 100), "pile");
 }
 
 TEST(PgsColoredOrder, GreedyColouringReachesTheFixedPointOfTheOrderedOne) {

@@ -17,6 +17,7 @@
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
+#include "pgs_colored_kernels.hpp"
 
 namespace dc {
 namespace {
@@ -68,13 +69,7 @@ void expect_bit_equal(const SolveResult& a, const SolveResult& b, const std::str
 }
 
 std::vector<PgsColoredDef> paths() {
-  std::vector<PgsColoredDef> out;
-  for (PgsColoredKernel k : {PgsColoredKernel::Scalar, PgsColoredKernel::Avx2, PgsColoredKernel::Avx512}) {
-    if (!pgs_colored_kernel_available(k)) continue;
-    PgsColoredDef d;
-    d.kernel = k;
-    out.push_back(d);
-  }
+  std::vector<PgsColoredDef> out = test::pgs_colored_kernel_defs();
   PgsColoredDef two;
   two.threads = 2;
   two.min_batches_per_thread = 0;

@@ -13,6 +13,7 @@
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
 #include "lcp/solver_test_problems.hpp"
+#include "pgs_colored_kernels.hpp"
 #include "solvers/pgs_colored/contact_coloring.hpp"
 
 namespace dc {
@@ -130,19 +131,6 @@ TEST(ContactColoring, PersistingContactsKeepTheirColours) {
   EXPECT_EQ(kept, p.constraints.size() - 1);
 }
 
-/// The kernels this CPU runs besides Auto's choice: scalar always, AVX2 and AVX-512 where present
-/// (the portable build runs the same list: the AVX kernels are chosen at run time).
-std::vector<PgsColoredDef> kernel_defs() {
-  std::vector<PgsColoredDef> out;
-  for (PgsColoredKernel k : {PgsColoredKernel::Scalar, PgsColoredKernel::Avx2, PgsColoredKernel::Avx512}) {
-    if (!pgs_colored_kernel_available(k)) continue;
-    PgsColoredDef d;
-    d.kernel = k;
-    out.push_back(d);
-  }
-  return out;
-}
-
 class PgsColoredPaths : public ::testing::TestWithParam<bool> {};
 
 TEST_P(PgsColoredPaths, KernelsAndThreadsAreBitEqual) {
@@ -158,7 +146,7 @@ TEST_P(PgsColoredPaths, KernelsAndThreadsAreBitEqual) {
     for (int k : {1, 7, 60}) {
       const SolveResult s = make_pgs_colored()->solve(p, l0, sweeps(k));
       ASSERT_EQ(s.status, SolveStatus::SweepLimit) << s.message;
-      for (const PgsColoredDef& d : kernel_defs())
+      for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
         expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
       expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
       expect_bit_equal(s, make_pgs_colored()->solve(p, l0, sweeps(k)), "rerun");
@@ -174,7 +162,7 @@ TEST(PgsColored, PileKernelsThreadsBitEqual) {
   threaded.threads = 2;
   threaded.min_batches_per_thread = 0;
   const SolveResult s = make_pgs_colored()->solve(p, Eigen::VectorXd(), sweeps(40));
-  for (const PgsColoredDef& d : kernel_defs())
+  for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
     expect_bit_equal(s, make_pgs_colored(d)->solve(p, Eigen::VectorXd(), sweeps(40)), to_string(d.kernel));
   expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, Eigen::VectorXd(), sweeps(40)), "2 threads");
 }
@@ -192,7 +180,7 @@ TEST(PgsColored, ManifoldKernelsThreadsBitEqual) {
     for (int k : {1, 5, 40}) {
       const SolveResult s = make_pgs_colored()->solve(p, l0, sweeps(k));
       ASSERT_EQ(s.status, SolveStatus::SweepLimit) << s.message;
-      for (const PgsColoredDef& d : kernel_defs())
+      for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
         expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
       expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
     }
@@ -236,7 +224,7 @@ TEST(PgsColored, ReusedBuffersGiveTheResultOfAFreshSolver) {
   const LcpProblem big = test::random_contact(80, 200, true, rng, 0.5, 4);
   const LcpProblem small = test::random_contact(20, 30, true, rng, 0.5, 4);
   const LcpProblem frictionless = test::random_contact(25, 33, false, rng, 0.5, 4);
-  for (PgsColoredDef d : kernel_defs()) {
+  for (PgsColoredDef d : test::pgs_colored_kernel_defs()) {
     d.reuse_colors = false;  // the same colouring as a fresh solver's
     const auto reused = make_pgs_colored(d);
     (void)reused->solve(big, Eigen::VectorXd(), sweeps(5));
@@ -292,7 +280,7 @@ TEST(PgsColored, NonFiniteIterateStopsEveryKernelAtTheSameSweep) {
     const SolveResult first = make_pgs_colored()->solve(*problem, l0, sweeps(50));
     ASSERT_EQ(first.status, SolveStatus::Diverged) << first.message;
     ASSERT_TRUE(first.lambda.allFinite());
-    for (const PgsColoredDef& d : kernel_defs())
+    for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
       expect_bit_equal(first, make_pgs_colored(d)->solve(*problem, l0, sweeps(50)), to_string(d.kernel));
   }
 }

@@ -151,6 +151,18 @@ inline double row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, cons
   return std::abs(lambda[i] - std::clamp(lambda[i] - w, l, std::max(l, h)));
 }
 
+/// Folds row i's error into the running maximum r (a NaN error sets `nan` instead). Called with
+/// the OpenMP reduction's private copies inside the parallel loop.
+inline void fold_row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& du, int i,
+                           double& r, bool& nan, bool& nonfinite) {
+  const double e = row_error(p, lambda, du, i, nonfinite);
+  if (std::isnan(e)) {
+    nan = true;
+  } else {
+    r = std::max(r, e);
+  }
+}
+
 }  // namespace
 
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
@@ -160,14 +172,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
   bool nan = false, nonfinite = false;
   if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
     scaled_transpose_product(p, lambda, 1, du);
-    for (int i = 0; i < n; ++i) {
-      const double e = row_error(p, lambda, du, i, nonfinite);
-      if (std::isnan(e)) {
-        nan = true;
-      } else {
-        r = std::max(r, e);
-      }
-    }
+    for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
@@ -186,14 +191,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
       scaled_transpose_product(p, lambda, 1, du);
     }
 #pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
-    for (int i = 0; i < n; ++i) {
-      const double e = row_error(p, lambda, du, i, nonfinite);
-      if (std::isnan(e)) {
-        nan = true;
-      } else {
-        r = std::max(r, e);
-      }
-    }
+    for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
   }
   all_finite = !nonfinite;
   return nan ? std::numeric_limits<double>::infinity() : r;
