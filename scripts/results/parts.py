@@ -345,7 +345,8 @@ def block_step_threads(ctx):
 
 
 def box2d3_rows(out):
-    """Rows [scene, configuration, ms/step, ns/row·pass, last column] of box2d3_compare's Markdown tables."""
+    """Rows [scene, configuration, ms/step, ns/row·pass, overlap mm, last column] of box2d3_compare's Markdown
+    tables (the overlap is the largest between touching bodies at the end of the run: the quality side)."""
     rows, scene, cols = [], "", []
     for line in out.splitlines():
         if line.startswith("## "):
@@ -357,26 +358,39 @@ def box2d3_rows(out):
                 continue
             cell = dict(zip(cols, cells))
             rows.append([scene, cell.get("configuration", "?"), cell.get("ms/step (median)", "?"),
-                         cell.get("ns/row·pass", "?"), f"{cols[-1]}: {cells[-1]}"])
+                         cell.get("ns/row·pass", "?"), cell.get("overlap mm", "–"), f"{cols[-1]}: {cells[-1]}"])
     return rows
 
 
-def block_peers_v3(ctx):
-    """Box2D v3 built from source (-DBOX2D3_DIR): benchmarks/compare/box2d3_compare, shortened sizes."""
-    block = {"name": "speed-peers-v3", "title": "Against Box2D v3", "columns": [], "rows": [], "note": "",
+def block_peers_v3(ctx, name="speed-peers-v3", title="Against Box2D v3", short=None, why=""):
+    """Box2D v3 built from source (-DBOX2D3_DIR): benchmarks/compare/box2d3_compare. `short` are the
+    program's arguments when FULL is off (None: the program's defaults either way)."""
+    block = {"name": name, "title": title, "columns": [], "rows": [], "note": "",
              "skipped": "box2d3_compare not built (configure with -DBOX2D3_DIR=<Box2D v3 sources>)"}
     if not os.path.exists(ctx.bin("box2d3_compare")):
         print(f"results: speed: {block['skipped']}: skipped")
         return block
-    args = [] if ctx.full else ["--n", "1000", "--rounds", "1", "--pyramid", "20"]
+    args = [] if ctx.full or short is None else short
     rows = box2d3_rows(ctx.run([ctx.bin("box2d3_compare"), *args]))
     block.update({"rows": rows, "skipped": "" if rows else "box2d3_compare printed no table",
                   "note": (f"`box2d3_compare {' '.join(args)}`: CPU ms per step (median), ns per row and solver pass, "
+                           "the largest overlap between touching bodies at the end of the run (quality), "
                            "and the program's last column (the stack's drift, or the time relative to the first "
-                           "configuration); benchmarks/compare/README.md explains the configurations."
-                           + ("" if ctx.full else " One round, 1,000 bodies (time budget).")),
-                  "columns": ["scene", "configuration", "ms/step", "ns/row·pass", "last column"]})
+                           "configuration); benchmarks/compare/README.md explains the configurations." + why),
+                  "columns": ["scene", "configuration", "ms/step", "ns/row·pass", "overlap mm", "last column"]})
     return block
+
+
+def block_peers_v3_10k(ctx):
+    """The 10,000-body pile run long enough to settle (1,500 steps), so that the overlaps compare quality at
+    rest rather than mid-impact; 12 and 16 sweeps bracket v3's 8-substep overlap."""
+    if ctx.full:
+        return {"name": "speed-peers-v3-10k", "title": "Against Box2D v3, 10,000 bodies at rest", "columns": [],
+                "rows": [], "note": "", "skipped": "FULL=1 runs 10,000 bodies in the block above"}
+    return block_peers_v3(ctx, "speed-peers-v3-10k", "Against Box2D v3, 10,000 bodies at rest",
+                          ["--n", "10000", "--rounds", "1", "--steps", "1500", "--skip-stack",
+                           "--ours", "pgs-colored:12,pgs-colored:16", "--v3", "4:30,8:100"],
+                          " One round (time budget); 1,500 steps so the pile is at rest when the overlap is taken.")
 
 
 def block_peers(ctx):
@@ -402,7 +416,10 @@ def part_speed(ctx):
     os.environ["OMP_WAIT_POLICY"] = "active"
     try:
         return [block_kernels(ctx), block_cnn(ctx), block_step(ctx), block_threads(ctx), block_step_threads(ctx),
-                block_peers(ctx), block_peers_v3(ctx)], []
+                block_peers(ctx),
+                block_peers_v3(ctx, short=["--n", "1000", "--rounds", "1", "--pyramid", "20"],
+                               why=" One round, 1,000 bodies (time budget)."),
+                block_peers_v3_10k(ctx)], []
     finally:
         if env_before is None:
             del os.environ["OMP_WAIT_POLICY"]
