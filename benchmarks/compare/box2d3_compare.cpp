@@ -344,11 +344,11 @@ int main(int argc, char** argv) {
                 b2GetVersion().revision, loadavg().c_str());
     if (!skip_stack) {
       dc::WorldDef d = dc::stress::box_stack(20, {1.0, 1.0});
-      compare("20-box stack", d, configs, stack_steps, 1, true);
+      compare("20-box stack", d, configs, stack_steps, rounds, true);
     }
     if (pyramid > 0)
-      compare("box pyramid, base " + std::to_string(pyramid), dc::stress::box_pyramid(pyramid), configs, stack_steps, 1,
-              true);
+      compare("box pyramid, base " + std::to_string(pyramid), dc::stress::box_pyramid(pyramid), configs, stack_steps,
+              rounds, true);
     if (!skip_pile) {
       std::stringstream ss(ns);
       std::string item;

@@ -34,6 +34,33 @@ Contact to_contact(const ContactKey& key, int a, int b, const ContactPoint& p, c
   return c;
 }
 
+/// True when a polygon whose world box grown by `spec` is [lo, hi] has no vertex within
+/// 2·spec of the wall plane dot(n, p) = offset (n an axis, into the world): its support
+/// vertex lies at least (box distance + spec) from the plane, so collide_shape_plane would
+/// find no point. kSlack [m] absorbs the rounding of the box (centre ± half ± spec).
+bool beyond_wall_reach(Vec2 lo, Vec2 hi, Vec2 n, double offset, double spec) {
+  constexpr double kSlack = 1e-6;
+  const double nearest = std::min(dot(n, lo), dot(n, hi)) - offset;  // the box's nearest side
+  return nearest > spec + kSlack;
+}
+
+/// The m points of one body pair or body–wall pair with their features ascending (their keys'
+/// order); returns m.
+int in_feature_order(int m, ContactPoint pts[2]) {
+  if (m == 2 && pts[1].feature < pts[0].feature) std::swap(pts[0], pts[1]);
+  return m;
+}
+
+/// Sorts by key. collide() appends the walls in key order, then the broad phase's sorted pairs,
+/// each one's points in feature order (in_feature_order), so the list is normally strictly
+/// increasing already: then it is left as it is (the one order any sort gives distinct keys),
+/// and only otherwise sorted.
+void sort_by_key(std::vector<Contact>& contacts) {
+  const auto not_before = [](const Contact& x, const Contact& y) { return !(x.key < y.key); };
+  if (std::adjacent_find(contacts.begin(), contacts.end(), not_before) == contacts.end()) return;
+  std::sort(contacts.begin(), contacts.end(), [](const Contact& x, const Contact& y) { return x.key < y.key; });
+}
+
 }  // namespace
 
 double shape_speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt) {
@@ -140,13 +167,14 @@ void ShapeNarrowPhase::collide(const BodyState& s, const WorldDef& def, UniformG
     for (int k = 0; k < n; ++k) {
       const auto i = static_cast<size_t>(k);
       if (!s.shapes.is_dynamic(i)) continue;
+      if (s.shapes.kind[i] == ShapeKind::Polygon && beyond_wall_reach(lo_[i], hi_[i], wn, off, spec_[i])) continue;
       if (s.shapes.kind[i] == ShapeKind::Circle) {
         if (auto c = circle_wall(s, k, kWalls[w], def.world.width, def.world.height, 2 * spec_[i]))
           contacts.push_back(*c);
         continue;
       }
       const ShapePose p = pose(s, k);
-      const int m = collide_shape_plane(p, wn, off, 2 * spec_[i], pts);
+      const int m = in_feature_order(collide_shape_plane(p, wn, off, 2 * spec_[i], pts), pts);
       for (int q = 0; q < m; ++q)
         contacts.push_back(to_contact(ContactKey::wall(kWalls[w], k, pts[q].feature), static_cast<int>(kWalls[w]), k,
                                       pts[q], nullptr, p));
@@ -169,11 +197,11 @@ void ShapeNarrowPhase::collide(const BodyState& s, const WorldDef& def, UniformG
       continue;
     }
     const ShapePose pa = pose(s, a), pb = pose(s, b);
-    const int m = collide_shapes(pa, pb, spec_[ia], spec_[ib], pts, method);
+    const int m = in_feature_order(collide_shapes(pa, pb, spec_[ia], spec_[ib], pts, method), pts);
     for (int q = 0; q < m; ++q)
       contacts.push_back(to_contact(ContactKey::pair(a, b, pts[q].feature), a, b, pts[q], &pa, pb));
   }
-  std::sort(contacts.begin(), contacts.end(), [](const Contact& x, const Contact& y) { return x.key < y.key; });
+  sort_by_key(contacts);
 }
 
 }  // namespace dc

@@ -33,6 +33,7 @@
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
+#include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
 #include "solvers/solver_common.hpp"
@@ -273,7 +274,7 @@ class PgsColoredSolver final : public LcpSolver {
     SolverOptions po = o;
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), setup)); };
-    SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep)
+    SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep, plan_)
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
     laps.lap(&PgsColoredProfile::sweeps);
     Eigen::VectorXd permuted = std::move(r.lambda);
@@ -290,17 +291,21 @@ class PgsColoredSolver final : public LcpSolver {
     return r;
   }
 
-  /// The sweeps on one thread.
+  /// The sweeps on one thread, by the plan of prep's ranges (sweep_plan.hpp: tiny colours on
+  /// the scalar kernel, the same bits).
   [[nodiscard]] SolveResult sweeps_serial(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
-                                          const SolverOptions& o, Prepared& prep) const {
-    const Kernels sweep = kernel_;
+                                          const SolverOptions& o, Prepared& prep,
+                                          std::vector<colored::SweepStep>& plan) const {
+    const Kernels sweep = kernel_, scalar = kernel_fn(PgsColoredKernel::Scalar);
+    colored::plan_sweep(prep, colored::kScalarLanes, plan);
     return solvers::run_sweeps_double_buffered(
         std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
           colored::Acc acc;
           acc.bad = bad_start;
           bad_start = false;
-          for (const Range& rg : prep.ranges)
-            run_range(prep, sweep, rg, rg.begin, rg.end, in.data(), out.data(), prep.du.data(), acc);
+          for (const colored::SweepStep& st : plan)
+            run_range(prep, st.scalar ? scalar : sweep, Range{st.begin, st.end, false, st.pairs}, st.begin, st.end,
+                      in.data(), out.data(), prep.du.data(), acc);
           if (!std::isfinite(acc.theta)) acc.bad = true;
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
@@ -359,7 +364,8 @@ class PgsColoredSolver final : public LcpSolver {
     if (error) std::rethrow_exception(error);
 #else
     (void)threads;
-    r = sweeps_serial(std::move(lp), std::move(other), bad_start, o, prep);
+    std::vector<colored::SweepStep> plan;
+    r = sweeps_serial(std::move(lp), std::move(other), bad_start, o, prep, plan);
 #endif
     return r;
   }
@@ -392,6 +398,7 @@ class PgsColoredSolver final : public LcpSolver {
   ContactColorer colorer_;
   colored::OrderedColorer ordered_;
   Prepared cache_;
+  std::vector<colored::SweepStep> plan_;  // the serial sweep's kernel calls (storage reused)
   std::vector<int> owner_;  // scratch of the input checks
   Eigen::VectorXd zeros_;   // λ⁰ when the caller passes none
   /// What the last solve swept: its batches (0: it ran "pgs" instead) and its sweeps' threads.
