@@ -10,6 +10,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/core/rng.hpp"
+#include "collision/narrow_phase.hpp"
 #include "dc/engine/broad_phase.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
@@ -137,6 +138,7 @@ TEST(World, MatchContactsByKeyEqualsBruteForce) {
 
 TEST(World, BroadPhaseFindsExactlyTheBruteForcePairs) {
   Rng rng(7);
+  UniformGridBroadPhase reused;  // its buffers carry over from trial to trial (sizes up and down)
   for (int trial = 0; trial < 20; ++trial) {
     const int n = 1 + static_cast<int>(rng.uniform_int(300));
     std::vector<Vec2> x(static_cast<size_t>(n));
@@ -155,7 +157,39 @@ TEST(World, BroadPhaseFindsExactlyTheBruteForcePairs) {
           want.emplace_back(a, b);
       }
     EXPECT_EQ(got, want) << "trial " << trial << " n=" << n;
+    std::vector<std::pair<int, int>> again;
+    reused.find_pairs(x, r, again);
+    EXPECT_EQ(again, want) << "reused, trial " << trial << " n=" << n;
   }
+}
+
+TEST(World, CircleProbesGiveTheSameContactsAsTheBodyArrays) {
+  // collide() reads pairs through packed records (circle_probe.hpp): the contacts must be
+  // those of the body arrays, bit for bit.
+  Rng rng(11);
+  BodyState s;
+  for (int k = 0; k < 60; ++k)
+    s.add({rng.uniform(0, 12), rng.uniform(0, 12)}, rng.uniform(0.3, 1.2), 1.0,
+          {rng.uniform(-30, 30), rng.uniform(-30, 30)});
+  const WorldDef def;
+  std::vector<CircleProbe> probe(s.size());
+  for (std::size_t k = 0; k < s.size(); ++k)
+    probe[k] = {s.position[k], s.radius[k], speculative_reach(s, static_cast<int>(k), def.contact, def.time.dt)};
+  int contacts = 0;
+  for (int a = 0; a < static_cast<int>(s.size()); ++a)
+    for (int b = a + 1; b < static_cast<int>(s.size()); ++b) {
+      const auto ia = static_cast<size_t>(a), ib = static_cast<size_t>(b);
+      const auto want = circle_circle(s, a, b, probe[ia].spec + probe[ib].spec);
+      const auto got = circle_circle(probe[ia], probe[ib], a, b);
+      ASSERT_EQ(got.has_value(), want.has_value()) << a << "," << b;
+      if (!want) continue;
+      ++contacts;
+      EXPECT_EQ(got->key, want->key);
+      EXPECT_EQ(got->normal, want->normal);
+      EXPECT_EQ(got->point, want->point);
+      EXPECT_EQ(got->gap, want->gap);
+    }
+  EXPECT_GT(contacts, 20);
 }
 
 TEST(World, GenerationIsSeededAndValid) {

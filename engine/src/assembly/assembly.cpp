@@ -53,7 +53,16 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
   out.normal_row.assign(static_cast<size_t>(rows), -1);
 
   const Vec2 g = def.world.gravity;
+  // Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
+  // bodies follow space: its fields are fetched kAhead contacts early (a hint, no effect on values).
+  constexpr int kAhead = 8;
   for (int c = 0; c < nc; ++c) {
+    if (c + kAhead < nc) {
+      const auto b = static_cast<size_t>(contacts[static_cast<size_t>(c + kAhead)].body_b);
+      __builtin_prefetch(&s.position[b]);
+      __builtin_prefetch(&s.velocity[b]);
+      __builtin_prefetch(&s.omega[b]);
+    }
     const Contact& ct = contacts[static_cast<size_t>(c)];
     const Vec2 n = ct.normal, t = perp(n);
     const ContactConstraint& kc = con[c];

@@ -100,14 +100,27 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
         l.x, l.y, h.x, h.y, k};
   }
 
-  by_body_.clear();
+  // The overlap test's outcome is added, not branched on: every tested pair is written after
+  // the kept ones and kept only when the boxes overlap. Which neighbours of a cell overlap
+  // follows no pattern a branch predictor can learn once the scene outgrows its tables (body
+  // indices are unordered within a cell), and a mispredicted branch per test would cost more
+  // than the test. by_body_ is capacity; its first `found` entries are the pairs.
+  std::size_t found = 0;
   auto test_run = [&](const Entry& a, int from, int to) {
+    if (from >= to) return;
+    const auto tests = static_cast<std::size_t>(to - from);
+    if (found + tests > by_body_.size()) by_body_.resize(std::max(2 * by_body_.size(), found + tests + 64));
+    std::pair<int, int>* const out = by_body_.data();
     for (int q = from; q < to; ++q) {
       const Entry& b = entries_[static_cast<size_t>(q)];
-      ++pair_tests_;
-      if (std::max(a.xlo, b.xlo) > std::min(a.xhi, b.xhi) || std::max(a.ylo, b.ylo) > std::min(a.yhi, b.yhi)) continue;
-      by_body_.emplace_back(std::min(a.body, b.body), std::max(a.body, b.body));
+      const bool apart_x = std::max(a.xlo, b.xlo) > std::min(a.xhi, b.xhi);
+      const bool apart_y = std::max(a.ylo, b.ylo) > std::min(a.yhi, b.yhi);
+      // (min, max) of the two bodies without a branch: the xor of both, masked when b < a.
+      const int swap = (a.body ^ b.body) & -static_cast<int>(b.body < a.body);
+      out[found] = {a.body ^ swap, b.body ^ swap};
+      found += static_cast<std::size_t>(!(apart_x | apart_y));
     }
+    pair_tests_ += tests;
   };
   auto start = [&](long long c) { return cell_start_[static_cast<size_t>(c)]; };
   for (long long j = 0; j < ny; ++j)
@@ -125,24 +138,19 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
         if (above) test_run(a, up_begin, up_end);
       }
     }
-  // Sorted output in linear time: counting sort by the first body, then the few partners
-  // of each first body by insertion sort (a body has a handful of neighbours).
-  first_start_.assign(static_cast<size_t>(n) + 1, 0);
-  for (const auto& pr : by_body_) ++first_start_[static_cast<size_t>(pr.first) + 1];
-  for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
-  pairs.resize(by_body_.size());
-  fill_.assign(first_start_.begin(), first_start_.end() - 1);
-  for (const auto& pr : by_body_) pairs[static_cast<size_t>(fill_[static_cast<size_t>(pr.first)]++)] = pr;
-  for (int k = 0; k < n; ++k) {
-    const int s = first_start_[static_cast<size_t>(k)], e = first_start_[static_cast<size_t>(k) + 1];
-    for (int i = s + 1; i < e; ++i) {
-      const auto v = pairs[static_cast<size_t>(i)];
-      int j = i - 1;
-      for (; j >= s && pairs[static_cast<size_t>(j)].second > v.second; --j)
-        pairs[static_cast<size_t>(j) + 1] = pairs[static_cast<size_t>(j)];
-      pairs[static_cast<size_t>(j) + 1] = v;
-    }
-  }
+  // Sorted output in linear time: a stable counting sort by the second body, then one by the
+  // first, leaves the pairs in (first, second) order. Two branch-free scatters: sorting each
+  // body's few partners by comparison mispredicts when the partners come in no order.
+  const auto counting_sort = [&](const std::pair<int, int>* in, std::size_t m, std::pair<int, int>* out, auto key) {
+    first_start_.assign(static_cast<size_t>(n) + 1, 0);
+    for (std::size_t i = 0; i < m; ++i) ++first_start_[static_cast<size_t>(key(in[i])) + 1];
+    for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
+    for (std::size_t i = 0; i < m; ++i) out[first_start_[static_cast<size_t>(key(in[i]))]++] = in[i];
+  };
+  by_second_.resize(found);
+  pairs.resize(found);
+  counting_sort(by_body_.data(), found, by_second_.data(), [](const std::pair<int, int>& p) { return p.second; });
+  counting_sort(by_second_.data(), found, pairs.data(), [](const std::pair<int, int>& p) { return p.first; });
 }
 
 }  // namespace dc

@@ -24,10 +24,12 @@ double speculative_reach(const BodyState& s, int k, const ContactSection& c, dou
   return 0.5 * c.margin + length(s.velocity[static_cast<size_t>(k)]) * dt;
 }
 
-std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double threshold) {
-  const auto ia = static_cast<size_t>(a), ib = static_cast<size_t>(b);
-  const Vec2 d = s.position[ib] - s.position[ia];
-  const double rsum = s.radius[ia] + s.radius[ib];
+namespace {
+
+/// The circle pair test on the fields of bodies a and b (both entry points below).
+inline std::optional<Contact> circle_pair(Vec2 xa, double ra, Vec2 xb, double rb, int a, int b, double threshold) {
+  const Vec2 d = xb - xa;
+  const double rsum = ra + rb;
   const double dist2 = length_squared(d);
   // Cheap reject before the square root.
   const double reach = rsum + threshold;
@@ -40,8 +42,19 @@ std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double th
   c.normal = dist > 1e-12 * rsum ? (1.0 / dist) * d : Vec2{0.0, 1.0};
   c.gap = dist - rsum;
   // Midway between the two surfaces along the normal.
-  c.point = s.position[ia] + (s.radius[ia] + 0.5 * c.gap) * c.normal;
+  c.point = xa + (ra + 0.5 * c.gap) * c.normal;
   return c;
+}
+
+}  // namespace
+
+std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double threshold) {
+  const auto ia = static_cast<size_t>(a), ib = static_cast<size_t>(b);
+  return circle_pair(s.position[ia], s.radius[ia], s.position[ib], s.radius[ib], a, b, threshold);
+}
+
+std::optional<Contact> circle_circle(const CircleProbe& pa, const CircleProbe& pb, int a, int b) {
+  return circle_pair(pa.centre, pa.radius, pb.centre, pb.radius, a, b, pa.spec + pb.spec);
 }
 
 std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double width, double height,

@@ -9,6 +9,7 @@
 
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
+#include "dc/engine/circle_probe.hpp"
 #include "dc/engine/world_def.hpp"
 
 namespace dc {
@@ -20,6 +21,9 @@ double speculative_reach(const BodyState& s, int k, const ContactSection& c, dou
 /// Coincident centres (distance < 1e-12·(r_a + r_b)) use the normal (0, 1), so that the
 /// outcome is deterministic and finite; the overlap is then r_a + r_b.
 std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double threshold);
+/// circle_circle(s, a, b, s_a + s_b) from the packed records `pa`, `pb` of bodies a and b: the
+/// same contact, bit for bit.
+std::optional<Contact> circle_circle(const CircleProbe& pa, const CircleProbe& pb, int a, int b);
 
 /// Contact between circle k and wall `w` of a box of the given size, when the gap is
 /// below `threshold` [m]. Normals point from the wall into the box.

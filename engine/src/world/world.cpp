@@ -170,12 +170,14 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
   const double dt = def_.time.dt;
   out.clear();
 
-  std::vector<double>& spec = spec_;
-  spec.resize(static_cast<size_t>(n));
+  // The narrow phase reads each pair's bodies from packed records (circle_probe.hpp).
+  probes_.resize(static_cast<size_t>(n));
   reach_.resize(static_cast<size_t>(n));
   for (int k = 0; k < n; ++k) {
-    spec[static_cast<size_t>(k)] = speculative_reach(bodies, k, def_.contact, dt);
-    reach_[static_cast<size_t>(k)] = bodies.radius[static_cast<size_t>(k)] + spec[static_cast<size_t>(k)];
+    const auto i = static_cast<size_t>(k);
+    const double spec = speculative_reach(bodies, k, def_.contact, dt);
+    probes_[i] = CircleProbe{bodies.position[i], bodies.radius[i], spec};
+    reach_[i] = bodies.radius[i] + spec;
   }
 
   // Walls first (their keys sort first), body by body, in wall-id order left..top.
@@ -184,19 +186,24 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
     if (!def_.world.walls[static_cast<size_t>(w)]) continue;
     for (int k = 0; k < n; ++k)
       if (auto c = circle_wall(bodies, k, kWalls[w], def_.world.width, def_.world.height,
-                               2 * spec[static_cast<size_t>(k)]))
+                               2 * probes_[static_cast<size_t>(k)].spec))
         out.push_back(*c);
   }
   const auto t0 = Clock::now();
   broad_phase_.find_pairs(bodies.position, reach_, pairs_);
   broad_phase_ms_ = ms_since(t0);
   spread_ = {};
-  for (const auto& [a, b] : pairs_)
-    if (auto c = circle_circle(bodies, a, b, spec[static_cast<size_t>(a)] + spec[static_cast<size_t>(b)])) {
+  // Pairs come sorted by body a; body b's record is fetched kAhead pairs early (a hint).
+  constexpr std::size_t kAhead = 8;
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    if (p + kAhead < pairs_.size()) __builtin_prefetch(&probes_[static_cast<size_t>(pairs_[p + kAhead].second)]);
+    const auto [a, b] = pairs_[p];
+    if (auto c = circle_circle(probes_[static_cast<size_t>(a)], probes_[static_cast<size_t>(b)], a, b)) {
       out.push_back(*c);
       spread_.sum += std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
       ++spread_.pairs;
     }
+  }
   // Wall contacts were appended in key order and pairs are sorted: `out` is sorted.
 }
 

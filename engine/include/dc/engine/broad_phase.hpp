@@ -45,7 +45,8 @@ class UniformGridBroadPhase {
   std::vector<int> cell_start_, fill_, first_start_;
   std::vector<long long> cell_of_body_;
   std::vector<Entry> entries_;
-  std::vector<std::pair<int, int>> by_body_;
+  std::vector<std::pair<int, int>> by_body_;  ///< pairs found, in cell order (capacity; find() counts them)
+  std::vector<std::pair<int, int>> by_second_;  ///< the pairs found, sorted by second body
 };
 
 }  // namespace dc

@@ -23,6 +23,7 @@
 #include "dc/engine/contact.hpp"
 #include "dc/engine/inflow.hpp"
 #include "dc/engine/internal_body_order.hpp"
+#include "dc/engine/circle_probe.hpp"
 #include "dc/lcp/lcp_problem.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/shape_narrow_phase.hpp"
@@ -150,9 +151,10 @@ class World {
   /// collide() swaps them into previous_ instead of integrate() copying every contact (a
   /// 128-byte struct per contact: 6 MB a step at 40,000 bodies, memory-bound).
   bool contacts_are_previous_ = false;
-  /// Per-body speculative reach and box half-extent, and the broad phase's pairs: reused
-  /// buffers of collide() (no allocation per step).
-  std::vector<double> spec_, reach_;
+  /// Per-body packed narrow-phase records (speculative reach included) and box half-extent,
+  /// and the broad phase's pairs: reused buffers of collide() (no allocation per step).
+  std::vector<CircleProbe> probes_;
+  std::vector<double> reach_;
   std::vector<std::pair<int, int>> pairs_;
   mutable LcpProblem problem_;
   UniformGridBroadPhase broad_phase_;
