@@ -74,6 +74,18 @@ struct ProxNewtonDef {
   /// (default false: on the engine's piles its passes take more Newton iterations than the
   /// frozen passes and the proximal finish they hand over to).
   bool coupled_bounds = false;
+  /// Body space: a Newton direction is first sought by conjugate gradients on H preconditioned
+  /// with the kept (stale) Cholesky factor of an earlier H, and H is refactorised only when CG
+  /// has not met its tolerance within this many iterations (default 0: refactorise whenever D
+  /// or δ changed). H_new − H_old = Jᵀ(D_new − D_old)J has the rank of the rows that changed
+  /// mode, so CG with the old factor converges in about that many iterations.
+  int stale_factor_iterations = 0;
+  /// Body space: after the frozen passes, when the target is not reached, coupled passes (the
+  /// hard proximal subproblem of `coupled_bounds`) from the best iterate, δ tied to the hard
+  /// residual, before the dual proximal finish (default false).
+  bool body_finish = false;
+  /// Newton iterations of those coupled passes at most, in all (default 60).
+  int body_finish_iterations = 60;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of
@@ -120,6 +132,7 @@ struct ProxNewtonStats {
   int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
   int full_steps = 0;       ///< body space, coupled bounds: Newton steps taken whole
   int krylov = 0;           ///< body space, coupled bounds: GMRES iterations of the directions
+  int cg = 0;               ///< body space: CG iterations with a kept factor (stale_factor_iterations)
   int pivots = 0;           ///< Lemke pivots of the pivoting finish
 };
 
