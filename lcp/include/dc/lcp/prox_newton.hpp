@@ -76,16 +76,17 @@ struct ProxNewtonDef {
   bool coupled_bounds = false;
   /// Body space: a Newton direction is first sought by conjugate gradients on H preconditioned
   /// with the kept (stale) Cholesky factor of an earlier H, and H is refactorised only when CG
-  /// has not met its tolerance within this many iterations (default 0: refactorise whenever D
-  /// or δ changed). H_new − H_old = Jᵀ(D_new − D_old)J has the rank of the rows that changed
-  /// mode, so CG with the old factor converges in about that many iterations.
-  int stale_factor_iterations = 0;
+  /// has not met its tolerance within this many iterations (default 25; 0 = refactorise
+  /// whenever D or δ changed). H_new − H_old = Jᵀ(D_new − D_old)J has the rank of the rows that
+  /// changed mode, so CG with the old factor converges in about that many iterations.
+  int stale_factor_iterations = 25;
   /// Body space: after the frozen passes, when the target is not reached, coupled passes (the
-  /// hard proximal subproblem of `coupled_bounds`) from the best iterate, δ tied to the hard
-  /// residual, before the dual proximal finish (default false).
+  /// hard proximal subproblem of `coupled_bounds`) from the best iterate, before the dual
+  /// proximal finish (default false). δ starts at initial_shift and stays while each pass lowers
+  /// the hard residual at least 4-fold; slower passes shrink it, failed ones grow it.
   bool body_finish = false;
-  /// Newton iterations of those coupled passes at most, in all (default 60).
-  int body_finish_iterations = 60;
+  /// Newton iterations of those coupled passes at most, in all (default 100).
+  int body_finish_iterations = 100;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of

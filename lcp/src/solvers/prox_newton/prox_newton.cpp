@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -144,7 +143,7 @@ class ProxRun {
     int inner = 0;          ///< Newton iterations per pass at most
     int max_stalls = 1;     ///< passes without a new best before the run stops
     int iterations = 0;     ///< Newton iterations of the run at most
-    bool residual_shift = false;  ///< δ follows the hard residual (δ ∝ r) after a solved pass
+    bool steady_shift = false;  ///< δ by steady_shift instead of shrinking after every solved pass
   };
 
   [[nodiscard]] Passes frozen_passes() const {
@@ -157,17 +156,32 @@ class ProxRun {
     return ps;
   }
 
-  /// The body-space finish: coupled passes from the best iterate, δ from the last frozen pass's
-  /// and then proportional to the hard residual (proximal point with δ_k ∝ r_k).
+  /// The body-space finish: coupled passes from the best iterate, δ from initial_shift and then
+  /// by steady_shift.
   [[nodiscard]] Passes coupled_passes() const {
     Passes ps;
     ps.coupled = true;
-    ps.shift = std::max(def_.min_shift, last_shift_ > 0 ? last_shift_ : def_.initial_shift);
+    ps.shift = def_.initial_shift;
     ps.inner = def_.inner_iterations;
     ps.max_stalls = 3;
     ps.iterations = std::min(def_.body_finish_iterations, budget_left());
-    ps.residual_shift = true;
+    ps.steady_shift = true;
     return ps;
+  }
+
+  /// δ after a coupled pass at δ = shift: kept while solved passes lower the hard residual at
+  /// least kSteadyRate-fold (the proximal point at fixed δ converges linearly; a smaller δ makes
+  /// the coupled subproblem as hard as the hard problem itself), shrunk √shrink-fold when they
+  /// are slower but never to a δ whose pass failed, grown after a failed pass.
+  [[nodiscard]] double steady_shift(double shift, bool converged, double res, double before, double& failed) const {
+    constexpr double kSteadyRate = 4.0;
+    if (!converged) {
+      failed = std::max(failed, shift);
+      return std::min(def_.max_shift, shift * def_.shrink);
+    }
+    if (res * kSteadyRate <= before) return shift;
+    const double next = std::max(def_.min_shift, shift / std::sqrt(def_.shrink));
+    return next > failed ? next : shift;
   }
 
   void outer(Eigen::VectorXd& lambda, const Passes& ps) {
@@ -175,8 +189,7 @@ class ProxRun {
     if (!(diag > 0)) return;
     double shift = ps.shift;
     const int newton0 = st_.newton;
-    const double res0 = best_res_, shift0 = ps.shift;
-    double failed_shift = 0;  // largest δ whose pass failed (residual_shift runs)
+    double failed_shift = 0;  // largest δ whose pass failed (steady_shift runs)
     int stalls = 0;
     std::vector<char> last_modes, finished_modes;
     FrozenSubproblem sub;
@@ -202,11 +215,11 @@ class ProxRun {
       st_.cg += so.cg_iterations;
       const double res = hard_residual(p_, next);
       const double before = best_res_;
-      if (std::getenv("PNTRACE")) std::fprintf(stderr, "  pass %d coupled %d shift %.2e it %d conv %d fac %d cg %d kry %d sub.tol %.2e res %.3e best %.3e target %.2e\n", k, (int)ps.coupled, shift, so.iterations, (int)so.converged, so.factorizations, so.cg_iterations, so.krylov_iterations, sub.tolerance, res, best_res_, target_);
       const bool improved = consider(next, res, Finisher::Prox);
       // In the dual form at min_shift the passes converge linearly: a slow one is a stall (the
       // proximal finish converges faster from the same iterate).
-      const bool slow = !body_ && shift <= def_.min_shift * (1 + 1e-9) && res > def_.pass_progress * before;
+      const bool slow = (!body_ && shift <= def_.min_shift * (1 + 1e-9) && res > def_.pass_progress * before) ||
+                        (ps.steady_shift && res > def_.pass_progress * before);
       const bool progressed = improved && !slow;
       // The proximal step is progress even when the hard residual rises for a pass; a failed
       // subproblem solve restarts from the best iterate with a larger δ.
@@ -215,13 +228,9 @@ class ProxRun {
       // δ follows the subproblem: a solved one allows a smaller δ (a longer proximal step), an
       // unsolved one asks for a larger (better conditioned) one. The hard residual is not
       // monotone along the proximal iteration, so it does not steer δ.
-      shift = so.converged ? std::max(def_.min_shift, shift / def_.shrink) : std::min(def_.max_shift, shift * def_.shrink);
-      // δ ∝ r after a solved pass, never down to a δ whose pass failed (there the subproblem is
-      // as hard as the hard problem itself).
-      if (ps.residual_shift && !so.converged) failed_shift = std::max(failed_shift, shift / def_.shrink);
-      if (ps.residual_shift && so.converged && res0 > 0)
-        shift = std::max({def_.min_shift, std::min(shift, shift0 * best_res_ / res0), failed_shift * std::sqrt(def_.shrink)});
-      if (ps.residual_shift && so.converged && shift > def_.max_shift) shift = def_.max_shift;
+      shift = ps.steady_shift ? steady_shift(shift, so.converged, res, before, failed_shift)
+              : so.converged ? std::max(def_.min_shift, shift / def_.shrink)
+                             : std::min(def_.max_shift, shift * def_.shrink);
       last_shift_ = shift;
       stalls = progressed ? 0 : stalls + 1;
       cp_.after(st_.newton + st_.finish_newton, best_);
