@@ -16,13 +16,15 @@
 //     the analysis kept while the pattern holds (the factor while D and δ do), and an exact line
 //     search on the piecewise quadratic cost; λ_i = clamp(−y_i/δ, lo_i, hi_i); with
 //     `coupled_bounds` the friction bounds follow the iterate (the hard proximal subproblem,
-//     body_newton.hpp);
+//     body_newton.hpp); the direction by CG preconditioned with a kept factor of an earlier H
+//     while CG converges within `stale_factor_iterations` (stale_pcg.hpp);
 //   * in the dual form otherwise (problems from files): the box LCP w = (A + δI)λ + c with the
 //     frozen bounds by newton-sparse's semismooth Newton (no friction coupling: one CHOLMOD
 //     factorisation per iteration, the analysis kept across passes).
 // Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
 // the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
-// above the target, the proximal-point route from the best iterate (`proximal_finish`); then, on
+// above the target, with `body_finish` coupled body-space passes from the best iterate, then
+// the proximal-point route from the best iterate (`proximal_finish`); then, on
 // small contact problems, Lemke's pivoting on the problem as a standard LCP (`pivot_rows`),
 // then nncg as the safeguard. SolveResult::message names the part that finished ("prox",
 // "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish" or "nncg
