@@ -16,13 +16,15 @@
 //     the analysis kept while the pattern holds (the factor while D and δ do), and an exact line
 //     search on the piecewise quadratic cost; λ_i = clamp(−y_i/δ, lo_i, hi_i); with
 //     `coupled_bounds` the friction bounds follow the iterate (the hard proximal subproblem,
-//     body_newton.hpp);
+//     body_newton.hpp); the direction by CG preconditioned with a kept factor of an earlier H
+//     while CG converges within `stale_factor_iterations` (stale_pcg.hpp);
 //   * in the dual form otherwise (problems from files): the box LCP w = (A + δI)λ + c with the
 //     frozen bounds by newton-sparse's semismooth Newton (no friction coupling: one CHOLMOD
 //     factorisation per iteration, the analysis kept across passes).
 // Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
 // the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
-// above the target, the proximal-point route from the best iterate (`proximal_finish`); then, on
+// above the target, with `body_finish` coupled body-space passes from the best iterate, then
+// the proximal-point route from the best iterate (`proximal_finish`); then, on
 // small contact problems, Lemke's pivoting on the problem as a standard LCP (`pivot_rows`),
 // then nncg as the safeguard. SolveResult::message names the part that finished ("prox",
 // "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish" or "nncg
@@ -74,6 +76,19 @@ struct ProxNewtonDef {
   /// (default false: on the engine's piles its passes take more Newton iterations than the
   /// frozen passes and the proximal finish they hand over to).
   bool coupled_bounds = false;
+  /// Body space: a Newton direction is first sought by conjugate gradients on H preconditioned
+  /// with the kept (stale) Cholesky factor of an earlier H, and H is refactorised only when CG
+  /// has not met its tolerance within this many iterations (default 25; 0 = refactorise
+  /// whenever D or δ changed). H_new − H_old = Jᵀ(D_new − D_old)J has the rank of the rows that
+  /// changed mode, so CG with the old factor converges in about that many iterations.
+  int stale_factor_iterations = 25;
+  /// Body space: after the frozen passes, when the target is not reached, coupled passes (the
+  /// hard proximal subproblem of `coupled_bounds`) from the best iterate, before the dual
+  /// proximal finish (default false). δ starts at initial_shift and stays while each pass lowers
+  /// the hard residual at least 4-fold; slower passes shrink it, failed ones grow it.
+  bool body_finish = false;
+  /// Newton iterations of those coupled passes at most, in all (default 100).
+  int body_finish_iterations = 100;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of
@@ -120,6 +135,7 @@ struct ProxNewtonStats {
   int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
   int full_steps = 0;       ///< body space, coupled bounds: Newton steps taken whole
   int krylov = 0;           ///< body space, coupled bounds: GMRES iterations of the directions
+  int cg = 0;               ///< body space: CG iterations with a kept factor (stale_factor_iterations)
   int pivots = 0;           ///< Lemke pivots of the pivoting finish
 };
 

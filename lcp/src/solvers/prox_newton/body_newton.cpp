@@ -7,6 +7,7 @@
 #include "dc/lcp/newton_sparse.hpp"
 #include "solvers/newton_sparse/gmres.hpp"
 #include "solvers/prox_newton/exact_line_search.hpp"
+#include "solvers/prox_newton/stale_pcg.hpp"
 
 namespace dc::solvers::prox {
 namespace {
@@ -21,6 +22,9 @@ double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 constexpr int kKrylovRestart = 20;
 constexpr int kKrylovMax = 40;
 constexpr double kKrylovTolerance = 1e-6;
+/// CG with a kept factor: relative tolerance on the preconditioned residual norm (an inexact
+/// Newton direction; the exact line search takes whatever descent it gives).
+constexpr double kPcgTolerance = 1e-6;
 
 }  // namespace
 
@@ -112,10 +116,32 @@ bool BodyNewton::factorize(const Point& pt, double delta, NewtonSparseStats& st)
   return true;
 }
 
+bool BodyNewton::newton_direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out,
+                                  NewtonSparseStats& st) {
+  const bool kept = factored_mask_.size() == pt.dmask.size();
+  const bool current = kept && factored_delta_ == sub.delta && factored_mask_ == pt.dmask;
+  // A kept factor of another δ preconditions too: H_new and H_old then differ by D's ratio on
+  // the quadratic rows (P⁻¹H's condition number at most that ratio), and CG's cap decides.
+  if (!current && kept && sub.stale_factor_iterations > 0) {
+    const LcpProblem& p = *p_;
+    const LinearMap H = [&](const Eigen::VectorXd& x, Eigen::VectorXd& hx) {
+      jx_.noalias() = p.J * x;
+      kx_ = pt.dmask.cwiseProduct(jx_);
+      hx.noalias() = Jt_ * kx_;
+      hx += winv_.cwiseProduct(x);
+    };
+    const LinearMap P = [&](const Eigen::VectorXd& r, Eigen::VectorXd& x) { factor_.solve(r, x); };
+    const PcgOutcome po = pcg(H, P, -g_, d_, sub.stale_factor_iterations, kPcgTolerance);
+    out.cg_iterations += po.iterations;
+    if (po.converged && d_.allFinite()) return true;
+  }
+  if (!factorize(pt, sub.delta, st)) return false;
+  factor_.solve(-g_, d_);  // H's own direction: descent for the frozen cost (H SPD)
+  return d_.allFinite();
+}
+
 bool BodyNewton::direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out, bool& coupled_step) {
   coupled_step = false;
-  factor_.solve(-g_, d_);  // H's own direction: descent for the frozen cost (H SPD)
-  if (!d_.allFinite()) return false;
   if (!sub.coupled || pt.coupling.isZero(0.0)) return true;
   const LcpProblem& p = *p_;
   // K x = W⁻¹x + Jᵀ(D∘(Jx) + C(Jx)), C_tn = coupling_t on the normal row n of friction row t.
@@ -151,7 +177,7 @@ SubproblemOutcome BodyNewton::solve(const FrozenSubproblem& sub, Eigen::VectorXd
     ++out.iterations;
     g_ = cur_.g;
     bool coupled_step = false;
-    if (!factorize(cur_, sub.delta, st) || !direction(sub, cur_, out, coupled_step)) {
+    if (!newton_direction(sub, cur_, out, st) || !direction(sub, cur_, out, coupled_step)) {
       out.failed = true;
       break;
     }

@@ -9,7 +9,9 @@
 //     F(v) = ∇f = W⁻¹ v − Jᵀ λ(y),   H = W⁻¹ + Jᵀ D J,   D_ii = 1/δ on the quadratic pieces,
 // H SPD however many rows are redundant, factorised by CHOLMOD (newton-sparse's FreeBlockFactor
 // with every row free; analysis kept while H's pattern holds, the factor kept while D and δ
-// do), then the exact line search of exact_line_search.hpp.
+// do), then the exact line search of exact_line_search.hpp. With sub.stale_factor_iterations the
+// direction comes from CG preconditioned with the kept factor of an earlier D (stale_pcg.hpp)
+// while CG converges within that many iterations, and H is refactorised only when it does not.
 //
 // Coupled (sub.coupled, the hard proximal subproblem): a friction row's bound follows the
 // iterate, s_t = μ max(0, λ_n(y)). F(v) = 0 is then no gradient (Coulomb friction has no
@@ -50,7 +52,10 @@ class BodyNewton {
   double evaluate(const FrozenSubproblem& sub, Point& pt);
   /// Factorises H for pt's D unless the kept factor is of the same D and δ; false on failure.
   bool factorize(const Point& pt, double delta, NewtonSparseStats& st);
-  /// The Newton direction d_ at pt: coupled (GMRES) when sliding rows couple, else H⁻¹; the
+  /// H's Newton direction d_ = −H⁻¹g_ at pt: by CG with the kept factor when sub allows it and
+  /// CG converges, else from a fresh factorisation of H; false on failure.
+  bool newton_direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out, NewtonSparseStats& st);
+  /// The Newton direction d_ at pt (H's already in d_): coupled (GMRES) when sliding rows couple, else H⁻¹; the
   /// result is a descent direction of the cost with pt's bounds frozen. False when none.
   bool direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out, bool& coupled_step);
 

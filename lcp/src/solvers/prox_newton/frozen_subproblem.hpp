@@ -20,6 +20,10 @@ struct FrozenSubproblem {
   /// Body space only: friction bounds follow the iterate (s_i = μ_i max(0, λ_n) of the same λ)
   /// instead of lo/hi: the hard proximal subproblem. lo/hi still bound the other rows.
   bool coupled = false;
+  /// Body space only: H's direction by CG preconditioned with the kept factor of an earlier H,
+  /// refactorising only when CG needs more than this many iterations (0: refactorise whenever D
+  /// or δ changed).
+  int stale_factor_iterations = 0;
 };
 
 /// Work of one subproblem solve.
@@ -29,6 +33,7 @@ struct SubproblemOutcome {
   int factorizations = 0, analyses = 0;
   int full_steps = 0;         ///< body space, coupled: Newton steps accepted whole (t = 1)
   int krylov_iterations = 0;  ///< body space, coupled: GMRES iterations for the coupled direction
+  int cg_iterations = 0;      ///< body space: CG iterations with a kept (stale) factor
   bool converged = false;     ///< subproblem residual ≤ tolerance
   bool failed = false;        ///< no usable direction (factorisation failed, non-finite values)
 };

@@ -50,8 +50,10 @@ void check_def(const ProxNewtonDef& d) {
   if (d.max_outer < 1 || d.inner_iterations < 1 || d.body_inner_iterations < 1 || d.max_stalls < 1)
     throw InvalidArgument("prox-newton: max_outer, inner_iterations, body_inner_iterations and max_stalls must be >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
-  if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0)
-    throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps and pivot_rows must be >= 0");
+  if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
+      d.body_finish_iterations < 0)
+    throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
+                          "body_finish_iterations must be >= 0");
 }
 
 /// x in %.3g form (residuals span many decades).
@@ -92,7 +94,11 @@ class ProxRun {
       best_res_ = hard_residual(p_, lambda);
     }
     if (convex_) {
-      outer(lambda);
+      outer(lambda, frozen_passes());
+      if (body_ && def_.body_finish && !reached(best_res_, target_)) {
+        lambda = best_;
+        outer(lambda, coupled_passes());
+      }
     } else {
       finish_with_newton_sparse(lambda, budget_left());
     }
@@ -130,22 +136,74 @@ class ProxRun {
     return true;
   }
 
-  void outer(Eigen::VectorXd& lambda) {
+  /// How a run of passes is steered (outer).
+  struct Passes {
+    bool coupled = false;   ///< body space: the hard proximal subproblem (coupled bounds)
+    double shift = 0;       ///< first δ relative to max A_ii
+    int inner = 0;          ///< Newton iterations per pass at most
+    int max_stalls = 1;     ///< passes without a new best before the run stops
+    int iterations = 0;     ///< Newton iterations of the run at most
+    bool steady_shift = false;  ///< δ by steady_shift instead of shrinking after every solved pass
+  };
+
+  [[nodiscard]] Passes frozen_passes() const {
+    Passes ps;
+    ps.coupled = body_ && def_.coupled_bounds;
+    ps.shift = def_.initial_shift;
+    ps.inner = body_ ? std::min(def_.inner_iterations, def_.body_inner_iterations) : def_.inner_iterations;
+    ps.max_stalls = def_.max_stalls;
+    ps.iterations = budget_left();
+    return ps;
+  }
+
+  /// The body-space finish: coupled passes from the best iterate, δ from initial_shift and then
+  /// by steady_shift.
+  [[nodiscard]] Passes coupled_passes() const {
+    Passes ps;
+    ps.coupled = true;
+    ps.shift = def_.initial_shift;
+    ps.inner = def_.inner_iterations;
+    ps.max_stalls = 3;
+    ps.iterations = std::min(def_.body_finish_iterations, budget_left());
+    ps.steady_shift = true;
+    return ps;
+  }
+
+  /// δ after a coupled pass at δ = shift: kept while solved passes lower the hard residual at
+  /// least kSteadyRate-fold (the proximal point at fixed δ converges linearly; a smaller δ makes
+  /// the coupled subproblem as hard as the hard problem itself), shrunk √shrink-fold when they
+  /// are slower but never to a δ whose pass failed, grown after a failed pass.
+  [[nodiscard]] double steady_shift(double shift, bool converged, double res, double before, double& failed) const {
+    constexpr double kSteadyRate = 4.0;
+    if (!converged) {
+      failed = std::max(failed, shift);
+      return std::min(def_.max_shift, shift * def_.shrink);
+    }
+    if (res * kSteadyRate <= before) return shift;
+    const double next = std::max(def_.min_shift, shift / std::sqrt(def_.shrink));
+    return next > failed ? next : shift;
+  }
+
+  void outer(Eigen::VectorXd& lambda, const Passes& ps) {
     const double diag = body_ ? s_.body.max_diagonal() : (p_.rows() > 0 ? p_.A.diagonal().maxCoeff() : 0.0);
     if (!(diag > 0)) return;
-    double shift = def_.initial_shift;
+    double shift = ps.shift;
+    const int newton0 = st_.newton;
+    double failed_shift = 0;  // largest δ whose pass failed (steady_shift runs)
     int stalls = 0;
     std::vector<char> last_modes, finished_modes;
     FrozenSubproblem sub;
-    for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0; ++k) {
+    for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0 &&
+                    st_.newton - newton0 < ps.iterations;
+         ++k) {
       ++st_.outer;
       freeze(p_, lambda, shift * diag, sub);
-      sub.coupled = body_ && def_.coupled_bounds;
+      sub.coupled = ps.coupled;
+      sub.stale_factor_iterations = def_.stale_factor_iterations;
       // Inexact proximal point: the subproblem is solved to a fraction of the hard residual
       // (far away) and of the target (near the solution).
       sub.tolerance = def_.inner_tolerance * std::max(target_, best_res_);
-      sub.max_iterations = std::min(body_ ? std::min(def_.inner_iterations, def_.body_inner_iterations) : def_.inner_iterations,
-                                    budget_left());
+      sub.max_iterations = std::min({ps.inner, budget_left(), ps.iterations - (st_.newton - newton0)});
       Eigen::VectorXd next = lambda;
       const SubproblemOutcome so = body_ ? s_.body.solve(sub, next) : s_.dual.solve(sub, next);
       st_.newton += so.iterations;
@@ -154,12 +212,14 @@ class ProxRun {
       st_.line_search_steps += so.line_search_steps;
       st_.full_steps += so.full_steps;
       st_.krylov += so.krylov_iterations;
+      st_.cg += so.cg_iterations;
       const double res = hard_residual(p_, next);
       const double before = best_res_;
       const bool improved = consider(next, res, Finisher::Prox);
       // In the dual form at min_shift the passes converge linearly: a slow one is a stall (the
       // proximal finish converges faster from the same iterate).
-      const bool slow = !body_ && shift <= def_.min_shift * (1 + 1e-9) && res > def_.pass_progress * before;
+      const bool slow = (!body_ && shift <= def_.min_shift * (1 + 1e-9) && res > def_.pass_progress * before) ||
+                        (ps.steady_shift && res > def_.pass_progress * before);
       const bool progressed = improved && !slow;
       // The proximal step is progress even when the hard residual rises for a pass; a failed
       // subproblem solve restarts from the best iterate with a larger δ.
@@ -168,10 +228,13 @@ class ProxRun {
       // δ follows the subproblem: a solved one allows a smaller δ (a longer proximal step), an
       // unsolved one asks for a larger (better conditioned) one. The hard residual is not
       // monotone along the proximal iteration, so it does not steer δ.
-      shift = so.converged ? std::max(def_.min_shift, shift / def_.shrink) : std::min(def_.max_shift, shift * def_.shrink);
+      shift = ps.steady_shift ? steady_shift(shift, so.converged, res, before, failed_shift)
+              : so.converged ? std::max(def_.min_shift, shift / def_.shrink)
+                             : std::min(def_.max_shift, shift * def_.shrink);
+      last_shift_ = shift;
       stalls = progressed ? 0 : stalls + 1;
       cp_.after(st_.newton + st_.finish_newton, best_);
-      if (reached(best_res_, target_) || stalls >= def_.max_stalls) break;
+      if (reached(best_res_, target_) || stalls >= ps.max_stalls) break;
       std::vector<char> modes = hard_modes(p_, lambda);
       if (modes == last_modes && modes != finished_modes && def_.finish_iterations > 0) {
         finished_modes = modes;
@@ -279,6 +342,7 @@ class ProxRun {
   CheckpointCursor cp_;
   Eigen::VectorXd best_;
   double best_res_ = INFINITY;
+  double last_shift_ = 0;  // δ after the last pass, relative to max A_ii
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;

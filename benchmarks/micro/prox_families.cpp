@@ -1,0 +1,159 @@
+// prox-newton settings side by side on the engine's scene families (docs/solvers.md
+// "prox-newton"): a scene advanced as `deepcontact bench --warmup-steps W` does (builtin +
+// pgs-colored, 1000 sweeps, θ ≤ 1e-2 N), then for each evaluated step every variant solves the
+// same LCP from the builtin guess to R/100 (R = 1e-6 of the heaviest body's weight, the bench's
+// --accuracy trace target), the variants alternated step by step; the world advances with the
+// oracle's λ*. Per variant and step: factorisations as the bench counts them (passes, short
+// finish and proximal-finish iterations), Newton iterations, R/scale reached, CPU ms of this
+// thread; pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the reference time.
+//
+//   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2 \
+//       --variant base --variant pcg:stale_factor_iterations=10
+// A variant is NAME[:key=value,...] over the ProxNewtonDef fields listed in apply().
+#include <time.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dc/core/error.hpp"
+#include "dc/engine/scene.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/lcp/prox_newton.hpp"
+#include "dc/warmstart/oracle.hpp"
+#include "dc/warmstart/warm_starter.hpp"
+
+namespace {
+
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
+}
+
+struct Variant {
+  std::string name;
+  dc::ProxNewtonDef def;
+};
+
+void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& value) {
+  const double x = std::stod(value);
+  if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
+  else if (key == "inner_tolerance") d.inner_tolerance = x;
+  else if (key == "min_shift") d.min_shift = x;
+  else if (key == "initial_shift") d.initial_shift = x;
+  else if (key == "max_stalls") d.max_stalls = static_cast<int>(x);
+  else if (key == "max_outer") d.max_outer = static_cast<int>(x);
+  else if (key == "coupled_bounds") d.coupled_bounds = x != 0;
+  else if (key == "proximal_finish") d.proximal_finish = x != 0;
+  else if (key == "finish_iterations") d.finish_iterations = static_cast<int>(x);
+  else if (key == "stale_factor_iterations") d.stale_factor_iterations = static_cast<int>(x);
+  else if (key == "body_finish") d.body_finish = x != 0;
+  else if (key == "body_finish_iterations") d.body_finish_iterations = static_cast<int>(x);
+  else throw dc::ConfigError("prox_families: unknown key '" + key + "'");
+}
+
+Variant parse_variant(const std::string& spec) {
+  Variant v;
+  const auto colon = spec.find(':');
+  v.name = spec.substr(0, colon);
+  if (colon == std::string::npos) return v;
+  std::stringstream ss(spec.substr(colon + 1));
+  std::string kv;
+  while (std::getline(ss, kv, ',')) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw dc::ConfigError("prox_families: variant key without '=': " + kv);
+    apply(v.def, kv.substr(0, eq), kv.substr(eq + 1));
+  }
+  return v;
+}
+
+double weight_scale(const dc::LcpProblem& p, dc::Vec2 g) {
+  const double gn = std::sqrt(g.x * g.x + g.y * g.y);
+  double heaviest = 0.0;
+  for (int k = 0; k + 1 < p.inv_mass.size(); k += 3)
+    if (p.inv_mass[k] > 0) heaviest = std::max(heaviest, 1.0 / p.inv_mass[k]);
+  return heaviest * gn > 0 ? heaviest * gn : 1.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"prox-newton variants on an engine scene's steps"};
+  std::string scene;
+  std::vector<std::string> specs;
+  int first = 0, steps = 1;
+  std::vector<int> seeds{3};
+  double accuracy = 1e-6;
+  app.add_option("--scene", scene)->required();
+  app.add_option("--variant", specs)->required();
+  app.add_option("--first", first);
+  app.add_option("--steps", steps);
+  app.add_option("--seeds", seeds);
+  app.add_option("--accuracy", accuracy);
+  CLI11_PARSE(app, argc, argv);
+  std::vector<Variant> variants;
+  for (const auto& s : specs) variants.push_back(parse_variant(s));
+  std::printf("seed step rows variant reached R_over_scale factorisations newton finish outer cpu_ms pgs_ms message\n");
+  for (const int seed : seeds) {
+    dc::WorldDef def = dc::load_scene(scene);
+    def.bodies.seed = static_cast<std::uint64_t>(seed);
+    dc::World w(def);
+    const auto builtin = dc::default_warm_starters().make("builtin", dc::WarmStartEnv{});
+    const auto warm_solver = dc::make_solver("pgs-colored");
+    const auto pgs = dc::make_solver("pgs");
+    dc::SolverOptions warm;
+    warm.max_sweeps = 1000;
+    warm.tolerance = 1e-2;
+    warm.record_theta = false;
+    for (int k = 0; k < first; ++k) {
+      w.collide();
+      const dc::LcpProblem& p = w.assemble();
+      if (p.rows() == 0) {
+        w.integrate(Eigen::VectorXd());
+        continue;
+      }
+      w.integrate(warm_solver->solve(p, builtin->initial_guess(dc::StepView{w, nullptr}), warm).lambda);
+    }
+    std::vector<std::unique_ptr<dc::ProxNewtonSolver>> solvers;
+    for (const auto& v : variants) solvers.push_back(std::make_unique<dc::ProxNewtonSolver>(v.def));
+    for (int s = first; s < first + steps; ++s) {
+      w.collide();
+      const dc::LcpProblem& p = w.assemble();
+      if (p.rows() == 0) {
+        w.integrate(Eigen::VectorXd());
+        continue;
+      }
+      const Eigen::VectorXd guess = builtin->initial_guess(dc::StepView{w, nullptr});
+      const double scale = weight_scale(p, def.world.gravity);
+      dc::SolverOptions po;
+      po.max_sweeps = 10000;
+      po.tolerance = 1e-2;
+      po.record_theta = false;
+      const double p0 = thread_cpu_ms();
+      (void)pgs->solve(p, guess, po);
+      const double pgs_ms = thread_cpu_ms() - p0;
+      for (std::size_t i = 0; i < variants.size(); ++i) {
+        dc::SolverOptions so;
+        so.max_sweeps = 10000;
+        so.tolerance = accuracy * scale / 100;
+        so.record_theta = false;
+        const double t0 = thread_cpu_ms();
+        const dc::SolveResult r = solvers[i]->solve(p, guess, so);
+        const double ms = thread_cpu_ms() - t0;
+        const dc::ProxNewtonStats st = solvers[i]->last_stats();
+        const double acc = dc::natural_residual(p, r.lambda) / scale;
+        std::printf("%d %d %d %s %d %.3g %d %d %d %d %.1f %.2f \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
+                    acc <= accuracy ? 1 : 0, acc, st.factorizations + st.proximal_finish_newton, st.newton,
+                    st.finish_newton, st.outer, ms, pgs_ms, r.message.c_str());
+        std::fflush(stdout);
+      }
+      const dc::OracleSolution os = dc::solve_oracle(p, &guess);
+      w.integrate(os.lambda);
+    }
+  }
+  return 0;
+}
