@@ -12,7 +12,6 @@
 #include <omp.h>
 #endif
 
-#include "solvers/pgs_colored/pgs_colored_pack_lanes.hpp"
 #include "solvers/pgs_manifold_block.hpp"
 
 namespace dc::colored {
@@ -352,20 +351,14 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   std::fill(diag_t, diag_t + W, 1.0);
   int& failed = out.failed[static_cast<size_t>(bi)];
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
-  const int* contacts = out.order.data() + s0;
-  if (!pack_lanes(p, out.dynamic, zero, contacts, lanes, B, row_of, row_of + W, diag_n, diag_t)) {
-    std::fill(diag_n, diag_n + W, 1.0);
-    std::fill(diag_t, diag_t + W, 1.0);
-    for (int lane = 0; lane < lanes; ++lane) {
-      const int c = contacts[lane];
-      if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n,
-                        diag_t) &&
-          failed < 0)
-        failed = c;
-    }
-    pad_rows(rs, lanes, row_of, row_of + W);
-    pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
+  for (int lane = 0; lane < lanes; ++lane) {
+    const int c = out.order[static_cast<size_t>(s0 + lane)];
+    if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n, diag_t) &&
+        failed < 0)
+      failed = c;
   }
+  pad_rows(rs, lanes, row_of, row_of + W);
+  pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
   const bool ok_n = scale_rows(B.jn, B.bn, diag_n), ok_t = scale_rows(B.jt, B.bt, diag_t);
   if ((!ok_n || !ok_t) && failed < 0) name_singular(out, s0, lanes, diag_n, diag_t, failed);
   B.count = lanes;

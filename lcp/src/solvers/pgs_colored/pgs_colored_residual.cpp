@@ -56,8 +56,10 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
   }
 }
 
-void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r, bool& nan,
-                    bool& nonfinite) {
+void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r_io,
+                    bool& nan_io, bool& nonfinite) {
+  double r = r_io;  // (locals: a store through the references would be reloaded every row)
+  bool nan = nan_io;
   const double* value = p.J.valuePtr();
   const int* inner = p.J.innerIndexPtr();
   const int* outer = p.J.outerIndexPtr();
@@ -85,6 +87,8 @@ void contact_errors(const LcpProblem& p, const double* lambda, const double* du,
     bad = bad || !std::isfinite(xt);
   }
   nonfinite = nonfinite || bad;
+  r_io = r;
+  nan_io = nan;
 }
 
 }  // namespace dc::colored
