@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "dc/engine/world.hpp"
 #include "hex_pile.hpp"
 #include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/pgs_colored_products.hpp"
 
 namespace {
 
@@ -351,6 +353,32 @@ void BM_ContactColoring(benchmark::State& s) {
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+/// pgs-colored's closing natural residual alone (pgs_colored_products.hpp, one thread) at the
+/// 200-sweep λ of the pile; form 0: the solver's (colored::natural_residual), 1: lcp_problem.cpp's
+/// natural_residual, the reference it equals bit for bit (counter same_bits = 1). Counter
+/// ns_per_row = CPU time / rows.
+void BM_PgsColoredResidual(benchmark::State& s) {
+  dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+  p.A = dc::SparseRowMatrix();
+  dc::SolverOptions o;
+  o.max_sweeps = 200;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  const Eigen::VectorXd l = dc::make_solver("pgs-colored")->solve(p, Eigen::VectorXd::Zero(p.rows()), o).lambda;
+  Eigen::VectorXd du;
+  bool finite = false;
+  const bool ours = s.range(1) == 0;
+  double r = 0.0;
+  for (auto _ : s) {
+    r = ours ? dc::colored::natural_residual(p, l, 1, du, finite) : dc::natural_residual(p, l);
+    benchmark::DoNotOptimize(r);
+  }
+  const double ref = dc::natural_residual(p, l);
+  s.counters["same_bits"] = std::memcmp(&r, &ref, sizeof r) == 0 ? 1 : 0;
+  s.counters["ns_per_row"] = benchmark::Counter(1e-9 * p.rows() * static_cast<double>(s.iterations()),
+                                                benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // The seed scene: one full 3000-sweep solve (the bench's fixed budget) per iteration.
 constexpr int kSeedSweeps = 3000;
 void BM_SeedScenePgs(benchmark::State& s) { run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs"); }
@@ -386,6 +414,10 @@ BENCHMARK(BM_PgsColoredThreads)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_PgsColoredAlternating)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PgsColoredResidual)
+    ->ArgNames({"bodies", "form"})
+    ->ArgsProduct({{1000, 10000}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ContactColoring)
     ->ArgNames({"bodies", "reuse", "threads", "chunk"})
     ->Args({1000, 0, 1, 0})

@@ -3,6 +3,7 @@
 // serial checks pass; any failure hands over to them for the message.
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -26,19 +27,31 @@ bool sizes_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0) {
   return lambda0.size() == 0 || lambda0.size() == n;
 }
 
-/// Row i of validate's per-row checks (b, coupling, μ, bounds) and λ⁰_i finite.
-bool row_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0, int i) {
+/// validate's per-row checks (b, coupling, μ, bounds, A) and λ⁰_i finite, on rows [i0, i1):
+/// raw arrays and no stores in the loop, so nothing is reloaded per row.
+bool rows_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0, int i0, int i1) {
   const int n = p.rows();
-  bool ok = std::isfinite(p.b[i]) && (lambda0.size() == 0 || std::isfinite(lambda0[i]));
-  const int nr = p.normal_row[static_cast<size_t>(i)];
-  if (nr >= 0) {
-    ok = ok && nr < n && p.normal_row[static_cast<size_t>(nr)] < 0 && p.mu[i] >= 0 && std::isfinite(p.mu[i]);
-  } else {
-    const double lo = p.lo[i], hi = p.hi[i];
-    ok = ok && !std::isnan(lo) && !std::isnan(hi) && !(lo > hi) && lo != INFINITY && hi != -INFINITY;
+  const double* b = p.b.data();
+  const double* l0 = lambda0.size() == 0 ? nullptr : lambda0.data();
+  const int* nrow = p.normal_row.data();
+  const double* mu = p.mu.data();
+  const double* lo = p.lo.data();
+  const double* hi = p.hi.data();
+  const int a_rows = static_cast<int>(p.A.outerSize());  // (0 when matrix-free)
+  bool ok = true;
+  for (int i = i0; i < i1; ++i) {
+    bool row = std::isfinite(b[i]) & (l0 == nullptr || std::isfinite(l0[i]));
+    const int nr = nrow[i];
+    if (nr >= 0) {
+      row = row && nr < n && nrow[nr] < 0 && mu[i] >= 0 && std::isfinite(mu[i]);
+    } else {
+      row = row && !std::isnan(lo[i]) && !std::isnan(hi[i]) && !(lo[i] > hi[i]) && lo[i] != INFINITY &&
+            hi[i] != -INFINITY;
+    }
+    if (i < a_rows)
+      for (SparseRowMatrix::InnerIterator it(p.A, i); it && row; ++it) row = std::isfinite(it.value());
+    ok &= row;
   }
-  if (i < p.A.outerSize())  // (A is empty when matrix-free)
-    for (SparseRowMatrix::InnerIterator it(p.A, i); it && ok; ++it) ok = std::isfinite(it.value());
   return ok;
 }
 
@@ -81,10 +94,12 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   std::atomic<bool> ok{true};  // cleared by a thread whose share failed (an order-free AND)
   auto scans = [&] {
     bool mine = true;
+    constexpr int kRowChunk = 1024;
 #pragma omp for schedule(static) nowait
-    for (int i = 0; i < n; ++i) {
-      mine = mine && row_ok(p, lambda0, i);
-      if (lambda0.size() == 0) zeros[i] = 0.0;
+    for (int i = 0; i < n; i += kRowChunk) {
+      const int i1 = std::min(n, i + kRowChunk);
+      mine = mine && rows_ok(p, lambda0, i, i1);
+      if (lambda0.size() == 0) std::fill(zeros.data() + i, zeros.data() + i1, 0.0);
     }
 #pragma omp for schedule(static)
     for (int c = 0; c < nc; ++c) {

@@ -12,14 +12,16 @@
 #endif
 
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_residual.hpp"
 
 namespace dc::colored {
 
 void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
                      Eigen::VectorXd& jt) {
-  // Eigen's own product (as lcp_problem.cpp's, into a kept buffer): its contiguous scatter is
-  // faster than one straight into the strided Δu (c/3 and c%3 per entry).
-  jt.noalias() = p.J.transpose() * lambda;
+  // Jᵀλ into a kept buffer, as Eigen's product sums it: a contiguous scatter is faster than one
+  // straight into the strided Δu (c/3 and c%3 per entry).
+  jt.setZero(p.J.cols());
+  transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data());
   // Every entry written once (no zero-fill first): a body's three velocities, 0 for columns past
   // J's and for the padding entry; then the zero body.
   const int ncols = static_cast<int>(jt.size());
@@ -99,20 +101,10 @@ void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, 
   const int col0 = 3 * block_begin(bodies, tid, nt), col1 = std::min(ncols, 3 * block_begin(bodies, tid + 1, nt));
   double* out = du.data();
   for (int c = col0; c < col1; ++c) out[c] = 0.0;
-  const double* value = p.J.valuePtr();
-  const int* inner = p.J.innerIndexPtr();
-  const int* outer = p.J.outerIndexPtr();
-  const int* nnz = p.J.innerNonZeroPtr();  // null when compressed
-  for (int i = first; i <= last; ++i) {
-    const double l = lambda[i];
-    const int q1 = nnz != nullptr ? outer[i] + nnz[i] : outer[i + 1];
-    for (int q = outer[i]; q < q1; ++q) {
-      const int c = inner[q];
-      if (c >= col0 && c < col1) out[c] += value[q] * l;
-    }
-  }
+  if (first <= last) transpose_rows(p, lambda.data(), first, last + 1, col0, col1, out);
   const double* im = p.inv_mass.data();
-  for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * p.dt;
+  const double dt = p.dt;
+  for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * dt;
 #pragma omp barrier
 }
 
@@ -120,8 +112,12 @@ void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, 
 
 void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
   if (threads <= 1) {
-    du.noalias() = p.J.transpose() * lambda;
-    for (int c = 0; c < du.size(); ++c) du[c] = p.inv_mass[c] * du[c] * p.dt;
+    du.setZero(p.J.cols());
+    transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), du.data());
+    const double* im = p.inv_mass.data();
+    double* out = du.data();
+    const double dt = p.dt;
+    for (int c = 0; c < du.size(); ++c) out[c] = im[c] * out[c] * dt;
     return;
   }
   du.resize(p.J.cols());
@@ -167,12 +163,18 @@ inline void fold_row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, c
 
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite) {
-  const int n = p.rows();
+  const int n = p.rows(), nc = p.constraints.size();
+  // By contact when the contacts own the rows (the solver's case: no per-row bound lookup).
+  const bool by_contact = nc > 0 && p.constraints.rows() == n;
+  constexpr int kContactChunk = 256;
   double r = 0.0;
   bool nan = false, nonfinite = false;
   if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
     scaled_transpose_product(p, lambda, 1, du);
-    for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
+    if (by_contact)
+      contact_errors(p, lambda.data(), du.data(), 0, nc, r, nan, nonfinite);
+    else
+      for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
@@ -190,8 +192,14 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     } else {
       scaled_transpose_product(p, lambda, 1, du);
     }
+    if (by_contact) {
 #pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
-    for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
+      for (int c = 0; c < nc; c += kContactChunk)
+        contact_errors(p, lambda.data(), du.data(), c, std::min(nc, c + kContactChunk), r, nan, nonfinite);
+    } else {
+#pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
+      for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
+    }
   }
   all_finite = !nonfinite;
   return nan ? std::numeric_limits<double>::infinity() : r;

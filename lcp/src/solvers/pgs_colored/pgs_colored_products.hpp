@@ -20,7 +20,8 @@ namespace dc::colored {
 void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt);
 
 /// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to
-/// lcp_problem.cpp's velocity_change for every thread count. On one thread: Eigen's product.
+/// lcp_problem.cpp's velocity_change for every thread count. On one thread: J's rows in order
+/// (transpose_rows, the sums of Eigen's product).
 /// On more: each thread owns a block of bodies (columns) and sums its columns over the rows in
 /// ascending order, from 0 — Eigen's order per column, so the same bits — reading only the rows
 /// that act on its bodies: those of the contacts on them, whose row range the threads first
@@ -30,7 +31,8 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du);
 
 /// natural_residual(p, λ) bit for bit, using `du` as scratch (Δu in column order, kept by the
-/// caller): Δu by scaled_transpose_product, then the rows, on `threads` threads. `all_finite` is
+/// caller): Δu by scaled_transpose_product, then the rows (by contact, contact_errors, when the
+/// contacts own the rows), on `threads` threads. `all_finite` is
 /// set to whether every λ_i is finite. Same requirement as scaled_transpose_product.
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite);

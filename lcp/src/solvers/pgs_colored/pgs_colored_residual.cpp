@@ -1,0 +1,94 @@
+// The loops of pgs-colored's closing natural residual (pgs_colored_residual.hpp).
+#include "solvers/pgs_colored/pgs_colored_residual.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dc::colored {
+namespace {
+
+/// First and one-past-last storage index of row i of a row-major J (compressed or not).
+inline void row_extent(const int* outer, const int* nnz, int i, int& q0, int& q1) {
+  q0 = outer[i];
+  q1 = nnz != nullptr ? q0 + nnz[i] : outer[i + 1];
+}
+
+/// w_i = Σ_q J_iq du_{c_q} in storage order from 0, then + b_i.
+inline double row_w(const double* value, const int* inner, int q0, int q1, const double* du, double b) {
+  double tmp = 0.0;
+  for (int q = q0; q < q1; ++q) tmp += value[q] * du[inner[q]];
+  return tmp + b;
+}
+
+/// |λ − clamp(λ − w, l, max(l, h))| as lcp_problem.cpp's natural residual writes it.
+inline double row_error(double x, double w, double l, double h) {
+  return std::abs(x - std::clamp(x - w, l, std::max(l, h)));
+}
+
+inline void fold(double e, double& r, bool& nan) {
+  if (std::isnan(e)) {
+    nan = true;
+  } else {
+    r = std::max(r, e);
+  }
+}
+
+}  // namespace
+
+void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out) {
+  const double* value = p.J.valuePtr();
+  const int* inner = p.J.innerIndexPtr();
+  const int* outer = p.J.outerIndexPtr();
+  const int* nnz = p.J.innerNonZeroPtr();  // null when compressed
+  const bool all = col0 <= 0 && col1 >= p.J.cols();
+  for (int i = i0; i < i1; ++i) {
+    const double l = lambda[i];
+    int q0 = 0, q1 = 0;
+    row_extent(outer, nnz, i, q0, q1);
+    if (all) {
+      for (int q = q0; q < q1; ++q) out[inner[q]] += value[q] * l;
+    } else {
+      for (int q = q0; q < q1; ++q) {
+        const int c = inner[q];
+        if (c >= col0 && c < col1) out[c] += value[q] * l;
+      }
+    }
+  }
+}
+
+void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r_io,
+                    bool& nan_io, bool& nonfinite) {
+  double r = r_io;  // (locals: a store through the references would be reloaded every row)
+  bool nan = nan_io;
+  const double* value = p.J.valuePtr();
+  const int* inner = p.J.innerIndexPtr();
+  const int* outer = p.J.outerIndexPtr();
+  const int* nnz = p.J.innerNonZeroPtr();
+  const double* b = p.b.data();
+  const double* lo = p.lo.data();
+  const double* hi = p.hi.data();
+  const ContactConstraint* cons = p.constraints.contacts().data();
+  bool bad = false;
+  for (int c = c0; c < c1; ++c) {
+    const ContactConstraint& k = cons[c];
+    const int n = k.normal_row;
+    int q0 = 0, q1 = 0;
+    row_extent(outer, nnz, n, q0, q1);
+    const double xn = lambda[n];
+    bad = bad || !std::isfinite(xn);
+    fold(row_error(xn, row_w(value, inner, q0, q1, du, b[n]), lo[n], hi[n]), r, nan);
+    if (k.tangent_row < 0) continue;
+    const int t = k.tangent_row;
+    int p0 = 0, p1 = 0;
+    row_extent(outer, nnz, t, p0, p1);
+    const double xt = lambda[t];
+    const double bound = std::max(0.0, xn);
+    fold(row_error(xt, row_w(value, inner, p0, p1, du, b[t]), -k.mu * bound, k.mu * bound), r, nan);
+    bad = bad || !std::isfinite(xt);
+  }
+  nonfinite = nonfinite || bad;
+  r_io = r;
+  nan_io = nan;
+}
+
+}  // namespace dc::colored

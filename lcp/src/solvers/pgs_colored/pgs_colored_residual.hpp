@@ -1,0 +1,27 @@
+#pragma once
+// Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the loops of the closing natural residual
+// (pgs_colored_products.hpp) written against J's CSR arrays and the contacts, with no per-entry
+// iterator or bound lookup, so that they cost about one sweep. Bit for bit the forms of
+// lcp_problem.cpp:
+//   (Jᵀλ)_c   = J_ic·λ_i added to 0 in ascending row order (Eigen's row-major scatter);
+//   w_i       = Σ_q J_iq Δu_{c_q} in storage order, from 0, then + b_i;
+//   error_i   = |λ_i − clamp(λ_i − w_i, l_i, max(l_i, h_i))| with the bounds of LcpProblem::lower
+//               and upper: [lo_i, hi_i] for a normal row, ±μ_i·max(0, λ_n) for a tangent row.
+// The residual is the maximum of the errors (order-free), +∞ when one is NaN.
+#include "dc/lcp/lcp_problem.hpp"
+
+namespace dc::colored {
+
+/// out[c] += J_ic·λ_i for rows i in [i0, i1) in ascending order, each row's entries in storage
+/// order (the caller zeroes `out` first; columns outside [col0, col1) are skipped, for a thread
+/// that owns a block of columns).
+void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out);
+
+/// The running maximum of the errors of contacts [c0, c1)'s rows into r (a NaN error sets `nan`
+/// instead), with du = M⁻¹JᵀλΔt in column order; `nonfinite` is set when one of their λ_i is not
+/// finite. Requires what the input checks verified: every row belongs to one contact, and a
+/// tangent row's μ_i and normal row are its contact's.
+void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r, bool& nan,
+                    bool& nonfinite);
+
+}  // namespace dc::colored
