@@ -42,9 +42,6 @@ OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess,
     SolverOptions so;
     so.record_theta = false;
     so.exact_tolerance = o.tolerance;
-    // Stop where the oracle accepts (residual ≤ tolerance·max(1, ‖λ‖∞), scaled by the current
-    // iterate): the solvers' own target scales with ‖b‖∞ instead and can be far tighter.
-    so.tolerance = o.tolerance * std::max(1.0, out.lambda.cwiseAbs().maxCoeff());
     if (name == &o.solver && o.solver_iterations > 0) so.max_sweeps = o.solver_iterations;
     const SolveResult r = make_solver(*name)->solve(p, out.lambda, so);
     if (r.lambda.size() != n || !r.lambda.allFinite()) continue;

@@ -43,8 +43,7 @@ struct OracleSolution {
 
 /// Solves `p` tightly: stage 1 is the iterative solver from `guess` (zeros if null or not finite)
 /// until θ ≤ polish_theta (none when `iterative` is empty: method "guess…"); while the natural residual is not within tolerance, stage 2 and then
-/// stage 3 run from the most accurate iterate so far, each stopping at the residual
-/// tolerance·max(1, ‖λ‖∞) [N] of the iterate it starts from, and the most accurate one is returned.
+/// stage 3 run from the most accurate iterate so far, and the most accurate one is returned.
 OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess = nullptr,
                             const OracleOptions& options = {});
 
