@@ -49,6 +49,22 @@ TEST(ProximalPoint, AgreesWithNewtonSparseOnAPile) {
   EXPECT_LE((wa - wb).lpNorm<Eigen::Infinity>(), 1e-6 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
 }
 
+TEST(ProximalPoint, InexactInnerSolvesReachTheSameTarget) {
+  // ProximalPointDef::inner_forcing loosens only the inner solves: the route still stops on the
+  // original problem's residual, and the velocities agree with the exact-inner route.
+  const LcpProblem p = fc2d_to_lcp(read_fc2d_dat(kData + "fc2d_granularflowonwall_02020_00213.dat").problem);
+  SolverOptions o;
+  ProximalPointDef inexact;
+  inexact.inner_forcing = 0.1;
+  const SolveResult a = solve_proximal_point(p, Eigen::VectorXd(), o);
+  const SolveResult b = solve_proximal_point(p, Eigen::VectorXd(), o, inexact);
+  ASSERT_EQ(a.status, SolveStatus::Converged) << a.message;
+  ASSERT_EQ(b.status, SolveStatus::Converged) << b.message;
+  EXPECT_LE(natural_residual(p, b.lambda), exact_bound(p));
+  const Eigen::VectorXd wa = p.A * a.lambda + p.b, wb = p.A * b.lambda + p.b;
+  EXPECT_LE((wa - wb).lpNorm<Eigen::Infinity>(), 1e-6 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
+}
+
 TEST(ProximalPoint, RerunIsBitEqual) {
   TestRng rng(7);
   LcpProblem p = random_contact(12, 30, true, rng);
@@ -90,6 +106,9 @@ TEST(ProximalPoint, RefusesInvalidSettingsAndGuesses) {
   EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
   bad = {};
   bad.min_shift = 1.0;
+  EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
+  bad = {};
+  bad.inner_forcing = 1.0;
   EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
   Eigen::VectorXd nan_guess = Eigen::VectorXd::Zero(p.rows());
   nan_guess[0] = std::numeric_limits<double>::quiet_NaN();

@@ -132,6 +132,8 @@ SolveResult run(const std::string& solver, const LcpProblem& p, const SolverOpti
     def.max_outer = 6;
     def.finish_route.max_outer = 6;
     def.finish_route.inner_iterations = 50;
+    def.dual_finish_route.max_outer = 6;
+    def.dual_finish_route.inner_iterations = 50;
     def.safeguard_sweeps = 300;
     return make_prox_newton(def)->solve(p, Eigen::VectorXd(), o);
   }

@@ -20,6 +20,8 @@ void check_def(const ProximalPointDef& d) {
   if (d.max_outer < 1 || d.inner_iterations < 1)
     throw InvalidArgument("proximal point: max_outer and inner_iterations must be >= 1");
   if (d.max_stalls < 0) throw InvalidArgument("proximal point: max_stalls must be >= 0");
+  if (!(std::isfinite(d.inner_forcing) && d.inner_forcing >= 0 && d.inner_forcing < 1))
+    throw InvalidArgument("proximal point: inner_forcing must be in [0, 1)");
 }
 
 /// The shifted problem A + δ I with A alone (no J: lcp_velocity would otherwise evaluate the
@@ -57,6 +59,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   // A caller's target below the solution target binds the inner solves too: an inner solve
   // that stops above it returns its start unchanged and the outer loop cannot progress.
   if (options.tolerance > 0) inner_options.tolerance = std::min(target, solution_target(p, options));
+  const double inner_target = inner_options.tolerance > 0 ? inner_options.tolerance : solution_target(p, options);
 
   // Checkpoints after each outer iteration, at the inner iterations so far (CheckpointCursor::reach).
   solvers::CheckpointCursor cp(options);
@@ -73,6 +76,9 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     const double delta = shift * diag;
     LcpProblem sub = shifted(p, delta);
     sub.b = p.b - delta * centre;
+    // Inexact inner solve (ProximalPointDef::inner_forcing): a looser stop while far away.
+    const double loose = def.inner_forcing * out.residual;
+    inner_options.tolerance = loose > inner_target ? loose : (options.tolerance > 0 ? inner_target : 0.0);
     const SolveResult r = inner->solve(sub, centre, inner_options);
     out.sweeps += r.sweeps;
     if (r.status == SolveStatus::InvalidInput) {
@@ -92,7 +98,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       stalls = 0;
     }
     cp.reach(out.sweeps, out.lambda);
-    if (r.status == SolveStatus::Converged) {
+    if (r.status == SolveStatus::Converged || (loose > inner_target && stopped_at_tolerance(r.status))) {
       // The proximal step is the method's progress even when it raises the residual of the
       // original problem for a while (that residual is not monotone along the iteration).
       centre = r.lambda;

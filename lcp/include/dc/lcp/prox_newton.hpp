@@ -103,11 +103,12 @@ struct ProxNewtonDef {
   /// (solve_proximal_point: newton-sparse on A + δI around λ_k, bounds moving with λ_n) from the
   /// best iterate (default true). Its iterations count in the budget and in `finish_newton`.
   bool proximal_finish = true;
-  /// Settings of that route: its defaults except δ_0 = 1e-6·max A_ii, newton-sparse's own
-  /// inexact GMRES forcing (krylov_forcing = 1e-2): it starts near the solution, where inexact
-  /// directions cost fewer GMRES iterations and the proximal outer loop absorbs their error.
-  /// Its stall limit stays off (max_stalls = 0): on deep settled piles the route improves
-  /// again after long plateaus and reaches the target only when allowed its outer iterations.
+  /// Settings of that route in body space: its defaults except δ_0 = 1e-6·max A_ii,
+  /// newton-sparse's own inexact GMRES forcing (krylov_forcing = 1e-2): it starts near the
+  /// solution, where inexact directions cost fewer GMRES iterations and the proximal outer loop
+  /// absorbs their error. Its stall limit stays off (max_stalls = 0): on deep settled piles the
+  /// route improves again after long plateaus and reaches the target only when allowed its
+  /// outer iterations.
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
@@ -115,6 +116,27 @@ struct ProxNewtonDef {
     d.max_stalls = 0;
     return d;
   }();
+  /// Settings of that route in the dual form (problems without J): those of finish_route and
+  ///   * δ ≥ 1e-7·max A_ii: on Siconos' granular files the inner solves at 1e-8 cycle between
+  ///     row modes and fail;
+  ///   * inexact inner solves (inner_forcing = 0.1: each to a tenth of the best hard residual):
+  ///     far from the solution the shift term dominates the hard residual, and solving the
+  ///     shifted problem further does not move the next centre further;
+  ///   * at most 30 GMRES iterations per direction (krylov_max): where the row modes are still
+  ///     wrong the line search rejects the direction whatever its accuracy, and the PGS fallback
+  ///     moves the modes; fallback_sweeps = 20 (doubling from there) moves them in fewer rounds.
+  ProximalPointDef dual_finish_route = [] {
+    ProximalPointDef d;
+    d.initial_shift = 1e-6;
+    d.min_shift = 1e-7;
+    d.inner_forcing = 0.1;
+    d.newton_sparse.krylov_forcing = 1e-2;
+    d.newton_sparse.krylov_max = 30;
+    d.newton_sparse.fallback_sweeps = 20;
+    d.max_stalls = 0;
+    return d;
+  }();
+
   /// After the proximal finish, when the target is still not reached: the pivoting finish
   /// (pivot_finish.hpp: the contact problem as a standard LCP by Lemke's method, then the
   /// newton-sparse finish from its answer) on problems whose split LCP (normal rows + 3 per

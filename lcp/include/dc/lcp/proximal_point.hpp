@@ -34,6 +34,12 @@ struct ProximalPointDef {
   int max_stalls = 0;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
+  /// Inexact proximal point: each inner solve stops at max(inner target, inner_forcing × the
+  /// best residual of the original problem so far) [N] (dimensionless, default 0: every inner
+  /// solve to the inner target). Far from the solution the shift term δ(λ − λ_k) dominates the
+  /// original problem's residual, and solving the shifted problem past a fraction of it does
+  /// not move the next centre further.
+  double inner_forcing = 0.0;
   /// The inner solver (default newton-sparse; any solver make_solver makes that reaches
   /// exact_tolerance on a positive definite problem).
   SolverId inner_solver{SolverKind::NewtonSparse};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace dc::solvers {
 
@@ -26,21 +27,46 @@ LemkePivoting lemke_pivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
   std::vector<int> basis(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) basis[static_cast<size_t>(i)] = i;  // w_i basic
 
+  // A pivot updates only the columns where the pivot row is nonzero (x − f·0 = x): for
+  // hundreds of pivots the tableau stays mostly zeros. `bound` ≥ max |T_ij| (the old bound plus
+  // max|f|·max|pivot row| after a pivot); only when it leaves the finite range is the tableau
+  // scanned. pivot() returns whether the tableau is finite.
+  std::vector<int> nz;
+  nz.reserve(static_cast<size_t>(cols));
+  double bound = T.cwiseAbs().maxCoeff();
   auto pivot = [&](int row, int col) {
     const double piv = T(row, col);
     T.row(row) /= piv;
-    for (int i = 0; i < n; ++i)
-      if (const double f = T(i, col); i != row && f != 0.0) T.row(i) -= f * T.row(row);
+    double* pr = T.data() + static_cast<Eigen::Index>(row) * cols;
+    nz.clear();
+    double prow = 0.0, fmax = 0.0;
+    for (int j = 0; j < cols; ++j)
+      if (pr[j] != 0.0) {
+        nz.push_back(j);
+        prow = std::max(prow, std::abs(pr[j]));
+      }
+    for (int i = 0; i < n; ++i) {
+      double* ri = T.data() + static_cast<Eigen::Index>(i) * cols;
+      const double f = ri[col];
+      if (i == row || f == 0.0) continue;
+      fmax = std::max(fmax, std::abs(f));
+      for (const int j : nz) ri[j] -= f * pr[j];
+    }
     T.col(col).setZero();
     T(row, col) = 1.0;
     basis[static_cast<size_t>(row)] = col;
+    bound = std::max(bound + fmax * prow, std::max(prow, 1.0));
+    if (bound <= 1e300) return true;  // NaN compares false
+    if (!T.allFinite()) return false;
+    bound = T.cwiseAbs().maxCoeff();
+    return true;
   };
 
   int first = 0;
   for (int i = 1; i < n; ++i)
     if (q[i] / d[i] < q[first] / d[first]) first = i;  // lowest index among ties
   int leaving = basis[static_cast<size_t>(first)];
-  pivot(first, z0col);
+  bool finite = pivot(first, z0col);
   r.pivots = 1;
   while (true) {
     if (r.pivots >= cap) {
@@ -85,9 +111,9 @@ LemkePivoting lemke_pivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
       return r;
     }
     leaving = basis[static_cast<size_t>(best)];
-    pivot(best, entering);
+    finite = pivot(best, entering) && finite;
     ++r.pivots;
-    if (!T.allFinite()) {
+    if (!finite) {
       r.why = "tableau became non-finite";
       return r;
     }

@@ -268,7 +268,7 @@ class ProxRun {
     if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
     const int budget = budget_left();
     if (budget <= 0) return;
-    ProximalPointDef pd = def_.finish_route;
+    ProximalPointDef pd = body_ ? def_.finish_route : def_.dual_finish_route;
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     SolverOptions fo;
     fo.tolerance = target_;
