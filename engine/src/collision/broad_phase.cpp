@@ -4,12 +4,13 @@
 #include <cmath>
 
 #include "dc/core/error.hpp"
+#include "world/step_parts.hpp"
 
 namespace dc {
 
 void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
                                        const std::vector<double>& reach,
-                                       std::vector<std::pair<int, int>>& pairs) {
+                                       std::vector<std::pair<int, int>>& pairs, int threads) {
   pairs.clear();
   pair_tests_ = 0;
   const int n = static_cast<int>(centres.size());
@@ -23,7 +24,7 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
   find(
       n, [&](int k) { return Vec2{centres[k].x - reach[k], centres[k].y - reach[k]}; },
       [&](int k) { return Vec2{centres[k].x + reach[k], centres[k].y + reach[k]}; },
-      [&](int k) { return 2 * reach[k]; }, pairs);
+      [&](int k) { return 2 * reach[k]; }, pairs, threads);
 }
 
 void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const std::vector<Vec2>& hi,
@@ -44,16 +45,32 @@ void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const st
 
 template <class Lo, class Hi, class Extent>
 void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent& extent,
-                                 std::vector<std::pair<int, int>>& pairs) {
-  // Grid extent: bounding box of all boxes; cell = largest box extent (≥ tiny > 0).
+                                 std::vector<std::pair<int, int>>& pairs, int threads) {
+  // Grid extent: bounding box of all boxes; cell = largest box extent (≥ tiny > 0). By jobs of
+  // bodies, combined in job order (each minimum and maximum is the first of its value in body
+  // order, as one pass finds it).
+  const int body_jobs = parts_for(threads, n, 2, 4096);
+  job_bounds_.assign(static_cast<size_t>(5 * body_jobs), 0.0);
+  run_parts(threads, body_jobs, [&](int p) {
+    double b[5] = {INFINITY, INFINITY, -INFINITY, -INFINITY, 0};  // xmin, ymin, xmax, ymax, cell
+    for (int k = static_cast<int>(part_begin(n, body_jobs, p)); k < part_begin(n, body_jobs, p + 1); ++k) {
+      const Vec2 l = lo(k), h = hi(k);
+      b[0] = std::min(b[0], l.x);
+      b[1] = std::min(b[1], l.y);
+      b[2] = std::max(b[2], h.x);
+      b[3] = std::max(b[3], h.y);
+      b[4] = std::max(b[4], extent(k));
+    }
+    std::copy(b, b + 5, job_bounds_.begin() + 5 * p);
+  });
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY, cell = 0;
-  for (int k = 0; k < n; ++k) {
-    const Vec2 l = lo(k), h = hi(k);
-    xmin = std::min(xmin, l.x);
-    ymin = std::min(ymin, l.y);
-    xmax = std::max(xmax, h.x);
-    ymax = std::max(ymax, h.y);
-    cell = std::max(cell, extent(k));
+  for (int p = 0; p < body_jobs; ++p) {
+    const double* b = job_bounds_.data() + 5 * p;
+    xmin = std::min(xmin, b[0]);
+    ymin = std::min(ymin, b[1]);
+    xmax = std::max(xmax, b[2]);
+    ymax = std::max(ymax, b[3]);
+    cell = std::max(cell, b[4]);
   }
   // A hair above the largest extent, so that rounding in the cell index below can never put
   // the lower corners of two overlapping boxes two cells apart.
@@ -85,12 +102,13 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   cell_of_body_.resize(static_cast<size_t>(n));
   const long long ncell = nx * ny;
   cell_start_.assign(static_cast<size_t>(ncell + 1), 0);
-  for (int k = 0; k < n; ++k) {
-    const Vec2 l = lo(k);
-    const long long c = cy(l.y) * nx + cx(l.x);
-    cell_of_body_[static_cast<size_t>(k)] = c;
-    ++cell_start_[static_cast<size_t>(c + 1)];
-  }
+  run_parts(threads, body_jobs, [&](int p) {
+    for (int k = static_cast<int>(part_begin(n, body_jobs, p)); k < part_begin(n, body_jobs, p + 1); ++k) {
+      const Vec2 l = lo(k);
+      cell_of_body_[static_cast<size_t>(k)] = cy(l.y) * nx + cx(l.x);
+    }
+  });
+  for (const long long c : cell_of_body_) ++cell_start_[static_cast<size_t>(c + 1)];
   for (long long c = 0; c < ncell; ++c) cell_start_[static_cast<size_t>(c + 1)] += cell_start_[static_cast<size_t>(c)];
   entries_.resize(static_cast<size_t>(n));
   fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
@@ -100,17 +118,33 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
         l.x, l.y, h.x, h.y, k};
   }
 
-  by_body_.clear();
+  // The pair tests by rows of cells, one list per job (rows [begin, end) of the grid).
+  const int jobs = parts_for(threads, static_cast<long>(ny), 8, 4);
+  if (by_body_.size() < static_cast<size_t>(jobs)) by_body_.resize(static_cast<size_t>(jobs));
+  tests_.assign(static_cast<size_t>(jobs), 0);
+  run_parts(threads, jobs, [&](int p) {
+    tests_[static_cast<size_t>(p)] = test_rows(part_begin(static_cast<long>(ny), jobs, p),
+                                               part_begin(static_cast<long>(ny), jobs, p + 1), nx, ny,
+                                               by_body_[static_cast<size_t>(p)]);
+  });
+  for (const std::size_t t : tests_) pair_tests_ += t;
+  sort_pairs(n, pairs, jobs, threads);
+}
+
+std::size_t UniformGridBroadPhase::test_rows(long long row_begin, long long row_end, long long nx, long long ny,
+                                             std::vector<std::pair<int, int>>& out) const {
+  out.clear();
+  std::size_t tests = 0;
   auto test_run = [&](const Entry& a, int from, int to) {
     for (int q = from; q < to; ++q) {
       const Entry& b = entries_[static_cast<size_t>(q)];
-      ++pair_tests_;
+      ++tests;
       if (std::max(a.xlo, b.xlo) > std::min(a.xhi, b.xhi) || std::max(a.ylo, b.ylo) > std::min(a.yhi, b.yhi)) continue;
-      by_body_.emplace_back(std::min(a.body, b.body), std::max(a.body, b.body));
+      out.emplace_back(std::min(a.body, b.body), std::max(a.body, b.body));
     }
   };
   auto start = [&](long long c) { return cell_start_[static_cast<size_t>(c)]; };
-  for (long long j = 0; j < ny; ++j)
+  for (long long j = row_begin; j < row_end; ++j)
     for (long long i = 0; i < nx; ++i) {
       const long long c = j * nx + i;
       const int s = start(c), e = start(c + 1);
@@ -125,24 +159,39 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
         if (above) test_run(a, up_begin, up_end);
       }
     }
+  return tests;
+}
+
+void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& pairs, int jobs, int threads) {
   // Sorted output in linear time: counting sort by the first body, then the few partners
-  // of each first body by insertion sort (a body has a handful of neighbours).
+  // of each first body by insertion sort (a body has a handful of neighbours). Every pair is
+  // distinct, so the order is the same whatever the jobs' lists held in which order.
   first_start_.assign(static_cast<size_t>(n) + 1, 0);
-  for (const auto& pr : by_body_) ++first_start_[static_cast<size_t>(pr.first) + 1];
-  for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
-  pairs.resize(by_body_.size());
-  fill_.assign(first_start_.begin(), first_start_.end() - 1);
-  for (const auto& pr : by_body_) pairs[static_cast<size_t>(fill_[static_cast<size_t>(pr.first)]++)] = pr;
-  for (int k = 0; k < n; ++k) {
-    const int s = first_start_[static_cast<size_t>(k)], e = first_start_[static_cast<size_t>(k) + 1];
-    for (int i = s + 1; i < e; ++i) {
-      const auto v = pairs[static_cast<size_t>(i)];
-      int j = i - 1;
-      for (; j >= s && pairs[static_cast<size_t>(j)].second > v.second; --j)
-        pairs[static_cast<size_t>(j) + 1] = pairs[static_cast<size_t>(j)];
-      pairs[static_cast<size_t>(j) + 1] = v;
-    }
+  size_t total = 0;
+  for (int p = 0; p < jobs; ++p) {
+    const auto& list = by_body_[static_cast<size_t>(p)];
+    total += list.size();
+    for (const auto& pr : list) ++first_start_[static_cast<size_t>(pr.first) + 1];
   }
+  for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
+  pairs.resize(total);
+  fill_.assign(first_start_.begin(), first_start_.end() - 1);
+  for (int p = 0; p < jobs; ++p)
+    for (const auto& pr : by_body_[static_cast<size_t>(p)])
+      pairs[static_cast<size_t>(fill_[static_cast<size_t>(pr.first)]++)] = pr;
+  const int sort_jobs = parts_for(threads, n, 4, 1024);
+  run_parts(threads, sort_jobs, [&](int p) {
+    for (int k = static_cast<int>(part_begin(n, sort_jobs, p)); k < part_begin(n, sort_jobs, p + 1); ++k) {
+      const int s = first_start_[static_cast<size_t>(k)], e = first_start_[static_cast<size_t>(k) + 1];
+      for (int i = s + 1; i < e; ++i) {
+        const auto v = pairs[static_cast<size_t>(i)];
+        int j = i - 1;
+        for (; j >= s && pairs[static_cast<size_t>(j)].second > v.second; --j)
+          pairs[static_cast<size_t>(j) + 1] = pairs[static_cast<size_t>(j)];
+        pairs[static_cast<size_t>(j) + 1] = v;
+      }
+    }
+  });
 }
 
 }  // namespace dc

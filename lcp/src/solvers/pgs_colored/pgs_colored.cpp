@@ -126,12 +126,20 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] std::string name() const override { return "pgs-colored"; }
   [[nodiscard]] bool needs_jacobian() const override { return true; }
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
+  [[nodiscard]] int threads() const override {
+#if defined(_OPENMP)
+    return std::max(1, def_.threads > 0 ? def_.threads : omp_get_max_threads());
+#else
+    return 1;
+#endif
+  }
+  void hold_threads(bool serial) override { held_ = serial; }
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
     // Threads only while they pay (ThreadPacer), unless min_batches_per_thread = 0 forces them.
     const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0;
-    serial_solve_ = paced && !pacer_.threaded_next();
+    serial_solve_ = held_ || (paced && !pacer_.threaded_next());
     serial_setup_ = paced && !pacer_.proven();
     solved_ = Solved{};
     const auto t0 = std::chrono::steady_clock::now();
@@ -403,6 +411,7 @@ class PgsColoredSolver final : public LcpSolver {
   colored::ThreadPacer pacer_;
   bool serial_solve_ = false;  // this solve runs on one thread (the pacer's choice)
   bool serial_setup_ = false;  // this solve's set-up runs on one thread (a probe, or serial)
+  bool held_ = false;          // hold_threads(true): every solve serial
 };
 
 }  // namespace
