@@ -133,7 +133,8 @@ class PgsColoredSolver final : public LcpSolver {
     return 1;
 #endif
   }
-  void hold_threads(bool serial) override { held_ = serial; }
+  /// (min_batches_per_thread = 0 threads every problem: no hold.)
+  void hold_threads(bool serial) override { held_ = serial && def_.min_batches_per_thread > 0; }
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
