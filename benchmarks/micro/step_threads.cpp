@@ -11,6 +11,8 @@
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem). The pile and its settling are those of micro_step (150 steps of pgs).
 #include <CLI/CLI.hpp>
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -127,11 +129,14 @@ int main(int argc, char** argv) {
                        p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
           const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
           if (r < 0) continue;
-          add_stages(s, rep.profile);
           s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
           s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
           proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
+          add_stages(s, rep.profile);
         }
+        // The series' idle OpenMP threads end before the next series: they would spin-wait for
+        // milliseconds (OMP_WAIT_POLICY unset), counted as the next series' process CPU.
+        (void)omp_pause_resource_all(omp_pause_soft);
       }
     }
     const double base = median(series.front().wall_ms);

@@ -148,6 +148,11 @@ class PgsColoredSolver final : public LcpSolver {
     if (paced && solved_.batches > 0) {
       const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - t0;
       pacer_.record(solved_.threads > 1, wall.count(), static_cast<double>(solved_.batches) * (r.sweeps + 2));
+#if defined(_OPENMP)
+      // Serial solves next: the idle threads end instead of spin-waiting (OpenMP's default wait
+      // policy spins for milliseconds after a region, on a core other programs could use).
+      if (solved_.threads > 1 && !pacer_.threaded_next()) (void)omp_pause_resource_all(omp_pause_soft);
+#endif
     }
     return r;
   }
