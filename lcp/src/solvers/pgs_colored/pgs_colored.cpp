@@ -126,9 +126,13 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] std::string name() const override { return "pgs-colored"; }
   [[nodiscard]] bool needs_jacobian() const override { return true; }
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
+  /// def_.threads (0: OpenMP's default) when forced (min_batches_per_thread = 0) or once the
+  /// pacer has seen threaded solves pay (a free core: World::step then probes its stages on
+  /// threads too), else 1.
   [[nodiscard]] int threads() const override {
 #if defined(_OPENMP)
-    return std::max(1, def_.threads > 0 ? def_.threads : omp_get_max_threads());
+    const int t = std::max(1, def_.threads > 0 ? def_.threads : omp_get_max_threads());
+    return def_.min_batches_per_thread == 0 || pacer_.proven() ? t : 1;
 #else
     return 1;
 #endif
