@@ -2,7 +2,8 @@
 // alternated inside each round, timed per step by the wall clock and by the CPU time of the
 // stepping thread (the second is what a busy machine disturbs least). Reported per body count
 // and thread count: medians over all timed steps (and the wall clock's mean, which counts rare
-// slow steps), and the load average before and after.
+// slow steps), the wall time of each stage (StepProfile medians), and the load average before
+// and after.
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
 //                          [--sweeps 20] [--min-batches -1]
@@ -10,6 +11,8 @@
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem). The pile and its settling are those of micro_step (150 steps of pgs).
 #include <CLI/CLI.hpp>
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -78,7 +81,13 @@ struct Series {
   int threads = 1;
   std::unique_ptr<dc::LcpSolver> solver;
   std::vector<double> wall_ms, cpu_ms;
+  std::vector<double> stage_ms[5];  // collide, assemble, warm start, solve, integrate
 };
+
+void add_stages(Series& s, const dc::StepProfile& p) {
+  const double ms[5] = {p.collide_ms, p.assemble_ms, p.warmstart_ms, p.solve_ms, p.integrate_ms};
+  for (int i = 0; i < 5; ++i) s.stage_ms[i].push_back(ms[i]);
+}
 
 }  // namespace
 
@@ -118,12 +127,16 @@ int main(int argc, char** argv) {
         for (int k = 0; k < steps; ++k) {
           const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
                        p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
-          (void)w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
+          const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
           if (r < 0) continue;
           s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
           s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
           proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
+          add_stages(s, rep.profile);
         }
+        // The series' idle OpenMP threads end before the next series: they would spin-wait for
+        // milliseconds (OMP_WAIT_POLICY unset), counted as the next series' process CPU.
+        (void)omp_pause_resource_all(omp_pause_soft);
       }
     }
     const double base = median(series.front().wall_ms);
@@ -132,6 +145,10 @@ int main(int argc, char** argv) {
       std::printf("| %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall,
                   mean(series[j].wall_ms), median(series[j].cpu_ms), median(proc[j]), base / wall);
     }
+    std::printf("#   stage wall ms/step (medians): collide, assemble, warm start, solve, integrate\n");
+    for (const Series& s : series)
+      std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),
+                  median(s.stage_ms[1]), median(s.stage_ms[2]), median(s.stage_ms[3]), median(s.stage_ms[4]));
   }
   std::printf("# load after: %s\n", load_average().c_str());
   return 0;

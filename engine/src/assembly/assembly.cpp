@@ -4,12 +4,99 @@
 #include <cmath>
 #include <limits>
 
+#include "world/step_parts.hpp"
+
 namespace dc {
 
 double friction_of(const Contact& /*contact*/, const ContactSection& section) { return section.friction; }
 
+namespace {
+
+/// The rows of contact c (its constraint kc): J's entries at the row starts already in J, b,
+/// the bounds, μ and the normal row of its tangent row.
+void fill_rows(const BodyState& s, const Contact& ct, const ContactConstraint& kc, const WorldDef& def,
+               LcpProblem& out) {
+  const double dt = def.time.dt;
+  const ContactSection& cs = def.contact;
+  const Vec2 g = def.world.gravity;
+  const int* const outer = out.J.outerIndexPtr();
+  int* const inner = out.J.innerIndexPtr();
+  double* const value = out.J.valuePtr();
+  const Vec2 n = ct.normal, t = perp(n);
+  const int rn = kc.normal_row, rt = kc.tangent_row;
+  const bool friction = kc.has_friction();
+  double vn = 0, vt = 0;       // J u       (relative velocity before the step)
+  double vn_f = 0, vt_f = 0;   // J Δt M⁻¹ F_ext  (gravity only: Δt·g on linear dofs)
+  // Row rn holds entries [outer[rn], outer[rn] + per_row), row rt the next per_row.
+  const int per_row = kc.body_a >= 0 ? 6 : 3;  // a static/kinematic body_a has no columns
+  const int first_n = outer[rn];
+  const int first_t = first_n + per_row;
+  auto put = [&](int at, int col, double v) {
+    inner[at] = col;
+    value[at] = v;
+  };
+  auto add_body = [&](int body, double sign, int slot) {
+    const auto k = static_cast<size_t>(body);
+    const Vec2 r = ct.point - s.position[k];
+    const double rn_x = cross(r, n), rt_x = cross(r, t);
+    put(first_n + slot, 3 * body, sign * n.x);
+    put(first_n + slot + 1, 3 * body + 1, sign * n.y);
+    put(first_n + slot + 2, 3 * body + 2, sign * rn_x);
+    vn += sign * (dot(n, s.velocity[k]) + rn_x * s.omega[k]);
+    vn_f += sign * dt * dot(n, g);
+    if (friction) {
+      put(first_t + slot, 3 * body, sign * t.x);
+      put(first_t + slot + 1, 3 * body + 1, sign * t.y);
+      put(first_t + slot + 2, 3 * body + 2, sign * rt_x);
+      vt += sign * (dot(t, s.velocity[k]) + rt_x * s.omega[k]);
+      vt_f += sign * dt * dot(t, g);
+    }
+  };
+  // The sums run body a, then body b (this order fixes the rounding of vn, vt); the columns of
+  // the body with the lower index come first in each row.
+  if (kc.body_a >= 0) {
+    const bool a_first = ct.body_a < ct.body_b;
+    add_body(ct.body_a, -1.0, a_first ? 0 : 3);
+    add_body(ct.body_b, +1.0, a_first ? 3 : 0);
+  } else {
+    if (ct.body_a >= 0) {
+      // Static / kinematic body_a: no columns, no gravity; its velocity at the point enters b
+      // as a moving boundary's (relative velocity J u with the boundary's u).
+      const auto k = static_cast<size_t>(ct.body_a);
+      const Vec2 r = ct.point - s.position[k];
+      vn -= dot(n, s.velocity[k]) + cross(r, n) * s.omega[k];
+      vt -= dot(t, s.velocity[k]) + cross(r, t) * s.omega[k];
+    }
+    add_body(ct.body_b, +1.0, 0);
+  }
+
+  // b of the normal row: relative velocity + gravity + stabilisation + restitution.
+  double bn = vn + vn_f;
+  if (ct.gap > 0) {
+    bn += ct.gap / dt;  // speculative: may close at most the open gap this step
+  } else {
+    bn += cs.baumgarte * std::min(0.0, ct.gap + cs.slop) / dt;
+  }
+  // Restitution (restitution.hpp): aim at −e·v_a, v_a the stored approach velocity.
+  if (cs.restitution > 0 && ct.restitution_due && ct.approach_velocity < -cs.restitution_threshold)
+    bn = std::min(bn, vn + vn_f + cs.restitution * ct.approach_velocity);
+  out.b[rn] = bn;
+  out.lo[rn] = 0.0;
+  out.hi[rn] = std::numeric_limits<double>::infinity();
+  out.mu[rn] = 0.0;
+  if (friction) {
+    out.b[rt] = vt + vt_f;
+    out.lo[rt] = -std::numeric_limits<double>::infinity();  // effective bounds: ±μ λ_n
+    out.hi[rt] = std::numeric_limits<double>::infinity();
+    out.mu[rt] = kc.mu;
+    out.normal_row[static_cast<size_t>(rt)] = rn;
+  }
+}
+
+}  // namespace
+
 void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
-                  LcpProblem& out) {
+                  LcpProblem& out, int threads) {
   const int nb = static_cast<int>(s.size());
   const int nc = static_cast<int>(contacts.size());
   const double dt = def.time.dt;
@@ -28,10 +115,6 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
 
   out.dt = dt;
   out.inv_mass.resize(3 * nb);
-  for (int k = 0; k < nb; ++k) {
-    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
-    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
-  }
 
   // J in compressed row storage, filled in place (rows come in order and each row's columns
   // in ascending order, so no triplet list, sort or transpose is needed): the normal row
@@ -43,100 +126,38 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
   out.J.resize(rows, 3 * nb);
   out.J.resizeNonZeros(nnz);
   int* const outer = out.J.outerIndexPtr();
-  int* const inner = out.J.innerIndexPtr();
-  double* const value = out.J.valuePtr();
-  outer[0] = 0;
+  outer[0] = 0;  // row starts first, so that the jobs below each write only their contacts' rows
+  for (const ContactConstraint& kc : con) {
+    const int per_row = kc.has_body_a() ? 6 : 3;
+    outer[kc.normal_row + 1] = outer[kc.normal_row] + per_row;
+    if (kc.has_friction()) outer[kc.tangent_row + 1] = outer[kc.tangent_row] + per_row;
+  }
   out.b.resize(rows);
   out.lo.resize(rows);
   out.hi.resize(rows);
   out.mu.resize(rows);
   out.normal_row.assign(static_cast<size_t>(rows), -1);
 
-  const Vec2 g = def.world.gravity;
-  // Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
-  // bodies follow space: its fields are fetched kAhead contacts early (a hint, no effect on values).
-  constexpr int kAhead = 8;
-  for (int c = 0; c < nc; ++c) {
-    if (c + kAhead < nc) {
-      const auto b = static_cast<size_t>(contacts[static_cast<size_t>(c + kAhead)].body_b);
-      __builtin_prefetch(&s.position[b]);
-      __builtin_prefetch(&s.velocity[b]);
-      __builtin_prefetch(&s.omega[b]);
+  const int jobs = parts_for(threads, std::max(nb, nc), 4, 1024);
+  run_parts(threads, jobs, [&](int part) {
+    for (int k = static_cast<int>(part_begin(nb, jobs, part)); k < part_begin(nb, jobs, part + 1); ++k) {
+      out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
+      out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
     }
-    const Contact& ct = contacts[static_cast<size_t>(c)];
-    const Vec2 n = ct.normal, t = perp(n);
-    const ContactConstraint& kc = con[c];
-    const int rn = kc.normal_row, rt = kc.tangent_row;
-    const bool friction = kc.has_friction();
-    double vn = 0, vt = 0;       // J u       (relative velocity before the step)
-    double vn_f = 0, vt_f = 0;   // J Δt M⁻¹ F_ext  (gravity only: Δt·g on linear dofs)
-    // Row rn holds entries [outer[rn], outer[rn] + per_row), row rt the next per_row.
-    const int per_row = kc.body_a >= 0 ? 6 : 3;  // a static/kinematic body_a has no columns
-    const int first_n = outer[rn];
-    const int first_t = first_n + per_row;
-    auto put = [&](int at, int col, double v) {
-      inner[at] = col;
-      value[at] = v;
-    };
-    auto add_body = [&](int body, double sign, int slot) {
-      const auto k = static_cast<size_t>(body);
-      const Vec2 r = ct.point - s.position[k];
-      const double rn_x = cross(r, n), rt_x = cross(r, t);
-      put(first_n + slot, 3 * body, sign * n.x);
-      put(first_n + slot + 1, 3 * body + 1, sign * n.y);
-      put(first_n + slot + 2, 3 * body + 2, sign * rn_x);
-      vn += sign * (dot(n, s.velocity[k]) + rn_x * s.omega[k]);
-      vn_f += sign * dt * dot(n, g);
-      if (friction) {
-        put(first_t + slot, 3 * body, sign * t.x);
-        put(first_t + slot + 1, 3 * body + 1, sign * t.y);
-        put(first_t + slot + 2, 3 * body + 2, sign * rt_x);
-        vt += sign * (dot(t, s.velocity[k]) + rt_x * s.omega[k]);
-        vt_f += sign * dt * dot(t, g);
+    // Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
+    // bodies follow space: its fields are fetched kAhead contacts early (a hint, no effect on values).
+    constexpr int kAhead = 8;
+    const int c_end = static_cast<int>(part_begin(nc, jobs, part + 1));
+    for (int c = static_cast<int>(part_begin(nc, jobs, part)); c < c_end; ++c) {
+      if (c + kAhead < c_end) {
+        const auto b = static_cast<size_t>(contacts[static_cast<size_t>(c + kAhead)].body_b);
+        __builtin_prefetch(&s.position[b]);
+        __builtin_prefetch(&s.velocity[b]);
+        __builtin_prefetch(&s.omega[b]);
       }
-    };
-    // The sums run body a, then body b (this order fixes the rounding of vn, vt); the columns of
-    // the body with the lower index come first in each row.
-    if (kc.body_a >= 0) {
-      const bool a_first = ct.body_a < ct.body_b;
-      add_body(ct.body_a, -1.0, a_first ? 0 : 3);
-      add_body(ct.body_b, +1.0, a_first ? 3 : 0);
-    } else {
-      if (ct.body_a >= 0) {
-        // Static / kinematic body_a: no columns, no gravity; its velocity at the point enters b
-        // as a moving boundary's (relative velocity J u with the boundary's u).
-        const auto k = static_cast<size_t>(ct.body_a);
-        const Vec2 r = ct.point - s.position[k];
-        vn -= dot(n, s.velocity[k]) + cross(r, n) * s.omega[k];
-        vt -= dot(t, s.velocity[k]) + cross(r, t) * s.omega[k];
-      }
-      add_body(ct.body_b, +1.0, 0);
+      fill_rows(s, contacts[static_cast<size_t>(c)], con[c], def, out);
     }
-    outer[rn + 1] = first_n + per_row;
-    if (friction) outer[rt + 1] = first_t + per_row;
-
-    // b of the normal row: relative velocity + gravity + stabilisation + restitution.
-    double bn = vn + vn_f;
-    if (ct.gap > 0) {
-      bn += ct.gap / dt;  // speculative: may close at most the open gap this step
-    } else {
-      bn += cs.baumgarte * std::min(0.0, ct.gap + cs.slop) / dt;
-    }
-    // Restitution (restitution.hpp): aim at −e·v_a, v_a the stored approach velocity.
-    if (cs.restitution > 0 && ct.restitution_due && ct.approach_velocity < -cs.restitution_threshold)
-      bn = std::min(bn, vn + vn_f + cs.restitution * ct.approach_velocity);
-    out.b[rn] = bn;
-    out.lo[rn] = 0.0;
-    out.hi[rn] = std::numeric_limits<double>::infinity();
-    out.mu[rn] = 0.0;
-    if (friction) {
-      out.b[rt] = vt + vt_f;
-      out.lo[rt] = -std::numeric_limits<double>::infinity();  // effective bounds: ±μ λ_n
-      out.hi[rt] = std::numeric_limits<double>::infinity();
-      out.mu[rt] = kc.mu;
-      out.normal_row[static_cast<size_t>(rt)] = rn;
-    }
-  }
+  });
   // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix). Emptied only
   // when formed: an empty SparseRowMatrix allocates its outer index, every step.
   if (out.A.rows() != 0 || out.A.cols() != 0 || out.A.nonZeros() != 0) out.A = SparseRowMatrix();

@@ -24,8 +24,9 @@ namespace dc {
 double friction_of(const Contact& contact, const ContactSection& section);
 
 /// Fills `out` (constraints, b, bounds, J, inv_mass, dt; A left empty) for the given
-/// contacts; reuses its storage.
+/// contacts; reuses its storage. threads > 1: the rows are filled by parallel jobs of contacts
+/// (each contact's rows written by one job: the same numbers).
 void assemble_lcp(const BodyState& bodies, const std::vector<Contact>& contacts,
-                  const WorldDef& def, LcpProblem& out);
+                  const WorldDef& def, LcpProblem& out, int threads = 1);
 
 }  // namespace dc

@@ -4,12 +4,13 @@
 #include <cmath>
 
 #include "dc/core/error.hpp"
+#include "world/step_parts.hpp"
 
 namespace dc {
 
 void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
                                        const std::vector<double>& reach,
-                                       std::vector<std::pair<int, int>>& pairs) {
+                                       std::vector<std::pair<int, int>>& pairs, int threads) {
   pairs.clear();
   pair_tests_ = 0;
   const int n = static_cast<int>(centres.size());
@@ -23,7 +24,7 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
   find(
       n, [&](int k) { return Vec2{centres[k].x - reach[k], centres[k].y - reach[k]}; },
       [&](int k) { return Vec2{centres[k].x + reach[k], centres[k].y + reach[k]}; },
-      [&](int k) { return 2 * reach[k]; }, pairs);
+      [&](int k) { return 2 * reach[k]; }, pairs, threads);
 }
 
 void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const std::vector<Vec2>& hi,
@@ -44,16 +45,32 @@ void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const st
 
 template <class Lo, class Hi, class Extent>
 void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent& extent,
-                                 std::vector<std::pair<int, int>>& pairs) {
-  // Grid extent: bounding box of all boxes; cell = largest box extent (≥ tiny > 0).
+                                 std::vector<std::pair<int, int>>& pairs, int threads) {
+  // Grid extent: bounding box of all boxes; cell = largest box extent (≥ tiny > 0). By jobs of
+  // bodies, combined in job order (each minimum and maximum is the first of its value in body
+  // order, as one pass finds it).
+  const int body_jobs = parts_for(threads, n, 2, 4096);
+  job_bounds_.assign(static_cast<size_t>(5 * body_jobs), 0.0);
+  run_parts(threads, body_jobs, [&](int p) {
+    double b[5] = {INFINITY, INFINITY, -INFINITY, -INFINITY, 0};  // xmin, ymin, xmax, ymax, cell
+    for (int k = static_cast<int>(part_begin(n, body_jobs, p)); k < part_begin(n, body_jobs, p + 1); ++k) {
+      const Vec2 l = lo(k), h = hi(k);
+      b[0] = std::min(b[0], l.x);
+      b[1] = std::min(b[1], l.y);
+      b[2] = std::max(b[2], h.x);
+      b[3] = std::max(b[3], h.y);
+      b[4] = std::max(b[4], extent(k));
+    }
+    std::copy(b, b + 5, job_bounds_.begin() + 5 * p);
+  });
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY, cell = 0;
-  for (int k = 0; k < n; ++k) {
-    const Vec2 l = lo(k), h = hi(k);
-    xmin = std::min(xmin, l.x);
-    ymin = std::min(ymin, l.y);
-    xmax = std::max(xmax, h.x);
-    ymax = std::max(ymax, h.y);
-    cell = std::max(cell, extent(k));
+  for (int p = 0; p < body_jobs; ++p) {
+    const double* b = job_bounds_.data() + 5 * p;
+    xmin = std::min(xmin, b[0]);
+    ymin = std::min(ymin, b[1]);
+    xmax = std::max(xmax, b[2]);
+    ymax = std::max(ymax, b[3]);
+    cell = std::max(cell, b[4]);
   }
   // A hair above the largest extent, so that rounding in the cell index below can never put
   // the lower corners of two overlapping boxes two cells apart.
@@ -85,12 +102,13 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   cell_of_body_.resize(static_cast<size_t>(n));
   const long long ncell = nx * ny;
   cell_start_.assign(static_cast<size_t>(ncell + 1), 0);
-  for (int k = 0; k < n; ++k) {
-    const Vec2 l = lo(k);
-    const long long c = cy(l.y) * nx + cx(l.x);
-    cell_of_body_[static_cast<size_t>(k)] = c;
-    ++cell_start_[static_cast<size_t>(c + 1)];
-  }
+  run_parts(threads, body_jobs, [&](int p) {
+    for (int k = static_cast<int>(part_begin(n, body_jobs, p)); k < part_begin(n, body_jobs, p + 1); ++k) {
+      const Vec2 l = lo(k);
+      cell_of_body_[static_cast<size_t>(k)] = cy(l.y) * nx + cx(l.x);
+    }
+  });
+  for (const long long c : cell_of_body_) ++cell_start_[static_cast<size_t>(c + 1)];
   for (long long c = 0; c < ncell; ++c) cell_start_[static_cast<size_t>(c + 1)] += cell_start_[static_cast<size_t>(c)];
   entries_.resize(static_cast<size_t>(n));
   fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
@@ -100,30 +118,47 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
         l.x, l.y, h.x, h.y, k};
   }
 
+  // The pair tests by rows of cells, one list per job (rows [begin, end) of the grid).
+  const int jobs = parts_for(threads, static_cast<long>(ny), 8, 4);
+  if (by_body_.size() < static_cast<size_t>(jobs)) by_body_.resize(static_cast<size_t>(jobs));
+  tests_.assign(static_cast<size_t>(jobs), 0);
+  found_.assign(static_cast<size_t>(jobs), 0);
+  run_parts(threads, jobs, [&](int p) {
+    tests_[static_cast<size_t>(p)] = test_rows(part_begin(static_cast<long>(ny), jobs, p),
+                                               part_begin(static_cast<long>(ny), jobs, p + 1), nx, ny,
+                                               by_body_[static_cast<size_t>(p)], found_[static_cast<size_t>(p)]);
+  });
+  for (const std::size_t t : tests_) pair_tests_ += t;
+  sort_pairs(n, pairs, jobs);
+}
+
+std::size_t UniformGridBroadPhase::test_rows(long long row_begin, long long row_end, long long nx, long long ny,
+                                             std::vector<std::pair<int, int>>& out, std::size_t& found) const {
   // The overlap test's outcome is added, not branched on: every tested pair is written after
   // the kept ones and kept only when the boxes overlap. Which neighbours of a cell overlap
   // follows no pattern a branch predictor can learn once the scene outgrows its tables (body
   // indices are unordered within a cell), and a mispredicted branch per test would cost more
-  // than the test. by_body_ is capacity; its first `found` entries are the pairs.
-  std::size_t found = 0;
+  // than the test. `out` is capacity; its first `found` entries are the pairs.
+  found = 0;
+  std::size_t tests = 0;
   auto test_run = [&](const Entry& a, int from, int to) {
     if (from >= to) return;
-    const auto tests = static_cast<std::size_t>(to - from);
-    if (found + tests > by_body_.size()) by_body_.resize(std::max(2 * by_body_.size(), found + tests + 64));
-    std::pair<int, int>* const out = by_body_.data();
+    const auto run = static_cast<std::size_t>(to - from);
+    if (found + run > out.size()) out.resize(std::max(2 * out.size(), found + run + 64));
+    std::pair<int, int>* const dst = out.data();
     for (int q = from; q < to; ++q) {
       const Entry& b = entries_[static_cast<size_t>(q)];
       const bool apart_x = std::max(a.xlo, b.xlo) > std::min(a.xhi, b.xhi);
       const bool apart_y = std::max(a.ylo, b.ylo) > std::min(a.yhi, b.yhi);
       // (min, max) of the two bodies without a branch: the xor of both, masked when b < a.
       const int swap = (a.body ^ b.body) & -static_cast<int>(b.body < a.body);
-      out[found] = {a.body ^ swap, b.body ^ swap};
+      dst[found] = {a.body ^ swap, b.body ^ swap};
       found += static_cast<std::size_t>(!(apart_x | apart_y));
     }
-    pair_tests_ += tests;
+    tests += run;
   };
   auto start = [&](long long c) { return cell_start_[static_cast<size_t>(c)]; };
-  for (long long j = 0; j < ny; ++j)
+  for (long long j = row_begin; j < row_end; ++j)
     for (long long i = 0; i < nx; ++i) {
       const long long c = j * nx + i;
       const int s = start(c), e = start(c + 1);
@@ -138,19 +173,32 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
         if (above) test_run(a, up_begin, up_end);
       }
     }
-  // Sorted output in linear time: a stable counting sort by the second body, then one by the
-  // first, leaves the pairs in (first, second) order. Two branch-free scatters: sorting each
-  // body's few partners by comparison mispredicts when the partners come in no order.
+  return tests;
+}
+
+void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& pairs, int jobs) {
+  // Sorted output in linear time: the jobs' lists one after the other, then a stable counting
+  // sort by the second body and one by the first leave the pairs in (first, second) order.
+  // Every pair is distinct, so the order is the same whatever the jobs' lists held in which
+  // order. Two branch-free scatters: sorting each body's few partners by comparison
+  // mispredicts when the partners come in no order.
+  std::size_t total = 0;
+  for (int p = 0; p < jobs; ++p) total += found_[static_cast<size_t>(p)];
+  by_second_.resize(total);
+  pairs.resize(total);
+  std::pair<int, int>* all = pairs.data();
+  for (int p = 0; p < jobs; ++p) {
+    const auto* list = by_body_[static_cast<size_t>(p)].data();
+    all = std::copy(list, list + found_[static_cast<size_t>(p)], all);
+  }
   const auto counting_sort = [&](const std::pair<int, int>* in, std::size_t m, std::pair<int, int>* out, auto key) {
     first_start_.assign(static_cast<size_t>(n) + 1, 0);
     for (std::size_t i = 0; i < m; ++i) ++first_start_[static_cast<size_t>(key(in[i])) + 1];
     for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
     for (std::size_t i = 0; i < m; ++i) out[first_start_[static_cast<size_t>(key(in[i]))]++] = in[i];
   };
-  by_second_.resize(found);
-  pairs.resize(found);
-  counting_sort(by_body_.data(), found, by_second_.data(), [](const std::pair<int, int>& p) { return p.second; });
-  counting_sort(by_second_.data(), found, pairs.data(), [](const std::pair<int, int>& p) { return p.first; });
+  counting_sort(pairs.data(), total, by_second_.data(), [](const std::pair<int, int>& p) { return p.second; });
+  counting_sort(by_second_.data(), total, pairs.data(), [](const std::pair<int, int>& p) { return p.first; });
 }
 
 }  // namespace dc

@@ -7,6 +7,7 @@
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
 #include "det_math.hpp"
+#include "world/step_parts.hpp"
 
 namespace dc {
 namespace {
@@ -70,7 +71,7 @@ void integrate_with_motion(const Eigen::VectorXd& impulse, Vec2 g, double dt, Bo
 }  // namespace
 
 void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
-                      Eigen::VectorXd& impulse) {
+                      Eigen::VectorXd& impulse, int threads) {
   const int n = static_cast<int>(s.size());
   if (lambda.size() != p.rows())
     throw InvalidArgument("integrate_bodies: lambda has " + std::to_string(lambda.size()) +
@@ -88,13 +89,16 @@ void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g
     integrate_with_motion(impulse, g, dt, s);
     return;
   }
-  for (int k = 0; k < n; ++k) {
-    const auto i = static_cast<size_t>(k);
-    s.velocity[i] += dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
-    s.omega[i] += s.inv_inertia[i] * impulse[3 * k + 2];
-    s.position[i] += dt * s.velocity[i];
-    s.angle[i] += dt * s.omega[i];
-  }
+  const int jobs = parts_for(threads, n, 2, 4096);
+  run_parts(threads, jobs, [&](int part) {
+    for (int k = static_cast<int>(part_begin(n, jobs, part)); k < part_begin(n, jobs, part + 1); ++k) {
+      const auto i = static_cast<size_t>(k);
+      s.velocity[i] += dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
+      s.omega[i] += s.inv_inertia[i] * impulse[3 * k + 2];
+      s.position[i] += dt * s.velocity[i];
+      s.angle[i] += dt * s.omega[i];
+    }
+  });
 }
 
 double kinetic_energy(const BodyState& s) {

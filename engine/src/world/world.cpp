@@ -12,6 +12,7 @@
 #include "dc/engine/broad_phase.hpp"
 #include "assembly/assembly.hpp"
 #include "world/restitution.hpp"
+#include "world/step_parts.hpp"
 
 namespace dc {
 namespace {
@@ -168,43 +169,87 @@ void World::collide_stage() {
 void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) {
   const int n = static_cast<int>(bodies.size());
   const double dt = def_.time.dt;
+  const int threads = step_threads_;
   out.clear();
 
-  // The narrow phase reads each pair's bodies from packed records (circle_probe.hpp).
+  // Per job of bodies: the packed records the narrow phase reads (circle_probe.hpp) and the
+  // reaches, then its wall contacts, wall by wall. Walls first (their keys sort first), body by
+  // body, in wall-id order left..top: keys top (−4) < bottom (−3) < right (−2) < left (−1), so the
+  // jobs' lists are merged wall by wall, each in job order.
+  static constexpr Wall kWalls[4] = {Wall::Left, Wall::Right, Wall::Bottom, Wall::Top};
   probes_.resize(static_cast<size_t>(n));
   reach_.resize(static_cast<size_t>(n));
-  for (int k = 0; k < n; ++k) {
-    const auto i = static_cast<size_t>(k);
-    const double spec = speculative_reach(bodies, k, def_.contact, dt);
-    probes_[i] = CircleProbe{bodies.position[i], bodies.radius[i], spec};
-    reach_[i] = bodies.radius[i] + spec;
-  }
-
-  // Walls first (their keys sort first), body by body, in wall-id order left..top.
-  static constexpr Wall kWalls[4] = {Wall::Left, Wall::Right, Wall::Bottom, Wall::Top};
-  for (int w = 3; w >= 0; --w) {  // keys: top (−4) < bottom (−3) < right (−2) < left (−1)
-    if (!def_.world.walls[static_cast<size_t>(w)]) continue;
-    for (int k = 0; k < n; ++k)
-      if (auto c = circle_wall(bodies, k, kWalls[w], def_.world.width, def_.world.height,
-                               2 * probes_[static_cast<size_t>(k)].spec))
-        out.push_back(*c);
-  }
-  const auto t0 = Clock::now();
-  broad_phase_.find_pairs(bodies.position, reach_, pairs_);
-  broad_phase_ms_ = ms_since(t0);
-  spread_ = {};
-  // Pairs come sorted by body a; body b's record is fetched kAhead pairs early (a hint).
-  constexpr std::size_t kAhead = 8;
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    if (p + kAhead < pairs_.size()) __builtin_prefetch(&probes_[static_cast<size_t>(pairs_[p + kAhead].second)]);
-    const auto [a, b] = pairs_[p];
-    if (auto c = circle_circle(probes_[static_cast<size_t>(a)], probes_[static_cast<size_t>(b)], a, b)) {
-      out.push_back(*c);
-      spread_.sum += std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
-      ++spread_.pairs;
+  const int body_jobs = parts_for(threads, n, 2, 1024);
+  if (part_walls_.size() < static_cast<size_t>(4 * body_jobs)) part_walls_.resize(static_cast<size_t>(4 * body_jobs));
+  run_parts(threads, body_jobs, [&](int p) {
+    const int lo = static_cast<int>(part_begin(n, body_jobs, p));
+    const int hi = static_cast<int>(part_begin(n, body_jobs, p + 1));
+    for (int k = lo; k < hi; ++k) {
+      const auto i = static_cast<size_t>(k);
+      const double spec = speculative_reach(bodies, k, def_.contact, dt);
+      probes_[i] = CircleProbe{bodies.position[i], bodies.radius[i], spec};
+      reach_[i] = bodies.radius[i] + spec;
     }
+    for (int w = 3; w >= 0; --w) {
+      std::vector<Contact>& list = body_jobs == 1 ? out : part_walls_[static_cast<size_t>(4 * p + w)];
+      if (body_jobs > 1) list.clear();
+      if (!def_.world.walls[static_cast<size_t>(w)]) continue;
+      for (int k = lo; k < hi; ++k)
+        if (auto c = circle_wall(bodies, k, kWalls[w], def_.world.width, def_.world.height,
+                                 2 * probes_[static_cast<size_t>(k)].spec))
+          list.push_back(*c);
+    }
+  });
+  const auto t0 = Clock::now();
+  broad_phase_.find_pairs(bodies.position, reach_, pairs_, threads);
+  broad_phase_ms_ = ms_since(t0);
+  // Per job of pairs: its contacts and their spread (integers: any order sums alike).
+  const long np = static_cast<long>(pairs_.size());
+  const int pair_jobs = parts_for(threads, np, 4, 1024);
+  if (part_pairs_.size() < static_cast<size_t>(pair_jobs)) part_pairs_.resize(static_cast<size_t>(pair_jobs));
+  part_spread_.assign(static_cast<size_t>(pair_jobs), InternalBodyOrder::Spread{});
+  const bool pairs_direct = body_jobs == 1 && pair_jobs == 1;  // appended to `out` after its walls
+  run_parts(threads, pair_jobs, [&](int p) {
+    std::vector<Contact>& list = pairs_direct ? out : part_pairs_[static_cast<size_t>(p)];
+    if (!pairs_direct) list.clear();
+    InternalBodyOrder::Spread& spread = part_spread_[static_cast<size_t>(p)];
+    const long q_end = part_begin(np, pair_jobs, p + 1);
+    // Pairs come sorted by body a; body b's record is fetched kAhead pairs early (a hint).
+    constexpr long kAhead = 8;
+    for (long q = part_begin(np, pair_jobs, p); q < q_end; ++q) {
+      if (q + kAhead < q_end) __builtin_prefetch(&probes_[static_cast<size_t>(pairs_[static_cast<size_t>(q + kAhead)].second)]);
+      const auto [a, b] = pairs_[static_cast<size_t>(q)];
+      if (auto c = circle_circle(probes_[static_cast<size_t>(a)], probes_[static_cast<size_t>(b)], a, b)) {
+        list.push_back(*c);
+        spread.sum += std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
+        ++spread.pairs;
+      }
+    }
+  });
+  spread_ = {};
+  for (const auto& sp : part_spread_) {
+    spread_.sum += sp.sum;
+    spread_.pairs += sp.pairs;
   }
+  if (!pairs_direct) merge_contact_lists(threads, body_jobs, pair_jobs, out);
   // Wall contacts were appended in key order and pairs are sorted: `out` is sorted.
+}
+
+void World::merge_contact_lists(int threads, int body_jobs, int pair_jobs, std::vector<Contact>& out) {
+  // The lists in key order: walls top..left, each in job order (or already in `out`), then the
+  // pairs in job order; copied to their places in parallel.
+  std::vector<const std::vector<Contact>*> lists;
+  if (body_jobs > 1)
+    for (int w = 3; w >= 0; --w)
+      for (int p = 0; p < body_jobs; ++p) lists.push_back(&part_walls_[static_cast<size_t>(4 * p + w)]);
+  for (int p = 0; p < pair_jobs; ++p) lists.push_back(&part_pairs_[static_cast<size_t>(p)]);
+  std::vector<size_t> at(lists.size() + 1, out.size());
+  for (size_t i = 0; i < lists.size(); ++i) at[i + 1] = at[i] + lists[i]->size();
+  out.resize(at.back());
+  run_parts(threads, static_cast<int>(lists.size()), [&](int i) {
+    std::copy(lists[static_cast<size_t>(i)]->begin(), lists[static_cast<size_t>(i)]->end(),
+              out.begin() + static_cast<std::ptrdiff_t>(at[static_cast<size_t>(i)]));
+  });
 }
 
 const LcpProblem& World::assemble() {
@@ -214,11 +259,11 @@ const LcpProblem& World::assemble() {
 
 void World::assemble_stage() {
   if (!internal_) {
-    assemble_lcp(bodies_, contacts_, def_, problem_);
+    assemble_lcp(bodies_, contacts_, def_, problem_, step_threads_);
     return;
   }
   // The public problem() is assembled on first read (a second assembly, of the public contacts).
-  assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_);
+  assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_, step_threads_);
   problem_stale_ = true;
 }
 
@@ -267,11 +312,15 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
     pre_omega_ = s.omega;
   }
   Eigen::VectorXd impulse;
-  integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse);
-  for (int c = 0; c < static_cast<int>(contacts.size()); ++c) {
-    contacts[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
-    contacts[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
-  }
+  integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse, step_threads_);
+  const int nc = static_cast<int>(contacts.size());
+  const int jobs = parts_for(step_threads_, nc, 2, 4096);
+  run_parts(step_threads_, jobs, [&](int p) {
+    for (int c = static_cast<int>(part_begin(nc, jobs, p)); c < part_begin(nc, jobs, p + 1); ++c) {
+      contacts[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
+      contacts[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
+    }
+  });
   if (internal_) bodies_stale_ = contacts_stale_ = true;  // the public views: rebuilt on first read
   contacts_are_previous_ = true;
   ++step_;
@@ -309,6 +358,33 @@ StepReport World::step(LcpSolver& solver, const SolverOptions& options, WarmStar
 }
 
 StepReport World::step_with(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess) {
+  // The step's threads: the solver's, for piles large enough and while whole steps pay (their
+  // wall time per unit of work, threaded against serial steps); a serial step holds the
+  // solver's threads too.
+  const int requested = solver.threads();
+  const long bodies = static_cast<long>(working_bodies().size());
+  const bool paced = requested > 1 && bodies >= kMinBodiesPerThread * requested;
+  step_threads_ = paced && pacer_.threaded_next() ? requested : 1;
+  if (paced) solver.hold_threads(step_threads_ == 1);
+  struct Serial {  // after step(), also after a throw: the stages called one by one run
+    int& threads;  // serially and the solver chooses its threads again
+    LcpSolver& solver;
+    bool paced;
+    ~Serial() {
+      threads = 1;
+      if (paced) solver.hold_threads(false);
+    }
+  } serial_after{step_threads_, solver, paced};
+  StepReport rep = step_stages(solver, options, guess);
+  if (paced) {
+    const double work = static_cast<double>(bodies) + static_cast<double>(rep.rows) * (rep.solve.sweeps + 2);
+    pacer_.record(step_threads_ > 1, 1e-3 * rep.profile.total_ms(), work);
+    if (step_threads_ > 1 && !pacer_.threaded_next()) release_threads();  // no idle spinning while serial
+  }
+  return rep;
+}
+
+StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess) {
   StepReport rep;
   auto t0 = Clock::now();
   collide_stage();

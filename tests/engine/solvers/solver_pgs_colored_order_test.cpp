@@ -58,7 +58,9 @@ TEST(PgsColoredOrder, ContactsSharingABodyAreColouredInContactOrder) {
         const ContactConstraint &a = p.constraints[i], &b = p.constraints[j];
         const bool share = (a.body_a >= 0 && (a.body_a == b.body_a || a.body_a == b.body_b)) ||
                            (a.body_b >= 0 && (a.body_b == b.body_a || a.body_b == b.body_b));
-        if (share) EXPECT_LT(c.color[static_cast<size_t>(i)], c.color[static_cast<size_t>(j)]) << i << ", " << j;
+        if (share) {
+          EXPECT_LT(c.color[static_cast<size_t>(i)], c.color[static_cast<size_t>(j)]) << i << ", " << j;
+        }
       }
     // The same contacts again: the same colours, marked as a repeat of the same generation.
     const std::uint64_t generation = c.generation;

@@ -18,6 +18,7 @@
 #include <functional>
 #include <vector>
 
+#include "dc/core/thread_pacer.hpp"
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/contact.hpp"
@@ -167,8 +168,21 @@ class World {
   void assemble_stage();
   /// The step with `guess` (a user function) or, when it is null, WarmStart::PreviousLambda.
   StepReport step_with(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess);
+  /// The stages of step_with on step_threads_.
+  StepReport step_stages(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess);
+  /// Bodies per thread below which the stages run serially.
+  static constexpr long kMinBodiesPerThread = 1024;
   /// Broad and narrow phase of a circle-only scene on `bodies` into `out` (sorted by key).
   void collide_circles(const BodyState& bodies, std::vector<Contact>& out);
+  /// collide_circles' job lists appended to `out` in key order (walls, then pairs).
+  void merge_contact_lists(int threads, int body_jobs, int pair_jobs, std::vector<Contact>& out);
+  /// Threads of the stages of the step in progress (1 outside step(): the stages called one by
+  /// one run serially), chosen by step() from the solver's threads while whole steps pay (pacer_).
+  int step_threads_ = 1;
+  ThreadPacer pacer_;
+  /// collide_circles' contacts per job: 4 wall lists per job of bodies, one per job of pairs.
+  std::vector<std::vector<Contact>> part_walls_, part_pairs_;
+  std::vector<InternalBodyOrder::Spread> part_spread_;
   /// integrate() on the problem the stages solved (internal rows when there is an order).
   void integrate_solved(const Eigen::VectorXd& lambda);
 

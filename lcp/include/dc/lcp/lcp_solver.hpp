@@ -90,6 +90,13 @@ class LcpSolver {
   [[nodiscard]] virtual bool needs_assembled_matrix() const { return true; }
   [[nodiscard]] virtual SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                           const SolverOptions& options) = 0;
+  /// Threads this solver's solves use where they pay (pgs-colored: its `threads`, 0 resolved to
+  /// OpenMP's default, once its threaded solves have paid or when forced; 1 for the others).
+  /// World::step runs its other stages on as many while whole steps pay.
+  [[nodiscard]] virtual int threads() const { return 1; }
+  /// The next solves run on one thread (true) or as the solver chooses (false): World::step's
+  /// pacer runs whole steps serially while threaded steps do not pay. Never changes a result.
+  virtual void hold_threads(bool serial) { (void)serial; }
 };
 
 /// The LCP solvers make_solver builds; each has one spelling (solver_names, SolverId::parse).

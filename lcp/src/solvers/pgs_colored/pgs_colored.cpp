@@ -127,12 +127,25 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] std::string name() const override { return "pgs-colored"; }
   [[nodiscard]] bool needs_jacobian() const override { return true; }
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
+  /// def_.threads (0: OpenMP's default) when forced (min_batches_per_thread = 0) or once the
+  /// pacer has seen threaded solves pay (a free core: World::step then probes its stages on
+  /// threads too), else 1.
+  [[nodiscard]] int threads() const override {
+#if defined(_OPENMP)
+    const int t = std::max(1, def_.threads > 0 ? def_.threads : omp_get_max_threads());
+    return def_.min_batches_per_thread == 0 || pacer_.proven() ? t : 1;
+#else
+    return 1;
+#endif
+  }
+  /// (min_batches_per_thread = 0 threads every problem: no hold.)
+  void hold_threads(bool serial) override { held_ = serial && def_.min_batches_per_thread > 0; }
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
     // Threads only while they pay (ThreadPacer), unless min_batches_per_thread = 0 forces them.
     const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0;
-    serial_solve_ = paced && !pacer_.threaded_next();
+    serial_solve_ = held_ || (paced && !pacer_.threaded_next());
     serial_setup_ = paced && !pacer_.proven();
     solved_ = Solved{};
     const auto t0 = std::chrono::steady_clock::now();
@@ -140,6 +153,11 @@ class PgsColoredSolver final : public LcpSolver {
     if (paced && solved_.batches > 0) {
       const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - t0;
       pacer_.record(solved_.threads > 1, wall.count(), static_cast<double>(solved_.batches) * (r.sweeps + 2));
+#if defined(_OPENMP)
+      // Serial solves next: the idle threads end instead of spin-waiting (OpenMP's default wait
+      // policy spins for milliseconds after a region, on a core other programs could use).
+      if (solved_.threads > 1 && !pacer_.threaded_next()) (void)omp_pause_resource_all(omp_pause_soft);
+#endif
     }
     return r;
   }
@@ -410,6 +428,7 @@ class PgsColoredSolver final : public LcpSolver {
   colored::ThreadPacer pacer_;
   bool serial_solve_ = false;  // this solve runs on one thread (the pacer's choice)
   bool serial_setup_ = false;  // this solve's set-up runs on one thread (a probe, or serial)
+  bool held_ = false;          // hold_threads(true): every solve serial
 };
 
 }  // namespace

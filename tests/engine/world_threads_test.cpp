@@ -1,0 +1,130 @@
+// World::step on threads: collision (broad phase by rows of cells, narrow phase by pairs, the
+// jobs' contact lists merged in key order), assembly (rows by contacts) and integration (bodies)
+// run as parallel jobs when the solver has threads (LcpSolver::threads) and the pile is large
+// enough, while they pay (the step's pacer). Every thread count gives the bits of one thread:
+// bodies, contacts, λ and the solve's report, step after step.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dc/engine/broad_phase.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/lcp/pgs_colored.hpp"
+#include "scaled_seed_pile.hpp"
+
+namespace dc {
+namespace {
+
+SolverOptions fixed(int sweeps) {
+  SolverOptions o;
+  o.max_sweeps = sweeps;
+  o.tolerance = 0.0;
+  return o;
+}
+
+bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
+}
+
+/// Per step: the state hash, the λ and residual of the report, and the contacts' keys and λ.
+struct Steps {
+  std::vector<std::uint64_t> hashes;
+  std::vector<Eigen::VectorXd> lambdas;
+  std::vector<double> residuals;
+  std::vector<std::pair<ContactKey, double>> last_contacts;
+};
+
+/// The bodies of `def` after `steps` steps of pgs (a pile forms).
+BodyState settled(const WorldDef& def, int steps) {
+  World w(def);
+  const auto pgs = make_solver("pgs");
+  for (int k = 0; k < steps; ++k) w.step(*pgs, fixed(10), World::WarmStart::PreviousLambda);
+  return w.bodies();
+}
+
+/// `steps` steps from `bodies` with pgs-colored on `threads` threads (threaded solves forced:
+/// min_batches_per_thread = 0).
+Steps run_steps(const WorldDef& def, const BodyState& bodies, int threads, int steps) {
+  PgsColoredDef d;
+  d.threads = threads;
+  d.min_batches_per_thread = 0;
+  const auto solver = make_pgs_colored(d);
+  EXPECT_EQ(threads, solver->threads());
+  World w(def, bodies);
+  Steps r;
+  for (int k = 0; k < steps; ++k) {
+    const StepReport rep = w.step(*solver, fixed(10), World::WarmStart::PreviousLambda);
+    r.hashes.push_back(state_hash(w.bodies()));
+    r.lambdas.push_back(rep.solve.lambda);
+    r.residuals.push_back(rep.solve.residual);
+  }
+  for (const Contact& c : w.contacts()) r.last_contacts.emplace_back(c.key, c.lambda_n + c.lambda_t);
+  return r;
+}
+
+void expect_same_run(const Steps& one, const Steps& other, const std::string& what) {
+  ASSERT_EQ(one.hashes.size(), other.hashes.size());
+  for (size_t k = 0; k < one.hashes.size(); ++k) {
+    EXPECT_EQ(one.hashes[k], other.hashes[k]) << what << ", step " << k;
+    EXPECT_TRUE(same_bits(one.lambdas[k], other.lambdas[k])) << what << ", step " << k;
+    EXPECT_EQ(0, std::memcmp(&one.residuals[k], &other.residuals[k], sizeof(double))) << what << ", step " << k;
+  }
+  EXPECT_EQ(one.last_contacts, other.last_contacts) << what;
+}
+
+/// A pile large enough for 3 threads' stages (World's kMinBodiesPerThread bodies a thread).
+WorldDef pile(InternalOrder order, double restitution) {
+  WorldDef def = test::scaled_seed_pile(3200);
+  def.bodies.internal_order = order;
+  def.contact.restitution = restitution;
+  return def;
+}
+
+TEST(WorldThreads, PileGivesTheSameBitsOnEveryThreadCount) {
+  const WorldDef def = pile(InternalOrder::None, 0.0);
+  const BodyState start = settled(def, 150);
+  const Steps one = run_steps(def, start, 1, 12);
+  ASSERT_GT(one.last_contacts.size(), 2000u);  // a pile: several jobs of pairs
+  for (const int threads : {2, 3})
+    expect_same_run(one, run_steps(def, start, threads, 12), std::to_string(threads) + " threads");
+}
+
+TEST(WorldThreads, InternalOrderAndRestitutionGiveTheSameBitsOnEveryThreadCount) {
+  const WorldDef def = pile(InternalOrder::Morton, 0.3);
+  const BodyState start = settled(def, 150);
+  const Steps one = run_steps(def, start, 1, 12);
+  for (const int threads : {2, 3})
+    expect_same_run(one, run_steps(def, start, threads, 12), std::to_string(threads) + " threads");
+}
+
+/// The broad phase's pair tests by rows of cells: the same sorted pairs and test count on every
+/// thread count, for random circles of mixed sizes.
+TEST(WorldThreads, BroadPhasePairsAreTheSameOnEveryThreadCount) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> x(0.0, 80.0), r(0.1, 0.9);
+  std::vector<Vec2> centres(6000);
+  std::vector<double> reach(centres.size());
+  for (size_t k = 0; k < centres.size(); ++k) {
+    centres[k] = {x(rng), x(rng)};
+    reach[k] = r(rng);
+  }
+  UniformGridBroadPhase one;
+  std::vector<std::pair<int, int>> serial;
+  one.find_pairs(centres, reach, serial);
+  ASSERT_GT(serial.size(), 1000u);
+  for (const int threads : {2, 3, 8}) {
+    UniformGridBroadPhase bp;
+    std::vector<std::pair<int, int>> pairs;
+    bp.find_pairs(centres, reach, pairs, threads);
+    EXPECT_EQ(serial, pairs) << threads << " threads";
+    EXPECT_EQ(one.last_pair_tests(), bp.last_pair_tests()) << threads << " threads";
+  }
+}
+
+}  // namespace
+}  // namespace dc
