@@ -27,9 +27,29 @@ double thread_cpu_s() {
 /// lane `lane` of j/mj, unscaled: j = J_i, mj = M⁻¹ J_iᵀ Δt, b = b_i, diag = A_ii (summed in slot
 /// order as "pgs"'s pack_row); scale_rows divides by A_ii afterwards, 8 lanes at once. False
 /// when the row acts on another body.
+/// pack_row's usual case: the row's N (3: one body, 6: two) entries v in slot order, on the
+/// bodies at columns a and bb; the same operations in the same order as the general loop, on
+/// scalars held in registers (an array here is written as a vector and read back lane by lane,
+/// which stalls the loads on forwarding).
+template <int N>
+inline void pack_usual(const double* v, const double* im, int a, int bb, double dt, double (*j)[W], double (*mj)[W],
+                       int lane, double& d) {
+  double sum = 0.0;
+#pragma GCC unroll 6
+  for (int s = 0; s < N; ++s) {
+    const double r = 0.0 + v[s];
+    const double m = r * im[s < 3 ? a + s : bb + s - 3] * dt;
+    sum += r * m;
+    j[s][lane] = r;
+    mj[s][lane] = m;
+  }
+#pragma GCC unroll 3
+  for (int s = N; s < 6; ++s) j[s][lane] = mj[s][lane] = 0.0;
+  d = sum;
+}
+
 bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
               int lane) {
-  double r[6] = {0, 0, 0, 0, 0, 0};
   // The usual storage (what the engine assembles): the columns a, a+1, a+2 (, bb, bb+1, bb+2)
   // once each, in order; then each r_s is 0 + J_is, as the general loop below sums it (−0 → +0).
   const double* value = p.J.valuePtr();
@@ -38,17 +58,22 @@ bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double 
   const int* col = p.J.innerIndexPtr() + q0;
   if (n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
       (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2))) {
-    for (int s = 0; s < n; ++s) r[s] = 0.0 + value[q0 + s];
-  } else {
-    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
-      const int c = static_cast<int>(it.col());
-      if (c >= a && c < a + 3) {
-        r[c - a] += it.value();
-      } else if (bb >= 0 && c >= bb && c < bb + 3) {
-        r[3 + c - bb] += it.value();
-      } else {
-        return false;
-      }
+    if (bb < 0)
+      pack_usual<3>(value + q0, p.inv_mass.data(), a, bb, p.dt, j, mj, lane, diag[lane]);
+    else
+      pack_usual<6>(value + q0, p.inv_mass.data(), a, bb, p.dt, j, mj, lane, diag[lane]);
+    b[lane] = p.b[i];
+    return true;
+  }
+  double r[6] = {0, 0, 0, 0, 0, 0};
+  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+    const int c = static_cast<int>(it.col());
+    if (c >= a && c < a + 3) {
+      r[c - a] += it.value();
+    } else if (bb >= 0 && c >= bb && c < bb + 3) {
+      r[3 + c - bb] += it.value();
+    } else {
+      return false;
     }
   }
   const double* im = p.inv_mass.data();
@@ -220,6 +245,46 @@ void name_singular(const Prepared& out, int s0, int lanes, const double* dn, con
       failed = out.order[static_cast<size_t>(s0 + lane)];
 }
 
+/// A hint to bring the line at `a` into the cache (no effect where the compiler has no such hint).
+inline void prefetch(const void* a) {
+#if defined(__GNUC__)
+  __builtin_prefetch(a);
+#else
+  (void)a;
+#endif
+}
+
+/// Prefetches, for the lanes ahead of ordered position `pos`, what packing them reads, in the
+/// three dependent steps of the reads (contact → its rows' offsets, bodies, b, λ⁰ → its rows of
+/// J): the contact kFar positions ahead, the contact kMid ahead's offsets and per-row and
+/// per-body entries, and kNear ahead its rows' values and columns (the contacts come in colour
+/// order, so these reads are random; hints only, the packing reads them anyway).
+void prefetch_ahead(const LcpProblem& p, const Eigen::VectorXd& lambda, const Prepared& out, int pos) {
+  constexpr int kNear = 8, kMid = 16, kFar = 24;
+  const int n = static_cast<int>(out.order.size());
+  const int* order = out.order.data();
+  const ContactConstraints& cons = p.constraints;
+  if (pos + kFar < n) prefetch(&cons[order[pos + kFar]]);
+  if (pos + kMid < n) {
+    const ContactConstraint& k = cons[order[pos + kMid]];
+    prefetch(p.J.outerIndexPtr() + k.normal_row);
+    prefetch(p.b.data() + k.normal_row);
+    prefetch(lambda.data() + k.normal_row);
+    if (k.body_a >= 0) prefetch(p.inv_mass.data() + 3 * k.body_a);
+    prefetch(p.inv_mass.data() + 3 * k.body_b);
+  }
+  if (pos + kNear < n) {
+    const int c = order[pos + kNear];
+    const int q0 = p.J.outerIndexPtr()[cons[c].normal_row];
+    const int span = out.partner[static_cast<size_t>(c)] >= 0 ? 24 : 12;  // entries of the lane's rows
+    for (int q = 0; q < span; q += 8) {
+      prefetch(p.J.valuePtr() + q0 + q);
+      prefetch(p.J.innerIndexPtr() + q0 + 2 * q);
+    }
+    prefetch(p.J.valuePtr() + q0 + span - 1);
+  }
+}
+
 }  // namespace
 
 std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
@@ -352,6 +417,7 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   int& failed = out.failed[static_cast<size_t>(bi)];
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
   for (int lane = 0; lane < lanes; ++lane) {
+    prefetch_ahead(p, lambda, out, s0 + lane);
     const int c = out.order[static_cast<size_t>(s0 + lane)];
     if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n, diag_t) &&
         failed < 0)
@@ -380,6 +446,7 @@ void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out
   const RowSet r0{P.jn0, P.mjn0, P.jt0, P.mjt0, P.bn0, P.bt0, P.mu0};
   const RowSet r1{P.jn1, P.mjn1, P.jt1, P.mjt1, P.bn1, P.bt1, P.mu1};
   for (int lane = 0; lane < lanes; ++lane) {
+    prefetch_ahead(p, lambda, out, s0 + lane);
     const int c = out.order[static_cast<size_t>(s0 + lane)];
     const int c1 = out.partner[static_cast<size_t>(c)];
     bool ok = pack_contact(p, out.dynamic, zero, c, r0, P.la, P.lb, P.ka, P.kb, lane, row_of, row_of + W, dn0, dt0);
