@@ -245,46 +245,6 @@ void name_singular(const Prepared& out, int s0, int lanes, const double* dn, con
       failed = out.order[static_cast<size_t>(s0 + lane)];
 }
 
-/// A hint to bring the line at `a` into the cache (no effect where the compiler has no such hint).
-inline void prefetch(const void* a) {
-#if defined(__GNUC__)
-  __builtin_prefetch(a);
-#else
-  (void)a;
-#endif
-}
-
-/// Prefetches, for the lanes ahead of ordered position `pos`, what packing them reads, in the
-/// three dependent steps of the reads (contact → its rows' offsets, bodies, b, λ⁰ → its rows of
-/// J): the contact kFar positions ahead, the contact kMid ahead's offsets and per-row and
-/// per-body entries, and kNear ahead its rows' values and columns (the contacts come in colour
-/// order, so these reads are random; hints only, the packing reads them anyway).
-void prefetch_ahead(const LcpProblem& p, const Eigen::VectorXd& lambda, const Prepared& out, int pos) {
-  constexpr int kNear = 8, kMid = 16, kFar = 24;
-  const int n = static_cast<int>(out.order.size());
-  const int* order = out.order.data();
-  const ContactConstraints& cons = p.constraints;
-  if (pos + kFar < n) prefetch(&cons[order[pos + kFar]]);
-  if (pos + kMid < n) {
-    const ContactConstraint& k = cons[order[pos + kMid]];
-    prefetch(p.J.outerIndexPtr() + k.normal_row);
-    prefetch(p.b.data() + k.normal_row);
-    prefetch(lambda.data() + k.normal_row);
-    if (k.body_a >= 0) prefetch(p.inv_mass.data() + 3 * k.body_a);
-    prefetch(p.inv_mass.data() + 3 * k.body_b);
-  }
-  if (pos + kNear < n) {
-    const int c = order[pos + kNear];
-    const int q0 = p.J.outerIndexPtr()[cons[c].normal_row];
-    const int span = out.partner[static_cast<size_t>(c)] >= 0 ? 24 : 12;  // entries of the lane's rows
-    for (int q = 0; q < span; q += 8) {
-      prefetch(p.J.valuePtr() + q0 + q);
-      prefetch(p.J.innerIndexPtr() + q0 + 2 * q);
-    }
-    prefetch(p.J.valuePtr() + q0 + span - 1);
-  }
-}
-
 }  // namespace
 
 std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
@@ -417,7 +377,6 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   int& failed = out.failed[static_cast<size_t>(bi)];
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
   for (int lane = 0; lane < lanes; ++lane) {
-    prefetch_ahead(p, lambda, out, s0 + lane);
     const int c = out.order[static_cast<size_t>(s0 + lane)];
     if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n, diag_t) &&
         failed < 0)
@@ -446,7 +405,6 @@ void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out
   const RowSet r0{P.jn0, P.mjn0, P.jt0, P.mjt0, P.bn0, P.bt0, P.mu0};
   const RowSet r1{P.jn1, P.mjn1, P.jt1, P.mjt1, P.bn1, P.bt1, P.mu1};
   for (int lane = 0; lane < lanes; ++lane) {
-    prefetch_ahead(p, lambda, out, s0 + lane);
     const int c = out.order[static_cast<size_t>(s0 + lane)];
     const int c1 = out.partner[static_cast<size_t>(c)];
     bool ok = pack_contact(p, out.dynamic, zero, c, r0, P.la, P.lb, P.ka, P.kb, lane, row_of, row_of + W, dn0, dt0);
