@@ -23,14 +23,10 @@ double thread_cpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-/// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
-/// lane `lane` of j/mj, unscaled: j = J_i, mj = M⁻¹ J_iᵀ Δt, b = b_i, diag = A_ii (summed in slot
-/// order as "pgs"'s pack_row); scale_rows divides by A_ii afterwards, 8 lanes at once. False
-/// when the row acts on another body.
 /// pack_row's usual case: the row's N (3: one body, 6: two) entries v in slot order, on the
-/// bodies at columns a and bb; the same operations in the same order as the general loop, on
-/// scalars held in registers (an array here is written as a vector and read back lane by lane,
-/// which stalls the loads on forwarding).
+/// bodies at columns a and bb; the same operations in the same order as pack_row's general
+/// loop, on scalars held in registers (an array here is written as a vector and read back lane
+/// by lane, which stalls the loads on forwarding).
 template <int N>
 inline void pack_usual(const double* v, const double* im, int a, int bb, double dt, double (*j)[W], double (*mj)[W],
                        int lane, double& d) {
@@ -48,6 +44,10 @@ inline void pack_usual(const double* v, const double* im, int a, int bb, double 
   d = sum;
 }
 
+/// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
+/// lane `lane` of j/mj, unscaled: j = J_i, mj = M⁻¹ J_iᵀ Δt, b = b_i, diag = A_ii (summed in slot
+/// order as "pgs"'s pack_row); scale_rows divides by A_ii afterwards, 8 lanes at once. False
+/// when the row acts on another body.
 bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
               int lane) {
   // The usual storage (what the engine assembles): the columns a, a+1, a+2 (, bb, bb+1, bb+2)
