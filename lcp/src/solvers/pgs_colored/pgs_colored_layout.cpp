@@ -23,13 +23,33 @@ double thread_cpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+/// pack_row's usual case: the row's N (3: one body, 6: two) entries v in slot order, on the
+/// bodies at columns a and bb; the same operations in the same order as pack_row's general
+/// loop, on scalars held in registers (an array here is written as a vector and read back lane
+/// by lane, which stalls the loads on forwarding).
+template <int N>
+inline void pack_usual(const double* v, const double* im, int a, int bb, double dt, double (*j)[W], double (*mj)[W],
+                       int lane, double& d) {
+  double sum = 0.0;
+#pragma GCC unroll 6
+  for (int s = 0; s < N; ++s) {
+    const double r = 0.0 + v[s];
+    const double m = r * im[s < 3 ? a + s : bb + s - 3] * dt;
+    sum += r * m;
+    j[s][lane] = r;
+    mj[s][lane] = m;
+  }
+#pragma GCC unroll 3
+  for (int s = N; s < 6; ++s) j[s][lane] = mj[s][lane] = 0.0;
+  d = sum;
+}
+
 /// Packs row i of J on the bodies at J columns a (slots 0–2) and bb (slots 3–5; −1 absent) into
 /// lane `lane` of j/mj, unscaled: j = J_i, mj = M⁻¹ J_iᵀ Δt, b = b_i, diag = A_ii (summed in slot
 /// order as "pgs"'s pack_row); scale_rows divides by A_ii afterwards, 8 lanes at once. False
 /// when the row acts on another body.
 bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
               int lane) {
-  double r[6] = {0, 0, 0, 0, 0, 0};
   // The usual storage (what the engine assembles): the columns a, a+1, a+2 (, bb, bb+1, bb+2)
   // once each, in order; then each r_s is 0 + J_is, as the general loop below sums it (−0 → +0).
   const double* value = p.J.valuePtr();
@@ -38,17 +58,22 @@ bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double 
   const int* col = p.J.innerIndexPtr() + q0;
   if (n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
       (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2))) {
-    for (int s = 0; s < n; ++s) r[s] = 0.0 + value[q0 + s];
-  } else {
-    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
-      const int c = static_cast<int>(it.col());
-      if (c >= a && c < a + 3) {
-        r[c - a] += it.value();
-      } else if (bb >= 0 && c >= bb && c < bb + 3) {
-        r[3 + c - bb] += it.value();
-      } else {
-        return false;
-      }
+    if (bb < 0)
+      pack_usual<3>(value + q0, p.inv_mass.data(), a, bb, p.dt, j, mj, lane, diag[lane]);
+    else
+      pack_usual<6>(value + q0, p.inv_mass.data(), a, bb, p.dt, j, mj, lane, diag[lane]);
+    b[lane] = p.b[i];
+    return true;
+  }
+  double r[6] = {0, 0, 0, 0, 0, 0};
+  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) {
+    const int c = static_cast<int>(it.col());
+    if (c >= a && c < a + 3) {
+      r[c - a] += it.value();
+    } else if (bb >= 0 && c >= bb && c < bb + 3) {
+      r[3 + c - bb] += it.value();
+    } else {
+      return false;
     }
   }
   const double* im = p.inv_mass.data();
