@@ -369,7 +369,8 @@ class PgsColoredSolver final : public LcpSolver {
                 if (!std::isfinite(acc.theta)) acc.bad = true;
                 nonfinite = nonfinite || acc.bad;
                 return acc.theta;
-              });
+              },
+              &prep.other);
         } catch (...) {
           error = std::current_exception();
         }
