@@ -9,7 +9,7 @@
 
 namespace dc {
 
-void run_parts(int threads, int parts, const std::function<void(int)>& job) {
+void run_parts(int threads, int parts, PartJob job) {
   if (threads <= 1 || parts <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
     for (int p = 0; p < parts; ++p) job(p);
     return;
