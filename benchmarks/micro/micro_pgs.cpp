@@ -20,7 +20,7 @@
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 #include "hex_pile.hpp"
-#include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 
 namespace {

@@ -14,7 +14,7 @@
 #include "lcp/solver_test_problems.hpp"
 #include "pgs_colored_kernels.hpp"
 #include "engine/scaled_seed_pile.hpp"
-#include "solvers/pgs_colored/ordered_coloring.hpp"
+#include "solvers/pgs_colored/coloring/ordered_coloring.hpp"
 
 namespace dc {
 namespace {

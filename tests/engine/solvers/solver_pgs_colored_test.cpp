@@ -14,7 +14,7 @@
 #include "dc/engine/world.hpp"
 #include "lcp/solver_test_problems.hpp"
 #include "pgs_colored_kernels.hpp"
-#include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 
 namespace dc {
 namespace {

@@ -28,7 +28,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/pgs_colored.hpp"
-#include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"

@@ -14,8 +14,8 @@
 #include <Eigen/Core>
 
 #include "dc/lcp/lcp_problem.hpp"
-#include "solvers/pgs_colored/contact_coloring.hpp"
-#include "solvers/pgs_colored/ordered_coloring.hpp"
+#include "solvers/pgs_colored/coloring/contact_coloring.hpp"
+#include "solvers/pgs_colored/coloring/ordered_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 namespace dc::colored {

@@ -1,5 +1,5 @@
 // Greedy, incremental colouring of contacts (contact_coloring.hpp).
-#include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 
 #include <algorithm>
 #include <atomic>

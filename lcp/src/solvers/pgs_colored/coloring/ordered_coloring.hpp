@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "dc/lcp/contact_constraints.hpp"
-#include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 
 namespace dc::colored {
 

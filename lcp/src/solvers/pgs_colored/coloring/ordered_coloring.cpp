@@ -1,5 +1,5 @@
 // The colouring in contact order of "pgs-colored" (ordered_coloring.hpp).
-#include "solvers/pgs_colored/ordered_coloring.hpp"
+#include "solvers/pgs_colored/coloring/ordered_coloring.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -17,7 +17,7 @@
 
 #include "dc/core/error.hpp"
 #include "lcp/solver_test_problems.hpp"
-#include "solvers/pgs_colored/contact_coloring.hpp"
+#include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 
 namespace dc {
 namespace {
