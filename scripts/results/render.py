@@ -43,8 +43,8 @@ def sizes(record):
 
 
 def stamp_line(record):
-    """One line of provenance: commit, CPU, cores, load, wall time, command, sizes (the date stays in
-    results.json: the commit says which code, the load how quiet the machine was)."""
+    """One line of provenance: commit, CPU, cores, load, wall time, command, sizes (no date: the
+    commit says which code, the load how quiet the machine was)."""
     stamp = record["stamp"]
     return (f"commit `{stamp['commit']}`, {stamp['cpu']}, {stamp['cores']} cores, load average "
             f"{stamp['load_before']} → {stamp['load_after']}, {stamp['wall_seconds']} s; "

@@ -16,7 +16,6 @@ defaults. Scratch output goes to build-results/ (removed with --keep absent, for
 Not part of CI: timings depend on the machine and its load.
 """
 import argparse
-import datetime
 import json
 import os
 import platform
@@ -98,7 +97,7 @@ def run_part(ctx, name, argv):
     blocks, notes = fn(ctx)
     stamp = {"commit": commit(ctx.root, ctx.build, binaries=name != "build"), "cpu": cpu_model(), "cores": ctx.cores,
              "load_before": load_before,
-             "load_after": load_average(), "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+             "load_after": load_average(),
              "wall_seconds": round(time.time() - t0), "command": f"make results PART={name}" + (" FULL=1" if ctx.full else ""),
              "runs": ctx.runs}
     return {"part": name, "title": title, "stamp": stamp, "notes": notes, "blocks": blocks}
