@@ -27,7 +27,8 @@
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/warmstart/warm_starter.hpp"
-#include "scaled_seed_pile.hpp"
+#include "dc/engine/stress_scenes.hpp"
+#include "fixed_sweeps.hpp"
 
 namespace {
 
@@ -36,7 +37,7 @@ constexpr int kSettleSweeps = 20;
 
 /// `order`: 0 creation, 1 Morton numbering, 2 creation numbering with the internal order.
 dc::WorldDef scaled_seed_scene(int n, int order) {
-  dc::WorldDef def = dc::bench_micro::scaled_seed_pile(n);
+  dc::WorldDef def = dc::stress::scaled_seed_pile(n);
   def.solver.sweeps = kSettleSweeps;
   def.bodies.order = order == 1 ? dc::BodyOrder::Morton : dc::BodyOrder::Creation;
   def.bodies.internal_order = order == 2 ? dc::InternalOrder::Morton : dc::InternalOrder::None;

@@ -27,7 +27,8 @@
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
-#include "scaled_seed_pile.hpp"
+#include "dc/engine/stress_scenes.hpp"
+#include "fixed_sweeps.hpp"
 
 namespace {
 
@@ -68,7 +69,7 @@ using dc::bench_micro::fixed_sweeps;
 
 /// micro_step's scaled seed pile of n circles after 150 steps of pgs.
 dc::World settled_pile(int n) {
-  dc::WorldDef def = dc::bench_micro::scaled_seed_pile(n);
+  dc::WorldDef def = dc::stress::scaled_seed_pile(n);
   def.solver.sweeps = 20;
   dc::World w(def);
   const auto pgs = dc::make_solver("pgs");

@@ -14,7 +14,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/scene.hpp"
 #include "dc/engine/world.hpp"
-#include "scaled_seed_pile.hpp"
+#include "dc/engine/stress_scenes.hpp"
 #include "world/spatial_order.hpp"
 
 namespace dc {
@@ -22,7 +22,7 @@ namespace {
 
 /// The scaled seed pile with its generated bodies numbered in `order`.
 WorldDef pile(BodyOrder order, int n) {
-  WorldDef d = test::scaled_seed_pile(n);
+  WorldDef d = stress::scaled_seed_pile(n);
   d.bodies.order = order;
   return d;
 }

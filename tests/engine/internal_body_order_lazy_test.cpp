@@ -17,13 +17,13 @@
 #include "dc/engine/world.hpp"
 #include "assembly/assembly.hpp"
 #include "previous_lambda_by_key.hpp"
-#include "scaled_seed_pile.hpp"
+#include "dc/engine/stress_scenes.hpp"
 
 namespace dc {
 namespace {
 
 WorldDef pile(int n, int resort_every, double restitution = 0.0) {
-  WorldDef d = test::scaled_seed_pile(n);
+  WorldDef d = stress::scaled_seed_pile(n);
   d.bodies.internal_order = InternalOrder::Morton;
   d.bodies.resort_every = resort_every;
   d.contact.restitution = restitution;
@@ -142,7 +142,7 @@ TEST(InternalBodyOrderLazy, WithRestitutionTheSameHolds) {
 }
 
 TEST(InternalBodyOrderLazy, TheEngineWarmStartIsTheBuiltinOneWithoutAnOrder) {
-  WorldDef d = test::scaled_seed_pile(300);
+  WorldDef d = stress::scaled_seed_pile(300);
   World a(d), b(d);
   const auto solver = make_solver("pgs");
   SolverOptions o;

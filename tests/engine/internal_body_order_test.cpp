@@ -16,14 +16,14 @@
 #include "dc/engine/step_outcome.hpp"
 #include "dc/engine/world.hpp"
 #include "previous_lambda_by_key.hpp"
-#include "scaled_seed_pile.hpp"
+#include "dc/engine/stress_scenes.hpp"
 
 namespace dc {
 namespace {
 
 /// The scaled seed pile with an internal order or not.
 WorldDef pile(InternalOrder internal_order, int n, int resort_every = 5) {
-  WorldDef d = test::scaled_seed_pile(n);
+  WorldDef d = stress::scaled_seed_pile(n);
   d.bodies.internal_order = internal_order;
   d.bodies.resort_every = resort_every;
   return d;

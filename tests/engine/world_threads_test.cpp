@@ -12,19 +12,15 @@
 #include <vector>
 
 #include "dc/engine/broad_phase.hpp"
+#include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/lcp/pgs_colored.hpp"
-#include "scaled_seed_pile.hpp"
+#include "fixed_sweeps.hpp"
 
 namespace dc {
 namespace {
 
-SolverOptions fixed(int sweeps) {
-  SolverOptions o;
-  o.max_sweeps = sweeps;
-  o.tolerance = 0.0;
-  return o;
-}
+using test::fixed_sweeps;
 
 bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return a.size() == b.size() &&
@@ -43,7 +39,7 @@ struct Steps {
 BodyState settled(const WorldDef& def, int steps) {
   World w(def);
   const auto pgs = make_solver("pgs");
-  for (int k = 0; k < steps; ++k) w.step(*pgs, fixed(10), World::WarmStart::PreviousLambda);
+  for (int k = 0; k < steps; ++k) w.step(*pgs, fixed_sweeps(10), World::WarmStart::PreviousLambda);
   return w.bodies();
 }
 
@@ -58,7 +54,7 @@ Steps run_steps(const WorldDef& def, const BodyState& bodies, int threads, int s
   World w(def, bodies);
   Steps r;
   for (int k = 0; k < steps; ++k) {
-    const StepReport rep = w.step(*solver, fixed(10), World::WarmStart::PreviousLambda);
+    const StepReport rep = w.step(*solver, fixed_sweeps(10), World::WarmStart::PreviousLambda);
     r.hashes.push_back(state_hash(w.bodies()));
     r.lambdas.push_back(rep.solve.lambda);
     r.residuals.push_back(rep.solve.residual);
@@ -79,7 +75,7 @@ void expect_same_run(const Steps& one, const Steps& other, const std::string& wh
 
 /// A pile large enough for 3 threads' stages (World's kMinBodiesPerThread bodies a thread).
 WorldDef pile(InternalOrder order, double restitution) {
-  WorldDef def = test::scaled_seed_pile(3200);
+  WorldDef def = stress::scaled_seed_pile(3200);
   def.bodies.internal_order = order;
   def.contact.restitution = restitution;
   return def;

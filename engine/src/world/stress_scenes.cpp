@@ -67,6 +67,16 @@ WorldDef column(int n, double mu) {
   return d;
 }
 
+WorldDef scaled_seed_pile(int count) {
+  WorldDef d;
+  const double side = 3.0 * std::sqrt(static_cast<double>(count));
+  d.world.width = d.world.height = side;
+  d.bodies.count = count;
+  d.bodies.mean = {side / 2, side / 2};
+  d.bodies.sigma = 0.465 * std::sqrt(static_cast<double>(count));
+  return d;
+}
+
 WorldDef many_bodies(int count) {
   // Uniform areal coverage 0.25 (count·π r² = 0.25 L²) in an L × L box, so every count has the
   // same local density and the broad phase has the same work per body. The generator draws

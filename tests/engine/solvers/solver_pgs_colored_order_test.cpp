@@ -7,22 +7,20 @@
 #include <cmath>
 #include <vector>
 
-#include "dc/lcp/lcp_solver.hpp"
-#include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
+#include "engine/fixed_sweeps.hpp"
 #include "lcp/solver_test_problems.hpp"
 #include "pgs_colored_kernels.hpp"
-#include "engine/scaled_seed_pile.hpp"
 #include "solvers/pgs_colored/coloring/ordered_coloring.hpp"
 
 namespace dc {
 namespace {
 
 SolverOptions sweeps(int k) {
-  SolverOptions o;
-  o.max_sweeps = k;
-  o.tolerance = 0.0;
+  SolverOptions o = test::fixed_sweeps(k);
   o.record_theta = false;
   return o;
 }
@@ -88,7 +86,7 @@ TEST(PgsColoredOrder, IteratesAreThoseOfPgsOnAPyramidAndAPile) {
   // The box pyramid: two-point manifolds on every face, each box on two below (base 10: chains
   // of fewer than 64 contacts); the seed pile: single contacts with friction.
   expect_iterates_of_pgs(settled_problem(stress::box_pyramid(10), 20), "pyramid");
-  expect_iterates_of_pgs(settled_problem(test::scaled_seed_pile(100), 100), "pile");
+  expect_iterates_of_pgs(settled_problem(stress::scaled_seed_pile(100), 100), "pile");
 }
 
 TEST(PgsColoredOrder, GreedyColouringReachesTheFixedPointOfTheOrderedOne) {

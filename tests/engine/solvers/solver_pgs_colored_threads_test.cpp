@@ -13,6 +13,7 @@
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
 #include "lcp/solver_test_problems.hpp"
+#include "engine/fixed_sweeps.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -20,12 +21,7 @@
 namespace dc {
 namespace {
 
-SolverOptions sweeps(int k) {
-  SolverOptions o;
-  o.max_sweeps = k;
-  o.tolerance = 0.0;
-  return o;
-}
+SolverOptions sweeps(int k) { return test::fixed_sweeps(k); }
 
 /// Bit-equal λ, θ, sweeps, status and residual (memcmp: the same bits, ±0 and NaN included).
 void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::string& what) {

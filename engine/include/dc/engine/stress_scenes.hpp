@@ -37,6 +37,11 @@ WorldDef column(int n, double mu = 0.5);
 /// count (box side grows with √count): the broad-phase scaling scene.
 WorldDef many_bodies(int count);
 
+/// The seed scene scaled to `count` circles at the seed's density: box side 3√count m, the
+/// Gaussian's mean at the centre, σ = 0.465√count m (30 m and 4.65 m for the seed's 100); the
+/// other settings are the defaults. The pile of micro_step, step_threads and the body-order tests.
+WorldDef scaled_seed_pile(int count);
+
 /// The small pyramid-and-pile scene scaled by s: box, radii, positions, slop, margin,
 /// restitution threshold and gravity × s, Δt unchanged. With time unchanged every length,
 /// velocity and acceleration scales by s, masses by s² (ρ fixed), forces by s³, and the

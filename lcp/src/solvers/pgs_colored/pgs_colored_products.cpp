@@ -133,40 +133,12 @@ void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda
   }
 }
 
-namespace {
-
-/// |natural map| of row i at λ with w_i = J_i Δu + b_i as Eigen's row-major product (storage
-/// order, from 0, then + b_i); sets `nonfinite` when λ_i is not finite.
-inline double row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& du, int i,
-                        bool& nonfinite) {
-  double tmp = 0.0;
-  for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) tmp += it.value() * du[it.col()];
-  const double w = tmp + p.b[i];
-  const double l = p.lower(i, lambda), h = p.upper(i, lambda);
-  nonfinite = nonfinite || !std::isfinite(lambda[i]);
-  return std::abs(lambda[i] - std::clamp(lambda[i] - w, l, std::max(l, h)));
-}
-
-/// Folds row i's error into the running maximum r (a NaN error sets `nan` instead). Called with
-/// the OpenMP reduction's private copies inside the parallel loop.
-inline void fold_row_error(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& du, int i,
-                           double& r, bool& nan, bool& nonfinite) {
-  const double e = row_error(p, lambda, du, i, nonfinite);
-  if (std::isnan(e)) {
-    nan = true;
-  } else {
-    r = std::max(r, e);
-  }
-}
-
-}  // namespace
-
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite) {
   const int n = p.rows(), nc = p.constraints.size();
   // By contact when the contacts own the rows (the solver's case: no per-row bound lookup).
   const bool by_contact = nc > 0 && p.constraints.rows() == n;
-  constexpr int kContactChunk = 256;
+  constexpr int kContactChunk = 256;  // contacts (or rows) per work item of the threaded loop
   double r = 0.0;
   bool nan = false, nonfinite = false;
   if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
@@ -174,7 +146,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     if (by_contact)
       contact_errors(p, lambda.data(), du.data(), 0, nc, r, nan, nonfinite);
     else
-      for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
+      row_errors(p, lambda, du.data(), 0, n, r, nan, nonfinite);
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
@@ -198,7 +170,8 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
         contact_errors(p, lambda.data(), du.data(), c, std::min(nc, c + kContactChunk), r, nan, nonfinite);
     } else {
 #pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
-      for (int i = 0; i < n; ++i) fold_row_error(p, lambda, du, i, r, nan, nonfinite);
+      for (int i = 0; i < n; i += kContactChunk)
+        row_errors(p, lambda, du.data(), i, std::min(n, i + kContactChunk), r, nan, nonfinite);
     }
   }
   all_finite = !nonfinite;

@@ -91,4 +91,24 @@ void contact_errors(const LcpProblem& p, const double* lambda, const double* du,
   nan_io = nan;
 }
 
+void row_errors(const LcpProblem& p, const Eigen::VectorXd& lambda, const double* du, int i0, int i1, double& r_io,
+                bool& nan_io, bool& nonfinite) {
+  double r = r_io;
+  bool nan = nan_io;
+  const double* value = p.J.valuePtr();
+  const int* inner = p.J.innerIndexPtr();
+  const int* outer = p.J.outerIndexPtr();
+  const int* nnz = p.J.innerNonZeroPtr();
+  bool bad = false;
+  for (int i = i0; i < i1; ++i) {
+    int q0 = 0, q1 = 0;
+    row_extent(outer, nnz, i, q0, q1);
+    bad = bad || !std::isfinite(lambda[i]);
+    fold(row_error(lambda[i], row_w(value, inner, q0, q1, du, p.b[i]), p.lower(i, lambda), p.upper(i, lambda)), r, nan);
+  }
+  nonfinite = nonfinite || bad;
+  r_io = r;
+  nan_io = nan;
+}
+
 }  // namespace dc::colored

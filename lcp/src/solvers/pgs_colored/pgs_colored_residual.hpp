@@ -24,4 +24,9 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
 void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r, bool& nan,
                     bool& nonfinite);
 
+/// The same for rows [i0, i1) one by one, with the bounds of LcpProblem::lower and upper (problems
+/// whose rows are not all owned by contacts).
+void row_errors(const LcpProblem& p, const Eigen::VectorXd& lambda, const double* du, int i0, int i1, double& r, bool& nan,
+                bool& nonfinite);
+
 }  // namespace dc::colored

@@ -116,6 +116,17 @@ bool BodyNewton::factorize(const Point& pt, double delta, NewtonSparseStats& st)
   return true;
 }
 
+void BodyNewton::multiply(const Point& pt, const Eigen::VectorXd& x, Eigen::VectorXd& hx, bool coupled) {
+  const LcpProblem& p = *p_;
+  jx_.noalias() = p.J * x;
+  kx_ = pt.dmask.cwiseProduct(jx_);
+  if (coupled)
+    for (const int t : friction_)
+      if (pt.coupling[t] != 0.0) kx_[t] += pt.coupling[t] * jx_[p.normal_row[static_cast<size_t>(t)]];
+  hx.noalias() = Jt_ * kx_;
+  hx += winv_.cwiseProduct(x);
+}
+
 bool BodyNewton::newton_direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out,
                                   NewtonSparseStats& st) {
   const bool kept = factored_mask_.size() == pt.dmask.size();
@@ -123,13 +134,7 @@ bool BodyNewton::newton_direction(const FrozenSubproblem& sub, const Point& pt, 
   // A kept factor of another δ preconditions too: H_new and H_old then differ by D's ratio on
   // the quadratic rows (P⁻¹H's condition number at most that ratio), and CG's cap decides.
   if (!current && kept && sub.stale_factor_iterations > 0) {
-    const LcpProblem& p = *p_;
-    const LinearMap H = [&](const Eigen::VectorXd& x, Eigen::VectorXd& hx) {
-      jx_.noalias() = p.J * x;
-      kx_ = pt.dmask.cwiseProduct(jx_);
-      hx.noalias() = Jt_ * kx_;
-      hx += winv_.cwiseProduct(x);
-    };
+    const LinearMap H = [&](const Eigen::VectorXd& x, Eigen::VectorXd& hx) { multiply(pt, x, hx, false); };
     const LinearMap P = [&](const Eigen::VectorXd& r, Eigen::VectorXd& x) { factor_.solve(r, x); };
     const PcgOutcome po = pcg(H, P, -g_, d_, sub.stale_factor_iterations, kPcgTolerance);
     out.cg_iterations += po.iterations;
@@ -143,16 +148,7 @@ bool BodyNewton::newton_direction(const FrozenSubproblem& sub, const Point& pt, 
 bool BodyNewton::direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out, bool& coupled_step) {
   coupled_step = false;
   if (!sub.coupled || pt.coupling.isZero(0.0)) return true;
-  const LcpProblem& p = *p_;
-  // K x = W⁻¹x + Jᵀ(D∘(Jx) + C(Jx)), C_tn = coupling_t on the normal row n of friction row t.
-  const LinearMap K = [&](const Eigen::VectorXd& x, Eigen::VectorXd& out_x) {
-    jx_.noalias() = p.J * x;
-    kx_ = pt.dmask.cwiseProduct(jx_);
-    for (const int t : friction_)
-      if (pt.coupling[t] != 0.0) kx_[t] += pt.coupling[t] * jx_[p.normal_row[static_cast<size_t>(t)]];
-    out_x.noalias() = Jt_ * kx_;
-    out_x += winv_.cwiseProduct(x);
-  };
+  const LinearMap K = [&](const Eigen::VectorXd& x, Eigen::VectorXd& kx) { multiply(pt, x, kx, true); };
   const LinearMap P = [&](const Eigen::VectorXd& r, Eigen::VectorXd& x) { factor_.solve(r, x); };
   Eigen::VectorXd d;
   const KrylovOutcome ko = gmres(K, P, -g_, d, kKrylovRestart, kKrylovMax, kKrylovTolerance);

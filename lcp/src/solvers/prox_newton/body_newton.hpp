@@ -55,6 +55,9 @@ class BodyNewton {
   /// H's Newton direction d_ = −H⁻¹g_ at pt: by CG with the kept factor when sub allows it and
   /// CG converges, else from a fresh factorisation of H; false on failure.
   bool newton_direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out, NewtonSparseStats& st);
+  /// hx = W⁻¹x + Jᵀ(D∘(Jx)) at pt: H's product; with `coupled`, also + Jᵀ(C(Jx)) (the coupled
+  /// system K, C_tn = coupling_t on the normal row n of friction row t).
+  void multiply(const Point& pt, const Eigen::VectorXd& x, Eigen::VectorXd& hx, bool coupled);
   /// The Newton direction d_ at pt (H's already in d_): coupled (GMRES) when sliding rows couple, else H⁻¹; the
   /// result is a descent direction of the cost with pt's bounds frozen. False when none.
   bool direction(const FrozenSubproblem& sub, const Point& pt, SubproblemOutcome& out, bool& coupled_step);
