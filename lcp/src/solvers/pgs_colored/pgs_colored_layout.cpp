@@ -12,6 +12,7 @@
 #include <omp.h>
 #endif
 
+#include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 #include "solvers/pgs_manifold_block.hpp"
 
 namespace dc::colored {
@@ -141,6 +142,50 @@ bool pack_contact(const LcpProblem& p, const std::vector<std::uint8_t>& dynamic,
   kb[lane] = db ? 1 : 0;
   row_n[lane] = k.normal_row;
   row_t[lane] = k.tangent_row;
+  return true;
+}
+
+/// fill_batch's rows and bodies of a batch of `lanes` contacts with friction from ordered
+/// position s0 by pack_rows_simd, scaled (the padding lanes computed on lane 0's rows, then
+/// cleared by the caller's pad_rows and pad_bodies); ok_n / ok_t as scale_rows's. False when a
+/// contact has no friction or a row not in the usual storage (then the batch is packed lane by
+/// lane).
+bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,
+                     double* diag_n, double* diag_t, bool& ok_n, bool& ok_t) {
+  int rn[W], rt[W], a[W], bb[W];
+  const int* order = out.order.data() + s0;
+  for (int lane = 0; lane < W; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
+    if (!k.has_friction()) return false;
+    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+    a[lane] = 3 * first;
+    bb[lane] = second < 0 ? -1 : 3 * second;
+    rn[lane] = k.normal_row;
+    rt[lane] = k.tangent_row;
+  }
+  unsigned singular_n = 0, singular_t = 0;
+  if (!pack_rows_simd(p, rn, a, bb, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
+      !pack_rows_simd(p, rt, a, bb, B.jt, B.mjt, B.bt, diag_t, singular_t))
+    return false;
+  const int zero = out.body_entries;
+  const std::uint8_t* dynamic = out.dynamic.data();
+  for (int lane = 0; lane < lanes; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane]];
+    const int first = a[lane] / 3, second = bb[lane] < 0 ? -1 : bb[lane] / 3;
+    const bool da = dynamic[first] != 0;
+    const bool db = second >= 0 && dynamic[second] != 0;
+    B.mu[lane] = k.mu;
+    B.la[lane] = da ? kStride * first : zero;
+    B.lb[lane] = db ? kStride * second : zero;
+    B.ka[lane] = da ? 1 : 0;
+    B.kb[lane] = db ? 1 : 0;
+    row_of[lane] = k.normal_row;
+    row_of[W + lane] = k.tangent_row;
+  }
+  const unsigned used = (1u << lanes) - 1u;
+  ok_n = (singular_n & used) == 0;
+  ok_t = (singular_t & used) == 0;
   return true;
 }
 
@@ -372,19 +417,30 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   int s0 = 0, lanes = 0;
   lanes_of(out, k, bi - out.batch_of[static_cast<size_t>(k)], s0, lanes);
   double diag_n[W], diag_t[W];  // 1 for padding lanes and rows that failed to pack
-  std::fill(diag_n, diag_n + W, 1.0);
-  std::fill(diag_t, diag_t + W, 1.0);
   int& failed = out.failed[static_cast<size_t>(bi)];
+  bool ok_n = true, ok_t = true;
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
-  for (int lane = 0; lane < lanes; ++lane) {
-    const int c = out.order[static_cast<size_t>(s0 + lane)];
-    if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n, diag_t) &&
-        failed < 0)
-      failed = c;
+  if (lanes > 0 && pack_batch_simd(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t)) {
+    // Padding as below: zero rows (j = 0·(1/1)), A_ii = 1.
+    pad_rows(rs, lanes, row_of, row_of + W);
+    pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
+    std::fill(diag_n + lanes, diag_n + W, 1.0);
+    std::fill(diag_t + lanes, diag_t + W, 1.0);
+  } else {
+    std::fill(diag_n, diag_n + W, 1.0);
+    std::fill(diag_t, diag_t + W, 1.0);
+    for (int lane = 0; lane < lanes; ++lane) {
+      const int c = out.order[static_cast<size_t>(s0 + lane)];
+      if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n,
+                        diag_t) &&
+          failed < 0)
+        failed = c;
+    }
+    pad_rows(rs, lanes, row_of, row_of + W);
+    pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
+    ok_n = scale_rows(B.jn, B.bn, diag_n);
+    ok_t = scale_rows(B.jt, B.bt, diag_t);
   }
-  pad_rows(rs, lanes, row_of, row_of + W);
-  pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
-  const bool ok_n = scale_rows(B.jn, B.bn, diag_n), ok_t = scale_rows(B.jt, B.bt, diag_t);
   if ((!ok_n || !ok_t) && failed < 0) name_singular(out, s0, lanes, diag_n, diag_t, failed);
   B.count = lanes;
   const size_t s0p = static_cast<size_t>(bi) * 2 * W;
