@@ -421,11 +421,12 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   bool ok_n = true, ok_t = true;
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
   if (lanes > 0 && pack_batch_simd(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t)) {
-    // Padding as below: zero rows (j = 0·(1/1)), A_ii = 1.
-    pad_rows(rs, lanes, row_of, row_of + W);
-    pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
-    std::fill(diag_n + lanes, diag_n + W, 1.0);
-    std::fill(diag_t + lanes, diag_t + W, 1.0);
+    if (lanes < W) {  // padding as below: zero rows (j = 0·(1/1)), A_ii = 1
+      pad_rows(rs, lanes, row_of, row_of + W);
+      pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
+      std::fill(diag_n + lanes, diag_n + W, 1.0);
+      std::fill(diag_t + lanes, diag_t + W, 1.0);
+    }
   } else {
     std::fill(diag_n, diag_n + W, 1.0);
     std::fill(diag_t, diag_t + W, 1.0);
