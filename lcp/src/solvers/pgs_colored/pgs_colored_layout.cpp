@@ -152,6 +152,7 @@ bool pack_contact(const LcpProblem& p, const std::vector<std::uint8_t>& dynamic,
 /// lane).
 bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,
                      double* diag_n, double* diag_t, bool& ok_n, bool& ok_t) {
+  if (!simd_pack_available()) return false;
   int rn[W], rt[W], a[W], bb[W];
   const int* order = out.order.data() + s0;
   for (int lane = 0; lane < W; ++lane) {
@@ -195,6 +196,7 @@ bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes
 /// M⁻¹J_1ᵀΔt, summed in slot order as fill_pair does. ok: every lane's A_ii as scale_rows wants.
 bool pack_pair_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes, PairBatch& P, int* row_of,
                     double* dn0, double* dt0, double* dn1, double* dt1, bool& ok) {
+  if (!simd_pack_available()) return false;
   int rn0[W], rt0[W], rn1[W], rt1[W], a[W], bb[W];
   const int* order = out.order.data() + s0;
   for (int lane = 0; lane < W; ++lane) {
