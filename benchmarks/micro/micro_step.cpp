@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "collision/narrow_phase.hpp"
 #include "dc/engine/trajectory_recorder.hpp"
@@ -303,6 +304,44 @@ void BM_StepStages(benchmark::State& state) {
   }
 }
 
+/// pgs-colored's solve alone on the settled pile's problem (args: bodies, morton), 20 sweeps from
+/// the builtin guess, with the caches evicted before each solve as the stages before it evict
+/// them in a step: counters ns_<part> per contact row (thread CPU time) as BM_StepStages's
+/// ns_solve_<part>, and ns_solve. Cheaper to repeat than BM_StepStages (no collide, assemble or
+/// integrate), for comparing set-up and sweep variants.
+void BM_ColoredSolveParts(benchmark::State& state) {
+  const Pile& p = pile_of(state, 1);
+  dc::PgsColoredProfile prof;
+  dc::PgsColoredDef def;
+  def.profile = &prof;
+  const auto solver = dc::make_pgs_colored(def);
+  const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
+  const dc::LcpProblem& problem = p.world->problem();
+  std::vector<double> evict(std::size_t{8} << 20, 1.0);  // 64 MB, beyond the last-level cache
+  (void)solver->solve(problem, p.guess, o);
+  prof = dc::PgsColoredProfile{};
+  double solve_s = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    double sum = 0;
+    for (std::size_t k = 0; k < evict.size(); k += 8) sum += evict[k]++;
+    benchmark::DoNotOptimize(sum);
+    state.ResumeTiming();
+    const double t0 = thread_cpu_s();
+    const dc::SolveResult r = solver->solve(problem, p.guess, o);
+    solve_s += thread_cpu_s() - t0;
+    benchmark::DoNotOptimize(r.lambda.data());
+  }
+  const double rows = static_cast<double>(problem.rows()) * static_cast<double>(state.iterations());
+  state.counters["rows"] = problem.rows();
+  state.counters["ns_solve"] = 1e9 * solve_s / rows;
+  const std::pair<const char*, double> parts[] = {
+      {"checks", prof.checks}, {"coloring", prof.coloring}, {"ordering", prof.ordering}, {"pack", prof.pack},
+      {"du0", prof.du0},       {"sweeps", prof.sweeps},     {"unpermute", prof.unpermute},
+      {"residual", prof.residual}};
+  for (const auto& [name, sec] : parts) state.counters[std::string("ns_solve_") + name] = 1e9 * sec / rows;
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "morton"});
   for (int n : {1000, 2500, 10000, 40000})
@@ -339,6 +378,11 @@ BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnly)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepStages)->Apply(sizes_solvers)->Iterations(30)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredSolveParts)
+    ->ArgNames({"bodies", "morton"})
+    ->ArgsProduct({{1000, 10000, 40000}, {0, 1}})
+    ->Iterations(30)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
