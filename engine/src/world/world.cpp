@@ -10,6 +10,7 @@
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/broad_phase.hpp"
+#include "dc/engine/contact_match.hpp"
 #include "assembly/assembly.hpp"
 #include "world/integrate_keeping.hpp"
 #include "world/restitution.hpp"
@@ -335,12 +336,9 @@ namespace {
 Eigen::VectorXd previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
                                 const LcpProblem& problem) {
   Eigen::VectorXd out = Eigen::VectorXd::Zero(problem.rows());
-  const std::vector<int> match = match_contacts_by_key(previous, current);
-  for (std::size_t c = 0; c < current.size(); ++c) {
-    if (match[c] < 0) continue;
-    const Contact& p = previous[static_cast<std::size_t>(match[c])];
+  for_each_matched_contact(previous, current, [&](std::size_t c, const Contact& p) {
     problem.constraints.put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-  }
+  });
   project_feasible(problem, out);
   return out;
 }
