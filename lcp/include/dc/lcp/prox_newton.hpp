@@ -30,7 +30,7 @@
 // "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish" or "nncg
 // safeguard") and the counts; `sweeps` counts
 // Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
-// `factorizations` counts the passes' and the short finish's, not the proximal finish's.
+// `factorizations` counts every numeric factorisation (passes and both finishes).
 //
 // Status: Converged only when the natural residual of the HARD problem at the returned λ is
 // ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞)); SweepLimit when
@@ -113,6 +113,7 @@ struct ProxNewtonDef {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
     d.newton_sparse.krylov_forcing = 1e-2;
+    d.newton_sparse.stale_factor_iterations = 20;
     d.max_stalls = 0;
     return d;
   }();
@@ -133,6 +134,7 @@ struct ProxNewtonDef {
     d.newton_sparse.krylov_forcing = 1e-2;
     d.newton_sparse.krylov_max = 30;
     d.newton_sparse.fallback_sweeps = 20;
+    d.newton_sparse.stale_factor_iterations = 20;
     d.max_stalls = 0;
     return d;
   }();
@@ -152,7 +154,7 @@ struct ProxNewtonStats {
   int finish_newton = 0;    ///< newton-sparse iterations of the finishes (both kinds)
   int proximal_finish_newton = 0;  ///< of those, in the proximal-point finish
   int safeguard_sweeps = 0; ///< nncg sweeps of the safeguard
-  int factorizations = 0;   ///< numeric factorisations (subproblems and finish)
+  int factorizations = 0;   ///< numeric factorisations (subproblems and both finishes)
   int analyses = 0;         ///< symbolic analyses
   int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
   int full_steps = 0;       ///< body space, coupled bounds: Newton steps taken whole
