@@ -30,7 +30,7 @@
 // "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish" or "nncg
 // safeguard") and the counts; `sweeps` counts
 // Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
-// `factorizations` counts the passes' and the short finish's, not the proximal finish's.
+// `factorizations` counts every numeric factorisation (passes and both finishes).
 //
 // Status: Converged only when the natural residual of the HARD problem at the returned λ is
 // ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞)); SweepLimit when
@@ -108,11 +108,14 @@ struct ProxNewtonDef {
   /// solution, where inexact directions cost fewer GMRES iterations and the proximal outer loop
   /// absorbs their error. Its stall limit stays off (max_stalls = 0): on deep settled piles the
   /// route improves again after long plateaus and reaches the target only when allowed its
-  /// outer iterations.
+  /// outer iterations. Directions by GMRES with a kept factor first (stale_factor_iterations =
+  /// 30, NewtonSparseDef): near the solution few rows change mode between iterations and δ
+  /// stays put for many outer iterations, so most iterations need no factorisation.
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
     d.newton_sparse.krylov_forcing = 1e-2;
+    d.newton_sparse.stale_factor_iterations = 30;
     d.max_stalls = 0;
     return d;
   }();
@@ -124,7 +127,11 @@ struct ProxNewtonDef {
   ///     shifted problem further does not move the next centre further;
   ///   * at most 30 GMRES iterations per direction (krylov_max): where the row modes are still
   ///     wrong the line search rejects the direction whatever its accuracy, and the PGS fallback
-  ///     moves the modes; fallback_sweeps = 20 (doubling from there) moves them in fewer rounds.
+  ///     moves the modes; fallback_sweeps = 20 (doubling from there) moves them in fewer rounds;
+  ///   * a factorisation per direction (stale_factor_iterations = 0): on the granular files
+  ///     thousands of sliding rows are coupled and the line search's damping retries change ρ
+  ///     by 100-fold, so GMRES with a kept factor mostly fails to meet its tolerance and the
+  ///     attempt costs more than the factorisation it would save.
   ProximalPointDef dual_finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
@@ -133,6 +140,7 @@ struct ProxNewtonDef {
     d.newton_sparse.krylov_forcing = 1e-2;
     d.newton_sparse.krylov_max = 30;
     d.newton_sparse.fallback_sweeps = 20;
+    d.newton_sparse.stale_factor_iterations = 0;
     d.max_stalls = 0;
     return d;
   }();
@@ -152,7 +160,7 @@ struct ProxNewtonStats {
   int finish_newton = 0;    ///< newton-sparse iterations of the finishes (both kinds)
   int proximal_finish_newton = 0;  ///< of those, in the proximal-point finish
   int safeguard_sweeps = 0; ///< nncg sweeps of the safeguard
-  int factorizations = 0;   ///< numeric factorisations (subproblems and finish)
+  int factorizations = 0;   ///< numeric factorisations (subproblems and both finishes)
   int analyses = 0;         ///< symbolic analyses
   int line_search_steps = 0;  ///< 1D Newton steps (body) or merit trials (dual) in line searches
   int full_steps = 0;       ///< body space, coupled bounds: Newton steps taken whole

@@ -275,7 +275,9 @@ class ProxRun {
     fo.record_theta = false;
     fo.exact_tolerance = o_.exact_tolerance;
     forward_checkpoints(fo);
-    const SolveResult r = solve_proximal_point(*assembled_, best_, fo, pd);
+    ProximalPointStats ps;
+    const SolveResult r = solve_proximal_point(*assembled_, best_, fo, pd, &ps);
+    st_.factorizations += ps.factorizations;
     st_.finish_newton += r.sweeps;
     st_.proximal_finish_newton += r.sweeps;
     if (r.lambda.size() == p_.rows() && r.lambda.allFinite())
