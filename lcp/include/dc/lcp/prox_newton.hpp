@@ -89,6 +89,25 @@ struct ProxNewtonDef {
   bool body_finish = false;
   /// Newton iterations of those coupled passes at most, in all (default 100).
   int body_finish_iterations = 100;
+  /// Body space: the exact-cone outer loop instead of the Tresca passes (default false). Pass k
+  /// solves, in velocities, the proximal step of Anitescu's cone problem with the normal
+  /// velocities shifted by de Saxcé's μ|w_t^k|: F ∋ λ ⊥ Aλ + b + ŝ + δ(λ − λ^k) ∈ F* with F the
+  /// exact 2D friction cone, by Newton on ½ vᵀ(M/Δt)v + Σ_c ‖P_F(−y_c)‖²/(2δ) (MuJoCo's and Drake
+  /// SAP's cost; H = M/Δt + Jᵀ G J with a 2×2 G per contact; the exact line search); a fixed point
+  /// is an exact Coulomb solution (cone_passes.hpp). The passes stop after `cone_max_stalls`
+  /// passes without a new best hard residual, or `max_outer`; the finishes below follow as
+  /// after the Tresca passes. Problems without the cone form (a friction row whose normal row
+  /// does not have bounds [0, +∞)) take the Tresca passes.
+  bool exact_cone = false;
+  /// δ of those passes relative to max_i A_ii, kept for all of them (default 1e-4).
+  double cone_shift = 1e-4;
+  /// Newton iterations per exact-cone pass at most (default 8).
+  int cone_inner_iterations = 8;
+  /// Exact-cone pass accuracy: its natural residual [N] relative to max(hard target, best hard
+  /// residual so far) (default 0.1).
+  double cone_inner_tolerance = 0.1;
+  /// Exact-cone passes in a row without a new best hard residual before they stop (default 3).
+  int cone_max_stalls = 3;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of

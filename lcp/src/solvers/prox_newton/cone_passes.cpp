@@ -1,0 +1,56 @@
+#include "solvers/prox_newton/cone_passes.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dc::solvers::prox {
+
+void de_saxce_shift(const LcpProblem& p, const Eigen::VectorXd& w, Eigen::VectorXd& shift) {
+  shift.setZero(p.rows());
+  for (int t = 0; t < p.rows(); ++t)
+    if (p.is_friction_row(t)) shift[p.normal_row[static_cast<size_t>(t)]] = p.mu[t] * std::abs(w[t]);
+}
+
+ConePassesOutcome run_cone_passes(const LcpProblem& p, ConeNewton& cone, const Eigen::VectorXd& lambda0, double target,
+                                  const ConePassesDef& def) {
+  ConePassesOutcome out;
+  Eigen::VectorXd lambda = lambda0;
+  out.best = lambda;
+  out.best_residual = natural_residual(p, lambda);
+  const double diag = cone.max_diagonal();
+  if (!(diag > 0)) return out;
+  ConeSubproblem sub;
+  sub.delta = def.shift * diag;
+  sub.stale_factor_iterations = def.stale_factor_iterations;
+  Eigen::VectorXd w = lcp_velocity(p, lambda), shift;
+  int stalls = 0;
+  while (out.best_residual > target && out.passes < def.max_passes && out.newton < def.iterations) {
+    ++out.passes;
+    de_saxce_shift(p, w, shift);
+    sub.c = p.b + shift - sub.delta * lambda;
+    sub.tolerance = def.inner_tolerance * std::max(target, out.best_residual);
+    sub.max_iterations = std::min(def.inner_iterations, def.iterations - out.newton);
+    Eigen::VectorXd next = lambda;
+    const SubproblemOutcome so = cone.solve(sub, next);
+    out.newton += so.iterations;
+    out.factorizations += so.factorizations;
+    out.analyses += so.analyses;
+    out.cg += so.cg_iterations;
+    out.line_search_steps += so.line_search_steps;
+    if (!next.allFinite()) break;
+    const double res = natural_residual(p, next);
+    if (def.on_pass) def.on_pass(out.passes, so, res);
+    if (res < out.best_residual) {
+      out.best = next;
+      out.best_residual = res;
+      stalls = 0;
+    } else if (++stalls >= def.max_stalls) {
+      break;
+    }
+    lambda = std::move(next);
+    w = lcp_velocity(p, lambda);
+  }
+  return out;
+}
+
+}  // namespace dc::solvers::prox
