@@ -56,6 +56,9 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "cone_shift") d.cone_shift = x;
   else if (key == "cone_inner_iterations") d.cone_inner_iterations = static_cast<int>(x);
   else if (key == "cone_inner_tolerance") d.cone_inner_tolerance = x;
+  else if (key == "cone_anderson") d.cone_anderson = static_cast<int>(x);
+  else if (key == "cone_shrink") d.cone_shrink = x;
+  else if (key == "cone_min_shift") d.cone_min_shift = x;
   else if (key == "cone_max_stalls") d.cone_max_stalls = static_cast<int>(x);
   else if (key == "body_finish_iterations") d.body_finish_iterations = static_cast<int>(x);
   else throw dc::ConfigError("prox_families: unknown key '" + key + "'");

@@ -99,13 +99,20 @@ struct ProxNewtonDef {
   /// after the Tresca passes. Problems without the cone form (a friction row whose normal row
   /// does not have bounds [0, +∞)) take the Tresca passes.
   bool exact_cone = false;
-  /// δ of those passes relative to max_i A_ii, kept for all of them (default 1e-4).
+  /// First δ of those passes relative to max_i A_ii (default 1e-4); δ shrinks by `cone_shrink`
+  /// after every pass whose subproblem was solved, down to `cone_min_shift`, and grows by it
+  /// after one that was not (defaults 1: δ fixed, and 1e-4).
   double cone_shift = 1e-4;
+  double cone_shrink = 1.0;
+  double cone_min_shift = 1e-4;
   /// Newton iterations per exact-cone pass at most (default 8).
   int cone_inner_iterations = 8;
   /// Exact-cone pass accuracy: its natural residual [N] relative to max(hard target, best hard
   /// residual so far) (default 0.1).
   double cone_inner_tolerance = 0.1;
+  /// Anderson acceleration depth of the exact-cone passes' outer map λ^k ↦ λ^{k+1} (anderson.hpp;
+  /// default 0: none).
+  int cone_anderson = 0;
   /// Exact-cone passes in a row without a new best hard residual before they stop (default 3).
   int cone_max_stalls = 3;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/prox_newton/anderson.hpp"
+
 namespace dc::solvers::prox {
 
 void de_saxce_shift(const LcpProblem& p, const Eigen::VectorXd& w, Eigen::VectorXd& shift) {
@@ -20,10 +22,12 @@ ConePassesOutcome run_cone_passes(const LcpProblem& p, ConeNewton& cone, const E
   const double diag = cone.max_diagonal();
   if (!(diag > 0)) return out;
   ConeSubproblem sub;
-  sub.delta = def.shift * diag;
+  double rel = def.shift;
+  sub.delta = rel * diag;
   sub.stale_factor_iterations = def.stale_factor_iterations;
   Eigen::VectorXd w = lcp_velocity(p, lambda), shift;
   int stalls = 0;
+  Anderson acc(def.anderson);
   while (out.best_residual > target && out.passes < def.max_passes && out.newton < def.iterations) {
     ++out.passes;
     de_saxce_shift(p, w, shift);
@@ -47,8 +51,26 @@ ConePassesOutcome run_cone_passes(const LcpProblem& p, ConeNewton& cone, const E
     } else if (++stalls >= def.max_stalls) {
       break;
     }
+    const double next_shift = so.converged ? std::max(def.min_shift, std::min(rel, rel / def.shrink))
+                                           : std::max(rel, rel * def.shrink);
+    if (def.anderson > 0) {
+      // A blow-up or a new δ (another map): the history misleads.
+      if (res > 10 * out.best_residual || next_shift != rel) acc.restart();
+      Eigen::VectorXd mixed = acc.next(lambda, next);
+      project_feasible(p, mixed);
+      const double mres = natural_residual(p, mixed);
+      if (std::isfinite(mres)) {
+        if (mres < out.best_residual) {
+          out.best = mixed;
+          out.best_residual = mres;
+        }
+        next = std::move(mixed);
+      }
+    }
     lambda = std::move(next);
     w = lcp_velocity(p, lambda);
+    rel = next_shift;
+    sub.delta = rel * diag;
   }
   return out;
 }

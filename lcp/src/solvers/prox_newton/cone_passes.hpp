@@ -12,8 +12,10 @@
 // primal cost determines uniquely, not λ_n (free along A's null space on piles with more
 // contact rows than degrees of freedom). Each pass starts Newton from v = W Jᵀ λ^k and keeps
 // the factor of the last H (a pass's first direction is CG with it while CG converges).
-// δ stays at its first value while passes lower the best hard residual; a pass that does not
-// counts as a stall.
+// δ shrinks by `shrink` after every pass whose subproblem was solved, down to min_shift (the
+// proximal point converges faster the smaller δ is; a solved pass's active set starts the next
+// one close), and grows by it after one that was not. A pass that does not lower the best hard
+// residual counts as a stall.
 #include <Eigen/Core>
 #include <functional>
 
@@ -23,13 +25,16 @@
 namespace dc::solvers::prox {
 
 struct ConePassesDef {
-  double shift = 1e-4;           ///< δ relative to max A_ii
+  double shift = 1e-4;           ///< first δ relative to max A_ii
+  double min_shift = 1e-4;       ///< δ shrinks by `shrink` after every solved pass down to this
+  double shrink = 1.0;           ///< (1: δ fixed); an unsolved pass grows it back by `shrink`
   int max_passes = 50;           ///< passes at most
   int inner_iterations = 8;      ///< Newton iterations per pass at most
   double inner_tolerance = 0.1;  ///< pass accuracy relative to max(target, best hard residual)
   int stale_factor_iterations = 25;
   int max_stalls = 3;            ///< passes in a row without a new best hard residual
   int iterations = 0;            ///< Newton iterations of all passes at most
+  int anderson = 0;              ///< Anderson acceleration depth of the outer map λ^k ↦ λ^{k+1} (0: none)
   /// Called after every pass with its number (from 1), its subproblem's work and the hard
   /// residual at its iterate [N] (empty: none).
   std::function<void(int, const SubproblemOutcome&, double)> on_pass;
