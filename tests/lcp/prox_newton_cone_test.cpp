@@ -85,9 +85,11 @@ TEST(ProxNewtonCone, ProjectionIsMoreauDecompositionWithItsJacobian) {
   for (const int r : regions) EXPECT_GT(r, 300);
 }
 
-// f's gradient against central differences of f, and H x against central differences of ∇f.
+// f's gradient against central differences of f, and H x against central differences of ∇f;
+// with the shift following v, K x against central differences of F.
 TEST(ProxNewtonCone, GradientAndHessianMatchDifferences) {
-  for (uint64_t seed = 1; seed <= 3; ++seed) {
+  int checked[2] = {0, 0};
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
     test::TestRng rng(seed + 2200);
     const LcpProblem p = test::random_contact(12, 20, true, rng, 0.4, 4);
     ConeNewton cone;
@@ -96,6 +98,7 @@ TEST(ProxNewtonCone, GradientAndHessianMatchDifferences) {
     sub.delta = 1e-2 * cone.max_diagonal();
     sub.c = p.b;
     for (int i = 0; i < p.rows(); ++i) sub.c[i] += rng.uniform(-0.5, 0.5);
+    sub.follow_shift = seed > 3;
     const Eigen::Index m = p.J.cols();
     for (int trial = 0; trial < 5; ++trial) {
       Eigen::VectorXd v(m), x(m), g, gp, gm, hx;
@@ -105,8 +108,10 @@ TEST(ProxNewtonCone, GradientAndHessianMatchDifferences) {
       }
       cone.cost(sub, v, &g);
       const double h = 1e-6;
-      const double fd = (cone.cost(sub, v + h * x, nullptr) - cone.cost(sub, v - h * x, nullptr)) / (2 * h);
-      EXPECT_NEAR(fd, g.dot(x), 1e-6 * std::max(1.0, std::abs(fd))) << seed;
+      if (!sub.follow_shift) {  // F is no gradient when the shift follows v
+        const double fd = (cone.cost(sub, v + h * x, nullptr) - cone.cost(sub, v - h * x, nullptr)) / (2 * h);
+        EXPECT_NEAR(fd, g.dot(x), 1e-6 * std::max(1.0, std::abs(fd))) << seed;
+      }
       const double k = 1e-8;  // small enough that no contact changes region (checked below)
       cone.cost(sub, v + k * x, &gp);
       cone.cost(sub, v - k * x, &gm);
@@ -117,8 +122,11 @@ TEST(ProxNewtonCone, GradientAndHessianMatchDifferences) {
       if ((hp - hm).norm() > 0) continue;  // a region boundary inside the stencil
       const Eigen::VectorXd fdh = (gp - gm) / (2 * k);
       EXPECT_LE((fdh - hx).norm(), 1e-5 * std::max(1.0, hx.norm())) << seed;
+      ++checked[sub.follow_shift ? 1 : 0];
     }
   }
+  EXPECT_GE(checked[0], 5);
+  EXPECT_GE(checked[1], 5);
 }
 
 // A converged subproblem solve satisfies the cone complementarity it stands for:
@@ -152,7 +160,8 @@ TEST(ProxNewtonCone, SubproblemSolvesItsConeProblem) {
 }
 
 // The passes alone reach the hard target with lemke's contact velocities: friction, μ = 0 and
-// mixed μ, from zero and from random starts.
+// mixed μ, from zero and from random starts, with the shift frozen per pass and following the
+// Newton iterate.
 TEST(ProxNewtonCone, SameContactVelocitiesAsLemkeFromRandomStarts) {
   struct Case {
     bool friction;
@@ -167,12 +176,17 @@ TEST(ProxNewtonCone, SameContactVelocitiesAsLemkeFromRandomStarts) {
         Eigen::VectorXd guess = Eigen::VectorXd::Zero(p.rows());
         if (start > 0)
           for (int i = 0; i < p.rows(); ++i) guess[i] = rng.uniform(-1, 3);
-        const SolveResult r = ProxNewtonSolver(cone_only()).solve(p, guess, options());
-        const std::string what = std::to_string(cs.friction) + "/" + std::to_string(cs.frictionless_every) +
-                                 " seed " + std::to_string(seed) + " start " + std::to_string(start);
-        EXPECT_EQ(r.status, SolveStatus::Converged) << what << ": " << r.message;
-        EXPECT_LE(r.residual, bound(p)) << what;
-        EXPECT_LE(velocity_gap(p, ref, r.lambda), 1e-6) << what;
+        for (const bool follow : {false, true}) {
+          ProxNewtonDef def = cone_only();
+          def.cone_follow_shift = follow;
+          const SolveResult r = ProxNewtonSolver(def).solve(p, guess, options());
+          const std::string what = std::to_string(cs.friction) + "/" + std::to_string(cs.frictionless_every) +
+                                   " seed " + std::to_string(seed) + " start " + std::to_string(start) +
+                                   (follow ? " following" : "");
+          EXPECT_EQ(r.status, SolveStatus::Converged) << what << ": " << r.message;
+          EXPECT_LE(r.residual, bound(p)) << what;
+          EXPECT_LE(velocity_gap(p, ref, r.lambda), 1e-6) << what;
+        }
       }
     }
   }

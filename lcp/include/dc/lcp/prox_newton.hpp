@@ -110,6 +110,14 @@ struct ProxNewtonDef {
   /// Exact-cone pass accuracy: its natural residual [N] relative to max(hard target, best hard
   /// residual so far) (default 0.1).
   double cone_inner_tolerance = 0.1;
+  /// Exact-cone passes: de Saxcé's shift follows the Newton iterate inside each pass (the pass
+  /// solves the proximal step on the exact Coulomb problem; GMRES on the non-symmetric Jacobian
+  /// preconditioned with H's factor, cone_newton.hpp) instead of staying at the pass's start
+  /// (default false), once a frozen pass was solved within `cone_follow_after` Newton iterations
+  /// (default 2; 0: from the first pass); back to frozen passes after a following pass that was
+  /// not solved or did not lower the best hard residual.
+  bool cone_follow_shift = false;
+  int cone_follow_after = 2;
   /// Anderson acceleration depth of the exact-cone passes' outer map λ^k ↦ λ^{k+1} (anderson.hpp;
   /// default 0: none).
   int cone_anderson = 0;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "dc/lcp/newton_sparse.hpp"
 #include "solvers/newton_sparse/gmres.hpp"
@@ -17,6 +18,10 @@ namespace {
 /// CG with a kept factor: relative tolerance on the preconditioned residual norm (an inexact
 /// Newton direction; the exact line search takes whatever descent it gives).
 constexpr double kPcgTolerance = 1e-6;
+/// GMRES for the coupled (follow_shift) direction: restart length, iteration cap, tolerance.
+constexpr int kKrylovRestart = 20;
+constexpr int kKrylovMax = 40;
+constexpr double kKrylovTolerance = 1e-6;
 
 }  // namespace
 
@@ -69,9 +74,15 @@ void ConeNewton::evaluate(const ConeSubproblem& sub, Point& pt, bool residual) {
   pt.gnt.resize(nc);
   pt.gtt.resize(nc);
   pt.gs.resize(static_cast<Eigen::Index>(others_.size()));
+  pt.sig.setZero(nc);
   const double inv = 1.0 / sub.delta;
   for (Eigen::Index k = 0; k < nc; ++k) {
     const Contact& c = contacts_[static_cast<size_t>(k)];
+    if (sub.follow_shift) {  // ŝ_n = μ|w_t|, w_t = (J v + b)_t = y_t − c_t + b_t
+      const double wt = pt.y[c.t] - sub.c[c.t] + p.b[c.t];
+      pt.y[c.n] += c.mu * std::abs(wt);
+      pt.sig[k] = wt > 0 ? c.mu : (wt < 0 ? -c.mu : 0.0);
+    }
     const ConePoint cp = project_cone(c.mu, -pt.y[c.n] * inv, -pt.y[c.t] * inv);
     pt.lambda[c.n] = cp.n;
     pt.lambda[c.t] = cp.t;
@@ -92,10 +103,15 @@ void ConeNewton::evaluate(const ConeSubproblem& sub, Point& pt, bool residual) {
     if (pt.v[j] != 0.0) f += 0.5 * winv_[j] * pt.v[j] * pt.v[j];
   for (int i = 0; i < n; ++i) f -= pt.lambda[i] * (pt.y[i] + 0.5 * sub.delta * pt.lambda[i]);
   pt.cost = f;
+  double merit = 0.0;
+  for (Eigen::Index j = 0; j < pt.g.size(); ++j) merit += w_[j] * pt.g[j] * pt.g[j];
+  pt.merit = std::isfinite(merit) ? merit : INFINITY;
   if (!residual) return;
   // w̃ = J W Jᵀ λ + δλ + c, from λ alone; the residual against the cone and the boxes.
   u_ = w_.cwiseProduct(pt.Jtl);
-  wt_.noalias() = p.J * u_;
+  wt_.noalias() = p.J * u_;  // A λ
+  if (sub.follow_shift)
+    for (const Contact& c : contacts_) wt_[c.n] += c.mu * std::abs(wt_[c.t] + p.b[c.t]);
   wt_ += sub.delta * pt.lambda + sub.c;
   double r = 0.0;
   const auto keep = [&r](double d) {
@@ -110,14 +126,15 @@ void ConeNewton::evaluate(const ConeSubproblem& sub, Point& pt, bool residual) {
   pt.residual = r;
 }
 
-void ConeNewton::multiply(const Point& pt, double delta, const Eigen::VectorXd& x, Eigen::VectorXd& hx) {
+void ConeNewton::multiply(const Point& pt, double delta, const Eigen::VectorXd& x, Eigen::VectorXd& hx,
+                          bool coupled) {
   jx_.noalias() = p_->J * x;
   kx_.resize(jx_.size());
   const double inv = 1.0 / delta;
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const Contact& c = contacts_[k];
     const auto kk = static_cast<Eigen::Index>(k);
-    const double xn = jx_[c.n], xt = jx_[c.t];
+    const double xt = jx_[c.t], xn = jx_[c.n] + (coupled ? pt.sig[kk] * xt : 0.0);
     kx_[c.n] = inv * (pt.gnn[kk] * xn + pt.gnt[kk] * xt);
     kx_[c.t] = inv * (pt.gnt[kk] * xn + pt.gtt[kk] * xt);
   }
@@ -228,6 +245,7 @@ SubproblemOutcome ConeNewton::solve(const ConeSubproblem& sub, Eigen::VectorXd& 
     if (out.iterations >= sub.max_iterations || !std::isfinite(cur_.residual)) break;
     ++out.iterations;
     g_ = cur_.g;
+    if (sub.follow_shift && coupled_direction(sub, cur_, out, st) && step_on_merit(sub, out)) continue;
     if (!newton_direction(sub, cur_, out, st)) {
       out.failed = true;
       break;
@@ -251,6 +269,43 @@ SubproblemOutcome ConeNewton::solve(const ConeSubproblem& sub, Eigen::VectorXd& 
   return out;
 }
 
+bool ConeNewton::coupled_direction(const ConeSubproblem& sub, const Point& pt, SubproblemOutcome& out,
+                                   NewtonSparseStats& st) {
+  const LinearMap K = [&](const Eigen::VectorXd& x, Eigen::VectorXd& kx) { multiply(pt, sub.delta, x, kx, true); };
+  const LinearMap P = [&](const Eigen::VectorXd& r, Eigen::VectorXd& x) { factor_.solve(r, x); };
+  g_key(pt, key_);
+  bool current = factored_delta_ == sub.delta && factored_key_ == key_;
+  if (!current && (factored_delta_ == 0 || sub.stale_factor_iterations == 0)) {
+    if (!factorize(pt, sub.delta, st)) return false;
+    current = true;
+  }
+  KrylovOutcome ko = gmres(K, P, -g_, d_, kKrylovRestart, kKrylovMax, kKrylovTolerance);
+  out.krylov_iterations += ko.iterations;
+  if (ko.converged && d_.allFinite()) return true;
+  if (current || !factorize(pt, sub.delta, st)) return false;
+  ko = gmres(K, P, -g_, d_, kKrylovRestart, kKrylovMax, kKrylovTolerance);
+  out.krylov_iterations += ko.iterations;
+  return ko.converged && d_.allFinite();
+}
+
+bool ConeNewton::step_on_merit(const ConeSubproblem& sub, SubproblemOutcome& out) {
+  // Armijo backtracking on ½ FᵀWF: along a Newton direction its slope at t = 0 is −FᵀWF.
+  constexpr double kArmijo = 1e-4;
+  constexpr int kTrials = 12;
+  double t = 1.0;
+  for (int k = 0; k < kTrials; ++k, t *= 0.5) {
+    trial_.v = cur_.v + t * d_;
+    evaluate(sub, trial_, true);
+    ++out.line_search_steps;
+    if (trial_.merit <= (1.0 - 2.0 * kArmijo * t) * cur_.merit) {
+      std::swap(cur_, trial_);
+      if (k == 0) ++out.full_steps;
+      return true;
+    }
+  }
+  return false;
+}
+
 double ConeNewton::cost(const ConeSubproblem& sub, const Eigen::VectorXd& v, Eigen::VectorXd* gradient) {
   Point pt;
   pt.v = v;
@@ -264,7 +319,7 @@ void ConeNewton::hessian_times(const ConeSubproblem& sub, const Eigen::VectorXd&
   Point pt;
   pt.v = v;
   evaluate(sub, pt, false);
-  multiply(pt, sub.delta, x, hx);
+  multiply(pt, sub.delta, x, hx, sub.follow_shift);
 }
 
 }  // namespace dc::solvers::prox

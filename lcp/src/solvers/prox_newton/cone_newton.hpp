@@ -34,6 +34,14 @@ struct ConeSubproblem {
   /// H's direction by CG preconditioned with the kept factor of an earlier H, refactorising
   /// only when CG needs more than this many iterations (0: whenever G or δ changed).
   int stale_factor_iterations = 0;
+  /// de Saxcé's shift follows the iterate: y_n gets + μ|(J v + b)_t| of the same v on each
+  /// contact (b the problem's), so the subproblem is the proximal step on the exact Coulomb
+  /// problem (no potential: F = W⁻¹v − Jᵀλ(y) is no gradient). Its Jacobian
+  /// K = W⁻¹ + Jᵀ G (I + S) J, S_nt = μ sign(w_t), is not symmetric: the direction solves
+  /// K d = −F by GMRES preconditioned with H's (kept) factor, the step is the longest of 1, ½, …
+  /// that lowers FᵀWF by the Armijo fraction, else the exact line search on f with the shift
+  /// frozen at the iterate along H's direction.
+  bool follow_shift = false;
 };
 
 class ConeNewton {
@@ -48,9 +56,10 @@ class ConeNewton {
   /// Solves the subproblem from v = W Jᵀ λ; λ becomes λ(J v + c) at the last iterate.
   SubproblemOutcome solve(const ConeSubproblem& sub, Eigen::VectorXd& lambda);
 
-  /// f(v), and ∇f(v) into gradient when it is not null (tests check them by differences).
+  /// f(v), and ∇f(v) into gradient when it is not null (tests check them by differences); with
+  /// follow_shift the gradient is F(v) and f the cost with the shift frozen at v.
   double cost(const ConeSubproblem& sub, const Eigen::VectorXd& v, Eigen::VectorXd* gradient);
-  /// H(v) x (the generalised Hessian of the region at v).
+  /// H(v) x (the generalised Hessian of the region at v); with follow_shift K(v) x, F's Jacobian.
   void hessian_times(const ConeSubproblem& sub, const Eigen::VectorXd& v, const Eigen::VectorXd& x,
                      Eigen::VectorXd& hx);
 
@@ -64,12 +73,18 @@ class ConeNewton {
     Eigen::VectorXd v, y, lambda, g, Jtl;
     Eigen::VectorXd gnn, gnt, gtt;  // per contact: G_c δ
     Eigen::VectorXd gs;             // per other row: G_i δ (0 or 1)
-    double residual = 0, cost = 0;
+    Eigen::VectorXd sig;            // per contact: μ sign(w_t) (follow_shift), else 0
+    double residual = 0, cost = 0, merit = 0;  // merit FᵀWF
   };
   /// Fills pt from pt.v; with `residual` also the natural residual (a product with A).
   void evaluate(const ConeSubproblem& sub, Point& pt, bool residual);
-  /// hx = W⁻¹x + Jᵀ(G (J x)) at pt.
-  void multiply(const Point& pt, double delta, const Eigen::VectorXd& x, Eigen::VectorXd& hx);
+  /// hx = W⁻¹x + Jᵀ(G (J x)) at pt; with `coupled` K's product W⁻¹x + Jᵀ(G (I + S) J x).
+  void multiply(const Point& pt, double delta, const Eigen::VectorXd& x, Eigen::VectorXd& hx, bool coupled = false);
+  /// follow_shift: K's direction into d_ by GMRES with the kept factor (refactorised at pt when
+  /// GMRES does not converge with it); false when there is none that descends on FᵀWF.
+  bool coupled_direction(const ConeSubproblem& sub, const Point& pt, SubproblemOutcome& out, NewtonSparseStats& st);
+  /// follow_shift: a backtracking step along d_ that lowers FᵀWF enough (Armijo); false if none.
+  bool step_on_merit(const ConeSubproblem& sub, SubproblemOutcome& out);
   /// Factorises H at pt unless the kept factor is of the same G and δ; false on failure.
   bool factorize(const Point& pt, double delta, NewtonSparseStats& st);
   /// d_ = −H⁻¹ g_ at pt (CG with the kept factor when allowed and it converges); false on failure.
@@ -89,7 +104,7 @@ class ConeNewton {
   std::vector<char> all_free_;
   Eigen::VectorXd factored_key_, key_;
   double factored_delta_ = 0.0;
-  Point cur_;
+  Point cur_, trial_;
   Eigen::VectorXd d_, e_, g_, u_, wt_, jx_, kx_;
 };
 

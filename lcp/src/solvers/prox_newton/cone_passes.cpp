@@ -25,13 +25,19 @@ ConePassesOutcome run_cone_passes(const LcpProblem& p, ConeNewton& cone, const E
   double rel = def.shift;
   sub.delta = rel * diag;
   sub.stale_factor_iterations = def.stale_factor_iterations;
+  bool following = def.follow_shift && def.follow_after == 0;
   Eigen::VectorXd w = lcp_velocity(p, lambda), shift;
   int stalls = 0;
   Anderson acc(def.anderson);
   while (out.best_residual > target && out.passes < def.max_passes && out.newton < def.iterations) {
     ++out.passes;
-    de_saxce_shift(p, w, shift);
-    sub.c = p.b + shift - sub.delta * lambda;
+    sub.follow_shift = following;
+    if (following) {
+      sub.c = p.b - sub.delta * lambda;
+    } else {
+      de_saxce_shift(p, w, shift);
+      sub.c = p.b + shift - sub.delta * lambda;
+    }
     sub.tolerance = def.inner_tolerance * std::max(target, out.best_residual);
     sub.max_iterations = std::min(def.inner_iterations, def.iterations - out.newton);
     Eigen::VectorXd next = lambda;
@@ -51,11 +57,16 @@ ConePassesOutcome run_cone_passes(const LcpProblem& p, ConeNewton& cone, const E
     } else if (++stalls >= def.max_stalls) {
       break;
     }
+    const bool was_following = following;
+    if (def.follow_shift)
+      following = following ? so.converged && res <= out.best_residual
+                            : so.converged && so.iterations <= def.follow_after;
+    if (was_following && !following) next = out.best;  // the failed following pass's iterate is no start
     const double next_shift = so.converged ? std::max(def.min_shift, std::min(rel, rel / def.shrink))
                                            : std::max(rel, rel * def.shrink);
     if (def.anderson > 0) {
       // A blow-up or a new δ (another map): the history misleads.
-      if (res > 10 * out.best_residual || next_shift != rel) acc.restart();
+      if (res > 10 * out.best_residual || next_shift != rel || was_following != following) acc.restart();
       Eigen::VectorXd mixed = acc.next(lambda, next);
       project_feasible(p, mixed);
       const double mres = natural_residual(p, mixed);

@@ -34,6 +34,12 @@ struct ConePassesDef {
   int stale_factor_iterations = 25;
   int max_stalls = 3;            ///< passes in a row without a new best hard residual
   int iterations = 0;            ///< Newton iterations of all passes at most
+  bool follow_shift = false;     ///< the shift follows the Newton iterate (ConeSubproblem::follow_shift)
+  /// With follow_shift: frozen-shift passes until one is solved within this many Newton
+  /// iterations (its active set has settled), following ones after (0: from the first pass).
+  /// A following pass that is not solved or raises the hard residual above the best goes back
+  /// to frozen passes.
+  int follow_after = 2;
   int anderson = 0;              ///< Anderson acceleration depth of the outer map λ^k ↦ λ^{k+1} (0: none)
   /// Called after every pass with its number (from 1), its subproblem's work and the hard
   /// residual at its iterate [N] (empty: none).
