@@ -61,6 +61,7 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "cone_min_shift") d.cone_min_shift = x;
   else if (key == "cone_follow_shift") d.cone_follow_shift = x != 0;
   else if (key == "cone_follow_after") d.cone_follow_after = static_cast<int>(x);
+  else if (key == "cone_follow_iterations") d.cone_follow_iterations = static_cast<int>(x);
   else if (key == "cone_max_stalls") d.cone_max_stalls = static_cast<int>(x);
   else if (key == "body_finish_iterations") d.body_finish_iterations = static_cast<int>(x);
   else throw dc::ConfigError("prox_families: unknown key '" + key + "'");

@@ -21,6 +21,8 @@
 //   * in the dual form otherwise (problems from files): the box LCP w = (A + δI)λ + c with the
 //     frozen bounds by newton-sparse's semismooth Newton (no friction coupling: one CHOLMOD
 //     factorisation per iteration, the analysis kept across passes).
+// With `exact_cone` (body space) the passes are instead proximal steps on the exact 2D friction
+// cone with de Saxcé's shift of the normal velocities (docs/solvers.md "Exact-cone passes").
 // Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
 // the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
 // above the target, with `body_finish` coupled body-space passes from the best iterate, then
@@ -118,6 +120,9 @@ struct ProxNewtonDef {
   /// not solved or did not lower the best hard residual.
   bool cone_follow_shift = false;
   int cone_follow_after = 2;
+  /// Newton iterations per following pass at most (default 8): far from a solution the
+  /// following pass's semismooth Newton may not converge, and a failed pass is abandoned early.
+  int cone_follow_iterations = 8;
   /// Anderson acceleration depth of the exact-cone passes' outer map λ^k ↦ λ^{k+1} (anderson.hpp;
   /// default 0: none).
   int cone_anderson = 0;

@@ -39,7 +39,8 @@ ConePassesOutcome run_cone_passes(const LcpProblem& p, ConeNewton& cone, const E
       sub.c = p.b + shift - sub.delta * lambda;
     }
     sub.tolerance = def.inner_tolerance * std::max(target, out.best_residual);
-    sub.max_iterations = std::min(def.inner_iterations, def.iterations - out.newton);
+    const int cap = following ? def.follow_iterations : def.inner_iterations;
+    sub.max_iterations = std::min(cap, def.iterations - out.newton);
     Eigen::VectorXd next = lambda;
     const SubproblemOutcome so = cone.solve(sub, next);
     out.newton += so.iterations;
@@ -62,8 +63,12 @@ ConePassesOutcome run_cone_passes(const LcpProblem& p, ConeNewton& cone, const E
       following = following ? so.converged && res <= out.best_residual
                             : so.converged && so.iterations <= def.follow_after;
     if (was_following && !following) next = out.best;  // the failed following pass's iterate is no start
-    const double next_shift = so.converged ? std::max(def.min_shift, std::min(rel, rel / def.shrink))
-                                           : std::max(rel, rel * def.shrink);
+    // With the shift following, δ shrinks after each solved following pass (and grows back
+    // after a failed one); without it, after every solved pass.
+    const bool steer = !def.follow_shift || was_following;
+    const double next_shift = !steer       ? rel
+                              : so.converged ? std::max(def.min_shift, std::min(rel, rel / def.shrink))
+                                             : std::max(rel, rel * def.shrink);
     if (def.anderson > 0) {
       // A blow-up or a new δ (another map): the history misleads.
       if (res > 10 * out.best_residual || next_shift != rel || was_following != following) acc.restart();

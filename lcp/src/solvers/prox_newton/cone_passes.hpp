@@ -40,6 +40,7 @@ struct ConePassesDef {
   /// A following pass that is not solved or raises the hard residual above the best goes back
   /// to frozen passes.
   int follow_after = 2;
+  int follow_iterations = 8;     ///< Newton iterations per following pass at most
   int anderson = 0;              ///< Anderson acceleration depth of the outer map λ^k ↦ λ^{k+1} (0: none)
   /// Called after every pass with its number (from 1), its subproblem's work and the hard
   /// residual at its iterate [N] (empty: none).

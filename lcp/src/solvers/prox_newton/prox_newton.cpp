@@ -51,11 +51,13 @@ void check_def(const ProxNewtonDef& d) {
     throw InvalidArgument("prox-newton: pass_progress must be in (0, 1]");
   if (d.max_outer < 1 || d.inner_iterations < 1 || d.body_inner_iterations < 1 || d.max_stalls < 1)
     throw InvalidArgument("prox-newton: max_outer, inner_iterations, body_inner_iterations and max_stalls must be >= 1");
-  if (!positive(d.cone_shift) || !positive(d.cone_inner_tolerance) || d.cone_inner_iterations < 1 ||
-      d.cone_max_stalls < 1 || d.cone_anderson < 0 || d.cone_follow_after < 0 ||
-      !positive(d.cone_min_shift) || !(d.cone_shrink >= 1))
-    throw InvalidArgument("prox-newton: cone_shift and cone_inner_tolerance must be > 0, cone_inner_iterations and "
-                          "cone_max_stalls >= 1, cone_anderson and cone_follow_after >= 0, cone_min_shift > 0, cone_shrink >= 1");
+  if (!positive(d.cone_shift) || !positive(d.cone_min_shift) || !positive(d.cone_inner_tolerance) ||
+      !(d.cone_shrink >= 1))
+    throw InvalidArgument("prox-newton: cone_shift, cone_min_shift, cone_inner_tolerance must be > 0, cone_shrink >= 1");
+  if (d.cone_inner_iterations < 1 || d.cone_follow_iterations < 1 || d.cone_max_stalls < 1 || d.cone_anderson < 0 ||
+      d.cone_follow_after < 0)
+    throw InvalidArgument("prox-newton: cone_inner_iterations, cone_follow_iterations, cone_max_stalls must be >= 1, "
+                          "cone_anderson and cone_follow_after >= 0");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
@@ -266,6 +268,7 @@ class ProxRun {
     cd.anderson = def_.cone_anderson;
     cd.follow_shift = def_.cone_follow_shift;
     cd.follow_after = def_.cone_follow_after;
+    cd.follow_iterations = def_.cone_follow_iterations;
     cd.shrink = def_.cone_shrink;
     cd.min_shift = std::min(def_.cone_min_shift, def_.cone_shift);
     cd.iterations = budget_left();
