@@ -64,6 +64,17 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "finish_iterations") d.finish_iterations = static_cast<int>(x);
   else if (key == "stale_factor_iterations") d.stale_factor_iterations = static_cast<int>(x);
   else if (key == "body_finish") d.body_finish = x != 0;
+  else if (key == "exact_cone") d.exact_cone = x != 0;
+  else if (key == "cone_shift") d.cone_shift = x;
+  else if (key == "cone_inner_iterations") d.cone_inner_iterations = static_cast<int>(x);
+  else if (key == "cone_inner_tolerance") d.cone_inner_tolerance = x;
+  else if (key == "cone_anderson") d.cone_anderson = static_cast<int>(x);
+  else if (key == "cone_shrink") d.cone_shrink = x;
+  else if (key == "cone_min_shift") d.cone_min_shift = x;
+  else if (key == "cone_follow_shift") d.cone_follow_shift = x != 0;
+  else if (key == "cone_follow_after") d.cone_follow_after = static_cast<int>(x);
+  else if (key == "cone_follow_iterations") d.cone_follow_iterations = static_cast<int>(x);
+  else if (key == "cone_max_stalls") d.cone_max_stalls = static_cast<int>(x);
   else if (key == "body_finish_iterations") d.body_finish_iterations = static_cast<int>(x);
   else if (key.rfind("route.", 0) == 0) {
     // route.FIELD: the proximal finish's settings, in body space (finish_route) and in the dual
