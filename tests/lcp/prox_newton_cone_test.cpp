@@ -11,9 +11,9 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
 #include "lcp/solver_test_problems.hpp"
-#include "solvers/prox_newton/cone_newton.hpp"
-#include "solvers/prox_newton/cone_passes.hpp"
-#include "solvers/prox_newton/friction_cone.hpp"
+#include "solvers/prox_newton/cone/cone_newton.hpp"
+#include "solvers/prox_newton/cone/cone_passes.hpp"
+#include "solvers/prox_newton/cone/friction_cone.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 
 namespace dc {

@@ -12,7 +12,7 @@
 #include "dc/lcp/newton_sparse.hpp"
 #include "dc/lcp/proximal_point.hpp"
 #include "solvers/prox_newton/body_newton.hpp"
-#include "solvers/prox_newton/cone_passes.hpp"
+#include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"

@@ -1,4 +1,4 @@
-#include "solvers/prox_newton/cone_newton.hpp"
+#include "solvers/prox_newton/cone/cone_newton.hpp"
 
 #include <Eigen/SparseCore>
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include "dc/lcp/newton_sparse.hpp"
 #include "solvers/newton_sparse/gmres.hpp"
 #include "solvers/prox_newton/exact_line_search.hpp"
-#include "solvers/prox_newton/friction_cone.hpp"
+#include "solvers/prox_newton/cone/friction_cone.hpp"
 #include "solvers/prox_newton/stale_pcg.hpp"
 
 namespace dc::solvers::prox {

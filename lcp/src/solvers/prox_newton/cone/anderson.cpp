@@ -1,4 +1,4 @@
-#include "solvers/prox_newton/anderson.hpp"
+#include "solvers/prox_newton/cone/anderson.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>

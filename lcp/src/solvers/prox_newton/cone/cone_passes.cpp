@@ -1,9 +1,9 @@
-#include "solvers/prox_newton/cone_passes.hpp"
+#include "solvers/prox_newton/cone/cone_passes.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "solvers/prox_newton/anderson.hpp"
+#include "solvers/prox_newton/cone/anderson.hpp"
 
 namespace dc::solvers::prox {
 

@@ -20,7 +20,7 @@
 #include <functional>
 
 #include "dc/lcp/lcp_problem.hpp"
-#include "solvers/prox_newton/cone_newton.hpp"
+#include "solvers/prox_newton/cone/cone_newton.hpp"
 
 namespace dc::solvers::prox {
 
