@@ -7,7 +7,7 @@
 // finish and proximal-finish iterations), Newton iterations, R/scale reached, CPU ms of this
 // thread; pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the reference time.
 //
-//   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2 \
+//   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2
 //       --variant base --variant pcg:stale_factor_iterations=10
 // A variant is NAME[:key=value,...] over the ProxNewtonDef fields listed in apply(), and
 // route.FIELD=value over the proximal finish's (both routes) listed in apply_route().

@@ -108,7 +108,9 @@ TEST_P(ProblemMatrix, SharedSolverContracts) {
   // the sweeps of their own PGS polish, which has a budget of its own.
   const bool exact = c.solver == "lemke" || c.solver == "newton" || c.solver == "newton-sparse" || c.solver == "proximal" ||
                      c.solver == "prox-newton";
-  if (!exact) EXPECT_LE(r.sweeps, o.max_sweeps);
+  if (!exact) {
+    EXPECT_LE(r.sweeps, o.max_sweeps);
+  }
   // The reported residual is the natural map at the returned λ (up to the round-off of a
   // matrix-free product against the assembled one).
   const double residual = natural_residual(p, r.lambda);

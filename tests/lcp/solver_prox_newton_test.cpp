@@ -187,8 +187,9 @@ TEST(ProxNewton, HardProblemsConvergeAgreeingWithNewtonSparse) {
       EXPECT_EQ(r.status, SolveStatus::Converged) << what << ", " << form << ": " << r.message;
       EXPECT_TRUE(r.lambda.allFinite());
       EXPECT_EQ(r.status == SolveStatus::Converged, natural_residual(p, r.lambda) <= bound(p)) << what;
-      if (ref.status == SolveStatus::Converged && r.status == SolveStatus::Converged && !c.mu.any())
+      if (ref.status == SolveStatus::Converged && r.status == SolveStatus::Converged && !c.mu.any()) {
         EXPECT_LE(velocity_gap(c, ref.lambda, r.lambda), 1e-6) << what << ", " << form;
+      }
     }
   }
 }
