@@ -7,10 +7,7 @@
 #include <limits>
 #include <vector>
 
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
-
+#include "dc/core/work_team.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
 
@@ -64,10 +61,10 @@ int block_of(const int* begin, int nt, int b) {
   return static_cast<int>(std::upper_bound(begin + 1, begin + nt, b) - (begin + 1));
 }
 
-/// Thread tid's part of scaled_transpose_product inside a parallel region of nt threads;
-/// bounds holds 2·nt·nt ints (shared). Ends with a barrier.
-void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, int tid, int nt,
-                            int* bounds) {
+/// Part tid of nt of scaled_transpose_product's first phase: from the part's share of the
+/// contacts, per block of bodies, the lowest and highest row acting on it (bounds holds 2·nt·nt
+/// ints, shared).
+void transpose_bounds(const LcpProblem& p, int tid, int nt, int* bounds) {
   const int ncols = static_cast<int>(p.J.cols());
   const int bodies = (ncols + 2) / 3;
   const ContactConstraints& cons = p.constraints;
@@ -91,8 +88,14 @@ void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, 
       hi[t] = std::max(hi[t], rmax);
     }
   }
-#pragma omp barrier
-  // 2. This thread's block: its columns summed over those rows in ascending order, from 0.
+}
+
+/// Part tid of nt of scaled_transpose_product's second phase, after every part's
+/// transpose_bounds: block tid's columns summed over its rows in ascending order, from 0.
+void transpose_block(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, int tid, int nt,
+                     const int* bounds) {
+  const int ncols = static_cast<int>(p.J.cols());
+  const int bodies = (ncols + 2) / 3;
   int first = std::numeric_limits<int>::max(), last = -1;
   for (int t = 0; t < nt; ++t) {
     first = std::min(first, bounds[2 * nt * t + tid]);
@@ -105,7 +108,16 @@ void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, 
   const double* im = p.inv_mass.data();
   const double dt = p.dt;
   for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * dt;
-#pragma omp barrier
+}
+
+/// scaled_transpose_product on `threads` threads (> 1) of the calling thread's team.
+void scaled_transpose_parts(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
+  const int nt = 2 * threads;  // parts: a member present takes an absent one's
+  du.resize(p.J.cols());
+  std::vector<int> bounds(static_cast<size_t>(2 * nt * nt));
+  WorkTeam& team = calling_thread_team();
+  team.for_parts(threads, nt, [&](int t) { transpose_bounds(p, t, nt, bounds.data()); });
+  team.for_parts(threads, nt, [&](int t) { transpose_block(p, lambda, du, t, nt, bounds.data()); });
 }
 
 }  // namespace
@@ -120,17 +132,7 @@ void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda
     for (int c = 0; c < du.size(); ++c) out[c] = im[c] * out[c] * dt;
     return;
   }
-  du.resize(p.J.cols());
-  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
-#pragma omp parallel num_threads(threads)
-  {
-    int tid = 0, nt = 1;
-#if defined(_OPENMP)
-    tid = omp_get_thread_num();
-    nt = omp_get_num_threads();
-#endif
-    scaled_transpose_share(p, lambda, du, tid, nt, bounds.data());
-  }
+  scaled_transpose_parts(p, lambda, threads, du);
 }
 
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
@@ -150,29 +152,27 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
-  du.resize(p.J.cols());
-  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
-#pragma omp parallel num_threads(threads)
-  {
-    int tid = 0, nt = 1;
-#if defined(_OPENMP)
-    tid = omp_get_thread_num();
-    nt = omp_get_num_threads();
-#endif
-    if (nt > 1) {
-      scaled_transpose_share(p, lambda, du, tid, nt, bounds.data());
-    } else {
-      scaled_transpose_product(p, lambda, 1, du);
-    }
-    if (by_contact) {
-#pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
-      for (int c = 0; c < nc; c += kContactChunk)
-        contact_errors(p, lambda.data(), du.data(), c, std::min(nc, c + kContactChunk), r, nan, nonfinite);
-    } else {
-#pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
-      for (int i = 0; i < n; i += kContactChunk)
-        row_errors(p, lambda, du.data(), i, std::min(n, i + kContactChunk), r, nan, nonfinite);
-    }
+  scaled_transpose_parts(p, lambda, threads, du);
+  // The errors by chunks; max and or combine the chunks' in any order alike.
+  const int items = by_contact ? nc : n;
+  const int chunks = (items + kContactChunk - 1) / kContactChunk;
+  struct alignas(64) Part {
+    double r = 0.0;
+    bool nan = false, nonfinite = false;
+  };
+  std::vector<Part> parts(static_cast<size_t>(chunks));
+  calling_thread_team().for_parts(threads, chunks, [&](int k) {
+    Part& e = parts[static_cast<size_t>(k)];
+    const int i = k * kContactChunk, i1 = std::min(items, i + kContactChunk);
+    if (by_contact)
+      contact_errors(p, lambda.data(), du.data(), i, i1, e.r, e.nan, e.nonfinite);
+    else
+      row_errors(p, lambda, du.data(), i, i1, e.r, e.nan, e.nonfinite);
+  });
+  for (const Part& e : parts) {
+    r = std::max(r, e.r);
+    nan = nan || e.nan;
+    nonfinite = nonfinite || e.nonfinite;
   }
   all_finite = !nonfinite;
   return nan ? std::numeric_limits<double>::infinity() : r;

@@ -1,6 +1,6 @@
 #pragma once
-// Waiting between the threads of one pgs-colored solve on a shared machine: spin briefly (the
-// other thread is usually microseconds away), then yield the core (the awaited thread may be
+// Waiting between the threads of a team (work_team.hpp, pgs-colored's sweeps) on a shared
+// machine: spin briefly (the other thread is usually microseconds away), then yield the core (the awaited thread may be
 // queued behind another program on it), then sleep on a futex until notified. A waiter that
 // sleeps costs the notifier one system call; one that never sleeps costs it one atomic load.
 // Protocol: a waiter reads the word, counts itself in `sleepers`, checks its condition and sleeps
@@ -24,7 +24,7 @@
 #include <immintrin.h>
 #endif
 
-namespace dc::colored {
+namespace dc {
 
 /// One wake-up word for a team of threads: wait(ready) returns once ready() is true; whoever
 /// makes a condition true calls notify() afterwards. All operations are sequentially
@@ -93,4 +93,4 @@ class WakeWord {
   std::atomic<int> sleepers_{0};
 };
 
-}  // namespace dc::colored
+}  // namespace dc
