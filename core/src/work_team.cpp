@@ -33,7 +33,8 @@ void WorkTeam::helper_loop(int member) {
   Gate& gate = gates_[static_cast<size_t>(member - 1)];
   std::int64_t last = run_.load();
   for (;;) {
-    start_.wait([&] { return run_.load() > last || stopping_.load(); });
+    // Idle: sleeps of up to 100 ms (a missed wake-up only leaves this helper out of a run).
+    start_.wait([&] { return run_.load() > last || stopping_.load(); }, 100000);
     if (stopping_.load()) return;
     const std::int64_t r = run_.load();
     last = r;

@@ -32,18 +32,20 @@ void add_rows(const SparseRowMatrix& J, const double* lambda, int r0, int r1, in
 }  // namespace
 
 void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, double dt, Eigen::VectorXd& impulse,
-                     int threads) {
-  if (!J.isCompressed()) {
-    impulse = J.transpose() * lambda * dt;
-    return;
-  }
+                     int threads, const std::function<void(int, int)>& bodies_done) {
   const int rows = static_cast<int>(J.rows()), cols = static_cast<int>(J.cols());
   const int bodies = (cols + 2) / 3;
-  const int parts = parts_for(threads, rows, 2, 4096);
+  if (!J.isCompressed()) {
+    impulse = J.transpose() * lambda * dt;
+    bodies_done(0, bodies);
+    return;
+  }
+  const int parts = parts_for(threads, rows, 4, 2048);
   if (parts <= 1) {
     impulse.setZero(cols);
     add_rows(J, lambda.data(), 0, rows, 0, cols, impulse.data());
     impulse *= dt;
+    bodies_done(0, bodies);
     return;
   }
   impulse.resize(cols);
@@ -85,6 +87,7 @@ void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, do
     std::fill(out + c0, out + c1, 0.0);
     if (first <= last) add_rows(J, lambda.data(), first, last + 1, c0, c1, out);
     for (int c = c0; c < c1; ++c) out[c] *= dt;
+    bodies_done(static_cast<int>(static_cast<long>(bodies) * t / parts), static_cast<int>(static_cast<long>(bodies) * (t + 1) / parts));
   });
 }
 

@@ -52,29 +52,36 @@ void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g
   if (lambda.size() != p.rows())
     throw InvalidArgument("integrate_bodies: lambda has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(p.rows()) + " rows");
-  // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
-  if (p.rows() > 0) {
-    if (p.J.cols() != 3 * n)
-      throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
-                            std::to_string(n) + " bodies");
-    contact_impulse(p.J, lambda, dt, impulse, threads);
-  } else {
-    impulse = Eigen::VectorXd::Zero(3 * n);
-  }
-  if (!s.shapes.empty()) {
-    integrate_with_motion(impulse, g, dt, s);
-    return;
-  }
-  const int jobs = parts_for(threads, n, 2, 4096);
-  run_parts(threads, jobs, [&](int part) {
-    for (int k = static_cast<int>(part_begin(n, jobs, part)); k < part_begin(n, jobs, part + 1); ++k) {
+  // A circle body's update reads only its own impulse: bodies are updated block by block as
+  // their impulse is final; a scene with a shape table after the whole impulse.
+  const bool circles = s.shapes.empty();
+  auto update = [&](int b0, int b1) {
+    for (int k = b0; k < b1; ++k) {
       const auto i = static_cast<size_t>(k);
       s.velocity[i] += dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
       s.omega[i] += s.inv_inertia[i] * impulse[3 * k + 2];
       s.position[i] += dt * s.velocity[i];
       s.angle[i] += dt * s.omega[i];
     }
-  });
+  };
+  // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
+  if (p.rows() > 0) {
+    if (p.J.cols() != 3 * n)
+      throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
+                            std::to_string(n) + " bodies");
+    contact_impulse(p.J, lambda, dt, impulse, threads, [&](int b0, int b1) {
+      if (circles) update(b0, b1);
+    });
+  } else {
+    impulse = Eigen::VectorXd::Zero(3 * n);
+    if (circles) {
+      const int jobs = parts_for(threads, n, 4, 1024);
+      run_parts(threads, jobs, [&](int part) {
+        update(static_cast<int>(part_begin(n, jobs, part)), static_cast<int>(part_begin(n, jobs, part + 1)));
+      });
+    }
+  }
+  if (!circles) integrate_with_motion(impulse, g, dt, s);
 }
 
 double kinetic_energy(const BodyState& s) {

@@ -46,7 +46,7 @@ bool project_contact(const LcpProblem& p, int c, Eigen::VectorXd& lambda) {
 Eigen::VectorXd previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
                                 const LcpProblem& problem, int threads) {
   const long nc = static_cast<long>(current.size());
-  const int jobs = parts_for(threads, nc, 2, 2048);
+  const int jobs = parts_for(threads, nc, 4, 1024);
   if (jobs <= 1 || problem.constraints.size() != nc || problem.constraints.rows() != problem.rows())
     return serial_lambda(previous, current, problem);
   // Where each job's merge starts in `previous`: ascending when both lists are sorted.
