@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "world/step_parts.hpp"
@@ -40,7 +41,7 @@ void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, do
     bodies_done(0, bodies);
     return;
   }
-  const int parts = parts_for(threads, rows, 4, 2048);
+  const int parts = parts_for(threads, rows, 1, 2048);  // blocks: a row range can reach several
   if (parts <= 1) {
     impulse.setZero(cols);
     add_rows(J, lambda.data(), 0, rows, 0, cols, impulse.data());
@@ -58,34 +59,54 @@ void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, do
     while (t > 0 && block_col(t) > col) --t;
     return t;
   };
-  // bounds[q·2·parts + t] (lowest) and [… + parts + t] (highest): rows of range q acting on block t.
-  std::vector<int> bounds(static_cast<size_t>(2 * parts * parts));
+  // Per range q of rows and block t, the lowest and highest row acting on t, apart for rows of
+  // one body (walls: they come first and reach every block) and of two: bounds[(q·parts + t)·4
+  // + {0, 1}] and [… + {2, 3}].
+  constexpr int kMax = std::numeric_limits<int>::max();
+  std::vector<int> bounds(static_cast<size_t>(4 * parts * parts));
   const int* const outer = J.outerIndexPtr();
   const int* const inner = J.innerIndexPtr();
   run_parts(threads, parts, [&](int q) {
-    int* lo = bounds.data() + 2 * parts * q;
-    int* hi = lo + parts;
-    std::fill(lo, lo + parts, std::numeric_limits<int>::max());
-    std::fill(hi, hi + parts, -1);
+    int* b = bounds.data() + 4 * parts * q;
+    for (int t = 0; t < parts; ++t) {
+      b[4 * t] = b[4 * t + 2] = kMax;
+      b[4 * t + 1] = b[4 * t + 3] = -1;
+    }
     const int r1 = static_cast<int>(part_begin(rows, parts, q + 1));
     for (int r = static_cast<int>(part_begin(rows, parts, q)); r < r1; ++r) {
       if (outer[r] == outer[r + 1]) continue;
-      for (const int t : {block_of(inner[outer[r]]), block_of(inner[outer[r + 1] - 1])}) {
-        lo[t] = std::min(lo[t], r);
-        hi[t] = std::max(hi[t], r);
+      const int first = inner[outer[r]], last = inner[outer[r + 1] - 1];
+      const int kind = first / 3 == last / 3 ? 0 : 2;
+      for (const int t : {block_of(first), block_of(last)}) {
+        b[4 * t + kind] = std::min(b[4 * t + kind], r);
+        b[4 * t + kind + 1] = std::max(b[4 * t + kind + 1], r);
       }
     }
   });
   run_parts(threads, parts, [&](int t) {
-    int first = std::numeric_limits<int>::max(), last = -1;
+    int lo1 = kMax, hi1 = -1, lo2 = kMax, hi2 = -1;
     for (int q = 0; q < parts; ++q) {
-      first = std::min(first, bounds[static_cast<size_t>(2 * parts * q + t)]);
-      last = std::max(last, bounds[static_cast<size_t>(2 * parts * q + parts + t)]);
+      const int* b = bounds.data() + 4 * (parts * q + t);
+      lo1 = std::min(lo1, b[0]);
+      hi1 = std::max(hi1, b[1]);
+      lo2 = std::min(lo2, b[2]);
+      hi2 = std::max(hi2, b[3]);
+    }
+    // The two row ranges in ascending order, each row once (one range when they overlap).
+    if (lo1 <= hi1 && lo2 <= hi2 && !(hi1 < lo2 || hi2 < lo1)) {
+      lo1 = std::min(lo1, lo2);
+      hi1 = std::max(hi1, hi2);
+      lo2 = kMax;
+      hi2 = -1;
+    } else if (lo2 < lo1) {
+      std::swap(lo1, lo2);
+      std::swap(hi1, hi2);
     }
     const int c0 = block_col(t), c1 = block_col(t + 1);
     double* out = impulse.data();
     std::fill(out + c0, out + c1, 0.0);
-    if (first <= last) add_rows(J, lambda.data(), first, last + 1, c0, c1, out);
+    if (lo1 <= hi1) add_rows(J, lambda.data(), lo1, hi1 + 1, c0, c1, out);
+    if (lo2 <= hi2) add_rows(J, lambda.data(), lo2, hi2 + 1, c0, c1, out);
     for (int c = c0; c < c1; ++c) out[c] *= dt;
     bodies_done(static_cast<int>(static_cast<long>(bodies) * t / parts), static_cast<int>(static_cast<long>(bodies) * (t + 1) / parts));
   });
