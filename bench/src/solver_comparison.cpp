@@ -23,15 +23,14 @@ struct Trace {
   double last = 0.0;        // accuracy of the last traced point
 };
 
-/// The work of `solver`'s last solve: (factorisations, outer passes), −1 where it does not count
-/// them. prox-newton's proximal finish (newton-sparse on A + δI) factorises once per Newton
-/// iteration at least: counted so (its damping retries are not).
+/// The work of `solver`'s last solve: (numeric factorisations, outer passes), −1 where it does
+/// not count them.
 std::pair<int, int> last_work(const LcpSolver& solver) {
   if (const auto* ns = dynamic_cast<const NewtonSparseSolver*>(&solver))
     return {ns->last_stats().factorizations, -1};
   if (const auto* pn = dynamic_cast<const ProxNewtonSolver*>(&solver)) {
     const ProxNewtonStats st = pn->last_stats();
-    return {st.factorizations + st.proximal_finish_newton, st.outer};
+    return {st.factorizations, st.outer};
   }
   return {-1, -1};
 }

@@ -1,11 +1,15 @@
 // Google Benchmark of the oracle λ* (dc/warmstart/oracle.hpp: solve_oracle) on the seed scene's
 // steps as the bench asks for them: the seed scene (seed 1, 600 steps) advanced with λ*, each
 // step's LCP solved from the previous step's λ* matched by key (the builtin starter), so every
-// route below sees the same problems and the same guesses (recorded once, by route 0).
+// route below sees the same problems and the same guesses (recorded once, by route 7: nncg to
+// θ ≤ 1e-9 N, newton-sparse and prox-newton to their own solution test; a fixed route, so that
+// the steps do not move with the route being measured: through the impact a λ* that differs
+// within the tolerance already changes the later steps).
 //
 //   BM_Oracle/route:R  all recorded steps solved by route R, once per benchmark iteration:
 //                      route 0 is OracleOptions{} (the route of the bench and the copy starter),
-//                      routes 1… are kRoutes below (stage 1 solver, sweep cap, θ; stage 2; stage 3)
+//                      routes 1… are kRoutes below (stage 1 solver, sweep cap, θ; stage 2; stage 3;
+//                      whether stages 2 and 3 stop once the oracle accepts)
 //   Counters: ms_per_step (CPU time of this thread per step, mean), median_ms (per step),
 //   p90_ms, accurate (share of steps within the oracle's tolerance), worst_residual [N].
 //
@@ -26,15 +30,19 @@
 
 namespace {
 
+dc::OracleOptions route(int r);
+constexpr int kReferenceRoute = 7;  ///< the route whose λ* advances the recorded scenes
+
 struct RecordedStep {
   dc::LcpProblem problem;
   Eigen::VectorXd guess;  ///< previous step's λ* matched by key (builtin)
 };
 
-/// Steps [first, last) of a scene advanced with the default oracle's λ* (the steps before
+/// Steps [first, last) of a scene advanced with route kReferenceRoute's λ* (the steps before
 /// `first` with builtin + 300 PGS sweeps to θ ≤ 1e-2 N, as the bench's warm-up).
 std::vector<RecordedStep> record(const dc::WorldDef& def, int first, int last) {
   std::vector<RecordedStep> out;
+  const dc::OracleOptions reference = route(kReferenceRoute);
   dc::World w(def);
   const auto builtin = dc::default_warm_starters().make("builtin", dc::WarmStartEnv{});
   const auto pgs = dc::make_solver("pgs");
@@ -53,7 +61,7 @@ std::vector<RecordedStep> record(const dc::WorldDef& def, int first, int last) {
         continue;
       }
       Eigen::VectorXd guess = builtin->initial_guess(dc::StepView{w, nullptr});
-      const dc::OracleSolution os = dc::solve_oracle(p, &guess);
+      const dc::OracleSolution os = dc::solve_oracle(p, &guess, reference);
       out.push_back({p, std::move(guess)});
       w.integrate(os.lambda);
     }
@@ -75,7 +83,7 @@ const std::vector<RecordedStep>& scene_steps(int scene) {
 }
 
 /// The routes BM_Oracle compares besides OracleOptions{} (route 0): stage 1's iterative solver
-/// ("" = none), its sweep cap and θ [N], stage 2, stage 3.
+/// ("" = none), its sweep cap and θ [N], stage 2, stage 3, OracleOptions::stop_when_accepted.
 struct Route {
   const char* iterative;
   int sweeps;
@@ -83,6 +91,7 @@ struct Route {
   const char* solver;
   int solver_iterations;
   const char* fallback;
+  bool stop_when_accepted = true;
 };
 constexpr Route kRoutes[] = {
     {"nncg", 5000, 1e-11, "newton-sparse", 0, "newton"},  // 1: nncg to a tight θ, then newton-sparse
@@ -91,6 +100,7 @@ constexpr Route kRoutes[] = {
     {"nncg", 2000, 1e-9, "newton-sparse", 30, "prox-newton"},  // 4: newton-sparse ≤ 30, then prox-newton
     {"", 0, 0.0, "prox-newton", 0, "newton-sparse"},      // 5: no stage 1
     {"", 0, 0.0, "newton-sparse", 10, "prox-newton"},     // 6: no stage 1
+    {"nncg", 2000, 1e-9, "newton-sparse", 10, "prox-newton", false},  // 7: θ ≤ 1e-9, to the solution test
 };
 
 dc::OracleOptions route(int r) {
@@ -103,6 +113,7 @@ dc::OracleOptions route(int r) {
   o.solver = x.solver;
   o.solver_iterations = x.solver_iterations;
   o.fallback_solver = x.fallback;
+  o.stop_when_accepted = x.stop_when_accepted;
   return o;
 }
 

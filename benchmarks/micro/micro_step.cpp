@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "collision/narrow_phase.hpp"
 #include "dc/engine/trajectory_recorder.hpp"
@@ -256,13 +257,35 @@ void timed_step(dc::World& w, dc::LcpSolver& solver, const dc::SolverOptions& o,
   tally.lap(4);
 }
 
+/// One World::step of w (WarmStart::PreviousLambda: the builtin warm start, no public view),
+/// timed whole in thread CPU time and split over the stages in the proportions of the step's
+/// wall-clock profile (a world with an internal order builds its public views only when read,
+/// so its stages are not timed one by one through the public calls). Allocations: the step's,
+/// counted under "solve". Returns the step's rows.
+int whole_step(dc::World& w, dc::LcpSolver& solver, const dc::SolverOptions& o, StageTally& tally) {
+  tally.begin();
+  const dc::StepReport r = w.step(solver, o, dc::World::WarmStart::PreviousLambda);
+  const double cpu = thread_cpu_s() - tally.t;
+  tally.lap(3);
+  tally.seconds[3] -= cpu;
+  const dc::StepProfile& pr = r.profile;
+  const double ms[StageTally::kStages] = {pr.collide_ms, pr.assemble_ms, pr.warmstart_ms, pr.solve_ms,
+                                          pr.integrate_ms};
+  const double total = pr.total_ms();
+  for (int s = 0; s < StageTally::kStages; ++s)
+    tally.seconds[s] += total > 0 ? cpu * ms[s] / total : cpu / StageTally::kStages;
+  return r.rows;
+}
+
 /// Consecutive steps of the settled pile (args: bodies, solver 0 = "pgs" / 1 = "pgs-colored",
-/// morton): counters ns_<stage> and, for pgs-colored, ns_<part> of its solve per contact row
-/// (thread CPU time), allocs_<stage> per step (after kWarmSteps untimed steps: steady state).
+/// order 0 creation / 1 Morton numbering / 2 internal order, stepped by whole_step): counters
+/// ns_<stage> and, for pgs-colored, ns_<part> of its solve per contact row (thread CPU time),
+/// allocs_<stage> per step (after kWarmSteps untimed steps: steady state).
 void BM_StepStages(benchmark::State& state) {
   constexpr int kWarmSteps = 3;
   const Pile& p = pile_of(state, 2);
   const bool colored = state.range(1) == 1;
+  const bool internal = state.range(2) == 2;
   dc::PgsColoredProfile prof;
   dc::PgsColoredDef def;
   def.profile = &prof;
@@ -271,15 +294,19 @@ void BM_StepStages(benchmark::State& state) {
   const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
   dc::World w = *p.world;  // stepped on from the pile: a fixed iteration count keeps it near it
   StageTally tally;
-  for (int k = 0; k < kWarmSteps; ++k) timed_step(w, *solver, o, *builtin, tally);
+  const auto one_step = [&] {  // the step's rows
+    if (internal) return whole_step(w, *solver, o, tally);
+    timed_step(w, *solver, o, *builtin, tally);
+    return w.problem().rows();
+  };
+  for (int k = 0; k < kWarmSteps; ++k) one_step();
   tally = StageTally{};
   prof = dc::PgsColoredProfile{};
   double rows = 0;
   long steps = 0;
   dc::bench::AllocationCounter::start();
   for (auto _ : state) {
-    timed_step(w, *solver, o, *builtin, tally);
-    rows += w.problem().rows();
+    rows += one_step();
     ++steps;
   }
   dc::bench::AllocationCounter::stop();
@@ -301,6 +328,44 @@ void BM_StepStages(benchmark::State& state) {
         {"residual", prof.residual}};
     for (const auto& [name, sec] : parts) state.counters[std::string("ns_solve_") + name] = 1e9 * sec / rows;
   }
+}
+
+/// pgs-colored's solve alone on the settled pile's problem (args: bodies, morton), 20 sweeps from
+/// the builtin guess, with the caches evicted before each solve as the stages before it evict
+/// them in a step: counters ns_<part> per contact row (thread CPU time) as BM_StepStages's
+/// ns_solve_<part>, and ns_solve. Cheaper to repeat than BM_StepStages (no collide, assemble or
+/// integrate), for comparing set-up and sweep variants.
+void BM_ColoredSolveParts(benchmark::State& state) {
+  const Pile& p = pile_of(state, 1);
+  dc::PgsColoredProfile prof;
+  dc::PgsColoredDef def;
+  def.profile = &prof;
+  const auto solver = dc::make_pgs_colored(def);
+  const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
+  const dc::LcpProblem& problem = p.world->problem();
+  std::vector<double> evict(std::size_t{8} << 20, 1.0);  // 64 MB, beyond the last-level cache
+  (void)solver->solve(problem, p.guess, o);
+  prof = dc::PgsColoredProfile{};
+  double solve_s = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    double sum = 0;
+    for (std::size_t k = 0; k < evict.size(); k += 8) sum += evict[k]++;
+    benchmark::DoNotOptimize(sum);
+    state.ResumeTiming();
+    const double t0 = thread_cpu_s();
+    const dc::SolveResult r = solver->solve(problem, p.guess, o);
+    solve_s += thread_cpu_s() - t0;
+    benchmark::DoNotOptimize(r.lambda.data());
+  }
+  const double rows = static_cast<double>(problem.rows()) * static_cast<double>(state.iterations());
+  state.counters["rows"] = problem.rows();
+  state.counters["ns_solve"] = 1e9 * solve_s / rows;
+  const std::pair<const char*, double> parts[] = {
+      {"checks", prof.checks}, {"coloring", prof.coloring}, {"ordering", prof.ordering}, {"pack", prof.pack},
+      {"du0", prof.du0},       {"sweeps", prof.sweeps},     {"unpermute", prof.unpermute},
+      {"residual", prof.residual}};
+  for (const auto& [name, sec] : parts) state.counters[std::string("ns_solve_") + name] = 1e9 * sec / rows;
 }
 
 void sizes(benchmark::internal::Benchmark* b) {
@@ -326,7 +391,7 @@ void sizes_solvers(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "colored", "morton"});
   for (int n : {1000, 10000, 40000})
     for (int colored : {0, 1})
-      for (int morton : {0, 1}) b->Args({n, colored, morton});
+      for (int morton : {0, 1, 2}) b->Args({n, colored, morton});
 }
 
 BENCHMARK(BM_Collide)->Apply(sizes)->Unit(benchmark::kMicrosecond);
@@ -339,6 +404,11 @@ BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnly)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepStages)->Apply(sizes_solvers)->Iterations(30)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredSolveParts)
+    ->ArgNames({"bodies", "morton"})
+    ->ArgsProduct({{1000, 10000, 40000}, {0, 1}})
+    ->Iterations(30)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

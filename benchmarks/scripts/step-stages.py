@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The stages of a step per contact row, from micro_step's BM_StepStages (thread CPU time).
 
-Prints, per solver, body order and size, the ns per contact row of each stage of World::step
+Prints, per solver, body order (creation, morton numbering, or internal: `internal_order =
+"morton"`, each step timed whole by World::step and split by its wall-clock profile) and size, the ns per contact row of each stage of World::step
 (collide, assemble, warm start, solve, integrate) and, for pgs-colored, of the parts of its
 solve (checks, colouring, ordering, packing, Δu⁰, sweeps, unpermute, residual), the total, its
 ratio to the smallest size of the same solver and order, and the heap allocations per step
@@ -66,7 +67,8 @@ def main():
         vals += [med(f"ns_solve_{p}") for p in PARTS]
         first.setdefault((colored, morton), vals[5])
         vals += [vals[5] / first[(colored, morton)], med("allocs_step")]
-        print(f"{'pgs-colored' if colored else 'pgs':12} {'morton' if morton else 'creation':8} {n:6d} "
+        order = ("creation", "morton", "internal")[morton]
+        print(f"{'pgs-colored' if colored else 'pgs':12} {order:8} {n:6d} "
               f"{med('rows'):6.0f} | " + " ".join(f"{v:9.2f}" for v in vals))
 
 

@@ -8,6 +8,7 @@
 
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
+#include "dc/engine/contact_match.hpp"
 #include "dc/lcp/contact_constraints.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/engine/world.hpp"
@@ -242,6 +243,42 @@ TEST(ContactConstraints, PredictIsIntegrate) {
               contact_gap(w.bodies(), before[static_cast<size_t>(match[c])], w.def().world.width, w.def().world.height));
   }
   EXPECT_GT(same, 20);
+}
+
+// The single merge pass of the builtin warm start visits exactly the matches of
+// match_contacts_by_key, in contact order, and rejects an unsorted list as it does.
+TEST(ContactMatch, ForEachMatchedContactVisitsTheMatchesOfMatchContactsByKey) {
+  const auto contacts = [](std::initializer_list<ContactKey> keys) {
+    std::vector<Contact> out;
+    for (const ContactKey& k : keys) {
+      Contact c;
+      c.key = k;
+      c.lambda_n = static_cast<double>(out.size());
+      out.push_back(c);
+    }
+    return out;
+  };
+  const std::vector<Contact> prev = contacts({ContactKey::wall(Wall::Top, 0), ContactKey::wall(Wall::Left, 0),
+                                              ContactKey::pair(0, 1), ContactKey::pair(1, 2), ContactKey::pair(1, 2, 1),
+                                              ContactKey::pair(3, 4)});
+  const std::vector<Contact> cur = contacts({ContactKey::wall(Wall::Left, 0), ContactKey::pair(1, 2, 1),
+                                             ContactKey::pair(2, 3), ContactKey::pair(3, 4), ContactKey::pair(5, 6)});
+  const std::vector<int> match = match_contacts_by_key(prev, cur);
+  EXPECT_EQ(match, (std::vector<int>{1, 4, -1, 5, -1}));
+  std::vector<int> visited(cur.size(), -1);
+  std::size_t last = 0;
+  bool ascending = true;
+  for_each_matched_contact(prev, cur, [&](std::size_t c, const Contact& p) {
+    ascending = ascending && c >= last;
+    last = c;
+    visited[c] = static_cast<int>(p.lambda_n);  // prev[j].lambda_n = j
+  });
+  EXPECT_TRUE(ascending);
+  EXPECT_EQ(visited, match);
+  const std::vector<Contact> unsorted = contacts({ContactKey::pair(3, 4), ContactKey::pair(0, 1)});
+  const auto nothing = [](std::size_t, const Contact&) {};
+  EXPECT_THROW(for_each_matched_contact(unsorted, cur, nothing), InvalidArgument);
+  EXPECT_THROW(for_each_matched_contact(prev, unsorted, nothing), InvalidArgument);
 }
 
 }  // namespace

@@ -1,19 +1,19 @@
 // builtin: the previous step's solved λ of the contact with the same key, 0 for new
 // contacts — the persistent-contact warm start of Box2D and of the theses' "built-in".
-// Matching: match_contacts_by_key (one merge pass over the key-sorted lists, O(C)).
+// Matching: for_each_matched_contact (one merge pass over the key-sorted lists, O(C)).
 #include "starters.hpp"
+
+#include "dc/engine/contact_match.hpp"
 
 namespace dc {
 
 void put_previous_lambda_by_key(const World& w, Eigen::VectorXd& out) {
   const auto& cur = w.contacts();
   const auto& prev = w.previous_contacts();
-  const std::vector<int> match = match_contacts_by_key(prev, cur);
-  for (std::size_t c = 0; c < cur.size(); ++c) {
-    if (match[c] < 0) continue;
-    const Contact& p = prev[static_cast<std::size_t>(match[c])];
-    w.constraints().put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-  }
+  const ContactConstraints& rows = w.constraints();
+  for_each_matched_contact(prev, cur, [&](std::size_t c, const Contact& p) {
+    rows.put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
+  });
 }
 
 Eigen::VectorXd builtin_guess(const World& w) {

@@ -1,8 +1,15 @@
 #include "dc/warmstart/oracle.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dc {
+namespace {
+
+/// Stages 2 and 3 stop at this fraction of the residual the oracle accepts.
+constexpr double kStopMargin = 0.5;
+
+}  // namespace
 
 OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess,
                             const OracleOptions& o) {
@@ -42,6 +49,12 @@ OracleSolution solve_oracle(const LcpProblem& p, const Eigen::VectorXd* guess,
     SolverOptions so;
     so.record_theta = false;
     so.exact_tolerance = o.tolerance;
+    // Stop where the oracle's own test accepts (residual [N] ≤ tolerance·max(1, ‖λ‖∞)), with a
+    // margin for the change of ‖λ‖∞ on the way, rather than at the methods' solution target
+    // tolerance·‖b‖∞, which is far tighter when ‖λ‖∞ ≫ ‖b‖∞ and sends prox-newton to its
+    // pivoting finish for accuracy nobody asked for.
+    if (o.stop_when_accepted)
+      so.tolerance = kStopMargin * o.tolerance * std::max(1.0, out.lambda.cwiseAbs().maxCoeff());
     if (name == &o.solver && o.solver_iterations > 0) so.max_sweeps = o.solver_iterations;
     const SolveResult r = make_solver(*name)->solve(p, out.lambda, so);
     if (r.lambda.size() != n || !r.lambda.allFinite()) continue;

@@ -191,8 +191,8 @@ void add_lcp_command(CLI::App& app) {
   for (const auto& n : solver_names()) names += (names.empty() ? "" : ", ") + n;
   solve->add_option("--solver", args->solver,
                     "Solver: " + names +
-                        " (exact: lemke, newton). Default: by problem kind, lemke for an LCP, newton-sparse for a "
-                        "frictional problem and the proximal route where it stalls (JSON \"route\")");
+                        " (exact: lemke, newton). Default: by problem kind, lemke for an LCP, prox-newton for a "
+                        "frictional problem, then newton-sparse and the proximal route where it fails (JSON \"route\")");
   solve->add_option("--sweeps", args->sweeps, "Sweep/iteration limit (pivots for lemke are capped at 50n)")
       ->capture_default_str();
   solve->add_option("--tol", args->tol,
@@ -201,8 +201,9 @@ void add_lcp_command(CLI::App& app) {
                     "lemke/newton solve to 1e-9*max(1,|q|inf)")
       ->capture_default_str();
   solve->add_flag("--proximal", args->proximal,
-                  "Solve by the proximal-point route around --solver (e.g. newton-sparse; without --solver: "
-                  "newton-sparse, or lemke for an LCP): shifted problems A + dI, for singular or slightly "
+                  "Solve by the proximal-point route around --solver (e.g. newton-sparse; without --solver: lemke "
+                  "for an LCP, the default route without its plain newton-sparse run for a frictional problem): "
+                  "shifted problems A + dI, for singular or slightly "
                   "indefinite W; to 1e-9*max(1,|q|inf), --sweeps/--tol unused");
   solve->callback([args] { run_lcp_solve(*args); });
 

@@ -142,7 +142,7 @@ void InternalBodyOrder::external_order(const std::vector<Contact>& internal, int
     if (end - begin > 1) std::sort(sorted_.begin() + begin, sorted_.begin() + end, by_key);
     begin = end;
   }
-  internal_of.assign(sorted_.begin(), sorted_.end());
+  internal_of.swap(sorted_);  // the result, without a copy; the old vector is the next call's scratch
 }
 
 void InternalBodyOrder::contacts_to_external(const std::vector<Contact>& internal, const std::vector<int>& internal_of,

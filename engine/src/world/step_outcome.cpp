@@ -8,6 +8,7 @@
 #include "dc/core/error.hpp"
 #include "det_math.hpp"
 #include "world/impulse_parts.hpp"
+#include "world/integrate_keeping.hpp"
 #include "world/step_parts.hpp"
 
 namespace dc {
@@ -46,42 +47,76 @@ void integrate_with_motion(const Eigen::VectorXd& impulse, Vec2 g, double dt, Bo
 
 }  // namespace
 
-void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
-                      Eigen::VectorXd& impulse, int threads) {
-  const int n = static_cast<int>(s.size());
+namespace {
+
+/// Δt · Jᵀ λ into `impulse` after the size checks (integrate_bodies' contact impulse).
+void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda, double dt, int n,
+                             Eigen::VectorXd& impulse, int threads) {
   if (lambda.size() != p.rows())
     throw InvalidArgument("integrate_bodies: lambda has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(p.rows()) + " rows");
-  // A circle body's update reads only its own impulse: bodies are updated block by block as
-  // their impulse is final; a scene with a shape table after the whole impulse.
-  const bool circles = s.shapes.empty();
-  auto update = [&](int b0, int b1) {
-    for (int k = b0; k < b1; ++k) {
+  // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
+  if (p.rows() > 0) {
+    if (p.J.cols() != 3 * n)
+      throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
+                            std::to_string(n) + " bodies");
+    contact_impulse(p.J, lambda, dt, impulse, threads, [](int, int) {});
+  } else {
+    impulse = Eigen::VectorXd::Zero(3 * n);
+  }
+}
+
+}  // namespace
+
+void integrate_bodies_keeping(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
+                              Eigen::VectorXd& impulse, int threads, std::vector<Vec2>& x0, std::vector<Vec2>& v0,
+                              std::vector<double>& w0) {
+  if (!s.shapes.empty()) {
+    x0 = s.position;
+    v0 = s.velocity;
+    w0 = s.omega;
+    integrate_bodies(p, lambda, g, dt, s, impulse, threads);
+    return;
+  }
+  const int n = static_cast<int>(s.size());
+  checked_contact_impulse(p, lambda, dt, n, impulse, threads);
+  x0.swap(s.position);
+  v0.swap(s.velocity);
+  w0.swap(s.omega);
+  s.position.resize(x0.size());
+  s.velocity.resize(v0.size());
+  s.omega.resize(w0.size());
+  // integrate_bodies' updates with the old values read from the swapped arrays (a += b is a + b).
+  const int jobs = parts_for(threads, n, 2, 4096);
+  run_parts(threads, jobs, [&](int part) {
+    for (int k = static_cast<int>(part_begin(n, jobs, part)); k < part_begin(n, jobs, part + 1); ++k) {
+      const auto i = static_cast<size_t>(k);
+      s.velocity[i] = v0[i] + (dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]});
+      s.omega[i] = w0[i] + s.inv_inertia[i] * impulse[3 * k + 2];
+      s.position[i] = x0[i] + dt * s.velocity[i];
+      s.angle[i] += dt * s.omega[i];
+    }
+  });
+}
+
+void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
+                      Eigen::VectorXd& impulse, int threads) {
+  const int n = static_cast<int>(s.size());
+  checked_contact_impulse(p, lambda, dt, n, impulse, threads);
+  if (!s.shapes.empty()) {
+    integrate_with_motion(impulse, g, dt, s);
+    return;
+  }
+  const int jobs = parts_for(threads, n, 2, 4096);
+  run_parts(threads, jobs, [&](int part) {
+    for (int k = static_cast<int>(part_begin(n, jobs, part)); k < part_begin(n, jobs, part + 1); ++k) {
       const auto i = static_cast<size_t>(k);
       s.velocity[i] += dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
       s.omega[i] += s.inv_inertia[i] * impulse[3 * k + 2];
       s.position[i] += dt * s.velocity[i];
       s.angle[i] += dt * s.omega[i];
     }
-  };
-  // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
-  if (p.rows() > 0) {
-    if (p.J.cols() != 3 * n)
-      throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
-                            std::to_string(n) + " bodies");
-    contact_impulse(p.J, lambda, dt, impulse, threads, [&](int b0, int b1) {
-      if (circles) update(b0, b1);
-    });
-  } else {
-    impulse = Eigen::VectorXd::Zero(3 * n);
-    if (circles) {
-      const int jobs = parts_for(threads, n, 4, 1024);
-      run_parts(threads, jobs, [&](int part) {
-        update(static_cast<int>(part_begin(n, jobs, part)), static_cast<int>(part_begin(n, jobs, part + 1)));
-      });
-    }
-  }
-  if (!circles) integrate_with_motion(impulse, g, dt, s);
+  });
 }
 
 double kinetic_energy(const BodyState& s) {

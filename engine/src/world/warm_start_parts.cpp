@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "dc/engine/contact_match.hpp"
 #include "world/step_parts.hpp"
 
 namespace dc {
@@ -13,12 +14,9 @@ namespace {
 Eigen::VectorXd serial_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
                               const LcpProblem& problem) {
   Eigen::VectorXd out = Eigen::VectorXd::Zero(problem.rows());
-  const std::vector<int> match = match_contacts_by_key(previous, current);
-  for (std::size_t c = 0; c < current.size(); ++c) {
-    if (match[c] < 0) continue;
-    const Contact& p = previous[static_cast<std::size_t>(match[c])];
+  for_each_matched_contact(previous, current, [&](std::size_t c, const Contact& p) {
     problem.constraints.put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-  }
+  });
   project_feasible(problem, out);
   return out;
 }

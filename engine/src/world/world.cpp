@@ -10,7 +10,9 @@
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
 #include "dc/engine/broad_phase.hpp"
+#include "dc/engine/contact_match.hpp"
 #include "assembly/assembly.hpp"
+#include "world/integrate_keeping.hpp"
 #include "world/restitution.hpp"
 #include "world/step_parts.hpp"
 #include "world/warm_start_parts.hpp"
@@ -306,14 +308,12 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
   const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
   std::vector<Contact>& contacts = internal_ ? internal_contacts_ : contacts_;
   const ContactConstraints& cons = solved.constraints;
-  if (internal_ && problem_stale_) {  // what a later first read of problem() assembles on
-    const BodyState& s = order_.state();
-    pre_position_ = s.position;
-    pre_velocity_ = s.velocity;
-    pre_omega_ = s.omega;
-  }
   Eigen::VectorXd impulse;
-  integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse, step_threads_);
+  if (internal_ && problem_stale_)  // keeps what a later first read of problem() assembles on
+    integrate_bodies_keeping(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse,
+                             step_threads_, pre_position_, pre_velocity_, pre_omega_);
+  else
+    integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse, step_threads_);
   const int nc = static_cast<int>(contacts.size());
   const int jobs = parts_for(step_threads_, nc, 2, 4096);
   run_parts(step_threads_, jobs, [&](int p) {

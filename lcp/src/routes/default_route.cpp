@@ -79,15 +79,17 @@ RouteResult solve_with_default_route(const LcpProblem& problem, const SolverOpti
   if (is_standard_lcp(problem)) return solve_lcp(problem, options, def);
   const SolverOptions exact = exact_options(options);
   Stages stages;
+  // prox-newton from λ = 0: convex frozen-friction passes, then its finishes.
+  SolverOptions first = exact;
+  first.max_sweeps = std::max(0, options.max_sweeps);
+  stages.add(make_solver(solver(SolverKind::ProxNewton))->solve(problem, Eigen::VectorXd(), first), "prox-newton");
+  if (stages.settled() || !def.proximal) return stages.take();
   if (def.plain) {
     SolverOptions o = exact;
     o.max_sweeps = std::max(0, std::min(options.max_sweeps, def.plain_iterations));
     stages.add(make_solver(solver(SolverKind::NewtonSparse))->solve(problem, Eigen::VectorXd(), o), "newton-sparse");
-    if (stages.settled() || !def.proximal) return stages.take();
+    if (stages.settled()) return stages.take();
   }
-  // prox-newton from λ = 0: convex frozen-friction passes, then its own proximal finish.
-  stages.add(make_solver(solver(SolverKind::ProxNewton))->solve(problem, Eigen::VectorXd(), exact), "prox-newton");
-  if (stages.settled()) return stages.take();
   // The proximal-point route around newton-sparse from λ = 0, not from a stalled iterate: a
   // stalled Newton iterate of an indefinite W is a poor start for the shifted problems.
   stages.add(solve_proximal_point(problem, Eigen::VectorXd(), exact, ProximalPointDef{}), "proximal:newton-sparse");

@@ -42,7 +42,9 @@ LcpProblem shifted(const LcpProblem& p, double delta) {
 }  // namespace
 
 SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                 const SolverOptions& options, const ProximalPointDef& def) {
+                                 const SolverOptions& options, const ProximalPointDef& def,
+                                 ProximalPointStats* stats) {
+  if (stats) *stats = {};
   check_def(def);
   std::optional<LcpProblem> local;
   const LcpProblem& p = solvers::with_assembled_matrix(problem, local);
@@ -81,6 +83,10 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     inner_options.tolerance = loose > inner_target ? loose : (options.tolerance > 0 ? inner_target : 0.0);
     const SolveResult r = inner->solve(sub, centre, inner_options);
     out.sweeps += r.sweeps;
+    if (const auto* ns = dynamic_cast<const NewtonSparseSolver*>(inner.get()); ns && stats) {
+      stats->factorizations += ns->last_stats().factorizations;
+      stats->krylov_iterations += ns->last_stats().krylov_iterations;
+    }
     if (r.status == SolveStatus::InvalidInput) {
       // The inner solver refuses this kind of problem (lemke on friction rows): every shifted
       // problem has the same rows, so say so instead of running out the outer iterations.

@@ -62,6 +62,14 @@ struct NewtonSparseDef {
   /// Consecutive iterations without a new best residual before the solve stops as Failed
   /// (default 20).
   int max_stalls = 20;
+  /// Stale factor: a Newton direction is first sought by GMRES on the full Newton system,
+  /// preconditioned with the factor kept from an earlier iteration (or an earlier solve of this
+  /// object on a matrix of the same pattern, e.g. the next shift of the proximal-point route),
+  /// for at most this many iterations, and the free block is refactorised only when GMRES has
+  /// not met its tolerance by then (default 0: factorise at every iteration). The system differs
+  /// from the factorised one by the rows that changed mode, the coupled friction rows and the
+  /// change of ρ and of A's diagonal, so GMRES needs about as many iterations as that rank.
+  int stale_factor_iterations = 0;
 };
 
 /// Work and time of one solve [ms are wall-clock, single thread].
@@ -77,6 +85,7 @@ struct NewtonSparseStats {
   int fallback_factorizations = 0;  ///< of those, by SimplicialLDLT / SparseLU instead of CHOLMOD
   int lu_factorizations = 0;  ///< of those, sparse LU of the coupled system (coupled_lu)
   int krylov_iterations = 0;  ///< GMRES iterations in all (0 without sliding friction coupling)
+  int stale_directions = 0;   ///< directions by GMRES with a stale factor (stale_factor_iterations)
   double analyze_ms = 0, factor_ms = 0, solve_ms = 0, total_ms = 0;
 };
 

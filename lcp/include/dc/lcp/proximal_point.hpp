@@ -53,9 +53,18 @@ struct ProximalPointDef {
   }();
 };
 
+/// Work of one route solve, summed over its inner solves (newton-sparse's counts; zero for
+/// other inner solvers).
+struct ProximalPointStats {
+  int factorizations = 0;    ///< numeric factorisations
+  int krylov_iterations = 0; ///< GMRES iterations
+};
+
 /// Solves `problem` by the proximal-point route above. The problem must carry A (a problem
-/// with only J is assembled for this call). Throws InvalidArgument for an invalid def.
+/// with only J is assembled for this call). Throws InvalidArgument for an invalid def. With
+/// `stats`, the route's work is written there.
 SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
-                                 const SolverOptions& options, const ProximalPointDef& def = {});
+                                 const SolverOptions& options, const ProximalPointDef& def = {},
+                                 ProximalPointStats* stats = nullptr);
 
 }  // namespace dc

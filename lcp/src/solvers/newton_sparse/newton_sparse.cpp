@@ -81,6 +81,8 @@ class NewtonStep {
     Eigen::VectorXd x;
     if (!lin_.couplings.empty() && def_.coupled_lu && coupled_lu_solve(rhs, x)) {
       // the exact non-symmetric system, factorised directly
+    } else if (stale_solve(rhs, x)) {
+      // GMRES with the kept factor met its tolerance
     } else if (!factor_.factorize(lin_.free, rho_, st_)) {
       return false;
     } else {
@@ -90,6 +92,22 @@ class NewtonStep {
     for (int i = 0; i < n_; ++i)
       if (lin_.free[static_cast<size_t>(i)]) delta[i] = x[i];
     for (const FrictionCoupling& c : lin_.couplings) delta[c.row] += c.slope * x[c.normal];
+    return true;
+  }
+
+  /// GMRES on the full Newton system preconditioned with the factor kept from an earlier
+  /// factorisation (NewtonSparseDef::stale_factor_iterations); true when it met η_k within that
+  /// many iterations (x is then the direction), false to refactorise.
+  bool stale_solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
+    if (def_.stale_factor_iterations <= 0 || !factor_.factored()) return false;
+    const auto t0 = Clock::now();
+    const LinearMap K = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_system(in, out); };
+    const LinearMap Pinv = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { factor_.solve(in, out); };
+    const KrylovOutcome k = gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.stale_factor_iterations, eta_);
+    st_.krylov_iterations += k.iterations;
+    st_.solve_ms += ms_since(t0);
+    if (!k.converged || !x.allFinite()) return false;
+    ++st_.stale_directions;
     return true;
   }
 

@@ -122,9 +122,13 @@ void FreeBlockFactor::bind(const SparseRowMatrix& A, bool symmetric) {
   Impl& m = *impl_;
   m.A = &A;
   m.symmetric = symmetric;
-  if (!m.reuse || !m.same_pattern(A, symmetric)) m.build_pattern(A, symmetric);
-  m.active = Impl::Active::None;
+  if (!m.reuse || !m.same_pattern(A, symmetric)) {
+    m.build_pattern(A, symmetric);
+    m.active = Impl::Active::None;
+  }
 }
+
+bool FreeBlockFactor::factored() const { return impl_->active != Impl::Active::None; }
 
 bool FreeBlockFactor::factorize(const std::vector<char>& free, double rho, NewtonSparseStats& st) {
   Impl& m = *impl_;

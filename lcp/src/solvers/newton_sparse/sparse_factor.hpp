@@ -32,13 +32,17 @@ class FreeBlockFactor {
   FreeBlockFactor& operator=(const FreeBlockFactor&) = delete;
 
   /// Prepares for a problem with matrix A (compressed): keeps the pattern and the analysis when
-  /// A's pattern and symmetry are those of the previous bind(), else rebuilds them lazily.
+  /// A's pattern and symmetry are those of the previous bind(), else rebuilds them lazily. With
+  /// the pattern kept, the last numeric factor stays available to solve() (a stale factor: of
+  /// the earlier matrix's values, usable as a preconditioner).
   void bind(const SparseRowMatrix& A, bool symmetric);
   /// Numeric factorisation of P for the mask (free[i] ≠ 0: row i free) and ρ [m/(N·s)].
   /// False when every available factorisation failed.
   bool factorize(const std::vector<char>& free, double rho, NewtonSparseStats& stats);
-  /// x = P⁻¹ r (after a successful factorize).
+  /// x = P⁻¹ r of the last successful factorize() (of this pattern).
   void solve(const Eigen::VectorXd& r, Eigen::VectorXd& x) const;
+  /// True when solve() has a factor: factorize() succeeded since the pattern was last rebuilt.
+  [[nodiscard]] bool factored() const;
 
  private:
   struct Impl;

@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include "dc/core/work_team.hpp"
+#include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 #include "solvers/pgs_manifold_block.hpp"
 
 namespace dc::colored {
@@ -141,6 +142,115 @@ bool pack_contact(const LcpProblem& p, const std::vector<std::uint8_t>& dynamic,
   return true;
 }
 
+/// fill_batch's rows and bodies of a batch of `lanes` contacts with friction from ordered
+/// position s0 by pack_rows_simd, scaled (the padding lanes computed on lane 0's rows, then
+/// cleared by the caller's pad_rows and pad_bodies); ok_n / ok_t as scale_rows's. False when a
+/// contact has no friction or a row not in the usual storage (then the batch is packed lane by
+/// lane).
+bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,
+                     double* diag_n, double* diag_t, bool& ok_n, bool& ok_t) {
+  if (!simd_pack_available()) return false;
+  int rn[W], rt[W], a[W], bb[W];
+  const int* order = out.order.data() + s0;
+  for (int lane = 0; lane < W; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
+    if (!k.has_friction()) return false;
+    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+    a[lane] = 3 * first;
+    bb[lane] = second < 0 ? -1 : 3 * second;
+    rn[lane] = k.normal_row;
+    rt[lane] = k.tangent_row;
+  }
+  unsigned singular_n = 0, singular_t = 0;
+  if (!pack_rows_simd(p, rn, a, bb, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
+      !pack_rows_simd(p, rt, a, bb, B.jt, B.mjt, B.bt, diag_t, singular_t))
+    return false;
+  const int zero = out.body_entries;
+  const std::uint8_t* dynamic = out.dynamic.data();
+  for (int lane = 0; lane < lanes; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane]];
+    const int first = a[lane] / 3, second = bb[lane] < 0 ? -1 : bb[lane] / 3;
+    const bool da = dynamic[first] != 0;
+    const bool db = second >= 0 && dynamic[second] != 0;
+    B.mu[lane] = k.mu;
+    B.la[lane] = da ? kStride * first : zero;
+    B.lb[lane] = db ? kStride * second : zero;
+    B.ka[lane] = da ? 1 : 0;
+    B.kb[lane] = db ? 1 : 0;
+    row_of[lane] = k.normal_row;
+    row_of[W + lane] = k.tangent_row;
+  }
+  const unsigned used = (1u << lanes) - 1u;
+  ok_n = (singular_n & used) == 0;
+  ok_t = (singular_t & used) == 0;
+  return true;
+}
+
+/// fill_pair's rows, bodies and 2 × 2 blocks of a pair batch of `lanes` manifolds with friction
+/// from ordered position s0, as pack_batch_simd for the four rows of each lane; A_01 from the
+/// unscaled normal row of point 0 (0 + J_is, 0 in absent slots, as pack_row writes it) and
+/// M⁻¹J_1ᵀΔt, summed in slot order as fill_pair does. ok: every lane's A_ii as scale_rows wants.
+bool pack_pair_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes, PairBatch& P, int* row_of,
+                    double* dn0, double* dt0, double* dn1, double* dt1, bool& ok) {
+  if (!simd_pack_available()) return false;
+  int rn0[W], rt0[W], rn1[W], rt1[W], a[W], bb[W];
+  const int* order = out.order.data() + s0;
+  for (int lane = 0; lane < W; ++lane) {
+    const int c = order[lane < lanes ? lane : 0];
+    const ContactConstraint& k0 = p.constraints[c];
+    const ContactConstraint& k1 = p.constraints[out.partner[static_cast<size_t>(c)]];
+    if (!k0.has_friction() || !k1.has_friction()) return false;
+    const int first = k0.has_body_a() ? std::min(k0.body_a, k0.body_b) : k0.body_b;
+    const int second = k0.has_body_a() ? std::max(k0.body_a, k0.body_b) : -1;
+    a[lane] = 3 * first;
+    bb[lane] = second < 0 ? -1 : 3 * second;
+    rn0[lane] = k0.normal_row;
+    rt0[lane] = k0.tangent_row;
+    rn1[lane] = k1.normal_row;
+    rt1[lane] = k1.tangent_row;
+  }
+  unsigned sn0 = 0, st0 = 0, sn1 = 0, st1 = 0;
+  if (!pack_rows_simd(p, rn0, a, bb, P.jn0, P.mjn0, P.bn0, dn0, sn0) ||
+      !pack_rows_simd(p, rt0, a, bb, P.jt0, P.mjt0, P.bt0, dt0, st0) ||
+      !pack_rows_simd(p, rn1, a, bb, P.jn1, P.mjn1, P.bn1, dn1, sn1) ||
+      !pack_rows_simd(p, rt1, a, bb, P.jt1, P.mjt1, P.bt1, dt1, st1))
+    return false;
+  const int zero = out.body_entries;
+  const std::uint8_t* dynamic = out.dynamic.data();
+  const double* value = p.J.valuePtr();
+  for (int lane = 0; lane < lanes; ++lane) {
+    const int c = order[lane];
+    const ContactConstraint& k0 = p.constraints[c];
+    const ContactConstraint& k1 = p.constraints[out.partner[static_cast<size_t>(c)]];
+    const int first = a[lane] / 3, second = bb[lane] < 0 ? -1 : bb[lane] / 3;
+    const bool da = dynamic[first] != 0;
+    const bool db = second >= 0 && dynamic[second] != 0;
+    P.mu0[lane] = k0.mu;
+    P.mu1[lane] = k1.mu;
+    P.la[lane] = da ? kStride * first : zero;
+    P.lb[lane] = db ? kStride * second : zero;
+    P.ka[lane] = da ? 1 : 0;
+    P.kb[lane] = db ? 1 : 0;
+    row_of[lane] = k0.normal_row;
+    row_of[W + lane] = k0.tangent_row;
+    row_of[2 * W + lane] = k1.normal_row;
+    row_of[3 * W + lane] = k1.tangent_row;
+    const double* v = value + p.J.outerIndexPtr()[rn0[lane]];
+    const int n = bb[lane] < 0 ? 3 : 6;
+    double a01 = 0.0;
+    for (int s = 0; s < 6; ++s) a01 += (s < n ? 0.0 + v[s] : 0.0) * P.mjn1[s][lane];
+    const bool block = solvers::manifold_block_conditioned(dn0[lane], dn1[lane], a01);
+    P.c01[lane] = a01 / dn0[lane];
+    P.c10[lane] = a01 / dn1[lane];
+    P.inv_det[lane] = block ? 1.0 / (1.0 - P.c01[lane] * P.c10[lane]) : 0.0;
+    P.block[lane] = block ? 1.0 : 0.0;
+  }
+  const unsigned used = (1u << lanes) - 1u;
+  ok = ((sn0 | st0 | sn1 | st1) & used) == 0;
+  return true;
+}
+
 /// Zero rows for lanes [from, W) of rs (padding).
 void pad_rows(const RowSet& rs, int from, int* row_n, int* row_t) {
   for (int lane = from; lane < W; ++lane) {
@@ -240,6 +350,37 @@ void name_singular(const Prepared& out, int s0, int lanes, const double* dn, con
   for (int lane = 0; lane < lanes && failed < 0; ++lane)
     if (!(dn[lane] > 0 && std::isfinite(1.0 / dn[lane])) || !(dt[lane] > 0 && std::isfinite(1.0 / dt[lane])))
       failed = out.order[static_cast<size_t>(s0 + lane)];
+}
+
+/// fill_pair lane by lane: the rows packed and their blocks formed per lane, then scaled (all
+/// padding lanes zero rows, A_ii = 1); returns scale_rows's verdict and records a lane whose rows
+/// act on another body in `failed`.
+bool fill_pair_lanes(const LcpProblem& p, const Prepared& out, int s0, int lanes, PairBatch& P, int* row_of,
+                     double* dn0, double* dt0, double* dn1, double* dt1, int& failed) {
+  const int zero = out.body_entries;
+  const RowSet r0{P.jn0, P.mjn0, P.jt0, P.mjt0, P.bn0, P.bt0, P.mu0};
+  const RowSet r1{P.jn1, P.mjn1, P.jt1, P.mjt1, P.bn1, P.bt1, P.mu1};
+  for (int lane = 0; lane < lanes; ++lane) {
+    const int c = out.order[static_cast<size_t>(s0 + lane)];
+    const int c1 = out.partner[static_cast<size_t>(c)];
+    bool ok = pack_contact(p, out.dynamic, zero, c, r0, P.la, P.lb, P.ka, P.kb, lane, row_of, row_of + W, dn0, dt0);
+    ok = ok && pack_contact(p, out.dynamic, zero, c1, r1, P.la, P.lb, P.ka, P.kb, lane, row_of + 2 * W,
+                            row_of + 3 * W, dn1, dt1);
+    if (!ok && failed < 0) failed = c;
+    // A_01 = J_0 M⁻¹ J_1ᵀ Δt from the unscaled rows, summed in slot order as "pgs" does.
+    double a01 = 0.0;
+    for (int s = 0; s < 6; ++s) a01 += P.jn0[s][lane] * P.mjn1[s][lane];
+    const bool block = ok && solvers::manifold_block_conditioned(dn0[lane], dn1[lane], a01);
+    P.c01[lane] = ok ? a01 / dn0[lane] : 0.0;
+    P.c10[lane] = ok ? a01 / dn1[lane] : 0.0;
+    P.inv_det[lane] = block ? 1.0 / (1.0 - P.c01[lane] * P.c10[lane]) : 0.0;
+    P.block[lane] = block ? 1.0 : 0.0;
+  }
+  pad_rows(r0, lanes, row_of, row_of + W);
+  pad_rows(r1, lanes, row_of + 2 * W, row_of + 3 * W);
+  pad_bodies(lanes, zero, P.la, P.lb, P.ka, P.kb);
+  return scale_rows(P.jn0, P.bn0, dn0) & scale_rows(P.jt0, P.bt0, dt0) & scale_rows(P.jn1, P.bn1, dn1) &
+         scale_rows(P.jt1, P.bt1, dt1);
 }
 
 }  // namespace
@@ -363,19 +504,31 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   int s0 = 0, lanes = 0;
   lanes_of(out, k, bi - out.batch_of[static_cast<size_t>(k)], s0, lanes);
   double diag_n[W], diag_t[W];  // 1 for padding lanes and rows that failed to pack
-  std::fill(diag_n, diag_n + W, 1.0);
-  std::fill(diag_t, diag_t + W, 1.0);
   int& failed = out.failed[static_cast<size_t>(bi)];
+  bool ok_n = true, ok_t = true;
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
-  for (int lane = 0; lane < lanes; ++lane) {
-    const int c = out.order[static_cast<size_t>(s0 + lane)];
-    if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n, diag_t) &&
-        failed < 0)
-      failed = c;
+  if (lanes > 0 && pack_batch_simd(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t)) {
+    if (lanes < W) {  // padding as below: zero rows (j = 0·(1/1)), A_ii = 1
+      pad_rows(rs, lanes, row_of, row_of + W);
+      pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
+      std::fill(diag_n + lanes, diag_n + W, 1.0);
+      std::fill(diag_t + lanes, diag_t + W, 1.0);
+    }
+  } else {
+    std::fill(diag_n, diag_n + W, 1.0);
+    std::fill(diag_t, diag_t + W, 1.0);
+    for (int lane = 0; lane < lanes; ++lane) {
+      const int c = out.order[static_cast<size_t>(s0 + lane)];
+      if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n,
+                        diag_t) &&
+          failed < 0)
+        failed = c;
+    }
+    pad_rows(rs, lanes, row_of, row_of + W);
+    pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
+    ok_n = scale_rows(B.jn, B.bn, diag_n);
+    ok_t = scale_rows(B.jt, B.bt, diag_t);
   }
-  pad_rows(rs, lanes, row_of, row_of + W);
-  pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
-  const bool ok_n = scale_rows(B.jn, B.bn, diag_n), ok_t = scale_rows(B.jt, B.bt, diag_t);
   if ((!ok_n || !ok_t) && failed < 0) name_singular(out, s0, lanes, diag_n, diag_t, failed);
   B.count = lanes;
   const size_t s0p = static_cast<size_t>(bi) * 2 * W;
@@ -391,32 +544,22 @@ void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out
   int s0 = 0, lanes = 0;
   lanes_of(out, k, pi - out.batch_of[static_cast<size_t>(k)], s0, lanes);
   double dn0[W], dt0[W], dn1[W], dt1[W];
-  for (double* d : {dn0, dt0, dn1, dt1}) std::fill(d, d + W, 1.0);
   int& failed = out.failed[out.batches.size() + static_cast<size_t>(pi)];
   const RowSet r0{P.jn0, P.mjn0, P.jt0, P.mjt0, P.bn0, P.bt0, P.mu0};
   const RowSet r1{P.jn1, P.mjn1, P.jt1, P.mjt1, P.bn1, P.bt1, P.mu1};
-  for (int lane = 0; lane < lanes; ++lane) {
-    const int c = out.order[static_cast<size_t>(s0 + lane)];
-    const int c1 = out.partner[static_cast<size_t>(c)];
-    bool ok = pack_contact(p, out.dynamic, zero, c, r0, P.la, P.lb, P.ka, P.kb, lane, row_of, row_of + W, dn0, dt0);
-    ok = ok && pack_contact(p, out.dynamic, zero, c1, r1, P.la, P.lb, P.ka, P.kb, lane, row_of + 2 * W,
-                            row_of + 3 * W, dn1, dt1);
-    if (!ok && failed < 0) failed = c;
-    // A_01 = J_0 M⁻¹ J_1ᵀ Δt from the unscaled rows, summed in slot order as "pgs" does.
-    double a01 = 0.0;
-    for (int s = 0; s < 6; ++s) a01 += P.jn0[s][lane] * P.mjn1[s][lane];
-    const bool block = ok && solvers::manifold_block_conditioned(dn0[lane], dn1[lane], a01);
-    P.c01[lane] = ok ? a01 / dn0[lane] : 0.0;
-    P.c10[lane] = ok ? a01 / dn1[lane] : 0.0;
-    P.inv_det[lane] = block ? 1.0 / (1.0 - P.c01[lane] * P.c10[lane]) : 0.0;
-    P.block[lane] = block ? 1.0 : 0.0;
+  bool ok = true;
+  if (lanes > 0 && pack_pair_simd(p, out, s0, lanes, P, row_of, dn0, dt0, dn1, dt1, ok)) {
+    if (lanes < W) {  // padding as below: zero rows (j = 0·(1/1)), A_ii = 1
+      pad_rows(r0, lanes, row_of, row_of + W);
+      pad_rows(r1, lanes, row_of + 2 * W, row_of + 3 * W);
+      pad_bodies(lanes, zero, P.la, P.lb, P.ka, P.kb);
+      for (double* d : {dn0, dt0, dn1, dt1}) std::fill(d + lanes, d + W, 1.0);
+    }
+  } else {
+    for (double* d : {dn0, dt0, dn1, dt1}) std::fill(d, d + W, 1.0);
+    ok = fill_pair_lanes(p, out, s0, lanes, P, row_of, dn0, dt0, dn1, dt1, failed);
   }
-  pad_rows(r0, lanes, row_of, row_of + W);
-  pad_rows(r1, lanes, row_of + 2 * W, row_of + 3 * W);
-  pad_bodies(lanes, zero, P.la, P.lb, P.ka, P.kb);
   for (int lane = lanes; lane < W; ++lane) P.c01[lane] = P.c10[lane] = P.inv_det[lane] = P.block[lane] = 0.0;
-  const bool ok = scale_rows(P.jn0, P.bn0, dn0) & scale_rows(P.jt0, P.bt0, dt0) & scale_rows(P.jn1, P.bn1, dn1) &
-                  scale_rows(P.jt1, P.bt1, dt1);
   if (!ok && failed < 0) {
     name_singular(out, s0, lanes, dn0, dt0, failed);
     name_singular(out, s0, lanes, dn1, dt1, failed);

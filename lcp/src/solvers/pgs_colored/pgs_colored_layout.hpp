@@ -2,7 +2,8 @@
 // Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the packed problem and its set-up. layout()
 // orders the contacts by colour into batches of single contacts (Batch) and of two-point
 // manifolds (PairBatch: the two contacts of one body pair with one normal in one lane, solved
-// with the 2 × 2 normal block as "pgs" does); fill_batch / fill_pair pack the rows. The sweep
+// with the 2 × 2 normal block as "pgs" does); fill_batch / fill_pair pack the rows (4 lanes per
+// AVX2 register where the CPU has it, pgs_colored_pack_simd.hpp; the same bits). The sweep
 // driver is pgs_colored.cpp, the kernels pgs_colored_{scalar,avx2,avx512}.cpp.
 //
 // Permuted λ: the single batches' slots first (16 per batch: 8 λ_n, 8 λ_t), then the pair

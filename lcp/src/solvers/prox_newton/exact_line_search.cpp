@@ -24,15 +24,19 @@ void line_slope(const LineSearchInput& in, double t, double& slope, double& curv
 }
 
 LineSearchResult exact_line_search(const LineSearchInput& in) {
+  return minimise_along([&in](double t, double& s, double& c) { line_slope(in, t, s, c); });
+}
+
+LineSearchResult minimise_along(const SlopeFunction& line) {
   LineSearchResult r;
   double s0 = 0, c0 = 0;
-  line_slope(in, 0.0, s0, c0);
+  line(0.0, s0, c0);
   ++r.steps;
   if (!(s0 < 0.0)) return r;  // not a descent direction (or not finite): stay
   double lo_t = 0.0, hi_t = INFINITY, t = 1.0;
   for (int k = 0; k < 60; ++k) {
     double s = 0, c = 0;
-    line_slope(in, t, s, c);
+    line(t, s, c);
     ++r.steps;
     if (!std::isfinite(s)) {
       hi_t = t;

@@ -9,6 +9,7 @@
 // when a Newton step leaves it): on a piecewise-linear slope the Newton step is exact as soon
 // as it stays on one piece, so it crosses any number of kinks in a few evaluations.
 #include <Eigen/Core>
+#include <functional>
 
 namespace dc::solvers::prox {
 
@@ -28,6 +29,13 @@ struct LineSearchResult {
 
 /// f'(t) and f''(t).
 void line_slope(const LineSearchInput& in, double t, double& slope, double& curvature);
+
+/// f'(t) and f''(t) of a convex piecewise-quadratic f along a line (slope, curvature).
+using SlopeFunction = std::function<void(double t, double& slope, double& curvature)>;
+
+/// The minimiser t ≥ 0 of a convex piecewise-quadratic f given its slope (the search above; the
+/// same stops as exact_line_search). t = 0 when f'(0) ≥ 0 or is not finite.
+LineSearchResult minimise_along(const SlopeFunction& slope);
 
 /// The minimiser t ≥ 0 of f along d (to |f'(t)| ≤ 1e-12 |f'(0)|, or a bracket of relative
 /// width 1e-14; at most 60 evaluations).

@@ -12,6 +12,7 @@
 #include "dc/lcp/newton_sparse.hpp"
 #include "dc/lcp/proximal_point.hpp"
 #include "solvers/prox_newton/body_newton.hpp"
+#include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
@@ -27,6 +28,7 @@ namespace solvers::prox {
 struct ProxParts {
   DualNewton dual;
   BodyNewton body;
+  ConeNewton cone;
   NewtonSparseSolver finish;
 };
 
@@ -49,6 +51,13 @@ void check_def(const ProxNewtonDef& d) {
     throw InvalidArgument("prox-newton: pass_progress must be in (0, 1]");
   if (d.max_outer < 1 || d.inner_iterations < 1 || d.body_inner_iterations < 1 || d.max_stalls < 1)
     throw InvalidArgument("prox-newton: max_outer, inner_iterations, body_inner_iterations and max_stalls must be >= 1");
+  if (!positive(d.cone_shift) || !positive(d.cone_min_shift) || !positive(d.cone_inner_tolerance) ||
+      !(d.cone_shrink >= 1))
+    throw InvalidArgument("prox-newton: cone_shift, cone_min_shift, cone_inner_tolerance must be > 0, cone_shrink >= 1");
+  if (d.cone_inner_iterations < 1 || d.cone_follow_iterations < 1 || d.cone_max_stalls < 1 || d.cone_anderson < 0 ||
+      d.cone_follow_after < 0)
+    throw InvalidArgument("prox-newton: cone_inner_iterations, cone_follow_iterations, cone_max_stalls must be >= 1, "
+                          "cone_anderson and cone_follow_after >= 0");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
@@ -94,7 +103,10 @@ class ProxRun {
       best_res_ = hard_residual(p_, lambda);
     }
     if (convex_) {
-      outer(lambda, frozen_passes());
+      if (body_ && def_.exact_cone && s_.cone.bind(p_))
+        cone_passes(lambda);
+      else
+        outer(lambda, frozen_passes());
       if (body_ && def_.body_finish && !reached(best_res_, target_)) {
         lambda = best_;
         outer(lambda, coupled_passes());
@@ -244,6 +256,34 @@ class ProxRun {
     }
   }
 
+  /// The exact-cone passes (cone_passes.hpp) from λ; λ becomes the best iterate.
+  void cone_passes(Eigen::VectorXd& lambda) {
+    ConePassesDef cd;
+    cd.shift = def_.cone_shift;
+    cd.max_passes = def_.max_outer;
+    cd.inner_iterations = def_.cone_inner_iterations;
+    cd.inner_tolerance = def_.cone_inner_tolerance;
+    cd.stale_factor_iterations = def_.stale_factor_iterations;
+    cd.max_stalls = def_.cone_max_stalls;
+    cd.anderson = def_.cone_anderson;
+    cd.follow_shift = def_.cone_follow_shift;
+    cd.follow_after = def_.cone_follow_after;
+    cd.follow_iterations = def_.cone_follow_iterations;
+    cd.shrink = def_.cone_shrink;
+    cd.min_shift = std::min(def_.cone_min_shift, def_.cone_shift);
+    cd.iterations = budget_left();
+    const ConePassesOutcome co = run_cone_passes(p_, s_.cone, lambda, target_, cd);
+    st_.outer += co.passes;
+    st_.newton += co.newton;
+    st_.factorizations += co.factorizations;
+    st_.analyses += co.analyses;
+    st_.cg += co.cg;
+    st_.line_search_steps += co.line_search_steps;
+    consider(co.best, co.best_residual, Finisher::Prox);
+    lambda = best_;
+    cp_.after(st_.newton + st_.finish_newton, best_);
+  }
+
   /// At most `iterations` newton-sparse iterations on the hard problem from λ.
   void finish_with_newton_sparse(Eigen::VectorXd& lambda, int iterations) {
     if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
@@ -275,7 +315,9 @@ class ProxRun {
     fo.record_theta = false;
     fo.exact_tolerance = o_.exact_tolerance;
     forward_checkpoints(fo);
-    const SolveResult r = solve_proximal_point(*assembled_, best_, fo, pd);
+    ProximalPointStats ps;
+    const SolveResult r = solve_proximal_point(*assembled_, best_, fo, pd, &ps);
+    st_.factorizations += ps.factorizations;
     st_.finish_newton += r.sweeps;
     st_.proximal_finish_newton += r.sweeps;
     if (r.lambda.size() == p_.rows() && r.lambda.allFinite())

@@ -1,0 +1,132 @@
+// pgs-colored's row packing, 4 lanes per AVX2 register (pgs_colored_pack_simd.hpp). Compiled for
+// AVX2 by function attribute in every x86-64 build and chosen at run time, as the sweep kernels.
+// No FMA: pack_row's products and sums round one at a time (the build has no FP contraction).
+#include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+
+#include <limits>
+
+#define DC_PACK_AVX2 __attribute__((target("avx2")))
+
+namespace dc::colored {
+namespace {
+
+/// Where row i's entries of J start, and their count.
+inline int row_extent(const SparseRowMatrix& J, int i, int& q0) {
+  q0 = J.outerIndexPtr()[i];
+  return J.isCompressed() ? J.outerIndexPtr()[i + 1] - q0 : J.innerNonZeroPtr()[i];
+}
+
+/// pack_row's usual storage: row i has the columns a, a+1, a+2 (, bb, bb+1, bb+2), once each.
+inline bool usual(const SparseRowMatrix& J, int i, int a, int bb, int& q0) {
+  const int n = row_extent(J, i, q0);
+  const int* col = J.innerIndexPtr() + q0;
+  return n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
+         (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2));
+}
+
+/// Rows r0..r3 (4 doubles each) as columns: c[s] = (r0[s], r1[s], r2[s], r3[s]).
+DC_PACK_AVX2 inline void transpose4(__m256d r0, __m256d r1, __m256d r2, __m256d r3, __m256d* c) {
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1);  // r0_0 r1_0 | r0_2 r1_2
+  const __m256d t1 = _mm256_unpackhi_pd(r0, r1);  // r0_1 r1_1 | r0_3 r1_3
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3);
+  const __m256d t3 = _mm256_unpackhi_pd(r2, r3);
+  c[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  c[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  c[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+/// Lanes h..h+3 (entries of J at value + q0[k], M⁻¹ at im + a[k], im + bb[k]); returns the
+/// 4-bit mask of singular lanes.
+DC_PACK_AVX2 unsigned pack4(const double* value, const double* im, double dt, const double* bi, const int* q0,
+                            const int* a, const int* bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
+                            int h) {
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256i three = _mm256_setr_epi64x(-1, -1, -1, 0);  // the first 3 of 4 doubles
+  __m256d lo[4], ia[4], ib[4];
+  __m128d hi[4];
+  int two = 0;  // lanes with a second body
+  for (int k = 0; k < 4; ++k) {
+    const int l = h + k;
+    const double* v = value + q0[l];
+    const bool second = bb[l] >= 0;
+    two |= second ? 1 << k : 0;
+    // (masked loads: nothing beyond the row's entries or the body's 3 M⁻¹ entries is read)
+    lo[k] = second ? _mm256_loadu_pd(v) : _mm256_maskload_pd(v, three);
+    hi[k] = second ? _mm_loadu_pd(v + 4) : _mm_setzero_pd();
+    ia[k] = _mm256_maskload_pd(im + a[l], three);
+    ib[k] = second ? _mm256_maskload_pd(im + bb[l], three) : zero;
+  }
+  __m256d v[6], m[6], ima[4], imb[4];
+  transpose4(lo[0], lo[1], lo[2], lo[3], v);
+  const __m256d h02 = _mm256_set_m128d(hi[2], hi[0]), h13 = _mm256_set_m128d(hi[3], hi[1]);
+  v[4] = _mm256_unpacklo_pd(h02, h13);
+  v[5] = _mm256_unpackhi_pd(h02, h13);
+  transpose4(ia[0], ia[1], ia[2], ia[3], ima);
+  transpose4(ib[0], ib[1], ib[2], ib[3], imb);
+  // Lanes with one body: slots 3–5 are r = +0 (the loads above) and m = +0, as pack_row writes
+  // them; they add +0 to A_ii, which leaves it unchanged (it is never −0: it starts at 0 + ·).
+  const __m256d has_b = _mm256_castsi256_pd(_mm256_setr_epi64x((two & 1) ? -1 : 0, (two & 2) ? -1 : 0,
+                                                                (two & 4) ? -1 : 0, (two & 8) ? -1 : 0));
+  const __m256d dtv = _mm256_set1_pd(dt);
+  __m256d sum = zero;
+  for (int s = 0; s < 6; ++s) {
+    v[s] = _mm256_add_pd(zero, v[s]);  // r = 0 + J_is (−0 → +0)
+    m[s] = _mm256_mul_pd(_mm256_mul_pd(v[s], s < 3 ? ima[s] : imb[s - 3]), dtv);
+    if (s >= 3) m[s] = _mm256_and_pd(m[s], has_b);
+    sum = _mm256_add_pd(sum, _mm256_mul_pd(v[s], m[s]));
+  }
+  const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), sum);
+  for (int s = 0; s < 6; ++s) {
+    _mm256_store_pd(j[s] + h, _mm256_mul_pd(v[s], inv));
+    _mm256_store_pd(mj[s] + h, m[s]);
+  }
+  const __m256d bv = _mm256_setr_pd(bi[0], bi[1], bi[2], bi[3]);
+  _mm256_store_pd(b + h, _mm256_mul_pd(bv, inv));
+  _mm256_storeu_pd(diag + h, sum);
+  const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  const __m256d abs_inv = _mm256_andnot_pd(_mm256_set1_pd(-0.0), inv);
+  const __m256d good = _mm256_and_pd(_mm256_cmp_pd(sum, zero, _CMP_GT_OQ), _mm256_cmp_pd(abs_inv, inf, _CMP_LT_OQ));
+  return static_cast<unsigned>(~_mm256_movemask_pd(good)) & 0xFu;
+}
+
+}  // namespace
+
+DC_PACK_AVX2 bool pack_rows_simd(const LcpProblem& p, const int* rows, const int* a, const int* bb, double (*j)[W],
+                                 double (*mj)[W], double* b, double* diag, unsigned& singular) {
+  static_assert(W == 8, "two groups of 4 lanes");
+  if (!simd_pack_available()) return false;
+  int q0[W];
+  double bi[W];
+  for (int l = 0; l < W; ++l) {
+    if (!usual(p.J, rows[l], a[l], bb[l], q0[l])) return false;
+    bi[l] = p.b[rows[l]];
+  }
+  const double* value = p.J.valuePtr();
+  const double* im = p.inv_mass.data();
+  singular = pack4(value, im, p.dt, bi, q0, a, bb, j, mj, b, diag, 0) |
+             pack4(value, im, p.dt, bi + 4, q0, a, bb, j, mj, b, diag, 4) << 4;
+  return true;
+}
+
+bool simd_pack_available() {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
+
+}  // namespace dc::colored
+
+#else
+
+namespace dc::colored {
+bool pack_rows_simd(const LcpProblem&, const int*, const int*, const int*, double (*)[W], double (*)[W], double*,
+                    double*, unsigned&) {
+  return false;
+}
+bool simd_pack_available() { return false; }
+}  // namespace dc::colored
+
+#endif

@@ -1,0 +1,28 @@
+#pragma once
+// Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the packing of one row of each of the W
+// lanes of a batch at once (pgs_colored_layout.cpp's fill_batch), 4 lanes per AVX2 register:
+// each lane's J entries and M⁻¹ entries are loaded as rows and brought into slot order by 4 × 4
+// transposes, and the per-lane arithmetic of pack_row and scale_rows follows in their order
+// (r = 0 + J_is, m = r·M⁻¹·Δt, A_ii = Σ r·m in slot order, then j = r·(1/A_ii), b = b_i·(1/A_ii)),
+// so the packed batch is the scalar packing's bit for bit.
+#include <cstdint>
+
+#include "dc/lcp/lcp_problem.hpp"
+#include "solvers/pgs_colored/pgs_colored_batch.hpp"
+
+namespace dc::colored {
+
+/// The rows rows[0..W) of J on the bodies at J columns a[k] (slots 0–2) and bb[k] (slots 3–5;
+/// −1: none), when every row has the usual storage (pack_row's: the columns a, a+1, a+2 (, bb,
+/// bb+1, bb+2) once each, in order): writes j = J_i/A_ii and mj = M⁻¹J_iᵀΔt (zeros in absent
+/// slots), b = b_i/A_ii, diag = A_ii, and returns the lanes whose A_ii is not > 0 or 1/A_ii not
+/// finite as a bit mask in `singular`. Returns false, writing nothing, when a row's storage is
+/// not the usual one (the caller packs the batch lane by lane then) or when this build or CPU
+/// has no AVX2 (simd_pack_available).
+bool pack_rows_simd(const LcpProblem& p, const int* rows, const int* a, const int* bb, double (*j)[W],
+                    double (*mj)[W], double* b, double* diag, unsigned& singular);
+
+/// This build has pack_rows_simd's AVX2 code and this CPU runs it.
+bool simd_pack_available();
+
+}  // namespace dc::colored
