@@ -33,12 +33,11 @@ void add_rows(const SparseRowMatrix& J, const double* lambda, int r0, int r1, in
 }  // namespace
 
 void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, double dt, Eigen::VectorXd& impulse,
-                     int threads, const std::function<void(int, int)>& bodies_done) {
+                     int threads) {
   const int rows = static_cast<int>(J.rows()), cols = static_cast<int>(J.cols());
   const int bodies = (cols + 2) / 3;
   if (!J.isCompressed()) {
     impulse = J.transpose() * lambda * dt;
-    bodies_done(0, bodies);
     return;
   }
   const int parts = parts_for(threads, rows, 1, 2048);  // blocks: a row range can reach several
@@ -46,7 +45,6 @@ void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, do
     impulse.setZero(cols);
     add_rows(J, lambda.data(), 0, rows, 0, cols, impulse.data());
     impulse *= dt;
-    bodies_done(0, bodies);
     return;
   }
   impulse.resize(cols);
@@ -108,7 +106,6 @@ void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, do
     if (lo1 <= hi1) add_rows(J, lambda.data(), lo1, hi1 + 1, c0, c1, out);
     if (lo2 <= hi2) add_rows(J, lambda.data(), lo2, hi2 + 1, c0, c1, out);
     for (int c = c0; c < c1; ++c) out[c] *= dt;
-    bodies_done(static_cast<int>(static_cast<long>(bodies) * t / parts), static_cast<int>(static_cast<long>(bodies) * (t + 1) / parts));
   });
 }
 

@@ -60,7 +60,7 @@ void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda,
     if (p.J.cols() != 3 * n)
       throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
                             std::to_string(n) + " bodies");
-    contact_impulse(p.J, lambda, dt, impulse, threads, [](int, int) {});
+    contact_impulse(p.J, lambda, dt, impulse, threads);
   } else {
     impulse = Eigen::VectorXd::Zero(3 * n);
   }
