@@ -6,12 +6,13 @@
 // and after.
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
-//                          [--sweeps 20] [--min-batches -1]
+//                          [--sweeps 20] [--min-batches -1] [--profile]
 //
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
-// every problem). The pile and its settling are those of micro_step (150 steps of pgs).
+// every problem and every large step: no pacing, LcpSolver::threads_forced). --profile adds the
+// solve's phases (PgsColoredProfile: CPU time of the stepping thread per solve). The pile and
+// its settling are those of micro_step (150 steps of pgs).
 #include <CLI/CLI.hpp>
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -83,6 +84,7 @@ struct Series {
   std::unique_ptr<dc::LcpSolver> solver;
   std::vector<double> wall_ms, cpu_ms;
   std::vector<double> stage_ms[5];  // collide, assemble, warm start, solve, integrate
+  std::unique_ptr<dc::PgsColoredProfile> profile = std::make_unique<dc::PgsColoredProfile>();
 };
 
 void add_stages(Series& s, const dc::StepProfile& p) {
@@ -96,12 +98,14 @@ int main(int argc, char** argv) {
   CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
   std::string ns = "1000,10000", ts = "1,2";
   int steps = 40, rounds = 5, sweeps = 20, min_batches = -1;
+  bool profile = false;
   app.add_option("--n", ns, "body counts, comma-separated");
   app.add_option("--threads", ts, "thread counts, comma-separated");
   app.add_option("--steps", steps, "timed steps per configuration and round");
   app.add_option("--rounds", rounds, "rounds (the configurations alternate inside each)");
   app.add_option("--sweeps", sweeps, "sweeps per step (tolerance 0)");
   app.add_option("--min-batches", min_batches, "PgsColoredDef::min_batches_per_thread (-1: default)");
+  app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
   CLI11_PARSE(app, argc, argv);
   const dc::SolverOptions o = fixed_sweeps(sweeps);
   std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; load %s\n", sweeps, steps, rounds,
@@ -117,7 +121,11 @@ int main(int argc, char** argv) {
       dc::PgsColoredDef def;
       def.threads = t;
       if (min_batches >= 0) def.min_batches_per_thread = min_batches;
-      series.push_back(Series{t, dc::make_pgs_colored(def), {}, {}});
+      Series s;
+      s.threads = t;
+      if (profile) def.profile = s.profile.get();
+      s.solver = dc::make_pgs_colored(def);
+      series.push_back(std::move(s));
     }
     std::vector<std::vector<double>> proc(series.size());
     for (int r = -1; r < rounds; ++r) {  // round −1: warm-up, not timed
@@ -135,9 +143,6 @@ int main(int argc, char** argv) {
           proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
           add_stages(s, rep.profile);
         }
-        // The series' idle OpenMP threads end before the next series: they would spin-wait for
-        // milliseconds (OMP_WAIT_POLICY unset), counted as the next series' process CPU.
-        (void)omp_pause_resource_all(omp_pause_soft);
       }
     }
     const double base = median(series.front().wall_ms);
@@ -150,6 +155,16 @@ int main(int argc, char** argv) {
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),
                   median(s.stage_ms[1]), median(s.stage_ms[2]), median(s.stage_ms[3]), median(s.stage_ms[4]));
+    if (!profile) continue;
+    std::printf("#   solve phases, thread CPU ms per solve: checks, coloring, ordering, du0, pack, sweeps, "
+                "unpermute, residual\n");
+    for (const Series& s : series) {
+      const dc::PgsColoredProfile& q = *s.profile;
+      const double k = q.solves > 0 ? 1e3 / static_cast<double>(q.solves) : 0.0;
+      std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads,
+                  k * q.checks, k * q.coloring, k * q.ordering, k * q.du0, k * q.pack, k * q.sweeps, k * q.unpermute,
+                  k * q.residual);
+    }
   }
   std::printf("# load after: %s\n", load_average().c_str());
   return 0;

@@ -7,36 +7,12 @@
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
 #include "det_math.hpp"
+#include "world/impulse_parts.hpp"
 #include "world/integrate_keeping.hpp"
 #include "world/step_parts.hpp"
 
 namespace dc {
 namespace {
-
-/// impulse ← Δt · Jᵀλ [N·s] as Eigen evaluates `J.transpose() * lambda * dt` (each dof's sum
-/// accumulated from 0 in row order, then multiplied by Δt: the same numbers), in place. The rows
-/// are sorted by body a; the other body's dofs are anywhere unless the bodies follow space, so
-/// the last column of the row kAhead rows on is fetched early (a hint).
-void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, double dt, Eigen::VectorXd& impulse) {
-  if (!J.isCompressed()) {
-    impulse = J.transpose() * lambda * dt;
-    return;
-  }
-  impulse.setZero(J.cols());
-  const int* const outer = J.outerIndexPtr();
-  const int* const inner = J.innerIndexPtr();
-  const double* const value = J.valuePtr();
-  double* const out = impulse.data();
-  const int rows = static_cast<int>(J.rows());
-  constexpr int kAhead = 8;
-  for (int r = 0; r < rows; ++r) {
-    if (r + kAhead < rows && outer[r + kAhead + 1] > outer[r + kAhead])
-      __builtin_prefetch(out + inner[outer[r + kAhead + 1] - 1], 1);
-    const double l = lambda[r];
-    for (int k = outer[r]; k < outer[r + 1]; ++k) out[inner[k]] += value[k] * l;
-  }
-  impulse *= dt;
-}
 
 /// integrate_bodies for a scene with a shape table: dynamic bodies as in the circle loop;
 /// static bodies stay; kinematic bodies move with their prescribed v, ω, or rotate about their
@@ -75,7 +51,7 @@ namespace {
 
 /// Δt · Jᵀ λ into `impulse` after the size checks (integrate_bodies' contact impulse).
 void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda, double dt, int n,
-                             Eigen::VectorXd& impulse) {
+                             Eigen::VectorXd& impulse, int threads) {
   if (lambda.size() != p.rows())
     throw InvalidArgument("integrate_bodies: lambda has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(p.rows()) + " rows");
@@ -84,7 +60,7 @@ void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda,
     if (p.J.cols() != 3 * n)
       throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
                             std::to_string(n) + " bodies");
-    contact_impulse(p.J, lambda, dt, impulse);
+    contact_impulse(p.J, lambda, dt, impulse, threads);
   } else {
     impulse = Eigen::VectorXd::Zero(3 * n);
   }
@@ -103,7 +79,7 @@ void integrate_bodies_keeping(const LcpProblem& p, const Eigen::VectorXd& lambda
     return;
   }
   const int n = static_cast<int>(s.size());
-  checked_contact_impulse(p, lambda, dt, n, impulse);
+  checked_contact_impulse(p, lambda, dt, n, impulse, threads);
   x0.swap(s.position);
   v0.swap(s.velocity);
   w0.swap(s.omega);
@@ -126,7 +102,7 @@ void integrate_bodies_keeping(const LcpProblem& p, const Eigen::VectorXd& lambda
 void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
                       Eigen::VectorXd& impulse, int threads) {
   const int n = static_cast<int>(s.size());
-  checked_contact_impulse(p, lambda, dt, n, impulse);
+  checked_contact_impulse(p, lambda, dt, n, impulse, threads);
   if (!s.shapes.empty()) {
     integrate_with_motion(impulse, g, dt, s);
     return;

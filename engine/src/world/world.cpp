@@ -15,6 +15,7 @@
 #include "world/integrate_keeping.hpp"
 #include "world/restitution.hpp"
 #include "world/step_parts.hpp"
+#include "world/warm_start_parts.hpp"
 
 namespace dc {
 namespace {
@@ -330,21 +331,6 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
   inflow_.emit(time(), bodies_);
 }
 
-namespace {
-
-/// The builtin warm start on one set of objects (public, or internal: the same numbers per contact).
-Eigen::VectorXd previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
-                                const LcpProblem& problem) {
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(problem.rows());
-  for_each_matched_contact(previous, current, [&](std::size_t c, const Contact& p) {
-    problem.constraints.put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
-  });
-  project_feasible(problem, out);
-  return out;
-}
-
-}  // namespace
-
 StepReport World::step(LcpSolver& solver, const SolverOptions& options, const InitialGuess& guess) {
   return step_with(solver, options, &guess);  // an empty function: zeros
 }
@@ -356,12 +342,13 @@ StepReport World::step(LcpSolver& solver, const SolverOptions& options, WarmStar
 
 StepReport World::step_with(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess) {
   // The step's threads: the solver's, for piles large enough and while whole steps pay (their
-  // wall time per unit of work, threaded against serial steps); a serial step holds the
-  // solver's threads too.
+  // wall time per unit of work, threaded against serial steps) or always when the solver's
+  // threads are forced; a serial step holds the solver's threads too.
   const int requested = solver.threads();
   const long bodies = static_cast<long>(working_bodies().size());
-  const bool paced = requested > 1 && bodies >= kMinBodiesPerThread * requested;
-  step_threads_ = paced && pacer_.threaded_next() ? requested : 1;
+  const bool large = requested > 1 && bodies >= kMinBodiesPerThread * requested;
+  const bool paced = large && !solver.threads_forced();
+  step_threads_ = large && (!paced || pacer_.threaded_next()) ? requested : 1;
   if (paced) solver.hold_threads(step_threads_ == 1);
   struct Serial {  // after step(), also after a throw: the stages called one by one run
     int& threads;  // serially and the solver chooses its threads again
@@ -376,7 +363,6 @@ StepReport World::step_with(LcpSolver& solver, const SolverOptions& options, con
   if (paced) {
     const double work = static_cast<double>(bodies) + static_cast<double>(rep.rows) * (rep.solve.sweeps + 2);
     pacer_.record(step_threads_ > 1, 1e-3 * rep.profile.total_ms(), work);
-    if (step_threads_ > 1 && !pacer_.threaded_next()) release_threads();  // no idle spinning while serial
   }
   return rep;
 }
@@ -398,8 +384,9 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
   t0 = Clock::now();
   Eigen::VectorXd lambda0;
   if (guess == nullptr) {
-    lambda0 = internal_ ? previous_lambda(internal_previous_, internal_contacts_, internal_problem_)
-                        : previous_lambda(previous_contacts(), contacts_, problem_);
+    // The builtin warm start on one set of objects (public, or internal: the same numbers per contact).
+    lambda0 = internal_ ? previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_)
+                        : previous_lambda(previous_contacts(), contacts_, problem_, step_threads_);
   } else {
     lambda0 = *guess ? (*guess)(*this) : Eigen::VectorXd::Zero(rep.rows);
     if (lambda0.size() != rep.rows)

@@ -97,6 +97,9 @@ class LcpSolver {
   /// The next solves run on one thread (true) or as the solver chooses (false): World::step's
   /// pacer runs whole steps serially while threaded steps do not pay. Never changes a result.
   virtual void hold_threads(bool serial) { (void)serial; }
+  /// True when the solver's threads are forced rather than paced (pgs-colored with
+  /// min_batches_per_thread = 0): World::step then runs every large enough step on them.
+  [[nodiscard]] virtual bool threads_forced() const { return false; }
 };
 
 /// The LCP solvers make_solver builds; each has one spelling (solver_names, SolverId::parse).

@@ -3,7 +3,7 @@
 // docs/lcp.md "`pgs-colored`"). The contacts are coloured (by default in contact order,
 // ordered_coloring.hpp) and a sweep solves colour 0, 1, …, then the overflow set; 8 contacts of a
 // colour are solved at once in SIMD lanes (normal + tangent row as in "pgs") and a colour's
-// batches can run on OpenMP threads. Kernels AVX-512, AVX2 and scalar, chosen at run time
+// batches can run on threads (dc/core/work_team.hpp). Kernels AVX-512, AVX2 and scalar, chosen at run time
 // (PgsColoredKernel::Auto). Same fixed points as "pgs"; with the ordered colouring also its
 // iterates while the contact chains fit in 64 colours. The lane arithmetic is the scalar kernel's operation for
 // operation, so every kernel and thread count gives bit-identical iterates. The solver object
@@ -35,7 +35,7 @@ struct PgsColoredProfile {
 };
 
 struct PgsColoredDef {
-  /// OpenMP threads for the set-up and the batches of a colour (1 = serial; 0 = OpenMP's
+  /// Threads for the set-up and the batches of a colour (1 = serial; 0 = OpenMP's
   /// default). A problem runs on one thread unless its colour ranges (each a wait between the
   /// threads per sweep) average at least `min_batches_per_thread`·threads batches of 8
   /// contacts; 0 threads every problem. The threads' waits spin briefly, then yield, then sleep,

@@ -27,6 +27,7 @@
 #endif
 
 #include "dc/core/error.hpp"
+#include "dc/core/work_team.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
@@ -140,6 +141,7 @@ class PgsColoredSolver final : public LcpSolver {
   }
   /// (min_batches_per_thread = 0 threads every problem: no hold.)
   void hold_threads(bool serial) override { held_ = serial && def_.min_batches_per_thread > 0; }
+  [[nodiscard]] bool threads_forced() const override { return def_.min_batches_per_thread == 0 && threads() > 1; }
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
@@ -153,11 +155,6 @@ class PgsColoredSolver final : public LcpSolver {
     if (paced && solved_.batches > 0) {
       const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - t0;
       pacer_.record(solved_.threads > 1, wall.count(), static_cast<double>(solved_.batches) * (r.sweeps + 2));
-#if defined(_OPENMP)
-      // Serial solves next: the idle threads end instead of spin-waiting (OpenMP's default wait
-      // policy spins for milliseconds after a region, on a core other programs could use).
-      if (solved_.threads > 1 && !pacer_.threaded_next()) (void)omp_pause_resource_all(omp_pause_soft);
-#endif
     }
     return r;
   }
@@ -238,7 +235,7 @@ class PgsColoredSolver final : public LcpSolver {
   static constexpr size_t kNominalRanges = 8;
 
   /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
-  /// M⁻¹Jᵀλ⁰Δt, in one parallel region: one thread takes Δu⁰ (a serial pass over J,
+  /// M⁻¹Jᵀλ⁰Δt, in one run of the team: one thread takes Δu⁰ (a serial pass over J,
   /// pgs_colored_products.hpp) while the others start on the batches, which are handed out in
   /// chunks as threads come free. Each batch is written by one thread from its own inputs, so
   /// the result depends neither on the thread count nor on the schedule. bad_start: Δu⁰ is not
@@ -266,13 +263,12 @@ class PgsColoredSolver final : public LcpSolver {
       laps.lap(&PgsColoredProfile::du0);
       for (int bi = 0; bi < jobs; ++bi) fill(bi);
     } else {
-#pragma omp parallel num_threads(threads)
-      {
-#pragma omp single nowait
-        delta_u0();
-#pragma omp for schedule(dynamic, 16) nowait
-        for (int bi = 0; bi < jobs; ++bi) fill(bi);
-      }
+      constexpr int kChunk = 16;  // batches per part
+      const int chunks = (jobs + kChunk - 1) / kChunk;
+      calling_thread_team().for_parts(threads, 1 + chunks, [&](int part) {
+        if (part == 0) return delta_u0();
+        for (int bi = (part - 1) * kChunk; bi < std::min(jobs, part * kChunk); ++bi) fill(bi);
+      });
     }
     bad_start = bad;
     std::string failure = colored::first_failure(prep);
@@ -331,82 +327,64 @@ class PgsColoredSolver final : public LcpSolver {
         &prep.other);
   }
 
-  /// The sweeps on `threads` threads in one parallel region for the whole solve (no fork and
-  /// join per sweep): thread 0 runs the sweep driver (checkpoints, tolerance, callbacks) and
+  /// The sweeps on `threads` members of the calling thread's team (dc/core/work_team.hpp) in
+  /// one run for the whole solve (no fork and join per sweep): member 0 runs the sweep driver (checkpoints, tolerance, callbacks) and
   /// publishes each sweep; every thread takes chunks of each colour's batches (SweepTeam, which
   /// lets the present threads do the share of a descheduled one); θ and the flag are combined as
   /// max / or, so the result does not depend on the thread count or the schedule. An exception of
-  /// the driver (a callback) ends the region and is rethrown.
+  /// the driver (a callback) stops the helpers and is rethrown.
   [[nodiscard]] SolveResult sweeps_threaded(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                             const SolverOptions& o, Prepared& prep, int threads) const {
     SolveResult r;
-#if defined(_OPENMP)
     const Kernels sweep = kernel_;
     colored::SweepTeam team(prep.ranges, threads);
-    std::exception_ptr error;
     double* u = prep.du.data();
-#pragma omp parallel num_threads(threads)
-    {
-      const int tid = omp_get_thread_num();
+    calling_thread_team().gather(threads, [&](int tid) {
       const double* in = nullptr;
       double* out = nullptr;
       auto run = [&](int k, int lo, int hi, colored::Acc& acc) {
         run_range(prep, sweep, prep.ranges[static_cast<size_t>(k)], lo, hi, in, out, u, acc);
       };
-      if (tid == 0) {
-        try {
-          int s = 0;
-          r = solvers::run_sweeps_double_buffered(
-              std::move(lp), std::move(other), o,
-              [&](const Eigen::VectorXd& vin, Eigen::VectorXd& vout, bool& nonfinite) {
-                in = vin.data();
-                out = vout.data();
-                team.start(s, in, out);
-                team.share(s, 0, run);
-                colored::Acc acc = team.finish(s++);
-                acc.bad = acc.bad || bad_start;
-                bad_start = false;
-                if (!std::isfinite(acc.theta)) acc.bad = true;
-                nonfinite = nonfinite || acc.bad;
-                return acc.theta;
-              },
-              &prep.other);
-        } catch (...) {
-          error = std::current_exception();
-        }
-        team.stop();
-      } else {
+      if (tid != 0) {
         int s = -1;
         for (int last = -1; team.next(last, s, in, out); last = s) team.share(s, tid, run);
+        return;
       }
-    }
-    if (error) std::rethrow_exception(error);
-#else
-    (void)threads;
-    std::vector<colored::SweepStep> plan;
-    r = sweeps_serial(std::move(lp), std::move(other), bad_start, o, prep, plan);
-#endif
+      struct Stop {  // after the driver, also after a throw: the helpers return
+        colored::SweepTeam& team;
+        ~Stop() { team.stop(); }
+      } stop{team};
+      int s = 0;
+      r = solvers::run_sweeps_double_buffered(
+          std::move(lp), std::move(other), o,
+          [&](const Eigen::VectorXd& vin, Eigen::VectorXd& vout, bool& nonfinite) {
+            in = vin.data();
+            out = vout.data();
+            team.start(s, in, out);
+            team.share(s, 0, run);
+            colored::Acc acc = team.finish(s++);
+            acc.bad = acc.bad || bad_start;
+            bad_start = false;
+            if (!std::isfinite(acc.theta)) acc.bad = true;
+            nonfinite = nonfinite || acc.bad;
+            return acc.theta;
+          },
+          &prep.other);
+    });
     return r;
   }
 
   /// λ in row order from the permuted vector v (every row has one slot: each row belongs to a
   /// packed contact).
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
-    Eigen::VectorXd out(rows);
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(rows);
     const int np = static_cast<int>(prep.row_of.size());
-    auto scatter = [&] {
-#pragma omp for schedule(static)
-      for (int i = 0; i < rows; ++i) out[i] = 0.0;
-#pragma omp for schedule(static)
-      for (int s = 0; s < np; ++s)
+    const int parts = threads > 1 ? 2 * threads : 1;
+    calling_thread_team().for_parts(threads, parts, [&](int part) {
+      const int end = static_cast<int>(static_cast<long>(np) * (part + 1) / parts);
+      for (int s = static_cast<int>(static_cast<long>(np) * part / parts); s < end; ++s)
         if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
-    };
-    if (threads > 1) {
-#pragma omp parallel num_threads(threads)
-      scatter();
-    } else {
-      scatter();  // (orphaned loops: no parallel region, which would allocate a team)
-    }
+    });
     return out;
   }
 

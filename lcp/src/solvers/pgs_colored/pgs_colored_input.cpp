@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "dc/core/work_team.hpp"
 #include "solvers/solver_common.hpp"
 
 namespace dc::colored {
@@ -89,30 +90,36 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   // Only claimed rows are read back, after the claims: stale entries are never read.
   owner.resize(static_cast<size_t>(nc > 0 ? n : 0));
   if (lambda0.size() == 0) zeros.resize(n);
-  // The three scans as orphaned static loops: on one thread no parallel region is entered
-  // (libgomp allocates a team even for a region that runs serially).
-  std::atomic<bool> ok{true};  // cleared by a thread whose share failed (an order-free AND)
-  auto scans = [&] {
+  // The scans by chunks on the calling thread's team: the rows and the claims, then (once every
+  // claim is made) the read-back.
+  std::atomic<bool> ok{true};  // cleared by a chunk that failed (an order-free AND)
+  constexpr int kRowChunk = 1024, kContactChunk = 1024;
+  const int row_chunks = (n + kRowChunk - 1) / kRowChunk, contact_chunks = (nc + kContactChunk - 1) / kContactChunk;
+  WorkTeam& team = calling_thread_team();
+  team.for_parts(threads, row_chunks + contact_chunks, [&](int part) {
     bool mine = true;
-    constexpr int kRowChunk = 1024;
-#pragma omp for schedule(static) nowait
-    for (int i = 0; i < n; i += kRowChunk) {
-      const int i1 = std::min(n, i + kRowChunk);
-      mine = mine && rows_ok(p, lambda0, i, i1);
+    if (part < row_chunks) {
+      const int i = part * kRowChunk, i1 = std::min(n, i + kRowChunk);
+      mine = rows_ok(p, lambda0, i, i1);
       if (lambda0.size() == 0) std::fill(zeros.data() + i, zeros.data() + i1, 0.0);
+    } else {
+      const int c0 = (part - row_chunks) * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
+      for (int c = c0; c < c1; ++c) {
+        const bool good = contact_ok(p, c);
+        mine = mine && good;
+        if (!good) continue;
+        const ContactConstraint& k = p.constraints[c];
+        std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).store(c, std::memory_order_relaxed);
+        if (k.has_friction()) std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).store(c, std::memory_order_relaxed);
+      }
     }
-#pragma omp for schedule(static)
-    for (int c = 0; c < nc; ++c) {
-      const bool good = contact_ok(p, c);
-      mine = mine && good;
-      if (!good) continue;
-      const ContactConstraint& k = p.constraints[c];
-      std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).store(c, std::memory_order_relaxed);
-      if (k.has_friction()) std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).store(c, std::memory_order_relaxed);
-    }
-    // (the barrier of the loop above orders the claims before the read-back)
-#pragma omp for schedule(static)
-    for (int c = 0; c < nc; ++c) {
+    if (!mine) ok.store(false, std::memory_order_relaxed);
+  });
+  // (the end of the run above orders the claims before the read-back)
+  team.for_parts(threads, contact_chunks, [&](int part) {
+    bool mine = true;
+    const int c0 = part * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
+    for (int c = c0; c < c1; ++c) {
       const ContactConstraint& k = p.constraints[c];
       if (k.normal_row < 0 || k.normal_row >= n || k.tangent_row >= n) continue;  // failed above
       mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).load(std::memory_order_relaxed) == c;
@@ -120,13 +127,7 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
         mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).load(std::memory_order_relaxed) == c;
     }
     if (!mine) ok.store(false, std::memory_order_relaxed);
-  };
-  if (threads > 1) {
-#pragma omp parallel num_threads(threads)
-    scans();
-  } else {
-    scans();
-  }
+  });
   if (!ok.load(std::memory_order_relaxed)) return serial();
   start = lambda0.size() == 0 ? &zeros : &lambda0;
   return std::nullopt;

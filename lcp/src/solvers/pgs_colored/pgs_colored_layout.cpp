@@ -8,10 +8,7 @@
 
 #include <time.h>
 
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
-
+#include "dc/core/work_team.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 #include "solvers/pgs_manifold_block.hpp"
 
@@ -444,43 +441,37 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   start.assign(static_cast<size_t>(slots) + 1, 0);
   out.order.resize(static_cast<size_t>(nc));
   out.batch_of.assign(static_cast<size_t>(slots) + 1, 0);
-  // The sort as orphaned constructs: on one part no parallel region is entered (libgomp
-  // allocates a team even for a region that runs serially).
-  auto sort = [&] {
-#if defined(_OPENMP)
-    const int part = omp_get_thread_num();
-#else
-    const int part = 0;
-#endif
-    const int lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
-    const int hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
+  // The sort on the calling thread's team: counts by part, their prefix sums, the scatter.
+  auto range = [&](int part, int& lo, int& hi) {
+    lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
+    hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
+  };
+  WorkTeam& team = calling_thread_team();
+  team.for_parts(threads, parts, [&](int part) {
+    int lo = 0, hi = 0;
+    range(part, lo, hi);
     int* mine = count.data() + static_cast<size_t>(part) * slots;
     for (int c = lo; c < hi; ++c)
       if (part_of[c] != -2) ++mine[slot_of(c)];
-#pragma omp barrier
-#pragma omp single
-    {
-      // count[part·slots + k] ← the first position of part's contacts of slot k.
-      int at = 0;
-      for (int k = 0; k < slots; ++k) {
-        start[static_cast<size_t>(k)] = at;
-        for (int q = 0; q < parts; ++q) {
-          const int n = count[static_cast<size_t>(q) * slots + k];
-          count[static_cast<size_t>(q) * slots + k] = at;
-          at += n;
-        }
-      }
-      start[static_cast<size_t>(slots)] = at;
+  });
+  // count[part·slots + k] ← the first position of part's contacts of slot k.
+  int at = 0;
+  for (int k = 0; k < slots; ++k) {
+    start[static_cast<size_t>(k)] = at;
+    for (int q = 0; q < parts; ++q) {
+      const int n = count[static_cast<size_t>(q) * slots + k];
+      count[static_cast<size_t>(q) * slots + k] = at;
+      at += n;
     }
+  }
+  start[static_cast<size_t>(slots)] = at;
+  team.for_parts(threads, parts, [&](int part) {
+    int lo = 0, hi = 0;
+    range(part, lo, hi);
+    int* mine = count.data() + static_cast<size_t>(part) * slots;
     for (int c = lo; c < hi; ++c)
       if (part_of[c] != -2) out.order[static_cast<size_t>(mine[slot_of(c)]++)] = c;
-  };
-  if (parts > 1) {
-#pragma omp parallel num_threads(parts)
-    sort();
-  } else {
-    sort();
-  }
+  });
   out.order.resize(static_cast<size_t>(start[static_cast<size_t>(slots)]));
   out.ranges.clear();
   out.slot_of_batch.clear();

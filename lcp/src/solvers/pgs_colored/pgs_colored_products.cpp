@@ -5,12 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
-
+#include "dc/core/work_team.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
 
@@ -64,48 +62,80 @@ int block_of(const int* begin, int nt, int b) {
   return static_cast<int>(std::upper_bound(begin + 1, begin + nt, b) - (begin + 1));
 }
 
-/// Thread tid's part of scaled_transpose_product inside a parallel region of nt threads;
-/// bounds holds 2·nt·nt ints (shared). Ends with a barrier.
-void scaled_transpose_share(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, int tid, int nt,
-                            int* bounds) {
+/// Part tid of nt of scaled_transpose_product's first phase: from the part's share of the
+/// contacts, per block t of bodies, the lowest and highest row acting on it, apart for contacts
+/// with one body (walls: they come first and reach every block) and with two:
+/// bounds[(tid·nt + t)·4 + {0, 1}] and [… + {2, 3}] (bounds holds 4·nt·nt ints, shared).
+void transpose_bounds(const LcpProblem& p, int tid, int nt, int* bounds) {
   const int ncols = static_cast<int>(p.J.cols());
   const int bodies = (ncols + 2) / 3;
   const ContactConstraints& cons = p.constraints;
-  // 1. From this thread's share of the contacts: per block, the lowest and highest row acting on it.
   std::vector<int> begin(static_cast<size_t>(nt) + 1);
   for (int t = 0; t <= nt; ++t) begin[static_cast<size_t>(t)] = block_begin(bodies, t, nt);
-  int* lo = bounds + 2 * nt * tid;
-  int* hi = lo + nt;
-  std::fill(lo, lo + nt, std::numeric_limits<int>::max());
-  std::fill(hi, hi + nt, -1);
+  int* b = bounds + 4 * nt * tid;
+  for (int t = 0; t < nt; ++t) {
+    b[4 * t] = b[4 * t + 2] = std::numeric_limits<int>::max();
+    b[4 * t + 1] = b[4 * t + 3] = -1;
+  }
   const int nc = cons.size();
   const int c0 = static_cast<int>(static_cast<long>(nc) * tid / nt), c1 = static_cast<int>(static_cast<long>(nc) * (tid + 1) / nt);
   for (int c = c0; c < c1; ++c) {
     const ContactConstraint& k = cons[c];
     const int rmin = k.tangent_row >= 0 ? std::min(k.normal_row, k.tangent_row) : k.normal_row;
     const int rmax = std::max(k.normal_row, k.tangent_row);
+    const int kind = k.body_a >= 0 && k.body_b >= 0 ? 2 : 0;
     for (const int body : {k.body_a, k.body_b}) {
       if (body < 0) continue;
       const int t = block_of(begin.data(), nt, body);
-      lo[t] = std::min(lo[t], rmin);
-      hi[t] = std::max(hi[t], rmax);
+      b[4 * t + kind] = std::min(b[4 * t + kind], rmin);
+      b[4 * t + kind + 1] = std::max(b[4 * t + kind + 1], rmax);
     }
   }
-#pragma omp barrier
-  // 2. This thread's block: its columns summed over those rows in ascending order, from 0.
-  int first = std::numeric_limits<int>::max(), last = -1;
-  for (int t = 0; t < nt; ++t) {
-    first = std::min(first, bounds[2 * nt * t + tid]);
-    last = std::max(last, bounds[2 * nt * t + nt + tid]);
+}
+
+/// Part tid of nt of scaled_transpose_product's second phase, after every part's
+/// transpose_bounds: block tid's columns summed over its rows in ascending order, from 0.
+void transpose_block(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, int tid, int nt,
+                     const int* bounds) {
+  const int ncols = static_cast<int>(p.J.cols());
+  const int bodies = (ncols + 2) / 3;
+  constexpr int kMax = std::numeric_limits<int>::max();
+  int lo1 = kMax, hi1 = -1, lo2 = kMax, hi2 = -1;
+  for (int q = 0; q < nt; ++q) {
+    const int* b = bounds + 4 * (nt * q + tid);
+    lo1 = std::min(lo1, b[0]);
+    hi1 = std::max(hi1, b[1]);
+    lo2 = std::min(lo2, b[2]);
+    hi2 = std::max(hi2, b[3]);
+  }
+  // The two row ranges in ascending order, each row once (one range when they overlap).
+  if (lo1 <= hi1 && lo2 <= hi2 && !(hi1 < lo2 || hi2 < lo1)) {
+    lo1 = std::min(lo1, lo2);
+    hi1 = std::max(hi1, hi2);
+    lo2 = kMax;
+    hi2 = -1;
+  } else if (lo2 < lo1) {
+    std::swap(lo1, lo2);
+    std::swap(hi1, hi2);
   }
   const int col0 = 3 * block_begin(bodies, tid, nt), col1 = std::min(ncols, 3 * block_begin(bodies, tid + 1, nt));
   double* out = du.data();
   for (int c = col0; c < col1; ++c) out[c] = 0.0;
-  if (first <= last) transpose_rows(p, lambda.data(), first, last + 1, col0, col1, out);
+  if (lo1 <= hi1) transpose_rows(p, lambda.data(), lo1, hi1 + 1, col0, col1, out);
+  if (lo2 <= hi2) transpose_rows(p, lambda.data(), lo2, hi2 + 1, col0, col1, out);
   const double* im = p.inv_mass.data();
   const double dt = p.dt;
   for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * dt;
-#pragma omp barrier
+}
+
+/// scaled_transpose_product on `threads` threads (> 1) of the calling thread's team.
+void scaled_transpose_parts(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
+  const int nt = threads;  // blocks (a row range can reach several); a present member takes an absent one's
+  du.resize(p.J.cols());
+  std::vector<int> bounds(static_cast<size_t>(4 * nt * nt));
+  WorkTeam& team = calling_thread_team();
+  team.for_parts(threads, nt, [&](int t) { transpose_bounds(p, t, nt, bounds.data()); });
+  team.for_parts(threads, nt, [&](int t) { transpose_block(p, lambda, du, t, nt, bounds.data()); });
 }
 
 }  // namespace
@@ -120,17 +150,7 @@ void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda
     for (int c = 0; c < du.size(); ++c) out[c] = im[c] * out[c] * dt;
     return;
   }
-  du.resize(p.J.cols());
-  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
-#pragma omp parallel num_threads(threads)
-  {
-    int tid = 0, nt = 1;
-#if defined(_OPENMP)
-    tid = omp_get_thread_num();
-    nt = omp_get_num_threads();
-#endif
-    scaled_transpose_share(p, lambda, du, tid, nt, bounds.data());
-  }
+  scaled_transpose_parts(p, lambda, threads, du);
 }
 
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
@@ -150,29 +170,27 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
-  du.resize(p.J.cols());
-  std::vector<int> bounds(static_cast<size_t>(2 * threads * threads));
-#pragma omp parallel num_threads(threads)
-  {
-    int tid = 0, nt = 1;
-#if defined(_OPENMP)
-    tid = omp_get_thread_num();
-    nt = omp_get_num_threads();
-#endif
-    if (nt > 1) {
-      scaled_transpose_share(p, lambda, du, tid, nt, bounds.data());
-    } else {
-      scaled_transpose_product(p, lambda, 1, du);
-    }
-    if (by_contact) {
-#pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
-      for (int c = 0; c < nc; c += kContactChunk)
-        contact_errors(p, lambda.data(), du.data(), c, std::min(nc, c + kContactChunk), r, nan, nonfinite);
-    } else {
-#pragma omp for schedule(static) reduction(max : r) reduction(|| : nan, nonfinite)
-      for (int i = 0; i < n; i += kContactChunk)
-        row_errors(p, lambda, du.data(), i, std::min(n, i + kContactChunk), r, nan, nonfinite);
-    }
+  scaled_transpose_parts(p, lambda, threads, du);
+  // The errors by chunks; max and or combine the chunks' in any order alike.
+  const int items = by_contact ? nc : n;
+  const int chunks = (items + kContactChunk - 1) / kContactChunk;
+  struct alignas(64) Part {
+    double r = 0.0;
+    bool nan = false, nonfinite = false;
+  };
+  std::vector<Part> parts(static_cast<size_t>(chunks));
+  calling_thread_team().for_parts(threads, chunks, [&](int k) {
+    Part& e = parts[static_cast<size_t>(k)];
+    const int i = k * kContactChunk, i1 = std::min(items, i + kContactChunk);
+    if (by_contact)
+      contact_errors(p, lambda.data(), du.data(), i, i1, e.r, e.nan, e.nonfinite);
+    else
+      row_errors(p, lambda, du.data(), i, i1, e.r, e.nan, e.nonfinite);
+  });
+  for (const Part& e : parts) {
+    r = std::max(r, e.r);
+    nan = nan || e.nan;
+    nonfinite = nonfinite || e.nonfinite;
   }
   all_finite = !nonfinite;
   return nan ? std::numeric_limits<double>::infinity() : r;

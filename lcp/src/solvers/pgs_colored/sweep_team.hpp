@@ -5,7 +5,7 @@
 // batches split evenly by thread, so a thread keeps its region of the pile), then from the other
 // threads' blocks. A colour starts once every batch of the previous colour is done. No thread
 // waits for another to arrive: a thread that is descheduled (another program on its core) has its
-// share done by the others, and waits (spin, yield, sleep: spin_wait.hpp) happen only for a chunk
+// share done by the others, and waits (spin, yield, sleep: dc/core/wake_word.hpp) happen only for a chunk
 // in progress or for the next sweep. Which thread runs a batch does not change the result (a
 // colour's batches touch disjoint bodies; θ and the flag combine as max and or).
 #include <algorithm>
@@ -15,7 +15,7 @@
 
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
-#include "solvers/pgs_colored/spin_wait.hpp"
+#include "dc/core/wake_word.hpp"
 
 namespace dc::colored {
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "dc/core/error.hpp"
+#include "dc/core/work_team.hpp"
 
 namespace dc {
 namespace {
@@ -137,35 +138,24 @@ const ContactColoring& ContactColorer::color(const ContactConstraints& contacts,
       for (int q = 0; q < chunks; ++q) lowest_chunk(q, chunks, nc, canvas);
     for (int q = 0; q < chunks; ++q)
       for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
-  } else {
-#pragma omp parallel num_threads(threads)
-    {
-#pragma omp for schedule(static) nowait
-      for (int b = 0; b < nb; ++b) canvas.used[b] = 0;
-#pragma omp for schedule(static)
-      for (int q = 0; q < chunks; ++q) pair_chunk(q, chunks, contacts, dyn, nb, canvas);
-      // (A contact naming a body outside `dynamic` has no bodies in its pair, and keep_last
-      // reads only last call's table: the phases below run safely, and the call throws after.)
-#pragma omp for schedule(dynamic, 1)
-      for (int q = 0; q < chunks; ++q) keep_chunk(q, chunks, contacts, canvas, have_prev);
-      // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
-      if (have_prev) {
-#pragma omp single
-        for (int q = 0; q < chunks; ++q)
-          for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
-      }
-      // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
-      // colouring from scratch with several chunks).
-      if (have_prev || chunks == 1) {
-#pragma omp for schedule(dynamic, 1)
-        for (int q = 0; q < chunks; ++q) lowest_chunk(q, chunks, nc, canvas);
-      }
-      // Phase 4 (serial, contact order): the other boundary contacts (the region's end is the
-      // barrier).
-#pragma omp single nowait
+  } else {  // the same phases, the chunks of a phase on the calling thread's team
+    WorkTeam& team = calling_thread_team();
+    std::fill(canvas.used, canvas.used + nb, std::uint64_t{0});
+    team.for_parts(threads, chunks, [&](int q) { pair_chunk(q, chunks, contacts, dyn, nb, canvas); });
+    // (A contact naming a body outside `dynamic` has no bodies in its pair, and keep_last
+    // reads only last call's table: the phases below run safely, and the call throws after.)
+    team.for_parts(threads, chunks, [&](int q) { keep_chunk(q, chunks, contacts, canvas, have_prev); });
+    // Phase 2 (serial, contact order): the boundary contacts keep their colour where free.
+    if (have_prev)
       for (int q = 0; q < chunks; ++q)
-        for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
-    }
+        for (const int c : boundary_[static_cast<size_t>(q)]) canvas.keep_last(c, contacts[c], serial);
+    // Phase 3: the other interior contacts take the lowest free colour (done in phase 1 when
+    // colouring from scratch with several chunks).
+    if (have_prev || chunks == 1)
+      team.for_parts(threads, chunks, [&](int q) { lowest_chunk(q, chunks, nc, canvas); });
+    // Phase 4 (serial, contact order): the other boundary contacts.
+    for (int q = 0; q < chunks; ++q)
+      for (const int c : boundary_[static_cast<size_t>(q)]) canvas.take_lowest(c, serial);
   }
   finish(contacts, nb, chunks);
   if (reuse_) remember(contacts, dynamic);

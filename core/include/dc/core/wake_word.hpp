@@ -1,11 +1,12 @@
 #pragma once
-// Waiting between the threads of one pgs-colored solve on a shared machine: spin briefly (the
-// other thread is usually microseconds away), then yield the core (the awaited thread may be
+// Waiting between the threads of a team (work_team.hpp, pgs-colored's sweeps) on a shared
+// machine: spin briefly (the other thread is usually microseconds away), then yield the core (the awaited thread may be
 // queued behind another program on it), then sleep on a futex until notified. A waiter that
 // sleeps costs the notifier one system call; one that never sleeps costs it one atomic load.
 // Protocol: a waiter reads the word, counts itself in `sleepers`, checks its condition and sleeps
 // only while the word is unchanged; a notifier makes the condition true, then, if any waiter is
 // counted, changes the word and wakes all.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <climits>
@@ -24,7 +25,7 @@
 #include <immintrin.h>
 #endif
 
-namespace dc::colored {
+namespace dc {
 
 /// One wake-up word for a team of threads: wait(ready) returns once ready() is true; whoever
 /// makes a condition true calls notify() afterwards. All operations are sequentially
@@ -35,8 +36,10 @@ class WakeWord {
   static constexpr int kSpinMicros = 10;
   static constexpr int kYieldMicros = 200;
 
+  /// Waits until ready(); each futex sleep lasts at most `sleep_limit_us` (a missed wake-up
+  /// costs that much; an idle team's helpers sleep longer than the threads of a solve).
   template <class Ready>
-  void wait(Ready&& ready) {
+  void wait(Ready&& ready, long sleep_limit_us = 1000) {
     if (ready()) return;
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
@@ -53,7 +56,7 @@ class WakeWord {
       const std::uint32_t seen = word_.load();
       if (ready()) return;
       sleepers_.fetch_add(1);
-      if (!ready()) sleep(seen);
+      if (!ready()) sleep(seen, sleep_limit_us);
       sleepers_.fetch_sub(1);
     }
   }
@@ -72,13 +75,13 @@ class WakeWord {
 #endif
   }
 
-  /// Sleeps while the word still holds `seen` (a bounded sleep: a missed wake-up costs 1 ms).
-  void sleep(std::uint32_t seen) {
+  /// Sleeps while the word still holds `seen`, for at most limit_us.
+  void sleep(std::uint32_t seen, long limit_us) {
 #if defined(__linux__)
-    const timespec limit{0, 1000000};
+    const timespec limit{limit_us / 1000000, 1000 * (limit_us % 1000000)};
     syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word_), FUTEX_WAIT_PRIVATE, seen, &limit, nullptr, 0);
 #else
-    if (word_.load() == seen) std::this_thread::sleep_for(std::chrono::microseconds(50));
+    if (word_.load() == seen) std::this_thread::sleep_for(std::chrono::microseconds(std::min(50L, limit_us)));
 #endif
   }
 
@@ -93,4 +96,4 @@ class WakeWord {
   std::atomic<int> sleepers_{0};
 };
 
-}  // namespace dc::colored
+}  // namespace dc

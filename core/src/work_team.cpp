@@ -1,0 +1,116 @@
+#include "dc/core/work_team.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace dc {
+namespace {
+
+thread_local bool tls_inside = false;  // this thread runs a team's body (any member)
+
+}  // namespace
+
+bool WorkTeam::inside() { return tls_inside; }
+
+WorkTeam::~WorkTeam() {
+  stopping_.store(true);
+  start_.notify();
+  for (std::thread& t : helpers_) t.join();
+}
+
+void WorkTeam::grow(int helpers) {
+  helpers = std::min(helpers, kMaxHelpers);
+  if (!gates_) gates_ = std::make_unique<Gate[]>(kMaxHelpers);
+  // A new helper's gate is closed up to the current run, so it joins only later ones.
+  while (static_cast<int>(helpers_.size()) < helpers) {
+    const int member = static_cast<int>(helpers_.size()) + 1;
+    gates_[static_cast<size_t>(member - 1)].tag.store(2 * run_.load() + 2);
+    helpers_.emplace_back([this, member] { helper_loop(member); });
+  }
+}
+
+void WorkTeam::helper_loop(int member) {
+  Gate& gate = gates_[static_cast<size_t>(member - 1)];
+  std::int64_t last = run_.load();
+  for (;;) {
+    // Idle: sleeps of up to 100 ms (a missed wake-up only leaves this helper out of a run).
+    start_.wait([&] { return run_.load() > last || stopping_.load(); }, 100000);
+    if (stopping_.load()) return;
+    const std::int64_t r = run_.load();
+    last = r;
+    // Join run r unless the calling thread closed it to this helper already.
+    std::int64_t tag = gate.tag.load();
+    bool joined = false;
+    while (tag < 2 * r + 1 && !joined) joined = gate.tag.compare_exchange_weak(tag, 2 * r + 1);
+    if (!joined) continue;
+    tls_inside = true;
+    try {
+      (*body_)(member);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(error_mutex_);
+      if (!error_) error_ = std::current_exception();
+    }
+    tls_inside = false;
+    gate.tag.store(2 * r + 2);
+    done_.notify();
+  }
+}
+
+void WorkTeam::close(int member, std::int64_t run) {
+  Gate& gate = gates_[static_cast<size_t>(member - 1)];
+  std::int64_t tag = gate.tag.load();
+  for (;;) {
+    if (tag >= 2 * run + 2) return;
+    if (tag == 2 * run + 1) {  // joined: wait until it returns
+      done_.wait([&] { return gate.tag.load() >= 2 * run + 2; });
+      return;
+    }
+    if (gate.tag.compare_exchange_weak(tag, 2 * run + 2)) return;
+  }
+}
+
+void WorkTeam::gather(int threads, PartJob body) {
+  threads = std::min(threads, kMaxHelpers + 1);
+  if (threads <= 1 || inside()) {
+    body(0);
+    return;
+  }
+  grow(threads - 1);
+  const std::int64_t r = run_.load() + 1;
+  // Helpers beyond this run's members are closed before it starts; no helper is in a run now.
+  for (int m = threads; m <= static_cast<int>(helpers_.size()); ++m)
+    gates_[static_cast<size_t>(m - 1)].tag.store(2 * r + 2);
+  body_ = &body;
+  error_ = nullptr;
+  run_.store(r);
+  start_.notify();
+  tls_inside = true;
+  try {
+    body(0);
+  } catch (...) {
+    const std::lock_guard<std::mutex> lock(error_mutex_);
+    if (!error_) error_ = std::current_exception();
+  }
+  tls_inside = false;
+  for (int m = 1; m < threads; ++m) close(m, r);
+  body_ = nullptr;
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+}
+
+void WorkTeam::for_parts(int threads, int parts, PartJob job) {
+  if (threads <= 1 || parts <= 1 || inside()) {
+    for (int p = 0; p < parts; ++p) job(p);
+    return;
+  }
+  std::atomic<int> next{0};
+  gather(std::min(threads, parts), [&](int) {
+    for (int p = next.fetch_add(1); p < parts; p = next.fetch_add(1)) job(p);
+  });
+}
+
+WorkTeam& calling_thread_team() {
+  thread_local WorkTeam team;
+  return team;
+}
+
+}  // namespace dc

@@ -1,0 +1,73 @@
+// WorkTeam: every job runs once whatever the thread count, gather runs member 0 on the calling
+// thread and each helper at most once per run, exceptions reach the caller, a nested run is
+// serial, and runs follow each other without a helper ever seeing a finished run's body.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "dc/core/work_team.hpp"
+
+namespace dc {
+namespace {
+
+TEST(WorkTeam, ForPartsRunsEveryJobOnce) {
+  WorkTeam team;
+  for (const int threads : {1, 2, 3}) {
+    for (const int parts : {0, 1, 2, 7, 100}) {
+      std::vector<std::atomic<int>> runs(static_cast<size_t>(parts));
+      team.for_parts(threads, parts, [&](int p) { runs[static_cast<size_t>(p)].fetch_add(1); });
+      for (int p = 0; p < parts; ++p) EXPECT_EQ(1, runs[static_cast<size_t>(p)].load()) << threads << " " << parts;
+    }
+  }
+}
+
+TEST(WorkTeam, GatherRunsMemberZeroOnTheCallerAndEachHelperAtMostOnce) {
+  WorkTeam team;
+  const std::thread::id caller = std::this_thread::get_id();
+  for (int run = 0; run < 200; ++run) {
+    std::atomic<int> seen[3] = {0, 0, 0};
+    std::atomic<bool> zero_on_caller{false};
+    team.gather(3, [&](int m) {
+      seen[m].fetch_add(1);
+      if (m == 0) zero_on_caller = std::this_thread::get_id() == caller;
+    });
+    EXPECT_EQ(1, seen[0].load());
+    EXPECT_TRUE(zero_on_caller.load());
+    EXPECT_LE(seen[1].load(), 1);
+    EXPECT_LE(seen[2].load(), 1);
+  }
+}
+
+TEST(WorkTeam, AJobsExceptionReachesTheCaller) {
+  WorkTeam team;
+  EXPECT_THROW(team.for_parts(2, 64, [](int p) { if (p == 40) throw std::runtime_error("job 40"); }),
+               std::runtime_error);
+  // The team works on after a throw.
+  std::atomic<int> sum{0};
+  team.for_parts(2, 10, [&](int p) { sum.fetch_add(p); });
+  EXPECT_EQ(45, sum.load());
+}
+
+TEST(WorkTeam, NestedRunsAreSerialAndComplete) {
+  WorkTeam team;
+  std::atomic<int> inner{0};
+  team.for_parts(2, 4, [&](int) { calling_thread_team().for_parts(2, 5, [&](int) { inner.fetch_add(1); }); });
+  EXPECT_EQ(20, inner.load());
+}
+
+TEST(WorkTeam, ManyShortRunsEachCompleteBeforeTheNext) {
+  WorkTeam team;
+  long total = 0;
+  for (int run = 0; run < 2000; ++run) {
+    std::vector<int> out(16, 0);  // a run's outputs live only for that run
+    team.for_parts(2, 16, [&](int p) { out[static_cast<size_t>(p)] = p + run; });
+    for (int p = 0; p < 16; ++p) total += out[static_cast<size_t>(p)] - run;
+  }
+  EXPECT_EQ(2000L * 120, total);
+}
+
+}  // namespace
+}  // namespace dc
