@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "dc/core/error.hpp"
-#include "world/step_parts.hpp"
+#include "world/parts/step_parts.hpp"
 
 namespace dc {
 

@@ -7,9 +7,9 @@
 #include "collision/narrow_phase.hpp"
 #include "dc/core/error.hpp"
 #include "det_math.hpp"
-#include "world/impulse_parts.hpp"
-#include "world/integrate_keeping.hpp"
-#include "world/step_parts.hpp"
+#include "world/parts/impulse_parts.hpp"
+#include "world/parts/integrate_keeping.hpp"
+#include "world/parts/step_parts.hpp"
 
 namespace dc {
 namespace {

@@ -12,10 +12,10 @@
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/contact_match.hpp"
 #include "assembly/assembly.hpp"
-#include "world/integrate_keeping.hpp"
+#include "world/parts/integrate_keeping.hpp"
 #include "world/restitution.hpp"
-#include "world/step_parts.hpp"
-#include "world/warm_start_parts.hpp"
+#include "world/parts/step_parts.hpp"
+#include "world/parts/warm_start_parts.hpp"
 
 namespace dc {
 namespace {

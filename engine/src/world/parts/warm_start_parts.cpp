@@ -1,11 +1,11 @@
-#include "world/warm_start_parts.hpp"
+#include "world/parts/warm_start_parts.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 
 #include "dc/engine/contact_match.hpp"
-#include "world/step_parts.hpp"
+#include "world/parts/step_parts.hpp"
 
 namespace dc {
 namespace {

@@ -1,4 +1,4 @@
-#include "world/step_parts.hpp"
+#include "world/parts/step_parts.hpp"
 
 #include <algorithm>
 

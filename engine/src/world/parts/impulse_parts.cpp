@@ -1,11 +1,11 @@
-#include "world/impulse_parts.hpp"
+#include "world/parts/impulse_parts.hpp"
 
 #include <algorithm>
 #include <limits>
 #include <utility>
 #include <vector>
 
-#include "world/step_parts.hpp"
+#include "world/parts/step_parts.hpp"
 
 namespace dc {
 namespace {
