@@ -224,7 +224,7 @@ pyb::object step(PyWorld& self, const std::optional<std::string>& solver_name, p
 /// A copy of an owned world (the engine state and its history; named starters start afresh).
 std::shared_ptr<PyWorld> copy_world(const PyWorld& self) {
   if (!self.owned) throw InvalidArgument("a warm starter's view.world cannot be copied (copy the World you step)");
-  self.get();  // not while another thread steps it
+  (void)self.get();  // not while another thread steps it
   auto out = std::make_shared<PyWorld>();
   out->owned = std::make_unique<World>(*self.owned);
   out->history = self.history;
@@ -234,7 +234,7 @@ std::shared_ptr<PyWorld> copy_world(const PyWorld& self) {
 /// pickle: the complete scene (TOML) and the stages applied since; loading replays them.
 pyb::tuple world_state(const PyWorld& self) {
   if (!self.owned) throw InvalidArgument("a warm starter's view.world cannot be pickled (pickle the World you step)");
-  self.get();  // not while another thread steps it
+  (void)self.get();  // not while another thread steps it
   pyb::list ops;
   for (const auto& [op, lam] : self.history)
     ops.append(pyb::make_tuple(std::string(1, op), op == 'i' ? pyb::object(copy(lam)) : pyb::object(pyb::none())));

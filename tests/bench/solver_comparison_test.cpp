@@ -134,7 +134,9 @@ TEST(SolverComparison, NewtonSolversReportTheirFactorisationsAndProxNewtonItsPas
         EXPECT_GE(p.factorizations[k], 1) << p.solver << " step " << k;
         ++solved;
       }
-      if (p.iterations_to_accuracy[k] == 0) EXPECT_EQ(p.factorizations[k], 0) << p.solver;
+      if (p.iterations_to_accuracy[k] == 0) {
+        EXPECT_EQ(p.factorizations[k], 0) << p.solver;
+      }
     }
     EXPECT_GE(r.pairs[2].outer_passes[k], 0);
   }
