@@ -52,6 +52,7 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "floor_decay") r.floor_decay = x;
   else if (key == "progress_window") r.progress_window = static_cast<int>(x);
   else if (key == "progress_factor") r.progress_factor = x;
+  else if (key == "release_floor") r.release_floor = x != 0;
   else throw dc::ConfigError("prox_families: unknown key 'route." + key + "'");
 }
 

@@ -129,6 +129,13 @@ TEST(ProximalPoint, ProgressWindowStopsSlowRoutesAndIsInertOtherwise) {
   EXPECT_NE(c.message.find("progress_factor"), std::string::npos) << c.message;
   EXPECT_LT(c.sweeps, a.sweeps);
   EXPECT_EQ(c.residual, natural_residual(p, c.lambda));
+  // release_floor runs the same outer iterations first and at most continues after them: its
+  // best residual is no worse.
+  strict.release_floor = true;
+  const SolveResult d = solve_proximal_point(p, Eigen::VectorXd(), o, strict);
+  EXPECT_EQ(d.status, SolveStatus::SweepLimit);
+  EXPECT_EQ(d.residual, natural_residual(p, d.lambda));
+  EXPECT_LE(d.residual, c.residual);
 }
 
 TEST(ProximalPoint, RefusesInvalidSettingsAndGuesses) {

@@ -79,14 +79,25 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   double floor = def.min_shift;  // raised above every shift whose inner solve failed
   int stalls = 0;                // consecutive outer iterations without a new best
   std::vector<double> best_after;  // best residual after each outer iteration (progress_window)
-  const auto slow = [&](int k) {
-    const int w = def.progress_window;
-    return w > 0 && k >= w && out.residual > def.progress_factor * best_after[static_cast<std::size_t>(k - w)];
-  };
-  bool slowed = false;
+  int window_start = 0;            // outer iteration the progress window counts from
+  bool released = false;           // the failure floor was released once (release_floor)
+  bool slowed = false;             // stopped by progress_window
   for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
-                  (def.max_stalls == 0 || stalls < def.max_stalls) && !(slowed = slow(k));
+                  (def.max_stalls == 0 || stalls < def.max_stalls);
        ++k) {
+    const int w = def.progress_window;
+    if (w > 0 && k - window_start >= w &&
+        out.residual > def.progress_factor * best_after[static_cast<std::size_t>(k - w)]) {
+      if (!def.release_floor || released || floor <= def.min_shift) {
+        slowed = true;
+        break;
+      }
+      // Slow at a raised floor: let δ fall again from here, once, before stopping.
+      released = true;
+      floor = def.min_shift;
+      shift = std::max(floor, shift / def.shrink);
+      window_start = k;
+    }
     const double delta = shift * diag;
     LcpProblem sub = shifted(p, delta);
     sub.b = p.b - delta * centre;

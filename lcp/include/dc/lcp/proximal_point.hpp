@@ -45,6 +45,10 @@ struct ProximalPointDef {
   /// Required fall of the best residual over progress_window outer iterations, as the ratio
   /// new/old (dimensionless, in (0, 1], default 0.5).
   double progress_factor = 0.5;
+  /// When progress_window fires while δ's failure floor is above min_shift: the first time,
+  /// reset that floor to min_shift, let δ shrink from there and restart the window instead of
+  /// stopping (default false: stop).
+  bool release_floor = false;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
   /// Inexact proximal point: each inner solve stops at max(inner target, inner_forcing × the
