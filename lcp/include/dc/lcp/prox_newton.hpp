@@ -110,10 +110,11 @@ struct ProxNewtonDef {
   /// route improves again after long plateaus and reaches the target only when allowed its
   /// outer iterations. Directions by GMRES with a kept factor first (stale_factor_iterations =
   /// 30, NewtonSparseDef): near the solution few rows change mode between iterations and δ
-  /// stays put for many outer iterations, so most iterations need no factorisation. It stops
-  /// when the best hard residual fell less than 2-fold over 20 outer iterations
-  /// (progress_window = 20): after a failed inner solve the route otherwise spends up to
-  /// max_outer short passes at a raised δ, and the safeguard after it costs less.
+  /// stays put for many outer iterations, so most iterations need no factorisation. When the
+  /// best hard residual fell less than 2-fold over 20 outer iterations (progress_window = 20)
+  /// at a δ floor raised by a failed inner solve, that floor is released once (release_floor)
+  /// and δ shrinks again; the next such stall stops the route: otherwise it spends up to
+  /// max_outer short passes at the raised δ, and the safeguard after it costs less.
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
@@ -121,6 +122,7 @@ struct ProxNewtonDef {
     d.newton_sparse.stale_factor_iterations = 30;
     d.max_stalls = 0;
     d.progress_window = 20;
+    d.release_floor = true;
     return d;
   }();
   /// Settings of that route in the dual form (problems without J): those of finish_route and
