@@ -21,8 +21,6 @@
 //   * in the dual form otherwise (problems from files): the box LCP w = (A + δI)λ + c with the
 //     frozen bounds by newton-sparse's semismooth Newton (no friction coupling: one CHOLMOD
 //     factorisation per iteration, the analysis kept across passes).
-// With `exact_cone` (body space) the passes are instead proximal steps on the exact 2D friction
-// cone with de Saxcé's shift of the normal velocities (docs/solvers.md "Exact-cone passes").
 // Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
 // the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
 // above the target, with `body_finish` coupled body-space passes from the best iterate, then
@@ -91,45 +89,6 @@ struct ProxNewtonDef {
   bool body_finish = false;
   /// Newton iterations of those coupled passes at most, in all (default 100).
   int body_finish_iterations = 100;
-  /// Body space: the exact-cone outer loop instead of the Tresca passes (default false). Pass k
-  /// solves, in velocities, the proximal step of Anitescu's cone problem with the normal
-  /// velocities shifted by de Saxcé's μ|w_t^k|: F ∋ λ ⊥ Aλ + b + ŝ + δ(λ − λ^k) ∈ F* with F the
-  /// exact 2D friction cone, by Newton on ½ vᵀ(M/Δt)v + Σ_c ‖P_F(−y_c)‖²/(2δ) (MuJoCo's and Drake
-  /// SAP's cost; H = M/Δt + Jᵀ G J with a 2×2 G per contact; the exact line search); a fixed point
-  /// is an exact Coulomb solution (cone_passes.hpp). The passes stop after `cone_max_stalls`
-  /// passes without a new best hard residual, or `max_outer`; the finishes below follow as
-  /// after the Tresca passes. Problems without the cone form (a friction row whose normal row
-  /// does not have bounds [0, +∞)) take the Tresca passes.
-  bool exact_cone = false;
-  /// First δ of those passes relative to max_i A_ii (default 1e-3); δ shrinks by `cone_shrink`
-  /// after every solved following pass (every solved pass without `cone_follow_shift`), down to
-  /// `cone_min_shift`, and grows by it after one that was not solved (defaults 3 and 1e-6).
-  double cone_shift = 1e-3;
-  double cone_shrink = 3.0;
-  double cone_min_shift = 1e-6;
-  /// Newton iterations per frozen-shift exact-cone pass at most (default 30: the first passes
-  /// from a warm start take 10–20 on the engine's piles).
-  int cone_inner_iterations = 30;
-  /// Exact-cone pass accuracy: its natural residual [N] relative to max(hard target, best hard
-  /// residual so far) (default 0.1).
-  double cone_inner_tolerance = 0.1;
-  /// Exact-cone passes: de Saxcé's shift follows the Newton iterate inside each pass (the pass
-  /// solves the proximal step on the exact Coulomb problem; GMRES on the non-symmetric Jacobian
-  /// preconditioned with H's factor, cone_newton.hpp) instead of staying at the pass's start
-  /// (default true), once a frozen pass was solved within `cone_follow_after` Newton iterations
-  /// (default 4; 0: from the first pass); back to frozen passes after a following pass that was
-  /// not solved or did not lower the best hard residual.
-  bool cone_follow_shift = true;
-  int cone_follow_after = 4;
-  /// Newton iterations per following pass at most (default 8): far from a solution the
-  /// following pass's semismooth Newton may not converge, and a failed pass is abandoned early.
-  int cone_follow_iterations = 8;
-  /// Anderson acceleration depth of the exact-cone passes' outer map λ^k ↦ λ^{k+1} (anderson.hpp;
-  /// default 0: none).
-  int cone_anderson = 0;
-  /// Exact-cone passes in a row without a new best hard residual before they stop (default 8:
-  /// a failed following pass and the frozen passes after it may not improve for a few passes).
-  int cone_max_stalls = 8;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of
