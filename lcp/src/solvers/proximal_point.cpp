@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "dc/core/error.hpp"
@@ -45,6 +46,28 @@ LcpProblem shifted(const LcpProblem& p, double delta) {
   return s;
 }
 
+/// The progress_window stop: the best residual after each outer iteration, and the outer
+/// iteration the window counts from.
+struct ProgressWindow {
+  std::vector<double> best_after;
+  int start = 0;
+  /// Whether the best residual `best` [N] before outer iteration k fell less than
+  /// progress_factor-fold over the last progress_window outer iterations.
+  bool slow(const ProximalPointDef& d, int k, double best) const {
+    const int w = d.progress_window;
+    return w > 0 && k - start >= w && best > d.progress_factor * best_after[static_cast<std::size_t>(k - w)];
+  }
+};
+
+std::string stop_message(const ProximalPointDef& d, bool slowed, int stalls) {
+  if (slowed)
+    return "proximal point: best residual fell less than progress_factor over " +
+           std::to_string(d.progress_window) + " outer iterations";
+  if (d.max_stalls > 0 && stalls >= d.max_stalls)
+    return "proximal point: " + std::to_string(stalls) + " outer iterations without a new best residual";
+  return "proximal point: outer iteration limit reached";
+}
+
 }  // namespace
 
 SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
@@ -78,16 +101,13 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   double shift = def.initial_shift;
   double floor = def.min_shift;  // raised above every shift whose inner solve failed
   int stalls = 0;                // consecutive outer iterations without a new best
-  std::vector<double> best_after;  // best residual after each outer iteration (progress_window)
-  int window_start = 0;            // outer iteration the progress window counts from
-  bool released = false;           // the failure floor was released once (release_floor)
-  bool slowed = false;             // stopped by progress_window
+  ProgressWindow window;
+  bool released = false;  // the failure floor was released once (release_floor)
+  bool slowed = false;    // stopped by progress_window
   for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
                   (def.max_stalls == 0 || stalls < def.max_stalls);
        ++k) {
-    const int w = def.progress_window;
-    if (w > 0 && k - window_start >= w &&
-        out.residual > def.progress_factor * best_after[static_cast<std::size_t>(k - w)]) {
+    if (window.slow(def, k, out.residual)) {
       if (!def.release_floor || released || floor <= def.min_shift) {
         slowed = true;
         break;
@@ -96,7 +116,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       released = true;
       floor = def.min_shift;
       shift = std::max(floor, shift / def.shrink);
-      window_start = k;
+      window.start = k;
     }
     const double delta = shift * diag;
     LcpProblem sub = shifted(p, delta);
@@ -127,7 +147,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       stalls = 0;
     }
     cp.reach(out.sweeps, out.lambda);
-    if (def.progress_window > 0) best_after.push_back(out.residual);
+    if (def.progress_window > 0) window.best_after.push_back(out.residual);
     if (r.status == SolveStatus::Converged || (loose > inner_target && stopped_at_tolerance(r.status))) {
       // The proximal step is the method's progress even when it raises the residual of the
       // original problem for a while (that residual is not monotone along the iteration).
@@ -145,11 +165,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
   if (out.status == SolveStatus::Converged) cp.flush_final(out.lambda);
   if (out.status != SolveStatus::Converged)
-    out.message = slowed ? "proximal point: best residual fell less than progress_factor over " +
-                               std::to_string(def.progress_window) + " outer iterations"
-                  : def.max_stalls > 0 && stalls >= def.max_stalls
-                      ? "proximal point: " + std::to_string(stalls) + " outer iterations without a new best residual"
-                      : "proximal point: outer iteration limit reached";
+    out.message = stop_message(def, slowed, stalls);
   // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
   solvers::finish(p, out, options, options.tolerance > 0 ? solvers::StopRule::Tolerance : solvers::StopRule::Solution);
   return out;
