@@ -48,6 +48,11 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "initial_shift") r.initial_shift = x;
   else if (key == "min_shift") r.min_shift = x;
   else if (key == "shrink") r.shrink = x;
+  else if (key == "max_outer") r.max_outer = static_cast<int>(x);
+  else if (key == "floor_decay") r.floor_decay = x;
+  else if (key == "progress_window") r.progress_window = static_cast<int>(x);
+  else if (key == "progress_factor") r.progress_factor = x;
+  else if (key == "release_floor") r.release_floor = x != 0;
   else throw dc::ConfigError("prox_families: unknown key 'route." + key + "'");
 }
 

@@ -94,6 +94,50 @@ TEST(ProximalPoint, CheckpointsSeeTheBestIterateInOrderAndTheAnswerLast) {
   EXPECT_EQ(last, r.lambda);
 }
 
+TEST(ProximalPoint, FloorDecayReachesTheSameVelocities) {
+  // ProximalPointDef::floor_decay lets δ fall below a failed shift again: the route still stops
+  // on the original problem's residual, at the velocities of the default route.
+  const LcpProblem p = fc2d_to_lcp(read_fc2d_dat(kData + "fc2d_granularflowonwall_02020_00213.dat").problem);
+  SolverOptions o;
+  ProximalPointDef decay;
+  decay.floor_decay = 10;
+  const SolveResult a = solve_proximal_point(p, Eigen::VectorXd(), o);
+  const SolveResult b = solve_proximal_point(p, Eigen::VectorXd(), o, decay);
+  ASSERT_EQ(a.status, SolveStatus::Converged) << a.message;
+  ASSERT_EQ(b.status, SolveStatus::Converged) << b.message;
+  EXPECT_LE(natural_residual(p, b.lambda), exact_bound(p));
+  const Eigen::VectorXd wa = p.A * a.lambda + p.b, wb = p.A * b.lambda + p.b;
+  EXPECT_LE((wa - wb).lpNorm<Eigen::Infinity>(), 1e-6 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
+}
+
+TEST(ProximalPoint, ProgressWindowStopsSlowRoutesAndIsInertOtherwise) {
+  const LcpProblem p = fc2d_to_lcp(read_fc2d_dat(kData + "fc2d_granularflowonwall_02020_00213.dat").problem);
+  SolverOptions o;
+  const SolveResult a = solve_proximal_point(p, Eigen::VectorXd(), o);
+  // A window longer than max_outer never fires: the same route, bit for bit.
+  ProximalPointDef inert;
+  inert.progress_window = inert.max_outer + 1;
+  const SolveResult b = solve_proximal_point(p, Eigen::VectorXd(), o, inert);
+  EXPECT_EQ(a.lambda, b.lambda);
+  EXPECT_EQ(a.sweeps, b.sweeps);
+  // A fall no pass achieves stops the route after its first outer iteration, at its best iterate.
+  ProximalPointDef strict;
+  strict.progress_window = 1;
+  strict.progress_factor = 1e-30;
+  const SolveResult c = solve_proximal_point(p, Eigen::VectorXd(), o, strict);
+  EXPECT_EQ(c.status, SolveStatus::SweepLimit);
+  EXPECT_NE(c.message.find("progress_factor"), std::string::npos) << c.message;
+  EXPECT_LT(c.sweeps, a.sweeps);
+  EXPECT_EQ(c.residual, natural_residual(p, c.lambda));
+  // release_floor runs the same outer iterations first and at most continues after them: its
+  // best residual is no worse.
+  strict.release_floor = true;
+  const SolveResult d = solve_proximal_point(p, Eigen::VectorXd(), o, strict);
+  EXPECT_EQ(d.status, SolveStatus::SweepLimit);
+  EXPECT_EQ(d.residual, natural_residual(p, d.lambda));
+  EXPECT_LE(d.residual, c.residual);
+}
+
 TEST(ProximalPoint, RefusesInvalidSettingsAndGuesses) {
   TestRng rng(3);
   const LcpProblem p = without_jacobian(random_contact(6, 10, true, rng));
@@ -109,6 +153,12 @@ TEST(ProximalPoint, RefusesInvalidSettingsAndGuesses) {
   EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
   bad = {};
   bad.inner_forcing = 1.0;
+  EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
+  bad = {};
+  bad.floor_decay = 0.5;
+  EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
+  bad = {};
+  bad.progress_factor = 0;
   EXPECT_THROW(solve_proximal_point(p, Eigen::VectorXd(), o, bad), InvalidArgument);
   Eigen::VectorXd nan_guess = Eigen::VectorXd::Zero(p.rows());
   nan_guess[0] = std::numeric_limits<double>::quiet_NaN();

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "dc/core/error.hpp"
 #include "solvers/solver_common.hpp"
@@ -20,6 +22,11 @@ void check_def(const ProximalPointDef& d) {
   if (d.max_outer < 1 || d.inner_iterations < 1)
     throw InvalidArgument("proximal point: max_outer and inner_iterations must be >= 1");
   if (d.max_stalls < 0) throw InvalidArgument("proximal point: max_stalls must be >= 0");
+  if (!(std::isfinite(d.floor_decay) && d.floor_decay >= 1))
+    throw InvalidArgument("proximal point: floor_decay must be finite and >= 1");
+  if (d.progress_window < 0) throw InvalidArgument("proximal point: progress_window must be >= 0");
+  if (!(d.progress_factor > 0 && d.progress_factor <= 1))
+    throw InvalidArgument("proximal point: progress_factor must be in (0, 1]");
   if (!(std::isfinite(d.inner_forcing) && d.inner_forcing >= 0 && d.inner_forcing < 1))
     throw InvalidArgument("proximal point: inner_forcing must be in [0, 1)");
 }
@@ -37,6 +44,28 @@ LcpProblem shifted(const LcpProblem& p, double delta) {
   s.normal_row = p.normal_row;
   s.mu = p.mu;
   return s;
+}
+
+/// The progress_window stop: the best residual after each outer iteration, and the outer
+/// iteration the window counts from.
+struct ProgressWindow {
+  std::vector<double> best_after;
+  int start = 0;
+  /// Whether the best residual `best` [N] before outer iteration k fell less than
+  /// progress_factor-fold over the last progress_window outer iterations.
+  bool slow(const ProximalPointDef& d, int k, double best) const {
+    const int w = d.progress_window;
+    return w > 0 && k - start >= w && best > d.progress_factor * best_after[static_cast<std::size_t>(k - w)];
+  }
+};
+
+std::string stop_message(const ProximalPointDef& d, bool slowed, int stalls) {
+  if (slowed)
+    return "proximal point: best residual fell less than progress_factor over " +
+           std::to_string(d.progress_window) + " outer iterations";
+  if (d.max_stalls > 0 && stalls >= d.max_stalls)
+    return "proximal point: " + std::to_string(stalls) + " outer iterations without a new best residual";
+  return "proximal point: outer iteration limit reached";
 }
 
 }  // namespace
@@ -72,9 +101,23 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   double shift = def.initial_shift;
   double floor = def.min_shift;  // raised above every shift whose inner solve failed
   int stalls = 0;                // consecutive outer iterations without a new best
+  ProgressWindow window;
+  bool released = false;  // the failure floor was released once (release_floor)
+  bool slowed = false;    // stopped by progress_window
   for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
                   (def.max_stalls == 0 || stalls < def.max_stalls);
        ++k) {
+    if (window.slow(def, k, out.residual)) {
+      if (!def.release_floor || released || floor <= def.min_shift) {
+        slowed = true;
+        break;
+      }
+      // Slow at a raised floor: let δ fall again from here, once, before stopping.
+      released = true;
+      floor = def.min_shift;
+      shift = std::max(floor, shift / def.shrink);
+      window.start = k;
+    }
     const double delta = shift * diag;
     LcpProblem sub = shifted(p, delta);
     sub.b = p.b - delta * centre;
@@ -104,10 +147,12 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       stalls = 0;
     }
     cp.reach(out.sweeps, out.lambda);
+    if (def.progress_window > 0) window.best_after.push_back(out.residual);
     if (r.status == SolveStatus::Converged || (loose > inner_target && stopped_at_tolerance(r.status))) {
       // The proximal step is the method's progress even when it raises the residual of the
       // original problem for a while (that residual is not monotone along the iteration).
       centre = r.lambda;
+      floor = std::max(def.min_shift, floor / def.floor_decay);
       shift = std::max(floor, shift / def.shrink);
     } else {
       // Too small a shift for this problem: never go back to it (shrinking again would only
@@ -120,9 +165,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
   if (out.status == SolveStatus::Converged) cp.flush_final(out.lambda);
   if (out.status != SolveStatus::Converged)
-    out.message = def.max_stalls > 0 && stalls >= def.max_stalls
-                      ? "proximal point: " + std::to_string(stalls) + " outer iterations without a new best residual"
-                      : "proximal point: outer iteration limit reached";
+    out.message = stop_message(def, slowed, stalls);
   // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
   solvers::finish(p, out, options, options.tolerance > 0 ? solvers::StopRule::Tolerance : solvers::StopRule::Solution);
   return out;

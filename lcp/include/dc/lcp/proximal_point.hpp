@@ -6,10 +6,11 @@
 // a fixed point solves the original LCP, and A + δI is positive definite when δ exceeds the most
 // negative eigenvalue of A. δ shrinks `shrink`-fold after a converged inner solve and grows by the
 // same factor (restarting from the best iterate) after one that did not converge; it never
-// shrinks below a shift that failed. It stops when the natural residual of the ORIGINAL problem
+// shrinks below a shift that failed (that floor falls floor_decay-fold per converged inner
+// solve). It stops when the natural residual of the ORIGINAL problem
 // at the best iterate is ≤ target (options.tolerance [N] when > 0, else solution_target): then
 // Converged when that λ passes the solution test (solution_target), else ToleranceReached;
-// SweepLimit after max_outer outer iterations; InvalidInput, with the inner solver's message,
+// SweepLimit after max_outer outer iterations, or earlier by max_stalls or progress_window; InvalidInput, with the inner solver's message,
 // when the inner solver refuses the problem (lemke on friction rows). λ is the best iterate
 // seen. `sweeps` counts inner iterations in all.
 #include <string>
@@ -32,6 +33,22 @@ struct ProximalPointDef {
   /// Stop after this many consecutive outer iterations without a new best residual (default 0:
   /// never; only max_outer stops the route).
   int max_stalls = 0;
+  /// Factor the failure floor of δ (the largest shift whose inner solve failed) falls by after
+  /// each converged inner solve, never below min_shift (default 1: a failed shift stays a floor
+  /// for the rest of the route). Above 1, δ can fall again once passes succeed: the failure
+  /// often belongs to row modes far from the solution, and a small δ converges faster near it.
+  double floor_decay = 1.0;
+  /// Stop when the best residual of the original problem fell less than progress_factor-fold
+  /// over the last progress_window outer iterations (default 0: never). A caller with a cheaper
+  /// fallback runs it sooner instead of spending max_outer slow passes.
+  int progress_window = 0;
+  /// Required fall of the best residual over progress_window outer iterations, as the ratio
+  /// new/old (dimensionless, in (0, 1], default 0.5).
+  double progress_factor = 0.5;
+  /// When progress_window fires while δ's failure floor is above min_shift: the first time,
+  /// reset that floor to min_shift, let δ shrink from there and restart the window instead of
+  /// stopping (default false: stop).
+  bool release_floor = false;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
   /// Inexact proximal point: each inner solve stops at max(inner target, inner_forcing × the
