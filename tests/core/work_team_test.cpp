@@ -2,8 +2,11 @@
 // thread and each helper at most once per run, exceptions reach the caller, a nested run is
 // serial, and runs follow each other without a helper ever seeing a finished run's body.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <memory>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -67,6 +70,32 @@ TEST(WorkTeam, ManyShortRunsEachCompleteBeforeTheNext) {
     for (int p = 0; p < 16; ++p) total += out[static_cast<size_t>(p)] - run;
   }
   EXPECT_EQ(2000L * 120, total);
+}
+
+// A child of fork() inherits a team whose helpers are the parent's threads, which do not exist
+// there: its runs must still complete (the calling thread does every job) and ending the team
+// must not hang on the parent's helpers.
+TEST(WorkTeam, ForkedChildRunsEveryJobAndEndsItsTeam) {
+  auto team = std::make_unique<WorkTeam>();
+  std::atomic<int> before{0};
+  team->for_parts(3, 64, [&](int) { before.fetch_add(1); });
+  ASSERT_EQ(64, before.load());
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::alarm(60);  // a hang becomes a death by SIGALRM, which the parent reports
+    std::atomic<int> runs{0};
+    for (int round = 0; round < 50; ++round) team->for_parts(3, 64, [&](int) { runs.fetch_add(1); });
+    team.reset();
+    ::_exit(runs.load() == 50 * 64 ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(child, ::waitpid(child, &status, 0));
+  ASSERT_TRUE(WIFEXITED(status)) << "the child did not exit (signal " << WTERMSIG(status) << ")";
+  EXPECT_EQ(0, WEXITSTATUS(status));
+  std::atomic<int> after{0};
+  team->for_parts(3, 64, [&](int) { after.fetch_add(1); });
+  EXPECT_EQ(64, after.load());
 }
 
 }  // namespace

@@ -5,7 +5,10 @@
 // yield, then sleep on a futex: wake_word.hpp), so an idle team leaves its cores to other
 // programs. No run waits for a helper to arrive: a helper that another program keeps off its
 // core is simply not part of that run (its share is done by the members present), and the
-// calling thread waits only for helpers that did join and are still working.
+// calling thread waits only for helpers that did join and are still working. A child process
+// made by fork() inherits the team but not its threads: no helper ever joins there, so its runs
+// are done by the calling thread alone (and glibc marks the parent's threads as ended, so the
+// team's end joins them at once).
 #include <atomic>
 #include <cstdint>
 #include <exception>
@@ -60,7 +63,6 @@ class WorkTeam {
  private:
   void grow(int helpers);
   void helper_loop(int member);
-  void join(int member, std::int64_t run);
   void close(int member, std::int64_t run);
 
   /// A helper's gate: 2·run + 1 while it runs body of run `run`, 2·run + 2 once that run is
