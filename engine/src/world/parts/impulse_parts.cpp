@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "dc/core/block_row_ranges.hpp"
 #include "world/parts/step_parts.hpp"
 
 namespace dc {
@@ -82,29 +83,12 @@ void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, do
     }
   });
   run_parts(threads, parts, [&](int t) {
-    int lo1 = kMax, hi1 = -1, lo2 = kMax, hi2 = -1;
-    for (int q = 0; q < parts; ++q) {
-      const int* b = bounds.data() + 4 * (parts * q + t);
-      lo1 = std::min(lo1, b[0]);
-      hi1 = std::max(hi1, b[1]);
-      lo2 = std::min(lo2, b[2]);
-      hi2 = std::max(hi2, b[3]);
-    }
-    // The two row ranges in ascending order, each row once (one range when they overlap).
-    if (lo1 <= hi1 && lo2 <= hi2 && !(hi1 < lo2 || hi2 < lo1)) {
-      lo1 = std::min(lo1, lo2);
-      hi1 = std::max(hi1, hi2);
-      lo2 = kMax;
-      hi2 = -1;
-    } else if (lo2 < lo1) {
-      std::swap(lo1, lo2);
-      std::swap(hi1, hi2);
-    }
+    const BlockRowRanges r = block_row_ranges(bounds.data(), parts, t);
     const int c0 = block_col(t), c1 = block_col(t + 1);
     double* out = impulse.data();
     std::fill(out + c0, out + c1, 0.0);
-    if (lo1 <= hi1) add_rows(J, lambda.data(), lo1, hi1 + 1, c0, c1, out);
-    if (lo2 <= hi2) add_rows(J, lambda.data(), lo2, hi2 + 1, c0, c1, out);
+    if (r.lo1 <= r.hi1) add_rows(J, lambda.data(), r.lo1, r.hi1 + 1, c0, c1, out);
+    if (r.lo2 <= r.hi2) add_rows(J, lambda.data(), r.lo2, r.hi2 + 1, c0, c1, out);
     for (int c = c0; c < c1; ++c) out[c] *= dt;
   });
 }

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "dc/core/block_row_ranges.hpp"
 #include "dc/core/work_team.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
@@ -99,30 +100,12 @@ void transpose_block(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::
                      const int* bounds) {
   const int ncols = static_cast<int>(p.J.cols());
   const int bodies = (ncols + 2) / 3;
-  constexpr int kMax = std::numeric_limits<int>::max();
-  int lo1 = kMax, hi1 = -1, lo2 = kMax, hi2 = -1;
-  for (int q = 0; q < nt; ++q) {
-    const int* b = bounds + 4 * (nt * q + tid);
-    lo1 = std::min(lo1, b[0]);
-    hi1 = std::max(hi1, b[1]);
-    lo2 = std::min(lo2, b[2]);
-    hi2 = std::max(hi2, b[3]);
-  }
-  // The two row ranges in ascending order, each row once (one range when they overlap).
-  if (lo1 <= hi1 && lo2 <= hi2 && !(hi1 < lo2 || hi2 < lo1)) {
-    lo1 = std::min(lo1, lo2);
-    hi1 = std::max(hi1, hi2);
-    lo2 = kMax;
-    hi2 = -1;
-  } else if (lo2 < lo1) {
-    std::swap(lo1, lo2);
-    std::swap(hi1, hi2);
-  }
+  const BlockRowRanges r = block_row_ranges(bounds, nt, tid);
   const int col0 = 3 * block_begin(bodies, tid, nt), col1 = std::min(ncols, 3 * block_begin(bodies, tid + 1, nt));
   double* out = du.data();
   for (int c = col0; c < col1; ++c) out[c] = 0.0;
-  if (lo1 <= hi1) transpose_rows(p, lambda.data(), lo1, hi1 + 1, col0, col1, out);
-  if (lo2 <= hi2) transpose_rows(p, lambda.data(), lo2, hi2 + 1, col0, col1, out);
+  if (r.lo1 <= r.hi1) transpose_rows(p, lambda.data(), r.lo1, r.hi1 + 1, col0, col1, out);
+  if (r.lo2 <= r.hi2) transpose_rows(p, lambda.data(), r.lo2, r.hi2 + 1, col0, col1, out);
   const double* im = p.inv_mass.data();
   const double dt = p.dt;
   for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * dt;

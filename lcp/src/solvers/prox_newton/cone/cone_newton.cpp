@@ -8,6 +8,7 @@
 
 #include "dc/lcp/newton_sparse.hpp"
 #include "solvers/newton_sparse/gmres.hpp"
+#include "solvers/prox_newton/body_metric.hpp"
 #include "solvers/prox_newton/exact_line_search.hpp"
 #include "solvers/prox_newton/cone/friction_cone.hpp"
 #include "solvers/prox_newton/stale_pcg.hpp"
@@ -42,22 +43,8 @@ bool ConeNewton::bind(const LcpProblem& p) {
   }
   for (int i = 0; i < n; ++i)
     if (!in_cone[static_cast<size_t>(i)]) others_.push_back(i);
-  Jt_ = SparseRowMatrix(p.J.transpose());
-  w_ = p.dt * p.inv_mass;
-  const Eigen::Index m = w_.size();
-  winv_.resize(m);
-  // A body of infinite mass (M⁻¹ = 0) gets a huge W⁻¹: it does not move, H stays finite.
-  for (Eigen::Index j = 0; j < m; ++j) winv_[j] = w_[j] > 0 ? 1.0 / w_[j] : 1e300;
-  Winv_diag_.resize(m, m);
-  Winv_diag_.setIdentity();
-  Winv_diag_.diagonal() = winv_;
-  max_diag_ = 0.0;
-  for (int i = 0; i < p.J.rows(); ++i) {
-    double a = 0.0;
-    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it) a += it.value() * it.value() * w_[it.col()];
-    max_diag_ = std::max(max_diag_, a);
-  }
-  all_free_.assign(static_cast<size_t>(m), 1);
+  bind_body_metric(p, Jt_, w_, winv_, Winv_diag_, max_diag_);
+  all_free_.assign(static_cast<size_t>(w_.size()), 1);
   factored_key_.resize(0);  // a new J: the kept factor is of another H
   factored_delta_ = 0.0;
   return true;
