@@ -34,6 +34,7 @@
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
+#include "solvers/pgs_colored/pgs_colored_residual.hpp"
 #include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -249,7 +250,8 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt);
+      prep.j_finite = colored::values_finite(p);
+      colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
       bad = !all_finite(prep.du.data(), prep.body_entries);
     };
     auto fill = [&](int bi) {
@@ -296,7 +298,7 @@ class PgsColoredSolver final : public LcpSolver {
     prep.lp = std::move(permuted);  // storage for the next solve's λ⁰
     laps.lap(&PgsColoredProfile::unpermute);
     bool finite = false;
-    r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite);
+    r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite, prep.j_finite);
     if (finite)
       settle_status(p, r, o, StopRule::Tolerance);
     else

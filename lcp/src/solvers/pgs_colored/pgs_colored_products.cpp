@@ -16,11 +16,11 @@
 namespace dc::colored {
 
 void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
-                     Eigen::VectorXd& jt) {
+                     Eigen::VectorXd& jt, bool skip_zero) {
   // Jᵀλ into a kept buffer, as Eigen's product sums it: a contiguous scatter is faster than one
   // straight into the strided Δu (c/3 and c%3 per entry).
   jt.setZero(p.J.cols());
-  transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data());
+  transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data(), skip_zero);
   // Every entry written once (no zero-fill first): a body's three velocities, 0 for columns past
   // J's and for the padding entry; then the zero body.
   const int ncols = static_cast<int>(jt.size());
@@ -97,47 +97,49 @@ void transpose_bounds(const LcpProblem& p, int tid, int nt, int* bounds) {
 /// Part tid of nt of scaled_transpose_product's second phase, after every part's
 /// transpose_bounds: block tid's columns summed over its rows in ascending order, from 0.
 void transpose_block(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, int tid, int nt,
-                     const int* bounds) {
+                     const int* bounds, bool skip_zero) {
   const int ncols = static_cast<int>(p.J.cols());
   const int bodies = (ncols + 2) / 3;
   const BlockRowRanges r = block_row_ranges(bounds, nt, tid);
   const int col0 = 3 * block_begin(bodies, tid, nt), col1 = std::min(ncols, 3 * block_begin(bodies, tid + 1, nt));
   double* out = du.data();
   for (int c = col0; c < col1; ++c) out[c] = 0.0;
-  if (r.lo1 <= r.hi1) transpose_rows(p, lambda.data(), r.lo1, r.hi1 + 1, col0, col1, out);
-  if (r.lo2 <= r.hi2) transpose_rows(p, lambda.data(), r.lo2, r.hi2 + 1, col0, col1, out);
+  if (r.lo1 <= r.hi1) transpose_rows(p, lambda.data(), r.lo1, r.hi1 + 1, col0, col1, out, skip_zero);
+  if (r.lo2 <= r.hi2) transpose_rows(p, lambda.data(), r.lo2, r.hi2 + 1, col0, col1, out, skip_zero);
   const double* im = p.inv_mass.data();
   const double dt = p.dt;
   for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * dt;
 }
 
 /// scaled_transpose_product on `threads` threads (> 1) of the calling thread's team.
-void scaled_transpose_parts(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
+void scaled_transpose_parts(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
+                            bool skip_zero) {
   const int nt = threads;  // blocks (a row range can reach several); a present member takes an absent one's
   du.resize(p.J.cols());
   std::vector<int> bounds(static_cast<size_t>(4 * nt * nt));
   WorkTeam& team = calling_thread_team();
   team.for_parts(threads, nt, [&](int t) { transpose_bounds(p, t, nt, bounds.data()); });
-  team.for_parts(threads, nt, [&](int t) { transpose_block(p, lambda, du, t, nt, bounds.data()); });
+  team.for_parts(threads, nt, [&](int t) { transpose_block(p, lambda, du, t, nt, bounds.data(), skip_zero); });
 }
 
 }  // namespace
 
-void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
+void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
+                              bool skip_zero) {
   if (threads <= 1) {
     du.setZero(p.J.cols());
-    transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), du.data());
+    transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), du.data(), skip_zero);
     const double* im = p.inv_mass.data();
     double* out = du.data();
     const double dt = p.dt;
     for (int c = 0; c < du.size(); ++c) out[c] = im[c] * out[c] * dt;
     return;
   }
-  scaled_transpose_parts(p, lambda, threads, du);
+  scaled_transpose_parts(p, lambda, threads, du, skip_zero);
 }
 
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
-                        bool& all_finite) {
+                        bool& all_finite, bool skip_zero) {
   const int n = p.rows(), nc = p.constraints.size();
   // By contact when the contacts own the rows (the solver's case: no per-row bound lookup).
   const bool by_contact = nc > 0 && p.constraints.rows() == n;
@@ -145,7 +147,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
   double r = 0.0;
   bool nan = false, nonfinite = false;
   if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
-    scaled_transpose_product(p, lambda, 1, du);
+    scaled_transpose_product(p, lambda, 1, du, skip_zero);
     if (by_contact)
       contact_errors(p, lambda.data(), du.data(), 0, nc, r, nan, nonfinite);
     else
@@ -153,7 +155,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
-  scaled_transpose_parts(p, lambda, threads, du);
+  scaled_transpose_parts(p, lambda, threads, du, skip_zero);
   // The errors by chunks; max and or combine the chunks' in any order alike.
   const int items = by_contact ? nc : n;
   const int chunks = (items + kContactChunk - 1) / kContactChunk;

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace dc::colored {
 namespace {
@@ -35,7 +37,8 @@ inline void fold(double e, double& r, bool& nan) {
 
 }  // namespace
 
-void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out) {
+void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out,
+                    bool skip_zero) {
   const double* value = p.J.valuePtr();
   const int* inner = p.J.innerIndexPtr();
   const int* outer = p.J.outerIndexPtr();
@@ -43,6 +46,7 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
   const bool all = col0 <= 0 && col1 >= p.J.cols();
   for (int i = i0; i < i1; ++i) {
     const double l = lambda[i];
+    if (skip_zero && l == 0.0) continue;
     int q0 = 0, q1 = 0;
     row_extent(outer, nnz, i, q0, q1);
     if (all) {
@@ -54,6 +58,32 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
       }
     }
   }
+}
+
+namespace {
+
+/// No entry of x[0..n) is ±∞ or NaN (integer ops on the exponent bits: the compiler vectorises).
+bool finite_run(const double* x, int n) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t any = 0;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, x + i, sizeof bits);
+    any |= static_cast<std::uint64_t>((bits & kExp) == kExp);
+  }
+  return any == 0;
+}
+
+}  // namespace
+
+bool values_finite(const LcpProblem& p) {
+  const double* value = p.J.valuePtr();
+  if (p.J.isCompressed()) return finite_run(value, static_cast<int>(p.J.nonZeros()));
+  const int* outer = p.J.outerIndexPtr();
+  const int* nnz = p.J.innerNonZeroPtr();
+  bool ok = true;
+  for (int i = 0; i < p.J.rows(); ++i) ok &= finite_run(value + outer[i], nnz[i]);
+  return ok;
 }
 
 void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r_io,

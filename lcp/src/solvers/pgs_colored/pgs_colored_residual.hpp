@@ -14,8 +14,15 @@ namespace dc::colored {
 
 /// out[c] += J_ic·λ_i for rows i in [i0, i1) in ascending order, each row's entries in storage
 /// order (the caller zeroes `out` first; columns outside [col0, col1) are skipped, for a thread
-/// that owns a block of columns).
-void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out);
+/// that owns a block of columns). skip_zero: rows with λ_i = ±0 are not read — the same bits
+/// when every J entry is finite (values_finite): such a row adds ±0 to each of its columns' sums,
+/// which start at +0 and so are never −0, and x + ±0 = x for every other x.
+void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out,
+                    bool skip_zero = false);
+
+/// True when every stored entry of J is finite (an OR over the exponent bits; for a J that is not
+/// compressed, row by row). Allows transpose_rows's skip_zero.
+bool values_finite(const LcpProblem& p);
 
 /// The running maximum of the errors of contacts [c0, c1)'s rows into r (a NaN error sets `nan`
 /// instead), with du = M⁻¹JᵀλΔt in column order; `nonfinite` is set when one of their λ_i is not
