@@ -13,7 +13,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <string>
@@ -53,19 +52,6 @@ using solvers::finish;
 using solvers::settle_status;
 using solvers::StopRule;
 
-
-/// True when no entry of x[0..n) is ±∞ or NaN: an OR over the exponent bits (integer ops, so
-/// the compiler vectorises it).
-bool all_finite(const double* x, int n) {
-  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
-  std::uint64_t any = 0;
-  for (int i = 0; i < n; ++i) {
-    std::uint64_t bits;
-    std::memcpy(&bits, x + i, sizeof bits);
-    any |= static_cast<std::uint64_t>((bits & kExp) == kExp);
-  }
-  return any == 0;
-}
 
 /// Adds the thread CPU time since the last lap to a PgsColoredProfile field; does nothing
 /// without a profile (no clock read).
@@ -251,8 +237,7 @@ class PgsColoredSolver final : public LcpSolver {
     bool bad = false;
     auto delta_u0 = [&] {
       prep.j_finite = colored::values_finite(p);
-      colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
-      bad = !all_finite(prep.du.data(), prep.body_entries);
+      bad = !colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
     };
     auto fill = [&](int bi) {
       if (bi < nb)

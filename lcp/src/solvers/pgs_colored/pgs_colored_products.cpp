@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -15,19 +17,33 @@
 
 namespace dc::colored {
 
-void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
+namespace {
+
+/// 1 when x is ±∞ or NaN (its exponent bits all set), else 0.
+inline std::uint64_t not_finite(double x) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return static_cast<std::uint64_t>((bits & kExp) == kExp);
+}
+
+}  // namespace
+
+bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
                      Eigen::VectorXd& jt, bool skip_zero) {
   // Jᵀλ into a kept buffer, as Eigen's product sums it: a contiguous scatter is faster than one
   // straight into the strided Δu (c/3 and c%3 per entry).
   jt.setZero(p.J.cols());
   transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data(), skip_zero);
   // Every entry written once (no zero-fill first): a body's three velocities, 0 for columns past
-  // J's and for the padding entry; then the zero body.
+  // J's and for the padding entry; then the zero body. The finiteness test rides along (no
+  // second pass over Δu).
   const int ncols = static_cast<int>(jt.size());
   const double* im = p.inv_mass.data();
   const double* v = jt.data();
   const double dt = p.dt;
   const int whole = std::min(ncols / 3, bodies);
+  std::uint64_t bad = 0;
   for (int k = 0; k < whole; ++k) {
     double* out = du + static_cast<size_t>(kStride) * k;
     const int c = 3 * k;
@@ -35,16 +51,19 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
     out[1] = im[c + 1] * v[c + 1] * dt;
     out[2] = im[c + 2] * v[c + 2] * dt;
     out[3] = 0.0;
+    bad |= not_finite(out[0]) | not_finite(out[1]) | not_finite(out[2]);
   }
   for (int k = whole; k < bodies; ++k) {  // a body with fewer than three columns in J
     double* out = du + static_cast<size_t>(kStride) * k;
     for (int d = 0; d < 3; ++d) {
       const int c = 3 * k + d;
       out[d] = c < ncols ? im[c] * v[c] * dt : 0.0;
+      bad |= not_finite(out[d]);
     }
     out[3] = 0.0;
   }
   std::fill(du + static_cast<size_t>(kStride) * bodies, du + static_cast<size_t>(kStride) * (bodies + 1), 0.0);
+  return bad == 0;
 }
 
 namespace {

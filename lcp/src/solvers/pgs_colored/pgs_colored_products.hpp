@@ -17,8 +17,8 @@ namespace dc::colored {
 /// kStride·(bodies + 1) doubles, bodies·3 ≥ J's columns. Serial; bit-identical to
 /// lcp_problem.cpp's velocity_change. `jt` is scratch (Jᵀλ; kept by the caller, no allocation
 /// in steady state). skip_zero (only when values_finite(p), pgs_colored_residual.hpp): rows with
-/// λ_i = ±0 are not read, the same bits.
-void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt,
+/// λ_i = ±0 are not read, the same bits. Returns whether every entry of `du` is finite.
+bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt,
                      bool skip_zero = false);
 
 /// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to
