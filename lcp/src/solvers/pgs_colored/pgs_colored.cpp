@@ -364,7 +364,7 @@ class PgsColoredSolver final : public LcpSolver {
   /// λ in row order from the permuted vector v (every row has one slot: each row belongs to a
   /// packed contact).
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
-    Eigen::VectorXd out = Eigen::VectorXd::Zero(rows);
+    Eigen::VectorXd out(rows);  // (every entry is written below)
     const int np = static_cast<int>(prep.row_of.size());
     const int parts = threads > 1 ? 2 * threads : 1;
     calling_thread_team().for_parts(threads, parts, [&](int part) {
