@@ -8,6 +8,8 @@
 // the packing. The residual's Jᵀλ runs on threads by blocks of bodies, each walking J's rows in
 // order between bounds from the contacts; a row of w = J Δu + b is one dot product (storage
 // order, from 0, then + b_i), and the max-reduction is order-free (any NaN → ∞, as serial).
+// With skip_zero (allowed when every J entry is finite, values_finite) the Jᵀλ sums leave out
+// the rows with λ_i = ±0, which add nothing to them (pgs_colored_residual.hpp).
 #include "dc/lcp/lcp_problem.hpp"
 
 namespace dc::colored {
