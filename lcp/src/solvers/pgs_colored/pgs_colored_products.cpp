@@ -168,7 +168,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
   if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
     scaled_transpose_product(p, lambda, 1, du, skip_zero);
     if (by_contact)
-      contact_errors(p, lambda.data(), du.data(), 0, nc, r, nan, nonfinite);
+      contact_errors(p, lambda.data(), du.data(), 0, nc, r, nan, nonfinite, skip_zero);
     else
       row_errors(p, lambda, du.data(), 0, n, r, nan, nonfinite);
     all_finite = !nonfinite;
@@ -187,7 +187,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     Part& e = parts[static_cast<size_t>(k)];
     const int i = k * kContactChunk, i1 = std::min(items, i + kContactChunk);
     if (by_contact)
-      contact_errors(p, lambda.data(), du.data(), i, i1, e.r, e.nan, e.nonfinite);
+      contact_errors(p, lambda.data(), du.data(), i, i1, e.r, e.nan, e.nonfinite, skip_zero);
     else
       row_errors(p, lambda, du.data(), i, i1, e.r, e.nan, e.nonfinite);
   });

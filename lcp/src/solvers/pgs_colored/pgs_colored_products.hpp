@@ -39,7 +39,8 @@ void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda
 /// caller): Δu by scaled_transpose_product, then the rows (by contact, contact_errors, when the
 /// contacts own the rows), on `threads` threads. `all_finite` is
 /// set to whether every λ_i is finite. Same requirement as scaled_transpose_product; skip_zero
-/// as in velocity_change (the rows with λ_i = 0 still have their errors).
+/// as in velocity_change (the rows with λ_i = 0 still have their errors), and the rows of a
+/// contact whose bodies have Δu = 0 are not read either (contact_errors's skip_rest).
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite, bool skip_zero = false);
 

@@ -86,8 +86,19 @@ bool values_finite(const LcpProblem& p) {
   return ok;
 }
 
+namespace {
+
+/// Δu of body k's three columns all ±0 (a body with no column, k < 0, counts as at rest).
+inline bool at_rest(const double* du, int k) {
+  if (k < 0) return true;
+  const double* u = du + 3 * k;
+  return (u[0] == 0.0) & (u[1] == 0.0) & (u[2] == 0.0);
+}
+
+}  // namespace
+
 void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r_io,
-                    bool& nan_io, bool& nonfinite) {
+                    bool& nan_io, bool& nonfinite, bool skip_rest) {
   double r = r_io;  // (locals: a store through the references would be reloaded every row)
   bool nan = nan_io;
   const double* value = p.J.valuePtr();
@@ -101,19 +112,27 @@ void contact_errors(const LcpProblem& p, const double* lambda, const double* du,
   bool bad = false;
   for (int c = c0; c < c1; ++c) {
     const ContactConstraint& k = cons[c];
+    // Both bodies at rest in Δu: each row's sum is 0 + J_iq·(±0) + … = +0 (J finite), so
+    // w_i = 0 + b_i without reading the row.
+    const bool rest = skip_rest && at_rest(du, k.body_a) && at_rest(du, k.body_b);
     const int n = k.normal_row;
     int q0 = 0, q1 = 0;
     row_extent(outer, nnz, n, q0, q1);
     const double xn = lambda[n];
     bad = bad || !std::isfinite(xn);
-    fold(row_error(xn, row_w(value, inner, q0, q1, du, b[n]), lo[n], hi[n]), r, nan);
+    const double wn = rest ? 0.0 + b[n] : row_w(value, inner, q0, q1, du, b[n]);
+    fold(row_error(xn, wn, lo[n], hi[n]), r, nan);
     if (k.tangent_row < 0) continue;
     const int t = k.tangent_row;
-    int p0 = 0, p1 = 0;
-    row_extent(outer, nnz, t, p0, p1);
     const double xt = lambda[t];
     const double bound = std::max(0.0, xn);
-    fold(row_error(xt, row_w(value, inner, p0, p1, du, b[t]), -k.mu * bound, k.mu * bound), r, nan);
+    double wt = 0.0 + b[t];
+    if (!rest) {
+      int p0 = 0, p1 = 0;
+      row_extent(outer, nnz, t, p0, p1);
+      wt = row_w(value, inner, p0, p1, du, b[t]);
+    }
+    fold(row_error(xt, wt, -k.mu * bound, k.mu * bound), r, nan);
     bad = bad || !std::isfinite(xt);
   }
   nonfinite = nonfinite || bad;

@@ -27,9 +27,11 @@ bool values_finite(const LcpProblem& p);
 /// The running maximum of the errors of contacts [c0, c1)'s rows into r (a NaN error sets `nan`
 /// instead), with du = M⁻¹JᵀλΔt in column order; `nonfinite` is set when one of their λ_i is not
 /// finite. Requires what the input checks verified: every row belongs to one contact, and a
-/// tangent row's μ_i and normal row are its contact's.
+/// tangent row's μ_i and normal row are its contact's. skip_rest (only when values_finite(p) and
+/// every row acts on its contact's bodies only, as a successful packing checked): a contact whose
+/// bodies' Δu entries are all ±0 has w_i = 0 + b_i exactly, its rows are not read.
 void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r, bool& nan,
-                    bool& nonfinite);
+                    bool& nonfinite, bool skip_rest = false);
 
 /// The same for rows [i0, i1) one by one, with the bounds of LcpProblem::lower and upper (problems
 /// whose rows are not all owned by contacts).
