@@ -37,6 +37,26 @@ inline void fold(double e, double& r, bool& nan) {
 
 }  // namespace
 
+namespace {
+
+/// out[c] += J_ic·l for row i's entries in storage order (columns outside [col0, col1) skipped
+/// unless `all`).
+inline void scatter_row(const double* value, const int* inner, const int* outer, const int* nnz, int i, double l,
+                        bool all, int col0, int col1, double* out) {
+  int q0 = 0, q1 = 0;
+  row_extent(outer, nnz, i, q0, q1);
+  if (all) {
+    for (int q = q0; q < q1; ++q) out[inner[q]] += value[q] * l;
+  } else {
+    for (int q = q0; q < q1; ++q) {
+      const int c = inner[q];
+      if (c >= col0 && c < col1) out[c] += value[q] * l;
+    }
+  }
+}
+
+}  // namespace
+
 void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out,
                     bool skip_zero) {
   const double* value = p.J.valuePtr();
@@ -44,19 +64,22 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
   const int* outer = p.J.outerIndexPtr();
   const int* nnz = p.J.innerNonZeroPtr();  // null when compressed
   const bool all = col0 <= 0 && col1 >= p.J.cols();
-  for (int i = i0; i < i1; ++i) {
-    const double l = lambda[i];
-    if (skip_zero && l == 0.0) continue;
-    int q0 = 0, q1 = 0;
-    row_extent(outer, nnz, i, q0, q1);
-    if (all) {
-      for (int q = q0; q < q1; ++q) out[inner[q]] += value[q] * l;
-    } else {
-      for (int q = q0; q < q1; ++q) {
-        const int c = inner[q];
-        if (c >= col0 && c < col1) out[c] += value[q] * l;
-      }
+  if (!skip_zero) {
+    for (int i = i0; i < i1; ++i) scatter_row(value, inner, outer, nnz, i, lambda[i], all, col0, col1, out);
+    return;
+  }
+  // The rows with λ_i ≠ 0 (NaN included) of each chunk listed first, without a branch per row
+  // (which of a pile's rows are 0 follows no pattern a predictor learns), then scattered in order.
+  constexpr int kChunk = 256;
+  int rows[kChunk];
+  for (int i = i0; i < i1; i += kChunk) {
+    const int end = std::min(i1, i + kChunk);
+    int m = 0;
+    for (int k = i; k < end; ++k) {
+      rows[m] = k;
+      m += lambda[k] != 0.0 ? 1 : 0;
     }
+    for (int j = 0; j < m; ++j) scatter_row(value, inner, outer, nnz, rows[j], lambda[rows[j]], all, col0, col1, out);
   }
 }
 
