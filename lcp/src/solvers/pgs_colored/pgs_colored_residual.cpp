@@ -35,10 +35,6 @@ inline void fold(double e, double& r, bool& nan) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 /// out[c] += J_ic·l for row i's entries in storage order (columns outside [col0, col1) skipped
 /// unless `all`).
 inline void scatter_row(const double* value, const int* inner, const int* outer, const int* nnz, int i, double l,
@@ -53,6 +49,25 @@ inline void scatter_row(const double* value, const int* inner, const int* outer,
       if (c >= col0 && c < col1) out[c] += value[q] * l;
     }
   }
+}
+
+/// No entry of x[0..n) is ±∞ or NaN (integer ops on the exponent bits: the compiler vectorises).
+bool finite_run(const double* x, int n) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t any = 0;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, x + i, sizeof bits);
+    any |= static_cast<std::uint64_t>((bits & kExp) == kExp);
+  }
+  return any == 0;
+}
+
+/// Δu of body k's three columns all ±0 (a body with no column, k < 0, counts as at rest).
+inline bool at_rest(const double* du, int k) {
+  if (k < 0) return true;
+  const double* u = du + 3 * k;
+  return (u[0] == 0.0) & (u[1] == 0.0) & (u[2] == 0.0);
 }
 
 }  // namespace
@@ -83,22 +98,6 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
   }
 }
 
-namespace {
-
-/// No entry of x[0..n) is ±∞ or NaN (integer ops on the exponent bits: the compiler vectorises).
-bool finite_run(const double* x, int n) {
-  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
-  std::uint64_t any = 0;
-  for (int i = 0; i < n; ++i) {
-    std::uint64_t bits;
-    std::memcpy(&bits, x + i, sizeof bits);
-    any |= static_cast<std::uint64_t>((bits & kExp) == kExp);
-  }
-  return any == 0;
-}
-
-}  // namespace
-
 bool values_finite(const LcpProblem& p) {
   const double* value = p.J.valuePtr();
   if (p.J.isCompressed()) return finite_run(value, static_cast<int>(p.J.nonZeros()));
@@ -108,17 +107,6 @@ bool values_finite(const LcpProblem& p) {
   for (int i = 0; i < p.J.rows(); ++i) ok &= finite_run(value + outer[i], nnz[i]);
   return ok;
 }
-
-namespace {
-
-/// Δu of body k's three columns all ±0 (a body with no column, k < 0, counts as at rest).
-inline bool at_rest(const double* du, int k) {
-  if (k < 0) return true;
-  const double* u = du + 3 * k;
-  return (u[0] == 0.0) & (u[1] == 0.0) & (u[2] == 0.0);
-}
-
-}  // namespace
 
 void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r_io,
                     bool& nan_io, bool& nonfinite, bool skip_rest) {
