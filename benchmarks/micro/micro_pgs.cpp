@@ -21,6 +21,7 @@
 #include "dc/engine/world.hpp"
 #include "hex_pile.hpp"
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
+#include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 
 namespace {
@@ -379,6 +380,27 @@ void BM_PgsColoredResidual(benchmark::State& s) {
                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+/// pgs-colored's Δu⁰ = M⁻¹Jᵀλ⁰Δt alone (colored::velocity_change, one thread, into the sweeps'
+/// per-body layout) at the 200-sweep λ of the pile. Counter ns_per_row = CPU time / rows.
+void BM_PgsColoredVelocityChange(benchmark::State& s) {
+  dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+  p.A = dc::SparseRowMatrix();
+  dc::SolverOptions o;
+  o.max_sweeps = 200;
+  o.tolerance = 0.0;
+  o.record_theta = false;
+  const Eigen::VectorXd l = dc::make_solver("pgs-colored")->solve(p, Eigen::VectorXd::Zero(p.rows()), o).lambda;
+  const int bodies = static_cast<int>((p.J.cols() + 2) / 3);
+  std::vector<double> du(static_cast<size_t>(dc::colored::kStride) * (bodies + 1));
+  Eigen::VectorXd jt;
+  for (auto _ : s) {
+    dc::colored::velocity_change(p, l, bodies, du.data(), jt);
+    benchmark::DoNotOptimize(du.data());
+  }
+  s.counters["ns_per_row"] = benchmark::Counter(1e-9 * p.rows() * static_cast<double>(s.iterations()),
+                                                benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // The seed scene: one full 3000-sweep solve (the bench's fixed budget) per iteration.
 constexpr int kSeedSweeps = 3000;
 void BM_SeedScenePgs(benchmark::State& s) { run_solver(s, seed_scene_problem(), kSeedSweeps, "pgs"); }
@@ -416,8 +438,9 @@ BENCHMARK(BM_PgsColoredThreads)
 BENCHMARK(BM_PgsColoredAlternating)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_PgsColoredResidual)
     ->ArgNames({"bodies", "form"})
-    ->ArgsProduct({{1000, 10000}, {0, 1}})
+    ->ArgsProduct({{1000, 10000, 40000}, {0, 1}})
     ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsColoredVelocityChange)->ArgNames({"bodies"})->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ContactColoring)
     ->ArgNames({"bodies", "reuse", "threads", "chunk"})
     ->Args({1000, 0, 1, 0})

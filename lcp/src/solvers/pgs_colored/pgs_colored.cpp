@@ -13,7 +13,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <string>
@@ -34,6 +33,7 @@
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
+#include "solvers/pgs_colored/pgs_colored_residual.hpp"
 #include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -52,19 +52,6 @@ using solvers::finish;
 using solvers::settle_status;
 using solvers::StopRule;
 
-
-/// True when no entry of x[0..n) is ±∞ or NaN: an OR over the exponent bits (integer ops, so
-/// the compiler vectorises it).
-bool all_finite(const double* x, int n) {
-  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
-  std::uint64_t any = 0;
-  for (int i = 0; i < n; ++i) {
-    std::uint64_t bits;
-    std::memcpy(&bits, x + i, sizeof bits);
-    any |= static_cast<std::uint64_t>((bits & kExp) == kExp);
-  }
-  return any == 0;
-}
 
 /// Adds the thread CPU time since the last lap to a PgsColoredProfile field; does nothing
 /// without a profile (no clock read).
@@ -249,8 +236,8 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt);
-      bad = !all_finite(prep.du.data(), prep.body_entries);
+      prep.j_finite = colored::values_finite(p);
+      bad = !colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
     };
     auto fill = [&](int bi) {
       if (bi < nb)
@@ -296,7 +283,7 @@ class PgsColoredSolver final : public LcpSolver {
     prep.lp = std::move(permuted);  // storage for the next solve's λ⁰
     laps.lap(&PgsColoredProfile::unpermute);
     bool finite = false;
-    r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite);
+    r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite, prep.j_finite);
     if (finite)
       settle_status(p, r, o, StopRule::Tolerance);
     else
@@ -377,7 +364,7 @@ class PgsColoredSolver final : public LcpSolver {
   /// λ in row order from the permuted vector v (every row has one slot: each row belongs to a
   /// packed contact).
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
-    Eigen::VectorXd out = Eigen::VectorXd::Zero(rows);
+    Eigen::VectorXd out(rows);  // (every entry is written below)
     const int np = static_cast<int>(prep.row_of.size());
     const int parts = threads > 1 ? 2 * threads : 1;
     calling_thread_team().for_parts(threads, parts, [&](int part) {

@@ -50,6 +50,7 @@ struct Prepared {
   Eigen::VectorXd lp, other;  // storage of the permuted λ: handed to the sweeps, returned after them
   int body_entries = 0;  // kStride·bodies; the zero body follows
   int pair_base = 0;     // first permuted slot of the pair batches (2·W·batches)
+  bool j_finite = false;  // every J entry finite (values_finite): the products skip rows with λ_i = 0
   std::uint64_t generation = 0;  // the colouring (ContactColoring::generation) laid out; 0: none
 };
 

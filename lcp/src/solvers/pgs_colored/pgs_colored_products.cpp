@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -15,19 +17,33 @@
 
 namespace dc::colored {
 
-void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
-                     Eigen::VectorXd& jt) {
+namespace {
+
+/// 1 when x is ±∞ or NaN (its exponent bits all set), else 0.
+inline std::uint64_t not_finite(double x) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return static_cast<std::uint64_t>((bits & kExp) == kExp);
+}
+
+}  // namespace
+
+bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
+                     Eigen::VectorXd& jt, bool skip_zero) {
   // Jᵀλ into a kept buffer, as Eigen's product sums it: a contiguous scatter is faster than one
   // straight into the strided Δu (c/3 and c%3 per entry).
   jt.setZero(p.J.cols());
-  transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data());
+  transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data(), skip_zero);
   // Every entry written once (no zero-fill first): a body's three velocities, 0 for columns past
-  // J's and for the padding entry; then the zero body.
+  // J's and for the padding entry; then the zero body. The finiteness test rides along (no
+  // second pass over Δu).
   const int ncols = static_cast<int>(jt.size());
   const double* im = p.inv_mass.data();
   const double* v = jt.data();
   const double dt = p.dt;
   const int whole = std::min(ncols / 3, bodies);
+  std::uint64_t bad = 0;
   for (int k = 0; k < whole; ++k) {
     double* out = du + static_cast<size_t>(kStride) * k;
     const int c = 3 * k;
@@ -35,16 +51,19 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
     out[1] = im[c + 1] * v[c + 1] * dt;
     out[2] = im[c + 2] * v[c + 2] * dt;
     out[3] = 0.0;
+    bad |= not_finite(out[0]) | not_finite(out[1]) | not_finite(out[2]);
   }
   for (int k = whole; k < bodies; ++k) {  // a body with fewer than three columns in J
     double* out = du + static_cast<size_t>(kStride) * k;
     for (int d = 0; d < 3; ++d) {
       const int c = 3 * k + d;
       out[d] = c < ncols ? im[c] * v[c] * dt : 0.0;
+      bad |= not_finite(out[d]);
     }
     out[3] = 0.0;
   }
   std::fill(du + static_cast<size_t>(kStride) * bodies, du + static_cast<size_t>(kStride) * (bodies + 1), 0.0);
+  return bad == 0;
 }
 
 namespace {
@@ -97,47 +116,49 @@ void transpose_bounds(const LcpProblem& p, int tid, int nt, int* bounds) {
 /// Part tid of nt of scaled_transpose_product's second phase, after every part's
 /// transpose_bounds: block tid's columns summed over its rows in ascending order, from 0.
 void transpose_block(const LcpProblem& p, const Eigen::VectorXd& lambda, Eigen::VectorXd& du, int tid, int nt,
-                     const int* bounds) {
+                     const int* bounds, bool skip_zero) {
   const int ncols = static_cast<int>(p.J.cols());
   const int bodies = (ncols + 2) / 3;
   const BlockRowRanges r = block_row_ranges(bounds, nt, tid);
   const int col0 = 3 * block_begin(bodies, tid, nt), col1 = std::min(ncols, 3 * block_begin(bodies, tid + 1, nt));
   double* out = du.data();
   for (int c = col0; c < col1; ++c) out[c] = 0.0;
-  if (r.lo1 <= r.hi1) transpose_rows(p, lambda.data(), r.lo1, r.hi1 + 1, col0, col1, out);
-  if (r.lo2 <= r.hi2) transpose_rows(p, lambda.data(), r.lo2, r.hi2 + 1, col0, col1, out);
+  if (r.lo1 <= r.hi1) transpose_rows(p, lambda.data(), r.lo1, r.hi1 + 1, col0, col1, out, skip_zero);
+  if (r.lo2 <= r.hi2) transpose_rows(p, lambda.data(), r.lo2, r.hi2 + 1, col0, col1, out, skip_zero);
   const double* im = p.inv_mass.data();
   const double dt = p.dt;
   for (int c = col0; c < col1; ++c) out[c] = im[c] * out[c] * dt;
 }
 
 /// scaled_transpose_product on `threads` threads (> 1) of the calling thread's team.
-void scaled_transpose_parts(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
+void scaled_transpose_parts(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
+                            bool skip_zero) {
   const int nt = threads;  // blocks (a row range can reach several); a present member takes an absent one's
   du.resize(p.J.cols());
   std::vector<int> bounds(static_cast<size_t>(4 * nt * nt));
   WorkTeam& team = calling_thread_team();
   team.for_parts(threads, nt, [&](int t) { transpose_bounds(p, t, nt, bounds.data()); });
-  team.for_parts(threads, nt, [&](int t) { transpose_block(p, lambda, du, t, nt, bounds.data()); });
+  team.for_parts(threads, nt, [&](int t) { transpose_block(p, lambda, du, t, nt, bounds.data(), skip_zero); });
 }
 
 }  // namespace
 
-void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du) {
+void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
+                              bool skip_zero) {
   if (threads <= 1) {
     du.setZero(p.J.cols());
-    transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), du.data());
+    transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), du.data(), skip_zero);
     const double* im = p.inv_mass.data();
     double* out = du.data();
     const double dt = p.dt;
     for (int c = 0; c < du.size(); ++c) out[c] = im[c] * out[c] * dt;
     return;
   }
-  scaled_transpose_parts(p, lambda, threads, du);
+  scaled_transpose_parts(p, lambda, threads, du, skip_zero);
 }
 
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
-                        bool& all_finite) {
+                        bool& all_finite, bool skip_zero) {
   const int n = p.rows(), nc = p.constraints.size();
   // By contact when the contacts own the rows (the solver's case: no per-row bound lookup).
   const bool by_contact = nc > 0 && p.constraints.rows() == n;
@@ -145,15 +166,15 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
   double r = 0.0;
   bool nan = false, nonfinite = false;
   if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
-    scaled_transpose_product(p, lambda, 1, du);
+    scaled_transpose_product(p, lambda, 1, du, skip_zero);
     if (by_contact)
-      contact_errors(p, lambda.data(), du.data(), 0, nc, r, nan, nonfinite);
+      contact_errors(p, lambda.data(), du.data(), 0, nc, r, nan, nonfinite, skip_zero);
     else
       row_errors(p, lambda, du.data(), 0, n, r, nan, nonfinite);
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
-  scaled_transpose_parts(p, lambda, threads, du);
+  scaled_transpose_parts(p, lambda, threads, du, skip_zero);
   // The errors by chunks; max and or combine the chunks' in any order alike.
   const int items = by_contact ? nc : n;
   const int chunks = (items + kContactChunk - 1) / kContactChunk;
@@ -166,7 +187,7 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     Part& e = parts[static_cast<size_t>(k)];
     const int i = k * kContactChunk, i1 = std::min(items, i + kContactChunk);
     if (by_contact)
-      contact_errors(p, lambda.data(), du.data(), i, i1, e.r, e.nan, e.nonfinite);
+      contact_errors(p, lambda.data(), du.data(), i, i1, e.r, e.nan, e.nonfinite, skip_zero);
     else
       row_errors(p, lambda, du.data(), i, i1, e.r, e.nan, e.nonfinite);
   });

@@ -8,6 +8,8 @@
 // the packing. The residual's Jᵀλ runs on threads by blocks of bodies, each walking J's rows in
 // order between bounds from the contacts; a row of w = J Δu + b is one dot product (storage
 // order, from 0, then + b_i), and the max-reduction is order-free (any NaN → ∞, as serial).
+// With skip_zero (allowed when every J entry is finite, values_finite) the Jᵀλ sums leave out
+// the rows with λ_i = ±0, which add nothing to them (pgs_colored_residual.hpp).
 #include "dc/lcp/lcp_problem.hpp"
 
 namespace dc::colored {
@@ -16,8 +18,10 @@ namespace dc::colored {
 /// padding entry of each body 0, then the zero body (kStride zeros): `du` holds
 /// kStride·(bodies + 1) doubles, bodies·3 ≥ J's columns. Serial; bit-identical to
 /// lcp_problem.cpp's velocity_change. `jt` is scratch (Jᵀλ; kept by the caller, no allocation
-/// in steady state).
-void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt);
+/// in steady state). skip_zero (only when values_finite(p), pgs_colored_residual.hpp): rows with
+/// λ_i = ±0 are not read, the same bits. Returns whether every entry of `du` is finite.
+bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt,
+                     bool skip_zero = false);
 
 /// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to
 /// lcp_problem.cpp's velocity_change for every thread count. On one thread: J's rows in order
@@ -27,14 +31,17 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 /// that act on its bodies: those of the contacts on them, whose row range the threads first
 /// bound from their share of the contacts (min/max: order-free). Requires what a successful
 /// packing checked: every row belongs to a contact of p.constraints and acts only on that
-/// contact's bodies.
-void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du);
+/// contact's bodies. skip_zero as in velocity_change.
+void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
+                              bool skip_zero = false);
 
 /// natural_residual(p, λ) bit for bit, using `du` as scratch (Δu in column order, kept by the
 /// caller): Δu by scaled_transpose_product, then the rows (by contact, contact_errors, when the
 /// contacts own the rows), on `threads` threads. `all_finite` is
-/// set to whether every λ_i is finite. Same requirement as scaled_transpose_product.
+/// set to whether every λ_i is finite. Same requirement as scaled_transpose_product; skip_zero
+/// as in velocity_change (the rows with λ_i = 0 still have their errors), and the rows of a
+/// contact whose bodies have Δu = 0 are not read either (contact_errors's skip_rest).
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
-                        bool& all_finite);
+                        bool& all_finite, bool skip_zero = false);
 
 }  // namespace dc::colored

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace dc::colored {
 namespace {
@@ -33,31 +35,81 @@ inline void fold(double e, double& r, bool& nan) {
   }
 }
 
+/// out[c] += J_ic·l for row i's entries in storage order (columns outside [col0, col1) skipped
+/// unless `all`).
+inline void scatter_row(const double* value, const int* inner, const int* outer, const int* nnz, int i, double l,
+                        bool all, int col0, int col1, double* out) {
+  int q0 = 0, q1 = 0;
+  row_extent(outer, nnz, i, q0, q1);
+  if (all) {
+    for (int q = q0; q < q1; ++q) out[inner[q]] += value[q] * l;
+  } else {
+    for (int q = q0; q < q1; ++q) {
+      const int c = inner[q];
+      if (c >= col0 && c < col1) out[c] += value[q] * l;
+    }
+  }
+}
+
+/// No entry of x[0..n) is ±∞ or NaN (integer ops on the exponent bits: the compiler vectorises).
+bool finite_run(const double* x, int n) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t any = 0;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, x + i, sizeof bits);
+    any |= static_cast<std::uint64_t>((bits & kExp) == kExp);
+  }
+  return any == 0;
+}
+
+/// Δu of body k's three columns all ±0 (a body with no column, k < 0, counts as at rest).
+inline bool at_rest(const double* du, int k) {
+  if (k < 0) return true;
+  const double* u = du + 3 * k;
+  return (u[0] == 0.0) & (u[1] == 0.0) & (u[2] == 0.0);
+}
+
 }  // namespace
 
-void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out) {
+void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out,
+                    bool skip_zero) {
   const double* value = p.J.valuePtr();
   const int* inner = p.J.innerIndexPtr();
   const int* outer = p.J.outerIndexPtr();
   const int* nnz = p.J.innerNonZeroPtr();  // null when compressed
   const bool all = col0 <= 0 && col1 >= p.J.cols();
-  for (int i = i0; i < i1; ++i) {
-    const double l = lambda[i];
-    int q0 = 0, q1 = 0;
-    row_extent(outer, nnz, i, q0, q1);
-    if (all) {
-      for (int q = q0; q < q1; ++q) out[inner[q]] += value[q] * l;
-    } else {
-      for (int q = q0; q < q1; ++q) {
-        const int c = inner[q];
-        if (c >= col0 && c < col1) out[c] += value[q] * l;
-      }
+  if (!skip_zero) {
+    for (int i = i0; i < i1; ++i) scatter_row(value, inner, outer, nnz, i, lambda[i], all, col0, col1, out);
+    return;
+  }
+  // The rows with λ_i ≠ 0 (NaN included) of each chunk listed first, without a branch per row
+  // (which of a pile's rows are 0 follows no pattern a predictor learns), then scattered in order.
+  constexpr int kChunk = 256;
+  int rows[kChunk];
+  for (int i = i0; i < i1; i += kChunk) {
+    const int end = std::min(i1, i + kChunk);
+    int m = 0;
+    for (int k = i; k < end; ++k) {
+      rows[m] = k;
+      m += lambda[k] != 0.0 ? 1 : 0;
     }
+    for (int j = 0; j < m; ++j) scatter_row(value, inner, outer, nnz, rows[j], lambda[rows[j]], all, col0, col1, out);
   }
 }
 
+bool values_finite(const LcpProblem& p) {
+  const double* value = p.J.valuePtr();
+  if (p.J.isCompressed()) return finite_run(value, static_cast<int>(p.J.nonZeros()));
+  const int* outer = p.J.outerIndexPtr();
+  const int* nnz = p.J.innerNonZeroPtr();
+  bool ok = true;
+  for (int i = 0; i < p.J.rows(); ++i) ok &= finite_run(value + outer[i], nnz[i]);
+  return ok;
+}
+
 void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r_io,
-                    bool& nan_io, bool& nonfinite) {
+                    bool& nan_io, bool& nonfinite, bool skip_rest) {
   double r = r_io;  // (locals: a store through the references would be reloaded every row)
   bool nan = nan_io;
   const double* value = p.J.valuePtr();
@@ -71,19 +123,27 @@ void contact_errors(const LcpProblem& p, const double* lambda, const double* du,
   bool bad = false;
   for (int c = c0; c < c1; ++c) {
     const ContactConstraint& k = cons[c];
+    // Both bodies at rest in Δu: each row's sum is 0 + J_iq·(±0) + … = +0 (J finite), so
+    // w_i = 0 + b_i without reading the row.
+    const bool rest = skip_rest && at_rest(du, k.body_a) && at_rest(du, k.body_b);
     const int n = k.normal_row;
     int q0 = 0, q1 = 0;
     row_extent(outer, nnz, n, q0, q1);
     const double xn = lambda[n];
     bad = bad || !std::isfinite(xn);
-    fold(row_error(xn, row_w(value, inner, q0, q1, du, b[n]), lo[n], hi[n]), r, nan);
+    const double wn = rest ? 0.0 + b[n] : row_w(value, inner, q0, q1, du, b[n]);
+    fold(row_error(xn, wn, lo[n], hi[n]), r, nan);
     if (k.tangent_row < 0) continue;
     const int t = k.tangent_row;
-    int p0 = 0, p1 = 0;
-    row_extent(outer, nnz, t, p0, p1);
     const double xt = lambda[t];
     const double bound = std::max(0.0, xn);
-    fold(row_error(xt, row_w(value, inner, p0, p1, du, b[t]), -k.mu * bound, k.mu * bound), r, nan);
+    double wt = 0.0 + b[t];
+    if (!rest) {
+      int p0 = 0, p1 = 0;
+      row_extent(outer, nnz, t, p0, p1);
+      wt = row_w(value, inner, p0, p1, du, b[t]);
+    }
+    fold(row_error(xt, wt, -k.mu * bound, k.mu * bound), r, nan);
     bad = bad || !std::isfinite(xt);
   }
   nonfinite = nonfinite || bad;

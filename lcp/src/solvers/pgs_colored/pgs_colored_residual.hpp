@@ -14,15 +14,24 @@ namespace dc::colored {
 
 /// out[c] += J_ic·λ_i for rows i in [i0, i1) in ascending order, each row's entries in storage
 /// order (the caller zeroes `out` first; columns outside [col0, col1) are skipped, for a thread
-/// that owns a block of columns).
-void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out);
+/// that owns a block of columns). skip_zero: rows with λ_i = ±0 are not read — the same bits
+/// when every J entry is finite (values_finite): such a row adds ±0 to each of its columns' sums,
+/// which start at +0 and so are never −0, and x + ±0 = x for every other x.
+void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out,
+                    bool skip_zero = false);
+
+/// True when every stored entry of J is finite (an OR over the exponent bits; for a J that is not
+/// compressed, row by row). Allows transpose_rows's skip_zero.
+bool values_finite(const LcpProblem& p);
 
 /// The running maximum of the errors of contacts [c0, c1)'s rows into r (a NaN error sets `nan`
 /// instead), with du = M⁻¹JᵀλΔt in column order; `nonfinite` is set when one of their λ_i is not
 /// finite. Requires what the input checks verified: every row belongs to one contact, and a
-/// tangent row's μ_i and normal row are its contact's.
+/// tangent row's μ_i and normal row are its contact's. skip_rest (only when values_finite(p) and
+/// every row acts on its contact's bodies only, as a successful packing checked): a contact whose
+/// bodies' Δu entries are all ±0 has w_i = 0 + b_i exactly, its rows are not read.
 void contact_errors(const LcpProblem& p, const double* lambda, const double* du, int c0, int c1, double& r, bool& nan,
-                    bool& nonfinite);
+                    bool& nonfinite, bool skip_rest = false);
 
 /// The same for rows [i0, i1) one by one, with the bounds of LcpProblem::lower and upper (problems
 /// whose rows are not all owned by contacts).
