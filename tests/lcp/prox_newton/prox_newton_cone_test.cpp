@@ -187,7 +187,7 @@ TEST(ProxNewtonCone, SameContactVelocitiesAsLemkeFromRandomStarts) {
           const bool follow = mode > 0;
           ProxNewtonDef def = cone_only();
           def.cone_follow_shift = follow;
-          if (mode == 2) def.cone_trust_radius = 4;
+          def.cone_trust_radius = mode == 2 ? 4 : 0;
           const SolveResult r = ProxNewtonSolver(def).solve(p, guess, options());
           const std::string what = std::to_string(cs.friction) + "/" + std::to_string(cs.frictionless_every) +
                                    " seed " + std::to_string(seed) + " start " + std::to_string(start) +
