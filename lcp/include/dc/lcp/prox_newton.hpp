@@ -147,9 +147,11 @@ struct ProxNewtonDef {
   /// Anderson acceleration depth of the exact-cone passes' outer map λ^k ↦ λ^{k+1} (anderson.hpp;
   /// default 0: none).
   int cone_anderson = 0;
-  /// Exact-cone passes in a row without a new best hard residual before they stop (default 8:
-  /// a failed following pass and the frozen passes after it may not improve for a few passes).
-  int cone_max_stalls = 8;
+  /// Exact-cone passes in a row without a new best hard residual before they stop (default 3:
+  /// with the trust region a rejected following pass restarts from the best iterate, and passes
+  /// that stay above the best for longer sit on a plateau the finishes cross in fewer
+  /// factorisations).
+  int cone_max_stalls = 3;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of
