@@ -79,6 +79,12 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "cone_follow_shift") d.cone_follow_shift = x != 0;
   else if (key == "cone_follow_after") d.cone_follow_after = static_cast<int>(x);
   else if (key == "cone_follow_iterations") d.cone_follow_iterations = static_cast<int>(x);
+  else if (key == "cone_follow_below") d.cone_follow_below = x;
+  else if (key == "cone_trust_radius") d.cone_trust_radius = x;
+  else if (key == "cone_trust_grow") d.cone_trust_grow = x;
+  else if (key == "cone_trust_forget") d.cone_trust_forget = x;
+  else if (key == "cone_trust_accept") d.cone_trust_accept = x;
+  else if (key == "cone_trust_retries") d.cone_trust_retries = static_cast<int>(x);
   else if (key == "cone_max_stalls") d.cone_max_stalls = static_cast<int>(x);
   else if (key == "body_finish_iterations") d.body_finish_iterations = static_cast<int>(x);
   else if (key.rfind("route.", 0) == 0) {

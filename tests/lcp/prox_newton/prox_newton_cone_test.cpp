@@ -14,6 +14,7 @@
 #include "solvers/prox_newton/cone/cone_newton.hpp"
 #include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/cone/friction_cone.hpp"
+#include "solvers/prox_newton/cone/shift_trust.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 
 namespace dc {
@@ -23,6 +24,7 @@ using solvers::prox::ConeNewton;
 using solvers::prox::ConePoint;
 using solvers::prox::ConeRegion;
 using solvers::prox::ConeSubproblem;
+using solvers::prox::ShiftTrust;
 using solvers::prox::cone_jacobian;
 using solvers::prox::project_cone;
 
@@ -99,6 +101,11 @@ TEST(ProxNewtonCone, GradientAndHessianMatchDifferences) {
     sub.c = p.b;
     for (int i = 0; i < p.rows(); ++i) sub.c[i] += rng.uniform(-0.5, 0.5);
     sub.follow_shift = seed > 3;
+    if (seed > 4) {  // a trust region that binds on some contacts (S_nt = 0 there)
+      sub.shift_center = Eigen::VectorXd::Zero(p.rows());
+      for (int i = 0; i < p.rows(); ++i) sub.shift_center[i] = rng.uniform(0, 1);
+      sub.shift_radius = seed == 5 ? 0.3 : 0.05;
+    }
     const Eigen::Index m = p.J.cols();
     for (int trial = 0; trial < 5; ++trial) {
       Eigen::VectorXd v(m), x(m), g, gp, gm, hx;
@@ -176,13 +183,15 @@ TEST(ProxNewtonCone, SameContactVelocitiesAsLemkeFromRandomStarts) {
         Eigen::VectorXd guess = Eigen::VectorXd::Zero(p.rows());
         if (start > 0)
           for (int i = 0; i < p.rows(); ++i) guess[i] = rng.uniform(-1, 3);
-        for (const bool follow : {false, true}) {
+        for (const int mode : {0, 1, 2}) {  // frozen shift, following, following in a trust region
+          const bool follow = mode > 0;
           ProxNewtonDef def = cone_only();
           def.cone_follow_shift = follow;
+          def.cone_trust_radius = mode == 2 ? 4 : 0;
           const SolveResult r = ProxNewtonSolver(def).solve(p, guess, options());
           const std::string what = std::to_string(cs.friction) + "/" + std::to_string(cs.frictionless_every) +
                                    " seed " + std::to_string(seed) + " start " + std::to_string(start) +
-                                   (follow ? " following" : "");
+                                   (follow ? " following" : "") + (mode == 2 ? " in a trust region" : "");
           EXPECT_EQ(r.status, SolveStatus::Converged) << what << ": " << r.message;
           EXPECT_LE(r.residual, bound(p)) << what;
           EXPECT_LE(velocity_gap(p, ref, r.lambda), 1e-6) << what;
@@ -215,6 +224,138 @@ TEST(ProxNewtonCone, LemkeSolutionIsAFixedPoint) {
   const auto out = solvers::prox::run_cone_passes(p, cone, ref, 0.0, d);
   EXPECT_LE(natural_residual(p, ref), bound(p));
   EXPECT_LE(out.best_residual, bound(p));
+}
+
+// With the trust region's radius 0 a following pass is the frozen-shift pass (the same λ), and
+// where the region does not bind it is the unbounded following pass.
+TEST(ProxNewtonCone, TrustRegionSpansFrozenAndFollowingShifts) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 2600);
+    const LcpProblem p = test::random_contact(20, 30, true, rng, 0.6);
+    ConeNewton cone;
+    ASSERT_TRUE(cone.bind(p));
+    Eigen::VectorXd centre = Eigen::VectorXd::Zero(p.rows());
+    for (int i = 0; i < p.rows(); ++i) centre[i] = rng.uniform(0, 2);
+    Eigen::VectorXd shift;
+    solvers::prox::de_saxce_shift(p, lcp_velocity(p, centre), shift);
+    ConeSubproblem frozen;
+    frozen.delta = 1e-2 * cone.max_diagonal();
+    frozen.tolerance = 1e-12;
+    frozen.max_iterations = 60;
+    frozen.c = p.b + shift - frozen.delta * centre;
+    ConeSubproblem bounded = frozen;
+    bounded.follow_shift = true;
+    bounded.c = p.b - frozen.delta * centre;
+    bounded.shift_center = shift;
+    bounded.shift_radius = 0.0;
+    Eigen::VectorXd a = centre, b = centre;
+    ASSERT_TRUE(cone.solve(frozen, a).converged) << seed;
+    ASSERT_TRUE(cone.solve(bounded, b).converged) << seed;
+    EXPECT_LE((a - b).cwiseAbs().maxCoeff(), 1e-8 * std::max(1.0, a.cwiseAbs().maxCoeff())) << seed;
+    ConeSubproblem free = bounded, wide = bounded;
+    free.shift_center.resize(0);
+    wide.shift_radius = 1e9;
+    Eigen::VectorXd c = centre, d = centre;
+    const auto fo = cone.solve(free, c);
+    const auto wo = cone.solve(wide, d);
+    EXPECT_EQ(fo.converged, wo.converged) << seed;
+    EXPECT_LE((c - d).cwiseAbs().maxCoeff(), 1e-8 * std::max(1.0, c.cwiseAbs().maxCoeff())) << seed;
+  }
+}
+
+// The radius is τ times the shift's last move; an accepted pass that cut the residual
+// `fast`-fold grows τ, a slower one keeps it, a rejected one shrinks it, and after `retries`
+// rejections in a row the passes go back to frozen shifts with τ reset.
+TEST(ProxNewtonCone, ShiftTrustGrowsShrinksAndGivesUp) {
+  ShiftTrust t(4.0, 4.0, 2, 4.0);
+  t.moved(0.5);
+  ConeSubproblem sub;
+  const Eigen::VectorXd shift = Eigen::VectorXd::Constant(3, 0.25);
+  t.bound(shift, sub);
+  EXPECT_EQ(sub.shift_center, shift);
+  EXPECT_DOUBLE_EQ(sub.shift_radius, 2.0);
+  EXPECT_TRUE(t.after_following(true, 0.5, 1.0));  // accepted, slow: τ kept
+  EXPECT_DOUBLE_EQ(t.tau(), 4.0);
+  EXPECT_TRUE(t.after_following(true, 0.2, 1.0));  // accepted, fast: τ grows
+  EXPECT_DOUBLE_EQ(t.tau(), 16.0);
+  EXPECT_TRUE(t.after_following(false, 2.0, 1.0));  // rejected: τ shrinks, still following
+  EXPECT_DOUBLE_EQ(t.tau(), 4.0);
+  EXPECT_TRUE(t.after_following(false, 2.0, 1.0));
+  EXPECT_DOUBLE_EQ(t.tau(), 1.0);
+  EXPECT_FALSE(t.after_following(false, 2.0, 1.0));  // third in a row: back to frozen
+  EXPECT_DOUBLE_EQ(t.tau(), 4.0);
+  EXPECT_TRUE(t.after_following(false, 2.0, 1.0));  // the count starts again
+  ShiftTrust none(0.0, 4.0, 2, 4.0);  // no trust region: unbounded, one rejection gives up
+  none.bound(shift, sub);
+  EXPECT_EQ(sub.shift_center.size(), 0);
+  EXPECT_TRUE(none.after_following(true, 0.5, 1.0));
+  EXPECT_FALSE(none.after_following(false, 2.0, 1.0));
+}
+
+// exact_cone with the trust region and mass ratios 1e6 (every other body heavier): lemke's
+// contact velocities from zero and random starts. The finishes stay on: δ is one scalar relative
+// to max A_ii, so the heavy bodies' rows take proximal steps about 1e-6 of their distance and the
+// passes alone stall there.
+TEST(ProxNewtonCone, TrustRegionPassesMatchLemkeWithMassRatio) {
+  int compared = 0;
+  for (uint64_t seed = 801; seed <= 808; ++seed) {
+    test::TestRng rng(seed);
+    LcpProblem p = test::random_contact(20, 30, true, rng);
+    for (int k = 0; k < p.inv_mass.size() / 3; k += 2) p.inv_mass.segment(3 * k, 3) *= 1e-6;
+    p.A = p.J * SparseRowMatrix((p.inv_mass.asDiagonal() * SparseRowMatrix(p.J.transpose())) * p.dt);
+    p.A.makeCompressed();
+    // Lemke's pivoting ends on a ray on some of these problems: those have no reference.
+    const auto po = solvers::prox::pivot_solve(p);
+    if (!po.lambda) continue;
+    const Eigen::VectorXd& ref = *po.lambda;
+    ++compared;
+    for (int start = 0; start < 2; ++start) {
+      Eigen::VectorXd guess = Eigen::VectorXd::Zero(p.rows());
+      if (start > 0)
+        for (int i = 0; i < p.rows(); ++i) guess[i] = rng.uniform(-1, 3);
+      ProxNewtonDef def;
+      def.exact_cone = true;
+      def.cone_trust_radius = 4;
+      const SolveResult r = ProxNewtonSolver(def).solve(p, guess, options(3000));
+      EXPECT_EQ(r.status, SolveStatus::Converged) << seed << ": " << r.message;
+      EXPECT_LE(r.residual, bound(p)) << seed;
+      EXPECT_LE(velocity_gap(p, ref, r.lambda), 1e-6) << seed << " start " << start;
+    }
+  }
+  EXPECT_GE(compared, 2);
+}
+
+// Following passes from the first, far from the solution, blow up: the trust region rejects
+// them (hard residual above trust_accept times the best) and goes on from the best iterate, and
+// the passes still lower the hard residual at least 1e4-fold.
+TEST(ProxNewtonCone, RejectedFollowingPassesRestartFromTheBest) {
+  int rejected = 0;
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    test::TestRng rng(seed + 2900);
+    const LcpProblem p = test::random_contact(30, 60, true, rng, 0.8);
+    Eigen::VectorXd guess(p.rows());
+    for (int i = 0; i < p.rows(); ++i) guess[i] = rng.uniform(0, 50);
+    ConeNewton cone;
+    ASSERT_TRUE(cone.bind(p));
+    solvers::prox::ConePassesDef d;
+    d.shift = 1e-3;
+    d.min_shift = 1e-6;
+    d.shrink = 3;
+    d.max_passes = 100;
+    d.inner_iterations = 30;
+    d.max_stalls = 20;
+    d.iterations = 600;
+    d.follow_shift = true;
+    d.follow_after = 0;
+    d.trust_radius = 4;
+    project_feasible(p, guess);
+    const double start = natural_residual(p, guess);
+    const auto out = solvers::prox::run_cone_passes(p, cone, guess, bound(p), d);
+    rejected += out.rejected;
+    EXPECT_LE(out.best_residual, 1e-4 * start) << seed;
+    EXPECT_EQ(natural_residual(p, out.best), out.best_residual) << seed;
+  }
+  EXPECT_GT(rejected, 0);
 }
 
 }  // namespace

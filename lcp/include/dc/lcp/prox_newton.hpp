@@ -124,12 +124,34 @@ struct ProxNewtonDef {
   /// Newton iterations per following pass at most (default 8): far from a solution the
   /// following pass's semismooth Newton may not converge, and a failed pass is abandoned early.
   int cone_follow_iterations = 8;
+  /// Exact-cone passes: also switch to following passes after a solved frozen pass once the best
+  /// hard residual is ≤ this fraction of the start's (default 0: by cone_follow_after alone).
+  double cone_follow_below = 0;
+  /// Exact-cone following passes: a trust region on the shift, |ŝ_n(v) − ŝ_n^k| ≤ τ·m with m the
+  /// shift's change over the last accepted pass (cone/shift_trust.hpp). τ starts at
+  /// `cone_trust_radius` (default 4; 0: no trust region, the shift follows unbounded and one
+  /// unsolved or non-improving following pass goes back to frozen passes), grows by
+  /// `cone_trust_grow` (4) after a pass that cut the best hard residual 4-fold, shrinks by it
+  /// after a rejected pass (its iterate is dropped for the best), and `cone_trust_retries` (2)
+  /// rejections in a row go back to frozen passes.
+  double cone_trust_radius = 4;
+  double cone_trust_grow = 4;
+  int cone_trust_retries = 2;
+  /// With the trust region, δ does not shrink back to the δ of a rejected following pass until
+  /// the best hard residual has fallen to `cone_trust_forget` (0.1) of the best at the rejection.
+  double cone_trust_forget = 0.1;
+  /// With the trust region, a following pass (solved or not) is accepted unless its hard residual
+  /// rose above `cone_trust_accept` (10) times the best before it: the proximal step on the exact
+  /// problem makes progress even where the hard residual rises for a pass.
+  double cone_trust_accept = 10;
   /// Anderson acceleration depth of the exact-cone passes' outer map λ^k ↦ λ^{k+1} (anderson.hpp;
   /// default 0: none).
   int cone_anderson = 0;
-  /// Exact-cone passes in a row without a new best hard residual before they stop (default 8:
-  /// a failed following pass and the frozen passes after it may not improve for a few passes).
-  int cone_max_stalls = 8;
+  /// Exact-cone passes in a row without a new best hard residual before they stop (default 3:
+  /// with the trust region a rejected following pass restarts from the best iterate, and passes
+  /// that stay above the best for longer sit on a plateau the finishes cross in fewer
+  /// factorisations).
+  int cone_max_stalls = 3;
   /// Passes without a new best hard residual before the outer loop stops (default 1): the
   /// frozen-bound (Tresca) fixed point converges linearly at best, and once a pass fails to
   /// improve, a further one rarely does (on piles with more contact rows than degrees of

@@ -55,9 +55,11 @@ void check_def(const ProxNewtonDef& d) {
       !(d.cone_shrink >= 1))
     throw InvalidArgument("prox-newton: cone_shift, cone_min_shift, cone_inner_tolerance must be > 0, cone_shrink >= 1");
   if (d.cone_inner_iterations < 1 || d.cone_follow_iterations < 1 || d.cone_max_stalls < 1 || d.cone_anderson < 0 ||
-      d.cone_follow_after < 0)
+      d.cone_follow_after < 0 || d.cone_trust_retries < 0 || !(d.cone_trust_radius >= 0) || !(d.cone_trust_grow > 1) ||
+      !(d.cone_follow_below >= 0) || !(d.cone_trust_forget >= 0) || !(d.cone_trust_accept >= 1))
     throw InvalidArgument("prox-newton: cone_inner_iterations, cone_follow_iterations, cone_max_stalls must be >= 1, "
-                          "cone_anderson and cone_follow_after >= 0");
+                          "cone_anderson, cone_follow_after, cone_trust_retries, cone_trust_radius, cone_follow_below, cone_trust_forget >= 0, "
+                          "cone_trust_grow > 1, cone_trust_accept >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
@@ -269,6 +271,12 @@ class ProxRun {
     cd.follow_shift = def_.cone_follow_shift;
     cd.follow_after = def_.cone_follow_after;
     cd.follow_iterations = def_.cone_follow_iterations;
+    cd.follow_below = def_.cone_follow_below;
+    cd.trust_radius = def_.cone_trust_radius;
+    cd.trust_grow = def_.cone_trust_grow;
+    cd.trust_retries = def_.cone_trust_retries;
+    cd.trust_forget = def_.cone_trust_forget;
+    cd.trust_accept = def_.cone_trust_accept;
     cd.shrink = def_.cone_shrink;
     cd.min_shift = std::min(def_.cone_min_shift, def_.cone_shift);
     cd.iterations = budget_left();

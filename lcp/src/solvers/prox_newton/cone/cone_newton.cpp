@@ -50,6 +50,22 @@ bool ConeNewton::bind(const LcpProblem& p) {
   return true;
 }
 
+double ConeNewton::followed_shift(const ConeSubproblem& sub, const Contact& c, double wt, double& sig) {
+  const double s = c.mu * std::abs(wt);
+  sig = wt > 0 ? c.mu : (wt < 0 ? -c.mu : 0.0);
+  if (sub.shift_center.size() == 0) return s;
+  const double centre = sub.shift_center[c.n];
+  if (s > centre + sub.shift_radius) {
+    sig = 0.0;
+    return centre + sub.shift_radius;
+  }
+  if (s < centre - sub.shift_radius) {
+    sig = 0.0;
+    return centre - sub.shift_radius;
+  }
+  return s;
+}
+
 void ConeNewton::evaluate(const ConeSubproblem& sub, Point& pt, bool residual) {
   const LcpProblem& p = *p_;
   pt.y.noalias() = p.J * pt.v;
@@ -67,8 +83,7 @@ void ConeNewton::evaluate(const ConeSubproblem& sub, Point& pt, bool residual) {
     const Contact& c = contacts_[static_cast<size_t>(k)];
     if (sub.follow_shift) {  // ŝ_n = μ|w_t|, w_t = (J v + b)_t = y_t − c_t + b_t
       const double wt = pt.y[c.t] - sub.c[c.t] + p.b[c.t];
-      pt.y[c.n] += c.mu * std::abs(wt);
-      pt.sig[k] = wt > 0 ? c.mu : (wt < 0 ? -c.mu : 0.0);
+      pt.y[c.n] += followed_shift(sub, c, wt, pt.sig[k]);
     }
     const ConePoint cp = project_cone(c.mu, -pt.y[c.n] * inv, -pt.y[c.t] * inv);
     pt.lambda[c.n] = cp.n;
@@ -97,8 +112,10 @@ void ConeNewton::evaluate(const ConeSubproblem& sub, Point& pt, bool residual) {
   // w̃ = J W Jᵀ λ + δλ + c, from λ alone; the residual against the cone and the boxes.
   u_ = w_.cwiseProduct(pt.Jtl);
   wt_.noalias() = p.J * u_;  // A λ
-  if (sub.follow_shift)
-    for (const Contact& c : contacts_) wt_[c.n] += c.mu * std::abs(wt_[c.t] + p.b[c.t]);
+  if (sub.follow_shift) {
+    double sig = 0;
+    for (const Contact& c : contacts_) wt_[c.n] += followed_shift(sub, c, wt_[c.t] + p.b[c.t], sig);
+  }
   wt_ += sub.delta * pt.lambda + sub.c;
   double r = 0.0;
   const auto keep = [&r](double d) {

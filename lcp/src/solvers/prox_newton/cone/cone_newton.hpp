@@ -42,6 +42,13 @@ struct ConeSubproblem {
   /// that lowers FᵀWF by the Armijo fraction, else the exact line search on f with the shift
   /// frozen at the iterate along H's direction.
   bool follow_shift = false;
+  /// With follow_shift, a trust region on the shift: when shift_center is not empty (one entry
+  /// per row, ŝ⁰ at the pass's start), contact c's normal row gets
+  ///     ŝ_n(v) = clamp(μ|w_t(v)|, ŝ⁰_n − shift_radius, ŝ⁰_n + shift_radius)   [m/s],
+  /// and S_nt = 0 where the clamp binds (the shift is frozen at the region's edge there).
+  /// shift_radius 0 is the frozen-shift pass, +∞ (or an empty centre) the following one.
+  Eigen::VectorXd shift_center;
+  double shift_radius = 0;
 };
 
 class ConeNewton {
@@ -76,6 +83,9 @@ class ConeNewton {
     Eigen::VectorXd sig;            // per contact: μ sign(w_t) (follow_shift), else 0
     double residual = 0, cost = 0, merit = 0;  // merit FᵀWF
   };
+  /// follow_shift: ŝ_n of contact c at tangential velocity wt [m/s], clamped to the trust region,
+  /// and into sig its derivative μ sign(wt) (0 where the clamp binds).
+  static double followed_shift(const ConeSubproblem& sub, const Contact& c, double wt, double& sig);
   /// Fills pt from pt.v; with `residual` also the natural residual (a product with A).
   void evaluate(const ConeSubproblem& sub, Point& pt, bool residual);
   /// hx = W⁻¹x + Jᵀ(G (J x)) at pt; with `coupled` K's product W⁻¹x + Jᵀ(G (I + S) J x).

@@ -16,6 +16,11 @@
 // proximal point converges faster the smaller δ is; a solved pass's active set starts the next
 // one close), and grows by it after one that was not. A pass that does not lower the best hard
 // residual counts as a stall.
+// Following passes (follow_shift) let ŝ follow the Newton iterate; with trust_radius > 0 within
+// a trust region around the pass's starting shift (shift_trust.hpp). Such a pass is accepted
+// unless its hard residual rose above trust_accept times the best (then the next pass starts
+// from the best iterate, τ shrinks, and δ does not shrink back to this pass's δ until the best
+// has fallen trust_forget-fold).
 #include <Eigen/Core>
 #include <functional>
 
@@ -37,9 +42,25 @@ struct ConePassesDef {
   bool follow_shift = false;     ///< the shift follows the Newton iterate (ConeSubproblem::follow_shift)
   /// With follow_shift: frozen-shift passes until one is solved within this many Newton
   /// iterations (its active set has settled), following ones after (0: from the first pass).
-  /// A following pass that is not solved or raises the hard residual above the best goes back
-  /// to frozen passes.
+  /// Without the trust region, a following pass that is not solved or raises the hard residual
+  /// above the best goes back to frozen passes; with it, see ShiftTrust.
   int follow_after = 2;
+  /// With follow_shift: also switch to following passes after a solved frozen pass once the
+  /// best hard residual is ≤ this fraction of the start's (0: only by follow_after).
+  double follow_below = 0;
+  /// The following passes' trust region on the shift (shift_trust.hpp): first τ, its growth and
+  /// shrink factor, rejections in a row before going back to frozen passes, the cut of the best
+  /// hard residual that grows τ (trust_radius 0: no trust region).
+  double trust_radius = 0;
+  double trust_grow = 4;
+  int trust_retries = 2;
+  double trust_fast = 4;
+  /// With the trust region, a following pass (solved or not) is accepted when its hard residual
+  /// is at most this many times the best before it.
+  double trust_accept = 10;
+  /// δ does not shrink to a δ whose following pass was rejected until the best hard residual
+  /// has fallen to this fraction of the best at that rejection.
+  double trust_forget = 0.1;
   int follow_iterations = 8;     ///< Newton iterations per following pass at most
   int anderson = 0;              ///< Anderson acceleration depth of the outer map λ^k ↦ λ^{k+1} (0: none)
   /// Called after every pass with its number (from 1), its subproblem's work and the hard
@@ -51,6 +72,7 @@ struct ConePassesOutcome {
   Eigen::VectorXd best;           ///< the iterate of least hard residual (the start included)
   double best_residual = INFINITY;  ///< its hard natural residual [N]
   int passes = 0, newton = 0, factorizations = 0, analyses = 0, cg = 0, line_search_steps = 0;
+  int rejected = 0;  ///< following passes rejected (their iterate dropped for the best)
 };
 
 /// ŝ: μ_t |w_t| on the normal row of each friction row t, 0 on every other row [m/s].
