@@ -43,6 +43,8 @@ struct Variant {
 void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   if (key == "stale_factor_iterations") r.newton_sparse.stale_factor_iterations = static_cast<int>(x);
   else if (key == "krylov_max") r.newton_sparse.krylov_max = static_cast<int>(x);
+  else if (key == "fallback_doublings") r.newton_sparse.fallback_doublings = static_cast<int>(x);
+  else if (key == "inner_iterations") r.inner_iterations = static_cast<int>(x);
   else if (key == "krylov_forcing") r.newton_sparse.krylov_forcing = x;
   else if (key == "inner_forcing") r.inner_forcing = x;
   else if (key == "initial_shift") r.initial_shift = x;
@@ -53,12 +55,14 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "progress_window") r.progress_window = static_cast<int>(x);
   else if (key == "progress_factor") r.progress_factor = x;
   else if (key == "release_floor") r.release_floor = x != 0;
+  else if (key == "window_stops") r.window_stops = x != 0;
   else throw dc::ConfigError("prox_families: unknown key 'route." + key + "'");
 }
 
 void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& value) {
   const double x = std::stod(value);
   if (key == "lead_sweeps") d.lead_sweeps = static_cast<int>(x);
+  else if (key == "lead_finish_window") d.lead_finish_window = static_cast<int>(x);
   else if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
   else if (key == "inner_tolerance") d.inner_tolerance = x;
   else if (key == "min_shift") d.min_shift = x;

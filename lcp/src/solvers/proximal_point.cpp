@@ -108,14 +108,18 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
                   (def.max_stalls == 0 || stalls < def.max_stalls);
        ++k) {
     if (window.slow(def, k, out.residual)) {
-      if (!def.release_floor || released || floor <= def.min_shift) {
+      const bool release = def.release_floor && floor > def.min_shift && (!released || !def.window_stops);
+      if (!release && def.window_stops) {
         slowed = true;
         break;
       }
-      // Slow at a raised floor: let δ fall again from here, once, before stopping.
-      released = true;
-      floor = def.min_shift;
-      shift = std::max(floor, shift / def.shrink);
+      // Slow at a raised floor: let δ fall again from here (once when the window stops the
+      // route, else each time); a failed inner solve raises the floor again.
+      if (release) {
+        released = true;
+        floor = def.min_shift;
+        shift = std::max(floor, shift / def.shrink);
+      }
       window.start = k;
     }
     const double delta = shift * diag;

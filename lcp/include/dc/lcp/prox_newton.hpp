@@ -55,6 +55,11 @@ struct ProxNewtonDef {
   /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps, each far
   /// cheaper than a Newton iteration; on deep settled piles it stops after a few chunks.
   int lead_sweeps = 2000;
+  /// The proximal finish of the Newton part from the lead stage's iterate stops when its best
+  /// hard residual fell less than 2-fold over this many outer iterations
+  /// (ProximalPointDef::progress_window; default 20; 0 = finish_route's own setting): the
+  /// Newton part from the guess follows, so a stalled finish hands over early.
+  int lead_finish_window = 20;
   /// First proximal weight δ_0 relative to max_i A_ii (dimensionless, default 1e-2).
   double initial_shift = 1e-2;
   /// Smallest and largest δ relative to max_i A_ii (defaults 1e-6 and 1e2). Body space reads

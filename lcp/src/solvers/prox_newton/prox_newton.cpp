@@ -60,7 +60,8 @@ void check_def(const ProxNewtonDef& d) {
     throw InvalidArgument("prox-newton: cone_inner_iterations, cone_follow_iterations, cone_max_stalls must be >= 1, "
                           "cone_anderson and cone_follow_after >= 0");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
-  if (d.lead_sweeps < 0) throw InvalidArgument("prox-newton: lead_sweeps must be >= 0");
+  if (d.lead_sweeps < 0 || d.lead_finish_window < 0)
+    throw InvalidArgument("prox-newton: lead_sweeps and lead_finish_window must be >= 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -277,8 +278,10 @@ class ProxRun {
   }
 
   /// The passes (or, without a convex subproblem, newton-sparse) from λ, then the finishes
-  /// while the target is not reached; Lemke's pivoting only when `pivot`.
-  void newton_part(Eigen::VectorXd& lambda, bool pivot) {
+  /// while the target is not reached. Not the `last` part: no pivoting, and the proximal finish
+  /// gives up after a slow stretch (ProxNewtonDef::lead_finish_window), as the part after it
+  /// starts afresh.
+  void newton_part(Eigen::VectorXd& lambda, bool last) {
     if (convex_) {
       if (body_ && def_.exact_cone && s_.cone.bind(p_))
         cone_passes(lambda);
@@ -291,8 +294,8 @@ class ProxRun {
     } else {
       finish_with_newton_sparse(lambda, budget_left());
     }
-    if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point();
-    if (pivot && !reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
+    if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point(!last);
+    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
   }
 
   /// The lead stage (ProxNewtonDef::lead_sweeps): nncg from λ in chunks while LeadRate says its
@@ -369,11 +372,15 @@ class ProxRun {
 
   /// The proximal-point route (newton-sparse on the hard problem shifted by δI around λ_k) from
   /// the best iterate: hard-Coulomb Newton steps that stay well posed on a singular A.
-  void finish_by_proximal_point() {
+  void finish_by_proximal_point(bool windowed) {
     if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
     const int budget = budget_left();
     if (budget <= 0) return;
     ProximalPointDef pd = body_ ? def_.finish_route : def_.dual_finish_route;
+    if (windowed && def_.lead_finish_window > 0) {
+      pd.progress_window = def_.lead_finish_window;
+      pd.window_stops = true;
+    }
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     SolverOptions fo;
     fo.tolerance = target_;
