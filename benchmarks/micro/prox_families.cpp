@@ -4,8 +4,10 @@
 // same LCP from the builtin guess to R/100 (R = 1e-6 of the heaviest body's weight, the bench's
 // --accuracy trace target), the variants alternated step by step; the world advances with the
 // oracle's λ*. Per variant and step: factorisations as the bench counts them (passes, short
-// finish and proximal-finish iterations), Newton iterations, R/scale reached, CPU ms of this
-// thread; pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the reference time.
+// finish and proximal-finish iterations), lead-stage sweeps, Newton iterations, R/scale reached,
+// CPU ms of this thread for the solve and to R (its first checkpoint at R, the checkpoints' own
+// residual evaluations excluded); pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the
+// reference time.
 //
 //   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2
 //       --variant base --variant pcg:stale_factor_iterations=10
@@ -63,6 +65,7 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   const double x = std::stod(value);
   if (key == "lead_sweeps") d.lead_sweeps = static_cast<int>(x);
   else if (key == "lead_finish_window") d.lead_finish_window = static_cast<int>(x);
+  else if (key == "lead_gain") d.lead_gain = x;
   else if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
   else if (key == "inner_tolerance") d.inner_tolerance = x;
   else if (key == "min_shift") d.min_shift = x;

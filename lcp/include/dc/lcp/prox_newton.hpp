@@ -49,9 +49,9 @@ struct ProxNewtonDef {
   /// Body space: the lead stage, nncg sweeps from the guess before the passes, at most (default
   /// 2000; 0 = none). They run in chunks of 50 and stop at the target, or when a chunk does not
   /// lower the best hard residual, or when their rate so far would not reach the target within
-  /// this many sweeps. Short of the target, the passes start from the guess as without the
-  /// stage, and its best iterate stays a candidate for the answer (a partly converged nncg
-  /// iterate can hold row modes the Newton part recovers from more slowly than from the guess).
+  /// this many sweeps. Short of the target, the Newton part runs from its best iterate first
+  /// (lead_gain) and from the guess when that misses the target (its best iterate stays a
+  /// candidate for the answer).
   /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps, each far
   /// cheaper than a Newton iteration; on deep settled piles it stops after a few chunks.
   int lead_sweeps = 2000;
@@ -60,6 +60,10 @@ struct ProxNewtonDef {
   /// (ProximalPointDef::progress_window; default 20; 0 = finish_route's own setting): the
   /// Newton part from the guess follows, so a stalled finish hands over early.
   int lead_finish_window = 20;
+  /// That first Newton part runs only when the lead stage lowered the hard residual at least
+  /// this many times (default 100): a stage that gained less (the oracle's call, after its own
+  /// nncg stage) leaves the Newton part as without it, its best iterate a candidate only.
+  double lead_gain = 100.0;
   /// First proximal weight δ_0 relative to max_i A_ii (dimensionless, default 1e-2).
   double initial_shift = 1e-2;
   /// Smallest and largest δ relative to max_i A_ii (defaults 1e-6 and 1e2). Body space reads

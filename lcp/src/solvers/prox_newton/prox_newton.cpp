@@ -60,8 +60,8 @@ void check_def(const ProxNewtonDef& d) {
     throw InvalidArgument("prox-newton: cone_inner_iterations, cone_follow_iterations, cone_max_stalls must be >= 1, "
                           "cone_anderson and cone_follow_after >= 0");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
-  if (d.lead_sweeps < 0 || d.lead_finish_window < 0)
-    throw InvalidArgument("prox-newton: lead_sweeps and lead_finish_window must be >= 0");
+  if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || !(d.lead_gain >= 1))
+    throw InvalidArgument("prox-newton: lead_sweeps and lead_finish_window must be >= 0, lead_gain >= 1");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -106,22 +106,26 @@ class ProxRun {
       best_ = lambda = Eigen::VectorXd::Zero(p_.rows());
       best_res_ = hard_residual(p_, lambda);
     }
-    // After a lead stage that improved on the guess but stopped short of the target, the Newton
-    // part runs from its best iterate and, when that misses the target too, again from the
-    // guess with the best so far set aside as a candidate: a partly converged nncg iterate is
-    // usually the better start, but can hold row modes the passes and the finish do not
-    // recover from. A lead stage without a new best leaves the Newton part as without it.
+    // After a lead stage that lowered the hard residual at least lead_gain-fold but stopped
+    // short of the target, a first Newton part runs from its best iterate. Otherwise, or when
+    // that part misses the target too, the Newton part runs from the guess as without the
+    // stage, with the best so far set aside as a candidate (a partly converged nncg iterate is
+    // usually the better start, but can hold row modes the finish does not recover from).
     const Eigen::VectorXd guess = best_;
+    const double guess_res = best_res_;
     if (body_ && lead(guess) && by_ == Finisher::Lead && !reached(best_res_, target_)) {
-      lambda = best_;
-      newton_part(lambda, false);
+      if (best_res_ * def_.lead_gain <= guess_res) {
+        lambda = best_;
+        newton_part(lambda, false);
+      }
       if (!reached(best_res_, target_)) {
         const Eigen::VectorXd kept = best_;
         const double kept_res = best_res_;
         const Finisher kept_by = by_;
         best_ = lambda = guess;
-        best_res_ = hard_residual(p_, guess);
+        best_res_ = guess_res;
         by_ = Finisher::Guess;
+        part_start_ = st_.newton + st_.finish_newton;
         newton_part(lambda, true);
         if (kept_res < best_res_) {
           best_ = kept;
@@ -155,7 +159,10 @@ class ProxRun {
   }
 
  private:
-  [[nodiscard]] int budget_left() const { return std::max(0, o_.max_sweeps) - st_.newton - st_.finish_newton; }
+  /// Newton iterations left of the current Newton part's budget (options.max_sweeps each).
+  [[nodiscard]] int budget_left() const {
+    return std::max(0, o_.max_sweeps) - (st_.newton + st_.finish_newton - part_start_);
+  }
   /// Iterations so far, as the caller's checkpoints and SolveResult::sweeps count them: the lead
   /// stage's sweeps, then Newton iterations.
   [[nodiscard]] int done() const { return st_.lead_sweeps + st_.newton + st_.finish_newton; }
@@ -457,6 +464,7 @@ class ProxRun {
   Eigen::VectorXd best_;
   double best_res_ = INFINITY;
   double last_shift_ = 0;  // δ after the last pass, relative to max A_ii
+  int part_start_ = 0;     // Newton iterations before the current Newton part
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;
