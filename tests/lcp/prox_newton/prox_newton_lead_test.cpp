@@ -64,6 +64,25 @@ TEST(ProxNewtonLead, SameVelocitiesWithAndWithoutTheLeadStage) {
   }
 }
 
+TEST(ProxNewtonLead, ASmallGainLeavesTheNewtonPartAsWithoutTheStage) {
+  // One chunk short of the target and a gain below lead_gain: the Newton part runs from the
+  // guess, bit for bit as without the stage, and its answer beats the stage's iterate.
+  test::TestRng rng(3200);
+  const LcpProblem p = test::random_contact(40, 80, true, rng);
+  ProxNewtonDef with, without;
+  with.lead_sweeps = 50;
+  with.lead_gain = 1e300;
+  without.lead_sweeps = 0;
+  ProxNewtonSolver a(with), b(without);
+  const SolveResult ra = a.solve(p, {}, tight(p)), rb = b.solve(p, {}, tight(p));
+  ASSERT_EQ(ra.status, SolveStatus::Converged) << ra.message;
+  ASSERT_EQ(a.last_stats().lead_sweeps, 50) << ra.message;
+  ASSERT_GT(a.last_stats().newton + a.last_stats().finish_newton, 0) << ra.message;
+  EXPECT_EQ(ra.lambda, rb.lambda);
+  EXPECT_EQ(a.last_stats().newton, b.last_stats().newton);
+  EXPECT_EQ(a.last_stats().factorizations, b.last_stats().factorizations);
+}
+
 TEST(ProxNewtonLead, CheckpointsCountTheLeadSweepsThenTheNewtonIterations) {
   // One chunk of lead sweeps does not reach the target: the Newton part finishes.
   test::TestRng rng(3200);
