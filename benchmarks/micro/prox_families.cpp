@@ -4,8 +4,10 @@
 // same LCP from the builtin guess to R/100 (R = 1e-6 of the heaviest body's weight, the bench's
 // --accuracy trace target), the variants alternated step by step; the world advances with the
 // oracle's λ*. Per variant and step: factorisations as the bench counts them (passes, short
-// finish and proximal-finish iterations), Newton iterations, R/scale reached, CPU ms of this
-// thread; pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the reference time.
+// finish and proximal-finish iterations), lead-stage sweeps, Newton iterations, R/scale reached,
+// CPU ms of this thread for the solve and to R (its first checkpoint at R, the checkpoints' own
+// residual evaluations excluded); pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the
+// reference time.
 //
 //   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2
 //       --variant base --variant pcg:stale_factor_iterations=10
@@ -43,6 +45,8 @@ struct Variant {
 void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   if (key == "stale_factor_iterations") r.newton_sparse.stale_factor_iterations = static_cast<int>(x);
   else if (key == "krylov_max") r.newton_sparse.krylov_max = static_cast<int>(x);
+  else if (key == "fallback_doublings") r.newton_sparse.fallback_doublings = static_cast<int>(x);
+  else if (key == "inner_iterations") r.inner_iterations = static_cast<int>(x);
   else if (key == "krylov_forcing") r.newton_sparse.krylov_forcing = x;
   else if (key == "inner_forcing") r.inner_forcing = x;
   else if (key == "initial_shift") r.initial_shift = x;
@@ -53,12 +57,16 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "progress_window") r.progress_window = static_cast<int>(x);
   else if (key == "progress_factor") r.progress_factor = x;
   else if (key == "release_floor") r.release_floor = x != 0;
+  else if (key == "window_stops") r.window_stops = x != 0;
   else throw dc::ConfigError("prox_families: unknown key 'route." + key + "'");
 }
 
 void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& value) {
   const double x = std::stod(value);
-  if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
+  if (key == "lead_sweeps") d.lead_sweeps = static_cast<int>(x);
+  else if (key == "lead_finish_window") d.lead_finish_window = static_cast<int>(x);
+  else if (key == "lead_gain") d.lead_gain = x;
+  else if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
   else if (key == "inner_tolerance") d.inner_tolerance = x;
   else if (key == "min_shift") d.min_shift = x;
   else if (key == "initial_shift") d.initial_shift = x;
@@ -136,7 +144,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::vector<Variant> variants;
   for (const auto& s : specs) variants.push_back(parse_variant(s));
-  std::printf("seed step rows variant reached R_over_scale factorisations newton finish outer cpu_ms pgs_ms message\n");
+  std::printf("seed step rows variant reached R_over_scale factorisations lead newton finish outer cpu_ms ms_to_R pgs_ms message\n");
   for (const int seed : seeds) {
     dc::WorldDef def = dc::load_scene(scene);
     def.bodies.seed = static_cast<std::uint64_t>(seed);
@@ -180,14 +188,25 @@ int main(int argc, char** argv) {
         so.max_sweeps = 10000;
         so.tolerance = accuracy * scale / 100;
         so.record_theta = false;
-        const double t0 = thread_cpu_ms();
+        // ms to R: CPU time at the first checkpoint whose λ is at R (the checkpoints' own
+        // residual evaluations excluded), as the bench's trace takes it.
+        for (int k = 1; k <= so.max_sweeps; ++k) so.checkpoints.push_back(k);
+        double callback_ms = 0.0, to_r_ms = -1.0, t0 = 0.0;
+        so.on_checkpoint = [&](int, const Eigen::VectorXd& lam) {
+          if (to_r_ms >= 0) return;
+          const double c0 = thread_cpu_ms();
+          if (dc::natural_residual(p, lam) / scale <= accuracy) to_r_ms = c0 - t0 - callback_ms;
+          callback_ms += thread_cpu_ms() - c0;
+        };
+        t0 = thread_cpu_ms();
         const dc::SolveResult r = solvers[i]->solve(p, guess, so);
-        const double ms = thread_cpu_ms() - t0;
+        const double ms = thread_cpu_ms() - t0 - callback_ms;
+        if (to_r_ms < 0 && dc::natural_residual(p, r.lambda) / scale <= accuracy) to_r_ms = ms;
         const dc::ProxNewtonStats st = solvers[i]->last_stats();
         const double acc = dc::natural_residual(p, r.lambda) / scale;
-        std::printf("%d %d %d %s %d %.3g %d %d %d %d %.1f %.2f \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
-                    acc <= accuracy ? 1 : 0, acc, st.factorizations, st.newton,
-                    st.finish_newton, st.outer, ms, pgs_ms, r.message.c_str());
+        std::printf("%d %d %d %s %d %.3g %d %d %d %d %d %.1f %.2f %.2f \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
+                    acc <= accuracy ? 1 : 0, acc, st.factorizations, st.lead_sweeps, st.newton,
+                    st.finish_newton, st.outer, ms, to_r_ms, pgs_ms, r.message.c_str());
         std::fflush(stdout);
       }
       const dc::OracleSolution os = dc::solve_oracle(p, &guess);

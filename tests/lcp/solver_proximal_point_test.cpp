@@ -136,6 +136,14 @@ TEST(ProximalPoint, ProgressWindowStopsSlowRoutesAndIsInertOtherwise) {
   EXPECT_EQ(d.status, SolveStatus::SweepLimit);
   EXPECT_EQ(d.residual, natural_residual(p, d.lambda));
   EXPECT_LE(d.residual, c.residual);
+  // With window_stops false the window never stops the route (it releases the floor instead):
+  // the route ends at the target or max_outer, never with the window's message.
+  strict.window_stops = false;
+  strict.max_outer = 4;
+  const SolveResult e = solve_proximal_point(p, Eigen::VectorXd(), o, strict);
+  EXPECT_NE(e.message.find("outer iteration limit"), std::string::npos) << e.message;
+  EXPECT_EQ(e.residual, natural_residual(p, e.lambda));
+  EXPECT_LE(e.residual, c.residual);
 }
 
 TEST(ProximalPoint, RefusesInvalidSettingsAndGuesses) {

@@ -46,16 +46,31 @@ LcpProblem shifted(const LcpProblem& p, double delta) {
   return s;
 }
 
-/// The progress_window stop: the best residual after each outer iteration, and the outer
-/// iteration the window counts from.
+/// The progress_window stop: the best residual after each outer iteration, the outer
+/// iteration the window counts from, and whether it released the failure floor.
 struct ProgressWindow {
   std::vector<double> best_after;
   int start = 0;
+  bool released = false;
   /// Whether the best residual `best` [N] before outer iteration k fell less than
   /// progress_factor-fold over the last progress_window outer iterations.
   bool slow(const ProximalPointDef& d, int k, double best) const {
     const int w = d.progress_window;
     return w > 0 && k - start >= w && best > d.progress_factor * best_after[static_cast<std::size_t>(k - w)];
+  }
+  /// After slow() at outer iteration k: true to stop the route. Else, slow at a raised failure
+  /// floor with release_floor, δ falls again from here (once when window_stops, else each
+  /// time; a failed inner solve raises the floor again), and the window restarts.
+  bool stops(const ProximalPointDef& d, int k, double& floor, double& shift) {
+    const bool release = d.release_floor && floor > d.min_shift && (!released || !d.window_stops);
+    if (!release && d.window_stops) return true;
+    if (release) {
+      released = true;
+      floor = d.min_shift;
+      shift = std::max(floor, shift / d.shrink);
+    }
+    start = k;
+    return false;
   }
 };
 
@@ -102,21 +117,13 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   double floor = def.min_shift;  // raised above every shift whose inner solve failed
   int stalls = 0;                // consecutive outer iterations without a new best
   ProgressWindow window;
-  bool released = false;  // the failure floor was released once (release_floor)
   bool slowed = false;    // stopped by progress_window
   for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
                   (def.max_stalls == 0 || stalls < def.max_stalls);
        ++k) {
-    if (window.slow(def, k, out.residual)) {
-      if (!def.release_floor || released || floor <= def.min_shift) {
-        slowed = true;
-        break;
-      }
-      // Slow at a raised floor: let δ fall again from here, once, before stopping.
-      released = true;
-      floor = def.min_shift;
-      shift = std::max(floor, shift / def.shrink);
-      window.start = k;
+    if (window.slow(def, k, out.residual) && window.stops(def, k, floor, shift)) {
+      slowed = true;
+      break;
     }
     const double delta = shift * diag;
     LcpProblem sub = shifted(p, delta);

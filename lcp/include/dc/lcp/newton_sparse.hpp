@@ -24,8 +24,10 @@ struct NewtonSparseDef {
   /// PGS sweeps (assembled, coupled friction bounds) before each Newton direction (default 0).
   int smoothing_sweeps = 0;
   /// PGS sweeps taken instead of a step when the line search fails (default 5), doubled after
-  /// each further consecutive failure, at most 2⁸-fold (PGS carries a degenerate iterate onwards).
+  /// each further consecutive failure, at most 2^fallback_doublings-fold (default 8; PGS carries
+  /// a degenerate iterate onwards).
   int fallback_sweeps = 5;
+  int fallback_doublings = 8;
   /// Halvings of the step length α before the line search fails (α ≥ 2^−max_backtracks; default 10).
   int max_backtracks = 10;
   /// Levenberg–Marquardt damping: after a failed line search ρ grows 100-fold and the direction

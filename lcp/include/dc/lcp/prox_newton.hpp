@@ -23,7 +23,8 @@
 //     factorisation per iteration, the analysis kept across passes).
 // With `exact_cone` (body space) the passes are instead proximal steps on the exact 2D friction
 // cone with de Saxcé's shift of the normal velocities (docs/solvers.md "Exact-cone passes").
-// Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
+// Before the passes, in body space, the lead stage: nncg sweeps from the guess while their rate
+// reaches the target within `lead_sweeps` sweeps. Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
 // the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
 // above the target, with `body_finish` coupled body-space passes from the best iterate, then
 // the proximal-point route from the best iterate (`proximal_finish`); then, on
@@ -45,6 +46,24 @@
 namespace dc {
 
 struct ProxNewtonDef {
+  /// Body space: the lead stage, nncg sweeps from the guess before the passes, at most (default
+  /// 2000; 0 = none). They run in chunks of 50 and stop at the target, or when a chunk does not
+  /// lower the best hard residual, or when their rate so far would not reach the target within
+  /// this many sweeps. Short of the target, the Newton part runs from its best iterate first
+  /// (lead_gain) and from the guess when that misses the target (its best iterate stays a
+  /// candidate for the answer).
+  /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps, each far
+  /// cheaper than a Newton iteration; on deep settled piles it stops after a few chunks.
+  int lead_sweeps = 2000;
+  /// The proximal finish of the Newton part from the lead stage's iterate stops when its best
+  /// hard residual fell less than 2-fold over this many outer iterations
+  /// (ProximalPointDef::progress_window; default 20; 0 = finish_route's own setting): the
+  /// Newton part from the guess follows, so a stalled finish hands over early.
+  int lead_finish_window = 20;
+  /// That first Newton part runs only when the lead stage lowered the hard residual at least
+  /// this many times (default 100): a stage that gained less (the oracle's call, after its own
+  /// nncg stage) leaves the Newton part as without it, its best iterate a candidate only.
+  double lead_gain = 100.0;
   /// First proximal weight δ_0 relative to max_i A_ii (dimensionless, default 1e-2).
   double initial_shift = 1e-2;
   /// Smallest and largest δ relative to max_i A_ii (defaults 1e-6 and 1e2). Body space reads
@@ -218,6 +237,7 @@ struct ProxNewtonDef {
 
 /// Work of one solve.
 struct ProxNewtonStats {
+  int lead_sweeps = 0;      ///< nncg sweeps of the lead stage
   int outer = 0;            ///< outer passes
   int newton = 0;           ///< Newton iterations in subproblems
   int finish_newton = 0;    ///< newton-sparse iterations of the finishes (both kinds)

@@ -49,6 +49,11 @@ struct ProximalPointDef {
   /// reset that floor to min_shift, let δ shrink from there and restart the window instead of
   /// stopping (default false: stop).
   bool release_floor = false;
+  /// Whether progress_window stops the route (default true). false: it never does; with
+  /// release_floor it releases the failure floor each time it fires at a raised floor, and the
+  /// route runs until the target or max_outer (a slow stretch at a raised floor costs outer
+  /// iterations, never the steps that reach the target only late).
+  bool window_stops = true;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
   /// Inexact proximal point: each inner solve stops at max(inner target, inner_forcing × the

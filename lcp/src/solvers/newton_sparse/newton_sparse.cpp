@@ -13,6 +13,7 @@
 // φ is the unregularised natural map, so the iterate the solver returns is judged on the
 // original problem, whatever ρ was.
 #include <Eigen/SparseLU>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -296,11 +297,15 @@ class NewtonSparseRun {
       if (!step_.damp()) break;
     }
     // A failed or short step (α < 1/16: the modes are still far from right) is followed by PGS
-    // sweeps, doubled after each further such iteration up to 2⁸ times: where the modes are too
-    // degenerate for Newton (far more rows than body dofs) PGS carries the iterate onwards.
+    // sweeps, doubled after each further such iteration up to 2^fallback_doublings times: where
+    // the modes are too degenerate for Newton (far more rows than body dofs) PGS carries the
+    // iterate onwards.
     const bool good = stepped && alpha >= 1.0 / 16;
     failures_ = good ? 0 : failures_ + 1;
-    if (!good) sweeps(lambda, std::max(1, def_.fallback_sweeps) << std::min(failures_ - 1, 8));
+    if (!good) {
+      const int doublings = std::clamp(std::min(failures_ - 1, def_.fallback_doublings), 0, 20);
+      sweeps(lambda, std::max(1, def_.fallback_sweeps) << doublings);
+    }
     if (!lambda.allFinite() || !std::isfinite(v_.merit)) {
       lambda = best_;
       evaluate_natural_map(p_, lambda, step_.scale(), v_);

@@ -15,6 +15,7 @@
 #include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
+#include "solvers/prox_newton/lead_rate.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"
@@ -61,6 +62,8 @@ void check_def(const ProxNewtonDef& d) {
                           "cone_anderson, cone_follow_after, cone_trust_retries, cone_trust_radius, cone_follow_below, cone_trust_forget >= 0, "
                           "cone_trust_grow > 1, cone_trust_accept >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
+  if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || !(d.lead_gain >= 1))
+    throw InvalidArgument("prox-newton: lead_sweeps and lead_finish_window must be >= 0, lead_gain >= 1");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -75,11 +78,12 @@ std::string sci(double x) {
 }
 
 /// Which part produced the returned iterate.
-enum class Finisher { Guess, Prox, NewtonSparse, ProximalPoint, Pivot, Nncg };
+enum class Finisher { Guess, Lead, Prox, NewtonSparse, ProximalPoint, Pivot, Nncg };
 
 const char* to_string(Finisher f) {
   switch (f) {
     case Finisher::Guess: return "the guess";
+    case Finisher::Lead: return "nncg lead stage";
     case Finisher::Prox: return "prox";
     case Finisher::NewtonSparse: return "newton-sparse finish";
     case Finisher::ProximalPoint: return "proximal newton-sparse finish";
@@ -104,28 +108,46 @@ class ProxRun {
       best_ = lambda = Eigen::VectorXd::Zero(p_.rows());
       best_res_ = hard_residual(p_, lambda);
     }
-    if (convex_) {
-      if (body_ && def_.exact_cone && s_.cone.bind(p_))
-        cone_passes(lambda);
-      else
-        outer(lambda, frozen_passes());
-      if (body_ && def_.body_finish && !reached(best_res_, target_)) {
+    // After a lead stage that lowered the hard residual at least lead_gain-fold but stopped
+    // short of the target, a first Newton part runs from its best iterate. Otherwise, or when
+    // that part misses the target too, the Newton part runs from the guess as without the
+    // stage, with the best so far set aside as a candidate (a partly converged nncg iterate is
+    // usually the better start, but can hold row modes the finish does not recover from).
+    const Eigen::VectorXd guess = best_;
+    const double guess_res = best_res_;
+    if (body_ && lead(guess) && by_ == Finisher::Lead && !reached(best_res_, target_)) {
+      if (best_res_ * def_.lead_gain <= guess_res) {
         lambda = best_;
-        outer(lambda, coupled_passes());
+        newton_part(lambda, false);
+      }
+      if (!reached(best_res_, target_)) {
+        const Eigen::VectorXd kept = best_;
+        const double kept_res = best_res_;
+        const Finisher kept_by = by_;
+        best_ = lambda = guess;
+        best_res_ = guess_res;
+        by_ = Finisher::Guess;
+        part_start_ = st_.newton + st_.finish_newton;
+        newton_part(lambda, true);
+        if (kept_res < best_res_) {
+          best_ = kept;
+          best_res_ = kept_res;
+          by_ = kept_by;
+        }
       }
     } else {
-      finish_with_newton_sparse(lambda, budget_left());
+      newton_part(lambda, true);
     }
-    if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point();
-    if (!reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
     SolveResult r;
     r.lambda = best_;
-    r.sweeps = st_.newton + st_.finish_newton;
+    r.sweeps = done();
     // Provisional status from the hard residual; the shared rule (solver_common) then decides.
     r.status = final_status(hard_residual(p_, r.lambda), target_, budget_left() <= 0);
     // The message first: finish appends the shared rule's explanation when it demotes a claim.
-    r.message = std::string("finished by ") + to_string(by_) + ": " + std::to_string(st_.outer) + " passes, " +
+    r.message = std::string("finished by ") + to_string(by_) + ": " +
+                (st_.lead_sweeps > 0 ? std::to_string(st_.lead_sweeps) + " lead sweeps, " : std::string()) +
+                std::to_string(st_.outer) + " passes, " +
                 std::to_string(st_.newton) + " Newton + " + std::to_string(st_.finish_newton) + " finish iterations, " +
                 std::to_string(st_.factorizations) + " factorisations, " + std::to_string(st_.safeguard_sweeps) +
                 " nncg sweeps" +
@@ -139,7 +161,13 @@ class ProxRun {
   }
 
  private:
-  [[nodiscard]] int budget_left() const { return std::max(0, o_.max_sweeps) - st_.newton - st_.finish_newton; }
+  /// Newton iterations left of the current Newton part's budget (options.max_sweeps each).
+  [[nodiscard]] int budget_left() const {
+    return std::max(0, o_.max_sweeps) - (st_.newton + st_.finish_newton - part_start_);
+  }
+  /// Iterations so far, as the caller's checkpoints and SolveResult::sweeps count them: the lead
+  /// stage's sweeps, then Newton iterations.
+  [[nodiscard]] int done() const { return st_.lead_sweeps + st_.newton + st_.finish_newton; }
 
   /// Keeps λ when it beats the best hard residual; true when it did.
   bool consider(const Eigen::VectorXd& lambda, double res, Finisher by) {
@@ -247,7 +275,7 @@ class ProxRun {
                              : std::min(def_.max_shift, shift * def_.shrink);
       last_shift_ = shift;
       stalls = progressed ? 0 : stalls + 1;
-      cp_.after(st_.newton + st_.finish_newton, best_);
+      cp_.after(done(), best_);
       if (reached(best_res_, target_) || stalls >= ps.max_stalls) break;
       std::vector<char> modes = hard_modes(p_, lambda);
       if (modes == last_modes && modes != finished_modes && def_.finish_iterations > 0) {
@@ -256,6 +284,53 @@ class ProxRun {
       }
       last_modes = std::move(modes);
     }
+  }
+
+  /// The passes (or, without a convex subproblem, newton-sparse) from λ, then the finishes
+  /// while the target is not reached. Not the `last` part: no pivoting, and the proximal finish
+  /// gives up after a slow stretch (ProxNewtonDef::lead_finish_window), as the part after it
+  /// starts afresh.
+  void newton_part(Eigen::VectorXd& lambda, bool last) {
+    if (convex_) {
+      if (body_ && def_.exact_cone && s_.cone.bind(p_))
+        cone_passes(lambda);
+      else
+        outer(lambda, frozen_passes());
+      if (body_ && def_.body_finish && !reached(best_res_, target_)) {
+        lambda = best_;
+        outer(lambda, coupled_passes());
+      }
+    } else {
+      finish_with_newton_sparse(lambda, budget_left());
+    }
+    if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point(!last);
+    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
+  }
+
+  /// The lead stage (ProxNewtonDef::lead_sweeps): nncg from λ in chunks while LeadRate says its
+  /// rate reaches the target within the sweeps allowed; its iterates go through consider().
+  /// False when it did not run.
+  bool lead(const Eigen::VectorXd& lambda) {
+    constexpr int kChunk = 50;  // sweeps between looks at the hard residual
+    const int cap = std::min(def_.lead_sweeps, std::max(0, o_.max_sweeps));
+    if (cap <= 0 || reached(best_res_, target_)) return false;
+    const auto nncg = make_nncg();
+    LeadRate rate(best_res_);
+    Eigen::VectorXd x = lambda;
+    while (st_.lead_sweeps < cap) {
+      SolverOptions so;
+      so.record_theta = false;
+      so.tolerance = 0.0;
+      so.max_sweeps = std::min(kChunk, cap - st_.lead_sweeps);
+      forward_checkpoints(so);
+      const SolveResult r = nncg->solve(p_, x, so);
+      st_.lead_sweeps += std::max(r.sweeps, 1);
+      if (!r.lambda.allFinite() || r.lambda.size() != p_.rows()) break;
+      x = r.lambda;
+      consider(x, hard_residual(p_, x), Finisher::Lead);
+      if (r.status != SolveStatus::SweepLimit || !rate.go_on(best_res_, target_, st_.lead_sweeps, kChunk, cap)) break;
+    }
+    return true;
   }
 
   /// The exact-cone passes (cone_passes.hpp) from λ; λ becomes the best iterate.
@@ -289,7 +364,7 @@ class ProxRun {
     st_.line_search_steps += co.line_search_steps;
     consider(co.best, co.best_residual, Finisher::Prox);
     lambda = best_;
-    cp_.after(st_.newton + st_.finish_newton, best_);
+    cp_.after(done(), best_);
   }
 
   /// At most `iterations` newton-sparse iterations on the hard problem from λ.
@@ -312,11 +387,15 @@ class ProxRun {
 
   /// The proximal-point route (newton-sparse on the hard problem shifted by δI around λ_k) from
   /// the best iterate: hard-Coulomb Newton steps that stay well posed on a singular A.
-  void finish_by_proximal_point() {
+  void finish_by_proximal_point(bool windowed) {
     if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
     const int budget = budget_left();
     if (budget <= 0) return;
     ProximalPointDef pd = body_ ? def_.finish_route : def_.dual_finish_route;
+    if (windowed && def_.lead_finish_window > 0) {
+      pd.progress_window = def_.lead_finish_window;
+      pd.window_stops = true;
+    }
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     SolverOptions fo;
     fo.tolerance = target_;
@@ -357,7 +436,7 @@ class ProxRun {
   /// finish's own iteration count: its iterate at each reaches the caller through cp_.
   void forward_checkpoints(SolverOptions& fo) {
     if (!o_.on_checkpoint) return;
-    const int base = st_.newton + st_.finish_newton;
+    const int base = done();
     for (const int k : o_.checkpoints)
       if (k > base) fo.checkpoints.push_back(k - base);
     fo.on_checkpoint = [this, base](int it, const Eigen::VectorXd& lambda) { cp_.after(base + it, lambda); };
@@ -393,6 +472,7 @@ class ProxRun {
   Eigen::VectorXd best_;
   double best_res_ = INFINITY;
   double last_shift_ = 0;  // δ after the last pass, relative to max A_ii
+  int part_start_ = 0;     // Newton iterations before the current Newton part
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;

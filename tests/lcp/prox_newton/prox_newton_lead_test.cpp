@@ -1,0 +1,114 @@
+// prox-newton's lead stage (ProxNewtonDef::lead_sweeps): its stop rule (LeadRate), the same
+// answer with and without it, and the caller's checkpoints numbered through it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/prox_newton.hpp"
+#include "lcp/solver_test_problems.hpp"
+#include "solvers/prox_newton/lead_rate.hpp"
+
+namespace dc {
+namespace {
+
+using solvers::prox::LeadRate;
+
+SolverOptions tight(const LcpProblem& p) {
+  SolverOptions o;
+  o.max_sweeps = 300;
+  o.tolerance = 1e-9 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
+  return o;
+}
+
+double velocity_gap(const LcpProblem& p, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return (lcp_velocity(p, a) - lcp_velocity(p, b)).cwiseAbs().maxCoeff();
+}
+
+TEST(ProxNewtonLead, RateGoesOnOnlyWhileItReachesTheTargetWithinTheCap) {
+  // 10-fold per chunk from 1 N: 1e-6 N five chunks after the first, 300 sweeps in all.
+  EXPECT_TRUE(LeadRate(1.0).go_on(0.1, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(LeadRate(1.0).go_on(0.1, 1e-6, 50, 50, 250));
+  // 0.9 per chunk: 130 more chunks.
+  EXPECT_FALSE(LeadRate(1.0).go_on(0.9, 1e-6, 50, 50, 2000));
+  // No fall, a non-finite residual, or the target already met: stop.
+  EXPECT_FALSE(LeadRate(1.0).go_on(1.0, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(LeadRate(1.0).go_on(NAN, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(LeadRate(1.0).go_on(1e-7, 1e-6, 50, 50, 2000));
+  // After the first chunk the rate is the one since its end: a fast first chunk and a slow
+  // second one stop; two fast ones go on.
+  LeadRate slow(1.0);
+  ASSERT_TRUE(slow.go_on(0.01, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(slow.go_on(0.009, 1e-6, 100, 50, 2000));
+  LeadRate fast(1.0);
+  ASSERT_TRUE(fast.go_on(0.01, 1e-6, 50, 50, 2000));
+  EXPECT_TRUE(fast.go_on(0.001, 1e-6, 100, 50, 2000));
+  // A chunk without a new best stops.
+  EXPECT_FALSE(fast.go_on(0.001, 1e-6, 150, 50, 2000));
+}
+
+TEST(ProxNewtonLead, SameVelocitiesWithAndWithoutTheLeadStage) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 3100);
+    const LcpProblem p = test::random_contact(40, 80, true, rng);
+    ProxNewtonDef without;
+    without.lead_sweeps = 0;
+    ProxNewtonSolver a, b(without);
+    const SolveResult ra = a.solve(p, {}, tight(p)), rb = b.solve(p, {}, tight(p));
+    ASSERT_EQ(ra.status, SolveStatus::Converged) << ra.message;
+    ASSERT_EQ(rb.status, SolveStatus::Converged) << rb.message;
+    EXPECT_GT(a.last_stats().lead_sweeps, 0) << ra.message;
+    EXPECT_EQ(b.last_stats().lead_sweeps, 0);
+    EXPECT_LE(velocity_gap(p, ra.lambda, rb.lambda), 1e-6) << "seed " << seed;
+  }
+}
+
+TEST(ProxNewtonLead, ASmallGainLeavesTheNewtonPartAsWithoutTheStage) {
+  // One chunk short of the target and a gain below lead_gain: the Newton part runs from the
+  // guess, bit for bit as without the stage, and its answer beats the stage's iterate.
+  test::TestRng rng(3200);
+  const LcpProblem p = test::random_contact(40, 80, true, rng);
+  ProxNewtonDef with, without;
+  with.lead_sweeps = 50;
+  with.lead_gain = 1e300;
+  without.lead_sweeps = 0;
+  ProxNewtonSolver a(with), b(without);
+  const SolveResult ra = a.solve(p, {}, tight(p)), rb = b.solve(p, {}, tight(p));
+  ASSERT_EQ(ra.status, SolveStatus::Converged) << ra.message;
+  ASSERT_EQ(a.last_stats().lead_sweeps, 50) << ra.message;
+  ASSERT_GT(a.last_stats().newton + a.last_stats().finish_newton, 0) << ra.message;
+  EXPECT_EQ(ra.lambda, rb.lambda);
+  EXPECT_EQ(a.last_stats().newton, b.last_stats().newton);
+  EXPECT_EQ(a.last_stats().factorizations, b.last_stats().factorizations);
+}
+
+TEST(ProxNewtonLead, CheckpointsCountTheLeadSweepsThenTheNewtonIterations) {
+  // One chunk of lead sweeps does not reach the target: the Newton part finishes.
+  test::TestRng rng(3200);
+  const LcpProblem p = test::random_contact(40, 80, true, rng);
+  SolverOptions o = tight(p);
+  for (int k = 1; k <= 3000; ++k) o.checkpoints.push_back(k);
+  std::vector<int> seen;
+  Eigen::VectorXd last;
+  o.on_checkpoint = [&](int k, const Eigen::VectorXd& lambda) {
+    seen.push_back(k);
+    last = lambda;
+  };
+  ProxNewtonDef def;
+  def.lead_sweeps = 50;
+  ProxNewtonSolver s(def);
+  const SolveResult r = s.solve(p, {}, o);
+  ASSERT_EQ(r.status, SolveStatus::Converged) << r.message;
+  const ProxNewtonStats st = s.last_stats();
+  ASSERT_EQ(st.lead_sweeps, 50) << r.message;
+  ASSERT_GT(st.newton + st.finish_newton, 0) << r.message;
+  EXPECT_EQ(r.sweeps, st.lead_sweeps + st.newton + st.finish_newton);
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_LT(seen[i - 1], seen[i]);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_GT(seen.back(), st.lead_sweeps);
+  EXPECT_EQ(last, r.lambda);
+}
+
+}  // namespace
+}  // namespace dc
