@@ -5,9 +5,10 @@
 // not depend on the threads. (Jᵀλ)_c is Eigen's row-major scatter: J_ic·λ_i added to 0 in
 // ascending row order. velocity_change is that product, serial on purpose: a per-body index for
 // threads costs more to build and walk than one sequential pass, so the solver overlaps it with
-// the packing. The residual's Jᵀλ runs on threads by blocks of bodies, each walking J's rows in
-// order between bounds from the contacts; a row of w = J Δu + b is one dot product (storage
-// order, from 0, then + b_i), and the max-reduction is order-free (any NaN → ∞, as serial).
+// the packing. The residual's Jᵀλ is serial too (its split by blocks of bodies reads each row
+// once per block it reaches and costs more than it saves); its rows run on threads: a row of
+// w = J Δu + b is one dot product (storage order, from 0, then + b_i), and the max-reduction is
+// order-free (any NaN → ∞, as serial).
 #include "dc/lcp/lcp_problem.hpp"
 
 namespace dc::colored {
@@ -31,8 +32,8 @@ void velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du);
 
 /// natural_residual(p, λ) bit for bit, using `du` as scratch (Δu in column order, kept by the
-/// caller): Δu by scaled_transpose_product, then the rows (by contact, contact_errors, when the
-/// contacts own the rows), on `threads` threads. `all_finite` is
+/// caller): Δu by scaled_transpose_product on one thread, then the rows (by contact,
+/// contact_errors, when the contacts own the rows) on `threads` threads. `all_finite` is
 /// set to whether every λ_i is finite. Same requirement as scaled_transpose_product.
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int threads, Eigen::VectorXd& du,
                         bool& all_finite);
