@@ -6,12 +6,15 @@
 // and after.
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
-//                          [--sweeps 20] [--min-batches -1] [--profile]
+//                          [--sweeps 20] [--min-batches -1] [--profile] [--handover]
 //
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem and every large step: no pacing, LcpSolver::threads_forced). --profile adds the
 // solve's phases (PgsColoredProfile: CPU time of the stepping thread per solve). The pile and
-// its settling are those of micro_step (150 steps of pgs).
+// its settling are those of micro_step (150 steps of pgs). --handover traces the team's runs
+// (WorkTeam::set_trace) and prints, per stage of the threaded steps: runs per step, how many
+// helper 1 joined, how many had to wake it from its futex sleep, and the medians of the
+// hand-over (publish to the helper's start), of member 0's body and of its wait after it.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -25,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "dc/core/work_team.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
@@ -87,6 +91,60 @@ struct Series {
   std::unique_ptr<dc::PgsColoredProfile> profile = std::make_unique<dc::PgsColoredProfile>();
 };
 
+/// The team's runs of the traced steps, attributed to stages by their publish time.
+struct Handover {
+  int steps = 0;
+  std::vector<dc::TeamRunTrace> runs[5];
+  std::vector<double> outside_ms[6];  // per stage and the whole step: wall time outside team runs
+  /// The runs traced since `from` of one step that began at `start` [ns] with profile p.
+  void add(const std::vector<dc::TeamRunTrace>& trace, size_t from, std::int64_t start, const dc::StepProfile& p) {
+    const double ms[5] = {p.collide_ms, p.assemble_ms, p.warmstart_ms, p.solve_ms, p.integrate_ms};
+    ++steps;
+    double outside[6] = {ms[0], ms[1], ms[2], ms[3], ms[4], p.total_ms()};
+    for (size_t i = from; i < trace.size(); ++i) {
+      double at = 1e-6 * static_cast<double>(trace[i].publish - start), edge = 0.0;
+      int k = 0;
+      while (k < 4 && at > (edge += ms[k])) ++k;
+      runs[k].push_back(trace[i]);
+      const double in_run = 1e-6 * static_cast<double>(trace[i].end - trace[i].publish);
+      outside[k] -= in_run;
+      outside[5] -= in_run;
+    }
+    for (int k = 0; k < 6; ++k) outside_ms[k].push_back(outside[k]);
+  }
+  void print(int n, int threads) const {
+    static const char* names[5] = {"collide", "assemble", "warm start", "solve", "integrate"};
+    std::printf("#   hand-over, %d bodies, %d threads, per stage: runs/step, joined %%, futex wake %%, "
+                "median µs: publish→helper start, member 0 body, member 0 wait after, helper body; "
+                "median ms/step outside runs\n", n, threads);
+    for (int k = 0; k < 5; ++k) {
+      const auto& v = runs[k];
+      std::vector<double> lat, body, wait, hbody;
+      int joined = 0, woke = 0;
+      for (const auto& r : v) {
+        if (r.helper_start >= 0) {
+          ++joined;
+          lat.push_back(1e-3 * static_cast<double>(r.helper_start - r.publish));
+          hbody.push_back(1e-3 * static_cast<double>(r.helper_done - r.helper_start));
+        }
+        woke += r.woke ? 1 : 0;
+        body.push_back(1e-3 * static_cast<double>(r.caller_done - r.publish));
+        wait.push_back(1e-3 * static_cast<double>(r.end - r.caller_done));
+      }
+      const double nr = std::max<double>(1.0, static_cast<double>(v.size()));
+      std::printf("#     %-10s %5.1f  %5.1f%%  %5.1f%%  %7.1f  %7.1f  %7.1f  %7.1f  %.3f\n", names[k],
+                  static_cast<double>(v.size()) / std::max(1, steps), 100.0 * joined / nr, 100.0 * woke / nr,
+                  median(lat), median(body), median(wait), median(hbody), median(outside_ms[k]));
+    }
+    std::printf("#     whole step outside runs: %.3f ms\n", median(outside_ms[5]));
+  }
+};
+
+std::int64_t steady_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
 void add_stages(Series& s, const dc::StepProfile& p) {
   const double ms[5] = {p.collide_ms, p.assemble_ms, p.warmstart_ms, p.solve_ms, p.integrate_ms};
   for (int i = 0; i < 5; ++i) s.stage_ms[i].push_back(ms[i]);
@@ -98,7 +156,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
   std::string ns = "1000,10000", ts = "1,2";
   int steps = 40, rounds = 5, sweeps = 20, min_batches = -1;
-  bool profile = false;
+  bool profile = false, handover = false;
   app.add_option("--n", ns, "body counts, comma-separated");
   app.add_option("--threads", ts, "thread counts, comma-separated");
   app.add_option("--steps", steps, "timed steps per configuration and round");
@@ -106,7 +164,9 @@ int main(int argc, char** argv) {
   app.add_option("--sweeps", sweeps, "sweeps per step (tolerance 0)");
   app.add_option("--min-batches", min_batches, "PgsColoredDef::min_batches_per_thread (-1: default)");
   app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
+  app.add_flag("--handover", handover, "trace the team's runs: the hand-over per stage of the threaded steps");
   CLI11_PARSE(app, argc, argv);
+  std::vector<dc::TeamRunTrace> trace;
   const dc::SolverOptions o = fixed_sweeps(sweeps);
   std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; load %s\n", sweeps, steps, rounds,
               load_average().c_str());
@@ -128,15 +188,22 @@ int main(int argc, char** argv) {
       series.push_back(std::move(s));
     }
     std::vector<std::vector<double>> proc(series.size());
+    std::vector<Handover> handovers(series.size());
     for (int r = -1; r < rounds; ++r) {  // round −1: warm-up, not timed
       for (size_t j = 0; j < series.size(); ++j) {
         Series& s = series[r % 2 ? series.size() - 1 - j : j];  // alternate the order by round
         const size_t si = static_cast<size_t>(&s - series.data());
         dc::World w = start;
         for (int k = 0; k < steps; ++k) {
+          const bool traced = handover && r >= 0 && s.threads > 1;
+          if (traced) dc::calling_thread_team().set_trace(&trace);
+          const size_t from = trace.size();
+          const std::int64_t start = steady_ns();
           const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
                        p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
           const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
+          dc::calling_thread_team().set_trace(nullptr);
+          if (traced) handovers[si].add(trace, from, start, rep.profile);
           if (r < 0) continue;
           s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
           s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
@@ -155,6 +222,8 @@ int main(int argc, char** argv) {
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),
                   median(s.stage_ms[1]), median(s.stage_ms[2]), median(s.stage_ms[3]), median(s.stage_ms[4]));
+    for (size_t j = 0; j < series.size(); ++j)
+      if (handover && series[j].threads > 1) handovers[j].print(n, series[j].threads);
     if (!profile) continue;
     std::printf("#   solve phases, thread CPU ms per solve: checks, coloring, ordering, du0, pack, sweeps, "
                 "unpermute, residual\n");

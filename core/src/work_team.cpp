@@ -1,12 +1,18 @@
 #include "dc/core/work_team.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <utility>
 
 namespace dc {
 namespace {
 
 thread_local bool tls_inside = false;  // this thread runs a team's body (any member)
+
+std::int64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
 
 }  // namespace
 
@@ -43,6 +49,8 @@ void WorkTeam::helper_loop(int member) {
     bool joined = false;
     while (tag < 2 * r + 1 && !joined) joined = gate.tag.compare_exchange_weak(tag, 2 * r + 1);
     if (!joined) continue;
+    const bool traced = trace_ != nullptr && member == 1;
+    if (traced) current_.helper_start = now_ns();
     tls_inside = true;
     try {
       (*body_)(member);
@@ -51,6 +59,7 @@ void WorkTeam::helper_loop(int member) {
       if (!error_) error_ = std::current_exception();
     }
     tls_inside = false;
+    if (traced) current_.helper_done = now_ns();
     gate.tag.store(2 * r + 2);
     done_.notify();
   }
@@ -82,8 +91,9 @@ void WorkTeam::gather(int threads, PartJob body) {
     gates_[static_cast<size_t>(m - 1)].tag.store(2 * r + 2);
   body_ = &body;
   error_ = nullptr;
+  if (trace_ != nullptr) current_ = TeamRunTrace{now_ns()};
   run_.store(r);
-  start_.notify();
+  const bool woke = start_.notify();
   tls_inside = true;
   try {
     body(0);
@@ -92,8 +102,15 @@ void WorkTeam::gather(int threads, PartJob body) {
     if (!error_) error_ = std::current_exception();
   }
   tls_inside = false;
+  const std::int64_t caller_done = trace_ != nullptr ? now_ns() : 0;
   for (int m = 1; m < threads; ++m) close(m, r);
   body_ = nullptr;
+  if (trace_ != nullptr) {
+    current_.caller_done = caller_done;
+    current_.end = now_ns();
+    current_.woke = woke;
+    trace_->push_back(current_);
+  }
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 

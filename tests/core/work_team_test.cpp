@@ -98,5 +98,25 @@ TEST(WorkTeam, ForkedChildRunsEveryJobAndEndsItsTeam) {
   EXPECT_EQ(64, after.load());
 }
 
+TEST(WorkTeam, TheTraceHasOneOrderedRecordPerThreadedRun) {
+  WorkTeam team;
+  std::vector<TeamRunTrace> trace;
+  team.set_trace(&trace);
+  for (int run = 0; run < 20; ++run) team.for_parts(2, 8, [](int) {});
+  team.for_parts(1, 8, [](int) {});  // serial: not a team run
+  team.set_trace(nullptr);
+  team.for_parts(2, 8, [](int) {});
+  ASSERT_EQ(20U, trace.size());
+  for (const TeamRunTrace& t : trace) {
+    EXPECT_LE(t.publish, t.caller_done);
+    EXPECT_LE(t.caller_done, t.end);
+    if (t.helper_start >= 0) {
+      EXPECT_LE(t.publish, t.helper_start);
+      EXPECT_LE(t.helper_start, t.helper_done);
+      EXPECT_LE(t.helper_done, t.end);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dc

@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "dc/core/error.hpp"
 
 #include "world/parts/step_parts.hpp"
 
@@ -93,10 +98,16 @@ void fill_rows(const BodyState& s, const Contact& ct, const ContactConstraint& k
   }
 }
 
-}  // namespace
+/// True when ContactConstraints::add(body_a, body_b, mu) passes its checks (check() throws
+/// otherwise).
+bool passes_add_checks(int body_a, int body_b, double mu) {
+  return body_b >= 0 && body_a >= -1 && body_a != body_b && mu >= 0 && mu <= std::numeric_limits<double>::max();
+}
 
-void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
-                  LcpProblem& out, int threads) {
+/// assemble_lcp on the calling thread: the contacts' rows by ContactConstraints::add, then J's
+/// row starts, then the rows.
+void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
+                     LcpProblem& out) {
   const int nb = static_cast<int>(s.size());
   const int nc = static_cast<int>(contacts.size());
   const double dt = def.time.dt;
@@ -126,7 +137,7 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
   out.J.resize(rows, 3 * nb);
   out.J.resizeNonZeros(nnz);
   int* const outer = out.J.outerIndexPtr();
-  outer[0] = 0;  // row starts first, so that the jobs below each write only their contacts' rows
+  outer[0] = 0;  // row starts first: fill_rows finds its rows' entries there
   for (const ContactConstraint& kc : con) {
     const int per_row = kc.has_body_a() ? 6 : 3;
     outer[kc.normal_row + 1] = outer[kc.normal_row] + per_row;
@@ -138,12 +149,81 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
   out.mu.resize(rows);
   out.normal_row.assign(static_cast<size_t>(rows), -1);
 
-  const int jobs = parts_for(threads, std::max(nb, nc), 4, 1024);
+  for (int k = 0; k < nb; ++k) {
+    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
+    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
+  }
+  // Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
+  // bodies follow space: its fields are fetched kAhead contacts early (a hint, no effect on values).
+  constexpr int kAhead = 8;
+  for (int c = 0; c < nc; ++c) {
+    if (c + kAhead < nc) {
+      const auto b = static_cast<size_t>(contacts[static_cast<size_t>(c + kAhead)].body_b);
+      __builtin_prefetch(&s.position[b]);
+      __builtin_prefetch(&s.velocity[b]);
+      __builtin_prefetch(&s.omega[b]);
+    }
+    fill_rows(s, contacts[static_cast<size_t>(c)], con[c], def, out);
+  }
+}
+
+/// assemble_lcp on `threads` threads in `jobs` (> 1) jobs.
+void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
+                   LcpProblem& out, int threads, int jobs) {
+  const int nb = static_cast<int>(s.size());
+  const int nc = static_cast<int>(contacts.size());
+  const ContactSection& cs = def.contact;
+  // A static or kinematic body_a (infinite mass) owns no columns: a one-body row, like a wall.
+  const bool motion_types = !s.shapes.empty();
+  auto body_a_of = [&](const Contact& ct) {
+    return ct.body_a >= 0 && (!motion_types || s.shapes.is_dynamic(static_cast<size_t>(ct.body_a))) ? ct.body_a : -1;
+  };
+  // Jobs of contacts (and of bodies): a first run counts each job's rows and J entries; the
+  // second writes each job's contacts, rows and J entries from its offsets, numbered as add()
+  // numbers them, so the problem is the same for every job count. A contact failing add()'s
+  // checks is skipped and the first one is thrown after the run.
+  struct alignas(64) Count {
+    int rows = 0, nnz = 0, bad = -1;
+  };
+  std::vector<Count> many(static_cast<size_t>(jobs));
+  Count* const count = many.data();
+  run_parts(threads, jobs, [&](int part) {
+    Count& k = count[part];
+    const int c_end = static_cast<int>(part_begin(nc, jobs, part + 1));
+    for (int c = static_cast<int>(part_begin(nc, jobs, part)); c < c_end; ++c) {
+      const Contact& ct = contacts[static_cast<size_t>(c)];
+      const double mu = friction_of(ct, cs);
+      const int a = body_a_of(ct);
+      const int rows = mu > 0 ? 2 : 1;
+      k.rows += rows;
+      k.nnz += (a >= 0 ? 6 : 3) * rows;
+    }
+  });
+  int rows = 0, nnz = 0;
+  for (int q = 0; q < jobs; ++q) {  // totals; count[q] becomes job q's first row and entry
+    Count& k = count[q];
+    rows += std::exchange(k.rows, rows);
+    nnz += std::exchange(k.nnz, nnz);
+  }
+  // J as assemble_serial lays it out.
+  const std::span<ContactConstraint> con = out.constraints.overwrite(static_cast<size_t>(nc), rows);
+  out.dt = def.time.dt;
+  out.inv_mass.resize(3 * nb);
+  out.J.resize(rows, 3 * nb);
+  out.J.resizeNonZeros(nnz);
+  int* const outer = out.J.outerIndexPtr();
+  outer[rows] = nnz;
+  out.b.resize(rows);
+  out.lo.resize(rows);
+  out.hi.resize(rows);
+  out.mu.resize(rows);
+  out.normal_row.resize(static_cast<size_t>(rows));
   run_parts(threads, jobs, [&](int part) {
     for (int k = static_cast<int>(part_begin(nb, jobs, part)); k < part_begin(nb, jobs, part + 1); ++k) {
       out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
       out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
     }
+    int row = count[part].rows, at = count[part].nnz;
     // Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
     // bodies follow space: its fields are fetched kAhead contacts early (a hint, no effect on values).
     constexpr int kAhead = 8;
@@ -155,9 +235,46 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
         __builtin_prefetch(&s.velocity[b]);
         __builtin_prefetch(&s.omega[b]);
       }
-      fill_rows(s, contacts[static_cast<size_t>(c)], con[c], def, out);
+      const Contact& ct = contacts[static_cast<size_t>(c)];
+      ContactConstraint& kc = con[static_cast<size_t>(c)];
+      kc.body_a = body_a_of(ct);
+      kc.body_b = ct.body_b;
+      kc.mu = friction_of(ct, cs);
+      if (!passes_add_checks(kc.body_a, kc.body_b, kc.mu)) {
+        if (count[part].bad < 0) count[part].bad = c;
+        continue;
+      }
+      kc.feature = ct.key.feature;
+      const int per_row = kc.body_a >= 0 ? 6 : 3;
+      kc.normal_row = row++;
+      outer[kc.normal_row] = at;
+      at += per_row;
+      out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
+      kc.tangent_row = -1;
+      if (kc.mu > 0) {
+        kc.tangent_row = row++;
+        outer[kc.tangent_row] = at;
+        at += per_row;
+      }
+      fill_rows(s, ct, kc, def, out);
     }
   });
+  for (int q = 0; q < jobs; ++q)
+    if (const int c = count[q].bad; c >= 0) {
+      const ContactConstraint& kc = con[static_cast<size_t>(c)];
+      ContactConstraints::check(c, kc.body_a, kc.body_b, kc.mu);
+    }
+}
+
+}  // namespace
+
+void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
+                  LcpProblem& out, int threads) {
+  const int jobs = parts_for(threads, std::max(static_cast<long>(s.size()), static_cast<long>(contacts.size())), 4, 1024);
+  if (jobs > 1)
+    assemble_jobs(s, contacts, def, out, threads, jobs);
+  else
+    assemble_serial(s, contacts, def, out);
   // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix). Emptied only
   // when formed: an empty SparseRowMatrix allocates its outer index, every step.
   if (out.A.rows() != 0 || out.A.cols() != 0 || out.A.nonZeros() != 0) out.A = SparseRowMatrix();

@@ -9,7 +9,6 @@
 #include "det_math.hpp"
 #include "world/parts/impulse_parts.hpp"
 #include "world/parts/integrate_keeping.hpp"
-#include "world/parts/step_parts.hpp"
 
 namespace dc {
 namespace {
@@ -49,74 +48,83 @@ void integrate_with_motion(const Eigen::VectorXd& impulse, Vec2 g, double dt, Bo
 
 namespace {
 
-/// Δt · Jᵀ λ into `impulse` after the size checks (integrate_bodies' contact impulse).
-void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda, double dt, int n,
-                             Eigen::VectorXd& impulse, int threads) {
+/// integrate_bodies' size checks: λ has a value per row and J 3 columns per body.
+void check_sizes(const LcpProblem& p, const Eigen::VectorXd& lambda, int n) {
   if (lambda.size() != p.rows())
     throw InvalidArgument("integrate_bodies: lambda has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(p.rows()) + " rows");
+  if (p.rows() > 0 && p.J.cols() != 3 * n)
+    throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
+                          std::to_string(n) + " bodies");
+}
+
+/// Δt · Jᵀ λ into `impulse` after the size checks (integrate_bodies' contact impulse), then
+/// done(c0, c1) on ranges of whole bodies' columns as they become final (contact_impulse).
+void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda, double dt, int n,
+                             Eigen::VectorXd& impulse, ColumnsDone done) {
+  check_sizes(p, lambda, n);
   // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
   if (p.rows() > 0) {
-    if (p.J.cols() != 3 * n)
-      throw InvalidArgument("integrate_bodies: J has " + std::to_string(p.J.cols()) + " columns for " +
-                            std::to_string(n) + " bodies");
-    contact_impulse(p.J, lambda, dt, impulse, threads);
+    contact_impulse(p.J, lambda, dt, impulse, done);
   } else {
     impulse = Eigen::VectorXd::Zero(3 * n);
+    done(0, 3 * n);
   }
 }
 
 }  // namespace
 
 void integrate_bodies_keeping(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
-                              Eigen::VectorXd& impulse, int threads, std::vector<Vec2>& x0, std::vector<Vec2>& v0,
+                              Eigen::VectorXd& impulse, std::vector<Vec2>& x0, std::vector<Vec2>& v0,
                               std::vector<double>& w0) {
   if (!s.shapes.empty()) {
     x0 = s.position;
     v0 = s.velocity;
     w0 = s.omega;
-    integrate_bodies(p, lambda, g, dt, s, impulse, threads);
+    integrate_bodies(p, lambda, g, dt, s, impulse);
     return;
   }
   const int n = static_cast<int>(s.size());
-  checked_contact_impulse(p, lambda, dt, n, impulse, threads);
+  check_sizes(p, lambda, n);
   x0.swap(s.position);
   v0.swap(s.velocity);
   w0.swap(s.omega);
   s.position.resize(x0.size());
   s.velocity.resize(v0.size());
   s.omega.resize(w0.size());
-  // integrate_bodies' updates with the old values read from the swapped arrays (a += b is a + b).
-  const int jobs = parts_for(threads, n, 2, 4096);
-  run_parts(threads, jobs, [&](int part) {
-    for (int k = static_cast<int>(part_begin(n, jobs, part)); k < part_begin(n, jobs, part + 1); ++k) {
+  // integrate_bodies' updates with the old values read from the swapped arrays (a += b is a + b),
+  // body by body as the impulse's columns become final.
+  auto update = [&](int c0, int c1) {
+    for (int k = c0 / 3; k < c1 / 3; ++k) {
       const auto i = static_cast<size_t>(k);
       s.velocity[i] = v0[i] + (dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]});
       s.omega[i] = w0[i] + s.inv_inertia[i] * impulse[3 * k + 2];
       s.position[i] = x0[i] + dt * s.velocity[i];
       s.angle[i] += dt * s.omega[i];
     }
-  });
+  };
+  checked_contact_impulse(p, lambda, dt, n, impulse, update);
 }
 
 void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
-                      Eigen::VectorXd& impulse, int threads) {
+                      Eigen::VectorXd& impulse) {
   const int n = static_cast<int>(s.size());
-  checked_contact_impulse(p, lambda, dt, n, impulse, threads);
   if (!s.shapes.empty()) {
+    auto none = [](int, int) {};
+    checked_contact_impulse(p, lambda, dt, n, impulse, none);
     integrate_with_motion(impulse, g, dt, s);
     return;
   }
-  const int jobs = parts_for(threads, n, 2, 4096);
-  run_parts(threads, jobs, [&](int part) {
-    for (int k = static_cast<int>(part_begin(n, jobs, part)); k < part_begin(n, jobs, part + 1); ++k) {
+  auto update = [&](int c0, int c1) {  // bodies [c0 / 3, c1 / 3), their impulse final
+    for (int k = c0 / 3; k < c1 / 3; ++k) {
       const auto i = static_cast<size_t>(k);
       s.velocity[i] += dt * g + s.inv_mass[i] * Vec2{impulse[3 * k], impulse[3 * k + 1]};
       s.omega[i] += s.inv_inertia[i] * impulse[3 * k + 2];
       s.position[i] += dt * s.velocity[i];
       s.angle[i] += dt * s.omega[i];
     }
-  });
+  };
+  checked_contact_impulse(p, lambda, dt, n, impulse, update);
 }
 
 double kinetic_energy(const BodyState& s) {

@@ -311,9 +311,9 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
   Eigen::VectorXd impulse;
   if (internal_ && problem_stale_)  // keeps what a later first read of problem() assembles on
     integrate_bodies_keeping(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse,
-                             step_threads_, pre_position_, pre_velocity_, pre_omega_);
+                             pre_position_, pre_velocity_, pre_omega_);
   else
-    integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse, step_threads_);
+    integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse);
   const int nc = static_cast<int>(contacts.size());
   const int jobs = parts_for(step_threads_, nc, 2, 4096);
   run_parts(step_threads_, jobs, [&](int p) {

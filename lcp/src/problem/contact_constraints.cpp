@@ -21,14 +21,23 @@ int ContactConstraints::add(const ContactConstraint& k) {
   return c;
 }
 
-int ContactConstraints::add(int body_a, int body_b, double mu, int feature) {
-  if (body_b < 0 || body_a < -1 || body_a == body_b)
-    throw InvalidArgument("ContactConstraints::add: contact " + std::to_string(contacts_.size()) +
-                          " has bodies (" + std::to_string(body_a) + ", " + std::to_string(body_b) +
-                          "); need body_b >= 0 and body_a = -1 or another body");
+void ContactConstraints::check(int c, int body_a, int body_b, double mu) {
+  const bool bodies_ok = body_b >= 0 && body_a >= -1 && body_a != body_b;
+  if (bodies_ok && mu >= 0 && std::isfinite(mu)) return;
+  std::string what = "ContactConstraints::add: contact " + std::to_string(c);
+  if (!bodies_ok)
+    throw InvalidArgument(what.append(" has bodies (")
+                              .append(std::to_string(body_a))
+                              .append(", ")
+                              .append(std::to_string(body_b))
+                              .append("); need body_b >= 0 and body_a = -1 or another body"));
   if (!(mu >= 0) || !std::isfinite(mu))
-    throw InvalidArgument("ContactConstraints::add: contact " + std::to_string(contacts_.size()) +
-                          " has friction coefficient " + g_text(mu) + "; need a finite mu >= 0");
+    throw InvalidArgument(what.append(" has friction coefficient ").append(g_text(mu)).append("; need a finite mu >= 0"));
+}
+
+int ContactConstraints::add(int body_a, int body_b, double mu, int feature) {
+  if (body_b < 0 || body_a < -1 || body_a == body_b || !(mu >= 0) || !std::isfinite(mu))
+    check(static_cast<int>(contacts_.size()), body_a, body_b, mu);  // throws
   ContactConstraint& k = contacts_.emplace_back();
   k.body_a = body_a;
   k.body_b = body_b;
@@ -45,6 +54,12 @@ void ContactConstraints::clear() {
 }
 
 void ContactConstraints::reserve(std::size_t contacts) { contacts_.reserve(contacts); }
+
+std::span<ContactConstraint> ContactConstraints::overwrite(std::size_t contacts, int rows) {
+  contacts_.resize(contacts);
+  rows_ = rows;
+  return contacts_;
+}
 
 Eigen::VectorXd ContactConstraints::scatter(std::span<const double> pairs) const {
   if (pairs.size() != 2 * contacts_.size())

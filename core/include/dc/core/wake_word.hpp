@@ -61,11 +61,13 @@ class WakeWord {
     }
   }
 
-  /// After making a condition true: wakes the sleeping waiters, if any (one load otherwise).
-  void notify() {
-    if (sleepers_.load() == 0) return;  // a waiter not yet counted sees the condition when counted
+  /// After making a condition true: wakes the sleeping waiters, if any (one load otherwise);
+  /// true when it made the wake-up call.
+  bool notify() {
+    if (sleepers_.load() == 0) return false;  // a waiter not yet counted sees the condition when counted
     word_.fetch_add(1);
     wake_all();
+    return true;
   }
 
  private:

@@ -38,6 +38,15 @@ class PartJob {
   void (*call_)(void*, int);
 };
 
+/// Timing of one run of a team (WorkTeam::set_trace), on the steady clock [ns]: when the caller
+/// published it, when helper 1 started its body (−1: it did not join), when member 0's body and
+/// helper 1's body returned, and when the run ended; `woke`: the publish had to wake a sleeping
+/// helper (a futex wake-up).
+struct TeamRunTrace {
+  std::int64_t publish = 0, helper_start = -1, caller_done = 0, helper_done = -1, end = 0;
+  bool woke = false;
+};
+
 class WorkTeam {
  public:
   WorkTeam() = default;
@@ -60,6 +69,10 @@ class WorkTeam {
   /// True on a thread while it runs a body of some team's run (a nested run is serial).
   static bool inside();
 
+  /// Appends a TeamRunTrace of every later threaded run to *trace (nullptr: none, the default).
+  /// For measuring the hand-over; the vector must outlive the tracing.
+  void set_trace(std::vector<TeamRunTrace>* trace) { trace_ = trace; }
+
  private:
   void grow(int helpers);
   void helper_loop(int member);
@@ -80,6 +93,8 @@ class WorkTeam {
   std::exception_ptr error_;
   std::mutex error_mutex_;
   WakeWord start_, done_;
+  std::vector<TeamRunTrace>* trace_ = nullptr;
+  TeamRunTrace current_;  // the run being traced (helper 1 writes its fields before closing)
 };
 
 /// The calling thread's team (its helpers start on first use and end with the thread).

@@ -20,10 +20,11 @@ namespace dc {
 /// Advances the kinematic fields of `bodies` by one step of length dt with the contact forces
 /// λ of `problem` (its J; A is not needed). `impulse` receives Δt Jᵀ λ per dof (3 per body:
 /// x, y, angular) [N·s]. Throws InvalidArgument when λ does not have problem.rows() entries or
-/// J does not have 3 columns per body. threads > 1: the circles' updates run as parallel jobs
-/// of bodies (the same numbers).
+/// J does not have 3 columns per body. Runs on the calling thread: the impulse is a scatter whose
+/// split by blocks of bodies (the split that keeps every sum's order) reads each row once per
+/// block it reaches, which costs more than the serial pass.
 void integrate_bodies(const LcpProblem& problem, const Eigen::VectorXd& lambda, Vec2 gravity, double dt,
-                      BodyState& bodies, Eigen::VectorXd& impulse, int threads = 1);
+                      BodyState& bodies, Eigen::VectorXd& impulse);
 
 /// Σ ½ m |v|² + ½ I ω² [J].
 double kinetic_energy(const BodyState& bodies);

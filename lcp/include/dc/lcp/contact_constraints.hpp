@@ -41,6 +41,13 @@ class ContactConstraints {
   int add(const ContactConstraint& contact);
   void clear();
   void reserve(std::size_t contacts);
+  /// For a caller that writes the contacts itself (in parallel): sets the count to `contacts`
+  /// and the row count to `rows`, and returns the contacts, every one of which the caller
+  /// overwrites with rows numbered as add() numbers them and after add()'s checks (check()).
+  /// The storage is reused: no element is constructed when the count does not grow.
+  [[nodiscard]] std::span<ContactConstraint> overwrite(std::size_t contacts, int rows);
+  /// add(body_a, body_b, mu)'s checks for contact c: throws its InvalidArgument.
+  static void check(int c, int body_a, int body_b, double mu);
 
   [[nodiscard]] int size() const { return static_cast<int>(contacts_.size()); }
   [[nodiscard]] bool empty() const { return contacts_.empty(); }

@@ -174,7 +174,10 @@ double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda, int 
     all_finite = !nonfinite;
     return nan ? std::numeric_limits<double>::infinity() : r;
   }
-  scaled_transpose_parts(p, lambda, threads, du, skip_zero);
+  // Δu on the calling thread: the blocked product reads every row reaching a block once per
+  // block and filters entries by column, more work than the serial scatter, so only the errors
+  // are split.
+  scaled_transpose_product(p, lambda, 1, du, skip_zero);
   // The errors by chunks; max and or combine the chunks' in any order alike.
   const int items = by_contact ? nc : n;
   const int chunks = (items + kContactChunk - 1) / kContactChunk;

@@ -5,9 +5,10 @@
 // not depend on the threads. (Jᵀλ)_c is Eigen's row-major scatter: J_ic·λ_i added to 0 in
 // ascending row order. velocity_change is that product, serial on purpose: a per-body index for
 // threads costs more to build and walk than one sequential pass, so the solver overlaps it with
-// the packing. The residual's Jᵀλ runs on threads by blocks of bodies, each walking J's rows in
-// order between bounds from the contacts; a row of w = J Δu + b is one dot product (storage
-// order, from 0, then + b_i), and the max-reduction is order-free (any NaN → ∞, as serial).
+// the packing. The residual's Jᵀλ is serial too (its split by blocks of bodies reads each row
+// once per block it reaches and costs more than it saves); its rows run on threads: a row of
+// w = J Δu + b is one dot product (storage order, from 0, then + b_i), and the max-reduction is
+// order-free (any NaN → ∞, as serial).
 // With skip_zero (allowed when every J entry is finite, values_finite) the Jᵀλ sums leave out
 // the rows with λ_i = ±0, which add nothing to them (pgs_colored_residual.hpp).
 #include "dc/lcp/lcp_problem.hpp"
@@ -36,8 +37,8 @@ void scaled_transpose_product(const LcpProblem& p, const Eigen::VectorXd& lambda
                               bool skip_zero = false);
 
 /// natural_residual(p, λ) bit for bit, using `du` as scratch (Δu in column order, kept by the
-/// caller): Δu by scaled_transpose_product, then the rows (by contact, contact_errors, when the
-/// contacts own the rows), on `threads` threads. `all_finite` is
+/// caller): Δu by scaled_transpose_product on one thread, then the rows (by contact,
+/// contact_errors, when the contacts own the rows) on `threads` threads. `all_finite` is
 /// set to whether every λ_i is finite. Same requirement as scaled_transpose_product; skip_zero
 /// as in velocity_change (the rows with λ_i = 0 still have their errors), and the rows of a
 /// contact whose bodies have Δu = 0 are not read either (contact_errors's skip_rest).
