@@ -5,7 +5,9 @@
 // the circle then gets the whole margin): a row whose gap is still open only stops the
 // bodies from closing more than g within the step (b_n += g/Δt), so fast bodies cannot
 // tunnel, while slow distant pairs create no rows at all.
+#include <cmath>
 #include <optional>
+#include <vector>
 
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/contact.hpp"
@@ -25,10 +27,68 @@ std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double th
 /// same contact, bit for bit.
 std::optional<Contact> circle_circle(const CircleProbe& pa, const CircleProbe& pb, int a, int b);
 
+/// Unit normal n of wall w (from the wall into the box) and the distance of x to the wall's
+/// plane, positive inside the box [m].
+inline void wall_plane(Vec2 x, Wall w, double width, double height, Vec2& n, double& dist) {
+  switch (w) {
+    case Wall::Left: n = {1, 0}; dist = x.x; break;
+    case Wall::Right: n = {-1, 0}; dist = width - x.x; break;
+    case Wall::Bottom: n = {0, 1}; dist = x.y; break;
+    case Wall::Top: n = {0, -1}; dist = height - x.y; break;
+  }
+}
+
+/// The circle pair test on the fields of bodies a and b: writes the contact into `c` and returns
+/// true when the gap is below `threshold` [m] (circle_circle's formula; the appenders below and
+/// the entry points share it, so every path gives the same bits).
+inline bool circle_pair(Vec2 xa, double ra, Vec2 xb, double rb, int a, int b, double threshold, Contact& c) {
+  const Vec2 d = xb - xa;
+  const double rsum = ra + rb;
+  const double dist2 = length_squared(d);
+  const double reach = rsum + threshold;  // cheap reject before the square root
+  if (dist2 >= reach * reach) return false;
+  const double dist = std::sqrt(dist2);
+  c.key = ContactKey::pair(a, b);
+  c.body_a = a;
+  c.body_b = b;
+  c.normal = dist > 1e-12 * rsum ? (1.0 / dist) * d : Vec2{0.0, 1.0};
+  c.gap = dist - rsum;
+  c.point = xa + (ra + 0.5 * c.gap) * c.normal;  // midway between the two surfaces along the normal
+  return true;
+}
+
+/// circle_circle(pa, pb, a, b) appended to `out` when it exists, built in place.
+inline void add_circle_circle(const CircleProbe& pa, const CircleProbe& pb, int a, int b, std::vector<Contact>& out) {
+  const Vec2 d = pb.centre - pa.centre;
+  const double reach = (pa.radius + pb.radius) + (pa.spec + pb.spec);
+  if (length_squared(d) >= reach * reach) return;  // the reject of circle_pair, before any write
+  circle_pair(pa.centre, pa.radius, pb.centre, pb.radius, a, b, pa.spec + pb.spec, out.emplace_back());
+}
+
 /// Contact between circle k and wall `w` of a box of the given size, when the gap is
 /// below `threshold` [m]. Normals point from the wall into the box.
 std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double width, double height,
                                    double threshold);
+
+/// The contact of circle k (centre x, radius r) with wall w at the given gap [m] (circle_wall).
+inline void fill_circle_wall(Vec2 x, double r, int k, Wall w, Vec2 n, double gap, Contact& c) {
+  c.key = ContactKey::wall(w, k);
+  c.body_a = static_cast<int>(w);
+  c.body_b = k;
+  c.normal = n;
+  c.gap = gap;
+  c.point = x - (r + 0.5 * gap) * n;
+}
+
+/// circle_wall of circle k (centre x, radius r) appended to `out` when it exists, built in place.
+inline void add_circle_wall(Vec2 x, double r, int k, Wall w, double width, double height, double threshold,
+                            std::vector<Contact>& out) {
+  Vec2 n;
+  double dist = 0;  // centre distance to the wall plane, positive inside the box
+  wall_plane(x, w, width, height, n, dist);
+  const double gap = dist - r;
+  if (gap < threshold) fill_circle_wall(x, r, k, w, n, gap, out.emplace_back());
+}
 
 /// Signed gap [m] of contact c's pair (two circles, or a circle and the wall c.body_a of the
 /// width × height box) at the positions of `s`, computed as circle_circle / circle_wall do.

@@ -197,17 +197,18 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
       std::vector<Contact>& list = body_jobs == 1 ? out : part_walls_[static_cast<size_t>(4 * p + w)];
       if (body_jobs > 1) list.clear();
       if (!def_.world.walls[static_cast<size_t>(w)]) continue;
-      for (int k = lo; k < hi; ++k)
-        if (auto c = circle_wall(bodies, k, kWalls[w], def_.world.width, def_.world.height,
-                                 2 * probes_[static_cast<size_t>(k)].spec))
-          list.push_back(*c);
+      for (int k = lo; k < hi; ++k) {
+        const CircleProbe& probe = probes_[static_cast<size_t>(k)];
+        add_circle_wall(probe.centre, probe.radius, k, kWalls[w], def_.world.width, def_.world.height, 2 * probe.spec,
+                        list);
+      }
     }
   });
   const auto t0 = Clock::now();
-  broad_phase_.find_pairs(bodies.position, reach_, pairs_, threads);
+  const std::vector<std::pair<int, int>>& pairs = pair_cache_.pairs(bodies.position, reach_, broad_phase_, threads);
   broad_phase_ms_ = ms_since(t0);
   // Per job of pairs: its contacts and their spread (integers: any order sums alike).
-  const long np = static_cast<long>(pairs_.size());
+  const long np = static_cast<long>(pairs.size());
   const int pair_jobs = parts_for(threads, np, 4, 1024);
   if (part_pairs_.size() < static_cast<size_t>(pair_jobs)) part_pairs_.resize(static_cast<size_t>(pair_jobs));
   part_spread_.assign(static_cast<size_t>(pair_jobs), InternalBodyOrder::Spread{});
@@ -220,13 +221,13 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
     // Pairs come sorted by body a; body b's record is fetched kAhead pairs early (a hint).
     constexpr long kAhead = 8;
     for (long q = part_begin(np, pair_jobs, p); q < q_end; ++q) {
-      if (q + kAhead < q_end) __builtin_prefetch(&probes_[static_cast<size_t>(pairs_[static_cast<size_t>(q + kAhead)].second)]);
-      const auto [a, b] = pairs_[static_cast<size_t>(q)];
-      if (auto c = circle_circle(probes_[static_cast<size_t>(a)], probes_[static_cast<size_t>(b)], a, b)) {
-        list.push_back(*c);
-        spread.sum += std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
-        ++spread.pairs;
-      }
+      if (q + kAhead < q_end) __builtin_prefetch(&probes_[static_cast<size_t>(pairs[static_cast<size_t>(q + kAhead)].second)]);
+      const auto [a, b] = pairs[static_cast<size_t>(q)];
+      const std::size_t before = list.size();
+      add_circle_circle(probes_[static_cast<size_t>(a)], probes_[static_cast<size_t>(b)], a, b, list);
+      const auto added = static_cast<long>(list.size() - before);
+      spread.sum += added * std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
+      spread.pairs += added;
     }
   });
   spread_ = {};

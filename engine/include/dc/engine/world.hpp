@@ -21,6 +21,7 @@
 #include "dc/core/thread_pacer.hpp"
 #include "dc/engine/body_state.hpp"
 #include "dc/engine/broad_phase.hpp"
+#include "dc/engine/circle_pair_cache.hpp"
 #include "dc/engine/contact.hpp"
 #include "dc/engine/inflow.hpp"
 #include "dc/engine/internal_body_order.hpp"
@@ -99,7 +100,8 @@ class World {
   /// Contacts of the previous step with their solved λ (the built-in warm start's memory).
   [[nodiscard]] const std::vector<Contact>& previous_contacts() const;
   [[nodiscard]] const LcpProblem& problem() const;
-  /// The broad phase (its last_pair_tests() measures the last collide()'s work).
+  /// The broad phase (its last_pair_tests() measures its last run's work; collide() keeps the
+  /// circle pairs across steps while the bodies stay near, circle_pair_cache.hpp).
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
   /// Wall-clock time of the broad phase in the last collide() [ms] (timing only).
   [[nodiscard]] double last_broad_phase_ms() const { return broad_phase_ms_; }
@@ -156,7 +158,7 @@ class World {
   /// and the broad phase's pairs: reused buffers of collide() (no allocation per step).
   std::vector<CircleProbe> probes_;
   std::vector<double> reach_;
-  std::vector<std::pair<int, int>> pairs_;
+  CirclePairCache pair_cache_;  ///< the circle narrow phase's candidate pairs across steps
   mutable LcpProblem problem_;
   UniformGridBroadPhase broad_phase_;
   ShapeNarrowPhase shape_narrow_phase_;  ///< collide() of scenes with a shape table

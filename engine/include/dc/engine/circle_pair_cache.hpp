@@ -1,0 +1,50 @@
+#pragma once
+// Candidate pairs of the circle narrow phase kept across steps (a Verlet list). At a rebuild
+// the broad phase runs with every reach R_k = r_k + s_k grown by a skin σ, and the pairs whose
+// centres are closer than R_i + R_j + 2σ are kept, with the centres x⁰_k and reaches R⁰_k they
+// were found at. While every body satisfies |x_k − x⁰_k| + max(0, R_k − R⁰_k) ≤ 0.9σ, each pair
+// within R_i + R_j now was within R⁰_i + R⁰_j + 1.8σ then (triangle inequality; the 0.2σ to
+// spare absorbs rounding), so the kept list is a superset of the pairs the narrow phase
+// accepts, and its test on that list gives the same contacts as a fresh broad phase: the same
+// keys in the same (sorted) order, bit for bit. σ is a fixed fraction of the largest reach at
+// the rebuild: a settled pile keeps its list for many steps. Where lists expire after a step or
+// two (a falling or flowing pile), the broad phase runs without one for a while (pairs()).
+// The check is by body index only, so a renumbering of the bodies (the internal order's
+// re-sort) or a user's edit is caught like any motion; a change in the body count rebuilds.
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "dc/core/vec2.hpp"
+#include "dc/engine/broad_phase.hpp"
+
+namespace dc {
+
+class CirclePairCache {
+ public:
+  /// A sorted (i < j) superset of the pairs whose centres lie within reach[i] + reach[j] of each
+  /// other, from the kept list or from `broad_phase` (rebuilt(): which). The reference stays
+  /// valid until the next call.
+  const std::vector<std::pair<int, int>>& pairs(const std::vector<Vec2>& centres, const std::vector<double>& reach,
+                                                UniformGridBroadPhase& broad_phase, int threads);
+  /// Whether the last pairs() ran the broad phase.
+  [[nodiscard]] bool rebuilt() const { return rebuilt_; }
+
+ private:
+  /// Whether every body is still within the skin of where the list was built.
+  [[nodiscard]] bool still_valid(const std::vector<Vec2>& centres, const std::vector<double>& reach,
+                                 int threads);
+  void rebuild(const std::vector<Vec2>& centres, const std::vector<double>& reach,
+               UniformGridBroadPhase& broad_phase, int threads);
+  std::vector<Vec2> centre0_;           ///< x⁰_k [m]
+  std::vector<double> reach0_, grown_;  ///< R⁰_k, and R⁰_k + σ for the broad phase [m]
+  std::vector<std::pair<int, int>> boxes_, pairs_;
+  std::vector<char> part_moved_;
+  double skin_ = 0;  ///< σ [m]
+  int uses_ = 0;        ///< steps the kept list served after its rebuild
+  int plain_run_ = 0;   ///< length of the last run of steps without a list
+  int plain_left_ = 0;  ///< steps left in the current run without a list
+  bool kept_ = false, rebuilt_ = false;
+};
+
+}  // namespace dc
