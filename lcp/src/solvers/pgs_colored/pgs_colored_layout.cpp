@@ -166,21 +166,7 @@ bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes
   if (!pack_rows_simd(p, rn, a, bb, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
       !pack_rows_simd(p, rt, a, bb, B.jt, B.mjt, B.bt, diag_t, singular_t))
     return false;
-  const int zero = out.body_entries;
-  const std::uint8_t* dynamic = out.dynamic.data();
-  for (int lane = 0; lane < lanes; ++lane) {
-    const ContactConstraint& k = p.constraints[order[lane]];
-    const int first = a[lane] / 3, second = bb[lane] < 0 ? -1 : bb[lane] / 3;
-    const bool da = dynamic[first] != 0;
-    const bool db = second >= 0 && dynamic[second] != 0;
-    B.mu[lane] = k.mu;
-    B.la[lane] = da ? kStride * first : zero;
-    B.lb[lane] = db ? kStride * second : zero;
-    B.ka[lane] = da ? 1 : 0;
-    B.kb[lane] = db ? 1 : 0;
-    row_of[lane] = k.normal_row;
-    row_of[W + lane] = k.tangent_row;
-  }
+  batch_bodies(p, out, order, lanes, a, bb, B, row_of);
   const unsigned used = (1u << lanes) - 1u;
   ok_n = (singular_n & used) == 0;
   ok_t = (singular_t & used) == 0;
@@ -417,6 +403,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
     // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
     // and sizes stand; the batches are refilled from this problem's J, b and λ⁰.
     out.failed.assign(out.batches.size() + out.pairs.size(), -1);
+    out.staged_now = false;
     return {};
   }
   out.generation = col.generation;
@@ -440,6 +427,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   std::vector<int>& start = out.start;
   start.assign(static_cast<size_t>(slots) + 1, 0);
   out.order.resize(static_cast<size_t>(nc));
+  out.position.resize(static_cast<size_t>(nc));
   out.batch_of.assign(static_cast<size_t>(slots) + 1, 0);
   // The sort on the calling thread's team: counts by part, their prefix sums, the scatter.
   auto range = [&](int part, int& lo, int& hi) {
@@ -470,7 +458,11 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
     range(part, lo, hi);
     int* mine = count.data() + static_cast<size_t>(part) * slots;
     for (int c = lo; c < hi; ++c)
-      if (part_of[c] != -2) out.order[static_cast<size_t>(mine[slot_of(c)]++)] = c;
+      if (part_of[c] != -2) {
+        const int q = mine[slot_of(c)]++;
+        out.order[static_cast<size_t>(q)] = c;
+        out.position[static_cast<size_t>(c)] = q;
+      }
   });
   out.order.resize(static_cast<size_t>(start[static_cast<size_t>(slots)]));
   out.ranges.clear();
@@ -493,6 +485,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   out.pair_base = 2 * W * nb;
   out.row_of.resize(static_cast<size_t>(nb) * 2 * W + static_cast<size_t>(np) * 4 * W);
   out.failed.assign(static_cast<size_t>(nb + np), -1);
+  out.staged_now = false;
   return {};
 }
 
@@ -507,7 +500,8 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   int& failed = out.failed[static_cast<size_t>(bi)];
   bool ok_n = true, ok_t = true;
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
-  if (lanes > 0 && pack_batch_simd(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t)) {
+  const bool staged = lanes > 0 && pack_batch_staged(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t);
+  if (staged || (lanes > 0 && pack_batch_simd(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t))) {
     if (lanes < W) {  // padding as below: zero rows (j = 0·(1/1)), A_ii = 1
       pad_rows(rs, lanes, row_of, row_of + W);
       pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
@@ -532,6 +526,7 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   if ((!ok_n || !ok_t) && failed < 0) name_singular(out, s0, lanes, diag_n, diag_t, failed);
   B.count = lanes;
   const size_t s0p = static_cast<size_t>(bi) * 2 * W;
+  if (staged) return staged_lambda(out, s0, lanes, lp + s0p, other + s0p);
   for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
 }
 

@@ -1,0 +1,116 @@
+// pgs-colored's staging of the packing's sources (pgs_colored_layout.hpp, stage_sources): one
+// pass over the contacts in their own order, so J, b and λ⁰ are read as they lie in memory.
+#include <algorithm>
+
+#include "solvers/pgs_colored/pgs_colored_layout.hpp"
+#include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
+
+namespace dc::colored {
+
+void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from) {
+  const size_t positions = out.order.size();
+  out.staged_now = false;
+  if (positions < static_cast<size_t>(std::max(0, from)) || !simd_pack_available()) return;
+  out.staged.resize(positions);
+  out.usable.resize(positions);
+  const ContactConstraint* cons = p.constraints.contacts().data();
+  const int nc = p.constraints.size();
+  const int* outer = p.J.outerIndexPtr();
+  const int* inner = p.J.innerIndexPtr();
+  const int* nnz = p.J.isCompressed() ? nullptr : p.J.innerNonZeroPtr();
+  const double* value = p.J.valuePtr();
+  // The usual storage (pack_rows_simd's): the columns a, a+1, a+2 (, bb, bb+1, bb+2) once each.
+  auto usual = [&](int i, int a, int bb) {
+    const int q0 = outer[i], n = nnz != nullptr ? nnz[i] : outer[i + 1] - q0;
+    const int* col = inner + q0;
+    return n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
+           (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2));
+  };
+  for (int c = 0; c < nc; ++c) {
+    if (out.partner[static_cast<size_t>(c)] != -1) continue;  // pairs are packed from J
+    const ContactConstraint& k = cons[c];
+    const size_t q = static_cast<size_t>(out.position[static_cast<size_t>(c)]);
+    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+    const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;
+    const bool ok = k.has_friction() && usual(k.normal_row, a, bb) && usual(k.tangent_row, a, bb);
+    out.usable[q] = ok ? 1 : 0;
+    if (!ok) continue;
+    StagedRows& s = out.staged[q];
+    const int n = bb < 0 ? 3 : 6;
+    const double* vn = value + outer[k.normal_row];
+    const double* vt = value + outer[k.tangent_row];
+    for (int e = 0; e < 6; ++e) {
+      s.vn[e] = e < n ? vn[e] : 0.0;
+      s.vt[e] = e < n ? vt[e] : 0.0;
+    }
+    s.bn = p.b[k.normal_row];
+    s.bt = p.b[k.tangent_row];
+    s.ln = lambda[k.normal_row];
+    s.lt = lambda[k.tangent_row];
+  }
+  out.staged_now = true;
+}
+
+void batch_bodies(const LcpProblem& p, const Prepared& out, const int* order, int lanes, const int* a,
+                  const int* bb, Batch& B, int* row_of) {
+  const int zero = out.body_entries;
+  const std::uint8_t* dynamic = out.dynamic.data();
+  for (int lane = 0; lane < lanes; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane]];
+    const int first = a[lane] / 3, second = bb[lane] < 0 ? -1 : bb[lane] / 3;
+    const bool da = dynamic[first] != 0;
+    const bool db = second >= 0 && dynamic[second] != 0;
+    B.mu[lane] = k.mu;
+    B.la[lane] = da ? kStride * first : zero;
+    B.lb[lane] = db ? kStride * second : zero;
+    B.ka[lane] = da ? 1 : 0;
+    B.kb[lane] = db ? 1 : 0;
+    row_of[lane] = k.normal_row;
+    row_of[W + lane] = k.tangent_row;
+  }
+}
+
+bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,
+                       double* diag_n, double* diag_t, bool& ok_n, bool& ok_t) {
+  if (!out.staged_now) return false;
+  int on[W], ot[W], a[W], bb[W];
+  double bn[W], bt[W];
+  const int* order = out.order.data() + s0;
+  const StagedRows* st = out.staged.data();
+  for (int lane = 0; lane < W; ++lane) {
+    const int q = s0 + (lane < lanes ? lane : 0);
+    if (out.usable[static_cast<size_t>(q)] == 0) return false;
+    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
+    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+    a[lane] = 3 * first;
+    bb[lane] = second < 0 ? -1 : 3 * second;
+    on[lane] = q * 16;
+    ot[lane] = q * 16 + 6;
+    bn[lane] = st[q].bn;
+    bt[lane] = st[q].bt;
+  }
+  static_assert(sizeof(StagedRows) == 16 * sizeof(double));
+  const double* base = st[0].vn;
+  const double* im = p.inv_mass.data();
+  unsigned singular_n = 0, singular_t = 0;
+  if (!pack_rows_staged(base, on, bn, a, bb, im, p.dt, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
+      !pack_rows_staged(base, ot, bt, a, bb, im, p.dt, B.jt, B.mjt, B.bt, diag_t, singular_t))
+    return false;
+  batch_bodies(p, out, order, lanes, a, bb, B, row_of);
+  const unsigned used = (1u << lanes) - 1u;
+  ok_n = (singular_n & used) == 0;
+  ok_t = (singular_t & used) == 0;
+  return true;
+}
+
+void staged_lambda(const Prepared& out, int s0, int lanes, double* lp, double* other) {
+  const StagedRows* st = out.staged.data() + s0;
+  for (int lane = 0; lane < W; ++lane) {
+    lp[lane] = other[lane] = lane < lanes ? st[lane].ln : 0.0;
+    lp[W + lane] = other[W + lane] = lane < lanes ? st[lane].lt : 0.0;
+  }
+}
+
+}  // namespace dc::colored
