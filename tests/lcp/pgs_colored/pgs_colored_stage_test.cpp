@@ -64,7 +64,7 @@ TEST(PgsColoredStage, StagedBatchesAreTheGatheredOnesBitForBit) {
       ContactColorer colorer;
       colored::Prepared laid;
       ASSERT_EQ(colored::layout(p, colorer, nullptr, 1, laid), "");
-      const Filled gathered = fill_all(p, l0, laid, colored::kStageFrom + static_cast<int>(laid.order.size()));
+      const Filled gathered = fill_all(p, l0, laid, 1 << 30);
       const Filled staged = fill_all(p, l0, laid, 0);
       EXPECT_FALSE(gathered.prep.staged_now);
       EXPECT_TRUE(staged.prep.staged_now);

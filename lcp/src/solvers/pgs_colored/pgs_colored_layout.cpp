@@ -166,7 +166,10 @@ bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes
   if (!pack_rows_simd(p, rn, a, bb, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
       !pack_rows_simd(p, rt, a, bb, B.jt, B.mjt, B.bt, diag_t, singular_t))
     return false;
-  batch_bodies(p, out, order, lanes, a, bb, B, row_of);
+  for (int lane = 0; lane < lanes; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane]];
+    put_lane(out, B, row_of, lane, a[lane] / 3, bb[lane] < 0 ? -1 : bb[lane] / 3, k.mu, k.normal_row, k.tangent_row);
+  }
   const unsigned used = (1u << lanes) - 1u;
   ok_n = (singular_n & used) == 0;
   ok_t = (singular_t & used) == 0;

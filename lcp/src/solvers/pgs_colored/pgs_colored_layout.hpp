@@ -32,12 +32,14 @@ struct Range {
 
 /// The sources of one single lead contact with friction whose rows have the usual storage
 /// (pack_rows_simd's), copied by stage_sources to its ordered position: the J entries of its
-/// normal and tangent rows (slots 3–5 +0 without a second body), b and λ⁰ of both rows.
-struct alignas(64) StagedRows {
+/// normal and tangent rows (slots 3–5 +0 without a second body), b and λ⁰ of both rows, μ, its
+/// rows and the J columns of its bodies (a: the lower body, bb: the other, −1 for none).
+struct StagedRows {
   double vn[6], vt[6];
-  double bn, bt, ln, lt;
+  double bn, bt, ln, lt, mu;
+  int rn, rt, a, bb;
 };
-static_assert(sizeof(StagedRows) == 128);
+static_assert(sizeof(StagedRows) == 19 * sizeof(double));
 
 /// The packed problem and the solve's buffers; kept by the solver between solves.
 struct Prepared {
@@ -95,10 +97,20 @@ constexpr int kStageFrom = 12288;
 void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from = kStageFrom);
 
 // ---- pgs_colored_stage.cpp's parts of fill_batch ------------------------------------------
-/// The bodies (Δu offsets, store flags), μ and rows of a batch's lanes [0, lanes) from the
-/// ordered contacts at `order`, on the J columns a / bb.
-void batch_bodies(const LcpProblem& p, const Prepared& out, const int* order, int lanes, const int* a,
-                  const int* bb, Batch& B, int* row_of);
+/// Lane `lane` of batch B and its rows: the Δu offsets and store flags of bodies `first` and
+/// `second` (−1: none), μ, the normal and tangent rows.
+inline void put_lane(const Prepared& out, Batch& B, int* row_of, int lane, int first, int second, double mu, int rn,
+                     int rt) {
+  const bool da = out.dynamic[static_cast<size_t>(first)] != 0;
+  const bool db = second >= 0 && out.dynamic[static_cast<size_t>(second)] != 0;
+  B.mu[lane] = mu;
+  B.la[lane] = da ? kStride * first : out.body_entries;
+  B.lb[lane] = db ? kStride * second : out.body_entries;
+  B.ka[lane] = da ? 1 : 0;
+  B.kb[lane] = db ? 1 : 0;
+  row_of[lane] = rn;
+  row_of[W + lane] = rt;
+}
 /// fill_batch's rows and bodies of batch (s0, lanes) by pack_rows_staged from the staged sources;
 /// false when they are not staged (out.staged_now, out.usable).
 bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,

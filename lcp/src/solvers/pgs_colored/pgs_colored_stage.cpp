@@ -48,57 +48,42 @@ void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
     s.bt = p.b[k.tangent_row];
     s.ln = lambda[k.normal_row];
     s.lt = lambda[k.tangent_row];
+    s.mu = k.mu;
+    s.rn = k.normal_row;
+    s.rt = k.tangent_row;
+    s.a = a;
+    s.bb = bb;
   }
   out.staged_now = true;
-}
-
-void batch_bodies(const LcpProblem& p, const Prepared& out, const int* order, int lanes, const int* a,
-                  const int* bb, Batch& B, int* row_of) {
-  const int zero = out.body_entries;
-  const std::uint8_t* dynamic = out.dynamic.data();
-  for (int lane = 0; lane < lanes; ++lane) {
-    const ContactConstraint& k = p.constraints[order[lane]];
-    const int first = a[lane] / 3, second = bb[lane] < 0 ? -1 : bb[lane] / 3;
-    const bool da = dynamic[first] != 0;
-    const bool db = second >= 0 && dynamic[second] != 0;
-    B.mu[lane] = k.mu;
-    B.la[lane] = da ? kStride * first : zero;
-    B.lb[lane] = db ? kStride * second : zero;
-    B.ka[lane] = da ? 1 : 0;
-    B.kb[lane] = db ? 1 : 0;
-    row_of[lane] = k.normal_row;
-    row_of[W + lane] = k.tangent_row;
-  }
 }
 
 bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,
                        double* diag_n, double* diag_t, bool& ok_n, bool& ok_t) {
   if (!out.staged_now) return false;
+  constexpr int kRecord = sizeof(StagedRows) / sizeof(double);
   int on[W], ot[W], a[W], bb[W];
   double bn[W], bt[W];
-  const int* order = out.order.data() + s0;
   const StagedRows* st = out.staged.data();
   for (int lane = 0; lane < W; ++lane) {
     const int q = s0 + (lane < lanes ? lane : 0);
     if (out.usable[static_cast<size_t>(q)] == 0) return false;
-    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
-    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
-    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
-    a[lane] = 3 * first;
-    bb[lane] = second < 0 ? -1 : 3 * second;
-    on[lane] = q * 16;
-    ot[lane] = q * 16 + 6;
+    a[lane] = st[q].a;
+    bb[lane] = st[q].bb;
+    on[lane] = q * kRecord;
+    ot[lane] = q * kRecord + 6;
     bn[lane] = st[q].bn;
     bt[lane] = st[q].bt;
   }
-  static_assert(sizeof(StagedRows) == 16 * sizeof(double));
   const double* base = st[0].vn;
   const double* im = p.inv_mass.data();
   unsigned singular_n = 0, singular_t = 0;
   if (!pack_rows_staged(base, on, bn, a, bb, im, p.dt, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
       !pack_rows_staged(base, ot, bt, a, bb, im, p.dt, B.jt, B.mjt, B.bt, diag_t, singular_t))
     return false;
-  batch_bodies(p, out, order, lanes, a, bb, B, row_of);
+  for (int lane = 0; lane < lanes; ++lane) {
+    const StagedRows& r = st[s0 + lane];
+    put_lane(out, B, row_of, lane, a[lane] / 3, bb[lane] < 0 ? -1 : bb[lane] / 3, r.mu, r.rn, r.rt);
+  }
   const unsigned used = (1u << lanes) - 1u;
   ok_n = (singular_n & used) == 0;
   ok_t = (singular_t & used) == 0;
