@@ -380,6 +380,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
   out.body_entries = kStride * bodies;
+  out.staged_now = false;  // until stage_sources stages this problem
   out.dynamic.assign(static_cast<size_t>(bodies), 0);
   // A body conflicts when one of its three M⁻¹ entries is not 0: per body, without branches or
   // divisions (this pass is over all bodies, which outnumber the contacts of a sparse pile).
@@ -406,7 +407,6 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
     // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
     // and sizes stand; the batches are refilled from this problem's J, b and λ⁰.
     out.failed.assign(out.batches.size() + out.pairs.size(), -1);
-    out.staged_now = false;
     return {};
   }
   out.generation = col.generation;
@@ -430,7 +430,6 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   std::vector<int>& start = out.start;
   start.assign(static_cast<size_t>(slots) + 1, 0);
   out.order.resize(static_cast<size_t>(nc));
-  out.position.resize(static_cast<size_t>(nc));
   out.batch_of.assign(static_cast<size_t>(slots) + 1, 0);
   // The sort on the calling thread's team: counts by part, their prefix sums, the scatter.
   auto range = [&](int part, int& lo, int& hi) {
@@ -461,11 +460,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
     range(part, lo, hi);
     int* mine = count.data() + static_cast<size_t>(part) * slots;
     for (int c = lo; c < hi; ++c)
-      if (part_of[c] != -2) {
-        const int q = mine[slot_of(c)]++;
-        out.order[static_cast<size_t>(q)] = c;
-        out.position[static_cast<size_t>(c)] = q;
-      }
+      if (part_of[c] != -2) out.order[static_cast<size_t>(mine[slot_of(c)]++)] = c;
   });
   out.order.resize(static_cast<size_t>(start[static_cast<size_t>(slots)]));
   out.ranges.clear();
@@ -488,7 +483,6 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   out.pair_base = 2 * W * nb;
   out.row_of.resize(static_cast<size_t>(nb) * 2 * W + static_cast<size_t>(np) * 4 * W);
   out.failed.assign(static_cast<size_t>(nb + np), -1);
-  out.staged_now = false;
   return {};
 }
 

@@ -52,7 +52,7 @@ struct Prepared {
   std::vector<int> batch_of;  // per slot: its first batch (single slots) or pair batch (pair slots)
   std::vector<int> slot_of_batch, slot_of_pair;  // per batch / pair batch: its slot
   std::vector<int> partner;   // per contact: its manifold's second contact, −2 when it is one, else −1
-  std::vector<int> position;  // per lead contact: its ordered position (order[position[c]] = c)
+  std::vector<int> position;  // scratch of stage_sources: per lead contact its ordered position
   std::vector<StagedRows, Eigen::aligned_allocator<StagedRows>> staged;  // per ordered position (stage_sources)
   std::vector<std::uint8_t> usable;  // per ordered position: 1 when staged holds its sources
   bool staged_now = false;           // staged and usable belong to this solve's problem and λ⁰

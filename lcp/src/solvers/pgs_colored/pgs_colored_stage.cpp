@@ -15,6 +15,8 @@ void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
   out.usable.resize(positions);
   const ContactConstraint* cons = p.constraints.contacts().data();
   const int nc = p.constraints.size();
+  out.position.resize(static_cast<size_t>(nc));
+  for (size_t q = 0; q < positions; ++q) out.position[static_cast<size_t>(out.order[q])] = static_cast<int>(q);
   const int* outer = p.J.outerIndexPtr();
   const int* inner = p.J.innerIndexPtr();
   const int* nnz = p.J.isCompressed() ? nullptr : p.J.innerNonZeroPtr();
