@@ -248,6 +248,7 @@ class PgsColoredSolver final : public LcpSolver {
     if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
       delta_u0();
       laps.lap(&PgsColoredProfile::du0);
+      colored::stage_sources(p, lambda, prep);
       for (int bi = 0; bi < jobs; ++bi) fill(bi);
     } else {
       constexpr int kChunk = 16;  // batches per part

@@ -166,20 +166,9 @@ bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes
   if (!pack_rows_simd(p, rn, a, bb, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
       !pack_rows_simd(p, rt, a, bb, B.jt, B.mjt, B.bt, diag_t, singular_t))
     return false;
-  const int zero = out.body_entries;
-  const std::uint8_t* dynamic = out.dynamic.data();
   for (int lane = 0; lane < lanes; ++lane) {
     const ContactConstraint& k = p.constraints[order[lane]];
-    const int first = a[lane] / 3, second = bb[lane] < 0 ? -1 : bb[lane] / 3;
-    const bool da = dynamic[first] != 0;
-    const bool db = second >= 0 && dynamic[second] != 0;
-    B.mu[lane] = k.mu;
-    B.la[lane] = da ? kStride * first : zero;
-    B.lb[lane] = db ? kStride * second : zero;
-    B.ka[lane] = da ? 1 : 0;
-    B.kb[lane] = db ? 1 : 0;
-    row_of[lane] = k.normal_row;
-    row_of[W + lane] = k.tangent_row;
+    put_lane(out, B, row_of, lane, a[lane] / 3, bb[lane] < 0 ? -1 : bb[lane] / 3, k.mu, k.normal_row, k.tangent_row);
   }
   const unsigned used = (1u << lanes) - 1u;
   ok_n = (singular_n & used) == 0;
@@ -391,6 +380,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
   out.body_entries = kStride * bodies;
+  out.staged_now = false;  // until stage_sources stages this problem
   out.dynamic.assign(static_cast<size_t>(bodies), 0);
   // A body conflicts when one of its three M⁻¹ entries is not 0: per body, without branches or
   // divisions (this pass is over all bodies, which outnumber the contacts of a sparse pile).
@@ -507,7 +497,8 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   int& failed = out.failed[static_cast<size_t>(bi)];
   bool ok_n = true, ok_t = true;
   const RowSet rs{B.jn, B.mjn, B.jt, B.mjt, B.bn, B.bt, B.mu};
-  if (lanes > 0 && pack_batch_simd(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t)) {
+  const bool staged = lanes > 0 && pack_batch_staged(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t);
+  if (staged || (lanes > 0 && pack_batch_simd(p, out, s0, lanes, B, row_of, diag_n, diag_t, ok_n, ok_t))) {
     if (lanes < W) {  // padding as below: zero rows (j = 0·(1/1)), A_ii = 1
       pad_rows(rs, lanes, row_of, row_of + W);
       pad_bodies(lanes, zero, B.la, B.lb, B.ka, B.kb);
@@ -532,6 +523,7 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   if ((!ok_n || !ok_t) && failed < 0) name_singular(out, s0, lanes, diag_n, diag_t, failed);
   B.count = lanes;
   const size_t s0p = static_cast<size_t>(bi) * 2 * W;
+  if (staged) return staged_lambda(out, s0, lanes, lp + s0p, other + s0p);
   for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
 }
 

@@ -30,6 +30,17 @@ struct Range {
   bool pairs;
 };
 
+/// The sources of one single lead contact with friction whose rows have the usual storage
+/// (pack_rows_simd's), copied by stage_sources to its ordered position: the J entries of its
+/// normal and tangent rows (slots 3–5 +0 without a second body), b and λ⁰ of both rows, μ, its
+/// rows and the J columns of its bodies (a: the lower body, bb: the other, −1 for none).
+struct StagedRows {
+  double vn[6], vt[6];
+  double bn, bt, ln, lt, mu;
+  int rn, rt, a, bb;
+};
+static_assert(sizeof(StagedRows) == 19 * sizeof(double));
+
 /// The packed problem and the solve's buffers; kept by the solver between solves.
 struct Prepared {
   std::vector<Batch> batches;
@@ -41,6 +52,10 @@ struct Prepared {
   std::vector<int> batch_of;  // per slot: its first batch (single slots) or pair batch (pair slots)
   std::vector<int> slot_of_batch, slot_of_pair;  // per batch / pair batch: its slot
   std::vector<int> partner;   // per contact: its manifold's second contact, −2 when it is one, else −1
+  std::vector<int> position;  // scratch of stage_sources: per lead contact its ordered position
+  std::vector<StagedRows, Eigen::aligned_allocator<StagedRows>> staged;  // per ordered position (stage_sources)
+  std::vector<std::uint8_t> usable;  // per ordered position: 1 when staged holds its sources
+  bool staged_now = false;           // staged and usable belong to this solve's problem and λ⁰
   std::vector<int> next_partner;  // scratch of layout(): this problem's pairs before they replace `partner`
   std::vector<int> count;         // scratch of layout()'s counting sort
   std::vector<std::uint8_t> dynamic;
@@ -72,5 +87,36 @@ void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out
 
 /// The first contact (in batch order) whose rows cannot be packed, as the reason "pgs" runs.
 std::string first_failure(const Prepared& out);
+
+/// Copies the sources of the single lead contacts (StagedRows) to their ordered positions in one
+/// pass in the contacts' own order, so that fill_batch reads them in batch order instead of
+/// gathering J, b and λ⁰ in colour order, which strides across arrays larger than the cache once
+/// per colour. fill_batch packs the same bits either way. Stages only problems of at least
+/// `from` ordered positions (below, the sources stay in cache across the colours and the extra
+/// pass does not pay) and only with AVX2 (pack_rows_staged); sets out.staged_now. Serial.
+constexpr int kStageFrom = 12288;
+void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from = kStageFrom);
+
+// ---- pgs_colored_stage.cpp's parts of fill_batch ------------------------------------------
+/// Lane `lane` of batch B and its rows: the Δu offsets and store flags of bodies `first` and
+/// `second` (−1: none), μ, the normal and tangent rows.
+inline void put_lane(const Prepared& out, Batch& B, int* row_of, int lane, int first, int second, double mu, int rn,
+                     int rt) {
+  const bool da = out.dynamic[static_cast<size_t>(first)] != 0;
+  const bool db = second >= 0 && out.dynamic[static_cast<size_t>(second)] != 0;
+  B.mu[lane] = mu;
+  B.la[lane] = da ? kStride * first : out.body_entries;
+  B.lb[lane] = db ? kStride * second : out.body_entries;
+  B.ka[lane] = da ? 1 : 0;
+  B.kb[lane] = db ? 1 : 0;
+  row_of[lane] = rn;
+  row_of[W + lane] = rt;
+}
+/// fill_batch's rows and bodies of batch (s0, lanes) by pack_rows_staged from the staged sources;
+/// false when they are not staged (out.staged_now, out.usable).
+bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,
+                       double* diag_n, double* diag_t, bool& ok_n, bool& ok_t);
+/// The batch's 2·W entries of the permuted λ⁰ from the staged sources (0 for padding).
+void staged_lambda(const Prepared& out, int s0, int lanes, double* lp, double* other);
 
 }  // namespace dc::colored

@@ -112,6 +112,15 @@ DC_PACK_AVX2 bool pack_rows_simd(const LcpProblem& p, const int* rows, const int
   return true;
 }
 
+DC_PACK_AVX2 bool pack_rows_staged(const double* base, const int* off, const double* bi, const int* a, const int* bb,
+                                   const double* im, double dt, double (*j)[W], double (*mj)[W], double* b,
+                                   double* diag, unsigned& singular) {
+  if (!simd_pack_available()) return false;
+  singular = pack4(base, im, dt, bi, off, a, bb, j, mj, b, diag, 0) |
+             pack4(base, im, dt, bi + 4, off, a, bb, j, mj, b, diag, 4) << 4;
+  return true;
+}
+
 bool simd_pack_available() {
   static const bool avx2 = __builtin_cpu_supports("avx2");
   return avx2;
@@ -124,6 +133,10 @@ bool simd_pack_available() {
 namespace dc::colored {
 bool pack_rows_simd(const LcpProblem&, const int*, const int*, const int*, double (*)[W], double (*)[W], double*,
                     double*, unsigned&) {
+  return false;
+}
+bool pack_rows_staged(const double*, const int*, const double*, const int*, const int*, const double*, double,
+                      double (*)[W], double (*)[W], double*, double*, unsigned&) {
   return false;
 }
 bool simd_pack_available() { return false; }

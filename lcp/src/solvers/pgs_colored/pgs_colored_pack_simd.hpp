@@ -22,6 +22,12 @@ namespace dc::colored {
 bool pack_rows_simd(const LcpProblem& p, const int* rows, const int* a, const int* bb, double (*j)[W],
                     double (*mj)[W], double* b, double* diag, unsigned& singular);
 
+/// pack_rows_simd on rows given by their entries: lane k's 6 J entries at base + off[k] (slots
+/// 3–5 +0 when bb[k] < 0) and b_i in bi[k]; the same bits. False without AVX2.
+bool pack_rows_staged(const double* base, const int* off, const double* bi, const int* a, const int* bb,
+                      const double* im, double dt, double (*j)[W], double (*mj)[W], double* b, double* diag,
+                      unsigned& singular);
+
 /// This build has pack_rows_simd's AVX2 code and this CPU runs it.
 bool simd_pack_available();
 
