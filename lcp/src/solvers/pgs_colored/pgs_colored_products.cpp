@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -16,18 +15,6 @@
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
 
 namespace dc::colored {
-
-namespace {
-
-/// 1 when x is ±∞ or NaN (its exponent bits all set), else 0.
-inline std::uint64_t not_finite(double x) {
-  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
-  std::uint64_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  return static_cast<std::uint64_t>((bits & kExp) == kExp);
-}
-
-}  // namespace
 
 bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
                      Eigen::VectorXd& jt, bool skip_zero) {
@@ -51,14 +38,14 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
     out[1] = im[c + 1] * v[c + 1] * dt;
     out[2] = im[c + 2] * v[c + 2] * dt;
     out[3] = 0.0;
-    bad |= not_finite(out[0]) | not_finite(out[1]) | not_finite(out[2]);
+    bad |= not_finite_bit(out[0]) | not_finite_bit(out[1]) | not_finite_bit(out[2]);
   }
   for (int k = whole; k < bodies; ++k) {  // a body with fewer than three columns in J
     double* out = du + static_cast<size_t>(kStride) * k;
     for (int d = 0; d < 3; ++d) {
       const int c = 3 * k + d;
       out[d] = c < ncols ? im[c] * v[c] * dt : 0.0;
-      bad |= not_finite(out[d]);
+      bad |= not_finite_bit(out[d]);
     }
     out[3] = 0.0;
   }

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 
 namespace dc::colored {
 namespace {
@@ -53,13 +52,8 @@ inline void scatter_row(const double* value, const int* inner, const int* outer,
 
 /// No entry of x[0..n) is ±∞ or NaN (integer ops on the exponent bits: the compiler vectorises).
 bool finite_run(const double* x, int n) {
-  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
   std::uint64_t any = 0;
-  for (int i = 0; i < n; ++i) {
-    std::uint64_t bits;
-    std::memcpy(&bits, x + i, sizeof bits);
-    any |= static_cast<std::uint64_t>((bits & kExp) == kExp);
-  }
+  for (int i = 0; i < n; ++i) any |= not_finite_bit(x[i]);
   return any == 0;
 }
 

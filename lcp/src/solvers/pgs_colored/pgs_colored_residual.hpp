@@ -8,9 +8,21 @@
 //   error_i   = |λ_i − clamp(λ_i − w_i, l_i, max(l_i, h_i))| with the bounds of LcpProblem::lower
 //               and upper: [lo_i, hi_i] for a normal row, ±μ_i·max(0, λ_n) for a tangent row.
 // The residual is the maximum of the errors (order-free), +∞ when one is NaN.
+#include <cstdint>
+#include <cstring>
+
 #include "dc/lcp/lcp_problem.hpp"
 
 namespace dc::colored {
+
+/// 1 when x is ±∞ or NaN (its exponent bits all set), else 0: integer ops, so that a loop OR-ing
+/// it over many values vectorises (values_finite, velocity_change's check of Δu).
+inline std::uint64_t not_finite_bit(double x) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return static_cast<std::uint64_t>((bits & kExp) == kExp);
+}
 
 /// out[c] += J_ic·λ_i for rows i in [i0, i1) in ascending order, each row's entries in storage
 /// order (the caller zeroes `out` first; columns outside [col0, col1) are skipped, for a thread
