@@ -226,6 +226,30 @@ TEST(ProxNewtonCone, LemkeSolutionIsAFixedPoint) {
   EXPECT_LE(out.best_residual, bound(p));
 }
 
+// A lead stage that reaches the target leaves nothing to the exact-cone passes: no pass, Newton
+// iteration or factorisation after it (they would start again from the guess).
+TEST(ProxNewtonCone, NoPassAfterALeadStageThatReachedTheTarget) {
+  int by_lead = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    test::TestRng rng(seed + 2700);
+    const LcpProblem p = test::random_contact(20, 30, true, rng, 0.5);
+    ProxNewtonDef d = cone_only();
+    d.lead_sweeps = 2000;
+    ProxNewtonSolver s(d);
+    SolverOptions o = options(3000);
+    o.tolerance = 1e-6 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>());
+    const SolveResult r = s.solve(p, {}, o);
+    if (r.message.find("finished by nncg lead stage") == std::string::npos) continue;
+    ++by_lead;
+    const ProxNewtonStats st = s.last_stats();
+    EXPECT_GT(st.lead_sweeps, 0) << r.message;
+    EXPECT_EQ(st.outer, 0) << r.message;
+    EXPECT_EQ(st.newton, 0) << r.message;
+    EXPECT_EQ(st.factorizations, 0) << r.message;
+  }
+  EXPECT_GT(by_lead, 0) << "no seed was finished by the lead stage: the test checks nothing";
+}
+
 // With the trust region's radius 0 a following pass is the frozen-shift pass (the same λ), and
 // where the region does not bind it is the unbounded following pass.
 TEST(ProxNewtonCone, TrustRegionSpansFrozenAndFollowingShifts) {

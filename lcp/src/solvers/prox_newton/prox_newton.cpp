@@ -333,8 +333,10 @@ class ProxRun {
     return true;
   }
 
-  /// The exact-cone passes (cone_passes.hpp) from λ; λ becomes the best iterate.
+  /// The exact-cone passes (cone_passes.hpp) from λ; λ becomes the best iterate. None when an
+  /// earlier stage (the lead) already reached the target: run_cone_passes tests only its own start.
   void cone_passes(Eigen::VectorXd& lambda) {
+    if (reached(best_res_, target_)) return;
     ConePassesDef cd;
     cd.shift = def_.cone_shift;
     cd.max_passes = def_.max_outer;
