@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "dc/core/error.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
 #include "lcp/solver_test_problems.hpp"
@@ -62,6 +63,26 @@ TEST(ProxNewtonLead, SameVelocitiesWithAndWithoutTheLeadStage) {
     EXPECT_EQ(b.last_stats().lead_sweeps, 0);
     EXPECT_LE(velocity_gap(p, ra.lambda, rb.lambda), 1e-6) << "seed " << seed;
   }
+}
+
+// The bound on the fallback sweeps applies to the Newton part from the lead iterate only: the
+// part from the guess keeps finish_route's, so the answer reaches the target either way.
+TEST(ProxNewtonLead, BoundedFallbackInTheLeadPartKeepsTheAnswer) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 3300);
+    const LcpProblem p = test::random_contact(40, 80, true, rng);
+    ProxNewtonDef bounded, unbounded;
+    bounded.lead_fallback_doublings = 0;
+    unbounded.lead_fallback_doublings = -1;
+    ProxNewtonSolver a(bounded), b(unbounded);
+    const SolveResult ra = a.solve(p, {}, tight(p)), rb = b.solve(p, {}, tight(p));
+    ASSERT_EQ(ra.status, SolveStatus::Converged) << ra.message;
+    ASSERT_EQ(rb.status, SolveStatus::Converged) << rb.message;
+    EXPECT_LE(velocity_gap(p, ra.lambda, rb.lambda), 1e-6) << "seed " << seed;
+  }
+  ProxNewtonDef bad;
+  bad.lead_fallback_doublings = 30;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
 }
 
 TEST(ProxNewtonLead, ASmallGainLeavesTheNewtonPartAsWithoutTheStage) {
