@@ -61,10 +61,12 @@ struct ProxNewtonDef {
   /// Newton part from the guess follows, so a stalled finish hands over early.
   int lead_finish_window = 20;
   /// In that finish, newton-sparse's fallback PGS sweeps after failed steps double at most this
-  /// many times (NewtonSparseDef::fallback_doublings; default 2, finish_route has 8; a negative
+  /// many times (NewtonSparseDef::fallback_doublings; default 8, finish_route's own; a negative
   /// value keeps finish_route's): the Newton part from the guess follows with its own setting,
-  /// so a bound here costs no reached step.
-  int lead_fallback_doublings = 2;
+  /// so a bound here costs no reached step. A tighter bound trades families: it spares box
+  /// piles' failing first parts tens of thousands of sweeps, but on 1,000-body impacts it moves
+  /// the point where the target is reached from the first part to the part from the guess.
+  int lead_fallback_doublings = 8;
   /// That first Newton part runs only when the lead stage lowered the hard residual at least
   /// this many times (default 100): a stage that gained less (the oracle's call, after its own
   /// nncg stage) leaves the Newton part as without it, its best iterate a candidate only.
