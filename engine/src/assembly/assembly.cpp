@@ -98,10 +98,33 @@ void fill_rows(const BodyState& s, const Contact& ct, const ContactConstraint& k
   }
 }
 
-/// True when ContactConstraints::add(body_a, body_b, mu) passes its checks (check() throws
-/// otherwise).
-bool passes_add_checks(int body_a, int body_b, double mu) {
-  return body_b >= 0 && body_a >= -1 && body_a != body_b && mu >= 0 && mu <= std::numeric_limits<double>::max();
+/// Contact ct's body_a as its rows see it: a static or kinematic body_a (infinite mass) owns no
+/// columns, so its rows are one-body rows, like a wall's (-1).
+int row_body_a(const BodyState& s, const Contact& ct) {
+  const bool motion_types = !s.shapes.empty();
+  return ct.body_a >= 0 && (!motion_types || s.shapes.is_dynamic(static_cast<size_t>(ct.body_a))) ? ct.body_a : -1;
+}
+
+/// M⁻¹ of bodies [k0, k1) into out.inv_mass (m⁻¹ for x and y, I⁻¹ for the angle).
+void fill_inv_mass(const BodyState& s, int k0, int k1, LcpProblem& out) {
+  for (int k = k0; k < k1; ++k) {
+    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
+    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
+  }
+}
+
+/// Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
+/// bodies follow space: its fields are fetched kAhead contacts before contact c's rows are
+/// filled (a hint, no effect on values), within [.., c_end).
+[[gnu::always_inline]] inline void prefetch_body_b(const BodyState& s, const std::vector<Contact>& contacts, int c,
+                                                   int c_end) {
+  constexpr int kAhead = 8;
+  if (c + kAhead < c_end) {
+    const auto b = static_cast<size_t>(contacts[static_cast<size_t>(c + kAhead)].body_b);
+    __builtin_prefetch(&s.position[b]);
+    __builtin_prefetch(&s.velocity[b]);
+    __builtin_prefetch(&s.omega[b]);
+  }
 }
 
 /// assemble_lcp on the calling thread: the contacts' rows by ContactConstraints::add, then J's
@@ -117,11 +140,7 @@ void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, c
   ContactConstraints& con = out.constraints;
   con.clear();
   con.reserve(static_cast<size_t>(nc));
-  // A static or kinematic body_a (infinite mass) owns no columns: a one-body row, like a wall.
-  const bool motion_types = !s.shapes.empty();
-  for (const Contact& ct : contacts)
-    con.add(ct.body_a >= 0 && (!motion_types || s.shapes.is_dynamic(static_cast<size_t>(ct.body_a))) ? ct.body_a : -1,
-            ct.body_b, friction_of(ct, cs), ct.key.feature);
+  for (const Contact& ct : contacts) con.add(row_body_a(s, ct), ct.body_b, friction_of(ct, cs), ct.key.feature);
   const int rows = con.rows();
 
   out.dt = dt;
@@ -149,20 +168,9 @@ void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, c
   out.mu.resize(rows);
   out.normal_row.assign(static_cast<size_t>(rows), -1);
 
-  for (int k = 0; k < nb; ++k) {
-    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
-    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
-  }
-  // Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
-  // bodies follow space: its fields are fetched kAhead contacts early (a hint, no effect on values).
-  constexpr int kAhead = 8;
+  fill_inv_mass(s, 0, nb, out);
   for (int c = 0; c < nc; ++c) {
-    if (c + kAhead < nc) {
-      const auto b = static_cast<size_t>(contacts[static_cast<size_t>(c + kAhead)].body_b);
-      __builtin_prefetch(&s.position[b]);
-      __builtin_prefetch(&s.velocity[b]);
-      __builtin_prefetch(&s.omega[b]);
-    }
+    prefetch_body_b(s, contacts, c, nc);
     fill_rows(s, contacts[static_cast<size_t>(c)], con[c], def, out);
   }
 }
@@ -173,11 +181,6 @@ void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, con
   const int nb = static_cast<int>(s.size());
   const int nc = static_cast<int>(contacts.size());
   const ContactSection& cs = def.contact;
-  // A static or kinematic body_a (infinite mass) owns no columns: a one-body row, like a wall.
-  const bool motion_types = !s.shapes.empty();
-  auto body_a_of = [&](const Contact& ct) {
-    return ct.body_a >= 0 && (!motion_types || s.shapes.is_dynamic(static_cast<size_t>(ct.body_a))) ? ct.body_a : -1;
-  };
   // Jobs of contacts (and of bodies): a first run counts each job's rows and J entries; the
   // second writes each job's contacts, rows and J entries from its offsets, numbered as add()
   // numbers them, so the problem is the same for every job count. A contact failing add()'s
@@ -193,7 +196,7 @@ void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, con
     for (int c = static_cast<int>(part_begin(nc, jobs, part)); c < c_end; ++c) {
       const Contact& ct = contacts[static_cast<size_t>(c)];
       const double mu = friction_of(ct, cs);
-      const int a = body_a_of(ct);
+      const int a = row_body_a(s, ct);
       const int rows = mu > 0 ? 2 : 1;
       k.rows += rows;
       k.nnz += (a >= 0 ? 6 : 3) * rows;
@@ -219,28 +222,17 @@ void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, con
   out.mu.resize(rows);
   out.normal_row.resize(static_cast<size_t>(rows));
   run_parts(threads, jobs, [&](int part) {
-    for (int k = static_cast<int>(part_begin(nb, jobs, part)); k < part_begin(nb, jobs, part + 1); ++k) {
-      out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
-      out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
-    }
+    fill_inv_mass(s, static_cast<int>(part_begin(nb, jobs, part)), static_cast<int>(part_begin(nb, jobs, part + 1)), out);
     int row = count[part].rows, at = count[part].nnz;
-    // Contacts come sorted by body a, so body a is read in order; body b is anywhere unless the
-    // bodies follow space: its fields are fetched kAhead contacts early (a hint, no effect on values).
-    constexpr int kAhead = 8;
     const int c_end = static_cast<int>(part_begin(nc, jobs, part + 1));
     for (int c = static_cast<int>(part_begin(nc, jobs, part)); c < c_end; ++c) {
-      if (c + kAhead < c_end) {
-        const auto b = static_cast<size_t>(contacts[static_cast<size_t>(c + kAhead)].body_b);
-        __builtin_prefetch(&s.position[b]);
-        __builtin_prefetch(&s.velocity[b]);
-        __builtin_prefetch(&s.omega[b]);
-      }
+      prefetch_body_b(s, contacts, c, c_end);
       const Contact& ct = contacts[static_cast<size_t>(c)];
       ContactConstraint& kc = con[static_cast<size_t>(c)];
-      kc.body_a = body_a_of(ct);
+      kc.body_a = row_body_a(s, ct);
       kc.body_b = ct.body_b;
       kc.mu = friction_of(ct, cs);
-      if (!passes_add_checks(kc.body_a, kc.body_b, kc.mu)) {
+      if (!ContactConstraints::valid(kc.body_a, kc.body_b, kc.mu)) {
         if (count[part].bad < 0) count[part].bad = c;
         continue;
       }

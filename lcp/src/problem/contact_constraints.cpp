@@ -36,8 +36,7 @@ void ContactConstraints::check(int c, int body_a, int body_b, double mu) {
 }
 
 int ContactConstraints::add(int body_a, int body_b, double mu, int feature) {
-  if (body_b < 0 || body_a < -1 || body_a == body_b || !(mu >= 0) || !std::isfinite(mu))
-    check(static_cast<int>(contacts_.size()), body_a, body_b, mu);  // throws
+  if (!valid(body_a, body_b, mu)) check(static_cast<int>(contacts_.size()), body_a, body_b, mu);  // throws
   ContactConstraint& k = contacts_.emplace_back();
   k.body_a = body_a;
   k.body_b = body_b;

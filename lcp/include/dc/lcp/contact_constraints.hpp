@@ -11,6 +11,7 @@
 // arrays hold [λ_n,0, λ_t,0, λ_n,1, λ_t,1, …] (data sets' lambda_star, SPH / CNN label channels).
 #include <Eigen/Core>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -48,6 +49,11 @@ class ContactConstraints {
   [[nodiscard]] std::span<ContactConstraint> overwrite(std::size_t contacts, int rows);
   /// add(body_a, body_b, mu)'s checks for contact c: throws its InvalidArgument.
   static void check(int c, int body_a, int body_b, double mu);
+  /// True when add(body_a, body_b, mu) passes its checks: body_b >= 0, body_a = -1 or another
+  /// body, a finite mu >= 0 (check() says which failed).
+  [[nodiscard]] static bool valid(int body_a, int body_b, double mu) {
+    return body_b >= 0 && body_a >= -1 && body_a != body_b && mu >= 0 && mu <= std::numeric_limits<double>::max();
+  }
 
   [[nodiscard]] int size() const { return static_cast<int>(contacts_.size()); }
   [[nodiscard]] bool empty() const { return contacts_.empty(); }
