@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <ctime>
+#include <utility>
 #include <vector>
 
 #include "dc/lcp/lcp_solver.hpp"
@@ -354,18 +355,25 @@ void BM_ContactColoring(benchmark::State& s) {
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-/// pgs-colored's closing natural residual alone (pgs_colored_products.hpp, one thread) at the
-/// 200-sweep λ of the pile; form 0: the solver's (colored::natural_residual), 1: lcp_problem.cpp's
-/// natural_residual, the reference it equals bit for bit (counter same_bits = 1). Counter
-/// ns_per_row = CPU time / rows.
-void BM_PgsColoredResidual(benchmark::State& s) {
-  dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
+/// The pile of `bodies` bodies (creation order, no assembled A) and pgs-colored's λ after 200
+/// sweeps from zero: the state the residual and Δu⁰ benchmarks below time their products at.
+std::pair<dc::LcpProblem, Eigen::VectorXd> pile_at_200_sweeps(int bodies) {
+  dc::LcpProblem p = pile(bodies, 0);
   p.A = dc::SparseRowMatrix();
   dc::SolverOptions o;
   o.max_sweeps = 200;
   o.tolerance = 0.0;
   o.record_theta = false;
-  const Eigen::VectorXd l = dc::make_solver("pgs-colored")->solve(p, Eigen::VectorXd::Zero(p.rows()), o).lambda;
+  Eigen::VectorXd l = dc::make_solver("pgs-colored")->solve(p, Eigen::VectorXd::Zero(p.rows()), o).lambda;
+  return {std::move(p), std::move(l)};
+}
+
+/// pgs-colored's closing natural residual alone (pgs_colored_products.hpp, one thread) at the
+/// 200-sweep λ of the pile; form 0: the solver's (colored::natural_residual), 1: lcp_problem.cpp's
+/// natural_residual, the reference it equals bit for bit (counter same_bits = 1). Counter
+/// ns_per_row = CPU time / rows.
+void BM_PgsColoredResidual(benchmark::State& s) {
+  const auto [p, l] = pile_at_200_sweeps(static_cast<int>(s.range(0)));
   Eigen::VectorXd du;
   bool finite = false;
   const bool ours = s.range(1) == 0;
@@ -383,13 +391,7 @@ void BM_PgsColoredResidual(benchmark::State& s) {
 /// pgs-colored's Δu⁰ = M⁻¹Jᵀλ⁰Δt alone (colored::velocity_change, one thread, into the sweeps'
 /// per-body layout) at the 200-sweep λ of the pile. Counter ns_per_row = CPU time / rows.
 void BM_PgsColoredVelocityChange(benchmark::State& s) {
-  dc::LcpProblem p = pile(static_cast<int>(s.range(0)), 0);
-  p.A = dc::SparseRowMatrix();
-  dc::SolverOptions o;
-  o.max_sweeps = 200;
-  o.tolerance = 0.0;
-  o.record_theta = false;
-  const Eigen::VectorXd l = dc::make_solver("pgs-colored")->solve(p, Eigen::VectorXd::Zero(p.rows()), o).lambda;
+  const auto [p, l] = pile_at_200_sweeps(static_cast<int>(s.range(0)));
   const int bodies = static_cast<int>((p.J.cols() + 2) / 3);
   std::vector<double> du(static_cast<size_t>(dc::colored::kStride) * (bodies + 1));
   Eigen::VectorXd jt;
