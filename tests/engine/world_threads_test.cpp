@@ -5,6 +5,7 @@
 // bodies, contacts, λ and the solve's report, step after step.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <string>
@@ -119,6 +120,61 @@ TEST(WorldThreads, BroadPhasePairsAreTheSameOnEveryThreadCount) {
     bp.find_pairs(centres, reach, pairs, threads);
     EXPECT_EQ(serial, pairs) << threads << " threads";
     EXPECT_EQ(one.last_pair_tests(), bp.last_pair_tests()) << threads << " threads";
+  }
+}
+
+/// Every pair of boxes [centre ± reach] that overlap (touching included), as (i < j), sorted: a
+/// sweep along x, independent of the broad phase's grid.
+std::vector<std::pair<int, int>> swept_pairs(const std::vector<Vec2>& centres, const std::vector<double>& reach) {
+  std::vector<int> by_x(centres.size());
+  for (size_t k = 0; k < by_x.size(); ++k) by_x[k] = static_cast<int>(k);
+  const auto lo_x = [&](int k) { return centres[static_cast<size_t>(k)].x - reach[static_cast<size_t>(k)]; };
+  std::sort(by_x.begin(), by_x.end(), [&](int a, int b) { return lo_x(a) < lo_x(b); });
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t u = 0; u < by_x.size(); ++u) {
+    const auto a = static_cast<size_t>(by_x[u]);
+    for (size_t v = u + 1; v < by_x.size() && lo_x(by_x[v]) <= centres[a].x + reach[a]; ++v) {
+      const auto b = static_cast<size_t>(by_x[v]);
+      if (std::max(centres[a].y - reach[a], centres[b].y - reach[b]) <=
+          std::min(centres[a].y + reach[a], centres[b].y + reach[b]))
+        pairs.emplace_back(std::min(by_x[u], by_x[v]), std::max(by_x[u], by_x[v]));
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+/// Random circles of mixed sizes in a square of side `side`.
+void random_circles(int n, double side, unsigned seed, std::vector<Vec2>& centres, std::vector<double>& reach) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> x(0.0, side), r(0.1, 0.9);
+  centres.resize(static_cast<size_t>(n));
+  reach.resize(static_cast<size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    centres[static_cast<size_t>(k)] = {x(rng), x(rng)};
+    reach[static_cast<size_t>(k)] = r(rng);
+  }
+}
+
+/// The cell fill and the pair sort by jobs of bodies (several once there are thousands of bodies
+/// per thread): the pairs a sweep finds, on every thread count, from one broad phase reused
+/// across thread counts and scene sizes (its buffers sized by an earlier, larger call).
+TEST(WorldThreads, BroadPhaseJobsOfBodiesFindTheSweepsPairs) {
+  UniformGridBroadPhase reused;
+  for (const auto& [n, side] : {std::pair{20000, 140.0}, std::pair{9001, 90.0}}) {
+    std::vector<Vec2> centres;
+    std::vector<double> reach;
+    random_circles(n, side, 11, centres, reach);
+    const std::vector<std::pair<int, int>> expected = swept_pairs(centres, reach);
+    ASSERT_GT(expected.size(), static_cast<size_t>(n));
+    std::size_t tests_one = 0;
+    for (const int threads : {1, 3, 2, 8}) {
+      std::vector<std::pair<int, int>> pairs;
+      reused.find_pairs(centres, reach, pairs, threads);
+      EXPECT_EQ(expected, pairs) << n << " bodies, " << threads << " threads";
+      if (threads == 1) tests_one = reused.last_pair_tests();
+      EXPECT_EQ(tests_one, reused.last_pair_tests()) << n << " bodies, " << threads << " threads";
+    }
   }
 }
 

@@ -99,24 +99,40 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   // row-major, so a cell and its right neighbour, and the three cells above, are each one
   // contiguous run of entries. A body is not entered in every cell its box touches because that
   // multiplies the entries and needs a corner rule to skip duplicate pairs.
+  // By jobs of bodies: each job counts its bodies per cell (and per range of cells, the
+  // ranges cell_offsets works on), then files them at its offsets, so a cell holds its bodies
+  // in body order whatever the thread count.
   cell_of_body_.resize(static_cast<size_t>(n));
   const long long ncell = nx * ny;
-  cell_start_.assign(static_cast<size_t>(ncell + 1), 0);
-  run_parts(threads, body_jobs, [&](int p) {
-    for (int k = static_cast<int>(part_begin(n, body_jobs, p)); k < part_begin(n, body_jobs, p + 1); ++k) {
+  const int fill_jobs = parts_for(threads, n, 1, 4096);
+  const int ranges = std::min(fill_jobs, kMaxRanges);
+  long long range_begin[kMaxRanges + 1];
+  for (int r = 0; r <= ranges; ++r) range_begin[r] = cell_range_begin(ncell, ranges, r);
+  cell_count_.resize(static_cast<size_t>(fill_jobs * ncell));
+  range_count_.assign(static_cast<size_t>(fill_jobs * ranges), 0);
+  run_parts(threads, fill_jobs, [&](int p) {
+    int* count = cell_count_.data() + p * ncell;
+    std::fill(count, count + ncell, 0);
+    int* in_range = range_count_.data() + static_cast<std::ptrdiff_t>(p) * ranges;
+    for (int k = static_cast<int>(part_begin(n, fill_jobs, p)); k < part_begin(n, fill_jobs, p + 1); ++k) {
       const Vec2 l = lo(k);
-      cell_of_body_[static_cast<size_t>(k)] = cy(l.y) * nx + cx(l.x);
+      const long long c = cy(l.y) * nx + cx(l.x);
+      cell_of_body_[static_cast<size_t>(k)] = c;
+      ++count[c];
+      int r = 0;
+      for (int s = 1; s < ranges; ++s) r += static_cast<int>(c >= range_begin[s]);
+      ++in_range[r];
     }
   });
-  for (const long long c : cell_of_body_) ++cell_start_[static_cast<size_t>(c + 1)];
-  for (long long c = 0; c < ncell; ++c) cell_start_[static_cast<size_t>(c + 1)] += cell_start_[static_cast<size_t>(c)];
+  cell_offsets(ncell, fill_jobs, ranges, threads);
   entries_.resize(static_cast<size_t>(n));
-  fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (int k = 0; k < n; ++k) {
-    const Vec2 l = lo(k), h = hi(k);
-    entries_[static_cast<size_t>(fill_[static_cast<size_t>(cell_of_body_[static_cast<size_t>(k)])]++)] = {
-        l.x, l.y, h.x, h.y, k};
-  }
+  run_parts(threads, fill_jobs, [&](int p) {
+    int* at = cell_count_.data() + p * ncell;
+    for (int k = static_cast<int>(part_begin(n, fill_jobs, p)); k < part_begin(n, fill_jobs, p + 1); ++k) {
+      const Vec2 l = lo(k), h = hi(k);
+      entries_[static_cast<size_t>(at[cell_of_body_[static_cast<size_t>(k)]]++)] = {l.x, l.y, h.x, h.y, k};
+    }
+  });
 
   // The pair tests by rows of cells, one list per job (rows [begin, end) of the grid).
   const int jobs = parts_for(threads, static_cast<long>(ny), 8, 4);
@@ -129,7 +145,7 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
                                                by_body_[static_cast<size_t>(p)], found_[static_cast<size_t>(p)]);
   });
   for (const std::size_t t : tests_) pair_tests_ += t;
-  sort_pairs(n, pairs, jobs);
+  sort_pairs(n, pairs, jobs, threads);
 }
 
 std::size_t UniformGridBroadPhase::test_rows(long long row_begin, long long row_end, long long nx, long long ny,
@@ -174,31 +190,6 @@ std::size_t UniformGridBroadPhase::test_rows(long long row_begin, long long row_
       }
     }
   return tests;
-}
-
-void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& pairs, int jobs) {
-  // Sorted output in linear time: the jobs' lists one after the other, then a stable counting
-  // sort by the second body and one by the first leave the pairs in (first, second) order.
-  // Every pair is distinct, so the order is the same whatever the jobs' lists held in which
-  // order. Two branch-free scatters: sorting each body's few partners by comparison
-  // mispredicts when the partners come in no order.
-  std::size_t total = 0;
-  for (int p = 0; p < jobs; ++p) total += found_[static_cast<size_t>(p)];
-  by_second_.resize(total);
-  pairs.resize(total);
-  std::pair<int, int>* all = pairs.data();
-  for (int p = 0; p < jobs; ++p) {
-    const auto* list = by_body_[static_cast<size_t>(p)].data();
-    all = std::copy(list, list + found_[static_cast<size_t>(p)], all);
-  }
-  const auto counting_sort = [&](const std::pair<int, int>* in, std::size_t m, std::pair<int, int>* out, auto key) {
-    first_start_.assign(static_cast<size_t>(n) + 1, 0);
-    for (std::size_t i = 0; i < m; ++i) ++first_start_[static_cast<size_t>(key(in[i])) + 1];
-    for (int k = 0; k < n; ++k) first_start_[static_cast<size_t>(k) + 1] += first_start_[static_cast<size_t>(k)];
-    for (std::size_t i = 0; i < m; ++i) out[first_start_[static_cast<size_t>(key(in[i]))]++] = in[i];
-  };
-  counting_sort(pairs.data(), total, by_second_.data(), [](const std::pair<int, int>& p) { return p.second; });
-  counting_sort(by_second_.data(), total, pairs.data(), [](const std::pair<int, int>& p) { return p.first; });
 }
 
 }  // namespace dc

@@ -41,8 +41,18 @@ class UniformGridBroadPhase {
   /// capacity); the box-overlap tests it made.
   std::size_t test_rows(long long row_begin, long long row_end, long long nx, long long ny,
                         std::vector<std::pair<int, int>>& out, std::size_t& found) const;
-  /// `pairs` sorted from the jobs' lists (stable counting sorts by second, then first body).
-  void sort_pairs(int n, std::vector<std::pair<int, int>>& pairs, int jobs);
+  /// `pairs` sorted from the jobs' lists (broad_phase_sorts.cpp): on `threads` threads, each
+  /// sorting the pairs of one range of first bodies by counting sorts (second, then first body).
+  void sort_pairs(int n, std::vector<std::pair<int, int>>& pairs, int jobs, int threads);
+  /// The cell fill's offsets (broad_phase_sorts.cpp): from fill_jobs rows of per-cell counts
+  /// (cell_count_, row p: the bodies of body job p in each cell) and the bodies of each job in
+  /// each of `ranges` cell ranges (range_count_[p·ranges + r]), each count replaced by the first
+  /// entry of its job's bodies in that cell, and cell_start_ (ncell + 1 entries) set; on
+  /// `threads` threads, one range of cells each.
+  void cell_offsets(long long ncell, int fill_jobs, int ranges, int threads);
+  /// Cell ranges of cell_offsets: range r holds cells [cell_range_begin(r), cell_range_begin(r + 1)).
+  [[nodiscard]] static long long cell_range_begin(long long ncell, int ranges, int r) { return ncell * r / ranges; }
+  static constexpr int kMaxRanges = 8;  // cell ranges of cell_offsets, at most
   std::size_t pair_tests_ = 0;
   /// A body's box in one cell, in cell order.
   struct Entry {
@@ -50,13 +60,20 @@ class UniformGridBroadPhase {
     int body;
   };
   // Reused buffers (no allocation in steady state).
-  std::vector<int> cell_start_, fill_, first_start_;
+  std::vector<int> cell_start_;
   std::vector<long long> cell_of_body_;
   std::vector<double> job_bounds_;  // per job of bodies: xmin, ymin, xmax, ymax, largest extent
   std::vector<Entry> entries_;
   std::vector<std::vector<std::pair<int, int>>> by_body_;  // per job of the pair tests (capacity)
   std::vector<std::size_t> tests_, found_;                  // per job: tests made, pairs kept
-  std::vector<std::pair<int, int>> by_second_;              // the pairs sorted by second body
+  std::vector<int> cell_count_;                              // per fill job and cell (cell_offsets)
+  std::vector<int> range_count_;                             // per fill job and cell range
+  /// A sort job's buffers: its pairs as gathered, sorted by second body, and a histogram.
+  struct SortJob {
+    std::vector<std::pair<int, int>> mine, by_second;
+    std::vector<int> start;
+  };
+  std::vector<SortJob> sort_jobs_;
 };
 
 }  // namespace dc

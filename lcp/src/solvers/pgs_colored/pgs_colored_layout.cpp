@@ -10,6 +10,7 @@
 
 #include "dc/core/work_team.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
+#include "solvers/pgs_colored/setup/layout_scan.hpp"
 #include "solvers/pgs_manifold_block.hpp"
 
 namespace dc::colored {
@@ -257,74 +258,6 @@ void pad_bodies(int from, int zero, std::int32_t* la, std::int32_t* lb, std::uin
   }
 }
 
-/// True when rows i0 and i1 of J are stored alike (the engine's storage: the columns of the
-/// contact's bodies in order) and their linear parts (the normal) are bit-equal.
-bool same_normal(const LcpProblem& p, int i0, int i1) {
-  auto extent = [&](int i) {
-    const int q0 = p.J.outerIndexPtr()[i];
-    return (p.J.isCompressed() ? p.J.outerIndexPtr()[i + 1] : q0 + p.J.innerNonZeroPtr()[i]) - q0;
-  };
-  const int n = extent(i0);
-  if (n != extent(i1) || (n != 3 && n != 6)) return false;
-  const int q0 = p.J.outerIndexPtr()[i0], q1 = p.J.outerIndexPtr()[i1];
-  const int* c0 = p.J.innerIndexPtr() + q0;
-  const int* c1 = p.J.innerIndexPtr() + q1;
-  const double* v0 = p.J.valuePtr() + q0;
-  const double* v1 = p.J.valuePtr() + q1;
-  for (int s = 0; s < n; ++s)
-    if (c0[s] != c1[s]) return false;
-  for (int s = 0; s < n; s += 3)
-    if (c0[s] % 3 != 0 || c0[s + 1] != c0[s] + 1 || c0[s + 2] != c0[s] + 2 || v0[s] != v1[s] || v0[s + 1] != v1[s + 1])
-      return false;
-  return true;
-}
-
-/// The conditioning test of "pgs"'s pairing (manifold_block_conditioned) on normal rows i0 and i1
-/// stored alike (same_normal): A_00, A_11 and A_01 summed in slot order as pack_row and fill_pair
-/// sum them, so the pairs are "pgs"'s.
-bool block_conditioned(const LcpProblem& p, int i0, int i1) {
-  const int q0 = p.J.outerIndexPtr()[i0], q1 = p.J.outerIndexPtr()[i1];
-  const int n = (p.J.isCompressed() ? p.J.outerIndexPtr()[i0 + 1] : q0 + p.J.innerNonZeroPtr()[i0]) - q0;
-  const int* col = p.J.innerIndexPtr() + q0;
-  const double* v0 = p.J.valuePtr() + q0;
-  const double* v1 = p.J.valuePtr() + q1;
-  double a00 = 0.0, a11 = 0.0, a01 = 0.0;
-  for (int s = 0; s < n; ++s) {
-    const double im = p.inv_mass[col[s]];
-    const double r0 = 0.0 + v0[s], r1 = 0.0 + v1[s];
-    const double m0 = r0 * im * p.dt, m1 = r1 * im * p.dt;
-    a00 += r0 * m0;
-    a11 += r1 * m1;
-    a01 += r0 * m1;
-  }
-  return solvers::manifold_block_conditioned(a00, a11, a01);
-}
-
-/// The two-point manifolds: contact c and c + 1 form one ("pgs"'s pairing, pgs_matrix_free.cpp)
-/// when they have the same body_a and body_b, different features, a tangent row each exactly
-/// when the other has one, rows in the order n0 (t0) n1 (t1), the same normal (bit-equal
-/// linear parts of J) and a well-conditioned 2 × 2 normal block; the others are single contacts,
-/// solved as "pgs" solves them. partner[c] = c + 1, partner[c + 1] = −2, else −1.
-void find_pairs(const LcpProblem& p, std::vector<int>& partner) {
-  const ContactConstraints& cons = p.constraints;
-  const int nc = cons.size();
-  partner.assign(static_cast<size_t>(nc), -1);
-  for (int c = 0; c + 1 < nc; ++c) {
-    const ContactConstraint& k0 = cons[c];
-    const ContactConstraint& k1 = cons[c + 1];
-    const bool fr = k0.has_friction();
-    if (k1.body_a != k0.body_a || k1.body_b != k0.body_b || k1.feature == k0.feature || k1.has_friction() != fr)
-      continue;
-    if (fr && (k0.tangent_row != k0.normal_row + 1 || k1.tangent_row != k1.normal_row + 1)) continue;
-    if (k1.normal_row != k0.normal_row + (fr ? 2 : 1) || !same_normal(p, k0.normal_row, k1.normal_row) ||
-        !block_conditioned(p, k0.normal_row, k1.normal_row))
-      continue;
-    partner[static_cast<size_t>(c)] = c + 1;
-    partner[static_cast<size_t>(c) + 1] = -2;
-    ++c;
-  }
-}
-
 /// Lane count and first ordered lane of batch `local` of slot k (the overflow slots, the last
 /// two: one lane per batch).
 void lanes_of(const Prepared& out, int k, int local, int& s0, int& lanes) {
@@ -381,24 +314,9 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
   out.body_entries = kStride * bodies;
   out.staged_now = false;  // until stage_sources stages this problem
-  out.dynamic.assign(static_cast<size_t>(bodies), 0);
-  // A body conflicts when one of its three M⁻¹ entries is not 0: per body, without branches or
-  // divisions (this pass is over all bodies, which outnumber the contacts of a sparse pile).
-  const int ncols = static_cast<int>(p.inv_mass.size());
-  const double* im = p.inv_mass.data();
-  std::uint8_t* dyn = out.dynamic.data();
-  const int whole = std::min(ncols / 3, bodies);
-  for (int k = 0; k < whole; ++k)
-    dyn[k] = static_cast<std::uint8_t>((im[3 * k] != 0.0) | (im[3 * k + 1] != 0.0) | (im[3 * k + 2] != 0.0));
-  for (int c = 3 * whole; c < ncols; ++c)
-    if (im[c] != 0.0 && c / 3 < bodies) dyn[c / 3] = 1;
-  for (int c = 0; c < cons.size(); ++c) {
-    const int i = cons[c].normal_row;
-    if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity())
-      return "contact " + std::to_string(c) + "'s normal row has bounds other than [0, inf)";
-  }
   std::vector<int>& partner = out.next_partner;  // kept: no allocation in steady state
-  find_pairs(p, partner);
+  if (const int bad = scan_contacts(p, bodies, threads, out.dynamic, partner); bad >= 0)
+    return "contact " + std::to_string(bad) + "'s normal row has bounds other than [0, inf)";
   const double t0 = coloring_s != nullptr ? thread_cpu_s() : 0.0;
   const ContactColoring& col =
       ordered != nullptr ? ordered->color(cons, out.dynamic, partner) : colorer.color(cons, out.dynamic, threads);

@@ -1,0 +1,84 @@
+// The broad phase's two counting sorts on threads (broad_phase.hpp): the cell fill's offsets
+// and the sorted pair list. Each writes what only one job owns, so the entries and the pairs are
+// the same bits on every thread count.
+#include <algorithm>
+
+#include "dc/engine/broad_phase.hpp"
+#include "world/parts/step_parts.hpp"
+
+namespace dc {
+
+void UniformGridBroadPhase::cell_offsets(long long ncell, int fill_jobs, int ranges, int threads) {
+  // Entries are in cell order, and inside a cell in body order, which is job order: the first
+  // entry of job p's bodies in cell c is the number of bodies in cells before c plus those of
+  // jobs before p in c. A range of cells starts after every body of the ranges before it.
+  int base[kMaxRanges + 1] = {};
+  for (int r = 0; r < ranges; ++r) {
+    int in = 0;
+    for (int p = 0; p < fill_jobs; ++p) in += range_count_[static_cast<size_t>(p * ranges + r)];
+    base[r + 1] = base[r] + in;
+  }
+  cell_start_.resize(static_cast<size_t>(ncell + 1));
+  cell_start_[static_cast<size_t>(ncell)] = base[ranges];
+  run_parts(threads, ranges, [&](int r) {
+    int at = base[r];
+    for (long long c = cell_range_begin(ncell, ranges, r); c < cell_range_begin(ncell, ranges, r + 1); ++c) {
+      cell_start_[static_cast<size_t>(c)] = at;
+      for (int p = 0; p < fill_jobs; ++p) {
+        int& count = cell_count_[static_cast<size_t>(p * ncell + c)];
+        const int bodies = count;
+        count = at;
+        at += bodies;
+      }
+    }
+  });
+}
+
+void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& pairs, int jobs, int threads) {
+  // Sorted output in linear time. Sort job t owns the pairs whose first body is in its range
+  // [lo, hi) of bodies: it gathers them from the pair tests' lists (and counts the pairs of
+  // earlier ranges: its place in the output), then sorts them by two stable counting sorts, by
+  // the second body and then by the first. Every pair is distinct, so the order is the same
+  // whatever order the lists held them in. Branch-free gather and scatters: which pairs a job
+  // keeps, and a body's few partners, come in no order a branch predictor could learn.
+  std::size_t total = 0;
+  for (int p = 0; p < jobs; ++p) total += found_[static_cast<size_t>(p)];
+  pairs.resize(total);
+  const int sorts = parts_for(threads, n, 1, 4096);
+  if (sort_jobs_.size() < static_cast<size_t>(sorts)) sort_jobs_.resize(static_cast<size_t>(sorts));
+  run_parts(threads, sorts, [&](int t) {
+    const int lo = static_cast<int>(part_begin(n, sorts, t)), hi = static_cast<int>(part_begin(n, sorts, t + 1));
+    SortJob& job = sort_jobs_[static_cast<size_t>(t)];
+    if (job.mine.size() < total) job.mine.resize(total);
+    std::pair<int, int>* mine = job.mine.data();
+    std::size_t kept = 0, before = 0;
+    for (int p = 0; p < jobs && sorts == 1; ++p) {  // one job keeps every pair
+      const std::pair<int, int>* list = by_body_[static_cast<size_t>(p)].data();
+      mine = std::copy(list, list + found_[static_cast<size_t>(p)], mine);
+    }
+    if (sorts == 1) kept = total, mine = job.mine.data();
+    for (int p = 0; p < jobs && sorts > 1; ++p) {
+      const std::pair<int, int>* list = by_body_[static_cast<size_t>(p)].data();
+      for (std::size_t i = 0; i < found_[static_cast<size_t>(p)]; ++i) {
+        const std::pair<int, int> pair = list[i];
+        mine[kept] = pair;
+        kept += static_cast<std::size_t>((pair.first >= lo) & (pair.first < hi));
+        before += static_cast<std::size_t>(pair.first < lo);
+      }
+    }
+    if (job.by_second.size() < kept) job.by_second.resize(kept);
+    // Keys key(pair) − lo in [0, keys).
+    const auto counting_sort = [&](const std::pair<int, int>* in, std::pair<int, int>* out, int keys, auto key) {
+      job.start.assign(static_cast<size_t>(keys) + 1, 0);
+      int* start = job.start.data();
+      for (std::size_t i = 0; i < kept; ++i) ++start[key(in[i]) - lo + 1];
+      for (int k = 0; k < keys; ++k) start[k + 1] += start[k];
+      for (std::size_t i = 0; i < kept; ++i) out[start[key(in[i]) - lo]++] = in[i];
+    };
+    counting_sort(mine, job.by_second.data(), n - lo, [](const std::pair<int, int>& q) { return q.second; });
+    counting_sort(job.by_second.data(), pairs.data() + before, hi - lo,
+                  [](const std::pair<int, int>& q) { return q.first; });
+  });
+}
+
+}  // namespace dc
