@@ -113,16 +113,19 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   run_parts(threads, fill_jobs, [&](int p) {
     int* count = cell_count_.data() + p * ncell;
     std::fill(count, count + ncell, 0);
-    int* in_range = range_count_.data() + static_cast<std::ptrdiff_t>(p) * ranges;
-    for (int k = static_cast<int>(part_begin(n, fill_jobs, p)); k < part_begin(n, fill_jobs, p + 1); ++k) {
+    int in_range[kMaxRanges] = {};
+    const int k0 = static_cast<int>(part_begin(n, fill_jobs, p)), k1 = static_cast<int>(part_begin(n, fill_jobs, p + 1));
+    for (int k = k0; k < k1; ++k) {
       const Vec2 l = lo(k);
       const long long c = cy(l.y) * nx + cx(l.x);
       cell_of_body_[static_cast<size_t>(k)] = c;
       ++count[c];
       int r = 0;
       for (int s = 1; s < ranges; ++s) r += static_cast<int>(c >= range_begin[s]);
-      ++in_range[r];
+      in_range[r] += ranges > 1 ? 1 : 0;
     }
+    if (ranges == 1) in_range[0] = k1 - k0;
+    std::copy(in_range, in_range + ranges, range_count_.begin() + static_cast<std::ptrdiff_t>(p) * ranges);
   });
   cell_offsets(ncell, fill_jobs, ranges, threads);
   entries_.resize(static_cast<size_t>(n));

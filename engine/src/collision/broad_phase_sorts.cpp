@@ -20,6 +20,18 @@ void UniformGridBroadPhase::cell_offsets(long long ncell, int fill_jobs, int ran
   }
   cell_start_.resize(static_cast<size_t>(ncell + 1));
   cell_start_[static_cast<size_t>(ncell)] = base[ranges];
+  if (fill_jobs == 1) {  // one job: a prefix sum, its offsets the cells' starts
+    int at = 0;
+    int* count = cell_count_.data();
+    int* start = cell_start_.data();
+    for (long long c = 0; c < ncell; ++c) {
+      start[c] = at;
+      const int bodies = count[c];
+      count[c] = at;
+      at += bodies;
+    }
+    return;
+  }
   run_parts(threads, ranges, [&](int r) {
     int at = base[r];
     for (long long c = cell_range_begin(ncell, ranges, r); c < cell_range_begin(ncell, ranges, r + 1); ++c) {
@@ -67,13 +79,16 @@ void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& 
       }
     }
     if (job.by_second.size() < kept) job.by_second.resize(kept);
-    // Keys key(pair) − lo in [0, keys).
+    // Keys key(pair) − lo in [0, keys) (lo and kept as locals: the histogram's int stores could
+    // alias a captured int).
     const auto counting_sort = [&](const std::pair<int, int>* in, std::pair<int, int>* out, int keys, auto key) {
+      const int first = lo;
+      const std::size_t m = kept;
       job.start.assign(static_cast<size_t>(keys) + 1, 0);
       int* start = job.start.data();
-      for (std::size_t i = 0; i < kept; ++i) ++start[key(in[i]) - lo + 1];
+      for (std::size_t i = 0; i < m; ++i) ++start[key(in[i]) - first + 1];
       for (int k = 0; k < keys; ++k) start[k + 1] += start[k];
-      for (std::size_t i = 0; i < kept; ++i) out[start[key(in[i]) - lo]++] = in[i];
+      for (std::size_t i = 0; i < m; ++i) out[start[key(in[i]) - first]++] = in[i];
     };
     counting_sort(mine, job.by_second.data(), n - lo, [](const std::pair<int, int>& q) { return q.second; });
     counting_sort(job.by_second.data(), pairs.data() + before, hi - lo,

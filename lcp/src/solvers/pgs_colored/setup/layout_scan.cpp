@@ -53,21 +53,29 @@ bool block_conditioned(const LcpProblem& p, int i0, int i1) {
   return solvers::manifold_block_conditioned(a00, a11, a01);
 }
 
+/// may_pair's first test, the one most contacts fail: the same bodies, different features and
+/// friction on both or neither.
+inline bool same_bodies(const ContactConstraint& k0, const ContactConstraint& k1) {
+  return k1.body_a == k0.body_a && k1.body_b == k0.body_b && k1.feature != k0.feature &&
+         k1.has_friction() == k0.has_friction();
+}
+
+/// may_pair's tests of the rows, after same_bodies.
+bool rows_pair(const LcpProblem& p, const ContactConstraint& k0, const ContactConstraint& k1) {
+  const bool fr = k0.has_friction();
+  if (fr && (k0.tangent_row != k0.normal_row + 1 || k1.tangent_row != k1.normal_row + 1)) return false;
+  return k1.normal_row == k0.normal_row + (fr ? 2 : 1) && same_normal(p, k0.normal_row, k1.normal_row) &&
+         block_conditioned(p, k0.normal_row, k1.normal_row);
+}
+
 /// Contacts per part of the scan: fewer make a team run cost more than it saves.
 constexpr int kMinContacts = 1024;
 
 }  // namespace
 
 bool may_pair(const LcpProblem& p, int c) {
-  const ContactConstraints& cons = p.constraints;
-  const ContactConstraint& k0 = cons[c];
-  const ContactConstraint& k1 = cons[c + 1];
-  const bool fr = k0.has_friction();
-  if (k1.body_a != k0.body_a || k1.body_b != k0.body_b || k1.feature == k0.feature || k1.has_friction() != fr)
-    return false;
-  if (fr && (k0.tangent_row != k0.normal_row + 1 || k1.tangent_row != k1.normal_row + 1)) return false;
-  return k1.normal_row == k0.normal_row + (fr ? 2 : 1) && same_normal(p, k0.normal_row, k1.normal_row) &&
-         block_conditioned(p, k0.normal_row, k1.normal_row);
+  const ContactConstraint* k = p.constraints.contacts().data() + c;
+  return same_bodies(k[0], k[1]) && rows_pair(p, k[0], k[1]);
 }
 
 int scan_contacts(const LcpProblem& p, int bodies, int threads, std::vector<std::uint8_t>& dynamic,
@@ -98,11 +106,13 @@ int scan_contacts(const LcpProblem& p, int bodies, int threads, std::vector<std:
     const int c0 = static_cast<int>(static_cast<long long>(nc) * part / used);
     const int c1 = static_cast<int>(static_cast<long long>(nc) * (part + 1) / used);
     int bad = -1;
+    const ContactConstraint* k = cons.contacts().data();
+    int* mate = partner.data();
     for (int c = c0; c < c1; ++c) {
-      const int i = cons[c].normal_row;
+      const int i = k[c].normal_row;
       if (bad < 0 && (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity()))
         bad = c;
-      partner[static_cast<size_t>(c)] = c + 1 < nc && may_pair(p, c) ? c + 1 : -1;
+      mate[c] = c + 1 < nc && same_bodies(k[c], k[c + 1]) && rows_pair(p, k[c], k[c + 1]) ? c + 1 : -1;
     }
     first_bad[part] = bad;
   });
