@@ -91,6 +91,17 @@ TEST(WorldThreads, PileGivesTheSameBitsOnEveryThreadCount) {
     expect_same_run(one, run_steps(def, start, threads, 12), std::to_string(threads) + " threads");
 }
 
+/// A pile of 9000 bodies: the broad phase's cell fill and pair sort run as several jobs of
+/// bodies (4096 bodies a job at least) and pgs-colored's layout scans as several parts.
+TEST(WorldThreads, LargePileGivesTheSameBitsOnEveryThreadCount) {
+  WorldDef def = stress::scaled_seed_pile(9000);
+  const BodyState start = settled(def, 150);
+  const Steps one = run_steps(def, start, 1, 3);
+  ASSERT_GT(one.last_contacts.size(), 2048u);
+  for (const int threads : {2, 3})
+    expect_same_run(one, run_steps(def, start, threads, 3), std::to_string(threads) + " threads");
+}
+
 TEST(WorldThreads, InternalOrderAndRestitutionGiveTheSameBitsOnEveryThreadCount) {
   const WorldDef def = pile(InternalOrder::Morton, 0.3);
   const BodyState start = settled(def, 150);
