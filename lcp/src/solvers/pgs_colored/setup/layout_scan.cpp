@@ -92,35 +92,49 @@ int scan_contacts(const LcpProblem& p, int bodies, int threads, std::vector<std:
   std::uint8_t* dyn = dynamic.data();
   const int whole = std::min(ncols / 3, bodies);
   int first_bad[64];  // per part (parts ≤ the team's size)
+  bool paired[64];
   const int used = std::min(parts, 64);
+  const ContactConstraint* const k = cons.contacts().data();
+  int* const mate = partner.data();
   calling_thread_team().for_parts(threads, used, [&](int part) {
     const int k0 = static_cast<int>(static_cast<long long>(bodies) * part / used);
     const int k1 = static_cast<int>(static_cast<long long>(bodies) * (part + 1) / used);
-    for (int k = k0; k < std::min(k1, whole); ++k)
-      dyn[k] = static_cast<std::uint8_t>((im[3 * k] != 0.0) | (im[3 * k + 1] != 0.0) | (im[3 * k + 2] != 0.0));
-    for (int k = std::max(k0, whole); k < k1; ++k) {  // a body short of its three entries
+    for (int b = k0; b < std::min(k1, whole); ++b)
+      dyn[b] = static_cast<std::uint8_t>((im[3 * b] != 0.0) | (im[3 * b + 1] != 0.0) | (im[3 * b + 2] != 0.0));
+    for (int b = std::max(k0, whole); b < k1; ++b) {  // a body short of its three entries
       bool any = false;
-      for (int c = 3 * k; c < std::min(ncols, 3 * k + 3); ++c) any |= im[c] != 0.0;
-      dyn[k] = static_cast<std::uint8_t>(any);
+      for (int c = 3 * b; c < std::min(ncols, 3 * b + 3); ++c) any |= im[c] != 0.0;
+      dyn[b] = static_cast<std::uint8_t>(any);
     }
-    const int c0 = static_cast<int>(static_cast<long long>(nc) * part / used);
-    const int c1 = static_cast<int>(static_cast<long long>(nc) * (part + 1) / used);
+    // Locals: the stores into mate could otherwise alias the captured ints.
+    const int count = nc;
+    const int c0 = static_cast<int>(static_cast<long long>(count) * part / used);
+    const int c1 = static_cast<int>(static_cast<long long>(count) * (part + 1) / used);
     int bad = -1;
-    const ContactConstraint* k = cons.contacts().data();
-    int* mate = partner.data();
     for (int c = c0; c < c1; ++c) {
       const int i = k[c].normal_row;
-      if (bad < 0 && (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity()))
+      if (p.is_friction_row(i) || p.lo[i] != 0.0 || p.hi[i] != std::numeric_limits<double>::infinity()) {
         bad = c;
-      mate[c] = c + 1 < nc && same_bodies(k[c], k[c + 1]) && rows_pair(p, k[c], k[c + 1]) ? c + 1 : -1;
+        break;
+      }
     }
+    int* const out = mate;
+    std::fill(out + c0, out + c1, -1);
+    bool some = false;
+    for (int c = c0; c < std::min(c1, count - 1); ++c)
+      if (same_bodies(k[c], k[c + 1]) && rows_pair(p, k[c], k[c + 1])) {
+        out[c] = c + 1;
+        some = true;
+      }
     first_bad[part] = bad;
+    paired[part] = some;
   });
   for (int part = 0; part < used; ++part)
     if (first_bad[part] >= 0) return first_bad[part];
+  if (std::none_of(paired, paired + used, [](bool b) { return b; })) return -1;
   // Greedy in contact order: a pair's second point is not the first point of another.
   for (int c = 0; c + 1 < nc; ++c)
-    if (partner[static_cast<size_t>(c)] >= 0) partner[static_cast<size_t>(++c)] = -2;
+    if (mate[c] >= 0) mate[++c] = -2;
   return -1;
 }
 
