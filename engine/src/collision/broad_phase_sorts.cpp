@@ -58,8 +58,16 @@ void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& 
   pairs.resize(total);
   const int sorts = parts_for(threads, n, 1, 4096);
   if (sort_jobs_.size() < static_cast<size_t>(sorts)) sort_jobs_.resize(static_cast<size_t>(sorts));
+  // The ranges: equal shares of the last sort's pairs (by first body, kept from its histograms)
+  // when it had as many jobs over as many bodies, else equal ranges of bodies. Any ranges give
+  // the same pairs; shares balance the jobs whatever the order of the bodies.
+  const bool shares = sort_bound_.size() == static_cast<size_t>(sorts) + 1 && sort_bound_.back() == n;
+  if (!shares) {
+    sort_bound_.resize(static_cast<size_t>(sorts) + 1);
+    for (int t = 0; t <= sorts; ++t) sort_bound_[static_cast<size_t>(t)] = static_cast<int>(part_begin(n, sorts, t));
+  }
   run_parts(threads, sorts, [&](int t) {
-    const int lo = static_cast<int>(part_begin(n, sorts, t)), hi = static_cast<int>(part_begin(n, sorts, t + 1));
+    const int lo = sort_bound_[static_cast<size_t>(t)], hi = sort_bound_[static_cast<size_t>(t) + 1];
     SortJob& job = sort_jobs_[static_cast<size_t>(t)];
     if (job.mine.size() < total) job.mine.resize(total);
     std::pair<int, int>* mine = job.mine.data();
@@ -94,6 +102,32 @@ void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& 
     counting_sort(job.by_second.data(), pairs.data() + before, hi - lo,
                   [](const std::pair<int, int>& q) { return q.first; });
   });
+  if (sorts > 1) share_bounds(n, total, sorts);
+}
+
+void UniformGridBroadPhase::share_bounds(int n, std::size_t total, int sorts) {
+  // After the sort by first body, job t's start[j] is the number of its pairs whose first body
+  // is at most lo_t + j; bound s is the first body b with at least total·s/sorts pairs before it.
+  std::vector<int>& next = bound_scratch_;
+  next.assign(static_cast<size_t>(sorts) + 1, n);
+  next[0] = 0;
+  std::size_t before = 0;  // pairs of the jobs before t
+  int s = 1;
+  for (int t = 0; t < sorts && s < sorts; ++t) {
+    const int lo = sort_bound_[static_cast<size_t>(t)], hi = sort_bound_[static_cast<size_t>(t) + 1];
+    const int* start = sort_jobs_[static_cast<size_t>(t)].start.data();
+    for (; s < sorts; ++s) {
+      const std::size_t target = total * static_cast<std::size_t>(s) / static_cast<std::size_t>(sorts);
+      if (hi == lo || before + static_cast<std::size_t>(start[hi - lo - 1]) < target) break;
+      // The first j with before + start[j] ≥ target: bodies lo … lo + j hold the target pair.
+      const int j = static_cast<int>(
+          std::lower_bound(start, start + (hi - lo), static_cast<int>(target - before)) - start);
+      next[static_cast<size_t>(s)] = std::max(next[static_cast<size_t>(s) - 1], lo + j + 1);
+    }
+    if (hi > lo) before += static_cast<std::size_t>(start[hi - lo - 1]);
+  }
+  for (; s < sorts; ++s) next[static_cast<size_t>(s)] = n;
+  sort_bound_.swap(next);
 }
 
 }  // namespace dc

@@ -44,6 +44,8 @@ class UniformGridBroadPhase {
   /// `pairs` sorted from the jobs' lists (broad_phase_sorts.cpp): on `threads` threads, each
   /// sorting the pairs of one range of first bodies by counting sorts (second, then first body).
   void sort_pairs(int n, std::vector<std::pair<int, int>>& pairs, int jobs, int threads);
+  /// The next sort's ranges of first bodies (sort_bound_): equal shares of this sort's `total` pairs.
+  void share_bounds(int n, std::size_t total, int sorts);
   /// The cell fill's offsets (broad_phase_sorts.cpp): from fill_jobs rows of per-cell counts
   /// (cell_count_, row p: the bodies of body job p in each cell) and the bodies of each job in
   /// each of `ranges` cell ranges (range_count_[p·ranges + r]), each count replaced by the first
@@ -74,6 +76,7 @@ class UniformGridBroadPhase {
     std::vector<int> start;
   };
   std::vector<SortJob> sort_jobs_;
+  std::vector<int> sort_bound_, bound_scratch_;  // the sort jobs' ranges of first bodies (sorts + 1 bounds)
 };
 
 }  // namespace dc
