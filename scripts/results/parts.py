@@ -314,7 +314,7 @@ def block_step(ctx):
                     "(BM_StepOnly; at 10,000 bodies and more it has not reached rest, most rows free); at rest: the same "
                     "bodies packed on the floor and settled (BM_StepOnlySettled). Free rows: the share of rows with "
                     "λ = 0 at 1,000 / 40,000 bodies. The default settings pick the internal Morton order from "
-                    "5,000 circles (`internal_order = \"auto\"`).",
+                    "20,000 circles (`internal_order = \"auto\"`).",
             "columns": ["pile", "body order", "1,000 bodies", "10,000 bodies", "40,000 bodies", "40,000 / 1,000",
                         "free rows"], "rows": rows}
 

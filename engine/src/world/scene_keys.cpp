@@ -69,7 +69,7 @@ std::span<const SectionKey> section_keys() {
       {"bodies", "order", Kind::String, DC_FIELD(BodyOrder, WorldDef, bodies.order),
        "numbering of generated bodies: creation (placement order) or morton (spatial, for cache locality)"},
       {"bodies", "internal_order", Kind::String, DC_FIELD(InternalOrder, WorldDef, bodies.internal_order),
-       "engine-internal storage order behind stable indices: none, morton (re-sorted, circle-only) or auto (morton from 5000 circles)"},
+       "engine-internal storage order behind stable indices: none, morton (re-sorted, circle-only) or auto (morton from 20000 circles)"},
       {"bodies", "resort_every", Kind::Int, DC_FIELD(int, WorldDef, bodies.resort_every),
        "internal Morton order: most steps between re-sorts (>= 1)"},
       {"bodies", "resort_decay", Kind::Number, DC_FIELD(double, WorldDef, bodies.resort_decay),

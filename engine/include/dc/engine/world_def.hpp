@@ -34,7 +34,7 @@ enum class InternalOrder : std::uint8_t {
 /// anyway and the translation to the public views costs more than the locality saves
 /// (docs/engine.md "Step cost against size"). Smaller worlds, and any with shapes, static or
 /// kinematic bodies, step in storage order = external order, as with "none".
-inline constexpr int internal_order_auto_min_bodies = 5000;
+inline constexpr int internal_order_auto_min_bodies = 20000;
 /// "creation" / "morton"; "none" / "morton" / "auto" (the scene files' spelling).
 const char* to_string(BodyOrder o);
 const char* to_string(InternalOrder o);
