@@ -5,8 +5,12 @@
 // BM_BroadPhase, BM_Assemble, BM_WarmStart, BM_Solve, BM_Integrate, BM_Record, BM_Step
 // (`simulate --out`), BM_StepOnly (`simulate`); both steps use the builtin warm start. Last
 // argument: 0 = creation order, 1 = Morton body order, 2 (whole step only) = the engine-internal
-// Morton order. Counter us_per_row = CPU time / LCP rows [µs], which must stay flat with the
-// body count (docs/bench.md "Micro benchmarks"). BM_StepStages: consecutive steps of the pile
+// Morton order, 3 (whole step only) = the default settings (`internal_order = "auto"`).
+// Counter us_per_row = CPU time / LCP rows [µs], which must stay flat with the body count
+// (docs/bench.md "Micro benchmarks"); zero_rows = the fraction of the pile's rows with λ = 0
+// (the falling pile's is far higher at 10,000 bodies and more than at 1,000).
+// BM_StepOnlySettled: BM_StepOnly on the pile built at rest (settled_pile.hpp), one regime at
+// every size. BM_StepStages: consecutive steps of the pile
 // with "pgs" or "pgs-colored", each stage (and pgs-colored's set-up parts) in thread CPU time
 // per contact row, and the heap allocations of each stage per step (counting_malloc.hpp);
 // benchmarks/scripts/step-stages.sh prints them as a table.
@@ -18,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -30,18 +35,21 @@
 #include "dc/warmstart/warm_starter.hpp"
 #include "dc/engine/stress_scenes.hpp"
 #include "fixed_sweeps.hpp"
+#include "settled_pile.hpp"
 
 namespace {
 
 constexpr int kSettleSteps = 150;
 constexpr int kSettleSweeps = 20;
+constexpr int kRestSteps = 100;  ///< steps that close the packed pile's gaps
 
-/// `order`: 0 creation, 1 Morton numbering, 2 creation numbering with the internal order.
-dc::WorldDef scaled_seed_scene(int n, int order) {
-  dc::WorldDef def = dc::stress::scaled_seed_pile(n);
+/// `order`: 0 creation, 1 Morton numbering, 2 creation numbering with the internal order,
+/// 3 creation numbering with the default internal order. `settled`: the pile built at rest.
+dc::WorldDef scaled_seed_scene(int n, int order, bool settled) {
+  dc::WorldDef def = settled ? dc::bench_micro::packed_pile(n, order == 1) : dc::stress::scaled_seed_pile(n);
   def.solver.sweeps = kSettleSweeps;
   def.bodies.order = order == 1 ? dc::BodyOrder::Morton : dc::BodyOrder::Creation;
-  def.bodies.internal_order = order == 2 ? dc::InternalOrder::Morton : dc::InternalOrder::None;
+  if (order != 3) def.bodies.internal_order = order == 2 ? dc::InternalOrder::Morton : dc::InternalOrder::None;
   return def;
 }
 
@@ -55,22 +63,22 @@ struct Pile {
   Eigen::VectorXd guess, lambda;
 };
 
-const Pile& pile(int n, int morton) {
-  static std::map<std::pair<int, int>, Pile> piles;
-  auto it = piles.find({n, morton});
+const Pile& pile(int n, int morton, bool settled = false) {
+  static std::map<std::tuple<int, int, bool>, Pile> piles;
+  auto it = piles.find({n, morton, settled});
   if (it != piles.end()) return it->second;
   Pile p;
-  p.world = std::make_unique<dc::World>(scaled_seed_scene(n, morton));
+  p.world = std::make_unique<dc::World>(scaled_seed_scene(n, morton, settled));
   const auto solver = dc::make_solver("pgs");
   const auto builtin = dc::default_warm_starters().make("builtin");
   const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
   auto guess = [&](const dc::World& w) { return builtin->initial_guess(dc::StepView{w, nullptr}); };
-  for (int k = 0; k < kSettleSteps; ++k) p.world->step(*solver, o, guess);
+  for (int k = 0; k < (settled ? kRestSteps : kSettleSteps); ++k) p.world->step(*solver, o, guess);
   p.world->collide();
   p.world->assemble();
   p.guess = guess(*p.world);
   p.lambda = solver->solve(p.world->problem(), p.guess, o).lambda;
-  return piles.emplace(std::make_pair(n, morton), std::move(p)).first->second;
+  return piles.emplace(std::make_tuple(n, morton, settled), std::move(p)).first->second;
 }
 
 void report(benchmark::State& state, const dc::World& w) {
@@ -198,8 +206,8 @@ void BM_Step(benchmark::State& state) {
   report(state, *p.world);
 }
 
-void BM_StepOnly(benchmark::State& state) {
-  const Pile& p = pile_of(state, 2);
+/// BM_StepOnly on the falling pile or the pile built at rest.
+void step_only(benchmark::State& state, const Pile& p) {
   const auto solver = dc::make_solver("pgs");
   const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
   dc::World w = *p.world;
@@ -211,6 +219,14 @@ void BM_StepOnly(benchmark::State& state) {
     benchmark::DoNotOptimize(r.solve.lambda.data());
   }
   report(state, *p.world);
+  state.counters["resorts"] = w.internal_order_resorts() - p.world->internal_order_resorts();  // in the timed step
+  const Eigen::Index zeros = (p.lambda.array() == 0.0).count();
+  state.counters["zero_rows"] = p.lambda.size() > 0 ? static_cast<double>(zeros) / static_cast<double>(p.lambda.size()) : 0.0;
+}
+
+void BM_StepOnly(benchmark::State& state) { step_only(state, pile_of(state, 2)); }
+void BM_StepOnlySettled(benchmark::State& state) {
+  step_only(state, pile(bodies_of(state), static_cast<int>(state.range(2)), true));
 }
 
 double thread_cpu_s() {
@@ -379,12 +395,19 @@ void sizes_sweeps(benchmark::internal::Benchmark* b) {
     for (int n : {1000, 2500, 10000, 40000})
       for (int morton : {0, 1}) b->Args({n, sweeps, morton});
 }
-/// sizes_sweeps with the internal order (morton = 2) as a third variant: BM_Step only.
+/// sizes_sweeps with the internal order (morton = 2) and the default settings (morton = 3,
+/// `internal_order = "auto"`) as further variants: whole steps only.
 void sizes_sweeps_orders(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "sweeps", "morton"});
   for (int sweeps : {20, 1})
-    for (int n : {1000, 2500, 10000, 40000})
-      for (int morton : {0, 1, 2}) b->Args({n, sweeps, morton});
+    for (int n : {1000, 2500, 5000, 10000, 20000, 40000})
+      for (int morton : {0, 1, 2, 3}) b->Args({n, sweeps, morton});
+}
+/// The settled pile: 20 sweeps, every order.
+void sizes_settled(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies", "sweeps", "morton"});
+  for (int n : {1000, 2500, 5000, 10000, 20000, 40000})
+    for (int morton : {0, 1, 2, 3}) b->Args({n, kSettleSweeps, morton});
 }
 
 void sizes_solvers(benchmark::internal::Benchmark* b) {
@@ -403,6 +426,7 @@ BENCHMARK(BM_Integrate)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnly)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StepOnlySettled)->Apply(sizes_settled)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepStages)->Apply(sizes_solvers)->Iterations(30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredSolveParts)
     ->ArgNames({"bodies", "morton"})

@@ -205,7 +205,7 @@ TEST(InternalBodyOrder, SceneKeysParseAndBadValuesAreConfigErrors) {
   EXPECT_EQ(d.bodies.resort_decay, 1.25);
   EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.resort_decay, 1.25);
   EXPECT_THROW((void)parse_scene("[bodies]\nresort_decay = 0.5\n"), ConfigError);
-  EXPECT_EQ(parse_scene("").bodies.internal_order, InternalOrder::None);
+  EXPECT_EQ(parse_scene("").bodies.internal_order, InternalOrder::Auto);  // the default
   EXPECT_EQ(parse_scene(scene_to_toml(d)).bodies.resort_every, 7);
   EXPECT_THROW((void)parse_scene("[bodies]\ninternal_order = \"hilbert\"\n"), ConfigError);
   EXPECT_THROW((void)parse_scene("[bodies]\nresort_every = 0\n"), ConfigError);

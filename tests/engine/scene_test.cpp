@@ -455,7 +455,7 @@ TEST(SceneNames, EverySpellingRoundTrips) {
     EXPECT_EQ(parse_body_order(to_string(o), "k"), o);
     EXPECT_EQ(set_and_round_trip(d, "bodies.order", to_string(o)).bodies.order, o);
   }
-  for (InternalOrder o : {InternalOrder::None, InternalOrder::Morton}) {
+  for (InternalOrder o : {InternalOrder::None, InternalOrder::Morton, InternalOrder::Auto}) {
     EXPECT_EQ(parse_internal_order(to_string(o), "k"), o);
     EXPECT_EQ(set_and_round_trip(d, "bodies.internal_order", to_string(o)).bodies.internal_order, o);
   }
@@ -486,7 +486,7 @@ TEST(SceneNames, UnknownSpellingsGiveOneLineErrorsNamingTheKey) {
   EXPECT_EQ(parse_error("[bodies]\norder = \"hilbert\"\n"),
             "bad.toml: [bodies] order: expected \"creation\" or \"morton\", got \"hilbert\"");
   EXPECT_EQ(parse_error("[bodies]\ninternal_order = \"hilbert\"\n"),
-            "bad.toml: [bodies] internal_order: expected \"none\" or \"morton\", got \"hilbert\"");
+            "bad.toml: [bodies] internal_order: expected \"none\", \"morton\" or \"auto\", got \"hilbert\"");
   const std::string unknown_solver = config_error([] { (void)SolverId::parse("gauss"); });
   EXPECT_EQ(parse_error("[solver]\nname = \"gauss\"\n"), unknown_solver);  // make_solver's message, as always
   WorldDef d;

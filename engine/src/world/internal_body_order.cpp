@@ -38,8 +38,8 @@ void for_each_field(BodyState& a, const BodyState& b, F&& f) {
 
 void InternalBodyOrder::update_from(const BodyState& external, bool copy_all) {
   if (!external.shapes.empty())
-    throw ConfigError("[bodies] internal_order = \"morton\" is for circle-only scenes (no shapes, static or "
-                          "kinematic bodies)");
+    throw ConfigError("[bodies] internal_order: the Morton internal order is for circle-only scenes (no shapes, "
+                          "static or kinematic bodies; \"none\" steps them)");
   const std::size_t old_n = state_.size(), n = external.size();
   if (n < old_n)
     throw InvalidArgument("World: the body state lost bodies (" + std::to_string(old_n) + " -> " +

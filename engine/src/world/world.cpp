@@ -13,6 +13,7 @@
 #include "dc/engine/contact_match.hpp"
 #include "assembly/assembly.hpp"
 #include "world/parts/integrate_keeping.hpp"
+#include "world/internal_order_choice.hpp"
 #include "world/restitution.hpp"
 #include "world/parts/step_parts.hpp"
 #include "world/parts/warm_start_parts.hpp"
@@ -28,16 +29,16 @@ double ms_since(Clock::time_point t0) {
 }  // namespace
 
 World::World(WorldDef def) : def_(std::move(def)), inflow_(def_) {
-  internal_ = def_.bodies.internal_order != InternalOrder::None;
   bodies_ = make_bodies(def_);
   inflow_.emit(0.0, bodies_);
+  internal_ = steps_in_internal_order(def_.bodies.internal_order, bodies_);
   if (internal_) update_internal_order();
 }
 
 World::World(WorldDef def, BodyState bodies)
     : def_(std::move(def)), bodies_(std::move(bodies)), inflow_(def_) {
   def_.validate();
-  internal_ = def_.bodies.internal_order != InternalOrder::None;
+  internal_ = steps_in_internal_order(def_.bodies.internal_order, bodies_);
   const std::size_t n = bodies_.size();
   if (bodies_.angle.size() != n || bodies_.velocity.size() != n || bodies_.omega.size() != n ||
       bodies_.radius.size() != n || bodies_.mass.size() != n || bodies_.inv_mass.size() != n ||

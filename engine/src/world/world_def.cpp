@@ -59,7 +59,14 @@ void finite_shape_values(const std::string& key, Vec2 size, Vec2 semi_axes, cons
 }  // namespace
 
 const char* to_string(BodyOrder o) { return o == BodyOrder::Morton ? "morton" : "creation"; }
-const char* to_string(InternalOrder o) { return o == InternalOrder::Morton ? "morton" : "none"; }
+const char* to_string(InternalOrder o) {
+  switch (o) {
+    case InternalOrder::Morton: return "morton";
+    case InternalOrder::Auto: return "auto";
+    case InternalOrder::None: break;
+  }
+  return "none";
+}
 
 BodyOrder parse_body_order(const std::string& name, const std::string& key) {
   if (name == "creation") return BodyOrder::Creation;
@@ -70,7 +77,8 @@ BodyOrder parse_body_order(const std::string& name, const std::string& key) {
 InternalOrder parse_internal_order(const std::string& name, const std::string& key) {
   if (name == "none") return InternalOrder::None;
   if (name == "morton") return InternalOrder::Morton;
-  throw ConfigError(key + ": expected \"none\" or \"morton\", got \"" + name + "\"");
+  if (name == "auto") return InternalOrder::Auto;
+  throw ConfigError(key + ": expected \"none\", \"morton\" or \"auto\", got \"" + name + "\"");
 }
 
 void WorldDef::validate() const {

@@ -189,7 +189,7 @@ class World {
   void integrate_solved(const Eigen::VectorXd& lambda);
 
   // ---- engine-internal body order ([bodies] internal_order; empty/unused when "none") ----
-  bool internal_ = false;  ///< def_.bodies.internal_order != InternalOrder::None
+  bool internal_ = false;  ///< steps_in_internal_order(def_.bodies.internal_order, initial bodies)
   [[nodiscard]] bool has_internal_order() const { return internal_; }
   /// The bodies the stages work on: bodies_, or the internally ordered copy.
   BodyState& working_bodies() { return internal_ ? order_.state() : bodies_; }

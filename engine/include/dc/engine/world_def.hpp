@@ -27,12 +27,19 @@ enum class BodyOrder : std::uint8_t {
 enum class InternalOrder : std::uint8_t {
   None,    ///< "none": storage order = external order
   Morton,  ///< "morton": Morton order of the current cell, re-sorted as it decays
+  Auto,    ///< "auto": Morton where it pays (internal_order_auto_min_bodies), else none
 };
-/// "creation" / "morton"; "none" / "morton" (the scene files' spelling).
+/// "auto" keeps the Morton working copy for worlds that start with at least this many bodies,
+/// all dynamic circles: below it the bodies, contacts and rows of a step fit in the caches
+/// anyway and the translation to the public views costs more than the locality saves
+/// (docs/engine.md "Step cost against size"). Smaller worlds, and any with shapes, static or
+/// kinematic bodies, step in storage order = external order, as with "none".
+inline constexpr int internal_order_auto_min_bodies = 20000;
+/// "creation" / "morton"; "none" / "morton" / "auto" (the scene files' spelling).
 const char* to_string(BodyOrder o);
 const char* to_string(InternalOrder o);
 /// Parse the scene spelling; throw ConfigError "<key>: expected \"creation\" or \"morton\", got
-/// \"<name>\"" (resp. "none" or "morton") otherwise.
+/// \"<name>\"" (resp. "none", "morton" or "auto") otherwise.
 BodyOrder parse_body_order(const std::string& name, const std::string& key);
 InternalOrder parse_internal_order(const std::string& name, const std::string& key);
 
@@ -114,17 +121,21 @@ struct BodiesSection {
   /// Explicit [[body]] bodies always follow in file order.
   BodyOrder order = BodyOrder::Creation;
   /// Order in which the engine stores and steps the bodies, behind their stable (external)
-  /// indices: None ("none", default; storage order = external order) or Morton ("morton": World
+  /// indices: None ("none": storage order = external order), Morton ("morton": World
   /// keeps the bodies, contacts and LCP rows in the Morton order of their current cell of side
   /// 2·max radius, re-sorted when it has decayed — see resort_decay — or every `resort_every` steps at
   /// the latest; every public view stays in external order and is built only when read,
-  /// docs/engine.md "Spatial body order"). Circle-only scenes. Changes the Gauss–Seidel row
-  /// order of the solve, hence the trajectory (to the solver's tolerance), not what users see.
-  InternalOrder internal_order = InternalOrder::None;
-  /// With internal_order = "morton": the most steps between two re-sorts of the internal order
+  /// docs/engine.md "Spatial body order"; circle-only scenes) or Auto ("auto", default: Morton
+  /// for a world that starts with internal_order_auto_min_bodies or more bodies, all dynamic
+  /// circles, none otherwise — the cache misses of large piles in creation order grow the cost
+  /// per contact row with size, the translation costs more than it saves on small ones). Morton
+  /// changes the Gauss–Seidel row order of the solve, hence the trajectory (to the solver's
+  /// tolerance), not what users see.
+  InternalOrder internal_order = InternalOrder::Auto;
+  /// With the Morton internal order ("morton", or "auto" where it applies): the most steps between two re-sorts of the internal order
   /// (≥ 1; 1 = re-sort every step).
   int resort_every = 100;
-  /// With internal_order = "morton": re-sort at the next step when the order has decayed, i.e.
+  /// With the Morton internal order: re-sort at the next step when the order has decayed, i.e.
   /// when the mean |i − j| of the internal indices of the body pairs in contact reaches
   /// resort_decay times its lowest value since the last re-sort (> 1; counted in the narrow
   /// phase's loop, no extra pass). Bodies that move away from their neighbours in the
