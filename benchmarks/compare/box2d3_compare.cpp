@@ -102,7 +102,18 @@ struct Run {
   double overlap = 0;        ///< largest overlap at the end [m]
   double drift = 0;          ///< largest |x − x₀| of a body at the end [m]
   double max_speed = 0;      ///< largest |v| of a body at the end [m/s] (is the pile at rest?)
+  int moving = 0;            ///< dynamic bodies with |v| > kMoving at the end
+  double mean_height = 0;    ///< mean y of the dynamic bodies at the end [m] (a pile that spreads sinks)
 };
+
+constexpr double kMoving = 0.1;  ///< [m/s] a body faster than this at the end is "moving"
+
+/// Adds a dynamic body's end speed and height to r's maximum, moving count and height sum.
+void add_body(Run& r, double speed, double y) {
+  r.max_speed = std::max(r.max_speed, speed);
+  if (speed > kMoving) ++r.moving;
+  r.mean_height += y;
+}
 
 /// Applies one `+key=value` of an --ours item to c (keys: omega, tol, baumgarte, slop, margin, warm).
 void parse_setting(const std::string& kv, Config& c) {
@@ -254,14 +265,19 @@ Run run_v3(const dc::WorldDef& def, const dc::BodyState& start, const Config& c,
   r.pass_share = step_ms > 0 ? passes_ms / step_ms : 0;
   r.rows_per_step = rows / std::max(1, counted);
   dc::BodyState end = start;
+  int dynamic = 0;
   for (size_t k = 0; k < bodies.size(); ++k) {
     const b2Pos x = b2Body_GetPosition(bodies[k]);
     end.position[k] = {x.x, x.y};
     end.angle[k] = b2Rot_GetAngle(b2Body_GetRotation(bodies[k]));
     r.drift = std::max(r.drift, std::abs(end.position[k].x - start.position[k].x));
     const b2Vec2 v = b2Body_GetLinearVelocity(bodies[k]);
-    if (start.is_dynamic(k)) r.max_speed = std::max(r.max_speed, std::hypot(double{v.x}, double{v.y}));
+    if (start.is_dynamic(k)) {
+      add_body(r, std::hypot(double{v.x}, double{v.y}), x.y);
+      ++dynamic;
+    }
   }
+  r.mean_height /= std::max(1, dynamic);
   r.overlap = dc::stress::max_overlap(end, def.world);
   b2DestroyWorld(w);
   return r;
@@ -298,10 +314,15 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps) {
   }
   r.solver_cpu_s = solver.cpu_s;
   r.rows_per_step = rows / std::max(1, steps);
+  int dynamic = 0;
   for (size_t k = 0; k < start.size(); ++k) {
     r.drift = std::max(r.drift, std::abs(world.bodies().position[k].x - start[k].x));
-    if (world.bodies().is_dynamic(k)) r.max_speed = std::max(r.max_speed, dc::length(world.bodies().velocity[k]));
+    if (world.bodies().is_dynamic(k)) {
+      add_body(r, dc::length(world.bodies().velocity[k]), world.bodies().position[k].y);
+      ++dynamic;
+    }
   }
+  r.mean_height /= std::max(1, dynamic);
   r.overlap = dc::stress::max_overlap(world.bodies(), def.world);
   return r;
 }
@@ -336,15 +357,17 @@ void print_row(const std::string& label, const Config& c, const Run& r, const st
                double marginal, double setup, int steps, bool stack, double first_ms, double ref_ms) {
   const double per_pass = c.v3 ? 1e6 * med * r.pass_share / std::max(1.0, r.rows_per_step * c.substeps * 2)
                                : 1e9 * r.solver_cpu_s / steps / std::max(1.0, r.rows_per_step * c.sweeps);
-  char last_col[32], marginal_col[32] = "–", setup_col[32] = "–", ref_col[32] = "–";
+  char last_col[32], marginal_col[32] = "–", setup_col[32] = "–", ref_col[32] = "–", solver_col[32] = "–";
+  if (!c.v3) std::snprintf(solver_col, sizeof solver_col, "%.4f", 1e3 * r.solver_cpu_s / steps);
   if (!std::isnan(marginal)) std::snprintf(marginal_col, sizeof marginal_col, "%.2f", marginal);
   if (!std::isnan(setup)) std::snprintf(setup_col, sizeof setup_col, "%.3f", setup);
   if (ref_ms > 0) std::snprintf(ref_col, sizeof ref_col, "%.2f", med / ref_ms);
   if (stack) std::snprintf(last_col, sizeof last_col, "%.2f", 1e3 * r.drift);
   else std::snprintf(last_col, sizeof last_col, "%.2f", first_ms > 0 ? med / first_ms : 0.0);
-  std::printf("| %s | %.4f | %.4f–%.4f | %.0f | %.2f | %s | %s | %.2f | %.3f | %s | %s |\n", label.c_str(), med,
-              *std::min_element(ms.begin(), ms.end()), *std::max_element(ms.begin(), ms.end()), r.rows_per_step,
-              per_pass, marginal_col, setup_col, 1e3 * r.overlap, r.max_speed, ref_col, last_col);
+  std::printf("| %s | %.4f | %.4f–%.4f | %s | %.0f | %.2f | %s | %s | %.2f | %.3f | %d | %.3f | %s | %s |\n",
+              label.c_str(), med, *std::min_element(ms.begin(), ms.end()), *std::max_element(ms.begin(), ms.end()),
+              solver_col, r.rows_per_step, per_pass, marginal_col, setup_col, 1e3 * r.overlap, r.max_speed, r.moving,
+              r.mean_height, ref_col, last_col);
 }
 
 /// Runs every configuration `rounds` times, alternated, on `def`; prints one row each, then the
@@ -369,9 +392,9 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
   const double ref_ms = ref >= 0 ? med[static_cast<size_t>(ref)] : 0.0;
   std::printf("\n## %s: %zu bodies, %d steps of %g s, %d rounds (load %s)\n", title.c_str(), initial.bodies().size(),
               steps, def.time.dt, rounds, loadavg().c_str());
-  std::printf("| configuration | ms/step (median) | min–max | rows/step | ns/row·pass | marginal ns/row·sweep | "
-              "solver set-up ms/step | overlap mm | max speed m/s | ms/step ÷ %s | %s |\n"
-              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+  std::printf("| configuration | ms/step (median) | min–max | solver ms/step | rows/step | ns/row·pass | marginal ns/row·sweep | "
+              "solver set-up ms/step | overlap mm | max speed m/s | moving | mean height m | ms/step ÷ %s | %s |\n"
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
               ref >= 0 ? configs[static_cast<size_t>(ref)].label().c_str() : "quality reference",
               stack ? "drift mm" : "ms/step ÷ first");
   const double first_ms = configs.empty() ? 0 : med[0];
