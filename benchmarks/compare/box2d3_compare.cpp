@@ -3,7 +3,8 @@
 //
 //   build/bin/box2d3_compare [--n 100,1000,10000] [--steps 600] [--rounds 3]
 //                            [--ours pgs-colored:16,pgs-colored:32,pgs:16,pgs:32]
-//                            [--v3 4:30,8:100] [--stack-steps 600] [--pyramid BASE] [--skip-pile] [--skip-stack]
+//                            [--v3 4:30,8:100] [--eq-v3 8:100] [--stack-steps 600] [--pyramid BASE]
+//                            [--skip-pile] [--skip-stack]
 //
 // Scenes: the seed pile scaled to n circles at the seed's density (box side 30·√(n/100) m,
 // σ = 4.65·√(n/100) m, r = 1, μ = 0.5, e = 0, Δt = 0.01 s), and the 20-box stack of the stress
@@ -12,7 +13,8 @@
 // model (soft step, sub-steps, relaxation, restitution) with sleeping off and one worker.
 // A v3 configuration is SUBSTEPS:HERTZ (b2World_Step's sub-step count, b2WorldDef::contactHertz;
 // v3's defaults are 4 sub-steps and 30 Hz). Ours is SOLVER:SWEEPS with a fixed sweep count
-// (tolerance 0) and the builtin warm start, as `simulate` runs it.
+// (tolerance 0) and the builtin warm start, as `simulate` runs it, and `+KEY=VALUE` suffixes
+// change one setting for that configuration (omega, tol, baumgarte, slop, margin, warm=none).
 //
 // Reported per configuration:
 //  * ms/step: CPU time of the stepping thread (CLOCK_THREAD_CPUTIME_ID) around each step,
@@ -25,7 +27,10 @@
 //    solver's per-solve set-up (solver ms/step at 16 − 16 sweeps at the marginal cost);
 //  * overlap: the largest overlap between touching bodies at the end of the run, by one
 //    geometric check for both engines (dc::stress::max_overlap on the final positions);
-//  * stack drift: the largest horizontal displacement of a box of the stack from its start.
+//  * stack drift: the largest horizontal displacement of a box of the stack from its start;
+//  * at the end: the largest body speed, the bodies faster than 0.1 m/s, their mean height;
+//  * "ours at equal quality" (piles): of our configurations with overlap and moving bodies at most
+//    those of the --eq-v3 configuration, the one with the fewest sweeps (ties: less time).
 #include <box2d/box2d.h>
 
 #include <CLI/CLI.hpp>
