@@ -48,6 +48,7 @@
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 #include "timed_solver.hpp"
 
@@ -109,6 +110,7 @@ struct Run {
   double max_speed = 0;      ///< largest |v| of a body at the end [m/s] (is the pile at rest?)
   int moving = 0;            ///< dynamic bodies with |v| > kMoving at the end
   double mean_height = 0;    ///< mean y of the dynamic bodies at the end [m] (a pile that spreads sinks)
+  dc::PgsColoredProfile parts;  ///< ours with --profile and solver "pgs-colored": the solver's parts
 };
 
 constexpr double kMoving = 0.1;  ///< [m/s] a body faster than this at the end is "moving"
@@ -290,7 +292,7 @@ Run run_v3(const dc::WorldDef& def, const dc::BodyState& start, const Config& c,
 
 // ---- ours -------------------------------------------------------------------------------
 
-Run run_ours(dc::WorldDef def, const Config& c, int steps) {
+Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
   def.solver.sweeps = c.sweeps;
   def.solver.tolerance = 0.0;
   for (const auto& [key, value] : c.settings) {
@@ -302,11 +304,13 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps) {
   }
   dc::World world(def);
   const std::vector<dc::Vec2> start = world.bodies().position;
-  TimedSolver solver(dc::make_solver(c.solver));
+  Run r;
+  dc::PgsColoredDef parts_def;
+  parts_def.profile = &r.parts;
+  TimedSolver solver(profile && c.solver == "pgs-colored" ? dc::make_pgs_colored(parts_def) : dc::make_solver(c.solver));
   dc::SolverOptions o = dc::solver_options(def.solver);
   o.record_theta = false;
   const auto starter = dc::default_warm_starters().make("builtin");
-  Run r;
   double rows = 0;
   for (int s = 0; s < steps; ++s) {
     const double t0 = thread_cpu_s();
@@ -379,15 +383,15 @@ void print_row(const std::string& label, const Config& c, const Run& r, const st
 
 /// Runs every configuration `rounds` times, alternated, on `def`; prints one row each, then the
 /// row "ours at equal quality" against the quality reference `eq_ref` (a v3 configuration in
-/// `configs`, or none).
+/// `configs`, or none). profile: then the parts of pgs-colored's solves (PgsColoredProfile).
 void compare(const std::string& title, const dc::WorldDef& def, const std::vector<Config>& configs, int steps,
-             int rounds, bool stack, const Config* eq_ref) {
+             int rounds, bool stack, const Config* eq_ref, bool profile) {
   const dc::World initial(def);
   std::vector<std::vector<double>> ms(configs.size());
   std::vector<Run> last(configs.size());
   for (int round = 0; round < rounds; ++round)
     for (size_t i = 0; i < configs.size(); ++i) {
-      last[i] = configs[i].v3 ? run_v3(def, initial.bodies(), configs[i], steps) : run_ours(def, configs[i], steps);
+      last[i] = configs[i].v3 ? run_v3(def, initial.bodies(), configs[i], steps) : run_ours(def, configs[i], steps, profile);
       ms[i].push_back(1e3 * last[i].cpu_s / steps);
     }
   std::vector<double> med(configs.size());
@@ -424,6 +428,15 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
     print_row("ours at equal quality: " + configs[e].label(), configs[e], last[e], ms[e], med[e], NAN, NAN, steps,
               stack, first_ms, ref_ms);
   }
+  for (size_t i = 0; i < configs.size() && profile; ++i) {
+    const dc::PgsColoredProfile& q = last[i].parts;
+    if (q.solves == 0) continue;
+    const double k = 1e3 / steps;  // CPU ms per step
+    std::printf("\nsolver parts, %s (CPU ms/step, last round): checks %.4f, colouring %.4f, ordering %.4f, "
+                "pack %.4f, du0 %.4f, sweeps %.4f, unpermute %.4f, residual %.4f\n",
+                configs[i].label().c_str(), k * q.checks, k * q.coloring, k * q.ordering, k * q.pack, k * q.du0,
+                k * q.sweeps, k * q.unpermute, k * q.residual);
+  }
   if (ref >= 0) {
     const Config& r = configs[static_cast<size_t>(ref)];
     char pick[160] = "none qualifies";
@@ -444,7 +457,7 @@ int main(int argc, char** argv) {
   std::string ns = "100,1000,10000", ours = "pgs-colored:16,pgs-colored:32,pgs:16,pgs:32", v3 = "4:30,8:100";
   std::string eq_v3 = "8:100";
   int steps = 600, rounds = 3, stack_steps = 600, pyramid = 0;
-  bool skip_pile = false, skip_stack = false;
+  bool skip_pile = false, skip_stack = false, profile = false;
   CLI::App app{"Box2D v3 vs DeepContact: the scaled seed pile and a 20-box stack, ms per step and quality"};
   app.add_option("--n", ns, "Body counts of the scaled seed pile, comma-separated (default 100,1000,10000)");
   app.add_option("--steps", steps, "Steps of each pile run (default 600)")->check(CLI::PositiveNumber);
@@ -457,6 +470,8 @@ int main(int argc, char** argv) {
   app.add_option("--eq-v3", eq_v3,
                  "The v3 configuration SUBSTEPS:CONTACT_HERTZ of --v3 whose overlap sets the bar of the row "
                  "'ours at equal quality' on the piles (default 8:100; empty: no such row)");
+  app.add_flag("--profile", profile,
+               "Print the parts of pgs-colored's solves (checks, colouring, …, sweeps, residual) per configuration");
   app.add_flag("--skip-pile", skip_pile, "Do not run the piles");
   app.add_flag("--skip-stack", skip_stack, "Do not run the box stack");
   CLI11_PARSE(app, argc, argv);
@@ -470,16 +485,16 @@ int main(int argc, char** argv) {
                 b2GetVersion().revision, loadavg().c_str());
     if (!skip_stack) {
       dc::WorldDef d = dc::stress::box_stack(20, {1.0, 1.0});
-      compare("20-box stack", d, configs, stack_steps, rounds, true, nullptr);
+      compare("20-box stack", d, configs, stack_steps, rounds, true, nullptr, profile);
     }
     if (pyramid > 0)
       compare("box pyramid, base " + std::to_string(pyramid), dc::stress::box_pyramid(pyramid), configs, stack_steps,
-              rounds, true, nullptr);
+              rounds, true, nullptr, profile);
     if (!skip_pile) {
       std::stringstream ss(ns);
       std::string item;
       while (std::getline(ss, item, ','))
-        if (!item.empty()) compare("seed pile", scaled_seed(std::stoi(item)), configs, steps, rounds, false, eq_ref);
+        if (!item.empty()) compare("seed pile", scaled_seed(std::stoi(item)), configs, steps, rounds, false, eq_ref, profile);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "box2d3_compare: %s\n", e.what());
