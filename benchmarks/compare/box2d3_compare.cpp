@@ -3,7 +3,8 @@
 //
 //   build/bin/box2d3_compare [--n 100,1000,10000] [--steps 600] [--rounds 3]
 //                            [--ours pgs-colored:16,pgs-colored:32,pgs:16,pgs:32]
-//                            [--v3 4:30,8:100] [--stack-steps 600] [--pyramid BASE] [--skip-pile] [--skip-stack]
+//                            [--v3 4:30,8:100] [--eq-v3 8:100] [--stack-steps 600] [--pyramid BASE]
+//                            [--skip-pile] [--skip-stack]
 //
 // Scenes: the seed pile scaled to n circles at the seed's density (box side 30·√(n/100) m,
 // σ = 4.65·√(n/100) m, r = 1, μ = 0.5, e = 0, Δt = 0.01 s), and the 20-box stack of the stress
@@ -12,7 +13,8 @@
 // model (soft step, sub-steps, relaxation, restitution) with sleeping off and one worker.
 // A v3 configuration is SUBSTEPS:HERTZ (b2World_Step's sub-step count, b2WorldDef::contactHertz;
 // v3's defaults are 4 sub-steps and 30 Hz). Ours is SOLVER:SWEEPS with a fixed sweep count
-// (tolerance 0) and the builtin warm start, as `simulate` runs it.
+// (tolerance 0) and the builtin warm start, as `simulate` runs it, and `+KEY=VALUE` suffixes
+// change one setting for that configuration (omega, tol, baumgarte, slop, margin, warm=none).
 //
 // Reported per configuration:
 //  * ms/step: CPU time of the stepping thread (CLOCK_THREAD_CPUTIME_ID) around each step,
@@ -25,7 +27,10 @@
 //    solver's per-solve set-up (solver ms/step at 16 − 16 sweeps at the marginal cost);
 //  * overlap: the largest overlap between touching bodies at the end of the run, by one
 //    geometric check for both engines (dc::stress::max_overlap on the final positions);
-//  * stack drift: the largest horizontal displacement of a box of the stack from its start.
+//  * stack drift: the largest horizontal displacement of a box of the stack from its start;
+//  * at the end: the largest body speed, the bodies faster than 0.1 m/s, their mean height;
+//  * "ours at equal quality" (piles): of our configurations with overlap and moving bodies at most
+//    those of the --eq-v3 configuration, the one with the fewest sweeps (ties: less time).
 #include <box2d/box2d.h>
 
 #include <CLI/CLI.hpp>
@@ -43,6 +48,7 @@
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
 #include "dc/warmstart/warm_starter.hpp"
 #include "timed_solver.hpp"
 
@@ -68,19 +74,29 @@ std::string cpu_model() {
   return colon == std::string::npos ? line : line.substr(colon + 2);
 }
 
-/// One engine configuration: Box2D v3 (substeps, contact hertz) or ours (solver, sweeps).
+/// One engine configuration: Box2D v3 (substeps, contact hertz) or ours (solver, sweeps, and the
+/// settings a `+key=value` suffix changes from the scene's: `settings`, applied by run_ours).
 struct Config {
   bool v3 = false;
   int substeps = 4;
   float hertz = 30;
   std::string solver;
   int sweeps = 16;
+  std::vector<std::pair<std::string, double>> settings;  ///< omega, tol, baumgarte, slop, margin
+  bool warm = true;                                      ///< the builtin warm start (`+warm=none`: none)
   [[nodiscard]] std::string label() const {
     char b[96];
     if (v3) std::snprintf(b, sizeof b, "box2d v3 %d substeps %g Hz", substeps, static_cast<double>(hertz));
     else std::snprintf(b, sizeof b, "ours %s %d sweeps", solver.c_str(), sweeps);
-    return b;
+    std::string out = b;
+    for (const auto& [key, value] : settings) {
+      std::snprintf(b, sizeof b, " %s=%g", key.c_str(), value);
+      out += b;
+    }
+    if (!warm) out += " no warm start";
+    return out;
   }
+  [[nodiscard]] bool same_as(const Config& o) const { return v3 == o.v3 && substeps == o.substeps && hertz == o.hertz; }
 };
 
 /// The result of one run of one configuration.
@@ -91,7 +107,37 @@ struct Run {
   double rows_per_step = 0;  ///< LCP rows (ours) or 2 × touching points (v3), mean over steps
   double overlap = 0;        ///< largest overlap at the end [m]
   double drift = 0;          ///< largest |x − x₀| of a body at the end [m]
+  double max_speed = 0;      ///< largest |v| of a body at the end [m/s] (is the pile at rest?)
+  int moving = 0;            ///< dynamic bodies with |v| > kMoving at the end
+  double mean_height = 0;    ///< mean y of the dynamic bodies at the end [m] (a pile that spreads sinks)
+  dc::PgsColoredProfile parts;  ///< ours with --profile and solver "pgs-colored": the solver's parts
 };
+
+constexpr double kMoving = 0.1;  ///< [m/s] a body faster than this at the end is "moving"
+
+/// Adds a dynamic body's end speed and height to r's maximum, moving count and height sum.
+void add_body(Run& r, double speed, double y) {
+  r.max_speed = std::max(r.max_speed, speed);
+  if (speed > kMoving) ++r.moving;
+  r.mean_height += y;
+}
+
+/// Applies one `+key=value` of an --ours item to c (keys: omega, tol, baumgarte, slop, margin, warm).
+void parse_setting(const std::string& kv, Config& c) {
+  const size_t eq = kv.find('=');
+  const std::string key = kv.substr(0, eq), value = eq == std::string::npos ? "" : kv.substr(eq + 1);
+  if (key == "warm" && (value == "none" || value == "builtin")) {
+    c.warm = value == "builtin";
+    return;
+  }
+  for (const char* k : {"omega", "tol", "baumgarte", "slop", "margin"})
+    if (key == k && !value.empty()) {
+      c.settings.emplace_back(key, std::stod(value));
+      return;
+    }
+  throw CLI::ValidationError("--ours", "unknown setting '" + kv +
+                                           "' (omega=, tol=, baumgarte=, slop=, margin=, warm=none|builtin)");
+}
 
 std::vector<Config> parse_configs(const std::string& list, bool v3) {
   std::vector<Config> out;
@@ -108,7 +154,11 @@ std::vector<Config> parse_configs(const std::string& list, bool v3) {
       c.hertz = std::stof(item.substr(colon + 1));
     } else {
       c.solver = item.substr(0, colon);
-      c.sweeps = std::stoi(item.substr(colon + 1));
+      std::stringstream parts(item.substr(colon + 1));
+      std::string part;
+      std::getline(parts, part, '+');
+      c.sweeps = std::stoi(part);
+      while (std::getline(parts, part, '+')) parse_setting(part, c);
     }
     out.push_back(c);
   }
@@ -222,12 +272,19 @@ Run run_v3(const dc::WorldDef& def, const dc::BodyState& start, const Config& c,
   r.pass_share = step_ms > 0 ? passes_ms / step_ms : 0;
   r.rows_per_step = rows / std::max(1, counted);
   dc::BodyState end = start;
+  int dynamic = 0;
   for (size_t k = 0; k < bodies.size(); ++k) {
     const b2Pos x = b2Body_GetPosition(bodies[k]);
     end.position[k] = {x.x, x.y};
     end.angle[k] = b2Rot_GetAngle(b2Body_GetRotation(bodies[k]));
     r.drift = std::max(r.drift, std::abs(end.position[k].x - start.position[k].x));
+    const b2Vec2 v = b2Body_GetLinearVelocity(bodies[k]);
+    if (start.is_dynamic(k)) {
+      add_body(r, std::hypot(double{v.x}, double{v.y}), x.y);
+      ++dynamic;
+    }
   }
+  r.mean_height /= std::max(1, dynamic);
   r.overlap = dc::stress::max_overlap(end, def.world);
   b2DestroyWorld(w);
   return r;
@@ -235,30 +292,46 @@ Run run_v3(const dc::WorldDef& def, const dc::BodyState& start, const Config& c,
 
 // ---- ours -------------------------------------------------------------------------------
 
-Run run_ours(dc::WorldDef def, const Config& c, int steps) {
+Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
   def.solver.sweeps = c.sweeps;
   def.solver.tolerance = 0.0;
+  for (const auto& [key, value] : c.settings) {
+    if (key == "omega") def.solver.omega = value;
+    if (key == "tol") def.solver.tolerance = value;
+    if (key == "baumgarte") def.contact.baumgarte = value;
+    if (key == "slop") def.contact.slop = value;
+    if (key == "margin") def.contact.margin = value;
+  }
   dc::World world(def);
   const std::vector<dc::Vec2> start = world.bodies().position;
-  TimedSolver solver(dc::make_solver(c.solver));
+  Run r;
+  dc::PgsColoredDef parts_def;
+  parts_def.profile = &r.parts;
+  TimedSolver solver(profile && c.solver == "pgs-colored" ? dc::make_pgs_colored(parts_def) : dc::make_solver(c.solver));
   dc::SolverOptions o = dc::solver_options(def.solver);
   o.record_theta = false;
   const auto starter = dc::default_warm_starters().make("builtin");
-  Run r;
   double rows = 0;
   for (int s = 0; s < steps; ++s) {
     const double t0 = thread_cpu_s();
     const dc::StepReport rep = world.step(solver, o, [&](const dc::World& w) {
-      return starter->initial_guess(dc::StepView{w, nullptr});
+      return c.warm ? starter->initial_guess(dc::StepView{w, nullptr}) : Eigen::VectorXd();
     });
-    starter->observe(dc::StepView{world, nullptr}, rep.solve.lambda);
+    if (c.warm) starter->observe(dc::StepView{world, nullptr}, rep.solve.lambda);
     r.cpu_s += thread_cpu_s() - t0;
     rows += rep.rows;
   }
   r.solver_cpu_s = solver.cpu_s;
   r.rows_per_step = rows / std::max(1, steps);
-  for (size_t k = 0; k < start.size(); ++k)
+  int dynamic = 0;
+  for (size_t k = 0; k < start.size(); ++k) {
     r.drift = std::max(r.drift, std::abs(world.bodies().position[k].x - start[k].x));
+    if (world.bodies().is_dynamic(k)) {
+      add_body(r, dc::length(world.bodies().velocity[k]), world.bodies().position[k].y);
+      ++dynamic;
+    }
+  }
+  r.mean_height /= std::max(1, dynamic);
   r.overlap = dc::stress::max_overlap(world.bodies(), def.world);
   return r;
 }
@@ -271,49 +344,109 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
-/// Runs every configuration `rounds` times, alternated, on `def`; prints one row each.
+/// The row "ours at equal quality": of our configurations whose overlap is at most the overlap of
+/// the quality reference `ref` (a v3 configuration) and whose moving bodies are no more than its,
+/// the one with the fewest sweeps (ties: the lower median ms/step); −1 when there is no reference
+/// or none qualifies.
+int equal_quality(const std::vector<Config>& configs, const std::vector<Run>& last, const std::vector<double>& med,
+                  int ref) {
+  if (ref < 0) return -1;
+  int best = -1;
+  for (size_t i = 0; i < configs.size(); ++i) {
+    const Run& bar = last[static_cast<size_t>(ref)];
+    if (configs[i].v3 || last[i].overlap > bar.overlap || last[i].moving > bar.moving) continue;
+    const auto b = static_cast<size_t>(best);
+    if (best < 0 || configs[i].sweeps < configs[b].sweeps || (configs[i].sweeps == configs[b].sweeps && med[i] < med[b]))
+      best = static_cast<int>(i);
+  }
+  return best;
+}
+
+/// One table row: ms/step, rows, per-pass costs, overlap, speed, the last column and the ratio to
+/// the quality reference `ref_ms` (0: none).
+void print_row(const std::string& label, const Config& c, const Run& r, const std::vector<double>& ms, double med,
+               double marginal, double setup, int steps, bool stack, double first_ms, double ref_ms) {
+  const double per_pass = c.v3 ? 1e6 * med * r.pass_share / std::max(1.0, r.rows_per_step * c.substeps * 2)
+                               : 1e9 * r.solver_cpu_s / steps / std::max(1.0, r.rows_per_step * c.sweeps);
+  char last_col[32], marginal_col[32] = "–", setup_col[32] = "–", ref_col[32] = "–", solver_col[32] = "–";
+  if (!c.v3) std::snprintf(solver_col, sizeof solver_col, "%.4f", 1e3 * r.solver_cpu_s / steps);
+  if (!std::isnan(marginal)) std::snprintf(marginal_col, sizeof marginal_col, "%.2f", marginal);
+  if (!std::isnan(setup)) std::snprintf(setup_col, sizeof setup_col, "%.3f", setup);
+  if (ref_ms > 0) std::snprintf(ref_col, sizeof ref_col, "%.2f", med / ref_ms);
+  if (stack) std::snprintf(last_col, sizeof last_col, "%.2f", 1e3 * r.drift);
+  else std::snprintf(last_col, sizeof last_col, "%.2f", first_ms > 0 ? med / first_ms : 0.0);
+  std::printf("| %s | %.4f | %.4f–%.4f | %s | %.0f | %.2f | %s | %s | %.2f | %.3f | %d | %.3f | %s | %s |\n",
+              label.c_str(), med, *std::min_element(ms.begin(), ms.end()), *std::max_element(ms.begin(), ms.end()),
+              solver_col, r.rows_per_step, per_pass, marginal_col, setup_col, 1e3 * r.overlap, r.max_speed, r.moving,
+              r.mean_height, ref_col, last_col);
+}
+
+/// Runs every configuration `rounds` times, alternated, on `def`; prints one row each, then the
+/// row "ours at equal quality" against the quality reference `eq_ref` (a v3 configuration in
+/// `configs`, or none). profile: then the parts of pgs-colored's solves (PgsColoredProfile).
 void compare(const std::string& title, const dc::WorldDef& def, const std::vector<Config>& configs, int steps,
-             int rounds, bool stack) {
+             int rounds, bool stack, const Config* eq_ref, bool profile) {
   const dc::World initial(def);
   std::vector<std::vector<double>> ms(configs.size());
   std::vector<Run> last(configs.size());
   for (int round = 0; round < rounds; ++round)
     for (size_t i = 0; i < configs.size(); ++i) {
-      last[i] = configs[i].v3 ? run_v3(def, initial.bodies(), configs[i], steps) : run_ours(def, configs[i], steps);
+      last[i] = configs[i].v3 ? run_v3(def, initial.bodies(), configs[i], steps) : run_ours(def, configs[i], steps, profile);
       ms[i].push_back(1e3 * last[i].cpu_s / steps);
     }
+  std::vector<double> med(configs.size());
+  int ref = -1;
+  for (size_t i = 0; i < configs.size(); ++i) {
+    med[i] = median(ms[i]);
+    if (ref < 0 && eq_ref != nullptr && configs[i].same_as(*eq_ref)) ref = static_cast<int>(i);
+  }
+  const double ref_ms = ref >= 0 ? med[static_cast<size_t>(ref)] : 0.0;
   std::printf("\n## %s: %zu bodies, %d steps of %g s, %d rounds (load %s)\n", title.c_str(), initial.bodies().size(),
               steps, def.time.dt, rounds, loadavg().c_str());
-  std::printf("| configuration | ms/step (median) | min–max | rows/step | ns/row·pass | marginal ns/row·sweep | "
-              "solver set-up ms/step | overlap mm | %s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+  std::printf("| configuration | ms/step (median) | min–max | solver ms/step | rows/step | ns/row·pass | marginal ns/row·sweep | "
+              "solver set-up ms/step | overlap mm | max speed m/s | moving | mean height m | ms/step ÷ %s | %s |\n"
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+              ref >= 0 ? configs[static_cast<size_t>(ref)].label().c_str() : "quality reference",
               stack ? "drift mm" : "ms/step ÷ first");
-  const double ref = configs.empty() ? 0 : median(ms[0]);
+  const double first_ms = configs.empty() ? 0 : med[0];
   for (size_t i = 0; i < configs.size(); ++i) {
     const Config& c = configs[i];
-    const Run& r = last[i];
-    const double med = median(ms[i]);
-    double per_pass = 0, marginal = NAN, setup = NAN;
-    if (c.v3) {
-      per_pass = 1e6 * med * r.pass_share / std::max(1.0, r.rows_per_step * c.substeps * 2);
-    } else {
-      per_pass = 1e9 * r.solver_cpu_s / steps / std::max(1.0, r.rows_per_step * c.sweeps);
-      for (size_t j = 0; j < configs.size(); ++j)  // the same solver at twice the sweeps
-        if (!configs[j].v3 && configs[j].solver == c.solver && configs[j].sweeps == 2 * c.sweeps) {
-          const double a = last[i].solver_cpu_s / steps, b = last[j].solver_cpu_s / steps;
-          const double rows = 0.5 * (last[i].rows_per_step + last[j].rows_per_step);
-          marginal = 1e9 * (b - a) / std::max(1.0, rows * c.sweeps);
-          setup = 1e3 * (a - (b - a));
-        }
-    }
-    char last_col[32], marginal_col[32] = "–", setup_col[32] = "–";
-    if (!std::isnan(marginal)) std::snprintf(marginal_col, sizeof marginal_col, "%.2f", marginal);
-    if (!std::isnan(setup)) std::snprintf(setup_col, sizeof setup_col, "%.3f", setup);
-    if (stack) std::snprintf(last_col, sizeof last_col, "%.2f", 1e3 * r.drift);
-    else std::snprintf(last_col, sizeof last_col, "%.2f", ref > 0 ? med / ref : 0.0);
-    std::printf("| %s | %.4f | %.4f–%.4f | %.0f | %.2f | %s | %s | %.2f | %s |\n", c.label().c_str(), med,
-                *std::min_element(ms[i].begin(), ms[i].end()), *std::max_element(ms[i].begin(), ms[i].end()),
-                r.rows_per_step, per_pass, marginal_col, setup_col,
-                1e3 * r.overlap, last_col);
+    double marginal = NAN, setup = NAN;
+    for (size_t j = 0; j < configs.size() && !c.v3; ++j)  // the same solver and settings at twice the sweeps
+      if (!configs[j].v3 && configs[j].solver == c.solver && configs[j].settings == c.settings &&
+          configs[j].warm == c.warm && configs[j].sweeps == 2 * c.sweeps) {
+        const double a = last[i].solver_cpu_s / steps, b = last[j].solver_cpu_s / steps;
+        const double rows = 0.5 * (last[i].rows_per_step + last[j].rows_per_step);
+        marginal = 1e9 * (b - a) / std::max(1.0, rows * c.sweeps);
+        setup = 1e3 * (a - (b - a));
+      }
+    print_row(c.label(), c, last[i], ms[i], med[i], marginal, setup, steps, stack, first_ms, ref_ms);
+  }
+  const int eq = equal_quality(configs, last, med, ref);
+  if (eq >= 0) {
+    const auto e = static_cast<size_t>(eq);
+    print_row("ours at equal quality: " + configs[e].label(), configs[e], last[e], ms[e], med[e], NAN, NAN, steps,
+              stack, first_ms, ref_ms);
+  }
+  for (size_t i = 0; i < configs.size() && profile; ++i) {
+    const dc::PgsColoredProfile& q = last[i].parts;
+    if (q.solves == 0) continue;
+    const double k = 1e3 / steps;  // CPU ms per step
+    std::printf("\nsolver parts, %s (CPU ms/step, last round): checks %.4f, colouring %.4f, ordering %.4f, "
+                "pack %.4f, du0 %.4f, sweeps %.4f, unpermute %.4f, residual %.4f\n",
+                configs[i].label().c_str(), k * q.checks, k * q.coloring, k * q.ordering, k * q.pack, k * q.du0,
+                k * q.sweeps, k * q.unpermute, k * q.residual);
+  }
+  if (ref >= 0) {
+    const Config& r = configs[static_cast<size_t>(ref)];
+    char pick[160] = "none qualifies";
+    if (eq >= 0)
+      std::snprintf(pick, sizeof pick, "%s at %.2f× its time", configs[static_cast<size_t>(eq)].label().c_str(),
+                    med[static_cast<size_t>(eq)] / ref_ms);
+    std::printf("\nOurs at equal quality: of our configurations whose overlap is at most %s's (%.2f mm) with at "
+                "most its moving bodies (%d), the one with the fewest sweeps (ties: less time): %s.\n",
+                r.label().c_str(), 1e3 * last[static_cast<size_t>(ref)].overlap, last[static_cast<size_t>(ref)].moving,
+                pick);
   }
   std::fflush(stdout);
 }
@@ -322,8 +455,9 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
 
 int main(int argc, char** argv) {
   std::string ns = "100,1000,10000", ours = "pgs-colored:16,pgs-colored:32,pgs:16,pgs:32", v3 = "4:30,8:100";
+  std::string eq_v3 = "8:100";
   int steps = 600, rounds = 3, stack_steps = 600, pyramid = 0;
-  bool skip_pile = false, skip_stack = false;
+  bool skip_pile = false, skip_stack = false, profile = false;
   CLI::App app{"Box2D v3 vs DeepContact: the scaled seed pile and a 20-box stack, ms per step and quality"};
   app.add_option("--n", ns, "Body counts of the scaled seed pile, comma-separated (default 100,1000,10000)");
   app.add_option("--steps", steps, "Steps of each pile run (default 600)")->check(CLI::PositiveNumber);
@@ -333,27 +467,34 @@ int main(int argc, char** argv) {
   app.add_option("--stack-steps", stack_steps, "Steps of the 20-box stack run (default 600)")->check(CLI::PositiveNumber);
   app.add_option("--pyramid", pyramid, "Also run the box pyramid of this base (0 = not; --stack-steps steps)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--eq-v3", eq_v3,
+                 "The v3 configuration SUBSTEPS:CONTACT_HERTZ of --v3 whose overlap sets the bar of the row "
+                 "'ours at equal quality' on the piles (default 8:100; empty: no such row)");
+  app.add_flag("--profile", profile,
+               "Print the parts of pgs-colored's solves (checks, colouring, …, sweeps, residual) per configuration");
   app.add_flag("--skip-pile", skip_pile, "Do not run the piles");
   app.add_flag("--skip-stack", skip_stack, "Do not run the box stack");
   CLI11_PARSE(app, argc, argv);
   try {
     std::vector<Config> configs = parse_configs(v3, true);
     for (const Config& c : parse_configs(ours, false)) configs.push_back(c);
+    const std::vector<Config> eq = parse_configs(eq_v3, true);
+    const Config* eq_ref = eq.empty() ? nullptr : &eq.front();
     std::printf("CPU: %s\nBox2D v3 %d.%d.%d, one worker, sleeping off; load at start %s\n",
                 cpu_model().c_str(), b2GetVersion().major, b2GetVersion().minor,
                 b2GetVersion().revision, loadavg().c_str());
     if (!skip_stack) {
       dc::WorldDef d = dc::stress::box_stack(20, {1.0, 1.0});
-      compare("20-box stack", d, configs, stack_steps, rounds, true);
+      compare("20-box stack", d, configs, stack_steps, rounds, true, nullptr, profile);
     }
     if (pyramid > 0)
       compare("box pyramid, base " + std::to_string(pyramid), dc::stress::box_pyramid(pyramid), configs, stack_steps,
-              rounds, true);
+              rounds, true, nullptr, profile);
     if (!skip_pile) {
       std::stringstream ss(ns);
       std::string item;
       while (std::getline(ss, item, ','))
-        if (!item.empty()) compare("seed pile", scaled_seed(std::stoi(item)), configs, steps, rounds, false);
+        if (!item.empty()) compare("seed pile", scaled_seed(std::stoi(item)), configs, steps, rounds, false, eq_ref, profile);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "box2d3_compare: %s\n", e.what());

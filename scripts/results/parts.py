@@ -359,8 +359,10 @@ def block_step_threads(ctx):
 
 
 def box2d3_rows(out):
-    """Rows [scene, configuration, ms/step, ns/row·pass, overlap mm, last column] of box2d3_compare's Markdown
-    tables (the overlap is the largest between touching bodies at the end of the run: the quality side)."""
+    """Rows [scene, configuration, ms/step, ns/row·pass, overlap mm, moving, mean height m, ÷ quality reference,
+    last column] of box2d3_compare's Markdown tables (the overlap is the largest between touching bodies at the end
+    of the run: the quality side; moving: bodies faster than 0.1 m/s at the end; the ratio is to the --eq-v3
+    configuration, and the row "ours at equal quality" is the program's pick by its rule)."""
     rows, scene, cols = [], "", []
     for line in out.splitlines():
         if line.startswith("## "):
@@ -371,40 +373,61 @@ def box2d3_rows(out):
                 cols = cells
                 continue
             cell = dict(zip(cols, cells))
+            ratio = next((cell[c] for c in cols if c.startswith("ms/step ÷ ") and c != "ms/step ÷ first"), "–")
             rows.append([scene, cell.get("configuration", "?"), cell.get("ms/step (median)", "?"),
-                         cell.get("ns/row·pass", "?"), cell.get("overlap mm", "–"), f"{cols[-1]}: {cells[-1]}"])
+                         cell.get("ns/row·pass", "?"), cell.get("overlap mm", "–"), cell.get("moving", "–"),
+                         cell.get("mean height m", "–"), ratio, f"{cols[-1]}: {cells[-1]}"])
     return rows
 
 
-def block_peers_v3(ctx, name="speed-peers-v3", title="Against Box2D v3", short=None, why=""):
+def block_peers_v3(ctx, name="speed-peers-v3", title="Against Box2D v3", short=None, why="", always=False):
     """Box2D v3 built from source (-DBOX2D3_DIR): benchmarks/compare/box2d3_compare. `short` are the
-    program's arguments when FULL is off (None: the program's defaults either way)."""
+    program's arguments when FULL is off (None: the program's defaults either way), or always with `always`."""
     block = {"name": name, "title": title, "columns": [], "rows": [], "note": "",
              "skipped": "box2d3_compare not built (configure with -DBOX2D3_DIR=<Box2D v3 sources>)"}
     if not os.path.exists(ctx.bin("box2d3_compare")):
         print(f"results: speed: {block['skipped']}: skipped")
         return block
-    args = [] if ctx.full or short is None else short
+    args = short if always else [] if ctx.full or short is None else short
     rows = box2d3_rows(ctx.run([ctx.bin("box2d3_compare"), *args]))
     block.update({"rows": rows, "skipped": "" if rows else "box2d3_compare printed no table",
                   "note": (f"`box2d3_compare {' '.join(args)}`: CPU ms per step (median), ns per row and solver pass, "
-                           "the largest overlap between touching bodies at the end of the run (quality), "
-                           "and the program's last column (the stack's drift, or the time relative to the first "
-                           "configuration); benchmarks/compare/README.md explains the configurations." + why),
-                  "columns": ["scene", "configuration", "ms/step", "ns/row·pass", "overlap mm", "last column"]})
+                           "the largest overlap between touching bodies at the end of the run (quality), the bodies "
+                           "still moving (> 0.1 m/s) and their mean height at the end, the time ÷ Box2D v3's at 8 "
+                           "substeps and 100 Hz, and the program's last column (the stack's drift, or the time "
+                           "relative to the first configuration); \"ours at equal quality\" is the program's pick: "
+                           "the fewest sweeps whose overlap and moving bodies are at most v3's at 8 substeps and "
+                           "100 Hz; benchmarks/compare/README.md explains the configurations and the rule." + why),
+                  "columns": ["scene", "configuration", "ms/step", "ns/row·pass", "overlap mm", "moving",
+                              "mean height m", "÷ v3 8:100", "last column"]})
     return block
 
 
 def block_peers_v3_10k(ctx):
-    """The 10,000-body pile run long enough to settle (1,500 steps), so that the overlaps compare quality at
-    rest rather than mid-impact; 12 and 16 sweeps bracket v3's 8-substep overlap."""
+    """The 10,000-body pile run 1,500 steps, with a ladder of sweeps for the row "ours at equal quality": at 16
+    sweeps our pile is still flowing then (most bodies faster than 0.1 m/s), so the rule passes over it; 24 sweeps
+    with over-relaxation ω = 1.3 and 32 sweeps rest."""
     if ctx.full:
         return {"name": "speed-peers-v3-10k", "title": "Against Box2D v3, 10,000 bodies at rest", "columns": [],
                 "rows": [], "note": "", "skipped": "FULL=1 runs 10,000 bodies in the block above"}
     return block_peers_v3(ctx, "speed-peers-v3-10k", "Against Box2D v3, 10,000 bodies at rest",
                           ["--n", "10000", "--rounds", "1", "--steps", "1500", "--skip-stack",
-                           "--ours", "pgs-colored:12,pgs-colored:16", "--v3", "4:30,8:100"],
-                          " One round (time budget); 1,500 steps so the pile is at rest when the overlap is taken.")
+                           "--ours", "pgs-colored:16,pgs-colored:24,pgs-colored:24+omega=1.3,pgs-colored:32",
+                           "--v3", "4:30,8:100"],
+                          " One round (time budget); 1,500 steps, when v3's pile is at rest (the moving column says "
+                          "whether ours is).")
+
+
+def block_peers_v3_eq(ctx):
+    """The 1,000-body pile at rest (1,500 steps; at 600 both engines' piles still move), three rounds, with a ladder
+    of sweeps and contact settings for the row "ours at equal quality"."""
+    return block_peers_v3(ctx, "speed-peers-v3-eq", "Against Box2D v3 at equal quality, 1,000 bodies at rest",
+                          ["--n", "1000", "--rounds", "3", "--steps", "1500", "--skip-stack",
+                           "--ours", "pgs-colored:6,pgs-colored:8,pgs-colored:16,pgs-colored:6+slop=0.004+omega=1.3,"
+                           "pgs-colored:8+slop=0.004+omega=1.3", "--v3", "4:30,8:100"],
+                          " 1,500 steps so that both piles are at rest; slop = 0.004 m and ω = 1.3 are scene and "
+                          "solver settings (`[contact] slop`, `[solver] omega`), the defaults are 0.005 m and 1.",
+                          always=True)
 
 
 def block_peers(ctx):
@@ -433,7 +456,7 @@ def part_speed(ctx):
                 block_peers(ctx),
                 block_peers_v3(ctx, short=["--n", "1000", "--rounds", "1", "--pyramid", "20"],
                                why=" One round, 1,000 bodies (time budget)."),
-                block_peers_v3_10k(ctx)], []
+                block_peers_v3_eq(ctx), block_peers_v3_10k(ctx)], []
     finally:
         if env_before is None:
             del os.environ["OMP_WAIT_POLICY"]

@@ -42,7 +42,7 @@ bool stopped_at_tolerance(SolveStatus s);
 struct SolverOptions {
   int max_sweeps = 3000;     ///< sweep (iteration) limit
   double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance; 0 = fixed-sweep mode
-  double omega = 1.0;        ///< relaxation (psor; 1 = Gauss–Seidel); jacobi uses it as damping
+  double omega = 1.0;        ///< relaxation (psor, pgs-colored; 1 = Gauss–Seidel); jacobi uses it as damping
   /// "pgs" only: solve the two normal rows of each two-point manifold (two contacts of one
   /// body pair with one normal, e.g. a box face on a face) as one 2 × 2 LCP, exactly, like
   /// Box2D's block solver (lcp/src/solvers/pgs_manifold_block.hpp; docs/lcp.md). false =

@@ -34,6 +34,7 @@
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
+#include "solvers/pgs_colored/relax/over_relaxation.hpp"
 #include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -133,6 +134,7 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
     // Threads only while they pay (ThreadPacer), unless min_batches_per_thread = 0 forces them.
+    if (!(o.omega > 0 && o.omega < 2)) return colored::invalid_omega(p, lambda0, o);
     const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0;
     serial_solve_ = held_ || (paced && !pacer_.threaded_next());
     serial_setup_ = paced && !pacer_.proven();
@@ -181,6 +183,7 @@ class PgsColoredSolver final : public LcpSolver {
     other.resize(why.empty() ? np : 0);
     bool bad_start = false;
     if (why.empty()) why = pack(p, lambda, prep, lp.data(), other.data(), bad_start, laps);
+    if (why.empty() && o.omega != 1.0) colored::over_relax(prep.batches, prep.pairs, o.omega);
     if (!why.empty()) {
       SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
       if (r.status != SolveStatus::InvalidInput)
