@@ -85,8 +85,8 @@ TEST(ProxNewtonLead, WindowRuleFollowsAConvergingNonMonotoneNncgToTheTarget) {
   EXPECT_EQ(chunks_run(LeadRate(1.0, 0, 2.0), r, target, 100000), 2);
   // The cap stops it first.
   EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), r, target, 50 * 30), 30);
-  // 1.5-fold per 8 chunks is too slow for a 2-fold window: the first full window (against the
-  // start) stops it.
+  // 1.5-fold per 8 chunks, all of it in the first chunk, is too slow for 2-fold per 8 chunks:
+  // pro rata from the start, chunk 5 asks for 2^(5/8) > 1.5.
   std::vector<double> slow;
   double low = 1.0;
   for (int b = 0; b < 10; ++b) {
@@ -94,25 +94,24 @@ TEST(ProxNewtonLead, WindowRuleFollowsAConvergingNonMonotoneNncgToTheTarget) {
     slow.push_back(low);
     for (int k = 1; k < 8; ++k) slow.push_back(low * 1.2);
   }
-  EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), slow, 1e-12, 100000), 8);
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), slow, 1e-12, 100000), 5);
 }
 
 TEST(ProxNewtonLead, WindowRuleHandsAStagnatingNncgOverWithinTheBound) {
-  // 1 % per chunk: less than 2-fold over any window of 16 chunks: it stops after exactly 16.
+  // 10-fold in the first chunk, then 1 % per chunk: less than 2-fold over the first window of
+  // 16 chunks after the first: it stops at chunk 17.
   std::vector<double> r;
-  for (int k = 1; k <= 200; ++k) r.push_back(std::pow(0.99, k));
-  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0), r, 1e-9, 100000), 16);
-  // Exactly 2-fold over each window of 4 goes on (≤), a hair less stops; the window compares
-  // with the best 4 chunks earlier (the start for the first window).
-  const double q = std::pow(0.5, 0.25);
-  std::vector<double> even;
-  for (int k = 1; k <= 12; ++k) even.push_back(std::pow(q, k) * (1 + 1e-12));
-  EXPECT_EQ(chunks_run(LeadRate(1.0 + 1e-12, 4, 2.0), even, 1e-9, 100000), 12);
-  std::vector<double> short_of = even;
-  short_of[8] = short_of[7] * 0.999;  // chunk 9: 2-fold over chunks 6–9 missed
-  short_of[9] = short_of[8];
-  EXPECT_EQ(chunks_run(LeadRate(1.0 + 1e-12, 4, 2.0), short_of, 1e-9, 100000), 9);
-  // Within the first window: a chunk that is no better than the guess stops.
+  for (int k = 1; k <= 200; ++k) r.push_back(0.1 * std::pow(0.99, k));
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0), r, 1e-9, 100000), 17);
+  // Exactly 2-fold per window of 4, flat in between: it goes on (≤), the window compares with
+  // the best 4 chunks earlier, and the first window with the start; a hair less stops.
+  std::vector<double> steps;
+  for (int k = 1; k <= 12; ++k) steps.push_back(std::ldexp(1.0, -(1 + (k - 1) / 4)));
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 4, 2.0), steps, 1e-9, 100000), 12);
+  std::vector<double> short_of = steps;
+  for (int k = 8; k < 12; ++k) short_of[static_cast<std::size_t>(k)] *= 1 + 1e-9;  // chunks 9–12
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 4, 2.0), short_of, 1e-9, 100000), 9);
+  // A first chunk no better than the guess stops; so do a non-finite best and the target.
   EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0), {2.0, 0.5}, 1e-9, 100000), 1);
   EXPECT_FALSE(LeadRate(1.0, 16, 2.0).go_on(NAN, 1e-9, 50, 50, 100000));
   EXPECT_FALSE(LeadRate(1.0, 16, 2.0).go_on(1e-10, 1e-9, 50, 50, 100000));

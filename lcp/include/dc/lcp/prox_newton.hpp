@@ -56,9 +56,11 @@ struct ProxNewtonDef {
   /// body impacts and polydisperse piles it gets there in thousands, each sweep far cheaper than
   /// a Newton iteration (a few thousand sweeps cost less than one Newton part on such a pile).
   int lead_sweeps = 5000;
-  /// The lead stage goes on while its best hard residual falls: during the first `lead_window`
-  /// chunks below the guess's, after them at least `lead_window_gain`-fold over the last
-  /// `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 2). nncg's residual is not
+  /// The lead stage goes on while its best hard residual falls at least `lead_window_gain`-fold
+  /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 2), and during the
+  /// first `lead_window` chunks pro rata from the guess's (gain^(n/window) after chunk n: a stage
+  /// that gains little from the start, as from an iterate nncg already polished in the oracle,
+  /// hands over after a chunk or two). nncg's residual is not
   /// monotone: converging on mid-sized piles, it climbs for up to hundreds of sweeps between new
   /// bests, so a shorter window hands over piles nncg would finish; on deep settled piles it
   /// falls less than 2-fold in 800 sweeps. lead_window = 0: the rate rule instead (stop at a

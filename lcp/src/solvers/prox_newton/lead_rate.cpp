@@ -9,9 +9,8 @@ bool LeadRate::go_on(double best, double target, int done, int chunk, int cap) {
   if (!(best > 0) || !std::isfinite(best) || best <= target || done >= cap) return false;
   const int n = static_cast<int>(best_.size());
   if (window_ == 0) return rate_reaches(best, target, done, chunk, cap);
-  if (n < window_) return best < start_;
-  const double before = n > window_ ? best_[static_cast<size_t>(n - 1 - window_)] : start_;
-  return best * gain_ <= before;
+  if (n <= window_) return best * std::pow(gain_, static_cast<double>(n) / window_) <= start_;
+  return best * gain_ <= best_[static_cast<size_t>(n - 1 - window_)];
 }
 
 bool LeadRate::rate_reaches(double best, double target, int done, int chunk, int cap) const {

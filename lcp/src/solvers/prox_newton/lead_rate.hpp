@@ -18,8 +18,10 @@ class LeadRate {
   /// After a chunk of `chunk` sweeps with `done` sweeps in all, the best hard residual `best`
   /// [N] so far: true to run another chunk. False once `best` ≤ `target` [N], `done` ≥ `cap`, or
   /// `best` is not finite and > 0; otherwise
-  ///   * window > 0: while fewer than `window` chunks ran, true when `best` < start; after, true
-  ///     when best·gain ≤ the best `window` chunks earlier (the start before the first chunk);
+  ///   * window > 0: true when the best fell at least gain-fold over the last `window` chunks,
+  ///     best·gain ≤ the best `window` chunks earlier; during the first `window` chunks pro rata
+  ///     from the start, best·gain^(n/window) ≤ start after chunk n (a stage that gains little
+  ///     from the start, as from an iterate nncg already polished, hands over early);
   ///   * window = 0 (the rate rule): true when this chunk lowered the best and, at the rate q per
   ///     chunk since the end of the first chunk (from the start for the first chunk alone), the
   ///     target is reached within `cap` sweeps.
