@@ -66,6 +66,8 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   if (key == "lead_sweeps") d.lead_sweeps = static_cast<int>(x);
   else if (key == "lead_finish_window") d.lead_finish_window = static_cast<int>(x);
   else if (key == "lead_gain") d.lead_gain = x;
+  else if (key == "lead_window") d.lead_window = static_cast<int>(x);
+  else if (key == "lead_window_gain") d.lead_window_gain = x;
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);
   else if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
   else if (key == "inner_tolerance") d.inner_tolerance = x;

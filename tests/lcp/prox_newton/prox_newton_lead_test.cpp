@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "dc/core/error.hpp"
@@ -27,26 +28,136 @@ double velocity_gap(const LcpProblem& p, const Eigen::VectorXd& a, const Eigen::
   return (lcp_velocity(p, a) - lcp_velocity(p, b)).cwiseAbs().maxCoeff();
 }
 
-TEST(ProxNewtonLead, RateGoesOnOnlyWhileItReachesTheTargetWithinTheCap) {
-  // 10-fold per chunk from 1 N: 1e-6 N five chunks after the first, 300 sweeps in all.
-  EXPECT_TRUE(LeadRate(1.0).go_on(0.1, 1e-6, 50, 50, 2000));
-  EXPECT_FALSE(LeadRate(1.0).go_on(0.1, 1e-6, 50, 50, 250));
+TEST(ProxNewtonLead, RateRuleGoesOnOnlyWhileItReachesTheTargetWithinTheCap) {
+  // lead_window = 0. 10-fold per chunk from 1 N: 1e-6 N five chunks after the first, 300 sweeps.
+  const auto rate = [] { return LeadRate(1.0, 0, 2.0); };
+  EXPECT_TRUE(rate().go_on(0.1, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(rate().go_on(0.1, 1e-6, 50, 50, 250));
   // 0.9 per chunk: 130 more chunks.
-  EXPECT_FALSE(LeadRate(1.0).go_on(0.9, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(rate().go_on(0.9, 1e-6, 50, 50, 2000));
   // No fall, a non-finite residual, or the target already met: stop.
-  EXPECT_FALSE(LeadRate(1.0).go_on(1.0, 1e-6, 50, 50, 2000));
-  EXPECT_FALSE(LeadRate(1.0).go_on(NAN, 1e-6, 50, 50, 2000));
-  EXPECT_FALSE(LeadRate(1.0).go_on(1e-7, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(rate().go_on(1.0, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(rate().go_on(NAN, 1e-6, 50, 50, 2000));
+  EXPECT_FALSE(rate().go_on(1e-7, 1e-6, 50, 50, 2000));
   // After the first chunk the rate is the one since its end: a fast first chunk and a slow
   // second one stop; two fast ones go on.
-  LeadRate slow(1.0);
+  LeadRate slow = rate();
   ASSERT_TRUE(slow.go_on(0.01, 1e-6, 50, 50, 2000));
   EXPECT_FALSE(slow.go_on(0.009, 1e-6, 100, 50, 2000));
-  LeadRate fast(1.0);
+  LeadRate fast = rate();
   ASSERT_TRUE(fast.go_on(0.01, 1e-6, 50, 50, 2000));
   EXPECT_TRUE(fast.go_on(0.001, 1e-6, 100, 50, 2000));
   // A chunk without a new best stops.
   EXPECT_FALSE(fast.go_on(0.001, 1e-6, 150, 50, 2000));
+}
+
+/// Feeds the best-so-far of `residuals` (one per chunk of 50) to a window rule; the chunks run
+/// until it stops (or the sequence ends).
+int chunks_run(LeadRate rate, const std::vector<double>& residuals, double target, int cap) {
+  double best = INFINITY;
+  for (std::size_t k = 0; k < residuals.size(); ++k) {
+    best = std::min(best, residuals[k]);
+    if (!rate.go_on(best, target, static_cast<int>(50 * (k + 1)), 50, cap)) return static_cast<int>(k + 1);
+  }
+  return static_cast<int>(residuals.size());
+}
+
+/// A non-monotone converging nncg: each block of 8 chunks starts with a new best 2.5-fold below
+/// the last one, then climbs above it for 7 chunks.
+std::vector<double> sawtooth(double start, int blocks) {
+  std::vector<double> r;
+  double low = start;
+  for (int b = 0; b < blocks; ++b) {
+    low /= 2.5;
+    r.push_back(low);
+    for (int k = 1; k < 8; ++k) r.push_back(low * (1 + 0.5 * k));
+  }
+  return r;
+}
+
+TEST(ProxNewtonLead, WindowRuleFollowsAConvergingNonMonotoneNncgToTheTarget) {
+  // 2.5-fold per 8 chunks with 7 chunks between new bests: the window rule (8 chunks, 2-fold)
+  // goes on to the chunk that reaches the target; the rate rule stops at the first chunk
+  // without a new best.
+  const std::vector<double> r = sawtooth(1.0, 20);
+  const double target = 1.0 / std::pow(2.5, 12) * 1.01;  // the 12th block's new best
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), r, target, 100000), 11 * 8 + 1);
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 0, 2.0), r, target, 100000), 2);
+  // The cap stops it first.
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), r, target, 50 * 30), 30);
+  // 1.5-fold per 8 chunks, all of it in the first chunk, is too slow for 2-fold per 8 chunks:
+  // pro rata from the start, chunk 5 asks for 2^(5/8) > 1.5.
+  std::vector<double> slow;
+  double low = 1.0;
+  for (int b = 0; b < 10; ++b) {
+    low /= 1.5;
+    slow.push_back(low);
+    for (int k = 1; k < 8; ++k) slow.push_back(low * 1.2);
+  }
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), slow, 1e-12, 100000), 5);
+}
+
+TEST(ProxNewtonLead, WindowRuleHandsAStagnatingNncgOverWithinTheBound) {
+  // 10-fold in the first chunk, then 1 % per chunk: less than 2-fold over the first window of
+  // 16 chunks after the first: it stops at chunk 17.
+  std::vector<double> r;
+  for (int k = 1; k <= 200; ++k) r.push_back(0.1 * std::pow(0.99, k));
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0), r, 1e-9, 100000), 17);
+  // Exactly 2-fold per window of 4, flat in between: it goes on (≤), the window compares with
+  // the best 4 chunks earlier, and the first window with the start; a hair less stops.
+  std::vector<double> steps;
+  for (int k = 1; k <= 12; ++k) steps.push_back(std::ldexp(1.0, -(1 + (k - 1) / 4)));
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 4, 2.0), steps, 1e-9, 100000), 12);
+  std::vector<double> short_of = steps;
+  for (int k = 8; k < 12; ++k) short_of[static_cast<std::size_t>(k)] *= 1 + 1e-9;  // chunks 9–12
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 4, 2.0), short_of, 1e-9, 100000), 9);
+  // A first chunk no better than the guess stops; so do a non-finite best and the target.
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0), {2.0, 0.5}, 1e-9, 100000), 1);
+  EXPECT_FALSE(LeadRate(1.0, 16, 2.0).go_on(NAN, 1e-9, 50, 50, 100000));
+  EXPECT_FALSE(LeadRate(1.0, 16, 2.0).go_on(1e-10, 1e-9, 50, 50, 100000));
+}
+
+TEST(ProxNewtonLead, AStageThatReachesTheTargetLeavesNoNewtonPart) {
+  // A loose target nncg reaches: no pass, no finish, no factorisation, the stage's answer.
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 3400);
+    const LcpProblem p = test::random_contact(40, 80, true, rng);
+    SolverOptions o;
+    o.max_sweeps = 10000;
+    o.tolerance = 1e-4 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
+    ProxNewtonSolver s;
+    const SolveResult r = s.solve(p, {}, o);
+    const ProxNewtonStats st = s.last_stats();
+    // (The status stays below Converged: the loose tolerance is above the solution target.)
+    ASSERT_EQ(r.message.rfind("finished by nncg lead stage", 0), 0u) << r.message;
+    EXPECT_GT(st.lead_sweeps, 0) << r.message;
+    EXPECT_EQ(st.newton + st.finish_newton + st.outer + st.factorizations, 0) << r.message;
+    EXPECT_EQ(r.sweeps, st.lead_sweeps);
+    EXPECT_LE(r.residual, o.tolerance);
+  }
+}
+
+TEST(ProxNewtonLead, AStagnatingStageStopsBeforeTheCap) {
+  // A target below round-off: nncg's best stops falling, and the stage hands over to the
+  // Newton part well before its cap.
+  test::TestRng rng(3500);
+  const LcpProblem p = test::random_contact(40, 80, true, rng);
+  SolverOptions o;
+  o.max_sweeps = 100000;
+  o.tolerance = 1e-300;
+  ProxNewtonDef def;
+  def.lead_sweeps = 100000;
+  def.lead_window = 4;
+  def.safeguard_sweeps = 0;
+  ProxNewtonSolver s(def);
+  const SolveResult r = s.solve(p, {}, o);
+  EXPECT_LT(s.last_stats().lead_sweeps, 20000) << r.message;
+  ProxNewtonDef bad;
+  bad.lead_window_gain = 1.0;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
+  bad = {};
+  bad.lead_window = -1;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
 }
 
 TEST(ProxNewtonLead, SameVelocitiesWithAndWithoutTheLeadStage) {

@@ -23,9 +23,10 @@
 //     factorisation per iteration, the analysis kept across passes).
 // With `exact_cone` (body space) the passes are instead proximal steps on the exact 2D friction
 // cone with de Saxcé's shift of the normal velocities (docs/solvers.md "Exact-cone passes").
-// Before the passes, in body space, the lead stage: nncg sweeps from the guess while their rate
-// reaches the target within `lead_sweeps` sweeps. Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations on
-// the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
+// Before the passes, in body space, the lead stage: nncg sweeps from the guess while their best
+// hard residual falls at least `lead_window_gain`-fold per `lead_window` chunks, `lead_sweeps` at
+// most. Once the row modes repeat between two passes, `finish_iterations` newton-sparse iterations
+// on the hard problem; when the passes stop (max_stalls passes without a new best, or max_outer)
 // above the target, with `body_finish` coupled body-space passes from the best iterate, then
 // the proximal-point route from the best iterate (`proximal_finish`); then, on
 // small contact problems, Lemke's pivoting on the problem as a standard LCP (`pivot_rows`),
@@ -47,14 +48,26 @@ namespace dc {
 
 struct ProxNewtonDef {
   /// Body space: the lead stage, nncg sweeps from the guess before the passes, at most (default
-  /// 2000; 0 = none). They run in chunks of 50 and stop at the target, or when a chunk does not
-  /// lower the best hard residual, or when their rate so far would not reach the target within
-  /// this many sweeps. Short of the target, the Newton part runs from its best iterate first
-  /// (lead_gain) and from the guess when that misses the target (its best iterate stays a
-  /// candidate for the answer).
-  /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps, each far
-  /// cheaper than a Newton iteration; on deep settled piles it stops after a few chunks.
-  int lead_sweeps = 2000;
+  /// 5000; 0 = none). They run in chunks of 50 and stop at the target, at this cap, or when the
+  /// best hard residual stops falling (lead_window). Short of the target, the Newton part runs
+  /// from its best iterate first (lead_gain) and from the guess when that misses the target (its
+  /// best iterate stays a candidate for the answer).
+  /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps; on 1,000-
+  /// body impacts and polydisperse piles it gets there in thousands, each sweep far cheaper than
+  /// a Newton iteration (a few thousand sweeps cost less than one Newton part on such a pile).
+  int lead_sweeps = 5000;
+  /// The lead stage goes on while its best hard residual falls at least `lead_window_gain`-fold
+  /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 2), and during the
+  /// first `lead_window` chunks pro rata from the guess's (gain^(n/window) after chunk n: a stage
+  /// that gains little from the start, as from an iterate nncg already polished in the oracle,
+  /// hands over after a chunk or two). nncg's residual is not
+  /// monotone: converging on mid-sized piles, it climbs for up to hundreds of sweeps between new
+  /// bests, so a shorter window hands over piles nncg would finish; on deep settled piles it
+  /// falls less than 2-fold in 800 sweeps. lead_window = 0: the rate rule instead (stop at a
+  /// chunk without a new best, or when the rate since the first chunk would not reach the
+  /// target within lead_sweeps), which hands over after a few chunks on those mid-sized piles.
+  int lead_window = 16;
+  double lead_window_gain = 2.0;
   /// The proximal finish of the Newton part from the lead stage's iterate stops when its best
   /// hard residual fell less than 2-fold over this many outer iterations
   /// (ProximalPointDef::progress_window; default 20; 0 = finish_route's own setting): the

@@ -5,13 +5,19 @@
 namespace dc::solvers::prox {
 
 bool LeadRate::go_on(double best, double target, int done, int chunk, int cap) {
-  ++chunks_;
-  const double before = chunks_ == 1 ? start_ : last_;
-  if (chunks_ == 1) first_ = best;
-  last_ = best;
-  if (!(best < before) || !(best > 0) || !std::isfinite(best)) return false;
-  if (best <= target) return false;
-  const double q = chunks_ == 1 ? best / start_ : std::pow(best / first_, 1.0 / (chunks_ - 1));
+  best_.push_back(best);
+  if (!(best > 0) || !std::isfinite(best) || best <= target || done >= cap) return false;
+  const int n = static_cast<int>(best_.size());
+  if (window_ == 0) return rate_reaches(best, target, done, chunk, cap);
+  if (n <= window_) return best * std::pow(gain_, static_cast<double>(n) / window_) <= start_;
+  return best * gain_ <= best_[static_cast<size_t>(n - 1 - window_)];
+}
+
+bool LeadRate::rate_reaches(double best, double target, int done, int chunk, int cap) const {
+  const int n = static_cast<int>(best_.size());
+  const double before = n == 1 ? start_ : best_[static_cast<size_t>(n - 2)];
+  if (!(best < before)) return false;
+  const double q = n == 1 ? best / start_ : std::pow(best / best_.front(), 1.0 / (n - 1));
   if (!(q < 1)) return false;
   const double chunks_left = std::log(target / best) / std::log(q);
   return done + chunks_left * chunk <= cap;

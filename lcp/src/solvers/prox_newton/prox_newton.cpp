@@ -62,9 +62,10 @@ void check_def(const ProxNewtonDef& d) {
                           "cone_anderson, cone_follow_after, cone_trust_retries, cone_trust_radius, cone_follow_below, cone_trust_forget >= 0, "
                           "cone_trust_grow > 1, cone_trust_accept >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
-  if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || !(d.lead_gain >= 1) || d.lead_fallback_doublings > 20)
-    throw InvalidArgument("prox-newton: lead_sweeps and lead_finish_window must be >= 0, lead_gain >= 1, "
-                          "lead_fallback_doublings <= 20");
+  if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || !(d.lead_gain >= 1) || d.lead_fallback_doublings > 20 ||
+      d.lead_window < 0 || !(d.lead_window_gain > 1 && std::isfinite(d.lead_window_gain)))
+    throw InvalidArgument("prox-newton: lead_sweeps, lead_finish_window and lead_window must be >= 0, lead_gain >= 1, "
+                          "lead_fallback_doublings <= 20, lead_window_gain finite and > 1");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -308,15 +309,15 @@ class ProxRun {
     if (last && !reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
   }
 
-  /// The lead stage (ProxNewtonDef::lead_sweeps): nncg from λ in chunks while LeadRate says its
-  /// rate reaches the target within the sweeps allowed; its iterates go through consider().
+  /// The lead stage (ProxNewtonDef::lead_sweeps): nncg from λ in chunks while LeadRate says it
+  /// still converges (lead_window); its iterates go through consider().
   /// False when it did not run.
   bool lead(const Eigen::VectorXd& lambda) {
     constexpr int kChunk = 50;  // sweeps between looks at the hard residual
     const int cap = std::min(def_.lead_sweeps, std::max(0, o_.max_sweeps));
     if (cap <= 0 || reached(best_res_, target_)) return false;
     const auto nncg = make_nncg();
-    LeadRate rate(best_res_);
+    LeadRate rate(best_res_, def_.lead_window, def_.lead_window_gain);
     Eigen::VectorXd x = lambda;
     while (st_.lead_sweeps < cap) {
       SolverOptions so;
