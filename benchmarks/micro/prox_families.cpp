@@ -47,6 +47,7 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "krylov_max") r.newton_sparse.krylov_max = static_cast<int>(x);
   else if (key == "fallback_doublings") r.newton_sparse.fallback_doublings = static_cast<int>(x);
   else if (key == "newton_stalls") r.newton_sparse.max_stalls = static_cast<int>(x);
+  else if (key == "stop_at_target") r.stop_at_target = x != 0;
   else if (key == "inner_iterations") r.inner_iterations = static_cast<int>(x);
   else if (key == "krylov_forcing") r.newton_sparse.krylov_forcing = x;
   else if (key == "inner_forcing") r.inner_forcing = x;
