@@ -2,11 +2,11 @@
 // "prox-newton"): a scene advanced as `deepcontact bench --warmup-steps W` does (builtin +
 // pgs-colored, 1000 sweeps, θ ≤ 1e-2 N), then for each evaluated step every variant solves the
 // same LCP from the builtin guess to R/100 (R = 1e-6 of the heaviest body's weight, the bench's
-// --accuracy trace target), the variants alternated step by step; the world advances with the
+// --accuracy trace target; --stop-factor 1: to R), the variants alternated step by step; the world advances with the
 // oracle's λ*. Per variant and step: factorisations as the bench counts them (passes, short
 // finish and proximal-finish iterations), lead-stage sweeps, Newton iterations, R/scale reached,
 // CPU ms of this thread for the solve and to R (its first checkpoint at R, the checkpoints' own
-// residual evaluations excluded); pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the
+// residual evaluations excluded) and the iterations there (lead sweeps + Newton, it_to_R); pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the
 // reference time.
 //
 //   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2
@@ -46,6 +46,8 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   if (key == "stale_factor_iterations") r.newton_sparse.stale_factor_iterations = static_cast<int>(x);
   else if (key == "krylov_max") r.newton_sparse.krylov_max = static_cast<int>(x);
   else if (key == "fallback_doublings") r.newton_sparse.fallback_doublings = static_cast<int>(x);
+  else if (key == "newton_stalls") r.newton_sparse.max_stalls = static_cast<int>(x);
+  else if (key == "stop_at_target") r.stop_at_target = x != 0;
   else if (key == "inner_iterations") r.inner_iterations = static_cast<int>(x);
   else if (key == "krylov_forcing") r.newton_sparse.krylov_forcing = x;
   else if (key == "inner_forcing") r.inner_forcing = x;
@@ -138,16 +140,19 @@ int main(int argc, char** argv) {
   int first = 0, steps = 1;
   std::vector<int> seeds{3};
   double accuracy = 1e-6;
+  double stop_factor = 100;
   app.add_option("--scene", scene)->required();
   app.add_option("--variant", specs)->required();
   app.add_option("--first", first);
   app.add_option("--steps", steps);
   app.add_option("--seeds", seeds);
   app.add_option("--accuracy", accuracy);
+  app.add_option("--stop-factor", stop_factor,
+                 "the solver's tolerance is R·scale/this (default 100, the bench's trace; 1 = stop at R)");
   CLI11_PARSE(app, argc, argv);
   std::vector<Variant> variants;
   for (const auto& s : specs) variants.push_back(parse_variant(s));
-  std::printf("seed step rows variant reached R_over_scale factorisations lead newton finish outer cpu_ms ms_to_R pgs_ms message\n");
+  std::printf("seed step rows variant reached R_over_scale factorisations lead newton finish outer cpu_ms ms_to_R it_to_R pgs_ms message\n");
   for (const int seed : seeds) {
     dc::WorldDef def = dc::load_scene(scene);
     def.bodies.seed = static_cast<std::uint64_t>(seed);
@@ -189,27 +194,34 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < variants.size(); ++i) {
         dc::SolverOptions so;
         so.max_sweeps = 10000;
-        so.tolerance = accuracy * scale / 100;
+        so.tolerance = accuracy * scale / stop_factor;
         so.record_theta = false;
         // ms to R: CPU time at the first checkpoint whose λ is at R (the checkpoints' own
         // residual evaluations excluded), as the bench's trace takes it.
         for (int k = 1; k <= so.max_sweeps; ++k) so.checkpoints.push_back(k);
         double callback_ms = 0.0, to_r_ms = -1.0, t0 = 0.0;
-        so.on_checkpoint = [&](int, const Eigen::VectorXd& lam) {
+        int to_r_it = -1;  // iterations (lead sweeps + Newton) at the first checkpoint at R
+        so.on_checkpoint = [&](int it, const Eigen::VectorXd& lam) {
           if (to_r_ms >= 0) return;
           const double c0 = thread_cpu_ms();
-          if (dc::natural_residual(p, lam) / scale <= accuracy) to_r_ms = c0 - t0 - callback_ms;
+          if (dc::natural_residual(p, lam) / scale <= accuracy) {
+            to_r_ms = c0 - t0 - callback_ms;
+            to_r_it = it;
+          }
           callback_ms += thread_cpu_ms() - c0;
         };
         t0 = thread_cpu_ms();
         const dc::SolveResult r = solvers[i]->solve(p, guess, so);
         const double ms = thread_cpu_ms() - t0 - callback_ms;
-        if (to_r_ms < 0 && dc::natural_residual(p, r.lambda) / scale <= accuracy) to_r_ms = ms;
+        if (to_r_ms < 0 && dc::natural_residual(p, r.lambda) / scale <= accuracy) {
+          to_r_ms = ms;
+          to_r_it = r.sweeps;
+        }
         const dc::ProxNewtonStats st = solvers[i]->last_stats();
         const double acc = dc::natural_residual(p, r.lambda) / scale;
-        std::printf("%d %d %d %s %d %.3g %d %d %d %d %d %.1f %.2f %.2f \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
+        std::printf("%d %d %d %s %d %.3g %d %d %d %d %d %.1f %.2f %d %.2f \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
                     acc <= accuracy ? 1 : 0, acc, st.factorizations, st.lead_sweeps, st.newton,
-                    st.finish_newton, st.outer, ms, to_r_ms, pgs_ms, r.message.c_str());
+                    st.finish_newton, st.outer, ms, to_r_ms, to_r_it, pgs_ms, r.message.c_str());
         std::fflush(stdout);
       }
       const dc::OracleSolution os = dc::solve_oracle(p, &guess);

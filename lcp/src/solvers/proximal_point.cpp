@@ -94,9 +94,18 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   const LcpProblem& p = solvers::with_assembled_matrix(problem, local);
   Eigen::VectorXd lambda;
   if (auto bad = solvers::check_input(p, lambda0, "proximal point", lambda)) return *bad;
-  const auto inner = def.inner_solver.kind == SolverKind::NewtonSparse ? make_newton_sparse(def.newton_sparse)
-                                                                        : make_solver(def.inner_solver);
   const double target = options.tolerance > 0 ? options.tolerance : solution_target(p, options);
+  // stop_at_target: the first inner iterate at the original problem's target ends the route.
+  Eigen::VectorXd at_target;
+  NewtonSparseDef inner_def = def.newton_sparse;
+  if (def.stop_at_target)
+    inner_def.stop_when = [&p, &at_target, target](int, const Eigen::VectorXd& x) {
+      if (!(natural_residual(p, x) <= target)) return false;
+      at_target = x;
+      return true;
+    };
+  const auto inner = def.inner_solver.kind == SolverKind::NewtonSparse ? make_newton_sparse(inner_def)
+                                                                        : make_solver(def.inner_solver);
   const double diag = p.rows() > 0 ? p.A.diagonal().cwiseAbs().maxCoeff() : 0.0;
   SolverOptions inner_options;
   inner_options.max_sweeps = def.inner_iterations;
@@ -136,6 +145,12 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     if (const auto* ns = dynamic_cast<const NewtonSparseSolver*>(inner.get()); ns && stats) {
       stats->factorizations += ns->last_stats().factorizations;
       stats->krylov_iterations += ns->last_stats().krylov_iterations;
+    }
+    if (at_target.size() == p.rows()) {
+      out.lambda = at_target;
+      out.residual = natural_residual(p, at_target);
+      cp.reach(out.sweeps, out.lambda);
+      break;
     }
     if (r.status == SolveStatus::InvalidInput) {
       // The inner solver refuses this kind of problem (lemke on friction rows): every shifted

@@ -11,6 +11,7 @@
 // Status: Converged only when the returned λ passes the solution test (solution_target); a stop
 // at a looser options.tolerance is ToleranceReached; SweepLimit after max_sweeps iterations; Failed after `max_stalls` iterations without decrease;
 // InvalidInput for an invalid problem or guess. λ is always finite: the best iterate.
+#include <functional>
 #include <memory>
 
 #include "dc/lcp/lcp_solver.hpp"
@@ -64,6 +65,11 @@ struct NewtonSparseDef {
   /// Consecutive iterations without a new best residual before the solve stops as Failed
   /// (default 20).
   int max_stalls = 20;
+  /// Called after every iteration with the iteration count and the iterate; returning true ends
+  /// the solve there (status by the usual rule on the returned best iterate; default none). The
+  /// proximal-point route stops its inner solve once an iterate meets the ORIGINAL problem's
+  /// target (ProximalPointDef::stop_at_target).
+  std::function<bool(int iteration, const Eigen::VectorXd& lambda)> stop_when;
   /// Stale factor: a Newton direction is first sought by GMRES on the full Newton system,
   /// preconditioned with the factor kept from an earlier iteration (or an earlier solve of this
   /// object on a matrix of the same pattern, e.g. the next shift of the proximal-point route),

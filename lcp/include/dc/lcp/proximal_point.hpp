@@ -8,7 +8,8 @@
 // same factor (restarting from the best iterate) after one that did not converge; it never
 // shrinks below a shift that failed (that floor falls floor_decay-fold per converged inner
 // solve). It stops when the natural residual of the ORIGINAL problem
-// at the best iterate is ≤ target (options.tolerance [N] when > 0, else solution_target): then
+// at the best iterate is ≤ target (options.tolerance [N] when > 0, else solution_target; checked
+// after every inner iteration with stop_at_target): then
 // Converged when that λ passes the solution test (solution_target), else ToleranceReached;
 // SweepLimit after max_outer outer iterations, or earlier by max_stalls or progress_window; InvalidInput, with the inner solver's message,
 // when the inner solver refuses the problem (lemke on friction rows). λ is the best iterate
@@ -54,6 +55,12 @@ struct ProximalPointDef {
   /// route runs until the target or max_outer (a slow stretch at a raised floor costs outer
   /// iterations, never the steps that reach the target only late).
   bool window_stops = true;
+  /// Stop an inner newton-sparse solve at its first iterate whose natural residual of the
+  /// ORIGINAL problem is ≤ target, and return that iterate (default true). The inner solves aim
+  /// at the shifted problem's own (tighter) target, and near the solution the original problem's
+  /// residual can fall below the route's target many inner iterations before they get there.
+  /// Costs one natural-residual evaluation of the original problem per inner iteration.
+  bool stop_at_target = true;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
   /// Inexact proximal point: each inner solve stops at max(inner target, inner_forcing × the

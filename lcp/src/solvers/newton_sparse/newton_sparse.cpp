@@ -242,7 +242,7 @@ class NewtonSparseRun {
     int stalls = 0;
     // Why the loop ended: only the iteration limit is a SweepLimit, the others are failures.
     // `why` says the same in words, for the message.
-    enum class Stop { IterationLimit, NoFiniteIterate, Stalled } stop = Stop::IterationLimit;
+    enum class Stop { IterationLimit, NoFiniteIterate, Stalled, Requested } stop = Stop::IterationLimit;
     std::string why = "iteration limit";
     while (v_.max_abs > target) {
       if (st_.iterations >= max_iter) break;
@@ -258,6 +258,11 @@ class NewtonSparseRun {
       } else if (++stalls >= def_.max_stalls) {
         stop = Stop::Stalled;
         why = "stalled: no decrease of the residual in " + std::to_string(stalls) + " iterations";
+        break;
+      }
+      if (def_.stop_when && def_.stop_when(st_.iterations, lambda)) {
+        stop = Stop::Requested;
+        why = "stopped by the caller";
         break;
       }
     }
