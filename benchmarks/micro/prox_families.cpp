@@ -46,8 +46,12 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   if (key == "stale_factor_iterations") r.newton_sparse.stale_factor_iterations = static_cast<int>(x);
   else if (key == "krylov_max") r.newton_sparse.krylov_max = static_cast<int>(x);
   else if (key == "fallback_doublings") r.newton_sparse.fallback_doublings = static_cast<int>(x);
-  else if (key == "newton_stalls") r.newton_sparse.max_stalls = static_cast<int>(x);
+  else if (key == "newton_stalls" || key == "ns_max_stalls") r.newton_sparse.max_stalls = static_cast<int>(x);
   else if (key == "stop_at_target") r.stop_at_target = x != 0;
+  else if (key == "fallback_cap_fall") r.newton_sparse.fallback_cap_fall = x;
+  else if (key == "fallback_sweeps") r.newton_sparse.fallback_sweeps = static_cast<int>(x);
+  else if (key == "max_damping") r.newton_sparse.max_damping = x;
+  else if (key == "max_backtracks") r.newton_sparse.max_backtracks = static_cast<int>(x);
   else if (key == "inner_iterations") r.inner_iterations = static_cast<int>(x);
   else if (key == "krylov_forcing") r.newton_sparse.krylov_forcing = x;
   else if (key == "inner_forcing") r.inner_forcing = x;
@@ -71,6 +75,7 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_window") d.lead_window = static_cast<int>(x);
   else if (key == "lead_window_gain") d.lead_window_gain = x;
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);
+  else if (key == "lead_fallback_cap_fall") d.lead_fallback_cap_fall = x;
   else if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
   else if (key == "inner_tolerance") d.inner_tolerance = x;
   else if (key == "min_shift") d.min_shift = x;

@@ -8,6 +8,7 @@
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/newton_sparse.hpp"
 #include "dc/lcp/prox_newton.hpp"
 #include "lcp/solver_test_problems.hpp"
 #include "solvers/prox_newton/lead_rate.hpp"
@@ -194,6 +195,34 @@ TEST(ProxNewtonLead, BoundedFallbackInTheLeadPartKeepsTheAnswer) {
   ProxNewtonDef bad;
   bad.lead_fallback_doublings = 30;
   EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
+}
+
+// The stop after a slow batch at the fallback cap applies to the Newton part from the lead
+// iterate only: with the strictest rule there (every cap batch stops its solve) the answer
+// reaches the target the part without it reaches.
+TEST(ProxNewtonLead, FallbackCapStopInTheLeadPartKeepsTheAnswer) {
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 3300);
+    const LcpProblem p = test::random_contact(40, 80, true, rng);
+    ProxNewtonDef strict, off;
+    strict.lead_fallback_cap_fall = 1e-12;
+    strict.lead_fallback_doublings = 1;
+    off.lead_fallback_cap_fall = 0;
+    off.lead_fallback_doublings = 1;
+    ProxNewtonSolver a(strict), b(off);
+    const SolveResult ra = a.solve(p, {}, tight(p)), rb = b.solve(p, {}, tight(p));
+    ASSERT_EQ(ra.status, SolveStatus::Converged) << ra.message;
+    ASSERT_EQ(rb.status, SolveStatus::Converged) << rb.message;
+    EXPECT_LE(velocity_gap(p, ra.lambda, rb.lambda), 1e-6) << "seed " << seed;
+  }
+  for (const double bad_fall : {-0.1, 1.5}) {
+    ProxNewtonDef bad;
+    bad.lead_fallback_cap_fall = bad_fall;
+    EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument) << bad_fall;
+  }
+  NewtonSparseDef bad_ns;
+  bad_ns.fallback_cap_fall = 2;
+  EXPECT_THROW(NewtonSparseSolver{bad_ns}, InvalidArgument);
 }
 
 TEST(ProxNewtonLead, ASmallGainLeavesTheNewtonPartAsWithoutTheStage) {

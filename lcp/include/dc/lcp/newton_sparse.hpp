@@ -29,6 +29,12 @@ struct NewtonSparseDef {
   /// a degenerate iterate onwards).
   int fallback_sweeps = 5;
   int fallback_doublings = 8;
+  /// Stop (as stalled, Failed) after a fallback batch at the cap (2^fallback_doublings ×
+  /// fallback_sweeps, fallback_doublings ≥ 1) that left ‖H‖∞ above this fraction of its value
+  /// before the batch (dimensionless, in (0, 1]; default 0: never). Further batches would
+  /// repeat that one: PGS in its slow regime, while a caller with a better fallback (the
+  /// proximal route's larger shift) converges sooner.
+  double fallback_cap_fall = 0;
   /// Halvings of the step length α before the line search fails (α ≥ 2^−max_backtracks; default 10).
   int max_backtracks = 10;
   /// Levenberg–Marquardt damping: after a failed line search ρ grows 100-fold and the direction

@@ -80,6 +80,14 @@ struct ProxNewtonDef {
   /// piles' failing first parts tens of thousands of sweeps, but on 1,000-body impacts it moves
   /// the point where the target is reached from the first part to the part from the guess.
   int lead_fallback_doublings = 8;
+  /// In that finish, a newton-sparse solve stops once a batch of its fallback PGS sweeps at the
+  /// cap (2^doublings × fallback_sweeps) leaves the residual above this fraction of its value
+  /// before the batch (NewtonSparseDef::fallback_cap_fall; default 0.5; 0 = finish_route's own
+  /// setting): further batches would repeat that slow one. On box piles damped Newton steps
+  /// then creep down a fraction of a percent per iteration behind a thousand sweeps each, and
+  /// the route's next shift or the Newton part from the guess converges sooner; where the
+  /// doubled sweeps pay (1,000-body impacts) they halve the residual before the cap.
+  double lead_fallback_cap_fall = 0.5;
   /// That first Newton part runs only when the lead stage lowered the hard residual at least
   /// this many times (default 100): a stage that gained less (the oracle's call, after its own
   /// nncg stage) leaves the Newton part as without it, its best iterate a candidate only.

@@ -19,6 +19,7 @@
 #include <optional>
 
 #include "dc/lcp/newton_sparse.hpp"
+#include "dc/core/error.hpp"
 #include "solvers/assembled_sweep.hpp"
 #include "dc/core/number_text.hpp"
 #include "solvers/exact/box_newton.hpp"
@@ -265,6 +266,11 @@ class NewtonSparseRun {
         why = "stopped by the caller";
         break;
       }
+      if (slow_cap_) {
+        stop = Stop::Stalled;
+        why = "fallback sweeps at their cap lowered the residual less than fallback_cap_fall-fold";
+        break;
+      }
     }
     r.lambda = best_;
     r.sweeps = st_.iterations;
@@ -307,9 +313,16 @@ class NewtonSparseRun {
     // iterate onwards.
     const bool good = stepped && alpha >= 1.0 / 16;
     failures_ = good ? 0 : failures_ + 1;
+    slow_cap_ = false;
     if (!good) {
       const int doublings = std::clamp(std::min(failures_ - 1, def_.fallback_doublings), 0, 20);
-      sweeps(lambda, std::max(1, def_.fallback_sweeps) << doublings);
+      const int count = std::max(1, def_.fallback_sweeps) << doublings;
+      const double before = v_.max_abs;
+      sweeps(lambda, count);
+      // A batch at the cap that did not lower ‖H‖∞ fallback_cap_fall-fold: further batches
+      // repeat it, a slow PGS solve (NewtonSparseDef::fallback_cap_fall).
+      slow_cap_ = def_.fallback_cap_fall > 0 && doublings >= std::clamp(def_.fallback_doublings, 0, 20) &&
+                  doublings > 0 && !(v_.max_abs <= def_.fallback_cap_fall * before);
     }
     if (!lambda.allFinite() || !std::isfinite(v_.merit)) {
       lambda = best_;
@@ -346,14 +359,18 @@ class NewtonSparseRun {
   NaturalMapValue v_;
   Eigen::VectorXd best_, previous_, delta_;
   double best_res_ = 0.0;
-  int failures_ = 0;  // consecutive iterations without an accepted Newton step
+  int failures_ = 0;       // consecutive iterations without an accepted Newton step
+  bool slow_cap_ = false;  // the last iteration's fallback batch was at the cap and slow
 };
 
 }  // namespace
 }  // namespace solvers
 
 NewtonSparseSolver::NewtonSparseSolver(const NewtonSparseDef& def)
-    : def_(def), state_(std::make_unique<State>(def)) {}
+    : def_(def), state_(std::make_unique<State>(def)) {
+  if (!(def.fallback_cap_fall >= 0 && def.fallback_cap_fall <= 1))
+    throw InvalidArgument("newton-sparse: fallback_cap_fall must be in [0, 1]");
+}
 
 NewtonSparseSolver::~NewtonSparseSolver() = default;
 

@@ -63,9 +63,10 @@ void check_def(const ProxNewtonDef& d) {
                           "cone_trust_grow > 1, cone_trust_accept >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
   if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || !(d.lead_gain >= 1) || d.lead_fallback_doublings > 20 ||
-      d.lead_window < 0 || !(d.lead_window_gain > 1 && std::isfinite(d.lead_window_gain)))
+      d.lead_window < 0 || !(d.lead_window_gain > 1 && std::isfinite(d.lead_window_gain)) ||
+      !(d.lead_fallback_cap_fall >= 0 && d.lead_fallback_cap_fall <= 1))
     throw InvalidArgument("prox-newton: lead_sweeps, lead_finish_window and lead_window must be >= 0, lead_gain >= 1, "
-                          "lead_fallback_doublings <= 20, lead_window_gain finite and > 1");
+                          "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -401,6 +402,7 @@ class ProxRun {
       pd.window_stops = true;
     }
     if (windowed && def_.lead_fallback_doublings >= 0) pd.newton_sparse.fallback_doublings = def_.lead_fallback_doublings;
+    if (windowed && def_.lead_fallback_cap_fall > 0) pd.newton_sparse.fallback_cap_fall = def_.lead_fallback_cap_fall;
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     SolverOptions fo;
     fo.tolerance = target_;
