@@ -97,11 +97,14 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   const double target = options.tolerance > 0 ? options.tolerance : solution_target(p, options);
   // stop_at_target: the first inner iterate at the original problem's target ends the route.
   Eigen::VectorXd at_target;
+  double at_target_residual = 0.0;
   NewtonSparseDef inner_def = def.newton_sparse;
   if (def.stop_at_target)
-    inner_def.stop_when = [&p, &at_target, target](int, const Eigen::VectorXd& x) {
-      if (!(natural_residual(p, x) <= target)) return false;
+    inner_def.stop_when = [&p, &at_target, &at_target_residual, target](int, const Eigen::VectorXd& x) {
+      const double res = natural_residual(p, x);
+      if (!(res <= target)) return false;
       at_target = x;
+      at_target_residual = res;
       return true;
     };
   const auto inner = def.inner_solver.kind == SolverKind::NewtonSparse ? make_newton_sparse(inner_def)
@@ -148,7 +151,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     }
     if (at_target.size() == p.rows()) {
       out.lambda = at_target;
-      out.residual = natural_residual(p, at_target);
+      out.residual = at_target_residual;
       cp.reach(out.sweeps, out.lambda);
       break;
     }

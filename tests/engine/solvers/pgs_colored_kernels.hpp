@@ -1,9 +1,16 @@
 #pragma once
-// The pgs-colored kernels this CPU runs (scalar always, AVX2 and AVX-512 where present; the
-// portable build runs the same list: the AVX kernels are chosen at run time), one PgsColoredDef
-// each, for the tests that compare the kernels with each other or with pgs.
+// Shared by the pgs-colored engine tests: the kernels this CPU runs (scalar always, AVX2 and
+// AVX-512 where present; the portable build runs the same list: the AVX kernels are chosen at
+// run time), one PgsColoredDef each, for the tests that compare the kernels with each other or
+// with pgs; the bit-equality those comparisons assert; and a box pyramid's contact problem.
+#include <gtest/gtest.h>
+
+#include <string>
 #include <vector>
 
+#include "dc/engine/stress_scenes.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 
 namespace dc::test {
@@ -17,6 +24,29 @@ inline std::vector<PgsColoredDef> pgs_colored_kernel_defs() {
     out.push_back(d);
   }
   return out;
+}
+
+/// The same λ (bit for bit, row by row), θ and sweep count.
+inline void expect_bit_equal(const SolveResult& a, const SolveResult& b, const std::string& what) {
+  ASSERT_EQ(a.lambda.size(), b.lambda.size()) << what;
+  for (Eigen::Index i = 0; i < a.lambda.size(); ++i) ASSERT_EQ(a.lambda[i], b.lambda[i]) << what << " row " << i;
+  ASSERT_EQ(a.theta, b.theta) << what;
+  EXPECT_EQ(a.sweeps, b.sweeps) << what;
+}
+
+/// A box pyramid (base `base`, two-point manifolds on every face, friction μ) after `steps`
+/// steps of pgs at 100 sweeps, warm-started from the previous λ.
+inline LcpProblem pyramid_problem(int base, int steps, double mu = 0.5) {
+  WorldDef def = stress::box_pyramid(base);
+  def.contact.friction = mu;
+  World world(def);
+  const auto pgs = make_solver("pgs");
+  SolverOptions o;
+  o.max_sweeps = 100;
+  o.record_theta = false;
+  for (int k = 0; k < steps; ++k) world.step(*pgs, o, World::WarmStart::PreviousLambda);
+  world.collide();
+  return world.assemble();
 }
 
 }  // namespace dc::test

@@ -6,8 +6,6 @@
 
 #include <string>
 
-#include "dc/engine/stress_scenes.hpp"
-#include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "lcp/solver_test_problems.hpp"
@@ -24,13 +22,6 @@ SolverOptions relaxed(int sweeps, double omega, double tol = 0.0) {
   return o;
 }
 
-void expect_bit_equal(const SolveResult& a, const SolveResult& b, const std::string& what) {
-  ASSERT_EQ(a.lambda.size(), b.lambda.size()) << what;
-  for (Eigen::Index i = 0; i < a.lambda.size(); ++i) ASSERT_EQ(a.lambda[i], b.lambda[i]) << what << " row " << i;
-  ASSERT_EQ(a.theta, b.theta) << what;
-  EXPECT_EQ(a.sweeps, b.sweeps) << what;
-}
-
 /// Every kernel this CPU runs and 2 threads against the default solver, at `k` sweeps and ω.
 void expect_paths_bit_equal(const LcpProblem& p, const Eigen::VectorXd& l0, int k, double omega) {
   PgsColoredDef threaded;
@@ -40,19 +31,8 @@ void expect_paths_bit_equal(const LcpProblem& p, const Eigen::VectorXd& l0, int 
   ASSERT_EQ(s.status, SolveStatus::SweepLimit) << s.message;
   ASSERT_TRUE(s.message.empty()) << s.message;  // the packed sweeps ran, not the pgs fallback
   for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
-    expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, relaxed(k, omega)), to_string(d.kernel));
-  expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, relaxed(k, omega)), "2 threads");
-}
-
-/// A box pyramid (two-point manifolds on every face) after `steps` steps of pgs.
-LcpProblem pyramid_problem(int base, int steps) {
-  World world(stress::box_pyramid(base));
-  const auto pgs = make_solver("pgs");
-  SolverOptions o = relaxed(100, 1.0);
-  o.record_theta = false;
-  for (int k = 0; k < steps; ++k) world.step(*pgs, o, World::WarmStart::PreviousLambda);
-  world.collide();
-  return world.assemble();
+    test::expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, relaxed(k, omega)), to_string(d.kernel));
+  test::expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, relaxed(k, omega)), "2 threads");
 }
 
 TEST(PgsColoredRelaxation, KernelsAndThreadsAreBitEqualAtOmegaOtherThanOne) {
@@ -64,7 +44,7 @@ TEST(PgsColoredRelaxation, KernelsAndThreadsAreBitEqualAtOmegaOtherThanOne) {
     for (const double omega : {0.7, 1.3})
       for (const int k : {1, 9}) expect_paths_bit_equal(p, l0, k, omega);
   }
-  const LcpProblem pyramid = pyramid_problem(10, 20);
+  const LcpProblem pyramid = test::pyramid_problem(10, 20);
   for (const int k : {1, 9}) expect_paths_bit_equal(pyramid, Eigen::VectorXd::Zero(pyramid.rows()), k, 1.3);
 }
 

@@ -49,26 +49,6 @@ LcpProblem pile_problem(int bodies, int steps) {
   return world.assemble();
 }
 
-/// A box pyramid (base `base`, two-point manifolds on every face) after `steps` steps of pgs.
-LcpProblem pyramid_problem(int base, int steps, double mu = 0.5) {
-  WorldDef def = stress::box_pyramid(base);
-  def.contact.friction = mu;
-  World world(def);
-  const auto pgs = make_solver("pgs");
-  SolverOptions o = sweeps(100);
-  o.record_theta = false;
-  for (int k = 0; k < steps; ++k) world.step(*pgs, o, World::WarmStart::PreviousLambda);
-  world.collide();
-  return world.assemble();
-}
-
-void expect_bit_equal(const SolveResult& a, const SolveResult& b, const char* what) {
-  ASSERT_EQ(a.lambda.size(), b.lambda.size()) << what;
-  for (Eigen::Index i = 0; i < a.lambda.size(); ++i) ASSERT_EQ(a.lambda[i], b.lambda[i]) << what << " row " << i;
-  ASSERT_EQ(a.theta, b.theta) << what;
-  EXPECT_EQ(a.sweeps, b.sweeps) << what;
-}
-
 TEST(ContactColoring, NoColourSharesADynamicBody) {
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     test::TestRng rng(seed);
@@ -147,9 +127,9 @@ TEST_P(PgsColoredPaths, KernelsAndThreadsAreBitEqual) {
       const SolveResult s = make_pgs_colored()->solve(p, l0, sweeps(k));
       ASSERT_EQ(s.status, SolveStatus::SweepLimit) << s.message;
       for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
-        expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
-      expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
-      expect_bit_equal(s, make_pgs_colored()->solve(p, l0, sweeps(k)), "rerun");
+        test::expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
+      test::expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
+      test::expect_bit_equal(s, make_pgs_colored()->solve(p, l0, sweeps(k)), "rerun");
     }
   }
 }
@@ -163,15 +143,15 @@ TEST(PgsColored, PileKernelsThreadsBitEqual) {
   threaded.min_batches_per_thread = 0;
   const SolveResult s = make_pgs_colored()->solve(p, Eigen::VectorXd(), sweeps(40));
   for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
-    expect_bit_equal(s, make_pgs_colored(d)->solve(p, Eigen::VectorXd(), sweeps(40)), to_string(d.kernel));
-  expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, Eigen::VectorXd(), sweeps(40)), "2 threads");
+    test::expect_bit_equal(s, make_pgs_colored(d)->solve(p, Eigen::VectorXd(), sweeps(40)), to_string(d.kernel));
+  test::expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, Eigen::VectorXd(), sweeps(40)), "2 threads");
 }
 
 TEST(PgsColored, ManifoldKernelsThreadsBitEqual) {
   // A pyramid of base 12: 78 boxes, most faces two-point manifolds, several pair batches per
   // colour (full and partial lane groups), friction and frictionless.
   for (double mu : {0.5, 0.0}) {
-    const LcpProblem p = pyramid_problem(12, 20, mu);
+    const LcpProblem p = test::pyramid_problem(12, 20, mu);
     PgsColoredDef threaded;
     threaded.threads = 2;
     threaded.min_batches_per_thread = 0;
@@ -181,15 +161,15 @@ TEST(PgsColored, ManifoldKernelsThreadsBitEqual) {
       const SolveResult s = make_pgs_colored()->solve(p, l0, sweeps(k));
       ASSERT_EQ(s.status, SolveStatus::SweepLimit) << s.message;
       for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
-        expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
-      expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
+        test::expect_bit_equal(s, make_pgs_colored(d)->solve(p, l0, sweeps(k)), to_string(d.kernel));
+      test::expect_bit_equal(s, make_pgs_colored(threaded)->solve(p, l0, sweeps(k)), "2 threads");
     }
   }
 }
 
 TEST(PgsColored, ManifoldsReachTheFixedPointOfPgs) {
   // Frictionless: the LCP is a convex QP, which both Gauss–Seidel orders solve.
-  const LcpProblem p = pyramid_problem(8, 30, 0.0);
+  const LcpProblem p = test::pyramid_problem(8, 30, 0.0);
   const SolveResult a = make_solver("pgs")->solve(p, Eigen::VectorXd(), sweeps(20000, 1e-10));
   const SolveResult c = make_solver("pgs-colored")->solve(p, Eigen::VectorXd(), sweeps(20000, 1e-10));
   EXPECT_TRUE(c.message.empty()) << c.message;  // no fallback to pgs
@@ -228,9 +208,9 @@ TEST(PgsColored, ReusedBuffersGiveTheResultOfAFreshSolver) {
     d.reuse_colors = false;  // the same colouring as a fresh solver's
     const auto reused = make_pgs_colored(d);
     (void)reused->solve(big, Eigen::VectorXd(), sweeps(5));
-    expect_bit_equal(reused->solve(small, Eigen::VectorXd(), sweeps(9)),
+    test::expect_bit_equal(reused->solve(small, Eigen::VectorXd(), sweeps(9)),
                      make_pgs_colored(d)->solve(small, Eigen::VectorXd(), sweeps(9)), to_string(d.kernel));
-    expect_bit_equal(reused->solve(frictionless, Eigen::VectorXd(), sweeps(9)),
+    test::expect_bit_equal(reused->solve(frictionless, Eigen::VectorXd(), sweeps(9)),
                      make_pgs_colored(d)->solve(frictionless, Eigen::VectorXd(), sweeps(9)), to_string(d.kernel));
   }
 }
@@ -257,9 +237,9 @@ TEST(PgsColored, RepeatedContactSetReusesTheLayoutWithNewValues) {
     d.min_batches_per_thread = 0;
     const auto solver = make_pgs_colored(d);
     (void)solver->solve(a, Eigen::VectorXd(), sweeps(5));
-    expect_bit_equal(solver->solve(next, l0, sweeps(9)), make_pgs_colored(d)->solve(next, l0, sweeps(9)),
+    test::expect_bit_equal(solver->solve(next, l0, sweeps(9)), make_pgs_colored(d)->solve(next, l0, sweeps(9)),
                      "repeat after a");
-    expect_bit_equal(solver->solve(a, Eigen::VectorXd(), sweeps(9)),
+    test::expect_bit_equal(solver->solve(a, Eigen::VectorXd(), sweeps(9)),
                      make_pgs_colored(d)->solve(a, Eigen::VectorXd(), sweeps(9)), "a again");
   }
 }
@@ -281,7 +261,7 @@ TEST(PgsColored, NonFiniteIterateStopsEveryKernelAtTheSameSweep) {
     ASSERT_EQ(first.status, SolveStatus::Diverged) << first.message;
     ASSERT_TRUE(first.lambda.allFinite());
     for (const PgsColoredDef& d : test::pgs_colored_kernel_defs())
-      expect_bit_equal(first, make_pgs_colored(d)->solve(*problem, l0, sweeps(50)), to_string(d.kernel));
+      test::expect_bit_equal(first, make_pgs_colored(d)->solve(*problem, l0, sweeps(50)), to_string(d.kernel));
   }
 }
 
