@@ -10,7 +10,8 @@
 // (docs/bench.md "Micro benchmarks"); zero_rows = the fraction of the pile's rows with λ = 0
 // (the falling pile's is far higher at 10,000 bodies and more than at 1,000).
 // BM_StepOnlySettled: BM_StepOnly on the pile built at rest (settled_pile.hpp), one regime at
-// every size. BM_StepStages: consecutive steps of the pile
+// every size. BM_StepOnly and BM_StepOnlySettled step with "pgs"; BM_ColoredStepOnly and
+// BM_ColoredStepOnlySettled are the same with the default solver, "pgs-colored". BM_StepStages: consecutive steps of the pile
 // with "pgs" or "pgs-colored", each stage (and pgs-colored's set-up parts) in thread CPU time
 // per contact row, and the heap allocations of each stage per step (counting_malloc.hpp);
 // benchmarks/scripts/step-stages.sh prints them as a table.
@@ -206,9 +207,9 @@ void BM_Step(benchmark::State& state) {
   report(state, *p.world);
 }
 
-/// BM_StepOnly on the falling pile or the pile built at rest.
-void step_only(benchmark::State& state, const Pile& p) {
-  const auto solver = dc::make_solver("pgs");
+/// BM_StepOnly on the falling pile or the pile built at rest, with the solver `solver`.
+void step_only(benchmark::State& state, const Pile& p, const char* solver_name = "pgs") {
+  const auto solver = dc::make_solver(solver_name);
   const dc::SolverOptions o = fixed_sweeps(static_cast<int>(state.range(1)));
   dc::World w = *p.world;
   for (auto _ : state) {
@@ -227,6 +228,11 @@ void step_only(benchmark::State& state, const Pile& p) {
 void BM_StepOnly(benchmark::State& state) { step_only(state, pile_of(state, 2)); }
 void BM_StepOnlySettled(benchmark::State& state) {
   step_only(state, pile(bodies_of(state), static_cast<int>(state.range(2)), true));
+}
+/// BM_StepOnly and BM_StepOnlySettled with the engine's default solver, "pgs-colored".
+void BM_ColoredStepOnly(benchmark::State& state) { step_only(state, pile_of(state, 2), "pgs-colored"); }
+void BM_ColoredStepOnlySettled(benchmark::State& state) {
+  step_only(state, pile(bodies_of(state), static_cast<int>(state.range(2)), true), "pgs-colored");
 }
 
 double thread_cpu_s() {
@@ -410,6 +416,13 @@ void sizes_settled(benchmark::internal::Benchmark* b) {
     for (int morton : {0, 1, 2, 3}) b->Args({n, kSettleSweeps, morton});
 }
 
+/// 1,000, 10,000 and 40,000 bodies, 20 sweeps, every order.
+void sizes_colored(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"bodies", "sweeps", "morton"});
+  for (int n : {1000, 10000, 40000})
+    for (int morton : {0, 1, 2, 3}) b->Args({n, kSettleSweeps, morton});
+}
+
 void sizes_solvers(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "colored", "morton"});
   for (int n : {1000, 10000, 40000})
@@ -427,6 +440,8 @@ BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnly)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnlySettled)->Apply(sizes_settled)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredStepOnly)->Apply(sizes_colored)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredStepOnlySettled)->Apply(sizes_colored)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepStages)->Apply(sizes_solvers)->Iterations(30)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredSolveParts)
     ->ArgNames({"bodies", "morton"})
