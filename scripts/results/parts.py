@@ -292,31 +292,38 @@ def block_cnn(ctx):
 
 
 def block_step(ctx):
-    step = gbench(ctx, "micro_step", "BM_StepOnly(Settled)?/bodies:(1000|10000|40000)/sweeps:20/morton:(0|1|2|3)$",
+    step = gbench(ctx, "micro_step", "(BM_StepOnly(Settled)?/bodies:(1000|10000|40000)/sweeps:20/morton:(0|1|2|3)|"
+                  "BM_ColoredStepOnly(Settled)?/bodies:(1000|10000|40000)/sweeps:20/morton:(0|3))$",
                   ["--benchmark_min_time=0.1"])
     us = {e["name"]: e["us_per_row"] for e in step if "us_per_row" in e}
     zero = {e["name"]: e["zero_rows"] for e in step if "zero_rows" in e}
     rows = []
     orders = [(0, "creation order"), (1, "`[bodies] order = \"morton\"`"), (2, "`internal_order = \"morton\"`"),
-              (3, "**default settings** (`internal_order = \"auto\"`)")]
-    for bench, pile in [("BM_StepOnly", "falling (step 150)"), ("BM_StepOnlySettled", "at rest")]:
-        for m, label in orders:
-            names = [f"{bench}/bodies:{n}/sweeps:20/morton:{m}" for n in (1000, 10000, 40000)]
-            vals = [us.get(name) for name in names]
-            if None in vals:
-                continue
-            free = [zero.get(name) for name in (names[0], names[2])]
-            rows.append([pile, label] + [f"{v:.3f}" for v in vals] + [f"{vals[2] / vals[0]:.2f}×"] +
-                        ["–" if None in free else f"{100 * free[0]:.0f} / {100 * free[1]:.0f} %"])
+              (3, "`internal_order = \"auto\"`")]
+    # (benchmark prefix, solver label, orders): "pgs" in every order; the default solver in creation
+    # order and with every default setting, the row the per-row goal is read on.
+    runs = [("", "`pgs`", orders),
+            ("Colored", "`pgs-colored`", [(0, "creation order"), (3, "**default settings** (`internal_order = \"auto\"`)")])]
+    for settled, pile in [("", "falling (step 150)"), ("Settled", "at rest")]:
+        for prefix, solver, solver_orders in runs:
+            for m, label in solver_orders:
+                names = [f"BM_{prefix}StepOnly{settled}/bodies:{n}/sweeps:20/morton:{m}" for n in (1000, 10000, 40000)]
+                vals = [us.get(name) for name in names]
+                if None in vals:
+                    continue
+                free = [zero.get(name) for name in (names[0], names[2])]
+                rows.append([pile, solver, label] + [f"{v:.3f}" for v in vals] + [f"{vals[2] / vals[0]:.2f}×"] +
+                            ["–" if None in free else f"{100 * free[0]:.0f} / {100 * free[1]:.0f} %"])
     return {"name": "speed-step", "title": "One step per contact row against size",
-            "note": "`micro_step --benchmark_filter='BM_StepOnly(Settled)?…/sweeps:20'` (all stages, `pgs`, 20 sweeps, "
-                    "builtin warm start), µs per contact row (CPU time). Falling: the generated pile after 150 steps "
-                    "(BM_StepOnly; at 10,000 bodies and more it has not reached rest, most rows free); at rest: the same "
-                    "bodies packed on the floor and settled (BM_StepOnlySettled). Free rows: the share of rows with "
-                    "λ = 0 at 1,000 / 40,000 bodies. The default settings pick the internal Morton order from "
-                    "20,000 circles (`internal_order = \"auto\"`).",
-            "columns": ["pile", "body order", "1,000 bodies", "10,000 bodies", "40,000 bodies", "40,000 / 1,000",
-                        "free rows"], "rows": rows}
+            "note": "`micro_step --benchmark_filter='BM_(Colored)?StepOnly(Settled)?…/sweeps:20'` (all stages, 20 sweeps, "
+                    "builtin warm start; BM_StepOnly steps with `pgs`, BM_ColoredStepOnly with the default solver "
+                    "`pgs-colored`), µs per contact row (CPU time). Falling: the generated pile after 150 steps "
+                    "(at 10,000 bodies and more it has not reached rest, most rows free); at rest: the same "
+                    "bodies packed on the floor and settled (…StepOnlySettled). Free rows: the share of rows with "
+                    "λ = 0 at 1,000 / 40,000 bodies. The default settings are pgs-colored with the internal Morton "
+                    "order picked from 20,000 circles (`internal_order = \"auto\"`).",
+            "columns": ["pile", "solver", "body order", "1,000 bodies", "10,000 bodies", "40,000 bodies",
+                        "40,000 / 1,000", "free rows"], "rows": rows}
 
 
 def block_threads(ctx):
