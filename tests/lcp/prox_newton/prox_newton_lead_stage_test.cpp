@@ -41,7 +41,7 @@ TEST(NncgWatch, LooksEveryChunkAtTheRunsOwnIterateAndStopsWhereAsked) {
     return looks.size() == 3;
   };
   const SolveResult r = solvers::nncg_solve(p, {}, sweeps_only(1000), &w);
-  EXPECT_EQ(looks, (std::vector<int>{7, 14, 21}));
+  ASSERT_EQ(looks, (std::vector<int>{7, 14, 21}));
   EXPECT_EQ(r.sweeps, 21);
   // Every look is the iterate plain nncg returns after as many sweeps (one run, momentum kept).
   for (std::size_t i = 0; i < looks.size(); ++i)
