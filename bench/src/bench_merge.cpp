@@ -37,6 +37,8 @@ void append(SolverPairRecord& t, const SolverPairRecord& f) {
   append(t.weight_scale, f.weight_scale);
   append(t.factorizations, f.factorizations);
   append(t.outer_passes, f.outer_passes);
+  append(t.factorizations_to_accuracy, f.factorizations_to_accuracy);
+  append(t.newton_to_accuracy, f.newton_to_accuracy);
   // f's step k spans f.trace_offsets[k] … [k+1] − 1 of its own trace: shift by what t holds.
   const std::size_t shift = t.trace_ms.size();
   for (std::size_t k = 1; k < f.trace_offsets.size(); ++k) t.trace_offsets.push_back(shift + f.trace_offsets[k]);

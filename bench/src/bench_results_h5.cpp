@@ -108,26 +108,32 @@ void write_solver_pairs_h5(H5File& f, const BenchResults& r) {
     const std::vector<std::int32_t> outer(p.outer_passes.begin(), p.outer_passes.end());
     f.write<std::int32_t>(g + "/factorizations", fac, {n});
     f.write<std::int32_t>(g + "/outer_passes", outer, {n});
+    const std::vector<std::int32_t> fac_r(p.factorizations_to_accuracy.begin(), p.factorizations_to_accuracy.end());
+    const std::vector<std::int32_t> newton_r(p.newton_to_accuracy.begin(), p.newton_to_accuracy.end());
+    f.write<std::int32_t>(g + "/factorizations_to_accuracy", fac_r, {n});
+    f.write<std::int32_t>(g + "/newton_to_accuracy", newton_r, {n});
     f.write<std::int64_t>(g + "/trace_offsets", off, {off.size()});
     f.write<double>(g + "/trace_ms", p.trace_ms, {t});
     f.write<double>(g + "/trace_accuracy", p.trace_accuracy, {t});
   }
   f.write_strings("/solvers/pair_names", names);
   f.write_strings("/solvers/pair_groups", groups);
-  // The summary with its bootstrap intervals: (pairs × 8 × 3), figures in the order of
+  // The summary with its bootstrap intervals: (pairs × 10 × 3), figures in the order of
   // /solvers/interval_figures, each (estimate, lo, hi); NaN where a pair does not count a figure
   // (factorisations and outer passes: only the solvers that count them).
   const std::vector<SolverPairSummary> sum = summarise_solver_pairs(r);
   std::vector<double> iv;
   for (const SolverPairSummary& x : sum)
     for (const Interval& v : {x.reached_share, x.ms_to_accuracy, x.iterations_to_accuracy, x.total_ms,
-                              x.ms_to_accuracy_ratio, x.total_ratio, x.factorizations, x.outer_passes})
+                              x.ms_to_accuracy_ratio, x.total_ratio, x.factorizations, x.outer_passes,
+                              x.factorizations_to_accuracy, x.newton_to_accuracy})
       iv.insert(iv.end(), {v.estimate, v.lo, v.hi});
-  f.write<double>("/solvers/intervals", iv, {sum.size(), 8, 3});
+  f.write<double>("/solvers/intervals", iv, {sum.size(), 10, 3});
   f.write_strings("/solvers/interval_figures", {"reached_share", "median_ms_to_accuracy", "median_iterations_to_accuracy",
                                                 "median_total_ms", "ms_to_accuracy_over_pgs_builtin_total",
                                                 "total_over_pgs_builtin_total", "median_factorizations",
-                                                "median_outer_passes"});
+                                                "median_outer_passes", "median_factorizations_to_accuracy",
+                                                "median_newton_to_accuracy"});
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "solver_comparison.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -33,6 +34,24 @@ std::pair<int, int> last_work(const LcpSolver& solver) {
     return {st.factorizations, st.outer};
   }
   return {-1, -1};
+}
+
+/// Numeric factorisations of `solver`'s solve so far, read from an on_checkpoint callback (−1
+/// where it does not count them).
+int factorizations_so_far(const LcpSolver& solver) {
+  if (const auto* ns = dynamic_cast<const NewtonSparseSolver*>(&solver)) return ns->last_stats().factorizations;
+  if (const auto* pn = dynamic_cast<const ProxNewtonSolver*>(&solver)) return pn->checkpoint_stats().factorizations;
+  return -1;
+}
+
+/// Newton iterations up to iteration `it` of `solver`'s last solve (its iterations as checkpoints
+/// count them; −1 where it does not count work): prox-newton's less its lead stage's nncg sweeps,
+/// which come first.
+int newton_iterations_to(const LcpSolver& solver, int it) {
+  if (dynamic_cast<const NewtonSparseSolver*>(&solver) != nullptr) return it;
+  if (const auto* pn = dynamic_cast<const ProxNewtonSolver*>(&solver))
+    return std::max(0, it - pn->last_stats().lead_sweeps);
+  return -1;
 }
 
 /// True for the solvers last_work reads.
@@ -95,9 +114,14 @@ void SolverComparison::run(const LcpProblem& p, Vec2 gravity, std::size_t starte
     tr.last = initial;
     double run_ms = 0.0;
     std::pair<int, int> work{-1, -1};
+    std::pair<int, int> to_r{-1, -1};  // (factorisations, Newton iterations) to the first checkpoint at R
+    int fac_at_r = -1;                 // factorisations at the first checkpoint at R
     if (initial <= o_.accuracy) {
       tr.reached = 0;
-      if (counts_work(*trace_[k])) work = {0, dynamic_cast<const ProxNewtonSolver*>(trace_[k].get()) ? 0 : -1};
+      if (counts_work(*trace_[k])) {
+        work = {0, dynamic_cast<const ProxNewtonSolver*>(trace_[k].get()) ? 0 : -1};
+        to_r = {0, 0};
+      }
     } else {
       SolverOptions so;
       so.max_sweeps = cap;
@@ -122,6 +146,7 @@ void SolverComparison::run(const LcpProblem& p, Vec2 gravity, std::size_t starte
         if (tr.last <= o_.accuracy) {
           tr.reached = it;
           tr.reached_ms = t;
+          fac_at_r = factorizations_so_far(*trace_[k]);
         }
         callback_ms += ms_since(c0);
       };
@@ -140,12 +165,18 @@ void SolverComparison::run(const LcpProblem& p, Vec2 gravity, std::size_t starte
         rec.trace_ms.push_back(warmstart_ms + run_ms);
         rec.trace_accuracy.push_back(tr.last);
       }
+      // The work to the checkpoint at R; R between checkpoints, or never: the whole solve's.
+      if (counts_work(*trace_[k]))
+        to_r = {fac_at_r >= 0 ? fac_at_r : work.first,
+                newton_iterations_to(*trace_[k], tr.reached >= 0 ? tr.reached : res.sweeps)};
     }
     rec.iterations_to_accuracy.push_back(tr.reached);
     rec.ms_to_accuracy.push_back(warmstart_ms + (tr.reached >= 0 ? tr.reached_ms : run_ms));
     rec.final_accuracy.push_back(tr.last);
     rec.factorizations.push_back(work.first);
     rec.outer_passes.push_back(work.second);
+    rec.factorizations_to_accuracy.push_back(to_r.first);
+    rec.newton_to_accuracy.push_back(to_r.second);
     rec.trace_offsets.push_back(rec.trace_ms.size());
     // 2. The timed solve to the run's θ tolerance (the starters' total column, for this solver),
     //    with the comparison's cap.

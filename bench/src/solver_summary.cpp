@@ -14,7 +14,9 @@ namespace dc::bench {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kColumns = 6;  // reached (0/1), ms to R, iterations to R, total ms, factorisations, outer passes
+// reached (0/1), ms to R, iterations to R, total ms, factorisations, outer passes, factorisations
+// to R, Newton iterations to R
+constexpr int kColumns = 8;
 
 int comparison_cap(const BenchOptions& o) { return o.max_sweeps > 0 ? o.max_sweeps : o.sweeps; }
 
@@ -29,6 +31,8 @@ std::vector<std::vector<double>> pair_columns(const SolverPairRecord& p, int cap
     c[3].push_back(p.total_ms[k]);
     c[4].push_back(std::max(0, p.factorizations[k]));
     c[5].push_back(std::max(0, p.outer_passes[k]));
+    c[6].push_back(std::max(0, p.factorizations_to_accuracy[k]));
+    c[7].push_back(std::max(0, p.newton_to_accuracy[k]));
   }
   return c;
 }
@@ -99,6 +103,11 @@ std::vector<SolverPairSummary> summarise_solver_pairs(const BenchResults& r, con
       s.p99_factorizations = quantile(all.columns[col(i, 4)], 0.99);
     }
     if (counted(r.pairs[i].outer_passes)) s.outer_passes = interval(i, 5, false);
+    if (counted(r.pairs[i].factorizations_to_accuracy)) {
+      s.factorizations_to_accuracy = interval(i, 6, false);
+      s.p99_factorizations_to_accuracy = quantile(all.columns[col(i, 6)], 0.99);
+    }
+    if (counted(r.pairs[i].newton_to_accuracy)) s.newton_to_accuracy = interval(i, 7, false);
     if (any && ref < r.pairs.size()) {
       const double ref_total = median_of(all.columns[col(ref, 3)]);
       s.ms_to_accuracy_ratio = percentile_interval(s.ms_to_accuracy.estimate / ref_total,
@@ -127,6 +136,12 @@ void solver_pairs_json(JsonWriter& j, const std::vector<SolverPairSummary>& s) {
         j.key("p99_factorizations").value(s[i].p99_factorizations);
       }
       if (std::isfinite(s[i].outer_passes.estimate)) j.key("median_outer_passes").value(s[i].outer_passes.estimate);
+      if (std::isfinite(s[i].factorizations_to_accuracy.estimate)) {
+        j.key("median_factorizations_to_accuracy").value(s[i].factorizations_to_accuracy.estimate);
+        j.key("p99_factorizations_to_accuracy").value(s[i].p99_factorizations_to_accuracy);
+      }
+      if (std::isfinite(s[i].newton_to_accuracy.estimate))
+        j.key("median_newton_to_accuracy").value(s[i].newton_to_accuracy.estimate);
       j.end_object();
     }
     j.end_object();
@@ -147,17 +162,22 @@ std::string solver_pairs_markdown(const BenchResults& r, const std::vector<Solve
      << " iterations and the whole run's time). `ms to R` and `total ms` include the warm start; `total ms` is the "
         "solve to θ ≤ " << fmt("%g", r.options.tolerance)
      << " N (for newton-sparse: residual ≤ that). Medians over steps with bootstrap 95 % intervals (seeds, then "
-        "steps); `/pgs+builtin` divides by pgs+builtin's median total ms. `factorisations` (median [interval], "
-        "p99) and `outer passes` count the work of the solve from λ⁰ to R/100 (where the traced solve stops), for "
-        "the solvers that count them (newton-sparse, prox-newton).\n\n";
+        "steps); `/pgs+builtin` divides by pgs+builtin's median total ms. For the solvers that count them "
+        "(newton-sparse, prox-newton): `fact. to R` (median [interval], p99 `p99 to R`) and `Newton to R` count the "
+        "work up to the first checkpoint at R, where `ms to R` is taken (the whole run for a step that never gets "
+        "there; prox-newton's Newton iterations exclude its lead stage's nncg sweeps); `factorisations` (median "
+        "[interval], p99) and `outer passes` count the whole traced solve from λ⁰ to R/100 (where it stops).\n\n";
   md << "| solver | starter | reached | ms to R | iterations to R | total ms | ms to R /pgs+builtin | total /pgs+builtin "
-        "| factorisations | p99 fact. | outer passes |\n";
-  md << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        "| fact. to R | p99 to R | Newton to R | factorisations | p99 fact. | outer passes |\n";
+  md << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& x : s)
     md << "| " << x.solver << " | " << x.starter << " | " << interval_text(x.reached_share, "%.2f") << " | "
        << interval_text(x.ms_to_accuracy, "%.3g") << " | " << interval_text(x.iterations_to_accuracy, "%.0f") << " | "
        << interval_text(x.total_ms, "%.3g") << " | " << interval_text(x.ms_to_accuracy_ratio, "%.3g") << " | "
-       << interval_text(x.total_ratio, "%.3g") << " | " << interval_text(x.factorizations, "%.0f") << " | "
+       << interval_text(x.total_ratio, "%.3g") << " | " << interval_text(x.factorizations_to_accuracy, "%.0f") << " | "
+       << (std::isfinite(x.p99_factorizations_to_accuracy) ? fmt("%.0f", x.p99_factorizations_to_accuracy)
+                                                           : std::string("-"))
+       << " | " << interval_text(x.newton_to_accuracy, "%.0f") << " | " << interval_text(x.factorizations, "%.0f") << " | "
        << (std::isfinite(x.p99_factorizations) ? fmt("%.0f", x.p99_factorizations) : std::string("-")) << " | "
        << interval_text(x.outer_passes, "%.0f") << " |\n";
   md << "\n";

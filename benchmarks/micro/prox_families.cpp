@@ -12,7 +12,8 @@
 //   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2
 //       --variant base --variant pcg:stale_factor_iterations=10
 // A variant is NAME[:key=value,...] over the ProxNewtonDef fields listed in apply(), and
-// route.FIELD=value over the proximal finish's (both routes) listed in apply_route().
+// route.FIELD=value over the proximal finish's (both routes) listed in apply_route(); the variant
+// `nncg` (no keys) is plain nncg under the same protocol (the reference of the lead stage).
 #include <time.h>
 
 #include <CLI/CLI.hpp>
@@ -178,8 +179,10 @@ int main(int argc, char** argv) {
       }
       w.integrate(warm_solver->solve(p, builtin->initial_guess(dc::StepView{w, nullptr}), warm).lambda);
     }
-    std::vector<std::unique_ptr<dc::ProxNewtonSolver>> solvers;
-    for (const auto& v : variants) solvers.push_back(std::make_unique<dc::ProxNewtonSolver>(v.def));
+    std::vector<std::unique_ptr<dc::LcpSolver>> solvers;
+    for (const auto& v : variants)
+      solvers.push_back(v.name == "nncg" ? dc::make_solver("nncg")
+                                         : std::unique_ptr<dc::LcpSolver>(std::make_unique<dc::ProxNewtonSolver>(v.def)));
     for (int s = first; s < first + steps; ++s) {
       w.collide();
       const dc::LcpProblem& p = w.assemble();
@@ -222,7 +225,8 @@ int main(int argc, char** argv) {
           to_r_ms = ms;
           to_r_it = r.sweeps;
         }
-        const dc::ProxNewtonStats st = solvers[i]->last_stats();
+        const auto* pn = dynamic_cast<const dc::ProxNewtonSolver*>(solvers[i].get());
+        const dc::ProxNewtonStats st = pn != nullptr ? pn->last_stats() : dc::ProxNewtonStats{};
         const double acc = dc::natural_residual(p, r.lambda) / scale;
         std::printf("%d %d %d %s %d %.3g %d %d %d %d %d %.1f %.2f %d %.2f \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
                     acc <= accuracy ? 1 : 0, acc, st.factorizations, st.lead_sweeps, st.newton,

@@ -141,7 +141,20 @@ TEST(SolverComparison, NewtonSolversReportTheirFactorisationsAndProxNewtonItsPas
       if (p.iterations_to_accuracy[k] == 0) {
         EXPECT_EQ(p.factorizations[k], 0) << p.solver;
       }
+      // The work to the first checkpoint at R is part of the whole traced solve's, and its
+      // Newton iterations are among the iterations to R (prox-newton's lead sweeps come first).
+      EXPECT_GE(p.factorizations_to_accuracy[k], 0) << p.solver << " step " << k;
+      EXPECT_LE(p.factorizations_to_accuracy[k], p.factorizations[k]) << p.solver << " step " << k;
+      EXPECT_GE(p.newton_to_accuracy[k], 0) << p.solver << " step " << k;
+      if (p.iterations_to_accuracy[k] >= 0) {
+        EXPECT_LE(p.newton_to_accuracy[k], p.iterations_to_accuracy[k]) << p.solver << " step " << k;
+      }
+      if (i == 1 && p.iterations_to_accuracy[k] >= 0) {
+        EXPECT_EQ(p.newton_to_accuracy[k], p.iterations_to_accuracy[k]) << "newton-sparse step " << k;
+      }
     }
+    EXPECT_EQ(r.pairs[0].factorizations_to_accuracy[k], -1) << "pgs does not factorise";
+    EXPECT_EQ(r.pairs[0].newton_to_accuracy[k], -1);
     EXPECT_GE(r.pairs[2].outer_passes[k], 0);
   }
   EXPECT_GT(solved, 0);
@@ -155,14 +168,16 @@ TEST(SolverComparison, NewtonSolversReportTheirFactorisationsAndProxNewtonItsPas
   }
   EXPECT_TRUE(std::isfinite(s[2].outer_passes.estimate));
   const std::string json = bench::summary_json(r, bench::summarise(r), bench::collect_provenance());
-  for (const char* key : {"\"median_factorizations\"", "\"p99_factorizations\"", "\"median_outer_passes\""})
+  for (const char* key : {"\"median_factorizations\"", "\"p99_factorizations\"", "\"median_outer_passes\"",
+                          "\"median_factorizations_to_accuracy\"", "\"p99_factorizations_to_accuracy\"",
+                          "\"median_newton_to_accuracy\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   // results.h5 carries the same intervals under the figure names docs/bench.md lists.
   const test::TempDir dir;
   bench::write_results_h5(r, bench::collect_provenance(), dir / "results.h5");
   const H5File f = H5File::open_read(dir / "results.h5");
   const auto figures = f.read_strings("/solvers/interval_figures");
-  ASSERT_EQ(figures.size(), 8u);
+  ASSERT_EQ(figures.size(), 10u);
   const auto iv = f.read<double>("/solvers/intervals", {s.size(), figures.size(), 3});
   const auto at = [&](std::size_t pair, const std::string& figure, int k) {
     const auto j = static_cast<std::size_t>(std::find(figures.begin(), figures.end(), figure) - figures.begin());
@@ -177,6 +192,12 @@ TEST(SolverComparison, NewtonSolversReportTheirFactorisationsAndProxNewtonItsPas
     EXPECT_EQ(at(i, "median_factorizations", 2), s[i].factorizations.hi);
   }
   EXPECT_EQ(at(2, "median_outer_passes", 0), s[2].outer_passes.estimate);
+  for (std::size_t i : {1u, 2u}) {
+    EXPECT_EQ(at(i, "median_factorizations_to_accuracy", 0), s[i].factorizations_to_accuracy.estimate);
+    EXPECT_EQ(at(i, "median_newton_to_accuracy", 0), s[i].newton_to_accuracy.estimate);
+    EXPECT_LE(s[i].factorizations_to_accuracy.estimate, s[i].factorizations.estimate);
+  }
+  EXPECT_TRUE(std::isnan(at(0, "median_factorizations_to_accuracy", 0))) << "pgs";
 }
 
 TEST(SolverComparison, RefusesRolloutModeUnknownSolversAndABadTarget) {

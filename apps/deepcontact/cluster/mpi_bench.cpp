@@ -79,6 +79,8 @@ void per_step_fields(const Io& io, bench::BenchResults& r, bool send_theta = tru
     io(q.weight_scale);
     io(q.factorizations);
     io(q.outer_passes);
+    io(q.factorizations_to_accuracy);
+    io(q.newton_to_accuracy);
     io(q.trace_offsets);
     io(q.trace_ms);
     io(q.trace_accuracy);

@@ -111,7 +111,8 @@ void note_restarts(const NncgMomentum& m, SolveResult& r) {
 }
 
 /// NNCG on the assembled A (problems without J, e.g. read from a file).
-SolveResult solve_assembled(const LcpProblem& problem, const Eigen::VectorXd& lambda0, const SolverOptions& o) {
+SolveResult solve_assembled(const LcpProblem& problem, const Eigen::VectorXd& lambda0, const SolverOptions& o,
+                            const SweepWatch* watch) {
   std::optional<LcpProblem> local;
   const LcpProblem& p = with_assembled_matrix(problem, local);
   Eigen::VectorXd lambda;
@@ -122,7 +123,7 @@ SolveResult solve_assembled(const LcpProblem& problem, const Eigen::VectorXd& la
     momentum.before_sweep(l.data(), nullptr);
     kernel.sweep(l, 1.0, nonfinite);
     return momentum.after_sweep(l.data());
-  });
+  }, watch);
   r.message = "no Jacobian in the problem: ran the assembled form of NNCG" + (r.message.empty() ? "" : "; " + r.message);
   note_restarts(momentum, r);
   report_singular_rows(p, kernel.singular_rows(), r);
@@ -137,29 +138,32 @@ class NncgSolver final : public LcpSolver {
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
-    if (!p.has_jacobian()) {
-      return solve_assembled(p, lambda0, o);
-    }
-    Eigen::VectorXd lambda;
-    if (auto bad = check_input(p, lambda0, name(), lambda)) return *bad;
-    MatrixFreeSweep sweeper;
-    if (std::string err = sweeper.prepare(p, o.block_manifolds); !err.empty())
-      return refuse_matrix_free(p, lambda, "nncg", err);
-    std::vector<double> du = sweeper.velocity_change(p, lambda);
-    NncgMomentum momentum(p.rows(), sweeper.body_entries());
-    SolveResult r = run_sweeps(p, std::move(lambda), o, [&](Eigen::VectorXd& l, bool& nonfinite) {
-      momentum.before_sweep(l.data(), du.data());
-      sweeper.sweep(l.data(), du.data(), nonfinite);
-      return momentum.after_sweep(l.data());
-    });
-    note_restarts(momentum, r);
-    report_singular_rows(p, sweeper.singular_rows(), r);
-    finish(p, r, o, StopRule::Tolerance);
-    return r;
+    return nncg_solve(p, lambda0, o, nullptr);
   }
 };
 
 }  // namespace
+
+SolveResult nncg_solve(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o,
+                       const SweepWatch* watch) {
+  if (!p.has_jacobian()) return solve_assembled(p, lambda0, o, watch);
+  Eigen::VectorXd lambda;
+  if (auto bad = check_input(p, lambda0, "nncg", lambda)) return *bad;
+  MatrixFreeSweep sweeper;
+  if (std::string err = sweeper.prepare(p, o.block_manifolds); !err.empty())
+    return refuse_matrix_free(p, lambda, "nncg", err);
+  std::vector<double> du = sweeper.velocity_change(p, lambda);
+  NncgMomentum momentum(p.rows(), sweeper.body_entries());
+  SolveResult r = run_sweeps(p, std::move(lambda), o, [&](Eigen::VectorXd& l, bool& nonfinite) {
+    momentum.before_sweep(l.data(), du.data());
+    sweeper.sweep(l.data(), du.data(), nonfinite);
+    return momentum.after_sweep(l.data());
+  }, watch);
+  note_restarts(momentum, r);
+  report_singular_rows(p, sweeper.singular_rows(), r);
+  finish(p, r, o, StopRule::Tolerance);
+  return r;
+}
 
 std::unique_ptr<LcpSolver> make_nncg() { return std::make_unique<NncgSolver>(); }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -140,14 +141,25 @@ inline bool after_finite_sweep(int k, double theta, const Eigen::VectorXd& lambd
   return false;
 }
 
+/// A caller's look at a sweep method's iterate every `every` sweeps (run_sweeps): `stop(k, λ)`
+/// after sweep k (k a multiple of `every`), with the iterate of that sweep; true ends the run
+/// there (status SweepLimit before the shared rule). The method's own state (momentum, Δu)
+/// carries on between looks, so a run judged this way makes the same sweeps as one without it up
+/// to the sweep the hook stops it at.
+struct SweepWatch {
+  int every = 0;  ///< sweeps between looks (≤ 0: none)
+  std::function<bool(int sweeps, const Eigen::VectorXd& lambda)> stop;
+};
+
 /// Generic driver of the sweep methods (PGS, PSOR, Jacobi). `sweep(λ, nonfinite)` performs
 /// one sweep in place, returns θ_k = max_i |λ_i^k − λ_i^{k−1}| and sets nonfinite when an
 /// update produced a non-finite value. The driver records θ, calls checkpoints, stops at
 /// the tolerance, detects divergence (non-finite iterate → restore the previous sweep's λ;
-/// θ_k > 1e12·max(θ_1, 1e-300) → iterates grow without bound) and fills the result.
+/// θ_k > 1e12·max(θ_1, 1e-300) → iterates grow without bound) and fills the result. `watch`
+/// (optional): the caller's look every watch->every sweeps, after the checkpoints.
 template <class Sweep>
 SolveResult run_sweeps(const LcpProblem& /*p*/, Eigen::VectorXd lambda, const SolverOptions& o,
-                       Sweep&& sweep) {
+                       Sweep&& sweep, const SweepWatch* watch = nullptr) {
   SolveResult res;
   res.status = SolveStatus::SweepLimit;
   const int max_sweeps = std::max(0, o.max_sweeps);
@@ -169,6 +181,7 @@ SolveResult run_sweeps(const LcpProblem& /*p*/, Eigen::VectorXd lambda, const So
     }
     done = k;
     if (after_finite_sweep(k, theta, lambda, o, cp, theta1, res)) break;
+    if (watch != nullptr && watch->every > 0 && k % watch->every == 0 && watch->stop(k, lambda)) break;
   }
   res.sweeps = done;
   res.lambda = std::move(lambda);

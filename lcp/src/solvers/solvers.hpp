@@ -21,6 +21,14 @@ std::unique_ptr<LcpSolver> make_nncg();             // "nncg"           nncg.cpp
 SolveResult newton_solve(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o,
                          bool seek_certificate);
 
+struct SweepWatch;  // solver_common.hpp
+
+/// The nncg solver as a function, with the caller's look at its iterate every watch->every
+/// sweeps (null: none; the same run as make_nncg()'s solve). One run keeps nncg's momentum and
+/// Δu across the looks (prox-newton's lead stage judges it this way).
+SolveResult nncg_solve(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o,
+                       const SweepWatch* watch);
+
 /// The assembled PGS/PSOR iteration as a function (also used by pgs without J and by the
 /// PGS polish of newton).
 SolveResult solve_assembled_gauss_seidel(const LcpProblem& p, const Eigen::VectorXd& lambda0,

@@ -87,6 +87,11 @@ struct SolverPairRecord {
   /// solvers that count it (newton-sparse, prox-newton); −1 for the others: numeric
   /// factorisations, and prox-newton's outer (proximal/Tresca) passes (−1 for newton-sparse).
   std::vector<int> factorizations, outer_passes;
+  /// The same solve's work up to the checkpoint where accuracy ≤ R was first reached (the point
+  /// ms_to_accuracy is taken at; the whole solve for a step that never got there; 0 for a λ⁰
+  /// already at R), −1 for solvers that do not count it: numeric factorisations, and Newton
+  /// iterations (prox-newton: iterations_to_accuracy less its lead stage's nncg sweeps).
+  std::vector<int> factorizations_to_accuracy, newton_to_accuracy;
   /// The trace of each step: (ms since the warm start began, accuracy) at λ⁰ and at the
   /// checkpoints until R was reached; points trace_offsets[k] … trace_offsets[k+1]−1 are step k's.
   std::vector<std::size_t> trace_offsets{0};

@@ -31,6 +31,11 @@ struct SolverPairSummary {
   /// intervals and the 99th percentile of factorisations; NaN for a solver that does not count it.
   Interval factorizations, outer_passes;
   double p99_factorizations = std::numeric_limits<double>::quiet_NaN();
+  /// The same solves' work up to the first checkpoint at R (SolverPairRecord::
+  /// factorizations_to_accuracy, newton_to_accuracy), as ms_to_accuracy: medians with intervals
+  /// and the 99th percentile of factorisations; NaN for a solver that does not count it.
+  Interval factorizations_to_accuracy, newton_to_accuracy;
+  double p99_factorizations_to_accuracy = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// One summary per pair, in the order of BenchResults::pairs (empty without --solvers).
@@ -38,7 +43,9 @@ std::vector<SolverPairSummary> summarise_solver_pairs(const BenchResults& r, con
 
 /// The "solvers" object of summary.json: {SOLVER: {STARTER: {"reached_share",
 /// "median_ms_to_accuracy", "median_iterations_to_accuracy", "median_total_ms"}}}, and for
-/// solvers that count them "median_factorizations", "p99_factorizations", "median_outer_passes".
+/// solvers that count them "median_factorizations", "p99_factorizations", "median_outer_passes"
+/// (the whole traced solve, to R/100), "median_factorizations_to_accuracy",
+/// "p99_factorizations_to_accuracy", "median_newton_to_accuracy" (up to the first checkpoint at R).
 void solver_pairs_json(JsonWriter& j, const std::vector<SolverPairSummary>& s);
 
 /// report.md's "Solver comparison" section: what was measured, and the table with intervals.

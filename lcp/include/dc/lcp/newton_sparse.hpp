@@ -110,7 +110,8 @@ class NewtonSparseSolver final : public LcpSolver {
   [[nodiscard]] std::string name() const override { return "newton-sparse"; }
   [[nodiscard]] SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& options) override;
-  /// Statistics of the last solve of this object.
+  /// Statistics of the last solve of this object; called from options.on_checkpoint during a
+  /// solve, the counts so far (total_ms is set at the end).
   [[nodiscard]] NewtonSparseStats last_stats() const;
 
  private:

@@ -48,8 +48,9 @@ namespace dc {
 
 struct ProxNewtonDef {
   /// Body space: the lead stage, nncg sweeps from the guess before the passes, at most (default
-  /// 5000; 0 = none). They run in chunks of 50 and stop at the target, at this cap, or when the
-  /// best hard residual stops falling (lead_window). Short of the target, the Newton part runs
+  /// 5000; 0 = none). One nncg run (its momentum kept throughout), its hard residual looked at
+  /// every 50 sweeps (a chunk), stops at the target, at this cap, or when the best hard residual
+  /// stops falling (lead_window). Short of the target, the Newton part runs
   /// from its best iterate first (lead_gain) and from the guess when that misses the target (its
   /// best iterate stays a candidate for the answer).
   /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps; on 1,000-
@@ -291,6 +292,11 @@ class ProxNewtonSolver final : public LcpSolver {
                                   const SolverOptions& options) override;
   /// Statistics of the last solve of this object.
   [[nodiscard]] ProxNewtonStats last_stats() const;
+  /// Called from options.on_checkpoint during a solve: the work up to the iterate that
+  /// checkpoint sees (last_stats()'s counts so far, the part in progress included: the lead
+  /// sweeps, a finish's Newton iterations and factorisations). The bench counts the
+  /// factorisations to its accuracy R with it.
+  [[nodiscard]] ProxNewtonStats checkpoint_stats() const;
 
  private:
   struct State;  // factorisations kept across solves, the last statistics

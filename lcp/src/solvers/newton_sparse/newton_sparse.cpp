@@ -379,14 +379,13 @@ NewtonSparseStats NewtonSparseSolver::last_stats() const { return state_->last; 
 SolveResult NewtonSparseSolver::solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                       const SolverOptions& o) {
   const auto t0 = solvers::Clock::now();
-  NewtonSparseStats st;
+  // The counts grow in place: last_stats() from a checkpoint callback reads the solve so far.
+  NewtonSparseStats& st = state_->last;
+  st = {};
   std::optional<LcpProblem> local;
   const LcpProblem* p = &solvers::with_assembled_matrix(problem, local);
   Eigen::VectorXd lambda;
-  if (auto bad = solvers::check_input(*p, lambda0, name(), lambda)) {
-    state_->last = st;
-    return *bad;
-  }
+  if (auto bad = solvers::check_input(*p, lambda0, name(), lambda)) return *bad;
   if (!p->A.isCompressed()) {  // the factor's pattern key reads the compressed arrays
     if (!local) local.emplace(*p);
     local->A.makeCompressed();
@@ -398,7 +397,6 @@ SolveResult NewtonSparseSolver::solve(const LcpProblem& problem, const Eigen::Ve
   SolveResult r = run.run(std::move(lambda), target);
   r.theta = std::move(run.theta_);
   st.total_ms = solvers::ms_since(t0);
-  state_->last = st;
   return r;
 }
 

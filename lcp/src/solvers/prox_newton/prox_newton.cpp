@@ -12,10 +12,11 @@
 #include "dc/lcp/newton_sparse.hpp"
 #include "dc/lcp/proximal_point.hpp"
 #include "solvers/prox_newton/body_newton.hpp"
+#include "solvers/prox_newton/checkpoint_work.hpp"
 #include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
-#include "solvers/prox_newton/lead_rate.hpp"
+#include "solvers/prox_newton/lead_stage.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"
@@ -38,6 +39,7 @@ struct ProxParts {
 struct ProxNewtonSolver::State {
   solvers::prox::ProxParts parts;
   ProxNewtonStats last;
+  ProxNewtonStats at_checkpoint;  // checkpoint_stats()
 };
 
 namespace solvers::prox {
@@ -100,8 +102,9 @@ const char* to_string(Finisher f) {
 class ProxRun {
  public:
   ProxRun(const LcpProblem& p, const ProxNewtonDef& def, const SolverOptions& o, ProxParts& s,
-          ProxNewtonStats& st, bool body, bool convex)
-      : p_(p), def_(def), o_(o), s_(s), st_(st), body_(body), convex_(convex), target_(status_target(p, o)), cp_(o) {}
+          ProxNewtonStats& st, ProxNewtonStats& at_checkpoint, bool body, bool convex)
+      : p_(p), def_(def), o_(o), s_(s), st_(st), body_(body), convex_(convex), target_(status_target(p, o)),
+        work_(st, at_checkpoint), cp_options_(work_.watch(o)), cp_(cp_options_) {}
 
   SolveResult run(Eigen::VectorXd lambda) {
     project_feasible(p_, lambda);
@@ -310,29 +313,24 @@ class ProxRun {
     if (last && !reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
   }
 
-  /// The lead stage (ProxNewtonDef::lead_sweeps): nncg from λ in chunks while LeadRate says it
-  /// still converges (lead_window); its iterates go through consider().
+  /// The lead stage (ProxNewtonDef::lead_sweeps; lead_stage.hpp): one nncg run from λ while
+  /// LeadRate says it still converges (lead_window); its iterates go through consider().
   /// False when it did not run.
   bool lead(const Eigen::VectorXd& lambda) {
-    constexpr int kChunk = 50;  // sweeps between looks at the hard residual
     const int cap = std::min(def_.lead_sweeps, std::max(0, o_.max_sweeps));
     if (cap <= 0 || reached(best_res_, target_)) return false;
-    const auto nncg = make_nncg();
-    LeadRate rate(best_res_, def_.lead_window, def_.lead_window_gain);
-    Eigen::VectorXd x = lambda;
-    while (st_.lead_sweeps < cap) {
-      SolverOptions so;
-      so.record_theta = false;
-      so.tolerance = 0.0;
-      so.max_sweeps = std::min(kChunk, cap - st_.lead_sweeps);
-      forward_checkpoints(so);
-      const SolveResult r = nncg->solve(p_, x, so);
-      st_.lead_sweeps += std::max(r.sweeps, 1);
-      if (!r.lambda.allFinite() || r.lambda.size() != p_.rows()) break;
-      x = r.lambda;
+    LeadStageDef ld;
+    ld.cap = cap;
+    ld.window = def_.lead_window;
+    ld.gain = def_.lead_window_gain;
+    ld.start = best_res_;
+    ld.target = target_;
+    SolverOptions so;
+    forward_checkpoints(so, InFlightPart::lead());
+    st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {
       consider(x, hard_residual(p_, x), Finisher::Lead);
-      if (r.status != SolveStatus::SweepLimit || !rate.go_on(best_res_, target_, st_.lead_sweeps, kChunk, cap)) break;
-    }
+      return best_res_;
+    });
     return true;
   }
 
@@ -380,7 +378,7 @@ class ProxRun {
     fo.tolerance = target_;
     fo.record_theta = false;
     if (fo.max_sweeps <= 0) return;
-    forward_checkpoints(fo);
+    forward_checkpoints(fo, InFlightPart::newton_sparse(s_.finish));
     const SolveResult r = s_.finish.solve(*assembled_, lambda, fo);
     const NewtonSparseStats fs = s_.finish.last_stats();
     st_.finish_newton += fs.iterations;
@@ -408,8 +406,8 @@ class ProxRun {
     fo.tolerance = target_;
     fo.record_theta = false;
     fo.exact_tolerance = o_.exact_tolerance;
-    forward_checkpoints(fo);
     ProximalPointStats ps;
+    forward_checkpoints(fo, InFlightPart::proximal_point(ps));
     const SolveResult r = solve_proximal_point(*assembled_, best_, fo, pd, &ps);
     st_.factorizations += ps.factorizations;
     st_.finish_newton += r.sweeps;
@@ -441,12 +439,18 @@ class ProxRun {
 
   /// The caller's checkpoints still ahead, numbered from the iterations done so far, for a
   /// finish's own iteration count: its iterate at each reaches the caller through cp_.
-  void forward_checkpoints(SolverOptions& fo) {
+  /// `part` says what the finish's iterations are and where its factorisations so far are read
+  /// (checkpoint_work.hpp).
+  void forward_checkpoints(SolverOptions& fo, const InFlightPart& part) {
     if (!o_.on_checkpoint) return;
     const int base = done();
     for (const int k : o_.checkpoints)
       if (k > base) fo.checkpoints.push_back(k - base);
-    fo.on_checkpoint = [this, base](int it, const Eigen::VectorXd& lambda) { cp_.after(base + it, lambda); };
+    fo.on_checkpoint = [this, base, part](int it, const Eigen::VectorXd& lambda) {
+      work_.begin(part, it);
+      cp_.after(base + it, lambda);
+      work_.end();
+    };
   }
 
   /// nncg from the best iterate in chunks until the target or safeguard_sweeps.
@@ -475,6 +479,8 @@ class ProxRun {
   ProxNewtonStats& st_;
   bool body_, convex_;
   double target_;
+  CheckpointWork work_;
+  SolverOptions cp_options_;  // o_ with on_checkpoint through work_ (checkpoint_stats)
   CheckpointCursor cp_;
   Eigen::VectorXd best_;
   double best_res_ = INFINITY;
@@ -496,8 +502,11 @@ ProxNewtonSolver::~ProxNewtonSolver() = default;
 
 ProxNewtonStats ProxNewtonSolver::last_stats() const { return state_->last; }
 
+ProxNewtonStats ProxNewtonSolver::checkpoint_stats() const { return state_->at_checkpoint; }
+
 SolveResult ProxNewtonSolver::solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0, const SolverOptions& o) {
   ProxNewtonStats st;
+  state_->at_checkpoint = {};
   Eigen::VectorXd lambda;
   const bool body = def_.body_space && problem.has_jacobian() && problem.inv_mass.size() == problem.J.cols();
   std::optional<LcpProblem> local;
@@ -521,7 +530,7 @@ SolveResult ProxNewtonSolver::solve(const LcpProblem& problem, const Eigen::Vect
     convex = solvers::is_symmetric(p->A);
     if (convex) state_->parts.dual.bind(p->A);
   }
-  solvers::prox::ProxRun run(*p, def_, o, state_->parts, st, body, convex);
+  solvers::prox::ProxRun run(*p, def_, o, state_->parts, st, state_->at_checkpoint, body, convex);
   SolveResult r = run.run(std::move(lambda));
   state_->last = st;
   return r;

@@ -1,0 +1,34 @@
+#pragma once
+// prox-newton's lead stage (ProxNewtonDef::lead_sweeps): one nncg run from the guess, looked at
+// every kLeadChunk sweeps, where its iterate goes to the caller (the best-iterate bookkeeping)
+// and the window rule (LeadRate) decides whether the run goes on. nncg's momentum and Δu carry
+// on across the looks, so the stage makes the sweeps plain nncg makes to the same sweep.
+#include <Eigen/Core>
+#include <functional>
+
+#include "dc/lcp/lcp_solver.hpp"
+
+namespace dc::solvers::prox {
+
+/// Sweeps between looks at the hard residual.
+inline constexpr int kLeadChunk = 50;
+
+struct LeadStageDef {
+  int cap = 0;          ///< sweeps at most (> 0)
+  int window = 0;       ///< LeadRate's window [looks] (0: the rate rule)
+  double gain = 2.0;    ///< LeadRate's fall asked over a window
+  double start = 0.0;   ///< hard residual at the guess [N]
+  double target = 0.0;  ///< hard residual that ends the stage [N]
+};
+
+/// The best hard residual [N] so far after the caller took λ into account.
+using LeadConsider = std::function<double(const Eigen::VectorXd& lambda)>;
+
+/// Runs the stage from λ. `options` carries the caller's checkpoints (numbered from the stage's
+/// first sweep); its max_sweeps, tolerance and record_theta are set here. Every look, and the
+/// last iterate when the run ended between looks, goes through `consider`. Returns the sweeps
+/// made (at least 1, as a run that broke down in its first sweep still cost one).
+int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const LeadStageDef& def, SolverOptions options,
+                   const LeadConsider& consider);
+
+}  // namespace dc::solvers::prox
