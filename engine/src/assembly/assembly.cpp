@@ -127,8 +127,12 @@ void fill_inv_mass(const BodyState& s, int k0, int k1, LcpProblem& out) {
   }
 }
 
-/// assemble_lcp on the calling thread: the contacts' rows by ContactConstraints::add, then J's
-/// row starts, then the rows.
+/// Storage kept beyond a size that grew, as a fraction of it: a pile whose contacts grow step
+/// by step reallocates a few times, not at every step.
+constexpr double kHeadroom = 0.25;
+
+/// assemble_lcp on the calling thread: the contacts' rows by ContactConstraints::add (with J's
+/// entry count), then per contact its row starts and rows, in one pass over the contacts.
 void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
                      LcpProblem& out) {
   const int nb = static_cast<int>(s.size());
@@ -139,8 +143,14 @@ void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, c
   // The constraint structure first: it says which rows each contact owns.
   ContactConstraints& con = out.constraints;
   con.clear();
-  con.reserve(static_cast<size_t>(nc));
-  for (const Contact& ct : contacts) con.add(row_body_a(s, ct), ct.body_b, friction_of(ct, cs), ct.key.feature);
+  // (add() appends: the storage grows geometrically, so a growing pile seldom reallocates.)
+  int nnz = 0;
+  for (const Contact& ct : contacts) {
+    const int a = row_body_a(s, ct);
+    const double mu = friction_of(ct, cs);
+    con.add(a, ct.body_b, mu, ct.key.feature);
+    nnz += (a >= 0 ? 6 : 3) * (mu > 0 ? 2 : 1);
+  }
   const int rows = con.rows();
 
   out.dt = dt;
@@ -151,27 +161,30 @@ void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, c
   // and the tangent row of a contact both hold 3 entries per body it acts on (walls have no
   // columns), body columns in ascending body order. Explicit zeros are stored, exactly as
   // setFromTriplets stored them; storage is reused from step to step.
-  int nnz = 0;
-  for (const ContactConstraint& kc : con) nnz += (kc.has_body_a() ? 6 : 3) * (kc.has_friction() ? 2 : 1);
   out.J.resize(rows, 3 * nb);
-  out.J.resizeNonZeros(nnz);
+  out.J.data().resize(nnz, kHeadroom);  // resizeNonZeros(nnz), with headroom when it grows
   int* const outer = out.J.outerIndexPtr();
-  outer[0] = 0;  // row starts first: fill_rows finds its rows' entries there
-  for (const ContactConstraint& kc : con) {
-    const int per_row = kc.has_body_a() ? 6 : 3;
-    outer[kc.normal_row + 1] = outer[kc.normal_row] + per_row;
-    if (kc.has_friction()) outer[kc.tangent_row + 1] = outer[kc.tangent_row] + per_row;
-  }
+  outer[rows] = nnz;
   out.b.resize(rows);
   out.lo.resize(rows);
   out.hi.resize(rows);
   out.mu.resize(rows);
-  out.normal_row.assign(static_cast<size_t>(rows), -1);
+  out.normal_row.resize(static_cast<size_t>(rows));  // grows geometrically (filled below)
 
   fill_inv_mass(s, 0, nb, out);
+  int at = 0;  // J's entries of the contact's first row
   for (int c = 0; c < nc; ++c) {
     prefetch_body_b(s, contacts, c, nc);
-    fill_rows(s, contacts[static_cast<size_t>(c)], con[c], def, out);
+    const ContactConstraint& kc = con[c];
+    const int per_row = kc.has_body_a() ? 6 : 3;
+    outer[kc.normal_row] = at;  // fill_rows finds its rows' entries there
+    at += per_row;
+    out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
+    if (kc.has_friction()) {
+      outer[kc.tangent_row] = at;
+      at += per_row;
+    }
+    fill_rows(s, contacts[static_cast<size_t>(c)], kc, def, out);
   }
 }
 

@@ -310,7 +310,7 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
   const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
   std::vector<Contact>& contacts = internal_ ? internal_contacts_ : contacts_;
   const ContactConstraints& cons = solved.constraints;
-  Eigen::VectorXd impulse;
+  Eigen::VectorXd& impulse = impulse_;
   if (internal_ && problem_stale_)  // keeps what a later first read of problem() assembles on
     integrate_bodies_keeping(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse,
                              pre_position_, pre_velocity_, pre_omega_);
@@ -384,11 +384,13 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
   rep.rows = solved.rows();
 
   t0 = Clock::now();
-  Eigen::VectorXd lambda0;
+  Eigen::VectorXd& lambda0 = lambda0_;
   if (guess == nullptr) {
     // The builtin warm start on one set of objects (public, or internal: the same numbers per contact).
-    lambda0 = internal_ ? previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_)
-                        : previous_lambda(previous_contacts(), contacts_, problem_, step_threads_);
+    if (internal_)
+      previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_, lambda0);
+    else
+      previous_lambda(previous_contacts(), contacts_, problem_, step_threads_, lambda0);
   } else {
     lambda0 = *guess ? (*guess)(*this) : Eigen::VectorXd::Zero(rep.rows);
     if (lambda0.size() != rep.rows)

@@ -1,0 +1,26 @@
+#pragma once
+// The builtin warm start's λ⁰ in one pass: the persistent-contact match (contact_match.hpp), the
+// put of the matched λ and the projection onto the bounds, contact by contact, while each
+// contact's rows and key are in cache.
+#include <Eigen/Core>
+#include <span>
+
+#include "dc/engine/contact.hpp"
+#include "dc/lcp/lcp_problem.hpp"
+
+namespace dc {
+
+/// out ← λ⁰ of `problem`, whose contacts are `current`: each contact's (λ_n, λ_t) of the contact
+/// with the same key in `previous` (0 for a new one), then made feasible as project_feasible
+/// does: the same numbers as a zero vector, the puts of for_each_matched_contact and
+/// project_feasible. Both lists sorted by key (InvalidArgument as match_contacts_by_key
+/// otherwise). `out` is resized to the problem's rows (its storage reused when the size stays).
+void put_matched_lambda(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
+                        Eigen::VectorXd& out);
+
+/// project_feasible on contact c's rows: its normal row (not a friction row), then its tangent
+/// row, whose bounds read that normal row only. False when the rows are not so related (then
+/// nothing is written).
+bool project_contact_rows(const LcpProblem& problem, int c, Eigen::VectorXd& lambda);
+
+}  // namespace dc
