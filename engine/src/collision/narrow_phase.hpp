@@ -16,8 +16,10 @@
 
 namespace dc {
 
-/// Speculative reach s_k of body k [m].
-double speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt);
+/// Speculative reach s_k of body k [m] (inline: collide() computes it for every body).
+inline double speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt) {
+  return 0.5 * c.margin + length(s.velocity[static_cast<size_t>(k)]) * dt;
+}
 
 /// Contact between circles a and b when their gap is below `threshold` [m].
 /// Coincident centres (distance < 1e-12·(r_a + r_b)) use the normal (0, 1), so that the
