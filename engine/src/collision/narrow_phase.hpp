@@ -92,6 +92,32 @@ inline void add_circle_wall(Vec2 x, double r, int k, Wall w, double width, doubl
   if (gap < threshold) fill_circle_wall(x, r, k, w, n, gap, out.emplace_back());
 }
 
+/// add_circle_wall(centre, radius, k, W, width, height, 2·spec) for each circle k of [k0, k1)
+/// with the packed record probes[k], in body order (the wall's plane chosen once per call).
+template <Wall W>
+inline void add_wall_contacts_of(const CircleProbe* probes, int k0, int k1, double width, double height,
+                                 std::vector<Contact>& out) {
+  for (int k = k0; k < k1; ++k) {
+    const CircleProbe& p = probes[k];
+    Vec2 n;
+    double dist = 0;
+    wall_plane(p.centre, W, width, height, n, dist);
+    const double gap = dist - p.radius;
+    if (gap < 2 * p.spec) fill_circle_wall(p.centre, p.radius, k, W, n, gap, out.emplace_back());
+  }
+}
+
+/// add_wall_contacts_of<w>.
+inline void add_wall_contacts(const CircleProbe* probes, int k0, int k1, Wall w, double width, double height,
+                              std::vector<Contact>& out) {
+  switch (w) {
+    case Wall::Left: add_wall_contacts_of<Wall::Left>(probes, k0, k1, width, height, out); break;
+    case Wall::Right: add_wall_contacts_of<Wall::Right>(probes, k0, k1, width, height, out); break;
+    case Wall::Bottom: add_wall_contacts_of<Wall::Bottom>(probes, k0, k1, width, height, out); break;
+    case Wall::Top: add_wall_contacts_of<Wall::Top>(probes, k0, k1, width, height, out); break;
+  }
+}
+
 /// Signed gap [m] of contact c's pair (two circles, or a circle and the wall c.body_a of the
 /// width × height box) at the positions of `s`, computed as circle_circle / circle_wall do.
 /// Measures what a step did to this step's contacts (StepOutcome). A contact with a

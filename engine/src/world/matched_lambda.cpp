@@ -1,8 +1,5 @@
 #include "dc/engine/matched_lambda.hpp"
 
-#include <algorithm>
-#include <cmath>
-
 #include "dc/engine/contact_match.hpp"
 
 namespace dc {
@@ -19,22 +16,6 @@ void put_in_passes(std::span<const Contact> previous, std::span<const Contact> c
 }
 
 }  // namespace
-
-bool project_contact_rows(const LcpProblem& p, int c, Eigen::VectorXd& lambda) {
-  const ContactConstraint& k = p.constraints[c];
-  if (p.is_friction_row(k.normal_row) ||
-      (k.tangent_row >= 0 && p.normal_row[static_cast<size_t>(k.tangent_row)] != k.normal_row))
-    return false;
-  double& n = lambda[k.normal_row];
-  if (!std::isfinite(n)) n = 0.0;
-  n = std::clamp(n, p.lo[k.normal_row], p.hi[k.normal_row]);
-  if (k.tangent_row >= 0) {
-    double& t = lambda[k.tangent_row];
-    if (!std::isfinite(t)) t = 0.0;
-    t = std::clamp(t, p.lower(k.tangent_row, lambda), p.upper(k.tangent_row, lambda));
-  }
-  return true;
-}
 
 void put_matched_lambda(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
                         Eigen::VectorXd& out) {

@@ -198,11 +198,7 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
       std::vector<Contact>& list = body_jobs == 1 ? out : part_walls_[static_cast<size_t>(4 * p + w)];
       if (body_jobs > 1) list.clear();
       if (!def_.world.walls[static_cast<size_t>(w)]) continue;
-      for (int k = lo; k < hi; ++k) {
-        const CircleProbe& probe = probes_[static_cast<size_t>(k)];
-        add_circle_wall(probe.centre, probe.radius, k, kWalls[w], def_.world.width, def_.world.height, 2 * probe.spec,
-                        list);
-      }
+      add_wall_contacts(probes_.data(), lo, hi, kWalls[w], def_.world.width, def_.world.height, list);
     }
   });
   const auto t0 = Clock::now();

@@ -3,6 +3,8 @@
 // put of the matched λ and the projection onto the bounds, contact by contact, while each
 // contact's rows and key are in cache.
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <span>
 
 #include "dc/engine/contact.hpp"
@@ -20,7 +22,21 @@ void put_matched_lambda(std::span<const Contact> previous, std::span<const Conta
 
 /// project_feasible on contact c's rows: its normal row (not a friction row), then its tangent
 /// row, whose bounds read that normal row only. False when the rows are not so related (then
-/// nothing is written).
-bool project_contact_rows(const LcpProblem& problem, int c, Eigen::VectorXd& lambda);
+/// nothing is written). Inline: called once per contact.
+inline bool project_contact_rows(const LcpProblem& p, int c, Eigen::VectorXd& lambda) {
+  const ContactConstraint& k = p.constraints[c];
+  if (p.is_friction_row(k.normal_row) ||
+      (k.tangent_row >= 0 && p.normal_row[static_cast<size_t>(k.tangent_row)] != k.normal_row))
+    return false;
+  double& n = lambda[k.normal_row];
+  if (!std::isfinite(n)) n = 0.0;
+  n = std::clamp(n, p.lo[k.normal_row], p.hi[k.normal_row]);
+  if (k.tangent_row >= 0) {
+    double& t = lambda[k.tangent_row];
+    if (!std::isfinite(t)) t = 0.0;
+    t = std::clamp(t, p.lower(k.tangent_row, lambda), p.upper(k.tangent_row, lambda));
+  }
+  return true;
+}
 
 }  // namespace dc
