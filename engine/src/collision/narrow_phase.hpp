@@ -5,8 +5,12 @@
 // the circle then gets the whole margin): a row whose gap is still open only stops the
 // bodies from closing more than g within the step (b_n += g/Δt), so fast bodies cannot
 // tunnel, while slow distant pairs create no rows at all.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "dc/engine/body_state.hpp"
@@ -65,6 +69,39 @@ inline void add_circle_circle(const CircleProbe& pa, const CircleProbe& pb, int 
   const double reach = (pa.radius + pb.radius) + (pa.spec + pb.spec);
   if (length_squared(d) >= reach * reach) return;  // the reject of circle_pair, before any write
   circle_pair(pa.centre, pa.radius, pb.centre, pb.radius, a, b, pa.spec + pb.spec, out.emplace_back());
+}
+
+/// add_circle_circle(probes[a], probes[b], a, b, out) for each candidate pair (a, b) of
+/// pairs[q0, q1) (sorted by body a), in pair order, adding |b − a| to `spread_sum` and 1 to
+/// `spread_pairs` per contact added. By blocks of pairs: first which pairs pass the reach test
+/// (the outcome written, not branched on: it follows no pattern a branch predictor learns),
+/// then the contacts of those, their records still in cache. Body b's record is fetched
+/// kAhead pairs early (a hint).
+inline void add_pair_contacts(const CircleProbe* probes, const std::pair<int, int>* pairs, long q0, long q1,
+                              std::vector<Contact>& out, std::int64_t& spread_sum, std::int64_t& spread_pairs) {
+  constexpr long kBlock = 256, kAhead = 8;
+  int pass[kBlock];
+  for (long b0 = q0; b0 < q1; b0 += kBlock) {
+    const long b1 = std::min(q1, b0 + kBlock);
+    int m = 0;
+    for (long q = b0; q < b1; ++q) {
+      if (q + kAhead < q1) __builtin_prefetch(&probes[pairs[q + kAhead].second]);
+      const CircleProbe& pa = probes[pairs[q].first];
+      const CircleProbe& pb = probes[pairs[q].second];
+      const Vec2 d = pb.centre - pa.centre;
+      const double reach = (pa.radius + pb.radius) + (pa.spec + pb.spec);
+      pass[m] = static_cast<int>(q - b0);
+      m += static_cast<int>(!(length_squared(d) >= reach * reach));  // add_circle_circle's reject, negated
+    }
+    for (int h = 0; h < m; ++h) {
+      const auto [a, b] = pairs[b0 + pass[h]];
+      const std::size_t before = out.size();
+      add_circle_circle(probes[a], probes[b], a, b, out);
+      const auto added = static_cast<std::int64_t>(out.size() - before);
+      spread_sum += added * std::abs(b - a);
+      spread_pairs += added;
+    }
+  }
 }
 
 /// Contact between circle k and wall `w` of a box of the given size, when the gap is

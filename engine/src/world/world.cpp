@@ -215,17 +215,8 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
     if (!pairs_direct) list.clear();
     InternalBodyOrder::Spread& spread = part_spread_[static_cast<size_t>(p)];
     const long q_end = part_begin(np, pair_jobs, p + 1);
-    // Pairs come sorted by body a; body b's record is fetched kAhead pairs early (a hint).
-    constexpr long kAhead = 8;
-    for (long q = part_begin(np, pair_jobs, p); q < q_end; ++q) {
-      if (q + kAhead < q_end) __builtin_prefetch(&probes_[static_cast<size_t>(pairs[static_cast<size_t>(q + kAhead)].second)]);
-      const auto [a, b] = pairs[static_cast<size_t>(q)];
-      const std::size_t before = list.size();
-      add_circle_circle(probes_[static_cast<size_t>(a)], probes_[static_cast<size_t>(b)], a, b, list);
-      const auto added = static_cast<long>(list.size() - before);
-      spread.sum += added * std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
-      spread.pairs += added;
-    }
+    // The spread: the order's decay measure (pair_spread, on the fly).
+    add_pair_contacts(probes_.data(), pairs.data(), part_begin(np, pair_jobs, p), q_end, list, spread.sum, spread.pairs);
   });
   spread_ = {};
   for (const auto& sp : part_spread_) {
