@@ -31,13 +31,13 @@ namespace {
   return ::testing::AssertionSuccess();
 }
 
-/// A pile of 300 bodies stepped 40 times: contacts that persist, new ones and some gone.
+/// A pile of 300 bodies stepped 150 times: contacts that persist, new ones and some gone.
 World stepped_pile() {
   World w(stress::scaled_seed_pile(300));
   const auto solver = make_solver("pgs");
   SolverOptions o;
   o.max_sweeps = 20;
-  for (int k = 0; k < 40; ++k) w.step(*solver, o, World::WarmStart::PreviousLambda);
+  for (int k = 0; k < 150; ++k) w.step(*solver, o, World::WarmStart::PreviousLambda);
   w.collide();
   w.assemble();
   return w;
