@@ -1,4 +1,4 @@
-// The builtin warm start's one-pass form against the separate passes it replaces, and the
+// The builtin warm start's put_matched_lambda against the passes written out, and the
 // contact impulse against Eigen's product. Checked: put_matched_lambda equals a zero vector, the matched
 // puts and project_feasible bit for bit (also with non-finite and out-of-bound previous λ), and
 // throws as the match does on an unsorted list; integrate_bodies's impulse equals Eigen's

@@ -18,7 +18,7 @@ void put_previous_lambda_by_key(const World& w, Eigen::VectorXd& out) {
 }
 
 Eigen::VectorXd builtin_guess(const World& w) {
-  Eigen::VectorXd out;  // the match, the puts and the projection in one pass over the contacts
+  Eigen::VectorXd out;
   put_matched_lambda(w.previous_contacts(), w.contacts(), w.problem(), out);
   return out;
 }

@@ -1,7 +1,6 @@
 #pragma once
-// The builtin warm start's λ⁰ in one pass: the persistent-contact match (contact_match.hpp), the
-// put of the matched λ and the projection onto the bounds, contact by contact, while each
-// contact's rows and key are in cache.
+// The builtin warm start's λ⁰ (the persistent-contact match of contact_match.hpp, the put of the
+// matched λ, the projection onto the bounds) into storage the caller keeps.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
