@@ -1,9 +1,10 @@
 // builtin: the previous step's solved λ of the contact with the same key, 0 for new
 // contacts — the persistent-contact warm start of Box2D and of the theses' "built-in".
-// Matching: for_each_matched_contact (one merge pass over the key-sorted lists, O(C)).
+// Matching: put_matched_lambda (one merge pass over the key-sorted lists, O(C)).
 #include "starters.hpp"
 
 #include "dc/engine/contact_match.hpp"
+#include "dc/engine/matched_lambda.hpp"
 
 namespace dc {
 
@@ -17,9 +18,8 @@ void put_previous_lambda_by_key(const World& w, Eigen::VectorXd& out) {
 }
 
 Eigen::VectorXd builtin_guess(const World& w) {
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(w.problem().rows());
-  put_previous_lambda_by_key(w, out);
-  project_feasible(w.problem(), out);
+  Eigen::VectorXd out;
+  put_matched_lambda(w.previous_contacts(), w.contacts(), w.problem(), out);
   return out;
 }
 

@@ -13,8 +13,6 @@
 
 namespace dc {
 
-double friction_of(const Contact& /*contact*/, const ContactSection& section) { return section.friction; }
-
 namespace {
 
 /// The rows of contact c (its constraint kc): J's entries at the row starts already in J, b,
@@ -127,52 +125,64 @@ void fill_inv_mass(const BodyState& s, int k0, int k1, LcpProblem& out) {
   }
 }
 
-/// assemble_lcp on the calling thread: the contacts' rows by ContactConstraints::add, then J's
-/// row starts, then the rows.
+/// Storage kept beyond a size that grew, as a fraction of it: a pile whose contacts grow step
+/// by step reallocates a few times, not at every step.
+constexpr double kHeadroom = 0.25;
+
+/// assemble_lcp on the calling thread in one pass over the contacts: each contact's constraint
+/// (rows numbered as ContactConstraints::add numbers them, after its checks), row starts and rows.
 void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
                      LcpProblem& out) {
   const int nb = static_cast<int>(s.size());
   const int nc = static_cast<int>(contacts.size());
-  const double dt = def.time.dt;
   const ContactSection& cs = def.contact;
-
-  // The constraint structure first: it says which rows each contact owns.
-  ContactConstraints& con = out.constraints;
-  con.clear();
-  con.reserve(static_cast<size_t>(nc));
-  for (const Contact& ct : contacts) con.add(row_body_a(s, ct), ct.body_b, friction_of(ct, cs), ct.key.feature);
-  const int rows = con.rows();
-
-  out.dt = dt;
+  int rows = 0;
+  for (const Contact& ct : contacts) rows += friction_of(ct, cs) > 0 ? 2 : 1;
+  const std::span<ContactConstraint> con = out.constraints.overwrite(static_cast<size_t>(nc), rows);
+  out.dt = def.time.dt;
   out.inv_mass.resize(3 * nb);
 
   // J in compressed row storage, filled in place (rows come in order and each row's columns
   // in ascending order, so no triplet list, sort or transpose is needed): the normal row
   // and the tangent row of a contact both hold 3 entries per body it acts on (walls have no
   // columns), body columns in ascending body order. Explicit zeros are stored, exactly as
-  // setFromTriplets stored them; storage is reused from step to step.
-  int nnz = 0;
-  for (const ContactConstraint& kc : con) nnz += (kc.has_body_a() ? 6 : 3) * (kc.has_friction() ? 2 : 1);
+  // setFromTriplets stored them; storage is reused from step to step. At most 6 entries a row
+  // are held, the count set to the entries filled at the end.
   out.J.resize(rows, 3 * nb);
-  out.J.resizeNonZeros(nnz);
+  out.J.data().resize(6 * static_cast<Eigen::Index>(rows), kHeadroom);
   int* const outer = out.J.outerIndexPtr();
-  outer[0] = 0;  // row starts first: fill_rows finds its rows' entries there
-  for (const ContactConstraint& kc : con) {
-    const int per_row = kc.has_body_a() ? 6 : 3;
-    outer[kc.normal_row + 1] = outer[kc.normal_row] + per_row;
-    if (kc.has_friction()) outer[kc.tangent_row + 1] = outer[kc.tangent_row] + per_row;
-  }
   out.b.resize(rows);
   out.lo.resize(rows);
   out.hi.resize(rows);
   out.mu.resize(rows);
-  out.normal_row.assign(static_cast<size_t>(rows), -1);
+  out.normal_row.resize(static_cast<size_t>(rows));  // grows geometrically (filled below)
 
   fill_inv_mass(s, 0, nb, out);
+  int row = 0, at = 0;  // the contact's first row and J entry
   for (int c = 0; c < nc; ++c) {
     prefetch_body_b(s, contacts, c, nc);
-    fill_rows(s, contacts[static_cast<size_t>(c)], con[c], def, out);
+    const Contact& ct = contacts[static_cast<size_t>(c)];
+    ContactConstraint& kc = con[static_cast<size_t>(c)];
+    kc.body_a = row_body_a(s, ct);
+    kc.body_b = ct.body_b;
+    kc.mu = friction_of(ct, cs);
+    if (!ContactConstraints::valid(kc.body_a, kc.body_b, kc.mu)) ContactConstraints::check(c, kc.body_a, kc.body_b, kc.mu);
+    kc.feature = ct.key.feature;
+    const int per_row = kc.body_a >= 0 ? 6 : 3;
+    kc.normal_row = row++;
+    outer[kc.normal_row] = at;  // fill_rows finds its rows' entries there
+    at += per_row;
+    out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
+    kc.tangent_row = -1;
+    if (kc.mu > 0) {
+      kc.tangent_row = row++;
+      outer[kc.tangent_row] = at;
+      at += per_row;
+    }
+    fill_rows(s, ct, kc, def, out);
   }
+  outer[rows] = at;
+  out.J.data().resize(at);
 }
 
 /// assemble_lcp on `threads` threads in `jobs` (> 1) jobs.

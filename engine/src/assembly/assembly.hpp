@@ -21,7 +21,7 @@ namespace dc {
 
 /// Friction coefficient μ of a contact: the scene's contact.friction for every contact today
 /// (the one place a per-material μ will come from). μ = 0 gives the contact no tangent row.
-double friction_of(const Contact& contact, const ContactSection& section);
+inline double friction_of(const Contact& /*contact*/, const ContactSection& section) { return section.friction; }
 
 /// Fills `out` (constraints, b, bounds, J, inv_mass, dt; A left empty) for the given
 /// contacts; reuses its storage. threads > 1: the rows are filled by parallel jobs of contacts

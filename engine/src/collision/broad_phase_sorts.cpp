@@ -55,6 +55,7 @@ void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& 
   // keeps, and a body's few partners, come in no order a branch predictor could learn.
   std::size_t total = 0;
   for (int p = 0; p < jobs; ++p) total += found_[static_cast<size_t>(p)];
+  if (pairs.capacity() < total) pairs.reserve(total + total / 4);  // (cleared by the caller: grow with headroom)
   pairs.resize(total);
   const int sorts = parts_for(threads, n, 1, 4096);
   if (sort_jobs_.size() < static_cast<size_t>(sorts)) sort_jobs_.resize(static_cast<size_t>(sorts));

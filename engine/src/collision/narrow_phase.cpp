@@ -6,10 +6,6 @@
 
 namespace dc {
 
-double speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt) {
-  return 0.5 * c.margin + length(s.velocity[static_cast<size_t>(k)]) * dt;
-}
-
 std::optional<Contact> circle_circle(const BodyState& s, int a, int b, double threshold) {
   const auto ia = static_cast<size_t>(a), ib = static_cast<size_t>(b);
   Contact c;

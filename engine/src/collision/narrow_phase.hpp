@@ -5,8 +5,12 @@
 // the circle then gets the whole margin): a row whose gap is still open only stops the
 // bodies from closing more than g within the step (b_n += g/Δt), so fast bodies cannot
 // tunnel, while slow distant pairs create no rows at all.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "dc/engine/body_state.hpp"
@@ -16,8 +20,10 @@
 
 namespace dc {
 
-/// Speculative reach s_k of body k [m].
-double speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt);
+/// Speculative reach s_k of body k [m] (inline: collide() computes it for every body).
+inline double speculative_reach(const BodyState& s, int k, const ContactSection& c, double dt) {
+  return 0.5 * c.margin + length(s.velocity[static_cast<size_t>(k)]) * dt;
+}
 
 /// Contact between circles a and b when their gap is below `threshold` [m].
 /// Coincident centres (distance < 1e-12·(r_a + r_b)) use the normal (0, 1), so that the
@@ -65,6 +71,39 @@ inline void add_circle_circle(const CircleProbe& pa, const CircleProbe& pb, int 
   circle_pair(pa.centre, pa.radius, pb.centre, pb.radius, a, b, pa.spec + pb.spec, out.emplace_back());
 }
 
+/// add_circle_circle(probes[a], probes[b], a, b, out) for each candidate pair (a, b) of
+/// pairs[q0, q1) (sorted by body a), in pair order, adding |b − a| to `spread_sum` and 1 to
+/// `spread_pairs` per contact added. By blocks of pairs: first which pairs pass the reach test
+/// (the outcome written, not branched on: it follows no pattern a branch predictor learns),
+/// then the contacts of those, their records still in cache. Body b's record is fetched
+/// kAhead pairs early (a hint).
+inline void add_pair_contacts(const CircleProbe* probes, const std::pair<int, int>* pairs, long q0, long q1,
+                              std::vector<Contact>& out, std::int64_t& spread_sum, std::int64_t& spread_pairs) {
+  constexpr long kBlock = 256, kAhead = 8;
+  int pass[kBlock];
+  for (long b0 = q0; b0 < q1; b0 += kBlock) {
+    const long b1 = std::min(q1, b0 + kBlock);
+    int m = 0;
+    for (long q = b0; q < b1; ++q) {
+      if (q + kAhead < q1) __builtin_prefetch(&probes[pairs[q + kAhead].second]);
+      const CircleProbe& pa = probes[pairs[q].first];
+      const CircleProbe& pb = probes[pairs[q].second];
+      const Vec2 d = pb.centre - pa.centre;
+      const double reach = (pa.radius + pb.radius) + (pa.spec + pb.spec);
+      pass[m] = static_cast<int>(q - b0);
+      m += static_cast<int>(!(length_squared(d) >= reach * reach));  // add_circle_circle's reject, negated
+    }
+    for (int h = 0; h < m; ++h) {
+      const auto [a, b] = pairs[b0 + pass[h]];
+      const std::size_t before = out.size();
+      add_circle_circle(probes[a], probes[b], a, b, out);
+      const auto added = static_cast<std::int64_t>(out.size() - before);
+      spread_sum += added * std::abs(b - a);
+      spread_pairs += added;
+    }
+  }
+}
+
 /// Contact between circle k and wall `w` of a box of the given size, when the gap is
 /// below `threshold` [m]. Normals point from the wall into the box.
 std::optional<Contact> circle_wall(const BodyState& s, int k, Wall w, double width, double height,
@@ -88,6 +127,32 @@ inline void add_circle_wall(Vec2 x, double r, int k, Wall w, double width, doubl
   wall_plane(x, w, width, height, n, dist);
   const double gap = dist - r;
   if (gap < threshold) fill_circle_wall(x, r, k, w, n, gap, out.emplace_back());
+}
+
+/// add_circle_wall(centre, radius, k, W, width, height, 2·spec) for each circle k of [k0, k1)
+/// with the packed record probes[k], in body order (the wall's plane chosen once per call).
+template <Wall W>
+inline void add_wall_contacts_of(const CircleProbe* probes, int k0, int k1, double width, double height,
+                                 std::vector<Contact>& out) {
+  for (int k = k0; k < k1; ++k) {
+    const CircleProbe& p = probes[k];
+    Vec2 n;
+    double dist = 0;
+    wall_plane(p.centre, W, width, height, n, dist);
+    const double gap = dist - p.radius;
+    if (gap < 2 * p.spec) fill_circle_wall(p.centre, p.radius, k, W, n, gap, out.emplace_back());
+  }
+}
+
+/// add_wall_contacts_of<w>.
+inline void add_wall_contacts(const CircleProbe* probes, int k0, int k1, Wall w, double width, double height,
+                              std::vector<Contact>& out) {
+  switch (w) {
+    case Wall::Left: add_wall_contacts_of<Wall::Left>(probes, k0, k1, width, height, out); break;
+    case Wall::Right: add_wall_contacts_of<Wall::Right>(probes, k0, k1, width, height, out); break;
+    case Wall::Bottom: add_wall_contacts_of<Wall::Bottom>(probes, k0, k1, width, height, out); break;
+    case Wall::Top: add_wall_contacts_of<Wall::Top>(probes, k0, k1, width, height, out); break;
+  }
 }
 
 /// Signed gap [m] of contact c's pair (two circles, or a circle and the wall c.body_a of the

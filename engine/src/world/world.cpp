@@ -198,11 +198,7 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
       std::vector<Contact>& list = body_jobs == 1 ? out : part_walls_[static_cast<size_t>(4 * p + w)];
       if (body_jobs > 1) list.clear();
       if (!def_.world.walls[static_cast<size_t>(w)]) continue;
-      for (int k = lo; k < hi; ++k) {
-        const CircleProbe& probe = probes_[static_cast<size_t>(k)];
-        add_circle_wall(probe.centre, probe.radius, k, kWalls[w], def_.world.width, def_.world.height, 2 * probe.spec,
-                        list);
-      }
+      add_wall_contacts(probes_.data(), lo, hi, kWalls[w], def_.world.width, def_.world.height, list);
     }
   });
   const auto t0 = Clock::now();
@@ -219,17 +215,8 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
     if (!pairs_direct) list.clear();
     InternalBodyOrder::Spread& spread = part_spread_[static_cast<size_t>(p)];
     const long q_end = part_begin(np, pair_jobs, p + 1);
-    // Pairs come sorted by body a; body b's record is fetched kAhead pairs early (a hint).
-    constexpr long kAhead = 8;
-    for (long q = part_begin(np, pair_jobs, p); q < q_end; ++q) {
-      if (q + kAhead < q_end) __builtin_prefetch(&probes_[static_cast<size_t>(pairs[static_cast<size_t>(q + kAhead)].second)]);
-      const auto [a, b] = pairs[static_cast<size_t>(q)];
-      const std::size_t before = list.size();
-      add_circle_circle(probes_[static_cast<size_t>(a)], probes_[static_cast<size_t>(b)], a, b, list);
-      const auto added = static_cast<long>(list.size() - before);
-      spread.sum += added * std::abs(b - a);  // the order's decay measure (pair_spread, on the fly)
-      spread.pairs += added;
-    }
+    // The spread: the order's decay measure (pair_spread, on the fly).
+    add_pair_contacts(probes_.data(), pairs.data(), part_begin(np, pair_jobs, p), q_end, list, spread.sum, spread.pairs);
   });
   spread_ = {};
   for (const auto& sp : part_spread_) {
@@ -310,7 +297,7 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
   const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
   std::vector<Contact>& contacts = internal_ ? internal_contacts_ : contacts_;
   const ContactConstraints& cons = solved.constraints;
-  Eigen::VectorXd impulse;
+  Eigen::VectorXd& impulse = impulse_;
   if (internal_ && problem_stale_)  // keeps what a later first read of problem() assembles on
     integrate_bodies_keeping(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse,
                              pre_position_, pre_velocity_, pre_omega_);
@@ -384,11 +371,13 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
   rep.rows = solved.rows();
 
   t0 = Clock::now();
-  Eigen::VectorXd lambda0;
+  Eigen::VectorXd& lambda0 = lambda0_;
   if (guess == nullptr) {
     // The builtin warm start on one set of objects (public, or internal: the same numbers per contact).
-    lambda0 = internal_ ? previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_)
-                        : previous_lambda(previous_contacts(), contacts_, problem_, step_threads_);
+    if (internal_)
+      previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_, lambda0);
+    else
+      previous_lambda(previous_contacts(), contacts_, problem_, step_threads_, lambda0);
   } else {
     lambda0 = *guess ? (*guess)(*this) : Eigen::VectorXd::Zero(rep.rows);
     if (lambda0.size() != rep.rows)

@@ -7,12 +7,12 @@
 
 namespace dc {
 
-/// λ⁰ for `problem`, whose contacts are `current`: each contact's (λ_n, λ_t) of the contact with
+/// out ← λ⁰ for `problem`, whose contacts are `current`: each contact's (λ_n, λ_t) of the contact with
 /// the same key in `previous` (0 for a new one), made feasible as project_feasible does. Both
 /// lists sorted by key (InvalidArgument as match_contacts_by_key otherwise). On `threads`
 /// threads by ranges of contacts, each range matched by its own merge from a binary search into
-/// `previous`: the same bits as one thread.
-Eigen::VectorXd previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
-                                const LcpProblem& problem, int threads);
+/// `previous`: the same bits as one thread (put_matched_lambda, matched_lambda.hpp).
+void previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
+                     const LcpProblem& problem, int threads, Eigen::VectorXd& out);
 
 }  // namespace dc
