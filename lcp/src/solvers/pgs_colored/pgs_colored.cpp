@@ -35,6 +35,7 @@
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
 #include "solvers/pgs_colored/relax/over_relaxation.hpp"
+#include "solvers/pgs_colored/residual/packed_residual.hpp"
 #include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -86,17 +87,24 @@ PgsColoredKernel resolve(PgsColoredKernel k) {
   return pgs_colored_auto_kernel();
 }
 
-/// The kernels of one ISA: single-contact batches and two-point manifold batches.
+/// The kernels of one ISA: single-contact batches and two-point manifold batches, and the
+/// closing residual's (residual/packed_residual.hpp).
 struct Kernels {
   colored::SweepKernel single;
   colored::PairKernel pairs;
+  colored::ResidualKernels residual;
 };
 
 Kernels kernel_fn(PgsColoredKernel k) {
   switch (k) {
-    case PgsColoredKernel::Avx512: return {colored::sweep_avx512, colored::sweep_pairs_avx512};
-    case PgsColoredKernel::Avx2: return {colored::sweep_avx2, colored::sweep_pairs_avx2};
-    default: return {colored::sweep_scalar, colored::sweep_pairs_scalar};
+    case PgsColoredKernel::Avx512:
+      return {colored::sweep_avx512, colored::sweep_pairs_avx512,
+              {colored::residual_avx512, colored::residual_pairs_avx512}};
+    case PgsColoredKernel::Avx2:
+      return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2}};
+    default:
+      return {colored::sweep_scalar, colored::sweep_pairs_scalar,
+              {colored::residual_scalar, colored::residual_pairs_scalar}};
   }
 }
 
@@ -268,8 +276,10 @@ class PgsColoredSolver final : public LcpSolver {
   }
 
   /// The sweeps from the permuted λ⁰ (lp = other) on the packed problem; λ back in row order, its
-  /// natural residual (bit-identical to finish's, pgs_colored_products.hpp). With threads, the
-  /// permutation back and the residual's rows run on them too.
+  /// natural residual: on the packed rows from the Δu the sweeps maintain when that Δu belongs to
+  /// λ (residual/packed_residual.hpp), else (a non-finite value on the way, a non-finite J entry)
+  /// by the products with J (bit-identical to finish's, pgs_colored_products.hpp). With threads,
+  /// the permutation back and the residual run on them too.
   [[nodiscard]] SolveResult sweeps(const LcpProblem& p, Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                    const SolverOptions& o, Prepared& prep, Laps& laps) {
     const long batches = static_cast<long>(prep.batches.size() + prep.pairs.size());
@@ -279,6 +289,7 @@ class PgsColoredSolver final : public LcpSolver {
     SolverOptions po = o;
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), setup)); };
+    const bool start_bad = bad_start;
     SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep, plan_)
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
     laps.lap(&PgsColoredProfile::sweeps);
@@ -286,6 +297,15 @@ class PgsColoredSolver final : public LcpSolver {
     r.lambda = unpermute(prep, permuted, p.rows(), setup);
     prep.lp = std::move(permuted);  // storage for the next solve's λ⁰
     laps.lap(&PgsColoredProfile::unpermute);
+    if (prep.j_finite && !start_bad && r.status != SolveStatus::Diverged) {
+      const colored::ResidualAcc e = colored::packed_residual(prep, prep.lp.data(), o.omega, kernel_.residual, setup);
+      if (!e.nan && std::isfinite(e.r)) {  // (a non-finite λ_i has a NaN or infinite error)
+        r.residual = e.r;
+        settle_status(p, r, o, StopRule::Tolerance);
+        laps.lap(&PgsColoredProfile::residual);
+        return r;
+      }
+    }
     bool finite = false;
     r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite, prep.j_finite);
     if (finite)
