@@ -190,8 +190,7 @@ class PgsColoredSolver final : public LcpSolver {
     lp.resize(why.empty() ? np : 0);
     other.resize(why.empty() ? np : 0);
     bool bad_start = false;
-    if (why.empty()) why = pack(p, lambda, prep, lp.data(), other.data(), bad_start, laps);
-    if (why.empty() && o.omega != 1.0) colored::over_relax(prep.batches, prep.pairs, o.omega);
+    if (why.empty()) why = pack(p, lambda, o.omega, prep, lp.data(), other.data(), bad_start, laps);
     if (!why.empty()) {
       SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
       if (r.status != SolveStatus::InvalidInput)
@@ -236,9 +235,11 @@ class PgsColoredSolver final : public LcpSolver {
   /// M⁻¹Jᵀλ⁰Δt, in one run of the team: one thread takes Δu⁰ (a serial pass over J,
   /// pgs_colored_products.hpp) while the others start on the batches, which are handed out in
   /// chunks as threads come free. Each batch is written by one thread from its own inputs, so
-  /// the result depends neither on the thread count nor on the schedule. bad_start: Δu⁰ is not
+  /// the result depends neither on the thread count nor on the schedule. Each batch is
+  /// over-relaxed by ω as it is filled (relax/over_relaxation.hpp). bad_start: Δu⁰ is not
   /// finite (an overflowing λ⁰).
-  [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& prep, double* lp,
+  [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, double omega, Prepared& prep,
+                                 double* lp,
                                  double* other, bool& bad_start, Laps& laps) const {
     const int nb = static_cast<int>(prep.batches.size());
     const int jobs = nb + static_cast<int>(prep.pairs.size());  // batches, then pair batches
@@ -251,10 +252,13 @@ class PgsColoredSolver final : public LcpSolver {
       bad = !colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
     };
     auto fill = [&](int bi) {
-      if (bi < nb)
+      if (bi < nb) {
         colored::fill_batch(p, lambda, prep, bi, lp, other);
-      else
+        if (omega != 1.0) colored::over_relax(prep.batches[static_cast<size_t>(bi)], omega);
+      } else {
         colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
+        if (omega != 1.0) colored::over_relax(prep.pairs[static_cast<size_t>(bi - nb)], omega);
+      }
     };
     if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
       delta_u0();
