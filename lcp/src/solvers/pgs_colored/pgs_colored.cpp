@@ -298,17 +298,22 @@ class PgsColoredSolver final : public LcpSolver {
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
     laps.lap(&PgsColoredProfile::sweeps);
     Eigen::VectorXd permuted = std::move(r.lambda);
-    r.lambda = unpermute(prep, permuted, p.rows(), setup);
-    prep.lp = std::move(permuted);  // storage for the next solve's λ⁰
-    laps.lap(&PgsColoredProfile::unpermute);
-    if (prep.j_finite && !start_bad && r.status != SolveStatus::Diverged) {
-      const colored::ResidualAcc e = colored::packed_residual(prep, prep.lp.data(), o.omega, kernel_.residual, setup);
+    const bool packed = prep.j_finite && !start_bad && r.status != SolveStatus::Diverged;
+    if (packed) {  // λ back in row order by the residual's chunks (every entry written)
+      r.lambda.resize(p.rows());
+      const colored::ResidualAcc e =
+          colored::packed_residual(prep, permuted.data(), o.omega, kernel_.residual, setup, r.lambda.data());
+      prep.lp = std::move(permuted);     // storage for the next solve's λ⁰
       if (!e.nan && std::isfinite(e.r)) {  // (a non-finite λ_i has a NaN or infinite error)
         r.residual = e.r;
         settle_status(p, r, o, StopRule::Tolerance);
         laps.lap(&PgsColoredProfile::residual);
         return r;
       }
+    } else {
+      r.lambda = unpermute(prep, permuted, p.rows(), setup);
+      prep.lp = std::move(permuted);
+      laps.lap(&PgsColoredProfile::unpermute);
     }
     bool finite = false;
     r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite, prep.j_finite);

@@ -59,8 +59,10 @@ struct ResidualKernels {
 
 /// The errors of every batch and pair batch of `prep` with λ permuted (lam, Prepared::row_of's
 /// slots), A_ii from prep.diag and Δu from prep.du, on `threads` threads of the calling thread's
-/// team (chunks of batches; max and or combine them in any order alike).
+/// team (chunks of batches; max and or combine them in any order alike). Each chunk then writes
+/// its λ in row order, lambda_out[row_of[s]] = lam[s] (every row has one slot), while it is in
+/// cache.
 ResidualAcc packed_residual(const Prepared& prep, const double* lam, double omega, const ResidualKernels& k,
-                            int threads);
+                            int threads, double* lambda_out);
 
 }  // namespace dc::colored
