@@ -12,14 +12,15 @@
 namespace dc::colored {
 namespace {
 
+/// Bodies k and k + 4 of off[0..7] in one register (low and high half).
+DC_AVX512 inline __m512d pair_of(const double* u, const std::int32_t* off, int k) {
+  return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(u + off[k])), _mm256_loadu_pd(u + off[k + 4]), 1);
+}
+
 /// x = (v_x of the 8 lanes), y = (v_y …), w = (ω …) of the bodies at Δu offsets off[0..7]
 /// (the sweep kernel's transpose, pgs_colored_avx512.cpp).
 DC_AVX512 inline void load8(const double* u, const std::int32_t* off, __m512d& x, __m512d& y, __m512d& w) {
-  auto pair = [u, off](int k) {
-    return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(u + off[k])), _mm256_loadu_pd(u + off[k + 4]),
-                              1);
-  };
-  const __m512d z0 = pair(0), z1 = pair(1), z2 = pair(2), z3 = pair(3);
+  const __m512d z0 = pair_of(u, off, 0), z1 = pair_of(u, off, 1), z2 = pair_of(u, off, 2), z3 = pair_of(u, off, 3);
   const __m512d lo01 = _mm512_unpacklo_pd(z0, z1);
   const __m512d hi01 = _mm512_unpackhi_pd(z0, z1);
   const __m512d lo23 = _mm512_unpacklo_pd(z2, z3);
