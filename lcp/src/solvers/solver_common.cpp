@@ -59,10 +59,9 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
 
 SolveStatus decide_status(const LcpProblem& p, double residual, SolveStatus provisional, StopRule rule,
                           const SolverOptions& o) {
-  const bool holds = residual <= solution_target(p, o);  // false for NaN
   switch (provisional) {
-    case SolveStatus::Converged:
-      if (holds) return SolveStatus::Converged;
+    case SolveStatus::Converged:  // (the target, a pass over b, only where it decides)
+      if (residual <= solution_target(p, o)) return SolveStatus::Converged;  // false for NaN
       return rule == StopRule::Tolerance ? SolveStatus::ToleranceReached : SolveStatus::Failed;
     default: return provisional;
   }

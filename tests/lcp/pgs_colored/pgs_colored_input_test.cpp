@@ -75,6 +75,18 @@ TEST(PgsColoredInput, SameVerdictAndMessageAsTheSerialChecks) {
   expect_same_verdict(matrix_free, l0, "valid, matrix-free");
   matrix_free.b[3] = kNaN;
   expect_same_verdict(matrix_free, l0, "matrix-free, b NaN");
+  // Rows not numbered in contact order (the ownership scan instead of the increasing-rows test).
+  LcpProblem reordered = good;
+  ASSERT_TRUE(good.constraints[3].has_friction() && good.constraints[7].has_friction());
+  edit_contacts(reordered, [&](int c, ContactConstraint& k) {
+    if (c == 3 || c == 7) {
+      k.normal_row = good.constraints[10 - c].normal_row;
+      k.tangent_row = good.constraints[10 - c].tangent_row;
+    }
+  });
+  expect_same_verdict(reordered, l0, "valid, rows reordered");
+  Eigen::VectorXd scratch;
+  EXPECT_FALSE(solvers::check_input(reordered, l0, "pgs-colored", scratch).has_value()) << "reordered rows are valid";
 
   std::vector<std::pair<std::string, std::function<void(LcpProblem&, Eigen::VectorXd&)>>> broken = {
       {"b NaN", [](LcpProblem& p, Eigen::VectorXd&) { p.b[p.rows() - 2] = kNaN; }},

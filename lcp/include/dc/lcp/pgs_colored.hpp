@@ -29,8 +29,8 @@ struct PgsColoredProfile {
   double pack = 0;       ///< filling the batches and the permuted λ⁰
   double du0 = 0;        ///< Δu⁰ = M⁻¹Jᵀλ⁰Δt
   double sweeps = 0;     ///< the sweeps
-  double unpermute = 0;  ///< λ back in row order
-  double residual = 0;   ///< the natural residual and the status
+  double unpermute = 0;  ///< λ back in row order (a pass of its own only when the residual is formed from J)
+  double residual = 0;   ///< the natural residual and the status (on the packed rows: with λ back in row order)
   long solves = 0;
 };
 

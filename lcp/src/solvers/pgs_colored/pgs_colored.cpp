@@ -35,6 +35,7 @@
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
 #include "solvers/pgs_colored/relax/over_relaxation.hpp"
+#include "solvers/pgs_colored/residual/packed_residual.hpp"
 #include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -86,17 +87,24 @@ PgsColoredKernel resolve(PgsColoredKernel k) {
   return pgs_colored_auto_kernel();
 }
 
-/// The kernels of one ISA: single-contact batches and two-point manifold batches.
+/// The kernels of one ISA: single-contact batches and two-point manifold batches, and the
+/// closing residual's (residual/packed_residual.hpp).
 struct Kernels {
   colored::SweepKernel single;
   colored::PairKernel pairs;
+  colored::ResidualKernels residual;
 };
 
 Kernels kernel_fn(PgsColoredKernel k) {
   switch (k) {
-    case PgsColoredKernel::Avx512: return {colored::sweep_avx512, colored::sweep_pairs_avx512};
-    case PgsColoredKernel::Avx2: return {colored::sweep_avx2, colored::sweep_pairs_avx2};
-    default: return {colored::sweep_scalar, colored::sweep_pairs_scalar};
+    case PgsColoredKernel::Avx512:
+      return {colored::sweep_avx512, colored::sweep_pairs_avx512,
+              {colored::residual_avx512, colored::residual_pairs_avx512}};
+    case PgsColoredKernel::Avx2:
+      return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2}};
+    default:
+      return {colored::sweep_scalar, colored::sweep_pairs_scalar,
+              {colored::residual_scalar, colored::residual_pairs_scalar}};
   }
 }
 
@@ -182,8 +190,7 @@ class PgsColoredSolver final : public LcpSolver {
     lp.resize(why.empty() ? np : 0);
     other.resize(why.empty() ? np : 0);
     bool bad_start = false;
-    if (why.empty()) why = pack(p, lambda, prep, lp.data(), other.data(), bad_start, laps);
-    if (why.empty() && o.omega != 1.0) colored::over_relax(prep.batches, prep.pairs, o.omega);
+    if (why.empty()) why = pack(p, lambda, o.omega, prep, lp.data(), other.data(), bad_start, laps);
     if (!why.empty()) {
       SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
       if (r.status != SolveStatus::InvalidInput)
@@ -228,9 +235,11 @@ class PgsColoredSolver final : public LcpSolver {
   /// M⁻¹Jᵀλ⁰Δt, in one run of the team: one thread takes Δu⁰ (a serial pass over J,
   /// pgs_colored_products.hpp) while the others start on the batches, which are handed out in
   /// chunks as threads come free. Each batch is written by one thread from its own inputs, so
-  /// the result depends neither on the thread count nor on the schedule. bad_start: Δu⁰ is not
+  /// the result depends neither on the thread count nor on the schedule. Each batch is
+  /// over-relaxed by ω as it is filled (relax/over_relaxation.hpp). bad_start: Δu⁰ is not
   /// finite (an overflowing λ⁰).
-  [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& prep, double* lp,
+  [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, double omega, Prepared& prep,
+                                 double* lp,
                                  double* other, bool& bad_start, Laps& laps) const {
     const int nb = static_cast<int>(prep.batches.size());
     const int jobs = nb + static_cast<int>(prep.pairs.size());  // batches, then pair batches
@@ -243,10 +252,13 @@ class PgsColoredSolver final : public LcpSolver {
       bad = !colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
     };
     auto fill = [&](int bi) {
-      if (bi < nb)
+      if (bi < nb) {
         colored::fill_batch(p, lambda, prep, bi, lp, other);
-      else
+        if (omega != 1.0) colored::over_relax(prep.batches[static_cast<size_t>(bi)], omega);
+      } else {
         colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
+        if (omega != 1.0) colored::over_relax(prep.pairs[static_cast<size_t>(bi - nb)], omega);
+      }
     };
     if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
       delta_u0();
@@ -268,8 +280,10 @@ class PgsColoredSolver final : public LcpSolver {
   }
 
   /// The sweeps from the permuted λ⁰ (lp = other) on the packed problem; λ back in row order, its
-  /// natural residual (bit-identical to finish's, pgs_colored_products.hpp). With threads, the
-  /// permutation back and the residual's rows run on them too.
+  /// natural residual: on the packed rows from the Δu the sweeps maintain when that Δu belongs to
+  /// λ (residual/packed_residual.hpp), else (a non-finite value on the way, a non-finite J entry)
+  /// by the products with J (bit-identical to finish's, pgs_colored_products.hpp). With threads,
+  /// the permutation back and the residual run on them too.
   [[nodiscard]] SolveResult sweeps(const LcpProblem& p, Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                    const SolverOptions& o, Prepared& prep, Laps& laps) {
     const long batches = static_cast<long>(prep.batches.size() + prep.pairs.size());
@@ -279,13 +293,28 @@ class PgsColoredSolver final : public LcpSolver {
     SolverOptions po = o;
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), setup)); };
+    const bool start_bad = bad_start;
     SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep, plan_)
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
     laps.lap(&PgsColoredProfile::sweeps);
     Eigen::VectorXd permuted = std::move(r.lambda);
-    r.lambda = unpermute(prep, permuted, p.rows(), setup);
-    prep.lp = std::move(permuted);  // storage for the next solve's λ⁰
-    laps.lap(&PgsColoredProfile::unpermute);
+    const bool packed = prep.j_finite && !start_bad && r.status != SolveStatus::Diverged;
+    if (packed) {  // λ back in row order by the residual's chunks (every entry written)
+      r.lambda.resize(p.rows());
+      const colored::ResidualAcc e =
+          colored::packed_residual(prep, permuted.data(), o.omega, kernel_.residual, setup, r.lambda.data());
+      prep.lp = std::move(permuted);     // storage for the next solve's λ⁰
+      if (!e.nan && std::isfinite(e.r)) {  // (a non-finite λ_i has a NaN or infinite error)
+        r.residual = e.r;
+        settle_status(p, r, o, StopRule::Tolerance);
+        laps.lap(&PgsColoredProfile::residual);
+        return r;
+      }
+    } else {
+      r.lambda = unpermute(prep, permuted, p.rows(), setup);
+      prep.lp = std::move(permuted);
+      laps.lap(&PgsColoredProfile::unpermute);
+    }
     bool finite = false;
     r.residual = colored::natural_residual(p, r.lambda, setup, prep.jt, finite, prep.j_finite);
     if (finite)

@@ -72,6 +72,54 @@ bool contact_ok(const LcpProblem& p, int c) {
   return true;
 }
 
+/// Contacts [c0, c1) claim rows in strictly increasing order (normal, then tangent; each contact's
+/// after the previous contact's, contact c0 − 1 included): then no row is claimed twice. The
+/// engine numbers rows this way (ContactConstraints::add).
+bool rows_increase(const ContactConstraints& cons, int c0, int c1) {
+  int last = c0 > 0 ? std::max(cons[c0 - 1].normal_row, cons[c0 - 1].tangent_row) : -1;
+  bool up = true;
+  for (int c = c0; c < c1; ++c) {
+    const ContactConstraint& k = cons[c];
+    up &= k.normal_row > last && (k.tangent_row < 0 || k.tangent_row > k.normal_row);
+    last = std::max(k.normal_row, k.tangent_row);
+  }
+  return up;
+}
+
+/// No row is claimed by two contacts (for contacts that passed contact_ok): owner[r] = the contact
+/// claiming row r, then every claim reads back its own contact. The contacts own n rows in all
+/// (sizes_ok), so each row is owned once exactly when no row is claimed twice: a row claimed
+/// twice keeps one writer's index and the other contact sees it. Only claimed rows are read back,
+/// after the claims: stale entries are never read.
+bool claims_unique(const LcpProblem& p, int threads, int chunk, std::vector<int>& owner) {
+  const int n = p.rows(), nc = p.constraints.size();
+  owner.resize(static_cast<size_t>(n));
+  const int chunks = (nc + chunk - 1) / chunk;
+  WorkTeam& team = calling_thread_team();
+  team.for_parts(threads, chunks, [&](int part) {
+    const int c0 = part * chunk, c1 = std::min(nc, c0 + chunk);
+    for (int c = c0; c < c1; ++c) {
+      const ContactConstraint& k = p.constraints[c];
+      std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).store(c, std::memory_order_relaxed);
+      if (k.has_friction()) std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).store(c, std::memory_order_relaxed);
+    }
+  });
+  // (the end of the run above orders the claims before the read-back)
+  std::atomic<bool> ok{true};
+  team.for_parts(threads, chunks, [&](int part) {
+    bool mine = true;
+    const int c0 = part * chunk, c1 = std::min(nc, c0 + chunk);
+    for (int c = c0; c < c1; ++c) {
+      const ContactConstraint& k = p.constraints[c];
+      mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).load(std::memory_order_relaxed) == c;
+      if (k.has_friction())
+        mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).load(std::memory_order_relaxed) == c;
+    }
+    if (!mine) ok.store(false, std::memory_order_relaxed);
+  });
+  return ok.load(std::memory_order_relaxed);
+}
+
 }  // namespace
 
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0, const std::string& solver,
@@ -84,19 +132,14 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   };
   if (!sizes_ok(p, lambda0)) return serial();
   const int n = p.rows(), nc = p.constraints.size();
-  // owner[r] = the contact claiming row r. The contacts own n rows in all (sizes_ok), so each
-  // row is owned once exactly when no row is claimed twice: then every claim reads back its
-  // own contact. A row claimed twice keeps one writer's index and the other contact sees it.
-  // Only claimed rows are read back, after the claims: stale entries are never read.
-  owner.resize(static_cast<size_t>(nc > 0 ? n : 0));
   if (lambda0.size() == 0) zeros.resize(n);
-  // The scans by chunks on the calling thread's team: the rows and the claims, then (once every
-  // claim is made) the read-back.
-  std::atomic<bool> ok{true};  // cleared by a chunk that failed (an order-free AND)
+  // The scans by chunks on the calling thread's team: the rows, and the contacts with whether
+  // their rows increase; where they do not, the claims of claims_unique.
+  std::atomic<bool> ok{true};        // cleared by a chunk that failed (an order-free AND)
+  std::atomic<bool> increase{true};  // cleared by a chunk whose contacts' rows do not increase
   constexpr int kRowChunk = 1024, kContactChunk = 1024;
   const int row_chunks = (n + kRowChunk - 1) / kRowChunk, contact_chunks = (nc + kContactChunk - 1) / kContactChunk;
-  WorkTeam& team = calling_thread_team();
-  team.for_parts(threads, row_chunks + contact_chunks, [&](int part) {
+  calling_thread_team().for_parts(threads, row_chunks + contact_chunks, [&](int part) {
     bool mine = true;
     if (part < row_chunks) {
       const int i = part * kRowChunk, i1 = std::min(n, i + kRowChunk);
@@ -104,31 +147,13 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
       if (lambda0.size() == 0) std::fill(zeros.data() + i, zeros.data() + i1, 0.0);
     } else {
       const int c0 = (part - row_chunks) * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
-      for (int c = c0; c < c1; ++c) {
-        const bool good = contact_ok(p, c);
-        mine = mine && good;
-        if (!good) continue;
-        const ContactConstraint& k = p.constraints[c];
-        std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).store(c, std::memory_order_relaxed);
-        if (k.has_friction()) std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).store(c, std::memory_order_relaxed);
-      }
-    }
-    if (!mine) ok.store(false, std::memory_order_relaxed);
-  });
-  // (the end of the run above orders the claims before the read-back)
-  team.for_parts(threads, contact_chunks, [&](int part) {
-    bool mine = true;
-    const int c0 = part * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
-    for (int c = c0; c < c1; ++c) {
-      const ContactConstraint& k = p.constraints[c];
-      if (k.normal_row < 0 || k.normal_row >= n || k.tangent_row >= n) continue;  // failed above
-      mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.normal_row)]).load(std::memory_order_relaxed) == c;
-      if (k.has_friction())
-        mine = mine && std::atomic_ref<int>(owner[static_cast<size_t>(k.tangent_row)]).load(std::memory_order_relaxed) == c;
+      for (int c = c0; c < c1; ++c) mine = mine && contact_ok(p, c);
+      if (!rows_increase(p.constraints, c0, c1)) increase.store(false, std::memory_order_relaxed);
     }
     if (!mine) ok.store(false, std::memory_order_relaxed);
   });
   if (!ok.load(std::memory_order_relaxed)) return serial();
+  if (!increase.load(std::memory_order_relaxed) && !claims_unique(p, threads, kContactChunk, owner)) return serial();
   start = lambda0.size() == 0 ? &zeros : &lambda0;
   return std::nullopt;
 }

@@ -400,6 +400,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   out.pairs.resize(static_cast<size_t>(np));
   out.pair_base = 2 * W * nb;
   out.row_of.resize(static_cast<size_t>(nb) * 2 * W + static_cast<size_t>(np) * 4 * W);
+  out.diag.resize(out.row_of.size());
   out.failed.assign(static_cast<size_t>(nb + np), -1);
   return {};
 }
@@ -441,6 +442,8 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   if ((!ok_n || !ok_t) && failed < 0) name_singular(out, s0, lanes, diag_n, diag_t, failed);
   B.count = lanes;
   const size_t s0p = static_cast<size_t>(bi) * 2 * W;
+  std::copy(diag_n, diag_n + W, out.diag.data() + s0p);
+  std::copy(diag_t, diag_t + W, out.diag.data() + s0p + W);
   if (staged) return staged_lambda(out, s0, lanes, lp + s0p, other + s0p);
   for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
 }
@@ -475,6 +478,8 @@ void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out
     name_singular(out, s0, lanes, dn1, dt1, failed);
   }
   P.count = lanes;
+  double* diag = out.diag.data() + base;
+  for (const double* d : {dn0, dt0, dn1, dt1}) diag = std::copy(d, d + W, diag);
   for (int s = 0; s < 4 * W; ++s) lp[base + s] = other[base + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
 }
 

@@ -47,6 +47,7 @@ struct Prepared {
   std::vector<PairBatch> pairs;
   std::vector<Range> ranges;
   std::vector<int> row_of;    // permuted slot → LCP row (−1: padding or no tangent row)
+  std::vector<double> diag;   // permuted slot → A_ii of its row (1: padding; the packed residual)
   std::vector<int> order;     // lead contact of each lane, slot after slot
   std::vector<int> start;     // first lane of each slot: 2·colour (singles), 2·colour + 1 (pairs); overflow last
   std::vector<int> batch_of;  // per slot: its first batch (single slots) or pair batch (pair slots)

@@ -17,15 +17,14 @@ inline void scale_row(double (*j)[W], double* b, double omega) {
 
 }  // namespace
 
-void over_relax(std::vector<Batch>& batches, std::vector<PairBatch>& pairs, double omega) {
-  for (Batch& B : batches) {
-    scale_row(B.jn, B.bn, omega);
-    scale_row(B.jt, B.bt, omega);
-  }
-  for (PairBatch& P : pairs) {
-    scale_row(P.jt0, P.bt0, omega);
-    scale_row(P.jt1, P.bt1, omega);
-  }
+void over_relax(Batch& B, double omega) {
+  scale_row(B.jn, B.bn, omega);
+  scale_row(B.jt, B.bt, omega);
+}
+
+void over_relax(PairBatch& P, double omega) {
+  scale_row(P.jt0, P.bt0, omega);
+  scale_row(P.jt1, P.bt1, omega);
 }
 
 SolveResult invalid_omega(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o) {

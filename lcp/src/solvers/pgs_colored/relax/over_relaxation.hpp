@@ -15,9 +15,11 @@
 
 namespace dc::colored {
 
-/// Multiplies the J/A_ii and b/A_ii entries of every lane of `batches` (normal and tangent rows)
-/// and the tangent rows of `pairs` by ω (padding lanes hold zeros and stay zero).
-void over_relax(std::vector<Batch>& batches, std::vector<PairBatch>& pairs, double omega);
+/// Multiplies the J/A_ii and b/A_ii entries of every lane of a batch (normal and tangent rows),
+/// or of a pair batch's tangent rows, by ω (padding lanes hold zeros and stay zero). The packing
+/// scales each batch as it fills it, while the batch is in cache.
+void over_relax(Batch& batch, double omega);
+void over_relax(PairBatch& pair, double omega);
 
 /// The InvalidInput result for o.omega outside (0, 2), where the iteration need not converge
 /// (as "psor"'s): λ = λ⁰ when it fits p and is finite, else zero.

@@ -1,0 +1,49 @@
+// pgs-colored's packed closing residual over the batches (packed_residual.hpp).
+#include "solvers/pgs_colored/residual/packed_residual.hpp"
+
+#include <algorithm>
+#include <vector>
+
+#include "dc/core/work_team.hpp"
+
+namespace dc::colored {
+
+ResidualAcc packed_residual(const Prepared& prep, const double* lam, double omega, const ResidualKernels& k,
+                            int threads, double* lambda_out) {
+  const int nb = static_cast<int>(prep.batches.size()), np = static_cast<int>(prep.pairs.size());
+  const double* diag = prep.diag.data();
+  const double* u = prep.du.data();
+  const int* row_of = prep.row_of.data();
+  // Item b's first slot (items: batches, then pair batches, whose slots follow on).
+  auto slot = [&](int b) { return b < nb ? 2 * W * b : prep.pair_base + 4 * W * (b - nb); };
+  auto run = [&](int b0, int b1, ResidualAcc& acc) {  // items [b0, b1), then their λ in row order
+    if (b0 < nb) k.single(prep.batches.data(), b0, std::min(b1, nb), lam, diag, u, omega, acc);
+    if (b1 > nb)
+      k.pairs(prep.pairs.data(), std::max(b0, nb) - nb, b1 - nb, lam + prep.pair_base, diag + prep.pair_base, u,
+              omega, acc);
+    for (int s = slot(b0), end = slot(b1); s < end; ++s)
+      if (const int row = row_of[s]; row >= 0) lambda_out[row] = lam[s];
+  };
+  constexpr int kChunk = 64;  // batches per work item (their λ still in cache for the permutation)
+  const int items = nb + np;
+  const int chunks = (items + kChunk - 1) / kChunk;
+  ResidualAcc acc;
+  if (threads <= 1) {
+    for (int c = 0; c < chunks; ++c) run(c * kChunk, std::min(items, (c + 1) * kChunk), acc);
+    return acc;
+  }
+  struct alignas(64) Part {
+    ResidualAcc acc;
+  };
+  std::vector<Part> parts(static_cast<size_t>(chunks));
+  calling_thread_team().for_parts(threads, chunks, [&](int c) {
+    run(c * kChunk, std::min(items, (c + 1) * kChunk), parts[static_cast<size_t>(c)].acc);
+  });
+  for (const Part& p : parts) {
+    acc.r = max_of(acc.r, p.acc.r);
+    acc.nan = acc.nan || p.acc.nan;
+  }
+  return acc;
+}
+
+}  // namespace dc::colored
