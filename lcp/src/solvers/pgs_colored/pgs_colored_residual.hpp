@@ -1,7 +1,9 @@
 #pragma once
 // Private to "pgs-colored" (dc/lcp/pgs_colored.hpp): the loops of the closing natural residual
-// (pgs_colored_products.hpp) written against J's CSR arrays and the contacts, with no per-entry
-// iterator or bound lookup, so that they cost about one sweep. Bit for bit the forms of
+// formed from J (pgs_colored_products.hpp), written against J's CSR arrays and the contacts with
+// no per-entry iterator or bound lookup. They rebuild Jᵀλ and gather J·Δu row by row, so they
+// cost several sweeps; the solve uses them only where the packed residual (residual/) cannot
+// vouch for its Δu (a stopped sweep, a non-finite J or Δu⁰). Bit for bit the forms of
 // lcp_problem.cpp:
 //   (Jᵀλ)_c   = J_ic·λ_i added to 0 in ascending row order (Eigen's row-major scatter);
 //   w_i       = Σ_q J_iq Δu_{c_q} in storage order, from 0, then + b_i;
