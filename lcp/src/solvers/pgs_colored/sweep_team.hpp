@@ -4,13 +4,12 @@
 // colour 0, 1, …, overflow in chunks: first from the front of its own block of the colour (the
 // colour's batches split evenly by thread, so a thread keeps its region of the pile), then from
 // the far end of the other threads' blocks. A thief thus takes the chunks its owner would reach
-// last, the same ones sweep after sweep while the imbalance persists, and owner and thief never
-// work next to each other in a block. A colour starts once every batch of the previous colour is
-// done. No thread waits for another to arrive: a thread that is descheduled (another program on
-// its core) has its share done by the others, and waits (spin, yield, sleep:
-// dc/core/wake_word.hpp) happen only for a chunk in progress or for the next sweep. Which thread
-// runs a batch does not change the result (a colour's batches touch disjoint bodies; θ and the
-// flag combine as max and or).
+// last (the two meet once per block), the same ones sweep after sweep while an imbalance
+// persists. A colour starts once every batch of the previous colour is done. No thread waits for
+// another to arrive: a thread that is descheduled (another program on its core) has its share
+// done by the others, and waits (spin, yield, sleep: dc/core/wake_word.hpp) happen only for a
+// chunk in progress or for the next sweep. Which thread runs a batch does not change the result
+// (a colour's batches touch disjoint bodies; θ and the flag combine as max and or).
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
