@@ -1,6 +1,9 @@
 #include "dc/core/work_team.hpp"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdint>
 #include <chrono>
 #include <utility>
 
@@ -114,14 +117,63 @@ void WorkTeam::gather(int threads, PartJob body) {
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
+namespace {
+
+/// for_parts' claims: the parts split into one contiguous block per member; a member takes its
+/// own block's parts from the front, then the other blocks' parts from the back (the parts of a
+/// member that is late or never joins are done by the others). While the members keep pace, a
+/// member runs the same parts run after run, so each core writes and reads the same share of a
+/// stage's arrays from step to step.
+class PartClaims {
+ public:
+  static constexpr int kMostMembers = 64;  // gather's most members: the caller and 63 helpers
+
+  PartClaims(int parts, int members) : parts_(parts), members_(members) {}
+
+  /// The next part for `member`; false when every part is taken.
+  bool next(int member, int& part) {
+    for (int j = 0; j < members_; ++j)
+      if (claim((member + j) % members_, j != 0, part)) return true;
+    return false;
+  }
+
+ private:
+  [[nodiscard]] int first(int block) const {
+    return static_cast<int>(static_cast<long>(parts_) * block / members_);
+  }
+
+  bool claim(int block, bool from_back, int& part) {
+    std::atomic<std::uint64_t>& taken = taken_[static_cast<size_t>(block)].word;  // front << 32 | back
+    const int lo = first(block), hi = first(block + 1);
+    std::uint64_t w = taken.load();
+    for (;;) {
+      const int front = static_cast<int>(w >> 32), back = static_cast<int>(w & 0xffffffffU);
+      if (front + back >= hi - lo) return false;
+      if (taken.compare_exchange_weak(w, w + (from_back ? 1 : std::uint64_t{1} << 32))) {
+        part = from_back ? hi - 1 - back : lo + front;
+        return true;
+      }
+    }
+  }
+
+  struct alignas(64) Taken {
+    std::atomic<std::uint64_t> word{0};
+  };
+  int parts_, members_;
+  std::array<Taken, kMostMembers> taken_;
+};
+
+}  // namespace
+
 void WorkTeam::for_parts(int threads, int parts, PartJob job) {
   if (threads <= 1 || parts <= 1 || inside()) {
     for (int p = 0; p < parts; ++p) job(p);
     return;
   }
-  std::atomic<int> next{0};
-  gather(std::min(threads, parts), [&](int) {
-    for (int p = next.fetch_add(1); p < parts; p = next.fetch_add(1)) job(p);
+  const int members = std::min({threads, parts, PartClaims::kMostMembers});
+  PartClaims claims(parts, members);
+  gather(members, [&](int member) {
+    for (int p = 0; claims.next(member, p);) job(p);
   });
 }
 

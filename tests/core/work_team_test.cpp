@@ -18,8 +18,8 @@ namespace {
 
 TEST(WorkTeam, ForPartsRunsEveryJobOnce) {
   WorkTeam team;
-  for (const int threads : {1, 2, 3}) {
-    for (const int parts : {0, 1, 2, 7, 100}) {
+  for (const int threads : {1, 2, 3, 8, 70}) {  // 70: more than a team's 64 members
+    for (const int parts : {0, 1, 2, 7, 100, 300}) {
       std::vector<std::atomic<int>> runs(static_cast<size_t>(parts));
       team.for_parts(threads, parts, [&](int p) { runs[static_cast<size_t>(p)].fetch_add(1); });
       for (int p = 0; p < parts; ++p) EXPECT_EQ(1, runs[static_cast<size_t>(p)].load()) << threads << " " << parts;

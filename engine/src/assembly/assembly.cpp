@@ -185,6 +185,49 @@ void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, c
   out.J.data().resize(at);
 }
 
+/// Contact ct's constraint kc and rows, its first row `row` and first J entry `at` (both
+/// advanced past them) as add() numbers them; false (nothing written but kc's bodies and μ)
+/// when it fails add()'s checks.
+bool write_contact(const BodyState& s, const Contact& ct, const WorldDef& def, ContactConstraint& kc, int& row,
+                   int& at, LcpProblem& out) {
+  kc.body_a = row_body_a(s, ct);
+  kc.body_b = ct.body_b;
+  kc.mu = friction_of(ct, def.contact);
+  if (!ContactConstraints::valid(kc.body_a, kc.body_b, kc.mu)) return false;
+  int* const outer = out.J.outerIndexPtr();
+  kc.feature = ct.key.feature;
+  const int per_row = kc.body_a >= 0 ? 6 : 3;
+  kc.normal_row = row++;
+  outer[kc.normal_row] = at;
+  at += per_row;
+  out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
+  kc.tangent_row = -1;
+  if (kc.mu > 0) {
+    kc.tangent_row = row++;
+    outer[kc.tangent_row] = at;
+    at += per_row;
+  }
+  fill_rows(s, ct, kc, def, out);
+  return true;
+}
+
+/// `out` sized for nc contacts with `rows` rows and `nnz` J entries on nb bodies, J as
+/// assemble_serial lays it out (its end set); the constraints to overwrite.
+std::span<ContactConstraint> size_problem(int nb, int nc, int rows, int nnz, const WorldDef& def, LcpProblem& out) {
+  const std::span<ContactConstraint> con = out.constraints.overwrite(static_cast<size_t>(nc), rows);
+  out.dt = def.time.dt;
+  out.inv_mass.resize(3 * nb);
+  out.J.resize(rows, 3 * nb);
+  out.J.resizeNonZeros(nnz);
+  out.J.outerIndexPtr()[rows] = nnz;
+  out.b.resize(rows);
+  out.lo.resize(rows);
+  out.hi.resize(rows);
+  out.mu.resize(rows);
+  out.normal_row.resize(static_cast<size_t>(rows));
+  return con;
+}
+
 /// assemble_lcp on `threads` threads in `jobs` (> 1) jobs.
 void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
                    LcpProblem& out, int threads, int jobs) {
@@ -218,47 +261,16 @@ void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, con
     rows += std::exchange(k.rows, rows);
     nnz += std::exchange(k.nnz, nnz);
   }
-  // J as assemble_serial lays it out.
-  const std::span<ContactConstraint> con = out.constraints.overwrite(static_cast<size_t>(nc), rows);
-  out.dt = def.time.dt;
-  out.inv_mass.resize(3 * nb);
-  out.J.resize(rows, 3 * nb);
-  out.J.resizeNonZeros(nnz);
-  int* const outer = out.J.outerIndexPtr();
-  outer[rows] = nnz;
-  out.b.resize(rows);
-  out.lo.resize(rows);
-  out.hi.resize(rows);
-  out.mu.resize(rows);
-  out.normal_row.resize(static_cast<size_t>(rows));
+  const std::span<ContactConstraint> con = size_problem(nb, nc, rows, nnz, def, out);
   run_parts(threads, jobs, [&](int part) {
     fill_inv_mass(s, static_cast<int>(part_begin(nb, jobs, part)), static_cast<int>(part_begin(nb, jobs, part + 1)), out);
     int row = count[part].rows, at = count[part].nnz;
     const int c_end = static_cast<int>(part_begin(nc, jobs, part + 1));
     for (int c = static_cast<int>(part_begin(nc, jobs, part)); c < c_end; ++c) {
       prefetch_body_b(s, contacts, c, c_end);
-      const Contact& ct = contacts[static_cast<size_t>(c)];
       ContactConstraint& kc = con[static_cast<size_t>(c)];
-      kc.body_a = row_body_a(s, ct);
-      kc.body_b = ct.body_b;
-      kc.mu = friction_of(ct, cs);
-      if (!ContactConstraints::valid(kc.body_a, kc.body_b, kc.mu)) {
-        if (count[part].bad < 0) count[part].bad = c;
-        continue;
-      }
-      kc.feature = ct.key.feature;
-      const int per_row = kc.body_a >= 0 ? 6 : 3;
-      kc.normal_row = row++;
-      outer[kc.normal_row] = at;
-      at += per_row;
-      out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
-      kc.tangent_row = -1;
-      if (kc.mu > 0) {
-        kc.tangent_row = row++;
-        outer[kc.tangent_row] = at;
-        at += per_row;
-      }
-      fill_rows(s, ct, kc, def, out);
+      if (!write_contact(s, contacts[static_cast<size_t>(c)], def, kc, row, at, out) && count[part].bad < 0)
+        count[part].bad = c;
     }
   });
   for (int q = 0; q < jobs; ++q)
@@ -268,14 +280,62 @@ void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, con
     }
 }
 
+/// assemble_jobs in one run, without its counting run, when every body owns columns (no shape
+/// table) and one μ holds for every contact: the wall contacts come first (contacts sorted by
+/// key), so with r rows per contact (2 when μ > 0, else 1) and W wall contacts, contact c's
+/// first row is r·c and its first J entry r·(6c − 3·min(c, W)). Each job checks these premises
+/// on its contacts and stops at the first that breaks them; false then, and the caller
+/// assembles by assemble_jobs (which writes everything again).
+bool assemble_direct(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
+                     LcpProblem& out, int threads, int jobs) {
+  if (!s.shapes.empty() || contacts.empty()) return false;
+  const int nb = static_cast<int>(s.size());
+  const int nc = static_cast<int>(contacts.size());
+  const bool friction = friction_of(contacts[0], def.contact) > 0;
+  const int r = friction ? 2 : 1;
+  const int walls = static_cast<int>(
+      std::partition_point(contacts.begin(), contacts.end(), [](const Contact& ct) { return ct.body_a < 0; }) -
+      contacts.begin());
+  const std::span<ContactConstraint> con = size_problem(nb, nc, r * nc, r * (6 * nc - 3 * walls), def, out);
+  struct alignas(64) Job {
+    int bad = -1;  // first contact failing add()'s checks
+    bool broken = false;
+  };
+  std::vector<Job> job(static_cast<size_t>(jobs));
+  run_parts(threads, jobs, [&](int part) {
+    fill_inv_mass(s, static_cast<int>(part_begin(nb, jobs, part)), static_cast<int>(part_begin(nb, jobs, part + 1)), out);
+    const int c0 = static_cast<int>(part_begin(nc, jobs, part));
+    const int c_end = static_cast<int>(part_begin(nc, jobs, part + 1));
+    int row = r * c0, at = r * (6 * c0 - 3 * std::min(c0, walls));
+    Job& mine = job[static_cast<size_t>(part)];
+    for (int c = c0; c < c_end; ++c) {
+      prefetch_body_b(s, contacts, c, c_end);
+      const Contact& ct = contacts[static_cast<size_t>(c)];
+      if ((ct.body_a < 0) != (c < walls) || (friction_of(ct, def.contact) > 0) != friction) {
+        mine.broken = true;
+        return;
+      }
+      if (!write_contact(s, ct, def, con[static_cast<size_t>(c)], row, at, out) && mine.bad < 0) mine.bad = c;
+    }
+  });
+  for (const Job& q : job)
+    if (q.broken) return false;
+  for (const Job& q : job)
+    if (q.bad >= 0) {
+      const ContactConstraint& kc = con[static_cast<size_t>(q.bad)];
+      ContactConstraints::check(q.bad, kc.body_a, kc.body_b, kc.mu);
+    }
+  return true;
+}
+
 }  // namespace
 
 void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
                   LcpProblem& out, int threads) {
   const int jobs = parts_for(threads, std::max(static_cast<long>(s.size()), static_cast<long>(contacts.size())), 4, 1024);
-  if (jobs > 1)
-    assemble_jobs(s, contacts, def, out, threads, jobs);
-  else
+  if (jobs > 1) {
+    if (!assemble_direct(s, contacts, def, out, threads, jobs)) assemble_jobs(s, contacts, def, out, threads, jobs);
+  } else
     assemble_serial(s, contacts, def, out);
   // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix). Emptied only
   // when formed: an empty SparseRowMatrix allocates its outer index, every step.

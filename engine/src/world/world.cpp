@@ -13,6 +13,7 @@
 #include "dc/engine/contact_match.hpp"
 #include "assembly/assembly.hpp"
 #include "world/parts/integrate_keeping.hpp"
+#include "world/parts/merge_parts.hpp"
 #include "world/internal_order_choice.hpp"
 #include "world/restitution.hpp"
 #include "world/parts/step_parts.hpp"
@@ -229,7 +230,7 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
 
 void World::merge_contact_lists(int threads, int body_jobs, int pair_jobs, std::vector<Contact>& out) {
   // The lists in key order: walls top..left, each in job order (or already in `out`), then the
-  // pairs in job order; copied to their places in parallel.
+  // pairs in job order; copied to their places by jobs of ranges of `out`.
   std::vector<const std::vector<Contact>*> lists;
   if (body_jobs > 1)
     for (int w = 3; w >= 0; --w)
@@ -238,10 +239,7 @@ void World::merge_contact_lists(int threads, int body_jobs, int pair_jobs, std::
   std::vector<size_t> at(lists.size() + 1, out.size());
   for (size_t i = 0; i < lists.size(); ++i) at[i + 1] = at[i] + lists[i]->size();
   out.resize(at.back());
-  run_parts(threads, static_cast<int>(lists.size()), [&](int i) {
-    std::copy(lists[static_cast<size_t>(i)]->begin(), lists[static_cast<size_t>(i)]->end(),
-              out.begin() + static_cast<std::ptrdiff_t>(at[static_cast<size_t>(i)]));
-  });
+  copy_lists_by_ranges<Contact>(threads, lists, at, out);
 }
 
 const LcpProblem& World::assemble() {

@@ -61,8 +61,9 @@ class WorkTeam {
   void gather(int threads, PartJob body);
 
   /// Runs job(0), …, job(parts − 1), each once, on up to `threads` members (jobs claimed one
-  /// at a time as members come free; serially in order when threads ≤ 1, parts ≤ 1 or inside a
-  /// team's body). The first exception of a job is rethrown on the calling thread once every
+  /// at a time as members come free, each member first from the front of its own contiguous
+  /// block of the jobs, then from the back of the others'; serially in order when threads ≤ 1,
+  /// parts ≤ 1 or inside a team's body). The first exception of a job is rethrown on the calling thread once every
   /// member has returned (a member stops claiming after a job of its own threw).
   void for_parts(int threads, int parts, PartJob job);
 

@@ -1,13 +1,15 @@
 #pragma once
 // The threads of one pgs-colored solve's sweeps (pgs_colored.cpp, sweeps_threaded). Thread 0
 // runs the sweep driver and publishes each sweep (start); every thread then takes the batches of
-// colour 0, 1, …, overflow in chunks: first from its own block of the colour (the colour's
-// batches split evenly by thread, so a thread keeps its region of the pile), then from the other
-// threads' blocks. A colour starts once every batch of the previous colour is done. No thread
-// waits for another to arrive: a thread that is descheduled (another program on its core) has its
-// share done by the others, and waits (spin, yield, sleep: dc/core/wake_word.hpp) happen only for a chunk
-// in progress or for the next sweep. Which thread runs a batch does not change the result (a
-// colour's batches touch disjoint bodies; θ and the flag combine as max and or).
+// colour 0, 1, …, overflow in chunks: first from the front of its own block of the colour (the
+// colour's batches split evenly by thread, so a thread keeps its region of the pile), then from
+// the far end of the other threads' blocks. A thief thus takes the chunks its owner would reach
+// last (the two meet once per block), the same ones sweep after sweep while an imbalance
+// persists. A colour starts once every batch of the previous colour is done. No thread waits for
+// another to arrive: a thread that is descheduled (another program on its core) has its share
+// done by the others, and waits (spin, yield, sleep: dc/core/wake_word.hpp) happen only for a
+// chunk in progress or for the next sweep. Which thread runs a batch does not change the result
+// (a colour's batches touch disjoint bodies; θ and the flag combine as max and or).
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -37,6 +39,7 @@ class SweepTeam {
         bl.lo = rg.serial ? (b == 0 ? rg.begin : rg.end) : rg.begin + static_cast<int>(n * b / nt_);
         bl.hi = rg.serial ? rg.end : rg.begin + static_cast<int>(n * (b + 1) / nt_);
         bl.chunk = rg.serial ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo) / 8);
+        bl.chunks = bl.lo < bl.hi ? (bl.hi - bl.lo + bl.chunk - 1) / bl.chunk : 0;
       }
       total_[static_cast<size_t>(k)] = n;
     }
@@ -71,7 +74,7 @@ class SweepTeam {
       for (int j = 0; j < nt_; ++j) {
         const int b = (tid + j) % nt_;
         int lo = 0, hi = 0;
-        while (claim(k, b, s, lo, hi)) {
+        while (claim(k, b, s, b != tid, lo, hi)) {
           if (mine.sweep != s) mine = Slot{s, Acc{}};
           run(k, lo, hi, mine.acc);
           add_done(k, tid, hi - lo, s);
@@ -101,10 +104,11 @@ class SweepTeam {
 
  private:
   struct Block {
-    int lo = 0, hi = 0, chunk = kChunk;
+    int lo = 0, hi = 0, chunk = kChunk, chunks = 0;  // chunks: ⌈(hi − lo) / chunk⌉ (at most 9)
   };
-  /// A block's next batch, tagged with sweep + 1 in the high half (a claim of an earlier sweep
-  /// finds a later tag and takes nothing; an earlier tag means the block is untouched this sweep).
+  /// A block's claimed chunks: sweep + 1 in the high half, the number taken from the front in
+  /// bits 16–31 and from the back in bits 0–15 (a claim of an earlier sweep finds a later tag
+  /// and takes nothing; an earlier tag means the block is untouched this sweep).
   struct alignas(64) Cursor {
     std::atomic<std::uint64_t> next{0};
   };
@@ -119,22 +123,27 @@ class SweepTeam {
     Acc acc;
   };
 
-  bool claim(int k, int b, int s, int& lo, int& hi) {
+  /// The next chunk of block b of range k in sweep s: the front one for its owner, the back
+  /// one for a thief; false when none is left.
+  bool claim(int k, int b, int s, bool thief, int& lo, int& hi) {
     const size_t i = static_cast<size_t>(k * nt_ + b);
     const Block& bl = blocks_[i];
-    if (bl.lo >= bl.hi) return false;
+    if (bl.chunks == 0) return false;
     std::atomic<std::uint64_t>& cur = cursors_[i].next;
     const std::uint64_t tag = static_cast<std::uint64_t>(s + 1) << 32;
     std::uint64_t c = cur.load();
     for (;;) {
       const std::uint64_t ctag = c & ~std::uint64_t{0xffffffff};
       if (ctag > tag) return false;
-      const int pos = ctag < tag ? bl.lo : static_cast<int>(c & 0xffffffff);
-      if (pos >= bl.hi) return false;
-      const int end = std::min(bl.hi, pos + bl.chunk);
-      if (cur.compare_exchange_weak(c, tag | static_cast<std::uint32_t>(end))) {
-        lo = pos;
-        hi = end;
+      const int front = ctag < tag ? 0 : static_cast<int>((c >> 16) & 0xffff);
+      const int back = ctag < tag ? 0 : static_cast<int>(c & 0xffff);
+      if (front + back >= bl.chunks) return false;
+      const int idx = thief ? bl.chunks - 1 - back : front;
+      const std::uint64_t next = tag | static_cast<std::uint64_t>(front + (thief ? 0 : 1)) << 16 |
+                                 static_cast<std::uint64_t>(back + (thief ? 1 : 0));
+      if (cur.compare_exchange_weak(c, next)) {
+        lo = bl.lo + idx * bl.chunk;
+        hi = std::min(bl.hi, lo + bl.chunk);
         return true;
       }
     }
