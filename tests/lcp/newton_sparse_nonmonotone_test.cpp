@@ -1,14 +1,14 @@
 // newton-sparse's non-monotone line search (NewtonSparseDef::nonmonotone_window): off by
 // default; on, the same contact velocities as lemke and the dense newton, convergence from
 // random starts, fewer failed line searches (and so fewer Levenberg–Marquardt dampings) where
-// full steps switch modes, and the prox-newton finish that uses it reaches its target.
+// full steps switch modes, and the proximal-point route with it reaches its target.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/newton_sparse.hpp"
-#include "dc/lcp/prox_newton.hpp"
+#include "dc/lcp/proximal_point.hpp"
 #include "lcp/solver_test_problems.hpp"
 #include "solvers/newton_sparse/merit_window.hpp"
 
@@ -101,21 +101,22 @@ TEST(NewtonSparseNonmonotone, FewerFailedLineSearchesOnAFrictionalPile) {
   EXPECT_LE(window_damped, monotone_damped);
 }
 
-// prox-newton's body-space proximal finish runs with the window (ProxNewtonDef::finish_route)
-// and reaches its target on a frictional pile from zero.
-TEST(NewtonSparseNonmonotone, ProxNewtonsFinishUsesItAndReachesTheTarget) {
-  const ProxNewtonDef def;
-  EXPECT_GT(def.finish_route.newton_sparse.nonmonotone_window, 0);
-  const LcpProblem p = test::deep_pile(6, 8, 0.5);
-  ProxNewtonDef only_finish;
-  only_finish.lead_sweeps = 0;
-  only_finish.max_outer = 1;
-  only_finish.safeguard_sweeps = 0;
-  only_finish.pivot_rows = 0;
-  SolverOptions o = options(2000);
-  o.tolerance = 1e-8 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
-  const SolveResult r = ProxNewtonSolver(only_finish).solve(p, {}, o);
-  EXPECT_LE(natural_residual(p, r.lambda), o.tolerance) << r.message;
+// The proximal-point route (prox-newton's finish) with the window in its inner solves reaches
+// the target the monotone route reaches, on frictional piles from zero.
+TEST(NewtonSparseNonmonotone, TheProximalRouteWithTheWindowReachesTheTarget) {
+  for (const double mu : {0.3, 0.6}) {
+    const LcpProblem p = test::deep_pile(6, 8, mu);
+    ProximalPointDef monotone;
+    monotone.newton_sparse.stale_factor_iterations = 30;
+    ProximalPointDef window = monotone;
+    window.newton_sparse.nonmonotone_window = 5;
+    SolverOptions o = options(2000);
+    o.tolerance = 1e-8 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
+    const SolveResult a = solve_proximal_point(p, {}, o, monotone);
+    const SolveResult b = solve_proximal_point(p, {}, o, window);
+    EXPECT_LE(natural_residual(p, a.lambda), o.tolerance) << mu << ": " << a.message;
+    EXPECT_LE(natural_residual(p, b.lambda), o.tolerance) << mu << ": " << b.message;
+  }
 }
 
 }  // namespace

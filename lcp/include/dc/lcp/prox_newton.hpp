@@ -220,17 +220,12 @@ struct ProxNewtonDef {
   /// route improves again after long plateaus and reaches the target only when allowed its
   /// outer iterations. Directions by GMRES with a kept factor first (stale_factor_iterations =
   /// 30, NewtonSparseDef): near the solution few rows change mode between iterations and δ
-  /// stays put for many outer iterations, so most iterations need no factorisation. A
-  /// non-monotone line search over the last 5 iterates (NewtonSparseDef::nonmonotone_window):
-  /// on impacted piles the inner solves at small δ take full steps that switch many modes and
-  /// raise ½‖H‖² for an iteration; the monotone test rejects them, damps the free block 100-fold
-  /// (a new direction, often a factorisation) and falls back to PGS sweeps.
+  /// stays put for many outer iterations, so most iterations need no factorisation.
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
     d.newton_sparse.krylov_forcing = 1e-2;
     d.newton_sparse.stale_factor_iterations = 30;
-    d.newton_sparse.nonmonotone_window = 5;
     d.max_stalls = 0;
     return d;
   }();
