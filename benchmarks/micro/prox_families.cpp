@@ -53,6 +53,7 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "fallback_sweeps") r.newton_sparse.fallback_sweeps = static_cast<int>(x);
   else if (key == "max_damping") r.newton_sparse.max_damping = x;
   else if (key == "max_backtracks") r.newton_sparse.max_backtracks = static_cast<int>(x);
+  else if (key == "nonmonotone_window") r.newton_sparse.nonmonotone_window = static_cast<int>(x);
   else if (key == "inner_iterations") r.inner_iterations = static_cast<int>(x);
   else if (key == "krylov_forcing") r.newton_sparse.krylov_forcing = x;
   else if (key == "inner_forcing") r.inner_forcing = x;

@@ -43,6 +43,14 @@ struct NewtonSparseDef {
   double max_damping = 1e2;
   /// Armijo constant σ: accept α when ½‖H(λ_α)‖² ≤ (1 − 2σα)·½‖H(λ)‖² (default 1e-4).
   double armijo = 1e-4;
+  /// Non-monotone line search: the Armijo test compares against the largest ½‖H‖² of the last
+  /// this many iterates (and the current one) instead of the current one alone (default 0:
+  /// monotone). Where a full semismooth step switches modes the non-smooth merit can rise for an
+  /// iteration and fall after; the monotone test fails there and damps the free block (a new
+  /// direction, often a refactorisation). After this many iterations without a new best
+  /// residual (a watchdog) the iterate goes back to the best one and the search stays monotone
+  /// until it finds a new best. The returned λ is still the best iterate.
+  int nonmonotone_window = 0;
   /// With sliding friction coupled: false = GMRES preconditioned with the CHOLMOD factor of
   /// the symmetric part (default); true = factorise the exact non-symmetric Newton matrix by
   /// Eigen's SparseLU, analysed afresh each time (GMRES only if that fails); faster where

@@ -24,6 +24,7 @@
 #include "dc/core/number_text.hpp"
 #include "solvers/exact/box_newton.hpp"
 #include "solvers/newton_sparse/gmres.hpp"
+#include "solvers/newton_sparse/merit_window.hpp"
 #include "solvers/newton_sparse/natural_map.hpp"
 #include "solvers/newton_sparse/sparse_factor.hpp"
 #include "solvers/solver_common.hpp"
@@ -166,14 +167,15 @@ class NewtonStep {
   }
 
   /// Backtracking on φ along proj(λ + αΔ). On success λ and v move to the accepted point.
-  bool line_search(Eigen::VectorXd& lambda, NaturalMapValue& v, const Eigen::VectorXd& delta, double& alpha) {
+  bool line_search(Eigen::VectorXd& lambda, NaturalMapValue& v, const Eigen::VectorXd& delta, double& alpha,
+                   double reference) {
     alpha = 1.0;
     for (int k = 0; k <= def_.max_backtracks; ++k, alpha *= 0.5) {
       trial_ = lambda + alpha * delta;
       project_onto_bounds(p_, trial_);
       evaluate_natural_map(p_, trial_, scale_, trial_value_);
       ++st_.line_search_trials;
-      if (trial_value_.merit <= (1.0 - 2.0 * def_.armijo * alpha) * v.merit) {
+      if (trial_value_.merit <= (1.0 - 2.0 * def_.armijo * alpha) * reference) {
         if (k == 0) ++st_.full_steps;
         lambda.swap(trial_);
         std::swap(v, trial_value_);
@@ -226,7 +228,7 @@ class NewtonSparseRun {
  public:
   NewtonSparseRun(const LcpProblem& p, const NewtonSparseDef& def, const SolverOptions& o, FreeBlockFactor& factor,
                   NewtonSparseStats& st)
-      : p_(p), def_(def), o_(o), st_(st), step_(p, def, factor, st), cp_(o) {}
+      : p_(p), def_(def), o_(o), st_(st), step_(p, def, factor, st), cp_(o), window_(def.nonmonotone_window) {}
 
   SolveResult run(Eigen::VectorXd lambda, double target) {
     SolveResult r;
@@ -239,6 +241,7 @@ class NewtonSparseRun {
     }
     best_ = lambda;
     best_res_ = v_.max_abs;
+    window_.push(v_.merit);
     const int max_iter = std::max(0, o_.max_sweeps);
     int stalls = 0;
     // Why the loop ended: only the iteration limit is a SweepLimit, the others are failures.
@@ -256,10 +259,18 @@ class NewtonSparseRun {
         best_res_ = v_.max_abs;
         best_ = lambda;
         stalls = 0;
+        monotone_ = false;
       } else if (++stalls >= def_.max_stalls) {
         stop = Stop::Stalled;
         why = "stalled: no decrease of the residual in " + std::to_string(stalls) + " iterations";
         break;
+      } else if (stalls == def_.nonmonotone_window && !monotone_) {
+        // Watchdog: a window of non-monotone steps without a new best goes back to the best
+        // iterate, and the line search stays monotone until it finds a new best.
+        lambda = best_;
+        evaluate_natural_map(p_, lambda, step_.scale(), v_);
+        window_.clear();
+        monotone_ = true;
       }
       if (def_.stop_when && def_.stop_when(st_.iterations, lambda)) {
         stop = Stop::Requested;
@@ -300,7 +311,7 @@ class NewtonSparseRun {
     bool stepped = false;
     double alpha = 0.0;
     while (step_.direction(lambda, v_, delta_)) {
-      stepped = step_.line_search(lambda, v_, delta_, alpha);
+      stepped = step_.line_search(lambda, v_, delta_, alpha, monotone_ ? v_.merit : window_.reference(v_.merit));
       if (stepped) {
         if (alpha == 1.0) step_.relax();
         break;
@@ -329,6 +340,7 @@ class NewtonSparseRun {
       evaluate_natural_map(p_, lambda, step_.scale(), v_);
       return false;
     }
+    window_.push(v_.merit);
     const double theta = (lambda - previous_).cwiseAbs().maxCoeff();
     if (o_.record_theta) theta_.push_back(theta);
     cp_.after(st_.iterations, lambda);
@@ -356,6 +368,8 @@ class NewtonSparseRun {
   NewtonStep step_;
   CheckpointCursor cp_;
   std::optional<AssembledSweep> kernel_;
+  MeritWindow window_;
+  bool monotone_ = false;  // the watchdog went back to the best iterate; no new best since
   NaturalMapValue v_;
   Eigen::VectorXd best_, previous_, delta_;
   double best_res_ = 0.0;
@@ -370,6 +384,7 @@ NewtonSparseSolver::NewtonSparseSolver(const NewtonSparseDef& def)
     : def_(def), state_(std::make_unique<State>(def)) {
   if (!(def.fallback_cap_fall >= 0 && def.fallback_cap_fall <= 1))
     throw InvalidArgument("newton-sparse: fallback_cap_fall must be in [0, 1]");
+  if (def.nonmonotone_window < 0) throw InvalidArgument("newton-sparse: nonmonotone_window must be >= 0");
 }
 
 NewtonSparseSolver::~NewtonSparseSolver() = default;
