@@ -89,8 +89,9 @@ TEST(NewtonSparseNonmonotone, FewerFailedLineSearchesOnAFrictionalPile) {
     const SolveResult a = monotone.solve(p, {}, options());
     const SolveResult b = window.solve(p, {}, options());
     EXPECT_EQ(b.status, SolveStatus::Converged) << mu << ": " << b.message;
-    if (a.status == SolveStatus::Converged)
+    if (a.status == SolveStatus::Converged) {
       EXPECT_LE((lcp_velocity(p, a.lambda) - lcp_velocity(p, b.lambda)).cwiseAbs().maxCoeff(), 1e-6) << mu;
+    }
     monotone_failed += monotone.last_stats().failed_line_searches;
     window_failed += window.last_stats().failed_line_searches;
     monotone_damped += monotone.last_stats().dampings;

@@ -133,7 +133,9 @@ TEST(ProxNewtonLeadStage, CheckpointStatsCountTheWorkUpToEachCheckpoint) {
   int last_fact = 0;
   for (std::size_t i = 0; i < ks.size(); ++i) {
     const ProxNewtonStats& a = at[i];
-    if (ks[i] <= r.sweeps) EXPECT_EQ(a.lead_sweeps + a.newton + a.finish_newton, ks[i]) << ks[i];
+    if (ks[i] <= r.sweeps) {
+      EXPECT_EQ(a.lead_sweeps + a.newton + a.finish_newton, ks[i]) << ks[i];
+    }
     EXPECT_GE(a.factorizations, last_fact) << ks[i];
     EXPECT_LE(a.factorizations, whole.factorizations) << ks[i];
     last_fact = a.factorizations;
