@@ -416,7 +416,7 @@ def block_peers_v3(ctx, name="speed-peers-v3", title="Against Box2D v3", short=N
                            "still moving (> 0.1 m/s) and their mean height at the end, the time ÷ Box2D v3's at 8 "
                            "substeps and 100 Hz, and the program's last column (the stack's drift, or the time "
                            "relative to the first configuration); \"ours at equal quality\" is the program's pick: "
-                           "the fewest sweeps whose overlap and moving bodies are at most v3's at 8 substeps and "
+                           "the least time per step among our configurations whose overlap and moving bodies are at most v3's at 8 substeps and "
                            "100 Hz; benchmarks/compare/README.md explains the configurations and the rule." + why),
                   "columns": ["scene", "configuration", "ms/step", "ns/row·pass", "overlap mm", "moving",
                               "mean height m", "÷ v3 8:100", "last column"]})
