@@ -18,7 +18,7 @@
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
-#include "previous_lambda_by_key.hpp"
+#include "engine/previous_lambda_by_key.hpp"
 
 namespace dc {
 namespace {
