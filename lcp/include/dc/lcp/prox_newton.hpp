@@ -89,6 +89,11 @@ struct ProxNewtonDef {
   /// the route's next shift or the Newton part from the guess converges sooner; where the
   /// doubled sweeps pay (1,000-body impacts) they halve the residual before the cap.
   double lead_fallback_cap_fall = 0.5;
+  /// The proximal finish of the Newton part from the guess starts at the failure floor of δ
+  /// that finish of the Newton part from the lead stage's iterate ended with
+  /// (ProximalPointDef::initial_floor; default false: at finish_route's own initial_shift).
+  /// The shifts below that floor failed there, and their inner solves fail again from the guess.
+  bool guess_route_from_floor = false;
   /// That first Newton part runs only when the lead stage lowered the hard residual at least
   /// this many times (default 100): a stage that gained less (the oracle's call, after its own
   /// nncg stage) leaves the Newton part as without it, its best iterate a candidate only.

@@ -401,6 +401,7 @@ class ProxRun {
     }
     if (windowed && def_.lead_fallback_doublings >= 0) pd.newton_sparse.fallback_doublings = def_.lead_fallback_doublings;
     if (windowed && def_.lead_fallback_cap_fall > 0) pd.newton_sparse.fallback_cap_fall = def_.lead_fallback_cap_fall;
+    if (!windowed && def_.guess_route_from_floor) pd.initial_floor = std::max(pd.initial_floor, lead_route_floor_);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     SolverOptions fo;
     fo.tolerance = target_;
@@ -412,6 +413,7 @@ class ProxRun {
     st_.factorizations += ps.factorizations;
     st_.finish_newton += r.sweeps;
     st_.proximal_finish_newton += r.sweeps;
+    if (windowed) lead_route_floor_ = ps.floor;
     if (r.lambda.size() == p_.rows() && r.lambda.allFinite())
       consider(r.lambda, hard_residual(p_, r.lambda), Finisher::ProximalPoint);
   }
@@ -486,6 +488,7 @@ class ProxRun {
   double best_res_ = INFINITY;
   double last_shift_ = 0;  // δ after the last pass, relative to max A_ii
   int part_start_ = 0;     // Newton iterations before the current Newton part
+  double lead_route_floor_ = 0.0;  // δ's failure floor the windowed proximal finish ended with
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;
