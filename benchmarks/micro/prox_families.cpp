@@ -81,6 +81,8 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);
   else if (key == "lead_fallback_cap_fall") d.lead_fallback_cap_fall = x;
   else if (key == "guess_route_from_floor") d.guess_route_from_floor = x != 0;
+  else if (key == "guess_fallback_cap_fall") d.guess_fallback_cap_fall = x;
+  else if (key == "guess_floor_stalls") d.guess_floor_stalls = static_cast<int>(x);
   else if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
   else if (key == "inner_tolerance") d.inner_tolerance = x;
   else if (key == "min_shift") d.min_shift = x;

@@ -94,6 +94,18 @@ struct ProxNewtonDef {
   /// (ProximalPointDef::initial_floor; default false: at finish_route's own initial_shift).
   /// The shifts below that floor failed there, and their inner solves fail again from the guess.
   bool guess_route_from_floor = false;
+  /// In the proximal finish of the Newton part from the guess after that first part: the route
+  /// stops after `guess_floor_stalls` outer iterations at a raised δ floor without a new best
+  /// hard residual (ProximalPointDef::floor_stalls; default 30; 0 = finish_route's own; the
+  /// finishes after it follow): on impacts and deep piles that part otherwise spends up to
+  /// max_outer passes at a δ floor of 1e-4 to 1e-3; 10 stalls stopped deep settled piles that
+  /// reach the target after a plateau. Its newton-sparse solves stop after a fallback batch at
+  /// the cap that leaves the residual above `guess_fallback_cap_fall` of its value before the
+  /// batch (NewtonSparseDef::fallback_cap_fall; default 0: finish_route's own, none): 0.5 saves
+  /// factorisations on impacts and deep piles but costs the oracle's hard steps their accuracy.
+  /// Calls without a first part keep finish_route.
+  double guess_fallback_cap_fall = 0;
+  int guess_floor_stalls = 30;
   /// That first Newton part runs only when the lead stage lowered the hard residual at least
   /// this many times (default 100): a stage that gained less (the oracle's call, after its own
   /// nncg stage) leaves the Newton part as without it, its best iterate a candidate only.
@@ -226,27 +238,16 @@ struct ProxNewtonDef {
   /// route improves again after long plateaus and reaches the target only when allowed its
   /// outer iterations. Directions by GMRES with a kept factor first (stale_factor_iterations =
   /// 30, NewtonSparseDef): near the solution few rows change mode between iterations and δ
-  /// stays put for many outer iterations, so most iterations need no factorisation. Each inner
-  /// solve stops once a batch of its fallback PGS sweeps at the cap leaves the residual above
-  /// half its value before the batch (NewtonSparseDef::fallback_cap_fall = 0.5, as
-  /// lead_fallback_cap_fall in the first part): at a raised δ floor on impacts and deep piles
-  /// further batches repeat the slow one, and the next outer iteration does better. At a raised
-  /// δ floor the route stops after 30 outer iterations without a new best
-  /// (ProximalPointDef::floor_stalls = 30; the finishes after it follow): δ cannot fall there,
-  /// and passes without a new best repeat themselves; on deep settled piles 10 stopped routes
-  /// that reach the target after a plateau of passes at the floor.
+  /// stays put for many outer iterations, so most iterations need no factorisation.
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
     d.newton_sparse.krylov_forcing = 1e-2;
     d.newton_sparse.stale_factor_iterations = 30;
-    d.newton_sparse.fallback_cap_fall = 0.5;
-    d.floor_stalls = 30;
     d.max_stalls = 0;
     return d;
   }();
-  /// Settings of that route in the dual form (problems without J): those of finish_route
-  /// (without its fallback_cap_fall and floor_stalls) and
+  /// Settings of that route in the dual form (problems without J): those of finish_route and
   ///   * δ ≥ 1e-7·max A_ii: on Siconos' granular files the inner solves at 1e-8 cycle between
   ///     row modes and fail;
   ///   * inexact inner solves (inner_forcing = 0.1: each to a tenth of the best hard residual):
