@@ -66,6 +66,8 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "progress_factor") r.progress_factor = x;
   else if (key == "release_floor") r.release_floor = x != 0;
   else if (key == "window_stops") r.window_stops = x != 0;
+  else if (key == "initial_floor") r.initial_floor = x;
+  else if (key == "floor_stalls") r.floor_stalls = static_cast<int>(x);
   else throw dc::ConfigError("prox_families: unknown key 'route." + key + "'");
 }
 
@@ -78,6 +80,9 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_window_gain") d.lead_window_gain = x;
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);
   else if (key == "lead_fallback_cap_fall") d.lead_fallback_cap_fall = x;
+  else if (key == "guess_route_from_floor") d.guess_route_from_floor = x != 0;
+  else if (key == "guess_fallback_cap_fall") d.guess_fallback_cap_fall = x;
+  else if (key == "guess_floor_stalls") d.guess_floor_stalls = static_cast<int>(x);
   else if (key == "body_inner_iterations") d.body_inner_iterations = static_cast<int>(x);
   else if (key == "inner_tolerance") d.inner_tolerance = x;
   else if (key == "min_shift") d.min_shift = x;

@@ -21,7 +21,10 @@ void check_def(const ProximalPointDef& d) {
   if (!(std::isfinite(d.shrink) && d.shrink > 1)) throw InvalidArgument("proximal point: shrink must be > 1");
   if (d.max_outer < 1 || d.inner_iterations < 1)
     throw InvalidArgument("proximal point: max_outer and inner_iterations must be >= 1");
-  if (d.max_stalls < 0) throw InvalidArgument("proximal point: max_stalls must be >= 0");
+  if (d.max_stalls < 0 || d.floor_stalls < 0)
+    throw InvalidArgument("proximal point: max_stalls and floor_stalls must be >= 0");
+  if (!(std::isfinite(d.initial_floor) && d.initial_floor >= 0))
+    throw InvalidArgument("proximal point: initial_floor must be finite and >= 0");
   if (!(std::isfinite(d.floor_decay) && d.floor_decay >= 1))
     throw InvalidArgument("proximal point: floor_decay must be finite and >= 1");
   if (d.progress_window < 0) throw InvalidArgument("proximal point: progress_window must be >= 0");
@@ -74,7 +77,10 @@ struct ProgressWindow {
   }
 };
 
-std::string stop_message(const ProximalPointDef& d, bool slowed, int stalls) {
+std::string stop_message(const ProximalPointDef& d, bool slowed, int stalls, int floor_stalls) {
+  if (d.floor_stalls > 0 && floor_stalls >= d.floor_stalls)
+    return "proximal point: stalled: " + std::to_string(floor_stalls) +
+           " outer iterations at the raised shift floor without a new best residual";
   if (slowed)
     return "proximal point: best residual fell less than progress_factor over " +
            std::to_string(d.progress_window) + " outer iterations";
@@ -125,13 +131,15 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   out.lambda = lambda;
   out.residual = natural_residual(p, lambda);
   Eigen::VectorXd centre = lambda;  // λ_k
-  double shift = def.initial_shift;
-  double floor = def.min_shift;  // raised above every shift whose inner solve failed
+  double floor = std::clamp(def.initial_floor, def.min_shift, def.max_shift);  // raised above every failed shift
+  double shift = std::max(def.initial_shift, floor);
   int stalls = 0;                // consecutive outer iterations without a new best
+  int floor_stalls = 0;          // of those, consecutive ones at a raised floor (floor_stalls)
   ProgressWindow window;
   bool slowed = false;    // stopped by progress_window
   for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
-                  (def.max_stalls == 0 || stalls < def.max_stalls);
+                  (def.max_stalls == 0 || stalls < def.max_stalls) &&
+                  (def.floor_stalls == 0 || floor_stalls < def.floor_stalls);
        ++k) {
     if (window.slow(def, k, out.residual) && window.stops(def, k, floor, shift)) {
       slowed = true;
@@ -166,10 +174,12 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     }
     const double residual = natural_residual(p, r.lambda);
     ++stalls;
+    floor_stalls = shift <= floor && floor > def.min_shift ? floor_stalls + 1 : 0;
     if (residual < out.residual) {
       out.lambda = r.lambda;
       out.residual = residual;
       stalls = 0;
+      floor_stalls = 0;
     }
     cp.reach(out.sweeps, out.lambda);
     if (def.progress_window > 0) window.best_after.push_back(out.residual);
@@ -187,10 +197,11 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       floor = std::max(floor, shift);
     }
   }
+  if (stats) stats->floor = floor;
   out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
   if (out.status == SolveStatus::Converged) cp.flush_final(out.lambda);
   if (out.status != SolveStatus::Converged)
-    out.message = stop_message(def, slowed, stalls);
+    out.message = stop_message(def, slowed, stalls, floor_stalls);
   // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
   solvers::finish(p, out, options, options.tolerance > 0 ? solvers::StopRule::Tolerance : solvers::StopRule::Solution);
   return out;

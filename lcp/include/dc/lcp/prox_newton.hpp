@@ -89,6 +89,23 @@ struct ProxNewtonDef {
   /// the route's next shift or the Newton part from the guess converges sooner; where the
   /// doubled sweeps pay (1,000-body impacts) they halve the residual before the cap.
   double lead_fallback_cap_fall = 0.5;
+  /// The proximal finish of the Newton part from the guess starts at the failure floor of δ
+  /// that finish of the Newton part from the lead stage's iterate ended with
+  /// (ProximalPointDef::initial_floor; default false: at finish_route's own initial_shift).
+  /// The shifts below that floor failed there, and their inner solves fail again from the guess.
+  bool guess_route_from_floor = false;
+  /// In the proximal finish of the Newton part from the guess after that first part: the route
+  /// stops after `guess_floor_stalls` outer iterations at a raised δ floor without a new best
+  /// hard residual (ProximalPointDef::floor_stalls; default 30; 0 = finish_route's own; the
+  /// finishes after it follow): on impacts and deep piles that part otherwise spends up to
+  /// max_outer passes at a δ floor of 1e-4 to 1e-3; 10 stalls stopped deep settled piles that
+  /// reach the target after a plateau. Its newton-sparse solves stop after a fallback batch at
+  /// the cap that leaves the residual above `guess_fallback_cap_fall` of its value before the
+  /// batch (NewtonSparseDef::fallback_cap_fall; default 0: finish_route's own, none): 0.5 saves
+  /// factorisations on impacts and deep piles but costs the oracle's hard steps their accuracy.
+  /// Calls without a first part keep finish_route.
+  double guess_fallback_cap_fall = 0;
+  int guess_floor_stalls = 30;
   /// That first Newton part runs only when the lead stage lowered the hard residual at least
   /// this many times (default 100): a stage that gained less (the oracle's call, after its own
   /// nncg stage) leaves the Newton part as without it, its best iterate a candidate only.

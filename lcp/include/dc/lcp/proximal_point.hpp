@@ -11,7 +11,7 @@
 // at the best iterate is ≤ target (options.tolerance [N] when > 0, else solution_target; checked
 // after every inner iteration with stop_at_target): then
 // Converged when that λ passes the solution test (solution_target), else ToleranceReached;
-// SweepLimit after max_outer outer iterations, or earlier by max_stalls or progress_window; InvalidInput, with the inner solver's message,
+// SweepLimit after max_outer outer iterations, or earlier by max_stalls, floor_stalls or progress_window; InvalidInput, with the inner solver's message,
 // when the inner solver refuses the problem (lemke on friction rows). λ is the best iterate
 // seen. `sweeps` counts inner iterations in all.
 #include <string>
@@ -39,6 +39,16 @@ struct ProximalPointDef {
   /// for the rest of the route). Above 1, δ can fall again once passes succeed: the failure
   /// often belongs to row modes far from the solution, and a small δ converges faster near it.
   double floor_decay = 1.0;
+  /// Failure floor of δ at the start, relative to max_i A_ii (default 0: min_shift); δ_0 is
+  /// max(initial_shift, initial_floor). A caller that ran the route on the same problem before
+  /// passes the floor that run ended with (ProximalPointStats::floor): the shifts below it
+  /// failed there, and their inner solves fail again from a nearby start.
+  double initial_floor = 0.0;
+  /// Stop after this many consecutive outer iterations at a raised failure floor (δ at the
+  /// floor, floor above min_shift) without a new best residual (default 0: never). There δ can
+  /// neither fall nor rise, and passes without a new best repeat themselves; the message says
+  /// the route stalled.
+  int floor_stalls = 0;
   /// Stop when the best residual of the original problem fell less than progress_factor-fold
   /// over the last progress_window outer iterations (default 0: never). A caller with a cheaper
   /// fallback runs it sooner instead of spending max_outer slow passes.
@@ -87,6 +97,7 @@ struct ProximalPointDef {
 struct ProximalPointStats {
   int factorizations = 0;    ///< numeric factorisations
   int krylov_iterations = 0; ///< GMRES iterations
+  double floor = 0.0;        ///< failure floor of δ at the end, relative to max_i A_ii
 };
 
 /// Solves `problem` by the proximal-point route above. The problem must carry A (a problem

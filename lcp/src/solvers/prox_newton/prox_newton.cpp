@@ -11,6 +11,7 @@
 #include "dc/core/error.hpp"
 #include "dc/lcp/newton_sparse.hpp"
 #include "dc/lcp/proximal_point.hpp"
+#include "solvers/prox_newton/guess_route.hpp"
 #include "solvers/prox_newton/body_newton.hpp"
 #include "solvers/prox_newton/checkpoint_work.hpp"
 #include "solvers/prox_newton/cone/cone_passes.hpp"
@@ -69,6 +70,8 @@ void check_def(const ProxNewtonDef& d) {
       !(d.lead_fallback_cap_fall >= 0 && d.lead_fallback_cap_fall <= 1))
     throw InvalidArgument("prox-newton: lead_sweeps, lead_finish_window and lead_window must be >= 0, lead_gain >= 1, "
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
+  if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
+    throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -134,6 +137,7 @@ class ProxRun {
         best_res_ = guess_res;
         by_ = Finisher::Guess;
         part_start_ = st_.newton + st_.finish_newton;
+        from_guess_ = true;
         newton_part(lambda, true);
         if (kept_res < best_res_) {
           best_ = kept;
@@ -401,6 +405,7 @@ class ProxRun {
     }
     if (windowed && def_.lead_fallback_doublings >= 0) pd.newton_sparse.fallback_doublings = def_.lead_fallback_doublings;
     if (windowed && def_.lead_fallback_cap_fall > 0) pd.newton_sparse.fallback_cap_fall = def_.lead_fallback_cap_fall;
+    if (from_guess_) apply_guess_route(def_, lead_route_floor_, pd);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     SolverOptions fo;
     fo.tolerance = target_;
@@ -412,6 +417,7 @@ class ProxRun {
     st_.factorizations += ps.factorizations;
     st_.finish_newton += r.sweeps;
     st_.proximal_finish_newton += r.sweeps;
+    if (windowed) lead_route_floor_ = ps.floor;
     if (r.lambda.size() == p_.rows() && r.lambda.allFinite())
       consider(r.lambda, hard_residual(p_, r.lambda), Finisher::ProximalPoint);
   }
@@ -486,6 +492,8 @@ class ProxRun {
   double best_res_ = INFINITY;
   double last_shift_ = 0;  // δ after the last pass, relative to max A_ii
   int part_start_ = 0;     // Newton iterations before the current Newton part
+  double lead_route_floor_ = 0.0;  // δ's failure floor the windowed proximal finish ended with
+  bool from_guess_ = false;        // in the Newton part from the guess after the first part
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;
