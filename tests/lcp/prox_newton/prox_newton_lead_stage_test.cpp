@@ -11,7 +11,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
 #include "lcp/solver_test_problems.hpp"
-#include "solvers/prox_newton/lead_stage.hpp"
+#include "solvers/prox_newton/lead/lead_stage.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 

@@ -11,7 +11,7 @@
 #include "dc/lcp/newton_sparse.hpp"
 #include "dc/lcp/prox_newton.hpp"
 #include "lcp/solver_test_problems.hpp"
-#include "solvers/prox_newton/lead_rate.hpp"
+#include "solvers/prox_newton/lead/lead_rate.hpp"
 
 namespace dc {
 namespace {

@@ -17,7 +17,7 @@
 #include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
-#include "solvers/prox_newton/lead_stage.hpp"
+#include "solvers/prox_newton/lead/lead_stage.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"

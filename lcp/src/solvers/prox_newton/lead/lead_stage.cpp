@@ -1,8 +1,8 @@
-#include "solvers/prox_newton/lead_stage.hpp"
+#include "solvers/prox_newton/lead/lead_stage.hpp"
 
 #include <algorithm>
 
-#include "solvers/prox_newton/lead_rate.hpp"
+#include "solvers/prox_newton/lead/lead_rate.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 

@@ -1,4 +1,4 @@
-#include "solvers/prox_newton/lead_rate.hpp"
+#include "solvers/prox_newton/lead/lead_rate.hpp"
 
 #include <cmath>
 
