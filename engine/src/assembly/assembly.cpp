@@ -129,6 +129,32 @@ void fill_inv_mass(const BodyState& s, int k0, int k1, LcpProblem& out) {
 /// by step reallocates a few times, not at every step.
 constexpr double kHeadroom = 0.25;
 
+/// Contact ct's constraint kc and rows, its first row `row` and first J entry `at` (both
+/// advanced past them) as add() numbers them; false (nothing written but kc's bodies and μ)
+/// when it fails add()'s checks.
+bool write_contact(const BodyState& s, const Contact& ct, const WorldDef& def, ContactConstraint& kc, int& row,
+                   int& at, LcpProblem& out) {
+  kc.body_a = row_body_a(s, ct);
+  kc.body_b = ct.body_b;
+  kc.mu = friction_of(ct, def.contact);
+  if (!ContactConstraints::valid(kc.body_a, kc.body_b, kc.mu)) return false;
+  int* const outer = out.J.outerIndexPtr();
+  kc.feature = ct.key.feature;
+  const int per_row = kc.body_a >= 0 ? 6 : 3;
+  kc.normal_row = row++;
+  outer[kc.normal_row] = at;
+  at += per_row;
+  out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
+  kc.tangent_row = -1;
+  if (kc.mu > 0) {
+    kc.tangent_row = row++;
+    outer[kc.tangent_row] = at;
+    at += per_row;
+  }
+  fill_rows(s, ct, kc, def, out);
+  return true;
+}
+
 /// assemble_lcp on the calling thread in one pass over the contacts: each contact's constraint
 /// (rows numbered as ContactConstraints::add numbers them, after its checks), row starts and rows.
 void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
@@ -163,52 +189,11 @@ void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, c
     prefetch_body_b(s, contacts, c, nc);
     const Contact& ct = contacts[static_cast<size_t>(c)];
     ContactConstraint& kc = con[static_cast<size_t>(c)];
-    kc.body_a = row_body_a(s, ct);
-    kc.body_b = ct.body_b;
-    kc.mu = friction_of(ct, cs);
-    if (!ContactConstraints::valid(kc.body_a, kc.body_b, kc.mu)) ContactConstraints::check(c, kc.body_a, kc.body_b, kc.mu);
-    kc.feature = ct.key.feature;
-    const int per_row = kc.body_a >= 0 ? 6 : 3;
-    kc.normal_row = row++;
-    outer[kc.normal_row] = at;  // fill_rows finds its rows' entries there
-    at += per_row;
-    out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
-    kc.tangent_row = -1;
-    if (kc.mu > 0) {
-      kc.tangent_row = row++;
-      outer[kc.tangent_row] = at;
-      at += per_row;
-    }
-    fill_rows(s, ct, kc, def, out);
+    // add()'s checks; check() throws the one-line error for the contact that fails them.
+    if (!write_contact(s, ct, def, kc, row, at, out)) ContactConstraints::check(c, kc.body_a, kc.body_b, kc.mu);
   }
   outer[rows] = at;
   out.J.data().resize(at);
-}
-
-/// Contact ct's constraint kc and rows, its first row `row` and first J entry `at` (both
-/// advanced past them) as add() numbers them; false (nothing written but kc's bodies and μ)
-/// when it fails add()'s checks.
-bool write_contact(const BodyState& s, const Contact& ct, const WorldDef& def, ContactConstraint& kc, int& row,
-                   int& at, LcpProblem& out) {
-  kc.body_a = row_body_a(s, ct);
-  kc.body_b = ct.body_b;
-  kc.mu = friction_of(ct, def.contact);
-  if (!ContactConstraints::valid(kc.body_a, kc.body_b, kc.mu)) return false;
-  int* const outer = out.J.outerIndexPtr();
-  kc.feature = ct.key.feature;
-  const int per_row = kc.body_a >= 0 ? 6 : 3;
-  kc.normal_row = row++;
-  outer[kc.normal_row] = at;
-  at += per_row;
-  out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
-  kc.tangent_row = -1;
-  if (kc.mu > 0) {
-    kc.tangent_row = row++;
-    outer[kc.tangent_row] = at;
-    at += per_row;
-  }
-  fill_rows(s, ct, kc, def, out);
-  return true;
 }
 
 /// `out` sized for nc contacts with `rows` rows and `nnz` J entries on nb bodies, J as

@@ -111,7 +111,7 @@ TEST(ContactImpulse, EqualsEigensProduct) {
     double* value = p.J.valuePtr() + p.J.outerIndexPtr()[r];
     const int n = p.J.outerIndexPtr()[r + 1] - p.J.outerIndexPtr()[r];
     if (n < 6) continue;
-    for (int k = 0; k < 3; ++k) {  // the two bodies' columns swapped (no longer ascending)
+    for (int k = 0; k < 3; ++k) {  // the two bodies' columns swapped (columns out of ascending order)
       std::swap(inner[k], inner[k + 3]);
       std::swap(value[k], value[k + 3]);
     }
