@@ -24,9 +24,10 @@ namespace dc::colored {
 
 class SweepTeam {
  public:
-  /// Batches per claim: an eighth of the block, at least kChunk (the serial overflow set is one
-  /// claim).
+  /// Batches per chunk: kChunk, or more for a block of over kMostChunks chunks (the cursor's
+  /// 16-bit counts); the owner claims several at once (claim), the serial overflow set is one.
   static constexpr int kChunk = 8;
+  static constexpr int kMostChunks = 1024;
 
   /// `cuts` (region_cuts: threads − 1 per range) bound the threads' blocks of each range that
   /// is not serial; empty: each range split evenly by batch count.
@@ -46,7 +47,7 @@ class SweepTeam {
         Block& bl = blocks_[static_cast<size_t>(k * nt_ + b)];
         bl.lo = rg.serial ? (b == 0 ? rg.begin : rg.end) : bound(b);
         bl.hi = rg.serial ? rg.end : bound(b + 1);
-        bl.chunk = rg.serial ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo) / 8);
+        bl.chunk = rg.serial ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo + kMostChunks - 1) / kMostChunks);
         bl.chunks = bl.lo < bl.hi ? (bl.hi - bl.lo + bl.chunk - 1) / bl.chunk : 0;
       }
       total_[static_cast<size_t>(k)] = n;
@@ -79,15 +80,17 @@ class SweepTeam {
     for (int k = 0; k < nr_; ++k) {
       if (k > 0) wait_done(k - 1, s);
       if (stopped_.load()) return;
+      int swept = 0;  // batches of range k swept by this thread (published once: add_done)
       for (int j = 0; j < nt_; ++j) {
         const int b = (tid + j) % nt_;
         int lo = 0, hi = 0;
         while (claim(k, b, s, b != tid, lo, hi)) {
           if (mine.sweep != s) mine = Slot{s, Acc{}};
           run(k, lo, hi, mine.acc);
-          add_done(k, tid, hi - lo, s);
+          swept += hi - lo;
         }
       }
+      if (swept > 0) add_done(k, tid, swept, s);
     }
   }
 
@@ -112,7 +115,7 @@ class SweepTeam {
 
  private:
   struct Block {
-    int lo = 0, hi = 0, chunk = kChunk, chunks = 0;  // chunks: ⌈(hi − lo) / chunk⌉ (at most 9)
+    int lo = 0, hi = 0, chunk = kChunk, chunks = 0;  // chunks: ⌈(hi − lo) / chunk⌉ (at most kMostChunks)
   };
   /// A block's claimed chunks: sweep + 1 in the high half, the number taken from the front in
   /// bits 16–31 and from the back in bits 0–15 (a claim of an earlier sweep finds a later tag
@@ -146,15 +149,19 @@ class SweepTeam {
       const int front = ctag < tag ? 0 : static_cast<int>((c >> 16) & 0xffff);
       const int back = ctag < tag ? 0 : static_cast<int>(c & 0xffff);
       if (front + back >= bl.chunks) return false;
-      const int idx = thief ? bl.chunks - 1 - back : front;
-      const std::uint64_t next = tag | static_cast<std::uint64_t>(front + (thief ? 0 : 1)) << 16 |
+      // The owner takes half of what is left (at least a chunk), a thief one chunk: few claims
+      // (each a locked operation on a line the other cores may hold) while a late thread can
+      // still take over.
+      const int take = thief ? 1 : std::max(1, (bl.chunks - front - back) / 2);
+      const int idx = thief ? bl.chunks - 1 - back : front;  // first chunk taken
+      const std::uint64_t next = tag | static_cast<std::uint64_t>(front + (thief ? 0 : take)) << 16 |
                                  static_cast<std::uint64_t>(back + (thief ? 1 : 0));
       if (cur.compare_exchange_weak(c, next)) {
         // Odd blocks run from the back: neighbouring blocks 2i and 2i + 1 then meet, and are
         // stolen from, at their common bound (bodies both threads' regions border on).
-        const int at = b % 2 ? bl.chunks - 1 - idx : idx;
+        const int at = b % 2 ? bl.chunks - idx - take : idx;
         lo = bl.lo + at * bl.chunk;
-        hi = std::min(bl.hi, lo + bl.chunk);
+        hi = std::min(bl.hi, lo + take * bl.chunk);
         return true;
       }
     }
