@@ -73,8 +73,9 @@ double mean(const std::vector<double>& v) {
 using dc::bench_micro::fixed_sweeps;
 
 /// micro_step's scaled seed pile of n circles after 150 steps of pgs.
-dc::World settled_pile(int n) {
+dc::World settled_pile(int n, const std::string& order) {
   dc::WorldDef def = dc::stress::scaled_seed_pile(n);
+  if (!order.empty()) def.bodies.internal_order = dc::parse_internal_order(order, "--internal-order");
   def.solver.sweeps = 20;
   dc::World w(def);
   const auto pgs = dc::make_solver("pgs");
@@ -157,12 +158,15 @@ int main(int argc, char** argv) {
   std::string ns = "1000,10000", ts = "1,2";
   int steps = 40, rounds = 5, sweeps = 20, min_batches = -1;
   bool profile = false, handover = false;
+  std::string internal_order;
   app.add_option("--n", ns, "body counts, comma-separated");
   app.add_option("--threads", ts, "thread counts, comma-separated");
   app.add_option("--steps", steps, "timed steps per configuration and round");
   app.add_option("--rounds", rounds, "rounds (the configurations alternate inside each)");
   app.add_option("--sweeps", sweeps, "sweeps per step (tolerance 0)");
   app.add_option("--min-batches", min_batches, "PgsColoredDef::min_batches_per_thread (-1: default)");
+  app.add_option("--internal-order", internal_order, "[bodies] internal_order of the pile (auto, morton, none; "
+                 "default: the scene's)");
   app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
   app.add_flag("--handover", handover, "trace the team's runs: the hand-over per stage of the threaded steps");
   CLI11_PARSE(app, argc, argv);
@@ -174,7 +178,7 @@ int main(int argc, char** argv) {
               "wall 1/T |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const int n : parse_ints(ns)) {
-    const dc::World start = settled_pile(n);
+    const dc::World start = settled_pile(n, internal_order);
     std::vector<Series> series;
     std::vector<double> process_ms;
     for (const int t : parse_ints(ts)) {

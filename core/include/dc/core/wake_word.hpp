@@ -61,6 +61,11 @@ class WakeWord {
     }
   }
 
+  /// Some waiter is counted as (about to be) asleep: a notifier that must read shared state to
+  /// decide whether its condition became true can skip that read while this is false (the
+  /// spinning waiters see the condition themselves; a waiter counted later checks it then).
+  [[nodiscard]] bool sleeping() const { return sleepers_.load() != 0; }
+
   /// After making a condition true: wakes the sleeping waiters, if any (one load otherwise);
   /// true when it made the wake-up call.
   bool notify() {

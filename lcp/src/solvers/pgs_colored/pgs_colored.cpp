@@ -357,7 +357,9 @@ class PgsColoredSolver final : public LcpSolver {
                                             const SolverOptions& o, Prepared& prep, int threads) const {
     SolveResult r;
     const Kernels sweep = kernel_;
-    colored::SweepTeam team(prep.ranges, threads);
+    std::vector<int> keys, cuts;  // each thread's region of the bodies in every colour
+    colored::region_cuts(prep, threads, keys, cuts);
+    colored::SweepTeam team(prep.ranges, threads, cuts);
     double* u = prep.du.data();
     calling_thread_team().gather(threads, [&](int tid) {
       const double* in = nullptr;

@@ -1,11 +1,12 @@
 #pragma once
 // The threads of one pgs-colored solve's sweeps (pgs_colored.cpp, sweeps_threaded). Thread 0
 // runs the sweep driver and publishes each sweep (start); every thread then takes the batches of
-// colour 0, 1, …, overflow in chunks: first from the front of its own block of the colour (the
-// colour's batches split evenly by thread, so a thread keeps its region of the pile), then from
-// the far end of the other threads' blocks. A thief thus takes the chunks its owner would reach
-// last (the two meet once per block), the same ones sweep after sweep while an imbalance
-// persists. A colour starts once every batch of the previous colour is done. No thread waits for
+// colour 0, 1, …, overflow in chunks: first from its own block of the colour (region_cuts: the
+// batches on the thread's region of the bodies, the same region in every colour, so the Δu it
+// writes stay in its core's cache; an odd block from its back), then from the other end of the
+// other threads' blocks. A thief thus takes the chunks its owner would reach last (the two meet
+// once per block, next to the thief's own region), the same ones sweep after sweep while an
+// imbalance persists. A colour starts once every batch of the previous colour is done. No thread waits for
 // another to arrive: a thread that is descheduled (another program on its core) has its share
 // done by the others, and waits (spin, yield, sleep: dc/core/wake_word.hpp) happen only for a
 // chunk in progress or for the next sweep. Which thread runs a batch does not change the result
@@ -23,22 +24,30 @@ namespace dc::colored {
 
 class SweepTeam {
  public:
-  /// Batches per claim: an eighth of the block, at least kChunk (the serial overflow set is one
-  /// claim).
+  /// Batches per chunk: kChunk, or more for a block of over kMostChunks chunks (the cursor's
+  /// 16-bit counts); the owner claims several at once (claim), the serial overflow set is one.
   static constexpr int kChunk = 8;
+  static constexpr int kMostChunks = 1024;
 
-  SweepTeam(const std::vector<Range>& ranges, int threads)
+  /// `cuts` (region_cuts: threads − 1 per range) bound the threads' blocks of each range that
+  /// is not serial; empty: each range split evenly by batch count.
+  SweepTeam(const std::vector<Range>& ranges, int threads, const std::vector<int>& cuts = {})
       : nt_(std::max(1, threads)), nr_(static_cast<int>(ranges.size())), blocks_(static_cast<size_t>(nr_ * nt_)),
         cursors_(blocks_.size()), done_(blocks_.size()), total_(static_cast<size_t>(nr_)),
         slots_(static_cast<size_t>(nt_)) {
+    const bool cut = cuts.size() == static_cast<size_t>(nr_ * (nt_ - 1));
     for (int k = 0; k < nr_; ++k) {
       const Range& rg = ranges[static_cast<size_t>(k)];
       const long n = rg.end - rg.begin;
+      auto bound = [&](int b) {  // first batch of block b (b = 0 … nt_)
+        if (b == 0 || b == nt_) return b == 0 ? rg.begin : rg.end;
+        return cut ? cuts[static_cast<size_t>(k * (nt_ - 1) + b - 1)] : rg.begin + static_cast<int>(n * b / nt_);
+      };
       for (int b = 0; b < nt_; ++b) {
         Block& bl = blocks_[static_cast<size_t>(k * nt_ + b)];
-        bl.lo = rg.serial ? (b == 0 ? rg.begin : rg.end) : rg.begin + static_cast<int>(n * b / nt_);
-        bl.hi = rg.serial ? rg.end : rg.begin + static_cast<int>(n * (b + 1) / nt_);
-        bl.chunk = rg.serial ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo) / 8);
+        bl.lo = rg.serial ? (b == 0 ? rg.begin : rg.end) : bound(b);
+        bl.hi = rg.serial ? rg.end : bound(b + 1);
+        bl.chunk = rg.serial ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo + kMostChunks - 1) / kMostChunks);
         bl.chunks = bl.lo < bl.hi ? (bl.hi - bl.lo + bl.chunk - 1) / bl.chunk : 0;
       }
       total_[static_cast<size_t>(k)] = n;
@@ -71,15 +80,17 @@ class SweepTeam {
     for (int k = 0; k < nr_; ++k) {
       if (k > 0) wait_done(k - 1, s);
       if (stopped_.load()) return;
+      int swept = 0;  // batches of range k swept by this thread (published once: add_done)
       for (int j = 0; j < nt_; ++j) {
         const int b = (tid + j) % nt_;
         int lo = 0, hi = 0;
         while (claim(k, b, s, b != tid, lo, hi)) {
           if (mine.sweep != s) mine = Slot{s, Acc{}};
           run(k, lo, hi, mine.acc);
-          add_done(k, tid, hi - lo, s);
+          swept += hi - lo;
         }
       }
+      if (swept > 0) add_done(k, tid, swept, s);
     }
   }
 
@@ -104,7 +115,7 @@ class SweepTeam {
 
  private:
   struct Block {
-    int lo = 0, hi = 0, chunk = kChunk, chunks = 0;  // chunks: ⌈(hi − lo) / chunk⌉ (at most 9)
+    int lo = 0, hi = 0, chunk = kChunk, chunks = 0;  // chunks: ⌈(hi − lo) / chunk⌉ (at most kMostChunks)
   };
   /// A block's claimed chunks: sweep + 1 in the high half, the number taken from the front in
   /// bits 16–31 and from the back in bits 0–15 (a claim of an earlier sweep finds a later tag
@@ -138,12 +149,19 @@ class SweepTeam {
       const int front = ctag < tag ? 0 : static_cast<int>((c >> 16) & 0xffff);
       const int back = ctag < tag ? 0 : static_cast<int>(c & 0xffff);
       if (front + back >= bl.chunks) return false;
-      const int idx = thief ? bl.chunks - 1 - back : front;
-      const std::uint64_t next = tag | static_cast<std::uint64_t>(front + (thief ? 0 : 1)) << 16 |
+      // The owner takes half of what is left (at least a chunk), a thief one chunk: few claims
+      // (each a locked operation on a line the other cores may hold) while a late thread can
+      // still take over.
+      const int take = thief ? 1 : std::max(1, (bl.chunks - front - back) / 2);
+      const int idx = thief ? bl.chunks - 1 - back : front;  // first chunk taken
+      const std::uint64_t next = tag | static_cast<std::uint64_t>(front + (thief ? 0 : take)) << 16 |
                                  static_cast<std::uint64_t>(back + (thief ? 1 : 0));
       if (cur.compare_exchange_weak(c, next)) {
-        lo = bl.lo + idx * bl.chunk;
-        hi = std::min(bl.hi, lo + bl.chunk);
+        // Odd blocks run from the back: neighbouring blocks 2i and 2i + 1 then meet, and are
+        // stolen from, at their common bound (bodies both threads' regions border on).
+        const int at = b % 2 ? bl.chunks - idx - take : idx;
+        lo = bl.lo + at * bl.chunk;
+        hi = std::min(bl.hi, lo + take * bl.chunk);
         return true;
       }
     }
@@ -152,7 +170,8 @@ class SweepTeam {
   void add_done(int k, int tid, int n, int s) {
     std::atomic<std::int64_t>& c = done_[static_cast<size_t>(k * nt_ + tid)].count;
     c.store(c.load(std::memory_order_relaxed) + n);
-    if (complete(k, s)) wake_.notify();
+    // complete() reads every thread's count, a line the other cores write: only for a sleeper.
+    if (wake_.sleeping() && complete(k, s)) wake_.notify();
   }
 
   /// Every batch of range k is done in sweep s (each count read once; they only grow).
@@ -178,5 +197,47 @@ class SweepTeam {
   std::atomic<bool> stopped_{false};
   WakeWord wake_;
 };
+
+/// The key of a batch: the Δu offset of its first lane's lower dynamic body (4·body; the
+/// contacts of a colour are in contact order, so the keys grow along a range after its wall
+/// contacts).
+template <class B>
+int batch_key(const B& batch) {
+  return std::min(batch.la[0], batch.lb[0]);
+}
+
+/// Block bounds for SweepTeam that give each thread one region of the bodies in every colour:
+/// key cuts K_1 ≤ … ≤ K_{threads−1} at the quantiles of the batches' keys (a pair batch
+/// counted twice: it holds two contacts per lane), and in each range that is not serial the
+/// block of thread t starting after the range's batches with keys below K_t. A thread then
+/// reads and writes the same bodies' Δu from colour to colour (its own cache), where an even
+/// split of each range by count would put the split at a different body in each colour (the
+/// colours are not spread evenly over the pile) and move Δu between the cores at every colour.
+/// `keys` is scratch; `cuts` gets threads − 1 bounds per range.
+inline void region_cuts(const Prepared& prep, int threads, std::vector<int>& keys, std::vector<int>& cuts) {
+  const int nt = std::max(1, threads);
+  cuts.clear();
+  if (nt == 1) return;
+  keys.clear();
+  for (const Range& rg : prep.ranges)
+    for (int i = rg.begin; i < rg.end && !rg.serial; ++i)
+      for (int c = 0; c < (rg.pairs ? 2 : 1); ++c)
+        keys.push_back(rg.pairs ? batch_key(prep.pairs[static_cast<size_t>(i)])
+                                : batch_key(prep.batches[static_cast<size_t>(i)]));
+  std::vector<int> at(static_cast<size_t>(nt - 1), 0);  // the key cuts
+  for (int t = 1; t < nt && !keys.empty(); ++t) {
+    const auto q = keys.begin() + static_cast<long>(keys.size() * static_cast<size_t>(t) / static_cast<size_t>(nt));
+    std::nth_element(keys.begin(), q, keys.end());
+    at[static_cast<size_t>(t - 1)] = *q;
+  }
+  for (const Range& rg : prep.ranges)
+    for (int t = 1; t < nt; ++t) {
+      int below = 0;
+      for (int i = rg.begin; i < rg.end && !rg.serial; ++i)
+        below += (rg.pairs ? batch_key(prep.pairs[static_cast<size_t>(i)])
+                           : batch_key(prep.batches[static_cast<size_t>(i)])) < at[static_cast<size_t>(t - 1)];
+      cuts.push_back(rg.begin + below);
+    }
+}
 
 }  // namespace dc::colored
