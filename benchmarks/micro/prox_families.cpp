@@ -6,7 +6,8 @@
 // oracle's λ*. Per variant and step: factorisations as the bench counts them (passes, short
 // finish and proximal-finish iterations), lead-stage sweeps, Newton iterations, R/scale reached,
 // CPU ms of this thread for the solve and to R (its first checkpoint at R, the checkpoints' own
-// residual evaluations excluded) and the iterations there (lead sweeps + Newton, it_to_R); pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the
+// residual evaluations excluded), the iterations there (lead sweeps + Newton, it_to_R) and the
+// factorisations there (fact_to_R, through checkpoint_stats; the whole run when R is never met); pgs from the same guess to θ ≤ 1e-2 N (cap 10,000) as the
 // reference time.
 //
 //   build/bin/prox_families --scene scenes/pour.toml --seeds 3 --first 200 --steps 2
@@ -80,6 +81,10 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_window_gain") d.lead_window_gain = x;
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);
   else if (key == "lead_fallback_cap_fall") d.lead_fallback_cap_fall = x;
+  else if (key == "lead_newton_stalls") d.lead_newton_stalls = static_cast<int>(x);
+  else if (key == "lead_initial_shift") d.lead_initial_shift = x;
+  else if (key == "lead_window_bodies") d.lead_window_bodies = x;
+  else if (key == "safeguard_sweeps") d.safeguard_sweeps = static_cast<int>(x);
   else if (key == "guess_route_from_floor") d.guess_route_from_floor = x != 0;
   else if (key == "guess_fallback_cap_fall") d.guess_fallback_cap_fall = x;
   else if (key == "guess_floor_stalls") d.guess_floor_stalls = static_cast<int>(x);
@@ -164,7 +169,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::vector<Variant> variants;
   for (const auto& s : specs) variants.push_back(parse_variant(s));
-  std::printf("seed step rows variant reached R_over_scale factorisations lead newton finish outer cpu_ms ms_to_R it_to_R pgs_ms message\n");
+  std::printf("seed step rows variant reached R_over_scale factorisations lead newton finish outer cpu_ms ms_to_R it_to_R pgs_ms fact_to_R message\n");
   for (const int seed : seeds) {
     dc::WorldDef def = dc::load_scene(scene);
     def.bodies.seed = static_cast<std::uint64_t>(seed);
@@ -215,12 +220,15 @@ int main(int argc, char** argv) {
         for (int k = 1; k <= so.max_sweeps; ++k) so.checkpoints.push_back(k);
         double callback_ms = 0.0, to_r_ms = -1.0, t0 = 0.0;
         int to_r_it = -1;  // iterations (lead sweeps + Newton) at the first checkpoint at R
+        int to_r_fact = -1;  // factorisations there (ProxNewtonSolver::checkpoint_stats)
+        const auto* pn_run = dynamic_cast<const dc::ProxNewtonSolver*>(solvers[i].get());
         so.on_checkpoint = [&](int it, const Eigen::VectorXd& lam) {
           if (to_r_ms >= 0) return;
           const double c0 = thread_cpu_ms();
           if (dc::natural_residual(p, lam) / scale <= accuracy) {
             to_r_ms = c0 - t0 - callback_ms;
             to_r_it = it;
+            to_r_fact = pn_run != nullptr ? pn_run->checkpoint_stats().factorizations : 0;
           }
           callback_ms += thread_cpu_ms() - c0;
         };
@@ -230,13 +238,14 @@ int main(int argc, char** argv) {
         if (to_r_ms < 0 && dc::natural_residual(p, r.lambda) / scale <= accuracy) {
           to_r_ms = ms;
           to_r_it = r.sweeps;
+          to_r_fact = pn_run != nullptr ? pn_run->last_stats().factorizations : 0;
         }
         const auto* pn = dynamic_cast<const dc::ProxNewtonSolver*>(solvers[i].get());
         const dc::ProxNewtonStats st = pn != nullptr ? pn->last_stats() : dc::ProxNewtonStats{};
         const double acc = dc::natural_residual(p, r.lambda) / scale;
-        std::printf("%d %d %d %s %d %.3g %d %d %d %d %d %.1f %.2f %d %.2f \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
+        std::printf("%d %d %d %s %d %.3g %d %d %d %d %d %.1f %.2f %d %.2f %d \"%s\"\n", seed, s, p.rows(), variants[i].name.c_str(),
                     acc <= accuracy ? 1 : 0, acc, st.factorizations, st.lead_sweeps, st.newton,
-                    st.finish_newton, st.outer, ms, to_r_ms, to_r_it, pgs_ms, r.message.c_str());
+                    st.finish_newton, st.outer, ms, to_r_ms, to_r_it, pgs_ms, to_r_fact, r.message.c_str());
         std::fflush(stdout);
       }
       const dc::OracleSolution os = dc::solve_oracle(p, &guess);

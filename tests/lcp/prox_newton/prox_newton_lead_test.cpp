@@ -16,6 +16,7 @@
 namespace dc {
 namespace {
 
+using solvers::prox::lead_window_chunks;
 using solvers::prox::LeadRate;
 
 SolverOptions tight(const LcpProblem& p) {
@@ -269,6 +270,93 @@ TEST(ProxNewtonLead, CheckpointsCountTheLeadSweepsThenTheNewtonIterations) {
   ASSERT_FALSE(seen.empty());
   EXPECT_GT(seen.back(), st.lead_sweeps);
   EXPECT_EQ(last, r.lambda);
+}
+
+TEST(ProxNewtonLead, WindowGrowsAsTheSquareRootOfTheBodiesAboveTheReference) {
+  EXPECT_EQ(lead_window_chunks(16, 64, 60), 16);
+  EXPECT_EQ(lead_window_chunks(16, 64, 64), 16);
+  EXPECT_EQ(lead_window_chunks(16, 64, 256), 32);
+  EXPECT_EQ(lead_window_chunks(16, 64, 1024), 64);
+  EXPECT_EQ(lead_window_chunks(16, 0, 1024), 16);  // no reference: never scaled
+  EXPECT_EQ(lead_window_chunks(0, 64, 1024), 0);   // the rate rule stays the rate rule
+  ProxNewtonDef bad;
+  bad.lead_window_bodies = -1;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
+}
+
+// The solver hands its body count (J's columns / 3) to the window: with a reference below it
+// the window is longer, so the stage never stops sooner, and on some problem later.
+TEST(ProxNewtonLead, TheSolverScalesTheWindowByItsBodies) {
+  int later = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    test::TestRng rng(seed + 3190);
+    const LcpProblem p = test::random_contact(40, 80, true, rng);
+    ProxNewtonDef fixed, scaled;
+    fixed.lead_window = scaled.lead_window = 1;
+    // A 1e4-fold fall asked per window: the first chunk's fall, between 1e4^(1/4) and 1e4 on
+    // these problems, stops the one-chunk window and not the four-chunk one.
+    fixed.lead_window_gain = scaled.lead_window_gain = 1e4;
+    fixed.lead_window_bodies = 0;
+    scaled.lead_window_bodies = 2.5;  // 40 bodies: a window of 4 chunks
+    ProxNewtonSolver a(fixed), b(scaled);
+    const SolveResult ra = a.solve(p, {}, tight(p)), rb = b.solve(p, {}, tight(p));
+    ASSERT_EQ(ra.status, SolveStatus::Converged) << ra.message;
+    ASSERT_EQ(rb.status, SolveStatus::Converged) << rb.message;
+    EXPECT_LE(a.last_stats().lead_sweeps, b.last_stats().lead_sweeps) << "seed " << seed;
+    if (a.last_stats().lead_sweeps < b.last_stats().lead_sweeps) ++later;
+    EXPECT_LE(velocity_gap(p, ra.lambda, rb.lambda), 1e-6) << "seed " << seed;
+  }
+  EXPECT_GT(later, 0);
+}
+
+/// A Newton part from the lead stage's iterate that the passes leave to the proximal finish:
+/// one chunk of lead sweeps, any gain, one single-iteration pass.
+ProxNewtonDef first_part_to_the_finish() {
+  ProxNewtonDef d;
+  d.lead_sweeps = 50;
+  d.lead_gain = 1;
+  d.max_outer = 1;
+  d.body_inner_iterations = 1;
+  d.finish_iterations = 0;
+  return d;
+}
+
+// lead_initial_shift and lead_newton_stalls change the proximal finish of the Newton part from
+// the lead iterate (its work differs) and keep the answer: the part from the guess keeps
+// finish_route's settings.
+TEST(ProxNewtonLead, LeadPartShiftAndStallsChangeTheWorkNotTheAnswer) {
+  for (const bool stalls : {false, true}) {
+    int changed = 0, finished = 0;
+    for (uint64_t seed = 1; seed <= 12; ++seed) {
+      test::TestRng rng(seed + 3190);
+      const LcpProblem p = test::random_contact(40, 80, true, rng);
+      ProxNewtonDef plain = first_part_to_the_finish(), set = first_part_to_the_finish();
+      plain.lead_initial_shift = 0;
+      plain.lead_newton_stalls = 0;
+      set.lead_initial_shift = stalls ? 0 : 1e-2;
+      set.lead_newton_stalls = stalls ? 1 : 0;
+      ProxNewtonSolver a(plain), b(set);
+      const SolveResult ra = a.solve(p, {}, tight(p)), rb = b.solve(p, {}, tight(p));
+      ASSERT_EQ(ra.status, SolveStatus::Converged) << ra.message;
+      ASSERT_EQ(rb.status, SolveStatus::Converged) << rb.message;
+      if (a.last_stats().proximal_finish_newton == 0) continue;  // the lead or the pass finished
+      ++finished;
+      EXPECT_LE(velocity_gap(p, ra.lambda, rb.lambda), 1e-6) << "seed " << seed;
+      if (a.last_stats().finish_newton != b.last_stats().finish_newton ||
+          a.last_stats().factorizations != b.last_stats().factorizations)
+        ++changed;
+    }
+    ASSERT_GT(finished, 0);
+    EXPECT_GT(changed, 0) << (stalls ? "lead_newton_stalls" : "lead_initial_shift");
+  }
+  for (const double bad_shift : {-1e-3, 1.0}) {
+    ProxNewtonDef bad;
+    bad.lead_initial_shift = bad_shift;
+    EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument) << bad_shift;
+  }
+  ProxNewtonDef bad;
+  bad.lead_newton_stalls = -1;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
 }
 
 }  // namespace

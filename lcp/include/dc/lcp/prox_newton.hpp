@@ -69,6 +69,15 @@ struct ProxNewtonDef {
   /// target within lead_sweeps), which hands over after a few chunks on those mid-sized piles.
   int lead_window = 16;
   double lead_window_gain = 2.0;
+  /// lead_window holds for problems of up to this many bodies (J's columns / 3; default 64);
+  /// above, the window grows as √(bodies / lead_window_bodies) (0 = never): a Newton
+  /// iteration's factorisation costs about √n nncg sweeps more on n bodies (nested dissection on
+  /// a planar contact graph), so on larger piles nncg is worth running longer before the Newton
+  /// part. On box piles (60 bodies) the Newton part from a 16-chunk lead finishes in 2
+  /// factorisations; on 250-body impacts nncg often reaches the target within 32 chunks where
+  /// it falls less than 2-fold over 16, and the Newton part from there costs more than those
+  /// sweeps.
+  double lead_window_bodies = 64;
   /// The proximal finish of the Newton part from the lead stage's iterate stops when its best
   /// hard residual fell less than 2-fold over this many outer iterations
   /// (ProximalPointDef::progress_window; default 20; 0 = finish_route's own setting): the
@@ -89,6 +98,18 @@ struct ProxNewtonDef {
   /// the route's next shift or the Newton part from the guess converges sooner; where the
   /// doubled sweeps pay (1,000-body impacts) they halve the residual before the cap.
   double lead_fallback_cap_fall = 0.5;
+  /// In that finish, a newton-sparse solve stops (failed) after this many iterations in a row
+  /// without a new best residual (NewtonSparseDef::max_stalls; default 0: finish_route's own).
+  /// A small limit (5) makes the route give up a too-small δ sooner, which spares box piles
+  /// hundreds of stalled iterations, but costs impacts the steps where a long stalled solve
+  /// is what reaches the target.
+  int lead_newton_stalls = 0;
+  /// In that finish, the first δ relative to max_i A_ii (ProximalPointDef::initial_shift;
+  /// default 1e-4; 0 = finish_route's own, 1e-6). The lead stage hands over where nncg stalls,
+  /// often at row modes the small-δ inner solves do not recover from: there they fail after
+  /// tens of iterations and refactorisations each, and the route reaches 1e-4 (or its floor)
+  /// after two of them. From the guess the finish keeps finish_route's δ.
+  double lead_initial_shift = 1e-4;
   /// The proximal finish of the Newton part from the guess starts at the failure floor of δ
   /// that finish of the Newton part from the lead stage's iterate ended with
   /// (ProximalPointDef::initial_floor; default false: at finish_route's own initial_shift).
@@ -132,8 +153,10 @@ struct ProxNewtonDef {
   double inner_tolerance = 0.01;
   /// Newton iterations of the newton-sparse finish once the modes repeat (default 3; 0 = none).
   int finish_iterations = 3;
-  /// nncg sweeps of the safeguard (default 2000; 0 = none).
-  int safeguard_sweeps = 2000;
+  /// nncg sweeps of the safeguard (default 10000; 0 = none): on impacts the Newton parts can
+  /// end just above the target on steps that nncg alone reaches only after many thousands of
+  /// sweeps, each far cheaper than a Newton iteration.
+  int safeguard_sweeps = 10000;
   /// Solve the subproblem in body space when the problem has J (default true; false = dual
   /// form always).
   bool body_space = true;

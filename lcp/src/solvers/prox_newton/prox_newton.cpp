@@ -17,6 +17,7 @@
 #include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
+#include "solvers/prox_newton/lead/lead_rate.hpp"
 #include "solvers/prox_newton/lead/lead_stage.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
@@ -65,10 +66,12 @@ void check_def(const ProxNewtonDef& d) {
                           "cone_anderson, cone_follow_after, cone_trust_retries, cone_trust_radius, cone_follow_below, cone_trust_forget >= 0, "
                           "cone_trust_grow > 1, cone_trust_accept >= 1");
   if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
-  if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || !(d.lead_gain >= 1) || d.lead_fallback_doublings > 20 ||
+  if (!(d.lead_window_bodies >= 0 && std::isfinite(d.lead_window_bodies)) || !(d.lead_initial_shift >= 0 && d.lead_initial_shift < 1))
+    throw InvalidArgument("prox-newton: lead_window_bodies must be finite and >= 0, lead_initial_shift in [0, 1)");
+  if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || d.lead_newton_stalls < 0 || !(d.lead_gain >= 1) || d.lead_fallback_doublings > 20 ||
       d.lead_window < 0 || !(d.lead_window_gain > 1 && std::isfinite(d.lead_window_gain)) ||
       !(d.lead_fallback_cap_fall >= 0 && d.lead_fallback_cap_fall <= 1))
-    throw InvalidArgument("prox-newton: lead_sweeps, lead_finish_window and lead_window must be >= 0, lead_gain >= 1, "
+    throw InvalidArgument("prox-newton: lead_sweeps, lead_finish_window, lead_newton_stalls and lead_window must be >= 0, lead_gain >= 1, "
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
@@ -325,7 +328,7 @@ class ProxRun {
     if (cap <= 0 || reached(best_res_, target_)) return false;
     LeadStageDef ld;
     ld.cap = cap;
-    ld.window = def_.lead_window;
+    ld.window = lead_window_chunks(def_.lead_window, def_.lead_window_bodies, static_cast<int>(p_.J.cols() / 3));
     ld.gain = def_.lead_window_gain;
     ld.start = best_res_;
     ld.target = target_;
@@ -405,6 +408,8 @@ class ProxRun {
     }
     if (windowed && def_.lead_fallback_doublings >= 0) pd.newton_sparse.fallback_doublings = def_.lead_fallback_doublings;
     if (windowed && def_.lead_fallback_cap_fall > 0) pd.newton_sparse.fallback_cap_fall = def_.lead_fallback_cap_fall;
+    if (windowed && def_.lead_newton_stalls > 0) pd.newton_sparse.max_stalls = def_.lead_newton_stalls;
+    if (windowed && def_.lead_initial_shift > 0) pd.initial_shift = def_.lead_initial_shift;
     if (from_guess_) apply_guess_route(def_, lead_route_floor_, pd);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     SolverOptions fo;

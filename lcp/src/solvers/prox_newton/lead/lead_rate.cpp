@@ -4,6 +4,11 @@
 
 namespace dc::solvers::prox {
 
+int lead_window_chunks(int window, double reference, int bodies) {
+  if (window <= 0 || !(reference > 0) || bodies <= reference) return window;
+  return static_cast<int>(std::lround(window * std::sqrt(bodies / reference)));
+}
+
 bool LeadRate::go_on(double best, double target, int done, int chunk, int cap) {
   best_.push_back(best);
   if (!(best > 0) || !std::isfinite(best) || best <= target || done >= cap) return false;

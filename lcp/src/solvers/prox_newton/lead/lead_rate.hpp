@@ -9,6 +9,14 @@
 
 namespace dc::solvers::prox {
 
+/// The lead stage's window [chunks] on a problem of `bodies` bodies (ProxNewtonDef::lead_window,
+/// lead_window_bodies): `window` up to `reference` bodies, and window·√(bodies/reference),
+/// rounded, above (reference ≤ 0: `window` always). A Newton iteration's factorisation of the
+/// body-space H (3 unknowns per body, a planar contact graph) costs O(n^1.5) under nested
+/// dissection while an nncg sweep costs O(n): the sweeps worth running before the Newton part
+/// grow with the ratio, √n. window = 0 (the rate rule) stays 0.
+[[nodiscard]] int lead_window_chunks(int window, double reference, int bodies);
+
 class LeadRate {
  public:
   /// `start` [N]: the hard residual at the guess. `window` chunks (0: the rate rule below);
