@@ -248,8 +248,7 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      prep.j_finite = colored::values_finite(p);
-      bad = !colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
+      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
     };
     auto fill = [&](int bi) {
       if (bi < nb) {
