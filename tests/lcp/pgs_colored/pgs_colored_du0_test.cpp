@@ -1,8 +1,8 @@
 // pgs-colored's Δu⁰ with the finiteness test of J folded into its pass (pgs_colored_products.hpp,
 // velocity_change_checked; pgs_colored_residual.hpp, transpose_rows_checked): the bits of the
 // two-pass form (values_finite, then velocity_change skipping the λ_i = 0 rows only when J is
-// finite), and the sums of J's rows in row order whatever J's storage (the twin-row pass adds a
-// contact's two rows together only where that keeps the order of every column's terms).
+// finite), and the sums of J's rows in row order whatever J's storage (repeated or unsorted
+// columns).
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -92,12 +92,12 @@ TEST(PgsColoredDu0, ANonFiniteEntryInOneChunkTurnsTheSkipOffThere) {
   }
 }
 
-TEST(PgsColoredDu0, TwinRowsWithARepeatedOrUnsortedColumnKeepRowOrder) {
+TEST(PgsColoredDu0, RowsWithARepeatedOrUnsortedColumnKeepRowOrder) {
   test::TestRng rng(79);
   for (int trial = 0; trial < 20; ++trial) {
     LcpProblem p = test::random_contact(30, 80, true, rng, 0.5, 4);
     // every contact's rows (normal, tangent: the same columns) get a repeated column, or a swapped
-    // pair: the twin pass must not merge them (it would reorder a column's terms)
+    // pair: each column's terms still come in row order, each row's in storage order
     int* inner = p.J.innerIndexPtr();
     const int* outer = p.J.outerIndexPtr();
     for (int c = 0; c < p.constraints.size(); ++c) {
