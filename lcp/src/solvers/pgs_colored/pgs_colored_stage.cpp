@@ -28,31 +28,17 @@ void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
     return n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
            (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2));
   };
-  // The records are written in scattered order (by ordered position): each write would wait for
-  // its lines to be fetched, so the lines of the record kAhead contacts on are requested for
-  // writing first (the position of a contact that is not a lead contact is stale: clamped into
-  // the array, it only wastes the request).
-  constexpr int kAhead = 8;
-  StagedRows* staged = out.staged.data();
-  const int* position = out.position.data();
   for (int c = 0; c < nc; ++c) {
-    if (c + kAhead < nc) {
-      const size_t at = std::min(static_cast<size_t>(static_cast<unsigned>(position[c + kAhead])), positions - 1);
-      const char* ahead = reinterpret_cast<const char*>(staged + at);
-      __builtin_prefetch(ahead, 1);
-      __builtin_prefetch(ahead + 64, 1);
-      __builtin_prefetch(ahead + sizeof(StagedRows) - 1, 1);
-    }
     if (out.partner[static_cast<size_t>(c)] != -1) continue;  // pairs are packed from J
     const ContactConstraint& k = cons[c];
-    const size_t q = static_cast<size_t>(position[c]);
+    const size_t q = static_cast<size_t>(out.position[static_cast<size_t>(c)]);
     const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
     const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
     const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;
     const bool ok = k.has_friction() && usual(k.normal_row, a, bb) && usual(k.tangent_row, a, bb);
     out.usable[q] = ok ? 1 : 0;
     if (!ok) continue;
-    StagedRows& s = staged[q];
+    StagedRows& s = out.staged[q];
     const int n = bb < 0 ? 3 : 6;
     const double* vn = value + outer[k.normal_row];
     const double* vt = value + outer[k.tangent_row];
