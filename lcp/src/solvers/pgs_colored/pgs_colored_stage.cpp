@@ -11,10 +11,12 @@ void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
   const size_t positions = out.order.size();
   out.staged_now = false;
   if (positions < static_cast<size_t>(std::max(0, from)) || !simd_pack_available()) return;
+  out.staged.resize(positions);
+  out.usable.resize(positions);
   const ContactConstraint* cons = p.constraints.contacts().data();
   const int nc = p.constraints.size();
-  out.staged.resize(static_cast<size_t>(nc));
-  out.usable.resize(static_cast<size_t>(nc));
+  out.position.resize(static_cast<size_t>(nc));
+  for (size_t q = 0; q < positions; ++q) out.position[static_cast<size_t>(out.order[q])] = static_cast<int>(q);
   const int* outer = p.J.outerIndexPtr();
   const int* inner = p.J.innerIndexPtr();
   const int* nnz = p.J.isCompressed() ? nullptr : p.J.innerNonZeroPtr();
@@ -29,7 +31,7 @@ void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
   for (int c = 0; c < nc; ++c) {
     if (out.partner[static_cast<size_t>(c)] != -1) continue;  // pairs are packed from J
     const ContactConstraint& k = cons[c];
-    const size_t q = static_cast<size_t>(c);
+    const size_t q = static_cast<size_t>(out.position[static_cast<size_t>(c)]);
     const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
     const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
     const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;
@@ -64,9 +66,8 @@ bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lan
   int on[W], ot[W], a[W], bb[W];
   double bn[W], bt[W];
   const StagedRows* st = out.staged.data();
-  const int* order = out.order.data() + s0;
   for (int lane = 0; lane < W; ++lane) {
-    const int q = order[lane < lanes ? lane : 0];
+    const int q = s0 + (lane < lanes ? lane : 0);
     if (out.usable[static_cast<size_t>(q)] == 0) return false;
     a[lane] = st[q].a;
     bb[lane] = st[q].bb;
@@ -82,7 +83,7 @@ bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lan
       !pack_rows_staged(base, ot, bt, a, bb, im, p.dt, B.jt, B.mjt, B.bt, diag_t, singular_t))
     return false;
   for (int lane = 0; lane < lanes; ++lane) {
-    const StagedRows& r = st[order[lane]];
+    const StagedRows& r = st[s0 + lane];
     put_lane(out, B, row_of, lane, a[lane] / 3, bb[lane] < 0 ? -1 : bb[lane] / 3, r.mu, r.rn, r.rt);
   }
   const unsigned used = (1u << lanes) - 1u;
@@ -92,11 +93,10 @@ bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lan
 }
 
 void staged_lambda(const Prepared& out, int s0, int lanes, double* lp, double* other) {
-  const StagedRows* st = out.staged.data();
-  const int* order = out.order.data() + s0;
+  const StagedRows* st = out.staged.data() + s0;
   for (int lane = 0; lane < W; ++lane) {
-    lp[lane] = other[lane] = lane < lanes ? st[order[lane]].ln : 0.0;
-    lp[W + lane] = other[W + lane] = lane < lanes ? st[order[lane]].lt : 0.0;
+    lp[lane] = other[lane] = lane < lanes ? st[lane].ln : 0.0;
+    lp[W + lane] = other[W + lane] = lane < lanes ? st[lane].lt : 0.0;
   }
 }
 
