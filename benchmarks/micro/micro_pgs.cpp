@@ -24,6 +24,7 @@
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
+#include "solvers/pgs_colored/pgs_colored_residual.hpp"
 
 namespace {
 
@@ -388,15 +389,23 @@ void BM_PgsColoredResidual(benchmark::State& s) {
                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-/// pgs-colored's Δu⁰ = M⁻¹Jᵀλ⁰Δt alone (colored::velocity_change, one thread, into the sweeps'
-/// per-body layout) at the 200-sweep λ of the pile. Counter ns_per_row = CPU time / rows.
+/// pgs-colored's Δu⁰ = M⁻¹Jᵀλ⁰Δt alone (one thread, into the sweeps' per-body layout) at the
+/// 200-sweep λ of the pile; arg form: 0 colored::velocity_change over every row, 1 values_finite
+/// then velocity_change skipping the λ_i = 0 rows (two passes over J's values), 2
+/// velocity_change_checked (the solve's: one pass, the same bits as 1). Counter ns_per_row = CPU
+/// time / rows.
 void BM_PgsColoredVelocityChange(benchmark::State& s) {
   const auto [p, l] = pile_at_200_sweeps(static_cast<int>(s.range(0)));
+  const int form = static_cast<int>(s.range(1));
   const int bodies = static_cast<int>((p.J.cols() + 2) / 3);
   std::vector<double> du(static_cast<size_t>(dc::colored::kStride) * (bodies + 1));
   Eigen::VectorXd jt;
+  bool finite = false;
   for (auto _ : s) {
-    dc::colored::velocity_change(p, l, bodies, du.data(), jt);
+    if (form == 2)
+      dc::colored::velocity_change_checked(p, l, bodies, du.data(), jt, finite);
+    else
+      dc::colored::velocity_change(p, l, bodies, du.data(), jt, form == 1 && dc::colored::values_finite(p));
     benchmark::DoNotOptimize(du.data());
   }
   s.counters["ns_per_row"] = benchmark::Counter(1e-9 * p.rows() * static_cast<double>(s.iterations()),
@@ -442,7 +451,10 @@ BENCHMARK(BM_PgsColoredResidual)
     ->ArgNames({"bodies", "form"})
     ->ArgsProduct({{1000, 10000, 40000}, {0, 1}})
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_PgsColoredVelocityChange)->ArgNames({"bodies"})->Arg(1000)->Arg(10000)->Arg(40000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PgsColoredVelocityChange)
+    ->ArgNames({"bodies", "form"})
+    ->ArgsProduct({{1000, 10000, 40000}, {0, 1, 2}})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ContactColoring)
     ->ArgNames({"bodies", "reuse", "threads", "chunk"})
     ->Args({1000, 0, 1, 0})

@@ -101,6 +101,38 @@ TEST(PgsColoredInput, SameVerdictAndMessageAsTheSerialChecks) {
          p.mu[t] = -1.0;
        }},
       {"bounds", [](LcpProblem& p, Eigen::VectorXd&) { p.lo[p.constraints[2].normal_row] = 2.0, p.hi[p.constraints[2].normal_row] = 1.0; }},
+      {"lo NaN", [](LcpProblem& p, Eigen::VectorXd&) { p.lo[p.constraints[5].normal_row] = kNaN; }},
+      {"hi NaN", [](LcpProblem& p, Eigen::VectorXd&) { p.hi[p.constraints[5].normal_row] = kNaN; }},
+      {"lo +inf", [](LcpProblem& p, Eigen::VectorXd&) { p.lo[p.constraints[5].normal_row] = INFINITY; }},
+      {"hi -inf", [](LcpProblem& p, Eigen::VectorXd&) { p.hi[p.constraints[5].normal_row] = -INFINITY; }},
+      {"lo = hi = -inf", [](LcpProblem& p, Eigen::VectorXd&) {
+         p.lo[p.constraints[5].normal_row] = p.hi[p.constraints[5].normal_row] = -INFINITY;
+       }},
+      {"λ⁰ inf", [](LcpProblem&, Eigen::VectorXd& l) { l[l.size() - 1] = -INFINITY; }},
+      {"b inf", [](LcpProblem& p, Eigen::VectorXd&) { p.b[0] = INFINITY; }},
+      {"mu NaN", [](LcpProblem& p, Eigen::VectorXd&) {
+         int c = 0;
+         while (!p.constraints[c].has_friction()) ++c;
+         p.mu[p.constraints[c].tangent_row] = kNaN;
+       }},
+      {"mu inf", [](LcpProblem& p, Eigen::VectorXd&) {
+         int c = 0;
+         while (!p.constraints[c].has_friction()) ++c;
+         p.mu[p.constraints[c].tangent_row] = INFINITY;
+       }},
+      {"coupling beyond the rows", [](LcpProblem& p, Eigen::VectorXd&) {
+         int c = 0;
+         while (!p.constraints[c].has_friction()) ++c;
+         p.normal_row[static_cast<size_t>(p.constraints[c].tangent_row)] = p.rows() + 3;
+       }},
+      {"coupled to a friction row", [](LcpProblem& p, Eigen::VectorXd&) {
+         int c = 0;
+         while (!p.constraints[c].has_friction()) ++c;
+         const int t = p.constraints[c].tangent_row;
+         int d = c + 1;
+         while (!p.constraints[d].has_friction()) ++d;
+         p.normal_row[static_cast<size_t>(p.constraints[d].tangent_row)] = t;
+       }},
       {"dt", [](LcpProblem& p, Eigen::VectorXd&) { p.dt = 0.0; }},
       {"body beyond J", [](LcpProblem& p, Eigen::VectorXd&) {
          edit_contacts(p, [&](int c, ContactConstraint& k) {
@@ -133,6 +165,11 @@ TEST(PgsColoredInput, SameVerdictAndMessageAsTheSerialChecks) {
     expect_same_verdict(p, l, what);
     Eigen::VectorXd copy;
     EXPECT_TRUE(solvers::check_input(p, l, "pgs-colored", copy).has_value()) << what << " is rejected";
+    // Without contacts the row checks alone decide (with them, a contact's checks see most
+    // broken couplings a second time).
+    LcpProblem bare = p;
+    bare.constraints = ContactConstraints();
+    expect_same_verdict(bare, l, what + ", no contacts");
   }
 }
 

@@ -184,17 +184,22 @@ class PgsColoredSolver final : public LcpSolver {
     laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
     if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel),
-    // in the storage of the last solve's.
+    // in the storage of the last solve's: at least np entries (only the first np are used), so
+    // a solve allocates them only when the problem outgrows every earlier one.
     const int np = static_cast<int>(prep.row_of.size());
     Eigen::VectorXd lp = std::move(prep.lp), other = std::move(prep.other);
-    lp.resize(why.empty() ? np : 0);
-    other.resize(why.empty() ? np : 0);
+    if (why.empty()) {
+      keep_at_least(lp, np);
+      keep_at_least(other, np);
+    }
     bool bad_start = false;
     if (why.empty()) why = pack(p, lambda, o.omega, prep, lp.data(), other.data(), bad_start, laps);
     if (!why.empty()) {
       SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
       if (r.status != SolveStatus::InvalidInput)
         r.message = "pgs-colored: " + why + ": ran pgs" + (r.message.empty() ? std::string() : "; " + r.message);
+      prep.lp = std::move(lp);
+      prep.other = std::move(other);
       cache_ = std::move(prep);
       return r;
     }
@@ -202,6 +207,12 @@ class PgsColoredSolver final : public LcpSolver {
     if (laps.profile() != nullptr) ++laps.profile()->solves;
     cache_ = std::move(prep);
     return r;
+  }
+
+  /// v with at least n entries (their values undefined): reallocated, with an eighth more room,
+  /// only when it has fewer (an Eigen vector reallocates on every change of size).
+  static void keep_at_least(Eigen::VectorXd& v, int n) {
+    if (v.size() < n) v.resize(n + n / 8);
   }
 
   /// Threads for `batches` batches in `ranges` colour ranges (threads_for): def_.threads (0:
@@ -248,8 +259,7 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      prep.j_finite = colored::values_finite(p);
-      bad = !colored::velocity_change(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
+      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
     };
     auto fill = [&](int bi) {
       if (bi < nb) {

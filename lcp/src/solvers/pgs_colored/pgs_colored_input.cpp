@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -28,31 +30,47 @@ bool sizes_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0) {
   return lambda0.size() == 0 || lambda0.size() == n;
 }
 
-/// validate's per-row checks (b, coupling, μ, bounds, A) and λ⁰_i finite, on rows [i0, i1):
-/// raw arrays and no stores in the loop, so nothing is reloaded per row.
-bool rows_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0, int i0, int i1) {
+/// x is ±∞ or NaN, on the exponent bits (integer operations: the loops below vectorise).
+inline bool not_finite(double x) {
+  constexpr std::uint64_t kExp = 0x7ff0000000000000ull;
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return (bits & kExp) == kExp;
+}
+
+/// rows_ok's checks of rows [i0, i1) but A's, with or without λ⁰: every condition of each row
+/// evaluated and AND-ed without a branch (a normal row's coupling read at a clamped index, its
+/// verdict chosen by the row's kind), so the loop has no data-dependent jumps.
+template <bool kLambda0>
+bool rows_ok_plain(const LcpProblem& p, const double* l0, int i0, int i1) {
   const int n = p.rows();
   const double* b = p.b.data();
-  const double* l0 = lambda0.size() == 0 ? nullptr : lambda0.data();
   const int* nrow = p.normal_row.data();
   const double* mu = p.mu.data();
   const double* lo = p.lo.data();
   const double* hi = p.hi.data();
-  const int a_rows = static_cast<int>(p.A.outerSize());  // (0 when matrix-free)
   bool ok = true;
   for (int i = i0; i < i1; ++i) {
-    bool row = std::isfinite(b[i]) & (l0 == nullptr || std::isfinite(l0[i]));
+    bool row = !not_finite(b[i]);
+    if constexpr (kLambda0) row &= !not_finite(l0[i]);
     const int nr = nrow[i];
-    if (nr >= 0) {
-      row = row && nr < n && nrow[nr] < 0 && mu[i] >= 0 && std::isfinite(mu[i]);
-    } else {
-      row = row && !std::isnan(lo[i]) && !std::isnan(hi[i]) && !(lo[i] > hi[i]) && lo[i] != INFINITY &&
-            hi[i] != -INFINITY;
-    }
-    if (i < a_rows)
-      for (SparseRowMatrix::InnerIterator it(p.A, i); it && row; ++it) row = std::isfinite(it.value());
+    const bool in = (nr >= 0) & (nr < n);
+    const bool coupled = in & (nrow[in ? nr : 0] < 0) & (mu[i] >= 0) & !not_finite(mu[i]);
+    const double l = lo[i], h = hi[i];
+    const bool bounds = !std::isnan(l) & !std::isnan(h) & !(l > h) & (l != INFINITY) & (h != -INFINITY);
+    row &= nr >= 0 ? coupled : bounds;
     ok &= row;
   }
+  return ok;
+}
+
+/// validate's per-row checks (b, coupling, μ, bounds, A) and λ⁰_i finite, on rows [i0, i1).
+bool rows_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0, int i0, int i1) {
+  bool ok = lambda0.size() == 0 ? rows_ok_plain<false>(p, nullptr, i0, i1)
+                                : rows_ok_plain<true>(p, lambda0.data(), i0, i1);
+  const int a_rows = std::min(i1, static_cast<int>(p.A.outerSize()));  // (0 when matrix-free)
+  for (int i = i0; i < a_rows && ok; ++i)
+    for (SparseRowMatrix::InnerIterator it(p.A, i); it && ok; ++it) ok = std::isfinite(it.value());
   return ok;
 }
 

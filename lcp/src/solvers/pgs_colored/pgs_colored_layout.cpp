@@ -305,6 +305,13 @@ bool fill_pair_lanes(const LcpProblem& p, const Prepared& out, int s0, int lanes
          scale_rows(P.jt1, P.bt1, dt1);
 }
 
+/// v ← n copies of x, its storage grown with headroom when too small (assign alone would allocate
+/// exactly n, and again whenever n exceeds the last n: each time the colour or batch count rises).
+void assign_grown(std::vector<int>& v, size_t n, int x) {
+  if (v.capacity() < n) v.reserve(n + n / 2);
+  v.assign(n, x);
+}
+
 }  // namespace
 
 std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
@@ -324,7 +331,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   if (col.repeated && col.generation == out.generation && partner == out.partner) {
     // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
     // and sizes stand; the batches are refilled from this problem's J, b and λ⁰.
-    out.failed.assign(out.batches.size() + out.pairs.size(), -1);
+    assign_grown(out.failed, out.batches.size() + out.pairs.size(), -1);
     return {};
   }
   out.generation = col.generation;
@@ -344,11 +351,11 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   };
   const int parts = std::max(1, std::min(threads, nc / 4096));
   std::vector<int>& count = out.count;  // count[part·slots + slot]
-  count.assign(static_cast<size_t>(parts) * slots, 0);
+  assign_grown(count, static_cast<size_t>(parts) * slots, 0);
   std::vector<int>& start = out.start;
-  start.assign(static_cast<size_t>(slots) + 1, 0);
+  assign_grown(start, static_cast<size_t>(slots) + 1, 0);
   out.order.resize(static_cast<size_t>(nc));
-  out.batch_of.assign(static_cast<size_t>(slots) + 1, 0);
+  assign_grown(out.batch_of, static_cast<size_t>(slots) + 1, 0);
   // The sort on the calling thread's team: counts by part, their prefix sums, the scatter.
   auto range = [&](int part, int& lo, int& hi) {
     lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
@@ -401,7 +408,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   out.pair_base = 2 * W * nb;
   out.row_of.resize(static_cast<size_t>(nb) * 2 * W + static_cast<size_t>(np) * 4 * W);
   out.diag.resize(out.row_of.size());
-  out.failed.assign(static_cast<size_t>(nb + np), -1);
+  assign_grown(out.failed, static_cast<size_t>(nb + np), -1);
   return {};
 }
 

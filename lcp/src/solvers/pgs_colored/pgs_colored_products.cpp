@@ -16,12 +16,10 @@
 
 namespace dc::colored {
 
-bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
-                     Eigen::VectorXd& jt, bool skip_zero) {
-  // Jᵀλ into a kept buffer, as Eigen's product sums it: a contiguous scatter is faster than one
-  // straight into the strided Δu (c/3 and c%3 per entry).
-  jt.setZero(p.J.cols());
-  transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data(), skip_zero);
+namespace {
+
+/// du from jt = Jᵀλ (velocity_change's layout); whether every entry is finite.
+bool scale_to_du(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, double* du) {
   // Every entry written once (no zero-fill first): a body's three velocities, 0 for columns past
   // J's and for the padding entry; then the zero body. The finiteness test rides along (no
   // second pass over Δu).
@@ -51,6 +49,24 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
   }
   std::fill(du + static_cast<size_t>(kStride) * bodies, du + static_cast<size_t>(kStride) * (bodies + 1), 0.0);
   return bad == 0;
+}
+
+}  // namespace
+
+bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
+                     Eigen::VectorXd& jt, bool skip_zero) {
+  // Jᵀλ into a kept buffer, as Eigen's product sums it: a contiguous scatter is faster than one
+  // straight into the strided Δu (c/3 and c%3 per entry).
+  jt.setZero(p.J.cols());
+  transpose_rows(p, lambda.data(), 0, p.rows(), 0, static_cast<int>(p.J.cols()), jt.data(), skip_zero);
+  return scale_to_du(p, jt, bodies, du);
+}
+
+bool velocity_change_checked(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
+                             Eigen::VectorXd& jt, bool& j_finite) {
+  jt.setZero(p.J.cols());
+  j_finite = transpose_rows_checked(p, lambda.data(), jt.data());
+  return scale_to_du(p, jt, bodies, du);
 }
 
 namespace {

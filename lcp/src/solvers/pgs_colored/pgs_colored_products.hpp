@@ -24,6 +24,13 @@ namespace dc::colored {
 bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt,
                      bool skip_zero = false);
 
+/// velocity_change with values_finite(p)'s test folded into its pass over J: j_finite ←
+/// values_finite(p), and the rows with λ_i = ±0 are skipped in each chunk of rows whose entries
+/// are all finite (transpose_rows_checked). The bits of velocity_change(p, λ, bodies, du, jt,
+/// values_finite(p)) with one pass over J's values instead of two.
+bool velocity_change_checked(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
+                             Eigen::VectorXd& jt, bool& j_finite);
+
 /// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to
 /// lcp_problem.cpp's velocity_change for every thread count. On one thread: J's rows in order
 /// (transpose_rows, the sums of Eigen's product).

@@ -57,6 +57,31 @@ bool finite_run(const double* x, int n) {
   return any == 0;
 }
 
+/// Rows per chunk of transpose_rows's lists.
+constexpr int kChunk = 256;
+
+/// rows[0..m) ← the rows k of [i, end) with λ_k ≠ 0 (NaN included), in order; returns m. No
+/// branch per row (which of a pile's rows are 0 follows no pattern a predictor learns).
+inline int list_nonzero(const double* lambda, int i, int end, int* rows) {
+  int m = 0;
+  for (int k = i; k < end; ++k) {
+    rows[m] = k;
+    m += lambda[k] != 0.0 ? 1 : 0;
+  }
+  return m;
+}
+
+/// out[c] += J_ic·λ_i for the listed rows rows[0..m) in order, every column.
+inline void scatter_listed(const double* value, const int* inner, const int* outer, const int* nnz, const int* rows,
+                           int m, const double* lambda, double* out) {
+  for (int j = 0; j < m; ++j) {
+    int q0 = 0, q1 = 0;
+    row_extent(outer, nnz, rows[j], q0, q1);
+    const double l = lambda[rows[j]];
+    for (int q = q0; q < q1; ++q) out[inner[q]] += value[q] * l;
+  }
+}
+
 /// Δu of body k's three columns all ±0 (a body with no column, k < 0, counts as at rest).
 inline bool at_rest(const double* du, int k) {
   if (k < 0) return true;
@@ -79,17 +104,46 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
   }
   // The rows with λ_i ≠ 0 (NaN included) of each chunk listed first, without a branch per row
   // (which of a pile's rows are 0 follows no pattern a predictor learns), then scattered in order.
-  constexpr int kChunk = 256;
   int rows[kChunk];
   for (int i = i0; i < i1; i += kChunk) {
     const int end = std::min(i1, i + kChunk);
-    int m = 0;
-    for (int k = i; k < end; ++k) {
-      rows[m] = k;
-      m += lambda[k] != 0.0 ? 1 : 0;
+    const int m = list_nonzero(lambda, i, end, rows);
+    if (all) {
+      scatter_listed(value, inner, outer, nnz, rows, m, lambda, out);
+    } else {
+      for (int j = 0; j < m; ++j)
+        scatter_row(value, inner, outer, nnz, rows[j], lambda[rows[j]], all, col0, col1, out);
     }
-    for (int j = 0; j < m; ++j) scatter_row(value, inner, outer, nnz, rows[j], lambda[rows[j]], all, col0, col1, out);
   }
+}
+
+bool transpose_rows_checked(const LcpProblem& p, const double* lambda, double* out) {
+  const double* value = p.J.valuePtr();
+  const int* inner = p.J.innerIndexPtr();
+  const int* outer = p.J.outerIndexPtr();
+  const int* nnz = p.J.innerNonZeroPtr();  // null when compressed
+  const int n = p.rows();
+  bool finite = true;
+  int rows[kChunk];
+  for (int i = 0; i < n; i += kChunk) {
+    const int end = std::min(n, i + kChunk);
+    // values_finite's test on this chunk's entries (they are read again at once, from cache)
+    bool chunk_finite = true;
+    if (nnz == nullptr) {
+      chunk_finite = finite_run(value + outer[i], outer[end] - outer[i]);
+    } else {
+      for (int k = i; k < end; ++k) chunk_finite &= finite_run(value + outer[k], nnz[k]);
+    }
+    finite = finite && chunk_finite;
+    int m = 0;
+    if (chunk_finite) {
+      m = list_nonzero(lambda, i, end, rows);
+    } else {  // a non-finite entry: every row of the chunk, as the product without the skip
+      for (int k = i; k < end; ++k) rows[m++] = k;
+    }
+    scatter_listed(value, inner, outer, nnz, rows, m, lambda, out);
+  }
+  return finite;
 }
 
 bool values_finite(const LcpProblem& p) {

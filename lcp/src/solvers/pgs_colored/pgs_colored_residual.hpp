@@ -34,6 +34,13 @@ inline std::uint64_t not_finite_bit(double x) {
 void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, int col0, int col1, double* out,
                     bool skip_zero = false);
 
+/// transpose_rows over every row and column, from `out` as the caller left it (zeros), with
+/// values_finite's test done chunk by chunk of rows on the entries it is about to scatter: a
+/// chunk whose entries are all finite skips its rows with λ_i = ±0 (the same bits, above), any
+/// other chunk scatters every row. So the sums are those of transpose_rows without the skip, bit
+/// for bit, with one pass over J's values. Returns values_finite(p).
+bool transpose_rows_checked(const LcpProblem& p, const double* lambda, double* out);
+
 /// True when every stored entry of J is finite (an OR over the exponent bits; for a J that is not
 /// compressed, row by row). Allows transpose_rows's skip_zero.
 bool values_finite(const LcpProblem& p);
