@@ -312,12 +312,17 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
   dc::SolverOptions o = dc::solver_options(def.solver);
   o.record_theta = false;
   const auto starter = dc::default_warm_starters().make("builtin");
+  const bool builtin = dc::is_builtin_warm_starter(*starter);
   double rows = 0;
   for (int s = 0; s < steps; ++s) {
     const double t0 = thread_cpu_s();
-    const dc::StepReport rep = world.step(solver, o, [&](const dc::World& w) {
-      return c.warm ? starter->initial_guess(dc::StepView{w, nullptr}) : Eigen::VectorXd();
-    });
+    // builtin is the engine's own warm start, bit for bit (is_builtin_warm_starter): stepped
+    // with it, as a stepping loop would, λ⁰ is formed in the world's kept storage.
+    const dc::StepReport rep =
+        c.warm && builtin ? world.step(solver, o, dc::World::WarmStart::PreviousLambda)
+                          : world.step(solver, o, [&](const dc::World& w) {
+                              return c.warm ? starter->initial_guess(dc::StepView{w, nullptr}) : Eigen::VectorXd();
+                            });
     if (c.warm) starter->observe(dc::StepView{world, nullptr}, rep.solve.lambda);
     r.cpu_s += thread_cpu_s() - t0;
     rows += rep.rows;

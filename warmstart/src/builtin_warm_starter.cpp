@@ -29,6 +29,9 @@ class BuiltinWarmStarter final : public WarmStarter {
  public:
   std::string name() const override { return "builtin"; }
   Eigen::VectorXd initial_guess(const StepView& v) override { return builtin_guess(v.world); }
+  void initial_guess_into(const StepView& v, Eigen::VectorXd& out) override {
+    put_matched_lambda(v.world.previous_contacts(), v.world.contacts(), v.world.problem(), out);
+  }
 };
 
 }  // namespace
