@@ -6,9 +6,10 @@
 
 #include <array>
 
+#include "dc/core/error.hpp"
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
-#include "physics_fixtures.hpp"
+#include "engine/physics_fixtures.hpp"
 
 namespace dc {
 namespace {
@@ -20,7 +21,7 @@ World sunk_disc_step(int relax) {
   d.solver.relax_sweeps = relax;
   World w = test::world_unchecked(d);
   const auto solver = make_solver("pgs");
-  w.step(*solver, test::tight_options(), InitialGuess{});
+  w.step(*solver, test::tight_options());
   return w;
 }
 
