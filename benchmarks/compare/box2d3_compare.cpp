@@ -14,7 +14,8 @@
 // A v3 configuration is SUBSTEPS:HERTZ (b2World_Step's sub-step count, b2WorldDef::contactHertz;
 // v3's defaults are 4 sub-steps and 30 Hz). Ours is SOLVER:SWEEPS with a fixed sweep count
 // (tolerance 0) and the builtin warm start, as `simulate` runs it, and `+KEY=VALUE` suffixes
-// change one setting for that configuration (omega, tol, baumgarte, slop, margin, warm=none).
+// change one setting for that configuration (omega, tol, baumgarte, slop, margin, relax, order, symmetric,
+// warmscale, warm=none); --trace N prints the pile's motion of ours every N steps.
 //
 // Reported per configuration:
 //  * ms/step: CPU time of the stepping thread (CLOCK_THREAD_CPUTIME_ID) around each step,
@@ -83,8 +84,9 @@ struct Config {
   float hertz = 30;
   std::string solver;
   int sweeps = 16;
-  std::vector<std::pair<std::string, double>> settings;  ///< omega, tol, baumgarte, slop, margin
+  std::vector<std::pair<std::string, double>> settings;  ///< omega, tol, baumgarte, slop, margin, relax, symmetric, warmscale
   bool warm = true;                                      ///< the builtin warm start (`+warm=none`: none)
+  std::string order;  ///< `+order=none|morton|auto`: [bodies] internal_order (empty: the scene's)
   [[nodiscard]] std::string label() const {
     char b[96];
     if (v3) std::snprintf(b, sizeof b, "box2d v3 %d substeps %g Hz", substeps, static_cast<double>(hertz));
@@ -95,6 +97,7 @@ struct Config {
       out += b;
     }
     if (!warm) out += " no warm start";
+    if (!order.empty()) out += " order=" + order;
     return out;
   }
   [[nodiscard]] bool same_as(const Config& o) const { return v3 == o.v3 && substeps == o.substeps && hertz == o.hertz; }
@@ -114,6 +117,8 @@ struct Run {
   dc::PgsColoredProfile parts;  ///< ours with --profile and solver "pgs-colored": the solver's parts
 };
 
+int g_trace = 0;  ///< --trace N: ours prints the pile's motion every N steps and by height at the end
+
 constexpr double kMoving = 0.1;  ///< [m/s] a body faster than this at the end is "moving"
 
 /// Adds a dynamic body's end speed and height to r's maximum, moving count and height sum.
@@ -131,13 +136,18 @@ void parse_setting(const std::string& kv, Config& c) {
     c.warm = value == "builtin";
     return;
   }
-  for (const char* k : {"omega", "tol", "baumgarte", "slop", "margin"})
+  if (key == "order" && !value.empty()) {
+    (void)dc::parse_internal_order(value, "--ours order");  // throws for an unknown name
+    c.order = value;
+    return;
+  }
+  for (const char* k : {"omega", "tol", "baumgarte", "slop", "margin", "relax", "warmscale", "symmetric"})
     if (key == k && !value.empty()) {
       c.settings.emplace_back(key, std::stod(value));
       return;
     }
   throw CLI::ValidationError("--ours", "unknown setting '" + kv +
-                                           "' (omega=, tol=, baumgarte=, slop=, margin=, warm=none|builtin)");
+                                           "' (omega=, tol=, baumgarte=, slop=, margin=, relax=, order=, warm=none|builtin)");
 }
 
 std::vector<Config> parse_configs(const std::string& list, bool v3) {
@@ -293,6 +303,38 @@ Run run_v3(const dc::WorldDef& def, const dc::BodyState& start, const Config& c,
 
 // ---- ours -------------------------------------------------------------------------------
 
+/// --trace: the step's moving bodies, largest speed, kinetic energy, deepest penetration,
+/// residual; at the end (bands != 0) the moving bodies by height band of the pile.
+void trace_line(const dc::World& world, int step, double residual, int bands = 0) {
+  const dc::BodyState& b = world.bodies();
+  int moving = 0;
+  double vmax = 0, ymax = 0;
+  for (size_t k = 0; k < b.size(); ++k) {
+    const double v = dc::length(b.velocity[k]);
+    moving += v > kMoving;
+    vmax = std::max(vmax, v);
+    ymax = std::max(ymax, b.position[k].y);
+  }
+  std::printf("trace step %d: moving %d, max speed %.3f, KE %.1f, max pen %.2f mm, residual %.3g\n", step, moving,
+              vmax, world.kinetic_energy(), 1e3 * world.max_penetration(), residual);
+  if (bands <= 0) return;
+  std::vector<int> count(static_cast<size_t>(bands)), mov(static_cast<size_t>(bands));
+  std::vector<double> vsum(static_cast<size_t>(bands)), vy(static_cast<size_t>(bands));
+  for (size_t k = 0; k < b.size(); ++k) {
+    const auto i = static_cast<size_t>(std::min(bands - 1, static_cast<int>(bands * b.position[k].y / (ymax + 1e-9))));
+    ++count[i];
+    const double v = dc::length(b.velocity[k]);
+    if (v > kMoving) ++mov[i];
+    vsum[i] += v;
+    vy[i] += b.velocity[k].y;
+  }
+  for (int i = 0; i < bands; ++i) {
+    const auto u = static_cast<size_t>(i);
+    std::printf("  band y %.1f–%.1f m: %d bodies, %d moving, mean |v| %.3f, mean v_y %.4f\n", ymax * i / bands,
+                ymax * (i + 1) / bands, count[u], mov[u], vsum[u] / std::max(1, count[u]), vy[u] / std::max(1, count[u]));
+  }
+}
+
 Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
   def.solver.sweeps = c.sweeps;
   def.solver.tolerance = 0.0;
@@ -302,7 +344,9 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
     if (key == "baumgarte") def.contact.baumgarte = value;
     if (key == "slop") def.contact.slop = value;
     if (key == "margin") def.contact.margin = value;
+    if (key == "relax") def.solver.relax_sweeps = static_cast<int>(value);
   }
+  if (!c.order.empty()) def.bodies.internal_order = dc::parse_internal_order(c.order, "order");
   dc::World world(def);
   const std::vector<dc::Vec2> start = world.bodies().position;
   Run r;
@@ -310,6 +354,8 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
   parts_def.profile = &r.parts;
   TimedSolver solver(profile && c.solver == "pgs-colored" ? dc::make_pgs_colored(parts_def) : dc::make_solver(c.solver));
   dc::SolverOptions o = dc::solver_options(def.solver);
+  for (const auto& [key, value] : c.settings)
+    if (key == "symmetric") o.symmetric = value != 0;
   o.record_theta = false;
   const auto starter = dc::default_warm_starters().make("builtin");
   const bool builtin = dc::is_builtin_warm_starter(*starter);
@@ -317,16 +363,26 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
   for (int s = 0; s < steps; ++s) {
     const double t0 = thread_cpu_s();
     // builtin is the engine's own warm start, bit for bit (is_builtin_warm_starter): stepped
-    // with it, as a stepping loop would, λ⁰ is formed in the world's kept storage.
+    // with it, as a stepping loop would, λ⁰ is formed in the world's kept storage. A scaled
+    // warm start (warmscale) goes through the starter's returned guess.
+    double scale = 1.0;
+    for (const auto& [key, value] : c.settings)
+      if (key == "warmscale") scale = value;
     const dc::StepReport rep =
-        c.warm && builtin ? world.step(solver, o, dc::World::WarmStart::PreviousLambda)
-                          : world.step(solver, o, [&](const dc::World& w) {
-                              return c.warm ? starter->initial_guess(dc::StepView{w, nullptr}) : Eigen::VectorXd();
-                            });
+        c.warm && builtin && scale == 1.0
+            ? world.step(solver, o, dc::World::WarmStart::PreviousLambda)
+            : world.step(solver, o, [&](const dc::World& w) {
+                if (!c.warm) return Eigen::VectorXd();
+                Eigen::VectorXd g = starter->initial_guess(dc::StepView{w, nullptr});
+                if (scale != 1.0) g *= scale;
+                return g;
+              });
     if (c.warm) starter->observe(dc::StepView{world, nullptr}, rep.solve.lambda);
     r.cpu_s += thread_cpu_s() - t0;
     rows += rep.rows;
+    if (g_trace > 0 && (s + 1) % g_trace == 0) trace_line(world, s + 1, rep.solve.residual);
   }
+  if (g_trace > 0) trace_line(world, steps, 0.0, 10);
   r.solver_cpu_s = solver.cpu_s;
   r.rows_per_step = rows / std::max(1, steps);
   int dynamic = 0;
@@ -420,7 +476,7 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
     double marginal = NAN, setup = NAN;
     for (size_t j = 0; j < configs.size() && !c.v3; ++j)  // the same solver and settings at twice the sweeps
       if (!configs[j].v3 && configs[j].solver == c.solver && configs[j].settings == c.settings &&
-          configs[j].warm == c.warm && configs[j].sweeps == 2 * c.sweeps) {
+          configs[j].warm == c.warm && configs[j].order == c.order && configs[j].sweeps == 2 * c.sweeps) {
         const double a = last[i].solver_cpu_s / steps, b = last[j].solver_cpu_s / steps;
         const double rows = 0.5 * (last[i].rows_per_step + last[j].rows_per_step);
         marginal = 1e9 * (b - a) / std::max(1.0, rows * c.sweeps);
@@ -478,6 +534,7 @@ int main(int argc, char** argv) {
                  "'ours at equal quality' on the piles (default 8:100; empty: no such row)");
   app.add_flag("--profile", profile,
                "Print the parts of pgs-colored's solves (checks, colouring, …, sweeps, residual) per configuration");
+  app.add_option("--trace", g_trace, "Ours: print the pile's motion every N steps and by height at the end (0: not)");
   app.add_flag("--skip-pile", skip_pile, "Do not run the piles");
   app.add_flag("--skip-stack", skip_stack, "Do not run the box stack");
   CLI11_PARSE(app, argc, argv);

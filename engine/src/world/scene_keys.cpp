@@ -43,6 +43,8 @@ std::span<const SectionKey> section_keys() {
        "stop when theta_k <= tolerance [N]; 0 = always run all sweeps"},
       {"solver", "omega", Kind::Number, DC_FIELD(double, WorldDef, solver.omega),
        "relaxation in (0, 2) for psor (1 = PGS)"},
+      {"solver", "relax_sweeps", Kind::Int, DC_FIELD(int, WorldDef, solver.relax_sweeps),
+       "sweeps of the bias-free relax pass after each solve (0 = none)"},
       {"bodies", "count", Kind::Int, DC_FIELD(int, WorldDef, bodies.count), "generated circles (0 = none)"},
       {"bodies", "radius", Kind::Number, DC_FIELD(double, WorldDef, bodies.radius), "radius of generated circles [m]"},
       {"bodies", "density", Kind::Number, DC_FIELD(double, WorldDef, bodies.density), "areal density [kg/m^2]"},

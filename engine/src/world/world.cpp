@@ -14,6 +14,7 @@
 #include "assembly/assembly.hpp"
 #include "world/parts/integrate_keeping.hpp"
 #include "world/parts/merge_parts.hpp"
+#include "world/parts/relax_pass.hpp"
 #include "world/internal_order_choice.hpp"
 #include "world/restitution.hpp"
 #include "world/parts/step_parts.hpp"
@@ -291,7 +292,7 @@ void World::integrate(const Eigen::VectorXd& lambda) {
   integrate_solved(internal_lambda_);
 }
 
-void World::integrate_solved(const Eigen::VectorXd& lambda) {
+void World::integrate_solved(const Eigen::VectorXd& lambda, const Eigen::VectorXd* position_lambda) {
   const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
   std::vector<Contact>& contacts = internal_ ? internal_contacts_ : contacts_;
   const ContactConstraints& cons = solved.constraints;
@@ -301,6 +302,8 @@ void World::integrate_solved(const Eigen::VectorXd& lambda) {
                              pre_position_, pre_velocity_, pre_omega_);
   else
     integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse);
+  if (position_lambda != nullptr)
+    shift_positions(solved, *position_lambda, lambda, def_.time.dt, working_bodies(), relax_dl_, impulse);
   const int nc = static_cast<int>(contacts.size());
   const int jobs = parts_for(step_threads_, nc, 2, 4096);
   run_parts(step_threads_, jobs, [&](int p) {
@@ -396,13 +399,37 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
     throw InvalidArgument("World::step: the solver rejected the problem: " + rep.solve.message);
 
   t0 = Clock::now();
-  integrate_solved(rep.solve.lambda);
+  if (def_.solver.relax_sweeps > 0 && rep.rows > 0) {
+    relax_solve(solver, options, solved, rep);
+  } else {
+    integrate_solved(rep.solve.lambda);
+  }
   if (internal_) {  // the report's λ in the rows of problem() (external contact order)
     InternalBodyOrder::rows_to_external(solved.constraints, public_order(), rep.solve.lambda, internal_lambda_);
     rep.solve.lambda.swap(internal_lambda_);
   }
   rep.profile.integrate_ms = ms_since(t0);
   return rep;
+}
+
+void World::relax_solve(LcpSolver& solver, const SolverOptions& options, LcpProblem& solved, StepReport& rep) {
+  // b without the bias for the relax sweeps, then back (problem() and the bench read it).
+  relax_b_ = solved.b;
+  remove_position_bias(internal_ ? internal_contacts_ : contacts_, solved.constraints, def_.contact, def_.time.dt,
+                       solved.b);
+  SolverOptions ro = options;
+  ro.max_sweeps = def_.solver.relax_sweeps;
+  ro.checkpoints.clear();
+  ro.on_checkpoint = nullptr;
+  SolveResult relaxed = solver.solve(solved, rep.solve.lambda, ro);
+  solved.b.swap(relax_b_);
+  if (relaxed.status == SolveStatus::InvalidInput)
+    throw InvalidArgument("World::step: the solver rejected the relax pass: " + relaxed.message);
+  relax_lambda_.swap(rep.solve.lambda);  // λ_b: the positions
+  rep.solve.lambda = std::move(relaxed.lambda);
+  rep.solve.sweeps += relaxed.sweeps;
+  rep.solve.residual = relaxed.residual;
+  integrate_solved(rep.solve.lambda, &relax_lambda_);
 }
 
 double World::kinetic_energy() const { return dc::kinetic_energy(bodies()); }

@@ -98,6 +98,7 @@ void WorldDef::validate() const {
   non_negative("[contact] restitution_threshold", contact.restitution_threshold);
   if (solver.sweeps < 1) bad("[solver] sweeps", "an integer >= 1", solver.sweeps);
   non_negative("[solver] tolerance", solver.tolerance);
+  if (solver.relax_sweeps < 0) bad("[solver] relax_sweeps", "an integer >= 0", solver.relax_sweeps);
   positive("[solver] omega", solver.omega);
   if (solver.omega >= 2) bad("[solver] omega", "a number in (0, 2)", solver.omega);
   if (bodies.count < 0) bad("[bodies] count", "an integer >= 0", bodies.count);

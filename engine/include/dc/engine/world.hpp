@@ -186,7 +186,10 @@ class World {
   std::vector<std::vector<Contact>> part_walls_, part_pairs_;
   std::vector<InternalBodyOrder::Spread> part_spread_;
   /// integrate() on the problem the stages solved (internal rows when there is an order).
-  void integrate_solved(const Eigen::VectorXd& lambda);
+  void integrate_solved(const Eigen::VectorXd& lambda, const Eigen::VectorXd* position_lambda = nullptr);
+  /// The relax pass (`[solver] relax_sweeps`, world/parts/relax_pass.hpp) after the solve in
+  /// rep: sweeps without the position bias from its λ; rep then reports the relaxed λ.
+  void relax_solve(LcpSolver& solver, const SolverOptions& options, LcpProblem& solved, StepReport& rep);
 
   // ---- engine-internal body order ([bodies] internal_order; empty/unused when "none") ----
   bool internal_ = false;  ///< steps_in_internal_order(def_.bodies.internal_order, initial bodies)
@@ -208,6 +211,7 @@ class World {
   std::vector<Contact> internal_previous_;  ///< the previous step's, keyed in the current internal order
   LcpProblem internal_problem_;             ///< their LCP (rows follow space)
   Eigen::VectorXd internal_lambda_;         ///< integrate(λ)'s λ translated (reused)
+  Eigen::VectorXd relax_b_, relax_lambda_, relax_dl_;  ///< the relax pass's b with bias, λ_b, scratch
   Eigen::VectorXd lambda0_, impulse_;       ///< step()'s λ⁰ and integrate's Δt·Jᵀλ (storage reused)
   mutable std::vector<int> internal_of_contact_;
   std::vector<Vec2> pre_position_, pre_velocity_;

@@ -88,6 +88,12 @@ struct SolverSection {
   int sweeps = 3000;         ///< maximum sweeps per step (the seed's fixed 3000)
   double tolerance = 0.0;    ///< stop when θ_k ≤ tolerance [N]; 0 ⇒ always run `sweeps` sweeps
   double omega = 1.0;        ///< relaxation for psor (1 = PGS)
+  /// Sweeps of the bias-free relax pass after each solve (0 = none, the default): World::step
+  /// moves the bodies with the solve's velocities (Baumgarte's position bias included) and
+  /// keeps, as their new velocities, those of `relax_sweeps` more sweeps without that bias,
+  /// from the solve's λ (docs/engine.md "Relax pass"). Time per step: one more solve of
+  /// relax_sweeps sweeps.
+  int relax_sweeps = 0;
 
   friend bool operator==(const SolverSection&, const SolverSection&) = default;
 };

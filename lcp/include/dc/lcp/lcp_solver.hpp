@@ -50,6 +50,12 @@ struct SolverOptions {
   /// Problems without such manifolds (circle scenes) give the same iterates either way.
   bool block_manifolds = true;
   bool record_theta = true;  ///< fill SolveResult::theta (one entry per sweep)
+  /// "pgs-colored" only: symmetric Gauss–Seidel, every second sweep visits the colours in
+  /// reverse order (last colour first), so a sweep pair carries a load through a pile both ways
+  /// along the colour order (a forward sweep carries it to later colours in one sweep, to
+  /// earlier ones one colour per sweep). Same fixed points; the sweeps then run on one thread.
+  /// false (the default): every sweep in colour order.
+  bool symmetric = false;
   /// The solution test every `Converged` passes, relative to the problem's scale:
   /// natural_residual ≤ exact_tolerance·‖b‖∞ (solution_target). The exact methods iterate to it.
   double exact_tolerance = 1e-9;

@@ -297,7 +297,7 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] SolveResult sweeps(const LcpProblem& p, Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                    const SolverOptions& o, Prepared& prep, Laps& laps) {
     const long batches = static_cast<long>(prep.batches.size() + prep.pairs.size());
-    const int threads = effective_threads(batches, prep.ranges.size());
+    const int threads = o.symmetric ? 1 : effective_threads(batches, prep.ranges.size());
     const int setup = serial_setup_ ? 1 : threads;  // the permutation back and the residual
     solved_ = Solved{batches, threads};
     SolverOptions po = o;
@@ -342,14 +342,25 @@ class PgsColoredSolver final : public LcpSolver {
                                           std::vector<colored::SweepStep>& plan) const {
     const Kernels sweep = kernel_, scalar = kernel_fn(PgsColoredKernel::Scalar);
     colored::plan_sweep(prep, colored::kScalarLanes, plan);
+    long sweep_index = 0;
     return solvers::run_sweeps_double_buffered(
         std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
           colored::Acc acc;
           acc.bad = bad_start;
           bad_start = false;
-          for (const colored::SweepStep& st : plan)
+          auto step = [&](const colored::SweepStep& st) {
             run_range(prep, st.scalar ? scalar : sweep, Range{st.begin, st.end, false, st.pairs}, st.begin, st.end,
                       in.data(), out.data(), prep.du.data(), acc);
+          };
+          if (o.symmetric && (sweep_index++ & 1) != 0) {
+            // The colour ranges last to first (SolverOptions::symmetric), each its own call: a
+            // plan step may join several small colours. (A colour's batches touch disjoint
+            // bodies: their order within it changes nothing.)
+            for (auto rg = prep.ranges.rbegin(); rg != prep.ranges.rend(); ++rg)
+              run_range(prep, sweep, *rg, rg->begin, rg->end, in.data(), out.data(), prep.du.data(), acc);
+          } else {
+            for (const colored::SweepStep& st : plan) step(st);
+          }
           if (!std::isfinite(acc.theta)) acc.bad = true;
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
