@@ -359,15 +359,15 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
   o.record_theta = false;
   const auto starter = dc::default_warm_starters().make("builtin");
   const bool builtin = dc::is_builtin_warm_starter(*starter);
+  double scale = 1.0;  // +warmscale=: λ⁰ times this (a study of damping; 1 = the starter's guess)
+  for (const auto& [key, value] : c.settings)
+    if (key == "warmscale") scale = value;
   double rows = 0;
   for (int s = 0; s < steps; ++s) {
     const double t0 = thread_cpu_s();
     // builtin is the engine's own warm start, bit for bit (is_builtin_warm_starter): stepped
     // with it, as a stepping loop would, λ⁰ is formed in the world's kept storage. A scaled
     // warm start (warmscale) goes through the starter's returned guess.
-    double scale = 1.0;
-    for (const auto& [key, value] : c.settings)
-      if (key == "warmscale") scale = value;
     const dc::StepReport rep =
         c.warm && builtin && scale == 1.0
             ? world.step(solver, o, dc::World::WarmStart::PreviousLambda)

@@ -424,15 +424,18 @@ def block_peers_v3(ctx, name="speed-peers-v3", title="Against Box2D v3", short=N
 
 
 def block_peers_v3_10k(ctx):
-    """The 10,000-body pile run 1,500 steps, with a ladder of sweeps for the row "ours at equal quality": at 16
-    sweeps our pile is still flowing then (most bodies faster than 0.1 m/s), so the rule passes over it; the ladder
-    holds the settings that rest (22 sweeps at ω = 1.2, 24 at ω = 1.3, 32)."""
+    """The 10,000-body pile run 1,500 steps, with a ladder of sweeps and slops for the row "ours at equal quality":
+    at 16 sweeps and the default slop our pile is still moving then (most bodies faster than 0.1 m/s: the deep
+    contacts settle past the slop and Baumgarte's push keeps the bulk in motion), so the rule passes over it; the
+    ladder holds settings that rest: 22 sweeps at ω = 1.2, or fewer sweeps with a slop above the pile's steady
+    penetration and below v3's overlap (benchmarks/compare/README.md)."""
     if ctx.full:
         return {"name": "speed-peers-v3-10k", "title": "Against Box2D v3, 10,000 bodies at rest", "columns": [],
                 "rows": [], "note": "", "skipped": "FULL=1 runs 10,000 bodies in the block above"}
     return block_peers_v3(ctx, "speed-peers-v3-10k", "Against Box2D v3, 10,000 bodies at rest",
                           ["--n", "10000", "--rounds", "1", "--steps", "1500", "--skip-stack",
-                           "--ours", "pgs-colored:16,pgs-colored:22+omega=1.2,pgs-colored:24,pgs-colored:24+omega=1.3,pgs-colored:32",
+                           "--ours", "pgs-colored:16,pgs-colored:22+omega=1.2,pgs-colored:16+slop=0.008,pgs-colored:14+slop=0.012,"
+                           "pgs-colored:12+slop=0.012,pgs-colored:12+slop=0.015",
                            "--v3", "4:30,8:100"],
                           " One round (time budget); 1,500 steps, when v3's pile is at rest (the moving column says "
                           "whether ours is).")
