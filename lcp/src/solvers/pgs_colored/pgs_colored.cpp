@@ -348,10 +348,6 @@ class PgsColoredSolver final : public LcpSolver {
           colored::Acc acc;
           acc.bad = bad_start;
           bad_start = false;
-          auto step = [&](const colored::SweepStep& st) {
-            run_range(prep, st.scalar ? scalar : sweep, Range{st.begin, st.end, false, st.pairs}, st.begin, st.end,
-                      in.data(), out.data(), prep.du.data(), acc);
-          };
           if (o.symmetric && (sweep_index++ & 1) != 0) {
             // The colour ranges last to first (SolverOptions::symmetric), each its own call: a
             // plan step may join several small colours. (A colour's batches touch disjoint
@@ -359,7 +355,9 @@ class PgsColoredSolver final : public LcpSolver {
             for (auto rg = prep.ranges.rbegin(); rg != prep.ranges.rend(); ++rg)
               run_range(prep, sweep, *rg, rg->begin, rg->end, in.data(), out.data(), prep.du.data(), acc);
           } else {
-            for (const colored::SweepStep& st : plan) step(st);
+            for (const colored::SweepStep& st : plan)
+              run_range(prep, st.scalar ? scalar : sweep, Range{st.begin, st.end, false, st.pairs}, st.begin, st.end,
+                        in.data(), out.data(), prep.du.data(), acc);
           }
           if (!std::isfinite(acc.theta)) acc.bad = true;
           nonfinite = nonfinite || acc.bad;
