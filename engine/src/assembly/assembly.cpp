@@ -174,7 +174,7 @@ void assemble_serial(const BodyState& s, const std::vector<Contact>& contacts, c
   // columns), body columns in ascending body order. Explicit zeros are stored, exactly as
   // setFromTriplets stored them; storage is reused from step to step. At most 6 entries a row
   // are held, the count set to the entries filled at the end.
-  out.J.resize(rows, 3 * nb);
+  out.J.resize_keeping(rows, 3 * nb);
   out.J.data().resize(6 * static_cast<Eigen::Index>(rows), kHeadroom);
   int* const outer = out.J.outerIndexPtr();
   out.b.resize(rows);
@@ -202,8 +202,8 @@ std::span<ContactConstraint> size_problem(int nb, int nc, int rows, int nnz, con
   const std::span<ContactConstraint> con = out.constraints.overwrite(static_cast<size_t>(nc), rows);
   out.dt = def.time.dt;
   out.inv_mass.resize(3 * nb);
-  out.J.resize(rows, 3 * nb);
-  out.J.resizeNonZeros(nnz);
+  out.J.resize_keeping(rows, 3 * nb);
+  out.J.data().resize(nnz, kHeadroom);  // as resizeNonZeros, with room to grow
   out.J.outerIndexPtr()[rows] = nnz;
   out.b.resize(rows);
   out.lo.resize(rows);

@@ -155,9 +155,9 @@ void write_problem_file(const std::string& path, const ProblemFile& file, const 
     if (file.kind == ProblemKind::Fc2d)
       throw ConfigError(path + ": a frictional problem is written as siconos-fc or FCLIB (.hdf5), not as an LCP .dat");
     if (def.storage == 0)
-      write_lcp_dat(path, Eigen::MatrixXd(file.lcp.A), file.lcp.b);
+      write_lcp_dat(path, Eigen::MatrixXd(file.lcp.A), Eigen::VectorXd(file.lcp.b));
     else
-      write_lcp_dat_blocks(path, file.lcp.A, file.lcp.b, def.block > 0 ? def.block : file.lcp.rows());
+      write_lcp_dat_blocks(path, file.lcp.A, Eigen::VectorXd(file.lcp.b), def.block > 0 ? def.block : file.lcp.rows());
     return;
   }
   if (file.kind != ProblemKind::Fc2d)

@@ -211,7 +211,8 @@ class World {
   std::vector<Contact> internal_previous_;  ///< the previous step's, keyed in the current internal order
   LcpProblem internal_problem_;             ///< their LCP (rows follow space)
   Eigen::VectorXd internal_lambda_;         ///< integrate(λ)'s λ translated (reused)
-  Eigen::VectorXd relax_b_, relax_lambda_, relax_dl_;  ///< the relax pass's b with bias, λ_b, scratch
+  KeptVector relax_b_;                      ///< the relax pass's b with bias
+  Eigen::VectorXd relax_lambda_, relax_dl_;  ///< the relax pass's λ_b, scratch
   Eigen::VectorXd lambda0_, impulse_;       ///< step()'s λ⁰ and integrate's Δt·Jᵀλ (storage reused)
   mutable std::vector<int> internal_of_contact_;
   std::vector<Vec2> pre_position_, pre_velocity_;

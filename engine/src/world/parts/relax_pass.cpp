@@ -8,7 +8,7 @@
 namespace dc {
 
 void remove_position_bias(std::span<const Contact> contacts, const ContactConstraints& cons, const ContactSection& cs,
-                          double dt, Eigen::VectorXd& b) {
+                          double dt, Eigen::Ref<Eigen::VectorXd> b) {
   const int nc = cons.size();
   for (int c = 0; c < nc; ++c) {
     const Contact& ct = contacts[static_cast<size_t>(c)];

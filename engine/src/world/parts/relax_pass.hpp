@@ -21,7 +21,7 @@ namespace dc {
 /// contact of constraint c. A row whose restitution bounce is due this step is left as it is
 /// (its b is the bounce target, which the bias does not enter once the target is the lower).
 void remove_position_bias(std::span<const Contact> contacts, const ContactConstraints& cons, const ContactSection& cs,
-                          double dt, Eigen::VectorXd& b);
+                          double dt, Eigen::Ref<Eigen::VectorXd> b);
 
 /// x_k += Δt·m_k⁻¹·Δt·(Jᵀ(λ_b − λ_r))_k and θ_k += Δt·I_k⁻¹·… : the positions of bodies
 /// integrated with λ_r moved to where λ_b's velocities take them (the bodies' velocities stay

@@ -9,29 +9,31 @@
 // ensure_assembled_matrix() first (World::step and the bench do when needs_assembled_matrix());
 // an assembled solver handed a problem without A forms it for that one solve. A problem read
 // from a file has only A and b (no J, no constraints).
+// b, lo, hi, μ and M⁻¹ are KeptVectors and J a KeptSparseRowMatrix: storage that a World's step
+// refills without an allocation while the row count stays within what it held before.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
 
 #include "dc/lcp/contact_constraints.hpp"
+#include "dc/lcp/kept_sparse_matrix.hpp"
+#include "dc/lcp/kept_vector.hpp"
 
 namespace dc {
-
-using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
 struct LcpProblem {
   /// n × n, row-major [m/(N·s)] for contact problems; 0 × 0 until ensure_assembled_matrix()
   /// for a problem assembled from a world.
   SparseRowMatrix A;
-  Eigen::VectorXd b;           ///< n [m/s]
-  Eigen::VectorXd lo;          ///< n, fixed lower bounds (ignored for friction rows)
-  Eigen::VectorXd hi;          ///< n, fixed upper bounds (+∞ allowed; ignored for friction rows)
+  KeptVector b;                ///< n [m/s]
+  KeptVector lo;               ///< n, fixed lower bounds (ignored for friction rows)
+  KeptVector hi;               ///< n, fixed upper bounds (+∞ allowed; ignored for friction rows)
   std::vector<int> normal_row; ///< n; −1, or the normal row a friction row is coupled to
-  Eigen::VectorXd mu;          ///< n; friction coefficient of friction rows (0 elsewhere)
+  KeptVector mu;               ///< n; friction coefficient of friction rows (0 elsewhere)
 
   // Optional matrix-free representation (empty when the problem came from a file).
-  SparseRowMatrix J;           ///< n × 3·bodies, columns (v_x, v_y, ω) per body
-  Eigen::VectorXd inv_mass;    ///< 3·bodies, diagonal of M⁻¹
+  KeptSparseRowMatrix J;       ///< n × 3·bodies, columns (v_x, v_y, ω) per body
+  KeptVector inv_mass;         ///< 3·bodies, diagonal of M⁻¹
   double dt = 0.0;             ///< Δt [s] with A = J M⁻¹ Jᵀ Δt
   /// Rows, bodies and μ of each contact (empty when the problem came from a file). When not
   /// empty its rows() equals rows() and it agrees with normal_row and mu (validate()).

@@ -177,7 +177,7 @@ class LemkeSolver final : public LcpSolver {
     const FarkasCertificate cert = find_farkas_certificate(s.M, s.q);
     if (cert.found) {
       std::string detail;  // the certificate for the scaled problem is S⁻¹-scaled for the original
-      if (check_farkas_certificate(Eigen::MatrixXd(p.A), p.b, s.S.cwiseProduct(cert.y), detail))
+      if (check_farkas_certificate(Eigen::MatrixXd(p.A), Eigen::VectorXd(p.b), s.S.cwiseProduct(cert.y), detail))
         return done(SolveStatus::Infeasible, Eigen::VectorXd::Zero(n), head + "; infeasible: " + detail);
     }
     std::string tried = cert.detail;

@@ -68,12 +68,13 @@ class NewtonSolver final : public LcpSolver {
     } else {
       const int max_passes = friction ? 100 : 1;
       int stalls = 0;
+      const Eigen::VectorXd b(p.b);  // BoxNewtonSystem holds a VectorXd reference
       for (int pass = 0; pass < max_passes && steps < max_steps; ++pass) {
         for (int i = 0; i < n; ++i) {
           lo[i] = p.lower(i, lambda);
           hi[i] = p.upper(i, lambda);
         }
-        const BoxNewtonSystem sys{p.A, symmetric, rho, p.b, lo, hi};
+        const BoxNewtonSystem sys{p.A, symmetric, rho, b, lo, hi};
         Eigen::VectorXd trial = lambda;
         const BoxNewtonOutcome out =
             box_newton(sys, trial, 0.1 * target, std::min(friction ? 100 : 500, max_steps - steps), on_step);
@@ -144,7 +145,7 @@ class NewtonSolver final : public LcpSolver {
     if (r.status == SolveStatus::Converged) cp.flush_final(lambda);
     if (r.status == SolveStatus::Failed && seek_certificate_ && n <= kFarkasMaxN && first_nonstandard_row(p) < 0) {
       // Failing proves nothing; a verified Farkas certificate proves that there is no solution.
-      const FarkasCertificate cert = find_farkas_certificate(Eigen::MatrixXd(p.A), p.b);
+      const FarkasCertificate cert = find_farkas_certificate(Eigen::MatrixXd(p.A), Eigen::VectorXd(p.b));
       if (cert.found) r.status = SolveStatus::Infeasible;
       r.message += (cert.found ? "; infeasible: " : "; ") + cert.detail;
     }
