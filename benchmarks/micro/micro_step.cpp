@@ -263,20 +263,26 @@ struct StageTally {
   }
 };
 
-/// One step of w by its public stages (World::step's sequence; the builtin warm start into
-/// `guess`, storage kept from step to step as World::step keeps its own), timed.
+/// The storage a stepping loop keeps from step to step: λ⁰, λ and the solve's outcome.
+struct KeptStep {
+  dc::KeptVector guess, lambda;
+  dc::SolveResult result;
+};
+
+/// One step of w by its public stages (World::step's sequence; the builtin warm start and the
+/// solve into storage kept from step to step, as World::step keeps its own), timed.
 void timed_step(dc::World& w, dc::LcpSolver& solver, const dc::SolverOptions& o, dc::WarmStarter& builtin,
-                Eigen::VectorXd& guess, StageTally& tally) {
+                KeptStep& kept, StageTally& tally) {
   tally.begin();
   w.collide();
   tally.lap(0);
   w.assemble();
   tally.lap(1);
-  builtin.initial_guess_into(dc::StepView{w, nullptr}, guess);
+  builtin.initial_guess_into(dc::StepView{w, nullptr}, kept.guess);
   tally.lap(2);
-  const dc::SolveResult r = solver.solve(w.problem(), guess, o);
+  solver.solve_into(w.problem(), kept.guess, o, kept.lambda, kept.result);
   tally.lap(3);
-  w.integrate(r.lambda);
+  w.integrate(kept.lambda);
   tally.lap(4);
 }
 
@@ -317,10 +323,10 @@ void BM_StepStages(benchmark::State& state) {
   const dc::SolverOptions o = fixed_sweeps(kSettleSweeps);
   dc::World w = *p.world;  // stepped on from the pile: a fixed iteration count keeps it near it
   StageTally tally;
-  Eigen::VectorXd guess;
+  KeptStep kept;
   const auto one_step = [&] {  // the step's rows
     if (internal) return whole_step(w, *solver, o, tally);
-    timed_step(w, *solver, o, *builtin, guess, tally);
+    timed_step(w, *solver, o, *builtin, kept, tally);
     return w.problem().rows();
   };
   for (int k = 0; k < kWarmSteps; ++k) one_step();

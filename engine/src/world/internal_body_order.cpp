@@ -172,7 +172,7 @@ void InternalBodyOrder::bodies_for_assembly(const std::vector<Vec2>& position, c
 }
 
 void InternalBodyOrder::rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
-                                         const std::vector<int>& internal_of, const Eigen::VectorXd& lambda_external,
+                                         const std::vector<int>& internal_of, const Eigen::Ref<const Eigen::VectorXd>& lambda_external,
                                          Eigen::VectorXd& lambda_internal) {
   lambda_internal.setZero(internal.rows());
   for (int c = 0; c < external.size(); ++c) {

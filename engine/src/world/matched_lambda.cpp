@@ -4,11 +4,13 @@
 
 namespace dc {
 
-void put_matched_lambda(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
-                        Eigen::VectorXd& out) {
+namespace {
+
+/// put_matched_lambda into `out`, zeroed and of the problem's rows.
+void put_matched_zeroed(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
+                        Eigen::Ref<Eigen::VectorXd> out) {
   // Separate passes: the merge's branches follow the keys, the projection's rows stream without
   // them (one loop doing both runs slower on large piles).
-  out.setZero(problem.rows());
   for_each_matched_contact(previous, current, [&](std::size_t c, const Contact& p) {
     problem.constraints.put(static_cast<int>(c), p.lambda_n, p.lambda_t, out);
   });
@@ -23,6 +25,20 @@ void put_matched_lambda(std::span<const Contact> previous, std::span<const Conta
     if (owned) return;
   }
   project_feasible(problem, out);  // idempotent on rows already projected
+}
+
+}  // namespace
+
+void put_matched_lambda(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
+                        Eigen::VectorXd& out) {
+  out.setZero(problem.rows());
+  put_matched_zeroed(previous, current, problem, out);
+}
+
+void put_matched_lambda(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
+                        KeptVector& out) {
+  out.setZero(problem.rows());
+  put_matched_zeroed(previous, current, problem, out);
 }
 
 }  // namespace dc

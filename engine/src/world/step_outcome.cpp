@@ -49,7 +49,7 @@ void integrate_with_motion(const Eigen::VectorXd& impulse, Vec2 g, double dt, Bo
 namespace {
 
 /// integrate_bodies' size checks: λ has a value per row and J 3 columns per body.
-void check_sizes(const LcpProblem& p, const Eigen::VectorXd& lambda, int n) {
+void check_sizes(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, int n) {
   if (lambda.size() != p.rows())
     throw InvalidArgument("integrate_bodies: lambda has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(p.rows()) + " rows");
@@ -60,7 +60,7 @@ void check_sizes(const LcpProblem& p, const Eigen::VectorXd& lambda, int n) {
 
 /// Δt · Jᵀ λ into `impulse` after the size checks (integrate_bodies' contact impulse), then
 /// done(c0, c1) on ranges of whole bodies' columns as they become final (contact_impulse).
-void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda, double dt, int n,
+void checked_contact_impulse(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, double dt, int n,
                              Eigen::VectorXd& impulse, ColumnsDone done) {
   check_sizes(p, lambda, n);
   // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
@@ -74,7 +74,7 @@ void checked_contact_impulse(const LcpProblem& p, const Eigen::VectorXd& lambda,
 
 }  // namespace
 
-void integrate_bodies_keeping(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
+void integrate_bodies_keeping(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 g, double dt, BodyState& s,
                               Eigen::VectorXd& impulse, std::vector<Vec2>& x0, std::vector<Vec2>& v0,
                               std::vector<double>& w0) {
   if (!s.shapes.empty()) {
@@ -106,7 +106,7 @@ void integrate_bodies_keeping(const LcpProblem& p, const Eigen::VectorXd& lambda
   checked_contact_impulse(p, lambda, dt, n, impulse, update);
 }
 
-void integrate_bodies(const LcpProblem& p, const Eigen::VectorXd& lambda, Vec2 g, double dt, BodyState& s,
+void integrate_bodies(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 g, double dt, BodyState& s,
                       Eigen::VectorXd& impulse) {
   const int n = static_cast<int>(s.size());
   if (!s.shapes.empty()) {

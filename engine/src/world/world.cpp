@@ -274,7 +274,7 @@ void World::predict(const Eigen::VectorXd& lambda, StepOutcome& out) const {
   predict_step(bodies(), contacts(), problem(), def_, lambda, out);
 }
 
-void World::integrate(const Eigen::VectorXd& lambda) {
+void World::integrate(const Eigen::Ref<const Eigen::VectorXd>& lambda) {
   const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
   const int rows = solved.rows();
   if (lambda.size() != rows)
@@ -292,7 +292,7 @@ void World::integrate(const Eigen::VectorXd& lambda) {
   integrate_solved(internal_lambda_);
 }
 
-void World::integrate_solved(const Eigen::VectorXd& lambda, const Eigen::VectorXd* position_lambda) {
+void World::integrate_solved(const Eigen::Ref<const Eigen::VectorXd>& lambda, const Eigen::VectorXd* position_lambda) {
   const LcpProblem& solved = internal_ ? internal_problem_ : problem_;
   std::vector<Contact>& contacts = internal_ ? internal_contacts_ : contacts_;
   const ContactConstraints& cons = solved.constraints;
@@ -372,13 +372,13 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
   rep.rows = solved.rows();
 
   t0 = Clock::now();
-  Eigen::VectorXd& lambda0 = lambda0_;
+  KeptVector& lambda0 = lambda0_;
   if (guess == nullptr) {
     // The builtin warm start on one set of objects (public, or internal: the same numbers per contact).
     if (internal_)
-      previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_, lambda0);
+      previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_, lambda0, warm_starts_);
     else
-      previous_lambda(previous_contacts(), contacts_, problem_, step_threads_, lambda0);
+      previous_lambda(previous_contacts(), contacts_, problem_, step_threads_, lambda0, warm_starts_);
   } else {
     lambda0 = *guess ? (*guess)(*this) : Eigen::VectorXd::Zero(rep.rows);
     if (lambda0.size() != rep.rows)
@@ -387,13 +387,15 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
     if (internal_ && *guess) {
       InternalBodyOrder::rows_to_internal(problem().constraints, solved.constraints, public_order(), lambda0,
                                           internal_lambda_);
-      lambda0.swap(internal_lambda_);
+      lambda0 = internal_lambda_;
     }
   }
   rep.profile.warmstart_ms = ms_since(t0);
 
   t0 = Clock::now();
-  rep.solve = solver.solve(solved, lambda0, options);
+  // λ into kept storage (no allocation in the solve while the rows fit it); the report's own copy.
+  solver.solve_into(solved, lambda0, options, solved_lambda_, rep.solve);
+  rep.solve.lambda = Eigen::VectorXd(solved_lambda_);
   rep.profile.solve_ms = ms_since(t0);
   if (rep.solve.status == SolveStatus::InvalidInput)
     throw InvalidArgument("World::step: the solver rejected the problem: " + rep.solve.message);

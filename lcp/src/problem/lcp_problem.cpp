@@ -157,7 +157,7 @@ double natural_residual_l2(const LcpProblem& p, const Eigen::VectorXd& lambda) {
   return std::isfinite(sum) ? std::sqrt(sum) : std::numeric_limits<double>::infinity();
 }
 
-void project_feasible(const LcpProblem& p, Eigen::VectorXd& lambda) {
+void project_feasible(const LcpProblem& p, Eigen::Ref<Eigen::VectorXd> lambda) {
   if (lambda.size() != p.rows())
     throw InvalidArgument("project_feasible: λ has " + std::to_string(lambda.size()) +
                           " entries, the problem has " + std::to_string(p.rows()) + " rows");

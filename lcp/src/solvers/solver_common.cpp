@@ -27,7 +27,7 @@ int first_nonstandard_row(const LcpProblem& p) {
   return -1;
 }
 
-std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0,
                                        const std::string& solver, Eigen::VectorXd& lambda) {
   const int n = p.rows();
   auto invalid = [&](const std::string& msg) {
@@ -189,6 +189,13 @@ double solution_target(const LcpProblem& problem, const SolverOptions& options) 
 
 bool stopped_at_tolerance(SolveStatus s) {
   return s == SolveStatus::Converged || s == SolveStatus::ToleranceReached;
+}
+
+void LcpSolver::solve_into(const LcpProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& lambda0,
+                           const SolverOptions& options, KeptVector& lambda, SolveResult& result) {
+  result = solve(problem, Eigen::VectorXd(lambda0), options);
+  lambda = result.lambda;
+  result.lambda = Eigen::VectorXd();
 }
 
 }  // namespace dc

@@ -29,7 +29,7 @@ int first_nonstandard_row(const LcpProblem& p);
 /// Validates the problem and the initial guess. On success returns std::nullopt and sets
 /// `lambda` to λ⁰ (an empty λ⁰ means zero). On failure returns a result with status
 /// InvalidInput, λ = λ⁰ (or zero) and the validation message.
-std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0,
                                        const std::string& solver, Eigen::VectorXd& lambda);
 
 /// What a solver's provisional `Converged` stands for when it hands its result to finish:

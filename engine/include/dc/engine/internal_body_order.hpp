@@ -59,7 +59,7 @@ class InternalBodyOrder {
                            const std::vector<double>& omega, BodyState& external) const;
   /// Row vector of the internal problem from one of the external problem (same contacts).
   static void rows_to_internal(const ContactConstraints& external, const ContactConstraints& internal,
-                               const std::vector<int>& internal_of, const Eigen::VectorXd& lambda_external,
+                               const std::vector<int>& internal_of, const Eigen::Ref<const Eigen::VectorXd>& lambda_external,
                                Eigen::VectorXd& lambda_internal);
   /// Row vector of the external problem from one of the internal problem. The external rows
   /// are numbered as assembly numbers them (contact by contact: normal row, then the tangent

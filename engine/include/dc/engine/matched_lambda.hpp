@@ -18,11 +18,14 @@ namespace dc {
 /// otherwise). `out` is resized to the problem's rows (its storage reused when the size stays).
 void put_matched_lambda(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
                         Eigen::VectorXd& out);
+/// The same into a KeptVector (its storage reallocated only past its capacity).
+void put_matched_lambda(std::span<const Contact> previous, std::span<const Contact> current, const LcpProblem& problem,
+                        KeptVector& out);
 
 /// project_feasible on contact c's rows: its normal row (not a friction row), then its tangent
 /// row, whose bounds read that normal row only. False when the rows are not so related (then
 /// nothing is written). Inline: called once per contact.
-inline bool project_contact_rows(const LcpProblem& p, int c, Eigen::VectorXd& lambda) {
+inline bool project_contact_rows(const LcpProblem& p, int c, Eigen::Ref<Eigen::VectorXd> lambda) {
   const ContactConstraint& k = p.constraints[c];
   if (p.is_friction_row(k.normal_row) ||
       (k.tangent_row >= 0 && p.normal_row[static_cast<size_t>(k.tangent_row)] != k.normal_row))

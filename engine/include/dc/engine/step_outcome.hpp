@@ -23,7 +23,7 @@ namespace dc {
 /// J does not have 3 columns per body. Runs on the calling thread: the impulse is a scatter whose
 /// split by blocks of bodies (the split that keeps every sum's order) reads each row once per
 /// block it reaches, which costs more than the serial pass.
-void integrate_bodies(const LcpProblem& problem, const Eigen::VectorXd& lambda, Vec2 gravity, double dt,
+void integrate_bodies(const LcpProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 gravity, double dt,
                       BodyState& bodies, Eigen::VectorXd& impulse);
 
 /// Σ ½ m |v|² + ½ I ω² [J].

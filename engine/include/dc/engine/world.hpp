@@ -92,8 +92,9 @@ class World {
   const LcpProblem& assemble();
   /// Forms A of the assembled problem if it is not formed yet (for assembled solvers, export).
   const LcpProblem& ensure_assembled_matrix();
-  /// λ in the rows of problem() (external order).
-  void integrate(const Eigen::VectorXd& lambda);
+  /// λ in the rows of problem() (external order): any contiguous vector (a VectorXd, the
+  /// KeptVector of LcpSolver::solve_into) without a copy.
+  void integrate(const Eigen::Ref<const Eigen::VectorXd>& lambda);
 
   // ---- results of the stages ---------------------------------------------------------
   [[nodiscard]] const std::vector<Contact>& contacts() const;
@@ -186,7 +187,7 @@ class World {
   std::vector<std::vector<Contact>> part_walls_, part_pairs_;
   std::vector<InternalBodyOrder::Spread> part_spread_;
   /// integrate() on the problem the stages solved (internal rows when there is an order).
-  void integrate_solved(const Eigen::VectorXd& lambda, const Eigen::VectorXd* position_lambda = nullptr);
+  void integrate_solved(const Eigen::Ref<const Eigen::VectorXd>& lambda, const Eigen::VectorXd* position_lambda = nullptr);
   /// The relax pass (`[solver] relax_sweeps`, world/parts/relax_pass.hpp) after the solve in
   /// rep: sweeps without the position bias from its λ; rep then reports the relaxed λ.
   void relax_solve(LcpSolver& solver, const SolverOptions& options, LcpProblem& solved, StepReport& rep);
@@ -213,7 +214,9 @@ class World {
   Eigen::VectorXd internal_lambda_;         ///< integrate(λ)'s λ translated (reused)
   KeptVector relax_b_;                      ///< the relax pass's b with bias
   Eigen::VectorXd relax_lambda_, relax_dl_;  ///< the relax pass's λ_b, scratch
-  Eigen::VectorXd lambda0_, impulse_;       ///< step()'s λ⁰ and integrate's Δt·Jᵀλ (storage reused)
+  KeptVector lambda0_, solved_lambda_;       ///< step()'s λ⁰ and λ (storage kept as the rows change)
+  std::vector<long> warm_starts_;            ///< the threaded builtin warm start's scratch
+  Eigen::VectorXd impulse_;                  ///< integrate's Δt·Jᵀλ (storage reused)
   mutable std::vector<int> internal_of_contact_;
   std::vector<Vec2> pre_position_, pre_velocity_;
   std::vector<double> pre_omega_;

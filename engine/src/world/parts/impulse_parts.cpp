@@ -21,7 +21,7 @@ void add_rows(const SparseRowMatrix& J, const double* lambda, int rows, double* 
 
 }  // namespace
 
-void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, double dt, Eigen::VectorXd& impulse,
+void contact_impulse(const SparseRowMatrix& J, const Eigen::Ref<const Eigen::VectorXd>& lambda, double dt, Eigen::VectorXd& impulse,
                      ColumnsDone done) {
   const int cols = static_cast<int>(J.cols());
   if (!J.isCompressed()) {

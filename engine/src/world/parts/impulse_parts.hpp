@@ -24,7 +24,7 @@ class ColumnsDone {
 /// J.cols()). On the calling thread: a split by blocks of columns, which keeps every sum's order,
 /// has each thread read every row that reaches its block, and those reads cost more than the
 /// serial product's scatter.
-void contact_impulse(const SparseRowMatrix& J, const Eigen::VectorXd& lambda, double dt, Eigen::VectorXd& impulse,
+void contact_impulse(const SparseRowMatrix& J, const Eigen::Ref<const Eigen::VectorXd>& lambda, double dt, Eigen::VectorXd& impulse,
                      ColumnsDone done);
 
 }  // namespace dc

@@ -17,7 +17,7 @@ namespace dc {
 /// of before the step in previous_position, previous_velocity, previous_omega (resized to the
 /// body count; their old contents are reused storage). Circle-only states are integrated from
 /// the swapped arrays; with a shape table the state is copied first and integrated in place.
-void integrate_bodies_keeping(const LcpProblem& problem, const Eigen::VectorXd& lambda, Vec2 gravity, double dt,
+void integrate_bodies_keeping(const LcpProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 gravity, double dt,
                               BodyState& bodies, Eigen::VectorXd& impulse,
                               std::vector<Vec2>& previous_position, std::vector<Vec2>& previous_velocity,
                               std::vector<double>& previous_omega);

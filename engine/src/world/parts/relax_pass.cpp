@@ -18,7 +18,7 @@ void remove_position_bias(std::span<const Contact> contacts, const ContactConstr
   }
 }
 
-void shift_positions(const LcpProblem& p, const Eigen::VectorXd& lambda_b, const Eigen::VectorXd& lambda_r, double dt,
+void shift_positions(const LcpProblem& p, const Eigen::VectorXd& lambda_b, const Eigen::Ref<const Eigen::VectorXd>& lambda_r, double dt,
                      BodyState& s, Eigen::VectorXd& dl, Eigen::VectorXd& impulse) {
   if (p.rows() == 0) return;
   dl = lambda_b - lambda_r;

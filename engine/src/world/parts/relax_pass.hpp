@@ -27,7 +27,7 @@ void remove_position_bias(std::span<const Contact> contacts, const ContactConstr
 /// integrated with λ_r moved to where λ_b's velocities take them (the bodies' velocities stay
 /// λ_r's). Bodies with no inverse mass (static, kinematic) do not move. dl and impulse are
 /// scratch storage.
-void shift_positions(const LcpProblem& p, const Eigen::VectorXd& lambda_b, const Eigen::VectorXd& lambda_r, double dt,
+void shift_positions(const LcpProblem& p, const Eigen::VectorXd& lambda_b, const Eigen::Ref<const Eigen::VectorXd>& lambda_r, double dt,
                      BodyState& s, Eigen::VectorXd& dl, Eigen::VectorXd& impulse);
 
 }  // namespace dc

@@ -9,14 +9,15 @@
 namespace dc {
 
 void previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
-                     const LcpProblem& problem, int threads, Eigen::VectorXd& out) {
+                     const LcpProblem& problem, int threads, KeptVector& out, std::vector<long>& starts) {
   const long nc = static_cast<long>(current.size());
   const int jobs = parts_for(threads, nc, 4, 1024);
   if (jobs <= 1 || problem.constraints.size() != nc || problem.constraints.rows() != problem.rows())
     return put_matched_lambda(previous, current, problem, out);
   // Where each job's merge starts in `previous`: ascending when both lists are sorted.
   const long np = static_cast<long>(previous.size());
-  std::vector<long> start(static_cast<size_t>(jobs) + 1, np);
+  std::vector<long>& start = starts;
+  start.assign(static_cast<size_t>(jobs) + 1, np);
   start[0] = 0;
   for (int p = 1; p < jobs; ++p) {
     const ContactKey& key = current[static_cast<size_t>(part_begin(nc, jobs, p))].key;

@@ -11,8 +11,10 @@ namespace dc {
 /// the same key in `previous` (0 for a new one), made feasible as project_feasible does. Both
 /// lists sorted by key (InvalidArgument as match_contacts_by_key otherwise). On `threads`
 /// threads by ranges of contacts, each range matched by its own merge from a binary search into
-/// `previous`: the same bits as one thread (put_matched_lambda, matched_lambda.hpp).
+/// `previous`: the same bits as one thread (put_matched_lambda, matched_lambda.hpp). `starts` is
+/// scratch (the ranges' first matches), kept by the caller with `out` so that a step allocates
+/// nothing here once both have grown to the problem.
 void previous_lambda(const std::vector<Contact>& previous, const std::vector<Contact>& current,
-                     const LcpProblem& problem, int threads, Eigen::VectorXd& out);
+                     const LcpProblem& problem, int threads, KeptVector& out, std::vector<long>& starts);
 
 }  // namespace dc

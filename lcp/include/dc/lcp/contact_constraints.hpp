@@ -65,17 +65,20 @@ class ContactConstraints {
   [[nodiscard]] auto end() const { return contacts_.end(); }
 
   // ---- per contact ⇄ rows --------------------------------------------------------------
-  /// λ_n of contact c in the row vector `lambda`.
-  [[nodiscard]] double lambda_n(const Eigen::VectorXd& lambda, int c) const {
+  /// λ_n of contact c in the row vector `lambda` (any vector with operator[]: VectorXd, KeptVector, Ref).
+  template <class Vector>
+  [[nodiscard]] double lambda_n(const Vector& lambda, int c) const {
     return lambda[(*this)[c].normal_row];
   }
   /// λ_t of contact c, 0 when it has no tangent row.
-  [[nodiscard]] double lambda_t(const Eigen::VectorXd& lambda, int c) const {
+  template <class Vector>
+  [[nodiscard]] double lambda_t(const Vector& lambda, int c) const {
     const int t = (*this)[c].tangent_row;
     return t >= 0 ? lambda[t] : 0.0;
   }
   /// Writes (λ_n, λ_t) of contact c into its rows (λ_t is dropped when it has no tangent row).
-  void put(int c, double lambda_n, double lambda_t, Eigen::VectorXd& lambda) const {
+  template <class Vector>
+  void put(int c, double lambda_n, double lambda_t, Vector& lambda) const {
     const ContactConstraint& k = (*this)[c];
     lambda[k.normal_row] = lambda_n;
     if (k.tangent_row >= 0) lambda[k.tangent_row] = lambda_t;

@@ -49,12 +49,14 @@ struct LcpProblem {
   void ensure_assembled_matrix();
   [[nodiscard]] bool is_friction_row(int i) const { return normal_row[static_cast<size_t>(i)] >= 0; }
 
-  /// Effective bounds of row i at the current iterate λ.
-  [[nodiscard]] double lower(int i, const Eigen::VectorXd& lambda) const {
+  /// Effective bounds of row i at the current iterate λ (any vector with operator[]).
+  template <class Vector>
+  [[nodiscard]] double lower(int i, const Vector& lambda) const {
     const int n = normal_row[static_cast<size_t>(i)];
     return n < 0 ? lo[i] : -mu[i] * std::max(0.0, lambda[n]);
   }
-  [[nodiscard]] double upper(int i, const Eigen::VectorXd& lambda) const {
+  template <class Vector>
+  [[nodiscard]] double upper(int i, const Vector& lambda) const {
     const int n = normal_row[static_cast<size_t>(i)];
     return n < 0 ? hi[i] : mu[i] * std::max(0.0, lambda[n]);
   }
@@ -78,7 +80,7 @@ struct LcpProblem {
 /// (fixed-bound) rows first, then the friction rows whose bounds depend on them. Each row's
 /// result depends only on its own contact's rows, so the clamp commutes with any permutation
 /// of whole contacts (World's builtin warm start in its internal row order relies on it).
-void project_feasible(const LcpProblem& problem, Eigen::VectorXd& lambda);
+void project_feasible(const LcpProblem& problem, Eigen::Ref<Eigen::VectorXd> lambda);
 
 /// Natural-map residual, the step-length-independent accuracy measure of docs/design.md §2:
 ///   max_i |λ_i − mid(lo_i, λ_i − w_i, hi_i)|   with w = A λ + b and the effective bounds.

@@ -96,6 +96,14 @@ class LcpSolver {
   [[nodiscard]] virtual bool needs_assembled_matrix() const { return true; }
   [[nodiscard]] virtual SolveResult solve(const LcpProblem& problem, const Eigen::VectorXd& lambda0,
                                           const SolverOptions& options) = 0;
+  /// solve() into storage the caller keeps from solve to solve: λ into `lambda` (resized to the
+  /// rows: a KeptVector reallocates only past its capacity), the rest of the outcome into
+  /// `result` (its lambda left empty), from λ⁰ given as any contiguous vector (a KeptVector, a
+  /// VectorXd; empty: zeros). The same λ and outcome as solve(). The default calls solve() and
+  /// copies λ; pgs-colored writes λ in place and reads λ⁰ where it lies, so that a step of a
+  /// World whose row count changes allocates nothing in its solve.
+  virtual void solve_into(const LcpProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& lambda0,
+                          const SolverOptions& options, KeptVector& lambda, SolveResult& result);
   /// Threads this solver's solves use where they pay (pgs-colored: its `threads`, 0 resolved to
   /// OpenMP's default, once its threaded solves have paid or when forced; 1 for the others).
   /// World::step runs its other stages on as many while whole steps pay.

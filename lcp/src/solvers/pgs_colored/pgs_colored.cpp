@@ -141,8 +141,30 @@ class PgsColoredSolver final : public LcpSolver {
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
+    into_ = nullptr;
+    return solve_paced(p, lambda0, o);
+  }
+
+  /// λ of the packed path written straight into `lambda` (sweeps); every other path's copied.
+  void solve_into(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, const SolverOptions& o,
+                  KeptVector& lambda, SolveResult& result) override {
+    struct Reset {  // also after a throw
+      KeptVector*& into;
+      ~Reset() { into = nullptr; }
+    } reset{into_};
+    into_ = &lambda;
+    in_place_ = false;
+    result = solve_paced(p, lambda0, o);
+    if (!in_place_) lambda = result.lambda;
+    result.lambda = Eigen::VectorXd();
+  }
+
+ private:
+  /// solve(), with λ⁰ where it lies.
+  [[nodiscard]] SolveResult solve_paced(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0,
+                                        const SolverOptions& o) {
     // Threads only while they pay (ThreadPacer), unless min_batches_per_thread = 0 forces them.
-    if (!(o.omega > 0 && o.omega < 2)) return colored::invalid_omega(p, lambda0, o);
+    if (!(o.omega > 0 && o.omega < 2)) return colored::invalid_omega(p, Eigen::VectorXd(lambda0), o);
     const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0;
     serial_solve_ = held_ || (paced && !pacer_.threaded_next());
     serial_setup_ = paced && !pacer_.proven();
@@ -156,20 +178,19 @@ class PgsColoredSolver final : public LcpSolver {
     return r;
   }
 
- private:
   /// The solve itself: the checks, the layout and packing, the sweeps, or "pgs" for problems
   /// the kernels do not cover.
-  [[nodiscard]] SolveResult solve_packed(const LcpProblem& p, const Eigen::VectorXd& lambda0,
+  [[nodiscard]] SolveResult solve_packed(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0,
                                          const SolverOptions& o) {
     Laps laps(def_.profile);
     // λ⁰ as given (or zeros): the input checks run on the threads the packing will use.
-    const Eigen::VectorXd* start = &lambda0;
+    const double* start = lambda0.data();
     if (p.has_jacobian()) {
       const int threads = setup_threads(p.constraints.size() / W, expected_ranges());
       if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros_, start, owner_)) return *bad;
     }
     laps.lap(&PgsColoredProfile::checks);
-    const Eigen::VectorXd& lambda = *start;
+    const Eigen::Map<const Eigen::VectorXd> lambda(start, start == lambda0.data() ? lambda0.size() : p.rows());
     // The buffers of the last solve, taken out of the solver for this one: an exception drops
     // them, so the next solve lays out afresh instead of reusing a half-written layout.
     const size_t ranges_before = expected_ranges();
@@ -195,7 +216,7 @@ class PgsColoredSolver final : public LcpSolver {
     bool bad_start = false;
     if (why.empty()) why = pack(p, lambda, o.omega, prep, lp.data(), other.data(), bad_start, laps);
     if (!why.empty()) {
-      SolveResult r = solvers::make_pgs_matrix_free()->solve(p, lambda0, o);
+      SolveResult r = solvers::make_pgs_matrix_free()->solve(p, Eigen::VectorXd(lambda0), o);
       if (r.status != SolveStatus::InvalidInput)
         r.message = "pgs-colored: " + why + ": ran pgs" + (r.message.empty() ? std::string() : "; " + r.message);
       prep.lp = std::move(lp);
@@ -249,7 +270,8 @@ class PgsColoredSolver final : public LcpSolver {
   /// the result depends neither on the thread count nor on the schedule. Each batch is
   /// over-relaxed by ω as it is filled (relax/over_relaxation.hpp). bad_start: Δu⁰ is not
   /// finite (an overflowing λ⁰).
-  [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::VectorXd& lambda, double omega, Prepared& prep,
+  [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, double omega,
+                                 Prepared& prep,
                                  double* lp,
                                  double* other, bool& bad_start, Laps& laps) const {
     const int nb = static_cast<int>(prep.batches.size());
@@ -309,17 +331,25 @@ class PgsColoredSolver final : public LcpSolver {
     laps.lap(&PgsColoredProfile::sweeps);
     Eigen::VectorXd permuted = std::move(r.lambda);
     const bool packed = prep.j_finite && !start_bad && r.status != SolveStatus::Diverged;
-    if (packed) {  // λ back in row order by the residual's chunks (every entry written)
-      r.lambda.resize(p.rows());
-      const colored::ResidualAcc e =
-          colored::packed_residual(prep, permuted.data(), o.omega, kernel_.residual, setup, r.lambda.data());
+    if (packed) {  // λ back in row order by the residual's chunks (every entry written), in place for solve_into
+      double* out = nullptr;
+      if (into_ != nullptr) {
+        into_->resize(p.rows());
+        out = into_->data();
+      } else {
+        r.lambda.resize(p.rows());
+        out = r.lambda.data();
+      }
+      const colored::ResidualAcc e = colored::packed_residual(prep, permuted.data(), o.omega, kernel_.residual, setup, out);
       prep.lp = std::move(permuted);     // storage for the next solve's λ⁰
       if (!e.nan && std::isfinite(e.r)) {  // (a non-finite λ_i has a NaN or infinite error)
         r.residual = e.r;
         settle_status(p, r, o, StopRule::Tolerance);
+        in_place_ = into_ != nullptr;
         laps.lap(&PgsColoredProfile::residual);
         return r;
       }
+      if (into_ != nullptr) r.lambda = Eigen::VectorXd(*into_);  // (the checked path below reads r.lambda)
     } else {
       r.lambda = unpermute(prep, permuted, p.rows(), setup);
       prep.lp = std::move(permuted);
@@ -373,12 +403,12 @@ class PgsColoredSolver final : public LcpSolver {
   /// max / or, so the result does not depend on the thread count or the schedule. An exception of
   /// the driver (a callback) stops the helpers and is rethrown.
   [[nodiscard]] SolveResult sweeps_threaded(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
-                                            const SolverOptions& o, Prepared& prep, int threads) const {
+                                            const SolverOptions& o, Prepared& prep, int threads) {
     SolveResult r;
     const Kernels sweep = kernel_;
-    std::vector<int> keys, cuts;  // each thread's region of the bodies in every colour
-    colored::region_cuts(prep, threads, keys, cuts);
-    colored::SweepTeam team(prep.ranges, threads, cuts);
+    colored::region_cuts(prep, threads, region_keys_, region_cuts_);  // each thread's region of the bodies
+    team_.reset(prep.ranges, threads, region_cuts_);
+    colored::SweepTeam& team = team_;
     double* u = prep.du.data();
     calling_thread_team().gather(threads, [&](int tid) {
       const double* in = nullptr;
@@ -438,6 +468,11 @@ class PgsColoredSolver final : public LcpSolver {
   Prepared cache_;
   std::vector<colored::SweepStep> plan_;  // the serial sweep's kernel calls (storage reused)
   std::vector<int> owner_;  // scratch of the input checks
+  // The threaded sweeps' team and its regions (region_cuts), kept from solve to solve.
+  colored::SweepTeam team_;
+  std::vector<int> region_keys_, region_cuts_;
+  KeptVector* into_ = nullptr;  // solve_into's λ, during its solve
+  bool in_place_ = false;       // the solve wrote λ into *into_
   Eigen::VectorXd zeros_;   // λ⁰ when the caller passes none
   /// What the last solve swept: its batches (0: it ran "pgs" instead) and its sweeps' threads.
   struct Solved {

@@ -18,7 +18,7 @@ namespace dc::colored {
 namespace {
 
 /// The size checks of validate and check_input (O(1)): false when one fails.
-bool sizes_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0) {
+bool sizes_ok(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0) {
   const int n = p.rows();
   const bool matrix_free = p.A.rows() == 0 && p.A.cols() == 0 && n > 0;
   if (matrix_free && !p.has_jacobian()) return false;
@@ -65,7 +65,7 @@ bool rows_ok_plain(const LcpProblem& p, const double* l0, int i0, int i1) {
 }
 
 /// validate's per-row checks (b, coupling, μ, bounds, A) and λ⁰_i finite, on rows [i0, i1).
-bool rows_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0, int i0, int i1) {
+bool rows_ok(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, int i0, int i1) {
   bool ok = lambda0.size() == 0 ? rows_ok_plain<false>(p, nullptr, i0, i1)
                                 : rows_ok_plain<true>(p, lambda0.data(), i0, i1);
   const int a_rows = std::min(i1, static_cast<int>(p.A.outerSize()));  // (0 when matrix-free)
@@ -140,12 +140,12 @@ bool claims_unique(const LcpProblem& p, int threads, int chunk, std::vector<int>
 
 }  // namespace
 
-std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0, const std::string& solver,
-                                       int threads, Eigen::VectorXd& zeros, const Eigen::VectorXd*& start,
+std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, const std::string& solver,
+                                       int threads, Eigen::VectorXd& zeros, const double*& start,
                                        std::vector<int>& owner) {
   auto serial = [&]() -> std::optional<SolveResult> {
     if (auto bad = solvers::check_input(p, lambda0, solver, zeros)) return bad;
-    start = &zeros;  // (not reached when the checks above are complete)
+    start = zeros.data();  // (not reached when the checks above are complete)
     return std::nullopt;
   };
   if (!sizes_ok(p, lambda0)) return serial();
@@ -172,7 +172,7 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   });
   if (!ok.load(std::memory_order_relaxed)) return serial();
   if (!increase.load(std::memory_order_relaxed) && !claims_unique(p, threads, kContactChunk, owner)) return serial();
-  start = lambda0.size() == 0 ? &zeros : &lambda0;
+  start = lambda0.size() == 0 ? zeros.data() : lambda0.data();
   return std::nullopt;
 }
 

@@ -15,14 +15,15 @@ namespace dc::colored {
 /// check_input(p, lambda0, solver) of solver_common.hpp, the same verdict and message: the scans
 /// of b, the bounds, μ, A, λ⁰ and the contacts run on `threads` threads and only say whether
 /// everything passed (an order-free AND); on a failure the serial check runs and names the first
-/// bad entry with check_input's message. On success returns nullopt and sets `start` to lambda0, or to `zeros`
-/// (resized to the rows and zeroed) when lambda0 is empty — no copy of λ⁰. That no row is owned
+/// bad entry with check_input's message. On success returns nullopt and sets `start` to the
+/// entries of lambda0, or of `zeros` (resized to the rows and zeroed) when lambda0 is empty — no
+/// copy of λ⁰. That no row is owned
 /// by two contacts follows from their rows increasing in contact order (as the engine numbers
 /// them); otherwise each row's owner is recorded and read back. `owner` is that pass's scratch
 /// (resized to the rows, never cleared: each row is read back only by the contacts claiming it),
 /// kept by the caller so that a solve allocates nothing for the checks in steady state.
-std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorXd& lambda0, const std::string& solver,
-                                       int threads, Eigen::VectorXd& zeros, const Eigen::VectorXd*& start,
+std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, const std::string& solver,
+                                       int threads, Eigen::VectorXd& zeros, const double*& start,
                                        std::vector<int>& owner);
 
 }  // namespace dc::colored

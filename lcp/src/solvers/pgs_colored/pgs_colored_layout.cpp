@@ -412,7 +412,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   return {};
 }
 
-void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int bi, double* lp, double* other) {
+void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp, double* other) {
   const int zero = out.body_entries;
   Batch& B = out.batches[static_cast<size_t>(bi)];
   int* row_of = out.row_of.data() + static_cast<size_t>(bi) * 2 * W;
@@ -455,7 +455,7 @@ void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& ou
   for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
 }
 
-void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int pi, double* lp, double* other) {
+void fill_pair(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int pi, double* lp, double* other) {
   const int zero = out.body_entries;
   PairBatch& P = out.pairs[static_cast<size_t>(pi)];
   const size_t base = static_cast<size_t>(out.pair_base) + static_cast<size_t>(pi) * 4 * W;

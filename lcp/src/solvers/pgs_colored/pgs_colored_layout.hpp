@@ -81,10 +81,10 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
 /// Fills batch `bi` from the ordered contacts and its 2·W entries of the permuted λ⁰ (lp and
 /// other; 0 for padding); records in out.failed[bi] the first of its contacts whose rows cannot be
 /// packed (another body, A_ii not > 0).
-void fill_batch(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int bi, double* lp, double* other);
+void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp, double* other);
 /// The same for pair batch `pi` (4·W entries from out.pair_base + 4·W·pi; failures at
 /// out.failed[batches + pi]).
-void fill_pair(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int pi, double* lp, double* other);
+void fill_pair(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int pi, double* lp, double* other);
 
 /// The first contact (in batch order) whose rows cannot be packed, as the reason "pgs" runs.
 std::string first_failure(const Prepared& out);
@@ -96,7 +96,7 @@ std::string first_failure(const Prepared& out);
 /// `from` ordered positions (below, the sources stay in cache across the colours and the extra
 /// pass does not pay) and only with AVX2 (pack_rows_staged); sets out.staged_now. Serial.
 constexpr int kStageFrom = 12288;
-void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from = kStageFrom);
+void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from = kStageFrom);
 
 // ---- pgs_colored_stage.cpp's parts of fill_batch ------------------------------------------
 /// Lane `lane` of batch B and its rows: the Δu offsets and store flags of bodies `first` and

@@ -62,7 +62,7 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
   return scale_to_du(p, jt, bodies, du);
 }
 
-bool velocity_change_checked(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
+bool velocity_change_checked(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, int bodies, double* du,
                              Eigen::VectorXd& jt, bool& j_finite) {
   jt.setZero(p.J.cols());
   j_finite = transpose_rows_checked(p, lambda.data(), jt.data());

@@ -28,7 +28,7 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 /// values_finite(p), and the rows with λ_i = ±0 are skipped in each chunk of rows whose entries
 /// are all finite (transpose_rows_checked). The bits of velocity_change(p, λ, bodies, du, jt,
 /// values_finite(p)) with one pass over J's values instead of two.
-bool velocity_change_checked(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
+bool velocity_change_checked(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, int bodies, double* du,
                              Eigen::VectorXd& jt, bool& j_finite);
 
 /// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to

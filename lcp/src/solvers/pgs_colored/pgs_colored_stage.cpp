@@ -7,7 +7,7 @@
 
 namespace dc::colored {
 
-void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from) {
+void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from) {
   const size_t positions = out.order.size();
   out.staged_now = false;
   if (positions < static_cast<size_t>(std::max(0, from)) || !simd_pack_available()) return;

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
@@ -31,10 +32,35 @@ class SweepTeam {
 
   /// `cuts` (region_cuts: threads − 1 per range) bound the threads' blocks of each range that
   /// is not serial; empty: each range split evenly by batch count.
-  SweepTeam(const std::vector<Range>& ranges, int threads, const std::vector<int>& cuts = {})
-      : nt_(std::max(1, threads)), nr_(static_cast<int>(ranges.size())), blocks_(static_cast<size_t>(nr_ * nt_)),
-        cursors_(blocks_.size()), done_(blocks_.size()), total_(static_cast<size_t>(nr_)),
-        slots_(static_cast<size_t>(nt_)) {
+  SweepTeam(const std::vector<Range>& ranges, int threads, const std::vector<int>& cuts = {}) {
+    reset(ranges, threads, cuts);
+  }
+  /// An empty team, for reset() (a solver keeps one team from solve to solve).
+  SweepTeam() = default;
+
+  /// The team of a new solve (as the constructor makes it) in the storage of the last one: it
+  /// allocates only when ranges × threads exceeds every earlier solve's. Not while a sweep runs.
+  void reset(const std::vector<Range>& ranges, int threads, const std::vector<int>& cuts = {}) {
+    nt_ = std::max(1, threads);
+    nr_ = static_cast<int>(ranges.size());
+    const size_t blocks = static_cast<size_t>(nr_ * nt_);
+    blocks_.resize(blocks);
+    total_.resize(static_cast<size_t>(nr_));
+    slots_.assign(static_cast<size_t>(nt_), Slot{});
+    if (blocks > counters_) {  // (atomics cannot move: a larger array, value-initialised)
+      cursors_ = std::make_unique<Cursor[]>(blocks);
+      done_ = std::make_unique<Done[]>(blocks);
+      counters_ = blocks;
+    } else {
+      for (size_t i = 0; i < blocks; ++i) {
+        cursors_[i].next.store(0, std::memory_order_relaxed);
+        done_[i].count.store(0, std::memory_order_relaxed);
+      }
+    }
+    seq_.store(-1);
+    in_.store(nullptr);
+    out_.store(nullptr);
+    stopped_.store(false);
     const bool cut = cuts.size() == static_cast<size_t>(nr_ * (nt_ - 1));
     for (int k = 0; k < nr_; ++k) {
       const Range& rg = ranges[static_cast<size_t>(k)];
@@ -185,10 +211,11 @@ class SweepTeam {
     wake_.wait([&] { return complete(k, s) || stopped_.load(); });
   }
 
-  int nt_, nr_;
+  int nt_ = 1, nr_ = 0;
   std::vector<Block> blocks_;
-  std::vector<Cursor> cursors_;
-  std::vector<Done> done_;  // per range and thread
+  std::unique_ptr<Cursor[]> cursors_;  // per range and thread (blocks_'s order)
+  std::unique_ptr<Done[]> done_;       // per range and thread
+  size_t counters_ = 0;                // entries of cursors_ and done_
   std::vector<std::int64_t> total_;
   std::vector<Slot> slots_;
   std::atomic<int> seq_{-1};
@@ -213,7 +240,7 @@ int batch_key(const B& batch) {
 /// reads and writes the same bodies' Δu from colour to colour (its own cache), where an even
 /// split of each range by count would put the split at a different body in each colour (the
 /// colours are not spread evenly over the pile) and move Δu between the cores at every colour.
-/// `keys` is scratch; `cuts` gets threads − 1 bounds per range.
+/// `keys` is scratch (the keys, then the key cuts); `cuts` gets threads − 1 bounds per range.
 inline void region_cuts(const Prepared& prep, int threads, std::vector<int>& keys, std::vector<int>& cuts) {
   const int nt = std::max(1, threads);
   cuts.clear();
@@ -224,18 +251,25 @@ inline void region_cuts(const Prepared& prep, int threads, std::vector<int>& key
       for (int c = 0; c < (rg.pairs ? 2 : 1); ++c)
         keys.push_back(rg.pairs ? batch_key(prep.pairs[static_cast<size_t>(i)])
                                 : batch_key(prep.batches[static_cast<size_t>(i)]));
-  std::vector<int> at(static_cast<size_t>(nt - 1), 0);  // the key cuts
-  for (int t = 1; t < nt && !keys.empty(); ++t) {
-    const auto q = keys.begin() + static_cast<long>(keys.size() * static_cast<size_t>(t) / static_cast<size_t>(nt));
-    std::nth_element(keys.begin(), q, keys.end());
-    at[static_cast<size_t>(t - 1)] = *q;
+  // The key cuts K_t, appended to `keys` after its nk keys (no vector of their own: a solve
+  // allocates nothing here once the scratch has grown to the problem).
+  const size_t nk = keys.size();
+  for (int t = 1; t < nt; ++t) {
+    if (nk == 0) {
+      keys.push_back(0);
+      continue;
+    }
+    const auto q = keys.begin() + static_cast<long>(nk * static_cast<size_t>(t) / static_cast<size_t>(nt));
+    std::nth_element(keys.begin(), q, keys.begin() + static_cast<long>(nk));
+    keys.push_back(*q);
   }
+  const int* const at = keys.data() + nk;
   for (const Range& rg : prep.ranges)
     for (int t = 1; t < nt; ++t) {
       int below = 0;
       for (int i = rg.begin; i < rg.end && !rg.serial; ++i)
         below += (rg.pairs ? batch_key(prep.pairs[static_cast<size_t>(i)])
-                           : batch_key(prep.batches[static_cast<size_t>(i)])) < at[static_cast<size_t>(t - 1)];
+                           : batch_key(prep.batches[static_cast<size_t>(i)])) < at[t - 1];
       cuts.push_back(rg.begin + below);
     }
 }

@@ -32,10 +32,11 @@ class WarmStarter {
   /// λ⁰ for view.world.problem(); size = problem rows, finite, within the bounds' signs.
   virtual Eigen::VectorXd initial_guess(const StepView& view) = 0;
   /// initial_guess(view) into storage the caller keeps: `out` is resized to the problem's
-  /// rows, its storage reused when the size stays (a stepping loop that keeps `out` then
-  /// allocates nothing for λ⁰ at a steady row count). The same numbers as initial_guess();
-  /// this default moves initial_guess()'s vector into `out`, builtin writes in place.
-  virtual void initial_guess_into(const StepView& view, Eigen::VectorXd& out) { out = initial_guess(view); }
+  /// rows, its storage reused while they fit its capacity (a stepping loop that keeps `out`
+  /// then allocates nothing for λ⁰, also while the row count changes). The same numbers as
+  /// initial_guess(); this default copies initial_guess()'s vector into `out`, builtin writes
+  /// in place.
+  virtual void initial_guess_into(const StepView& view, KeptVector& out) { out = initial_guess(view); }
   /// Called after the step's solve with the solved λ (before integration).
   virtual void observe(const StepView& /*view*/, const Eigen::VectorXd& /*solved*/) {}
   /// True when the starter uses this step's solution (an oracle / upper bound, not a method).
