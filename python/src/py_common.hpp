@@ -36,9 +36,10 @@ pyb::array_t<double> view(const double* data, std::size_t n, pyb::handle base);
 /// (n, 2) float64 array of Vec2s (a view when base is not None).
 pyb::array_t<double> view(const std::vector<Vec2>& v, pyb::handle base);
 pyb::array_t<double> view(const std::vector<double>& v, pyb::handle base);
-pyb::array_t<double> view(const Eigen::VectorXd& v, pyb::handle base);
+/// (A VectorXd or a KeptVector: a view of its entries, never of a temporary copy.)
+pyb::array_t<double> view(const Eigen::Ref<const Eigen::VectorXd>& v, pyb::handle base);
 /// Copy of a vector into a new array.
-pyb::array_t<double> copy(const Eigen::VectorXd& v);
+pyb::array_t<double> copy(const Eigen::Ref<const Eigen::VectorXd>& v);
 /// `a` with numpy's writeable flag cleared (a view callers must not change).
 pyb::array read_only(pyb::array a);
 /// TypeError naming `what` unless `obj` (array-like or scipy.sparse) holds real numbers:

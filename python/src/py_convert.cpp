@@ -28,11 +28,11 @@ pyb::array_t<double> view(const std::vector<double>& v, pyb::handle base) {
   return view(v.data(), v.size(), v.empty() ? pyb::none() : base);
 }
 
-pyb::array_t<double> view(const Eigen::VectorXd& v, pyb::handle base) {
+pyb::array_t<double> view(const Eigen::Ref<const Eigen::VectorXd>& v, pyb::handle base) {
   return view(v.data(), static_cast<std::size_t>(v.size()), v.size() == 0 ? pyb::none() : base);
 }
 
-pyb::array_t<double> copy(const Eigen::VectorXd& v) { return view(v, pyb::none()); }
+pyb::array_t<double> copy(const Eigen::Ref<const Eigen::VectorXd>& v) { return view(v, pyb::none()); }
 
 pyb::array read_only(pyb::array a) {
   a.attr("setflags")(pyb::arg("write") = false);

@@ -50,6 +50,15 @@ class KeptVector : public Eigen::Map<Eigen::VectorXd> {
     if (n > capacity()) store_.resize(grown(n));
     rebind(n);
   }
+  /// Size n keeping the first min(n, size()) values (VectorXd::conservativeResize's name).
+  void conservativeResize(Eigen::Index n) {
+    if (n > capacity()) {
+      Eigen::VectorXd bigger(grown(n));
+      bigger.head(size()) = *this;
+      store_.swap(bigger);
+    }
+    rebind(n);
+  }
   void setZero() { Base::setZero(); }
   void setZero(Eigen::Index n) {
     resize(n);
