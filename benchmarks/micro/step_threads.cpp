@@ -2,8 +2,9 @@
 // alternated inside each round, timed per step by the wall clock and by the CPU time of the
 // stepping thread (the second is what a busy machine disturbs least). Reported per body count
 // and thread count: medians over all timed steps (and the wall clock's mean, which counts rare
-// slow steps), the wall time of each stage (StepProfile medians), and the load average before
-// and after.
+// slow steps), the wall time of each stage (StepProfile medians), the heap allocations per
+// timed step (of the whole process, helpers included: counting_malloc.hpp), and the load average
+// before and after.
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
 //                          [--sweeps 20] [--min-batches -1] [--profile] [--handover]
@@ -33,6 +34,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/stress_scenes.hpp"
+#include "counting_malloc.hpp"
 #include "fixed_sweeps.hpp"
 
 namespace {
@@ -89,6 +91,7 @@ struct Series {
   std::unique_ptr<dc::LcpSolver> solver;
   std::vector<double> wall_ms, cpu_ms;
   std::vector<double> stage_ms[5];  // collide, assemble, warm start, solve, integrate
+  long allocations = 0;             // over the timed steps
   std::unique_ptr<dc::PgsColoredProfile> profile = std::make_unique<dc::PgsColoredProfile>();
 };
 
@@ -205,7 +208,11 @@ int main(int argc, char** argv) {
           const std::int64_t start = steady_ns();
           const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
                        p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+          const long a0 = dc::bench::AllocationCounter::count();
+          dc::bench::AllocationCounter::start();
           const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
+          dc::bench::AllocationCounter::stop();
+          if (r >= 0) s.allocations += dc::bench::AllocationCounter::count() - a0;
           dc::calling_thread_team().set_trace(nullptr);
           if (traced) handovers[si].add(trace, from, start, rep.profile);
           if (r < 0) continue;
@@ -226,6 +233,10 @@ int main(int argc, char** argv) {
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),
                   median(s.stage_ms[1]), median(s.stage_ms[2]), median(s.stage_ms[3]), median(s.stage_ms[4]));
+    std::printf("#   heap allocations per timed step (the report's λ is one while the rows change)\n");
+    for (const Series& s : series)
+      std::printf("#   %d bodies, %d threads: %.2f\n", n, s.threads,
+                  static_cast<double>(s.allocations) / std::max<double>(1.0, static_cast<double>(s.wall_ms.size())));
     for (size_t j = 0; j < series.size(); ++j)
       if (handover && series[j].threads > 1) handovers[j].print(n, series[j].threads);
     if (!profile) continue;

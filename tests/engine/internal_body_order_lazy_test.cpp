@@ -32,7 +32,7 @@ WorldDef pile(int n, int resort_every, double restitution = 0.0) {
 
 bool same_bits(double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); }
 
-::testing::AssertionResult same_bits(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+::testing::AssertionResult same_bits(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::Ref<const Eigen::VectorXd>& y) {
   if (x.size() != y.size()) return ::testing::AssertionFailure() << "sizes " << x.size() << " / " << y.size();
   for (Eigen::Index i = 0; i < x.size(); ++i)
     if (!same_bits(x[i], y[i])) return ::testing::AssertionFailure() << "entry " << i << ": " << x[i] << " / " << y[i];

@@ -33,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     const Eigen::MatrixXd A(p.A);
-    for (const std::string& back : {dc::format_lcp_dat(A, p.b), dc::format_lcp_dat_blocks(p.A, p.b, 2)}) {
+    for (const std::string& back : {dc::format_lcp_dat(A, Eigen::VectorXd(p.b)), dc::format_lcp_dat_blocks(p.A, Eigen::VectorXd(p.b), 2)}) {
       const dc::LcpProblem q = dc::parse_lcp_dat(back, "back.dat");
       if (Eigen::MatrixXd(q.A) != A || q.b != p.b) dc::fuzz::property_failed("a written problem does not read back bit-equal");
     }

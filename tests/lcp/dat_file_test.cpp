@@ -45,7 +45,7 @@ TEST(DatFile, MatrixIsColumnMajorOneColumnPerLine) {
   EXPECT_EQ(p.A.coeff(0, 1), 2.0);
   EXPECT_EQ(p.A.coeff(1, 0), 3.0);
   EXPECT_EQ(p.b[1], -2.0);
-  EXPECT_NE(format_lcp_dat(Eigen::MatrixXd(p.A), p.b).find("1 3 \n2 4 \n"), std::string::npos);
+  EXPECT_NE(format_lcp_dat(Eigen::MatrixXd(p.A), Eigen::VectorXd(p.b)).find("1 3 \n2 4 \n"), std::string::npos);
 }
 
 TEST(DatFile, LiberalWithWhitespace) {

@@ -30,7 +30,7 @@ double bound(const LcpProblem& p) {
 LcpProblem contact_standard(int bodies, int contacts, uint64_t seed) {
   test::TestRng rng(seed);
   const LcpProblem c = test::random_contact(bodies, contacts, false, rng);
-  return LcpProblem::standard(Eigen::MatrixXd(c.A), c.b);
+  return LcpProblem::standard(Eigen::MatrixXd(c.A), Eigen::VectorXd(c.b));
 }
 
 LcpProblem badly_scaled(int n, uint64_t seed) {

@@ -153,7 +153,7 @@ TEST(NewtonSparse, TheCholmodSwitchChangesTheFactorisationNotTheSolution) {
 TEST(NewtonSparse, DenseAndSparseStorageGiveTheSameIterates) {
   test::TestRng rng(7);
   const LcpProblem spd = test::random_spd(30, rng);
-  const LcpProblem dense = LcpProblem::standard(Eigen::MatrixXd(spd.A), spd.b);
+  const LcpProblem dense = LcpProblem::standard(Eigen::MatrixXd(spd.A), Eigen::VectorXd(spd.b));
   const SolveResult a = newton_sparse(spd), b = newton_sparse(dense);
   ASSERT_EQ(a.status, SolveStatus::Converged);
   EXPECT_EQ(a.sweeps, b.sweeps);

@@ -67,7 +67,7 @@ TEST(SolverProofs, NonCopositiveProblemWithThreeSolutionsIsSolvedNotInfeasible) 
   const Eigen::MatrixXd M(p.A);
   ASSERT_GT((M - M.transpose()).cwiseAbs().maxCoeff(), 0.0);
   std::vector<Eigen::VectorXd> sols;
-  ASSERT_EQ(count_solutions(M, p.b, &sols), 3);
+  ASSERT_EQ(count_solutions(M, Eigen::VectorXd(p.b), &sols), 3);
   const SolveResult lemke = run("lemke", p);
   // Lemke with covering vector 1 ends on a ray here; that proves nothing for this M.
   EXPECT_NE(lemke.message.find("covering vector 1: ray"), std::string::npos) << lemke.message;
@@ -93,7 +93,7 @@ TEST(SolverProofs, InfeasibleOnlyWithAProof) {
   }
   // Feasible set non-empty but no complementary point: only the exhaustive enumeration proves it.
   const LcpProblem enumerated = read_lcp_dat(kData + "infeasible_enumerated.dat");
-  ASSERT_EQ(count_solutions(Eigen::MatrixXd(enumerated.A), enumerated.b), 0);
+  ASSERT_EQ(count_solutions(Eigen::MatrixXd(enumerated.A), Eigen::VectorXd(enumerated.b)), 0);
   const SolveResult lemke = run("lemke", enumerated);
   EXPECT_EQ(lemke.status, SolveStatus::Infeasible) << lemke.message;
   EXPECT_NE(lemke.message.find("exhaustive enumeration"), std::string::npos) << lemke.message;
