@@ -37,9 +37,10 @@ bool stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
   auto scatter = [&](int i) {
     const int q0 = outer[i], q1 = nnz != nullptr ? q0 + nnz[i] : outer[i + 1];
     const double li = l[i];
-    for (int q = q0; q < q1; ++q) bad |= not_finite_bit(value[q]);
-    if (li != 0.0)
-      for (int q = q0; q < q1; ++q) jt[inner[q]] += value[q] * li;
+    for (int q = q0; q < q1; ++q) {
+      bad |= not_finite_bit(value[q]);
+      jt[inner[q]] += value[q] * li;
+    }
   };
   if (jt != nullptr) std::fill(jt, jt + p.J.cols(), 0.0);
   for (int c = 0; c < nc; ++c) {
