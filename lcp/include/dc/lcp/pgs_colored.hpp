@@ -27,7 +27,7 @@ struct PgsColoredProfile {
   double coloring = 0;   ///< ContactColorer::color
   double ordering = 0;   ///< the rest of the layout: manifold pairs, counting sort into batches
   double pack = 0;       ///< filling the batches and the permuted λ⁰
-  double du0 = 0;        ///< Δu⁰ = M⁻¹Jᵀλ⁰Δt (serial: with the staging of the packing's sources, which shares its pass over J)
+  double du0 = 0;        ///< Δu⁰ = M⁻¹Jᵀλ⁰Δt
   double sweeps = 0;     ///< the sweeps
   double unpermute = 0;  ///< λ back in row order (a pass of its own only when the residual is formed from J)
   double residual = 0;   ///< the natural residual and the status (on the packed rows: with λ back in row order)

@@ -271,15 +271,9 @@ class PgsColoredSolver final : public LcpSolver {
       }
     };
     if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
-      // Δu⁰'s Jᵀλ⁰ in the staging pass when it can (its rows then are in cache), else its own.
-      prep.jt.resize(p.J.cols());
-      if (colored::stage_sources(p, lambda, prep, colored::kStageFrom, prep.jt.data())) {
-        prep.j_finite = true;
-        bad = !colored::scale_velocity(p, prep.jt, bodies, prep.du.data());
-      } else {
-        delta_u0();
-      }
+      delta_u0();
       laps.lap(&PgsColoredProfile::du0);
+      colored::stage_sources(p, lambda, prep);
       for (int bi = 0; bi < jobs; ++bi) fill(bi);
     } else {
       constexpr int kChunk = 16;  // batches per part

@@ -95,17 +95,8 @@ std::string first_failure(const Prepared& out);
 /// per colour. fill_batch packs the same bits either way. Stages only problems of at least
 /// `from` ordered positions (below, the sources stay in cache across the colours and the extra
 /// pass does not pay) and only with AVX2 (pack_rows_staged); sets out.staged_now. Serial.
-/// With `jt` (J's columns of doubles), the same pass also sums jt = Jᵀλ⁰ (the Δu⁰ product) while
-/// J's rows are in cache, and returns true when that sum is velocity_change's bit for bit
-/// (pgs_colored_products.hpp): the problem was staged, the contacts' rows run 0, 1, …, n − 1 in
-/// contact order (normal, then tangent: so the rows are added in ascending order, Eigen's
-/// order) and every J entry is finite. Rows with λ_i = ±0 are added too, without a branch:
-/// their products are ±0 and x + (±0) = x for every sum of this kind (a sum from +0 never
-/// becomes −0 in round-to-nearest), which is why a non-finite entry (0·∞ = NaN) voids the sum.
-/// On false, jt holds no usable sum.
 constexpr int kStageFrom = 12288;
-bool stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from = kStageFrom,
-                   double* jt = nullptr);
+void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from = kStageFrom);
 
 // ---- pgs_colored_stage.cpp's parts of fill_batch ------------------------------------------
 /// Lane `lane` of batch B and its rows: the Δu offsets and store flags of bodies `first` and

@@ -53,10 +53,6 @@ bool scale_to_du(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, dou
 
 }  // namespace
 
-bool scale_velocity(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, double* du) {
-  return scale_to_du(p, jt, bodies, du);
-}
-
 bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du,
                      Eigen::VectorXd& jt, bool skip_zero) {
   // Jᵀλ into a kept buffer, as Eigen's product sums it: a contiguous scatter is faster than one

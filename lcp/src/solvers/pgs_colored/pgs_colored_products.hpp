@@ -24,10 +24,6 @@ namespace dc::colored {
 bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bodies, double* du, Eigen::VectorXd& jt,
                      bool skip_zero = false);
 
-/// velocity_change's last step: du from jt = Jᵀλ (J's columns), the same layout and bits;
-/// whether every entry of `du` is finite.
-bool scale_velocity(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, double* du);
-
 /// velocity_change with values_finite(p)'s test folded into its pass over J: j_finite ←
 /// values_finite(p), and the rows with λ_i = ±0 are skipped in each chunk of rows whose entries
 /// are all finite (transpose_rows_checked). The bits of velocity_change(p, λ, bodies, du, jt,

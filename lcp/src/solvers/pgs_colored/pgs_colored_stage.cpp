@@ -1,18 +1,16 @@
 // pgs-colored's staging of the packing's sources (pgs_colored_layout.hpp, stage_sources): one
 // pass over the contacts in their own order, so J, b and λ⁰ are read as they lie in memory.
 #include <algorithm>
-#include <cstdint>
 
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
-#include "solvers/pgs_colored/pgs_colored_residual.hpp"
 
 namespace dc::colored {
 
-bool stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from, double* jt) {
+void stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared& out, int from) {
   const size_t positions = out.order.size();
   out.staged_now = false;
-  if (positions < static_cast<size_t>(std::max(0, from)) || !simd_pack_available()) return false;
+  if (positions < static_cast<size_t>(std::max(0, from)) || !simd_pack_available()) return;
   out.staged.resize(positions);
   out.usable.resize(positions);
   const ContactConstraint* cons = p.constraints.contacts().data();
@@ -30,31 +28,9 @@ bool stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
     return n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
            (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2));
   };
-  // Jᵀλ⁰ (with jt): every row scattered in row order, λ_i = ±0 included (see the header).
-  const double* l = lambda.data();
-  int next = 0;             // the row the contacts' rows must continue with
-  std::uint64_t bad = 0;    // a non-finite J entry on the way
-  auto scatter = [&](int i) {
-    const int q0 = outer[i], q1 = nnz != nullptr ? q0 + nnz[i] : outer[i + 1];
-    const double li = l[i];
-    for (int q = q0; q < q1; ++q) {
-      bad |= not_finite_bit(value[q]);
-      jt[inner[q]] += value[q] * li;
-    }
-  };
-  if (jt != nullptr) std::fill(jt, jt + p.J.cols(), 0.0);
   for (int c = 0; c < nc; ++c) {
-    const ContactConstraint& k = cons[c];
-    if (jt != nullptr && next >= 0) {
-      if (k.normal_row == next && (!k.has_friction() || k.tangent_row == next + 1)) {
-        scatter(k.normal_row);
-        if (k.has_friction()) scatter(k.tangent_row);
-        next = std::max(k.normal_row, k.tangent_row) + 1;
-      } else {
-        next = -1;  // rows out of order: Δu⁰ by the caller's pass over J
-      }
-    }
     if (out.partner[static_cast<size_t>(c)] != -1) continue;  // pairs are packed from J
+    const ContactConstraint& k = cons[c];
     const size_t q = static_cast<size_t>(out.position[static_cast<size_t>(c)]);
     const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
     const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
@@ -81,7 +57,6 @@ bool stage_sources(const LcpProblem& p, const Eigen::VectorXd& lambda, Prepared&
     s.bb = bb;
   }
   out.staged_now = true;
-  return jt != nullptr && next == p.rows() && bad == 0;
 }
 
 bool pack_batch_staged(const LcpProblem& p, const Prepared& out, int s0, int lanes, Batch& B, int* row_of,
