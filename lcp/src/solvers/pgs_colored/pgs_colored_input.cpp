@@ -94,42 +94,37 @@ bool rows_ok(const LcpProblem& p, const Eigen::VectorXd& lambda0, int i0, int i1
   return ok;
 }
 
-/// Contacts [c0, c1)'s checks of validate_constraints, except that each row is owned once (the
-/// owners pass below), every condition evaluated and OR-ed without a branch (rows read at
-/// clamped indices, as rows_ok_plain); `rows` += the rows they claim (1, or 2 with friction);
-/// `increase` &= whether they claim rows in strictly increasing order (normal, then tangent;
-/// each contact's after the previous contact's, contact c0 − 1 included): then no row is
-/// claimed twice. The engine numbers rows this way (ContactConstraints::add).
-bool contacts_ok(const LcpProblem& p, int c0, int c1, long& rows, bool& increase) {
+/// Contact c's checks of validate_constraints, except that each row is owned once (the
+/// owners pass below).
+bool contact_ok(const LcpProblem& p, int c) {
+  const ContactConstraint& k = p.constraints[c];
   const int n = p.rows(), bodies = static_cast<int>(p.J.cols() / 3);
-  if (n == 0) return c0 >= c1;  // (every contact claims a row; none is left to read)
-  const ContactConstraint* k = p.constraints.contacts().data();
-  const int* nrow = p.normal_row.data();
-  const double* mu = p.mu.data();
-  const unsigned check_bodies = p.J.rows() > 0 ? 1u : 0u;
-  const int first_last = c0 > 0 ? std::max(k[c0 - 1].normal_row, k[c0 - 1].tangent_row) : -1;
-  unsigned bad = 0, down = 0;
-  long count = 0;
-  for (int c = c0; c < c1; ++c) {
-    const int rn = k[c].normal_row, rt = k[c].tangent_row;
-    const double m = k[c].mu;
-    const unsigned fr = rt >= 0;
-    const unsigned n_in = (rn >= 0) & (rn < n), t_in = fr & (rt < n);
-    const int t = t_in ? rt : 0;
-    unsigned row = check_bodies & ((k[c].body_b >= bodies) | (k[c].body_a >= bodies));
-    row |= (n_in ^ 1u) | (nrow[n_in ? rn : 0] >= 0) | (fr ^ (m > 0)) | (fr & (t_in ^ 1u));
-    row |= fr & ((nrow[t] != rn) | (mu[t] != m));
-    bad |= row;
-    const int last = c > c0 ? std::max(k[c - 1].normal_row, k[c - 1].tangent_row) : first_last;
-    down |= (rn <= last) | (fr & (rt <= rn));
-    count += 1 + static_cast<long>(fr);
+  if (p.J.rows() > 0 && (k.body_b >= bodies || k.body_a >= bodies)) return false;
+  if (k.normal_row < 0 || k.normal_row >= n || p.normal_row[static_cast<size_t>(k.normal_row)] >= 0) return false;
+  if (k.has_friction() != (k.mu > 0)) return false;
+  if (k.has_friction()) {
+    if (k.tangent_row >= n) return false;
+    const size_t t = static_cast<size_t>(k.tangent_row);
+    if (p.normal_row[t] != k.normal_row || p.mu[k.tangent_row] != k.mu) return false;
   }
-  rows += count;
-  increase = increase && down == 0;
-  return bad == 0;
+  return true;
 }
 
-/// No row is claimed by two contacts (for contacts that passed contacts_ok): owner[r] = the contact
+/// Contacts [c0, c1) claim rows in strictly increasing order (normal, then tangent; each contact's
+/// after the previous contact's, contact c0 − 1 included): then no row is claimed twice. The
+/// engine numbers rows this way (ContactConstraints::add).
+bool rows_increase(const ContactConstraints& cons, int c0, int c1) {
+  int last = c0 > 0 ? std::max(cons[c0 - 1].normal_row, cons[c0 - 1].tangent_row) : -1;
+  bool up = true;
+  for (int c = c0; c < c1; ++c) {
+    const ContactConstraint& k = cons[c];
+    up &= k.normal_row > last && (k.tangent_row < 0 || k.tangent_row > k.normal_row);
+    last = std::max(k.normal_row, k.tangent_row);
+  }
+  return up;
+}
+
+/// No row is claimed by two contacts (for contacts that passed contact_ok): owner[r] = the contact
 /// claiming row r, then every claim reads back its own contact. The contacts claim n rows in all
 /// (check_input counts them), so each row is owned once exactly when no row is claimed twice: a row claimed
 /// twice keeps one writer's index and the other contact sees it. Only claimed rows are read back,
@@ -182,8 +177,8 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
   std::atomic<bool> increase{true};  // cleared by a chunk whose contacts' rows do not increase
   std::atomic<long> claimed{0};      // rows the contacts claim (each chunk adds its count)
   // With contacts, a coupled row's normal row is checked through its contact instead of by the
-  // row scan: when every contact passes contacts_ok and the contacts claim n rows, each once, each
-  // row is a contact's normal row (coupling < 0) or its tangent row, coupled (contacts_ok) to
+  // row scan: when every contact passes contact_ok and the contacts claim n rows, each once, each
+  // row is a contact's normal row (coupling < 0) or its tangent row, coupled (contact_ok) to
   // that contact's normal row, a normal row. Without contacts the row scan reads it.
   const bool owned = nc > 0;
   constexpr int kRowChunk = 1024, kContactChunk = 1024;
@@ -197,10 +192,12 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::VectorX
     } else {
       const int c0 = (part - row_chunks) * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
       long rows = 0;
-      bool up = true;
-      mine = contacts_ok(p, c0, c1, rows, up);
+      for (int c = c0; c < c1; ++c) {
+        mine = mine && contact_ok(p, c);
+        rows += p.constraints[c].has_friction() ? 2 : 1;
+      }
       claimed.fetch_add(rows, std::memory_order_relaxed);
-      if (!up) increase.store(false, std::memory_order_relaxed);
+      if (!rows_increase(p.constraints, c0, c1)) increase.store(false, std::memory_order_relaxed);
     }
     if (!mine) ok.store(false, std::memory_order_relaxed);
   });
