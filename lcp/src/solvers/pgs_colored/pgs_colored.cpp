@@ -180,7 +180,7 @@ class PgsColoredSolver final : public LcpSolver {
     colored::OrderedColorer* ordered = def_.ordered_colors ? &ordered_ : nullptr;
     if (why.empty())
       why = colored::layout(p, colorer_, ordered, setup_threads(p.constraints.size() / W, ranges_before), prep,
-                            coloring_s);
+                            coloring_s, def_.locality_order);
     laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
     if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel),
@@ -259,7 +259,8 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
+      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite,
+                                              prep.numbering.slot.data());
     };
     auto fill = [&](int bi) {
       if (bi < nb) {

@@ -1,0 +1,103 @@
+// pgs-colored's locality numbering of the bodies and the key order of the contacts
+// (body_numbering.hpp).
+#include "solvers/pgs_colored/setup/body_numbering.hpp"
+
+#include <algorithm>
+
+namespace dc::colored {
+namespace {
+
+/// The lower and the higher body of contact k (−1: none), as the layout packs them.
+inline void bodies_of(const ContactConstraint& k, int& first, int& second) {
+  first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+  second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+}
+
+/// The contact graph between dynamic bodies as adjacency lists: n.head[b] … n.head[b + 1] index
+/// body b's neighbours in n.next (contact order).
+void adjacency(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
+               BodyNumbering& n) {
+  const int nc = cons.size();
+  n.head.assign(static_cast<size_t>(bodies) + 2, 0);
+  auto joins = [&](int c, int& a, int& b) {
+    bodies_of(cons[c], a, b);
+    return b >= 0 && b < bodies && dynamic[static_cast<size_t>(a)] != 0 && dynamic[static_cast<size_t>(b)] != 0;
+  };
+  int a = 0, b = 0;
+  for (int c = 0; c < nc; ++c)
+    if (joins(c, a, b)) {
+      ++n.head[static_cast<size_t>(a) + 2];
+      ++n.head[static_cast<size_t>(b) + 2];
+    }
+  for (int k = 2; k < bodies + 2; ++k) n.head[static_cast<size_t>(k)] += n.head[static_cast<size_t>(k) - 1];
+  n.next.resize(static_cast<size_t>(n.head[static_cast<size_t>(bodies) + 1]));
+  // head[k + 1] is the fill position of body k; after the fill it is body k's end = body k+1's start.
+  for (int c = 0; c < nc; ++c)
+    if (joins(c, a, b)) {
+      n.next[static_cast<size_t>(n.head[static_cast<size_t>(a) + 1]++)] = b;
+      n.next[static_cast<size_t>(n.head[static_cast<size_t>(b) + 1]++)] = a;
+    }
+}
+
+/// Breadth-first from `root` over the bodies whose mark is `from`, marking them `to`; calls
+/// visit(body) in visiting order; returns the last body visited.
+template <class Visit>
+int breadth_first(BodyNumbering& n, int root, int from, int to, Visit&& visit) {
+  n.queue.clear();
+  n.queue.push_back(root);
+  n.mark[static_cast<size_t>(root)] = to;
+  for (size_t q = 0; q < n.queue.size(); ++q) {
+    const int v = n.queue[q];
+    visit(v);
+    for (int e = n.head[static_cast<size_t>(v)]; e < n.head[static_cast<size_t>(v) + 1]; ++e) {
+      const int w = n.next[static_cast<size_t>(e)];
+      if (n.mark[static_cast<size_t>(w)] != from) continue;
+      n.mark[static_cast<size_t>(w)] = to;
+      n.queue.push_back(w);
+    }
+  }
+  return n.queue.back();
+}
+
+}  // namespace
+
+void number_bodies(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
+                   BodyNumbering& n) {
+  adjacency(cons, dynamic, bodies, n);
+  n.slot.assign(static_cast<size_t>(bodies), -1);
+  n.mark.assign(static_cast<size_t>(bodies), 0);
+  int next = 0;
+  for (int s = 0; s < bodies; ++s) {
+    if (n.mark[static_cast<size_t>(s)] != 0 || n.head[static_cast<size_t>(s)] == n.head[static_cast<size_t>(s) + 1])
+      continue;
+    // A far end of s's piece (the last body reached from s), then the numbers from there: bands
+    // across the piece, so a cut in the numbers is short.
+    const int far = breadth_first(n, s, 0, 1, [](int) {});
+    breadth_first(n, far, 1, 2, [&](int v) { n.slot[static_cast<size_t>(v)] = next++; });
+  }
+  for (int s = 0; s < bodies; ++s)
+    if (n.slot[static_cast<size_t>(s)] < 0) n.slot[static_cast<size_t>(s)] = next++;
+  n.bodies = bodies;
+  n.age = 0;
+}
+
+void order_by_key(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
+                  BodyNumbering& n) {
+  const int nc = cons.size();
+  n.key.resize(static_cast<size_t>(nc));
+  n.head.assign(static_cast<size_t>(bodies) + 2, 0);  // counts per key 0 … bodies, then their starts
+  for (int c = 0; c < nc; ++c) {
+    int a = 0, b = 0;
+    bodies_of(cons[c], a, b);
+    const int ka = dynamic[static_cast<size_t>(a)] != 0 ? n.slot[static_cast<size_t>(a)] : bodies;
+    const int kb = b >= 0 && dynamic[static_cast<size_t>(b)] != 0 ? n.slot[static_cast<size_t>(b)] : bodies;
+    const int k = std::min(ka, kb);
+    n.key[static_cast<size_t>(c)] = k;
+    ++n.head[static_cast<size_t>(k) + 1];
+  }
+  for (int k = 1; k <= bodies + 1; ++k) n.head[static_cast<size_t>(k)] += n.head[static_cast<size_t>(k) - 1];
+  n.order.resize(static_cast<size_t>(nc));
+  for (int c = 0; c < nc; ++c) n.order[static_cast<size_t>(n.head[static_cast<size_t>(n.key[static_cast<size_t>(c)])]++)] = c;
+}
+
+}  // namespace dc::colored
