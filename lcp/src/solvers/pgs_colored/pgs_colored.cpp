@@ -180,7 +180,7 @@ class PgsColoredSolver final : public LcpSolver {
     colored::OrderedColorer* ordered = def_.ordered_colors ? &ordered_ : nullptr;
     if (why.empty())
       why = colored::layout(p, colorer_, ordered, setup_threads(p.constraints.size() / W, ranges_before), prep,
-                            coloring_s, def_.locality_order);
+                            coloring_s, def_.locality_order && def_.threads != 1);
     laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
     if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel),
