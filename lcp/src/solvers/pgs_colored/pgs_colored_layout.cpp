@@ -313,16 +313,18 @@ void assign_grown(std::vector<int>& v, size_t n, int x) {
 }
 
 /// out.numbering for a fresh layout of `bodies` bodies: with locality the bodies numbered again
-/// when their count changed or the numbering is BodyNumbering::kRenumberEvery layouts old, and
-/// the contacts' key order (returned); without, slot = body (nullptr: contact order).
+/// when their count changed, the numbering is the identity or BodyNumbering::kRenumberEvery
+/// layouts old, and the contacts' key order (returned); without, the numbering of the last
+/// layout if it has as many bodies (any permutation gives the same bits: a serial probe between
+/// threaded solves does not undo it), else slot = body, and nullptr: contact order.
 const int* number(const ContactConstraints& cons, int bodies, bool locality, Prepared& out) {
   BodyNumbering& n = out.numbering;
   if (!locality) {
-    if (n.bodies != bodies || n.age >= 0) {  // (age −1 marks the identity)
+    if (n.bodies != bodies) {
       n.slot.resize(static_cast<size_t>(bodies));
       for (int k = 0; k < bodies; ++k) n.slot[static_cast<size_t>(k)] = k;
       n.bodies = bodies;
-      n.age = -1;
+      n.age = -1;  // (the identity)
     }
     return nullptr;
   }
