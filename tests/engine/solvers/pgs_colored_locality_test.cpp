@@ -3,7 +3,8 @@
 // no bit of a solve (λ, θ, sweeps, residual equal with and without it, on 1, 2 and 3 threads, over
 // a sequence of solves that renumbers and changes the body count), keep the overflow set in
 // contact order, and do what they are for: the two threads' regions of a pile in creation order
-// (bodies spread at random) share few Δu cache lines, where in body order they share many.
+// (bodies spread at random) share few Δu cache lines, where in body order they share many; a
+// body order that is local already (Morton) is kept.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -38,7 +39,7 @@ void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::str
 
 /// A world of `bodies` circles in a Gaussian pile (creation order: indices spread at random over
 /// it), or of boxes in a shuffled grid (two-point manifolds), after `steps` steps of pgs.
-World settled(int bodies, bool boxes, int steps) {
+World settled(int bodies, bool boxes, int steps, BodyOrder order = BodyOrder::Creation) {
   WorldDef def = default_world_def();
   const double side = 30.0 * std::sqrt(bodies / 100.0);
   def.world.width = def.world.height = side;
@@ -59,6 +60,7 @@ World settled(int bodies, bool boxes, int steps) {
     }
   } else {
     def = stress::scaled_seed_pile(bodies);  // (micro_step's pile)
+    def.bodies.order = order;
   }
   World world(def);
   const auto pgs = make_solver("pgs");
@@ -196,6 +198,17 @@ TEST(PgsColoredLocality, ThreadsShareFewDeltaULinesOnAPileInCreationOrder) {
   for (int k = 0; k < static_cast<int>(slot.size()); ++k) ASSERT_EQ(slot[static_cast<size_t>(k)], k) << "a permutation";
   const double on = shared_lines(with), off = shared_lines(without);
   EXPECT_LT(3.0 * on, off) << "shared Δu lines: " << on << " with the locality order, " << off << " without";
+}
+
+TEST(PgsColoredLocality, ABodyOrderThatIsLocalAlreadyIsKept) {
+  // Bodies numbered in space (Morton order): a cut in body index is as short as one in the
+  // breadth-first numbers, so the layout keeps slot = body and contact order (no key sort).
+  World morton = settled(2000, false, 150, BodyOrder::Morton), creation = settled(2000, false, 150);
+  const colored::Prepared kept = laid_out(problem_of(morton), true);
+  EXPECT_TRUE(kept.numbering.local_already);
+  for (int k = 0; k < static_cast<int>(kept.numbering.slot.size()); ++k)
+    ASSERT_EQ(kept.numbering.slot[static_cast<size_t>(k)], k);
+  EXPECT_FALSE(laid_out(problem_of(creation), true).numbering.local_already);
 }
 
 TEST(PgsColoredLocality, BreadthFirstNumbersAChainFromAnEnd) {

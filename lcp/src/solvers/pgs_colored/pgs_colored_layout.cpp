@@ -314,7 +314,8 @@ void assign_grown(std::vector<int>& v, size_t n, int x) {
 
 /// out.numbering for a fresh layout of `bodies` bodies: with locality the bodies numbered again
 /// when their count changed, the numbering is the identity or BodyNumbering::kRenumberEvery
-/// layouts old, and the contacts' key order (returned); without, the numbering of the last
+/// layouts old, and the contacts' key order (returned; nullptr, contact order, while the body
+/// order was local already); without, the numbering of the last
 /// layout if it has as many bodies (any permutation gives the same bits: a serial probe between
 /// threaded solves does not undo it), else slot = body, and nullptr: contact order.
 const int* number(const ContactConstraints& cons, int bodies, bool locality, Prepared& out) {
@@ -328,8 +329,17 @@ const int* number(const ContactConstraints& cons, int bodies, bool locality, Pre
     }
     return nullptr;
   }
-  if (n.bodies != bodies || n.age < 0 || ++n.age >= BodyNumbering::kRenumberEvery)
+  if (n.bodies != bodies || n.age < 0 || ++n.age >= BodyNumbering::kRenumberEvery) {
+    // Where the body order is local already (the Morton internal order: a cut in body index is
+    // about as short as one in the breadth-first numbers), keep it and contact order, which
+    // follows it, and save the key sort.
+    const double identity = cut_share(cons, out.dynamic, bodies, nullptr, n);
     number_bodies(cons, out.dynamic, bodies, n);
+    n.local_already = identity <= 2.0 * cut_share(cons, out.dynamic, bodies, n.slot.data(), n) + 0.01;
+    if (n.local_already)
+      for (int k = 0; k < bodies; ++k) n.slot[static_cast<size_t>(k)] = k;
+  }
+  if (n.local_already) return nullptr;
   order_by_key(cons, out.dynamic, bodies, n);
   return n.order.data();
 }

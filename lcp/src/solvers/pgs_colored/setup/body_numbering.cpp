@@ -81,6 +81,33 @@ void number_bodies(const ContactConstraints& cons, const std::vector<std::uint8_
   n.age = 0;
 }
 
+double cut_share(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
+                 const int* slot, BodyNumbering& n) {
+  // The middle of the numbers of the bodies in contact (n.mark: 1 for those; the numbers of a
+  // breadth-first numbering come first, the body indices of any order spread over all bodies).
+  n.mark.assign(static_cast<size_t>(bodies), 0);
+  const int nc = cons.size();
+  int a = 0, b = 0, joined = 0;
+  auto number = [&](int k) { return slot != nullptr ? slot[k] : k; };
+  for (int c = 0; c < nc; ++c) {
+    bodies_of(cons[c], a, b);
+    if (b < 0 || b >= bodies || dynamic[static_cast<size_t>(a)] == 0 || dynamic[static_cast<size_t>(b)] == 0) continue;
+    n.mark[static_cast<size_t>(number(a))] = n.mark[static_cast<size_t>(number(b))] = 1;
+    ++joined;
+  }
+  if (joined == 0) return 0.0;
+  int half = 0, seen = 0, in_contact = 0;
+  for (const int m : n.mark) in_contact += m;
+  while (half < bodies && 2 * seen < in_contact) seen += n.mark[static_cast<size_t>(half++)];
+  int cut = 0;
+  for (int c = 0; c < nc; ++c) {
+    bodies_of(cons[c], a, b);
+    if (b < 0 || b >= bodies || dynamic[static_cast<size_t>(a)] == 0 || dynamic[static_cast<size_t>(b)] == 0) continue;
+    cut += (number(a) < half) != (number(b) < half) ? 1 : 0;
+  }
+  return static_cast<double>(cut) / joined;
+}
+
 void order_by_key(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
                   BodyNumbering& n) {
   const int nc = cons.size();

@@ -29,7 +29,10 @@ struct BodyNumbering {
   std::vector<int> order;  ///< every contact, stably sorted by key (order_by_key)
   std::vector<int> head, next, queue, mark;  // scratch: adjacency lists, the breadth-first queue
   int bodies = -1;  ///< the body count `slot` was numbered for (−1: none)
-  int age = 0;      ///< fresh layouts since `slot` was numbered
+  int age = 0;      ///< fresh layouts since `slot` was numbered (−1: the identity, not chosen)
+  /// The body order was local already when last numbered (cut_share): slot = body, contacts in
+  /// contact order (which then follows the bodies) until the next numbering.
+  bool local_already = false;
   /// Fresh layouts after which the bodies are numbered again (the pile moves slowly; the
   /// numbering only decides locality, never a result).
   static constexpr int kRenumberEvery = 32;
@@ -41,6 +44,12 @@ struct BodyNumbering {
 /// O(bodies + contacts).
 void number_bodies(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
                    BodyNumbering& n);
+
+/// The share of the contacts between two dynamic bodies that a cut at the middle of the numbers
+/// of the bodies in such contacts separates, with the numbering `slot` (nullptr: slot = body):
+/// how many Δu lines two threads' regions would share. Serial, O(bodies + contacts).
+double cut_share(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
+                 const int* slot, BodyNumbering& n);
 
 /// n.key per contact (from n.slot) and n.order: every contact, stably sorted by key (a counting
 /// sort over the slots). Serial, O(bodies + contacts).
