@@ -7,6 +7,14 @@
 namespace dc::colored {
 namespace {
 
+/// v's storage grown with headroom before it takes n entries (resize and assign alone allocate
+/// exactly n, and again whenever the contact or body count exceeds its last maximum).
+template <class T>
+void room(std::vector<T>& v, int n) {
+  const size_t want = static_cast<size_t>(n);
+  if (v.capacity() < want) v.reserve(want + want / 2);
+}
+
 /// The lower and the higher body of contact k (−1: none), as the layout packs them.
 inline void bodies_of(const ContactConstraint& k, int& first, int& second) {
   first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
@@ -18,6 +26,7 @@ inline void bodies_of(const ContactConstraint& k, int& first, int& second) {
 void adjacency(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
                BodyNumbering& n) {
   const int nc = cons.size();
+  room(n.head, bodies + 2);
   n.head.assign(static_cast<size_t>(bodies) + 2, 0);
   auto joins = [&](int c, int& a, int& b) {
     bodies_of(cons[c], a, b);
@@ -30,6 +39,7 @@ void adjacency(const ContactConstraints& cons, const std::vector<std::uint8_t>& 
       ++n.head[static_cast<size_t>(b) + 2];
     }
   for (int k = 2; k < bodies + 2; ++k) n.head[static_cast<size_t>(k)] += n.head[static_cast<size_t>(k) - 1];
+  room(n.next, n.head[static_cast<size_t>(bodies) + 1]);
   n.next.resize(static_cast<size_t>(n.head[static_cast<size_t>(bodies) + 1]));
   // head[k + 1] is the fill position of body k; after the fill it is body k's end = body k+1's start.
   for (int c = 0; c < nc; ++c)
@@ -64,6 +74,9 @@ int breadth_first(BodyNumbering& n, int root, int from, int to, Visit&& visit) {
 void number_bodies(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
                    BodyNumbering& n) {
   adjacency(cons, dynamic, bodies, n);
+  room(n.slot, bodies);
+  room(n.mark, bodies);
+  room(n.queue, bodies);
   n.slot.assign(static_cast<size_t>(bodies), -1);
   n.mark.assign(static_cast<size_t>(bodies), 0);
   int next = 0;
@@ -85,6 +98,7 @@ double cut_share(const ContactConstraints& cons, const std::vector<std::uint8_t>
                  const int* slot, BodyNumbering& n) {
   // The middle of the numbers of the bodies in contact (n.mark: 1 for those; the numbers of a
   // breadth-first numbering come first, the body indices of any order spread over all bodies).
+  room(n.mark, bodies);
   n.mark.assign(static_cast<size_t>(bodies), 0);
   const int nc = cons.size();
   int a = 0, b = 0, joined = 0;
@@ -111,6 +125,9 @@ double cut_share(const ContactConstraints& cons, const std::vector<std::uint8_t>
 void order_by_key(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
                   BodyNumbering& n) {
   const int nc = cons.size();
+  room(n.key, nc);
+  room(n.order, nc);
+  room(n.head, bodies + 2);
   n.key.resize(static_cast<size_t>(nc));
   n.head.assign(static_cast<size_t>(bodies) + 2, 0);  // counts per key 0 … bodies, then their starts
   for (int c = 0; c < nc; ++c) {
