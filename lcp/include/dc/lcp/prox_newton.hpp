@@ -153,6 +153,14 @@ struct ProxNewtonDef {
   double inner_tolerance = 0.01;
   /// Newton iterations of the newton-sparse finish once the modes repeat (default 3; 0 = none).
   int finish_iterations = 3;
+  /// Work budget of a Newton part, in numeric factorisations (default 0 = none): a Newton part
+  /// (from the lead stage's iterate, or from the guess) that has made this many factorisations
+  /// since the best hard residual of the whole solve last fell (or since the part began) stops,
+  /// the Newton parts after it are skipped, and the safeguard continues with nncg from the best
+  /// iterate of any part. Checked after every pass and every outer iteration of the proximal
+  /// finish, so a part may overrun by one inner solve.
+  int newton_budget = 0;
+  double newton_budget_gain = 2.0;
   /// nncg sweeps of the safeguard (default 10000; 0 = none): on impacts the Newton parts can
   /// end just above the target on steps that nncg alone reaches only after many thousands of
   /// sweeps, each far cheaper than a Newton iteration.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -75,6 +76,8 @@ void check_def(const ProxNewtonDef& d) {
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
+  if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)))
+    throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -130,8 +133,13 @@ class ProxRun {
     if (body_ && lead(guess) && by_ == Finisher::Lead && !reached(best_res_, target_)) {
       if (best_res_ * def_.lead_gain <= guess_res) {
         lambda = best_;
+        budgeted_ = def_.newton_budget > 0;
         newton_part(lambda, false);
+        budgeted_ = false;
       }
+      // A first Newton part out of its budget (newton_budget): nncg from the best iterate so
+      // far, and the Newton part from the guess only when that missed the target too.
+      if (spent_ && !reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
       if (!reached(best_res_, target_)) {
         const Eigen::VectorXd kept = best_;
         const double kept_res = best_res_;
@@ -181,14 +189,41 @@ class ProxRun {
   /// Iterations so far, as the caller's checkpoints and SolveResult::sweeps count them: the lead
   /// stage's sweeps, then Newton iterations.
   [[nodiscard]] int done() const { return st_.lead_sweeps + st_.newton + st_.finish_newton; }
+  /// The caller's checkpoints count the safeguard's sweeps too, in the order the parts ran.
+  [[nodiscard]] int mark() const { return done() + st_.safeguard_sweeps; }
 
   /// Keeps λ when it beats the best hard residual; true when it did.
   bool consider(const Eigen::VectorXd& lambda, double res, Finisher by) {
+    progress(res, st_.factorizations);
     if (!(res < best_res_)) return false;
     best_ = lambda;
     best_res_ = res;
     by_ = by;
     return true;
+  }
+
+  /// Newton-part budget (ProxNewtonDef::newton_budget): a hard residual below the best of the
+  /// whole solve, seen after `factorizations` factorisations, restarts the count.
+  void progress(double res, int factorizations) {
+    if (std::getenv("DC_TRACE_BUDGET") && res < overall_res_) std::fprintf(stderr, "progress res %.3g overall %.3g ref %.3g fact %d base %d\n", res, overall_res_, budget_ref_, factorizations, budget_base_);
+    if (!(res < overall_res_)) return;
+    overall_res_ = res;
+    if (!(res * def_.newton_budget_gain <= budget_ref_)) return;
+    budget_ref_ = res;
+    budget_base_ = std::max(budget_base_, factorizations);
+  }
+  /// True once the first Newton part (budgeted_) made newton_budget factorisations since its
+  /// start or since the best hard residual of the whole solve last fell newton_budget_gain-fold,
+  /// `factorizations` made in all; remembered in spent_.
+  bool over_budget(int factorizations) {
+    if (!budgeted_) return false;
+    if (factorizations - budget_base_ >= def_.newton_budget) spent_ = true;
+    return spent_;
+  }
+  /// The count starts afresh with a Newton part.
+  void begin_part() {
+    budget_base_ = st_.factorizations;
+    budget_ref_ = overall_res_;
   }
 
   /// How a run of passes is steered (outer).
@@ -249,7 +284,7 @@ class ProxRun {
     std::vector<char> last_modes, finished_modes;
     FrozenSubproblem sub;
     for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0 &&
-                    st_.newton - newton0 < ps.iterations;
+                    st_.newton - newton0 < ps.iterations && !over_budget(st_.factorizations);
          ++k) {
       ++st_.outer;
       freeze(p_, lambda, shift * diag, sub);
@@ -288,7 +323,7 @@ class ProxRun {
                              : std::min(def_.max_shift, shift * def_.shrink);
       last_shift_ = shift;
       stalls = progressed ? 0 : stalls + 1;
-      cp_.after(done(), best_);
+      cp_.after(mark(), best_);
       if (reached(best_res_, target_) || stalls >= ps.max_stalls) break;
       std::vector<char> modes = hard_modes(p_, lambda);
       if (modes == last_modes && modes != finished_modes && def_.finish_iterations > 0) {
@@ -304,20 +339,23 @@ class ProxRun {
   /// gives up after a slow stretch (ProxNewtonDef::lead_finish_window), as the part after it
   /// starts afresh.
   void newton_part(Eigen::VectorXd& lambda, bool last) {
+    begin_part();
     if (convex_) {
       if (body_ && def_.exact_cone && s_.cone.bind(p_))
         cone_passes(lambda);
       else
         outer(lambda, frozen_passes());
-      if (body_ && def_.body_finish && !reached(best_res_, target_)) {
+      if (body_ && def_.body_finish && !reached(best_res_, target_) && !over_budget(st_.factorizations)) {
         lambda = best_;
         outer(lambda, coupled_passes());
       }
     } else {
       finish_with_newton_sparse(lambda, budget_left());
     }
-    if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point(!last);
-    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
+    if (!reached(best_res_, target_) && def_.proximal_finish && !over_budget(st_.factorizations))
+      finish_by_proximal_point(!last);
+    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0 && !over_budget(st_.factorizations))
+      finish_by_pivoting();
   }
 
   /// The lead stage (ProxNewtonDef::lead_sweeps; lead_stage.hpp): one nncg run from λ while
@@ -374,7 +412,7 @@ class ProxRun {
     st_.line_search_steps += co.line_search_steps;
     consider(co.best, co.best_residual, Finisher::Prox);
     lambda = best_;
-    cp_.after(done(), best_);
+    cp_.after(mark(), best_);
   }
 
   /// At most `iterations` newton-sparse iterations on the hard problem from λ.
@@ -412,6 +450,13 @@ class ProxRun {
     if (windowed && def_.lead_initial_shift > 0) pd.initial_shift = def_.lead_initial_shift;
     if (from_guess_) apply_guess_route(def_, lead_route_floor_, pd);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
+    if (budgeted_) {
+      const int base = st_.factorizations;
+      pd.stop_after = [this, base](int factorizations, double best) {
+        progress(best, base + factorizations);
+        return over_budget(base + factorizations);
+      };
+    }
     SolverOptions fo;
     fo.tolerance = target_;
     fo.record_theta = false;
@@ -454,7 +499,7 @@ class ProxRun {
   /// (checkpoint_work.hpp).
   void forward_checkpoints(SolverOptions& fo, const InFlightPart& part) {
     if (!o_.on_checkpoint) return;
-    const int base = done();
+    const int base = mark();
     for (const int k : o_.checkpoints)
       if (k > base) fo.checkpoints.push_back(k - base);
     fo.on_checkpoint = [this, base, part](int it, const Eigen::VectorXd& lambda) {
@@ -474,6 +519,8 @@ class ProxRun {
     constexpr int kChunk = 100;
     while (st_.safeguard_sweeps < def_.safeguard_sweeps && !reached(best_res_, target_)) {
       so.max_sweeps = std::min(kChunk, def_.safeguard_sweeps - st_.safeguard_sweeps);
+      so.checkpoints.clear();
+      forward_checkpoints(so, InFlightPart::safeguard());
       const SolveResult r = nncg->solve(p_, lambda, so);
       st_.safeguard_sweeps += std::max(r.sweeps, 1);
       if (!r.lambda.allFinite()) break;
@@ -499,6 +546,11 @@ class ProxRun {
   int part_start_ = 0;     // Newton iterations before the current Newton part
   double lead_route_floor_ = 0.0;  // δ's failure floor the windowed proximal finish ended with
   bool from_guess_ = false;        // in the Newton part from the guess after the first part
+  double overall_res_ = INFINITY;  // best hard residual of the whole solve (newton_budget)
+  int budget_base_ = 0;            // factorisations where the budget's count starts
+  double budget_ref_ = INFINITY;   // best hard residual there (newton_budget_gain)
+  bool budgeted_ = false;          // in the first Newton part with newton_budget > 0
+  bool spent_ = false;             // that part ran out of newton_budget
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;
