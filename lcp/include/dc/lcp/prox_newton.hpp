@@ -153,13 +153,19 @@ struct ProxNewtonDef {
   double inner_tolerance = 0.01;
   /// Newton iterations of the newton-sparse finish once the modes repeat (default 3; 0 = none).
   int finish_iterations = 3;
-  /// Work budget of a Newton part, in numeric factorisations (default 0 = none): a Newton part
-  /// (from the lead stage's iterate, or from the guess) that has made this many factorisations
-  /// since the best hard residual of the whole solve last fell (or since the part began) stops,
-  /// the Newton parts after it are skipped, and the safeguard continues with nncg from the best
-  /// iterate of any part. Checked after every pass and every outer iteration of the proximal
-  /// finish, so a part may overrun by one inner solve.
-  int newton_budget = 0;
+  /// Body space: the budget of the Newton part from the lead stage's iterate, in numeric
+  /// factorisations (default 4; 0 = none). That part stops once it has made this many
+  /// factorisations since it began or since the best hard residual of the whole solve last fell
+  /// at least `newton_budget_gain`-fold (default 2), and nncg goes on from the best iterate of
+  /// the lead stage and that part (the safeguard, its sweeps counted in safeguard_sweeps); the
+  /// Newton part from the guess runs only when nncg misses the target too. Checked after every
+  /// pass and every outer iteration of the proximal finish, so the part may overrun by one
+  /// inner solve. On 250-body impacts the lead stage hands over where nncg still converges but
+  /// slowly, and a Newton part that creeps down a few percent per factorisation (each costing
+  /// as much as many nncg sweeps) can spend tens of them before the safeguard; a budget of one
+  /// or two factorisations also stops the parts that reach the target after a short stall,
+  /// where nncg does not reach it.
+  int newton_budget = 4;
   double newton_budget_gain = 2.0;
   /// nncg sweeps of the safeguard (default 10000; 0 = none): on impacts the Newton parts can
   /// end just above the target on steps that nncg alone reaches only after many thousands of

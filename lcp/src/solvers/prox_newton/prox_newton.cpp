@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -205,7 +204,6 @@ class ProxRun {
   /// Newton-part budget (ProxNewtonDef::newton_budget): a hard residual below the best of the
   /// whole solve, seen after `factorizations` factorisations, restarts the count.
   void progress(double res, int factorizations) {
-    if (std::getenv("DC_TRACE_BUDGET") && res < overall_res_) std::fprintf(stderr, "progress res %.3g overall %.3g ref %.3g fact %d base %d\n", res, overall_res_, budget_ref_, factorizations, budget_base_);
     if (!(res < overall_res_)) return;
     overall_res_ = res;
     if (!(res * def_.newton_budget_gain <= budget_ref_)) return;
