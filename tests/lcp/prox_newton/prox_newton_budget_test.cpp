@@ -36,14 +36,15 @@ ProxNewtonDef stalling(int budget) {
   d.lead_sweeps = 400;
   d.lead_gain = 1;
   d.newton_budget = budget;
+  d.newton_budget_lead_fall = 0;  // whatever the lead stage's fall
   d.safeguard_sweeps = 300;
   d.pivot_rows = 0;
   return d;
 }
 
-/// A pile whose Newton parts stall above a tight target (more than a thousand factorisations
-/// without the budget).
-LcpProblem stalling_pile() { return test::deep_pile(30, 10, 0.9); }
+/// A pile whose first Newton part creeps towards a tight target (tens of factorisations without
+/// the budget, against a few with it).
+LcpProblem stalling_pile() { return test::deep_pile(12, 6, 0.9); }
 
 SolverOptions tight(const LcpProblem& p) {
   SolverOptions o;
@@ -66,11 +67,10 @@ TEST(ProxNewtonBudget, StopsAStallingFirstPartAndNncgGoesOnFromTheBestIterate) {
   std::vector<Seen> all, cut;
   (void)traced(unbudgeted, p, o, all);
   (void)traced(budgeted, p, o, cut);
-  const std::size_t s0 = first_safeguard(all), s1 = first_safeguard(cut);
-  ASSERT_LT(s0, all.size());
+  const std::size_t s1 = first_safeguard(cut);
   ASSERT_LT(s1, cut.size());
   // The budget hands over to nncg after a few factorisations, where the Newton parts ran on.
-  EXPECT_LT(cut[s1].work.factorizations, all[s0].work.factorizations / 10);
+  EXPECT_LT(10 * cut[s1].work.factorizations, unbudgeted.last_stats().factorizations);
   EXPECT_EQ(cut[s1].work.lead_sweeps, stalling(1).lead_sweeps);
   // nncg starts from the best iterate of the parts before it: the lead stage's looks (every
   // 50 sweeps) and every iterate after the stage.
@@ -93,6 +93,21 @@ TEST(ProxNewtonBudget, StopsAStallingFirstPartAndNncgGoesOnFromTheBestIterate) {
   const Eigen::VectorXd expected = make_solver("nncg")->solve(p, from, one).lambda;
   EXPECT_EQ(cut[s1].work.safeguard_sweeps, 1);
   EXPECT_TRUE(cut[s1].lambda == expected) << (cut[s1].lambda - expected).cwiseAbs().maxCoeff();
+}
+
+TEST(ProxNewtonBudget, StopsTheProximalFinishWithinAnInnerSolve) {
+  // Here the passes make fewer factorisations than the budget and the proximal finish's first
+  // inner solve makes tens: the budget stops that solve after an iteration.
+  const LcpProblem p = test::deep_pile(16, 8, 0.9);
+  const SolverOptions o = tight(p);
+  const int budget = 4;
+  ProxNewtonSolver s(stalling(budget));
+  std::vector<Seen> seen;
+  (void)traced(s, p, o, seen);
+  const std::size_t k = first_safeguard(seen);
+  ASSERT_LT(k, seen.size());
+  EXPECT_GT(seen[k].work.proximal_finish_newton, 0);
+  EXPECT_LE(seen[k].work.factorizations, 3 * budget);
 }
 
 TEST(ProxNewtonBudget, AnswerIsTheBestIterateOfEveryPart) {
@@ -121,25 +136,34 @@ TEST(ProxNewtonBudget, RerunsAreBitEqual) {
 TEST(ProxNewtonBudget, ABudgetNeverSpentChangesNothing) {
   const LcpProblem p = stalling_pile();
   const SolverOptions o = tight(p);
-  ProxNewtonSolver a(stalling(0)), b(stalling(1000000));
-  const SolveResult ra = a.solve(p, {}, o), rb = b.solve(p, {}, o);
+  // A budget never reached, or one the lead stage's fall does not open (its fall over a window
+  // is finite): the solve of no budget, bit for bit.
+  ProxNewtonDef gated = stalling(1);
+  gated.newton_budget_lead_fall = 1e300;
+  ProxNewtonSolver a(stalling(0)), b(stalling(1000000)), c(gated);
+  const SolveResult ra = a.solve(p, {}, o), rb = b.solve(p, {}, o), rc = c.solve(p, {}, o);
   EXPECT_TRUE(ra.lambda == rb.lambda);
   EXPECT_EQ(ra.message, rb.message);
   EXPECT_EQ(a.last_stats().factorizations, b.last_stats().factorizations);
+  EXPECT_TRUE(ra.lambda == rc.lambda);
+  EXPECT_EQ(ra.message, rc.message);
 }
 
 TEST(ProxNewtonBudget, RefusesInvalidSettings) {
-  const auto with = [](int budget, double gain) {
+  const auto with = [](int budget, double gain, double fall = 1.5) {
     ProxNewtonDef d;
     d.newton_budget = budget;
     d.newton_budget_gain = gain;
+    d.newton_budget_lead_fall = fall;
     return d;
   };
   EXPECT_THROW(ProxNewtonSolver(with(-1, 2.0)), InvalidArgument);
   EXPECT_THROW(ProxNewtonSolver(with(4, 0.5)), InvalidArgument);
   EXPECT_THROW(ProxNewtonSolver(with(4, NAN)), InvalidArgument);
   EXPECT_THROW(ProxNewtonSolver(with(4, INFINITY)), InvalidArgument);
-  EXPECT_NO_THROW(ProxNewtonSolver(with(0, 1.0)));
+  EXPECT_THROW(ProxNewtonSolver(with(4, 2.0, -1.0)), InvalidArgument);
+  EXPECT_THROW(ProxNewtonSolver(with(4, 2.0, NAN)), InvalidArgument);
+  EXPECT_NO_THROW(ProxNewtonSolver(with(0, 1.0, 0.0)));
 }
 
 }  // namespace

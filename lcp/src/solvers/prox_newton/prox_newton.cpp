@@ -75,8 +75,10 @@ void check_def(const ProxNewtonDef& d) {
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
-  if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)))
-    throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1");
+  if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)) ||
+      !(d.newton_budget_lead_fall >= 0))
+    throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1, "
+                          "newton_budget_lead_fall >= 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -132,7 +134,7 @@ class ProxRun {
     if (body_ && lead(guess) && by_ == Finisher::Lead && !reached(best_res_, target_)) {
       if (best_res_ * def_.lead_gain <= guess_res) {
         lambda = best_;
-        budgeted_ = def_.newton_budget > 0;
+        budgeted_ = def_.newton_budget > 0 && lead_fall_ >= def_.newton_budget_lead_fall;
         newton_part(lambda, false);
         budgeted_ = false;
       }
@@ -210,7 +212,8 @@ class ProxRun {
     budget_ref_ = res;
     budget_base_ = std::max(budget_base_, factorizations);
   }
-  /// True once the first Newton part (budgeted_) made newton_budget factorisations since its
+  /// True once the first Newton part (budgeted_: newton_budget > 0 and the lead stage still fell
+  /// newton_budget_lead_fall-fold over its last window) made newton_budget factorisations since its
   /// start or since the best hard residual of the whole solve last fell newton_budget_gain-fold,
   /// `factorizations` made in all; remembered in spent_.
   bool over_budget(int factorizations) {
@@ -373,7 +376,7 @@ class ProxRun {
     st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {
       consider(x, hard_residual(p_, x), Finisher::Lead);
       return best_res_;
-    });
+    }, &lead_fall_);
     return true;
   }
 
@@ -547,6 +550,7 @@ class ProxRun {
   double overall_res_ = INFINITY;  // best hard residual of the whole solve (newton_budget)
   int budget_base_ = 0;            // factorisations where the budget's count starts
   double budget_ref_ = INFINITY;   // best hard residual there (newton_budget_gain)
+  double lead_fall_ = 1.0;         // the lead stage's LeadRate::window_fall()
   bool budgeted_ = false;          // in the first Newton part with newton_budget > 0
   bool spent_ = false;             // that part ran out of newton_budget
   Finisher by_ = Finisher::Guess;
