@@ -105,28 +105,16 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   Eigen::VectorXd at_target;
   double at_target_residual = 0.0;
   NewtonSparseDef inner_def = def.newton_sparse;
-  // stop_after: asked between outer iterations and, with the inner solve's factorisations so
-  // far, after every inner iteration (one failing inner solve can make tens of them).
-  SolveResult out;  // λ and residual: the best iterate
-  bool asked = false;      // stopped by stop_after
-  int factorizations = 0;  // the finished inner solves' numeric factorisations (stop_after)
-  const NewtonSparseSolver* live = nullptr;  // the inner newton-sparse solver (its counts so far)
-  if (def.stop_at_target || def.stop_after)
-    inner_def.stop_when = [&](int, const Eigen::VectorXd& x) {
+  if (def.stop_at_target)
+    inner_def.stop_when = [&p, &at_target, &at_target_residual, target](int, const Eigen::VectorXd& x) {
       const double res = natural_residual(p, x);
-      if (def.stop_at_target && res <= target) {
-        at_target = x;
-        at_target_residual = res;
-        return true;
-      }
-      if (def.stop_after && live != nullptr &&
-          def.stop_after(factorizations + live->last_stats().factorizations, std::min(out.residual, res)))
-        asked = true;
-      return asked;
+      if (!(res <= target)) return false;
+      at_target = x;
+      at_target_residual = res;
+      return true;
     };
   const auto inner = def.inner_solver.kind == SolverKind::NewtonSparse ? make_newton_sparse(inner_def)
                                                                         : make_solver(def.inner_solver);
-  live = dynamic_cast<const NewtonSparseSolver*>(inner.get());
   const double diag = p.rows() > 0 ? p.A.diagonal().cwiseAbs().maxCoeff() : 0.0;
   SolverOptions inner_options;
   inner_options.max_sweeps = def.inner_iterations;
@@ -139,6 +127,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
 
   // Checkpoints after each outer iteration, at the inner iterations so far (CheckpointCursor::reach).
   solvers::CheckpointCursor cp(options);
+  SolveResult out;  // λ and residual: the best iterate
   out.lambda = lambda;
   out.residual = natural_residual(p, lambda);
   Eigen::VectorXd centre = lambda;  // λ_k
@@ -148,6 +137,8 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   int floor_stalls = 0;          // of those, consecutive ones at a raised floor (floor_stalls)
   ProgressWindow window;
   bool slowed = false;    // stopped by progress_window
+  bool asked = false;     // stopped by stop_after
+  int factorizations = 0;  // the inner solves' numeric factorisations (stop_after)
   for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
                   (def.max_stalls == 0 || stalls < def.max_stalls) &&
                   (def.floor_stalls == 0 || floor_stalls < def.floor_stalls);
@@ -196,7 +187,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       floor_stalls = 0;
     }
     cp.reach(out.sweeps, out.lambda);
-    if (asked || (def.stop_after && def.stop_after(factorizations, out.residual))) {
+    if (def.stop_after && def.stop_after(factorizations, out.residual)) {
       asked = true;
       break;
     }

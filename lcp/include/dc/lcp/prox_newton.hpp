@@ -162,9 +162,9 @@ struct ProxNewtonDef {
   /// at least `newton_budget_gain`-fold (default 2), and nncg goes on from the best iterate of
   /// the lead stage and that part (the safeguard, its sweeps counted in safeguard_sweeps); the
   /// Newton part from the guess runs only when nncg misses the target too. Checked after every
-  /// pass and, inside the proximal finish, after every Newton iteration
-  /// (ProximalPointDef::stop_after), so the part overruns by at most one iteration's
-  /// factorisations.
+  /// pass and every outer iteration of the proximal finish (ProximalPointDef::stop_after), so
+  /// the part overruns by one inner solve: asked after every inner Newton iteration instead, the
+  /// budget also stopped impact steps whose first part reaches the target within that solve.
   /// On 250-body impacts the lead stage can hand over where nncg still converges at nearly the
   /// window's rate, and a Newton part that creeps down a few percent per factorisation (each
   /// costing as much as many nncg sweeps) spends tens of them before the safeguard. A smaller

@@ -19,6 +19,7 @@
 #include "solvers/prox_newton/frozen_subproblem.hpp"
 #include "solvers/prox_newton/lead/lead_rate.hpp"
 #include "solvers/prox_newton/lead/lead_stage.hpp"
+#include "solvers/prox_newton/newton_budget.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"
@@ -114,7 +115,8 @@ class ProxRun {
   ProxRun(const LcpProblem& p, const ProxNewtonDef& def, const SolverOptions& o, ProxParts& s,
           ProxNewtonStats& st, ProxNewtonStats& at_checkpoint, bool body, bool convex)
       : p_(p), def_(def), o_(o), s_(s), st_(st), body_(body), convex_(convex), target_(status_target(p, o)),
-        work_(st, at_checkpoint), cp_options_(work_.watch(o)), cp_(cp_options_) {}
+        work_(st, at_checkpoint), cp_options_(work_.watch(o)), cp_(cp_options_),
+        budget_(def.newton_budget, def.newton_budget_gain) {}
 
   SolveResult run(Eigen::VectorXd lambda) {
     project_feasible(p_, lambda);
@@ -134,13 +136,13 @@ class ProxRun {
     if (body_ && lead(guess) && by_ == Finisher::Lead && !reached(best_res_, target_)) {
       if (best_res_ * def_.lead_gain <= guess_res) {
         lambda = best_;
-        budgeted_ = def_.newton_budget > 0 && lead_fall_ >= def_.newton_budget_lead_fall;
+        budget_.begin(lead_fall_ >= def_.newton_budget_lead_fall, st_.factorizations);
         newton_part(lambda, false);
-        budgeted_ = false;
+        budget_.end();
       }
       // A first Newton part out of its budget (newton_budget): nncg from the best iterate so
       // far, and the Newton part from the guess only when that missed the target too.
-      if (spent_ && !reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
+      if (budget_.spent() && !reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
       if (!reached(best_res_, target_)) {
         const Eigen::VectorXd kept = best_;
         const double kept_res = best_res_;
@@ -195,7 +197,7 @@ class ProxRun {
 
   /// Keeps λ when it beats the best hard residual; true when it did.
   bool consider(const Eigen::VectorXd& lambda, double res, Finisher by) {
-    progress(res, st_.factorizations);
+    budget_.progress(res, st_.factorizations);
     if (!(res < best_res_)) return false;
     best_ = lambda;
     best_res_ = res;
@@ -203,29 +205,8 @@ class ProxRun {
     return true;
   }
 
-  /// Newton-part budget (ProxNewtonDef::newton_budget): a hard residual below the best of the
-  /// whole solve, seen after `factorizations` factorisations, restarts the count.
-  void progress(double res, int factorizations) {
-    if (!(res < overall_res_)) return;
-    overall_res_ = res;
-    if (!(res * def_.newton_budget_gain <= budget_ref_)) return;
-    budget_ref_ = res;
-    budget_base_ = std::max(budget_base_, factorizations);
-  }
-  /// True once the first Newton part (budgeted_: newton_budget > 0 and the lead stage still fell
-  /// newton_budget_lead_fall-fold over its last window) made newton_budget factorisations since its
-  /// start or since the best hard residual of the whole solve last fell newton_budget_gain-fold,
-  /// `factorizations` made in all; remembered in spent_.
-  bool over_budget(int factorizations) {
-    if (!budgeted_) return false;
-    if (factorizations - budget_base_ >= def_.newton_budget) spent_ = true;
-    return spent_;
-  }
-  /// The count starts afresh with a Newton part.
-  void begin_part() {
-    budget_base_ = st_.factorizations;
-    budget_ref_ = overall_res_;
-  }
+  /// True once the first Newton part ran out of its budget (newton_budget.hpp).
+  bool over_budget() { return budget_.over(st_.factorizations); }
 
   /// How a run of passes is steered (outer).
   struct Passes {
@@ -285,7 +266,7 @@ class ProxRun {
     std::vector<char> last_modes, finished_modes;
     FrozenSubproblem sub;
     for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0 &&
-                    st_.newton - newton0 < ps.iterations && !over_budget(st_.factorizations);
+                    st_.newton - newton0 < ps.iterations && !over_budget();
          ++k) {
       ++st_.outer;
       freeze(p_, lambda, shift * diag, sub);
@@ -340,22 +321,21 @@ class ProxRun {
   /// gives up after a slow stretch (ProxNewtonDef::lead_finish_window), as the part after it
   /// starts afresh.
   void newton_part(Eigen::VectorXd& lambda, bool last) {
-    begin_part();
     if (convex_) {
       if (body_ && def_.exact_cone && s_.cone.bind(p_))
         cone_passes(lambda);
       else
         outer(lambda, frozen_passes());
-      if (body_ && def_.body_finish && !reached(best_res_, target_) && !over_budget(st_.factorizations)) {
+      if (body_ && def_.body_finish && !reached(best_res_, target_) && !over_budget()) {
         lambda = best_;
         outer(lambda, coupled_passes());
       }
     } else {
       finish_with_newton_sparse(lambda, budget_left());
     }
-    if (!reached(best_res_, target_) && def_.proximal_finish && !over_budget(st_.factorizations))
+    if (!reached(best_res_, target_) && def_.proximal_finish && !over_budget())
       finish_by_proximal_point(!last);
-    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0 && !over_budget(st_.factorizations))
+    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0 && !over_budget())
       finish_by_pivoting();
   }
 
@@ -451,11 +431,11 @@ class ProxRun {
     if (windowed && def_.lead_initial_shift > 0) pd.initial_shift = def_.lead_initial_shift;
     if (from_guess_) apply_guess_route(def_, lead_route_floor_, pd);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
-    if (budgeted_) {
+    if (budget_.on()) {
       const int base = st_.factorizations;
       pd.stop_after = [this, base](int factorizations, double best) {
-        progress(best, base + factorizations);
-        return over_budget(base + factorizations);
+        budget_.progress(best, base + factorizations);
+        return budget_.over(base + factorizations);
       };
     }
     SolverOptions fo;
@@ -547,12 +527,8 @@ class ProxRun {
   int part_start_ = 0;     // Newton iterations before the current Newton part
   double lead_route_floor_ = 0.0;  // δ's failure floor the windowed proximal finish ended with
   bool from_guess_ = false;        // in the Newton part from the guess after the first part
-  double overall_res_ = INFINITY;  // best hard residual of the whole solve (newton_budget)
-  int budget_base_ = 0;            // factorisations where the budget's count starts
-  double budget_ref_ = INFINITY;   // best hard residual there (newton_budget_gain)
   double lead_fall_ = 1.0;         // the lead stage's LeadRate::window_fall()
-  bool budgeted_ = false;          // in the first Newton part with newton_budget > 0
-  bool spent_ = false;             // that part ran out of newton_budget
+  NewtonBudget budget_;            // the first Newton part's (newton_budget)
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;
