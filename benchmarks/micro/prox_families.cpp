@@ -85,6 +85,10 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_initial_shift") d.lead_initial_shift = x;
   else if (key == "lead_window_bodies") d.lead_window_bodies = x;
   else if (key == "safeguard_sweeps") d.safeguard_sweeps = static_cast<int>(x);
+  else if (key == "newton_budget") d.newton_budget = static_cast<int>(x);
+  else if (key == "pivot_rows") d.pivot_rows = static_cast<int>(x);
+  else if (key == "newton_budget_lead_fall") d.newton_budget_lead_fall = x;
+  else if (key == "newton_budget_gain") d.newton_budget_gain = x;
   else if (key == "guess_route_from_floor") d.guess_route_from_floor = x != 0;
   else if (key == "guess_fallback_cap_fall") d.guess_fallback_cap_fall = x;
   else if (key == "guess_floor_stalls") d.guess_floor_stalls = static_cast<int>(x);

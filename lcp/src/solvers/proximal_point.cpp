@@ -137,6 +137,8 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   int floor_stalls = 0;          // of those, consecutive ones at a raised floor (floor_stalls)
   ProgressWindow window;
   bool slowed = false;    // stopped by progress_window
+  bool asked = false;     // stopped by stop_after
+  int factorizations = 0;  // the inner solves' numeric factorisations (stop_after)
   for (int k = 0; k < def.max_outer && out.residual > target && diag > 0 &&
                   (def.max_stalls == 0 || stalls < def.max_stalls) &&
                   (def.floor_stalls == 0 || floor_stalls < def.floor_stalls);
@@ -153,9 +155,12 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
     inner_options.tolerance = loose > inner_target ? loose : (options.tolerance > 0 ? inner_target : 0.0);
     const SolveResult r = inner->solve(sub, centre, inner_options);
     out.sweeps += r.sweeps;
-    if (const auto* ns = dynamic_cast<const NewtonSparseSolver*>(inner.get()); ns && stats) {
-      stats->factorizations += ns->last_stats().factorizations;
-      stats->krylov_iterations += ns->last_stats().krylov_iterations;
+    if (const auto* ns = dynamic_cast<const NewtonSparseSolver*>(inner.get())) {
+      factorizations += ns->last_stats().factorizations;
+      if (stats) {
+        stats->factorizations += ns->last_stats().factorizations;
+        stats->krylov_iterations += ns->last_stats().krylov_iterations;
+      }
     }
     if (at_target.size() == p.rows()) {
       out.lambda = at_target;
@@ -182,6 +187,10 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
       floor_stalls = 0;
     }
     cp.reach(out.sweeps, out.lambda);
+    if (def.stop_after && def.stop_after(factorizations, out.residual)) {
+      asked = true;
+      break;
+    }
     if (def.progress_window > 0) window.best_after.push_back(out.residual);
     if (r.status == SolveStatus::Converged || (loose > inner_target && stopped_at_tolerance(r.status))) {
       // The proximal step is the method's progress even when it raises the residual of the
@@ -201,7 +210,7 @@ SolveResult solve_proximal_point(const LcpProblem& problem, const Eigen::VectorX
   out.status = out.residual <= target ? SolveStatus::Converged : SolveStatus::SweepLimit;
   if (out.status == SolveStatus::Converged) cp.flush_final(out.lambda);
   if (out.status != SolveStatus::Converged)
-    out.message = stop_message(def, slowed, stalls, floor_stalls);
+    out.message = asked ? "proximal point: stopped by the caller's budget" : stop_message(def, slowed, stalls, floor_stalls);
   // A target the caller gave (options.tolerance [N]) is a stopping rule, not the solution test.
   solvers::finish(p, out, options, options.tolerance > 0 ? solvers::StopRule::Tolerance : solvers::StopRule::Solution);
   return out;

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <functional>
+#include <algorithm>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,21 @@ void edit_contacts(LcpProblem& p, const std::function<void(int, ContactConstrain
     out.add(k);
   }
   p.constraints = out;
+}
+
+/// The first contact with friction loses its tangent row (μ = 0, no tangent row) while the
+/// contacts keep claiming p.rows() rows (ContactConstraints::overwrite); returns that row, still
+/// coupled to the contact's normal row.
+int drop_tangent(LcpProblem& p) {
+  std::vector<ContactConstraint> ks(p.constraints.contacts().begin(), p.constraints.contacts().end());
+  int c = 0;
+  while (!ks[static_cast<size_t>(c)].has_friction()) ++c;
+  const int t = ks[static_cast<size_t>(c)].tangent_row;
+  ks[static_cast<size_t>(c)].tangent_row = -1;
+  ks[static_cast<size_t>(c)].mu = 0.0;
+  const std::span<ContactConstraint> out = p.constraints.overwrite(ks.size(), p.rows());
+  std::copy(ks.begin(), ks.end(), out.begin());
+  return t;
 }
 
 void expect_same_verdict(const LcpProblem& p, const Eigen::VectorXd& l0, const std::string& what) {
@@ -89,6 +106,13 @@ TEST(PgsColoredInput, SameVerdictAndMessageAsTheSerialChecks) {
   expect_same_verdict(reordered, l0, "valid, rows reordered");
   Eigen::VectorXd scratch;
   EXPECT_FALSE(solvers::check_input(reordered, l0, "pgs-colored", scratch).has_value()) << "reordered rows are valid";
+  // A tangent row left to no contact (the count of rows kept, as overwrite() allows), still
+  // coupled to its normal row: valid.
+  LcpProblem unowned = good;
+  drop_tangent(unowned);
+  EXPECT_FALSE(solvers::check_input(unowned, l0, "pgs-colored", scratch).has_value()) << "an unowned row is valid";
+  expect_same_verdict(unowned, l0, "valid, a row owned by no contact");
+  expect_same_verdict(unowned, Eigen::VectorXd(), "valid, a row owned by no contact, no λ⁰");
 
   std::vector<std::pair<std::string, std::function<void(LcpProblem&, Eigen::VectorXd&)>>> broken = {
       {"b NaN", [](LcpProblem& p, Eigen::VectorXd&) { p.b[p.rows() - 2] = kNaN; }},
@@ -151,6 +175,14 @@ TEST(PgsColoredInput, SameVerdictAndMessageAsTheSerialChecks) {
          int c = 0;
          while (!p.constraints[c].has_friction()) ++c;
          p.mu[p.constraints[c].tangent_row] *= 2.0;
+       }},
+      // A row left to no contact coupled to a friction row: with contacts, the row scan leaves
+      // the coupling to the contacts' pass, which covers only the rows the contacts claim.
+      {"unowned row coupled to a friction row", [](LcpProblem& p, Eigen::VectorXd&) {
+         const int t = drop_tangent(p);
+         int d = p.constraints.size() - 1;
+         while (!p.constraints[d].has_friction()) --d;
+         p.normal_row[static_cast<size_t>(t)] = p.constraints[d].tangent_row;
        }},
       {"normal row is a friction row", [](LcpProblem& p, Eigen::VectorXd&) {
          int f = 0;

@@ -62,6 +62,14 @@ struct PgsColoredDef {
   /// 2-thread sweeps more than the parallel colouring saves (docs/lcp.md "pgs-colored",
   /// "Alternatives considered").
   int color_chunk = 0;
+  /// When a solve's set-up runs on threads: store the bodies' Δu in a locality order during the
+  /// sweeps (true, the default): numbered breadth-first on the contact graph, each colour's
+  /// contacts in that order, so each thread's region of the bodies (the sweeps' split) is one
+  /// compact piece of the pile and few Δu cache lines move between the cores (docs/lcp.md
+  /// "pgs-colored", Threads). The same result bits either way; false, and on one thread (where
+  /// the numbering and the scattered packing cost more than the sweeps gain): each colour in
+  /// contact order.
+  bool locality_order = true;
   /// When set, every solve adds the times of its parts here (PgsColoredProfile; the caller
   /// keeps it alive while the solver is used).
   PgsColoredProfile* profile = nullptr;

@@ -153,6 +153,28 @@ struct ProxNewtonDef {
   double inner_tolerance = 0.01;
   /// Newton iterations of the newton-sparse finish once the modes repeat (default 3; 0 = none).
   int finish_iterations = 3;
+  /// Body space: the budget of the Newton part from the lead stage's iterate, in numeric
+  /// factorisations (default 4; 0 = none), when the lead stage's best hard residual still fell
+  /// at least `newton_budget_lead_fall`-fold (default 1.75) over its last window (lead_window;
+  /// within the first window, the fall from the guess scaled to a window): nncg was converging,
+  /// only slower than the window asks. That part stops once it has made newton_budget
+  /// factorisations since it began or since the best hard residual of the whole solve last fell
+  /// at least `newton_budget_gain`-fold (default 2), and nncg goes on from the best iterate of
+  /// the lead stage and that part (the safeguard, its sweeps counted in safeguard_sweeps); the
+  /// Newton part from the guess runs only when nncg misses the target too. Checked after every
+  /// pass and every outer iteration of the proximal finish (ProximalPointDef::stop_after), so
+  /// the part overruns by one inner solve: asked after every inner Newton iteration instead, the
+  /// budget also stopped impact steps whose first part reaches the target within that solve.
+  /// On 250-body impacts the lead stage can hand over where nncg still converges at nearly the
+  /// window's rate, and a Newton part that creeps down a few percent per factorisation (each
+  /// costing as much as many nncg sweeps) spends tens of them before the safeguard. A smaller
+  /// budget also stops the parts that reach the target after a short stall, where nncg does not
+  /// reach it; without the gate it stops deep settled piles' first parts, whose nncg stalls
+  /// (falls far less over a window) and whose Newton part from the guess costs more than the
+  /// first part would have.
+  int newton_budget = 4;
+  double newton_budget_gain = 2.0;
+  double newton_budget_lead_fall = 1.75;
   /// nncg sweeps of the safeguard (default 10000; 0 = none): on impacts the Newton parts can
   /// end just above the target on steps that nncg alone reaches only after many thousands of
   /// sweeps, each far cheaper than a Newton iteration.

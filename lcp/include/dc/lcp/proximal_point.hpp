@@ -14,6 +14,7 @@
 // SweepLimit after max_outer outer iterations, or earlier by max_stalls, floor_stalls or progress_window; InvalidInput, with the inner solver's message,
 // when the inner solver refuses the problem (lemke on friction rows). λ is the best iterate
 // seen. `sweeps` counts inner iterations in all.
+#include <functional>
 #include <string>
 
 #include "dc/lcp/lcp_solver.hpp"
@@ -71,6 +72,11 @@ struct ProximalPointDef {
   /// residual can fall below the route's target many inner iterations before they get there.
   /// Costs one natural-residual evaluation of the original problem per inner iteration.
   bool stop_at_target = true;
+  /// Called after every outer iteration with the route's numeric factorisations so far and its
+  /// best residual of the original problem [N]; true stops the route there (default none: the
+  /// route's own stops alone). A caller that runs the route as one part of a larger solve
+  /// stops it by its own work budget; the route returns its best iterate as after any stop.
+  std::function<bool(int factorizations, double best_residual)> stop_after;
   /// Iteration limit of each inner solve (default 200: the first, cold one needs most).
   int inner_iterations = 200;
   /// Inexact proximal point: each inner solve stops at max(inner target, inner_forcing × the

@@ -199,9 +199,12 @@ class PgsColoredSolver final : public LcpSolver {
     double* coloring_s = laps.profile() != nullptr ? &laps.profile()->coloring : nullptr;
     const double coloring_before = coloring_s != nullptr ? *coloring_s : 0.0;
     colored::OrderedColorer* ordered = def_.ordered_colors ? &ordered_ : nullptr;
-    if (why.empty())
-      why = colored::layout(p, colorer_, ordered, setup_threads(p.constraints.size() / W, ranges_before), prep,
-                            coloring_s);
+    if (why.empty()) {
+      // The locality order when the set-up runs on threads (so will the sweeps): on one thread
+      // it costs more than it saves (PgsColoredDef::locality_order).
+      const int threads = setup_threads(p.constraints.size() / W, ranges_before);
+      why = colored::layout(p, colorer_, ordered, threads, prep, coloring_s, def_.locality_order && threads > 1);
+    }
     laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
     if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
     // The permuted λ⁰ (both buffers: padding entries are never written by the scalar kernel),
@@ -281,7 +284,8 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite);
+      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite,
+                                              prep.numbering.slot.data());
     };
     auto fill = [&](int bi) {
       if (bi < nb) {

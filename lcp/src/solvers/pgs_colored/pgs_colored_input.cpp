@@ -40,8 +40,10 @@ inline bool not_finite(double x) {
 
 /// rows_ok's checks of rows [i0, i1) but A's, with or without λ⁰: every condition of each row
 /// evaluated and AND-ed without a branch (a normal row's coupling read at a clamped index, its
-/// verdict chosen by the row's kind), so the loop has no data-dependent jumps.
-template <bool kLambda0>
+/// verdict chosen by the row's kind), so the loop has no data-dependent jumps. kOwned: the
+/// contacts' pass vouches that each coupled row's normal row is a normal row (check_input), so
+/// that read is left out and the loop has no gather.
+template <bool kLambda0, bool kOwned>
 bool rows_ok_plain(const LcpProblem& p, const double* l0, int i0, int i1) {
   const int n = p.rows();
   const double* b = p.b.data();
@@ -49,6 +51,20 @@ bool rows_ok_plain(const LcpProblem& p, const double* l0, int i0, int i1) {
   const double* mu = p.mu.data();
   const double* lo = p.lo.data();
   const double* hi = p.hi.data();
+  if constexpr (kOwned) {  // the conditions as 0/1 integers, OR-ed: a loop the compiler vectorises
+    unsigned bad = 0;
+    for (int i = i0; i < i1; ++i) {
+      const int nr = nrow[i];
+      const double m = mu[i], l = lo[i], h = hi[i];
+      unsigned row = not_finite(b[i]);
+      if constexpr (kLambda0) row |= not_finite(l0[i]);
+      const unsigned coupled = (nr >= n) | !(m >= 0) | not_finite(m);
+      const unsigned bounds = (l != l) | (h != h) | (l > h) | (l == INFINITY) | (h == -INFINITY);
+      row |= nr >= 0 ? coupled : bounds;
+      bad |= row;
+    }
+    return bad == 0;
+  }
   bool ok = true;
   for (int i = i0; i < i1; ++i) {
     bool row = !not_finite(b[i]);
@@ -64,10 +80,14 @@ bool rows_ok_plain(const LcpProblem& p, const double* l0, int i0, int i1) {
   return ok;
 }
 
-/// validate's per-row checks (b, coupling, μ, bounds, A) and λ⁰_i finite, on rows [i0, i1).
-bool rows_ok(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, int i0, int i1) {
-  bool ok = lambda0.size() == 0 ? rows_ok_plain<false>(p, nullptr, i0, i1)
-                                : rows_ok_plain<true>(p, lambda0.data(), i0, i1);
+/// validate's per-row checks (b, coupling, μ, bounds, A) and λ⁰_i finite, on rows [i0, i1);
+/// owned as rows_ok_plain's kOwned.
+bool rows_ok(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, int i0, int i1, bool owned) {
+  const double* l0 = lambda0.data();
+  bool ok = lambda0.size() == 0 ? (owned ? rows_ok_plain<false, true>(p, nullptr, i0, i1)
+                                         : rows_ok_plain<false, false>(p, nullptr, i0, i1))
+                                : (owned ? rows_ok_plain<true, true>(p, l0, i0, i1)
+                                         : rows_ok_plain<true, false>(p, l0, i0, i1));
   const int a_rows = std::min(i1, static_cast<int>(p.A.outerSize()));  // (0 when matrix-free)
   for (int i = i0; i < a_rows && ok; ++i)
     for (SparseRowMatrix::InnerIterator it(p.A, i); it && ok; ++it) ok = std::isfinite(it.value());
@@ -105,8 +125,8 @@ bool rows_increase(const ContactConstraints& cons, int c0, int c1) {
 }
 
 /// No row is claimed by two contacts (for contacts that passed contact_ok): owner[r] = the contact
-/// claiming row r, then every claim reads back its own contact. The contacts own n rows in all
-/// (sizes_ok), so each row is owned once exactly when no row is claimed twice: a row claimed
+/// claiming row r, then every claim reads back its own contact. The contacts claim n rows in all
+/// (check_input counts them), so each row is owned once exactly when no row is claimed twice: a row claimed
 /// twice keeps one writer's index and the other contact sees it. Only claimed rows are read back,
 /// after the claims: stale entries are never read.
 bool claims_unique(const LcpProblem& p, int threads, int chunk, std::vector<int>& owner) {
@@ -145,7 +165,7 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<con
                                        std::vector<int>& owner) {
   auto serial = [&]() -> std::optional<SolveResult> {
     if (auto bad = solvers::check_input(p, lambda0, solver, zeros)) return bad;
-    start = zeros.data();  // (not reached when the checks above are complete)
+    start = lambda0.size() == 0 ? zeros.data() : lambda0.data();  // (the checks passed: λ⁰ is valid as given)
     return std::nullopt;
   };
   if (!sizes_ok(p, lambda0)) return serial();
@@ -155,22 +175,34 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<con
   // their rows increase; where they do not, the claims of claims_unique.
   std::atomic<bool> ok{true};        // cleared by a chunk that failed (an order-free AND)
   std::atomic<bool> increase{true};  // cleared by a chunk whose contacts' rows do not increase
+  std::atomic<long> claimed{0};      // rows the contacts claim (each chunk adds its count)
+  // With contacts, a coupled row's normal row is checked through its contact instead of by the
+  // row scan: when every contact passes contact_ok and the contacts claim n rows, each once, each
+  // row is a contact's normal row (coupling < 0) or its tangent row, coupled (contact_ok) to
+  // that contact's normal row, a normal row. Without contacts the row scan reads it.
+  const bool owned = nc > 0;
   constexpr int kRowChunk = 1024, kContactChunk = 1024;
   const int row_chunks = (n + kRowChunk - 1) / kRowChunk, contact_chunks = (nc + kContactChunk - 1) / kContactChunk;
   calling_thread_team().for_parts(threads, row_chunks + contact_chunks, [&](int part) {
     bool mine = true;
     if (part < row_chunks) {
       const int i = part * kRowChunk, i1 = std::min(n, i + kRowChunk);
-      mine = rows_ok(p, lambda0, i, i1);
+      mine = rows_ok(p, lambda0, i, i1, owned);
       if (lambda0.size() == 0) std::fill(zeros.data() + i, zeros.data() + i1, 0.0);
     } else {
       const int c0 = (part - row_chunks) * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
-      for (int c = c0; c < c1; ++c) mine = mine && contact_ok(p, c);
+      long rows = 0;
+      for (int c = c0; c < c1; ++c) {
+        mine = mine && contact_ok(p, c);
+        rows += p.constraints[c].has_friction() ? 2 : 1;
+      }
+      claimed.fetch_add(rows, std::memory_order_relaxed);
       if (!rows_increase(p.constraints, c0, c1)) increase.store(false, std::memory_order_relaxed);
     }
     if (!mine) ok.store(false, std::memory_order_relaxed);
   });
   if (!ok.load(std::memory_order_relaxed)) return serial();
+  if (owned && claimed.load(std::memory_order_relaxed) != n) return serial();
   if (!increase.load(std::memory_order_relaxed) && !claims_unique(p, threads, kContactChunk, owner)) return serial();
   start = lambda0.size() == 0 ? zeros.data() : lambda0.data();
   return std::nullopt;

@@ -19,8 +19,10 @@ namespace dc::colored {
 /// entries of lambda0, or of `zeros` (resized to the rows and zeroed) when lambda0 is empty — no
 /// copy of λ⁰. That no row is owned
 /// by two contacts follows from their rows increasing in contact order (as the engine numbers
-/// them); otherwise each row's owner is recorded and read back. `owner` is that pass's scratch
-/// (resized to the rows, never cleared: each row is read back only by the contacts claiming it),
+/// them); otherwise each row's owner is recorded and read back. With contacts, a friction row's
+/// coupling is checked through its contact when the contacts claim every row once (counted).
+/// `owner` is that pass's scratch (resized to the rows, never cleared: each row is read back
+/// only by the contacts claiming it),
 /// kept by the caller so that a solve allocates nothing for the checks in steady state.
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, const std::string& solver,
                                        int threads, Eigen::VectorXd& zeros, const double*& start,

@@ -116,7 +116,7 @@ struct RowSet {
 /// Packs contact c into lane `lane` of rs (rows unscaled, see pack_row), its bodies' Δu offsets
 /// into la/lb and store flags into ka/kb, its rows into row_n/row_t; false when one of its rows
 /// acts on another body.
-bool pack_contact(const LcpProblem& p, const std::vector<std::uint8_t>& dynamic, int zero, int c, const RowSet& rs,
+bool pack_contact(const LcpProblem& p, const Prepared& out, int zero, int c, const RowSet& rs,
                   std::int32_t* la, std::int32_t* lb, std::uint8_t* ka, std::uint8_t* kb, int lane, int* row_n,
                   int* row_t, double* diag_n, double* diag_t) {
   const ContactConstraint& k = p.constraints[c];
@@ -132,10 +132,10 @@ bool pack_contact(const LcpProblem& p, const std::vector<std::uint8_t>& dynamic,
     rs.bt[lane] = rs.mu[lane] = 0.0;
     diag_t[lane] = 1.0;
   }
-  const bool da = dynamic[static_cast<size_t>(first)] != 0;
-  const bool db = second >= 0 && dynamic[static_cast<size_t>(second)] != 0;
-  la[lane] = da ? kStride * first : zero;
-  lb[lane] = db ? kStride * second : zero;
+  const bool da = out.dynamic[static_cast<size_t>(first)] != 0;
+  const bool db = second >= 0 && out.dynamic[static_cast<size_t>(second)] != 0;
+  la[lane] = da ? out.du_entry(first) : zero;
+  lb[lane] = db ? out.du_entry(second) : zero;
   ka[lane] = da ? 1 : 0;
   kb[lane] = db ? 1 : 0;
   row_n[lane] = k.normal_row;
@@ -218,8 +218,8 @@ bool pack_pair_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes,
     const bool db = second >= 0 && dynamic[second] != 0;
     P.mu0[lane] = k0.mu;
     P.mu1[lane] = k1.mu;
-    P.la[lane] = da ? kStride * first : zero;
-    P.lb[lane] = db ? kStride * second : zero;
+    P.la[lane] = da ? out.du_entry(first) : zero;
+    P.lb[lane] = db ? out.du_entry(second) : zero;
     P.ka[lane] = da ? 1 : 0;
     P.kb[lane] = db ? 1 : 0;
     row_of[lane] = k0.normal_row;
@@ -285,8 +285,8 @@ bool fill_pair_lanes(const LcpProblem& p, const Prepared& out, int s0, int lanes
   for (int lane = 0; lane < lanes; ++lane) {
     const int c = out.order[static_cast<size_t>(s0 + lane)];
     const int c1 = out.partner[static_cast<size_t>(c)];
-    bool ok = pack_contact(p, out.dynamic, zero, c, r0, P.la, P.lb, P.ka, P.kb, lane, row_of, row_of + W, dn0, dt0);
-    ok = ok && pack_contact(p, out.dynamic, zero, c1, r1, P.la, P.lb, P.ka, P.kb, lane, row_of + 2 * W,
+    bool ok = pack_contact(p, out, zero, c, r0, P.la, P.lb, P.ka, P.kb, lane, row_of, row_of + W, dn0, dt0);
+    ok = ok && pack_contact(p, out, zero, c1, r1, P.la, P.lb, P.ka, P.kb, lane, row_of + 2 * W,
                             row_of + 3 * W, dn1, dt1);
     if (!ok && failed < 0) failed = c;
     // A_01 = J_0 M⁻¹ J_1ᵀ Δt from the unscaled rows, summed in slot order as "pgs" does.
@@ -312,10 +312,42 @@ void assign_grown(std::vector<int>& v, size_t n, int x) {
   v.assign(n, x);
 }
 
+/// out.numbering for a fresh layout of `bodies` bodies: with locality the bodies numbered again
+/// when their count changed, the numbering is the identity or BodyNumbering::kRenumberEvery
+/// layouts old, and the contacts' key order (returned; nullptr, contact order, while the body
+/// order was local already); without, the numbering of the last
+/// layout if it has as many bodies (any permutation gives the same bits: a serial probe between
+/// threaded solves does not undo it), else slot = body, and nullptr: contact order.
+const int* number(const ContactConstraints& cons, int bodies, bool locality, Prepared& out) {
+  BodyNumbering& n = out.numbering;
+  if (!locality) {
+    if (n.bodies != bodies) {
+      n.slot.resize(static_cast<size_t>(bodies));
+      for (int k = 0; k < bodies; ++k) n.slot[static_cast<size_t>(k)] = k;
+      n.bodies = bodies;
+      n.age = -1;  // (the identity)
+    }
+    return nullptr;
+  }
+  if (n.bodies != bodies || n.age < 0 || ++n.age >= BodyNumbering::kRenumberEvery) {
+    // Where the body order is local already (the Morton internal order: a cut in body index is
+    // about as short as one in the breadth-first numbers), keep it and contact order, which
+    // follows it, and save the key sort.
+    const double identity = cut_share(cons, out.dynamic, bodies, nullptr, n);
+    number_bodies(cons, out.dynamic, bodies, n);
+    n.local_already = identity <= 2.0 * cut_share(cons, out.dynamic, bodies, n.slot.data(), n) + 0.01;
+    if (n.local_already)
+      for (int k = 0; k < bodies; ++k) n.slot[static_cast<size_t>(k)] = k;
+  }
+  if (n.local_already) return nullptr;
+  order_by_key(cons, out.dynamic, bodies, n);
+  return n.order.data();
+}
+
 }  // namespace
 
 std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
-                   Prepared& out, double* coloring_s) {
+                   Prepared& out, double* coloring_s, bool locality) {
   const ContactConstraints& cons = p.constraints;
   if (cons.empty() || cons.rows() != p.rows()) return "no contact constraints";
   const int bodies = static_cast<int>(p.J.cols() / 3) + (p.J.cols() % 3 != 0 ? 1 : 0);
@@ -328,17 +360,21 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   const ContactColoring& col =
       ordered != nullptr ? ordered->color(cons, out.dynamic, partner) : colorer.color(cons, out.dynamic, threads);
   if (coloring_s != nullptr) *coloring_s += thread_cpu_s() - t0;
-  if (col.repeated && col.generation == out.generation && partner == out.partner) {
-    // The colours and pairs of the layout in `out` (same contacts, same order): order, ranges
-    // and sizes stand; the batches are refilled from this problem's J, b and λ⁰.
+  if (col.repeated && col.generation == out.generation && partner == out.partner &&
+      out.numbering.bodies == bodies) {
+    // The colours and pairs of the layout in `out` (same contacts, same order, and a numbering of
+    // as many bodies): order, ranges and sizes stand; the batches are refilled from this
+    // problem's J, b and λ⁰.
     assign_grown(out.failed, out.batches.size() + out.pairs.size(), -1);
     return {};
   }
   out.generation = col.generation;
   out.partner.swap(partner);
+  const int* by_key = number(cons, bodies, locality, out);
   // Lead contacts (single contacts and first points of a pair) per slot: 2·colour for singles,
   // 2·colour + 1 for pairs (a pair takes its first point's colour: its second point has the same
-  // bodies), overflow last; a counting sort keeping contact order inside a slot. With threads:
+  // bodies), overflow last; a counting sort keeping the key order (contact order without
+  // locality) inside a slot. With threads:
   // each thread counts and places one contiguous block of contacts, at offsets that put the
   // blocks of a slot in block order: the stable order, whatever the thread count.
   const int nc = cons.size(), ncol = col.colors;
@@ -366,8 +402,8 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
     int lo = 0, hi = 0;
     range(part, lo, hi);
     int* mine = count.data() + static_cast<size_t>(part) * slots;
-    for (int c = lo; c < hi; ++c)
-      if (part_of[c] != -2) ++mine[slot_of(c)];
+    for (int i = lo; i < hi; ++i)
+      if (const int c = by_key != nullptr ? by_key[i] : i; part_of[c] != -2) ++mine[slot_of(c)];
   });
   // count[part·slots + k] ← the first position of part's contacts of slot k.
   int at = 0;
@@ -384,9 +420,14 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
     int lo = 0, hi = 0;
     range(part, lo, hi);
     int* mine = count.data() + static_cast<size_t>(part) * slots;
-    for (int c = lo; c < hi; ++c)
-      if (part_of[c] != -2) out.order[static_cast<size_t>(mine[slot_of(c)]++)] = c;
+    for (int i = lo; i < hi; ++i)
+      if (const int c = by_key != nullptr ? by_key[i] : i; part_of[c] != -2)
+        out.order[static_cast<size_t>(mine[slot_of(c)]++)] = c;
   });
+  // The overflow set is swept one contact after the other: in contact order, whatever the key.
+  if (by_key != nullptr)
+    for (int k = slots - 2; k < slots; ++k)
+      std::sort(out.order.begin() + start[static_cast<size_t>(k)], out.order.begin() + start[static_cast<size_t>(k) + 1]);
   out.order.resize(static_cast<size_t>(start[static_cast<size_t>(slots)]));
   out.ranges.clear();
   out.slot_of_batch.clear();
@@ -436,7 +477,7 @@ void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& la
     std::fill(diag_t, diag_t + W, 1.0);
     for (int lane = 0; lane < lanes; ++lane) {
       const int c = out.order[static_cast<size_t>(s0 + lane)];
-      if (!pack_contact(p, out.dynamic, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n,
+      if (!pack_contact(p, out, zero, c, rs, B.la, B.lb, B.ka, B.kb, lane, row_of, row_of + W, diag_n,
                         diag_t) &&
           failed < 0)
         failed = c;

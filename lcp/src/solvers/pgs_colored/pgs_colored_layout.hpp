@@ -18,6 +18,7 @@
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 #include "solvers/pgs_colored/coloring/ordered_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
+#include "solvers/pgs_colored/setup/body_numbering.hpp"
 
 namespace dc::colored {
 
@@ -68,15 +69,23 @@ struct Prepared {
   int pair_base = 0;     // first permuted slot of the pair batches (2·W·batches)
   bool j_finite = false;  // every J entry finite (values_finite): the products skip rows with λ_i = 0
   std::uint64_t generation = 0;  // the colouring (ContactColoring::generation) laid out; 0: none
+  /// Body → Δu slot and the contacts' key order (setup/body_numbering.hpp); the identity and
+  /// contact order without locality.
+  BodyNumbering numbering;
+  /// The offset of body k's Δu in du (kStride per slot).
+  [[nodiscard]] int du_entry(int k) const { return kStride * numbering.slot[static_cast<size_t>(k)]; }
 };
 
 /// Orders the contacts by colour and lays out the batches (O(contacts), the colouring and the
 /// counting sort on `threads` threads; the same layout for every thread count). The colours are
-/// `ordered`'s (ordered_coloring.hpp) when it is given, else `colorer`'s. Returns an error (the
-/// reason "pgs" runs instead) when a normal row has bounds other than [0, ∞).
-/// `coloring_s` (timing only): when set, the thread CPU seconds of the colouring are added to it.
+/// `ordered`'s (ordered_coloring.hpp) when it is given, else `colorer`'s. With `locality` the
+/// bodies' Δu slots are their locality numbers and each colour's contacts are in key order
+/// (setup/body_numbering.hpp; the same result bits), else Δu slot = body and contact order.
+/// Returns an error (the reason "pgs" runs instead) when a normal row has bounds other than
+/// [0, ∞). `coloring_s` (timing only): when set, the thread CPU seconds of the colouring are
+/// added to it.
 std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
-                   Prepared& out, double* coloring_s = nullptr);
+                   Prepared& out, double* coloring_s = nullptr, bool locality = true);
 
 /// Fills batch `bi` from the ordered contacts and its 2·W entries of the permuted λ⁰ (lp and
 /// other; 0 for padding); records in out.failed[bi] the first of its contacts whose rows cannot be
@@ -106,8 +115,8 @@ inline void put_lane(const Prepared& out, Batch& B, int* row_of, int lane, int f
   const bool da = out.dynamic[static_cast<size_t>(first)] != 0;
   const bool db = second >= 0 && out.dynamic[static_cast<size_t>(second)] != 0;
   B.mu[lane] = mu;
-  B.la[lane] = da ? kStride * first : out.body_entries;
-  B.lb[lane] = db ? kStride * second : out.body_entries;
+  B.la[lane] = da ? out.du_entry(first) : out.body_entries;
+  B.lb[lane] = db ? out.du_entry(second) : out.body_entries;
   B.ka[lane] = da ? 1 : 0;
   B.kb[lane] = db ? 1 : 0;
   row_of[lane] = rn;

@@ -18,8 +18,9 @@ namespace dc::colored {
 
 namespace {
 
-/// du from jt = Jᵀλ (velocity_change's layout); whether every entry is finite.
-bool scale_to_du(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, double* du) {
+/// du from jt = Jᵀλ (velocity_change's layout: body k at Δu slot slot[k], or k without `slot`);
+/// whether every entry is finite.
+bool scale_to_du(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, double* du, const int* slot = nullptr) {
   // Every entry written once (no zero-fill first): a body's three velocities, 0 for columns past
   // J's and for the padding entry; then the zero body. The finiteness test rides along (no
   // second pass over Δu).
@@ -29,8 +30,9 @@ bool scale_to_du(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, dou
   const double dt = p.dt;
   const int whole = std::min(ncols / 3, bodies);
   std::uint64_t bad = 0;
+  auto entry = [&](int k) { return du + static_cast<size_t>(kStride) * static_cast<size_t>(slot ? slot[k] : k); };
   for (int k = 0; k < whole; ++k) {
-    double* out = du + static_cast<size_t>(kStride) * k;
+    double* out = entry(k);
     const int c = 3 * k;
     out[0] = im[c] * v[c] * dt;
     out[1] = im[c + 1] * v[c + 1] * dt;
@@ -39,7 +41,7 @@ bool scale_to_du(const LcpProblem& p, const Eigen::VectorXd& jt, int bodies, dou
     bad |= not_finite_bit(out[0]) | not_finite_bit(out[1]) | not_finite_bit(out[2]);
   }
   for (int k = whole; k < bodies; ++k) {  // a body with fewer than three columns in J
-    double* out = du + static_cast<size_t>(kStride) * k;
+    double* out = entry(k);
     for (int d = 0; d < 3; ++d) {
       const int c = 3 * k + d;
       out[d] = c < ncols ? im[c] * v[c] * dt : 0.0;
@@ -63,10 +65,10 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 }
 
 bool velocity_change_checked(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, int bodies, double* du,
-                             Eigen::VectorXd& jt, bool& j_finite) {
+                             Eigen::VectorXd& jt, bool& j_finite, const int* slot) {
   jt.setZero(p.J.cols());
   j_finite = transpose_rows_checked(p, lambda.data(), jt.data());
-  return scale_to_du(p, jt, bodies, du);
+  return scale_to_du(p, jt, bodies, du, slot);
 }
 
 namespace {

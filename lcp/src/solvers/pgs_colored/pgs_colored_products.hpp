@@ -27,9 +27,10 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 /// velocity_change with values_finite(p)'s test folded into its pass over J: j_finite ←
 /// values_finite(p), and the rows with λ_i = ±0 are skipped in each chunk of rows whose entries
 /// are all finite (transpose_rows_checked). The bits of velocity_change(p, λ, bodies, du, jt,
-/// values_finite(p)) with one pass over J's values instead of two.
+/// values_finite(p)) with one pass over J's values instead of two. With `slot` (a permutation of
+/// the bodies, the solver's Δu slots) body k's entries are at du[kStride·slot[k] + d].
 bool velocity_change_checked(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, int bodies, double* du,
-                             Eigen::VectorXd& jt, bool& j_finite);
+                             Eigen::VectorXd& jt, bool& j_finite, const int* slot = nullptr);
 
 /// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to
 /// lcp_problem.cpp's velocity_change for every thread count. On one thread: J's rows in order

@@ -225,9 +225,9 @@ class SweepTeam {
   WakeWord wake_;
 };
 
-/// The key of a batch: the Δu offset of its first lane's lower dynamic body (4·body; the
-/// contacts of a colour are in contact order, so the keys grow along a range after its wall
-/// contacts).
+/// The key of a batch: the Δu offset of its first lane's lower dynamic body (kStride·slot; with
+/// the locality order the contacts of a colour are in the order of that slot, so the keys grow
+/// along a range: setup/body_numbering.hpp).
 template <class B>
 int batch_key(const B& batch) {
   return std::min(batch.la[0], batch.lb[0]);

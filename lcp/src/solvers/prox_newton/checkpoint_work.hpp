@@ -1,7 +1,7 @@
 #pragma once
 // prox-newton's work at a checkpoint (ProxNewtonSolver::checkpoint_stats): the solve's statistics
 // when the caller's on_checkpoint sees an iterate, the part still in progress included (the lead
-// stage's nncg run, a newton-sparse or proximal-point finish, which add their counts to the
+// stage's nncg run, a newton-sparse or proximal-point finish, the safeguard's nncg run, which add their counts to the
 // solve's statistics only when they return).
 #include <Eigen/Core>
 
@@ -15,13 +15,15 @@ namespace dc::solvers::prox {
 /// A part that calls checkpoints at its own iteration count: what those iterations are, and
 /// where its factorisations so far are read.
 struct InFlightPart {
-  enum class Kind { Lead, NewtonSparse, ProximalPoint };
+  enum class Kind { Lead, NewtonSparse, ProximalPoint, Safeguard };
   Kind kind = Kind::Lead;
   const NewtonSparseSolver* finish = nullptr;  ///< NewtonSparse: its last_stats() count during a solve
   const ProximalPointStats* route = nullptr;   ///< ProximalPoint: filled as its outer iterations end
 
   /// nncg sweeps, no factorisation.
   static InFlightPart lead() { return {}; }
+  /// nncg sweeps of the safeguard (safeguard_sweeps), no factorisation.
+  static InFlightPart safeguard() { return {Kind::Safeguard, nullptr, nullptr}; }
   /// Newton iterations of the hard problem (finish_newton).
   static InFlightPart newton_sparse(const NewtonSparseSolver& s) { return {Kind::NewtonSparse, &s, nullptr}; }
   /// Newton iterations of the proximal-point route (finish_newton, proximal_finish_newton).
@@ -72,6 +74,9 @@ class CheckpointWork {
         at_.factorizations += ns.factorizations;
         break;
       }
+      case InFlightPart::Kind::Safeguard:
+        at_.safeguard_sweeps += iterations_;
+        break;
       case InFlightPart::Kind::ProximalPoint:
         at_.finish_newton += iterations_;
         at_.proximal_finish_newton += iterations_;

@@ -19,6 +19,7 @@
 #include "solvers/prox_newton/frozen_subproblem.hpp"
 #include "solvers/prox_newton/lead/lead_rate.hpp"
 #include "solvers/prox_newton/lead/lead_stage.hpp"
+#include "solvers/prox_newton/newton_budget.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"
@@ -75,6 +76,10 @@ void check_def(const ProxNewtonDef& d) {
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
+  if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)) ||
+      !(d.newton_budget_lead_fall >= 0))
+    throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1, "
+                          "newton_budget_lead_fall >= 0");
   if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
@@ -110,7 +115,8 @@ class ProxRun {
   ProxRun(const LcpProblem& p, const ProxNewtonDef& def, const SolverOptions& o, ProxParts& s,
           ProxNewtonStats& st, ProxNewtonStats& at_checkpoint, bool body, bool convex)
       : p_(p), def_(def), o_(o), s_(s), st_(st), body_(body), convex_(convex), target_(status_target(p, o)),
-        work_(st, at_checkpoint), cp_options_(work_.watch(o)), cp_(cp_options_) {}
+        work_(st, at_checkpoint), cp_options_(work_.watch(o)), cp_(cp_options_),
+        budget_(def.newton_budget, def.newton_budget_gain) {}
 
   SolveResult run(Eigen::VectorXd lambda) {
     project_feasible(p_, lambda);
@@ -130,8 +136,13 @@ class ProxRun {
     if (body_ && lead(guess) && by_ == Finisher::Lead && !reached(best_res_, target_)) {
       if (best_res_ * def_.lead_gain <= guess_res) {
         lambda = best_;
+        budget_.begin(lead_fall_ >= def_.newton_budget_lead_fall, st_.factorizations);
         newton_part(lambda, false);
+        budget_.end();
       }
+      // A first Newton part out of its budget (newton_budget): nncg from the best iterate so
+      // far, and the Newton part from the guess only when that missed the target too.
+      if (budget_.spent() && !reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
       if (!reached(best_res_, target_)) {
         const Eigen::VectorXd kept = best_;
         const double kept_res = best_res_;
@@ -181,15 +192,21 @@ class ProxRun {
   /// Iterations so far, as the caller's checkpoints and SolveResult::sweeps count them: the lead
   /// stage's sweeps, then Newton iterations.
   [[nodiscard]] int done() const { return st_.lead_sweeps + st_.newton + st_.finish_newton; }
+  /// The caller's checkpoints count the safeguard's sweeps too, in the order the parts ran.
+  [[nodiscard]] int mark() const { return done() + st_.safeguard_sweeps; }
 
   /// Keeps λ when it beats the best hard residual; true when it did.
   bool consider(const Eigen::VectorXd& lambda, double res, Finisher by) {
+    budget_.progress(res, st_.factorizations);
     if (!(res < best_res_)) return false;
     best_ = lambda;
     best_res_ = res;
     by_ = by;
     return true;
   }
+
+  /// True once the first Newton part ran out of its budget (newton_budget.hpp).
+  bool over_budget() { return budget_.over(st_.factorizations); }
 
   /// How a run of passes is steered (outer).
   struct Passes {
@@ -249,7 +266,7 @@ class ProxRun {
     std::vector<char> last_modes, finished_modes;
     FrozenSubproblem sub;
     for (int k = 0; k < def_.max_outer && !reached(best_res_, target_) && budget_left() > 0 &&
-                    st_.newton - newton0 < ps.iterations;
+                    st_.newton - newton0 < ps.iterations && !over_budget();
          ++k) {
       ++st_.outer;
       freeze(p_, lambda, shift * diag, sub);
@@ -288,7 +305,7 @@ class ProxRun {
                              : std::min(def_.max_shift, shift * def_.shrink);
       last_shift_ = shift;
       stalls = progressed ? 0 : stalls + 1;
-      cp_.after(done(), best_);
+      cp_.after(mark(), best_);
       if (reached(best_res_, target_) || stalls >= ps.max_stalls) break;
       std::vector<char> modes = hard_modes(p_, lambda);
       if (modes == last_modes && modes != finished_modes && def_.finish_iterations > 0) {
@@ -309,15 +326,17 @@ class ProxRun {
         cone_passes(lambda);
       else
         outer(lambda, frozen_passes());
-      if (body_ && def_.body_finish && !reached(best_res_, target_)) {
+      if (body_ && def_.body_finish && !reached(best_res_, target_) && !over_budget()) {
         lambda = best_;
         outer(lambda, coupled_passes());
       }
     } else {
       finish_with_newton_sparse(lambda, budget_left());
     }
-    if (!reached(best_res_, target_) && def_.proximal_finish) finish_by_proximal_point(!last);
-    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0) finish_by_pivoting();
+    if (!reached(best_res_, target_) && def_.proximal_finish && !over_budget())
+      finish_by_proximal_point(!last);
+    if (last && !reached(best_res_, target_) && def_.pivot_rows > 0 && !over_budget())
+      finish_by_pivoting();
   }
 
   /// The lead stage (ProxNewtonDef::lead_sweeps; lead_stage.hpp): one nncg run from λ while
@@ -337,7 +356,7 @@ class ProxRun {
     st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {
       consider(x, hard_residual(p_, x), Finisher::Lead);
       return best_res_;
-    });
+    }, &lead_fall_);
     return true;
   }
 
@@ -374,7 +393,7 @@ class ProxRun {
     st_.line_search_steps += co.line_search_steps;
     consider(co.best, co.best_residual, Finisher::Prox);
     lambda = best_;
-    cp_.after(done(), best_);
+    cp_.after(mark(), best_);
   }
 
   /// At most `iterations` newton-sparse iterations on the hard problem from λ.
@@ -412,6 +431,13 @@ class ProxRun {
     if (windowed && def_.lead_initial_shift > 0) pd.initial_shift = def_.lead_initial_shift;
     if (from_guess_) apply_guess_route(def_, lead_route_floor_, pd);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
+    if (budget_.on()) {
+      const int base = st_.factorizations;
+      pd.stop_after = [this, base](int factorizations, double best) {
+        budget_.progress(best, base + factorizations);
+        return budget_.over(base + factorizations);
+      };
+    }
     SolverOptions fo;
     fo.tolerance = target_;
     fo.record_theta = false;
@@ -454,7 +480,7 @@ class ProxRun {
   /// (checkpoint_work.hpp).
   void forward_checkpoints(SolverOptions& fo, const InFlightPart& part) {
     if (!o_.on_checkpoint) return;
-    const int base = done();
+    const int base = mark();
     for (const int k : o_.checkpoints)
       if (k > base) fo.checkpoints.push_back(k - base);
     fo.on_checkpoint = [this, base, part](int it, const Eigen::VectorXd& lambda) {
@@ -474,6 +500,8 @@ class ProxRun {
     constexpr int kChunk = 100;
     while (st_.safeguard_sweeps < def_.safeguard_sweeps && !reached(best_res_, target_)) {
       so.max_sweeps = std::min(kChunk, def_.safeguard_sweeps - st_.safeguard_sweeps);
+      so.checkpoints.clear();
+      forward_checkpoints(so, InFlightPart::safeguard());
       const SolveResult r = nncg->solve(p_, lambda, so);
       st_.safeguard_sweeps += std::max(r.sweeps, 1);
       if (!r.lambda.allFinite()) break;
@@ -499,6 +527,8 @@ class ProxRun {
   int part_start_ = 0;     // Newton iterations before the current Newton part
   double lead_route_floor_ = 0.0;  // δ's failure floor the windowed proximal finish ended with
   bool from_guess_ = false;        // in the Newton part from the guess after the first part
+  double lead_fall_ = 1.0;         // the lead stage's LeadRate::window_fall()
+  NewtonBudget budget_;            // the first Newton part's (newton_budget)
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;

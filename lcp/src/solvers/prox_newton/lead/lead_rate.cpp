@@ -18,6 +18,13 @@ bool LeadRate::go_on(double best, double target, int done, int chunk, int cap) {
   return best * gain_ <= best_[static_cast<size_t>(n - 1 - window_)];
 }
 
+double LeadRate::window_fall() const {
+  const int n = static_cast<int>(best_.size());
+  if (n == 0 || window_ == 0 || !(best_.back() > 0)) return 1.0;
+  if (n <= window_) return std::pow(start_ / best_.back(), static_cast<double>(window_) / n);
+  return best_[static_cast<size_t>(n - 1 - window_)] / best_.back();
+}
+
 bool LeadRate::rate_reaches(double best, double target, int done, int chunk, int cap) const {
   const int n = static_cast<int>(best_.size());
   const double before = n == 1 ? start_ : best_[static_cast<size_t>(n - 2)];

@@ -35,6 +35,11 @@ class LeadRate {
   ///     target is reached within `cap` sweeps.
   [[nodiscard]] bool go_on(double best, double target, int done, int chunk, int cap);
 
+  /// The fall of the best hard residual over the last `window` chunks (the best then over the
+  /// best now; within the first window, the fall from the start scaled to a window); 1 before
+  /// the first chunk or with the rate rule (window = 0).
+  [[nodiscard]] double window_fall() const;
+
  private:
   [[nodiscard]] bool rate_reaches(double best, double target, int done, int chunk, int cap) const;
 

@@ -9,7 +9,7 @@
 namespace dc::solvers::prox {
 
 int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const LeadStageDef& def, SolverOptions options,
-                   const LeadConsider& consider) {
+                   const LeadConsider& consider, double* fall) {
   options.record_theta = false;
   options.tolerance = 0.0;
   options.max_sweeps = def.cap;
@@ -25,6 +25,7 @@ int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const Lea
   const SolveResult r = nncg_solve(p, lambda, options, &watch);
   // A run that ended between looks (the cap, a non-finite sweep): its last finite iterate.
   if (r.sweeps != looked && r.lambda.size() == p.rows() && r.lambda.allFinite()) consider(r.lambda);
+  if (fall) *fall = rate.window_fall();
   return std::max(r.sweeps, 1);
 }
 

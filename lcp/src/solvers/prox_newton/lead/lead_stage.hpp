@@ -27,8 +27,9 @@ using LeadConsider = std::function<double(const Eigen::VectorXd& lambda)>;
 /// Runs the stage from λ. `options` carries the caller's checkpoints (numbered from the stage's
 /// first sweep); its max_sweeps, tolerance and record_theta are set here. Every look, and the
 /// last iterate when the run ended between looks, goes through `consider`. Returns the sweeps
-/// made (at least 1, as a run that broke down in its first sweep still cost one).
+/// made (at least 1, as a run that broke down in its first sweep still cost one). With `fall`,
+/// LeadRate::window_fall() at the end is written there.
 int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const LeadStageDef& def, SolverOptions options,
-                   const LeadConsider& consider);
+                   const LeadConsider& consider, double* fall = nullptr);
 
 }  // namespace dc::solvers::prox
