@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "dc/core/work_team.hpp"
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
@@ -111,6 +112,53 @@ TEST(SettledStepAllocations, StepsWithATwoThreadSolveAllocateNothingWhileTheRows
   const auto solver = make_pgs_colored(def);
   ASSERT_TRUE(solver->threads_forced());
   expect_no_allocation_within_capacity(*solver);
+#endif
+}
+
+TEST(SettledStepAllocations, TwoThreadWorldStepsAllocateOnlyTheReportWhileTheRowsFitTheKeptStorage) {
+#ifndef DC_COUNT_ALLOCATIONS
+  GTEST_SKIP() << "allocation counting is off in sanitizer builds";
+#else
+  // World::step with forced 2-thread pgs-colored: collide's job lists and their merge, the
+  // assembly's jobs, the warm start and the solve all run on the team. As in
+  // expect_no_allocation_within_capacity: a settled pile set back to a falling state, whose
+  // rows stay within what the kept storage held; a step then allocates only the report's λ.
+  PgsColoredDef pd;
+  pd.threads = 2;
+  pd.min_batches_per_thread = 0;
+  const auto solver = make_pgs_colored(pd);
+  ASSERT_TRUE(solver->threads_forced());
+  const WorldDef def = stress::scaled_seed_pile(2500);  // ≥ 1024 bodies per thread: threaded stages
+  SolverOptions o;
+  o.max_sweeps = 20;
+  o.record_theta = false;
+  World falling(def);
+  for (int s = 0; s < 60; ++s) falling.step(*solver, o, World::WarmStart::PreviousLambda);
+  World w(def);
+  int most_rows = 0;
+  for (int s = 0; s < 300; ++s) most_rows = std::max(most_rows, w.step(*solver, o, World::WarmStart::PreviousLambda).rows);
+  w.bodies() = falling.bodies();
+  for (int s = 0; s < 3; ++s) w.step(*solver, o, World::WarmStart::PreviousLambda);
+  std::vector<TeamRunTrace> runs;  // the team's threaded runs (reserved: tracing allocates nothing)
+  runs.reserve(100000);
+  calling_thread_team().set_trace(&runs);
+  int previous_rows = w.problem().rows(), changed = 0, checked = 0;
+  for (int s = 0; s < 40; ++s) {
+    const std::size_t runs0 = runs.size();
+    int rows = 0;
+    const long allocations = allocations_of([&] { rows = w.step(*solver, o, World::WarmStart::PreviousLambda).rows; });
+    EXPECT_GE(runs.size() - runs0, 4U) << "step " << s << " ran its stages serially";
+    if (rows <= most_rows && rows > 0) {
+      EXPECT_EQ(allocations, 1) << "step " << s << ": " << rows << " rows (" << previous_rows << " before, at most "
+                                << most_rows << " held)";
+      changed += rows != previous_rows;
+      ++checked;
+    }
+    previous_rows = rows;
+  }
+  calling_thread_team().set_trace(nullptr);
+  EXPECT_GE(checked, 30);
+  EXPECT_GE(changed, 10);  // the row count changed from step to step
 #endif
 }
 

@@ -213,6 +213,22 @@ std::span<ContactConstraint> size_problem(int nb, int nc, int rows, int nnz, con
   return con;
 }
 
+/// A job's tally in assemble_jobs (its rows and J entries, then its first row and entry) and
+/// assemble_direct (whether its contacts broke the premises); both: its first contact failing
+/// add()'s checks. One cache line each: the jobs of different threads write their own.
+struct alignas(64) JobTally {
+  int rows = 0, nnz = 0, bad = -1;
+  bool broken = false;
+};
+
+/// `jobs` fresh tallies in storage kept by the calling thread (the thread of the World whose
+/// step assembles), so a threaded assembly allocates nothing once it has held that many jobs.
+std::span<JobTally> job_tallies(int jobs) {
+  thread_local std::vector<JobTally> kept;
+  kept.assign(static_cast<size_t>(jobs), JobTally{});
+  return kept;
+}
+
 /// assemble_lcp on `threads` threads in `jobs` (> 1) jobs.
 void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
                    LcpProblem& out, int threads, int jobs) {
@@ -223,13 +239,9 @@ void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, con
   // second writes each job's contacts, rows and J entries from its offsets, numbered as add()
   // numbers them, so the problem is the same for every job count. A contact failing add()'s
   // checks is skipped and the first one is thrown after the run.
-  struct alignas(64) Count {
-    int rows = 0, nnz = 0, bad = -1;
-  };
-  std::vector<Count> many(static_cast<size_t>(jobs));
-  Count* const count = many.data();
+  JobTally* const count = job_tallies(jobs).data();
   run_parts(threads, jobs, [&](int part) {
-    Count& k = count[part];
+    JobTally& k = count[part];
     const int c_end = static_cast<int>(part_begin(nc, jobs, part + 1));
     for (int c = static_cast<int>(part_begin(nc, jobs, part)); c < c_end; ++c) {
       const Contact& ct = contacts[static_cast<size_t>(c)];
@@ -242,7 +254,7 @@ void assemble_jobs(const BodyState& s, const std::vector<Contact>& contacts, con
   });
   int rows = 0, nnz = 0;
   for (int q = 0; q < jobs; ++q) {  // totals; count[q] becomes job q's first row and entry
-    Count& k = count[q];
+    JobTally& k = count[q];
     rows += std::exchange(k.rows, rows);
     nnz += std::exchange(k.nnz, nnz);
   }
@@ -282,17 +294,13 @@ bool assemble_direct(const BodyState& s, const std::vector<Contact>& contacts, c
       std::partition_point(contacts.begin(), contacts.end(), [](const Contact& ct) { return ct.body_a < 0; }) -
       contacts.begin());
   const std::span<ContactConstraint> con = size_problem(nb, nc, r * nc, r * (6 * nc - 3 * walls), def, out);
-  struct alignas(64) Job {
-    int bad = -1;  // first contact failing add()'s checks
-    bool broken = false;
-  };
-  std::vector<Job> job(static_cast<size_t>(jobs));
+  const std::span<JobTally> job = job_tallies(jobs);
   run_parts(threads, jobs, [&](int part) {
     fill_inv_mass(s, static_cast<int>(part_begin(nb, jobs, part)), static_cast<int>(part_begin(nb, jobs, part + 1)), out);
     const int c0 = static_cast<int>(part_begin(nc, jobs, part));
     const int c_end = static_cast<int>(part_begin(nc, jobs, part + 1));
     int row = r * c0, at = r * (6 * c0 - 3 * std::min(c0, walls));
-    Job& mine = job[static_cast<size_t>(part)];
+    JobTally& mine = job[static_cast<size_t>(part)];
     for (int c = c0; c < c_end; ++c) {
       prefetch_body_b(s, contacts, c, c_end);
       const Contact& ct = contacts[static_cast<size_t>(c)];
@@ -303,9 +311,9 @@ bool assemble_direct(const BodyState& s, const std::vector<Contact>& contacts, c
       if (!write_contact(s, ct, def, con[static_cast<size_t>(c)], row, at, out) && mine.bad < 0) mine.bad = c;
     }
   });
-  for (const Job& q : job)
+  for (const JobTally& q : job)
     if (q.broken) return false;
-  for (const Job& q : job)
+  for (const JobTally& q : job)
     if (q.bad >= 0) {
       const ContactConstraint& kc = con[static_cast<size_t>(q.bad)];
       ContactConstraints::check(q.bad, kc.body_a, kc.body_b, kc.mu);

@@ -185,7 +185,7 @@ void InternalBodyOrder::rows_to_internal(const ContactConstraints& external, con
 }
 
 void InternalBodyOrder::rows_to_external(const ContactConstraints& internal, const std::vector<int>& internal_of,
-                                         const Eigen::VectorXd& lambda_internal, Eigen::VectorXd& lambda_external) {
+                                         const Eigen::Ref<const Eigen::VectorXd>& lambda_internal, Eigen::VectorXd& lambda_external) {
   lambda_external.resize(internal.rows());
   Eigen::Index row = 0;  // external rows: contact by contact, normal then tangent
   for (const int c : internal_of) {

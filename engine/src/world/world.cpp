@@ -28,6 +28,16 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+/// Empties a job's contact list for refilling, first making room when it holds less than 1/8
+/// (+ 16) above its last size: a list copied with a World holds only its contacts, and a job's
+/// count moves a little from step to step, so without headroom it would reallocate on the steps
+/// it grows. Room for 3/2 of the last size + 64 then keeps the growths geometric.
+void clear_with_headroom(std::vector<Contact>& list) {
+  const std::size_t n = list.size();
+  list.clear();
+  if (list.capacity() < n + n / 8 + 16) list.reserve(n + n / 2 + 64);
+}
+
 }  // namespace
 
 World::World(WorldDef def) : def_(std::move(def)), inflow_(def_) {
@@ -198,7 +208,7 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
     }
     for (int w = 3; w >= 0; --w) {
       std::vector<Contact>& list = body_jobs == 1 ? out : part_walls_[static_cast<size_t>(4 * p + w)];
-      if (body_jobs > 1) list.clear();
+      if (body_jobs > 1) clear_with_headroom(list);
       if (!def_.world.walls[static_cast<size_t>(w)]) continue;
       add_wall_contacts(probes_.data(), lo, hi, kWalls[w], def_.world.width, def_.world.height, list);
     }
@@ -214,7 +224,7 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
   const bool pairs_direct = body_jobs == 1 && pair_jobs == 1;  // appended to `out` after its walls
   run_parts(threads, pair_jobs, [&](int p) {
     std::vector<Contact>& list = pairs_direct ? out : part_pairs_[static_cast<size_t>(p)];
-    if (!pairs_direct) list.clear();
+    if (!pairs_direct) clear_with_headroom(list);
     InternalBodyOrder::Spread& spread = part_spread_[static_cast<size_t>(p)];
     const long q_end = part_begin(np, pair_jobs, p + 1);
     // The spread: the order's decay measure (pair_spread, on the fly).
@@ -232,13 +242,19 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
 void World::merge_contact_lists(int threads, int body_jobs, int pair_jobs, std::vector<Contact>& out) {
   // The lists in key order: walls top..left, each in job order (or already in `out`), then the
   // pairs in job order; copied to their places by jobs of ranges of `out`.
-  std::vector<const std::vector<Contact>*> lists;
+  // The pointers and offsets are kept members: no allocation once they hold the most lists.
+  std::vector<const std::vector<Contact>*>& lists = merge_lists_;
+  lists.clear();
   if (body_jobs > 1)
     for (int w = 3; w >= 0; --w)
       for (int p = 0; p < body_jobs; ++p) lists.push_back(&part_walls_[static_cast<size_t>(4 * p + w)]);
   for (int p = 0; p < pair_jobs; ++p) lists.push_back(&part_pairs_[static_cast<size_t>(p)]);
-  std::vector<size_t> at(lists.size() + 1, out.size());
+  std::vector<size_t>& at = merge_at_;
+  at.assign(lists.size() + 1, out.size());
   for (size_t i = 0; i < lists.size(); ++i) at[i + 1] = at[i] + lists[i]->size();
+  // Room to grow (resize of an empty vector would allocate the count exactly, again at each
+  // step the contacts grow): the serial path's push_back grows geometrically alike.
+  if (out.capacity() < at.back()) out.reserve(at.back() + at.back() / 2);
   out.resize(at.back());
   copy_lists_by_ranges<Contact>(threads, lists, at, out);
 }
@@ -393,22 +409,27 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
   rep.profile.warmstart_ms = ms_since(t0);
 
   t0 = Clock::now();
-  // λ into kept storage (no allocation in the solve while the rows fit it); the report's own copy.
+  // λ into kept storage (no allocation in the solve while the rows fit it); the report's λ is
+  // its own vector (one allocation a step: the report leaves with the caller).
   solver.solve_into(solved, lambda0, options, solved_lambda_, rep.solve);
-  rep.solve.lambda = Eigen::VectorXd(solved_lambda_);
   rep.profile.solve_ms = ms_since(t0);
   if (rep.solve.status == SolveStatus::InvalidInput)
     throw InvalidArgument("World::step: the solver rejected the problem: " + rep.solve.message);
 
   t0 = Clock::now();
   if (def_.solver.relax_sweeps > 0 && rep.rows > 0) {
+    rep.solve.lambda = Eigen::VectorXd(solved_lambda_);
     relax_solve(solver, options, solved, rep);
+    if (internal_) {  // the report's λ in the rows of problem() (external contact order)
+      InternalBodyOrder::rows_to_external(solved.constraints, public_order(), rep.solve.lambda, internal_lambda_);
+      rep.solve.lambda.swap(internal_lambda_);
+    }
   } else {
-    integrate_solved(rep.solve.lambda);
-  }
-  if (internal_) {  // the report's λ in the rows of problem() (external contact order)
-    InternalBodyOrder::rows_to_external(solved.constraints, public_order(), rep.solve.lambda, internal_lambda_);
-    rep.solve.lambda.swap(internal_lambda_);
+    integrate_solved(solved_lambda_);
+    if (internal_)  // the report's λ in the rows of problem() (external contact order)
+      InternalBodyOrder::rows_to_external(solved.constraints, public_order(), solved_lambda_, rep.solve.lambda);
+    else
+      rep.solve.lambda = Eigen::VectorXd(solved_lambda_);
   }
   rep.profile.integrate_ms = ms_since(t0);
   return rep;

@@ -65,7 +65,7 @@ class InternalBodyOrder {
   /// are numbered as assembly numbers them (contact by contact: normal row, then the tangent
   /// row when μ > 0), so the external constraints need not exist.
   static void rows_to_external(const ContactConstraints& internal, const std::vector<int>& internal_of,
-                               const Eigen::VectorXd& lambda_internal, Eigen::VectorXd& lambda_external);
+                               const Eigen::Ref<const Eigen::VectorXd>& lambda_internal, Eigen::VectorXd& lambda_external);
 
   /// Decay measure of the order: Σ |i − j| over the pair contacts (i, j internal body indices)
   /// and their number. Right after a re-sort the pairs in contact are mostly neighbours in

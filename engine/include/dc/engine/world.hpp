@@ -186,6 +186,8 @@ class World {
   /// collide_circles' contacts per job: 4 wall lists per job of bodies, one per job of pairs.
   std::vector<std::vector<Contact>> part_walls_, part_pairs_;
   std::vector<InternalBodyOrder::Spread> part_spread_;
+  std::vector<const std::vector<Contact>*> merge_lists_;  ///< merge_contact_lists' lists in key order
+  std::vector<std::size_t> merge_at_;                     ///< and their offsets in the merged list
   /// integrate() on the problem the stages solved (internal rows when there is an order).
   void integrate_solved(const Eigen::Ref<const Eigen::VectorXd>& lambda, const Eigen::VectorXd* position_lambda = nullptr);
   /// The relax pass (`[solver] relax_sweeps`, world/parts/relax_pass.hpp) after the solve in
