@@ -61,11 +61,11 @@ void check_sizes(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& l
 /// Δt · Jᵀ λ into `impulse` after the size checks (integrate_bodies' contact impulse), then
 /// done(c0, c1) on ranges of whole bodies' columns as they become final (contact_impulse).
 void checked_contact_impulse(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, double dt, int n,
-                             Eigen::VectorXd& impulse, ColumnsDone done, int threads = 1) {
+                             Eigen::VectorXd& impulse, ColumnsDone done) {
   check_sizes(p, lambda, n);
   // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
   if (p.rows() > 0) {
-    contact_impulse(p.J, lambda, dt, impulse, done, threads);
+    contact_impulse(p.J, lambda, dt, impulse, done);
   } else {
     impulse = Eigen::VectorXd::Zero(3 * n);
     done(0, 3 * n);
@@ -76,7 +76,7 @@ void checked_contact_impulse(const LcpProblem& p, const Eigen::Ref<const Eigen::
 
 void integrate_bodies_keeping(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 g, double dt, BodyState& s,
                               Eigen::VectorXd& impulse, std::vector<Vec2>& x0, std::vector<Vec2>& v0,
-                              std::vector<double>& w0, int threads) {
+                              std::vector<double>& w0) {
   if (!s.shapes.empty()) {
     x0 = s.position;
     v0 = s.velocity;
@@ -103,7 +103,7 @@ void integrate_bodies_keeping(const LcpProblem& p, const Eigen::Ref<const Eigen:
       s.angle[i] += dt * s.omega[i];
     }
   };
-  checked_contact_impulse(p, lambda, dt, n, impulse, update, threads);
+  checked_contact_impulse(p, lambda, dt, n, impulse, update);
 }
 
 void integrate_bodies(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 g, double dt, BodyState& s,

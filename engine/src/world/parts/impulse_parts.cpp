@@ -1,7 +1,5 @@
 #include "world/parts/impulse_parts.hpp"
 
-#include "world/parts/step_parts.hpp"
-
 namespace dc {
 namespace {
 
@@ -24,7 +22,7 @@ void add_rows(const SparseRowMatrix& J, const double* lambda, int rows, double* 
 }  // namespace
 
 void contact_impulse(const SparseRowMatrix& J, const Eigen::Ref<const Eigen::VectorXd>& lambda, double dt, Eigen::VectorXd& impulse,
-                     ColumnsDone done, int threads) {
+                     ColumnsDone done) {
   const int cols = static_cast<int>(J.cols());
   if (!J.isCompressed()) {
     impulse = J.transpose() * lambda * dt;
@@ -33,12 +31,7 @@ void contact_impulse(const SparseRowMatrix& J, const Eigen::Ref<const Eigen::Vec
     add_rows(J, lambda.data(), static_cast<int>(J.rows()), impulse.data());
     impulse *= dt;
   }
-  // The bodies' updates are independent: jobs of whole bodies (3 columns each), the same numbers.
-  const int bodies = cols / 3;
-  const int jobs = parts_for(threads, bodies, 2, 4096);
-  run_parts(threads, jobs, [&](int p) {
-    done(3 * static_cast<int>(part_begin(bodies, jobs, p)), 3 * static_cast<int>(part_begin(bodies, jobs, p + 1)));
-  });
+  done(0, cols);
 }
 
 }  // namespace dc

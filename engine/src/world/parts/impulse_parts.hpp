@@ -21,11 +21,10 @@ class ColumnsDone {
 
 /// impulse ← Δt · Jᵀλ [N·s] as Eigen evaluates `J.transpose() * lambda * dt` (each dof's sum
 /// accumulated from 0 in row order, then multiplied by Δt: the same numbers), then done(0,
-/// J.cols()) by jobs of whole bodies on `threads` threads (done must write only its bodies). The
-/// product on the calling thread: a split by blocks of columns, which keeps every sum's order,
+/// J.cols()). On the calling thread: a split by blocks of columns, which keeps every sum's order,
 /// has each thread read every row that reaches its block, and those reads cost more than the
 /// serial product's scatter.
 void contact_impulse(const SparseRowMatrix& J, const Eigen::Ref<const Eigen::VectorXd>& lambda, double dt, Eigen::VectorXd& impulse,
-                     ColumnsDone done, int threads = 1);
+                     ColumnsDone done);
 
 }  // namespace dc

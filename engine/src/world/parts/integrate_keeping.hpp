@@ -15,12 +15,11 @@ namespace dc {
 
 /// integrate_bodies(problem, λ, g, Δt, bodies, impulse), bit for bit, leaving x, v, ω
 /// of before the step in previous_position, previous_velocity, previous_omega (resized to the
-/// body count; their old contents are reused storage); the bodies' updates by jobs of bodies on
-/// `threads` threads. Circle-only states are integrated from
+/// body count; their old contents are reused storage). Circle-only states are integrated from
 /// the swapped arrays; with a shape table the state is copied first and integrated in place.
 void integrate_bodies_keeping(const LcpProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 gravity, double dt,
                               BodyState& bodies, Eigen::VectorXd& impulse,
                               std::vector<Vec2>& previous_position, std::vector<Vec2>& previous_velocity,
-                              std::vector<double>& previous_omega, int threads = 1);
+                              std::vector<double>& previous_omega);
 
 }  // namespace dc
