@@ -84,6 +84,9 @@ void check_def(const ProxNewtonDef& d) {
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
                           "body_finish_iterations must be >= 0");
+  if (d.local_pivot_rows < 0 || d.local_pivot_rings < 0 || d.local_pivot_rounds < 0 || !positive(d.local_pivot_threshold))
+    throw InvalidArgument("prox-newton: local_pivot_rows, local_pivot_rings and local_pivot_rounds must be >= 0, "
+                          "local_pivot_threshold finite and > 0");
 }
 
 /// x in %.3g form (residuals span many decades).
@@ -163,6 +166,7 @@ class ProxRun {
       newton_part(lambda, true);
     }
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
+    if (!reached(best_res_, target_) && def_.local_pivot_rows > 0) finish_by_local_pivoting();
     SolveResult r;
     r.lambda = best_;
     r.sweeps = done();
@@ -474,6 +478,45 @@ class ProxRun {
     }
   }
 
+  /// The local pivoting finish (ProxNewtonDef::local_pivot_rows): rounds of Lemke on the
+  /// violators' neighbourhood with the rest fixed at the best iterate, each followed by the
+  /// newton-sparse polish from Lemke's point (its own iteration count: the Newton parts' budget
+  /// may be spent) and nncg from the best iterate (another safeguard_sweeps at most). A round
+  /// that does not lower the best hard residual ends the finish.
+  void finish_by_local_pivoting() {
+    if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
+    constexpr int kPolishIterations = 30;  // as finish_by_pivoting
+    for (int round = 0; round < def_.local_pivot_rounds && !reached(best_res_, target_); ++round) {
+      const std::vector<int> rows = local_pivot_rows(*assembled_, best_, def_.local_pivot_threshold * best_res_,
+                                                     def_.local_pivot_rings, def_.local_pivot_rows);
+      if (rows.empty()) return;
+      const PivotOutcome po = local_pivot_solve(*assembled_, best_, rows, def_.local_pivot_shift);
+      st_.pivots += po.pivots;
+      if (!po.lambda) return;
+      const double before = best_res_;
+      Eigen::VectorXd lambda = *po.lambda;
+      consider(lambda, hard_residual(p_, lambda), Finisher::Pivot);
+      if (!reached(best_res_, target_)) {
+        SolverOptions fo;
+        fo.max_sweeps = kPolishIterations;
+        fo.tolerance = target_;
+        fo.record_theta = false;
+        forward_checkpoints(fo, InFlightPart::newton_sparse(s_.finish));
+        const SolveResult r = s_.finish.solve(*assembled_, lambda, fo);
+        const NewtonSparseStats fs = s_.finish.last_stats();
+        st_.finish_newton += fs.iterations;
+        st_.factorizations += fs.factorizations;
+        st_.analyses += fs.analyses;
+        if (consider(r.lambda, hard_residual(p_, r.lambda), Finisher::NewtonSparse)) by_ = Finisher::Pivot;
+      }
+      if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) {
+        const int cap = st_.safeguard_sweeps + def_.safeguard_sweeps;
+        safeguard(cap);
+      }
+      if (!(best_res_ < before)) return;
+    }
+  }
+
   /// The caller's checkpoints still ahead, numbered from the iterations done so far, for a
   /// finish's own iteration count: its iterate at each reaches the caller through cp_.
   /// `part` says what the finish's iterations are and where its factorisations so far are read
@@ -491,15 +534,17 @@ class ProxRun {
   }
 
   /// nncg from the best iterate in chunks until the target or safeguard_sweeps.
-  void safeguard() {
+  void safeguard() { safeguard(def_.safeguard_sweeps); }
+  /// ... until st_.safeguard_sweeps reaches `cap`.
+  void safeguard(int cap) {
     const auto nncg = make_nncg();
     SolverOptions so;
     so.record_theta = false;
     so.tolerance = 0.0;
     Eigen::VectorXd lambda = best_;
     constexpr int kChunk = 100;
-    while (st_.safeguard_sweeps < def_.safeguard_sweeps && !reached(best_res_, target_)) {
-      so.max_sweeps = std::min(kChunk, def_.safeguard_sweeps - st_.safeguard_sweeps);
+    while (st_.safeguard_sweeps < cap && !reached(best_res_, target_)) {
+      so.max_sweeps = std::min(kChunk, cap - st_.safeguard_sweeps);
       so.checkpoints.clear();
       forward_checkpoints(so, InFlightPart::safeguard());
       const SolveResult r = nncg->solve(p_, lambda, so);
