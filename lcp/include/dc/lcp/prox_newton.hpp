@@ -332,10 +332,9 @@ struct ProxNewtonDef {
   /// closed contacts that should open, sticking rows that should slide) and `local_pivot_rings`
   /// rings of the contacts coupled to them through A make a subproblem with the other rows
   /// fixed at the best iterate; Lemke solves it, 30 newton-sparse iterations (their own count,
-  /// outside options.max_sweeps) polish the whole problem from there, and the nncg safeguard
-  /// runs once more (safeguard_sweeps) from the best iterate; at most local_pivot_rounds rounds,
-  /// each from the best iterate, ending at the first that does not lower the best residual. A
-  /// ring is added only while the subproblem's split LCP has at most local_pivot_rows unknowns
+  /// outside options.max_sweeps) polish the whole problem from there; at most
+  /// local_pivot_rounds rounds, each from the best iterate, ending at the first that does not
+  /// lower the best residual. A ring is added only while the subproblem's split LCP has at most local_pivot_rows unknowns
   /// (the last ring in part, most-coupled contacts first; the dense tableau costs O(N²) memory
   /// and work per pivot). 0 = no local finish (the default: opt-in).
   int local_pivot_rows = 0;

@@ -400,11 +400,12 @@ class ProxRun {
     cp_.after(mark(), best_);
   }
 
-  /// At most `iterations` newton-sparse iterations on the hard problem from λ.
-  void finish_with_newton_sparse(Eigen::VectorXd& lambda, int iterations) {
+  /// At most `iterations` newton-sparse iterations on the hard problem from λ, within the Newton
+  /// part's budget unless `own_count`.
+  void finish_with_newton_sparse(Eigen::VectorXd& lambda, int iterations, bool own_count = false) {
     if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
     SolverOptions fo;
-    fo.max_sweeps = std::min(iterations, budget_left());
+    fo.max_sweeps = own_count ? iterations : std::min(iterations, budget_left());
     fo.tolerance = target_;
     fo.record_theta = false;
     if (fo.max_sweeps <= 0) return;
@@ -481,8 +482,8 @@ class ProxRun {
   /// The local pivoting finish (ProxNewtonDef::local_pivot_rows): rounds of Lemke on the
   /// violators' neighbourhood with the rest fixed at the best iterate, each followed by the
   /// newton-sparse polish from Lemke's point (its own iteration count: the Newton parts' budget
-  /// may be spent) and nncg from the best iterate (another safeguard_sweeps at most). A round
-  /// that does not lower the best hard residual ends the finish.
+  /// may be spent; nncg once more from there did not lower the residual on the impact steps
+  /// measured, so none runs). A round that does not lower the best hard residual ends the finish.
   void finish_by_local_pivoting() {
     if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
     constexpr int kPolishIterations = 30;  // as finish_by_pivoting
@@ -497,21 +498,9 @@ class ProxRun {
       Eigen::VectorXd lambda = *po.lambda;
       consider(lambda, hard_residual(p_, lambda), Finisher::Pivot);
       if (!reached(best_res_, target_)) {
-        SolverOptions fo;
-        fo.max_sweeps = kPolishIterations;
-        fo.tolerance = target_;
-        fo.record_theta = false;
-        forward_checkpoints(fo, InFlightPart::newton_sparse(s_.finish));
-        const SolveResult r = s_.finish.solve(*assembled_, lambda, fo);
-        const NewtonSparseStats fs = s_.finish.last_stats();
-        st_.finish_newton += fs.iterations;
-        st_.factorizations += fs.factorizations;
-        st_.analyses += fs.analyses;
-        if (consider(r.lambda, hard_residual(p_, r.lambda), Finisher::NewtonSparse)) by_ = Finisher::Pivot;
-      }
-      if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) {
-        const int cap = st_.safeguard_sweeps + def_.safeguard_sweeps;
-        safeguard(cap);
+        const double lemke = best_res_;
+        finish_with_newton_sparse(lambda, kPolishIterations, true);
+        if (best_res_ < lemke) by_ = Finisher::Pivot;
       }
       if (!(best_res_ < before)) return;
     }
@@ -534,17 +523,15 @@ class ProxRun {
   }
 
   /// nncg from the best iterate in chunks until the target or safeguard_sweeps.
-  void safeguard() { safeguard(def_.safeguard_sweeps); }
-  /// ... until st_.safeguard_sweeps reaches `cap`.
-  void safeguard(int cap) {
+  void safeguard() {
     const auto nncg = make_nncg();
     SolverOptions so;
     so.record_theta = false;
     so.tolerance = 0.0;
     Eigen::VectorXd lambda = best_;
     constexpr int kChunk = 100;
-    while (st_.safeguard_sweeps < cap && !reached(best_res_, target_)) {
-      so.max_sweeps = std::min(kChunk, cap - st_.safeguard_sweeps);
+    while (st_.safeguard_sweeps < def_.safeguard_sweeps && !reached(best_res_, target_)) {
+      so.max_sweeps = std::min(kChunk, def_.safeguard_sweeps - st_.safeguard_sweeps);
       so.checkpoints.clear();
       forward_checkpoints(so, InFlightPart::safeguard());
       const SolveResult r = nncg->solve(p_, lambda, so);
