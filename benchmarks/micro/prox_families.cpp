@@ -87,6 +87,11 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "safeguard_sweeps") d.safeguard_sweeps = static_cast<int>(x);
   else if (key == "newton_budget") d.newton_budget = static_cast<int>(x);
   else if (key == "pivot_rows") d.pivot_rows = static_cast<int>(x);
+  else if (key == "local_pivot_rows") d.local_pivot_rows = static_cast<int>(x);
+  else if (key == "local_pivot_rings") d.local_pivot_rings = static_cast<int>(x);
+  else if (key == "local_pivot_threshold") d.local_pivot_threshold = x;
+  else if (key == "local_pivot_shift") d.local_pivot_shift = x;
+  else if (key == "local_pivot_rounds") d.local_pivot_rounds = static_cast<int>(x);
   else if (key == "newton_budget_lead_fall") d.newton_budget_lead_fall = x;
   else if (key == "newton_budget_gain") d.newton_budget_gain = x;
   else if (key == "guess_route_from_floor") d.guess_route_from_floor = x != 0;

@@ -63,6 +63,7 @@ TEST(ProxNewtonPivot, ReachesTheTargetWhenTheOtherPartsAreCutShort) {
   d.finish_iterations = 0;
   d.proximal_finish = false;
   d.safeguard_sweeps = 0;
+  d.local_pivot_rows = 0;
   ProxNewtonDef without = d;
   without.pivot_rows = 0;
   int pivoted = 0;

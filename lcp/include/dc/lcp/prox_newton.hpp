@@ -30,7 +30,8 @@
 // above the target, with `body_finish` coupled body-space passes from the best iterate, then
 // the proximal-point route from the best iterate (`proximal_finish`); then, on
 // small contact problems, Lemke's pivoting on the problem as a standard LCP (`pivot_rows`),
-// then nncg as the safeguard. SolveResult::message names the part that finished ("prox",
+// then nncg as the safeguard, then (opt-in, `local_pivot_rows`) Lemke on the worst rows'
+// contacts and their neighbours with the rest fixed. SolveResult::message names the part that finished ("prox",
 // "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish" or "nncg
 // safeguard") and the counts; `sweeps` counts
 // Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
@@ -324,6 +325,23 @@ struct ProxNewtonDef {
   /// friction row) has at most this many unknowns (default 1200: its dense tableau is O(N²)
   /// memory and work per pivot; 0 = none).
   int pivot_rows = 1200;
+
+  /// After the safeguard, when the target is still not reached: the local pivoting finish
+  /// (pivot_finish.hpp, local_pivot_solve). The contacts with a row whose natural-map residual
+  /// exceeds local_pivot_threshold times the best iterate's (the rows whose modes block Newton:
+  /// closed contacts that should open, sticking rows that should slide) and `local_pivot_rings`
+  /// rings of the contacts coupled to them through A make a subproblem with the other rows
+  /// fixed at the best iterate; Lemke solves it, 30 newton-sparse iterations (their own count,
+  /// outside options.max_sweeps) polish the whole problem from there; at most
+  /// local_pivot_rounds rounds, each from the best iterate, ending at the first that does not
+  /// lower the best residual. A ring is added only while the subproblem's split LCP has at most local_pivot_rows unknowns
+  /// (the last ring in part, most-coupled contacts first; the dense tableau costs O(N²) memory
+  /// and work per pivot). 0 = no local finish (the default: opt-in).
+  int local_pivot_rows = 0;
+  int local_pivot_rings = 2;           ///< rings of coupled contacts around the violators
+  double local_pivot_threshold = 0.9;  ///< violator: row residual above this × the worst row's
+  int local_pivot_rounds = 3;          ///< rounds at most
+  double local_pivot_shift = 0.0;      ///< proximal δ of the subproblem, relative to max A_ii
 };
 
 /// Work of one solve.

@@ -1,9 +1,11 @@
 #include "solvers/prox_newton/pivot_finish.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "solvers/exact/lemke_pivoting.hpp"
@@ -146,6 +148,134 @@ PivotOutcome pivot_solve(const LcpProblem& p) {
     lambda[i] = p.is_friction_row(i) ? s * (z[r] - z[r + 1]) : s * z[r];
   }
   if (lambda.allFinite()) out.lambda = std::move(lambda);
+  return out;
+}
+
+namespace {
+
+/// The contacts of p: each row's normal row (itself for a normal row) and each normal row's
+/// rows (itself first, then its friction rows ascending).
+struct Contacts {
+  std::vector<int> head;                   ///< per row: its contact's normal row
+  std::vector<std::vector<int>> members;   ///< per normal row: the contact's rows
+};
+
+Contacts contacts(const LcpProblem& p) {
+  Contacts c;
+  const auto n = static_cast<size_t>(p.rows());
+  c.head.resize(n);
+  c.members.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    c.head[i] = p.is_friction_row(static_cast<int>(i)) ? p.normal_row[i] : static_cast<int>(i);
+    c.members[static_cast<size_t>(c.head[i])].push_back(static_cast<int>(i));
+  }
+  return c;
+}
+
+/// Split-LCP unknowns of a contact: 1 for the normal row, 3 per friction row.
+int split_size(const std::vector<int>& members) { return 1 + 3 * (static_cast<int>(members.size()) - 1); }
+
+}  // namespace
+
+std::vector<int> local_pivot_rows(const LcpProblem& p, const Eigen::VectorXd& lambda, double threshold, int rings,
+                                  int max_size) {
+  if (pivot_lcp_size(p) < 0) return {};
+  const int n = p.rows();
+  const Contacts c = contacts(p);
+  const Eigen::VectorXd w = p.A * lambda + Eigen::VectorXd(p.b);
+  std::vector<char> in(static_cast<size_t>(n), 0);  // per normal row: contact in the set
+  std::vector<int> ring;                              // the normal rows added last
+  int size = 0;
+  for (int i = 0; i < n; ++i) {
+    const double r = std::abs(lambda[i] - std::clamp(lambda[i] - w[i], p.lower(i, lambda), p.upper(i, lambda)));
+    const auto h = static_cast<size_t>(c.head[static_cast<size_t>(i)]);
+    if (!(r > threshold) || in[h]) continue;
+    in[h] = 1;
+    ring.push_back(static_cast<int>(h));
+    size += split_size(c.members[h]);
+  }
+  if (size > max_size) return {};
+  for (int k = 0; k < rings && !ring.empty(); ++k) {
+    std::vector<int> next;
+    int grown = size;
+    for (const int h : ring)
+      for (const int i : c.members[static_cast<size_t>(h)])
+        for (SparseRowMatrix::InnerIterator it(p.A, i); it; ++it) {
+          const auto g = static_cast<size_t>(c.head[static_cast<size_t>(it.col())]);
+          if (in[g]) continue;
+          in[g] = 2;  // provisional: this ring
+          next.push_back(static_cast<int>(g));
+          grown += split_size(c.members[g]);
+        }
+    const bool fits = grown <= max_size;
+    for (const int g : next) in[static_cast<size_t>(g)] = fits ? 1 : 0;
+    if (!fits) {
+      // The ring in part: its contacts nearest the set first (most coupled entries), ties by row.
+      std::vector<std::pair<int, int>> order;  // (−couplings, normal row)
+      for (const int g : next) {
+        int links = 0;
+        for (const int i : c.members[static_cast<size_t>(g)])
+          for (SparseRowMatrix::InnerIterator it(p.A, i); it; ++it)
+            links += in[static_cast<size_t>(c.head[static_cast<size_t>(it.col())])] == 1;
+        order.emplace_back(-links, g);
+      }
+      std::sort(order.begin(), order.end());
+      for (const auto& [links, g] : order) {
+        const int add = split_size(c.members[static_cast<size_t>(g)]);
+        if (size + add > max_size) break;
+        in[static_cast<size_t>(g)] = 1;
+        size += add;
+      }
+      break;
+    }
+    size = grown;
+    ring = std::move(next);
+  }
+  std::vector<int> rows;
+  for (int i = 0; i < n; ++i)
+    if (in[static_cast<size_t>(c.head[static_cast<size_t>(i)])]) rows.push_back(i);
+  return rows;
+}
+
+PivotOutcome local_pivot_solve(const LcpProblem& p, const Eigen::VectorXd& lambda, const std::vector<int>& rows,
+                               double shift) {
+  const int n = p.rows(), m = static_cast<int>(rows.size());
+  const double delta = shift * (n > 0 ? p.A.diagonal().maxCoeff() : 0.0);
+  std::vector<int> local(static_cast<size_t>(n), -1);
+  for (int k = 0; k < m; ++k) local[static_cast<size_t>(rows[static_cast<size_t>(k)])] = k;
+  // b_S + A_{S,S̄} λ_S̄: the fixed rows' impulses enter as a constant velocity [m/s].
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::VectorXd bs(m);
+  for (int k = 0; k < m; ++k) {
+    const int i = rows[static_cast<size_t>(k)];
+    double bi = p.b[i];
+    for (SparseRowMatrix::InnerIterator it(p.A, i); it; ++it) {
+      const int lj = local[static_cast<size_t>(it.col())];
+      if (lj >= 0)
+        entries.emplace_back(k, lj, it.value());
+      else
+        bi += it.value() * lambda[it.col()];
+    }
+    entries.emplace_back(k, k, delta);
+    bs[k] = bi - delta * lambda[i];
+  }
+  SparseRowMatrix As(m, m);
+  As.setFromTriplets(entries.begin(), entries.end());
+  LcpProblem sub = LcpProblem::standard(As, bs);
+  for (int k = 0; k < m; ++k) {
+    const int i = rows[static_cast<size_t>(k)];
+    sub.lo[k] = p.lo[i];
+    sub.hi[k] = p.hi[i];
+    sub.mu[k] = p.mu[i];
+    const int nr = p.normal_row[static_cast<size_t>(i)];
+    sub.normal_row[static_cast<size_t>(k)] = nr < 0 ? -1 : local[static_cast<size_t>(nr)];
+    if (nr >= 0 && local[static_cast<size_t>(nr)] < 0) return {std::nullopt, 0, "rows not closed under coupling"};
+  }
+  PivotOutcome out = pivot_solve(sub);
+  if (!out.lambda) return out;
+  Eigen::VectorXd full = lambda;
+  for (int k = 0; k < m; ++k) full[rows[static_cast<size_t>(k)]] = (*out.lambda)[k];
+  out.lambda = std::move(full);
   return out;
 }
 

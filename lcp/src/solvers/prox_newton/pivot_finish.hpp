@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dc/lcp/lcp_problem.hpp"
 
@@ -32,5 +33,24 @@ int pivot_lcp_size(const LcpProblem& p);
 
 /// Lemke on the split LCP of p (assembled A), at most 50·N + 10 pivots.
 PivotOutcome pivot_solve(const LcpProblem& p);
+
+/// The rows of a local pivoting finish around λ: every contact with a row whose natural-map
+/// residual |λ_i − mid(lo_i, λ_i − w_i, hi_i)| exceeds `threshold` [N] (the violators), then
+/// `rings` times the contacts coupled to the set through A (sharing a body), each ring added
+/// whole only while the set keeps at most `max_size` split-LCP unknowns. Ascending; empty when
+/// there is no violator or p is not a contact problem (pivot_lcp_size < 0).
+std::vector<int> local_pivot_rows(const LcpProblem& p, const Eigen::VectorXd& lambda, double threshold, int rings,
+                                  int max_size);
+
+/// Lemke on the subproblem of `rows` (closed under normal/friction coupling, ascending) with
+/// every other row fixed at λ: A_SS λ_S + (b_S + A_{S,S̄} λ_S̄). On a Solved end, the returned
+/// λ is the given one with λ_S replaced by Lemke's answer. On an active set that blocks Newton
+/// (closed contacts that should open, sticking rows that should slide) the violators and their
+/// neighbours are few, so this pivots on a tableau far smaller than the whole problem's.
+/// With shift > 0 the subproblem is the proximal one around λ_S, (A_SS + δI) λ_S + (… − δ λ_S⁰),
+/// δ = shift·max A_ii: its solution stays near λ_S⁰ where A_SS is singular (many contacts per
+/// body), so the fixed rows' velocities move little.
+PivotOutcome local_pivot_solve(const LcpProblem& p, const Eigen::VectorXd& lambda, const std::vector<int>& rows,
+                               double shift);
 
 }  // namespace dc::solvers::prox

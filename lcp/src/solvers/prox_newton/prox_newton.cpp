@@ -84,6 +84,9 @@ void check_def(const ProxNewtonDef& d) {
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
                           "body_finish_iterations must be >= 0");
+  if (d.local_pivot_rows < 0 || d.local_pivot_rings < 0 || d.local_pivot_rounds < 0 || !positive(d.local_pivot_threshold))
+    throw InvalidArgument("prox-newton: local_pivot_rows, local_pivot_rings and local_pivot_rounds must be >= 0, "
+                          "local_pivot_threshold finite and > 0");
 }
 
 /// x in %.3g form (residuals span many decades).
@@ -163,6 +166,7 @@ class ProxRun {
       newton_part(lambda, true);
     }
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
+    if (!reached(best_res_, target_) && def_.local_pivot_rows > 0) finish_by_local_pivoting();
     SolveResult r;
     r.lambda = best_;
     r.sweeps = done();
@@ -396,11 +400,12 @@ class ProxRun {
     cp_.after(mark(), best_);
   }
 
-  /// At most `iterations` newton-sparse iterations on the hard problem from λ.
-  void finish_with_newton_sparse(Eigen::VectorXd& lambda, int iterations) {
+  /// At most `iterations` newton-sparse iterations on the hard problem from λ, within the Newton
+  /// part's budget unless `own_count`.
+  void finish_with_newton_sparse(Eigen::VectorXd& lambda, int iterations, bool own_count = false) {
     if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
     SolverOptions fo;
-    fo.max_sweeps = std::min(iterations, budget_left());
+    fo.max_sweeps = own_count ? iterations : std::min(iterations, budget_left());
     fo.tolerance = target_;
     fo.record_theta = false;
     if (fo.max_sweeps <= 0) return;
@@ -471,6 +476,33 @@ class ProxRun {
       const double before = best_res_;
       finish_with_newton_sparse(lambda, kPolishIterations);
       if (best_res_ < before) by_ = Finisher::Pivot;
+    }
+  }
+
+  /// The local pivoting finish (ProxNewtonDef::local_pivot_rows): rounds of Lemke on the
+  /// violators' neighbourhood with the rest fixed at the best iterate, each followed by the
+  /// newton-sparse polish from Lemke's point (its own iteration count: the Newton parts' budget
+  /// may be spent; nncg once more from there did not lower the residual on the impact steps
+  /// measured, so none runs). A round that does not lower the best hard residual ends the finish.
+  void finish_by_local_pivoting() {
+    if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
+    constexpr int kPolishIterations = 30;  // as finish_by_pivoting
+    for (int round = 0; round < def_.local_pivot_rounds && !reached(best_res_, target_); ++round) {
+      const std::vector<int> rows = local_pivot_rows(*assembled_, best_, def_.local_pivot_threshold * best_res_,
+                                                     def_.local_pivot_rings, def_.local_pivot_rows);
+      if (rows.empty()) return;
+      const PivotOutcome po = local_pivot_solve(*assembled_, best_, rows, def_.local_pivot_shift);
+      st_.pivots += po.pivots;
+      if (!po.lambda) return;
+      const double before = best_res_;
+      Eigen::VectorXd lambda = *po.lambda;
+      consider(lambda, hard_residual(p_, lambda), Finisher::Pivot);
+      if (!reached(best_res_, target_)) {
+        const double lemke = best_res_;
+        finish_with_newton_sparse(lambda, kPolishIterations, true);
+        if (best_res_ < lemke) by_ = Finisher::Pivot;
+      }
+      if (!(best_res_ < before)) return;
     }
   }
 
