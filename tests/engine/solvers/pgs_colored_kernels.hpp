@@ -5,6 +5,7 @@
 // with pgs; the bit-equality those comparisons assert; and a box pyramid's contact problem.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,17 @@ inline void expect_bit_equal(const SolveResult& a, const SolveResult& b, const s
   for (Eigen::Index i = 0; i < a.lambda.size(); ++i) ASSERT_EQ(a.lambda[i], b.lambda[i]) << what << " row " << i;
   ASSERT_EQ(a.theta, b.theta) << what;
   EXPECT_EQ(a.sweeps, b.sweeps) << what;
+}
+
+/// Bit-equal λ, θ, sweeps, status and residual (memcmp: the same bits, ±0 and NaN included).
+inline void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::string& what) {
+  ASSERT_EQ(a.lambda.size(), b.lambda.size()) << what;
+  EXPECT_EQ(0, std::memcmp(a.lambda.data(), b.lambda.data(), sizeof(double) * static_cast<size_t>(a.lambda.size())))
+      << what;
+  EXPECT_EQ(a.theta, b.theta) << what;
+  EXPECT_EQ(a.sweeps, b.sweeps) << what;
+  EXPECT_EQ(a.status, b.status) << what;
+  EXPECT_EQ(0, std::memcmp(&a.residual, &b.residual, sizeof(double))) << what << ": " << a.residual << " vs " << b.residual;
 }
 
 /// A box pyramid (base `base`, two-point manifolds on every face, friction μ) after `steps`

@@ -19,6 +19,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "engine/fixed_sweeps.hpp"
+#include "pgs_colored_kernels.hpp"
 #include "lcp/solver_test_problems.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/setup/body_numbering.hpp"
@@ -26,16 +27,6 @@
 
 namespace dc {
 namespace {
-
-void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::string& what) {
-  ASSERT_EQ(a.lambda.size(), b.lambda.size()) << what;
-  EXPECT_EQ(0, std::memcmp(a.lambda.data(), b.lambda.data(), sizeof(double) * static_cast<size_t>(a.lambda.size())))
-      << what;
-  EXPECT_EQ(a.theta, b.theta) << what;
-  EXPECT_EQ(a.sweeps, b.sweeps) << what;
-  EXPECT_EQ(a.status, b.status) << what;
-  EXPECT_EQ(0, std::memcmp(&a.residual, &b.residual, sizeof(double))) << what;
-}
 
 /// A world of `bodies` circles in a Gaussian pile (creation order: indices spread at random over
 /// it), or of boxes in a shuffled grid (two-point manifolds), after `steps` steps of pgs.
@@ -108,7 +99,7 @@ struct Solvers {
     const SolveResult one = all[0]->solve(p, l0, test::fixed_sweeps(sweeps));
     ASSERT_EQ(one.status, SolveStatus::SweepLimit) << what << ": " << one.message;
     for (size_t i = 1; i < all.size(); ++i)
-      expect_same_bits(one, all[i]->solve(p, l0, test::fixed_sweeps(sweeps)), what + ", " + names[i]);
+      test::expect_same_bits(one, all[i]->solve(p, l0, test::fixed_sweeps(sweeps)), what + ", " + names[i]);
   }
 };
 
@@ -132,7 +123,9 @@ TEST(PgsColoredLocality, SolvesHaveTheSameBitsWithAndWithoutIt) {
   // contact order), walls, contacts without friction.
   for (const auto& [bodies, contacts] : std::vector<std::pair<int, int>>{{12, 500}, {80, 300}}) {
     const LcpProblem p = test::random_contact(bodies, contacts, true, rng, 0.5, 4);
-    if (contacts == 500) ASSERT_TRUE(has_serial_range(laid_out(p, true))) << "the test wants an overflow set";
+    if (contacts == 500) {
+      ASSERT_TRUE(has_serial_range(laid_out(p, true))) << "the test wants an overflow set";
+    }
     Eigen::VectorXd l0(p.rows());
     for (int i = 0; i < p.rows(); ++i) l0[i] = rng.uniform(-1, 3);
     s.expect_same(p, l0, 6, "random " + std::to_string(bodies) + " bodies");

@@ -14,6 +14,7 @@
 #include "dc/engine/world.hpp"
 #include "lcp/solver_test_problems.hpp"
 #include "engine/fixed_sweeps.hpp"
+#include "pgs_colored_kernels.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -22,17 +23,6 @@ namespace dc {
 namespace {
 
 SolverOptions sweeps(int k) { return test::fixed_sweeps(k); }
-
-/// Bit-equal λ, θ, sweeps, status and residual (memcmp: the same bits, ±0 and NaN included).
-void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::string& what) {
-  ASSERT_EQ(a.lambda.size(), b.lambda.size()) << what;
-  EXPECT_EQ(0, std::memcmp(a.lambda.data(), b.lambda.data(), sizeof(double) * static_cast<size_t>(a.lambda.size())))
-      << what;
-  EXPECT_EQ(a.theta, b.theta) << what;
-  EXPECT_EQ(a.sweeps, b.sweeps) << what;
-  EXPECT_EQ(a.status, b.status) << what;
-  EXPECT_EQ(0, std::memcmp(&a.residual, &b.residual, sizeof(double))) << what << ": " << a.residual << " vs " << b.residual;
-}
 
 SolveResult solve_on(const LcpProblem& p, const Eigen::VectorXd& l0, int threads, int k) {
   PgsColoredDef d;
@@ -128,8 +118,8 @@ TEST(PgsColoredThreads, RandomProblemsGiveTheSameBitsOnEveryThreadCount) {
         for (int threads : {2, 3, 7}) {
           const std::string what = std::to_string(threads) + " threads, seed " + std::to_string(seed);
           const SolveResult r = solve_on(p, l0, threads, k);
-          expect_same_bits(one, r, what);
-          if (threads == 2) expect_same_bits(r, solve_on(p, l0, threads, k), what + ", rerun");
+          test::expect_same_bits(one, r, what);
+          if (threads == 2) test::expect_same_bits(r, solve_on(p, l0, threads, k), what + ", rerun");
         }
       }
     }
@@ -142,8 +132,8 @@ TEST(PgsColoredThreads, PileGivesTheSameBitsOnEveryThreadCount) {
   const double serial = natural_residual(p, one.lambda);
   EXPECT_EQ(0, std::memcmp(&one.residual, &serial, sizeof serial));
   for (int threads : {2, 3, 7}) {
-    expect_same_bits(one, solve_on(p, Eigen::VectorXd(), threads, 30), std::to_string(threads) + " threads");
-    expect_same_bits(solve_on(p, one.lambda, 1, 0), solve_on(p, one.lambda, threads, 0),
+    test::expect_same_bits(one, solve_on(p, Eigen::VectorXd(), threads, 30), std::to_string(threads) + " threads");
+    test::expect_same_bits(solve_on(p, one.lambda, 1, 0), solve_on(p, one.lambda, threads, 0),
                      std::to_string(threads) + " threads, 0 sweeps");
   }
 }
@@ -169,7 +159,7 @@ TEST(PgsColoredThreads, ChunkedColouringGivesTheSameBitsOnEveryThreadCount) {
   for (int threads : {2, 3, 7}) {
     const std::vector<SolveResult> r = run(threads);
     for (size_t k = 0; k < r.size(); ++k)
-      expect_same_bits(one[k], r[k], std::to_string(threads) + " threads, solve " + std::to_string(k));
+      test::expect_same_bits(one[k], r[k], std::to_string(threads) + " threads, solve " + std::to_string(k));
   }
 }
 
@@ -197,7 +187,7 @@ TEST(PgsColoredThreads, RowsStoredOutOfBodyOrderGiveTheSameBits) {
   const SolveResult one = solve_on(p, Eigen::VectorXd(), 1, 20);
   const double serial = natural_residual(p, one.lambda);
   EXPECT_EQ(0, std::memcmp(&one.residual, &serial, sizeof serial));
-  for (int threads : {2, 7}) expect_same_bits(one, solve_on(p, Eigen::VectorXd(), threads, 20), std::to_string(threads) + " threads");
+  for (int threads : {2, 7}) test::expect_same_bits(one, solve_on(p, Eigen::VectorXd(), threads, 20), std::to_string(threads) + " threads");
 }
 
 TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepLoop) {
@@ -222,7 +212,7 @@ TEST(PgsColoredThreads, CheckpointsToleranceAndCallbackErrorsInTheThreadedSweepL
     for (int threads : {2, 3, 7}) {
       std::vector<Eigen::VectorXd> seen;
       const std::string what = std::to_string(threads) + " threads, tolerance " + std::to_string(tol);
-      expect_same_bits(one, run(threads, tol, seen), what);
+      test::expect_same_bits(one, run(threads, tol, seen), what);
       ASSERT_EQ(seen.size(), seen_one.size()) << what;
       for (size_t k = 0; k < seen.size(); ++k) EXPECT_EQ(seen[k], seen_one[k]) << what << ", checkpoint " << k;
     }
@@ -301,7 +291,7 @@ TEST(PgsColoredThreads, PacedSolvesGiveTheSameBitsAsOneThread) {
   for (int k = 0; k < 8; ++k) {
     const LcpProblem& p = k % 3 == 2 ? b : a;
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
-    expect_same_bits(s1->solve(p, zero, sweeps(30)), s2->solve(p, zero, sweeps(30)), "solve " + std::to_string(k));
+    test::expect_same_bits(s1->solve(p, zero, sweeps(30)), s2->solve(p, zero, sweeps(30)), "solve " + std::to_string(k));
   }
 }
 
