@@ -126,15 +126,10 @@ Eigen::VectorXd lcp_apply(const LcpProblem& p, const Eigen::VectorXd& lambda) {
   return p.A * lambda;
 }
 
-namespace {
-
-/// Row i of the natural map, λ_i − mid(lo_i, λ_i − w_i, hi_i), with the effective bounds.
 double natural_map_row(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w, int i) {
   const double l = p.lower(i, lambda), h = p.upper(i, lambda);
   return lambda[i] - std::clamp(lambda[i] - w[i], l, std::max(l, h));
 }
-
-}  // namespace
 
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda) {
   const Eigen::VectorXd w = lcp_velocity(p, lambda);

@@ -67,8 +67,11 @@ TEST(ProxNewtonLocalPivot, FixesTheWrongContactsWithTheRestFixed) {
     ASSERT_TRUE(po.lambda.has_value()) << po.why;
     EXPECT_LE(natural_residual(c->p, *po.lambda), 1e-8 * scale(c->p)) << "seed " << seed;
     // Rows outside the subproblem keep their values.
-    for (int i = 0; i < c->p.rows(); ++i)
-      if (!std::binary_search(rows.begin(), rows.end(), i)) EXPECT_EQ((*po.lambda)[i], c->wrong[i]);
+    for (int i = 0; i < c->p.rows(); ++i) {
+      if (!std::binary_search(rows.begin(), rows.end(), i)) {
+        EXPECT_EQ((*po.lambda)[i], c->wrong[i]);
+      }
+    }
   }
   EXPECT_GE(cases, 3);
 }

@@ -87,6 +87,10 @@ void project_feasible(const LcpProblem& problem, Eigen::Ref<Eigen::VectorXd> lam
 /// Zero exactly at a solution; units of λ [N].
 double natural_residual(const LcpProblem& p, const Eigen::VectorXd& lambda);
 
+/// Row i of the natural map, λ_i − mid(lo_i, λ_i − w_i, hi_i), with the effective bounds and
+/// w = A λ + b given (natural_residual is the largest |value| over the rows).
+double natural_map_row(const LcpProblem& p, const Eigen::VectorXd& lambda, const Eigen::VectorXd& w, int i);
+
 /// The same natural map in the 2-norm, ‖λ − mid(lo, λ − w, hi)‖₂ [N]: the whole error rather
 /// than its worst row (gate-l2). +∞ when an entry is not finite.
 double natural_residual_l2(const LcpProblem& p, const Eigen::VectorXd& lambda);

@@ -187,7 +187,7 @@ std::vector<int> local_pivot_rows(const LcpProblem& p, const Eigen::VectorXd& la
   std::vector<int> ring;                              // the normal rows added last
   int size = 0;
   for (int i = 0; i < n; ++i) {
-    const double r = std::abs(lambda[i] - std::clamp(lambda[i] - w[i], p.lower(i, lambda), p.upper(i, lambda)));
+    const double r = std::abs(natural_map_row(p, lambda, w, i));
     const auto h = static_cast<size_t>(c.head[static_cast<size_t>(i)]);
     if (!(r > threshold) || in[h]) continue;
     in[h] = 1;
