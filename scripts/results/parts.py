@@ -450,7 +450,7 @@ def block_peers_v3_eq(ctx):
     return block_peers_v3(ctx, "speed-peers-v3-eq", "Against Box2D v3 at equal quality, 1,000 bodies at rest",
                           ["--n", "1000", "--rounds", "3", "--steps", "1500", "--skip-stack",
                            "--ours", "pgs-colored:6,pgs-colored:8,pgs-colored:16,pgs-colored:6+slop=0.004+omega=1.3,"
-                           "pgs-colored:8+slop=0.004+omega=1.3", "--v3", "4:30,8:100"],
+                           "pgs-colored:8+slop=0.004+omega=1.3,pgs-colored:5+slop=0.004+baumgarte=0.1+omega=1.5", "--v3", "4:30,8:100"],
                           " 1,500 steps so that both piles are at rest; slop = 0.004 m and ω = 1.3 are scene and "
                           "solver settings (`[contact] slop`, `[solver] omega`), the defaults are 0.005 m and 1.",
                           always=True)
