@@ -14,7 +14,8 @@
 //       --variant base --variant pcg:stale_factor_iterations=10
 // A variant is NAME[:key=value,...] over the ProxNewtonDef fields listed in apply(), and
 // route.FIELD=value over the proximal finish's (both routes) listed in apply_route(); the variant
-// `nncg` (no keys) is plain nncg under the same protocol (the reference of the lead stage).
+// `nncg` and `nncg-colored` (no keys) are plain nncg and nncg-colored under the same protocol
+// (the references of the lead stage; lead_sweep=colored runs the lead on nncg-colored).
 #include <time.h>
 
 #include <CLI/CLI.hpp>
@@ -73,6 +74,11 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
 }
 
 void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& value) {
+  if (key == "lead_sweep") {  // natural | colored
+    if (value != "natural" && value != "colored") throw dc::ConfigError("prox_families: lead_sweep=natural|colored");
+    d.lead_sweep = value == "colored" ? dc::ProxLeadSweep::Colored : dc::ProxLeadSweep::Natural;
+    return;
+  }
   const double x = std::stod(value);
   if (key == "lead_sweeps") d.lead_sweeps = static_cast<int>(x);
   else if (key == "lead_finish_window") d.lead_finish_window = static_cast<int>(x);
@@ -201,8 +207,9 @@ int main(int argc, char** argv) {
     }
     std::vector<std::unique_ptr<dc::LcpSolver>> solvers;
     for (const auto& v : variants)
-      solvers.push_back(v.name == "nncg" ? dc::make_solver("nncg")
-                                         : std::unique_ptr<dc::LcpSolver>(std::make_unique<dc::ProxNewtonSolver>(v.def)));
+      solvers.push_back(v.name == "nncg" || v.name == "nncg-colored"
+                            ? dc::make_solver(v.name)
+                            : std::unique_ptr<dc::LcpSolver>(std::make_unique<dc::ProxNewtonSolver>(v.def)));
     for (int s = first; s < first + steps; ++s) {
       w.collide();
       const dc::LcpProblem& p = w.assemble();
