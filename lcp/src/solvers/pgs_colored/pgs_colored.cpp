@@ -369,8 +369,13 @@ class PgsColoredSolver final : public LcpSolver {
     const int setup = serial_setup_ ? 1 : threads;  // the permutation back and the residual
     solved_ = Solved{batches, threads};
     SolverOptions po = o;
+    Eigen::VectorXd& seen = seen_;  // λ in row order for the checkpoints and the watch
+    seen.resize(p.rows());
     if (o.on_checkpoint)
-      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), setup)); };
+      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) {
+        unpermute_into(prep, v, setup, seen);
+        o.on_checkpoint(k, seen);
+      };
     const bool start_bad = bad_start;
     // nncg-colored: the momentum on the packed λ (padding slots stay 0: p and the start of
     // their first sweep are 0, and no kernel moves a padding lane off 0) and on all of Δu (the
@@ -380,7 +385,10 @@ class PgsColoredSolver final : public LcpSolver {
     solvers::SweepWatch watch;  // the caller's, with λ back in row order
     if (watch_ != nullptr) {
       watch.every = watch_->every;
-      watch.stop = [&](int k, const Eigen::VectorXd& v) { return watch_->stop(k, unpermute(prep, v, p.rows(), setup)); };
+      watch.stop = [&](int k, const Eigen::VectorXd& v) {
+        unpermute_into(prep, v, setup, seen);
+        return watch_->stop(k, seen);
+      };
     }
     const Between between{momentum ? &*momentum : nullptr, watch_ != nullptr ? &watch : nullptr};
     SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep, plan_, between)
@@ -510,6 +518,12 @@ class PgsColoredSolver final : public LcpSolver {
   /// packed contact).
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
     Eigen::VectorXd out(rows);  // (every entry is written below)
+    unpermute_into(prep, v, threads, out);
+    return out;
+  }
+  /// The same into `out` (rows entries; its storage kept from call to call, as the checkpoints'
+  /// and the watch's, which look at λ as often as every sweep).
+  static void unpermute_into(const Prepared& prep, const Eigen::VectorXd& v, int threads, Eigen::VectorXd& out) {
     const int np = static_cast<int>(prep.row_of.size());
     const int parts = threads > 1 ? 2 * threads : 1;
     calling_thread_team().for_parts(threads, parts, [&](int part) {
@@ -517,7 +531,6 @@ class PgsColoredSolver final : public LcpSolver {
       for (int s = static_cast<int>(static_cast<long>(np) * part / parts); s < end; ++s)
         if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
     });
-    return out;
   }
 
   PgsColoredDef def_;
@@ -533,6 +546,7 @@ class PgsColoredSolver final : public LcpSolver {
   colored::SweepTeam team_;
   std::vector<int> region_keys_, region_cuts_;
   KeptVector* into_ = nullptr;  // solve_into's λ, during its solve
+  Eigen::VectorXd seen_;        // λ in row order for the checkpoints and the watch (storage kept)
   bool nncg_ = false;           // "nncg-colored"
   bool momentum_ = false;       // nncg-colored with its momentum (NncgColoredDef::momentum)
   const solvers::SweepWatch* watch_ = nullptr;  // solve_watched's, during its solve
