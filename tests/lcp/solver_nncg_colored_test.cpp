@@ -6,6 +6,7 @@
 // too; prox-newton's colored lead reaches the target.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -190,6 +191,24 @@ TEST(SolverNncgColored, BitEqualRerunsOnEveryKernelAndOnThreads) {
                          "problem " + std::to_string(i) + " def " + std::to_string(k) + " rerun " + std::to_string(rerun));
     }
     ++i;
+  }
+}
+
+TEST(SolverNncgColored, ProxNewtonsColoredLeadIsPlainNncgColoredToTheSweepItStopsAt) {
+  // A target nncg-colored reaches: the answer is its iterate after the stage's sweeps.
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::TestRng rng(seed + 3400);
+    const LcpProblem p = test::random_contact(40, 80, true, rng);
+    SolverOptions o;
+    o.max_sweeps = 10000;
+    o.tolerance = 1e-6 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
+    ProxNewtonDef d;
+    d.lead_sweep = ProxLeadSweep::Colored;
+    ProxNewtonSolver s(d);
+    const SolveResult r = s.solve(p, {}, o);
+    ASSERT_EQ(r.message.rfind("finished by nncg lead stage", 0), 0u) << r.message;
+    const SolveResult plain = make_solver("nncg-colored")->solve(p, {}, sweeps_only(s.last_stats().lead_sweeps));
+    EXPECT_EQ(0, std::memcmp(r.lambda.data(), plain.lambda.data(), sizeof(double) * r.lambda.size())) << seed;
   }
 }
 
