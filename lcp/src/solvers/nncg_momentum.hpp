@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "solvers/solver_common.hpp"
+
 namespace dc::solvers {
 
 /// The NNCG state between sweeps: direction p (and its Δu image pu), the sweep's starting point,
@@ -114,6 +116,25 @@ class NncgMomentum {
   double prev_norm2_ = 0.0, beta_ = 0.0;
   Next next_ = Next::First;
   int restarts_ = 0;
+};
+
+/// What runs between two double-buffered sweeps (pgs-colored's) besides the driver's
+/// bookkeeping: nncg-colored's momentum (null: none, pgs-colored) and the caller's watch.
+struct MomentumBetweenSweeps {
+  NncgMomentum* momentum = nullptr;
+  const SweepWatch* watch = nullptr;
+
+  /// The sweep's input: the last sweep's λ `last`, or with the momentum the moved point
+  /// λ + β p (Δu moved with it in place; `last` stays a projecting sweep's output).
+  [[nodiscard]] const double* start(const double* last, double* du) const {
+    return momentum != nullptr ? momentum->before_sweep_from(last, du) : last;
+  }
+  /// After the sweep wrote λ^k to `out`: the momentum's next β; false when θ [N] (the kernels'
+  /// max |λ^k − start|, the momentum's θ too) or ‖Δf‖² is not finite.
+  [[nodiscard]] bool finish(const double* out, double theta) const {
+    const bool finite = momentum == nullptr || std::isfinite(momentum->after_sweep(out));
+    return finite && std::isfinite(theta);
+  }
 };
 
 }  // namespace dc::solvers

@@ -9,8 +9,8 @@
 // inputs, so the result depends neither on the thread count nor on the schedule. A sweep does
 // nothing but the kernel: λ^{k−1} and λ^k live in two buffers (run_sweeps_double_buffered)
 // and the Δu finiteness check is fused into the kernels. Design: docs/lcp.md "`pgs-colored`".
-// "nncg-colored" is the same solver with NNCG's momentum between the sweeps (Between,
-// nncg_momentum.hpp; docs/solvers.md "nncg-colored").
+// "nncg-colored" is the same solver with NNCG's momentum between the sweeps
+// (MomentumBetweenSweeps, nncg_momentum.hpp; docs/solvers.md "nncg-colored").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -120,26 +120,6 @@ inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg
   else
     kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
 }
-
-/// What runs between two sweeps besides the driver's bookkeeping: nncg-colored's momentum
-/// (none for pgs-colored) and the caller's watch (solve_watched).
-struct Between {
-  solvers::NncgMomentum* momentum = nullptr;
-  const solvers::SweepWatch* watch = nullptr;
-
-  /// The sweep's input: the last sweep's λ `last`, or with the momentum the moved point
-  /// λ + β p (Δu moved with it; `last` stays a projecting sweep's output).
-  [[nodiscard]] const double* start(const Eigen::VectorXd& last, Prepared& prep) const {
-    return momentum != nullptr ? momentum->before_sweep_from(last.data(), prep.du.data()) : last.data();
-  }
-  /// After the kernels: the momentum's next factor β from the sweep's change; a non-finite
-  /// θ or ‖Δf‖² marks the sweep bad. θ stays the kernels' max |λ^k − start| (the momentum's θ
-  /// is the same number).
-  void finish(const Eigen::VectorXd& out, colored::Acc& acc) const {
-    if (momentum != nullptr && !std::isfinite(momentum->after_sweep(out.data()))) acc.bad = true;
-    if (!std::isfinite(acc.theta)) acc.bad = true;
-  }
-};
 
 /// "pgs-colored", and "nncg-colored" (`nncg`): the same set-up and sweeps with NNCG's momentum
 /// between them (nncg_momentum.hpp; `momentum` false: none, pgs-colored's iterates).
@@ -370,7 +350,7 @@ class PgsColoredSolver final : public LcpSolver {
     solved_ = Solved{batches, threads};
     SolverOptions po = o;
     Eigen::VectorXd& seen = seen_;  // λ in row order for the checkpoints and the watch
-    seen.resize(p.rows());
+    if (o.on_checkpoint || watch_ != nullptr) seen.resize(p.rows());
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) {
         unpermute_into(prep, v, setup, seen);
@@ -390,7 +370,7 @@ class PgsColoredSolver final : public LcpSolver {
         return watch_->stop(k, seen);
       };
     }
-    const Between between{momentum ? &*momentum : nullptr, watch_ != nullptr ? &watch : nullptr};
+    const solvers::MomentumBetweenSweeps between{momentum ? &*momentum : nullptr, watch_ != nullptr ? &watch : nullptr};
     SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep, plan_, between)
                                  : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads, between);
     if (momentum)
@@ -436,13 +416,13 @@ class PgsColoredSolver final : public LcpSolver {
   /// the scalar kernel, the same bits).
   [[nodiscard]] SolveResult sweeps_serial(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                           const SolverOptions& o, Prepared& prep,
-                                          std::vector<colored::SweepStep>& plan, const Between& between) const {
+                                          std::vector<colored::SweepStep>& plan, const solvers::MomentumBetweenSweeps& between) const {
     const Kernels sweep = kernel_, scalar = kernel_fn(PgsColoredKernel::Scalar);
     colored::plan_sweep(prep, colored::kScalarLanes, plan);
     long sweep_index = 0;
     return solvers::run_sweeps_double_buffered(
         std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& last, Eigen::VectorXd& out, bool& nonfinite) {
-          const double* in = between.start(last, prep);
+          const double* in = between.start(last.data(), prep.du.data());
           colored::Acc acc;
           acc.bad = bad_start;
           bad_start = false;
@@ -457,7 +437,7 @@ class PgsColoredSolver final : public LcpSolver {
               run_range(prep, st.scalar ? scalar : sweep, Range{st.begin, st.end, false, st.pairs}, st.begin, st.end,
                         in, out.data(), prep.du.data(), acc);
           }
-          between.finish(out, acc);
+          acc.bad = acc.bad || !between.finish(out.data(), acc.theta);
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
         },
@@ -472,7 +452,7 @@ class PgsColoredSolver final : public LcpSolver {
   /// the driver (a callback) stops the helpers and is rethrown.
   [[nodiscard]] SolveResult sweeps_threaded(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                             const SolverOptions& o, Prepared& prep, int threads,
-                                            const Between& between) {
+                                            const solvers::MomentumBetweenSweeps& between) {
     SolveResult r;
     const Kernels sweep = kernel_;
     colored::region_cuts(prep, threads, region_keys_, region_cuts_);  // each thread's region of the bodies
@@ -498,14 +478,14 @@ class PgsColoredSolver final : public LcpSolver {
       r = solvers::run_sweeps_double_buffered(
           std::move(lp), std::move(other), o,
           [&](const Eigen::VectorXd& vin, Eigen::VectorXd& vout, bool& nonfinite) {
-            in = between.start(vin, prep);  // (the helpers wait for team.start)
+            in = between.start(vin.data(), u);  // (the helpers wait for team.start)
             out = vout.data();
             team.start(s, in, out);
             team.share(s, 0, run);
             colored::Acc acc = team.finish(s++);
             acc.bad = acc.bad || bad_start;
             bad_start = false;
-            between.finish(vout, acc);
+            acc.bad = acc.bad || !between.finish(vout.data(), acc.theta);
             nonfinite = nonfinite || acc.bad;
             return acc.theta;
           },
