@@ -192,11 +192,12 @@ SolveResult run_sweeps(const LcpProblem& /*p*/, Eigen::VectorXd lambda, const So
 /// `sweep(in, out, nonfinite)` returns θ_k. The buffers swap after every finite sweep, so
 /// on a non-finite iterate the other buffer still holds the last finite one and no sweep
 /// pays run_sweeps' copy of λ. `other` must have λ's size (its entries that the kernel never
-/// writes must equal λ's). Same statuses, messages, checkpoints and θ as run_sweeps. `spare`,
-/// when set, receives the buffer that does not hold the result (its storage, for reuse).
+/// writes must equal λ's). Same statuses, messages, checkpoints, θ and `watch` as run_sweeps.
+/// `spare`, when set, receives the buffer that does not hold the result (its storage, for reuse).
 template <class Sweep>
 SolveResult run_sweeps_double_buffered(Eigen::VectorXd lambda, Eigen::VectorXd other, const SolverOptions& o,
-                                       Sweep&& sweep, Eigen::VectorXd* spare = nullptr) {
+                                       Sweep&& sweep, Eigen::VectorXd* spare = nullptr,
+                                       const SweepWatch* watch = nullptr) {
   SolveResult res;
   res.status = SolveStatus::SweepLimit;
   const int max_sweeps = std::max(0, o.max_sweeps);
@@ -216,6 +217,7 @@ SolveResult run_sweeps_double_buffered(Eigen::VectorXd lambda, Eigen::VectorXd o
     lambda.swap(other);
     done = k;
     if (after_finite_sweep(k, theta, lambda, o, cp, theta1, res)) break;
+    if (watch != nullptr && watch->every > 0 && k % watch->every == 0 && watch->stop(k, lambda)) break;
   }
   res.sweeps = done;
   res.lambda = std::move(lambda);

@@ -29,7 +29,7 @@ namespace {
 constexpr SolverKind kKinds[] = {SolverKind::Pgs,    SolverKind::PgsColored, SolverKind::PgsAssembled,
                                  SolverKind::Psor,   SolverKind::Jacobi,     SolverKind::Lemke,
                                  SolverKind::Newton, SolverKind::NewtonSparse, SolverKind::Nncg,
-                                 SolverKind::ProxNewton};
+                                 SolverKind::ProxNewton, SolverKind::NncgColored};
 constexpr PgsColoredKernel kKernels[] = {PgsColoredKernel::Auto, PgsColoredKernel::Avx512, PgsColoredKernel::Avx2,
                                          PgsColoredKernel::Scalar};
 
@@ -69,6 +69,7 @@ const char* to_string(SolverKind kind) {
     case SolverKind::NewtonSparse: return "newton-sparse";
     case SolverKind::Nncg: return "nncg";
     case SolverKind::ProxNewton: return "prox-newton";
+    case SolverKind::NncgColored: return "nncg-colored";
   }
   return "unknown";
 }
@@ -117,6 +118,7 @@ std::unique_ptr<LcpSolver> make_solver(const SolverId& id) {
     case SolverKind::NewtonSparse: return make_newton_sparse();
     case SolverKind::Nncg: return solvers::make_nncg();
     case SolverKind::ProxNewton: return make_prox_newton();
+    case SolverKind::NncgColored: return make_nncg_colored();
   }
   throw ConfigError("make_solver: invalid SolverKind " + std::to_string(static_cast<int>(id.kind)));
 }

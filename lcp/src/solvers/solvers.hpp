@@ -29,6 +29,14 @@ struct SweepWatch;  // solver_common.hpp
 SolveResult nncg_solve(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o,
                        const SweepWatch* watch);
 
+/// The nncg-colored solver `solver` (from make_nncg_colored, pgs_colored.hpp; another solver:
+/// InvalidArgument) as a function, with the caller's look at its iterate (in row order) every
+/// watch->every sweeps, as nncg_solve's: one run keeps the momentum and Δu across the looks. The
+/// solver object keeps its colouring and buffers from solve to solve (prox-newton's lead stage
+/// keeps one).
+SolveResult nncg_colored_solve(LcpSolver& solver, const LcpProblem& p, const Eigen::VectorXd& lambda0,
+                               const SolverOptions& o, const SweepWatch* watch);
+
 /// The assembled PGS/PSOR iteration as a function (also used by pgs without J and by the
 /// PGS polish of newton).
 SolveResult solve_assembled_gauss_seidel(const LcpProblem& p, const Eigen::VectorXd& lambda0,

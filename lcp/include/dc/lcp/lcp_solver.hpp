@@ -128,6 +128,7 @@ enum class SolverKind {
   NewtonSparse,  ///< "newton-sparse": semismooth Newton, CHOLMOD (newton_sparse.hpp)
   Nncg,          ///< "nncg": pgs's sweeps with nonlinear conjugate-gradient momentum and restarts
   ProxNewton,    ///< "prox-newton": proximal Newton on convex frozen-friction subproblems (prox_newton.hpp)
+  NncgColored,   ///< "nncg-colored": nncg's momentum on pgs-colored's sweeps (pgs_colored.hpp)
 };
 /// The spelling of `kind` ("pgs", "pgs-colored", …, the entries of solver_names()).
 const char* to_string(SolverKind kind);

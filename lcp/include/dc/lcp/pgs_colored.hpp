@@ -77,6 +77,27 @@ struct PgsColoredDef {
 
 std::unique_ptr<LcpSolver> make_pgs_colored(const PgsColoredDef& def = {});
 
+/// "nncg-colored": nncg's momentum (Fletcher–Reeves, as "nncg": β = ‖Δf_k‖²/‖Δf_{k−1}‖², a
+/// restart when β > 1, the move of λ and of its Δu applied before the next sweep) on
+/// pgs-colored's colour-ordered sweeps, which are cheaper per row than "pgs"'s on large
+/// problems; the momentum moves the packed λ and the sweeps' Δu (docs/solvers.md
+/// "nncg-colored"). Statuses, θ (the sweep's own change, the move excluded) and the returned λ
+/// (a projecting sweep's output) as nncg's. With the ordered colouring (the default) a sweep is
+/// pgs's while the contact chains fit in 64 colours, so its iterates follow nncg's up to the
+/// round-off of β's sums (taken in packed order); beyond, the overflow set is swept last.
+/// Problems the kernels do not cover are solved by "nncg", and the message says so.
+struct NncgColoredDef {
+  /// The sweeps' settings (threads, kernel, colouring), pgs-colored's (default PgsColoredDef{}),
+  /// but with the momentum locality_order is off: β's sums run over the packed λ in its order,
+  /// which the locality order would make depend on the thread count (the result bits would).
+  PgsColoredDef sweep;
+  /// The momentum (default true). false: pgs-colored's sweeps alone, its iterates bit for bit
+  /// (the reference the momentum is tested against).
+  bool momentum = true;
+};
+
+std::unique_ptr<LcpSolver> make_nncg_colored(const NncgColoredDef& def = {});
+
 /// True when this build and CPU can run `kernel` (Auto and Scalar: always).
 bool pgs_colored_kernel_available(PgsColoredKernel kernel);
 

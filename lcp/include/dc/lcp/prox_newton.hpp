@@ -47,6 +47,12 @@
 
 namespace dc {
 
+/// The sweeps of prox-newton's lead stage (ProxNewtonDef::lead_sweep).
+enum class ProxLeadSweep {
+  Natural,  ///< "nncg": pgs's matrix-free sweep in row order
+  Colored,  ///< "nncg-colored": pgs-colored's colour-ordered SIMD batches (pgs_colored.hpp)
+};
+
 struct ProxNewtonDef {
   /// Body space: the lead stage, nncg sweeps from the guess before the passes, at most (default
   /// 5000; 0 = none). One nncg run (its momentum kept throughout), its hard residual looked at
@@ -58,6 +64,11 @@ struct ProxNewtonDef {
   /// body impacts and polydisperse piles it gets there in thousands, each sweep far cheaper than
   /// a Newton iteration (a few thousand sweeps cost less than one Newton part on such a pile).
   int lead_sweeps = 5000;
+  /// Which nncg runs the lead stage (default Natural, "nncg"; Colored: "nncg-colored", the same
+  /// momentum on pgs-colored's sweeps, cheaper per sweep on large problems but in colour order
+  /// and with a per-solve set-up; its colouring is kept by the solver object from solve to
+  /// solve). The safeguard stays "nncg".
+  ProxLeadSweep lead_sweep = ProxLeadSweep::Natural;
   /// The lead stage goes on while its best hard residual falls at least `lead_window_gain`-fold
   /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 2), and during the
   /// first `lead_window` chunks pro rata from the guess's (gain^(n/window) after chunk n: a stage

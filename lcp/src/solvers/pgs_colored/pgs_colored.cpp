@@ -9,12 +9,15 @@
 // inputs, so the result depends neither on the thread count nor on the schedule. A sweep does
 // nothing but the kernel: λ^{k−1} and λ^k live in two buffers (run_sweeps_double_buffered)
 // and the Δu finiteness check is fused into the kernels. Design: docs/lcp.md "`pgs-colored`".
+// "nncg-colored" is the same solver with NNCG's momentum between the sweeps
+// (MomentumBetweenSweeps, nncg_momentum.hpp; docs/solvers.md "nncg-colored").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,6 +42,7 @@
 #include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
+#include "solvers/nncg_momentum.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
 
@@ -117,11 +121,14 @@ inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg
     kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
 }
 
+/// "pgs-colored", and "nncg-colored" (`nncg`): the same set-up and sweeps with NNCG's momentum
+/// between them (nncg_momentum.hpp; `momentum` false: none, pgs-colored's iterates).
 class PgsColoredSolver final : public LcpSolver {
  public:
-  explicit PgsColoredSolver(const PgsColoredDef& def)
-      : def_(def), kernel_(kernel_fn(resolve(def.kernel))), colorer_(def.reuse_colors, def.color_chunk) {}
-  [[nodiscard]] std::string name() const override { return "pgs-colored"; }
+  explicit PgsColoredSolver(const PgsColoredDef& def, bool nncg = false, bool momentum = false)
+      : def_(def), kernel_(kernel_fn(resolve(def.kernel))), colorer_(def.reuse_colors, def.color_chunk),
+        nncg_(nncg), momentum_(nncg && momentum) {}
+  [[nodiscard]] std::string name() const override { return nncg_ ? "nncg-colored" : "pgs-colored"; }
   [[nodiscard]] bool needs_jacobian() const override { return true; }
   [[nodiscard]] bool needs_assembled_matrix() const override { return false; }
   /// def_.threads (0: OpenMP's default) when forced (min_batches_per_thread = 0) or once the
@@ -141,6 +148,18 @@ class PgsColoredSolver final : public LcpSolver {
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
+    into_ = nullptr;
+    return solve_paced(p, lambda0, o);
+  }
+
+  /// solve() with the caller's look every watch->every sweeps (solvers::nncg_colored_solve).
+  [[nodiscard]] SolveResult solve_watched(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o,
+                                          const solvers::SweepWatch* watch) {
+    struct Reset {  // also after a throw
+      const solvers::SweepWatch*& watch;
+      ~Reset() { watch = nullptr; }
+    } reset{watch_};
+    watch_ = watch;
     into_ = nullptr;
     return solve_paced(p, lambda0, o);
   }
@@ -219,9 +238,12 @@ class PgsColoredSolver final : public LcpSolver {
     bool bad_start = false;
     if (why.empty()) why = pack(p, lambda, o.omega, prep, lp.data(), other.data(), bad_start, laps);
     if (!why.empty()) {
-      SolveResult r = solvers::make_pgs_matrix_free()->solve(p, Eigen::VectorXd(lambda0), o);
+      // nncg-colored: "nncg" (with the caller's watch), the same method on pgs's sweep.
+      SolveResult r = momentum_ ? solvers::nncg_solve(p, Eigen::VectorXd(lambda0), o, watch_)
+                                : solvers::make_pgs_matrix_free()->solve(p, Eigen::VectorXd(lambda0), o);
       if (r.status != SolveStatus::InvalidInput)
-        r.message = "pgs-colored: " + why + ": ran pgs" + (r.message.empty() ? std::string() : "; " + r.message);
+        r.message = name() + ": " + why + (momentum_ ? ": ran nncg" : ": ran pgs") +
+                    (r.message.empty() ? std::string() : "; " + r.message);
       prep.lp = std::move(lp);
       prep.other = std::move(other);
       cache_ = std::move(prep);
@@ -327,11 +349,32 @@ class PgsColoredSolver final : public LcpSolver {
     const int setup = serial_setup_ ? 1 : threads;  // the permutation back and the residual
     solved_ = Solved{batches, threads};
     SolverOptions po = o;
+    Eigen::VectorXd& seen = seen_;  // λ in row order for the checkpoints and the watch
+    if (o.on_checkpoint || watch_ != nullptr) seen.resize(p.rows());
     if (o.on_checkpoint)
-      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) { o.on_checkpoint(k, unpermute(prep, v, p.rows(), setup)); };
+      po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) {
+        unpermute_into(prep, v, setup, seen);
+        o.on_checkpoint(k, seen);
+      };
     const bool start_bad = bad_start;
-    SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep, plan_)
-                                 : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads);
+    // nncg-colored: the momentum on the packed λ (padding slots stay 0: p and the start of
+    // their first sweep are 0, and no kernel moves a padding lane off 0) and on all of Δu (the
+    // zero body and each body's padding entry never change, so their p stays 0).
+    std::optional<solvers::NncgMomentum> momentum;
+    if (momentum_) momentum.emplace(static_cast<int>(prep.row_of.size()), static_cast<int>(prep.du.size()));
+    solvers::SweepWatch watch;  // the caller's, with λ back in row order
+    if (watch_ != nullptr) {
+      watch.every = watch_->every;
+      watch.stop = [&](int k, const Eigen::VectorXd& v) {
+        unpermute_into(prep, v, setup, seen);
+        return watch_->stop(k, seen);
+      };
+    }
+    const solvers::MomentumBetweenSweeps between{momentum ? &*momentum : nullptr, watch_ != nullptr ? &watch : nullptr};
+    SolveResult r = threads <= 1 ? sweeps_serial(std::move(lp), std::move(other), bad_start, po, prep, plan_, between)
+                                 : sweeps_threaded(std::move(lp), std::move(other), bad_start, po, prep, threads, between);
+    if (momentum)
+      r.message += (r.message.empty() ? "" : "; ") + std::to_string(momentum->restarts()) + " restart(s) of the CG direction";
     laps.lap(&PgsColoredProfile::sweeps);
     Eigen::VectorXd permuted = std::move(r.lambda);
     const bool packed = prep.j_finite && !start_bad && r.status != SolveStatus::Diverged;
@@ -373,12 +416,13 @@ class PgsColoredSolver final : public LcpSolver {
   /// the scalar kernel, the same bits).
   [[nodiscard]] SolveResult sweeps_serial(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                           const SolverOptions& o, Prepared& prep,
-                                          std::vector<colored::SweepStep>& plan) const {
+                                          std::vector<colored::SweepStep>& plan, const solvers::MomentumBetweenSweeps& between) const {
     const Kernels sweep = kernel_, scalar = kernel_fn(PgsColoredKernel::Scalar);
     colored::plan_sweep(prep, colored::kScalarLanes, plan);
     long sweep_index = 0;
     return solvers::run_sweeps_double_buffered(
-        std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out, bool& nonfinite) {
+        std::move(lp), std::move(other), o, [&](const Eigen::VectorXd& last, Eigen::VectorXd& out, bool& nonfinite) {
+          const double* in = between.start(last.data(), prep.du.data());
           colored::Acc acc;
           acc.bad = bad_start;
           bad_start = false;
@@ -387,17 +431,17 @@ class PgsColoredSolver final : public LcpSolver {
             // plan step may join several small colours. (A colour's batches touch disjoint
             // bodies: their order within it changes nothing.)
             for (auto rg = prep.ranges.rbegin(); rg != prep.ranges.rend(); ++rg)
-              run_range(prep, sweep, *rg, rg->begin, rg->end, in.data(), out.data(), prep.du.data(), acc);
+              run_range(prep, sweep, *rg, rg->begin, rg->end, in, out.data(), prep.du.data(), acc);
           } else {
             for (const colored::SweepStep& st : plan)
               run_range(prep, st.scalar ? scalar : sweep, Range{st.begin, st.end, false, st.pairs}, st.begin, st.end,
-                        in.data(), out.data(), prep.du.data(), acc);
+                        in, out.data(), prep.du.data(), acc);
           }
-          if (!std::isfinite(acc.theta)) acc.bad = true;
+          acc.bad = acc.bad || !between.finish(out.data(), acc.theta);
           nonfinite = nonfinite || acc.bad;
           return acc.theta;
         },
-        &prep.other);
+        &prep.other, between.watch);
   }
 
   /// The sweeps on `threads` members of the calling thread's team (dc/core/work_team.hpp) in
@@ -407,7 +451,8 @@ class PgsColoredSolver final : public LcpSolver {
   /// max / or, so the result does not depend on the thread count or the schedule. An exception of
   /// the driver (a callback) stops the helpers and is rethrown.
   [[nodiscard]] SolveResult sweeps_threaded(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
-                                            const SolverOptions& o, Prepared& prep, int threads) {
+                                            const SolverOptions& o, Prepared& prep, int threads,
+                                            const solvers::MomentumBetweenSweeps& between) {
     SolveResult r;
     const Kernels sweep = kernel_;
     colored::region_cuts(prep, threads, region_keys_, region_cuts_);  // each thread's region of the bodies
@@ -433,18 +478,18 @@ class PgsColoredSolver final : public LcpSolver {
       r = solvers::run_sweeps_double_buffered(
           std::move(lp), std::move(other), o,
           [&](const Eigen::VectorXd& vin, Eigen::VectorXd& vout, bool& nonfinite) {
-            in = vin.data();
+            in = between.start(vin.data(), u);  // (the helpers wait for team.start)
             out = vout.data();
             team.start(s, in, out);
             team.share(s, 0, run);
             colored::Acc acc = team.finish(s++);
             acc.bad = acc.bad || bad_start;
             bad_start = false;
-            if (!std::isfinite(acc.theta)) acc.bad = true;
+            acc.bad = acc.bad || !between.finish(vout.data(), acc.theta);
             nonfinite = nonfinite || acc.bad;
             return acc.theta;
           },
-          &prep.other);
+          &prep.other, between.watch);
     });
     return r;
   }
@@ -453,6 +498,12 @@ class PgsColoredSolver final : public LcpSolver {
   /// packed contact).
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
     Eigen::VectorXd out(rows);  // (every entry is written below)
+    unpermute_into(prep, v, threads, out);
+    return out;
+  }
+  /// The same into `out` (rows entries; its storage kept from call to call, as the checkpoints'
+  /// and the watch's, which look at λ as often as every sweep).
+  static void unpermute_into(const Prepared& prep, const Eigen::VectorXd& v, int threads, Eigen::VectorXd& out) {
     const int np = static_cast<int>(prep.row_of.size());
     const int parts = threads > 1 ? 2 * threads : 1;
     calling_thread_team().for_parts(threads, parts, [&](int part) {
@@ -460,7 +511,6 @@ class PgsColoredSolver final : public LcpSolver {
       for (int s = static_cast<int>(static_cast<long>(np) * part / parts); s < end; ++s)
         if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
     });
-    return out;
   }
 
   PgsColoredDef def_;
@@ -476,6 +526,10 @@ class PgsColoredSolver final : public LcpSolver {
   colored::SweepTeam team_;
   std::vector<int> region_keys_, region_cuts_;
   KeptVector* into_ = nullptr;  // solve_into's λ, during its solve
+  Eigen::VectorXd seen_;        // λ in row order for the checkpoints and the watch (storage kept)
+  bool nncg_ = false;           // "nncg-colored"
+  bool momentum_ = false;       // nncg-colored with its momentum (NncgColoredDef::momentum)
+  const solvers::SweepWatch* watch_ = nullptr;  // solve_watched's, during its solve
   bool in_place_ = false;       // the solve wrote λ into *into_
   Eigen::VectorXd zeros_;   // λ⁰ when the caller passes none
   /// What the last solve swept: its batches (0: it ran "pgs" instead) and its sweeps' threads.
@@ -493,6 +547,13 @@ class PgsColoredSolver final : public LcpSolver {
 }  // namespace
 
 std::unique_ptr<LcpSolver> make_pgs_colored(const PgsColoredDef& def) { return std::make_unique<PgsColoredSolver>(def); }
+
+std::unique_ptr<LcpSolver> make_nncg_colored(const NncgColoredDef& def) {
+  // Contact order in the packed λ on any thread count: β's sums run in that order.
+  PgsColoredDef sweep = def.sweep;
+  if (def.momentum) sweep.locality_order = false;
+  return std::make_unique<PgsColoredSolver>(sweep, true, def.momentum);
+}
 
 bool pgs_colored_kernel_available(PgsColoredKernel kernel) {
   switch (kernel) {
@@ -523,6 +584,14 @@ const char* to_string(PgsColoredKernel kernel) {
 
 namespace solvers {
 std::unique_ptr<LcpSolver> make_pgs_colored() { return dc::make_pgs_colored(PgsColoredDef{}); }
+
+SolveResult nncg_colored_solve(LcpSolver& solver, const LcpProblem& p, const Eigen::VectorXd& lambda0,
+                               const SolverOptions& o, const SweepWatch* watch) {
+  auto* colored = dynamic_cast<PgsColoredSolver*>(&solver);
+  if (colored == nullptr || solver.name() != "nncg-colored")
+    throw InvalidArgument("nncg_colored_solve: the solver is not make_nncg_colored's");
+  return colored->solve_watched(p, lambda0, o, watch);
+}
 }  // namespace solvers
 
 }  // namespace dc

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/newton_sparse.hpp"
+#include "dc/lcp/pgs_colored.hpp"
 #include "dc/lcp/proximal_point.hpp"
 #include "solvers/prox_newton/guess_route.hpp"
 #include "solvers/prox_newton/body_newton.hpp"
@@ -35,6 +37,7 @@ struct ProxParts {
   BodyNewton body;
   ConeNewton cone;
   NewtonSparseSolver finish;
+  std::unique_ptr<LcpSolver> colored_lead;  // ProxLeadSweep::Colored's nncg-colored (made at its first use)
 };
 
 }  // namespace solvers::prox
@@ -355,6 +358,10 @@ class ProxRun {
     ld.gain = def_.lead_window_gain;
     ld.start = best_res_;
     ld.target = target_;
+    if (def_.lead_sweep == ProxLeadSweep::Colored) {
+      if (!s_.colored_lead) s_.colored_lead = make_nncg_colored();
+      ld.colored = s_.colored_lead.get();
+    }
     SolverOptions so;
     forward_checkpoints(so, InFlightPart::lead());
     st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {

@@ -22,7 +22,8 @@ int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const Lea
     const double best = consider(x);
     return !rate.go_on(best, def.target, sweeps, kLeadChunk, def.cap);
   };
-  const SolveResult r = nncg_solve(p, lambda, options, &watch);
+  const SolveResult r = def.colored != nullptr ? nncg_colored_solve(*def.colored, p, lambda, options, &watch)
+                                               : nncg_solve(p, lambda, options, &watch);
   // A run that ended between looks (the cap, a non-finite sweep): its last finite iterate.
   if (r.sweeps != looked && r.lambda.size() == p.rows() && r.lambda.allFinite()) consider(r.lambda);
   if (fall) *fall = rate.window_fall();

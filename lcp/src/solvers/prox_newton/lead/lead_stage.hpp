@@ -1,8 +1,9 @@
 #pragma once
-// prox-newton's lead stage (ProxNewtonDef::lead_sweeps): one nncg run from the guess, looked at
-// every kLeadChunk sweeps, where its iterate goes to the caller (the best-iterate bookkeeping)
-// and the window rule (LeadRate) decides whether the run goes on. nncg's momentum and Δu carry
-// on across the looks, so the stage makes the sweeps plain nncg makes to the same sweep.
+// prox-newton's lead stage (ProxNewtonDef::lead_sweeps, lead_sweep): one nncg (or nncg-colored)
+// run from the guess, looked at every kLeadChunk sweeps, where its iterate goes to the caller
+// (the best-iterate bookkeeping) and the window rule (LeadRate) decides whether the run goes on.
+// The momentum and Δu carry on across the looks, so the stage makes the sweeps plain nncg (or
+// nncg-colored) makes to the same sweep.
 #include <Eigen/Core>
 #include <functional>
 
@@ -19,6 +20,9 @@ struct LeadStageDef {
   double gain = 2.0;    ///< LeadRate's fall asked over a window
   double start = 0.0;   ///< hard residual at the guess [N]
   double target = 0.0;  ///< hard residual that ends the stage [N]
+  /// The nncg-colored solver that sweeps (solvers::nncg_colored_solve), or null: nncg's
+  /// natural-order sweep (nncg_solve). The same hook either way.
+  LcpSolver* colored = nullptr;
 };
 
 /// The best hard residual [N] so far after the caller took λ into account.
