@@ -10,9 +10,32 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/newton_sparse.hpp"
 #include "lcp/solver_test_problems.hpp"
+#include "solvers/newton_sparse/gmres.hpp"
 
 namespace dc {
 namespace {
+
+// dot_in_order (GMRES's and the stale-factor CG's products) sums in interleaved lanes and a tail:
+// on values whose every partial sum is exact in double it equals the exact sum for every length,
+// whatever lane or the tail an element falls in, and a product with a single nonzero entry
+// finds that entry at every index.
+TEST(NewtonSparseDot, InOrderDotIsExactOnExactlyRepresentableSums) {
+  for (int n = 0; n <= 41; ++n) {
+    Eigen::VectorXd a(n), b(n);
+    long long exact = 0;
+    for (int i = 0; i < n; ++i) {
+      a[i] = static_cast<double>((i * 7) % 13 - 6);
+      b[i] = static_cast<double>((i * 5) % 11 - 5);
+      exact += static_cast<long long>(a[i]) * static_cast<long long>(b[i]);
+    }
+    EXPECT_EQ(solvers::dot_in_order(a, b), static_cast<double>(exact)) << "n = " << n;
+    for (int k = 0; k < n; ++k) {
+      Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+      e[k] = 0.5;
+      EXPECT_EQ(solvers::dot_in_order(e, b), 0.5 * b[k]) << "n = " << n << ", k = " << k;
+    }
+  }
+}
 
 SolverOptions options(int iterations = 200) {
   SolverOptions o;

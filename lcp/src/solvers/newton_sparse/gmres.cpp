@@ -6,8 +6,22 @@
 namespace dc::solvers {
 
 double dot_in_order(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  double s = 0.0;
-  for (Eigen::Index i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  // kDotLanes partial sums, lane j over the indices i ≡ j (mod kDotLanes), then added pairwise
+  // in a fixed tree and the tail in index order. One serial chain of adds waits an add's
+  // latency per element (GMRES's Gram–Schmidt and CG on deep piles spend much of their time
+  // there); independent lanes do not, and the order of every addition is still fixed by the
+  // source alone (no reassociation, -ffp-contract=off): the same bits in every build.
+  constexpr Eigen::Index kDotLanes = 8;
+  const Eigen::Index n = a.size(), whole = n - n % kDotLanes;
+  const double* pa = a.data();
+  const double* pb = b.data();
+  double lane[kDotLanes] = {};
+  for (Eigen::Index i = 0; i < whole; i += kDotLanes)
+    for (Eigen::Index j = 0; j < kDotLanes; ++j) lane[j] += pa[i + j] * pb[i + j];
+  for (Eigen::Index width = kDotLanes / 2; width > 0; width /= 2)
+    for (Eigen::Index j = 0; j < width; ++j) lane[j] += lane[j + width];
+  double s = lane[0];
+  for (Eigen::Index i = whole; i < n; ++i) s += pa[i] * pb[i];
   return s;
 }
 

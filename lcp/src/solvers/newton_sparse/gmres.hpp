@@ -23,7 +23,8 @@ using LinearMap = std::function<void(const Eigen::VectorXd& in, Eigen::VectorXd&
 KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                     int restart, int max_iterations, double tolerance);
 
-/// Σ_i a_i b_i in index order.
+/// Σ_i a_i b_i in an order fixed by the source alone (eight interleaved partial sums added
+/// pairwise, then the tail in index order): the same bits in every build, not Eigen's dot.
 double dot_in_order(const Eigen::VectorXd& a, const Eigen::VectorXd& b);
 
 }  // namespace dc::solvers
