@@ -5,14 +5,39 @@
 
 #include <Eigen/Dense>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/newton_sparse.hpp"
 #include "lcp/solver_test_problems.hpp"
+#include "solvers/newton_sparse/gmres.hpp"
 
 namespace dc {
 namespace {
+
+// dot_in_lanes (GMRES's products with NewtonSparseDef::lane_dot) sums in interleaved lanes and a tail:
+// on values whose every partial sum is exact in double it equals the exact sum for every length,
+// whatever lane or the tail an element falls in, and a product with a single nonzero entry
+// finds that entry at every index.
+TEST(NewtonSparseDot, LaneDotIsExactOnExactlyRepresentableSums) {
+  for (int n = 0; n <= 41; ++n) {
+    Eigen::VectorXd a(n), b(n);
+    long long exact = 0;
+    for (int i = 0; i < n; ++i) {
+      a[i] = static_cast<double>((i * 7) % 13 - 6);
+      b[i] = static_cast<double>((i * 5) % 11 - 5);
+      exact += static_cast<long long>(a[i]) * static_cast<long long>(b[i]);
+    }
+    EXPECT_EQ(solvers::dot_in_lanes(a, b), static_cast<double>(exact)) << "n = " << n;
+    for (int k = 0; k < n; ++k) {
+      Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+      e[k] = 0.5;
+      EXPECT_EQ(solvers::dot_in_lanes(e, b), 0.5 * b[k]) << "n = " << n << ", k = " << k;
+    }
+  }
+}
 
 SolverOptions options(int iterations = 200) {
   SolverOptions o;
@@ -48,6 +73,34 @@ LcpProblem mass_ratio_problem(uint64_t seed) {
   p.A = p.J * Minv_Jt_dt;
   p.A.makeCompressed();
   return p;
+}
+
+// NewtonSparseDef::lane_dot changes GMRES's rounding only: on frictional contact problems (GMRES
+// on the sliding rows' coupling) and a deep pile it converges where the index-order products
+// do, honestly, with the same contact velocities w = Aλ + b to the target's order, and reruns
+// are bit-equal.
+TEST(NewtonSparse, LaneDotReachesTheSameVelocitiesAsIndexOrderDot) {
+  std::vector<LcpProblem> problems;
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    test::TestRng rng(seed + 700);
+    problems.push_back(test::random_contact(30, 40, true, rng));
+  }
+  problems.push_back(test::deep_pile(4, 6, 0.5));
+  NewtonSparseDef lanes;
+  lanes.lane_dot = true;
+  for (std::size_t k = 0; k < problems.size(); ++k) {
+    const LcpProblem& p = problems[k];
+    const SolveResult a = newton_sparse(p);
+    const SolveResult b = newton_sparse(p, {}, lanes);
+    const SolveResult again = newton_sparse(p, {}, lanes);
+    expect_honest(b, p, "lane_dot problem " + std::to_string(k));
+    EXPECT_EQ(a.status == SolveStatus::Converged, b.status == SolveStatus::Converged) << "problem " << k;
+    EXPECT_TRUE(b.lambda == again.lambda) << "problem " << k;
+    if (a.status == SolveStatus::Converged && b.status == SolveStatus::Converged) {
+      const double tol = 1e3 * bound(p);
+      EXPECT_LE((lcp_velocity(p, a.lambda) - lcp_velocity(p, b.lambda)).cwiseAbs().maxCoeff(), tol) << "problem " << k;
+    }
+  }
 }
 
 TEST(NewtonSparse, SameSolutionAsLemkeOnProblemsWithAUniqueSolution) {

@@ -92,6 +92,11 @@ struct NewtonSparseDef {
   /// from the factorised one by the rows that changed mode, the coupled friction rows and the
   /// change of ρ and of A's diagonal, so GMRES needs about as many iterations as that rank.
   int stale_factor_iterations = 0;
+  /// GMRES's inner products as eight interleaved partial sums in a fixed order instead of one
+  /// index-order sum (default false). Both give the same bits in every build; the lanes are
+  /// several times faster on long vectors (GMRES's Gram–Schmidt is much of a Krylov direction's
+  /// time on large problems) but round differently, so the iterates differ at round-off.
+  bool lane_dot = false;
 };
 
 /// Work and time of one solve [ms are wall-clock, single thread].

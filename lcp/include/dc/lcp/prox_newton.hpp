@@ -295,12 +295,15 @@ struct ProxNewtonDef {
   /// route improves again after long plateaus and reaches the target only when allowed its
   /// outer iterations. Directions by GMRES with a kept factor first (stale_factor_iterations =
   /// 30, NewtonSparseDef): near the solution few rows change mode between iterations and δ
-  /// stays put for many outer iterations, so most iterations need no factorisation.
+  /// stays put for many outer iterations, so most iterations need no factorisation. GMRES's
+  /// inner products in lanes (NewtonSparseDef::lane_dot): on deep piles the Gram–Schmidt of the
+  /// route's many Krylov directions is a large part of its time.
   ProximalPointDef finish_route = [] {
     ProximalPointDef d;
     d.initial_shift = 1e-6;
     d.newton_sparse.krylov_forcing = 1e-2;
     d.newton_sparse.stale_factor_iterations = 30;
+    d.newton_sparse.lane_dot = true;
     d.max_stalls = 0;
     return d;
   }();
@@ -326,6 +329,7 @@ struct ProxNewtonDef {
     d.newton_sparse.krylov_max = 30;
     d.newton_sparse.fallback_sweeps = 20;
     d.newton_sparse.stale_factor_iterations = 0;
+    d.newton_sparse.lane_dot = true;
     d.max_stalls = 0;
     return d;
   }();

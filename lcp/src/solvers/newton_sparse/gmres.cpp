@@ -11,12 +11,30 @@ double dot_in_order(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return s;
 }
 
+double dot_in_lanes(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  // One serial chain of adds (dot_in_order) waits an add's latency per element; kDotLanes
+  // independent partial sums do not, and the order of every addition is still fixed by the
+  // source alone (no reassociation, -ffp-contract=off): the same bits in every build.
+  constexpr Eigen::Index kDotLanes = 8;
+  const Eigen::Index n = a.size(), whole = n - n % kDotLanes;
+  const double* pa = a.data();
+  const double* pb = b.data();
+  double lane[kDotLanes] = {};
+  for (Eigen::Index i = 0; i < whole; i += kDotLanes)
+    for (Eigen::Index j = 0; j < kDotLanes; ++j) lane[j] += pa[i + j] * pb[i + j];
+  for (Eigen::Index width = kDotLanes / 2; width > 0; width /= 2)
+    for (Eigen::Index j = 0; j < width; ++j) lane[j] += lane[j + width];
+  double s = lane[0];
+  for (Eigen::Index i = whole; i < n; ++i) s += pa[i] * pb[i];
+  return s;
+}
+
 KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                    int restart, int max_iterations, double tolerance) {
+                    int restart, int max_iterations, double tolerance, Dot dot) {
   KrylovOutcome out;
   const Eigen::Index n = b.size();
   x = Eigen::VectorXd::Zero(n);
-  const double bnorm = std::sqrt(dot_in_order(b, b));
+  const double bnorm = std::sqrt(dot(b, b));
   if (!(bnorm > 0.0) || !std::isfinite(bnorm)) {
     out.converged = bnorm == 0.0;
     return out;
@@ -35,10 +53,10 @@ KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen:
       P_inverse(V[static_cast<size_t>(k)], Z[static_cast<size_t>(k)]);
       K(Z[static_cast<size_t>(k)], w);
       for (int i = 0; i <= k; ++i) {  // modified Gram–Schmidt
-        H(i, k) = dot_in_order(w, V[static_cast<size_t>(i)]);
+        H(i, k) = dot(w, V[static_cast<size_t>(i)]);
         w -= H(i, k) * V[static_cast<size_t>(i)];
       }
-      H(k + 1, k) = std::sqrt(dot_in_order(w, w));
+      H(k + 1, k) = std::sqrt(dot(w, w));
       for (int i = 0; i < k; ++i) {  // the Givens rotations of columns < k
         const double t = cs[i] * H(i, k) + sn[i] * H(i + 1, k);
         H(i + 1, k) = -sn[i] * H(i, k) + cs[i] * H(i + 1, k);
@@ -69,7 +87,7 @@ KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen:
     for (int i = 0; i < k; ++i) x += y[i] * Z[static_cast<size_t>(i)];
     K(x, w);
     r = b - w;
-    beta = std::sqrt(dot_in_order(r, r));
+    beta = std::sqrt(dot(r, r));
     out.relative_residual = beta / bnorm;
     if (!std::isfinite(beta)) break;
     if (beta <= tolerance * bnorm) {

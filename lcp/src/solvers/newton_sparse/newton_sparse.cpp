@@ -106,7 +106,7 @@ class NewtonStep {
     const auto t0 = Clock::now();
     const LinearMap K = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_system(in, out); };
     const LinearMap Pinv = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { factor_.solve(in, out); };
-    const KrylovOutcome k = gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.stale_factor_iterations, eta_);
+    const KrylovOutcome k = gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.stale_factor_iterations, eta_, dot());
     st_.krylov_iterations += k.iterations;
     st_.solve_ms += ms_since(t0);
     if (!k.converged || !x.allFinite()) return false;
@@ -122,7 +122,7 @@ class NewtonStep {
     } else {
       const LinearMap K = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_system(in, out); };
       const LinearMap Pinv = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { factor_.solve(in, out); };
-      st_.krylov_iterations += gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.krylov_max, eta_).iterations;
+      st_.krylov_iterations += gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.krylov_max, eta_, dot()).iterations;
     }
     st_.solve_ms += ms_since(t0);
   }
@@ -187,6 +187,9 @@ class NewtonStep {
   }
 
  private:
+  /// GMRES's inner product (NewtonSparseDef::lane_dot).
+  [[nodiscard]] Dot dot() const { return def_.lane_dot ? dot_in_lanes : dot_in_order; }
+
   /// GMRES's relative tolerance η_k for this direction (NewtonSparseDef::krylov_forcing):
   /// min(krylov_forcing, ‖H_k‖₂/‖H_0‖₂), at least krylov_tolerance; H_0 is the first
   /// direction's natural map of this solve.
