@@ -76,14 +76,18 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
 }
 
 void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& value) {
-  if (key == "lead_sweep") {  // natural | colored
-    if (value != "natural" && value != "colored") throw dc::ConfigError("prox_families: lead_sweep=natural|colored");
-    d.lead_sweep = value == "colored" ? dc::ProxLeadSweep::Colored : dc::ProxLeadSweep::Natural;
+  if (key == "lead_sweep") {  // natural | colored | auto
+    if (value != "natural" && value != "colored" && value != "auto")
+      throw dc::ConfigError("prox_families: lead_sweep=natural|colored|auto");
+    d.lead_sweep = value == "colored" ? dc::ProxLeadSweep::Colored
+                   : value == "auto"  ? dc::ProxLeadSweep::Auto
+                                      : dc::ProxLeadSweep::Natural;
     return;
   }
   const double x = std::stod(value);
   if (key == "lead_sweeps") d.lead_sweeps = static_cast<int>(x);
   else if (key == "lead_finish_window") d.lead_finish_window = static_cast<int>(x);
+  else if (key == "lead_colored_rows") d.lead_colored_rows = static_cast<int>(x);
   else if (key == "lead_gain") d.lead_gain = x;
   else if (key == "lead_window") d.lead_window = static_cast<int>(x);
   else if (key == "lead_window_gain") d.lead_window_gain = x;

@@ -212,6 +212,31 @@ TEST(SolverNncgColored, ProxNewtonsColoredLeadIsPlainNncgColoredToTheSweepItStop
   }
 }
 
+TEST(SolverNncgColored, ProxNewtonsAutoLeadIsColoredFromItsRowThresholdOn) {
+  // Auto picks by the problem's rows: at or above lead_colored_rows the answer is the colored
+  // lead's bit for bit, below it the natural lead's.
+  test::TestRng rng(3401);
+  const LcpProblem p = test::random_contact(40, 80, true, rng);
+  SolverOptions o;
+  o.max_sweeps = 10000;
+  o.tolerance = 1e-6 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
+  auto solve_with = [&](ProxLeadSweep sweep, int threshold) {
+    ProxNewtonDef d;
+    d.lead_sweep = sweep;
+    d.lead_colored_rows = threshold;
+    return ProxNewtonSolver(d).solve(p, {}, o);
+  };
+  const SolveResult natural = solve_with(ProxLeadSweep::Natural, 0);
+  const SolveResult colored = solve_with(ProxLeadSweep::Colored, 0);
+  ASSERT_NE(0, std::memcmp(natural.lambda.data(), colored.lambda.data(), sizeof(double) * natural.lambda.size()))
+      << "the two leads round alike on this problem: the test cannot tell them apart";
+  expect_same_bits(solve_with(ProxLeadSweep::Auto, p.rows()), colored, "auto at the threshold");
+  expect_same_bits(solve_with(ProxLeadSweep::Auto, p.rows() + 1), natural, "auto below the threshold");
+  ProxNewtonDef bad;
+  bad.lead_colored_rows = -1;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
+}
+
 TEST(SolverNncgColored, ProxNewtonWithTheColoredLeadReachesTheTarget) {
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     test::TestRng rng(seed + 5400);

@@ -51,6 +51,7 @@ namespace dc {
 enum class ProxLeadSweep {
   Natural,  ///< "nncg": pgs's matrix-free sweep in row order
   Colored,  ///< "nncg-colored": pgs-colored's colour-ordered SIMD batches (pgs_colored.hpp)
+  Auto,     ///< Colored from ProxNewtonDef::lead_colored_rows rows on, Natural below
 };
 
 struct ProxNewtonDef {
@@ -64,11 +65,18 @@ struct ProxNewtonDef {
   /// body impacts and polydisperse piles it gets there in thousands, each sweep far cheaper than
   /// a Newton iteration (a few thousand sweeps cost less than one Newton part on such a pile).
   int lead_sweeps = 5000;
-  /// Which nncg runs the lead stage (default Natural, "nncg"; Colored: "nncg-colored", the same
-  /// momentum on pgs-colored's sweeps, cheaper per sweep on large problems but in colour order
-  /// and with a per-solve set-up; its colouring is kept by the solver object from solve to
-  /// solve). The safeguard stays "nncg".
-  ProxLeadSweep lead_sweep = ProxLeadSweep::Natural;
+  /// Which nncg runs the lead stage: Natural ("nncg"), Colored ("nncg-colored": the same
+  /// momentum on pgs-colored's sweeps, cheaper per sweep on large problems, in colour order and
+  /// with a per-solve set-up; its colouring is kept by the solver object from solve to solve), or
+  /// Auto (default): Colored on problems of at least `lead_colored_rows` rows. Both make the same
+  /// sweeps to the target (the ordered colouring follows the rows' order); they differ in rounding
+  /// and in cost. The safeguard stays "nncg".
+  ProxLeadSweep lead_sweep = ProxLeadSweep::Auto;
+  /// Auto's threshold (default 500 rows): below it the colour batches are mostly padding and the
+  /// set-up is a large share of a sweep, and nncg is the cheaper lead (the box pile's ≈ 260 rows);
+  /// impacts of 250 bodies (≈ 900 rows) and more run the colored lead cheaper
+  /// (docs/solvers.md "nncg-colored").
+  int lead_colored_rows = 500;
   /// The lead stage goes on while its best hard residual falls at least `lead_window_gain`-fold
   /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 2), and during the
   /// first `lead_window` chunks pro rata from the guess's (gain^(n/window) after chunk n: a stage

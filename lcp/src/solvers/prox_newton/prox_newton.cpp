@@ -79,6 +79,7 @@ void check_def(const ProxNewtonDef& d) {
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
+  if (d.lead_colored_rows < 0) throw InvalidArgument("prox-newton: lead_colored_rows must be >= 0");
   if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)) ||
       !(d.newton_budget_lead_fall >= 0))
     throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1, "
@@ -358,7 +359,9 @@ class ProxRun {
     ld.gain = def_.lead_window_gain;
     ld.start = best_res_;
     ld.target = target_;
-    if (def_.lead_sweep == ProxLeadSweep::Colored) {
+    const bool colored = def_.lead_sweep == ProxLeadSweep::Colored ||
+                         (def_.lead_sweep == ProxLeadSweep::Auto && p_.rows() >= def_.lead_colored_rows);
+    if (colored) {
       if (!s_.colored_lead) s_.colored_lead = make_nncg_colored();
       ld.colored = s_.colored_lead.get();
     }
