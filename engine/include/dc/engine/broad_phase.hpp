@@ -34,10 +34,10 @@ struct BroadPhaseDef {
   /// B_k) at the last rebuild: m = margin · extent [m]. A larger margin lets bodies move further
   /// before they escape, and hands the filter more candidates whose boxes do not overlap. 0 keeps
   /// no candidates: every call searches the grid afresh.
-  double margin = 0.1;
+  double margin = 0.3;
   /// A rebuild instead of queries when more than this fraction of the bodies escaped at once
   /// (a query of the 3 × 3 cells per escaped body costs more than a body's share of a rebuild).
-  double max_escaped = 0.25;
+  double max_escaped = 0.5;
 };
 
 class UniformGridBroadPhase {
