@@ -2,7 +2,7 @@
 // on the seed scene family scaled to n circles at the seed's density (box side 3√n m,
 // σ = 0.465√n m, r = 1, μ = 0.5, Δt = 0.01; benchmarks/scripts/step-scaling.sh), settled for
 // kSettleSteps steps once per n, then each stage timed on that state: BM_Collide,
-// BM_BroadPhase (a fresh grid search), BM_BroadPhaseKept (its kept candidates), BM_Assemble, BM_WarmStart, BM_Solve, BM_Integrate, BM_Record, BM_Step
+// BM_BroadPhase, BM_Assemble, BM_WarmStart, BM_Solve, BM_Integrate, BM_Record, BM_Step
 // (`simulate --out`), BM_StepOnly (`simulate`); both steps use the builtin warm start. Last
 // argument: 0 = creation order, 1 = Morton body order, 2 (whole step only) = the engine-internal
 // Morton order, 3 (whole step only) = the default settings (`internal_order = "auto"`).
@@ -111,7 +111,7 @@ void BM_BroadPhase(benchmark::State& state) {
   for (int k = 0; k < n; ++k)
     reach[static_cast<std::size_t>(k)] = w.bodies().radius[static_cast<std::size_t>(k)] +
                                          dc::speculative_reach(w.bodies(), k, w.def().contact, w.def().time.dt);
-  dc::UniformGridBroadPhase bp(dc::BroadPhaseDef{.margin = 0});  // a fresh grid search every call
+  dc::UniformGridBroadPhase bp;
   std::vector<std::pair<int, int>> pairs;
   for (auto _ : state) {
     bp.find_pairs(w.bodies().position, reach, pairs);
@@ -122,42 +122,6 @@ void BM_BroadPhase(benchmark::State& state) {
   double max_reach = 0;
   for (double r : reach) max_reach = std::max(max_reach, r);
   state.counters["max_reach"] = max_reach;
-  report(state, w);
-}
-
-/// The broad phase with its kept candidates (the default BroadPhaseDef) on the pile of
-/// BM_BroadPhase. Second argument: the per-mille of the bodies that escape their fat boxes at
-/// every call (each call moves every 1000/moved-th body by 2.5 margins and back the next call;
-/// 0: the filter of the kept candidates alone). Counters as BM_BroadPhase's, and `rebuilt`, the
-/// share of calls that searched the grid.
-void BM_BroadPhaseKept(benchmark::State& state) {
-  const Pile& p = pile_of(state, 2);
-  const dc::World& w = *p.world;
-  const int n = static_cast<int>(w.bodies().size());
-  std::vector<double> reach(static_cast<std::size_t>(n));
-  double max_reach = 0;
-  for (int k = 0; k < n; ++k) {
-    reach[static_cast<std::size_t>(k)] = w.bodies().radius[static_cast<std::size_t>(k)] +
-                                         dc::speculative_reach(w.bodies(), k, w.def().contact, w.def().time.dt);
-    max_reach = std::max(max_reach, reach[static_cast<std::size_t>(k)]);
-  }
-  const auto moved = static_cast<int>(state.range(1));
-  const double hop = 2.5 * dc::BroadPhaseDef{}.margin * 2 * max_reach;  // 2.5 m: every moved body escapes
-  std::vector<dc::Vec2> there = w.bodies().position;
-  for (int k = 0; moved > 0 && k < n; k += 1000 / moved) there[static_cast<std::size_t>(k)].x += hop;
-  dc::UniformGridBroadPhase bp;
-  std::vector<std::pair<int, int>> pairs;
-  bp.find_pairs(w.bodies().position, reach, pairs);
-  long calls = 0, rebuilt = 0;
-  for (auto _ : state) {
-    bp.find_pairs(moved > 0 && calls % 2 == 0 ? there : w.bodies().position, reach, pairs);
-    benchmark::DoNotOptimize(pairs.data());
-    rebuilt += static_cast<long>(bp.last_rebuilt());
-    ++calls;
-  }
-  state.counters["pairs"] = static_cast<double>(pairs.size());
-  state.counters["tests"] = static_cast<double>(bp.last_pair_tests());
-  state.counters["rebuilt"] = static_cast<double>(rebuilt) / static_cast<double>(std::max(1L, calls));
   report(state, w);
 }
 
@@ -476,10 +440,6 @@ void sizes_solvers(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Collide)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BroadPhase)->Apply(sizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_BroadPhaseKept)
-    ->ArgNames({"bodies", "moved", "morton"})
-    ->ArgsProduct({{1000, 10000, 40000}, {0, 10, 100}, {0}})
-    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Assemble)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_WarmStart)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Solve)->Apply(sizes_sweeps)->Unit(benchmark::kMicrosecond);

@@ -46,15 +46,13 @@ BodyState settled(const WorldDef& def, int steps) {
 
 /// `steps` steps from `bodies` with pgs-colored on `threads` threads (threaded solves forced:
 /// min_batches_per_thread = 0).
-Steps run_steps(const WorldDef& def, const BodyState& bodies, int threads, int steps,
-                const BroadPhaseDef& broad = {}) {
+Steps run_steps(const WorldDef& def, const BodyState& bodies, int threads, int steps) {
   PgsColoredDef d;
   d.threads = threads;
   d.min_batches_per_thread = 0;
   const auto solver = make_pgs_colored(d);
   EXPECT_EQ(threads, solver->threads());
   World w(def, bodies);
-  w.set_broad_phase(broad);
   Steps r;
   for (int k = 0; k < steps; ++k) {
     const StepReport rep = w.step(*solver, fixed_sweeps(10), World::WarmStart::PreviousLambda);
@@ -110,36 +108,6 @@ TEST(WorldThreads, InternalOrderAndRestitutionGiveTheSameBitsOnEveryThreadCount)
   const Steps one = run_steps(def, start, 1, 12);
   for (const int threads : {2, 3})
     expect_same_run(one, run_steps(def, start, threads, 12), std::to_string(threads) + " threads");
-}
-
-/// The broad phase's kept candidates change no bit: a pile that still moves (the pairs from the
-/// filter, the queries of escaped bodies and rebuilds) against fresh searches (margin 0), on one
-/// and on two threads, with a large and a tiny margin.
-TEST(WorldThreads, KeptBroadPhaseCandidatesGiveTheSameBits) {
-  const WorldDef def = pile(InternalOrder::None, 0.0);
-  const BodyState start = settled(def, 60);
-  const Steps fresh = run_steps(def, start, 1, 12, BroadPhaseDef{.margin = 0});
-  for (const int threads : {1, 2})
-    for (const double margin : {0.1, 1e-6})
-      expect_same_run(fresh, run_steps(def, start, threads, 12, BroadPhaseDef{.margin = margin}),
-                      std::to_string(threads) + " threads, margin " + std::to_string(margin));
-}
-
-/// The same for box shapes (find_box_pairs) in a pyramid.
-TEST(WorldThreads, KeptBroadPhaseCandidatesGiveTheSameBitsForShapes) {
-  const WorldDef def = stress::box_pyramid(12);
-  const auto run = [&](double margin) {
-    World w(def);
-    w.set_broad_phase(BroadPhaseDef{.margin = margin});
-    const auto pgs = make_solver("pgs");
-    std::vector<std::uint64_t> hashes;
-    for (int k = 0; k < 80; ++k) {
-      w.step(*pgs, fixed_sweeps(10), World::WarmStart::PreviousLambda);
-      hashes.push_back(state_hash(w.bodies()));
-    }
-    return hashes;
-  };
-  EXPECT_EQ(run(0), run(0.1));
 }
 
 /// The broad phase's pair tests by rows of cells: the same sorted pairs and test count on every
@@ -204,8 +172,7 @@ void random_circles(int n, double side, unsigned seed, std::vector<Vec2>& centre
 /// across thread counts and scene sizes (its buffers sized by an earlier, larger call, its sort
 /// ranges from the call before).
 TEST(WorldThreads, BroadPhaseJobsOfBodiesFindTheSweepsPairs) {
-  UniformGridBroadPhase reused(BroadPhaseDef{.margin = 0});  // the grid search at every call
-  UniformGridBroadPhase kept;  // its kept candidates' filter after the first call of each size
+  UniformGridBroadPhase reused;
   for (const auto& [n, side] : {std::pair{20000, 140.0}, std::pair{9001, 90.0}}) {
     std::vector<Vec2> centres;
     std::vector<double> reach;
@@ -219,8 +186,6 @@ TEST(WorldThreads, BroadPhaseJobsOfBodiesFindTheSweepsPairs) {
       EXPECT_EQ(expected, pairs) << n << " bodies, " << threads << " threads";
       if (threads == 1) tests_one = reused.last_pair_tests();
       EXPECT_EQ(tests_one, reused.last_pair_tests()) << n << " bodies, " << threads << " threads";
-      kept.find_pairs(centres, reach, pairs, threads);
-      EXPECT_EQ(expected, pairs) << n << " bodies, " << threads << " threads, kept candidates";
     }
   }
 }

@@ -8,20 +8,11 @@
 
 namespace dc {
 
-UniformGridBroadPhase::UniformGridBroadPhase(BroadPhaseDef def) : def_(def) {
-  if (!(def_.margin >= 0) || !std::isfinite(def_.margin))
-    throw InvalidArgument("UniformGridBroadPhase: margin must be finite and >= 0");
-  if (!(def_.max_escaped >= 0 && def_.max_escaped <= 1))
-    throw InvalidArgument("UniformGridBroadPhase: max_escaped must be in [0, 1]");
-}
-
 void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
                                        const std::vector<double>& reach,
                                        std::vector<std::pair<int, int>>& pairs, int threads) {
   pairs.clear();
   pair_tests_ = 0;
-  rebuilt_ = true;
-  escaped_count_ = 0;
   const int n = static_cast<int>(centres.size());
   if (n < 2) return;
   if (static_cast<int>(reach.size()) != n)
@@ -30,7 +21,7 @@ void UniformGridBroadPhase::find_pairs(const std::vector<Vec2>& centres,
     if (!std::isfinite(centres[k].x) || !std::isfinite(centres[k].y) || !std::isfinite(reach[k]))
       throw InvalidArgument("UniformGridBroadPhase: body " + std::to_string(k) +
                             " has a non-finite position or radius");
-  find_kept(
+  find(
       n, [&](int k) { return Vec2{centres[k].x - reach[k], centres[k].y - reach[k]}; },
       [&](int k) { return Vec2{centres[k].x + reach[k], centres[k].y + reach[k]}; },
       [&](int k) { return 2 * reach[k]; }, pairs, threads);
@@ -40,8 +31,6 @@ void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const st
                                            std::vector<std::pair<int, int>>& pairs) {
   pairs.clear();
   pair_tests_ = 0;
-  rebuilt_ = true;
-  escaped_count_ = 0;
   const int n = static_cast<int>(lo.size());
   if (n < 2) return;
   if (static_cast<int>(hi.size()) != n)
@@ -49,80 +38,9 @@ void UniformGridBroadPhase::find_box_pairs(const std::vector<Vec2>& lo, const st
   for (int k = 0; k < n; ++k)
     if (!std::isfinite(lo[k].x) || !std::isfinite(lo[k].y) || !std::isfinite(hi[k].x) || !std::isfinite(hi[k].y))
       throw InvalidArgument("UniformGridBroadPhase: body " + std::to_string(k) + " has a non-finite bounding box");
-  find_kept(
-      n, [&](int k) { return lo[k]; }, [&](int k) { return hi[k]; },
-      [&](int k) { return std::max(hi[k].x - lo[k].x, hi[k].y - lo[k].y); }, pairs, 1);
-}
-
-template <class Lo, class Hi, class Extent>
-void UniformGridBroadPhase::find_kept(int n, const Lo& lo, const Hi& hi, const Extent& extent,
-                                      std::vector<std::pair<int, int>>& pairs, int threads) {
-  if (def_.margin == 0) {  // no kept candidates: the grid search of the boxes themselves
-    kept_n_ = -1;
-    find(n, lo, hi, extent, pairs, threads);
-    return;
-  }
-  // The true boxes, and by jobs of bodies the ones that left their fat boxes (in body order).
-  const bool kept = kept_n_ == n;
-  tbox_.resize(static_cast<size_t>(4 * n));
-  const int jobs = parts_for(threads, n, 2, 4096);
-  if (part_escaped_.size() < static_cast<size_t>(jobs)) part_escaped_.resize(static_cast<size_t>(jobs));
-  run_parts(threads, jobs, [&](int p) {
-    std::vector<int>& out = part_escaped_[static_cast<size_t>(p)];
-    out.clear();
-    for (int k = static_cast<int>(part_begin(n, jobs, p)); k < part_begin(n, jobs, p + 1); ++k) {
-      const Vec2 l = lo(k), h = hi(k);
-      double* t = tbox_.data() + 4 * static_cast<size_t>(k);
-      t[0] = l.x, t[1] = l.y, t[2] = h.x, t[3] = h.y;
-      if (!kept) continue;
-      const double* f = fbox_.data() + 4 * static_cast<size_t>(k);
-      if (!(l.x >= f[0] && l.y >= f[1] && h.x <= f[2] && h.y <= f[3])) out.push_back(k);
-    }
-  });
-  escaped_.clear();
-  for (int p = 0; p < jobs; ++p)
-    escaped_.insert(escaped_.end(), part_escaped_[static_cast<size_t>(p)].begin(), part_escaped_[static_cast<size_t>(p)].end());
-  escaped_count_ = static_cast<int>(escaped_.size());
-  rebuilt_ = !kept || static_cast<double>(escaped_.size()) > def_.max_escaped * n ||
-             (!escaped_.empty() && !requery_escaped());
-  if (!kept) escaped_count_ = n;
-  if (rebuilt_) rebuild_kept(n, threads);
-  pair_tests_ += filter_candidates(pairs, threads);
-}
-
-void UniformGridBroadPhase::rebuild_kept(int n, int threads) {
-  // m from the largest true extent; fat boxes F_k = B_k ± m; C by the grid search over them.
-  double largest = 0;
-  for (int k = 0; k < n; ++k) {
-    const double* t = tbox_.data() + 4 * static_cast<size_t>(k);
-    largest = std::max({largest, t[2] - t[0], t[3] - t[1]});
-  }
-  margin_ = def_.margin * largest;
-  fbox_.resize(static_cast<size_t>(4 * n));
-  for (size_t i = 0; i < static_cast<size_t>(4 * n); i += 4) {
-    fbox_[i] = tbox_[i] - margin_, fbox_[i + 1] = tbox_[i + 1] - margin_;
-    fbox_[i + 2] = tbox_[i + 2] + margin_, fbox_[i + 3] = tbox_[i + 3] + margin_;
-  }
-  const double* f = fbox_.data();
   find(
-      n, [&](int k) { return Vec2{f[4 * k], f[4 * k + 1]}; }, [&](int k) { return Vec2{f[4 * k + 2], f[4 * k + 3]}; },
-      [&](int k) { return std::max(f[4 * k + 2] - f[4 * k], f[4 * k + 3] - f[4 * k + 1]); }, cand_, threads);
-  // The kept grid: find()'s grid, each body linked into the cell of its fat box's lower corner.
-  head_.assign(static_cast<size_t>(grid_nx_ * grid_ny_), -1);
-  next_.resize(static_cast<size_t>(n));
-  prev_.resize(static_cast<size_t>(n));
-  kept_cell_of_.resize(static_cast<size_t>(n));
-  for (int k = n - 1; k >= 0; --k) {
-    const long long c = kept_cell(f[4 * k], f[4 * k + 1]);
-    kept_cell_of_[static_cast<size_t>(k)] = c;
-    const int first = head_[static_cast<size_t>(c)];
-    next_[static_cast<size_t>(k)] = first;
-    prev_[static_cast<size_t>(k)] = -1;
-    if (first >= 0) prev_[static_cast<size_t>(first)] = k;
-    head_[static_cast<size_t>(c)] = k;
-  }
-  is_escaped_.assign(static_cast<size_t>(n), 0);
-  kept_n_ = n;
+      n, [&](int k) { return lo[k]; }, [&](int k) { return hi[k]; },
+      [&](int k) { return std::max(hi[k].x - lo[k].x, hi[k].y - lo[k].y); }, pairs);
 }
 
 template <class Lo, class Hi, class Extent>
@@ -165,7 +83,6 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
     nyd = std::floor((ymax - ymin) / cell) + 1;
   }
   const long long nx = static_cast<long long>(nxd), ny = static_cast<long long>(nyd);
-  grid_x0_ = xmin, grid_y0_ = ymin, grid_cell_ = cell, grid_nx_ = nx, grid_ny_ = ny;
   // Cell of a coordinate: monotone (clamped to the grid), so boxes whose lower corners are at
   // most one cell apart land in the same or neighbouring cells.
   const double inv_cell = 1.0 / cell;

@@ -23,11 +23,6 @@ constexpr int kMaxPlain = 32;
 const std::vector<std::pair<int, int>>& CirclePairCache::pairs(const std::vector<Vec2>& centres,
                                                               const std::vector<double>& reach,
                                                               UniformGridBroadPhase& broad_phase, int threads) {
-  if (broad_phase.def().margin > 0) {  // the broad phase's kept candidates: its exact pairs
-    rebuilt_ = true;
-    broad_phase.find_pairs(centres, reach, pairs_, threads);
-    return pairs_;
-  }
   rebuilt_ = !(kept_ && still_valid(centres, reach, threads));
   if (!rebuilt_) {
     ++uses_;

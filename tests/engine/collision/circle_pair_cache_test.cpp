@@ -1,8 +1,6 @@
 // CirclePairCache: the pairs kept across steps hold every pair a fresh broad phase would give
 // whose circles are within reach, in the same sorted order, while the bodies move by small steps
-// (the kept list serves) and by large ones (it is rebuilt), on one thread and on several. The list
-// serves a broad phase without kept candidates (margin 0); with them, pairs() hands on the broad
-// phase's pairs.
+// (the kept list serves) and by large ones (it is rebuilt), on one thread and on several.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -43,7 +41,7 @@ TEST(CirclePairCache, KeptPairsHoldEveryPairInReachInOrder) {
   }
   for (const int threads : {1, 3}) {
     CirclePairCache cache;
-    UniformGridBroadPhase kept_bp(BroadPhaseDef{.margin = 0}), fresh_bp;  // the list serves without kept candidates
+    UniformGridBroadPhase kept_bp, fresh_bp;
     int kept = 0, rebuilt = 0;
     std::vector<Vec2> y = x, v(n);
     for (auto& vk : v) vk = {0.008 * unit(rng), 0.008 * unit(rng)};  // bodies drift towards each other
@@ -74,7 +72,7 @@ TEST(CirclePairCache, ABodyCountChangeRebuilds) {
   std::vector<Vec2> x = {{0, 0}, {0.5, 0}, {3, 3}};
   std::vector<double> reach = {0.3, 0.3, 0.3};
   CirclePairCache cache;
-  UniformGridBroadPhase bp(BroadPhaseDef{.margin = 0});
+  UniformGridBroadPhase bp;
   EXPECT_EQ(cache.pairs(x, reach, bp, 1), (Pairs{{0, 1}}));
   x.push_back({3.4, 3});
   reach.push_back(0.3);

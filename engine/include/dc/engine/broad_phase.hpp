@@ -10,17 +10,6 @@
 // Pairs are reported once each, as (i < j), sorted, so the result does not depend on the
 // order of insertion, the grid layout or the threads (`threads` > 1: the pair tests of rows of
 // cells run as parallel jobs; World::step).
-//
-// Kept candidates (broad_phase_kept.cpp): each body k also has a fat box F_k, its box when F_k
-// was set enlarged by a margin m on every side, and the broad phase keeps between calls the
-// sorted list C of the pairs whose fat boxes overlap. While every body's box B_k stays inside
-// F_k, two overlapping boxes have overlapping fat boxes, so the pairs are C filtered by the same
-// box test a fresh search makes, in C's sorted order: the same pairs, bit for bit, without a
-// grid search. A body whose box left F_k (it "escaped") gets a new fat box, is moved in a kept
-// grid of fat boxes, and only its pairs of C are found again, by a query of the 3 × 3 cells
-// around it; when many bodies escape, a box outgrows the grid's cell, or the body count changes,
-// the grid and C are rebuilt by the grid search over fat boxes. The check is by body index
-// only, so renumbered bodies are caught like moved ones.
 #include <utility>
 #include <vector>
 
@@ -28,22 +17,8 @@
 
 namespace dc {
 
-/// Options of the broad phase's kept candidates (broad_phase.hpp).
-struct BroadPhaseDef {
-  /// Fat-box margin m as a fraction of the largest box extent (max over k of the larger side of
-  /// B_k) at the last rebuild: m = margin · extent [m]. A larger margin lets bodies move further
-  /// before they escape, and hands the filter more candidates whose boxes do not overlap. 0 keeps
-  /// no candidates: every call searches the grid afresh.
-  double margin = 0.3;
-  /// A rebuild instead of queries when more than this fraction of the bodies escaped at once
-  /// (a query of the 3 × 3 cells per escaped body costs more than a body's share of a rebuild).
-  double max_escaped = 0.5;
-};
-
 class UniformGridBroadPhase {
  public:
-  explicit UniformGridBroadPhase(BroadPhaseDef def = {});
-
   /// Candidate pairs whose boxes (centre ± reach) overlap. `reach` has one entry per body.
   void find_pairs(const std::vector<Vec2>& centres, const std::vector<double>& reach,
                   std::vector<std::pair<int, int>>& pairs, int threads = 1);
@@ -53,39 +28,15 @@ class UniformGridBroadPhase {
   void find_box_pairs(const std::vector<Vec2>& lo, const std::vector<Vec2>& hi,
                       std::vector<std::pair<int, int>>& pairs);
 
-  /// Box-overlap tests the last find_pairs() or find_box_pairs() performed: the broad phase's
-  /// work, a load-independent measure of its cost (linear in n for bodies of similar size). It
-  /// counts every test of two boxes: of the grid search (fat boxes on a rebuild, true boxes
-  /// without kept candidates), of the escaped bodies' queries, and of the filter of the kept
-  /// candidates (one per candidate). The escape check (one containment test per body) is not
-  /// counted.
+  /// Box-overlap tests the last find_pairs() performed: the broad phase's work, a
+  /// load-independent measure of its cost (linear in n for bodies of similar size).
   [[nodiscard]] std::size_t last_pair_tests() const { return pair_tests_; }
-  /// How the last call found its pairs: by the grid search of every body (a rebuild, or no kept
-  /// candidates), or from the kept candidates after its `last_escaped()` escaped bodies were
-  /// queried (0: the filter alone). last_escaped() is n when there were no kept candidates.
-  [[nodiscard]] bool last_rebuilt() const { return rebuilt_; }
-  [[nodiscard]] int last_escaped() const { return escaped_count_; }
-  [[nodiscard]] const BroadPhaseDef& def() const { return def_; }
 
  private:
   /// The grid search over boxes given by accessors (the circle and the box entry points).
   template <class Lo, class Hi, class Extent>
   void find(int n, const Lo& lo, const Hi& hi, const Extent& extent, std::vector<std::pair<int, int>>& pairs,
             int threads = 1);
-  /// The pairs of boxes given by accessors: from the kept candidates when they are still exact,
-  /// else by a fresh search (broad_phase_kept.cpp).
-  template <class Lo, class Hi, class Extent>
-  void find_kept(int n, const Lo& lo, const Hi& hi, const Extent& extent, std::vector<std::pair<int, int>>& pairs,
-                 int threads);
-  /// The grid search over fat boxes into cand_, and the kept grid of fat boxes (head_, next_, prev_).
-  void rebuild_kept(int n, int threads);
-  /// The escaped bodies (escaped_) moved in the kept grid and their pairs of cand_ found again;
-  /// false (nothing changed) when a rebuild is needed instead.
-  bool requery_escaped();
-  /// pairs = the candidates whose true boxes (tlo_, thi_) overlap, in order; its tests.
-  std::size_t filter_candidates(std::vector<std::pair<int, int>>& pairs, int threads);
-  /// The kept grid's cell of a lower corner (clamped in floating point, so far boxes stay finite).
-  [[nodiscard]] long long kept_cell(double x, double y) const;
   /// The pairs of cell rows [row_begin, row_end) into the first `found` entries of `out` (used as
   /// capacity); the box-overlap tests it made.
   std::size_t test_rows(long long row_begin, long long row_end, long long nx, long long ny,
@@ -104,25 +55,7 @@ class UniformGridBroadPhase {
   /// Cell ranges of cell_offsets: range r holds cells [cell_range_begin(r), cell_range_begin(r + 1)).
   [[nodiscard]] static long long cell_range_begin(long long ncell, int ranges, int r) { return ncell * r / ranges; }
   static constexpr int kMaxRanges = 8;  // cell ranges of cell_offsets, at most
-  BroadPhaseDef def_;
   std::size_t pair_tests_ = 0;
-  bool rebuilt_ = true;
-  int escaped_count_ = 0;
-  /// The last grid search's grid: lower corner, cell size and cells per row and column [m].
-  double grid_x0_ = 0, grid_y0_ = 0, grid_cell_ = 1;
-  long long grid_nx_ = 1, grid_ny_ = 1;
-  // Kept candidates: the bodies' true and fat boxes (x lo, y lo, x hi, y hi each), the pairs of
-  // overlapping fat boxes (sorted), the kept grid of fat boxes (a doubly linked list per cell,
-  // -1 ends), the escaped bodies and per-body marks.
-  int kept_n_ = -1;  // bodies of the kept candidates; -1: none
-  double margin_ = 0;  // m [m]
-  std::vector<double> tbox_, fbox_;
-  std::vector<std::pair<int, int>> cand_, cand_next_, requeried_;
-  std::vector<int> head_, next_, prev_, escaped_;
-  std::vector<long long> kept_cell_of_;
-  std::vector<char> is_escaped_;
-  std::vector<std::vector<int>> part_escaped_;                  // per job of the escape check
-  std::vector<std::vector<std::pair<int, int>>> part_pairs_;   // per job of the filter
   /// A body's box in one cell, in cell order.
   struct Entry {
     double xlo, ylo, xhi, yhi;

@@ -11,9 +11,6 @@
 // two (a falling or flowing pile), the broad phase runs without one for a while (pairs()).
 // The check is by body index only, so a renumbering of the bodies (the internal order's
 // re-sort) or a user's edit is caught like any motion; a change in the body count rebuilds.
-// The list serves only a broad phase without kept candidates (BroadPhaseDef::margin = 0): a
-// broad phase with them keeps its candidates across steps itself, and pairs() hands on its
-// exact pairs (fewer than the list's, and kept per body rather than all or none).
 #include <cstddef>
 #include <utility>
 #include <vector>

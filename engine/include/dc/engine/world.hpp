@@ -104,9 +104,6 @@ class World {
   /// The broad phase (its last_pair_tests() measures its last run's work; collide() keeps the
   /// circle pairs across steps while the bodies stay near, circle_pair_cache.hpp).
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
-  /// The broad phase's options (BroadPhaseDef{} by default): its kept candidates between steps.
-  /// The pairs, and so every result, are the same bits whatever they are; only its cost changes.
-  void set_broad_phase(const BroadPhaseDef& def) { broad_phase_ = UniformGridBroadPhase(def); }
   /// Wall-clock time of the broad phase in the last collide() [ms] (timing only).
   [[nodiscard]] double last_broad_phase_ms() const { return broad_phase_ms_; }
   /// Re-sorts of the engine-internal body order so far (0 without one; the first sort at
