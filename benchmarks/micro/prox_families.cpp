@@ -97,8 +97,6 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_initial_shift") d.lead_initial_shift = x;
   else if (key == "lead_window_bodies") d.lead_window_bodies = x;
   else if (key == "safeguard_sweeps") d.safeguard_sweeps = static_cast<int>(x);
-  else if (key == "safeguard_run") d.safeguard_run = static_cast<int>(x);
-  else if (key == "guess_budget") d.guess_budget = static_cast<int>(x);
   else if (key == "newton_budget") d.newton_budget = static_cast<int>(x);
   else if (key == "pivot_rows") d.pivot_rows = static_cast<int>(x);
   else if (key == "local_pivot_rows") d.local_pivot_rows = static_cast<int>(x);

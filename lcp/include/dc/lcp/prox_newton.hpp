@@ -199,8 +199,6 @@ struct ProxNewtonDef {
   /// end just above the target on steps that nncg alone reaches only after many thousands of
   /// sweeps, each far cheaper than a Newton iteration.
   int safeguard_sweeps = 10000;
-  int safeguard_run = 0;
-  int guess_budget = 0;
   /// Solve the subproblem in body space when the problem has J (default true; false = dual
   /// form always).
   bool body_space = true;

@@ -123,7 +123,7 @@ class ProxRun {
           ProxNewtonStats& st, ProxNewtonStats& at_checkpoint, bool body, bool convex)
       : p_(p), def_(def), o_(o), s_(s), st_(st), body_(body), convex_(convex), target_(status_target(p, o)),
         work_(st, at_checkpoint), cp_options_(work_.watch(o)), cp_(cp_options_),
-        budget_(def.newton_budget, def.newton_budget_gain), guess_budget_(def.guess_budget, def.newton_budget_gain) {}
+        budget_(def.newton_budget, def.newton_budget_gain) {}
 
   SolveResult run(Eigen::VectorXd lambda) {
     project_feasible(p_, lambda);
@@ -159,9 +159,7 @@ class ProxRun {
         by_ = Finisher::Guess;
         part_start_ = st_.newton + st_.finish_newton;
         from_guess_ = true;
-        guess_budget_.begin(true, st_.factorizations);
         newton_part(lambda, true);
-        guess_budget_.end();
         if (kept_res < best_res_) {
           best_ = kept;
           best_res_ = kept_res;
@@ -208,7 +206,6 @@ class ProxRun {
   /// Keeps λ when it beats the best hard residual; true when it did.
   bool consider(const Eigen::VectorXd& lambda, double res, Finisher by) {
     budget_.progress(res, st_.factorizations);
-    guess_budget_.progress(res, st_.factorizations);
     if (!(res < best_res_)) return false;
     best_ = lambda;
     best_res_ = res;
@@ -217,7 +214,7 @@ class ProxRun {
   }
 
   /// True once the first Newton part ran out of its budget (newton_budget.hpp).
-  bool over_budget() { return budget_.over(st_.factorizations) || guess_budget_.over(st_.factorizations); }
+  bool over_budget() { return budget_.over(st_.factorizations); }
 
   /// How a run of passes is steered (outer).
   struct Passes {
@@ -449,12 +446,11 @@ class ProxRun {
     if (windowed && def_.lead_initial_shift > 0) pd.initial_shift = def_.lead_initial_shift;
     if (from_guess_) apply_guess_route(def_, lead_route_floor_, pd);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
-    if (budget_.on() || guess_budget_.on()) {
+    if (budget_.on()) {
       const int base = st_.factorizations;
       pd.stop_after = [this, base](int factorizations, double best) {
         budget_.progress(best, base + factorizations);
-        guess_budget_.progress(best, base + factorizations);
-        return budget_.over(base + factorizations) || guess_budget_.over(base + factorizations);
+        return budget_.over(base + factorizations);
       };
     }
     SolverOptions fo;
@@ -538,10 +534,6 @@ class ProxRun {
 
   /// nncg from the best iterate in chunks until the target or safeguard_sweeps.
   void safeguard() {
-    if (def_.safeguard_run > 0) {
-      safeguard_one_run();
-      return;
-    }
     const auto nncg = make_nncg();
     SolverOptions so;
     so.record_theta = false;
@@ -559,29 +551,6 @@ class ProxRun {
       consider(lambda, hard_residual(p_, lambda), Finisher::Nncg);
       if (r.status != SolveStatus::SweepLimit && r.status != SolveStatus::Converged) break;
     }
-  }
-
-  void safeguard_one_run() {
-    SolverOptions so;
-    so.record_theta = false;
-    so.tolerance = 0.0;
-    so.max_sweeps = def_.safeguard_sweeps;
-    forward_checkpoints(so, InFlightPart::safeguard());
-    SweepWatch watch;
-    watch.every = 100;
-    watch.stop = [&](int, const Eigen::VectorXd& x) {
-      consider(x, hard_residual(p_, x), Finisher::Nncg);
-      return reached(best_res_, target_);
-    };
-    SolveResult r;
-    if (def_.safeguard_run == 2) {
-      if (!s_.colored_lead) s_.colored_lead = make_nncg_colored();
-      r = nncg_colored_solve(*s_.colored_lead, p_, best_, so, &watch);
-    } else {
-      r = nncg_solve(p_, best_, so, &watch);
-    }
-    st_.safeguard_sweeps += std::max(r.sweeps, 1);
-    if (r.lambda.size() == p_.rows() && r.lambda.allFinite()) consider(r.lambda, hard_residual(p_, r.lambda), Finisher::Nncg);
   }
 
   const LcpProblem& p_;
@@ -602,7 +571,6 @@ class ProxRun {
   bool from_guess_ = false;        // in the Newton part from the guess after the first part
   double lead_fall_ = 1.0;         // the lead stage's LeadRate::window_fall()
   NewtonBudget budget_;            // the first Newton part's (newton_budget)
-  NewtonBudget guess_budget_;      // the Newton part's from the guess after it (guess_budget)
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;
   const LcpProblem* assembled_ = nullptr;
