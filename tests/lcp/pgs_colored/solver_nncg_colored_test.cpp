@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "dc/core/error.hpp"
@@ -176,6 +178,42 @@ TEST(SolverNncgColored, TheHookSeesThePlainRunsIteratesAndStopsWhereAsked) {
   }
   EXPECT_THROW((void)solvers::nncg_colored_solve(*make_pgs_colored(), problems()[0], {}, sweeps_only(1), nullptr),
                InvalidArgument);
+}
+
+TEST(SolverNncgColored, CheckpointsSeeThePlainRunsIteratesInRowOrder) {
+  // One solver object over problems of different sizes and colourings (the row-order look is
+  // rebuilt per solve), pgs-colored and nncg-colored, serial and on threads: the λ a checkpoint
+  // sees after sweep k is the λ a plain run of k sweeps returns, bit for bit.
+  PgsColoredDef threaded;
+  threaded.threads = 2;
+  threaded.min_batches_per_thread = 0;
+  NncgColoredDef nncg_threaded;
+  nncg_threaded.sweep = threaded;
+  const std::vector<std::pair<std::unique_ptr<LcpSolver>, std::unique_ptr<LcpSolver>>> pairs = [&] {
+    std::vector<std::pair<std::unique_ptr<LcpSolver>, std::unique_ptr<LcpSolver>>> v;
+    v.emplace_back(make_solver("nncg-colored"), make_solver("nncg-colored"));
+    v.emplace_back(make_solver("pgs-colored"), make_solver("pgs-colored"));
+    v.emplace_back(make_nncg_colored(nncg_threaded), make_nncg_colored(nncg_threaded));
+    v.emplace_back(make_pgs_colored(threaded), make_pgs_colored(threaded));
+    return v;
+  }();
+  for (const auto& [watched, plain] : pairs) {
+    for (const LcpProblem& p : problems()) {
+      std::vector<Eigen::VectorXd> seen;
+      SolverOptions o = sweeps_only(20);
+      o.checkpoints = {1, 6, 20};
+      o.on_checkpoint = [&](int, const Eigen::VectorXd& x) { seen.push_back(x); };
+      const SolveResult r = watched->solve(p, {}, o);
+      ASSERT_EQ(seen.size(), 3u) << watched->name();
+      for (std::size_t i = 0; i < seen.size(); ++i) {
+        const SolveResult ref = plain->solve(p, {}, sweeps_only(o.checkpoints[i]));
+        ASSERT_EQ(seen[i].size(), ref.lambda.size());
+        EXPECT_EQ(0, std::memcmp(seen[i].data(), ref.lambda.data(), sizeof(double) * seen[i].size()))
+            << watched->name() << " sweep " << o.checkpoints[i] << " rows " << p.rows();
+      }
+      EXPECT_EQ(0, std::memcmp(r.lambda.data(), seen.back().data(), sizeof(double) * r.lambda.size()));
+    }
+  }
 }
 
 TEST(SolverNncgColored, BitEqualRerunsOnEveryKernelAndOnThreads) {

@@ -349,11 +349,21 @@ class PgsColoredSolver final : public LcpSolver {
     const int setup = serial_setup_ ? 1 : threads;  // the permutation back and the residual
     solved_ = Solved{batches, threads};
     SolverOptions po = o;
-    Eigen::VectorXd& seen = seen_;  // λ in row order for the checkpoints and the watch
-    if (o.on_checkpoint || watch_ != nullptr) seen.resize(p.rows());
+    // λ in row order for the checkpoints and the watch (as often as every sweep): a branch-free
+    // gather through each row's slot (row_of inverted once per solve; row_of's scan tests padding).
+    Eigen::VectorXd& seen = seen_;
+    if (o.on_checkpoint || watch_ != nullptr) {
+      seen.resize(p.rows());
+      slot_of_row_.assign(static_cast<size_t>(p.rows()), 0);
+      for (size_t s = 0; s < prep.row_of.size(); ++s)
+        if (prep.row_of[s] >= 0) slot_of_row_[static_cast<size_t>(prep.row_of[s])] = static_cast<int>(s);
+    }
+    const auto look = [&](const Eigen::VectorXd& v) {
+      for (int r = 0; r < seen.size(); ++r) seen[r] = v[slot_of_row_[static_cast<size_t>(r)]];
+    };
     if (o.on_checkpoint)
       po.on_checkpoint = [&](int k, const Eigen::VectorXd& v) {
-        unpermute_into(prep, v, setup, seen);
+        look(v);
         o.on_checkpoint(k, seen);
       };
     const bool start_bad = bad_start;
@@ -366,7 +376,7 @@ class PgsColoredSolver final : public LcpSolver {
     if (watch_ != nullptr) {
       watch.every = watch_->every;
       watch.stop = [&](int k, const Eigen::VectorXd& v) {
-        unpermute_into(prep, v, setup, seen);
+        look(v);
         return watch_->stop(k, seen);
       };
     }
@@ -498,12 +508,6 @@ class PgsColoredSolver final : public LcpSolver {
   /// packed contact).
   static Eigen::VectorXd unpermute(const Prepared& prep, const Eigen::VectorXd& v, int rows, int threads) {
     Eigen::VectorXd out(rows);  // (every entry is written below)
-    unpermute_into(prep, v, threads, out);
-    return out;
-  }
-  /// The same into `out` (rows entries; its storage kept from call to call, as the checkpoints'
-  /// and the watch's, which look at λ as often as every sweep).
-  static void unpermute_into(const Prepared& prep, const Eigen::VectorXd& v, int threads, Eigen::VectorXd& out) {
     const int np = static_cast<int>(prep.row_of.size());
     const int parts = threads > 1 ? 2 * threads : 1;
     calling_thread_team().for_parts(threads, parts, [&](int part) {
@@ -511,6 +515,7 @@ class PgsColoredSolver final : public LcpSolver {
       for (int s = static_cast<int>(static_cast<long>(np) * part / parts); s < end; ++s)
         if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
     });
+    return out;
   }
 
   PgsColoredDef def_;
@@ -527,6 +532,7 @@ class PgsColoredSolver final : public LcpSolver {
   std::vector<int> region_keys_, region_cuts_;
   KeptVector* into_ = nullptr;  // solve_into's λ, during its solve
   Eigen::VectorXd seen_;        // λ in row order for the checkpoints and the watch (storage kept)
+  std::vector<int> slot_of_row_;  // the slot of each row (the looks' gather; storage kept)
   bool nncg_ = false;           // "nncg-colored"
   bool momentum_ = false;       // nncg-colored with its momentum (NncgColoredDef::momentum)
   const solvers::SweepWatch* watch_ = nullptr;  // solve_watched's, during its solve
