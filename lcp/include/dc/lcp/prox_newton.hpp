@@ -89,6 +89,13 @@ struct ProxNewtonDef {
   /// target within lead_sweeps), which hands over after a few chunks on those mid-sized piles.
   int lead_window = 16;
   double lead_window_gain = 2.0;
+  /// The lead stage also hands over after this many chunks in a row without a new best hard
+  /// residual (the stall rule; 0 = none), scaled with the bodies as lead_window
+  /// (lead_window_bodies). nncg's best sits exactly still on such plateaus: on box piles
+  /// (two-point manifolds, more rows than velocity unknowns) it either leaves one within a few
+  /// chunks or stays there until the window rule ends the stage, and the Newton part from the
+  /// plateau's iterate is what reaches the target.
+  int lead_stall_chunks = 0;
   /// lead_window holds for problems of up to this many bodies (J's columns / 3; default 64);
   /// above, the window grows as √(bodies / lead_window_bodies) (0 = never): a Newton
   /// iteration's factorisation costs about √n nncg sweeps more on n bodies (nested dissection on

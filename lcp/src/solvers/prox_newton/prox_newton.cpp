@@ -79,7 +79,8 @@ void check_def(const ProxNewtonDef& d) {
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
-  if (d.lead_colored_rows < 0) throw InvalidArgument("prox-newton: lead_colored_rows must be >= 0");
+  if (d.lead_colored_rows < 0 || d.lead_stall_chunks < 0)
+    throw InvalidArgument("prox-newton: lead_colored_rows and lead_stall_chunks must be >= 0");
   if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)) ||
       !(d.newton_budget_lead_fall >= 0))
     throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1, "
@@ -357,6 +358,7 @@ class ProxRun {
     ld.cap = cap;
     ld.window = lead_window_chunks(def_.lead_window, def_.lead_window_bodies, static_cast<int>(p_.J.cols() / 3));
     ld.gain = def_.lead_window_gain;
+    ld.stall = lead_window_chunks(def_.lead_stall_chunks, def_.lead_window_bodies, static_cast<int>(p_.J.cols() / 3));
     ld.start = best_res_;
     ld.target = target_;
     const bool colored = def_.lead_sweep == ProxLeadSweep::Colored ||
