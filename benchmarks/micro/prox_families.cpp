@@ -55,6 +55,7 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "stop_at_target") r.stop_at_target = x != 0;
   else if (key == "fallback_cap_fall") r.newton_sparse.fallback_cap_fall = x;
   else if (key == "fallback_sweeps") r.newton_sparse.fallback_sweeps = static_cast<int>(x);
+  else if (key == "fallback_momentum") r.newton_sparse.fallback_momentum = x != 0;
   else if (key == "max_damping") r.newton_sparse.max_damping = x;
   else if (key == "max_backtracks") r.newton_sparse.max_backtracks = static_cast<int>(x);
   else if (key == "nonmonotone_window") r.newton_sparse.nonmonotone_window = static_cast<int>(x);
@@ -91,6 +92,10 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_gain") d.lead_gain = x;
   else if (key == "lead_window") d.lead_window = static_cast<int>(x);
   else if (key == "lead_window_gain") d.lead_window_gain = x;
+  else if (key == "lead_stall_chunks") d.lead_stall_chunks = static_cast<int>(x);
+  else if (key == "degenerate_rows") d.degenerate_rows = x;
+  else if (key == "degenerate_stall_chunks") d.degenerate_stall_chunks = static_cast<int>(x);
+  else if (key == "degenerate_fallback_momentum") d.degenerate_fallback_momentum = x != 0;
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);
   else if (key == "lead_fallback_cap_fall") d.lead_fallback_cap_fall = x;
   else if (key == "lead_newton_stalls") d.lead_newton_stalls = static_cast<int>(x);

@@ -97,5 +97,32 @@ TEST(NewtonSparseFallbackCap, ALooserFallStopsNoEarlier) {
   }
 }
 
+// The fallback sweeps with NNCG's momentum (NewtonSparseDef::fallback_momentum): off by default;
+// a batch of one sweep has no move yet, so one-sweep batches are plain PGS bit for bit; longer
+// batches move λ along the momentum (the solve differs) and the solve still reaches the solution.
+TEST(NewtonSparseFallbackMomentum, OneSweepBatchesArePgsLongerOnesConverge) {
+  EXPECT_FALSE(NewtonSparseDef{}.fallback_momentum);
+  int differed = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    test::TestRng rng(seed + 3100);
+    const LcpProblem p = test::random_contact(20, 40, true, rng, 0.8);
+    NewtonSparseDef plain = failing(0, 0.0), momentum = plain;
+    momentum.fallback_momentum = true;
+    const CapRun a = solve(p, plain), b = solve(p, momentum);
+    ASSERT_GT(a.st.pgs_sweeps, 0) << seed;
+    EXPECT_EQ(a.r.lambda, b.r.lambda) << seed;
+    EXPECT_EQ(a.st.pgs_sweeps, b.st.pgs_sweeps) << seed;
+    plain.fallback_sweeps = momentum.fallback_sweeps = 8;
+    SolverOptions o = options();
+    o.max_sweeps = 400;
+    NewtonSparseSolver sp(plain), sm(momentum);
+    const SolveResult rp = sp.solve(p, {}, o), rm = sm.solve(p, {}, o);
+    ASSERT_GT(sm.last_stats().pgs_sweeps, 0) << seed;
+    differed += rp.lambda != rm.lambda;
+    EXPECT_EQ(rm.status, SolveStatus::Converged) << seed << ": " << rm.message;
+  }
+  EXPECT_GE(differed, 1);
+}
+
 }  // namespace
 }  // namespace dc

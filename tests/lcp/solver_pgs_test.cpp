@@ -227,6 +227,26 @@ TEST(SolverPgs, CheckpointsSeeTheIterateOfThatSweep) {
   }
 }
 
+TEST(SolverPgs, CheckpointsInAnyOrderSeeTheSameIterates) {
+  // The cursor sorts only a list that is out of order (callers' lists usually are in order):
+  // a shuffled list with a duplicate sees what the sorted list sees, each checkpoint once.
+  test::TestRng rng(7);
+  const LcpProblem p = test::random_contact(20, 30, true, rng);
+  const auto seen_with = [&](std::vector<int> ks) {
+    SolverOptions o;
+    o.max_sweeps = 50;
+    o.record_theta = false;
+    o.checkpoints = std::move(ks);
+    std::vector<std::pair<int, Eigen::VectorXd>> seen;
+    o.on_checkpoint = [&](int k, const Eigen::VectorXd& l) { seen.emplace_back(k, l); };
+    (void)make_solver("pgs")->solve(p, Eigen::VectorXd(), o);
+    return seen;
+  };
+  const auto sorted = seen_with({1, 7, 30, 50});
+  ASSERT_EQ(sorted.size(), 4u);
+  EXPECT_EQ(seen_with({30, 7, 50, 1, 7}), sorted);
+}
+
 TEST(SolverPgs, WarmStartAtTheSolutionBarelyMoves) {
   test::TestRng rng(8);
   const LcpProblem p = test::random_contact(20, 30, true, rng);

@@ -119,6 +119,24 @@ TEST(ProxNewtonLead, WindowRuleHandsAStagnatingNncgOverWithinTheBound) {
   EXPECT_FALSE(LeadRate(1.0, 16, 2.0).go_on(1e-10, 1e-9, 50, 50, 100000));
 }
 
+TEST(ProxNewtonLead, StallRuleEndsAPlateauTheWindowRuleWaitsOut) {
+  // 10-fold in the first chunk, then the best sits exactly still: the window rule (16 chunks,
+  // 2-fold) waits the window out, the stall rule (6 chunks) stops after 6 chunks without a new
+  // best; a plateau of 5 chunks followed by a new best goes on, and the stall rule leaves a
+  // sequence with a new best at every chunk to the window rule.
+  std::vector<double> flat(40, 0.1);
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0), flat, 1e-9, 100000), 17);
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0, 6), flat, 1e-9, 100000), 7);
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0, 0), flat, 1e-9, 100000), 17);
+  std::vector<double> step = flat;
+  for (std::size_t k = 6; k < step.size(); ++k) step[k] = 0.01;  // chunks 2–6 flat, a new best at 7
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0, 6), step, 1e-9, 100000), 13);
+  std::vector<double> falling;
+  for (int k = 1; k <= 40; ++k) falling.push_back(0.1 * std::pow(0.99, k));
+  EXPECT_EQ(chunks_run(LeadRate(1.0, 16, 2.0, 6), falling, 1e-9, 100000),
+            chunks_run(LeadRate(1.0, 16, 2.0), falling, 1e-9, 100000));
+}
+
 TEST(ProxNewtonLead, AStageThatReachesTheTargetLeavesNoNewtonPart) {
   // A loose target nncg reaches: no pass, no finish, no factorisation, the stage's answer.
   for (uint64_t seed = 1; seed <= 3; ++seed) {

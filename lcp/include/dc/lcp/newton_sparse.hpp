@@ -29,6 +29,11 @@ struct NewtonSparseDef {
   /// a degenerate iterate onwards).
   int fallback_sweeps = 5;
   int fallback_doublings = 8;
+  /// The fallback sweeps with NNCG's Fletcher–Reeves momentum (nncg's method on the assembled
+  /// A, a fresh direction per batch; default false: plain PGS). Where the line search fails on
+  /// a degenerate iterate (far more rows than body dofs), PGS's slow linear rate is what the
+  /// batches pay for; the momentum lowers ‖H‖ in fewer sweeps of the same cost.
+  bool fallback_momentum = false;
   /// Stop (as stalled, Failed) after a fallback batch at the cap (2^fallback_doublings ×
   /// fallback_sweeps, fallback_doublings ≥ 1) that left ‖H‖∞ above this fraction of its value
   /// before the batch (dimensionless, in (0, 1]; default 0: never). Further batches would

@@ -89,6 +89,29 @@ struct ProxNewtonDef {
   /// target within lead_sweeps), which hands over after a few chunks on those mid-sized piles.
   int lead_window = 16;
   double lead_window_gain = 2.0;
+  /// The lead stage also hands over after this many chunks in a row without a new best hard
+  /// residual (the stall rule; 0 = none), scaled with the bodies as lead_window
+  /// (lead_window_bodies). nncg's best sits exactly still on such plateaus: on box piles
+  /// (two-point manifolds, more rows than velocity unknowns) it either leaves one within a few
+  /// chunks or stays there until the window rule ends the stage, and the Newton part from the
+  /// plateau's iterate is what reaches the target.
+  int lead_stall_chunks = 0;
+  /// Degenerate problems, in body space: at least `degenerate_rows` contact rows per velocity
+  /// unknown (J's columns; default 1.3): box piles' two-point manifolds (1.36–1.58 on
+  /// scenes/box_pile.toml) make pairs of nearly parallel rows and a rank-deficient A; impacts and
+  /// deep piles of circles have 1.21–1.27. On them the lead stage takes the stall rule with
+  /// `degenerate_stall_chunks` chunks (default 0: lead_stall_chunks as elsewhere) and the
+  /// proximal finish's newton-sparse solves their fallback sweeps with NNCG's momentum
+  /// (`degenerate_fallback_momentum`, default true; NewtonSparseDef::fallback_momentum): there
+  /// the Newton steps fail on the degenerate row modes and plain PGS batches of up to a thousand
+  /// sweeps carry the iterate. On impacts the momentum costs a reached step (its batches lead to
+  /// other row modes), so it stays off there. The stall rule's default is none
+  /// (degenerate_stall_chunks = 0): on box piles it saves the plateau's sweeps where the Newton
+  /// part follows anyway, but also ends plateaus nncg leaves after ten chunks and reaches the
+  /// target from; the two balance out.
+  double degenerate_rows = 1.3;
+  int degenerate_stall_chunks = 0;
+  bool degenerate_fallback_momentum = true;
   /// lead_window holds for problems of up to this many bodies (J's columns / 3; default 64);
   /// above, the window grows as √(bodies / lead_window_bodies) (0 = never): a Newton
   /// iteration's factorisation costs about √n nncg sweeps more on n bodies (nested dissection on

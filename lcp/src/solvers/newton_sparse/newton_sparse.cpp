@@ -27,6 +27,7 @@
 #include "solvers/newton_sparse/merit_window.hpp"
 #include "solvers/newton_sparse/natural_map.hpp"
 #include "solvers/newton_sparse/sparse_factor.hpp"
+#include "solvers/nncg_momentum.hpp"
 #include "solvers/solver_common.hpp"
 
 namespace dc {
@@ -332,7 +333,7 @@ class NewtonSparseRun {
       const int doublings = std::clamp(std::min(failures_ - 1, def_.fallback_doublings), 0, 20);
       const int count = std::max(1, def_.fallback_sweeps) << doublings;
       const double before = v_.max_abs;
-      sweeps(lambda, count);
+      sweeps(lambda, count, def_.fallback_momentum);
       // A batch at the cap that did not lower ‖H‖∞ fallback_cap_fall-fold: further batches
       // repeat it, a slow PGS solve (NewtonSparseDef::fallback_cap_fall).
       slow_cap_ = def_.fallback_cap_fall > 0 && doublings >= std::clamp(def_.fallback_doublings, 0, 20) &&
@@ -350,11 +351,16 @@ class NewtonSparseRun {
     return true;
   }
 
-  void sweeps(Eigen::VectorXd& lambda, int count) {
+  /// `count` PGS sweeps; with `momentum`, NNCG's (nncg_momentum.hpp) from a fresh direction.
+  void sweeps(Eigen::VectorXd& lambda, int count, bool momentum = false) {
     if (!kernel_) kernel_.emplace(p_);
     bool nonfinite = false;
+    std::optional<NncgMomentum> m;
+    if (momentum) m.emplace(p_.rows(), 0);
     for (int s = 0; s < count && !nonfinite; ++s) {
+      if (m) m->before_sweep(lambda.data(), nullptr);
       kernel_->sweep(lambda, 1.0, nonfinite);
+      if (m) m->after_sweep(lambda.data());
       ++st_.pgs_sweeps;
     }
     evaluate_natural_map(p_, lambda, step_.scale(), v_);

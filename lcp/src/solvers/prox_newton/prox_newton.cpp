@@ -79,7 +79,9 @@ void check_def(const ProxNewtonDef& d) {
                           "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
-  if (d.lead_colored_rows < 0) throw InvalidArgument("prox-newton: lead_colored_rows must be >= 0");
+  if (d.lead_colored_rows < 0 || d.lead_stall_chunks < 0 || d.degenerate_stall_chunks < 0 || !(d.degenerate_rows > 0))
+    throw InvalidArgument("prox-newton: lead_colored_rows, lead_stall_chunks, degenerate_stall_chunks must be >= 0, "
+                          "degenerate_rows > 0");
   if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)) ||
       !(d.newton_budget_lead_fall >= 0))
     throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1, "
@@ -211,6 +213,11 @@ class ProxRun {
     best_res_ = res;
     by_ = by;
     return true;
+  }
+
+  /// Body space with at least degenerate_rows rows per velocity unknown (ProxNewtonDef).
+  [[nodiscard]] bool degenerate() const {
+    return body_ && p_.rows() >= def_.degenerate_rows * static_cast<double>(p_.J.cols());
   }
 
   /// True once the first Newton part ran out of its budget (newton_budget.hpp).
@@ -357,6 +364,8 @@ class ProxRun {
     ld.cap = cap;
     ld.window = lead_window_chunks(def_.lead_window, def_.lead_window_bodies, static_cast<int>(p_.J.cols() / 3));
     ld.gain = def_.lead_window_gain;
+    const int stall = degenerate() && def_.degenerate_stall_chunks > 0 ? def_.degenerate_stall_chunks : def_.lead_stall_chunks;
+    ld.stall = lead_window_chunks(stall, def_.lead_window_bodies, static_cast<int>(p_.J.cols() / 3));
     ld.start = best_res_;
     ld.target = target_;
     const bool colored = def_.lead_sweep == ProxLeadSweep::Colored ||
@@ -444,6 +453,7 @@ class ProxRun {
     if (windowed && def_.lead_fallback_cap_fall > 0) pd.newton_sparse.fallback_cap_fall = def_.lead_fallback_cap_fall;
     if (windowed && def_.lead_newton_stalls > 0) pd.newton_sparse.max_stalls = def_.lead_newton_stalls;
     if (windowed && def_.lead_initial_shift > 0) pd.initial_shift = def_.lead_initial_shift;
+    if (degenerate() && def_.degenerate_fallback_momentum) pd.newton_sparse.fallback_momentum = true;
     if (from_guess_) apply_guess_route(def_, lead_route_floor_, pd);
     pd.inner_iterations = std::min(pd.inner_iterations, budget);
     if (budget_.on()) {

@@ -10,8 +10,10 @@ int lead_window_chunks(int window, double reference, int bodies) {
 }
 
 bool LeadRate::go_on(double best, double target, int done, int chunk, int cap) {
+  since_best_ = best < (best_.empty() ? start_ : best_.back()) ? 0 : since_best_ + 1;
   best_.push_back(best);
   if (!(best > 0) || !std::isfinite(best) || best <= target || done >= cap) return false;
+  if (stall_ > 0 && since_best_ >= stall_) return false;
   const int n = static_cast<int>(best_.size());
   if (window_ == 0) return rate_reaches(best, target, done, chunk, cap);
   if (n <= window_) return best * std::pow(gain_, static_cast<double>(n) / window_) <= start_;

@@ -22,6 +22,9 @@ class LeadRate {
   /// `start` [N]: the hard residual at the guess. `window` chunks (0: the rate rule below);
   /// `gain` (> 1): the fall of the best hard residual asked over a window.
   LeadRate(double start, int window, double gain) : start_(start), window_(window), gain_(gain) {}
+  /// With `stall` > 0: also false once `stall` chunks in a row brought no new best (the stall
+  /// rule, ProxNewtonDef::lead_stall_chunks; 0: none).
+  LeadRate(double start, int window, double gain, int stall) : LeadRate(start, window, gain) { stall_ = stall; }
 
   /// After a chunk of `chunk` sweeps with `done` sweeps in all, the best hard residual `best`
   /// [N] so far: true to run another chunk. False once `best` ≤ `target` [N], `done` ≥ `cap`, or
@@ -47,6 +50,8 @@ class LeadRate {
   int window_;                // chunks per window (0: the rate rule)
   double gain_;               // fall asked over a window
   std::vector<double> best_;  // best hard residual after each chunk [N]
+  int stall_ = 0;             // chunks without a new best that end the stage (0: no such rule)
+  int since_best_ = 0;        // chunks since the last new best
 };
 
 }  // namespace dc::solvers::prox

@@ -13,7 +13,7 @@ int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const Lea
   options.record_theta = false;
   options.tolerance = 0.0;
   options.max_sweeps = def.cap;
-  LeadRate rate(def.start, def.window, def.gain);
+  LeadRate rate(def.start, def.window, def.gain, def.stall);
   int looked = 0;  // sweeps at the last look
   SweepWatch watch;
   watch.every = kLeadChunk;

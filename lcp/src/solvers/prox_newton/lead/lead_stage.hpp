@@ -18,6 +18,7 @@ struct LeadStageDef {
   int cap = 0;          ///< sweeps at most (> 0)
   int window = 0;       ///< LeadRate's window [looks] (0: the rate rule)
   double gain = 2.0;    ///< LeadRate's fall asked over a window
+  int stall = 0;        ///< LeadRate's stall rule [looks without a new best] (0: none)
   double start = 0.0;   ///< hard residual at the guess [N]
   double target = 0.0;  ///< hard residual that ends the stage [N]
   /// The nncg-colored solver that sweeps (solvers::nncg_colored_solve), or null: nncg's
