@@ -19,7 +19,7 @@ const ContactColoring& OrderedColorer::color(const ContactConstraints& contacts,
   // dynamic): a contact reads two records, one cache line each, instead of three arrays per body.
   body_.resize(static_cast<size_t>(nb));
   for (int k = 0; k < nb; ++k) body_[static_cast<size_t>(k)] = BodyState{0, -1, dynamic[static_cast<size_t>(k)]};
-  const BodyState none{};  // an absent body: no colour taken, no latest colour, not dynamic
+  BodyState none{};  // an absent or static body: no colour taken, no latest colour, never written
   int colors = 0, overflow = 0;
   for (int c = 0; c < nc; ++c) {
     if (partner[static_cast<size_t>(c)] == -2) {  // a manifold's second point: its first point's lane
@@ -30,14 +30,12 @@ const ContactColoring& OrderedColorer::color(const ContactConstraints& contacts,
     if (k.body_a >= nb || k.body_b >= nb)
       throw InvalidArgument("contact colouring: contact " + std::to_string(c) + " names body " +
                             std::to_string(std::max(k.body_a, k.body_b)) + " of " + std::to_string(nb));
-    BodyState* a = k.body_a >= 0 ? &body_[static_cast<size_t>(k.body_a)] : nullptr;
-    BodyState* b = k.body_b >= 0 ? &body_[static_cast<size_t>(k.body_b)] : nullptr;
-    if (a != nullptr && a->dynamic == 0) a = nullptr;
-    if (b != nullptr && b->dynamic == 0) b = nullptr;
-    const BodyState& ra = a != nullptr ? *a : none;
-    const BodyState& rb = b != nullptr ? *b : none;
-    const int after = std::max<int>(ra.last, rb.last);
-    const std::uint64_t taken = ra.used | rb.used;
+    BodyState* a = k.body_a >= 0 ? &body_[static_cast<size_t>(k.body_a)] : &none;
+    BodyState* b = k.body_b >= 0 ? &body_[static_cast<size_t>(k.body_b)] : &none;
+    if (a->dynamic == 0) a = &none;
+    if (b->dynamic == 0) b = &none;
+    const int after = std::max<int>(a->last, b->last);
+    const std::uint64_t taken = a->used | b->used;
     // The first free colour from (after + 1) mod K on: rotate the free mask so that bit 0 is it.
     const int from = (after + 1) % K;
     const std::uint64_t free = std::rotr(~taken, from);
@@ -45,14 +43,11 @@ const ContactColoring& OrderedColorer::color(const ContactConstraints& contacts,
     if (free != 0) {
       colour = (from + std::countr_zero(free)) % K;
       const std::uint64_t bit = std::uint64_t{1} << colour;
-      if (a != nullptr) {
-        a->used |= bit;
-        a->last = static_cast<std::int8_t>(colour);
-      }
-      if (b != nullptr) {
-        b->used |= bit;
-        b->last = static_cast<std::int8_t>(colour);
-      }
+      a->used |= bit;
+      a->last = static_cast<std::int8_t>(colour);
+      b->used |= bit;
+      b->last = static_cast<std::int8_t>(colour);
+      none = BodyState{};  // (written through a or b when one was absent or static)
       colors = std::max(colors, colour + 1);
     } else {
       ++overflow;
