@@ -94,43 +94,34 @@ bool rows_ok(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambd
   return ok;
 }
 
-/// Contacts [c0, c1): each contact's checks of validate_constraints, except that each row is
-/// owned once (the owners pass below), evaluated for every contact and OR-ed without a branch
-/// (an index out of range is read at 0 and its verdict set by the range test), as one pass with
-/// the rows they claim (added to `rows`) and whether they claim rows in strictly increasing order
-/// (normal, then tangent; each contact's after the previous contact's, contact c0 − 1 included:
-/// then no row is claimed twice; the engine numbers rows this way, ContactConstraints::add),
-/// cleared in `increase`. Returns false when a contact fails.
-bool contacts_ok(const LcpProblem& p, int c0, int c1, long& rows, bool& increase) {
-  const int n = p.rows();
-  if (n == 0) return c1 <= c0;  // (no row to read at 0: every contact fails the range test)
-  const ContactConstraint* cons = p.constraints.contacts().data();
-  const int bodies = static_cast<int>(p.J.cols() / 3);
-  const bool check_bodies = p.J.rows() > 0;
-  const int* nrow = p.normal_row.data();
-  const double* mu = p.mu.data();
+/// Contact c's checks of validate_constraints, except that each row is owned once (the
+/// owners pass below).
+bool contact_ok(const LcpProblem& p, int c) {
+  const ContactConstraint& k = p.constraints[c];
+  const int n = p.rows(), bodies = static_cast<int>(p.J.cols() / 3);
+  if (p.J.rows() > 0 && (k.body_b >= bodies || k.body_a >= bodies)) return false;
+  if (k.normal_row < 0 || k.normal_row >= n || p.normal_row[static_cast<size_t>(k.normal_row)] >= 0) return false;
+  if (k.has_friction() != (k.mu > 0)) return false;
+  if (k.has_friction()) {
+    if (k.tangent_row >= n) return false;
+    const size_t t = static_cast<size_t>(k.tangent_row);
+    if (p.normal_row[t] != k.normal_row || p.mu[k.tangent_row] != k.mu) return false;
+  }
+  return true;
+}
+
+/// Contacts [c0, c1) claim rows in strictly increasing order (normal, then tangent; each contact's
+/// after the previous contact's, contact c0 − 1 included): then no row is claimed twice. The
+/// engine numbers rows this way (ContactConstraints::add).
+bool rows_increase(const ContactConstraints& cons, int c0, int c1) {
   int last = c0 > 0 ? std::max(cons[c0 - 1].normal_row, cons[c0 - 1].tangent_row) : -1;
-  unsigned bad = 0, down = 0;
-  long claimed = 0;
+  bool up = true;
   for (int c = c0; c < c1; ++c) {
     const ContactConstraint& k = cons[c];
-    const int nr = k.normal_row, tr = k.tangent_row;
-    const unsigned friction = tr >= 0;
-    claimed += 1 + static_cast<long>(friction);
-    bad |= static_cast<unsigned>(check_bodies) & ((k.body_b >= bodies) | (k.body_a >= bodies));
-    const unsigned n_in = (nr >= 0) & (nr < n);
-    bad |= (n_in ^ 1u) | static_cast<unsigned>(nrow[n_in != 0 ? nr : 0] >= 0);
-    bad |= friction ^ static_cast<unsigned>(k.mu > 0);
-    const unsigned t_in = friction & static_cast<unsigned>(tr < n);
-    bad |= friction & (t_in ^ 1u);
-    const int t = t_in != 0 ? tr : 0;
-    bad |= t_in & ((nrow[t] != nr) | (mu[t] != k.mu));
-    down |= static_cast<unsigned>(nr <= last) | (friction & static_cast<unsigned>(tr <= nr));
-    last = std::max(nr, tr);
+    up &= k.normal_row > last && (k.tangent_row < 0 || k.tangent_row > k.normal_row);
+    last = std::max(k.normal_row, k.tangent_row);
   }
-  rows += claimed;
-  if (down != 0) increase = false;
-  return bad == 0;
+  return up;
 }
 
 /// No row is claimed by two contacts (for contacts that passed contact_ok): owner[r] = the contact
@@ -190,28 +181,23 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<con
   // row is a contact's normal row (coupling < 0) or its tangent row, coupled (contact_ok) to
   // that contact's normal row, a normal row. Without contacts the row scan reads it.
   const bool owned = nc > 0;
-  // Row chunk j and contact chunk j alternate (part 2j, 2j + 1): a contact chunk of two-row
-  // contacts numbered in order (the engine's) claims the rows of the row chunk just scanned, so
-  // its reads of their coupling and μ find them in cache. The verdict is an AND over all parts,
-  // whatever their order.
-  constexpr int kRowChunk = 2048, kContactChunk = 1024;
+  constexpr int kRowChunk = 1024, kContactChunk = 1024;
   const int row_chunks = (n + kRowChunk - 1) / kRowChunk, contact_chunks = (nc + kContactChunk - 1) / kContactChunk;
-  calling_thread_team().for_parts(threads, 2 * std::max(row_chunks, contact_chunks), [&](int part) {
+  calling_thread_team().for_parts(threads, row_chunks + contact_chunks, [&](int part) {
     bool mine = true;
-    const int j = part / 2;
-    if (part % 2 == 0) {
-      if (j >= row_chunks) return;
-      const int i = j * kRowChunk, i1 = std::min(n, i + kRowChunk);
+    if (part < row_chunks) {
+      const int i = part * kRowChunk, i1 = std::min(n, i + kRowChunk);
       mine = rows_ok(p, lambda0, i, i1, owned);
       if (lambda0.size() == 0) std::fill(zeros.data() + i, zeros.data() + i1, 0.0);
     } else {
-      if (j >= contact_chunks) return;
-      const int c0 = j * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
+      const int c0 = (part - row_chunks) * kContactChunk, c1 = std::min(nc, c0 + kContactChunk);
       long rows = 0;
-      bool up = true;
-      mine = contacts_ok(p, c0, c1, rows, up);
+      for (int c = c0; c < c1; ++c) {
+        mine = mine && contact_ok(p, c);
+        rows += p.constraints[c].has_friction() ? 2 : 1;
+      }
       claimed.fetch_add(rows, std::memory_order_relaxed);
-      if (!up) increase.store(false, std::memory_order_relaxed);
+      if (!rows_increase(p.constraints, c0, c1)) increase.store(false, std::memory_order_relaxed);
     }
     if (!mine) ok.store(false, std::memory_order_relaxed);
   });

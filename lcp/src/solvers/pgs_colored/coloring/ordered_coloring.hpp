@@ -31,12 +31,8 @@ class OrderedColorer {
  private:
   ContactColoring out_;
   std::vector<int> next_;            // this call's colours before they replace out_.color
-  struct BodyState {
-    std::uint64_t used = 0;   // bit c set when colour c holds one of the body's contacts
-    std::int8_t last = -1;    // the colour of its latest contact, −1 none
-    std::uint8_t dynamic = 0; // 1 when the body conflicts (the caller's `dynamic`)
-  };
-  std::vector<BodyState> body_;  // per body
+  std::vector<std::uint64_t> used_;  // per body: bit c set when colour c holds one of its contacts
+  std::vector<std::int8_t> last_;    // per body: the colour of its latest contact, −1 none
 };
 
 }  // namespace dc::colored
