@@ -29,11 +29,7 @@ ResidualAcc packed_residual(const Prepared& prep, const double* lam, double omeg
   const int chunks = (items + kChunk - 1) / kChunk;
   ResidualAcc acc;
   if (threads <= 1) {
-    // Last chunk first: the last sweep ran the batches in order, so its latest ones are still in
-    // cache (a pile's packed batches outgrow L2) and are read before they are evicted. The
-    // errors combine by max and or, the same bits in any order (an error is |…| ≥ +0, never −0),
-    // and each λ entry is written once.
-    for (int c = chunks - 1; c >= 0; --c) run(c * kChunk, std::min(items, (c + 1) * kChunk), acc);
+    for (int c = 0; c < chunks; ++c) run(c * kChunk, std::min(items, (c + 1) * kChunk), acc);
     return acc;
   }
   struct alignas(64) Part {
