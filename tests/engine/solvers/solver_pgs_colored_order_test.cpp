@@ -4,7 +4,9 @@
 // contact and manifold); the greedy colouring stays available and reaches the same fixed point.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "dc/engine/stress_scenes.hpp"
@@ -65,6 +67,65 @@ TEST(PgsColoredOrder, ContactsSharingABodyAreColouredInContactOrder) {
     const ContactColoring& again = colorer.color(p.constraints, dyn, partner);
     EXPECT_TRUE(again.repeated);
     EXPECT_EQ(again.generation, generation);
+  }
+}
+
+/// The colouring rule of ordered_coloring.hpp written plainly (per body arrays, no shortcut): the
+/// colours the solver's colourer must give.
+std::vector<int> reference_colors(const ContactConstraints& cons, const std::vector<std::uint8_t>& dyn,
+                                  const std::vector<int>& partner) {
+  constexpr int K = ContactColoring::kMaxColors;
+  std::vector<std::uint64_t> used(dyn.size(), 0);
+  std::vector<int> last(dyn.size(), -1);
+  std::vector<int> color(static_cast<size_t>(cons.size()), ContactColoring::kOverflow);
+  for (int c = 0; c < cons.size(); ++c) {
+    if (partner[static_cast<size_t>(c)] == -2) {
+      color[static_cast<size_t>(c)] = color[static_cast<size_t>(c) - 1];
+      continue;
+    }
+    std::vector<int> bodies;
+    for (const int b : {cons[c].body_a, cons[c].body_b})
+      if (b >= 0 && dyn[static_cast<size_t>(b)] != 0) bodies.push_back(b);
+    int after = -1;
+    std::uint64_t taken = 0;
+    for (const int b : bodies) {
+      after = std::max(after, last[static_cast<size_t>(b)]);
+      taken |= used[static_cast<size_t>(b)];
+    }
+    for (int s = 0; s < K; ++s) {
+      const int colour = (after + 1 + s) % K;
+      if ((taken >> colour & 1u) != 0) continue;
+      color[static_cast<size_t>(c)] = colour;
+      for (const int b : bodies) {
+        used[static_cast<size_t>(b)] |= std::uint64_t{1} << colour;
+        last[static_cast<size_t>(b)] = colour;
+      }
+      break;
+    }
+  }
+  return color;
+}
+
+TEST(PgsColoredOrder, ColoursFollowTheRuleWithWallsStaticBodiesManifoldsAndWrapping) {
+  // Few bodies and many contacts: chains longer than the colours wrap round and some contacts
+  // overflow; walls (no body a), static bodies and manifolds' second points on the way.
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    test::TestRng rng(seed);
+    const int bodies = seed <= 3 ? 40 : 6;
+    const LcpProblem p = test::random_contact(bodies, seed <= 3 ? 300 : 900, true, rng);
+    std::vector<std::uint8_t> dyn(static_cast<size_t>(p.J.cols() / 3), 1);
+    for (size_t k = 0; k < dyn.size(); k += 5) dyn[k] = 0;  // every fifth body static
+    std::vector<int> partner(static_cast<size_t>(p.constraints.size()), -1);
+    for (size_t c = 7; c < partner.size(); c += 11) partner[c] = -2;
+    colored::OrderedColorer colorer;
+    for (int round = 0; round < 2; ++round) {  // the second call reuses the colourer's storage
+      const ContactColoring& got = colorer.color(p.constraints, dyn, partner);
+      const std::vector<int> want = reference_colors(p.constraints, dyn, partner);
+      ASSERT_EQ(got.color, want) << "seed " << seed << ", call " << round;
+      if (bodies == 6) {
+        EXPECT_GT(got.overflow, 0) << "seed " << seed << ": the test covers the overflow";
+      }
+    }
   }
 }
 
