@@ -197,8 +197,6 @@ DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, con
   __mmask8 bad = 0;
   for (int bi = b0; bi < b1; ++bi) {
     const Batch& B = batches[bi];
-    if (bi + kPrefetchAhead < b1)
-      prefetch_bodies(u, batches[bi + kPrefetchAhead].la, batches[bi + kPrefetchAhead].lb);
     const double* lin = in + static_cast<long>(bi) * 2 * W;
     double* lout = out + static_cast<long>(bi) * 2 * W;
     __m512d a0, a1, a2, v0, v1, v2;

@@ -78,27 +78,6 @@ bool cpu_has_avx512();
 /// The CPU's vendor is AMD (x86-64 GCC/Clang builds; false elsewhere).
 bool cpu_is_amd();
 
-/// Batches ahead of the one being solved whose bodies' Δu a kernel prefetches (prefetch_bodies).
-/// The bodies of a batch are scattered over Δu (kStride doubles each), which stops fitting in
-/// the core's L2 cache next to the stream of packed batches once there are many bodies; the
-/// hardware prefetchers follow the batches (sequential) but not the gathers. Two batches ahead
-/// covers the latency of an L3 hit (one batch's work is ~100 cycles) without evicting lines
-/// that are still to be used.
-constexpr int kPrefetchAhead = 2;
-
-/// Hints the cache to fetch the Δu lines of the W bodies at offsets a[0..W) and b[0..W) (a
-/// padding lane's zero body included): no effect on any result.
-inline void prefetch_bodies(const double* u, const std::int32_t* a, const std::int32_t* b) {
-#if defined(__GNUC__)
-  for (int k = 0; k < W; ++k) {
-    __builtin_prefetch(u + a[k], 1, 3);
-    __builtin_prefetch(u + b[k], 1, 3);
-  }
-#else
-  (void)u, (void)a, (void)b;
-#endif
-}
-
 // std::max(a, b) and std::min(a, b) as the vector kernels write them (compare + select).
 inline double max_of(double a, double b) { return (a < b) ? b : a; }
 inline double min_of(double a, double b) { return (b < a) ? b : a; }
