@@ -102,9 +102,14 @@ std::string first_failure(const Prepared& out);
 /// pass in the contacts' own order, so that fill_batch reads them in batch order instead of
 /// gathering J, b and λ⁰ in colour order, which strides across arrays larger than the cache once
 /// per colour. fill_batch packs the same bits either way. Stages only problems of at least
-/// `from` ordered positions (below, the sources stay in cache across the colours and the extra
-/// pass does not pay) and only with AVX2 (pack_rows_staged); sets out.staged_now. Serial.
-constexpr int kStageFrom = 12288;
+/// `from` ordered positions and only with AVX2 (pack_rows_staged); sets out.staged_now. Serial.
+/// The default stages none of the benchmark piles (up to 40,000 bodies, about 26,000
+/// positions): with locality each colour's contacts are in key order, so the gathered reads
+/// are already close to memory order, while the staging pass writes its 152-byte records at
+/// scattered positions (a read for ownership of ~3 lines each) and the pack reads them again;
+/// the pack measured cheaper without it there (`make results` has the figures). Larger problems,
+/// whose colours stride across more memory, keep it.
+constexpr int kStageFrom = 1 << 16;
 void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from = kStageFrom);
 
 // ---- pgs_colored_stage.cpp's parts of fill_batch ------------------------------------------
