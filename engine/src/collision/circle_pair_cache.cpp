@@ -17,14 +17,24 @@ constexpr double kMotionOfSkin = 0.9;
 /// broad phase then runs plainly (no list) for a number of steps that doubles up to kMaxPlain.
 constexpr int kPayingUses = 2;
 constexpr int kMaxPlain = 32;
+/// Escaped bodies a step patches at most (circle_pair_cache.hpp): a patch tests each against all
+/// n anchors (a few ns per test) where a rebuild files and tests n grown boxes (tens of ns per
+/// body), so a patch of a few tens of bodies still costs less; beyond, the pile is on the move
+/// and the list is rebuilt.
+constexpr std::size_t kMaxPatched = 16;
 
 }  // namespace
 
 const std::vector<std::pair<int, int>>& CirclePairCache::pairs(const std::vector<Vec2>& centres,
                                                               const std::vector<double>& reach,
                                                               UniformGridBroadPhase& broad_phase, int threads) {
-  rebuilt_ = !(kept_ && still_valid(centres, reach, threads));
+  patched_ = false;
+  rebuilt_ = !(kept_ && find_escaped(centres, reach, threads) && escaped_.size() <= kMaxPatched);
   if (!rebuilt_) {
+    if (!escaped_.empty()) {
+      patch(centres, reach);
+      patched_ = true;
+    }
     ++uses_;
     return pairs_;
   }
@@ -43,21 +53,70 @@ const std::vector<std::pair<int, int>>& CirclePairCache::pairs(const std::vector
   return pairs_;
 }
 
-bool CirclePairCache::still_valid(const std::vector<Vec2>& centres, const std::vector<double>& reach, int threads) {
+bool CirclePairCache::find_escaped(const std::vector<Vec2>& centres, const std::vector<double>& reach, int threads) {
+  escaped_.clear();
   const int n = static_cast<int>(centres.size());
   if (centre0_.size() != centres.size() || reach.size() != centres.size()) return false;
   const double bound = kMotionOfSkin * skin_;
   const int jobs = parts_for(threads, n, 2, 4096);
-  part_moved_.assign(static_cast<size_t>(jobs), 0);
+  if (part_escaped_.size() < static_cast<size_t>(jobs)) part_escaped_.resize(static_cast<size_t>(jobs));
   run_parts(threads, jobs, [&](int p) {
-    bool moved = false;  // no early exit: a settled pile reads every body anyway
-    for (auto k = static_cast<size_t>(part_begin(n, jobs, p)); k < static_cast<size_t>(part_begin(n, jobs, p + 1)); ++k) {
-      const double motion = std::sqrt(length_squared(centres[k] - centre0_[k])) + std::max(0.0, reach[k] - reach0_[k]);
-      moved |= !(motion <= bound);  // NaN rebuilds, and the broad phase reports it
+    // No early exit: a settled pile reads every body anyway. A job keeps kMaxPatched + 1 of
+    // its escaped bodies at most: enough to tell a patch from a rebuild.
+    std::vector<int>& mine = part_escaped_[static_cast<size_t>(p)];
+    mine.clear();
+    for (int k = static_cast<int>(part_begin(n, jobs, p)); k < part_begin(n, jobs, p + 1); ++k) {
+      const auto i = static_cast<size_t>(k);
+      const double motion = std::sqrt(length_squared(centres[i] - centre0_[i])) + std::max(0.0, reach[i] - reach0_[i]);
+      if (!(motion <= bound) && mine.size() <= kMaxPatched) mine.push_back(k);  // NaN escapes (rebuilt below)
     }
-    part_moved_[static_cast<size_t>(p)] = static_cast<char>(moved);
   });
-  return std::none_of(part_moved_.begin(), part_moved_.end(), [](char m) { return m != 0; });
+  for (int p = 0; p < jobs; ++p) {
+    const std::vector<int>& mine = part_escaped_[static_cast<size_t>(p)];
+    escaped_.insert(escaped_.end(), mine.begin(), mine.end());
+  }
+  // A non-finite body rebuilds, and the broad phase reports it.
+  for (const int e : escaped_) {
+    const auto i = static_cast<size_t>(e);
+    if (!std::isfinite(centres[i].x) || !std::isfinite(centres[i].y) || !std::isfinite(reach[i])) return false;
+  }
+  return true;
+}
+
+void CirclePairCache::patch(const std::vector<Vec2>& centres, const std::vector<double>& reach) {
+  // Re-anchor first, so that a pair of two escaped bodies is tested on both new anchors.
+  is_escaped_.resize(centres.size(), 0);
+  for (const int e : escaped_) {
+    const auto i = static_cast<size_t>(e);
+    centre0_[i] = centres[i];
+    reach0_[i] = reach[i];
+    is_escaped_[i] = 1;
+  }
+  // The escaped bodies' pairs against every anchor, by the rebuild's test (a pair of two escaped
+  // bodies once: from the lower one).
+  added_.clear();
+  const int n = static_cast<int>(centres.size());
+  for (const int e : escaped_) {
+    const auto a = static_cast<size_t>(e);
+    for (int j = 0; j < n; ++j) {
+      const auto b = static_cast<size_t>(j);
+      if (j == e || (is_escaped_[b] != 0 && j < e)) continue;
+      const double limit = reach0_[a] + reach0_[b] + 2 * skin_;
+      if (length_squared(centre0_[b] - centre0_[a]) < limit * limit) added_.emplace_back(std::min(e, j), std::max(e, j));
+    }
+  }
+  std::sort(added_.begin(), added_.end());
+  // The kept pairs without the escaped bodies, merged with their new pairs in sorted order.
+  merged_.clear();
+  auto next = added_.begin();
+  for (const auto& pr : pairs_) {
+    if (is_escaped_[static_cast<size_t>(pr.first)] != 0 || is_escaped_[static_cast<size_t>(pr.second)] != 0) continue;
+    for (; next != added_.end() && *next < pr; ++next) merged_.push_back(*next);
+    merged_.push_back(pr);
+  }
+  merged_.insert(merged_.end(), next, added_.end());
+  pairs_.swap(merged_);
+  for (const int e : escaped_) is_escaped_[static_cast<size_t>(e)] = 0;
 }
 
 void CirclePairCache::rebuild(const std::vector<Vec2>& centres, const std::vector<double>& reach,
