@@ -17,10 +17,10 @@ constexpr double kMotionOfSkin = 0.9;
 /// broad phase then runs plainly (no list) for a number of steps that doubles up to kMaxPlain.
 constexpr int kPayingUses = 2;
 constexpr int kMaxPlain = 32;
-/// Escaped bodies a step patches at most (circle_pair_cache.hpp): a patch tests each against all
-/// n anchors (a few ns per test) where a rebuild files and tests n grown boxes (tens of ns per
-/// body), so a patch of a few tens of bodies still costs less; beyond, the pile is on the move
-/// and the list is rebuilt.
+/// Escaped bodies a step patches at most (circle_pair_cache.hpp): a patch costs one distance
+/// test per body and escaped body (a streamed loop) plus a pass over the list, where a rebuild
+/// files every grown box in the grid, tests its neighbours and sorts the pairs, many times that
+/// per body; beyond this count the pile is on the move and the list is rebuilt.
 constexpr std::size_t kMaxPatched = 16;
 
 }  // namespace
