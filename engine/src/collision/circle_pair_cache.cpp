@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "world/parts/step_parts.hpp"
 
@@ -96,25 +98,46 @@ void CirclePairCache::patch(const std::vector<Vec2>& centres, const std::vector<
   // bodies once: from the lower one).
   added_.clear();
   const int n = static_cast<int>(centres.size());
+  hit_.resize(centres.size());
+  const Vec2* x0 = centre0_.data();
+  const double* r0 = reach0_.data();
   for (const int e : escaped_) {
+    // The test against every anchor as a byte per body (a branch-free loop the compiler
+    // vectorises), then the rare hits read eight bytes at a time.
     const auto a = static_cast<size_t>(e);
+    const Vec2 xa = x0[a];
+    const double ra = r0[a], two_skin = 2 * skin_;
+    unsigned char* hit = hit_.data();
     for (int j = 0; j < n; ++j) {
-      const auto b = static_cast<size_t>(j);
-      if (j == e || (is_escaped_[b] != 0 && j < e)) continue;
-      const double limit = reach0_[a] + reach0_[b] + 2 * skin_;
-      if (length_squared(centre0_[b] - centre0_[a]) < limit * limit) added_.emplace_back(std::min(e, j), std::max(e, j));
+      const double limit = ra + r0[j] + two_skin;
+      const double dx = x0[j].x - xa.x, dy = x0[j].y - xa.y;
+      hit[j] = static_cast<unsigned char>(dx * dx + dy * dy < limit * limit);
+    }
+    for (int j0 = 0; j0 < n; j0 += 8) {
+      std::uint64_t word = 0;
+      std::memcpy(&word, hit + j0, static_cast<size_t>(std::min(8, n - j0)));
+      if (word == 0) continue;
+      for (int j = j0; j < std::min(n, j0 + 8); ++j) {
+        // A pair of two escaped bodies once: from the lower one.
+        if (hit[j] == 0 || j == e || (is_escaped_[static_cast<size_t>(j)] != 0 && j < e)) continue;
+        added_.emplace_back(std::min(e, j), std::max(e, j));
+      }
     }
   }
   std::sort(added_.begin(), added_.end());
-  // The kept pairs without the escaped bodies, merged with their new pairs in sorted order.
-  merged_.clear();
+  // The kept pairs without the escaped bodies, merged with their new pairs in sorted order
+  // (written through a pointer into room for both: no capacity check per pair).
+  merged_.resize(pairs_.size() + added_.size());
+  std::pair<int, int>* out = merged_.data();
+  const char* gone = is_escaped_.data();
   auto next = added_.begin();
   for (const auto& pr : pairs_) {
-    if (is_escaped_[static_cast<size_t>(pr.first)] != 0 || is_escaped_[static_cast<size_t>(pr.second)] != 0) continue;
-    for (; next != added_.end() && *next < pr; ++next) merged_.push_back(*next);
-    merged_.push_back(pr);
+    if ((gone[pr.first] | gone[pr.second]) != 0) continue;
+    for (; next != added_.end() && *next < pr; ++next) *out++ = *next;
+    *out++ = pr;
   }
-  merged_.insert(merged_.end(), next, added_.end());
+  out = std::copy(next, added_.end(), out);
+  merged_.resize(static_cast<size_t>(out - merged_.data()));
   pairs_.swap(merged_);
   for (const int e : escaped_) is_escaped_[static_cast<size_t>(e)] = 0;
 }

@@ -55,6 +55,7 @@ class CirclePairCache {
   std::vector<std::vector<int>> part_escaped_;  ///< per job of find_escaped: its escaped bodies
   std::vector<int> escaped_;                    ///< the escaped bodies of this step, in body order
   std::vector<char> is_escaped_;                ///< per body: in escaped_ (all 0 between patches)
+  std::vector<unsigned char> hit_;              ///< patch(): per body, within the grown reach of one escaped body
   double skin_ = 0;  ///< σ [m]
   int uses_ = 0;        ///< steps the kept list served after its rebuild
   int plain_run_ = 0;   ///< length of the last run of steps without a list
