@@ -115,6 +115,7 @@ struct Run {
   int moving = 0;            ///< dynamic bodies with |v| > kMoving at the end
   double mean_height = 0;    ///< mean y of the dynamic bodies at the end [m] (a pile that spreads sinks)
   dc::PgsColoredProfile parts;  ///< ours with --profile and solver "pgs-colored": the solver's parts
+  dc::StepProfile stages;       ///< ours: Σ of the steps' stage times (wall clock, StepReport::profile) [ms]
 };
 
 int g_trace = 0;  ///< --trace N: ours prints the pile's motion every N steps and by height at the end
@@ -380,6 +381,12 @@ Run run_ours(dc::WorldDef def, const Config& c, int steps, bool profile) {
     if (c.warm) starter->observe(dc::StepView{world, nullptr}, rep.solve.lambda);
     r.cpu_s += thread_cpu_s() - t0;
     rows += rep.rows;
+    r.stages.collide_ms += rep.profile.collide_ms;
+    r.stages.broad_phase_ms += rep.profile.broad_phase_ms;
+    r.stages.assemble_ms += rep.profile.assemble_ms;
+    r.stages.warmstart_ms += rep.profile.warmstart_ms;
+    r.stages.solve_ms += rep.profile.solve_ms;
+    r.stages.integrate_ms += rep.profile.integrate_ms;
     if (g_trace > 0 && (s + 1) % g_trace == 0) trace_line(world, s + 1, rep.solve.residual);
   }
   if (g_trace > 0) trace_line(world, steps, 0.0, 10);
@@ -492,6 +499,13 @@ void compare(const std::string& title, const dc::WorldDef& def, const std::vecto
   }
   for (size_t i = 0; i < configs.size() && profile; ++i) {
     const dc::PgsColoredProfile& q = last[i].parts;
+    if (configs[i].v3) continue;
+    const dc::StepProfile& g = last[i].stages;
+    const double w = 1.0 / steps;  // Σ ms → ms per step
+    std::printf("\nstep stages, %s (wall ms/step, last round): collide %.4f (broad phase %.4f), assemble %.4f, "
+                "warm start %.4f, solve %.4f, integrate %.4f\n",
+                configs[i].label().c_str(), w * g.collide_ms, w * g.broad_phase_ms, w * g.assemble_ms,
+                w * g.warmstart_ms, w * g.solve_ms, w * g.integrate_ms);
     if (q.solves == 0) continue;
     const double k = 1e3 / steps;  // CPU ms per step
     std::printf("\nsolver parts, %s (CPU ms/step, last round): checks %.4f, colouring %.4f, ordering %.4f, "

@@ -1,6 +1,7 @@
 // CirclePairCache: the pairs kept across steps hold every pair a fresh broad phase would give
 // whose circles are within reach, in the same sorted order, while the bodies move by small steps
-// (the kept list serves) and by large ones (it is rebuilt), on one thread and on several.
+// (the kept list serves) and by large ones (it is rebuilt), on one thread and on several; a few
+// bodies moving far are patched into the kept list (re-anchored) with the same guarantee.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,7 +43,7 @@ TEST(CirclePairCache, KeptPairsHoldEveryPairInReachInOrder) {
   for (const int threads : {1, 3}) {
     CirclePairCache cache;
     UniformGridBroadPhase kept_bp, fresh_bp;
-    int kept = 0, rebuilt = 0;
+    int kept = 0, rebuilt = 0, patched = 0;
     std::vector<Vec2> y = x, v(n);
     for (auto& vk : v) vk = {0.008 * unit(rng), 0.008 * unit(rng)};  // bodies drift towards each other
     std::vector<double> r = reach;
@@ -57,6 +58,7 @@ TEST(CirclePairCache, KeptPairsHoldEveryPairInReachInOrder) {
       }
       const Pairs& from_cache = cache.pairs(y, r, kept_bp, threads);
       (cache.rebuilt() ? rebuilt : kept) += 1;
+      patched += cache.patched() ? 1 : 0;
       ASSERT_TRUE(std::is_sorted(from_cache.begin(), from_cache.end())) << "step " << step;
       Pairs fresh;
       fresh_bp.find_pairs(y, r, fresh, threads);
@@ -64,7 +66,52 @@ TEST(CirclePairCache, KeptPairsHoldEveryPairInReachInOrder) {
                                                                           << " threads";
     }
     EXPECT_GT(kept, 20) << threads << " threads";
-    EXPECT_GE(rebuilt, 8) << threads << " threads";
+    EXPECT_GE(rebuilt + patched, 8) << threads << " threads";
+  }
+}
+
+TEST(CirclePairCache, AFewEscapedBodiesArePatchedIntoTheKeptList) {
+  // A still scene in which a few bodies travel far each step (one of them crossing the scene,
+  // two of them side by side, so that a pair of two escaped bodies is found), some still ones
+  // sit on their path: every step is a patch, and the pairs within reach are a fresh broad
+  // phase's, in order, on one thread and on several.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> pos(0.0, 50.0), rad(0.3, 0.6);
+  const int n = 2500;
+  std::vector<Vec2> x(n);
+  std::vector<double> reach(n);
+  for (int k = 0; k < n; ++k) {
+    x[static_cast<size_t>(k)] = {pos(rng), pos(rng)};
+    reach[static_cast<size_t>(k)] = rad(rng);
+  }
+  const std::vector<int> movers = {17, 18, 1200, 2499};
+  for (const int threads : {1, 3}) {
+    CirclePairCache cache;
+    UniformGridBroadPhase kept_bp, fresh_bp;
+    std::vector<Vec2> y = x;
+    std::vector<double> r = reach;
+    y[17] = {10.0, 10.0};  // 17 and 18 travel together, within reach of each other
+    y[18] = {10.5, 10.0};
+    (void)cache.pairs(y, r, kept_bp, threads);
+    int patched = 0;
+    for (int step = 0; step < 40; ++step) {
+      for (const int m : movers) {
+        auto& c = y[static_cast<size_t>(m)];
+        c = {std::fmod(c.x + 1.3, 50.0), std::fmod(c.y + 0.7, 50.0)};
+      }
+      r[2499] = reach[2499] * (1 + 0.05 * (step % 3));  // a reach that grows and shrinks
+      const Pairs& from_cache = cache.pairs(y, r, kept_bp, threads);
+      patched += cache.patched() ? 1 : 0;
+      EXPECT_FALSE(cache.rebuilt()) << "step " << step;
+      ASSERT_TRUE(std::is_sorted(from_cache.begin(), from_cache.end())) << "step " << step;
+      ASSERT_TRUE(std::adjacent_find(from_cache.begin(), from_cache.end()) == from_cache.end()) << "step " << step;
+      Pairs fresh;
+      fresh_bp.find_pairs(y, r, fresh, threads);
+      const Pairs want = within_reach(fresh, y, r);
+      ASSERT_EQ(want, within_reach(from_cache, y, r)) << "step " << step << ", " << threads << " threads";
+      EXPECT_TRUE(std::find(want.begin(), want.end(), std::pair<int, int>{17, 18}) != want.end());
+    }
+    EXPECT_EQ(patched, 40) << threads << " threads";
   }
 }
 

@@ -11,6 +11,14 @@
 // two (a falling or flowing pile), the broad phase runs without one for a while (pairs()).
 // The check is by body index only, so a renumbering of the bodies (the internal order's
 // re-sort) or a user's edit is caught like any motion; a change in the body count rebuilds.
+//
+// A few bodies beyond the skin (a grain rolling down a settled pile) do not rebuild the list:
+// each such body e is re-anchored (x⁰_e = x_e, R⁰_e = R_e), its pairs are dropped and found
+// again against every body's anchor by the same test, |x⁰_e − x⁰_j| < R⁰_e + R⁰_j + 2σ, and
+// merged back in sorted order. The list stays exactly the pairs of anchors within the grown
+// reach, so the bound above holds body by body. A patch costs O(n) per escaped body and a pass
+// over the list, a rebuild a broad phase of n grown boxes: up to kMaxPatched escaped bodies a
+// step are patched (circle_pair_cache.cpp), more rebuild.
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -29,22 +37,30 @@ class CirclePairCache {
                                                 UniformGridBroadPhase& broad_phase, int threads);
   /// Whether the last pairs() ran the broad phase.
   [[nodiscard]] bool rebuilt() const { return rebuilt_; }
+  /// Whether the last pairs() served the kept list with escaped bodies re-anchored (not rebuilt).
+  [[nodiscard]] bool patched() const { return patched_; }
 
  private:
-  /// Whether every body is still within the skin of where the list was built.
-  [[nodiscard]] bool still_valid(const std::vector<Vec2>& centres, const std::vector<double>& reach,
-                                 int threads);
+  /// The bodies beyond the skin of their anchors into escaped_ (in body order, at most
+  /// kMaxPatched + 1 of them); false when the sizes changed.
+  [[nodiscard]] bool find_escaped(const std::vector<Vec2>& centres, const std::vector<double>& reach,
+                                  int threads);
+  /// Re-anchors the bodies of escaped_ and replaces their pairs (see the file comment).
+  void patch(const std::vector<Vec2>& centres, const std::vector<double>& reach);
   void rebuild(const std::vector<Vec2>& centres, const std::vector<double>& reach,
                UniformGridBroadPhase& broad_phase, int threads);
   std::vector<Vec2> centre0_;           ///< x⁰_k [m]
   std::vector<double> reach0_, grown_;  ///< R⁰_k, and R⁰_k + σ for the broad phase [m]
-  std::vector<std::pair<int, int>> boxes_, pairs_;
-  std::vector<char> part_moved_;
+  std::vector<std::pair<int, int>> boxes_, pairs_, merged_, added_;
+  std::vector<std::vector<int>> part_escaped_;  ///< per job of find_escaped: its escaped bodies
+  std::vector<int> escaped_;                    ///< the escaped bodies of this step, in body order
+  std::vector<char> is_escaped_;                ///< per body: in escaped_ (all 0 between patches)
+  std::vector<unsigned char> hit_;              ///< patch(): per body, within the grown reach of one escaped body
   double skin_ = 0;  ///< σ [m]
   int uses_ = 0;        ///< steps the kept list served after its rebuild
   int plain_run_ = 0;   ///< length of the last run of steps without a list
   int plain_left_ = 0;  ///< steps left in the current run without a list
-  bool kept_ = false, rebuilt_ = false;
+  bool kept_ = false, rebuilt_ = false, patched_ = false;
 };
 
 }  // namespace dc
