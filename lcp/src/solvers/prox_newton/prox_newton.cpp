@@ -22,6 +22,7 @@
 #include "solvers/prox_newton/lead/lead_rate.hpp"
 #include "solvers/prox_newton/lead/lead_stage.hpp"
 #include "solvers/prox_newton/newton_budget.hpp"
+#include "solvers/prox_newton/options/def_check.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"
@@ -50,50 +51,6 @@ struct ProxNewtonSolver::State {
 
 namespace solvers::prox {
 namespace {
-
-void check_def(const ProxNewtonDef& d) {
-  const auto positive = [](double x) { return std::isfinite(x) && x > 0; };
-  if (!positive(d.initial_shift) || !positive(d.min_shift) || !positive(d.max_shift) || d.min_shift > d.max_shift)
-    throw InvalidArgument("prox-newton: shifts must be finite, > 0, min_shift <= max_shift");
-  if (!(std::isfinite(d.shrink) && d.shrink > 1)) throw InvalidArgument("prox-newton: shrink must be > 1");
-  if (!(d.pass_progress > 0 && d.pass_progress <= 1))
-    throw InvalidArgument("prox-newton: pass_progress must be in (0, 1]");
-  if (d.max_outer < 1 || d.inner_iterations < 1 || d.body_inner_iterations < 1 || d.max_stalls < 1)
-    throw InvalidArgument("prox-newton: max_outer, inner_iterations, body_inner_iterations and max_stalls must be >= 1");
-  if (!positive(d.cone_shift) || !positive(d.cone_min_shift) || !positive(d.cone_inner_tolerance) ||
-      !(d.cone_shrink >= 1))
-    throw InvalidArgument("prox-newton: cone_shift, cone_min_shift, cone_inner_tolerance must be > 0, cone_shrink >= 1");
-  if (d.cone_inner_iterations < 1 || d.cone_follow_iterations < 1 || d.cone_max_stalls < 1 || d.cone_anderson < 0 ||
-      d.cone_follow_after < 0 || d.cone_trust_retries < 0 || !(d.cone_trust_radius >= 0) || !(d.cone_trust_grow > 1) ||
-      !(d.cone_follow_below >= 0) || !(d.cone_trust_forget >= 0) || !(d.cone_trust_accept >= 1))
-    throw InvalidArgument("prox-newton: cone_inner_iterations, cone_follow_iterations, cone_max_stalls must be >= 1, "
-                          "cone_anderson, cone_follow_after, cone_trust_retries, cone_trust_radius, cone_follow_below, cone_trust_forget >= 0, "
-                          "cone_trust_grow > 1, cone_trust_accept >= 1");
-  if (!positive(d.inner_tolerance)) throw InvalidArgument("prox-newton: inner_tolerance must be > 0");
-  if (!(d.lead_window_bodies >= 0 && std::isfinite(d.lead_window_bodies)) || !(d.lead_initial_shift >= 0 && d.lead_initial_shift < 1))
-    throw InvalidArgument("prox-newton: lead_window_bodies must be finite and >= 0, lead_initial_shift in [0, 1)");
-  if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || d.lead_newton_stalls < 0 || !(d.lead_gain >= 1) || d.lead_fallback_doublings > 20 ||
-      d.lead_window < 0 || !(d.lead_window_gain > 1 && std::isfinite(d.lead_window_gain)) ||
-      !(d.lead_fallback_cap_fall >= 0 && d.lead_fallback_cap_fall <= 1))
-    throw InvalidArgument("prox-newton: lead_sweeps, lead_finish_window, lead_newton_stalls and lead_window must be >= 0, lead_gain >= 1, "
-                          "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
-  if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
-    throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
-  if (d.lead_colored_rows < 0 || d.lead_stall_chunks < 0 || d.degenerate_stall_chunks < 0 || !(d.degenerate_rows > 0))
-    throw InvalidArgument("prox-newton: lead_colored_rows, lead_stall_chunks, degenerate_stall_chunks must be >= 0, "
-                          "degenerate_rows > 0");
-  if (d.newton_budget < 0 || !(d.newton_budget_gain >= 1 && std::isfinite(d.newton_budget_gain)) ||
-      !(d.newton_budget_lead_fall >= 0))
-    throw InvalidArgument("prox-newton: newton_budget must be >= 0, newton_budget_gain finite and >= 1, "
-                          "newton_budget_lead_fall >= 0");
-  if (d.finish_iterations < 0 || d.safeguard_sweeps < 0 || d.pivot_rows < 0 || d.stale_factor_iterations < 0 ||
-      d.body_finish_iterations < 0)
-    throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
-                          "body_finish_iterations must be >= 0");
-  if (d.local_pivot_rows < 0 || d.local_pivot_rings < 0 || d.local_pivot_rounds < 0 || !positive(d.local_pivot_threshold))
-    throw InvalidArgument("prox-newton: local_pivot_rows, local_pivot_rings and local_pivot_rounds must be >= 0, "
-                          "local_pivot_threshold finite and > 0");
-}
 
 /// x in %.3g form (residuals span many decades).
 std::string sci(double x) {
