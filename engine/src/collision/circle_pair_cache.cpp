@@ -23,7 +23,7 @@ constexpr int kMaxPlain = 32;
 /// a patch costs a grid query per escaped body and a pass over the list, where a rebuild files
 /// every grown box in the broad phase's grid, tests its neighbours and sorts all the pairs; beyond
 /// this fraction the pile is on the move and the list is rebuilt.
-constexpr double kPatchedOfBodies = 0.25;
+constexpr double kPatchedOfBodies = 0.1;
 /// The anchor grid holds at most this many cells per body (its cell grows to fit).
 constexpr double kCellsPerBody = 2.0;
 
