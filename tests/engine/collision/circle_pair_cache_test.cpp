@@ -122,8 +122,8 @@ TEST(CirclePairCache, HundredsOfEscapedBodiesArePatchedThroughTheGrid) {
   // kept list is the very list a fresh cache builds from a broad phase on the same positions,
   // on one thread and on several.
   std::mt19937 rng(23);
-  std::uniform_real_distribution<double> pos(0.0, 40.0), rad(0.3, 0.6), unit(-1.0, 1.0);
-  const int n = 2000;
+  std::uniform_real_distribution<double> pos(0.0, 63.0), rad(0.3, 0.6), unit(-1.0, 1.0);
+  const int n = 5000;
   std::vector<Vec2> x(n);
   std::vector<double> reach(n);
   for (int k = 0; k < n; ++k) {
@@ -137,15 +137,15 @@ TEST(CirclePairCache, HundredsOfEscapedBodiesArePatchedThroughTheGrid) {
     (void)cache.pairs(y, reach, kept_bp, threads);
     int patched = 0;
     for (int step = 0; step < 30; ++step) {
-      for (int m = step % 7; m < n; m += 7) {  // 285 or 286 bodies a step
+      for (int m = step % 17; m < n; m += 17) {  // 294 or 295 bodies a step, and up to 98 neighbours
         auto& c = y[static_cast<size_t>(m)];
-        if (m % 35 == 0) {
+        if (m % 85 == 0) {
           c = {-3.0 - 0.1 * step, 20.0 + 0.5 * unit(rng)};  // out of the grid's box (clamped)
-        } else if (m % 21 == 1 && m + 1 < n) {
+        } else if (m % 51 == 1 && m + 1 < n) {
           c = {pos(rng), pos(rng)};
           y[static_cast<size_t>(m + 1)] = {c.x + 0.4, c.y};  // two escaped bodies within reach
         } else {
-          c = {std::fmod(c.x + 3.0 + unit(rng), 40.0), std::fmod(c.y + 2.0 + unit(rng), 40.0)};
+          c = {std::fmod(c.x + 3.0 + unit(rng), 63.0), std::fmod(c.y + 2.0 + unit(rng), 63.0)};
         }
       }
       const Pairs& from_cache = cache.pairs(y, reach, kept_bp, threads);
