@@ -12,7 +12,7 @@ namespace {
 
 /// σ ÷ the largest reach at a rebuild: a larger skin keeps the list longer and hands the
 /// narrow phase more pairs that are not in contact.
-constexpr double kSkinOfReach = 0.1;
+constexpr double kSkinOfReach = 0.2;
 /// The motion a body may make before the list is rebuilt, as a fraction of σ (circle_pair_cache.hpp).
 constexpr double kMotionOfSkin = 0.9;
 /// A list that served fewer steps after its rebuild than this did not pay for its skin: the
