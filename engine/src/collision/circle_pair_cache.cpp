@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
+#include <limits>
 
 #include "world/parts/step_parts.hpp"
 
@@ -12,18 +12,23 @@ namespace {
 
 /// σ ÷ the largest reach at a rebuild: a larger skin keeps the list longer and hands the
 /// narrow phase more pairs that are not in contact.
-constexpr double kSkinOfReach = 0.1;
+constexpr double kSkinOfReach = 0.2;
 /// The motion a body may make before the list is rebuilt, as a fraction of σ (circle_pair_cache.hpp).
 constexpr double kMotionOfSkin = 0.9;
 /// A list that served fewer steps after its rebuild than this did not pay for its skin: the
 /// broad phase then runs plainly (no list) for a number of steps that doubles up to kMaxPlain.
 constexpr int kPayingUses = 2;
 constexpr int kMaxPlain = 32;
-/// Escaped bodies a step patches at most (circle_pair_cache.hpp): a patch costs one distance
-/// test per body and escaped body (a streamed loop) plus a pass over the list, where a rebuild
-/// files every grown box in the grid, tests its neighbours and sorts the pairs, many times that
-/// per body; beyond this count the pile is on the move and the list is rebuilt.
-constexpr std::size_t kMaxPatched = 16;
+/// Escaped bodies a step patches at most, as a fraction of the bodies (circle_pair_cache.hpp):
+/// a patch costs a grid query per escaped body and a pass over the list, where a rebuild files
+/// every grown box in the broad phase's grid, tests its neighbours and sorts all the pairs; beyond
+/// this fraction the pile is on the move and the list is rebuilt.
+constexpr double kPatchedOfBodies = 0.1;
+/// The anchor grid holds at most this many cells per body (its cell grows to fit).
+constexpr double kCellsPerBody = 2.0;
+
+/// The escaped bodies a step patches at most among n.
+std::size_t patch_limit(std::size_t n) { return static_cast<std::size_t>(kPatchedOfBodies * static_cast<double>(n)); }
 
 }  // namespace
 
@@ -31,7 +36,7 @@ const std::vector<std::pair<int, int>>& CirclePairCache::pairs(const std::vector
                                                               const std::vector<double>& reach,
                                                               UniformGridBroadPhase& broad_phase, int threads) {
   patched_ = false;
-  rebuilt_ = !(kept_ && find_escaped(centres, reach, threads) && escaped_.size() <= kMaxPatched);
+  rebuilt_ = !(kept_ && find_escaped(centres, reach, threads) && escaped_.size() <= patch_limit(centres.size()));
   if (!rebuilt_) {
     if (!escaped_.empty()) {
       patch(centres, reach);
@@ -60,17 +65,18 @@ bool CirclePairCache::find_escaped(const std::vector<Vec2>& centres, const std::
   const int n = static_cast<int>(centres.size());
   if (centre0_.size() != centres.size() || reach.size() != centres.size()) return false;
   const double bound = kMotionOfSkin * skin_;
+  const std::size_t limit = patch_limit(centres.size());
   const int jobs = parts_for(threads, n, 2, 4096);
   if (part_escaped_.size() < static_cast<size_t>(jobs)) part_escaped_.resize(static_cast<size_t>(jobs));
   run_parts(threads, jobs, [&](int p) {
-    // No early exit: a settled pile reads every body anyway. A job keeps kMaxPatched + 1 of
+    // No early exit: a settled pile reads every body anyway. A job keeps patch_limit(n) + 1 of
     // its escaped bodies at most: enough to tell a patch from a rebuild.
     std::vector<int>& mine = part_escaped_[static_cast<size_t>(p)];
     mine.clear();
     for (int k = static_cast<int>(part_begin(n, jobs, p)); k < part_begin(n, jobs, p + 1); ++k) {
       const auto i = static_cast<size_t>(k);
       const double motion = std::sqrt(length_squared(centres[i] - centre0_[i])) + std::max(0.0, reach[i] - reach0_[i]);
-      if (!(motion <= bound) && mine.size() <= kMaxPatched) mine.push_back(k);  // NaN escapes (rebuilt below)
+      if (!(motion <= bound) && mine.size() <= limit) mine.push_back(k);  // NaN escapes (rebuilt below)
     }
   });
   for (int p = 0; p < jobs; ++p) {
@@ -85,46 +91,107 @@ bool CirclePairCache::find_escaped(const std::vector<Vec2>& centres, const std::
   return true;
 }
 
+int CirclePairCache::cell_of(Vec2 x) const {
+  // Clamped to the grid (a body that left the anchors' box at the grid's build sits in a border
+  // cell): the clamp is monotone, so a query's clamped range still covers every anchor within
+  // its reach. NaN lands in cell 0 (an anchor never is: find_escaped() rebuilds on one).
+  double cx = std::floor((x.x - origin_.x) / cell_), cy = std::floor((x.y - origin_.y) / cell_);
+  cx = cx >= 0 ? std::min(cx, static_cast<double>(cols_ - 1)) : 0.0;
+  cy = cy >= 0 ? std::min(cy, static_cast<double>(rows_ - 1)) : 0.0;
+  return static_cast<int>(cy) * cols_ + static_cast<int>(cx);
+}
+
+void CirclePairCache::build_grid() {
+  // Cells of side 2·(max R⁰ + σ), so that an escaped body's reach spans 2 × 2 cells as a rule;
+  // larger when the anchors' box would need more than kCellsPerBody cells per body.
+  const std::size_t n = centre0_.size();
+  Vec2 lo = centre0_[0], hi = centre0_[0];
+  for (const Vec2& c : centre0_) {
+    lo = {std::min(lo.x, c.x), std::min(lo.y, c.y)};
+    hi = {std::max(hi.x, c.x), std::max(hi.y, c.y)};
+  }
+  reach0_max_ = 0;
+  for (const double r : reach0_) reach0_max_ = std::max(reach0_max_, r);
+  cell_ = 2 * (reach0_max_ + skin_);
+  const double w = hi.x - lo.x, h = hi.y - lo.y, most = kCellsPerBody * static_cast<double>(n) + 16;
+  if ((w / cell_ + 1) * (h / cell_ + 1) > most) cell_ = std::max(cell_, (w + h) / std::sqrt(most) * 1.5);
+  origin_ = lo;
+  if (!std::isfinite(w + h + cell_)) cell_ = std::numeric_limits<double>::infinity();  // one cell
+  cols_ = std::isfinite(cell_) ? static_cast<int>(w / cell_) + 1 : 1;
+  rows_ = std::isfinite(cell_) ? static_cast<int>(h / cell_) + 1 : 1;
+  head_.assign(static_cast<size_t>(cols_) * static_cast<size_t>(rows_), -1);
+  next_.resize(n);
+  prev_.resize(n);
+  cell_of_.resize(n);
+  for (std::size_t k = n; k-- > 0;) file(static_cast<int>(k), cell_of(centre0_[k]));
+  grid_kept_ = true;
+}
+
+void CirclePairCache::file(int k, int cell) {
+  const auto i = static_cast<size_t>(k);
+  const int first = head_[static_cast<size_t>(cell)];
+  cell_of_[i] = cell;
+  prev_[i] = -1;
+  next_[i] = first;
+  if (first >= 0) prev_[static_cast<size_t>(first)] = k;
+  head_[static_cast<size_t>(cell)] = k;
+}
+
+void CirclePairCache::unfile(int k) {
+  const auto i = static_cast<size_t>(k);
+  if (prev_[i] >= 0) {
+    next_[static_cast<size_t>(prev_[i])] = next_[i];
+  } else {
+    head_[static_cast<size_t>(cell_of_[i])] = next_[i];
+  }
+  if (next_[i] >= 0) prev_[static_cast<size_t>(next_[i])] = prev_[i];
+}
+
 void CirclePairCache::patch(const std::vector<Vec2>& centres, const std::vector<double>& reach) {
-  // Re-anchor first, so that a pair of two escaped bodies is tested on both new anchors.
+  if (!grid_kept_) build_grid();
+  // Re-anchor (and re-file) first, so that a pair of two escaped bodies is tested on both new
+  // anchors.
   is_escaped_.resize(centres.size(), 0);
   for (const int e : escaped_) {
     const auto i = static_cast<size_t>(e);
     centre0_[i] = centres[i];
     reach0_[i] = reach[i];
+    reach0_max_ = std::max(reach0_max_, reach[i]);
     is_escaped_[i] = 1;
+    const int cell = cell_of(centres[i]);
+    if (cell != cell_of_[i]) {
+      unfile(e);
+      file(e, cell);
+    }
   }
-  // The escaped bodies' pairs against every anchor, by the rebuild's test (a pair of two escaped
-  // bodies once: from the lower one).
+  // The escaped bodies' pairs against the anchors of the cells within R⁰_e + max R⁰ + 2σ, by the
+  // rebuild's test (a pair of two escaped bodies once: from the lower one).
   added_.clear();
-  const int n = static_cast<int>(centres.size());
-  hit_.resize(centres.size());
   const Vec2* x0 = centre0_.data();
   const double* r0 = reach0_.data();
+  const double two_skin = 2 * skin_;
   for (const int e : escaped_) {
-    // The test against every anchor as a byte per body (a branch-free loop the compiler
-    // vectorises), then the rare hits read eight bytes at a time.
     const auto a = static_cast<size_t>(e);
     const Vec2 xa = x0[a];
-    const double ra = r0[a], two_skin = 2 * skin_;
-    unsigned char* hit = hit_.data();
-    for (int j = 0; j < n; ++j) {
-      const double limit = ra + r0[j] + two_skin;
-      const double dx = x0[j].x - xa.x, dy = x0[j].y - xa.y;
-      hit[j] = static_cast<unsigned char>(dx * dx + dy * dy < limit * limit);
-    }
-    for (int j0 = 0; j0 < n; j0 += 8) {
-      std::uint64_t word = 0;
-      std::memcpy(&word, hit + j0, static_cast<size_t>(std::min(8, n - j0)));
-      if (word == 0) continue;
-      for (int j = j0; j < std::min(n, j0 + 8); ++j) {
-        // A pair of two escaped bodies once: from the lower one.
-        if (hit[j] == 0 || j == e || (is_escaped_[static_cast<size_t>(j)] != 0 && j < e)) continue;
-        added_.emplace_back(std::min(e, j), std::max(e, j));
+    const double ra = r0[a], span = ra + reach0_max_ + two_skin;
+    const int c0 = cell_of({xa.x - span, xa.y - span}), c1 = cell_of({xa.x + span, xa.y + span});
+    for (int row = c0 / cols_; row <= c1 / cols_; ++row) {
+      for (int col = c0 % cols_; col <= c1 % cols_; ++col) {
+        for (int j = head_[static_cast<size_t>(row * cols_ + col)]; j >= 0; j = next_[static_cast<size_t>(j)]) {
+          const auto b = static_cast<size_t>(j);
+          if (j == e || (is_escaped_[b] != 0 && j < e)) continue;
+          const double limit = ra + r0[b] + two_skin;
+          const double dx = x0[b].x - xa.x, dy = x0[b].y - xa.y;
+          if (dx * dx + dy * dy < limit * limit) added_.emplace_back(std::min(e, j), std::max(e, j));
+        }
       }
     }
   }
   std::sort(added_.begin(), added_.end());
+  merge_patched();
+}
+
+void CirclePairCache::merge_patched() {
   // The kept pairs without the escaped bodies, merged with their new pairs in sorted order
   // (written through a pointer into room for both: no capacity check per pair).
   merged_.resize(pairs_.size() + added_.size());
@@ -153,6 +220,7 @@ void CirclePairCache::rebuild(const std::vector<Vec2>& centres, const std::vecto
     broad_phase.find_pairs(centres, reach, pairs_, threads);
     return;
   }
+  grid_kept_ = false;  // built at the first patch (patch())
   centre0_.assign(centres.begin(), centres.end());
   reach0_.assign(reach.begin(), reach.end());
   grown_.resize(n);

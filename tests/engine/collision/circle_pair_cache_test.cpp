@@ -115,6 +115,50 @@ TEST(CirclePairCache, AFewEscapedBodiesArePatchedIntoTheKeptList) {
   }
 }
 
+TEST(CirclePairCache, HundredsOfEscapedBodiesArePatchedThroughTheGrid) {
+  // A still scene in which a few hundred bodies jump each step (leaving their grid cells for
+  // others, some out of the anchors' box and back, some next to each other): every step is a
+  // patch, and since the still bodies sit on their anchors and the reaches do not change, the
+  // kept list is the very list a fresh cache builds from a broad phase on the same positions,
+  // on one thread and on several.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> pos(0.0, 63.0), rad(0.3, 0.6), unit(-1.0, 1.0);
+  const int n = 5000;
+  std::vector<Vec2> x(n);
+  std::vector<double> reach(n);
+  for (int k = 0; k < n; ++k) {
+    x[static_cast<size_t>(k)] = {pos(rng), pos(rng)};
+    reach[static_cast<size_t>(k)] = rad(rng);
+  }
+  for (const int threads : {1, 3}) {
+    CirclePairCache cache;
+    UniformGridBroadPhase kept_bp, fresh_bp;
+    std::vector<Vec2> y = x;
+    (void)cache.pairs(y, reach, kept_bp, threads);
+    int patched = 0;
+    for (int step = 0; step < 30; ++step) {
+      for (int m = step % 17; m < n; m += 17) {  // 294 or 295 bodies a step, and up to 98 neighbours
+        auto& c = y[static_cast<size_t>(m)];
+        if (m % 85 == 0) {
+          c = {-3.0 - 0.1 * step, 20.0 + 0.5 * unit(rng)};  // out of the grid's box (clamped)
+        } else if (m % 51 == 1 && m + 1 < n) {
+          c = {pos(rng), pos(rng)};
+          y[static_cast<size_t>(m + 1)] = {c.x + 0.4, c.y};  // two escaped bodies within reach
+        } else {
+          c = {std::fmod(c.x + 3.0 + unit(rng), 63.0), std::fmod(c.y + 2.0 + unit(rng), 63.0)};
+        }
+      }
+      const Pairs& from_cache = cache.pairs(y, reach, kept_bp, threads);
+      patched += cache.patched() ? 1 : 0;
+      EXPECT_FALSE(cache.rebuilt()) << "step " << step;
+      CirclePairCache fresh;
+      ASSERT_EQ(fresh.pairs(y, reach, fresh_bp, threads), from_cache) << "step " << step << ", " << threads
+                                                                         << " threads";
+    }
+    EXPECT_EQ(patched, 30) << threads << " threads";
+  }
+}
+
 TEST(CirclePairCache, ABodyCountChangeRebuilds) {
   std::vector<Vec2> x = {{0, 0}, {0.5, 0}, {3, 3}};
   std::vector<double> reach = {0.3, 0.3, 0.3};

@@ -12,13 +12,14 @@
 // The check is by body index only, so a renumbering of the bodies (the internal order's
 // re-sort) or a user's edit is caught like any motion; a change in the body count rebuilds.
 //
-// A few bodies beyond the skin (a grain rolling down a settled pile) do not rebuild the list:
-// each such body e is re-anchored (x⁰_e = x_e, R⁰_e = R_e), its pairs are dropped and found
-// again against every body's anchor by the same test, |x⁰_e − x⁰_j| < R⁰_e + R⁰_j + 2σ, and
-// merged back in sorted order. The list stays exactly the pairs of anchors within the grown
-// reach, so the bound above holds body by body. A patch costs O(n) per escaped body and a pass
-// over the list, a rebuild a broad phase of n grown boxes: up to kMaxPatched escaped bodies a
-// step are patched (circle_pair_cache.cpp), more rebuild.
+// Bodies beyond the skin (a grain rolling down a settled pile, part of a pile still falling) do
+// not rebuild the list: each such body e is re-anchored (x⁰_e = x_e, R⁰_e = R_e), its pairs are
+// dropped and found again by the same test, |x⁰_e − x⁰_j| < R⁰_e + R⁰_j + 2σ, against the anchors
+// of a kept grid (every anchor filed in a cell; an escaped body moves to its new anchor's cell),
+// and merged back in sorted order. The list stays exactly the pairs of anchors within the grown
+// reach, so the bound above holds body by body. A patch costs a few cells per escaped body and a
+// pass over the list, a rebuild a broad phase of n grown boxes: up to a fixed fraction of the
+// bodies escaped in a step are patched (circle_pair_cache.cpp), more rebuild.
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -42,11 +43,19 @@ class CirclePairCache {
 
  private:
   /// The bodies beyond the skin of their anchors into escaped_ (in body order, at most
-  /// kMaxPatched + 1 of them); false when the sizes changed.
+  /// patch limit + 1 of them per job); false when the sizes changed or one is not finite.
   [[nodiscard]] bool find_escaped(const std::vector<Vec2>& centres, const std::vector<double>& reach,
                                   int threads);
   /// Re-anchors the bodies of escaped_ and replaces their pairs (see the file comment).
   void patch(const std::vector<Vec2>& centres, const std::vector<double>& reach);
+  /// The kept pairs without the escaped bodies merged with added_ (sorted) into pairs_.
+  void merge_patched();
+  /// Files every anchor in a grid of cells (patch() queries it); the grid is kept until a rebuild.
+  void build_grid();
+  /// The cell of a point, clamped into the grid.
+  [[nodiscard]] int cell_of(Vec2 x) const;
+  void file(int k, int cell);  ///< body k at the head of the cell's list
+  void unfile(int k);          ///< body k out of its cell's list
   void rebuild(const std::vector<Vec2>& centres, const std::vector<double>& reach,
                UniformGridBroadPhase& broad_phase, int threads);
   std::vector<Vec2> centre0_;           ///< x⁰_k [m]
@@ -55,7 +64,13 @@ class CirclePairCache {
   std::vector<std::vector<int>> part_escaped_;  ///< per job of find_escaped: its escaped bodies
   std::vector<int> escaped_;                    ///< the escaped bodies of this step, in body order
   std::vector<char> is_escaped_;                ///< per body: in escaped_ (all 0 between patches)
-  std::vector<unsigned char> hit_;              ///< patch(): per body, within the grown reach of one escaped body
+  // The anchor grid: per cell the first body of a doubly linked list through next_/prev_.
+  std::vector<int> head_, next_, prev_, cell_of_;
+  Vec2 origin_;                ///< the grid's lower corner [m]
+  double cell_ = 1;            ///< a cell's side [m]
+  double reach0_max_ = 0;      ///< an upper bound of every R⁰_k [m]
+  int cols_ = 1, rows_ = 1;
+  bool grid_kept_ = false;     ///< the grid files the current anchors
   double skin_ = 0;  ///< σ [m]
   int uses_ = 0;        ///< steps the kept list served after its rebuild
   int plain_run_ = 0;   ///< length of the last run of steps without a list
