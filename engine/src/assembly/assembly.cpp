@@ -325,6 +325,7 @@ bool assemble_direct(const BodyState& s, const std::vector<Contact>& contacts, c
 
 void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, const WorldDef& def,
                   LcpProblem& out, int threads) {
+  out.structure.clear();  // until the structure below is complete (a check may throw)
   const int jobs = parts_for(threads, std::max(static_cast<long>(s.size()), static_cast<long>(contacts.size())), 4, 1024);
   if (jobs > 1) {
     if (!assemble_direct(s, contacts, def, out, threads, jobs)) assemble_jobs(s, contacts, def, out, threads, jobs);
@@ -333,6 +334,9 @@ void assemble_lcp(const BodyState& s, const std::vector<Contact>& contacts, cons
   // A = J M⁻¹ Jᵀ Δt is formed on demand only (LcpProblem::ensure_assembled_matrix). Emptied only
   // when formed: an empty SparseRowMatrix allocates its outer index, every step.
   if (out.A.rows() != 0 || out.A.cols() != 0 || out.A.nonZeros() != 0) out.A = SparseRowMatrix();
+  // Every contact passed add()'s checks and got add()'s rows, with [0, +∞) on its normal row and
+  // its μ on a tangent row coupled to it (fill_rows): the solver need not check that again.
+  out.structure.set(out);
 }
 
 }  // namespace dc

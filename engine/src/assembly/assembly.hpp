@@ -25,7 +25,8 @@ inline double friction_of(const Contact& /*contact*/, const ContactSection& sect
 
 /// Fills `out` (constraints, b, bounds, J, inv_mass, dt; A left empty) for the given
 /// contacts; reuses its storage. threads > 1: the rows are filled by parallel jobs of contacts
-/// (each contact's rows written by one job: the same numbers).
+/// (each contact's rows written by one job: the same numbers). Stamps out.structure once the
+/// structure is complete (valid by construction: StructureStamp); cleared while it is written.
 void assemble_lcp(const BodyState& bodies, const std::vector<Contact>& contacts,
                   const WorldDef& def, LcpProblem& out, int threads = 1);
 

@@ -31,6 +31,15 @@ LcpProblem LcpProblem::standard(const SparseRowMatrix& A, const Eigen::VectorXd&
   return p;
 }
 
+void StructureStamp::set(const LcpProblem& p) {
+  rows_ = p.rows();
+  contacts_ = p.constraints.size();
+}
+
+bool StructureStamp::holds(const LcpProblem& p) const {
+  return rows_ >= 0 && rows_ == p.rows() && contacts_ == p.constraints.size() && &p.structure == this;
+}
+
 void LcpProblem::validate() const {
   const int n = rows();
   auto fail = [](const std::string& m) { throw InvalidArgument("LCP problem: " + m); };

@@ -1,7 +1,9 @@
 // pgs-colored's input checks on threads (pgs_colored_input.hpp) against the serial ones
 // (solver_common.hpp's check_input = LcpProblem::validate + the initial guess): the same
 // verdict and the same message for valid problems and for each kind of broken input, on 1, 2
-// and 3 threads; a valid λ⁰ is used in place (no copy), an empty one becomes zeros.
+// and 3 threads; a valid λ⁰ is used in place (no copy), an empty one becomes zeros. A problem
+// stamped by its builder (StructureStamp) has only its values checked, with the same messages;
+// a copy or a resized one is checked whole.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -60,8 +62,11 @@ void expect_same_verdict(const LcpProblem& p, const Eigen::VectorXd& l0, const s
   for (const int threads : {1, 2, 3}) {
     Eigen::VectorXd zeros;
     const double* start = nullptr;
-    const auto mine = colored::check_input(p, l0, "pgs-colored", threads, zeros, start, owner);
+    bool trusted = true;
+    const auto mine = colored::check_input(p, l0, "pgs-colored", threads, zeros, start, owner, trusted);
     ASSERT_EQ(mine.has_value(), serial.has_value()) << what << ", " << threads << " threads";
+    // The structural checks are skipped exactly for a stamped problem whose values pass.
+    EXPECT_EQ(trusted, p.structure.holds(p) && !serial.has_value()) << what;
     if (serial) {
       EXPECT_EQ(mine->message, serial->message) << what;
       EXPECT_EQ(mine->status, serial->status) << what;
@@ -205,6 +210,58 @@ TEST(PgsColoredInput, SameVerdictAndMessageAsTheSerialChecks) {
     bare.constraints = ContactConstraints();
     expect_same_verdict(bare, l, what + ", no contacts");
   }
+}
+
+TEST(PgsColoredInput, AStampedProblemHasOnlyItsValuesChecked) {
+  test::TestRng rng(43);
+  LcpProblem good = test::random_contact(30, 80, true, rng, 0.5, 3);
+  good.A = SparseRowMatrix();  // matrix-free, as the engine hands it over
+  const int n = good.rows();
+  Eigen::VectorXd l0(n);
+  for (int i = 0; i < n; ++i) l0[i] = rng.uniform(0, 1);
+  EXPECT_FALSE(good.structure.holds(good)) << "a problem built by hand is not stamped";
+  LcpProblem stamped = good;
+  stamped.structure.set(stamped);
+  ASSERT_TRUE(stamped.structure.holds(stamped));
+  expect_same_verdict(stamped, l0, "stamped");  // trusted on every thread count
+  expect_same_verdict(stamped, Eigen::VectorXd(), "stamped, no λ⁰");
+  // The values of the step can still fail: the full checks name them, with their message.
+  std::vector<std::pair<std::string, std::function<void(LcpProblem&, Eigen::VectorXd&)>>> values = {
+      {"b NaN", [](LcpProblem& p, Eigen::VectorXd&) { p.b[p.rows() - 1] = kNaN; }},
+      {"b inf", [](LcpProblem& p, Eigen::VectorXd&) { p.b[0] = -INFINITY; }},
+      {"λ⁰ NaN", [](LcpProblem&, Eigen::VectorXd& l) { l[7] = kNaN; }},
+      {"A not finite", [](LcpProblem& p, Eigen::VectorXd&) {
+         p.ensure_assembled_matrix();
+         p.A.valuePtr()[0] = INFINITY;
+       }},
+  };
+  for (const auto& [what, edit] : values) {
+    LcpProblem p = good;
+    Eigen::VectorXd l = l0;
+    edit(p, l);
+    p.structure.set(p);
+    expect_same_verdict(p, l, "stamped, " + what);
+    Eigen::VectorXd copy;
+    EXPECT_TRUE(solvers::check_input(p, l, "pgs-colored", copy).has_value()) << what << " is rejected";
+  }
+  // A copy is unstamped (it may be edited), so a broken copy of a stamped problem is rejected
+  // with validate()'s message.
+  LcpProblem copy = stamped;
+  EXPECT_FALSE(copy.structure.holds(copy));
+  copy.mu[copy.constraints[0].has_friction() ? copy.constraints[0].tangent_row : copy.constraints[1].tangent_row] = -1;
+  expect_same_verdict(copy, l0, "a broken copy of a stamped problem");
+  LcpProblem assigned;
+  assigned = stamped;
+  EXPECT_FALSE(assigned.structure.holds(assigned)) << "an assigned problem is unstamped";
+  // The stamp holds only for the rows and contacts it saw.
+  LcpProblem grown = stamped;
+  grown.structure.set(grown);
+  grown.constraints.add(0, 1, 0.0);
+  EXPECT_FALSE(grown.structure.holds(grown)) << "a contact added after the stamp";
+  expect_same_verdict(grown, Eigen::VectorXd(), "a contact added after the stamp");
+  grown.structure.set(grown);
+  grown.structure.clear();
+  EXPECT_FALSE(grown.structure.holds(grown));
 }
 
 }  // namespace

@@ -21,6 +21,38 @@
 
 namespace dc {
 
+struct LcpProblem;
+
+/// Whether a problem's structure was written valid by construction by the code that built it
+/// in place (the engine's assembly, assemble_lcp): each contact's rows numbered as
+/// ContactConstraints::add numbers them, after add()'s checks, on bodies of J, normal rows with
+/// bounds [0, +∞), tangent rows coupled to their contact's normal row with its finite μ ≥ 0.
+/// What it does not vouch for are the values that change every step and can fail (b, A and
+/// λ⁰ finite): a solver that reads the stamp ("pgs-colored") still checks those, and runs the
+/// full checks, with their messages, when they fail. The stamp cannot outlive the problem it
+/// was set on: a copy or an assignment of a problem is unstamped (a copy may be edited freely),
+/// and it holds only while the problem has the rows and contacts it had when stamped. Whoever
+/// edits a stamped problem's structure in place (normal_row, lo, hi, mu, constraints, J's
+/// shape) must clear() it; the engine's problems are exposed only as const.
+class StructureStamp {
+ public:
+  StructureStamp() = default;
+  StructureStamp(const StructureStamp&) noexcept {}  // a copy starts unstamped
+  StructureStamp& operator=(const StructureStamp&) noexcept {
+    clear();
+    return *this;
+  }
+  ~StructureStamp() = default;
+  /// Stamps p (whose member this is): its structure was written valid by construction.
+  void set(const LcpProblem& p);
+  void clear() { rows_ = contacts_ = -1; }
+  /// True when set() stamped p and p still has the rows and contacts it had then.
+  [[nodiscard]] bool holds(const LcpProblem& p) const;
+
+ private:
+  int rows_ = -1, contacts_ = -1;
+};
+
 struct LcpProblem {
   /// n × n, row-major [m/(N·s)] for contact problems; 0 × 0 until ensure_assembled_matrix()
   /// for a problem assembled from a world.
@@ -38,6 +70,9 @@ struct LcpProblem {
   /// Rows, bodies and μ of each contact (empty when the problem came from a file). When not
   /// empty its rows() equals rows() and it agrees with normal_row and mu (validate()).
   ContactConstraints constraints;
+  /// Set by the builder that wrote the structure valid by construction (assemble_lcp); empty
+  /// for a problem built by hand, read from a file or copied (StructureStamp).
+  StructureStamp structure;
 
   [[nodiscard]] int rows() const { return static_cast<int>(b.size()); }
   [[nodiscard]] bool has_jacobian() const { return J.rows() == rows() && J.rows() > 0 && dt > 0; }

@@ -32,6 +32,9 @@ struct PgsColoredProfile {
   double unpermute = 0;  ///< λ back in row order (a pass of its own only when the residual is formed from J)
   double residual = 0;   ///< the natural residual and the status (on the packed rows: with λ back in row order)
   long solves = 0;
+  /// Solves whose structural checks were skipped: the problem's StructureStamp held (built
+  /// valid by construction), so only b, λ⁰ and A were checked finite.
+  long structure_trusted = 0;
 };
 
 struct PgsColoredDef {

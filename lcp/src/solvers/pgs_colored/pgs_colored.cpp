@@ -206,7 +206,9 @@ class PgsColoredSolver final : public LcpSolver {
     const double* start = lambda0.data();
     if (p.has_jacobian()) {
       const int threads = setup_threads(p.constraints.size() / W, expected_ranges());
-      if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros_, start, owner_)) return *bad;
+      bool trusted = false;
+      if (auto bad = colored::check_input(p, lambda0, name(), threads, zeros_, start, owner_, trusted)) return *bad;
+      if (trusted && laps.profile() != nullptr) ++laps.profile()->structure_trusted;
     }
     laps.lap(&PgsColoredProfile::checks);
     const Eigen::Map<const Eigen::VectorXd> lambda(start, start == lambda0.data() ? lambda0.size() : p.rows());

@@ -94,6 +94,23 @@ bool rows_ok(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambd
   return ok;
 }
 
+/// The checks that a problem stamped by its builder (StructureStamp) can still fail, on rows
+/// [i0, i1): b, λ⁰ and A finite — the values of the step, not the structure.
+bool values_ok(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, int i0, int i1) {
+  const double* b = p.b.data();
+  const double* l0 = lambda0.data();
+  unsigned bad = 0;  // OR-ed 0/1 integers: a loop the compiler vectorises
+  if (lambda0.size() == 0)
+    for (int i = i0; i < i1; ++i) bad |= not_finite(b[i]);
+  else
+    for (int i = i0; i < i1; ++i) bad |= not_finite(b[i]) | not_finite(l0[i]);
+  bool ok = bad == 0;
+  const int a_rows = std::min(i1, static_cast<int>(p.A.outerSize()));  // (0 when matrix-free)
+  for (int i = i0; i < a_rows && ok; ++i)
+    for (SparseRowMatrix::InnerIterator it(p.A, i); it && ok; ++it) ok = std::isfinite(it.value());
+  return ok;
+}
+
 /// Contact c's checks of validate_constraints, except that each row is owned once (the
 /// owners pass below).
 bool contact_ok(const LcpProblem& p, int c) {
@@ -162,15 +179,32 @@ bool claims_unique(const LcpProblem& p, int threads, int chunk, std::vector<int>
 
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, const std::string& solver,
                                        int threads, Eigen::VectorXd& zeros, const double*& start,
-                                       std::vector<int>& owner) {
+                                       std::vector<int>& owner, bool& trusted) {
   auto serial = [&]() -> std::optional<SolveResult> {
     if (auto bad = solvers::check_input(p, lambda0, solver, zeros)) return bad;
     start = lambda0.size() == 0 ? zeros.data() : lambda0.data();  // (the checks passed: λ⁰ is valid as given)
     return std::nullopt;
   };
+  trusted = false;
   if (!sizes_ok(p, lambda0)) return serial();
   const int n = p.rows(), nc = p.constraints.size();
   if (lambda0.size() == 0) zeros.resize(n);
+  constexpr int kRowChunk = 1024, kContactChunk = 1024;
+  const int row_chunks = (n + kRowChunk - 1) / kRowChunk, contact_chunks = (nc + kContactChunk - 1) / kContactChunk;
+  if (p.structure.holds(p)) {
+    // Valid by construction but for the values of the step: those alone, the full checks (and
+    // their message) when one fails.
+    std::atomic<bool> ok{true};
+    calling_thread_team().for_parts(threads, row_chunks, [&](int part) {
+      const int i = part * kRowChunk, i1 = std::min(n, i + kRowChunk);
+      if (!values_ok(p, lambda0, i, i1)) ok.store(false, std::memory_order_relaxed);
+      if (lambda0.size() == 0) std::fill(zeros.data() + i, zeros.data() + i1, 0.0);
+    });
+    if (!ok.load(std::memory_order_relaxed)) return serial();
+    trusted = true;
+    start = lambda0.size() == 0 ? zeros.data() : lambda0.data();
+    return std::nullopt;
+  }
   // The scans by chunks on the calling thread's team: the rows, and the contacts with whether
   // their rows increase; where they do not, the claims of claims_unique.
   std::atomic<bool> ok{true};        // cleared by a chunk that failed (an order-free AND)
@@ -181,8 +215,6 @@ std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<con
   // row is a contact's normal row (coupling < 0) or its tangent row, coupled (contact_ok) to
   // that contact's normal row, a normal row. Without contacts the row scan reads it.
   const bool owned = nc > 0;
-  constexpr int kRowChunk = 1024, kContactChunk = 1024;
-  const int row_chunks = (n + kRowChunk - 1) / kRowChunk, contact_chunks = (nc + kContactChunk - 1) / kContactChunk;
   calling_thread_team().for_parts(threads, row_chunks + contact_chunks, [&](int part) {
     bool mine = true;
     if (part < row_chunks) {

@@ -24,8 +24,11 @@ namespace dc::colored {
 /// `owner` is that pass's scratch (resized to the rows, never cleared: each row is read back
 /// only by the contacts claiming it),
 /// kept by the caller so that a solve allocates nothing for the checks in steady state.
+/// A problem whose StructureStamp holds (built valid by construction, assemble_lcp) has only
+/// what can still fail checked: b, λ⁰ and A finite; `trusted` says so (true only when those
+/// passed; any failure runs the full serial checks for the message).
 std::optional<SolveResult> check_input(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda0, const std::string& solver,
                                        int threads, Eigen::VectorXd& zeros, const double*& start,
-                                       std::vector<int>& owner);
+                                       std::vector<int>& owner, bool& trusted);
 
 }  // namespace dc::colored
