@@ -41,7 +41,9 @@ void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::str
   ASSERT_EQ(a.theta.size(), b.theta.size()) << what;
   // memcmp's pointers must not be null even for zero bytes (UBSan stops on it): solvers that
   // record no θ (prox-newton) hand out an empty vector.
-  if (!a.theta.empty()) EXPECT_EQ(0, std::memcmp(a.theta.data(), b.theta.data(), sizeof(double) * a.theta.size())) << what;
+  if (!a.theta.empty()) {
+    EXPECT_EQ(0, std::memcmp(a.theta.data(), b.theta.data(), sizeof(double) * a.theta.size())) << what;
+  }
   EXPECT_EQ(a.sweeps, b.sweeps) << what;
   EXPECT_EQ(a.status, b.status) << what;
   EXPECT_EQ(0, std::memcmp(&a.residual, &b.residual, sizeof(double))) << what;
