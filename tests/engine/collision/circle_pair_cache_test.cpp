@@ -30,16 +30,27 @@ Pairs within_reach(const Pairs& candidates, const std::vector<Vec2>& x, const st
   return out;
 }
 
+/// n circles at uniform positions in [0, side]² with uniform reaches in [r_lo, r_hi], drawn from
+/// `rng` (positions and reach body by body: the caller's later draws continue the sequence).
+struct Scatter {
+  std::vector<Vec2> x;
+  std::vector<double> reach;
+};
+Scatter scatter(std::mt19937& rng, int n, double side, double r_lo, double r_hi) {
+  std::uniform_real_distribution<double> pos(0.0, side), rad(r_lo, r_hi);
+  Scatter out{std::vector<Vec2>(static_cast<size_t>(n)), std::vector<double>(static_cast<size_t>(n))};
+  for (size_t k = 0; k < static_cast<size_t>(n); ++k) {
+    out.x[k] = {pos(rng), pos(rng)};
+    out.reach[k] = rad(rng);
+  }
+  return out;
+}
+
 TEST(CirclePairCache, KeptPairsHoldEveryPairInReachInOrder) {
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> pos(0.0, 60.0), rad(0.2, 0.6), unit(-1.0, 1.0);
   const int n = 3000;
-  std::vector<Vec2> x(n);
-  std::vector<double> reach(n);
-  for (int k = 0; k < n; ++k) {
-    x[static_cast<size_t>(k)] = {pos(rng), pos(rng)};
-    reach[static_cast<size_t>(k)] = rad(rng);
-  }
+  const auto [x, reach] = scatter(rng, n, 60.0, 0.2, 0.6);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (const int threads : {1, 3}) {
     CirclePairCache cache;
     UniformGridBroadPhase kept_bp, fresh_bp;
@@ -76,14 +87,8 @@ TEST(CirclePairCache, AFewEscapedBodiesArePatchedIntoTheKeptList) {
   // sit on their path: every step is a patch, and the pairs within reach are a fresh broad
   // phase's, in order, on one thread and on several.
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> pos(0.0, 50.0), rad(0.3, 0.6);
   const int n = 2500;
-  std::vector<Vec2> x(n);
-  std::vector<double> reach(n);
-  for (int k = 0; k < n; ++k) {
-    x[static_cast<size_t>(k)] = {pos(rng), pos(rng)};
-    reach[static_cast<size_t>(k)] = rad(rng);
-  }
+  const auto [x, reach] = scatter(rng, n, 50.0, 0.3, 0.6);
   const std::vector<int> movers = {17, 18, 1200, 2499};
   for (const int threads : {1, 3}) {
     CirclePairCache cache;
@@ -122,14 +127,9 @@ TEST(CirclePairCache, HundredsOfEscapedBodiesArePatchedThroughTheGrid) {
   // kept list is the very list a fresh cache builds from a broad phase on the same positions,
   // on one thread and on several.
   std::mt19937 rng(23);
-  std::uniform_real_distribution<double> pos(0.0, 63.0), rad(0.3, 0.6), unit(-1.0, 1.0);
   const int n = 5000;
-  std::vector<Vec2> x(n);
-  std::vector<double> reach(n);
-  for (int k = 0; k < n; ++k) {
-    x[static_cast<size_t>(k)] = {pos(rng), pos(rng)};
-    reach[static_cast<size_t>(k)] = rad(rng);
-  }
+  const auto [x, reach] = scatter(rng, n, 63.0, 0.3, 0.6);
+  std::uniform_real_distribution<double> pos(0.0, 63.0), unit(-1.0, 1.0);
   for (const int threads : {1, 3}) {
     CirclePairCache cache;
     UniformGridBroadPhase kept_bp, fresh_bp;
