@@ -98,8 +98,8 @@ def part_solvers(ctx):
 
 # The families of the solver × starter table: (family, scene, cnn model, first evaluated step,
 # evaluated steps shortened / full; an odd shortened count where more than one step, so that a
-# median is one step's figure, not the mean of an easy and a hard step). Seeds 5 (shortened) or 5, 6 (full; deep: 5): held out from
-# tuning. impact_1000 uses the impact model (the same family at 1,000 bodies).
+# median is one step's figure, not the mean of an easy and a hard step). Seeds 5 (shortened) or
+# 5, 6 (full; deep: 5): held out from tuning. impact_1000 uses the impact model (the same family at 1,000 bodies).
 STARTER_FAMILIES = [("impact", "impact", "impact", 195, 5, 8), ("impact_1000", "impact_1000", "impact", 221, 1, 6),
                     ("deep settled", "deep", "deep", 480, 1, 6), ("pour", "pour", "pour", 200, 3, 6),
                     ("polydisperse", "polydisperse", "polydisperse", 185, 3, 6),
