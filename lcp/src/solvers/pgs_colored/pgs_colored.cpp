@@ -12,6 +12,7 @@
 // "nncg-colored" is the same solver with NNCG's momentum between the sweeps
 // (MomentumBetweenSweeps, nncg_momentum.hpp; docs/solvers.md "nncg-colored").
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -32,6 +33,7 @@
 #include "dc/core/work_team.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
@@ -97,18 +99,20 @@ struct Kernels {
   colored::SweepKernel single;
   colored::PairKernel pairs;
   colored::ResidualKernels residual;
+  colored::CompactKernel compact;  // single-contact batches in the compact layout
 };
 
 Kernels kernel_fn(PgsColoredKernel k) {
   switch (k) {
     case PgsColoredKernel::Avx512:
       return {colored::sweep_avx512, colored::sweep_pairs_avx512,
-              {colored::residual_avx512, colored::residual_pairs_avx512}};
+              {colored::residual_avx512, colored::residual_pairs_avx512}, colored::sweep_compact_avx512};
     case PgsColoredKernel::Avx2:
-      return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2}};
+      return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2},
+              colored::sweep_compact_avx2};
     default:
       return {colored::sweep_scalar, colored::sweep_pairs_scalar,
-              {colored::residual_scalar, colored::residual_pairs_scalar}};
+              {colored::residual_scalar, colored::residual_pairs_scalar}, colored::sweep_compact_scalar};
   }
 }
 
@@ -117,6 +121,8 @@ inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg
                       double* out, double* u, colored::Acc& acc) {
   if (rg.pairs)
     kern.pairs(prep.pairs.data(), lo, hi, in + prep.pair_base, out + prep.pair_base, u, acc);
+  else if (prep.compact_on)
+    kern.compact(prep.compact.data(), lo, hi, in, out, u, acc);
   else
     kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
 }
@@ -311,10 +317,17 @@ class PgsColoredSolver final : public LcpSolver {
       bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite,
                                               prep.numbering.slot.data());
     };
+    // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly.
+    const bool compact = def_.compact_layout;
+    if (compact) prep.compact.resize(static_cast<size_t>(nb));
+    std::atomic<bool> inexact{false};
     auto fill = [&](int bi) {
       if (bi < nb) {
+        Batch& B = prep.batches[static_cast<size_t>(bi)];
         colored::fill_batch(p, lambda, prep, bi, lp, other);
-        if (omega != 1.0) colored::over_relax(prep.batches[static_cast<size_t>(bi)], omega);
+        if (omega != 1.0) colored::over_relax(B, omega);
+        if (compact && !colored::compress(B, prep.compact[static_cast<size_t>(bi)]))
+          inexact.store(true, std::memory_order_relaxed);
       } else {
         colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
         if (omega != 1.0) colored::over_relax(prep.pairs[static_cast<size_t>(bi - nb)], omega);
@@ -334,6 +347,8 @@ class PgsColoredSolver final : public LcpSolver {
       });
     }
     bad_start = bad;
+    prep.compact_on = compact && nb > 0 && !inexact.load(std::memory_order_relaxed);
+    if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
     std::string failure = colored::first_failure(prep);
     laps.lap(&PgsColoredProfile::pack);
     return failure;

@@ -16,6 +16,7 @@
 
 #include "dc/lcp/lcp_problem.hpp"
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/coloring/ordered_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/setup/body_numbering.hpp"
@@ -45,6 +46,10 @@ static_assert(sizeof(StagedRows) == 19 * sizeof(double));
 /// The packed problem and the solve's buffers; kept by the solver between solves.
 struct Prepared {
   std::vector<Batch> batches;
+  /// The batches in the compact layout (compact/compact_batch.hpp), which the sweeps read when
+  /// compact_on: set by the pack when every batch compressed exactly.
+  std::vector<CompactBatch> compact;
+  bool compact_on = false;
   std::vector<PairBatch> pairs;
   std::vector<Range> ranges;
   std::vector<int> row_of;    // permuted slot → LCP row (−1: padding or no tangent row)
