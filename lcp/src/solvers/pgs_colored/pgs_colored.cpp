@@ -317,16 +317,15 @@ class PgsColoredSolver final : public LcpSolver {
       bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite,
                                               prep.numbering.slot.data());
     };
-    // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly.
-    const bool compact = def_.compact_layout;
+    // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly;
+    // after the first that does not, the batches are packed full (and those packed compact
+    // before it again, below).
+    const bool compact = def_.compact_layout && nb > 0;
     if (compact) prep.compact.resize(static_cast<size_t>(nb));
-    std::atomic<bool> inexact{false};
+    std::atomic<bool> inexact{!compact};
     auto fill = [&](int bi) {
       if (bi < nb) {
-        Batch& B = prep.batches[static_cast<size_t>(bi)];
-        colored::fill_batch(p, lambda, prep, bi, lp, other);
-        if (omega != 1.0) colored::over_relax(B, omega);
-        if (compact && !colored::compress(B, prep.compact[static_cast<size_t>(bi)]))
+        if (!colored::fill_compact(p, lambda, prep, bi, lp, other, omega, inexact.load(std::memory_order_relaxed)))
           inexact.store(true, std::memory_order_relaxed);
       } else {
         colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
@@ -346,8 +345,10 @@ class PgsColoredSolver final : public LcpSolver {
         for (int bi = (part - 1) * kChunk; bi < std::min(jobs, part * kChunk); ++bi) fill(bi);
       });
     }
+    prep.compact_on = !inexact.load(std::memory_order_relaxed);
+    if (compact && !prep.compact_on)  // (a problem not of the engine's form: rare, serial)
+      for (int bi = 0; bi < nb; ++bi) (void)colored::fill_compact(p, lambda, prep, bi, lp, other, omega, true);
     bad_start = bad;
-    prep.compact_on = compact && nb > 0 && !inexact.load(std::memory_order_relaxed);
     if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
     std::string failure = colored::first_failure(prep);
     laps.lap(&PgsColoredProfile::pack);

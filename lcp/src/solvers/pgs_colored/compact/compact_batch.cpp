@@ -5,6 +5,9 @@
 #include <bit>
 #include <cstring>
 
+#include "solvers/pgs_colored/pgs_colored_layout.hpp"
+#include "solvers/pgs_colored/relax/over_relaxation.hpp"
+
 namespace dc::colored {
 namespace {
 
@@ -57,6 +60,22 @@ bool compress(const Batch& B, CompactBatch& C) {
   return same_bits(E.jn, B.jn) && same_bits(E.mjn, B.mjn) && same_bits(E.jt, B.jt) && same_bits(E.mjt, B.mjt) &&
          same_bits(E.bn, B.bn) && same_bits(E.bt, B.bt) && same_bits(E.mu, B.mu) && same_bits(E.la, B.la) &&
          same_bits(E.lb, B.lb) && same_bits(E.ka, B.ka) && same_bits(E.kb, B.kb) && E.count == B.count;
+}
+
+bool fill_compact(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi,
+                  double* lp, double* other, double omega, bool full) {
+  Batch& B = out.batches[static_cast<size_t>(bi)];
+  if (full) {
+    fill_batch(p, lambda, out, bi, lp, other);
+    if (omega != 1.0) over_relax(B, omega);
+    return false;
+  }
+  Batch local;  // in cache: only the compact batch goes to memory
+  fill_batch(p, lambda, out, bi, lp, other, &local);
+  if (omega != 1.0) over_relax(local, omega);
+  if (compress(local, out.compact[static_cast<size_t>(bi)])) return true;
+  B = local;
+  return false;
 }
 
 void sweep_compact_scalar(const CompactBatch* batches, int b0, int b1, const double* in, double* out, double* u,

@@ -19,9 +19,14 @@
 // full one's iterates bit for bit whenever it is used.
 #include <cstdint>
 
+#include <Eigen/Core>
+
+#include "dc/lcp/lcp_problem.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 namespace dc::colored {
+
+struct Prepared;
 
 /// A Batch less the derivable coefficients. Slots of jn/jt: 0, 1, 2, 5 of Batch's; of mjt: 2, 5.
 /// Bit k of `two`: lane k's slots 3, 4 of jn/jt are derived (else +0); bit k of `fric`: its mjt
@@ -74,6 +79,12 @@ inline void expand(const CompactBatch& C, Batch& B) {
 /// C ← B less its derivable coefficients; true when expand(C) reproduces every bit of B's
 /// coefficients, bodies and count (else C is undefined and B must be swept as it is).
 bool compress(const Batch& B, CompactBatch& C);
+
+/// fill_batch (pgs_colored_layout.hpp) of batch `bi` and over_relax by ω (≠ 1) in cache, compressed
+/// into out.compact[bi]; when it does not compress exactly (or `full` is set), the full batch
+/// goes to out.batches[bi] instead and false is returned (true: out.batches[bi] not written).
+bool fill_compact(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi,
+                  double* lp, double* other, double omega, bool full);
 
 using CompactKernel = void (*)(const CompactBatch* batches, int b0, int b1, const double* in, double* out, double* u,
                                Acc& acc);
