@@ -48,6 +48,7 @@ SolveResult solve(PgsColoredDef d, bool compact, const LcpProblem& p, const Eige
                   const SolverOptions& o, bool& swept_compact) {
   PgsColoredProfile profile;
   d.compact_layout = compact;
+  d.compact_from_batches = 0;  // (the test problems are small)
   d.profile = &profile;
   SolveResult r = make_pgs_colored(d)->solve(p, l0, o);
   EXPECT_TRUE(r.message.empty()) << r.message;  // the colour kernels ran, not the fallback
@@ -97,6 +98,18 @@ TEST(PgsColoredCompact, NonIsotropicInverseMassKeepsTheFullLayout) {
   LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
   for (Eigen::Index k = 1; k < p.inv_mass.size(); k += 3) p.inv_mass[k] *= 0.75;
   expect_layouts_agree(p, 0, "non-isotropic M⁻¹");
+}
+
+TEST(PgsColoredCompact, SmallProblemsKeepTheFullLayoutByDefault) {
+  const LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
+  PgsColoredProfile profile;
+  PgsColoredDef d;
+  d.profile = &profile;
+  const SolveResult a = make_pgs_colored(d)->solve(p, start_of(p), sweeps(5));
+  EXPECT_EQ(profile.compact_solves, 0);
+  d.compact_from_batches = 1;
+  test::expect_same_bits(a, make_pgs_colored(d)->solve(p, start_of(p), sweeps(5)), "compact from 1 batch");
+  EXPECT_EQ(profile.compact_solves, 1);
 }
 
 TEST(PgsColoredCompact, CompressionChecksEveryBit) {

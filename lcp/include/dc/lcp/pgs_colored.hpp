@@ -83,6 +83,11 @@ struct PgsColoredDef {
   /// not compress exactly (a general or non-isotropic M⁻¹, rows not of the engine's form): the
   /// same iterates either way. false: the full layout always.
   bool compact_layout = true;
+  /// The compact layout only for solves with at least this many single-contact batches (0:
+  /// every solve). Below, the batches stay in the core's cache between sweeps, so the sweeps
+  /// gain nothing from fewer bytes while the compression in the pack and the expansion for the
+  /// closing residual still cost (micro_step's BM_StepStages compares the stages).
+  int compact_from_batches = 512;
   /// When set, every solve adds the times of its parts here (PgsColoredProfile; the caller
   /// keeps it alive while the solver is used).
   PgsColoredProfile* profile = nullptr;

@@ -320,7 +320,7 @@ class PgsColoredSolver final : public LcpSolver {
     // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly;
     // after the first that does not, the batches are packed full (and those packed compact
     // before it again, below).
-    const bool compact = def_.compact_layout && nb > 0;
+    const bool compact = def_.compact_layout && nb > 0 && nb >= def_.compact_from_batches;
     if (compact) prep.compact.resize(static_cast<size_t>(nb));
     std::atomic<bool> inexact{!compact};
     auto fill = [&](int bi) {

@@ -11,55 +11,51 @@
 namespace dc::colored {
 namespace {
 
-/// True when every double of a[0..n) is +0 (all bits clear: not −0).
-bool all_plus_zero(const double* a, int n) {
-  for (int i = 0; i < n; ++i)
-    if (std::bit_cast<std::uint64_t>(a[i]) != 0) return false;
-  return true;
-}
+inline std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 
-template <class T, size_t N>
-bool same_bits(const T (&a)[N], const T (&b)[N]) {
-  return std::memcmp(a, b, sizeof(a)) == 0;
-}
+/// The bits of expand()'s derived value: 0 − x (negate) or x where `on`, else +0.
+inline std::uint64_t derived(bool on, bool negate, double x) { return on ? bits(negate ? 0.0 - x : x) : 0; }
 
 }  // namespace
 
 bool compress(const Batch& B, CompactBatch& C) {
   constexpr int kept[4] = {0, 1, 2, 5};
-  for (int q = 0; q < 4; ++q)
-    for (int k = 0; k < W; ++k) {
-      C.jn[q][k] = B.jn[kept[q]][k];
-      C.jt[q][k] = B.jt[kept[q]][k];
-    }
-  for (int s = 0; s < 6; ++s)
-    for (int k = 0; k < W; ++k) C.mjn[s][k] = B.mjn[s][k];
+  for (int q = 0; q < 4; ++q) {
+    std::memcpy(C.jn[q], B.jn[kept[q]], sizeof(C.jn[q]));
+    std::memcpy(C.jt[q], B.jt[kept[q]], sizeof(C.jt[q]));
+  }
+  std::memcpy(C.mjn, B.mjn, sizeof(C.mjn));
+  std::memcpy(C.mjt[0], B.mjt[2], sizeof(C.mjt[0]));
+  std::memcpy(C.mjt[1], B.mjt[5], sizeof(C.mjt[1]));
+  std::memcpy(C.bn, B.bn, sizeof(C.bn));
+  std::memcpy(C.bt, B.bt, sizeof(C.bt));
+  std::memcpy(C.mu, B.mu, sizeof(C.mu));
+  std::memcpy(C.la, B.la, sizeof(C.la));
+  std::memcpy(C.lb, B.lb, sizeof(C.lb));
+  std::memcpy(C.ka, B.ka, sizeof(C.ka));
+  std::memcpy(C.kb, B.kb, sizeof(C.kb));
+  C.count = B.count;
+  // Per lane: the derived slots hold +0 (one body; no friction; padding: the bit clear) or the
+  // derivation (the bit set); every derived slot is compared bit for bit with expand()'s value.
   std::uint8_t two = 0, fric = 0;
+  std::uint64_t differ = 0;
   for (int k = 0; k < W; ++k) {
-    // A lane whose derived slots hold +0 (one body; no friction; padding) takes the zeros,
-    // any other the derivation; the comparison below checks either choice.
-    const double derived_j[4] = {B.jn[3][k], B.jn[4][k], B.jt[3][k], B.jt[4][k]};
-    const double derived_mj[4] = {B.mjt[0][k], B.mjt[1][k], B.mjt[3][k], B.mjt[4][k]};
-    if (!all_plus_zero(derived_j, 4)) two |= static_cast<std::uint8_t>(1u << k);
-    if (!all_plus_zero(derived_mj, 4)) fric |= static_cast<std::uint8_t>(1u << k);
-    C.mjt[0][k] = B.mjt[2][k];
-    C.mjt[1][k] = B.mjt[5][k];
-    C.bn[k] = B.bn[k];
-    C.bt[k] = B.bt[k];
-    C.mu[k] = B.mu[k];
-    C.la[k] = B.la[k];
-    C.lb[k] = B.lb[k];
-    C.ka[k] = B.ka[k];
-    C.kb[k] = B.kb[k];
+    const bool t = (bits(B.jn[3][k]) | bits(B.jn[4][k]) | bits(B.jt[3][k]) | bits(B.jt[4][k])) != 0;
+    const bool f = (bits(B.mjt[0][k]) | bits(B.mjt[1][k]) | bits(B.mjt[3][k]) | bits(B.mjt[4][k])) != 0;
+    two = static_cast<std::uint8_t>(two | (t ? 1u << k : 0u));
+    fric = static_cast<std::uint8_t>(fric | (f ? 1u << k : 0u));
+    differ |= bits(B.jn[3][k]) ^ derived(t, true, B.jn[0][k]);
+    differ |= bits(B.jn[4][k]) ^ derived(t, true, B.jn[1][k]);
+    differ |= bits(B.jt[3][k]) ^ derived(t, true, B.jt[0][k]);
+    differ |= bits(B.jt[4][k]) ^ derived(t, true, B.jt[1][k]);
+    differ |= bits(B.mjt[0][k]) ^ derived(f, true, B.mjn[1][k]);
+    differ |= bits(B.mjt[1][k]) ^ derived(f, false, B.mjn[0][k]);
+    differ |= bits(B.mjt[3][k]) ^ derived(f, true, B.mjn[4][k]);
+    differ |= bits(B.mjt[4][k]) ^ derived(f, false, B.mjn[3][k]);
   }
   C.two = two;
   C.fric = fric;
-  C.count = B.count;
-  Batch E;
-  expand(C, E);
-  return same_bits(E.jn, B.jn) && same_bits(E.mjn, B.mjn) && same_bits(E.jt, B.jt) && same_bits(E.mjt, B.mjt) &&
-         same_bits(E.bn, B.bn) && same_bits(E.bt, B.bt) && same_bits(E.mu, B.mu) && same_bits(E.la, B.la) &&
-         same_bits(E.lb, B.lb) && same_bits(E.ka, B.ka) && same_bits(E.kb, B.kb) && E.count == B.count;
+  return differ == 0;
 }
 
 bool fill_compact(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi,

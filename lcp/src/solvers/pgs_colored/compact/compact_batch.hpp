@@ -42,9 +42,10 @@ struct alignas(64) CompactBatch {
 };
 static_assert(sizeof(CompactBatch) % 64 == 0);
 
-/// The full batch of C (every coefficient of Batch bit for bit as the pack wrote it when
-/// compress(B, C) returned true). Inline so that each kernel's copy is compiled for its ISA.
-inline void expand(const CompactBatch& C, Batch& B) {
+/// The rows J_i/A_ii, b/A_ii, μ, bodies and count of C's full batch (what the residual reads:
+/// not M⁻¹JᵀΔt), bit for bit as the pack wrote them when compress(B, C) returned true. Inline so
+/// that each caller's copy is compiled for its ISA.
+inline void expand_rows(const CompactBatch& C, Batch& B) {
   constexpr int kept[4] = {0, 1, 2, 5};
   for (int q = 0; q < 4; ++q)
     for (int k = 0; k < W; ++k) {
@@ -52,17 +53,11 @@ inline void expand(const CompactBatch& C, Batch& B) {
       B.jt[kept[q]][k] = C.jt[q][k];
     }
   for (int k = 0; k < W; ++k) {
-    const bool two = ((C.two >> k) & 1) != 0, fric = ((C.fric >> k) & 1) != 0;
+    const bool two = ((C.two >> k) & 1) != 0;
     B.jn[3][k] = two ? 0.0 - C.jn[0][k] : 0.0;
     B.jn[4][k] = two ? 0.0 - C.jn[1][k] : 0.0;
     B.jt[3][k] = two ? 0.0 - C.jt[0][k] : 0.0;
     B.jt[4][k] = two ? 0.0 - C.jt[1][k] : 0.0;
-    B.mjt[0][k] = fric ? 0.0 - C.mjn[1][k] : 0.0;
-    B.mjt[1][k] = fric ? C.mjn[0][k] : 0.0;
-    B.mjt[3][k] = fric ? 0.0 - C.mjn[4][k] : 0.0;
-    B.mjt[4][k] = fric ? C.mjn[3][k] : 0.0;
-    B.mjt[2][k] = C.mjt[0][k];
-    B.mjt[5][k] = C.mjt[1][k];
     B.bn[k] = C.bn[k];
     B.bt[k] = C.bt[k];
     B.mu[k] = C.mu[k];
@@ -71,9 +66,23 @@ inline void expand(const CompactBatch& C, Batch& B) {
     B.ka[k] = C.ka[k];
     B.kb[k] = C.kb[k];
   }
+  B.count = C.count;
+}
+
+/// The full batch of C: expand_rows and M⁻¹JᵀΔt.
+inline void expand(const CompactBatch& C, Batch& B) {
+  expand_rows(C, B);
   for (int s = 0; s < 6; ++s)
     for (int k = 0; k < W; ++k) B.mjn[s][k] = C.mjn[s][k];
-  B.count = C.count;
+  for (int k = 0; k < W; ++k) {
+    const bool fric = ((C.fric >> k) & 1) != 0;
+    B.mjt[0][k] = fric ? 0.0 - C.mjn[1][k] : 0.0;
+    B.mjt[1][k] = fric ? C.mjn[0][k] : 0.0;
+    B.mjt[3][k] = fric ? 0.0 - C.mjn[4][k] : 0.0;
+    B.mjt[4][k] = fric ? C.mjn[3][k] : 0.0;
+    B.mjt[2][k] = C.mjt[0][k];
+    B.mjt[5][k] = C.mjt[1][k];
+  }
 }
 
 /// C ← B less its derivable coefficients; true when expand(C) reproduces every bit of B's

@@ -19,13 +19,13 @@ ResidualAcc packed_residual(const Prepared& prep, const double* lam, double omeg
   auto run = [&](int b0, int b1, ResidualAcc& acc) {  // items [b0, b1), then their λ in row order
     if (b0 < nb && !prep.compact_on) k.single(prep.batches.data(), b0, std::min(b1, nb), lam, diag, u, omega, acc);
     if (b0 < nb && prep.compact_on) {
-      // The compact batches expanded in cache, 8 at a time, for the kernel on full batches (it
-      // reads each expanded batch after the next ones were written: no store-forwarding stall).
+      // The compact batches' rows expanded in cache (expand_rows), 8 at a time, for the kernel
+      // on full batches (it reads each expanded batch after the next ones were written).
       constexpr int kGroup = 8;
       Batch full[kGroup];
       for (int g = b0; g < std::min(b1, nb); g += kGroup) {
         const int n = std::min(kGroup, std::min(b1, nb) - g);
-        for (int q = 0; q < n; ++q) expand(prep.compact[static_cast<size_t>(g + q)], full[q]);
+        for (int q = 0; q < n; ++q) expand_rows(prep.compact[static_cast<size_t>(g + q)], full[q]);
         k.single(full, 0, n, lam + 2 * W * g, diag + 2 * W * g, u, omega, acc);
       }
     }
