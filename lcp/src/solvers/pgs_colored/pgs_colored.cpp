@@ -106,7 +106,8 @@ Kernels kernel_fn(PgsColoredKernel k) {
   switch (k) {
     case PgsColoredKernel::Avx512:
       return {colored::sweep_avx512, colored::sweep_pairs_avx512,
-              {colored::residual_avx512, colored::residual_pairs_avx512}, colored::sweep_compact_avx512};
+              {colored::residual_avx512, colored::residual_pairs_avx512, colored::residual_compact_avx512},
+              colored::sweep_compact_avx512};
     case PgsColoredKernel::Avx2:
       return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2},
               colored::sweep_compact_avx2};

@@ -131,7 +131,8 @@ struct CompactRows {
   const CompactBatch& C;
   int h;
   __m256d two, fric;
-  DC_AVX2 CompactRows(const CompactBatch& c, int half) : C(c), h(half), two(lane_mask(c.two, half)), fric(lane_mask(c.fric, half)) {}
+  DC_AVX2 CompactRows(const CompactBatch& c, int half)
+      : C(c), h(half), two(lane_mask(c.two, half)), fric(lane_mask(c.fric, half)) {}
   DC_AVX2 Row6 j(const double (*k)[W]) const {
     const __m256d zero = _mm256_setzero_pd(), c0 = L(k[0] + h), c1 = L(k[1] + h);
     return {{c0, c1, L(k[2] + h), _mm256_and_pd(_mm256_sub_pd(zero, c0), two),

@@ -18,7 +18,9 @@ ResidualAcc packed_residual(const Prepared& prep, const double* lam, double omeg
   auto slot = [&](int b) { return b < nb ? 2 * W * b : prep.pair_base + 4 * W * (b - nb); };
   auto run = [&](int b0, int b1, ResidualAcc& acc) {  // items [b0, b1), then their λ in row order
     if (b0 < nb && !prep.compact_on) k.single(prep.batches.data(), b0, std::min(b1, nb), lam, diag, u, omega, acc);
-    if (b0 < nb && prep.compact_on) {
+    if (b0 < nb && prep.compact_on && k.compact != nullptr)
+      k.compact(prep.compact.data(), b0, std::min(b1, nb), lam, diag, u, omega, acc);
+    if (b0 < nb && prep.compact_on && k.compact == nullptr) {
       // The compact batches' rows expanded in cache (expand_rows), 8 at a time, for the kernel
       // on full batches (it reads each expanded batch after the next ones were written).
       constexpr int kGroup = 8;
