@@ -105,6 +105,7 @@ TEST(PgsColoredCompact, SmallProblemsKeepTheFullLayoutByDefault) {
   PgsColoredProfile profile;
   PgsColoredDef d;
   d.profile = &profile;
+  ASSERT_EQ(d.compact_from_batches, -1);
   const SolveResult a = make_pgs_colored(d)->solve(p, start_of(p), sweeps(5));
   EXPECT_EQ(profile.compact_solves, 0);
   d.compact_from_batches = 1;

@@ -84,10 +84,12 @@ struct PgsColoredDef {
   /// same iterates either way. false: the full layout always.
   bool compact_layout = true;
   /// The compact layout only for solves with at least this many single-contact batches (0:
-  /// every solve). Below, the batches stay in the core's cache between sweeps, so the sweeps
-  /// gain nothing from fewer bytes while the compression in the pack and the expansion for the
-  /// closing residual still cost (micro_step's BM_StepStages compares the stages).
-  int compact_from_batches = 512;
+  /// every solve), with any kernel. −1 (the default): from 512 batches with the AVX-512 kernel,
+  /// never with the others. Below, the batches stay in the core's cache between sweeps, so the
+  /// sweeps gain nothing from fewer bytes while the compression in the pack and the expansion
+  /// for the closing residual still cost; the AVX2 kernel's per-half lane masks and derivations
+  /// cost more than the bytes it saves (micro_pgs's BM_PgsColored, micro_step's BM_StepStages).
+  int compact_from_batches = -1;
   /// When set, every solve adds the times of its parts here (PgsColoredProfile; the caller
   /// keeps it alive while the solver is used).
   PgsColoredProfile* profile = nullptr;

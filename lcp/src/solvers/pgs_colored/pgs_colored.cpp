@@ -296,6 +296,7 @@ class PgsColoredSolver final : public LcpSolver {
     return cache_.ranges.empty() ? kNominalRanges : cache_.ranges.size();
   }
   static constexpr size_t kNominalRanges = 8;
+  static constexpr int kCompactFrom = 512;  // PgsColoredDef::compact_from_batches = −1 with AVX-512
 
   /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
   /// M⁻¹Jᵀλ⁰Δt, in one run of the team: one thread takes Δu⁰ (a serial pass over J,
@@ -321,7 +322,10 @@ class PgsColoredSolver final : public LcpSolver {
     // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly;
     // after the first that does not, the batches are packed full (and those packed compact
     // before it again, below).
-    const bool compact = def_.compact_layout && nb > 0 && nb >= def_.compact_from_batches;
+    const int from = def_.compact_from_batches >= 0 ? def_.compact_from_batches
+                     : kernel_.single == colored::sweep_avx512 ? kCompactFrom
+                                                               : std::numeric_limits<int>::max();
+    const bool compact = def_.compact_layout && nb > 0 && nb >= from;
     if (compact) prep.compact.resize(static_cast<size_t>(nb));
     std::atomic<bool> inexact{!compact};
     auto fill = [&](int bi) {

@@ -95,7 +95,7 @@ DC_AVX2 inline __m256d residual(const Row6& j, const double* b, int h, __m256d a
   return _mm256_add_pd(_mm256_add_pd(L(b + h), s0), _mm256_add_pd(s1, s2));
 }
 
-DC_AVX2 inline void update(const Row6& mj, __m256d d, __m256d& a0, __m256d& a1, __m256d& a2, __m256d& v0,
+DC_AVX2 inline void update(const Row6& mj, int /*h*/, __m256d d, __m256d& a0, __m256d& a1, __m256d& a2, __m256d& v0,
                            __m256d& v1, __m256d& v2) {
   a0 = _mm256_fmadd_pd(mj.c[0], d, a0);
   a1 = _mm256_fmadd_pd(mj.c[1], d, a1);
@@ -105,17 +105,14 @@ DC_AVX2 inline void update(const Row6& mj, __m256d d, __m256d& a0, __m256d& a1, 
   v2 = _mm256_fmadd_pd(mj.c[5], d, v2);
 }
 
-/// A Batch's rows on lanes h..h+3 as they are stored.
+/// A Batch's rows as they are stored (read through the pointer overloads of residual/update).
 struct FullRows {
   const Batch& B;
   int h;
-  DC_AVX2 Row6 load(const double (*j)[W]) const {
-    return {{L(j[0] + h), L(j[1] + h), L(j[2] + h), L(j[3] + h), L(j[4] + h), L(j[5] + h)}};
-  }
-  DC_AVX2 Row6 jn() const { return load(B.jn); }
-  DC_AVX2 Row6 mjn() const { return load(B.mjn); }
-  DC_AVX2 Row6 jt() const { return load(B.jt); }
-  DC_AVX2 Row6 mjt() const { return load(B.mjt); }
+  [[nodiscard]] const double (*jn() const)[W] { return B.jn; }
+  [[nodiscard]] const double (*mjn() const)[W] { return B.mjn; }
+  [[nodiscard]] const double (*jt() const)[W] { return B.jt; }
+  [[nodiscard]] const double (*mjt() const)[W] { return B.mjt; }
 };
 
 /// All ones on the lanes h..h+3 whose bit is set in `bits`, zeros elsewhere.
@@ -168,7 +165,7 @@ DC_AVX2 inline void half(const BatchT& B, const Rows& R, int h, const double* li
     bad |= nonfinite(xn);
     const __m256d d = _mm256_sub_pd(xn, old);
     _mm256_storeu_pd(lout + h, xn);
-    update(R.mjn(), d, a0, a1, a2, v0, v1, v2);
+    update(R.mjn(), h, d, a0, a1, a2, v0, v1, v2);
     theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
   }
   {
@@ -185,7 +182,7 @@ DC_AVX2 inline void half(const BatchT& B, const Rows& R, int h, const double* li
     bad |= nonfinite(_mm256_blendv_pd(y, x, active));
     const __m256d d = _mm256_sub_pd(x, old);
     _mm256_storeu_pd(lout + W + h, x);
-    update(R.mjt(), d, a0, a1, a2, v0, v1, v2);
+    update(R.mjt(), h, d, a0, a1, a2, v0, v1, v2);
     theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
   }
   // Δu check fused into the sweep: Σ x·0 is NaN exactly when a velocity is not finite.
