@@ -35,6 +35,9 @@ struct PgsColoredProfile {
   /// Solves whose structural checks were skipped: the problem's StructureStamp held (built
   /// valid by construction), so only b, λ⁰ and A were checked finite.
   long structure_trusted = 0;
+  /// Solves whose single-contact batches were swept in the compact layout
+  /// (PgsColoredDef::compact_layout).
+  long compact_solves = 0;
 };
 
 struct PgsColoredDef {
@@ -73,6 +76,20 @@ struct PgsColoredDef {
   /// the numbering and the scattered packing cost more than the sweeps gain): each colour in
   /// contact order.
   bool locality_order = true;
+  /// Sweep the single-contact batches in the compact layout (true, the default): without the
+  /// coefficients that follow bit for bit from the others (body b's linear J entries, the
+  /// tangent's M⁻¹JᵀΔt entries turned from the normal's), so the sweeps stream fewer bytes. The
+  /// pack checks every batch bit for bit and keeps the full layout for a problem where one does
+  /// not compress exactly (a general or non-isotropic M⁻¹, rows not of the engine's form): the
+  /// same iterates either way. false: the full layout always.
+  bool compact_layout = true;
+  /// The compact layout only for solves with at least this many single-contact batches (0:
+  /// every solve), with any kernel. −1 (the default): from 512 batches with the AVX-512 kernel,
+  /// never with the others. Below, the batches stay in the core's cache between sweeps, so the
+  /// sweeps gain nothing from fewer bytes while the compression in the pack and the expansion
+  /// for the closing residual still cost; the AVX2 kernel's per-half lane masks and derivations
+  /// cost more than the bytes it saves (micro_pgs's BM_PgsColored, micro_step's BM_StepStages).
+  int compact_from_batches = -1;
   /// When set, every solve adds the times of its parts here (PgsColoredProfile; the caller
   /// keeps it alive while the solver is used).
   PgsColoredProfile* profile = nullptr;

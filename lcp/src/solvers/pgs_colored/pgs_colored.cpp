@@ -12,6 +12,7 @@
 // "nncg-colored" is the same solver with NNCG's momentum between the sweeps
 // (MomentumBetweenSweeps, nncg_momentum.hpp; docs/solvers.md "nncg-colored").
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -32,6 +33,7 @@
 #include "dc/core/work_team.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
@@ -97,18 +99,21 @@ struct Kernels {
   colored::SweepKernel single;
   colored::PairKernel pairs;
   colored::ResidualKernels residual;
+  colored::CompactKernel compact;  // single-contact batches in the compact layout
 };
 
 Kernels kernel_fn(PgsColoredKernel k) {
   switch (k) {
     case PgsColoredKernel::Avx512:
       return {colored::sweep_avx512, colored::sweep_pairs_avx512,
-              {colored::residual_avx512, colored::residual_pairs_avx512}};
+              {colored::residual_avx512, colored::residual_pairs_avx512, colored::residual_compact_avx512},
+              colored::sweep_compact_avx512};
     case PgsColoredKernel::Avx2:
-      return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2}};
+      return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2},
+              colored::sweep_compact_avx2};
     default:
       return {colored::sweep_scalar, colored::sweep_pairs_scalar,
-              {colored::residual_scalar, colored::residual_pairs_scalar}};
+              {colored::residual_scalar, colored::residual_pairs_scalar}, colored::sweep_compact_scalar};
   }
 }
 
@@ -117,6 +122,8 @@ inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg
                       double* out, double* u, colored::Acc& acc) {
   if (rg.pairs)
     kern.pairs(prep.pairs.data(), lo, hi, in + prep.pair_base, out + prep.pair_base, u, acc);
+  else if (prep.compact_on)
+    kern.compact(prep.compact.data(), lo, hi, in, out, u, acc);
   else
     kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
 }
@@ -289,6 +296,7 @@ class PgsColoredSolver final : public LcpSolver {
     return cache_.ranges.empty() ? kNominalRanges : cache_.ranges.size();
   }
   static constexpr size_t kNominalRanges = 8;
+  static constexpr int kCompactFrom = 512;  // PgsColoredDef::compact_from_batches = −1 with AVX-512
 
   /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
   /// M⁻¹Jᵀλ⁰Δt, in one run of the team: one thread takes Δu⁰ (a serial pass over J,
@@ -311,10 +319,19 @@ class PgsColoredSolver final : public LcpSolver {
       bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite,
                                               prep.numbering.slot.data());
     };
+    // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly;
+    // after the first that does not, the batches are packed full (and those packed compact
+    // before it again, below).
+    const int from = def_.compact_from_batches >= 0 ? def_.compact_from_batches
+                     : kernel_.single == colored::sweep_avx512 ? kCompactFrom
+                                                               : std::numeric_limits<int>::max();
+    const bool compact = def_.compact_layout && nb > 0 && nb >= from;
+    if (compact) prep.compact.resize(static_cast<size_t>(nb));
+    std::atomic<bool> inexact{!compact};
     auto fill = [&](int bi) {
       if (bi < nb) {
-        colored::fill_batch(p, lambda, prep, bi, lp, other);
-        if (omega != 1.0) colored::over_relax(prep.batches[static_cast<size_t>(bi)], omega);
+        if (!colored::fill_compact(p, lambda, prep, bi, lp, other, omega, inexact.load(std::memory_order_relaxed)))
+          inexact.store(true, std::memory_order_relaxed);
       } else {
         colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
         if (omega != 1.0) colored::over_relax(prep.pairs[static_cast<size_t>(bi - nb)], omega);
@@ -333,7 +350,11 @@ class PgsColoredSolver final : public LcpSolver {
         for (int bi = (part - 1) * kChunk; bi < std::min(jobs, part * kChunk); ++bi) fill(bi);
       });
     }
+    prep.compact_on = !inexact.load(std::memory_order_relaxed);
+    if (compact && !prep.compact_on)  // (a problem not of the engine's form: rare, serial)
+      for (int bi = 0; bi < nb; ++bi) (void)colored::fill_compact(p, lambda, prep, bi, lp, other, omega, true);
     bad_start = bad;
+    if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
     std::string failure = colored::first_failure(prep);
     laps.lap(&PgsColoredProfile::pack);
     return failure;

@@ -8,12 +8,14 @@
 // Bodies: 4 aligned 256-bit loads of (v_x, v_y, ω, 0) and a 4 × 4 transpose (4 unpacks, 3
 // lane permutes), written back by the inverse transpose and a store per lane whose body is
 // written (ka/kb: a predictable branch; vmaskmovpd stores are slow on AMD cores).
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 
 #include <limits>
+#include <type_traits>
 
 #define DC_AVX2 __attribute__((target("avx2,fma")))
 
@@ -80,26 +82,94 @@ DC_AVX2 inline void update(const double (*mj)[W], int h, __m256d d, __m256d& a0,
   v2 = _mm256_fmadd_pd(L(mj[5] + h), d, v2);
 }
 
-/// Lanes h..h+3 of batch B (λ at in/out + 16·bi).
-DC_AVX2 inline void half(const Batch& B, int h, const double* lin, double* lout, double* u, __m256d& theta, int& bad) {
+/// The 6 coefficients of one row on 4 lanes, in slot order.
+struct Row6 {
+  __m256d c[6];
+};
+
+DC_AVX2 inline __m256d residual(const Row6& j, const double* b, int h, __m256d a0, __m256d a1, __m256d a2,
+                                __m256d v0, __m256d v1, __m256d v2) {
+  const __m256d s0 = _mm256_fmadd_pd(j.c[0], a0, _mm256_mul_pd(j.c[1], a1));
+  const __m256d s1 = _mm256_fmadd_pd(j.c[2], a2, _mm256_mul_pd(j.c[3], v0));
+  const __m256d s2 = _mm256_fmadd_pd(j.c[4], v1, _mm256_mul_pd(j.c[5], v2));
+  return _mm256_add_pd(_mm256_add_pd(L(b + h), s0), _mm256_add_pd(s1, s2));
+}
+
+DC_AVX2 inline void update(const Row6& mj, int /*h*/, __m256d d, __m256d& a0, __m256d& a1, __m256d& a2, __m256d& v0,
+                           __m256d& v1, __m256d& v2) {
+  a0 = _mm256_fmadd_pd(mj.c[0], d, a0);
+  a1 = _mm256_fmadd_pd(mj.c[1], d, a1);
+  a2 = _mm256_fmadd_pd(mj.c[2], d, a2);
+  v0 = _mm256_fmadd_pd(mj.c[3], d, v0);
+  v1 = _mm256_fmadd_pd(mj.c[4], d, v1);
+  v2 = _mm256_fmadd_pd(mj.c[5], d, v2);
+}
+
+/// A Batch's rows as they are stored (read through the pointer overloads of residual/update).
+struct FullRows {
+  const Batch& B;
+  int h;
+  [[nodiscard]] const double (*jn() const)[W] { return B.jn; }
+  [[nodiscard]] const double (*mjn() const)[W] { return B.mjn; }
+  [[nodiscard]] const double (*jt() const)[W] { return B.jt; }
+  [[nodiscard]] const double (*mjt() const)[W] { return B.mjt; }
+};
+
+/// All ones on the lanes h..h+3 whose bit is set in `bits`, zeros elsewhere.
+DC_AVX2 inline __m256d lane_mask(unsigned bits, int h) {
+  const __m256i sel = _mm256_setr_epi64x(1, 2, 4, 8);
+  const __m256i b = _mm256_and_si256(_mm256_set1_epi64x(static_cast<long long>((bits >> h) & 0xFu)), sel);
+  return _mm256_castsi256_pd(_mm256_cmpeq_epi64(b, sel));
+}
+
+/// A CompactBatch's rows on lanes h..h+3, the derived coefficients formed in registers as
+/// expand() forms them (compact_batch.hpp): 0 − x where the lane's bit is set, +0 elsewhere.
+struct CompactRows {
+  const CompactBatch& C;
+  int h;
+  __m256d two, fric;
+  DC_AVX2 CompactRows(const CompactBatch& c, int half)
+      : C(c), h(half), two(lane_mask(c.two, half)), fric(lane_mask(c.fric, half)) {}
+  DC_AVX2 Row6 j(const double (*k)[W]) const {
+    const __m256d zero = _mm256_setzero_pd(), c0 = L(k[0] + h), c1 = L(k[1] + h);
+    return {{c0, c1, L(k[2] + h), _mm256_and_pd(_mm256_sub_pd(zero, c0), two),
+             _mm256_and_pd(_mm256_sub_pd(zero, c1), two), L(k[3] + h)}};
+  }
+  DC_AVX2 Row6 jn() const { return j(C.jn); }
+  DC_AVX2 Row6 jt() const { return j(C.jt); }
+  DC_AVX2 Row6 mjn() const {
+    return {{L(C.mjn[0] + h), L(C.mjn[1] + h), L(C.mjn[2] + h), L(C.mjn[3] + h), L(C.mjn[4] + h), L(C.mjn[5] + h)}};
+  }
+  DC_AVX2 Row6 mjt() const {
+    const __m256d zero = _mm256_setzero_pd();
+    return {{_mm256_and_pd(_mm256_sub_pd(zero, L(C.mjn[1] + h)), fric), _mm256_and_pd(L(C.mjn[0] + h), fric),
+             L(C.mjt[0] + h), _mm256_and_pd(_mm256_sub_pd(zero, L(C.mjn[4] + h)), fric),
+             _mm256_and_pd(L(C.mjn[3] + h), fric), L(C.mjt[1] + h)}};
+  }
+};
+
+/// Lanes h..h+3 of batch B (a Batch or CompactBatch, R its rows on those lanes; λ at in/out + 16·bi).
+template <class BatchT, class Rows>
+DC_AVX2 inline void half(const BatchT& B, const Rows& R, int h, const double* lin, double* lout, double* u,
+                         __m256d& theta, int& bad) {
   const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
   __m256d a0, a1, a2, v0, v1, v2;
   load4(u, B.la + h, a0, a1, a2);
   load4(u, B.lb + h, v0, v1, v2);
   __m256d xn;
   {
-    const __m256d res = residual(B.jn, B.bn, h, a0, a1, a2, v0, v1, v2);
+    const __m256d res = residual(R.jn(), B.bn, h, a0, a1, a2, v0, v1, v2);
     const __m256d old = LU(lin + h);
     const __m256d y = _mm256_sub_pd(old, res);
     xn = _mm256_andnot_pd(_mm256_cmp_pd(y, zero, _CMP_LT_OQ), y);  // (y < 0) ? +0 : y
     bad |= nonfinite(xn);
     const __m256d d = _mm256_sub_pd(xn, old);
     _mm256_storeu_pd(lout + h, xn);
-    update(B.mjn, h, d, a0, a1, a2, v0, v1, v2);
+    update(R.mjn(), h, d, a0, a1, a2, v0, v1, v2);
     theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
   }
   {
-    const __m256d res = residual(B.jt, B.bt, h, a0, a1, a2, v0, v1, v2);
+    const __m256d res = residual(R.jt(), B.bt, h, a0, a1, a2, v0, v1, v2);
     const __m256d old = LU(lin + W + h);
     const __m256d pos = _mm256_and_pd(_mm256_cmp_pd(zero, xn, _CMP_LT_OQ), xn);  // (0 < λ_n) ? λ_n : +0
     const __m256d t = _mm256_mul_pd(L(B.mu + h), pos);
@@ -112,7 +182,7 @@ DC_AVX2 inline void half(const Batch& B, int h, const double* lin, double* lout,
     bad |= nonfinite(_mm256_blendv_pd(y, x, active));
     const __m256d d = _mm256_sub_pd(x, old);
     _mm256_storeu_pd(lout + W + h, x);
-    update(B.mjt, h, d, a0, a1, a2, v0, v1, v2);
+    update(R.mjt(), h, d, a0, a1, a2, v0, v1, v2);
     theta = _mm256_max_pd(theta, _mm256_andnot_pd(sign, d));
   }
   // Δu check fused into the sweep: Σ x·0 is NaN exactly when a velocity is not finite.
@@ -234,24 +304,43 @@ DC_AVX2 void sweep_pairs_avx2(const PairBatch* __restrict pairs, int b0, int b1,
   reduce(theta, bad, acc);
 }
 
+namespace {
+
+/// One batch (λ at lin/lout; a Batch, or a CompactBatch with compact = true) as two halves of 4 lanes.
+template <bool compact, class BatchT>
+DC_AVX2 inline void single_batch(const BatchT& B, const double* lin, double* lout, double* u, __m256d& theta,
+                                 int& bad) {
+  using Rows = std::conditional_t<compact, CompactRows, FullRows>;
+  // The two halves touch distinct bodies (one colour), so their order does not matter;
+  // a half without contacts (the tail of a colour) is all padding and is skipped.
+  half(B, Rows(B, 0), 0, lin, lout, u, theta, bad);
+  if (B.count > 4) {
+    half(B, Rows(B, 4), 4, lin, lout, u, theta, bad);
+  } else {
+    _mm256_storeu_pd(lout + 4, _mm256_setzero_pd());
+    _mm256_storeu_pd(lout + W + 4, _mm256_setzero_pd());
+  }
+}
+
+}  // namespace
+
 DC_AVX2 void sweep_avx2(const Batch* __restrict batches, int b0, int b1, const double* __restrict in,
                         double* __restrict out, double* __restrict u, Acc& acc) {
   __m256d theta = _mm256_set1_pd(acc.theta);
   int bad = 0;
-  for (int bi = b0; bi < b1; ++bi) {
-    const Batch& B = batches[bi];
-    const double* lin = in + static_cast<long>(bi) * 2 * W;
-    double* lout = out + static_cast<long>(bi) * 2 * W;
-    // The two halves touch distinct bodies (one colour), so their order does not matter;
-    // a half without contacts (the tail of a colour) is all padding and is skipped.
-    half(B, 0, lin, lout, u, theta, bad);
-    if (B.count > 4) {
-      half(B, 4, lin, lout, u, theta, bad);
-    } else {
-      _mm256_storeu_pd(lout + 4, _mm256_setzero_pd());
-      _mm256_storeu_pd(lout + W + 4, _mm256_setzero_pd());
-    }
-  }
+  for (int bi = b0; bi < b1; ++bi)
+    single_batch<false>(batches[bi], in + static_cast<long>(bi) * 2 * W, out + static_cast<long>(bi) * 2 * W, u, theta,
+                 bad);
+  reduce(theta, bad, acc);
+}
+
+DC_AVX2 void sweep_compact_avx2(const CompactBatch* __restrict batches, int b0, int b1, const double* __restrict in,
+                                double* __restrict out, double* __restrict u, Acc& acc) {
+  __m256d theta = _mm256_set1_pd(acc.theta);
+  int bad = 0;
+  for (int bi = b0; bi < b1; ++bi)
+    single_batch<true>(batches[bi], in + static_cast<long>(bi) * 2 * W, out + static_cast<long>(bi) * 2 * W, u, theta,
+                       bad);
   reduce(theta, bad, acc);
 }
 
@@ -265,6 +354,7 @@ bool cpu_is_amd() { return __builtin_cpu_is("amd"); }
 namespace dc::colored {
 void sweep_avx2(const Batch*, int, int, const double*, double*, double*, Acc&) {}
 void sweep_pairs_avx2(const PairBatch*, int, int, const double*, double*, double*, Acc&) {}
+void sweep_compact_avx2(const CompactBatch*, int, int, const double*, double*, double*, Acc&) {}
 bool cpu_has_avx2() { return false; }
 bool cpu_is_amd() { return false; }
 }  // namespace dc::colored

@@ -7,6 +7,7 @@
 // transpose and 8 masked 256-bit stores (absent bodies masked off: no shared dummy, no false
 // sharing). Hardware gathers/scatters (vgatherdpd/vscatterdpd) are not used because they are
 // slower than the transposes. Bodies of one colour are distinct, so the stores never collide.
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -189,33 +190,86 @@ DC_AVX512 void sweep_pairs_avx512(const PairBatch* __restrict pairs, int b0, int
   reduce(theta, bad, acc);
 }
 
-DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, const double* __restrict in,
-                            double* __restrict out, double* __restrict u, Acc& acc) {
+namespace {
+
+/// The 6 coefficients of one row on 8 lanes, in slot order.
+struct Row6 {
+  __m512d c[6];
+};
+
+DC_AVX512 inline __m512d residual(const Row6& j, const double* b, __m512d a0, __m512d a1, __m512d a2, __m512d v0,
+                                  __m512d v1, __m512d v2) {
+  const __m512d s0 = _mm512_fmadd_pd(j.c[0], a0, _mm512_mul_pd(j.c[1], a1));
+  const __m512d s1 = _mm512_fmadd_pd(j.c[2], a2, _mm512_mul_pd(j.c[3], v0));
+  const __m512d s2 = _mm512_fmadd_pd(j.c[4], v1, _mm512_mul_pd(j.c[5], v2));
+  return _mm512_add_pd(_mm512_add_pd(L(b), s0), _mm512_add_pd(s1, s2));
+}
+
+DC_AVX512 inline void update(const Row6& mj, __m512d d, __m512d& a0, __m512d& a1, __m512d& a2, __m512d& v0,
+                             __m512d& v1, __m512d& v2) {
+  a0 = _mm512_fmadd_pd(mj.c[0], d, a0);
+  a1 = _mm512_fmadd_pd(mj.c[1], d, a1);
+  a2 = _mm512_fmadd_pd(mj.c[2], d, a2);
+  v0 = _mm512_fmadd_pd(mj.c[3], d, v0);
+  v1 = _mm512_fmadd_pd(mj.c[4], d, v1);
+  v2 = _mm512_fmadd_pd(mj.c[5], d, v2);
+}
+
+/// A Batch's rows as they are stored.
+struct FullRows {
+  const Batch& B;
+  DC_AVX512 static Row6 load(const double (*j)[W]) { return {{L(j[0]), L(j[1]), L(j[2]), L(j[3]), L(j[4]), L(j[5])}}; }
+  DC_AVX512 Row6 jn() const { return load(B.jn); }
+  DC_AVX512 Row6 mjn() const { return load(B.mjn); }
+  DC_AVX512 Row6 jt() const { return load(B.jt); }
+  DC_AVX512 Row6 mjt() const { return load(B.mjt); }
+};
+
+/// A CompactBatch's rows, the derived coefficients formed in registers as expand() forms them
+/// (compact_batch.hpp): 0 − x where the lane's bit is set, +0 elsewhere.
+struct CompactRows {
+  const CompactBatch& C;
+  DC_AVX512 Row6 j(const double (*k)[W]) const {
+    const __m512d zero = _mm512_setzero_pd(), c0 = L(k[0]), c1 = L(k[1]);
+    return {{c0, c1, L(k[2]), _mm512_maskz_sub_pd(C.two, zero, c0), _mm512_maskz_sub_pd(C.two, zero, c1), L(k[3])}};
+  }
+  DC_AVX512 Row6 jn() const { return j(C.jn); }
+  DC_AVX512 Row6 jt() const { return j(C.jt); }
+  DC_AVX512 Row6 mjn() const {
+    return {{L(C.mjn[0]), L(C.mjn[1]), L(C.mjn[2]), L(C.mjn[3]), L(C.mjn[4]), L(C.mjn[5])}};
+  }
+  DC_AVX512 Row6 mjt() const {
+    const __m512d zero = _mm512_setzero_pd();
+    return {{_mm512_maskz_sub_pd(C.fric, zero, L(C.mjn[1])), _mm512_maskz_mov_pd(C.fric, L(C.mjn[0])), L(C.mjt[0]),
+             _mm512_maskz_sub_pd(C.fric, zero, L(C.mjn[4])), _mm512_maskz_mov_pd(C.fric, L(C.mjn[3])), L(C.mjt[1])}};
+  }
+};
+
+/// One batch (λ at lin/lout; B: a Batch or CompactBatch, R its rows): sweep_scalar's operations
+/// on 8 lanes.
+template <class BatchT, class Rows>
+DC_AVX512 inline void single_batch(const BatchT& B, const Rows& R, const double* __restrict lin,
+                                   double* __restrict lout, double* __restrict u, __m512d& theta, __mmask8& bad) {
   const __m512d zero = _mm512_setzero_pd();
   const __m512d sign = _mm512_set1_pd(-0.0);
-  __m512d theta = _mm512_set1_pd(acc.theta);
-  __mmask8 bad = 0;
-  for (int bi = b0; bi < b1; ++bi) {
-    const Batch& B = batches[bi];
-    const double* lin = in + static_cast<long>(bi) * 2 * W;
-    double* lout = out + static_cast<long>(bi) * 2 * W;
+  {
     __m512d a0, a1, a2, v0, v1, v2;
     load8(u, B.la, a0, a1, a2);
     load8(u, B.lb, v0, v1, v2);
     __m512d xn;
     {
-      const __m512d res = residual(B.jn, B.bn, a0, a1, a2, v0, v1, v2);
+      const __m512d res = residual(R.jn(), B.bn, a0, a1, a2, v0, v1, v2);
       const __m512d old = LU(lin);
       const __m512d y = _mm512_sub_pd(old, res);
       xn = _mm512_mask_mov_pd(y, _mm512_cmp_pd_mask(y, zero, _CMP_LT_OQ), zero);  // (y < 0) ? 0 : y
       bad |= nonfinite(xn);
       const __m512d d = _mm512_sub_pd(xn, old);
       _mm512_storeu_pd(lout, xn);
-      update(B.mjn, d, a0, a1, a2, v0, v1, v2);
+      update(R.mjn(), d, a0, a1, a2, v0, v1, v2);
       theta = _mm512_max_pd(theta, absv(d));
     }
     {
-      const __m512d res = residual(B.jt, B.bt, a0, a1, a2, v0, v1, v2);
+      const __m512d res = residual(R.jt(), B.bt, a0, a1, a2, v0, v1, v2);
       const __m512d old = LU(lin + W);
       // t = μ · max_of(0, λ_n) = μ · ((0 < λ_n) ? λ_n : 0)
       const __m512d pos = _mm512_mask_mov_pd(zero, _mm512_cmp_pd_mask(zero, xn, _CMP_LT_OQ), xn);
@@ -229,7 +283,7 @@ DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, con
       bad |= nonfinite(_mm512_mask_mov_pd(y, active, x));
       const __m512d d = _mm512_sub_pd(x, old);
       _mm512_storeu_pd(lout + W, x);
-      update(B.mjt, d, a0, a1, a2, v0, v1, v2);
+      update(R.mjt(), d, a0, a1, a2, v0, v1, v2);
       theta = _mm512_max_pd(theta, absv(d));
     }
     // Δu check fused into the sweep: Σ x·0 is NaN exactly when a velocity is not finite.
@@ -241,6 +295,28 @@ DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, con
     store8(u, B.la, B.ka, a0, a1, a2);
     store8(u, B.lb, B.kb, v0, v1, v2);
   }
+}
+
+}  // namespace
+
+DC_AVX512 void sweep_avx512(const Batch* __restrict batches, int b0, int b1, const double* __restrict in,
+                            double* __restrict out, double* __restrict u, Acc& acc) {
+  __m512d theta = _mm512_set1_pd(acc.theta);
+  __mmask8 bad = 0;
+  for (int bi = b0; bi < b1; ++bi)
+    single_batch(batches[bi], FullRows{batches[bi]}, in + static_cast<long>(bi) * 2 * W,
+                 out + static_cast<long>(bi) * 2 * W, u, theta, bad);
+  reduce(theta, bad, acc);
+}
+
+DC_AVX512 void sweep_compact_avx512(const CompactBatch* __restrict batches, int b0, int b1,
+                                    const double* __restrict in, double* __restrict out, double* __restrict u,
+                                    Acc& acc) {
+  __m512d theta = _mm512_set1_pd(acc.theta);
+  __mmask8 bad = 0;
+  for (int bi = b0; bi < b1; ++bi)
+    single_batch(batches[bi], CompactRows{batches[bi]}, in + static_cast<long>(bi) * 2 * W,
+                 out + static_cast<long>(bi) * 2 * W, u, theta, bad);
   reduce(theta, bad, acc);
 }
 
@@ -256,6 +332,7 @@ bool cpu_has_avx512() {
 namespace dc::colored {
 void sweep_avx512(const Batch*, int, int, const double*, double*, double*, Acc&) {}
 void sweep_pairs_avx512(const PairBatch*, int, int, const double*, double*, double*, Acc&) {}
+void sweep_compact_avx512(const CompactBatch*, int, int, const double*, double*, double*, Acc&) {}
 bool cpu_has_avx512() { return false; }
 }  // namespace dc::colored
 

@@ -453,9 +453,10 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   return {};
 }
 
-void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp, double* other) {
+void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp,
+                double* other, Batch* into) {
   const int zero = out.body_entries;
-  Batch& B = out.batches[static_cast<size_t>(bi)];
+  Batch& B = into != nullptr ? *into : out.batches[static_cast<size_t>(bi)];
   int* row_of = out.row_of.data() + static_cast<size_t>(bi) * 2 * W;
   const int k = out.slot_of_batch[static_cast<size_t>(bi)];
   int s0 = 0, lanes = 0;

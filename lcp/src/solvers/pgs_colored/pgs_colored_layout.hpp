@@ -16,6 +16,7 @@
 
 #include "dc/lcp/lcp_problem.hpp"
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/coloring/ordered_coloring.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/setup/body_numbering.hpp"
@@ -45,6 +46,10 @@ static_assert(sizeof(StagedRows) == 19 * sizeof(double));
 /// The packed problem and the solve's buffers; kept by the solver between solves.
 struct Prepared {
   std::vector<Batch> batches;
+  /// The batches in the compact layout (compact/compact_batch.hpp), which the sweeps read when
+  /// compact_on: set by the pack when every batch compressed exactly.
+  std::vector<CompactBatch> compact;
+  bool compact_on = false;
   std::vector<PairBatch> pairs;
   std::vector<Range> ranges;
   std::vector<int> row_of;    // permuted slot → LCP row (−1: padding or no tangent row)
@@ -87,10 +92,11 @@ struct Prepared {
 std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer* ordered, int threads,
                    Prepared& out, double* coloring_s = nullptr, bool locality = true);
 
-/// Fills batch `bi` from the ordered contacts and its 2·W entries of the permuted λ⁰ (lp and
-/// other; 0 for padding); records in out.failed[bi] the first of its contacts whose rows cannot be
-/// packed (another body, A_ii not > 0).
-void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp, double* other);
+/// Fills batch `bi` (into *into, else out.batches[bi]) from the ordered contacts and its 2·W
+/// entries of the permuted λ⁰ (lp and other; 0 for padding); records in out.failed[bi] the first
+/// of its contacts whose rows cannot be packed (another body, A_ii not > 0).
+void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp,
+                double* other, Batch* into = nullptr);
 /// The same for pair batch `pi` (4·W entries from out.pair_base + 4·W·pi; failures at
 /// out.failed[batches + pi]).
 void fill_pair(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int pi, double* lp, double* other);

@@ -9,8 +9,9 @@ bool scalar_range(const Prepared& prep, const Range& rg, int lanes) {
   if (lanes <= 0 || rg.end <= rg.begin) return false;
   if (rg.serial) return true;
   if (rg.end - rg.begin != 1) return false;
-  const int count = rg.pairs ? prep.pairs[static_cast<size_t>(rg.begin)].count
-                             : prep.batches[static_cast<size_t>(rg.begin)].count;
+  const int count = rg.pairs         ? prep.pairs[static_cast<size_t>(rg.begin)].count
+                    : prep.compact_on ? prep.compact[static_cast<size_t>(rg.begin)].count
+                                      : prep.batches[static_cast<size_t>(rg.begin)].count;
   return count <= lanes;
 }
 

@@ -233,6 +233,12 @@ int batch_key(const B& batch) {
   return std::min(batch.la[0], batch.lb[0]);
 }
 
+/// batch_key of pair batch i (pairs) or of single batch i in the layout the sweeps read.
+inline int single_or_pair_key(const Prepared& prep, bool pairs, int i) {
+  const auto k = static_cast<size_t>(i);
+  return pairs ? batch_key(prep.pairs[k]) : prep.compact_on ? batch_key(prep.compact[k]) : batch_key(prep.batches[k]);
+}
+
 /// Block bounds for SweepTeam that give each thread one region of the bodies in every colour:
 /// key cuts K_1 ≤ … ≤ K_{threads−1} at the quantiles of the batches' keys (a pair batch
 /// counted twice: it holds two contacts per lane), and in each range that is not serial the
@@ -249,8 +255,7 @@ inline void region_cuts(const Prepared& prep, int threads, std::vector<int>& key
   for (const Range& rg : prep.ranges)
     for (int i = rg.begin; i < rg.end && !rg.serial; ++i)
       for (int c = 0; c < (rg.pairs ? 2 : 1); ++c)
-        keys.push_back(rg.pairs ? batch_key(prep.pairs[static_cast<size_t>(i)])
-                                : batch_key(prep.batches[static_cast<size_t>(i)]));
+        keys.push_back(single_or_pair_key(prep, rg.pairs, i));
   // The key cuts K_t, appended to `keys` after its nk keys (no vector of their own: a solve
   // allocates nothing here once the scratch has grown to the problem).
   const size_t nk = keys.size();
@@ -268,8 +273,7 @@ inline void region_cuts(const Prepared& prep, int threads, std::vector<int>& key
     for (int t = 1; t < nt; ++t) {
       int below = 0;
       for (int i = rg.begin; i < rg.end && !rg.serial; ++i)
-        below += (rg.pairs ? batch_key(prep.pairs[static_cast<size_t>(i)])
-                           : batch_key(prep.batches[static_cast<size_t>(i)])) < at[t - 1];
+        below += single_or_pair_key(prep, rg.pairs, i) < at[t - 1];
       cuts.push_back(rg.begin + below);
     }
 }

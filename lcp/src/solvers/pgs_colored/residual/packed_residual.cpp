@@ -17,7 +17,20 @@ ResidualAcc packed_residual(const Prepared& prep, const double* lam, double omeg
   // Item b's first slot (items: batches, then pair batches, whose slots follow on).
   auto slot = [&](int b) { return b < nb ? 2 * W * b : prep.pair_base + 4 * W * (b - nb); };
   auto run = [&](int b0, int b1, ResidualAcc& acc) {  // items [b0, b1), then their λ in row order
-    if (b0 < nb) k.single(prep.batches.data(), b0, std::min(b1, nb), lam, diag, u, omega, acc);
+    if (b0 < nb && !prep.compact_on) k.single(prep.batches.data(), b0, std::min(b1, nb), lam, diag, u, omega, acc);
+    if (b0 < nb && prep.compact_on && k.compact != nullptr)
+      k.compact(prep.compact.data(), b0, std::min(b1, nb), lam, diag, u, omega, acc);
+    if (b0 < nb && prep.compact_on && k.compact == nullptr) {
+      // The compact batches' rows expanded in cache (expand_rows), 8 at a time, for the kernel
+      // on full batches (it reads each expanded batch after the next ones were written).
+      constexpr int kGroup = 8;
+      Batch full[kGroup];
+      for (int g = b0; g < std::min(b1, nb); g += kGroup) {
+        const int n = std::min(kGroup, std::min(b1, nb) - g);
+        for (int q = 0; q < n; ++q) expand_rows(prep.compact[static_cast<size_t>(g + q)], full[q]);
+        k.single(full, 0, n, lam + 2 * W * g, diag + 2 * W * g, u, omega, acc);
+      }
+    }
     if (b1 > nb)
       k.pairs(prep.pairs.data(), std::max(b0, nb) - nb, b1 - nb, lam + prep.pair_base, diag + prep.pair_base, u,
               omega, acc);

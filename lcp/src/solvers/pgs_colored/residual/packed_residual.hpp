@@ -52,9 +52,17 @@ void residual_pairs_avx512(const PairBatch* pairs, int b0, int b1, const double*
                            const double* u, double omega, ResidualAcc& acc);
 
 /// The kernels of one ISA.
+/// The errors of compact batches [b0, b1) (compact/compact_batch.hpp), as ResidualKernel's.
+using CompactResidualKernel = void (*)(const CompactBatch* batches, int b0, int b1, const double* lam,
+                                       const double* diag, const double* u, double omega, ResidualAcc& acc);
+void residual_compact_avx512(const CompactBatch* batches, int b0, int b1, const double* lam, const double* diag,
+                             const double* u, double omega, ResidualAcc& acc);
+
 struct ResidualKernels {
   ResidualKernel single;
   PairResidualKernel pairs;
+  /// nullptr: compact batches are expanded for `single` (expand_rows).
+  CompactResidualKernel compact = nullptr;
 };
 
 /// The errors of every batch and pair batch of `prep` with λ permuted (lam, Prepared::row_of's

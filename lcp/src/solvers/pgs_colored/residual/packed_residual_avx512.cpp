@@ -92,6 +92,39 @@ DC_AVX512 inline void finish(__m512d r, unsigned nan, ResidualAcc& acc) {
 
 }  // namespace
 
+namespace {
+
+/// scaled() of a compact batch's row (slots 0, 1, 2, 5 stored; 3, 4 = 0 − slots 0, 1 on the lanes
+/// of `two`, else +0: compact_batch.hpp's expand).
+DC_AVX512 inline __m512d scaled_compact(const double (*j)[W], __mmask8 two, const double* b, const Vel8& v) {
+  const __m512d zero = _mm512_setzero_pd(), j0 = L(j[0]), j1 = L(j[1]);
+  const __m512d j3 = _mm512_maskz_sub_pd(two, zero, j0), j4 = _mm512_maskz_sub_pd(two, zero, j1);
+  const __m512d s0 = _mm512_fmadd_pd(j0, v.a0, _mm512_mul_pd(j1, v.a1));
+  const __m512d s1 = _mm512_fmadd_pd(L(j[2]), v.a2, _mm512_mul_pd(j3, v.v0));
+  const __m512d s2 = _mm512_fmadd_pd(j4, v.v1, _mm512_mul_pd(L(j[3]), v.v2));
+  return _mm512_add_pd(_mm512_add_pd(L(b), s0), _mm512_add_pd(s1, s2));
+}
+
+}  // namespace
+
+DC_AVX512 void residual_compact_avx512(const CompactBatch* batches, int b0, int b1, const double* lam,
+                                       const double* diag, const double* u, double omega, ResidualAcc& acc) {
+  __m512d r = _mm512_setzero_pd();
+  unsigned nan = 0;
+  const __m512d om = _mm512_set1_pd(omega);
+  for (int bi = b0; bi < b1; ++bi) {
+    const CompactBatch& B = batches[bi];
+    const double* x = lam + static_cast<long>(bi) * 2 * W;
+    const double* d = diag + static_cast<long>(bi) * 2 * W;
+    const Vel8 v = velocities(u, B.la, B.lb);
+    const __m512d xn = LU(x);
+    fold(normal_error(xn, _mm512_div_pd(_mm512_mul_pd(scaled_compact(B.jn, B.two, B.bn, v), LU(d)), om)), r, nan);
+    const __m512d wt = _mm512_div_pd(_mm512_mul_pd(scaled_compact(B.jt, B.two, B.bt, v), LU(d + W)), om);
+    fold(tangent_error(LU(x + W), wt, L(B.mu), xn), r, nan);
+  }
+  finish(r, nan, acc);
+}
+
 DC_AVX512 void residual_avx512(const Batch* batches, int b0, int b1, const double* lam, const double* diag,
                                const double* u, double omega, ResidualAcc& acc) {
   __m512d r = _mm512_setzero_pd();
@@ -137,6 +170,8 @@ DC_AVX512 void residual_pairs_avx512(const PairBatch* pairs, int b0, int b1, con
 
 namespace dc::colored {
 void residual_avx512(const Batch*, int, int, const double*, const double*, const double*, double, ResidualAcc&) {}
+void residual_compact_avx512(const CompactBatch*, int, int, const double*, const double*, const double*, double,
+                             ResidualAcc&) {}
 void residual_pairs_avx512(const PairBatch*, int, int, const double*, const double*, const double*, double,
                            ResidualAcc&) {}
 }  // namespace dc::colored

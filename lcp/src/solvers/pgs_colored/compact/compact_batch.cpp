@@ -1,0 +1,86 @@
+// pgs-colored's compact batches (compact_batch.hpp): the compression with its bitwise check, and
+// the scalar kernel on them.
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
+
+#include <bit>
+#include <cstring>
+
+#include "solvers/pgs_colored/pgs_colored_layout.hpp"
+#include "solvers/pgs_colored/relax/over_relaxation.hpp"
+
+namespace dc::colored {
+namespace {
+
+inline std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+/// The bits of expand()'s derived value: 0 − x (negate) or x where `on`, else +0.
+inline std::uint64_t derived(bool on, bool negate, double x) { return on ? bits(negate ? 0.0 - x : x) : 0; }
+
+}  // namespace
+
+bool compress(const Batch& B, CompactBatch& C) {
+  constexpr int kept[4] = {0, 1, 2, 5};
+  for (int q = 0; q < 4; ++q) {
+    std::memcpy(C.jn[q], B.jn[kept[q]], sizeof(C.jn[q]));
+    std::memcpy(C.jt[q], B.jt[kept[q]], sizeof(C.jt[q]));
+  }
+  std::memcpy(C.mjn, B.mjn, sizeof(C.mjn));
+  std::memcpy(C.mjt[0], B.mjt[2], sizeof(C.mjt[0]));
+  std::memcpy(C.mjt[1], B.mjt[5], sizeof(C.mjt[1]));
+  std::memcpy(C.bn, B.bn, sizeof(C.bn));
+  std::memcpy(C.bt, B.bt, sizeof(C.bt));
+  std::memcpy(C.mu, B.mu, sizeof(C.mu));
+  std::memcpy(C.la, B.la, sizeof(C.la));
+  std::memcpy(C.lb, B.lb, sizeof(C.lb));
+  std::memcpy(C.ka, B.ka, sizeof(C.ka));
+  std::memcpy(C.kb, B.kb, sizeof(C.kb));
+  C.count = B.count;
+  // Per lane: the derived slots hold +0 (one body; no friction; padding: the bit clear) or the
+  // derivation (the bit set); every derived slot is compared bit for bit with expand()'s value.
+  std::uint8_t two = 0, fric = 0;
+  std::uint64_t differ = 0;
+  for (int k = 0; k < W; ++k) {
+    const bool t = (bits(B.jn[3][k]) | bits(B.jn[4][k]) | bits(B.jt[3][k]) | bits(B.jt[4][k])) != 0;
+    const bool f = (bits(B.mjt[0][k]) | bits(B.mjt[1][k]) | bits(B.mjt[3][k]) | bits(B.mjt[4][k])) != 0;
+    two = static_cast<std::uint8_t>(two | (t ? 1u << k : 0u));
+    fric = static_cast<std::uint8_t>(fric | (f ? 1u << k : 0u));
+    differ |= bits(B.jn[3][k]) ^ derived(t, true, B.jn[0][k]);
+    differ |= bits(B.jn[4][k]) ^ derived(t, true, B.jn[1][k]);
+    differ |= bits(B.jt[3][k]) ^ derived(t, true, B.jt[0][k]);
+    differ |= bits(B.jt[4][k]) ^ derived(t, true, B.jt[1][k]);
+    differ |= bits(B.mjt[0][k]) ^ derived(f, true, B.mjn[1][k]);
+    differ |= bits(B.mjt[1][k]) ^ derived(f, false, B.mjn[0][k]);
+    differ |= bits(B.mjt[3][k]) ^ derived(f, true, B.mjn[4][k]);
+    differ |= bits(B.mjt[4][k]) ^ derived(f, false, B.mjn[3][k]);
+  }
+  C.two = two;
+  C.fric = fric;
+  return differ == 0;
+}
+
+bool fill_compact(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi,
+                  double* lp, double* other, double omega, bool full) {
+  Batch& B = out.batches[static_cast<size_t>(bi)];
+  if (full) {
+    fill_batch(p, lambda, out, bi, lp, other);
+    if (omega != 1.0) over_relax(B, omega);
+    return false;
+  }
+  Batch local;  // in cache: only the compact batch goes to memory
+  fill_batch(p, lambda, out, bi, lp, other, &local);
+  if (omega != 1.0) over_relax(local, omega);
+  if (compress(local, out.compact[static_cast<size_t>(bi)])) return true;
+  B = local;
+  return false;
+}
+
+void sweep_compact_scalar(const CompactBatch* batches, int b0, int b1, const double* in, double* out, double* u,
+                          Acc& acc) {
+  Batch B;
+  for (int bi = b0; bi < b1; ++bi) {
+    expand(batches[bi], B);
+    sweep_scalar(&B, 0, 1, in + static_cast<long>(bi) * 2 * W, out + static_cast<long>(bi) * 2 * W, u, acc);
+  }
+}
+
+}  // namespace dc::colored

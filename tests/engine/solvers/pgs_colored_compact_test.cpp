@@ -1,0 +1,157 @@
+// pgs-colored's compact layout (compact/compact_batch.hpp, PgsColoredDef::compact_layout): on the
+// engine's problems every kernel sweeps the compact batches and gives the full layout's iterates,
+// and so "pgs"'s, bit for bit; a problem whose coefficients do not follow from each other exactly
+// (a non-isotropic M⁻¹, a hand-written J) keeps the full layout and still gives "pgs"'s iterates.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "dc/engine/stress_scenes.hpp"
+#include "dc/engine/world.hpp"
+#include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/pgs_colored.hpp"
+#include "engine/fixed_sweeps.hpp"
+#include "lcp/solver_test_problems.hpp"
+#include "pgs_colored_kernels.hpp"
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
+
+namespace dc {
+namespace {
+
+SolverOptions sweeps(int k, double omega = 1.0) {
+  SolverOptions o = test::fixed_sweeps(k);
+  o.record_theta = false;
+  o.omega = omega;
+  return o;
+}
+
+/// The problem of `def`'s world after `steps` steps of pgs (100 sweeps, previous λ as start).
+LcpProblem settled_problem(const WorldDef& def, int steps) {
+  World world(def);
+  const auto pgs = make_solver("pgs");
+  for (int k = 0; k < steps; ++k) world.step(*pgs, sweeps(100), World::WarmStart::PreviousLambda);
+  world.collide();
+  return world.assemble();
+}
+
+/// A warm start with both signs on friction rows and zeros on some normals.
+Eigen::VectorXd start_of(const LcpProblem& p) {
+  Eigen::VectorXd l0(p.rows());
+  for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
+  return l0;
+}
+
+/// pgs-colored's solve of p with `d` (compact_layout as given), and whether it swept compact batches.
+SolveResult solve(PgsColoredDef d, bool compact, const LcpProblem& p, const Eigen::VectorXd& l0,
+                  const SolverOptions& o, bool& swept_compact) {
+  PgsColoredProfile profile;
+  d.compact_layout = compact;
+  d.compact_from_batches = 0;  // (the test problems are small)
+  d.profile = &profile;
+  SolveResult r = make_pgs_colored(d)->solve(p, l0, o);
+  EXPECT_TRUE(r.message.empty()) << r.message;  // the colour kernels ran, not the fallback
+  swept_compact = profile.compact_solves > 0;
+  return r;
+}
+
+/// Every kernel, compact and full layout: λ of "pgs" bit for bit (ω = 1), the compact layout's
+/// iterates those of the full one (any ω); `compact_expected`: which layout the solver chose (1:
+/// compact, 0: full, −1: not checked).
+void expect_layouts_agree(const LcpProblem& p, int compact_expected, const std::string& what) {
+  const Eigen::VectorXd l0 = start_of(p);
+  for (int k : {1, 7, 30})
+    for (double omega : {1.0, 1.5}) {
+      const SolveResult ref = make_solver("pgs")->solve(p, l0, sweeps(k));
+      for (const PgsColoredDef& d : test::pgs_colored_kernel_defs()) {
+        const std::string at = what + ", " + std::to_string(k) + " sweeps, ω " + std::to_string(omega) + ", " +
+                               to_string(d.kernel);
+        bool compact = false, full = true;
+        const SolveResult c = solve(d, true, p, l0, sweeps(k, omega), compact);
+        const SolveResult f = solve(d, false, p, l0, sweeps(k, omega), full);
+        if (compact_expected >= 0) {
+          EXPECT_EQ(compact, compact_expected == 1) << at;
+        }
+        EXPECT_FALSE(full) << at;
+        test::expect_same_bits(c, f, at);
+        if (omega != 1.0) continue;
+        ASSERT_EQ(ref.lambda.size(), c.lambda.size());
+        for (Eigen::Index i = 0; i < c.lambda.size(); ++i) ASSERT_EQ(ref.lambda[i], c.lambda[i]) << at << ", row " << i;
+      }
+    }
+}
+
+TEST(PgsColoredCompact, EngineProblemsSweepCompactBatchesWithTheIteratesOfPgs) {
+  // The seed pile: single contacts with friction, walls (one-body contacts); frictionless
+  // circles (lanes without a tangent row); a pyramid of circles of two masses; the box pyramid:
+  // two-point manifolds (pair batches, not compacted) beside any single ones.
+  expect_layouts_agree(settled_problem(stress::scaled_seed_pile(100), 100), 1, "pile");
+  expect_layouts_agree(settled_problem(stress::friction_scene(0.0, 40), 60), 1, "frictionless");
+  expect_layouts_agree(settled_problem(stress::pyramid_mass_ratio(10.0, true), 30), 1, "mass ratio");
+  expect_layouts_agree(settled_problem(stress::box_pyramid(6), 20), -1, "box pyramid");
+}
+
+TEST(PgsColoredCompact, NonIsotropicInverseMassKeepsTheFullLayout) {
+  // m⁻¹ of v_y ≠ m⁻¹ of v_x: the tangent's M⁻¹JᵀΔt is no longer the normal's turned, so no
+  // batch with friction compresses exactly; a solve forced onto the compact layout would differ.
+  LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
+  for (Eigen::Index k = 1; k < p.inv_mass.size(); k += 3) p.inv_mass[k] *= 0.75;
+  expect_layouts_agree(p, 0, "non-isotropic M⁻¹");
+}
+
+TEST(PgsColoredCompact, SmallProblemsKeepTheFullLayoutByDefault) {
+  const LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
+  PgsColoredProfile profile;
+  PgsColoredDef d;
+  d.profile = &profile;
+  ASSERT_EQ(d.compact_from_batches, -1);
+  const SolveResult a = make_pgs_colored(d)->solve(p, start_of(p), sweeps(5));
+  EXPECT_EQ(profile.compact_solves, 0);
+  d.compact_from_batches = 1;
+  test::expect_same_bits(a, make_pgs_colored(d)->solve(p, start_of(p), sweeps(5)), "compact from 1 batch");
+  EXPECT_EQ(profile.compact_solves, 1);
+}
+
+TEST(PgsColoredCompact, CompressionChecksEveryBit) {
+  // A batch of the engine's form compresses and expands to the same bits; one changed bit of a
+  // derived coefficient (slot 3 of a two-body lane, the tangent's M⁻¹JᵀΔt of a lane with
+  // friction) is refused.
+  colored::Batch B{};
+  for (int k = 0; k < colored::W; ++k) {
+    const double n[2] = {0.6 + 0.01 * k, -0.8}, ra = 0.3 * k - 1.0, rb = 0.25 - 0.1 * k, inv = 1.0 / (3.0 + k);
+    const double im = 0.5 + k, ii = 2.0 + k, imb = 1.5, iib = 4.0, dt = 1.0 / 60.0;
+    const double rn[6] = {0.0 + n[0], 0.0 + n[1], ra, 0.0 - n[0], 0.0 - n[1], rb};
+    const double rt[6] = {0.0 - n[1], 0.0 + n[0], rb, 0.0 + n[1], 0.0 - n[0], ra};
+    const double ims[6] = {im, im, ii, imb, imb, iib};
+    for (int s = 0; s < 6; ++s) {
+      B.jn[s][k] = rn[s] * inv;
+      B.jt[s][k] = rt[s] * (2.0 * inv);
+      B.mjn[s][k] = (rn[s] * ims[s]) * dt;
+      B.mjt[s][k] = (rt[s] * ims[s]) * dt;
+    }
+    B.bn[k] = 0.1 * k;
+    B.mu[k] = 0.5;
+    B.la[k] = 4 * k;
+    B.lb[k] = 4 * (k + 8);
+    B.ka[k] = B.kb[k] = 1;
+  }
+  B.count = colored::W;
+  colored::CompactBatch C;
+  ASSERT_TRUE(colored::compress(B, C));
+  colored::Batch E{};
+  colored::expand(C, E);
+  EXPECT_EQ(std::memcmp(E.jn, B.jn, sizeof(B.jn)), 0);
+  EXPECT_EQ(std::memcmp(E.mjt, B.mjt, sizeof(B.mjt)), 0);
+  for (auto mutate : {+[](colored::Batch& b) { b.jn[3][2] = std::nextafter(b.jn[3][2], 1.0); },
+                      +[](colored::Batch& b) { b.jt[4][5] = -b.jt[4][5]; },
+                      +[](colored::Batch& b) { b.mjt[1][0] *= 1.0 + 1e-15; },
+                      +[](colored::Batch& b) { b.mjt[3][7] = 0.0; }}) {
+    colored::Batch m = B;
+    mutate(m);
+    EXPECT_FALSE(colored::compress(m, C));
+  }
+}
+
+}  // namespace
+}  // namespace dc
