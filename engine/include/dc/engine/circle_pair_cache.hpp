@@ -61,7 +61,10 @@ class CirclePairCache {
   std::vector<Vec2> centre0_;           ///< x⁰_k [m]
   std::vector<double> reach0_, grown_;  ///< R⁰_k, and R⁰_k + σ for the broad phase [m]
   std::vector<std::pair<int, int>> boxes_, pairs_, merged_, added_;
-  std::vector<std::vector<int>> part_escaped_;  ///< per job of find_escaped: its escaped bodies
+  /// The median drift x_k − x⁰_k of a sample of the bodies (a candidate shift_).
+  [[nodiscard]] Vec2 sample_drift(const std::vector<Vec2>& centres) const;
+  std::vector<std::vector<int>> part_escaped_;  ///< per job of find_escaped and frame: its escaped bodies
+  std::vector<std::size_t> part_count_;         ///< per job of find_escaped and frame: escaped bodies
   std::vector<int> escaped_;                    ///< the escaped bodies of this step, in body order
   std::vector<char> is_escaped_;                ///< per body: in escaped_ (all 0 between patches)
   // The anchor grid: per cell the first body of a doubly linked list through next_/prev_.
@@ -72,6 +75,7 @@ class CirclePairCache {
   int cols_ = 1, rows_ = 1;
   bool grid_kept_ = false;     ///< the grid files the current anchors
   double skin_ = 0;  ///< σ [m]
+  Vec2 shift_;       ///< D: body k's anchor is x⁰_k + D (centre0_ holds x⁰_k) [m]
   int uses_ = 0;        ///< steps the kept list served after its rebuild
   int plain_run_ = 0;   ///< length of the last run of steps without a list
   int plain_left_ = 0;  ///< steps left in the current run without a list
