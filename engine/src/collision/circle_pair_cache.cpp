@@ -33,6 +33,13 @@ constexpr double kDriftChange = 0.05;
 /// The anchor grid holds at most this many cells per body (its cell grows to fit).
 constexpr double kCellsPerBody = 2.0;
 
+/// Room for `size` entries and half as many more when the vector has less: the kept list and its
+/// buffers grow while a pile compacts, and growing them a little at a time allocates often.
+template <class T>
+void reserve_with_headroom(std::vector<T>& v, std::size_t size) {
+  if (v.capacity() < size) v.reserve(size + size / 2);
+}
+
 /// The escaped bodies a step patches at most among n.
 std::size_t patch_limit(std::size_t n) { return static_cast<std::size_t>(kPatchedOfBodies * static_cast<double>(n)); }
 
@@ -106,6 +113,8 @@ bool CirclePairCache::find_escaped(const std::vector<Vec2>& centres, const std::
     std::vector<int>& in_drift = part_escaped_[static_cast<size_t>(2 * p + 1)];
     in_held.clear();
     in_drift.clear();
+    in_held.reserve(limit + 1);  // once: a growing list would allocate step after step while a pile falls
+    in_drift.reserve(limit + 1);
     std::size_t count_held = 0, count_drift = 0;
     const Vec2 *x = centres.data(), *x0 = centre0_.data();
     const double *r = reach.data(), *r0 = reach0_.data();
@@ -131,6 +140,7 @@ bool CirclePairCache::find_escaped(const std::vector<Vec2>& centres, const std::
     count_drift += part_count_[static_cast<size_t>(2 * p + 1)];
   }
   const int frame = two && count_drift < count_held ? 1 : 0;
+  reserve_with_headroom(escaped_, static_cast<std::size_t>(jobs) * (limit + 1));
   if (frame == 1) shift_ = drift;
   for (int p = 0; p < jobs; ++p) {
     const std::vector<int>& mine = part_escaped_[static_cast<size_t>(2 * p + frame)];
@@ -247,6 +257,7 @@ void CirclePairCache::patch(const std::vector<Vec2>& centres, const std::vector<
 void CirclePairCache::merge_patched() {
   // The kept pairs without the escaped bodies, merged with their new pairs in sorted order
   // (written through a pointer into room for both: no capacity check per pair).
+  reserve_with_headroom(merged_, pairs_.size() + added_.size());
   merged_.resize(pairs_.size() + added_.size());
   std::pair<int, int>* out = merged_.data();
   const char* gone = is_escaped_.data();
@@ -281,6 +292,7 @@ void CirclePairCache::rebuild(const std::vector<Vec2>& centres, const std::vecto
   for (std::size_t k = 0; k < n; ++k) grown_[k] = reach[k] + skin_;
   broad_phase.find_pairs(centres, grown_, boxes_, threads);
   pairs_.clear();
+  reserve_with_headroom(pairs_, boxes_.size());
   for (const auto& [i, j] : boxes_) {
     const auto a = static_cast<size_t>(i), b = static_cast<size_t>(j);
     const double limit = reach[a] + reach[b] + 2 * skin_;
