@@ -1,6 +1,7 @@
 #include "dc/engine/circle_pair_cache.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -24,8 +25,20 @@ constexpr int kMaxPlain = 32;
 /// every grown box in the broad phase's grid, tests its neighbours and sorts all the pairs; beyond
 /// this fraction the pile is on the move and the list is rebuilt.
 constexpr double kPatchedOfBodies = 0.1;
+/// Bodies whose motion gives the common drift (sample_drift()): odd, so the median is one of them.
+constexpr std::size_t kDriftSamples = 63;
+/// The drift is tested as a second frame when it is farther than this fraction of the bound
+/// from the held shift.
+constexpr double kDriftChange = 0.05;
 /// The anchor grid holds at most this many cells per body (its cell grows to fit).
 constexpr double kCellsPerBody = 2.0;
+
+/// Room for `size` entries and half as many more when the vector has less: the kept list and its
+/// buffers grow while a pile compacts, and growing them a little at a time allocates often.
+template <class T>
+void reserve_with_headroom(std::vector<T>& v, std::size_t size) {
+  if (v.capacity() < size) v.reserve(size + size / 2);
+}
 
 /// The escaped bodies a step patches at most among n.
 std::size_t patch_limit(std::size_t n) { return static_cast<std::size_t>(kPatchedOfBodies * static_cast<double>(n)); }
@@ -60,27 +73,77 @@ const std::vector<std::pair<int, int>>& CirclePairCache::pairs(const std::vector
   return pairs_;
 }
 
+Vec2 CirclePairCache::sample_drift(const std::vector<Vec2>& centres) const {
+  // The median of each coordinate of x_k − x⁰_k over kDriftSamples bodies spread over the
+  // numbering: the common motion of the majority (a pile in free fall moves as one), robust to
+  // the minority that moves otherwise (a landed layer, a few fast grains).
+  const std::size_t n = centres.size(), m = std::min(n, kDriftSamples);
+  std::array<double, kDriftSamples> dx{}, dy{};
+  for (std::size_t s = 0; s < m; ++s) {
+    const std::size_t k = s * n / m;
+    dx[s] = centres[k].x - centre0_[k].x;
+    dy[s] = centres[k].y - centre0_[k].y;
+  }
+  std::nth_element(dx.begin(), dx.begin() + m / 2, dx.begin() + m);
+  std::nth_element(dy.begin(), dy.begin() + m / 2, dy.begin() + m);
+  return {dx[m / 2], dy[m / 2]};
+}
+
 bool CirclePairCache::find_escaped(const std::vector<Vec2>& centres, const std::vector<double>& reach, int threads) {
   escaped_.clear();
   const int n = static_cast<int>(centres.size());
   if (centre0_.size() != centres.size() || reach.size() != centres.size()) return false;
   const double bound = kMotionOfSkin * skin_;
   const std::size_t limit = patch_limit(centres.size());
+  // Two frames of the anchors: the one they are held in (shift_) and the sample's common drift;
+  // the drift is tested only when it differs from the held shift by more than a small part of
+  // the bound (at rest it does not: one test per body).
+  const Vec2 held = shift_, drift = sample_drift(centres);
+  const bool two = std::isfinite(drift.x) && std::isfinite(drift.y) &&
+                   length_squared(drift - held) > kDriftChange * kDriftChange * bound * bound;
   const int jobs = parts_for(threads, n, 2, 4096);
-  if (part_escaped_.size() < static_cast<size_t>(jobs)) part_escaped_.resize(static_cast<size_t>(jobs));
+  if (part_escaped_.size() < static_cast<size_t>(2 * jobs)) part_escaped_.resize(static_cast<size_t>(2 * jobs));
+  if (part_count_.size() < static_cast<size_t>(2 * jobs)) part_count_.resize(static_cast<size_t>(2 * jobs));
   run_parts(threads, jobs, [&](int p) {
     // No early exit: a settled pile reads every body anyway. A job keeps patch_limit(n) + 1 of
-    // its escaped bodies at most: enough to tell a patch from a rebuild.
-    std::vector<int>& mine = part_escaped_[static_cast<size_t>(p)];
-    mine.clear();
-    for (int k = static_cast<int>(part_begin(n, jobs, p)); k < part_begin(n, jobs, p + 1); ++k) {
-      const auto i = static_cast<size_t>(k);
-      const double motion = std::sqrt(length_squared(centres[i] - centre0_[i])) + std::max(0.0, reach[i] - reach0_[i]);
-      if (!(motion <= bound) && mine.size() <= limit) mine.push_back(k);  // NaN escapes (rebuilt below)
+    // its escaped bodies in each frame at most (enough to tell a patch from a rebuild) and
+    // counts them all (to choose the frame). |d| + max(0, R − R⁰) ≤ bound is tested as
+    // |d|² ≤ (bound − max(0, R − R⁰))²: no square root; NaN fails it (escapes, rebuilt below).
+    std::vector<int>& in_held = part_escaped_[static_cast<size_t>(2 * p)];
+    std::vector<int>& in_drift = part_escaped_[static_cast<size_t>(2 * p + 1)];
+    in_held.clear();
+    in_drift.clear();
+    in_held.reserve(limit + 1);  // once: a growing list would allocate step after step while a pile falls
+    in_drift.reserve(limit + 1);
+    std::size_t count_held = 0, count_drift = 0;
+    const Vec2 *x = centres.data(), *x0 = centre0_.data();
+    const double *r = reach.data(), *r0 = reach0_.data();
+    const int k1 = static_cast<int>(part_begin(n, jobs, p + 1));
+    for (int k = static_cast<int>(part_begin(n, jobs, p)); k < k1; ++k) {
+      const double room = bound - std::max(0.0, r[k] - r0[k]);
+      const double dx = x[k].x - x0[k].x, dy = x[k].y - x0[k].y;
+      const double hx = dx - held.x, hy = dy - held.y, fx = dx - drift.x, fy = dy - drift.y;
+      const bool out_held = !(room >= 0 && hx * hx + hy * hy <= room * room);
+      const bool out_drift = two && !(room >= 0 && fx * fx + fy * fy <= room * room);
+      if (!(out_held || out_drift)) continue;  // most bodies at rest: a branch that predicts well
+      count_held += out_held ? 1 : 0;
+      count_drift += out_drift ? 1 : 0;
+      if (out_held && in_held.size() <= limit) in_held.push_back(k);
+      if (out_drift && in_drift.size() <= limit) in_drift.push_back(k);
     }
+    part_count_[static_cast<size_t>(2 * p)] = count_held;
+    part_count_[static_cast<size_t>(2 * p + 1)] = count_drift;
   });
+  std::size_t count_held = 0, count_drift = 0;
   for (int p = 0; p < jobs; ++p) {
-    const std::vector<int>& mine = part_escaped_[static_cast<size_t>(p)];
+    count_held += part_count_[static_cast<size_t>(2 * p)];
+    count_drift += part_count_[static_cast<size_t>(2 * p + 1)];
+  }
+  const int frame = two && count_drift < count_held ? 1 : 0;
+  reserve_with_headroom(escaped_, static_cast<std::size_t>(jobs) * (limit + 1));
+  if (frame == 1) shift_ = drift;
+  for (int p = 0; p < jobs; ++p) {
+    const std::vector<int>& mine = part_escaped_[static_cast<size_t>(2 * p + frame)];
     escaped_.insert(escaped_.end(), mine.begin(), mine.end());
   }
   // A non-finite body rebuilds, and the broad phase reports it.
@@ -154,11 +217,11 @@ void CirclePairCache::patch(const std::vector<Vec2>& centres, const std::vector<
   is_escaped_.resize(centres.size(), 0);
   for (const int e : escaped_) {
     const auto i = static_cast<size_t>(e);
-    centre0_[i] = centres[i];
+    centre0_[i] = centres[i] - shift_;
     reach0_[i] = reach[i];
     reach0_max_ = std::max(reach0_max_, reach[i]);
     is_escaped_[i] = 1;
-    const int cell = cell_of(centres[i]);
+    const int cell = cell_of(centre0_[i]);
     if (cell != cell_of_[i]) {
       unfile(e);
       file(e, cell);
@@ -194,6 +257,7 @@ void CirclePairCache::patch(const std::vector<Vec2>& centres, const std::vector<
 void CirclePairCache::merge_patched() {
   // The kept pairs without the escaped bodies, merged with their new pairs in sorted order
   // (written through a pointer into room for both: no capacity check per pair).
+  reserve_with_headroom(merged_, pairs_.size() + added_.size());
   merged_.resize(pairs_.size() + added_.size());
   std::pair<int, int>* out = merged_.data();
   const char* gone = is_escaped_.data();
@@ -221,12 +285,14 @@ void CirclePairCache::rebuild(const std::vector<Vec2>& centres, const std::vecto
     return;
   }
   grid_kept_ = false;  // built at the first patch (patch())
+  shift_ = {};
   centre0_.assign(centres.begin(), centres.end());
   reach0_.assign(reach.begin(), reach.end());
   grown_.resize(n);
   for (std::size_t k = 0; k < n; ++k) grown_[k] = reach[k] + skin_;
   broad_phase.find_pairs(centres, grown_, boxes_, threads);
   pairs_.clear();
+  reserve_with_headroom(pairs_, boxes_.size());
   for (const auto& [i, j] : boxes_) {
     const auto a = static_cast<size_t>(i), b = static_cast<size_t>(j);
     const double limit = reach[a] + reach[b] + 2 * skin_;

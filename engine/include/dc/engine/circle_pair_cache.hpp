@@ -2,18 +2,22 @@
 // Candidate pairs of the circle narrow phase kept across steps (a Verlet list). At a rebuild
 // the broad phase runs with every reach R_k = r_k + s_k grown by a skin σ, and the pairs whose
 // centres are closer than R_i + R_j + 2σ are kept, with the centres x⁰_k and reaches R⁰_k they
-// were found at. While every body satisfies |x_k − x⁰_k| + max(0, R_k − R⁰_k) ≤ 0.9σ, each pair
-// within R_i + R_j now was within R⁰_i + R⁰_j + 1.8σ then (triangle inequality; the 0.2σ to
-// spare absorbs rounding), so the kept list is a superset of the pairs the narrow phase
-// accepts, and its test on that list gives the same contacts as a fresh broad phase: the same
-// keys in the same (sorted) order, bit for bit. σ is a fixed fraction of the largest reach at
-// the rebuild: a settled pile keeps its list for many steps. Where lists expire after a step or
+// were found at. Body k's anchor is x⁰_k + D, where D is a shift common to every body (zero at a
+// rebuild). While every body satisfies |x_k − x⁰_k − D| + max(0, R_k − R⁰_k) ≤ 0.9σ, each pair
+// within R_i + R_j now was within R⁰_i + R⁰_j + 1.8σ then (x_i − x_j = x⁰_i − x⁰_j plus the two
+// bodies' motions from their anchors, and the shift cancels; the 0.2σ to spare absorbs
+// rounding), so the kept list is a superset of the pairs the narrow phase accepts, and its test
+// on that list gives the same contacts as a fresh broad phase: the same keys in the same
+// (sorted) order, bit for bit. Since D cancels, each step may choose it: the held D, or the
+// median motion x_k − x⁰_k of a sample of the bodies when fewer bodies escape with it, so a
+// pile falling as one keeps its list. σ is a fixed fraction of the largest reach at the
+// rebuild: a settled pile keeps its list for many steps. Where lists expire after a step or
 // two (a falling or flowing pile), the broad phase runs without one for a while (pairs()).
 // The check is by body index only, so a renumbering of the bodies (the internal order's
 // re-sort) or a user's edit is caught like any motion; a change in the body count rebuilds.
 //
 // Bodies beyond the skin (a grain rolling down a settled pile, part of a pile still falling) do
-// not rebuild the list: each such body e is re-anchored (x⁰_e = x_e, R⁰_e = R_e), its pairs are
+// not rebuild the list: each such body e is re-anchored (x⁰_e = x_e − D, R⁰_e = R_e), its pairs are
 // dropped and found again by the same test, |x⁰_e − x⁰_j| < R⁰_e + R⁰_j + 2σ, against the anchors
 // of a kept grid (every anchor filed in a cell; an escaped body moves to its new anchor's cell),
 // and merged back in sorted order. The list stays exactly the pairs of anchors within the grown
@@ -61,7 +65,10 @@ class CirclePairCache {
   std::vector<Vec2> centre0_;           ///< x⁰_k [m]
   std::vector<double> reach0_, grown_;  ///< R⁰_k, and R⁰_k + σ for the broad phase [m]
   std::vector<std::pair<int, int>> boxes_, pairs_, merged_, added_;
-  std::vector<std::vector<int>> part_escaped_;  ///< per job of find_escaped: its escaped bodies
+  /// The median drift x_k − x⁰_k of a sample of the bodies (a candidate shift_).
+  [[nodiscard]] Vec2 sample_drift(const std::vector<Vec2>& centres) const;
+  std::vector<std::vector<int>> part_escaped_;  ///< per job of find_escaped and frame: its escaped bodies
+  std::vector<std::size_t> part_count_;         ///< per job of find_escaped and frame: escaped bodies
   std::vector<int> escaped_;                    ///< the escaped bodies of this step, in body order
   std::vector<char> is_escaped_;                ///< per body: in escaped_ (all 0 between patches)
   // The anchor grid: per cell the first body of a doubly linked list through next_/prev_.
@@ -72,6 +79,7 @@ class CirclePairCache {
   int cols_ = 1, rows_ = 1;
   bool grid_kept_ = false;     ///< the grid files the current anchors
   double skin_ = 0;  ///< σ [m]
+  Vec2 shift_;       ///< D: body k's anchor is x⁰_k + D (centre0_ holds x⁰_k) [m]
   int uses_ = 0;        ///< steps the kept list served after its rebuild
   int plain_run_ = 0;   ///< length of the last run of steps without a list
   int plain_left_ = 0;  ///< steps left in the current run without a list
