@@ -101,6 +101,10 @@ class World {
   /// Contacts of the previous step with their solved λ (the built-in warm start's memory).
   [[nodiscard]] const std::vector<Contact>& previous_contacts() const;
   [[nodiscard]] const LcpProblem& problem() const;
+  /// out ← the builtin warm start's λ⁰ of problem(): put_matched_lambda(previous_contacts(),
+  /// contacts(), problem(), out), bit for bit (the warmstart library's `builtin`), reading the
+  /// previous λ where integrate() left them (without building the contacts' λ fields first).
+  void builtin_guess_into(KeptVector& out) const;
   /// The broad phase (its last_pair_tests() measures its last run's work; collide() keeps the
   /// circle pairs across steps while the bodies stay near, circle_pair_cache.hpp).
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
@@ -155,6 +159,11 @@ class World {
   /// collide() swaps them into previous_ instead of integrate() copying every contact (a
   /// 128-byte struct per contact: 6 MB a step at 40,000 bodies, memory-bound).
   bool contacts_are_previous_ = false;
+  /// The solved (λ_n, λ_t) of contacts_ and of previous_, packed (world/parts/contact_lambdas.hpp;
+  /// without an internal order): integrate() gathers them here, and the *_unstored_ flags say
+  /// that the contacts' own fields still wait for them (written on first read of the list).
+  std::vector<ContactLambda> lambdas_, previous_lambdas_;
+  mutable bool lambdas_unstored_ = false, previous_lambdas_unstored_ = false;
   /// Per-body packed narrow-phase records (speculative reach included) and box half-extent,
   /// and the broad phase's pairs: reused buffers of collide() (no allocation per step).
   std::vector<CircleProbe> probes_;
