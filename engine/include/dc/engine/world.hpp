@@ -13,7 +13,9 @@
 // step() runs all stages and returns a per-stage profile. With `internal_order = "morton"` the
 // stages run on a re-sorted copy of the bodies; everything public stays in creation order and is
 // translated lazily on first read, so the const accessors fill caches: such a World is not safe
-// to read from two threads at once (docs/engine.md "Engine-internal order").
+// to read from two threads at once (docs/engine.md "Engine-internal order"). Any World writes
+// the solved λ into its contacts on the first contacts() / previous_contacts() after
+// integrate(): those two are not to be called from two threads at once either.
 #include <Eigen/Core>
 #include <functional>
 #include <vector>
