@@ -29,9 +29,7 @@ class BuiltinWarmStarter final : public WarmStarter {
  public:
   std::string name() const override { return "builtin"; }
   Eigen::VectorXd initial_guess(const StepView& v) override { return builtin_guess(v.world); }
-  void initial_guess_into(const StepView& v, KeptVector& out) override {
-    put_matched_lambda(v.world.previous_contacts(), v.world.contacts(), v.world.problem(), out);
-  }
+  void initial_guess_into(const StepView& v, KeptVector& out) override { v.world.builtin_guess_into(out); }
 };
 
 }  // namespace

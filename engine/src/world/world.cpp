@@ -11,7 +11,9 @@
 #include "dc/core/error.hpp"
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/contact_match.hpp"
+#include "dc/engine/matched_lambda.hpp"
 #include "assembly/assembly.hpp"
+#include "world/parts/contact_lambdas.hpp"
 #include "world/parts/integrate_keeping.hpp"
 #include "world/parts/merge_parts.hpp"
 #include "world/parts/relax_pass.hpp"
@@ -99,6 +101,10 @@ const std::vector<Contact>& World::contacts() const {
     order_.contacts_to_external(internal_contacts_, public_order(), contacts_);
     contacts_stale_ = false;
   }
+  if (lambdas_unstored_) {
+    store_contact_lambdas(lambdas_, contacts_);
+    lambdas_unstored_ = false;
+  }
   return contacts_;
 }
 
@@ -109,6 +115,10 @@ const std::vector<Contact>& World::previous_contacts() const {
     order_.external_order(internal_previous_, static_cast<int>(order_.external_of().size()), internal_of);
     order_.contacts_to_external(internal_previous_, internal_of, previous_);
     previous_stale_ = false;
+  }
+  if (previous_lambdas_unstored_) {
+    store_contact_lambdas(previous_lambdas_, previous_);
+    previous_lambdas_unstored_ = false;
   }
   return previous_;
 }
@@ -126,6 +136,14 @@ const LcpProblem& World::problem() const {
   return problem_;
 }
 
+void World::builtin_guess_into(KeptVector& out) const {
+  const std::vector<Contact>& prev = contacts_are_previous_ ? contacts_ : previous_;
+  const std::vector<ContactLambda>& packed = contacts_are_previous_ ? lambdas_ : previous_lambdas_;
+  if (internal_ || packed.size() != prev.size())
+    return put_matched_lambda(previous_contacts(), contacts(), problem(), out);
+  put_matched_lambda(prev, packed, contacts_, problem_, out);  // contacts_ and problem_ are the public ones
+}
+
 const std::vector<Contact>& World::collide() {
   collide_stage();
   return contacts();
@@ -139,6 +157,8 @@ void World::collide_stage() {
       previous_stale_ = contacts_stale_;
     } else {
       previous_.swap(contacts_);
+      previous_lambdas_.swap(lambdas_);
+      previous_lambdas_unstored_ = std::exchange(lambdas_unstored_, false);  // contacts_ is refilled below
     }
     contacts_are_previous_ = false;
   }
@@ -179,7 +199,7 @@ void World::collide_stage() {
   } else {
     collide_circles(bodies_, contacts_);
   }
-  if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_, contacts_);
+  if (def_.contact.restitution > 0) track_approach_velocities(bodies_, previous_contacts(), contacts_);
 }
 
 void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) {
@@ -320,14 +340,19 @@ void World::integrate_solved(const Eigen::Ref<const Eigen::VectorXd>& lambda, co
     integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse);
   if (position_lambda != nullptr)
     shift_positions(solved, *position_lambda, lambda, def_.time.dt, working_bodies(), relax_dl_, impulse);
-  const int nc = static_cast<int>(contacts.size());
-  const int jobs = parts_for(step_threads_, nc, 2, 4096);
-  run_parts(step_threads_, jobs, [&](int p) {
-    for (int c = static_cast<int>(part_begin(nc, jobs, p)); c < part_begin(nc, jobs, p + 1); ++c) {
-      contacts[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
-      contacts[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
-    }
-  });
+  if (internal_) {
+    const int nc = static_cast<int>(contacts.size());
+    const int jobs = parts_for(step_threads_, nc, 2, 4096);
+    run_parts(step_threads_, jobs, [&](int p) {
+      for (int c = static_cast<int>(part_begin(nc, jobs, p)); c < part_begin(nc, jobs, p + 1); ++c) {
+        contacts[static_cast<size_t>(c)].lambda_n = cons.lambda_n(lambda, c);
+        contacts[static_cast<size_t>(c)].lambda_t = cons.lambda_t(lambda, c);
+      }
+    });
+  } else {  // packed (contact_lambdas.hpp): written into contacts_ when a caller reads them
+    gather_contact_lambdas(cons, lambda, lambdas_);
+    lambdas_unstored_ = true;
+  }
   if (internal_) bodies_stale_ = contacts_stale_ = true;  // the public views: rebuilt on first read
   contacts_are_previous_ = true;
   ++step_;
@@ -392,9 +417,11 @@ StepReport World::step_stages(LcpSolver& solver, const SolverOptions& options, c
   if (guess == nullptr) {
     // The builtin warm start on one set of objects (public, or internal: the same numbers per contact).
     if (internal_)
-      previous_lambda(internal_previous_, internal_contacts_, internal_problem_, step_threads_, lambda0, warm_starts_);
+      previous_lambda(internal_previous_, {}, internal_contacts_, internal_problem_, step_threads_, lambda0, warm_starts_);
+    else if (previous_lambdas_.size() == previous_.size())  // previous_ as integrate() left it
+      previous_lambda(previous_, previous_lambdas_, contacts_, problem_, step_threads_, lambda0, warm_starts_);
     else
-      previous_lambda(previous_contacts(), contacts_, problem_, step_threads_, lambda0, warm_starts_);
+      previous_lambda(previous_contacts(), {}, contacts_, problem_, step_threads_, lambda0, warm_starts_);
   } else {
     lambda0 = *guess ? (*guess)(*this) : Eigen::VectorXd::Zero(rep.rows);
     if (lambda0.size() != rep.rows)

@@ -76,6 +76,13 @@ struct Contact {
   Vec2 anchor_a, anchor_b;
 };
 
+/// One contact's solved forces [N] packed apart from its Contact (World keeps a list's λ so
+/// between integrate() and the list's next read): λ_n and λ_t (0 when it has no tangent row).
+struct ContactLambda {
+  double n = 0;
+  double t = 0;
+};
+
 /// For each contact of `current`, the index of the contact with the same key in `previous`,
 /// or −1 if it is new this step: the persistent-contact matching behind the `builtin` warm
 /// start. Both lists must be sorted by key (World keeps them so); one merge pass, O(C).

@@ -13,7 +13,9 @@
 // step() runs all stages and returns a per-stage profile. With `internal_order = "morton"` the
 // stages run on a re-sorted copy of the bodies; everything public stays in creation order and is
 // translated lazily on first read, so the const accessors fill caches: such a World is not safe
-// to read from two threads at once (docs/engine.md "Engine-internal order").
+// to read from two threads at once (docs/engine.md "Engine-internal order"). Any World writes
+// the solved λ into its contacts on the first contacts() / previous_contacts() after
+// integrate(): those two are not to be called from two threads at once either.
 #include <Eigen/Core>
 #include <functional>
 #include <vector>
@@ -101,6 +103,10 @@ class World {
   /// Contacts of the previous step with their solved λ (the built-in warm start's memory).
   [[nodiscard]] const std::vector<Contact>& previous_contacts() const;
   [[nodiscard]] const LcpProblem& problem() const;
+  /// out ← the builtin warm start's λ⁰ of problem(): put_matched_lambda(previous_contacts(),
+  /// contacts(), problem(), out), bit for bit (the warmstart library's `builtin`), reading the
+  /// previous λ where integrate() left them (without building the contacts' λ fields first).
+  void builtin_guess_into(KeptVector& out) const;
   /// The broad phase (its last_pair_tests() measures its last run's work; collide() keeps the
   /// circle pairs across steps while the bodies stay near, circle_pair_cache.hpp).
   [[nodiscard]] const UniformGridBroadPhase& broad_phase() const { return broad_phase_; }
@@ -155,6 +161,11 @@ class World {
   /// collide() swaps them into previous_ instead of integrate() copying every contact (a
   /// 128-byte struct per contact: 6 MB a step at 40,000 bodies, memory-bound).
   bool contacts_are_previous_ = false;
+  /// The solved (λ_n, λ_t) of contacts_ and of previous_, packed (world/parts/contact_lambdas.hpp;
+  /// without an internal order): integrate() gathers them here, and the *_unstored_ flags say
+  /// that the contacts' own fields still wait for them (written on first read of the list).
+  std::vector<ContactLambda> lambdas_, previous_lambdas_;
+  mutable bool lambdas_unstored_ = false, previous_lambdas_unstored_ = false;
   /// Per-body packed narrow-phase records (speculative reach included) and box half-extent,
   /// and the broad phase's pairs: reused buffers of collide() (no allocation per step).
   std::vector<CircleProbe> probes_;

@@ -1,0 +1,20 @@
+#include "world/parts/contact_lambdas.hpp"
+
+namespace dc {
+
+void gather_contact_lambdas(const ContactConstraints& cons, const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                            std::vector<ContactLambda>& out) {
+  const int nc = cons.size();
+  out.resize(static_cast<std::size_t>(nc));
+  ContactLambda* const o = out.data();
+  for (int c = 0; c < nc; ++c) o[c] = ContactLambda{cons.lambda_n(lambda, c), cons.lambda_t(lambda, c)};
+}
+
+void store_contact_lambdas(std::span<const ContactLambda> lambdas, std::span<Contact> contacts) {
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    contacts[c].lambda_n = lambdas[c].n;
+    contacts[c].lambda_t = lambdas[c].t;
+  }
+}
+
+}  // namespace dc
