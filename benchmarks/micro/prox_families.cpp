@@ -104,8 +104,6 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "safeguard_sweeps") d.safeguard_sweeps = static_cast<int>(x);
   else if (key == "newton_budget") d.newton_budget = static_cast<int>(x);
   else if (key == "pivot_rows") d.pivot_rows = static_cast<int>(x);
-  else if (key == "warm_pivot_rows") d.warm_pivot_rows = static_cast<int>(x);
-  else if (key == "warm_pivot_cap") d.warm_pivot_cap = static_cast<int>(x);
   else if (key == "local_pivot_rows") d.local_pivot_rows = static_cast<int>(x);
   else if (key == "local_pivot_rings") d.local_pivot_rings = static_cast<int>(x);
   else if (key == "local_pivot_threshold") d.local_pivot_threshold = x;

@@ -388,14 +388,6 @@ struct ProxNewtonDef {
   double local_pivot_threshold = 0.9;  ///< violator: row residual above this × the worst row's
   int local_pivot_rounds = 3;          ///< rounds at most
   double local_pivot_shift = 0.0;      ///< proximal δ of the subproblem, relative to max A_ii
-  /// After the safeguard, when the target is still not reached and the split LCP has at most
-  /// `warm_pivot_rows` unknowns: the warm pivoting finish (warm_pivot.hpp): Lemke on the whole
-  /// split LCP started from the complementary basis of the best iterate (one dense LU of the
-  /// basis's M_SS, O(N²) memory and work per pivot), at most `warm_pivot_cap` pivots, then the
-  /// newton-sparse polish from Lemke's point (its own iteration count). Before the local
-  /// pivoting finish. 0 = none (default).
-  int warm_pivot_rows = 0;
-  int warm_pivot_cap = 1000;  ///< pivots of the warm pivoting finish at most
 };
 
 /// Work of one solve.

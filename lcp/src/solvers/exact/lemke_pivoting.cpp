@@ -10,42 +10,23 @@ namespace dc::solvers {
 LemkePivoting lemke_pivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const Eigen::VectorXd& d,
                              int cap) {
   const int n = static_cast<int>(q.size());
+  LemkePivoting r;
+  r.z = Eigen::VectorXd::Zero(n);
   if (n == 0 || q.minCoeff() >= 0) {  // z = 0 is a solution
-    LemkePivoting r;
-    r.z = Eigen::VectorXd::Zero(n);
     r.outcome = LemkePivoting::Outcome::Solved;
     return r;
   }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   const int cols = 2 * n + 2, z0col = 2 * n, rhs = 2 * n + 1;
-  LemkeTableau T = LemkeTableau::Zero(n, cols);  // row-major: pivots are row operations
+  using Tableau = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  Tableau T = Tableau::Zero(n, cols);  // row-major: pivots are row operations
   T.leftCols(n).setIdentity();
   T.middleCols(n, n) = -M;
   T.col(z0col) = -d;
   T.col(rhs) = q;
   std::vector<int> basis(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) basis[static_cast<size_t>(i)] = i;  // w_i basic
-  return lemke_pivoting_from(std::move(T), std::move(basis), cap);
-}
 
-LemkePivoting lemke_pivoting_from(LemkeTableau T, std::vector<int> basis, int cap) {
-  const int n = static_cast<int>(T.rows());
-  LemkePivoting r;
-  r.z = Eigen::VectorXd::Zero(n);
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  const int cols = 2 * n + 2, z0col = 2 * n, rhs = 2 * n + 1;
-  // The basic z values of a complementary basis (a solution when the right-hand side is ≥ 0).
-  auto solved = [&]() {
-    r.outcome = LemkePivoting::Outcome::Solved;
-    for (int i = 0; i < n; ++i) {
-      const int v = basis[static_cast<size_t>(i)];
-      if (v >= n && v < 2 * n) {
-        r.z[v - n] = std::max(0.0, T(i, rhs));
-        r.active.push_back(v - n);
-      }
-    }
-    return r;
-  };
-  if (n == 0 || T.col(rhs).minCoeff() >= 0) return solved();
   // A pivot updates only the columns where the pivot row is nonzero (x − f·0 = x): for
   // hundreds of pivots the tableau stays mostly zeros. `bound` ≥ max |T_ij| (the old bound plus
   // max|f|·max|pivot row| after a pivot); only when it leaves the finite range is the tableau
@@ -81,12 +62,9 @@ LemkePivoting lemke_pivoting_from(LemkeTableau T, std::vector<int> basis, int ca
     return true;
   };
 
-  // z₀ enters where the basic value falls furthest below zero per unit of z₀ (d_i = −T_i,z₀:
-  // q_i/d_i from the cold start), the lowest index among ties.
-  auto ratio0 = [&](int i) { return T(i, rhs) / -T(i, z0col); };
   int first = 0;
   for (int i = 1; i < n; ++i)
-    if (ratio0(i) < ratio0(first)) first = i;
+    if (q[i] / d[i] < q[first] / d[first]) first = i;  // lowest index among ties
   int leaving = basis[static_cast<size_t>(first)];
   bool finite = pivot(first, z0col);
   r.pivots = 1;
@@ -141,7 +119,15 @@ LemkePivoting lemke_pivoting_from(LemkeTableau T, std::vector<int> basis, int ca
     }
     if (leaving == z0col) break;
   }
-  return solved();
+  r.outcome = LemkePivoting::Outcome::Solved;
+  for (int i = 0; i < n; ++i) {
+    const int v = basis[static_cast<size_t>(i)];
+    if (v >= n && v < 2 * n) {
+      r.z[v - n] = std::max(0.0, T(i, rhs));
+      r.active.push_back(v - n);
+    }
+  }
+  return r;
 }
 
 }  // namespace dc::solvers

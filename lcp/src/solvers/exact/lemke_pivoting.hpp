@@ -33,15 +33,4 @@ struct LemkePivoting {
 /// pivots. M must be square with q and d of its size.
 LemkePivoting lemke_pivoting(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const Eigen::VectorXd& d, int cap);
 
-/// The tableau [ w-block | z-block | z₀ | rhs ] (n rows, 2n + 2 columns), row-major.
-using LemkeTableau = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-/// Lemke's method from a tableau already expressed in a complementary basis: `basis[i]` is the
-/// variable basic in row i (w_j = j, z_j = n + j), each column of a basic variable a unit vector,
-/// the z₀ column negative where z₀ can enter (−d in the basis's coordinates). lemke_pivoting
-/// is this from [ I | −M | −d | q ] with every w basic; a warm start passes B⁻¹ of that tableau
-/// for a basis B guessed from an iterate (d chosen so that B⁻¹d = 1), so the pivots start near
-/// the solution's basis. A right-hand side ≥ 0 is a solution without a pivot.
-LemkePivoting lemke_pivoting_from(LemkeTableau T, std::vector<int> basis, int cap);
-
 }  // namespace dc::solvers

@@ -80,28 +80,27 @@ int pivot_lcp_size(const LcpProblem& p) {
   return l ? l->size : -1;
 }
 
-std::optional<SplitLcp> split_lcp(const LcpProblem& p, std::string& why) {
+PivotOutcome pivot_solve(const LcpProblem& p) {
+  PivotOutcome out;
   const auto l = layout(p);
   if (!l) {
-    why = "not a contact problem (a row is neither normal nor friction)";
-    return std::nullopt;
+    out.why = "not a contact problem (a row is neither normal nor friction)";
+    return out;
   }
   const int n = p.rows(), N = l->size;
-  SplitLcp sp;
-  sp.a = n > 0 ? p.A.diagonal().maxCoeff() : 0.0;
-  sp.c = n > 0 ? p.b.cwiseAbs().maxCoeff() : 0.0;
-  if (!(sp.a > 0 && std::isfinite(sp.a))) {
-    why = "no positive diagonal";
-    return std::nullopt;
+  const double a = n > 0 ? p.A.diagonal().maxCoeff() : 0.0;
+  const double c = n > 0 ? p.b.cwiseAbs().maxCoeff() : 0.0;
+  if (!(a > 0 && std::isfinite(a))) {
+    out.why = "no positive diagonal";
+    return out;
   }
-  sp.at = l->at;
-  if (!(sp.c > 0 && std::isfinite(sp.c))) return sp;  // b = 0: λ = 0 solves (M, q empty)
-  const double a = sp.a, c = sp.c;
-  Eigen::MatrixXd& M = sp.M;
-  Eigen::VectorXd& q = sp.q;
-  M = Eigen::MatrixXd::Zero(N, N);
-  q = Eigen::VectorXd::Zero(N);
-  const auto& at = sp.at;
+  if (!(c > 0 && std::isfinite(c))) {  // b = 0: λ = 0 solves
+    out.lambda = Eigen::VectorXd::Zero(n);
+    return out;
+  }
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(N, N);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(N);
+  const auto& at = l->at;
   // Row block of A's row i placed at LCP row r with sign sg: A_ij/a into the λ_n or λ⁺/λ⁻ columns.
   auto put_row = [&](int i, int r, double sg) {
     for (SparseRowMatrix::InnerIterator it(p.A, i); it; ++it) {
@@ -127,31 +126,6 @@ std::optional<SplitLcp> split_lcp(const LcpProblem& p, std::string& why) {
     M(r + 2, r) = -1.0;
     M(r + 2, r + 1) = -1.0;
   }
-  return sp;
-}
-
-Eigen::VectorXd SplitLcp::lambda(const LcpProblem& p, const Eigen::VectorXd& z) const {
-  Eigen::VectorXd lambda(p.rows());
-  const double s = c / a;
-  for (int i = 0; i < p.rows(); ++i) {
-    const int r = at[static_cast<size_t>(i)];
-    lambda[i] = p.is_friction_row(i) ? s * (z[r] - z[r + 1]) : s * z[r];
-  }
-  return lambda;
-}
-
-PivotOutcome pivot_solve(const LcpProblem& p) {
-  PivotOutcome out;
-  auto sp = split_lcp(p, out.why);
-  if (!sp) return out;
-  const int n = p.rows();
-  if (sp->M.size() == 0) {  // b = 0: λ = 0 solves
-    out.lambda = Eigen::VectorXd::Zero(n);
-    return out;
-  }
-  const Eigen::MatrixXd& M = sp->M;
-  const Eigen::VectorXd& q = sp->q;
-  const int N = static_cast<int>(q.size());
   // Covering vector 1, then (Lemke also ends on a ray on solvable degenerate problems, e.g.
   // two contacts per box face) deterministic ones in [0.1, 1).
   LemkePivoting lp;
@@ -167,7 +141,12 @@ PivotOutcome pivot_solve(const LcpProblem& p) {
   }
   if (lp.outcome != LemkePivoting::Outcome::Solved) return out;
   const Eigen::VectorXd z = refined(M, q, lp);
-  Eigen::VectorXd lambda = sp->lambda(p, z);
+  Eigen::VectorXd lambda(n);
+  const double s = c / a;
+  for (int i = 0; i < n; ++i) {
+    const int r = at[static_cast<size_t>(i)];
+    lambda[i] = p.is_friction_row(i) ? s * (z[r] - z[r + 1]) : s * z[r];
+  }
   if (lambda.allFinite()) out.lambda = std::move(lambda);
   return out;
 }

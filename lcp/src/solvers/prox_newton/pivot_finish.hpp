@@ -27,21 +27,6 @@ struct PivotOutcome {
   std::string why;  ///< how the pivoting ended, or why it did not run
 };
 
-/// The split LCP of p, scaled: w = M z + q with z = λ/s (s = c/a) on the λ unknowns and z = β/c
-/// on the slip unknowns, rows divided by c = ‖b‖∞, a = max A_ii. `at[i]` is row i's first unknown.
-struct SplitLcp {
-  Eigen::MatrixXd M;  ///< dense N×N (empty when b = 0: λ = 0 solves)
-  Eigen::VectorXd q;
-  std::vector<int> at;
-  double a = 0, c = 0;
-  /// λ of the hard problem from split unknowns z (λ_t = s (λ⁺ − λ⁻)).
-  [[nodiscard]] Eigen::VectorXd lambda(const LcpProblem& p, const Eigen::VectorXd& z) const;
-};
-
-/// The split LCP of p (assembled A); nullopt with `why` when p is not a contact problem or has
-/// no positive diagonal.
-std::optional<SplitLcp> split_lcp(const LcpProblem& p, std::string& why);
-
 /// Size of the standard LCP for p (normal rows + 3·friction rows), or −1 when p has a row that
 /// is neither a normal row (lo = 0, hi = ∞) nor a friction row coupled to one.
 int pivot_lcp_size(const LcpProblem& p);

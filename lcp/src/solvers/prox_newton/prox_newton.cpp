@@ -25,7 +25,6 @@
 #include "solvers/prox_newton/options/def_check.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
-#include "solvers/prox_newton/warm_pivot.hpp"
 #include "solvers/exact/box_newton.hpp"
 #include "solvers/solver_common.hpp"
 #include "solvers/solvers.hpp"
@@ -130,7 +129,6 @@ class ProxRun {
       newton_part(lambda, true);
     }
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
-    if (!reached(best_res_, target_) && def_.warm_pivot_rows > 0) finish_by_warm_pivoting();
     if (!reached(best_res_, target_) && def_.local_pivot_rows > 0) finish_by_local_pivoting();
     SolveResult r;
     r.lambda = best_;
@@ -456,24 +454,6 @@ class ProxRun {
       finish_with_newton_sparse(lambda, kPolishIterations);
       if (best_res_ < before) by_ = Finisher::Pivot;
     }
-  }
-
-  /// The warm pivoting finish (ProxNewtonDef::warm_pivot_rows; warm_pivot.hpp): Lemke from the
-  /// best iterate's basis, then the newton-sparse polish from its point (its own count, as the
-  /// local finish's: Lemke's modes are the ones that matter, the tableau's round-off is not).
-  void finish_by_warm_pivoting() {
-    if (!assembled_) assembled_ = &with_assembled_matrix(p_, local_);
-    const int size = pivot_lcp_size(*assembled_);
-    if (size < 0 || size > def_.warm_pivot_rows) return;
-    const PivotOutcome po = warm_pivot_solve(*assembled_, best_, def_.warm_pivot_cap);
-    st_.pivots += po.pivots;
-    if (!po.lambda) return;
-    Eigen::VectorXd lambda = *po.lambda;
-    consider(lambda, hard_residual(p_, lambda), Finisher::Pivot);
-    constexpr int kPolishIterations = 30;  // as finish_by_pivoting
-    const double lemke = best_res_;
-    if (!reached(best_res_, target_)) finish_with_newton_sparse(lambda, kPolishIterations, true);
-    if (best_res_ < lemke) by_ = Finisher::Pivot;
   }
 
   /// The local pivoting finish (ProxNewtonDef::local_pivot_rows): rounds of Lemke on the
