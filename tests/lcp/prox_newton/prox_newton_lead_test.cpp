@@ -99,6 +99,21 @@ TEST(ProxNewtonLead, WindowRuleFollowsAConvergingNonMonotoneNncgToTheTarget) {
   EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), slow, 1e-12, 100000), 5);
 }
 
+TEST(ProxNewtonLead, DefaultWindowFollowsAnNncgFallingOneAndAHalfFoldPerWindow) {
+  // nncg still converging 1.5-fold per window (as on the 250-body impact steps where it reaches
+  // the target for less than the Newton part costs): the default window rule goes on to the
+  // chunk at the target within the default cap, a 2-fold rule hands over at the first chunk.
+  const ProxNewtonDef def;
+  const int window = def.lead_window;
+  std::vector<double> r;
+  for (int k = 1; k <= 20 * window; ++k) r.push_back(std::pow(1.5, -static_cast<double>(k) / window));
+  const int at_target = 10 * window;  // 1.5^-10
+  const double target = r[static_cast<std::size_t>(at_target - 1)] * (1 + 1e-9);
+  // Within the default cap (the target 8,000 sweeps in, chunks of 50 at a 16-chunk window).
+  EXPECT_EQ(chunks_run(LeadRate(1.0, window, def.lead_window_gain), r, target, def.lead_sweeps), at_target);
+  EXPECT_EQ(chunks_run(LeadRate(1.0, window, 2.0), r, target, def.lead_sweeps), 1);
+}
+
 TEST(ProxNewtonLead, WindowRuleHandsAStagnatingNncgOverWithinTheBound) {
   // 10-fold in the first chunk, then 1 % per chunk: less than 2-fold over the first window of
   // 16 chunks after the first: it stops at chunk 17.

@@ -56,7 +56,7 @@ enum class ProxLeadSweep {
 
 struct ProxNewtonDef {
   /// Body space: the lead stage, nncg sweeps from the guess before the passes, at most (default
-  /// 5000; 0 = none). One nncg run (its momentum kept throughout), its hard residual looked at
+  /// 10000; 0 = none). One nncg run (its momentum kept throughout), its hard residual looked at
   /// every 50 sweeps (a chunk), stops at the target, at this cap, or when the best hard residual
   /// stops falling (lead_window). Short of the target, the Newton part runs
   /// from its best iterate first (lead_gain) and from the guess when that misses the target (its
@@ -64,7 +64,9 @@ struct ProxNewtonDef {
   /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps; on 1,000-
   /// body impacts and polydisperse piles it gets there in thousands, each sweep far cheaper than
   /// a Newton iteration (a few thousand sweeps cost less than one Newton part on such a pile).
-  int lead_sweeps = 5000;
+  /// On 250-body impacts nncg still converging at the window's rate reaches the target in up
+  /// to ~8,000 sweeps on steps where the Newton part from an earlier iterate costs more.
+  int lead_sweeps = 10000;
   /// Which nncg runs the lead stage: Natural ("nncg"), Colored ("nncg-colored": the same
   /// momentum on pgs-colored's sweeps, cheaper per sweep on large problems, in colour order and
   /// with a per-solve set-up; its colouring is kept by the solver object from solve to solve), or
@@ -78,17 +80,21 @@ struct ProxNewtonDef {
   /// (docs/solvers.md "nncg-colored").
   int lead_colored_rows = 500;
   /// The lead stage goes on while its best hard residual falls at least `lead_window_gain`-fold
-  /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 2), and during the
+  /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 1.3), and during the
   /// first `lead_window` chunks pro rata from the guess's (gain^(n/window) after chunk n: a stage
   /// that gains little from the start, as from an iterate nncg already polished in the oracle,
   /// hands over after a chunk or two). nncg's residual is not
   /// monotone: converging on mid-sized piles, it climbs for up to hundreds of sweeps between new
   /// bests, so a shorter window hands over piles nncg would finish; on deep settled piles it
-  /// falls less than 2-fold in 800 sweeps. lead_window = 0: the rate rule instead (stop at a
+  /// falls less than 2-fold in 800 sweeps. A gain of 2 handed 250-body impact steps to the
+  /// Newton part where nncg still fell 1.3–2-fold per window and reached the target for less
+  /// than that part's factorisations (each of which costs hundreds of sweeps there); the Newton
+  /// part's time on such steps goes to its proximal finish's fallback sweeps and refactorisations,
+  /// not to quadratic convergence. lead_window = 0: the rate rule instead (stop at a
   /// chunk without a new best, or when the rate since the first chunk would not reach the
   /// target within lead_sweeps), which hands over after a few chunks on those mid-sized piles.
   int lead_window = 16;
-  double lead_window_gain = 2.0;
+  double lead_window_gain = 1.3;
   /// The lead stage also hands over after this many chunks in a row without a new best hard
   /// residual (the stall rule; 0 = none), scaled with the bodies as lead_window
   /// (lead_window_bodies). nncg's best sits exactly still on such plateaus: on box piles
@@ -200,7 +206,8 @@ struct ProxNewtonDef {
   /// factorisations (default 4; 0 = none), when the lead stage's best hard residual still fell
   /// at least `newton_budget_lead_fall`-fold (default 1.75) over its last window (lead_window;
   /// within the first window, the fall from the guess scaled to a window): nncg was converging,
-  /// only slower than the window asks. That part stops once it has made newton_budget
+  /// only slower than the window asks (with lead_window_gain below this fall, as by default, a
+  /// stage stopped by its cap, lead_sweeps, while still converging). That part stops once it has made newton_budget
   /// factorisations since it began or since the best hard residual of the whole solve last fell
   /// at least `newton_budget_gain`-fold (default 2), and nncg goes on from the best iterate of
   /// the lead stage and that part (the safeguard, its sweeps counted in safeguard_sweeps); the
