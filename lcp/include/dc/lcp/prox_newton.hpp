@@ -80,21 +80,24 @@ struct ProxNewtonDef {
   /// (docs/solvers.md "nncg-colored").
   int lead_colored_rows = 500;
   /// The lead stage goes on while its best hard residual falls at least `lead_window_gain`-fold
-  /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 1.3), and during the
+  /// over the last `lead_window` chunks (defaults 16, i.e. 800 sweeps, and 2), and during the
   /// first `lead_window` chunks pro rata from the guess's (gain^(n/window) after chunk n: a stage
   /// that gains little from the start, as from an iterate nncg already polished in the oracle,
   /// hands over after a chunk or two). nncg's residual is not
   /// monotone: converging on mid-sized piles, it climbs for up to hundreds of sweeps between new
   /// bests, so a shorter window hands over piles nncg would finish; on deep settled piles it
-  /// falls less than 2-fold in 800 sweeps. A gain of 2 handed 250-body impact steps to the
-  /// Newton part where nncg still fell 1.3–2-fold per window and reached the target for less
-  /// than that part's factorisations (each of which costs hundreds of sweeps there); the Newton
-  /// part's time on such steps goes to its proximal finish's fallback sweeps and refactorisations,
-  /// not to quadratic convergence. lead_window = 0: the rate rule instead (stop at a
+  /// falls less than 2-fold in 800 sweeps. lead_window = 0: the rate rule instead (stop at a
   /// chunk without a new best, or when the rate since the first chunk would not reach the
   /// target within lead_sweeps), which hands over after a few chunks on those mid-sized piles.
   int lead_window = 16;
-  double lead_window_gain = 1.3;
+  double lead_window_gain = 2.0;
+  /// lead_window_gain on problems of more than `lead_window_bodies` bodies, where the window
+  /// grows (default 1.3; > 1): there a gain of 2 handed 250-body impact steps to the Newton
+  /// part where nncg still fell 1.3–2-fold per window and reached the target for less than that
+  /// part's factorisations, whose time goes to the proximal finish's fallback sweeps and
+  /// refactorisations rather than to quadratic convergence. On box piles (60 bodies) the lower
+  /// gain ran nncg on where the Newton part from its iterate finishes sooner.
+  double lead_window_gain_above = 1.3;
   /// The lead stage also hands over after this many chunks in a row without a new best hard
   /// residual (the stall rule; 0 = none), scaled with the bodies as lead_window
   /// (lead_window_bodies). nncg's best sits exactly still on such plateaus: on box piles
@@ -206,8 +209,8 @@ struct ProxNewtonDef {
   /// factorisations (default 4; 0 = none), when the lead stage's best hard residual still fell
   /// at least `newton_budget_lead_fall`-fold (default 1.75) over its last window (lead_window;
   /// within the first window, the fall from the guess scaled to a window): nncg was converging,
-  /// only slower than the window asks (with lead_window_gain below this fall, as by default, a
-  /// stage stopped by its cap, lead_sweeps, while still converging). That part stops once it has made newton_budget
+  /// only slower than the window asks (above lead_window_bodies, with lead_window_gain_above
+  /// below this fall as by default, a stage stopped by its cap while still converging). That part stops once it has made newton_budget
   /// factorisations since it began or since the best hard residual of the whole solve last fell
   /// at least `newton_budget_gain`-fold (default 2), and nncg goes on from the best iterate of
   /// the lead stage and that part (the safeguard, its sweeps counted in safeguard_sweeps); the
