@@ -211,8 +211,9 @@ struct ProxNewtonDef {
   /// within the first window, the fall from the guess scaled to a window): nncg was converging,
   /// only slower than the window asks (above lead_window_bodies, with lead_window_gain_above
   /// below this fall as by default, a stage stopped by its cap while still converging). That
-  /// part stops once it has made newton_budget factorisations since it began or since the best hard residual of the whole solve last fell
-  /// at least `newton_budget_gain`-fold (default 2), and nncg goes on from the best iterate of
+  /// part stops once it has made newton_budget factorisations since it began or since the best
+  /// hard residual of the whole solve last fell at least `newton_budget_gain`-fold (default 2),
+  /// and nncg goes on from the best iterate of
   /// the lead stage and that part (the safeguard, its sweeps counted in safeguard_sweeps); the
   /// Newton part from the guess runs only when nncg misses the target too. Checked after every
   /// pass and every outer iteration of the proximal finish (ProximalPointDef::stop_after), so
