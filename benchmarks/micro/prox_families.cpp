@@ -92,6 +92,7 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "lead_gain") d.lead_gain = x;
   else if (key == "lead_window") d.lead_window = static_cast<int>(x);
   else if (key == "lead_window_gain") d.lead_window_gain = x;
+  else if (key == "lead_window_gain_above") d.lead_window_gain_above = x;
   else if (key == "lead_stall_chunks") d.lead_stall_chunks = static_cast<int>(x);
   else if (key == "degenerate_rows") d.degenerate_rows = x;
   else if (key == "degenerate_stall_chunks") d.degenerate_stall_chunks = static_cast<int>(x);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "dc/core/error.hpp"
@@ -97,6 +98,55 @@ TEST(ProxNewtonLead, WindowRuleFollowsAConvergingNonMonotoneNncgToTheTarget) {
     for (int k = 1; k < 8; ++k) slow.push_back(low * 1.2);
   }
   EXPECT_EQ(chunks_run(LeadRate(1.0, 8, 2.0), slow, 1e-12, 100000), 5);
+}
+
+TEST(ProxNewtonLead, DefaultWindowAboveTheBodiesFollowsAnNncgFallingOneAndAHalfFoldPerWindow) {
+  // nncg still converging 1.5-fold per window (as on the 250-body impact steps where it reaches
+  // the target for less than the Newton part costs): the default window rule above
+  // lead_window_bodies goes on to the chunk at the target within the default cap, the 2-fold
+  // rule of smaller problems hands over at the first chunk.
+  const ProxNewtonDef def;
+  const int window = def.lead_window;
+  std::vector<double> r;
+  for (int k = 1; k <= 20 * window; ++k) r.push_back(std::pow(1.5, -static_cast<double>(k) / window));
+  const int at_target = 10 * window;  // 1.5^-10
+  const double target = r[static_cast<std::size_t>(at_target - 1)] * (1 + 1e-9);
+  // Within the default cap (the target 8,000 sweeps in, chunks of 50 at a 16-chunk window).
+  EXPECT_EQ(chunks_run(LeadRate(1.0, window, def.lead_window_gain_above), r, target, def.lead_sweeps), at_target);
+  EXPECT_EQ(chunks_run(LeadRate(1.0, window, def.lead_window_gain), r, target, def.lead_sweeps), 1);
+}
+
+TEST(ProxNewtonLead, TheGainAboveAppliesOnlyAboveLeadWindowBodies) {
+  // 40 bodies: with lead_window_bodies just below, the solve with lead_window_gain_above = g
+  // is the solve with lead_window_gain = g at lead_window_bodies = 40 (the window 16 either
+  // way: lround(16·√(40/39)) = 16), bit for bit; on either side the other gain is not read.
+  // The two gains make different lead stages on this problem.
+  test::TestRng rng(3500);
+  const LcpProblem p = test::random_contact(40, 80, true, rng);
+  SolverOptions o;
+  o.max_sweeps = 100000;
+  o.tolerance = 1e-300;
+  auto solve = [&](double bodies, double gain, double above) {
+    ProxNewtonDef d;
+    d.lead_sweeps = 20000;
+    d.safeguard_sweeps = 0;
+    d.lead_window_bodies = bodies;
+    d.lead_window_gain = gain;
+    d.lead_window_gain_above = above;
+    ProxNewtonSolver s(d);
+    const SolveResult r = s.solve(p, {}, o);
+    return std::make_pair(r.lambda, s.last_stats().lead_sweeps);
+  };
+  const auto ref = solve(40, 1.05, 1.05);
+  const auto small = solve(40, 1.05, 100.0), large = solve(39, 100.0, 1.05), other = solve(39, 1.05, 100.0);
+  EXPECT_EQ(small.second, ref.second);
+  EXPECT_TRUE(small.first == ref.first);
+  EXPECT_EQ(large.second, ref.second);
+  EXPECT_TRUE(large.first == ref.first);
+  EXPECT_NE(other.second, ref.second);
+  ProxNewtonDef bad;
+  bad.lead_window_gain_above = 1.0;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
 }
 
 TEST(ProxNewtonLead, WindowRuleHandsAStagnatingNncgOverWithinTheBound) {

@@ -56,7 +56,7 @@ enum class ProxLeadSweep {
 
 struct ProxNewtonDef {
   /// Body space: the lead stage, nncg sweeps from the guess before the passes, at most (default
-  /// 5000; 0 = none). One nncg run (its momentum kept throughout), its hard residual looked at
+  /// 10000; 0 = none). One nncg run (its momentum kept throughout), its hard residual looked at
   /// every 50 sweeps (a chunk), stops at the target, at this cap, or when the best hard residual
   /// stops falling (lead_window). Short of the target, the Newton part runs
   /// from its best iterate first (lead_gain) and from the guess when that misses the target (its
@@ -64,7 +64,9 @@ struct ProxNewtonDef {
   /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps; on 1,000-
   /// body impacts and polydisperse piles it gets there in thousands, each sweep far cheaper than
   /// a Newton iteration (a few thousand sweeps cost less than one Newton part on such a pile).
-  int lead_sweeps = 5000;
+  /// On 250-body impacts nncg still converging at the window's rate reaches the target in up
+  /// to ~8,000 sweeps on steps where the Newton part from an earlier iterate costs more.
+  int lead_sweeps = 10000;
   /// Which nncg runs the lead stage: Natural ("nncg"), Colored ("nncg-colored": the same
   /// momentum on pgs-colored's sweeps, cheaper per sweep on large problems, in colour order and
   /// with a per-solve set-up; its colouring is kept by the solver object from solve to solve), or
@@ -89,6 +91,13 @@ struct ProxNewtonDef {
   /// target within lead_sweeps), which hands over after a few chunks on those mid-sized piles.
   int lead_window = 16;
   double lead_window_gain = 2.0;
+  /// lead_window_gain on problems of more than `lead_window_bodies` bodies, where the window
+  /// grows (default 1.3; > 1): there a gain of 2 handed 250-body impact steps to the Newton
+  /// part where nncg still fell 1.3–2-fold per window and reached the target for less than that
+  /// part's factorisations, whose time goes to the proximal finish's fallback sweeps and
+  /// refactorisations rather than to quadratic convergence. On box piles (60 bodies) the lower
+  /// gain ran nncg on where the Newton part from its iterate finishes sooner.
+  double lead_window_gain_above = 1.3;
   /// The lead stage also hands over after this many chunks in a row without a new best hard
   /// residual (the stall rule; 0 = none), scaled with the bodies as lead_window
   /// (lead_window_bodies). nncg's best sits exactly still on such plateaus: on box piles
@@ -200,9 +209,11 @@ struct ProxNewtonDef {
   /// factorisations (default 4; 0 = none), when the lead stage's best hard residual still fell
   /// at least `newton_budget_lead_fall`-fold (default 1.75) over its last window (lead_window;
   /// within the first window, the fall from the guess scaled to a window): nncg was converging,
-  /// only slower than the window asks. That part stops once it has made newton_budget
-  /// factorisations since it began or since the best hard residual of the whole solve last fell
-  /// at least `newton_budget_gain`-fold (default 2), and nncg goes on from the best iterate of
+  /// only slower than the window asks (above lead_window_bodies, with lead_window_gain_above
+  /// below this fall as by default, a stage stopped by its cap while still converging). That
+  /// part stops once it has made newton_budget factorisations since it began or since the best
+  /// hard residual of the whole solve last fell at least `newton_budget_gain`-fold (default 2),
+  /// and nncg goes on from the best iterate of
   /// the lead stage and that part (the safeguard, its sweeps counted in safeguard_sweeps); the
   /// Newton part from the guess runs only when nncg misses the target too. Checked after every
   /// pass and every outer iteration of the proximal finish (ProximalPointDef::stop_after), so

@@ -319,10 +319,12 @@ class ProxRun {
     if (cap <= 0 || reached(best_res_, target_)) return false;
     LeadStageDef ld;
     ld.cap = cap;
-    ld.window = lead_window_chunks(def_.lead_window, def_.lead_window_bodies, static_cast<int>(p_.J.cols() / 3));
-    ld.gain = def_.lead_window_gain;
+    const int bodies = static_cast<int>(p_.J.cols() / 3);
+    ld.window = lead_window_chunks(def_.lead_window, def_.lead_window_bodies, bodies);
+    const bool above = def_.lead_window_bodies > 0 && bodies > def_.lead_window_bodies;  // the window grew
+    ld.gain = above ? def_.lead_window_gain_above : def_.lead_window_gain;
     const int stall = degenerate() && def_.degenerate_stall_chunks > 0 ? def_.degenerate_stall_chunks : def_.lead_stall_chunks;
-    ld.stall = lead_window_chunks(stall, def_.lead_window_bodies, static_cast<int>(p_.J.cols() / 3));
+    ld.stall = lead_window_chunks(stall, def_.lead_window_bodies, bodies);
     ld.start = best_res_;
     ld.target = target_;
     const bool colored = def_.lead_sweep == ProxLeadSweep::Colored ||

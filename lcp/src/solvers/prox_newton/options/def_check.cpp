@@ -30,9 +30,10 @@ void check_def(const ProxNewtonDef& d) {
     throw InvalidArgument("prox-newton: lead_window_bodies must be finite and >= 0, lead_initial_shift in [0, 1)");
   if (d.lead_sweeps < 0 || d.lead_finish_window < 0 || d.lead_newton_stalls < 0 || !(d.lead_gain >= 1) || d.lead_fallback_doublings > 20 ||
       d.lead_window < 0 || !(d.lead_window_gain > 1 && std::isfinite(d.lead_window_gain)) ||
+      !(d.lead_window_gain_above > 1 && std::isfinite(d.lead_window_gain_above)) ||
       !(d.lead_fallback_cap_fall >= 0 && d.lead_fallback_cap_fall <= 1))
     throw InvalidArgument("prox-newton: lead_sweeps, lead_finish_window, lead_newton_stalls and lead_window must be >= 0, lead_gain >= 1, "
-                          "lead_fallback_doublings <= 20, lead_window_gain finite and > 1, lead_fallback_cap_fall in [0, 1]");
+                          "lead_fallback_doublings <= 20, lead_window_gain(_above) finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
   if (d.lead_colored_rows < 0 || d.lead_stall_chunks < 0 || d.degenerate_stall_chunks < 0 || !(d.degenerate_rows > 0))
