@@ -105,13 +105,27 @@ struct ProxNewtonDef {
   /// (`degenerate_fallback_momentum`, default true; NewtonSparseDef::fallback_momentum): there
   /// the Newton steps fail on the degenerate row modes and plain PGS batches of up to a thousand
   /// sweeps carry the iterate. On impacts the momentum costs a reached step (its batches lead to
-  /// other row modes), so it stays off there. The stall rule's default is none
-  /// (degenerate_stall_chunks = 0): on box piles it saves the plateau's sweeps where the Newton
-  /// part follows anyway, but also ends plateaus nncg leaves after ten chunks and reaches the
-  /// target from; the two balance out.
+  /// other row modes), so it stays off there. The stall rule ends the stage after 4 chunks
+  /// without a new best hard residual (degenerate_stall_chunks = 4; 0 = lead_stall_chunks): on
+  /// box piles it saves the plateau's sweeps where the Newton part follows anyway, which the
+  /// window rule (lead_window) would sweep on for up to 16 chunks; it also ends some plateaus
+  /// nncg would have left and reached the target from, at a higher cost there.
   double degenerate_rows = 1.3;
-  int degenerate_stall_chunks = 0;
+  int degenerate_stall_chunks = 4;
   bool degenerate_fallback_momentum = true;
+  /// Degenerate problems (degenerate_rows): one probe during the lead stage. At the first look
+  /// at or after `probe_sweeps` sweeps (default 150; 0 = none), coupled body-space passes (the
+  /// hard proximal subproblem of `coupled_bounds`, δ from initial_shift, no newton-sparse
+  /// finish) run from the best iterate so far for at most `probe_iterations` Newton iterations
+  /// in all (default 3). When they reach the target the solve ends there; otherwise the lead's
+  /// nncg run goes on untouched (its momentum kept) and every later part sees the solve as
+  /// without the probe, the probe's best iterate staying a candidate for the answer. On box
+  /// piles nncg often sits on a plateau after a hundred sweeps from which the coupled passes
+  /// reach the target in one or two iterations while the lead would sweep on until its window
+  /// rule ends it; a missed probe costs its few iterations (one factorisation with its
+  /// analysis, GMRES for the coupled directions).
+  int probe_sweeps = 150;
+  int probe_iterations = 3;
   /// lead_window holds for problems of up to this many bodies (J's columns / 3; default 64);
   /// above, the window grows as √(bodies / lead_window_bodies) (0 = never): a Newton
   /// iteration's factorisation costs about √n nncg sweeps more on n bodies (nested dissection on
