@@ -37,6 +37,9 @@
 // Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
 // `factorizations` counts every numeric factorisation (passes and both finishes).
 //
+// On degenerate problems (degenerate_rows) the lead stage runs one probe of coupled passes at
+// one of its looks (probe_sweeps), which ends the solve when it reaches the target.
+//
 // Status: Converged only when the natural residual of the HARD problem at the returned λ is
 // ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞)); SweepLimit when
 // the Newton iteration budget (options.max_sweeps) ran out; Failed otherwise (stalled).
@@ -100,7 +103,7 @@ struct ProxNewtonDef {
   /// unknown (J's columns; default 1.3): box piles' two-point manifolds (1.36–1.58 on
   /// scenes/box_pile.toml) make pairs of nearly parallel rows and a rank-deficient A; impacts and
   /// deep piles of circles have 1.21–1.27. On them the lead stage takes the stall rule with
-  /// `degenerate_stall_chunks` chunks (default 0: lead_stall_chunks as elsewhere) and the
+  /// `degenerate_stall_chunks` chunks (default 4; 0: lead_stall_chunks as elsewhere) and the
   /// proximal finish's newton-sparse solves their fallback sweeps with NNCG's momentum
   /// (`degenerate_fallback_momentum`, default true; NewtonSparseDef::fallback_momentum): there
   /// the Newton steps fail on the degenerate row modes and plain PGS batches of up to a thousand
