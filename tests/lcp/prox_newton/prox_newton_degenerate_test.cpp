@@ -66,11 +66,11 @@ TEST(ProxNewtonDegenerate, AboveTheRatioTheStallRuleAndTheMomentumApply) {
   ProxNewtonDef below = above;
   below.degenerate_rows = 1.01 * ratio;
   expect_same(solve(p, below), off);
-  // The default: the momentum and 4 stall chunks.
+  // The default: the momentum and 6 stall chunks.
   ProxNewtonDef dflt;
   dflt.degenerate_rows = above.degenerate_rows;
   dflt.probe_sweeps = 0;
-  expect_same(solve(p, dflt), solve(p, everywhere(4, true)));
+  expect_same(solve(p, dflt), solve(p, everywhere(6, true)));
 }
 
 TEST(ProxNewtonDegenerate, RefusesInvalidSettings) {

@@ -103,18 +103,18 @@ struct ProxNewtonDef {
   /// unknown (J's columns; default 1.3): box piles' two-point manifolds (1.36–1.58 on
   /// scenes/box_pile.toml) make pairs of nearly parallel rows and a rank-deficient A; impacts and
   /// deep piles of circles have 1.21–1.27. On them the lead stage takes the stall rule with
-  /// `degenerate_stall_chunks` chunks (default 4; 0: lead_stall_chunks as elsewhere) and the
+  /// `degenerate_stall_chunks` chunks (default 6; 0: lead_stall_chunks as elsewhere) and the
   /// proximal finish's newton-sparse solves their fallback sweeps with NNCG's momentum
   /// (`degenerate_fallback_momentum`, default true; NewtonSparseDef::fallback_momentum): there
   /// the Newton steps fail on the degenerate row modes and plain PGS batches of up to a thousand
   /// sweeps carry the iterate. On impacts the momentum costs a reached step (its batches lead to
-  /// other row modes), so it stays off there. The stall rule ends the stage after 4 chunks
-  /// without a new best hard residual (degenerate_stall_chunks = 4; 0 = lead_stall_chunks): on
+  /// other row modes), so it stays off there. The stall rule ends the stage after 6 chunks
+  /// without a new best hard residual (degenerate_stall_chunks = 6; 0 = lead_stall_chunks): on
   /// box piles it saves the plateau's sweeps where the Newton part follows anyway, which the
   /// window rule (lead_window) would sweep on for up to 16 chunks; it also ends some plateaus
   /// nncg would have left and reached the target from, at a higher cost there.
   double degenerate_rows = 1.3;
-  int degenerate_stall_chunks = 4;
+  int degenerate_stall_chunks = 6;
   bool degenerate_fallback_momentum = true;
   /// Degenerate problems (degenerate_rows): one probe during the lead stage. At the first look
   /// at or after `probe_sweeps` sweeps (default 150; 0 = none), coupled body-space passes (the
