@@ -1,6 +1,7 @@
 // prox-newton on degenerate problems (ProxNewtonDef::degenerate_rows): from that many rows per
-// velocity unknown on, the lead stage takes the stall rule with degenerate_stall_chunks (default
-// none) and the proximal finish's fallback sweeps the momentum; below it, the settings elsewhere.
+// velocity unknown on, the lead stage takes the stall rule with degenerate_stall_chunks and the
+// proximal finish's fallback sweeps the momentum; below it, the settings elsewhere. The probe
+// (prox_newton_probe_test.cpp) is off here.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -33,6 +34,7 @@ Outcome solve(const LcpProblem& p, const ProxNewtonDef& d) {
 ProxNewtonDef everywhere(int stall, bool momentum) {
   ProxNewtonDef d;
   d.degenerate_rows = 1e9;
+  d.probe_sweeps = 0;
   d.lead_stall_chunks = stall;
   d.finish_route.newton_sparse.fallback_momentum = momentum;
   return d;
@@ -54,6 +56,7 @@ TEST(ProxNewtonDegenerate, AboveTheRatioTheStallRuleAndTheMomentumApply) {
   ProxNewtonDef above;
   above.degenerate_rows = 0.99 * ratio;
   above.degenerate_stall_chunks = 4;
+  above.probe_sweeps = 0;
   const Outcome gated = solve(p, above);
   expect_same(gated, solve(p, everywhere(4, true)));
   // The gate matters on this pile: without the two the solve differs.
@@ -63,10 +66,11 @@ TEST(ProxNewtonDegenerate, AboveTheRatioTheStallRuleAndTheMomentumApply) {
   ProxNewtonDef below = above;
   below.degenerate_rows = 1.01 * ratio;
   expect_same(solve(p, below), off);
-  // The default: the momentum alone (no stall chunks).
+  // The default: the momentum and 6 stall chunks.
   ProxNewtonDef dflt;
   dflt.degenerate_rows = above.degenerate_rows;
-  expect_same(solve(p, dflt), solve(p, everywhere(0, true)));
+  dflt.probe_sweeps = 0;
+  expect_same(solve(p, dflt), solve(p, everywhere(6, true)));
 }
 
 TEST(ProxNewtonDegenerate, RefusesInvalidSettings) {

@@ -37,6 +37,9 @@
 // Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
 // `factorizations` counts every numeric factorisation (passes and both finishes).
 //
+// On degenerate problems (degenerate_rows) the lead stage runs one probe of coupled passes at
+// one of its looks (probe_sweeps), which ends the solve when it reaches the target.
+//
 // Status: Converged only when the natural residual of the HARD problem at the returned λ is
 // ≤ target (options.tolerance [N] when > 0, else exact_tolerance·max(1, ‖b‖∞)); SweepLimit when
 // the Newton iteration budget (options.max_sweeps) ran out; Failed otherwise (stalled).
@@ -109,18 +112,32 @@ struct ProxNewtonDef {
   /// unknown (J's columns; default 1.3): box piles' two-point manifolds (1.36–1.58 on
   /// scenes/box_pile.toml) make pairs of nearly parallel rows and a rank-deficient A; impacts and
   /// deep piles of circles have 1.21–1.27. On them the lead stage takes the stall rule with
-  /// `degenerate_stall_chunks` chunks (default 0: lead_stall_chunks as elsewhere) and the
+  /// `degenerate_stall_chunks` chunks (default 6; 0: lead_stall_chunks as elsewhere) and the
   /// proximal finish's newton-sparse solves their fallback sweeps with NNCG's momentum
   /// (`degenerate_fallback_momentum`, default true; NewtonSparseDef::fallback_momentum): there
   /// the Newton steps fail on the degenerate row modes and plain PGS batches of up to a thousand
   /// sweeps carry the iterate. On impacts the momentum costs a reached step (its batches lead to
-  /// other row modes), so it stays off there. The stall rule's default is none
-  /// (degenerate_stall_chunks = 0): on box piles it saves the plateau's sweeps where the Newton
-  /// part follows anyway, but also ends plateaus nncg leaves after ten chunks and reaches the
-  /// target from; the two balance out.
+  /// other row modes), so it stays off there. The stall rule ends the stage after 6 chunks
+  /// without a new best hard residual (degenerate_stall_chunks = 6; 0 = lead_stall_chunks): on
+  /// box piles it saves the plateau's sweeps where the Newton part follows anyway, which the
+  /// window rule (lead_window) would sweep on for up to 16 chunks; it also ends some plateaus
+  /// nncg would have left and reached the target from, at a higher cost there.
   double degenerate_rows = 1.3;
-  int degenerate_stall_chunks = 0;
+  int degenerate_stall_chunks = 6;
   bool degenerate_fallback_momentum = true;
+  /// Degenerate problems (degenerate_rows): one probe during the lead stage. At the first look
+  /// at or after `probe_sweeps` sweeps (default 150; 0 = none), coupled body-space passes (the
+  /// hard proximal subproblem of `coupled_bounds`, δ from initial_shift, no newton-sparse
+  /// finish) run from the best iterate so far for at most `probe_iterations` Newton iterations
+  /// in all (default 3). When they reach the target the solve ends there; otherwise the lead's
+  /// nncg run goes on untouched (its momentum kept) and every later part sees the solve as
+  /// without the probe, the probe's best iterate staying a candidate for the answer. On box
+  /// piles nncg often sits on a plateau after a hundred sweeps from which the coupled passes
+  /// reach the target in one or two iterations while the lead would sweep on until its window
+  /// rule ends it; a missed probe costs its few iterations (one factorisation with its
+  /// analysis, GMRES for the coupled directions).
+  int probe_sweeps = 150;
+  int probe_iterations = 3;
   /// lead_window holds for problems of up to this many bodies (J's columns / 3; default 64);
   /// above, the window grows as √(bodies / lead_window_bodies) (0 = never): a Newton
   /// iteration's factorisation costs about √n nncg sweeps more on n bodies (nested dissection on

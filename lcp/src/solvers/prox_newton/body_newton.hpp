@@ -37,6 +37,8 @@ class BodyNewton {
   BodyNewton() : factor_(true, true, false) {}
   /// Prepares for problem p (needs has_jacobian()): Jᵀ, W, W⁻¹ and the pattern of H.
   void bind(const LcpProblem& p);
+  /// Drops the kept factor: the next direction comes from a fresh factorisation.
+  void forget_factor() { factored_mask_.resize(0); }
   /// max_i A_ii = Δt Σ_j J_ij² (M⁻¹)_j of the bound problem [m/(N·s)].
   [[nodiscard]] double max_diagonal() const { return max_diag_; }
   /// Solves the subproblem from v = W Jᵀ λ; λ becomes λ(J v + c) at the last iterate.

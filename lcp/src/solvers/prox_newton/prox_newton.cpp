@@ -130,6 +130,11 @@ class ProxRun {
     }
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
     if (!reached(best_res_, target_) && def_.local_pivot_rows > 0) finish_by_local_pivoting();
+    if (probe_best_res_ < best_res_) {
+      best_ = probe_best_;
+      best_res_ = probe_best_res_;
+      by_ = Finisher::Prox;
+    }
     SolveResult r;
     r.lambda = best_;
     r.sweeps = done();
@@ -188,6 +193,7 @@ class ProxRun {
     int max_stalls = 1;     ///< passes without a new best before the run stops
     int iterations = 0;     ///< Newton iterations of the run at most
     bool steady_shift = false;  ///< δ by steady_shift instead of shrinking after every solved pass
+    bool finish = true;         ///< newton-sparse's short finish once the row modes repeat
   };
 
   [[nodiscard]] Passes frozen_passes() const {
@@ -210,6 +216,19 @@ class ProxRun {
     ps.max_stalls = 3;
     ps.iterations = std::min(def_.body_finish_iterations, budget_left());
     ps.steady_shift = true;
+    return ps;
+  }
+
+  /// A probe of the lead stage (ProxNewtonDef::probe_sweeps): coupled passes for at most
+  /// probe_iterations Newton iterations, without newton-sparse's finish.
+  [[nodiscard]] Passes probe_passes() const {
+    Passes ps;
+    ps.coupled = true;
+    ps.shift = def_.initial_shift;
+    ps.inner = def_.inner_iterations;
+    ps.max_stalls = def_.max_stalls;
+    ps.iterations = std::min(def_.probe_iterations, budget_left());
+    ps.finish = false;
     return ps;
   }
 
@@ -280,7 +299,7 @@ class ProxRun {
       cp_.after(mark(), best_);
       if (reached(best_res_, target_) || stalls >= ps.max_stalls) break;
       std::vector<char> modes = hard_modes(p_, lambda);
-      if (modes == last_modes && modes != finished_modes && def_.finish_iterations > 0) {
+      if (ps.finish && modes == last_modes && modes != finished_modes && def_.finish_iterations > 0) {
         finished_modes = modes;
         finish_with_newton_sparse(lambda, def_.finish_iterations);
       }
@@ -333,6 +352,8 @@ class ProxRun {
       if (!s_.colored_lead) s_.colored_lead = make_nncg_colored();
       ld.colored = s_.colored_lead.get();
     }
+    if (degenerate() && def_.probe_sweeps > 0 && def_.probe_iterations > 0)
+      ld.probe = [this](int sweeps) { return probe(sweeps); };
     SolverOptions so;
     forward_checkpoints(so, InFlightPart::lead());
     st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {
@@ -340,6 +361,43 @@ class ProxRun {
       return best_res_;
     }, &lead_fall_);
     return true;
+  }
+
+  /// A probe at the lead stage's look after `sweeps` sweeps (ProxNewtonDef::probe_sweeps): the
+  /// coupled passes from the best iterate; true when they reached the target. Their Newton
+  /// iterations follow the lead's sweeps so far in the caller's checkpoint count, and the lead's
+  /// later sweeps follow them (probe_newton_).
+  bool probe(int sweeps) {
+    if (probed_ || sweeps < def_.probe_sweeps || reached(best_res_, target_) || budget_left() <= 0) return false;
+    probed_ = true;  // one probe per solve
+    st_.lead_sweeps = sweeps;  // mark() counts the lead's sweeps so far
+    const int newton0 = st_.newton;
+    // What the lead stage and the parts after it see stays as without the probe (a probe's
+    // iterate that missed the target is a worse start for them on box piles, and would count
+    // as progress in the lead's window rule and the Newton budget); the probe's best is a
+    // candidate for the answer (run's end).
+    const Eigen::VectorXd kept = best_;
+    const double kept_res = best_res_;
+    const Finisher kept_by = by_;
+    const NewtonBudget kept_budget = budget_;
+    Eigen::VectorXd lambda = best_;
+    outer(lambda, probe_passes());
+    probe_newton_ += st_.newton - newton0;
+    if (!reached(best_res_, target_)) {
+      if (best_res_ < kept_res) {
+        probe_best_ = best_;
+        probe_best_res_ = best_res_;
+      }
+      best_ = kept;
+      best_res_ = kept_res;
+      by_ = kept_by;
+      budget_ = kept_budget;
+    }
+    // The passes after the lead stage start as without the probe: no kept factor of the
+    // coupled H to precondition their first direction with.
+    s_.body.forget_factor();
+    st_.lead_sweeps = 0;  // the lead's checkpoints add their own sweeps (CheckpointWork)
+    return reached(best_res_, target_);
   }
 
   /// The exact-cone passes (cone_passes.hpp) from λ; λ becomes the best iterate. None when an
@@ -496,7 +554,7 @@ class ProxRun {
       if (k > base) fo.checkpoints.push_back(k - base);
     fo.on_checkpoint = [this, base, part](int it, const Eigen::VectorXd& lambda) {
       work_.begin(part, it);
-      cp_.after(base + it, lambda);
+      cp_.after(base + it + (part.kind == InFlightPart::Kind::Lead ? probe_newton_ : 0), lambda);
       work_.end();
     };
   }
@@ -539,6 +597,10 @@ class ProxRun {
   double lead_route_floor_ = 0.0;  // δ's failure floor the windowed proximal finish ended with
   bool from_guess_ = false;        // in the Newton part from the guess after the first part
   double lead_fall_ = 1.0;         // the lead stage's LeadRate::window_fall()
+  bool probed_ = false;            // the lead stage's probe ran
+  Eigen::VectorXd probe_best_;     // the probe's best iterate when it missed the target
+  double probe_best_res_ = INFINITY;
+  int probe_newton_ = 0;           // Newton iterations of the probe during the lead stage
   NewtonBudget budget_;            // the first Newton part's (newton_budget)
   Finisher by_ = Finisher::Guess;
   std::optional<LcpProblem> local_;

@@ -20,6 +20,7 @@ int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const Lea
   watch.stop = [&](int sweeps, const Eigen::VectorXd& x) {
     looked = sweeps;
     const double best = consider(x);
+    if (def.probe && def.probe(sweeps)) return true;
     return !rate.go_on(best, def.target, sweeps, kLeadChunk, def.cap);
   };
   const SolveResult r = def.colored != nullptr ? nncg_colored_solve(*def.colored, p, lambda, options, &watch)

@@ -24,6 +24,9 @@ struct LeadStageDef {
   /// The nncg-colored solver that sweeps (solvers::nncg_colored_solve), or null: nncg's
   /// natural-order sweep (nncg_solve). The same hook either way.
   LcpSolver* colored = nullptr;
+  /// Called at every look after `consider`, with the sweeps so far (null: none); true ends the
+  /// stage (prox-newton's probes, ProxNewtonDef::probe_sweeps). The run's momentum is untouched.
+  std::function<bool(int sweeps)> probe;
 };
 
 /// The best hard residual [N] so far after the caller took λ into account.
