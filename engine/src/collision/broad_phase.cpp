@@ -140,6 +140,13 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   // The pair tests by rows of cells, one list per job (rows [begin, end) of the grid).
   const int jobs = parts_for(threads, static_cast<long>(ny), 8, 4);
   if (by_body_.size() < static_cast<size_t>(jobs)) by_body_.resize(static_cast<size_t>(jobs));
+  // Any job may find nearly every pair (a settled pile fills a few rows of cells, a falling one
+  // others): each job's list holds, with headroom for the tested pairs written past the kept
+  // ones, as many as the most pairs a run has found, so that a run which finds no more pairs
+  // than an earlier one allocates nothing, however they fall on the jobs.
+  const std::size_t room = most_found_ + most_found_ / 4 + 64;
+  for (int p = 0; p < jobs; ++p)
+    if (by_body_[static_cast<size_t>(p)].size() < room) by_body_[static_cast<size_t>(p)].resize(room);
   tests_.assign(static_cast<size_t>(jobs), 0);
   found_.assign(static_cast<size_t>(jobs), 0);
   run_parts(threads, jobs, [&](int p) {
@@ -148,6 +155,9 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
                                                by_body_[static_cast<size_t>(p)], found_[static_cast<size_t>(p)]);
   });
   for (const std::size_t t : tests_) pair_tests_ += t;
+  std::size_t found = 0;
+  for (const std::size_t f : found_) found += f;
+  most_found_ = std::max(most_found_, found);
   sort_pairs(n, pairs, jobs, threads);
 }
 

@@ -68,6 +68,7 @@ class UniformGridBroadPhase {
   std::vector<Entry> entries_;
   std::vector<std::vector<std::pair<int, int>>> by_body_;  // per job of the pair tests (capacity)
   std::vector<std::size_t> tests_, found_;                  // per job: tests made, pairs kept
+  std::size_t most_found_ = 0;                               // the most pairs one run kept (all jobs)
   std::vector<int> cell_count_;                              // per fill job and cell (cell_offsets)
   std::vector<int> range_count_;                             // per fill job and cell range
   /// A sort job's buffers: its pairs as gathered, sorted by second body, and a histogram.
