@@ -56,6 +56,7 @@ void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   else if (key == "fallback_cap_fall") r.newton_sparse.fallback_cap_fall = x;
   else if (key == "fallback_sweeps") r.newton_sparse.fallback_sweeps = static_cast<int>(x);
   else if (key == "fallback_momentum") r.newton_sparse.fallback_momentum = x != 0;
+  else if (key == "coupled_lu") r.newton_sparse.coupled_lu = x != 0;
   else if (key == "max_damping") r.newton_sparse.max_damping = x;
   else if (key == "max_backtracks") r.newton_sparse.max_backtracks = static_cast<int>(x);
   else if (key == "nonmonotone_window") r.newton_sparse.nonmonotone_window = static_cast<int>(x);

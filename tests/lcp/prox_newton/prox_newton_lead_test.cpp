@@ -130,6 +130,7 @@ TEST(ProxNewtonLead, TheGainAboveAppliesOnlyAboveLeadWindowBodies) {
     ProxNewtonDef d;
     d.lead_sweeps = 20000;
     d.safeguard_sweeps = 0;
+    d.degenerate_rows = 1e9;  // the window rule alone (no probe, no degenerate stall rule)
     d.lead_window_bodies = bodies;
     d.lead_window_gain = gain;
     d.lead_window_gain_above = above;

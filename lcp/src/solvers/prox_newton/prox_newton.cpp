@@ -23,6 +23,7 @@
 #include "solvers/prox_newton/lead/lead_stage.hpp"
 #include "solvers/prox_newton/newton_budget.hpp"
 #include "solvers/prox_newton/options/def_check.hpp"
+#include "solvers/prox_newton/passes.hpp"
 #include "solvers/prox_newton/pivot_finish.hpp"
 #include "solvers/prox_newton/status.hpp"
 #include "solvers/exact/box_newton.hpp"
@@ -185,68 +186,7 @@ class ProxRun {
   /// True once the first Newton part ran out of its budget (newton_budget.hpp).
   bool over_budget() { return budget_.over(st_.factorizations); }
 
-  /// How a run of passes is steered (outer).
-  struct Passes {
-    bool coupled = false;   ///< body space: the hard proximal subproblem (coupled bounds)
-    double shift = 0;       ///< first δ relative to max A_ii
-    int inner = 0;          ///< Newton iterations per pass at most
-    int max_stalls = 1;     ///< passes without a new best before the run stops
-    int iterations = 0;     ///< Newton iterations of the run at most
-    bool steady_shift = false;  ///< δ by steady_shift instead of shrinking after every solved pass
-    bool finish = true;         ///< newton-sparse's short finish once the row modes repeat
-  };
-
-  [[nodiscard]] Passes frozen_passes() const {
-    Passes ps;
-    ps.coupled = body_ && def_.coupled_bounds;
-    ps.shift = def_.initial_shift;
-    ps.inner = body_ ? std::min(def_.inner_iterations, def_.body_inner_iterations) : def_.inner_iterations;
-    ps.max_stalls = def_.max_stalls;
-    ps.iterations = budget_left();
-    return ps;
-  }
-
-  /// The body-space finish: coupled passes from the best iterate, δ from initial_shift and then
-  /// by steady_shift.
-  [[nodiscard]] Passes coupled_passes() const {
-    Passes ps;
-    ps.coupled = true;
-    ps.shift = def_.initial_shift;
-    ps.inner = def_.inner_iterations;
-    ps.max_stalls = 3;
-    ps.iterations = std::min(def_.body_finish_iterations, budget_left());
-    ps.steady_shift = true;
-    return ps;
-  }
-
-  /// A probe of the lead stage (ProxNewtonDef::probe_sweeps): coupled passes for at most
-  /// probe_iterations Newton iterations, without newton-sparse's finish.
-  [[nodiscard]] Passes probe_passes() const {
-    Passes ps;
-    ps.coupled = true;
-    ps.shift = def_.initial_shift;
-    ps.inner = def_.inner_iterations;
-    ps.max_stalls = def_.max_stalls;
-    ps.iterations = std::min(def_.probe_iterations, budget_left());
-    ps.finish = false;
-    return ps;
-  }
-
-  /// δ after a coupled pass at δ = shift: kept while solved passes lower the hard residual at
-  /// least kSteadyRate-fold (the proximal point at fixed δ converges linearly; a smaller δ makes
-  /// the coupled subproblem as hard as the hard problem itself), shrunk √shrink-fold when they
-  /// are slower but never to a δ whose pass failed, grown after a failed pass.
-  [[nodiscard]] double steady_shift(double shift, bool converged, double res, double before, double& failed) const {
-    constexpr double kSteadyRate = 4.0;
-    if (!converged) {
-      failed = std::max(failed, shift);
-      return std::min(def_.max_shift, shift * def_.shrink);
-    }
-    if (res * kSteadyRate <= before) return shift;
-    const double next = std::max(def_.min_shift, shift / std::sqrt(def_.shrink));
-    return next > failed ? next : shift;
-  }
-
+  /// A run of passes from λ steered by `ps` (passes.hpp); λ ends at the last usable iterate.
   void outer(Eigen::VectorXd& lambda, const Passes& ps) {
     const double diag = body_ ? s_.body.max_diagonal() : (p_.rows() > 0 ? p_.A.diagonal().maxCoeff() : 0.0);
     if (!(diag > 0)) return;
@@ -291,7 +231,7 @@ class ProxRun {
       // δ follows the subproblem: a solved one allows a smaller δ (a longer proximal step), an
       // unsolved one asks for a larger (better conditioned) one. The hard residual is not
       // monotone along the proximal iteration, so it does not steer δ.
-      shift = ps.steady_shift ? steady_shift(shift, so.converged, res, before, failed_shift)
+      shift = ps.steady_shift ? steady_shift(def_, shift, so.converged, res, before, failed_shift)
               : so.converged ? std::max(def_.min_shift, shift / def_.shrink)
                              : std::min(def_.max_shift, shift * def_.shrink);
       last_shift_ = shift;
@@ -316,10 +256,10 @@ class ProxRun {
       if (body_ && def_.exact_cone && s_.cone.bind(p_))
         cone_passes(lambda);
       else
-        outer(lambda, frozen_passes());
+        outer(lambda, frozen_passes(def_, body_, budget_left()));
       if (body_ && def_.body_finish && !reached(best_res_, target_) && !over_budget()) {
         lambda = best_;
-        outer(lambda, coupled_passes());
+        outer(lambda, coupled_passes(def_, budget_left()));
       }
     } else {
       finish_with_newton_sparse(lambda, budget_left());
@@ -381,7 +321,7 @@ class ProxRun {
     const Finisher kept_by = by_;
     const NewtonBudget kept_budget = budget_;
     Eigen::VectorXd lambda = best_;
-    outer(lambda, probe_passes());
+    outer(lambda, probe_passes(def_, budget_left()));
     probe_newton_ += st_.newton - newton0;
     if (!reached(best_res_, target_)) {
       if (best_res_ < kept_res) {
