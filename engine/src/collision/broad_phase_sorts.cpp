@@ -11,8 +11,8 @@ namespace dc {
 namespace {
 
 /// Room for n elements in v, grown to 1.5·n when short of it: a pair list that grows step by
-/// step while a pile compacts reallocates a few times, not at every step (vector::resize and
-/// assign grow to the size asked when that exceeds twice the old size, assign always to it).
+/// step while a pile compacts reallocates a few times, not at every step (vector::assign
+/// allocates exactly n, and resize max(n, 2·size) with size = capacity after a copy).
 template <class T>
 void reserve_with_headroom(std::vector<T>& v, std::size_t n) {
   if (v.capacity() < n) v.reserve(n + n / 2);
