@@ -1,7 +1,9 @@
 #include "assembly/assembly.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <utility>
@@ -14,6 +16,19 @@
 namespace dc {
 
 namespace {
+
+/// dst = v, written only when dst does not hold v's bits already. The bounds, μ and normal
+/// rows of a contact's rows depend on its row number alone when every contact has friction, so
+/// from step to step they are mostly the values already there: a line left clean needs no
+/// write-back to the next cache level (beyond L2 that traffic bounds the assembly's pace).
+template <class T>
+[[gnu::always_inline]] inline void keep_or_put(T& dst, T v) {
+  if constexpr (sizeof(T) == 8) {
+    if (std::bit_cast<std::uint64_t>(dst) != std::bit_cast<std::uint64_t>(v)) dst = v;
+  } else {
+    if (dst != v) dst = v;
+  }
+}
 
 /// The rows of contact c (its constraint kc): J's entries at the row starts already in J, b,
 /// the bounds, μ and the normal row of its tangent row.
@@ -83,16 +98,17 @@ void fill_rows(const BodyState& s, const Contact& ct, const ContactConstraint& k
   // Restitution (restitution.hpp): aim at −e·v_a, v_a the stored approach velocity.
   if (cs.restitution > 0 && ct.restitution_due && ct.approach_velocity < -cs.restitution_threshold)
     bn = std::min(bn, vn + vn_f + cs.restitution * ct.approach_velocity);
+  constexpr double inf = std::numeric_limits<double>::infinity();
   out.b[rn] = bn;
-  out.lo[rn] = 0.0;
-  out.hi[rn] = std::numeric_limits<double>::infinity();
-  out.mu[rn] = 0.0;
+  keep_or_put(out.lo[rn], 0.0);
+  keep_or_put(out.hi[rn], inf);
+  keep_or_put(out.mu[rn], 0.0);
   if (friction) {
     out.b[rt] = vt + vt_f;
-    out.lo[rt] = -std::numeric_limits<double>::infinity();  // effective bounds: ±μ λ_n
-    out.hi[rt] = std::numeric_limits<double>::infinity();
-    out.mu[rt] = kc.mu;
-    out.normal_row[static_cast<size_t>(rt)] = rn;
+    keep_or_put(out.lo[rt], -inf);  // effective bounds: ±μ λ_n
+    keep_or_put(out.hi[rt], inf);
+    keep_or_put(out.mu[rt], kc.mu);
+    keep_or_put(out.normal_row[static_cast<size_t>(rt)], rn);
   }
 }
 
@@ -106,8 +122,10 @@ int row_body_a(const BodyState& s, const Contact& ct) {
 /// M⁻¹ of bodies [k0, k1) into out.inv_mass (m⁻¹ for x and y, I⁻¹ for the angle).
 void fill_inv_mass(const BodyState& s, int k0, int k1, LcpProblem& out) {
   for (int k = k0; k < k1; ++k) {
-    out.inv_mass[3 * k] = out.inv_mass[3 * k + 1] = s.inv_mass[static_cast<size_t>(k)];
-    out.inv_mass[3 * k + 2] = s.inv_inertia[static_cast<size_t>(k)];
+    const double m = s.inv_mass[static_cast<size_t>(k)];
+    keep_or_put(out.inv_mass[3 * k], m);
+    keep_or_put(out.inv_mass[3 * k + 1], m);
+    keep_or_put(out.inv_mass[3 * k + 2], s.inv_inertia[static_cast<size_t>(k)]);
   }
 }
 
@@ -147,7 +165,7 @@ bool write_contact(const BodyState& s, const Contact& ct, const WorldDef& def, C
   kc.normal_row = row++;
   outer[kc.normal_row] = at;
   at += per_row;
-  out.normal_row[static_cast<size_t>(kc.normal_row)] = -1;
+  keep_or_put(out.normal_row[static_cast<size_t>(kc.normal_row)], -1);
   kc.tangent_row = -1;
   if (kc.mu > 0) {
     kc.tangent_row = row++;

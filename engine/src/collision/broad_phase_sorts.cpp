@@ -8,6 +8,18 @@
 
 namespace dc {
 
+namespace {
+
+/// Room for n elements in v, grown to 1.5·n when short of it: a pair list that grows step by
+/// step while a pile compacts reallocates a few times, not at every step (vector::assign
+/// allocates exactly n, and resize max(n, 2·size) with size = capacity after a copy).
+template <class T>
+void reserve_with_headroom(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() < n) v.reserve(n + n / 2);
+}
+
+}  // namespace
+
 void UniformGridBroadPhase::cell_offsets(long long ncell, int fill_jobs, int ranges, int threads) {
   // Entries are in cell order, and inside a cell in body order, which is job order: the first
   // entry of job p's bodies in cell c is the number of bodies in cells before c plus those of
@@ -55,7 +67,7 @@ void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& 
   // keeps, and a body's few partners, come in no order a branch predictor could learn.
   std::size_t total = 0;
   for (int p = 0; p < jobs; ++p) total += found_[static_cast<size_t>(p)];
-  if (pairs.capacity() < total) pairs.reserve(total + total / 4);  // (cleared by the caller: grow with headroom)
+  reserve_with_headroom(pairs, total);  // (cleared by the caller)
   pairs.resize(total);
   const int sorts = parts_for(threads, n, 1, 4096);
   if (sort_jobs_.size() < static_cast<size_t>(sorts)) sort_jobs_.resize(static_cast<size_t>(sorts));
@@ -70,6 +82,7 @@ void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& 
   run_parts(threads, sorts, [&](int t) {
     const int lo = sort_bound_[static_cast<size_t>(t)], hi = sort_bound_[static_cast<size_t>(t) + 1];
     SortJob& job = sort_jobs_[static_cast<size_t>(t)];
+    reserve_with_headroom(job.mine, total);
     if (job.mine.size() < total) job.mine.resize(total);
     std::pair<int, int>* mine = job.mine.data();
     std::size_t kept = 0, before = 0;
@@ -87,12 +100,14 @@ void UniformGridBroadPhase::sort_pairs(int n, std::vector<std::pair<int, int>>& 
         before += static_cast<std::size_t>(pair.first < lo);
       }
     }
+    reserve_with_headroom(job.by_second, kept);
     if (job.by_second.size() < kept) job.by_second.resize(kept);
     // Keys key(pair) − lo in [0, keys) (lo and kept as locals: the histogram's int stores could
     // alias a captured int).
     const auto counting_sort = [&](const std::pair<int, int>* in, std::pair<int, int>* out, int keys, auto key) {
       const int first = lo;
       const std::size_t m = kept;
+      reserve_with_headroom(job.start, static_cast<size_t>(keys) + 1);
       job.start.assign(static_cast<size_t>(keys) + 1, 0);
       int* start = job.start.data();
       for (std::size_t i = 0; i < m; ++i) ++start[key(in[i]) - first + 1];

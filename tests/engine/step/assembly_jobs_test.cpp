@@ -2,9 +2,11 @@
 // 2, 3 and 8 threads: contacts in key order (wall contacts first: the jobs place each contact's
 // rows without a counting run), a wall contact out of that order, a static body among the
 // circles, and μ = 0 (both counted by a first run); a contact failing the checks throws the
-// same error on every thread count.
+// same error on every thread count. Storage reused from another problem (other contacts, μ,
+// masses, or values a fresh assembly never leaves, such as −0.0) gives the bits of fresh storage.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -113,6 +115,42 @@ TEST(AssemblyJobs, AWallContactOutOfKeyOrderGivesTheBitsOfOneThread) {
 
 TEST(AssemblyJobs, AStaticBodyGivesTheBitsOfOneThread) {
   expect_same_on_every_thread_count(bodies(true), contacts_in_key_order(), def_with(0.5), "static body");
+}
+
+TEST(AssemblyJobs, StorageHoldingAnotherProblemGivesTheBitsOfFreshStorage) {
+  // The assembly leaves a value in place when its bits are the ones due (bounds, μ, normal
+  // rows, M⁻¹): whatever the storage held before, the problem is the one fresh storage gets.
+  std::vector<Contact> fewer = contacts_in_key_order();
+  fewer.erase(fewer.begin() + 400, fewer.begin() + 411);  // later rows shifted by 11 contacts
+  const BodyState plain = bodies(false), with_static = bodies(true);
+  struct Case {
+    const BodyState* s;
+    const std::vector<Contact>* contacts;
+    double friction;
+    bool poison;  // −0.0 (and a wrong normal row) in every kept bound, μ and M⁻¹ first
+  };
+  const std::vector<Contact> all = contacts_in_key_order();
+  const Case cases[] = {{&plain, &all, 0.5, false},      {&with_static, &fewer, 0.3, false},
+                        {&plain, &all, 0.0, false},      {&plain, &fewer, 0.5, false},
+                        {&with_static, &fewer, 0.5, true}, {&plain, &all, 0.5, true}};
+  for (const int threads : {1, 2}) {
+    LcpProblem kept;
+    int k = 0;
+    for (const Case& c : cases) {
+      if (c.poison) {
+        kept.lo.setConstant(-0.0);
+        kept.hi.setConstant(-0.0);
+        kept.mu.setConstant(-0.0);
+        kept.inv_mass.setConstant(-0.0);
+        std::fill(kept.normal_row.begin(), kept.normal_row.end(), 0);
+      }
+      assemble_lcp(*c.s, *c.contacts, def_with(c.friction), kept, threads);
+      LcpProblem fresh;
+      assemble_lcp(*c.s, *c.contacts, def_with(c.friction), fresh, threads);
+      EXPECT_TRUE(same(fresh, kept)) << "case " << k << ", " << threads << " threads";
+      ++k;
+    }
+  }
 }
 
 TEST(AssemblyJobs, AnInvalidContactThrowsOnEveryThreadCount) {
