@@ -4,6 +4,7 @@
 // (a non-isotropic M⁻¹, a hand-written J) keeps the full layout and still gives "pgs"'s iterates.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -98,6 +99,30 @@ TEST(PgsColoredCompact, NonIsotropicInverseMassKeepsTheFullLayout) {
   LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
   for (Eigen::Index k = 1; k < p.inv_mass.size(); k += 3) p.inv_mass[k] *= 0.75;
   expect_layouts_agree(p, 0, "non-isotropic M⁻¹");
+}
+
+TEST(PgsColoredCompact, DirectPackingRefusesRowsWhoseBodyBEntriesAreNotDerivable) {
+  // The pack writes the compact batches of single contacts with friction straight from J and
+  // compares the derived coefficients in registers: body b's linear J entry of one normal (or
+  // tangent) row changed by a relative 1e-9, so that it is no longer exactly body a's negated,
+  // must send the whole solve to the full layout, with the iterates of "pgs".
+  const LcpProblem settled = settled_problem(stress::scaled_seed_pile(100), 100);
+  for (const bool tangent : {false, true}) {
+    LcpProblem p = settled;
+    int changed = 0;
+    for (int c = 0; c < p.constraints.size() && changed == 0; ++c) {
+      const ContactConstraint& k = p.constraints[c];
+      if (!k.has_body_a() || !k.has_friction()) continue;
+      const int row = tangent ? k.tangent_row : k.normal_row;
+      const int col = 3 * std::max(k.body_a, k.body_b) + (tangent ? 1 : 0);
+      double& v = p.J.coeffRef(row, col);
+      if (v == 0.0) continue;
+      v *= 1.0 + 1e-9;
+      ++changed;
+    }
+    ASSERT_EQ(changed, 1);
+    expect_layouts_agree(p, 0, tangent ? "tangent row's body b entry" : "normal row's body b entry");
+  }
 }
 
 TEST(PgsColoredCompact, SmallProblemsKeepTheFullLayoutByDefault) {

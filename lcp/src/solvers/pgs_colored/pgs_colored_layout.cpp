@@ -258,15 +258,6 @@ void pad_bodies(int from, int zero, std::int32_t* la, std::int32_t* lb, std::uin
   }
 }
 
-/// Lane count and first ordered lane of batch `local` of slot k (the overflow slots, the last
-/// two: one lane per batch).
-void lanes_of(const Prepared& out, int k, int local, int& s0, int& lanes) {
-  const int slots = static_cast<int>(out.start.size()) - 1;
-  const int per = k >= slots - 2 ? 1 : W;
-  s0 = out.start[static_cast<size_t>(k)] + local * per;
-  lanes = std::min(per, out.start[static_cast<size_t>(k) + 1] - s0);
-}
-
 /// Records in `failed` the first of lanes [0, lanes) whose normal or tangent A_ii is not > 0.
 void name_singular(const Prepared& out, int s0, int lanes, const double* dn, const double* dt, int& failed) {
   for (int lane = 0; lane < lanes && failed < 0; ++lane)
