@@ -304,7 +304,9 @@ class PgsColoredSolver final : public LcpSolver {
   /// chunks as threads come free. Each batch is written by one thread from its own inputs, so
   /// the result depends neither on the thread count nor on the schedule. Each batch is
   /// over-relaxed by ω as it is filled (relax/over_relaxation.hpp). bad_start: Δu⁰ is not
-  /// finite (an overflowing λ⁰).
+  /// finite (an overflowing λ⁰). Δu⁰ leaves out the test that J is finite, which its skip of
+  /// the rows with λ_i = 0 needs: a packing that succeeds has verified it (every row's A_ii
+  /// finite, scale_rows), one that fails sends the solve to "pgs" without Δu⁰.
   [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, double omega,
                                  Prepared& prep,
                                  double* lp,
@@ -316,8 +318,9 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite,
-                                              prep.numbering.slot.data());
+      bool unchecked = false;
+      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, unchecked,
+                                              prep.numbering.slot.data(), false);
     };
     // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly;
     // after the first that does not, the batches are packed full (and those packed compact
@@ -356,6 +359,7 @@ class PgsColoredSolver final : public LcpSolver {
     bad_start = bad;
     if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
     std::string failure = colored::first_failure(prep);
+    prep.j_finite = failure.empty();
     laps.lap(&PgsColoredProfile::pack);
     return failure;
   }

@@ -95,7 +95,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
 
 /// Fills batch `bi` (into *into, else out.batches[bi]) from the ordered contacts and its 2·W
 /// entries of the permuted λ⁰ (lp and other; 0 for padding); records in out.failed[bi] the first
-/// of its contacts whose rows cannot be packed (another body, A_ii not > 0).
+/// of its contacts whose rows cannot be packed (another body, A_ii not finite and > 0).
 void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp,
                 double* other, Batch* into = nullptr);
 /// The same for pair batch `pi` (4·W entries from out.pair_base + 4·W·pi; failures at

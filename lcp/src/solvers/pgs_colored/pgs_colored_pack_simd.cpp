@@ -80,12 +80,14 @@ DC_PACK_AVX2 inline void rows4(const double* value, const double* im, double dt,
   }
 }
 
-/// The 4-bit mask of the lanes whose A_ii (sum) is not > 0 or 1/A_ii (inv) not finite.
+/// The 4-bit mask of the lanes whose A_ii (sum) is not finite and > 0 or 1/A_ii (inv) not finite
+/// (scale_rows's test).
 DC_PACK_AVX2 inline unsigned singular4(__m256d sum, __m256d inv) {
   const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
   const __m256d abs_inv = _mm256_andnot_pd(_mm256_set1_pd(-0.0), inv);
-  const __m256d good = _mm256_and_pd(_mm256_cmp_pd(sum, _mm256_setzero_pd(), _CMP_GT_OQ),
-                                     _mm256_cmp_pd(abs_inv, inf, _CMP_LT_OQ));
+  const __m256d positive = _mm256_and_pd(_mm256_cmp_pd(sum, _mm256_setzero_pd(), _CMP_GT_OQ),
+                                         _mm256_cmp_pd(sum, inf, _CMP_LT_OQ));
+  const __m256d good = _mm256_and_pd(positive, _mm256_cmp_pd(abs_inv, inf, _CMP_LT_OQ));
   return static_cast<unsigned>(~_mm256_movemask_pd(good)) & 0xFu;
 }
 

@@ -16,7 +16,7 @@ namespace dc::colored {
 /// The rows rows[0..W) of J on the bodies at J columns a[k] (slots 0–2) and bb[k] (slots 3–5;
 /// −1: none), when every row has the usual storage (pack_row's: the columns a, a+1, a+2 (, bb,
 /// bb+1, bb+2) once each, in order): writes j = J_i/A_ii and mj = M⁻¹J_iᵀΔt (zeros in absent
-/// slots), b = b_i/A_ii, diag = A_ii, and returns the lanes whose A_ii is not > 0 or 1/A_ii not
+/// slots), b = b_i/A_ii, diag = A_ii, and returns the lanes whose A_ii is not finite and > 0 or 1/A_ii not
 /// finite as a bit mask in `singular`. Returns false, writing nothing, when a row's storage is
 /// not the usual one (the caller packs the batch lane by lane then) or when this build or CPU
 /// has no AVX2 (simd_pack_available).
