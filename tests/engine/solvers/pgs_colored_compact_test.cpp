@@ -4,6 +4,7 @@
 // (a non-isotropic M⁻¹, a hand-written J) keeps the full layout and still gives "pgs"'s iterates.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -98,6 +99,33 @@ TEST(PgsColoredCompact, NonIsotropicInverseMassKeepsTheFullLayout) {
   LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
   for (Eigen::Index k = 1; k < p.inv_mass.size(); k += 3) p.inv_mass[k] *= 0.75;
   expect_layouts_agree(p, 0, "non-isotropic M⁻¹");
+}
+
+TEST(PgsColoredCompact, DirectPackingRefusesRowsWhoseBodyBEntriesAreNotDerivable) {
+  // The pack writes the compact batches of single contacts with friction straight from J and
+  // compares the derived coefficients in registers. Body b's J entry for v_x of one contact's
+  // normal row scaled by 1 + 1e-9: alone, the tangent's M⁻¹JᵀΔt is no longer the normal's
+  // turned; with the tangent's entry for v_y (equal to it in the engine's form) scaled alike, that
+  // still holds and only body b's J/A_ii, no longer body a's negated, tells. Either must send the
+  // whole solve to the full layout, with the iterates of "pgs".
+  const LcpProblem settled = settled_problem(stress::scaled_seed_pile(100), 100);
+  for (const bool both_rows : {false, true}) {
+    LcpProblem p = settled;
+    int changed = 0;
+    for (int c = 0; c < p.constraints.size() && changed == 0; ++c) {
+      const ContactConstraint& k = p.constraints[c];
+      if (!k.has_body_a() || !k.has_friction()) continue;
+      const int col = 3 * std::max(k.body_a, k.body_b);
+      double& vn = p.J.coeffRef(k.normal_row, col);
+      double& vt = p.J.coeffRef(k.tangent_row, col + 1);
+      if (vn == 0.0 || vn != vt) continue;
+      vn *= 1.0 + 1e-9;
+      if (both_rows) vt = vn;
+      ++changed;
+    }
+    ASSERT_EQ(changed, 1);
+    expect_layouts_agree(p, 0, both_rows ? "body b's entries of both rows" : "body b's entry of the normal row");
+  }
 }
 
 TEST(PgsColoredCompact, SmallProblemsKeepTheFullLayoutByDefault) {

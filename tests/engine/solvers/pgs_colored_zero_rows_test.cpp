@@ -115,5 +115,26 @@ TEST(PgsColoredZeroRows, ANonFiniteEntryOfJIsSeenAndTurnsTheSkipOff) {
   EXPECT_FALSE(colored::values_finite(u));
 }
 
+TEST(PgsColoredZeroRows, AnInfiniteDiagonalIsRefusedByThePacking) {
+  // Δu⁰ skips the rows with λ_i = 0 without testing J (it runs beside the packing), relying on
+  // the packing's check that every A_ii is finite, which implies finite J entries. A finite J
+  // entry large enough that A_ii = ∞ (1/A_ii = 0 is finite) must fail that check too: the solve
+  // runs "pgs" (contacts with one body and with two).
+  test::TestRng rng(53);
+  const LcpProblem base = test::random_contact(20, 60, true, rng);
+  for (int c = 0; c < base.constraints.size(); c += 7) {
+    LcpProblem p = base;
+    const int row = base.constraints[c].normal_row;
+    p.J.valuePtr()[p.J.outerIndexPtr()[row]] = 1e200;
+    ASSERT_TRUE(colored::values_finite(p));
+    PgsColoredDef d;
+    d.threads = 1;
+    SolverOptions o;
+    o.max_sweeps = 2;
+    const SolveResult r = make_pgs_colored(d)->solve(p, Eigen::VectorXd::Zero(p.rows()), o);
+    EXPECT_NE(r.message.find("ran pgs"), std::string::npos) << "contact " << c << ": " << r.message;
+  }
+}
+
 }  // namespace
 }  // namespace dc

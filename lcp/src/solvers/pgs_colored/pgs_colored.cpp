@@ -3,7 +3,8 @@
 // with "pgs"'s row form (J_i / A_ii pre-scaled, the same FMAs and tree sums) and its two-point
 // manifold block. This file: the input checks, the packing run and the sweep driver; the
 // set-up (colouring, manifold pairs, batches) is pgs_colored_layout.cpp, the kernels are
-// pgs_colored_{scalar,avx2,avx512}.cpp, the batch layout is pgs_colored_batch.hpp. λ lives in a
+// pgs_colored_{scalar,avx2,avx512}.cpp (chosen in kernels/kernel_choice.cpp), the batch layout
+// is pgs_colored_batch.hpp. λ lives in a
 // permuted vector during the sweeps (pgs_colored_layout.hpp) and is mapped back at
 // checkpoints and at the end. With threads each batch is written by one thread from its own
 // inputs, so the result depends neither on the thread count nor on the schedule. A sweep does
@@ -34,6 +35,7 @@
 #include "dc/lcp/pgs_colored.hpp"
 #include "solvers/pgs_colored/coloring/contact_coloring.hpp"
 #include "solvers/pgs_colored/compact/compact_batch.hpp"
+#include "solvers/pgs_colored/kernels/kernel_choice.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_input.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
@@ -52,6 +54,10 @@ namespace dc {
 namespace {
 
 using colored::Batch;
+using colored::kernel_fn;
+using colored::Kernels;
+using colored::resolve;
+using colored::run_range;
 using colored::kStride;
 using colored::Prepared;
 using colored::Range;
@@ -83,50 +89,6 @@ class Laps {
   PgsColoredProfile* p_;
   double t_;
 };
-
-PgsColoredKernel resolve(PgsColoredKernel k) {
-  if (k != PgsColoredKernel::Auto) {
-    if (!pgs_colored_kernel_available(k))
-      throw InvalidArgument(std::string("pgs-colored: the ") + to_string(k) + " kernel is not available on this CPU");
-    return k;
-  }
-  return pgs_colored_auto_kernel();
-}
-
-/// The kernels of one ISA: single-contact batches and two-point manifold batches, and the
-/// closing residual's (residual/packed_residual.hpp).
-struct Kernels {
-  colored::SweepKernel single;
-  colored::PairKernel pairs;
-  colored::ResidualKernels residual;
-  colored::CompactKernel compact;  // single-contact batches in the compact layout
-};
-
-Kernels kernel_fn(PgsColoredKernel k) {
-  switch (k) {
-    case PgsColoredKernel::Avx512:
-      return {colored::sweep_avx512, colored::sweep_pairs_avx512,
-              {colored::residual_avx512, colored::residual_pairs_avx512, colored::residual_compact_avx512},
-              colored::sweep_compact_avx512};
-    case PgsColoredKernel::Avx2:
-      return {colored::sweep_avx2, colored::sweep_pairs_avx2, {colored::residual_avx2, colored::residual_pairs_avx2},
-              colored::sweep_compact_avx2};
-    default:
-      return {colored::sweep_scalar, colored::sweep_pairs_scalar,
-              {colored::residual_scalar, colored::residual_pairs_scalar}, colored::sweep_compact_scalar};
-  }
-}
-
-/// Batches [lo, hi) of range rg with the kernel of its kind (pair batches' λ from pair_base).
-inline void run_range(const Prepared& prep, const Kernels& kern, const Range& rg, int lo, int hi, const double* in,
-                      double* out, double* u, colored::Acc& acc) {
-  if (rg.pairs)
-    kern.pairs(prep.pairs.data(), lo, hi, in + prep.pair_base, out + prep.pair_base, u, acc);
-  else if (prep.compact_on)
-    kern.compact(prep.compact.data(), lo, hi, in, out, u, acc);
-  else
-    kern.single(prep.batches.data(), lo, hi, in, out, u, acc);
-}
 
 /// "pgs-colored", and "nncg-colored" (`nncg`): the same set-up and sweeps with NNCG's momentum
 /// between them (nncg_momentum.hpp; `momentum` false: none, pgs-colored's iterates).
@@ -304,7 +266,9 @@ class PgsColoredSolver final : public LcpSolver {
   /// chunks as threads come free. Each batch is written by one thread from its own inputs, so
   /// the result depends neither on the thread count nor on the schedule. Each batch is
   /// over-relaxed by ω as it is filled (relax/over_relaxation.hpp). bad_start: Δu⁰ is not
-  /// finite (an overflowing λ⁰).
+  /// finite (an overflowing λ⁰). Δu⁰ leaves out the test that J is finite, which its skip of
+  /// the rows with λ_i = 0 needs: a packing that succeeds has verified it (every row's A_ii
+  /// finite, scale_rows), one that fails sends the solve to "pgs" without Δu⁰.
   [[nodiscard]] std::string pack(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, double omega,
                                  Prepared& prep,
                                  double* lp,
@@ -316,8 +280,9 @@ class PgsColoredSolver final : public LcpSolver {
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
     auto delta_u0 = [&] {
-      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, prep.j_finite,
-                                              prep.numbering.slot.data());
+      bool unchecked = false;
+      bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, unchecked,
+                                              prep.numbering.slot.data(), false);
     };
     // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly;
     // after the first that does not, the batches are packed full (and those packed compact
@@ -356,6 +321,7 @@ class PgsColoredSolver final : public LcpSolver {
     bad_start = bad;
     if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
     std::string failure = colored::first_failure(prep);
+    prep.j_finite = failure.empty();
     laps.lap(&PgsColoredProfile::pack);
     return failure;
   }
@@ -582,33 +548,6 @@ std::unique_ptr<LcpSolver> make_nncg_colored(const NncgColoredDef& def) {
   PgsColoredDef sweep = def.sweep;
   if (def.momentum) sweep.locality_order = false;
   return std::make_unique<PgsColoredSolver>(sweep, true, def.momentum);
-}
-
-bool pgs_colored_kernel_available(PgsColoredKernel kernel) {
-  switch (kernel) {
-    case PgsColoredKernel::Avx512: return colored::cpu_has_avx512();
-    case PgsColoredKernel::Avx2: return colored::cpu_has_avx2();
-    default: return true;
-  }
-}
-
-PgsColoredKernel pgs_colored_auto_kernel() {
-  // AMD cores (Zen 4) execute 512-bit operations as two 256-bit halves: there the AVX2 kernel
-  // is at least as fast (it also skips the all-padding half of a colour's last batch; micro_pgs,
-  // docs/lcp.md "pgs-colored"). Elsewhere the AVX-512 kernel is preferred.
-  if (colored::cpu_has_avx512() && !(colored::cpu_has_avx2() && colored::cpu_is_amd())) return PgsColoredKernel::Avx512;
-  if (colored::cpu_has_avx2()) return PgsColoredKernel::Avx2;
-  return PgsColoredKernel::Scalar;
-}
-
-const char* to_string(PgsColoredKernel kernel) {
-  switch (kernel) {
-    case PgsColoredKernel::Auto: return "auto";
-    case PgsColoredKernel::Avx512: return "avx512";
-    case PgsColoredKernel::Avx2: return "avx2";
-    case PgsColoredKernel::Scalar: return "scalar";
-  }
-  return "?";
 }
 
 namespace solvers {

@@ -90,13 +90,16 @@ bool pack_row(const LcpProblem& p, int i, int a, int bb, double (*j)[W], double 
 }
 
 /// j ← j/A_ii and b ← b/A_ii on all lanes (padding lanes: A_ii = 1, zero rows); false when a
-/// lane's A_ii is not > 0 or 1/A_ii is not finite. The same products as a lane-by-lane scaling.
+/// lane's A_ii is not finite and > 0 or 1/A_ii is not finite. The same products as a lane-by-lane
+/// scaling. A finite A_ii = Σ_s r_s·(r_s·M⁻¹_s·Δt) implies finite J entries in its row (an
+/// infinite or NaN r_s makes its term ∞ or NaN: M⁻¹ ≥ 0, Δt > 0), so a packing that succeeds has
+/// checked values_finite (pgs_colored_residual.hpp) on every row.
 bool scale_rows(double (*j)[W], double* b, const double* diag) {
   double inv[W];
   bool ok = true;
   for (int lane = 0; lane < W; ++lane) {
     inv[lane] = 1.0 / diag[lane];
-    ok &= diag[lane] > 0 && std::isfinite(inv[lane]);
+    ok &= diag[lane] > 0 && std::isfinite(diag[lane]) && std::isfinite(inv[lane]);
   }
   for (int s = 0; s < 6; ++s)
     for (int lane = 0; lane < W; ++lane) j[s][lane] *= inv[lane];
@@ -258,20 +261,13 @@ void pad_bodies(int from, int zero, std::int32_t* la, std::int32_t* lb, std::uin
   }
 }
 
-/// Lane count and first ordered lane of batch `local` of slot k (the overflow slots, the last
-/// two: one lane per batch).
-void lanes_of(const Prepared& out, int k, int local, int& s0, int& lanes) {
-  const int slots = static_cast<int>(out.start.size()) - 1;
-  const int per = k >= slots - 2 ? 1 : W;
-  s0 = out.start[static_cast<size_t>(k)] + local * per;
-  lanes = std::min(per, out.start[static_cast<size_t>(k) + 1] - s0);
-}
+/// Whether scale_rows accepts A_ii = d: finite, > 0, and 1/d finite.
+bool regular(double d) { return d > 0 && std::isfinite(d) && std::isfinite(1.0 / d); }
 
-/// Records in `failed` the first of lanes [0, lanes) whose normal or tangent A_ii is not > 0.
+/// Records in `failed` the first of lanes [0, lanes) whose normal or tangent A_ii is not regular.
 void name_singular(const Prepared& out, int s0, int lanes, const double* dn, const double* dt, int& failed) {
   for (int lane = 0; lane < lanes && failed < 0; ++lane)
-    if (!(dn[lane] > 0 && std::isfinite(1.0 / dn[lane])) || !(dt[lane] > 0 && std::isfinite(1.0 / dt[lane])))
-      failed = out.order[static_cast<size_t>(s0 + lane)];
+    if (!regular(dn[lane]) || !regular(dt[lane])) failed = out.order[static_cast<size_t>(s0 + lane)];
 }
 
 /// fill_pair lane by lane: the rows packed and their blocks formed per lane, then scaled (all

@@ -8,6 +8,7 @@
 //
 // Permuted λ: the single batches' slots first (16 per batch: 8 λ_n, 8 λ_t), then the pair
 // batches' from Prepared::pair_base (32 per batch: λ_n0, λ_t0, λ_n1, λ_t1, 8 each).
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -94,7 +95,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
 
 /// Fills batch `bi` (into *into, else out.batches[bi]) from the ordered contacts and its 2·W
 /// entries of the permuted λ⁰ (lp and other; 0 for padding); records in out.failed[bi] the first
-/// of its contacts whose rows cannot be packed (another body, A_ii not > 0).
+/// of its contacts whose rows cannot be packed (another body, A_ii not finite and > 0).
 void fill_batch(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi, double* lp,
                 double* other, Batch* into = nullptr);
 /// The same for pair batch `pi` (4·W entries from out.pair_base + 4·W·pi; failures at
@@ -118,10 +119,20 @@ std::string first_failure(const Prepared& out);
 constexpr int kStageFrom = 1 << 16;
 void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from = kStageFrom);
 
+/// Lane count and first ordered lane of batch `local` of slot k (the overflow slots, the last
+/// two: one lane per batch).
+inline void lanes_of(const Prepared& out, int k, int local, int& s0, int& lanes) {
+  const int slots = static_cast<int>(out.start.size()) - 1;
+  const int per = k >= slots - 2 ? 1 : W;
+  s0 = out.start[static_cast<size_t>(k)] + local * per;
+  lanes = std::min(per, out.start[static_cast<size_t>(k) + 1] - s0);
+}
+
 // ---- pgs_colored_stage.cpp's parts of fill_batch ------------------------------------------
-/// Lane `lane` of batch B and its rows: the Δu offsets and store flags of bodies `first` and
-/// `second` (−1: none), μ, the normal and tangent rows.
-inline void put_lane(const Prepared& out, Batch& B, int* row_of, int lane, int first, int second, double mu, int rn,
+/// Lane `lane` of batch B (a Batch or CompactBatch) and its rows: the Δu offsets and store flags
+/// of bodies `first` and `second` (−1: none), μ, the normal and tangent rows.
+template <class AnyBatch>
+inline void put_lane(const Prepared& out, AnyBatch& B, int* row_of, int lane, int first, int second, double mu, int rn,
                      int rt) {
   const bool da = out.dynamic[static_cast<size_t>(first)] != 0;
   const bool db = second >= 0 && out.dynamic[static_cast<size_t>(second)] != 0;

@@ -39,11 +39,10 @@ DC_PACK_AVX2 inline void transpose4(__m256d r0, __m256d r1, __m256d r2, __m256d 
   c[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
-/// Lanes h..h+3 (entries of J at value + q0[k], M⁻¹ at im + a[k], im + bb[k]); returns the
-/// 4-bit mask of singular lanes.
-DC_PACK_AVX2 unsigned pack4(const double* value, const double* im, double dt, const double* bi, const int* q0,
-                            const int* a, const int* bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
-                            int h) {
+/// Lanes h..h+3 of a row, unscaled (entries of J at value + q0[k], M⁻¹ at im + a[k], im + bb[k]):
+/// r_s = 0 + J_is in v, m_s = M⁻¹J_isΔt in m, A_ii = Σ r_s·m_s in slot order in sum.
+DC_PACK_AVX2 inline void rows4(const double* value, const double* im, double dt, const int* q0, const int* a,
+                               const int* bb, int h, __m256d* v, __m256d* m, __m256d& sum) {
   const __m256d zero = _mm256_setzero_pd();
   const __m256i three = _mm256_setr_epi64x(-1, -1, -1, 0);  // the first 3 of 4 doubles
   __m256d lo[4], ia[4], ib[4];
@@ -51,16 +50,16 @@ DC_PACK_AVX2 unsigned pack4(const double* value, const double* im, double dt, co
   int two = 0;  // lanes with a second body
   for (int k = 0; k < 4; ++k) {
     const int l = h + k;
-    const double* v = value + q0[l];
+    const double* vl = value + q0[l];
     const bool second = bb[l] >= 0;
     two |= second ? 1 << k : 0;
     // (masked loads: nothing beyond the row's entries or the body's 3 M⁻¹ entries is read)
-    lo[k] = second ? _mm256_loadu_pd(v) : _mm256_maskload_pd(v, three);
-    hi[k] = second ? _mm_loadu_pd(v + 4) : _mm_setzero_pd();
+    lo[k] = second ? _mm256_loadu_pd(vl) : _mm256_maskload_pd(vl, three);
+    hi[k] = second ? _mm_loadu_pd(vl + 4) : _mm_setzero_pd();
     ia[k] = _mm256_maskload_pd(im + a[l], three);
     ib[k] = second ? _mm256_maskload_pd(im + bb[l], three) : zero;
   }
-  __m256d v[6], m[6], ima[4], imb[4];
+  __m256d ima[4], imb[4];
   transpose4(lo[0], lo[1], lo[2], lo[3], v);
   const __m256d h02 = _mm256_set_m128d(hi[2], hi[0]), h13 = _mm256_set_m128d(hi[3], hi[1]);
   v[4] = _mm256_unpacklo_pd(h02, h13);
@@ -72,13 +71,33 @@ DC_PACK_AVX2 unsigned pack4(const double* value, const double* im, double dt, co
   const __m256d has_b = _mm256_castsi256_pd(_mm256_setr_epi64x((two & 1) ? -1 : 0, (two & 2) ? -1 : 0,
                                                                 (two & 4) ? -1 : 0, (two & 8) ? -1 : 0));
   const __m256d dtv = _mm256_set1_pd(dt);
-  __m256d sum = zero;
+  sum = zero;
   for (int s = 0; s < 6; ++s) {
     v[s] = _mm256_add_pd(zero, v[s]);  // r = 0 + J_is (−0 → +0)
     m[s] = _mm256_mul_pd(_mm256_mul_pd(v[s], s < 3 ? ima[s] : imb[s - 3]), dtv);
     if (s >= 3) m[s] = _mm256_and_pd(m[s], has_b);
     sum = _mm256_add_pd(sum, _mm256_mul_pd(v[s], m[s]));
   }
+}
+
+/// The 4-bit mask of the lanes whose A_ii (sum) is not finite and > 0 or 1/A_ii (inv) not finite
+/// (scale_rows's test).
+DC_PACK_AVX2 inline unsigned singular4(__m256d sum, __m256d inv) {
+  const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  const __m256d abs_inv = _mm256_andnot_pd(_mm256_set1_pd(-0.0), inv);
+  const __m256d positive = _mm256_and_pd(_mm256_cmp_pd(sum, _mm256_setzero_pd(), _CMP_GT_OQ),
+                                         _mm256_cmp_pd(sum, inf, _CMP_LT_OQ));
+  const __m256d good = _mm256_and_pd(positive, _mm256_cmp_pd(abs_inv, inf, _CMP_LT_OQ));
+  return static_cast<unsigned>(~_mm256_movemask_pd(good)) & 0xFu;
+}
+
+/// Lanes h..h+3 packed (rows4, then j = r·(1/A_ii), b = b_i·(1/A_ii)); returns the 4-bit mask
+/// of singular lanes.
+DC_PACK_AVX2 unsigned pack4(const double* value, const double* im, double dt, const double* bi, const int* q0,
+                            const int* a, const int* bb, double (*j)[W], double (*mj)[W], double* b, double* diag,
+                            int h) {
+  __m256d v[6], m[6], sum;
+  rows4(value, im, dt, q0, a, bb, h, v, m, sum);
   const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), sum);
   for (int s = 0; s < 6; ++s) {
     _mm256_store_pd(j[s] + h, _mm256_mul_pd(v[s], inv));
@@ -87,10 +106,63 @@ DC_PACK_AVX2 unsigned pack4(const double* value, const double* im, double dt, co
   const __m256d bv = _mm256_setr_pd(bi[0], bi[1], bi[2], bi[3]);
   _mm256_store_pd(b + h, _mm256_mul_pd(bv, inv));
   _mm256_storeu_pd(diag + h, sum);
-  const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
-  const __m256d abs_inv = _mm256_andnot_pd(_mm256_set1_pd(-0.0), inv);
-  const __m256d good = _mm256_and_pd(_mm256_cmp_pd(sum, zero, _CMP_GT_OQ), _mm256_cmp_pd(abs_inv, inf, _CMP_LT_OQ));
-  return static_cast<unsigned>(~_mm256_movemask_pd(good)) & 0xFu;
+  return singular4(sum, inv);
+}
+
+/// The 4-bit masks of the lanes where x is not +0 bit for bit, and where x and y are equal bit
+/// for bit.
+DC_PACK_AVX2 inline unsigned nonzero4(__m256d x) {
+  const __m256i z = _mm256_cmpeq_epi64(_mm256_castpd_si256(x), _mm256_setzero_si256());
+  return static_cast<unsigned>(~_mm256_movemask_pd(_mm256_castsi256_pd(z))) & 0xFu;
+}
+DC_PACK_AVX2 inline unsigned same4(__m256d x, __m256d y) {
+  const __m256i e = _mm256_cmpeq_epi64(_mm256_castpd_si256(x), _mm256_castpd_si256(y));
+  return static_cast<unsigned>(_mm256_movemask_pd(_mm256_castsi256_pd(e)));
+}
+
+/// Lanes h..h+3 of one row of a compact batch: pack4's coefficients, j and b times ω (when ≠ 1,
+/// as over_relax), only the stored ones written (j: slots 0, 1, 2, 5; mj: all 6 for the normal
+/// row, slots 2, 5 for the tangent row, whose normal mj `mjn` is read). The derived ones are
+/// computed in registers and compared bit for bit with compress()'s derivation: `nz_j` / `same_j`
+/// the lanes whose j slots 3, 4 are not both +0 / equal 0 − j_0, 0 − j_1; for the tangent row
+/// `nz_m` / `same_m` the same for mj slots 0, 1, 3, 4 and 0 − mjn_1, mjn_0, 0 − mjn_4, mjn_3.
+struct Compare4 {
+  unsigned nz_j = 0, same_j = 0, nz_m = 0, same_m = 0;
+};
+DC_PACK_AVX2 unsigned compact4(const double* value, const double* im, double dt, const double* bi, const int* q0,
+                               const int* a, const int* bb, double omega, bool tangent, double (*j)[W],
+                               double (*mj)[W], double (*mjn)[W], double* b, double* diag, int h, Compare4& c) {
+  __m256d v[6], m[6], sum;
+  rows4(value, im, dt, q0, a, bb, h, v, m, sum);
+  const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), sum);
+  const __m256d om = _mm256_set1_pd(omega);
+  const bool relax = omega != 1.0;
+  __m256d js[6];
+  for (int s = 0; s < 6; ++s) {
+    js[s] = _mm256_mul_pd(v[s], inv);
+    if (relax) js[s] = _mm256_mul_pd(js[s], om);
+  }
+  constexpr int kept[4] = {0, 1, 2, 5};
+  for (int q = 0; q < 4; ++q) _mm256_store_pd(j[q] + h, js[kept[q]]);
+  const __m256d zero = _mm256_setzero_pd();
+  c.nz_j = nonzero4(_mm256_or_pd(js[3], js[4]));
+  c.same_j = same4(js[3], _mm256_sub_pd(zero, js[0])) & same4(js[4], _mm256_sub_pd(zero, js[1]));
+  if (!tangent) {
+    for (int s = 0; s < 6; ++s) _mm256_store_pd(mj[s] + h, m[s]);
+  } else {
+    _mm256_store_pd(mj[0] + h, m[2]);
+    _mm256_store_pd(mj[1] + h, m[5]);
+    c.nz_m = nonzero4(_mm256_or_pd(_mm256_or_pd(m[0], m[1]), _mm256_or_pd(m[3], m[4])));
+    const __m256d n0 = _mm256_load_pd(mjn[0] + h), n1 = _mm256_load_pd(mjn[1] + h);
+    const __m256d n3 = _mm256_load_pd(mjn[3] + h), n4 = _mm256_load_pd(mjn[4] + h);
+    c.same_m = same4(m[0], _mm256_sub_pd(zero, n1)) & same4(m[1], n0) & same4(m[3], _mm256_sub_pd(zero, n4)) &
+               same4(m[4], n3);
+  }
+  __m256d bs = _mm256_mul_pd(_mm256_setr_pd(bi[0], bi[1], bi[2], bi[3]), inv);
+  if (relax) bs = _mm256_mul_pd(bs, om);
+  _mm256_store_pd(b + h, bs);
+  _mm256_storeu_pd(diag + h, sum);
+  return singular4(sum, inv);
 }
 
 }  // namespace
@@ -121,6 +193,40 @@ DC_PACK_AVX2 bool pack_rows_staged(const double* base, const int* off, const dou
   return true;
 }
 
+DC_PACK_AVX2 bool pack_compact_simd(const LcpProblem& p, const int* rn, const int* rt, const int* a, const int* bb,
+                                    double omega, CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular,
+                                    unsigned& two, unsigned& fric, bool& exact) {
+  if (!simd_pack_available()) return false;
+  int qn[W], qt[W];
+  double bn[W], bt[W];
+  for (int l = 0; l < W; ++l) {
+    if (!usual(p.J, rn[l], a[l], bb[l], qn[l]) || !usual(p.J, rt[l], a[l], bb[l], qt[l])) return false;
+    bn[l] = p.b[rn[l]];
+    bt[l] = p.b[rt[l]];
+  }
+  const double* value = p.J.valuePtr();
+  const double* im = p.inv_mass.data();
+  unsigned nz_two = 0, nz_fric = 0, differ = 0;
+  singular = 0;
+  for (int h = 0; h < W; h += 4) {
+    Compare4 n, t;
+    // (the normal row first: the tangent's comparison reads its M⁻¹JᵀΔt)
+    const unsigned sn = compact4(value, im, p.dt, bn + h, qn, a, bb, omega, false, C.jn, C.mjn, C.mjn, C.bn, diag_n, h, n);
+    const unsigned st = compact4(value, im, p.dt, bt + h, qt, a, bb, omega, true, C.jt, C.mjt, C.mjn, C.bt, diag_t, h, t);
+    singular |= (sn | st) << h;
+    const unsigned tw = n.nz_j | t.nz_j;  // compress()'s bit of `two`: a derived j slot not +0
+    nz_two |= tw << h;
+    nz_fric |= t.nz_m << h;
+    // Where the bit is set, every derived slot must equal its derivation; where it is clear they
+    // are all +0, as the derivation's +0.
+    differ |= ((tw & ~(n.same_j & t.same_j)) | (t.nz_m & ~t.same_m)) << h;
+  }
+  two = nz_two;
+  fric = nz_fric;
+  exact = differ == 0;
+  return true;
+}
+
 bool simd_pack_available() {
   static const bool avx2 = __builtin_cpu_supports("avx2");
   return avx2;
@@ -137,6 +243,10 @@ bool pack_rows_simd(const LcpProblem&, const int*, const int*, const int*, doubl
 }
 bool pack_rows_staged(const double*, const int*, const double*, const int*, const int*, const double*, double,
                       double (*)[W], double (*)[W], double*, double*, unsigned&) {
+  return false;
+}
+bool pack_compact_simd(const LcpProblem&, const int*, const int*, const int*, const int*, double, CompactBatch&,
+                       double*, double*, unsigned&, unsigned&, unsigned&, bool&) {
   return false;
 }
 bool simd_pack_available() { return false; }

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "dc/lcp/lcp_problem.hpp"
+#include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 namespace dc::colored {
@@ -15,7 +16,7 @@ namespace dc::colored {
 /// The rows rows[0..W) of J on the bodies at J columns a[k] (slots 0–2) and bb[k] (slots 3–5;
 /// −1: none), when every row has the usual storage (pack_row's: the columns a, a+1, a+2 (, bb,
 /// bb+1, bb+2) once each, in order): writes j = J_i/A_ii and mj = M⁻¹J_iᵀΔt (zeros in absent
-/// slots), b = b_i/A_ii, diag = A_ii, and returns the lanes whose A_ii is not > 0 or 1/A_ii not
+/// slots), b = b_i/A_ii, diag = A_ii, and returns the lanes whose A_ii is not finite and > 0 or 1/A_ii not
 /// finite as a bit mask in `singular`. Returns false, writing nothing, when a row's storage is
 /// not the usual one (the caller packs the batch lane by lane then) or when this build or CPU
 /// has no AVX2 (simd_pack_available).
@@ -27,6 +28,18 @@ bool pack_rows_simd(const LcpProblem& p, const int* rows, const int* a, const in
 bool pack_rows_staged(const double* base, const int* off, const double* bi, const int* a, const int* bb,
                       const double* im, double dt, double (*j)[W], double (*mj)[W], double* b, double* diag,
                       unsigned& singular);
+
+/// The normal rows rn[0..W) and tangent rows rt[0..W) of W single contacts with friction (bodies
+/// as pack_rows_simd's) packed straight into C's rows, not its bodies or count: the coefficients
+/// pack_rows_simd and over_relax by ω (≠ 1) give, bit for bit, only the stored ones written
+/// (compact_batch.hpp). The derived ones are computed in registers and compared bit for bit with
+/// their derivation: `two` / `fric` get compress()'s bits, `exact` whether expand() would give
+/// every one of them (over all W lanes: the caller masks out padding). diag_n / diag_t: A_ii;
+/// `singular` as pack_rows_simd's (normal or tangent). False, with nothing valid, when a row's
+/// storage is not the usual one or without AVX2.
+bool pack_compact_simd(const LcpProblem& p, const int* rn, const int* rt, const int* a, const int* bb, double omega,
+                       CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular, unsigned& two,
+                       unsigned& fric, bool& exact);
 
 /// This build has pack_rows_simd's AVX2 code and this CPU runs it.
 bool simd_pack_available();

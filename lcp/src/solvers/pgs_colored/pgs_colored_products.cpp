@@ -65,9 +65,9 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 }
 
 bool velocity_change_checked(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, int bodies, double* du,
-                             Eigen::VectorXd& jt, bool& j_finite, const int* slot) {
+                             Eigen::VectorXd& jt, bool& j_finite, const int* slot, bool check) {
   jt.setZero(p.J.cols());
-  j_finite = transpose_rows_checked(p, lambda.data(), jt.data());
+  j_finite = transpose_rows_checked(p, lambda.data(), jt.data(), check);
   return scale_to_du(p, jt, bodies, du, slot);
 }
 

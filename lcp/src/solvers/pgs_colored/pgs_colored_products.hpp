@@ -28,9 +28,11 @@ bool velocity_change(const LcpProblem& p, const Eigen::VectorXd& lambda, int bod
 /// values_finite(p), and the rows with λ_i = ±0 are skipped in each chunk of rows whose entries
 /// are all finite (transpose_rows_checked). The bits of velocity_change(p, λ, bodies, du, jt,
 /// values_finite(p)) with one pass over J's values instead of two. With `slot` (a permutation of
-/// the bodies, the solver's Δu slots) body k's entries are at du[kStride·slot[k] + d].
+/// the bodies, the solver's Δu slots) body k's entries are at du[kStride·slot[k] + d]. With
+/// check = false (the packing, which runs at the same time, verifies J finite: scale_rows, and
+/// its failure discards Δu⁰) the test is left out and j_finite is set to true.
 bool velocity_change_checked(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, int bodies, double* du,
-                             Eigen::VectorXd& jt, bool& j_finite, const int* slot = nullptr);
+                             Eigen::VectorXd& jt, bool& j_finite, const int* slot = nullptr, bool check = true);
 
 /// du[c] = M⁻¹_c (Jᵀλ)_c Δt in column order (du resized to J's columns), bit-identical to
 /// lcp_problem.cpp's velocity_change for every thread count. On one thread: J's rows in order

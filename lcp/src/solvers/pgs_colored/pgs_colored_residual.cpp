@@ -117,7 +117,7 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
   }
 }
 
-bool transpose_rows_checked(const LcpProblem& p, const double* lambda, double* out) {
+bool transpose_rows_checked(const LcpProblem& p, const double* lambda, double* out, bool check) {
   const double* value = p.J.valuePtr();
   const int* inner = p.J.innerIndexPtr();
   const int* outer = p.J.outerIndexPtr();
@@ -129,9 +129,9 @@ bool transpose_rows_checked(const LcpProblem& p, const double* lambda, double* o
     const int end = std::min(n, i + kChunk);
     // values_finite's test on this chunk's entries (they are read again at once, from cache)
     bool chunk_finite = true;
-    if (nnz == nullptr) {
+    if (check && nnz == nullptr) {
       chunk_finite = finite_run(value + outer[i], outer[end] - outer[i]);
-    } else {
+    } else if (check) {
       for (int k = i; k < end; ++k) chunk_finite &= finite_run(value + outer[k], nnz[k]);
     }
     finite = finite && chunk_finite;

@@ -38,8 +38,10 @@ void transpose_rows(const LcpProblem& p, const double* lambda, int i0, int i1, i
 /// values_finite's test done chunk by chunk of rows on the entries it is about to scatter: a
 /// chunk whose entries are all finite skips its rows with λ_i = ±0 (the same bits, above), any
 /// other chunk scatters every row. So the sums are those of transpose_rows without the skip, bit
-/// for bit, with one pass over J's values. Returns values_finite(p).
-bool transpose_rows_checked(const LcpProblem& p, const double* lambda, double* out);
+/// for bit, with one pass over J's values. Returns values_finite(p). With check = false the test
+/// is left out (every chunk skips: the caller knows J is finite or discards `out` otherwise) and
+/// true is returned.
+bool transpose_rows_checked(const LcpProblem& p, const double* lambda, double* out, bool check = true);
 
 /// True when every stored entry of J is finite (an OR over the exponent bits; for a J that is not
 /// compressed, row by row). Allows transpose_rows's skip_zero.

@@ -1,11 +1,13 @@
-// pgs-colored's compact batches (compact_batch.hpp): the compression with its bitwise check, and
-// the scalar kernel on them.
+// pgs-colored's compact batches (compact_batch.hpp): the direct packing and the compression, each
+// with its bitwise check, and the scalar kernel on them.
 #include "solvers/pgs_colored/compact/compact_batch.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
+#include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 #include "solvers/pgs_colored/relax/over_relaxation.hpp"
 
 namespace dc::colored {
@@ -15,6 +17,62 @@ inline std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 
 /// The bits of expand()'s derived value: 0 − x (negate) or x where `on`, else +0.
 inline std::uint64_t derived(bool on, bool negate, double x) { return on ? bits(negate ? 0.0 - x : x) : 0; }
+
+/// fill_compact's direct path: batch bi's rows packed straight into out.compact[bi]
+/// (pack_compact_simd) when every lane has friction and rows in the usual storage, no row is
+/// singular (fill_batch names the failure) and the problem is not staged (stage_sources); false
+/// when not taken. exact: the batch is complete (bodies, padding, A_ii, λ⁰ written); else the
+/// caller packs the full batch.
+bool pack_direct(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi,
+                 double* lp, double* other, double omega, bool& exact) {
+  if (out.staged_now) return false;
+  const int slot = out.slot_of_batch[static_cast<size_t>(bi)];
+  int s0 = 0, lanes = 0;
+  lanes_of(out, slot, bi - out.batch_of[static_cast<size_t>(slot)], s0, lanes);
+  if (lanes <= 0) return false;
+  int rn[W], rt[W], a[W], bb[W];
+  const int* order = out.order.data() + s0;
+  for (int lane = 0; lane < W; ++lane) {  // (padding lanes on lane 0's rows, cleared below)
+    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
+    if (!k.has_friction()) return false;
+    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+    a[lane] = 3 * first;
+    bb[lane] = second < 0 ? -1 : 3 * second;
+    rn[lane] = k.normal_row;
+    rt[lane] = k.tangent_row;
+  }
+  CompactBatch& C = out.compact[static_cast<size_t>(bi)];
+  double diag_n[W], diag_t[W];
+  unsigned singular = 0, two = 0, fric = 0;
+  if (!pack_compact_simd(p, rn, rt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact)) return false;
+  const unsigned used = (1u << lanes) - 1u;
+  if ((singular & used) != 0) return false;
+  if (!exact) return true;
+  int* row_of = out.row_of.data() + static_cast<size_t>(bi) * 2 * W;
+  for (int lane = 0; lane < lanes; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane]];
+    put_lane(out, C, row_of, lane, a[lane] / 3, bb[lane] < 0 ? -1 : bb[lane] / 3, k.mu, k.normal_row, k.tangent_row);
+  }
+  for (int lane = lanes; lane < W; ++lane) {  // padding: fill_batch's zero rows, zero body, A_ii = 1
+    for (int q = 0; q < 4; ++q) C.jn[q][lane] = C.jt[q][lane] = 0.0;
+    for (int s = 0; s < 6; ++s) C.mjn[s][lane] = 0.0;
+    C.mjt[0][lane] = C.mjt[1][lane] = 0.0;
+    C.bn[lane] = C.bt[lane] = C.mu[lane] = 0.0;
+    C.la[lane] = C.lb[lane] = out.body_entries;
+    C.ka[lane] = C.kb[lane] = 0;
+    row_of[lane] = row_of[W + lane] = -1;
+    diag_n[lane] = diag_t[lane] = 1.0;
+  }
+  C.two = static_cast<std::uint8_t>(two & used);
+  C.fric = static_cast<std::uint8_t>(fric & used);
+  C.count = lanes;
+  const size_t s0p = static_cast<size_t>(bi) * 2 * W;
+  std::copy(diag_n, diag_n + W, out.diag.data() + s0p);
+  std::copy(diag_t, diag_t + W, out.diag.data() + s0p + W);
+  for (int s = 0; s < 2 * W; ++s) lp[s0p + s] = other[s0p + s] = row_of[s] >= 0 ? lambda[row_of[s]] : 0.0;
+  return true;
+}
 
 }  // namespace
 
@@ -62,6 +120,13 @@ bool fill_compact(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& 
                   double* lp, double* other, double omega, bool full) {
   Batch& B = out.batches[static_cast<size_t>(bi)];
   if (full) {
+    fill_batch(p, lambda, out, bi, lp, other);
+    if (omega != 1.0) over_relax(B, omega);
+    return false;
+  }
+  bool exact = false;
+  if (pack_direct(p, lambda, out, bi, lp, other, omega, exact)) {
+    if (exact) return true;
     fill_batch(p, lambda, out, bi, lp, other);
     if (omega != 1.0) over_relax(B, omega);
     return false;

@@ -89,9 +89,13 @@ inline void expand(const CompactBatch& C, Batch& B) {
 /// coefficients, bodies and count (else C is undefined and B must be swept as it is).
 bool compress(const Batch& B, CompactBatch& C);
 
-/// fill_batch (pgs_colored_layout.hpp) of batch `bi` and over_relax by ω (≠ 1) in cache, compressed
-/// into out.compact[bi]; when it does not compress exactly (or `full` is set), the full batch
-/// goes to out.batches[bi] instead and false is returned (true: out.batches[bi] not written).
+/// fill_batch (pgs_colored_layout.hpp) of batch `bi` and over_relax by ω (≠ 1), compressed into
+/// out.compact[bi]; when it does not compress exactly (or `full` is set), the full batch goes to
+/// out.batches[bi] instead and false is returned (true: out.batches[bi] not written). A batch of
+/// single contacts with friction and rows in the usual storage is packed straight into the
+/// compact batch (pack_compact_simd, pgs_colored_pack_simd.hpp: only the stored coefficients are
+/// written, the derived ones compared in registers with compress()'s derivation, the same
+/// verdict and bits); other batches are filled full in cache and compressed.
 bool fill_compact(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi,
                   double* lp, double* other, double omega, bool full);
 
