@@ -1,6 +1,7 @@
 #include "dc/engine/broad_phase.hpp"
 
 #include <algorithm>
+#include <span>
 #include <cmath>
 
 #include "dc/core/error.hpp"
@@ -144,9 +145,10 @@ void UniformGridBroadPhase::find(int n, const Lo& lo, const Hi& hi, const Extent
   // others): each job's list holds, with headroom for the tested pairs written past the kept
   // ones, as many as the most pairs a run has found, so that a run which finds no more pairs
   // than an earlier one allocates nothing, however they fall on the jobs.
+  // A list that grows takes at least half again its size, so a growing pile reallocates it rarely.
   const std::size_t room = most_found_ + most_found_ / 4 + 64;
-  for (int p = 0; p < jobs; ++p)
-    if (by_body_[static_cast<size_t>(p)].size() < room) by_body_[static_cast<size_t>(p)].resize(room);
+  for (auto& list : std::span(by_body_).first(static_cast<size_t>(jobs)))
+    if (list.size() < room) list.resize(std::max(room, list.size() + list.size() / 2));
   tests_.assign(static_cast<size_t>(jobs), 0);
   found_.assign(static_cast<size_t>(jobs), 0);
   run_parts(threads, jobs, [&](int p) {
