@@ -1,8 +1,8 @@
 #pragma once
 // The solved (λ_n, λ_t) of a contact list packed apart from its contacts: integrate() gathers
 // them from the solved rows into 16 bytes a contact and the next step's builtin warm start reads
-// them there, instead of integrate() writing two doubles into every 128-byte Contact (a read for
-// ownership of a cache line per contact) and the warm start reading that line back. The
+// them there: two doubles written into every 128-byte Contact would cost a read for ownership
+// of a cache line per contact, and the warm start would read that line back. The
 // contacts' own lambda_n, lambda_t are written from the packed values when a caller reads the
 // list (World::contacts(), previous_contacts(): the same numbers, later).
 #include <Eigen/Core>

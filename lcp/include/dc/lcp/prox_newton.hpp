@@ -67,8 +67,9 @@ struct ProxNewtonDef {
   /// On loose and small piles nncg reaches the target in tens to a few hundred sweeps; on 1,000-
   /// body impacts and polydisperse piles it gets there in thousands, each sweep far cheaper than
   /// a Newton iteration (a few thousand sweeps cost less than one Newton part on such a pile).
-  /// On 250-body impacts nncg still converging at the window's rate reaches the target in up
-  /// to ~8,000 sweeps on steps where the Newton part from an earlier iterate costs more.
+  /// On 250-body impacts nncg still converging at the window's rate can need several thousand
+  /// sweeps to the target, and on those steps they cost less than the Newton part from an
+  /// earlier iterate.
   int lead_sweeps = 10000;
   /// Which nncg runs the lead stage: Natural ("nncg"), Colored ("nncg-colored": the same
   /// momentum on pgs-colored's sweeps, cheaper per sweep on large problems, in colour order and
@@ -95,11 +96,11 @@ struct ProxNewtonDef {
   int lead_window = 16;
   double lead_window_gain = 2.0;
   /// lead_window_gain on problems of more than `lead_window_bodies` bodies, where the window
-  /// grows (default 1.3; > 1): there a gain of 2 handed 250-body impact steps to the Newton
-  /// part where nncg still fell 1.3–2-fold per window and reached the target for less than that
-  /// part's factorisations, whose time goes to the proximal finish's fallback sweeps and
-  /// refactorisations rather than to quadratic convergence. On box piles (60 bodies) the lower
-  /// gain ran nncg on where the Newton part from its iterate finishes sooner.
+  /// grows (default 1.3; > 1): on 250-body impact steps nncg often still falls 1.3–2-fold per
+  /// window and reaches the target for less than the Newton part's factorisations cost, whose
+  /// time goes to the proximal finish's fallback sweeps and refactorisations rather than to
+  /// quadratic convergence. On box piles (60 bodies, below the threshold) the Newton part from
+  /// nncg's iterate finishes sooner, so there the window keeps lead_window_gain.
   double lead_window_gain_above = 1.3;
   /// The lead stage also hands over after this many chunks in a row without a new best hard
   /// residual (the stall rule; 0 = none), scaled with the bodies as lead_window

@@ -156,16 +156,7 @@ bool pack_batch_simd(const LcpProblem& p, const Prepared& out, int s0, int lanes
   if (!simd_pack_available()) return false;
   int rn[W], rt[W], a[W], bb[W];
   const int* order = out.order.data() + s0;
-  for (int lane = 0; lane < W; ++lane) {
-    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
-    if (!k.has_friction()) return false;
-    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
-    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
-    a[lane] = 3 * first;
-    bb[lane] = second < 0 ? -1 : 3 * second;
-    rn[lane] = k.normal_row;
-    rt[lane] = k.tangent_row;
-  }
+  if (!lane_rows(p, order, lanes, rn, rt, a, bb)) return false;
   unsigned singular_n = 0, singular_t = 0;
   if (!pack_rows_simd(p, rn, a, bb, B.jn, B.mjn, B.bn, diag_n, singular_n) ||
       !pack_rows_simd(p, rt, a, bb, B.jt, B.mjt, B.bt, diag_t, singular_t))

@@ -128,6 +128,25 @@ inline void lanes_of(const Prepared& out, int k, int local, int& s0, int& lanes)
   lanes = std::min(per, out.start[static_cast<size_t>(k) + 1] - s0);
 }
 
+/// The rows and J columns of the W lanes whose lead contacts are order[0, lanes) (padding lanes
+/// on lane 0's contact): normal and tangent rows, a = 3·(lower body) (the only body when there is
+/// one), bb = 3·(other body) or −1. False when a contact has no friction (then the batch is not
+/// packed from these arrays).
+inline bool lane_rows(const LcpProblem& p, const int* order, int lanes, int (&rn)[W], int (&rt)[W], int (&a)[W],
+                      int (&bb)[W]) {
+  for (int lane = 0; lane < W; ++lane) {
+    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
+    if (!k.has_friction()) return false;
+    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
+    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
+    a[lane] = 3 * first;
+    bb[lane] = second < 0 ? -1 : 3 * second;
+    rn[lane] = k.normal_row;
+    rt[lane] = k.tangent_row;
+  }
+  return true;
+}
+
 // ---- pgs_colored_stage.cpp's parts of fill_batch ------------------------------------------
 /// Lane `lane` of batch B (a Batch or CompactBatch) and its rows: the Δu offsets and store flags
 /// of bodies `first` and `second` (−1: none), μ, the normal and tangent rows.

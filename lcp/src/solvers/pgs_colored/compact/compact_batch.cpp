@@ -32,16 +32,7 @@ bool pack_direct(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& l
   if (lanes <= 0) return false;
   int rn[W], rt[W], a[W], bb[W];
   const int* order = out.order.data() + s0;
-  for (int lane = 0; lane < W; ++lane) {  // (padding lanes on lane 0's rows, cleared below)
-    const ContactConstraint& k = p.constraints[order[lane < lanes ? lane : 0]];
-    if (!k.has_friction()) return false;
-    const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
-    const int second = k.has_body_a() ? std::max(k.body_a, k.body_b) : -1;
-    a[lane] = 3 * first;
-    bb[lane] = second < 0 ? -1 : 3 * second;
-    rn[lane] = k.normal_row;
-    rt[lane] = k.tangent_row;
-  }
+  if (!lane_rows(p, order, lanes, rn, rt, a, bb)) return false;  // (padding lanes cleared below)
   CompactBatch& C = out.compact[static_cast<size_t>(bi)];
   double diag_n[W], diag_t[W];
   unsigned singular = 0, two = 0, fric = 0;
