@@ -28,22 +28,6 @@ SolverOptions sweeps(int k, double omega = 1.0) {
   return o;
 }
 
-/// The problem of `def`'s world after `steps` steps of pgs (100 sweeps, previous λ as start).
-LcpProblem settled_problem(const WorldDef& def, int steps) {
-  World world(def);
-  const auto pgs = make_solver("pgs");
-  for (int k = 0; k < steps; ++k) world.step(*pgs, sweeps(100), World::WarmStart::PreviousLambda);
-  world.collide();
-  return world.assemble();
-}
-
-/// A warm start with both signs on friction rows and zeros on some normals.
-Eigen::VectorXd start_of(const LcpProblem& p) {
-  Eigen::VectorXd l0(p.rows());
-  for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
-  return l0;
-}
-
 /// pgs-colored's solve of p with `d` (compact_layout as given), and whether it swept compact batches.
 SolveResult solve(PgsColoredDef d, bool compact, const LcpProblem& p, const Eigen::VectorXd& l0,
                   const SolverOptions& o, bool& swept_compact) {
@@ -61,7 +45,7 @@ SolveResult solve(PgsColoredDef d, bool compact, const LcpProblem& p, const Eige
 /// iterates those of the full one (any ω); `compact_expected`: which layout the solver chose (1:
 /// compact, 0: full, −1: not checked).
 void expect_layouts_agree(const LcpProblem& p, int compact_expected, const std::string& what) {
-  const Eigen::VectorXd l0 = start_of(p);
+  const Eigen::VectorXd l0 = test::mixed_sign_start(p);
   for (int k : {1, 7, 30})
     for (double omega : {1.0, 1.5}) {
       const SolveResult ref = make_solver("pgs")->solve(p, l0, sweeps(k));
@@ -87,16 +71,16 @@ TEST(PgsColoredCompact, EngineProblemsSweepCompactBatchesWithTheIteratesOfPgs) {
   // The seed pile: single contacts with friction, walls (one-body contacts); frictionless
   // circles (lanes without a tangent row); a pyramid of circles of two masses; the box pyramid:
   // two-point manifolds (pair batches, not compacted) beside any single ones.
-  expect_layouts_agree(settled_problem(stress::scaled_seed_pile(100), 100), 1, "pile");
-  expect_layouts_agree(settled_problem(stress::friction_scene(0.0, 40), 60), 1, "frictionless");
-  expect_layouts_agree(settled_problem(stress::pyramid_mass_ratio(10.0, true), 30), 1, "mass ratio");
-  expect_layouts_agree(settled_problem(stress::box_pyramid(6), 20), -1, "box pyramid");
+  expect_layouts_agree(test::settled_problem(stress::scaled_seed_pile(100), 100), 1, "pile");
+  expect_layouts_agree(test::settled_problem(stress::friction_scene(0.0, 40), 60), 1, "frictionless");
+  expect_layouts_agree(test::settled_problem(stress::pyramid_mass_ratio(10.0, true), 30), 1, "mass ratio");
+  expect_layouts_agree(test::settled_problem(stress::box_pyramid(6), 20), -1, "box pyramid");
 }
 
 TEST(PgsColoredCompact, NonIsotropicInverseMassKeepsTheFullLayout) {
   // m⁻¹ of v_y ≠ m⁻¹ of v_x: the tangent's M⁻¹JᵀΔt is no longer the normal's turned, so no
   // batch with friction compresses exactly; a solve forced onto the compact layout would differ.
-  LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
+  LcpProblem p = test::settled_problem(stress::scaled_seed_pile(100), 100);
   for (Eigen::Index k = 1; k < p.inv_mass.size(); k += 3) p.inv_mass[k] *= 0.75;
   expect_layouts_agree(p, 0, "non-isotropic M⁻¹");
 }
@@ -108,7 +92,7 @@ TEST(PgsColoredCompact, DirectPackingRefusesRowsWhoseBodyBEntriesAreNotDerivable
   // turned; with the tangent's entry for v_y (equal to it in the engine's form) scaled alike, that
   // still holds and only body b's J/A_ii, no longer body a's negated, tells. Either must send the
   // whole solve to the full layout, with the iterates of "pgs".
-  const LcpProblem settled = settled_problem(stress::scaled_seed_pile(100), 100);
+  const LcpProblem settled = test::settled_problem(stress::scaled_seed_pile(100), 100);
   for (const bool both_rows : {false, true}) {
     LcpProblem p = settled;
     int changed = 0;
@@ -129,15 +113,15 @@ TEST(PgsColoredCompact, DirectPackingRefusesRowsWhoseBodyBEntriesAreNotDerivable
 }
 
 TEST(PgsColoredCompact, SmallProblemsKeepTheFullLayoutByDefault) {
-  const LcpProblem p = settled_problem(stress::scaled_seed_pile(100), 100);
+  const LcpProblem p = test::settled_problem(stress::scaled_seed_pile(100), 100);
   PgsColoredProfile profile;
   PgsColoredDef d;
   d.profile = &profile;
   ASSERT_EQ(d.compact_from_batches, -1);
-  const SolveResult a = make_pgs_colored(d)->solve(p, start_of(p), sweeps(5));
+  const SolveResult a = make_pgs_colored(d)->solve(p, test::mixed_sign_start(p), sweeps(5));
   EXPECT_EQ(profile.compact_solves, 0);
   d.compact_from_batches = 1;
-  test::expect_same_bits(a, make_pgs_colored(d)->solve(p, start_of(p), sweeps(5)), "compact from 1 batch");
+  test::expect_same_bits(a, make_pgs_colored(d)->solve(p, test::mixed_sign_start(p), sweeps(5)), "compact from 1 batch");
   EXPECT_EQ(profile.compact_solves, 1);
 }
 

@@ -2,7 +2,8 @@
 // Shared by the pgs-colored engine tests: the kernels this CPU runs (scalar always, AVX2 and
 // AVX-512 where present; the portable build runs the same list: the AVX kernels are chosen at
 // run time), one PgsColoredDef each, for the tests that compare the kernels with each other or
-// with pgs; the bit-equality those comparisons assert; and a box pyramid's contact problem.
+// with pgs; the bit-equality those comparisons assert; a box pyramid's and any settled world's
+// contact problem, and a warm start with both signs.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -13,6 +14,7 @@
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
+#include "engine/fixed_sweeps.hpp"
 
 namespace dc::test {
 
@@ -59,6 +61,24 @@ inline LcpProblem pyramid_problem(int base, int steps, double mu = 0.5) {
   for (int k = 0; k < steps; ++k) world.step(*pgs, o, World::WarmStart::PreviousLambda);
   world.collide();
   return world.assemble();
+}
+
+/// The problem of `def`'s world after `steps` steps of pgs (exactly 100 sweeps, previous λ as start).
+inline LcpProblem settled_problem(const WorldDef& def, int steps) {
+  World world(def);
+  const auto pgs = make_solver("pgs");
+  SolverOptions o = fixed_sweeps(100);
+  o.record_theta = false;
+  for (int k = 0; k < steps; ++k) world.step(*pgs, o, World::WarmStart::PreviousLambda);
+  world.collide();
+  return world.assemble();
+}
+
+/// A warm start with both signs on friction rows and zeros on some normals.
+inline Eigen::VectorXd mixed_sign_start(const LcpProblem& p) {
+  Eigen::VectorXd l0(p.rows());
+  for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
+  return l0;
 }
 
 }  // namespace dc::test

@@ -27,22 +27,6 @@ SolverOptions sweeps(int k) {
   return o;
 }
 
-/// The problem of `def`'s world after `steps` steps of pgs (100 sweeps, previous λ as start).
-LcpProblem settled_problem(const WorldDef& def, int steps) {
-  World world(def);
-  const auto pgs = make_solver("pgs");
-  for (int k = 0; k < steps; ++k) world.step(*pgs, sweeps(100), World::WarmStart::PreviousLambda);
-  world.collide();
-  return world.assemble();
-}
-
-/// λ of a warm-started solve: a start with both signs on friction rows and zeros on some normals.
-Eigen::VectorXd start_of(const LcpProblem& p) {
-  Eigen::VectorXd l0(p.rows());
-  for (int i = 0; i < p.rows(); ++i) l0[i] = p.is_friction_row(i) ? 0.1 * (i % 3 - 1) : 0.5 * (i % 4);
-  return l0;
-}
-
 TEST(PgsColoredOrder, ContactsSharingABodyAreColouredInContactOrder) {
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     test::TestRng rng(seed);
@@ -130,7 +114,7 @@ TEST(PgsColoredOrder, ColoursFollowTheRuleWithWallsStaticBodiesManifoldsAndWrapp
 }
 
 void expect_iterates_of_pgs(const LcpProblem& p, const char* what) {
-  const Eigen::VectorXd l0 = start_of(p);
+  const Eigen::VectorXd l0 = test::mixed_sign_start(p);
   for (int k : {1, 7, 30}) {
     const SolveResult a = make_solver("pgs")->solve(p, l0, sweeps(k));
     for (const PgsColoredDef& d : test::pgs_colored_kernel_defs()) {
@@ -146,14 +130,14 @@ void expect_iterates_of_pgs(const LcpProblem& p, const char* what) {
 TEST(PgsColoredOrder, IteratesAreThoseOfPgsOnAPyramidAndAPile) {
   // The box pyramid: two-point manifolds on every face, each box on two below (base 10: chains
   // of fewer than 64 contacts); the seed pile: single contacts with friction.
-  expect_iterates_of_pgs(settled_problem(stress::box_pyramid(10), 20), "pyramid");
-  expect_iterates_of_pgs(settled_problem(stress::scaled_seed_pile(100), 100), "pile");
+  expect_iterates_of_pgs(test::settled_problem(stress::box_pyramid(10), 20), "pyramid");
+  expect_iterates_of_pgs(test::settled_problem(stress::scaled_seed_pile(100), 100), "pile");
 }
 
 TEST(PgsColoredOrder, GreedyColouringReachesTheFixedPointOfTheOrderedOne) {
   WorldDef def = stress::box_pyramid(8);
   def.contact.friction = 0.0;  // a convex QP: every Gauss–Seidel order converges to its solution
-  const LcpProblem p = settled_problem(def, 30);
+  const LcpProblem p = test::settled_problem(def, 30);
   PgsColoredDef greedy;
   greedy.ordered_colors = false;
   SolverOptions o = sweeps(20000);
