@@ -365,8 +365,7 @@ void BM_StepStages(benchmark::State& state) {
 /// them in a step: counters ns_<part> per contact row (thread CPU time) as BM_StepStages's
 /// ns_solve_<part>, and ns_solve. Cheaper to repeat than BM_StepStages (no collide, assemble or
 /// integrate), for comparing set-up and sweep variants.
-void BM_ColoredSolveParts(benchmark::State& state) {
-  const Pile& p = pile_of(state, 1);
+void colored_solve_parts(benchmark::State& state, const Pile& p) {
   dc::PgsColoredProfile prof;
   dc::PgsColoredDef def;
   def.profile = &prof;
@@ -396,6 +395,11 @@ void BM_ColoredSolveParts(benchmark::State& state) {
       {"du0", prof.du0},       {"sweeps", prof.sweeps},     {"unpermute", prof.unpermute},
       {"residual", prof.residual}};
   for (const auto& [name, sec] : parts) state.counters[std::string("ns_solve_") + name] = 1e9 * sec / rows;
+}
+void BM_ColoredSolveParts(benchmark::State& state) { colored_solve_parts(state, pile_of(state, 1)); }
+/// BM_ColoredSolveParts on the pile built at rest (args: bodies, order as BM_StepOnlySettled's).
+void BM_ColoredSolvePartsSettled(benchmark::State& state) {
+  colored_solve_parts(state, pile(bodies_of(state), static_cast<int>(state.range(1)), true));
 }
 
 void sizes(benchmark::internal::Benchmark* b) {
@@ -455,6 +459,11 @@ BENCHMARK(BM_ColoredSolveParts)
     ->ArgNames({"bodies", "morton"})
     ->ArgsProduct({{1000, 10000, 40000}, {0, 1}})
     ->Iterations(30)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredSolvePartsSettled)
+    ->ArgNames({"bodies", "morton"})
+    ->ArgsProduct({{1000, 10000, 40000}, {0, 3}})
+    ->Iterations(10)
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

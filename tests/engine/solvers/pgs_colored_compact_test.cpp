@@ -72,6 +72,8 @@ TEST(PgsColoredCompact, EngineProblemsSweepCompactBatchesWithTheIteratesOfPgs) {
   // circles (lanes without a tangent row); a pyramid of circles of two masses; the box pyramid:
   // two-point manifolds (pair batches, not compacted) beside any single ones.
   expect_layouts_agree(test::settled_problem(stress::scaled_seed_pile(100), 100), 1, "pile");
+  // Colours of many batches: the compact kernels' look-ahead (prefetches) runs inside them.
+  expect_layouts_agree(test::settled_problem(stress::scaled_seed_pile(1000), 100), 1, "pile of 1,000");
   expect_layouts_agree(test::settled_problem(stress::friction_scene(0.0, 40), 60), 1, "frictionless");
   expect_layouts_agree(test::settled_problem(stress::pyramid_mass_ratio(10.0, true), 30), 1, "mass ratio");
   expect_layouts_agree(test::settled_problem(stress::box_pyramid(6), 20), -1, "box pyramid");
