@@ -26,6 +26,7 @@
 #include "solvers/newton_sparse/gmres.hpp"
 #include "solvers/newton_sparse/merit_window.hpp"
 #include "solvers/newton_sparse/natural_map.hpp"
+#include "solvers/newton_sparse/row_product.hpp"
 #include "solvers/newton_sparse/sparse_factor.hpp"
 #include "solvers/nncg_momentum.hpp"
 #include "solvers/solver_common.hpp"
@@ -209,7 +210,7 @@ class NewtonStep {
     for (int i = 0; i < n_; ++i)
       if (!lin_.free[static_cast<size_t>(i)]) u_[i] = 0.0;
     for (const FrictionCoupling& c : lin_.couplings) u_[c.row] = c.slope * in[c.normal];
-    out.noalias() = p_.A * u_;
+    row_product(p_.A, u_, out);
     for (int i = 0; i < n_; ++i) out[i] = lin_.free[static_cast<size_t>(i)] ? out[i] + rho_ * in[i] : in[i];
   }
 
