@@ -102,7 +102,8 @@ class NewtonStep {
 
   /// GMRES on the full Newton system preconditioned with the factor kept from an earlier
   /// factorisation (NewtonSparseDef::stale_factor_iterations); true when it met η_k within that
-  /// many iterations (x is then the direction), false to refactorise.
+  /// many iterations, or came within stale_accept·η_k (x is then the direction), false to
+  /// refactorise.
   bool stale_solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
     if (def_.stale_factor_iterations <= 0 || !factor_.factored()) return false;
     const auto t0 = Clock::now();
@@ -111,7 +112,8 @@ class NewtonStep {
     const KrylovOutcome k = gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.stale_factor_iterations, eta_, dot());
     st_.krylov_iterations += k.iterations;
     st_.solve_ms += ms_since(t0);
-    if (!k.converged || !x.allFinite()) return false;
+    const bool near = k.converged || k.relative_residual <= def_.stale_accept * eta_;  // stale_accept
+    if (!near || !x.allFinite()) return false;
     ++st_.stale_directions;
     return true;
   }
@@ -395,6 +397,8 @@ NewtonSparseSolver::NewtonSparseSolver(const NewtonSparseDef& def)
   if (!(def.fallback_cap_fall >= 0 && def.fallback_cap_fall <= 1))
     throw InvalidArgument("newton-sparse: fallback_cap_fall must be in [0, 1]");
   if (def.nonmonotone_window < 0) throw InvalidArgument("newton-sparse: nonmonotone_window must be >= 0");
+  if (!(std::isfinite(def.stale_accept) && def.stale_accept >= 1))
+    throw InvalidArgument("newton-sparse: stale_accept must be finite and >= 1");
 }
 
 NewtonSparseSolver::~NewtonSparseSolver() = default;
