@@ -50,6 +50,7 @@ struct Variant {
 void apply_route(dc::ProximalPointDef& r, const std::string& key, double x) {
   if (key == "stale_factor_iterations") r.newton_sparse.stale_factor_iterations = static_cast<int>(x);
   else if (key == "krylov_max") r.newton_sparse.krylov_max = static_cast<int>(x);
+  else if (key == "stale_accept") r.newton_sparse.stale_accept = x;
   else if (key == "fallback_doublings") r.newton_sparse.fallback_doublings = static_cast<int>(x);
   else if (key == "newton_stalls" || key == "ns_max_stalls") r.newton_sparse.max_stalls = static_cast<int>(x);
   else if (key == "stop_at_target") r.stop_at_target = x != 0;

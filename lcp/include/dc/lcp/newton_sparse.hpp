@@ -97,6 +97,13 @@ struct NewtonSparseDef {
   /// from the factorised one by the rows that changed mode, the coupled friction rows and the
   /// change of ρ and of A's diagonal, so GMRES needs about as many iterations as that rank.
   int stale_factor_iterations = 0;
+  /// A stale-factor GMRES run that ends at the cap above its tolerance η still gives the
+  /// direction when its relative residual is at most this multiple of η (dimensionless ≥ 1;
+  /// default 1: only runs that met η). The run's iterate is an inexact Newton direction like
+  /// the others, a little less accurate; the line search judges it. Refactorising instead costs
+  /// a factorisation and a GMRES run from zero with the fresh factor, which on contact problems
+  /// with many sliding rows (the coupling the factor leaves out) takes as many iterations again.
+  double stale_accept = 1.0;
   /// GMRES's inner products as eight interleaved partial sums in a fixed order instead of one
   /// index-order sum (default false). Both give the same bits in every build; the lanes are
   /// several times faster on long vectors (GMRES's Gram–Schmidt is much of a Krylov direction's

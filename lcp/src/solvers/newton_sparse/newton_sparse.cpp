@@ -26,6 +26,7 @@
 #include "solvers/newton_sparse/gmres.hpp"
 #include "solvers/newton_sparse/merit_window.hpp"
 #include "solvers/newton_sparse/natural_map.hpp"
+#include "solvers/newton_sparse/row_product.hpp"
 #include "solvers/newton_sparse/sparse_factor.hpp"
 #include "solvers/nncg_momentum.hpp"
 #include "solvers/solver_common.hpp"
@@ -101,7 +102,8 @@ class NewtonStep {
 
   /// GMRES on the full Newton system preconditioned with the factor kept from an earlier
   /// factorisation (NewtonSparseDef::stale_factor_iterations); true when it met η_k within that
-  /// many iterations (x is then the direction), false to refactorise.
+  /// many iterations, or came within stale_accept·η_k (x is then the direction), false to
+  /// refactorise.
   bool stale_solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
     if (def_.stale_factor_iterations <= 0 || !factor_.factored()) return false;
     const auto t0 = Clock::now();
@@ -110,7 +112,8 @@ class NewtonStep {
     const KrylovOutcome k = gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.stale_factor_iterations, eta_, dot());
     st_.krylov_iterations += k.iterations;
     st_.solve_ms += ms_since(t0);
-    if (!k.converged || !x.allFinite()) return false;
+    const bool near = k.converged || k.relative_residual <= def_.stale_accept * eta_;  // stale_accept
+    if (!near || !x.allFinite()) return false;
     ++st_.stale_directions;
     return true;
   }
@@ -209,7 +212,7 @@ class NewtonStep {
     for (int i = 0; i < n_; ++i)
       if (!lin_.free[static_cast<size_t>(i)]) u_[i] = 0.0;
     for (const FrictionCoupling& c : lin_.couplings) u_[c.row] = c.slope * in[c.normal];
-    out.noalias() = p_.A * u_;
+    row_product(p_.A, u_, out);
     for (int i = 0; i < n_; ++i) out[i] = lin_.free[static_cast<size_t>(i)] ? out[i] + rho_ * in[i] : in[i];
   }
 
@@ -394,6 +397,8 @@ NewtonSparseSolver::NewtonSparseSolver(const NewtonSparseDef& def)
   if (!(def.fallback_cap_fall >= 0 && def.fallback_cap_fall <= 1))
     throw InvalidArgument("newton-sparse: fallback_cap_fall must be in [0, 1]");
   if (def.nonmonotone_window < 0) throw InvalidArgument("newton-sparse: nonmonotone_window must be >= 0");
+  if (!(std::isfinite(def.stale_accept) && def.stale_accept >= 1))
+    throw InvalidArgument("newton-sparse: stale_accept must be finite and >= 1");
 }
 
 NewtonSparseSolver::~NewtonSparseSolver() = default;

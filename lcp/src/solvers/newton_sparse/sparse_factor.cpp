@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <optional>
 #include <string>
@@ -33,6 +34,15 @@ bool supernodal_choice(bool requested) {
   throw ConfigError("DC_CHOLMOD: '" + v + "' is neither 'simplicial' nor 'supernodal'");
 }
 
+/// Eigen's CHOLMOD decomposition with its factor reachable: solve() calls cholmod_solve2 on it
+/// with kept workspace (Eigen's solve calls cholmod_solve, which allocates the answer and its
+/// work vectors on every call and frees them again; cholmod_solve calls cholmod_solve2 with no
+/// workspace, so the arithmetic and the bits are the same).
+class Cholmod : public Eigen::CholmodDecomposition<ColMatrix, Eigen::Lower> {
+ public:
+  [[nodiscard]] cholmod_factor* factor() const { return m_cholmodFactor; }
+};
+
 }  // namespace
 
 struct FreeBlockFactor::Impl {
@@ -49,7 +59,39 @@ struct FreeBlockFactor::Impl {
   bool symmetric = true;
   bool analysed = false;
   // Factorisations (one is active after factorize()).
-  Eigen::CholmodDecomposition<ColMatrix, Eigen::Lower> cholmod;
+  Cholmod cholmod;
+  // cholmod_solve2's answer and work vectors, kept from solve to solve (they are reallocated
+  // by CHOLMOD only when the size changes); freed before the decomposition's cholmod_common.
+  mutable cholmod_dense* solve_x = nullptr;
+  mutable cholmod_dense* solve_y = nullptr;
+  mutable cholmod_dense* solve_e = nullptr;
+
+  Impl() = default;
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl() {
+    cholmod_common& c = cholmod.cholmod();
+    cholmod_free_dense(&solve_x, &c);
+    cholmod_free_dense(&solve_y, &c);
+    cholmod_free_dense(&solve_e, &c);
+  }
+
+  /// x = P⁻¹ r with the CHOLMOD factor; false when CHOLMOD failed.
+  bool cholmod_solve(const Eigen::VectorXd& r, Eigen::VectorXd& x) const {
+    cholmod_dense b{};
+    b.nrow = static_cast<size_t>(r.size());
+    b.ncol = 1;
+    b.nzmax = b.nrow;
+    b.d = b.nrow;
+    b.x = const_cast<double*>(r.data());  // CHOLMOD reads B only
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    auto& c = const_cast<Cholmod&>(cholmod).cholmod();
+    if (!cholmod_solve2(CHOLMOD_A, cholmod.factor(), &b, nullptr, &solve_x, nullptr, &solve_y, &solve_e, &c))
+      return false;
+    x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(solve_x->x), r.size());
+    return true;
+  }
   std::optional<Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower>> ldlt;
   Eigen::SparseLU<ColMatrix> lu;
   enum class Active { None, Cholmod, Ldlt, Lu } active = Active::None;
@@ -184,7 +226,9 @@ bool FreeBlockFactor::factorize(const std::vector<char>& free, double rho, Newto
 void FreeBlockFactor::solve(const Eigen::VectorXd& r, Eigen::VectorXd& x) const {
   const Impl& m = *impl_;
   switch (m.active) {
-    case Impl::Active::Cholmod: x = m.cholmod.solve(r); break;
+    case Impl::Active::Cholmod:
+      if (!m.cholmod_solve(r, x)) x = Eigen::VectorXd::Constant(r.size(), std::nan(""));  // callers test finiteness
+      break;
     case Impl::Active::Ldlt: x = m.ldlt->solve(r); break;
     case Impl::Active::Lu: x = m.lu.solve(r); break;
     case Impl::Active::None: x = r; break;  // not reached: callers factorise first
