@@ -9,7 +9,6 @@
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 #include "solvers/pgs_colored/relax/over_relaxation.hpp"
-#include "solvers/pgs_colored/setup/pack_prefetch.hpp"
 
 namespace dc::colored {
 namespace {
@@ -31,10 +30,6 @@ bool pack_direct(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& l
   int s0 = 0, lanes = 0;
   lanes_of(out, slot, bi - out.batch_of[static_cast<size_t>(slot)], s0, lanes);
   if (lanes <= 0) return false;
-  const int positions = static_cast<int>(out.order.size());
-  for (int lane = 0; lane < lanes; ++lane)  // the sources of later batches on their way (hints)
-    prefetch_sources(p, lambda.data(), out.dynamic.data(), out.numbering.slot.data(), out.order.data(), positions,
-                     s0 + lane);
   int rn[W], rt[W], a[W], bb[W];
   const int* order = out.order.data() + s0;
   if (!lane_rows(p, order, lanes, rn, rt, a, bb)) return false;  // (padding lanes cleared below)
