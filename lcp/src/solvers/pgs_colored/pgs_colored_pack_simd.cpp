@@ -290,7 +290,7 @@ DC_PACK_AVX2 bool pack_rows_staged(const double* base, const int* off, const dou
 
 DC_PACK_AVX2 bool pack_compact_simd(const LcpProblem& p, const int* rn, const int* rt, const int* a, const int* bb,
                                     double omega, CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular,
-                                    unsigned& two, unsigned& fric, bool& exact) {
+                                    unsigned& two, unsigned& fric, bool& exact, bool wide) {
   if (!simd_pack_available()) return false;
   int qn[W], qt[W];
   double bn[W], bt[W];
@@ -299,7 +299,7 @@ DC_PACK_AVX2 bool pack_compact_simd(const LcpProblem& p, const int* rn, const in
     bn[l] = p.b[rn[l]];
     bt[l] = p.b[rt[l]];
   }
-  if (avx512_pack_available()) {
+  if (wide && avx512_pack_available()) {
     compact_rows8(p, qn, qt, bn, bt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
     return true;
   }
@@ -345,7 +345,7 @@ bool pack_rows_staged(const double*, const int*, const double*, const int*, cons
   return false;
 }
 bool pack_compact_simd(const LcpProblem&, const int*, const int*, const int*, const int*, double, CompactBatch&,
-                       double*, double*, unsigned&, unsigned&, unsigned&, bool&) {
+                       double*, double*, unsigned&, unsigned&, unsigned&, bool&, bool) {
   return false;
 }
 bool simd_pack_available() { return false; }
