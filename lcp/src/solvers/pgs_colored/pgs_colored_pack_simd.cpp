@@ -1,5 +1,6 @@
-// pgs-colored's row packing, 4 lanes per AVX2 register (pgs_colored_pack_simd.hpp). Compiled for
-// AVX2 by function attribute in every x86-64 build and chosen at run time, as the sweep kernels.
+// pgs-colored's row packing, 4 lanes per AVX2 register, and the compact pack's 8 lanes per AVX-512
+// register (pgs_colored_pack_simd.hpp). Compiled for AVX2 / AVX-512 by function attribute in
+// every x86-64 build and chosen at run time, as the sweep kernels.
 // No FMA: pack_row's products and sums round one at a time (the build has no FP contraction).
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 
