@@ -255,6 +255,33 @@ DC_PACK_AVX512 void compact_rows8(const LcpProblem& p, const int* qn, const int*
   exact = ((tw & ~(n.same_j & t.same_j)) | (t.nz_m & ~t.same_m)) == 0;
 }
 
+/// usual() with the columns compared in one masked vector compare: row i's n entries (3 or 6)
+/// at q0 are a, a+1, a+2 (, bb, bb+1, bb+2). Nothing beyond the row's entries is read.
+DC_PACK_AVX512 inline bool usual_wide(const SparseRowMatrix& J, int i, int a, int bb, int& q0) {
+  const int n = row_extent(J, i, q0);
+  const __mmask8 want = bb < 0 ? 0x07 : 0x3F;
+  if (n != (bb < 0 ? 3 : 6)) return false;
+  const __m256i col = _mm256_maskz_loadu_epi32(want, J.innerIndexPtr() + q0);
+  const __m256i expect = _mm256_add_epi32(_mm256_setr_epi32(a, a, a, bb, bb, bb, 0, 0),
+                                          _mm256_setr_epi32(0, 1, 2, 0, 1, 2, 0, 0));
+  return _mm256_mask_cmpeq_epi32_mask(want, col, expect) == want;
+}
+
+/// pack_compact_simd on AVX-512: the storage checks (usual_wide), b, and compact_rows8.
+DC_PACK_AVX512 bool pack_compact_wide(const LcpProblem& p, const int* rn, const int* rt, const int* a, const int* bb,
+                                      double omega, CompactBatch& C, double* diag_n, double* diag_t,
+                                      unsigned& singular, unsigned& two, unsigned& fric, bool& exact) {
+  alignas(32) int qn[W], qt[W];
+  alignas(64) double bn[W], bt[W];
+  for (int l = 0; l < W; ++l) {
+    if (!usual_wide(p.J, rn[l], a[l], bb[l], qn[l]) || !usual_wide(p.J, rt[l], a[l], bb[l], qt[l])) return false;
+    bn[l] = p.b[rn[l]];
+    bt[l] = p.b[rt[l]];
+  }
+  compact_rows8(p, qn, qt, bn, bt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
+  return true;
+}
+
 bool avx512_pack_available() {
   static const bool ok = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
                          __builtin_cpu_supports("avx512vl");
@@ -293,16 +320,14 @@ DC_PACK_AVX2 bool pack_compact_simd(const LcpProblem& p, const int* rn, const in
                                     double omega, CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular,
                                     unsigned& two, unsigned& fric, bool& exact, bool wide) {
   if (!simd_pack_available()) return false;
+  if (wide && avx512_pack_available())
+    return pack_compact_wide(p, rn, rt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
   int qn[W], qt[W];
   double bn[W], bt[W];
   for (int l = 0; l < W; ++l) {
     if (!usual(p.J, rn[l], a[l], bb[l], qn[l]) || !usual(p.J, rt[l], a[l], bb[l], qt[l])) return false;
     bn[l] = p.b[rn[l]];
     bt[l] = p.b[rt[l]];
-  }
-  if (wide && avx512_pack_available()) {
-    compact_rows8(p, qn, qt, bn, bt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
-    return true;
   }
   const double* value = p.J.valuePtr();
   const double* im = p.inv_mass.data();
