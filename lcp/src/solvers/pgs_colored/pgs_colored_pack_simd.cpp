@@ -169,6 +169,14 @@ DC_PACK_AVX2 unsigned compact4(const double* value, const double* im, double dt,
 // ---- AVX-512: all W = 8 lanes of a row in one register ------------------------------------
 #define DC_PACK_AVX512 __attribute__((target("avx512f,avx512dq,avx512vl")))
 
+/// nonzero4 and same4 on 8 lanes (not lambdas: a lambda does not take its function's target).
+DC_PACK_AVX512 inline unsigned nonzero8(__m512d x) {
+  return static_cast<unsigned>(_mm512_test_epi64_mask(_mm512_castpd_si512(x), _mm512_castpd_si512(x)));
+}
+DC_PACK_AVX512 inline unsigned same8(__m512d x, __m512d y) {
+  return static_cast<unsigned>(_mm512_cmpeq_epi64_mask(_mm512_castpd_si512(x), _mm512_castpd_si512(y)));
+}
+
 /// compact4's row on all 8 lanes, the sources gathered (no transposes): lane l's J entries at
 /// value + q0[l] (slots 3–5 only on the lanes of `two_b`, the lanes with a second body; +0
 /// elsewhere, as rows4 loads them), its M⁻¹ at im + a[l] and im + bb[l]. The same operations on
@@ -200,21 +208,18 @@ DC_PACK_AVX512 unsigned compact8(const double* value, __m512d ima[3], __m512d im
   }
   constexpr int kept[4] = {0, 1, 2, 5};
   for (int k = 0; k < 4; ++k) _mm512_store_pd(j[k], js[kept[k]]);
-  auto bits = [](__m512d x) { return _mm512_castpd_si512(x); };
-  auto same = [&](__m512d x, __m512d y) { return static_cast<unsigned>(_mm512_cmpeq_epi64_mask(bits(x), bits(y))); };
-  auto nonzero = [&](__m512d x) { return static_cast<unsigned>(_mm512_test_epi64_mask(bits(x), bits(x))); };
-  c.nz_j = nonzero(_mm512_or_pd(js[3], js[4]));
-  c.same_j = same(js[3], _mm512_sub_pd(zero, js[0])) & same(js[4], _mm512_sub_pd(zero, js[1]));
+  c.nz_j = nonzero8(_mm512_or_pd(js[3], js[4]));
+  c.same_j = same8(js[3], _mm512_sub_pd(zero, js[0])) & same8(js[4], _mm512_sub_pd(zero, js[1]));
   if (mjn == nullptr) {
     for (int s = 0; s < 6; ++s) _mm512_store_pd(mj[s], m[s]);
   } else {
     _mm512_store_pd(mj[0], m[2]);
     _mm512_store_pd(mj[1], m[5]);
-    c.nz_m = nonzero(_mm512_or_pd(_mm512_or_pd(m[0], m[1]), _mm512_or_pd(m[3], m[4])));
+    c.nz_m = nonzero8(_mm512_or_pd(_mm512_or_pd(m[0], m[1]), _mm512_or_pd(m[3], m[4])));
     const __m512d n0 = _mm512_load_pd(mjn[0]), n1 = _mm512_load_pd(mjn[1]);
     const __m512d n3 = _mm512_load_pd(mjn[3]), n4 = _mm512_load_pd(mjn[4]);
-    c.same_m = same(m[0], _mm512_sub_pd(zero, n1)) & same(m[1], n0) & same(m[3], _mm512_sub_pd(zero, n4)) &
-               same(m[4], n3);
+    c.same_m = same8(m[0], _mm512_sub_pd(zero, n1)) & same8(m[1], n0) & same8(m[3], _mm512_sub_pd(zero, n4)) &
+               same8(m[4], n3);
   }
   __m512d bs = _mm512_mul_pd(_mm512_loadu_pd(bi), inv);
   if (relax) bs = _mm512_mul_pd(bs, om);
