@@ -402,6 +402,40 @@ void BM_ColoredSolvePartsSettled(benchmark::State& state) {
   colored_solve_parts(state, pile(bodies_of(state), static_cast<int>(state.range(1)), true));
 }
 
+/// pgs-colored's pack and Δu⁰ alone (args: bodies, morton, evict): one-sweep solves of the settled
+/// pile's problem from the builtin guess (the layout of a repeated contact set is kept, so the
+/// pack runs on every solve, the ordering not), with `evict` MB of other data read before each
+/// solve (0: none; 4: the core's L2, as the stages before the solve displace it; 64: beyond the
+/// last-level cache of smaller machines). Counters ns_pack / ns_du0 / ns_sweep = thread CPU time
+/// per contact of those parts (PgsColoredProfile).
+void BM_ColoredPack(benchmark::State& state) {
+  const Pile& p = pile_of(state, 1);
+  dc::PgsColoredProfile prof;
+  dc::PgsColoredDef def;
+  def.profile = &prof;
+  const auto solver = dc::make_pgs_colored(def);
+  const dc::SolverOptions o = fixed_sweeps(1);
+  const dc::LcpProblem& problem = p.world->problem();
+  std::vector<double> evict(static_cast<std::size_t>(state.range(2)) << 17, 1.0);  // MB of doubles
+  (void)solver->solve(problem, p.guess, o);
+  prof = dc::PgsColoredProfile{};
+  for (auto _ : state) {
+    state.PauseTiming();
+    double sum = 0;
+    for (std::size_t k = 0; k < evict.size(); k += 8) sum += evict[k]++;
+    benchmark::DoNotOptimize(sum);
+    state.ResumeTiming();
+    const dc::SolveResult r = solver->solve(problem, p.guess, o);
+    benchmark::DoNotOptimize(r.lambda.data());
+  }
+  const double contacts = static_cast<double>(problem.constraints.size()) * static_cast<double>(state.iterations());
+  state.counters["contacts"] = problem.constraints.size();
+  state.counters["ns_pack"] = 1e9 * prof.pack / contacts;
+  state.counters["ns_du0"] = 1e9 * prof.du0 / contacts;
+  state.counters["ns_sweep"] = 1e9 * prof.sweeps / contacts;
+  state.counters["compact"] = static_cast<double>(prof.compact_solves) / static_cast<double>(state.iterations());
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"bodies", "morton"});
   for (int n : {1000, 2500, 10000, 40000})
@@ -455,6 +489,10 @@ BENCHMARK(BM_StepOnlySettled)->Apply(sizes_settled)->Unit(benchmark::kMicrosecon
 BENCHMARK(BM_ColoredStepOnly)->Apply(sizes_colored)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredStepOnlySettled)->Apply(sizes_colored)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepStages)->Apply(sizes_solvers)->Iterations(30)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ColoredPack)
+    ->ArgNames({"bodies", "morton", "evict"})
+    ->ArgsProduct({{1000, 10000, 40000}, {3}, {0, 4}})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredSolveParts)
     ->ArgNames({"bodies", "morton"})
     ->ArgsProduct({{1000, 10000, 40000}, {0, 1}})

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
@@ -111,6 +112,40 @@ TEST(PgsColoredCompact, DirectPackingRefusesRowsWhoseBodyBEntriesAreNotDerivable
     }
     ASSERT_EQ(changed, 1);
     expect_layouts_agree(p, 0, both_rows ? "body b's entries of both rows" : "body b's entry of the normal row");
+  }
+}
+
+TEST(PgsColoredCompact, DirectPackingChecksTheStorageOfEveryRow) {
+  // One two-body contact's normal row without body b's three entries (stored no more: the row
+  // acts on body a alone, a valid problem): fewer entries than the direct packing reads, so it
+  // must leave that batch to the general packing, which gives "pgs"'s λ bit for bit on every
+  // kernel with the compact layout forced.
+  LcpProblem p = test::settled_problem(stress::scaled_seed_pile(100), 100);
+  p.structure.clear();  // (its structure is edited)
+  int row = -1, from = -1;
+  for (int c = 0; c < p.constraints.size() && row < 0; ++c) {
+    const ContactConstraint& k = p.constraints[c];
+    if (!k.has_body_a() || !k.has_friction()) continue;
+    row = k.normal_row;
+    from = std::max(k.body_a, k.body_b);
+  }
+  ASSERT_GE(row, 0);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int i = 0; i < p.J.outerSize(); ++i)
+    for (SparseRowMatrix::InnerIterator it(p.J, i); it; ++it)
+      if (i != row || it.col() / 3 != from) entries.emplace_back(i, static_cast<int>(it.col()), it.value());
+  SparseRowMatrix pruned(p.J.rows(), p.J.cols());
+  pruned.setFromTriplets(entries.begin(), entries.end());
+  pruned.makeCompressed();
+  p.J = pruned;
+  const Eigen::VectorXd l0 = test::mixed_sign_start(p);
+  const SolveResult ref = make_solver("pgs")->solve(p, l0, sweeps(7));
+  for (PgsColoredDef d : test::pgs_colored_kernel_defs()) {
+    d.compact_from_batches = 0;
+    const SolveResult r = make_pgs_colored(d)->solve(p, l0, sweeps(7));
+    EXPECT_TRUE(r.message.empty()) << to_string(d.kernel) << ": " << r.message;
+    ASSERT_EQ(ref.lambda.size(), r.lambda.size());
+    for (Eigen::Index i = 0; i < r.lambda.size(); ++i) ASSERT_EQ(ref.lambda[i], r.lambda[i]) << to_string(d.kernel);
   }
 }
 

@@ -292,6 +292,7 @@ class PgsColoredSolver final : public LcpSolver {
                                                                : std::numeric_limits<int>::max();
     const bool compact = def_.compact_layout && nb > 0 && nb >= from;
     if (compact) prep.compact.resize(static_cast<size_t>(nb));
+    prep.wide_pack = kernel_.single == colored::sweep_avx512;
     std::atomic<bool> inexact{!compact};
     auto fill = [&](int bi) {
       if (bi < nb) {

@@ -51,6 +51,9 @@ struct Prepared {
   /// compact_on: set by the pack when every batch compressed exactly.
   std::vector<CompactBatch> compact;
   bool compact_on = false;
+  /// The compact pack on AVX-512 (pack_compact_simd's `wide`): set by the solver when its kernel
+  /// is the AVX-512 one, so that each kernel's tests also run its ISA's pack.
+  bool wide_pack = false;
   std::vector<PairBatch> pairs;
   std::vector<Range> ranges;
   std::vector<int> row_of;    // permuted slot → LCP row (−1: padding or no tangent row)

@@ -1,5 +1,6 @@
-// pgs-colored's row packing, 4 lanes per AVX2 register (pgs_colored_pack_simd.hpp). Compiled for
-// AVX2 by function attribute in every x86-64 build and chosen at run time, as the sweep kernels.
+// pgs-colored's row packing, 4 lanes per AVX2 register, and the compact pack's 8 lanes per AVX-512
+// register (pgs_colored_pack_simd.hpp). Compiled for AVX2 / AVX-512 by function attribute in
+// every x86-64 build and chosen at run time, as the sweep kernels.
 // No FMA: pack_row's products and sums round one at a time (the build has no FP contraction).
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 
@@ -165,6 +166,133 @@ DC_PACK_AVX2 unsigned compact4(const double* value, const double* im, double dt,
   return singular4(sum, inv);
 }
 
+// ---- AVX-512: all W = 8 lanes of a row in one register ------------------------------------
+#define DC_PACK_AVX512 __attribute__((target("avx512f,avx512dq,avx512vl")))
+
+/// nonzero4 and same4 on 8 lanes (not lambdas: a lambda does not take its function's target).
+DC_PACK_AVX512 inline unsigned nonzero8(__m512d x) {
+  return static_cast<unsigned>(_mm512_test_epi64_mask(_mm512_castpd_si512(x), _mm512_castpd_si512(x)));
+}
+DC_PACK_AVX512 inline unsigned same8(__m512d x, __m512d y) {
+  return static_cast<unsigned>(_mm512_cmpeq_epi64_mask(_mm512_castpd_si512(x), _mm512_castpd_si512(y)));
+}
+
+/// compact4's row on all 8 lanes, the sources gathered (no transposes): lane l's J entries at
+/// value + q0[l] (slots 3–5 only on the lanes of `two_b`, the lanes with a second body; +0
+/// elsewhere, as rows4 loads them), its M⁻¹ at im + a[l] and im + bb[l]. The same operations on
+/// each lane in the same order as rows4 and compact4, so the same bits. The normal row (mjn
+/// null) stores all 6 mj slots; the tangent row stores slots 2, 5 and compares 0, 1, 3, 4 with
+/// the normal's (mjn) as compact4. The masks are compact4's, 8 bits wide.
+DC_PACK_AVX512 unsigned compact8(const double* value, __m512d ima[3], __m512d imb[3], __mmask8 two_b, double dt,
+                                 const double* bi, const int* q0, double omega, double (*j)[W], double (*mj)[W],
+                                 const double (*mjn)[W], double* b, double* diag, Compare4& c) {
+  const __m256i q = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(q0));
+  const __m512d zero = _mm512_setzero_pd(), dtv = _mm512_set1_pd(dt);
+  __m512d v[6], m[6];
+  __m512d sum = zero;
+  for (int s = 0; s < 6; ++s) {
+    const __m256i at = _mm256_add_epi32(q, _mm256_set1_epi32(s));
+    const __m512d e = _mm512_mask_i32gather_pd(zero, s < 3 ? __mmask8(0xFF) : two_b, at, value, 8);
+    v[s] = _mm512_add_pd(zero, e);  // r = 0 + J_is (−0 → +0)
+    m[s] = _mm512_mul_pd(_mm512_mul_pd(v[s], s < 3 ? ima[s] : imb[s - 3]), dtv);
+    if (s >= 3) m[s] = _mm512_maskz_mov_pd(two_b, m[s]);
+    sum = _mm512_add_pd(sum, _mm512_mul_pd(v[s], m[s]));
+  }
+  const __m512d inv = _mm512_div_pd(_mm512_set1_pd(1.0), sum);
+  const __m512d om = _mm512_set1_pd(omega);
+  const bool relax = omega != 1.0;
+  __m512d js[6];
+  for (int s = 0; s < 6; ++s) {
+    js[s] = _mm512_mul_pd(v[s], inv);
+    if (relax) js[s] = _mm512_mul_pd(js[s], om);
+  }
+  constexpr int kept[4] = {0, 1, 2, 5};
+  for (int k = 0; k < 4; ++k) _mm512_store_pd(j[k], js[kept[k]]);
+  c.nz_j = nonzero8(_mm512_or_pd(js[3], js[4]));
+  c.same_j = same8(js[3], _mm512_sub_pd(zero, js[0])) & same8(js[4], _mm512_sub_pd(zero, js[1]));
+  if (mjn == nullptr) {
+    for (int s = 0; s < 6; ++s) _mm512_store_pd(mj[s], m[s]);
+  } else {
+    _mm512_store_pd(mj[0], m[2]);
+    _mm512_store_pd(mj[1], m[5]);
+    c.nz_m = nonzero8(_mm512_or_pd(_mm512_or_pd(m[0], m[1]), _mm512_or_pd(m[3], m[4])));
+    const __m512d n0 = _mm512_load_pd(mjn[0]), n1 = _mm512_load_pd(mjn[1]);
+    const __m512d n3 = _mm512_load_pd(mjn[3]), n4 = _mm512_load_pd(mjn[4]);
+    c.same_m = same8(m[0], _mm512_sub_pd(zero, n1)) & same8(m[1], n0) & same8(m[3], _mm512_sub_pd(zero, n4)) &
+               same8(m[4], n3);
+  }
+  __m512d bs = _mm512_mul_pd(_mm512_loadu_pd(bi), inv);
+  if (relax) bs = _mm512_mul_pd(bs, om);
+  _mm512_store_pd(b, bs);
+  _mm512_storeu_pd(diag, sum);
+  // singular4's test: A_ii finite and > 0, 1/A_ii finite
+  const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
+  const __mmask8 good = _mm512_cmp_pd_mask(sum, zero, _CMP_GT_OQ) & _mm512_cmp_pd_mask(sum, inf, _CMP_LT_OQ) &
+                        _mm512_cmp_pd_mask(_mm512_abs_pd(inv), inf, _CMP_LT_OQ);
+  return static_cast<unsigned>(~good) & 0xFFu;
+}
+
+/// pack_compact_simd's rows on all 8 lanes (compact8 for the normal, then the tangent row; the
+/// bodies' M⁻¹ gathered once for both). Same outputs as the AVX2 loop.
+DC_PACK_AVX512 void compact_rows8(const LcpProblem& p, const int* qn, const int* qt, const double* bn, const double* bt,
+                                  const int* a, const int* bb, double omega, CompactBatch& C, double* diag_n,
+                                  double* diag_t, unsigned& singular, unsigned& two, unsigned& fric, bool& exact) {
+  const double* im = p.inv_mass.data();
+  const __m256i ia = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(a));
+  const __m256i ib = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(bb));
+  const __mmask8 two_b = _mm256_cmpge_epi32_mask(ib, _mm256_setzero_si256());
+  const __m512d zero = _mm512_setzero_pd();
+  __m512d ima[3], imb[3];
+  for (int s = 0; s < 3; ++s) {
+    ima[s] = _mm512_mask_i32gather_pd(zero, 0xFF, _mm256_add_epi32(ia, _mm256_set1_epi32(s)), im, 8);
+    imb[s] = _mm512_mask_i32gather_pd(zero, two_b, _mm256_add_epi32(ib, _mm256_set1_epi32(s)), im, 8);
+  }
+  Compare4 n, t;
+  // (the normal row first: the tangent's comparison reads its M⁻¹JᵀΔt)
+  const unsigned sn = compact8(p.J.valuePtr(), ima, imb, two_b, p.dt, bn, qn, omega, C.jn, C.mjn, nullptr, C.bn,
+                               diag_n, n);
+  const unsigned st = compact8(p.J.valuePtr(), ima, imb, two_b, p.dt, bt, qt, omega, C.jt, C.mjt, C.mjn, C.bt,
+                               diag_t, t);
+  singular = sn | st;
+  const unsigned tw = n.nz_j | t.nz_j;
+  two = tw;
+  fric = t.nz_m;
+  exact = ((tw & ~(n.same_j & t.same_j)) | (t.nz_m & ~t.same_m)) == 0;
+}
+
+/// usual() with the columns compared in one masked vector compare: row i's n entries (3 or 6)
+/// at q0 are a, a+1, a+2 (, bb, bb+1, bb+2). Nothing beyond the row's entries is read.
+DC_PACK_AVX512 inline bool usual_wide(const SparseRowMatrix& J, int i, int a, int bb, int& q0) {
+  const int n = row_extent(J, i, q0);
+  const __mmask8 want = bb < 0 ? 0x07 : 0x3F;
+  if (n != (bb < 0 ? 3 : 6)) return false;
+  const __m256i col = _mm256_maskz_loadu_epi32(want, J.innerIndexPtr() + q0);
+  const __m256i expect = _mm256_add_epi32(_mm256_setr_epi32(a, a, a, bb, bb, bb, 0, 0),
+                                          _mm256_setr_epi32(0, 1, 2, 0, 1, 2, 0, 0));
+  return _mm256_mask_cmpeq_epi32_mask(want, col, expect) == want;
+}
+
+/// pack_compact_simd on AVX-512: the storage checks (usual_wide), b, and compact_rows8.
+DC_PACK_AVX512 bool pack_compact_wide(const LcpProblem& p, const int* rn, const int* rt, const int* a, const int* bb,
+                                      double omega, CompactBatch& C, double* diag_n, double* diag_t,
+                                      unsigned& singular, unsigned& two, unsigned& fric, bool& exact) {
+  alignas(32) int qn[W], qt[W];
+  alignas(64) double bn[W], bt[W];
+  for (int l = 0; l < W; ++l) {
+    if (!usual_wide(p.J, rn[l], a[l], bb[l], qn[l]) || !usual_wide(p.J, rt[l], a[l], bb[l], qt[l])) return false;
+    bn[l] = p.b[rn[l]];
+    bt[l] = p.b[rt[l]];
+  }
+  compact_rows8(p, qn, qt, bn, bt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
+  return true;
+}
+
+bool avx512_pack_available() {
+  static const bool ok = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+                         __builtin_cpu_supports("avx512vl");
+  return ok;
+}
+
 }  // namespace
 
 DC_PACK_AVX2 bool pack_rows_simd(const LcpProblem& p, const int* rows, const int* a, const int* bb, double (*j)[W],
@@ -195,8 +323,10 @@ DC_PACK_AVX2 bool pack_rows_staged(const double* base, const int* off, const dou
 
 DC_PACK_AVX2 bool pack_compact_simd(const LcpProblem& p, const int* rn, const int* rt, const int* a, const int* bb,
                                     double omega, CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular,
-                                    unsigned& two, unsigned& fric, bool& exact) {
+                                    unsigned& two, unsigned& fric, bool& exact, bool wide) {
   if (!simd_pack_available()) return false;
+  if (wide && avx512_pack_available())
+    return pack_compact_wide(p, rn, rt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
   int qn[W], qt[W];
   double bn[W], bt[W];
   for (int l = 0; l < W; ++l) {
@@ -246,7 +376,7 @@ bool pack_rows_staged(const double*, const int*, const double*, const int*, cons
   return false;
 }
 bool pack_compact_simd(const LcpProblem&, const int*, const int*, const int*, const int*, double, CompactBatch&,
-                       double*, double*, unsigned&, unsigned&, unsigned&, bool&) {
+                       double*, double*, unsigned&, unsigned&, unsigned&, bool&, bool) {
   return false;
 }
 bool simd_pack_available() { return false; }

@@ -36,10 +36,12 @@ bool pack_rows_staged(const double* base, const int* off, const double* bi, cons
 /// their derivation: `two` / `fric` get compress()'s bits, `exact` whether expand() would give
 /// every one of them (over all W lanes: the caller masks out padding). diag_n / diag_t: A_ii;
 /// `singular` as pack_rows_simd's (normal or tangent). False, with nothing valid, when a row's
-/// storage is not the usual one or without AVX2.
+/// storage is not the usual one or without AVX2. `wide`: all 8 lanes of a row in one AVX-512
+/// register, the sources gathered, where the CPU has AVX-512 (else 4 lanes per AVX2 register as
+/// above); the same bits either way.
 bool pack_compact_simd(const LcpProblem& p, const int* rn, const int* rt, const int* a, const int* bb, double omega,
                        CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular, unsigned& two,
-                       unsigned& fric, bool& exact);
+                       unsigned& fric, bool& exact, bool wide = false);
 
 /// This build has pack_rows_simd's AVX2 code and this CPU runs it.
 bool simd_pack_available();

@@ -36,7 +36,8 @@ bool pack_direct(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& l
   CompactBatch& C = out.compact[static_cast<size_t>(bi)];
   double diag_n[W], diag_t[W];
   unsigned singular = 0, two = 0, fric = 0;
-  if (!pack_compact_simd(p, rn, rt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact)) return false;
+  if (!pack_compact_simd(p, rn, rt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact, out.wide_pack))
+    return false;
   const unsigned used = (1u << lanes) - 1u;
   if ((singular & used) != 0) return false;
   if (!exact) return true;
