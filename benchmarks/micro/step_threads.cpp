@@ -100,11 +100,15 @@ struct Handover {
   int steps = 0;
   std::vector<dc::TeamRunTrace> runs[5];
   std::vector<double> outside_ms[6];  // per stage and the whole step: wall time outside team runs
+  std::vector<double> helper_ms[6];   // per stage and the whole step: helper 1's time in bodies
+  int threaded_steps = 0;             // steps with at least one run of the team
   /// The runs traced since `from` of one step that began at `start` [ns] with profile p.
   void add(const std::vector<dc::TeamRunTrace>& trace, size_t from, std::int64_t start, const dc::StepProfile& p) {
     const double ms[5] = {p.collide_ms, p.assemble_ms, p.warmstart_ms, p.solve_ms, p.integrate_ms};
     ++steps;
     double outside[6] = {ms[0], ms[1], ms[2], ms[3], ms[4], p.total_ms()};
+    double helper[6] = {0, 0, 0, 0, 0, 0};
+    threaded_steps += trace.size() > from ? 1 : 0;
     for (size_t i = from; i < trace.size(); ++i) {
       double at = 1e-6 * static_cast<double>(trace[i].publish - start), edge = 0.0;
       int k = 0;
@@ -113,14 +117,22 @@ struct Handover {
       const double in_run = 1e-6 * static_cast<double>(trace[i].end - trace[i].publish);
       outside[k] -= in_run;
       outside[5] -= in_run;
+      if (trace[i].helper_start >= 0) {
+        const double busy = 1e-6 * static_cast<double>(trace[i].helper_done - trace[i].helper_start);
+        helper[k] += busy;
+        helper[5] += busy;
+      }
     }
-    for (int k = 0; k < 6; ++k) outside_ms[k].push_back(outside[k]);
+    for (int k = 0; k < 6; ++k) {
+      outside_ms[k].push_back(outside[k]);
+      helper_ms[k].push_back(helper[k]);
+    }
   }
   void print(int n, int threads) const {
     static const char* names[5] = {"collide", "assemble", "warm start", "solve", "integrate"};
     std::printf("#   hand-over, %d bodies, %d threads, per stage: runs/step, joined %%, futex wake %%, "
                 "median µs: publish→helper start, member 0 body, member 0 wait after, helper body; "
-                "median ms/step outside runs\n", n, threads);
+                "median ms/step outside runs, mean ms/step of helper 1 in bodies\n", n, threads);
     for (int k = 0; k < 5; ++k) {
       const auto& v = runs[k];
       std::vector<double> lat, body, wait, hbody;
@@ -136,11 +148,12 @@ struct Handover {
         wait.push_back(1e-3 * static_cast<double>(r.end - r.caller_done));
       }
       const double nr = std::max<double>(1.0, static_cast<double>(v.size()));
-      std::printf("#     %-10s %5.1f  %5.1f%%  %5.1f%%  %7.1f  %7.1f  %7.1f  %7.1f  %.3f\n", names[k],
+      std::printf("#     %-10s %5.1f  %5.1f%%  %5.1f%%  %7.1f  %7.1f  %7.1f  %7.1f  %.3f  %.3f\n", names[k],
                   static_cast<double>(v.size()) / std::max(1, steps), 100.0 * joined / nr, 100.0 * woke / nr,
-                  median(lat), median(body), median(wait), median(hbody), median(outside_ms[k]));
+                  median(lat), median(body), median(wait), median(hbody), median(outside_ms[k]), mean(helper_ms[k]));
     }
-    std::printf("#     whole step outside runs: %.3f ms\n", median(outside_ms[5]));
+    std::printf("#     whole step: outside runs %.3f ms (median), helper 1 in bodies %.3f ms (mean); "
+                "steps with team runs %d of %d\n", median(outside_ms[5]), mean(helper_ms[5]), threaded_steps, steps);
   }
 };
 
