@@ -15,7 +15,9 @@
 // its settling are those of micro_step (150 steps of pgs). --handover traces the team's runs
 // (WorkTeam::set_trace) and prints, per stage of the threaded steps: runs per step, how many
 // helper 1 joined, how many had to wake it from its futex sleep, and the medians of the
-// hand-over (publish to the helper's start), of member 0's body and of its wait after it.
+// hand-over (publish to the helper's start), of member 0's body and of its wait after it, the
+// time per step outside runs (serial on member 0) and helper 1's time in bodies. The steps a
+// helper worked in are also reported apart (wall, stages): the pacing mixes serial steps in.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -91,6 +93,9 @@ struct Series {
   std::unique_ptr<dc::LcpSolver> solver;
   std::vector<double> wall_ms, cpu_ms;
   std::vector<double> stage_ms[5];  // collide, assemble, warm start, solve, integrate
+  /// The steps a helper worked in (process CPU above the stepping thread's by more than
+  /// kHelped of it): their wall time and stages, apart from the serial steps of the pacing.
+  std::vector<double> helped_wall_ms, helped_stage_ms[5];
   long allocations = 0;             // over the timed steps
   std::unique_ptr<dc::PgsColoredProfile> profile = std::make_unique<dc::PgsColoredProfile>();
 };
@@ -162,9 +167,14 @@ std::int64_t steady_ns() {
       .count();
 }
 
-void add_stages(Series& s, const dc::StepProfile& p) {
+constexpr double kHelped = 0.02;  // a helper's CPU share of a step that marks it threaded
+
+void add_stages(Series& s, const dc::StepProfile& p, bool helped, double wall_ms) {
   const double ms[5] = {p.collide_ms, p.assemble_ms, p.warmstart_ms, p.solve_ms, p.integrate_ms};
   for (int i = 0; i < 5; ++i) s.stage_ms[i].push_back(ms[i]);
+  if (!helped) return;
+  s.helped_wall_ms.push_back(wall_ms);
+  for (int i = 0; i < 5; ++i) s.helped_stage_ms[i].push_back(ms[i]);
 }
 
 }  // namespace
@@ -232,7 +242,7 @@ int main(int argc, char** argv) {
           s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
           s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
           proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
-          add_stages(s, rep.profile);
+          add_stages(s, rep.profile, proc[si].back() > (1 + kHelped) * s.cpu_ms.back(), s.wall_ms.back());
         }
       }
     }
@@ -246,6 +256,15 @@ int main(int argc, char** argv) {
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),
                   median(s.stage_ms[1]), median(s.stage_ms[2]), median(s.stage_ms[3]), median(s.stage_ms[4]));
+    std::printf("#   steps a helper worked in (process CPU > %.2f x thread CPU): count, wall ms/step and stages "
+                "(medians), wall ratio to the first thread count's median\n", 1 + kHelped);
+    for (const Series& s : series) {
+      const auto& h = s.helped_stage_ms;
+      std::printf("#   %d bodies, %d threads: %zu of %zu, %.3f; %.3f, %.3f, %.3f, %.3f, %.3f; %.2fx\n", n, s.threads,
+                  s.helped_wall_ms.size(), s.wall_ms.size(), median(s.helped_wall_ms), median(h[0]), median(h[1]),
+                  median(h[2]), median(h[3]), median(h[4]),
+                  s.helped_wall_ms.empty() ? 0.0 : base / median(s.helped_wall_ms));
+    }
     std::printf("#   heap allocations per timed step (the report's λ is one while the rows change)\n");
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.2f\n", n, s.threads,
