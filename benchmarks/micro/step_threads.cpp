@@ -15,7 +15,9 @@
 // its settling are those of micro_step (150 steps of pgs). --handover traces the team's runs
 // (WorkTeam::set_trace) and prints, per stage of the threaded steps: runs per step, how many
 // helper 1 joined, how many had to wake it from its futex sleep, and the medians of the
-// hand-over (publish to the helper's start), of member 0's body and of its wait after it.
+// hand-over (publish to the helper's start), of member 0's body and of its wait after it, the
+// time per step outside runs (serial on member 0) and helper 1's time in bodies. The steps a
+// helper worked in are also reported apart (wall, stages): the pacing mixes serial steps in.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -91,6 +93,9 @@ struct Series {
   std::unique_ptr<dc::LcpSolver> solver;
   std::vector<double> wall_ms, cpu_ms;
   std::vector<double> stage_ms[5];  // collide, assemble, warm start, solve, integrate
+  /// The steps a helper worked in (process CPU above the stepping thread's by more than
+  /// kHelped of it): their wall time and stages, apart from the serial steps of the pacing.
+  std::vector<double> helped_wall_ms, helped_stage_ms[5];
   long allocations = 0;             // over the timed steps
   std::unique_ptr<dc::PgsColoredProfile> profile = std::make_unique<dc::PgsColoredProfile>();
 };
@@ -100,11 +105,15 @@ struct Handover {
   int steps = 0;
   std::vector<dc::TeamRunTrace> runs[5];
   std::vector<double> outside_ms[6];  // per stage and the whole step: wall time outside team runs
+  std::vector<double> helper_ms[6];   // per stage and the whole step: helper 1's time in bodies
+  int threaded_steps = 0;             // steps with at least one run of the team
   /// The runs traced since `from` of one step that began at `start` [ns] with profile p.
   void add(const std::vector<dc::TeamRunTrace>& trace, size_t from, std::int64_t start, const dc::StepProfile& p) {
     const double ms[5] = {p.collide_ms, p.assemble_ms, p.warmstart_ms, p.solve_ms, p.integrate_ms};
     ++steps;
     double outside[6] = {ms[0], ms[1], ms[2], ms[3], ms[4], p.total_ms()};
+    double helper[6] = {0, 0, 0, 0, 0, 0};
+    threaded_steps += trace.size() > from ? 1 : 0;
     for (size_t i = from; i < trace.size(); ++i) {
       double at = 1e-6 * static_cast<double>(trace[i].publish - start), edge = 0.0;
       int k = 0;
@@ -113,14 +122,22 @@ struct Handover {
       const double in_run = 1e-6 * static_cast<double>(trace[i].end - trace[i].publish);
       outside[k] -= in_run;
       outside[5] -= in_run;
+      if (trace[i].helper_start >= 0) {
+        const double busy = 1e-6 * static_cast<double>(trace[i].helper_done - trace[i].helper_start);
+        helper[k] += busy;
+        helper[5] += busy;
+      }
     }
-    for (int k = 0; k < 6; ++k) outside_ms[k].push_back(outside[k]);
+    for (int k = 0; k < 6; ++k) {
+      outside_ms[k].push_back(outside[k]);
+      helper_ms[k].push_back(helper[k]);
+    }
   }
   void print(int n, int threads) const {
     static const char* names[5] = {"collide", "assemble", "warm start", "solve", "integrate"};
     std::printf("#   hand-over, %d bodies, %d threads, per stage: runs/step, joined %%, futex wake %%, "
                 "median µs: publish→helper start, member 0 body, member 0 wait after, helper body; "
-                "median ms/step outside runs\n", n, threads);
+                "median ms/step outside runs, mean ms/step of helper 1 in bodies\n", n, threads);
     for (int k = 0; k < 5; ++k) {
       const auto& v = runs[k];
       std::vector<double> lat, body, wait, hbody;
@@ -136,11 +153,12 @@ struct Handover {
         wait.push_back(1e-3 * static_cast<double>(r.end - r.caller_done));
       }
       const double nr = std::max<double>(1.0, static_cast<double>(v.size()));
-      std::printf("#     %-10s %5.1f  %5.1f%%  %5.1f%%  %7.1f  %7.1f  %7.1f  %7.1f  %.3f\n", names[k],
+      std::printf("#     %-10s %5.1f  %5.1f%%  %5.1f%%  %7.1f  %7.1f  %7.1f  %7.1f  %.3f  %.3f\n", names[k],
                   static_cast<double>(v.size()) / std::max(1, steps), 100.0 * joined / nr, 100.0 * woke / nr,
-                  median(lat), median(body), median(wait), median(hbody), median(outside_ms[k]));
+                  median(lat), median(body), median(wait), median(hbody), median(outside_ms[k]), mean(helper_ms[k]));
     }
-    std::printf("#     whole step outside runs: %.3f ms\n", median(outside_ms[5]));
+    std::printf("#     whole step: outside runs %.3f ms (median), helper 1 in bodies %.3f ms (mean); "
+                "steps with team runs %d of %d\n", median(outside_ms[5]), mean(helper_ms[5]), threaded_steps, steps);
   }
 };
 
@@ -149,9 +167,14 @@ std::int64_t steady_ns() {
       .count();
 }
 
-void add_stages(Series& s, const dc::StepProfile& p) {
+constexpr double kHelped = 0.02;  // a helper's CPU share of a step that marks it threaded
+
+void add_stages(Series& s, const dc::StepProfile& p, bool helped, double wall_ms) {
   const double ms[5] = {p.collide_ms, p.assemble_ms, p.warmstart_ms, p.solve_ms, p.integrate_ms};
   for (int i = 0; i < 5; ++i) s.stage_ms[i].push_back(ms[i]);
+  if (!helped) return;
+  s.helped_wall_ms.push_back(wall_ms);
+  for (int i = 0; i < 5; ++i) s.helped_stage_ms[i].push_back(ms[i]);
 }
 
 }  // namespace
@@ -219,7 +242,7 @@ int main(int argc, char** argv) {
           s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
           s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
           proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
-          add_stages(s, rep.profile);
+          add_stages(s, rep.profile, proc[si].back() > (1 + kHelped) * s.cpu_ms.back(), s.wall_ms.back());
         }
       }
     }
@@ -233,6 +256,15 @@ int main(int argc, char** argv) {
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),
                   median(s.stage_ms[1]), median(s.stage_ms[2]), median(s.stage_ms[3]), median(s.stage_ms[4]));
+    std::printf("#   steps a helper worked in (process CPU > %.2f x thread CPU): count, wall ms/step and stages "
+                "(medians), wall ratio to the first thread count's median\n", 1 + kHelped);
+    for (const Series& s : series) {
+      const auto& h = s.helped_stage_ms;
+      std::printf("#   %d bodies, %d threads: %zu of %zu, %.3f; %.3f, %.3f, %.3f, %.3f, %.3f; %.2fx\n", n, s.threads,
+                  s.helped_wall_ms.size(), s.wall_ms.size(), median(s.helped_wall_ms), median(h[0]), median(h[1]),
+                  median(h[2]), median(h[3]), median(h[4]),
+                  s.helped_wall_ms.empty() ? 0.0 : base / median(s.helped_wall_ms));
+    }
     std::printf("#   heap allocations per timed step (the report's λ is one while the rows change)\n");
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.2f\n", n, s.threads,

@@ -1,17 +1,19 @@
 // World::step on threads: collision (broad phase by rows of cells, narrow phase by pairs, the
 // jobs' contact lists merged in key order), assembly (rows by contacts) and integration (bodies)
 // run as parallel jobs when the solver has threads (LcpSolver::threads) and the pile is large
-// enough, while they pay (the step's pacer). Every thread count gives the bits of one thread:
+// enough, while they pay (the step's pacer, which leads the solver: LcpSolver::lead_threads). Every thread count gives the bits of one thread:
 // bodies, contacts, λ and the solve's report, step after step.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "dc/core/work_team.hpp"
 #include "dc/engine/broad_phase.hpp"
 #include "dc/engine/stress_scenes.hpp"
 #include "dc/engine/world.hpp"
@@ -89,6 +91,47 @@ TEST(WorldThreads, PileGivesTheSameBitsOnEveryThreadCount) {
   ASSERT_GT(one.last_contacts.size(), 2000u);  // a pile: several jobs of pairs
   for (const int threads : {2, 3})
     expect_same_run(one, run_steps(def, start, threads, 12), std::to_string(threads) + " threads");
+}
+
+/// A solver with two threads that never paid on their own (threads() = 1, as pgs-colored's
+/// before its pacer saw a threaded solve pay), serial "pgs" inside; it records how World::step
+/// leads it.
+class LedSolver final : public LcpSolver {
+ public:
+  [[nodiscard]] std::string name() const override { return "led"; }
+  [[nodiscard]] int thread_capacity() const override { return 2; }
+  void hold_threads(bool serial) override { held_ = serial; }
+  void lead_threads(bool led) override { led_ = led; }
+  [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0, const SolverOptions& o) override {
+    solves.emplace_back(led_, held_);
+    return pgs_->solve(p, lambda0, o);
+  }
+  std::vector<std::pair<bool, bool>> solves;  ///< per solve: led, held
+  bool led_ = false, held_ = false;
+
+ private:
+  std::unique_ptr<LcpSolver> pgs_ = make_solver("pgs");
+};
+
+/// The step's own pacer judges whole steps: its first step runs the stages on the solver's
+/// threads and leads the solver unheld, the second (the serial step it compares with) holds it,
+/// and after each step the solver is released. Not gated by the solver's own pacing.
+TEST(WorldThreads, PacedStepsLeadTheSolverFromTheFirstStep) {
+  World w(pile(InternalOrder::None, 0.0));
+  LedSolver solver;
+  std::vector<TeamRunTrace> trace;
+  calling_thread_team().set_trace(&trace);
+  (void)w.step(solver, fixed_sweeps(5), World::WarmStart::PreviousLambda);
+  const size_t first_runs = trace.size();
+  (void)w.step(solver, fixed_sweeps(5), World::WarmStart::PreviousLambda);
+  calling_thread_team().set_trace(nullptr);
+  EXPECT_GT(first_runs, 0u);              // the first step's stages ran on the team
+  EXPECT_EQ(first_runs, trace.size());    // the second step's did not
+  ASSERT_EQ(2u, solver.solves.size());
+  EXPECT_EQ(std::make_pair(true, false), solver.solves[0]);
+  EXPECT_EQ(std::make_pair(true, true), solver.solves[1]);
+  EXPECT_FALSE(solver.led_);
+  EXPECT_FALSE(solver.held_);
 }
 
 /// A pile of 9000 bodies: the broad phase's cell fill and pair sort run as several jobs of

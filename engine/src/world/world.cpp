@@ -374,20 +374,28 @@ StepReport World::step(LcpSolver& solver, const SolverOptions& options, WarmStar
 StepReport World::step_with(LcpSolver& solver, const SolverOptions& options, const InitialGuess* guess) {
   // The step's threads: the solver's, for piles large enough and while whole steps pay (their
   // wall time per unit of work, threaded against serial steps) or always when the solver's
-  // threads are forced; a serial step holds the solver's threads too.
-  const int requested = solver.threads();
+  // threads are forced. This pacer alone judges a paced step: the solver is led (its set-up and
+  // sweeps on the threads of a threaded step, on one thread in a serial step), since a solve
+  // paced on its own probes the threads with a serial set-up, which on a pile the size of a
+  // step's may never pay, and would then keep the whole step serial.
+  const int requested = solver.thread_capacity();
   const long bodies = static_cast<long>(working_bodies().size());
   const bool large = requested > 1 && bodies >= kMinBodiesPerThread * requested;
   const bool paced = large && !solver.threads_forced();
   step_threads_ = large && (!paced || pacer_.threaded_next()) ? requested : 1;
-  if (paced) solver.hold_threads(step_threads_ == 1);
+  if (paced) {
+    solver.lead_threads(true);
+    solver.hold_threads(step_threads_ == 1);
+  }
   struct Serial {  // after step(), also after a throw: the stages called one by one run
     int& threads;  // serially and the solver chooses its threads again
     LcpSolver& solver;
     bool paced;
     ~Serial() {
       threads = 1;
-      if (paced) solver.hold_threads(false);
+      if (!paced) return;
+      solver.hold_threads(false);
+      solver.lead_threads(false);
     }
   } serial_after{step_threads_, solver, paced};
   StepReport rep = step_stages(solver, options, guess);

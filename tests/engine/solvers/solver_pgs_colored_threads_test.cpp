@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "dc/core/work_team.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/world.hpp"
@@ -278,6 +279,36 @@ TEST(PgsColoredThreads, PacerKeepsThreadsOnlyWhileTheyPay) {
   ASSERT_TRUE(pacer.threaded_next());
   pacer.record(true, 0.5, 1.0);
   EXPECT_TRUE(pacer.threaded_next());
+}
+
+/// Led by its caller (World::step), a paced solver threads every solve it is not held on, the
+/// second too (its own pacer would run that one serially to compare), and a held solve is
+/// serial; either gives the serial solver's bits.
+TEST(PgsColoredThreads, LedSolvesFollowTheCaller) {
+  const LcpProblem p = pile_problem(300, 20);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.rows());
+  PgsColoredDef one, two;
+  two.threads = 2;
+  two.min_batches_per_thread = 1;
+  const auto s1 = make_pgs_colored(one), s2 = make_pgs_colored(two);
+  ASSERT_EQ(2, s2->thread_capacity());
+  const SolveResult serial = s1->solve(p, zero, sweeps(30));
+  std::vector<TeamRunTrace> trace;
+  calling_thread_team().set_trace(&trace);
+  s2->lead_threads(true);
+  std::vector<size_t> runs;
+  for (const bool held : {false, false, true}) {
+    s2->hold_threads(held);
+    const size_t before = trace.size();
+    test::expect_same_bits(serial, s2->solve(p, zero, sweeps(30)), held ? "held" : "led");
+    runs.push_back(trace.size() - before);
+  }
+  s2->hold_threads(false);
+  s2->lead_threads(false);
+  calling_thread_team().set_trace(nullptr);
+  EXPECT_GT(runs[0], 0u);
+  EXPECT_GT(runs[1], 0u);
+  EXPECT_EQ(0u, runs[2]);
 }
 
 /// A solver that paces its threads (min_batches_per_thread > 0) runs some solves threaded and

@@ -193,7 +193,11 @@ class World {
   /// Threads of the stages of the step in progress (1 outside step(): the stages called one by
   /// one run serially), chosen by step() from the solver's threads while whole steps pay (pacer_).
   int step_threads_ = 1;
-  ThreadPacer pacer_;
+  /// Whole steps keep their threads while threaded steps take at most kStepPays of the serial
+  /// steps' time per unit of work: a step's serial stages make its threaded gain smaller than
+  /// the solve's alone, and a stricter ratio would drop threads that gain for a noisy step.
+  static constexpr double kStepPays = 0.95;
+  ThreadPacer pacer_{kStepPays};
   /// collide_circles' contacts per job: 4 wall lists per job of bodies, one per job of pairs.
   std::vector<std::vector<Contact>> part_walls_, part_pairs_;
   std::vector<InternalBodyOrder::Spread> part_spread_;

@@ -108,9 +108,18 @@ class LcpSolver {
   /// OpenMP's default, once its threaded solves have paid or when forced; 1 for the others).
   /// World::step runs its other stages on as many while whole steps pay.
   [[nodiscard]] virtual int threads() const { return 1; }
+  /// Threads this solver's solves could use (pgs-colored: its `threads`, 0 resolved to
+  /// OpenMP's default, whether or not they have paid yet; 1 for the others). World::step paces
+  /// whole steps on as many (lead_threads).
+  [[nodiscard]] virtual int thread_capacity() const { return threads(); }
   /// The next solves run on one thread (true) or as the solver chooses (false): World::step's
   /// pacer runs whole steps serially while threaded steps do not pay. Never changes a result.
   virtual void hold_threads(bool serial) { (void)serial; }
+  /// While led (true), the caller paces: a solve not held (hold_threads) runs on the solver's
+  /// threads wherever its size rule allows, set-up included, and the solver's own pacer
+  /// neither chooses nor records it. World::step leads the solver during a step, so that one
+  /// pacer judges the whole step, threaded against serial. Never changes a result.
+  virtual void lead_threads(bool led) { (void)led; }
   /// True when the solver's threads are forced rather than paced (pgs-colored with
   /// min_batches_per_thread = 0): World::step then runs every large enough step on them.
   [[nodiscard]] virtual bool threads_forced() const { return false; }

@@ -48,7 +48,11 @@ struct PgsColoredDef {
   /// and a descheduled thread's share of a colour is taken by the others (docs/lcp.md
   /// "pgs-colored", Threads).
   int threads = 1;
-  int min_batches_per_thread = 32;
+  /// Default 16: a wait between two spinning threads costs about as much as a few batches'
+  /// sweep with the AVX-512 kernel, so a thread's share of a range of 16 batches keeps the
+  /// waits a small part of the sweep; ordered colours give a settled pile many short ranges
+  /// (a range a colour), and a larger threshold left piles that gain from two threads serial.
+  int min_batches_per_thread = 16;
   /// Which kernel sweeps (default Auto). make_pgs_colored throws InvalidArgument for a kernel
   /// this build or CPU cannot run (pgs_colored_kernel_available).
   PgsColoredKernel kernel = PgsColoredKernel::Auto;
@@ -68,7 +72,8 @@ struct PgsColoredDef {
   /// 2-thread sweeps more than the parallel colouring saves (docs/lcp.md "pgs-colored",
   /// "Alternatives considered").
   int color_chunk = 0;
-  /// When a solve's set-up runs on threads: store the bodies' Δu in a locality order during the
+  /// When a solve's sweeps run on threads (its set-up on threads, or serial on the pacer's
+  /// probes): store the bodies' Δu in a locality order during the
   /// sweeps (true, the default): numbered breadth-first on the contact graph, each colour's
   /// contacts in that order, so each thread's region of the bodies (the sweeps' split) is one
   /// compact piece of the pile and few Δu cache lines move between the cores (docs/lcp.md

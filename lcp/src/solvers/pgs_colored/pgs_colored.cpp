@@ -111,8 +111,17 @@ class PgsColoredSolver final : public LcpSolver {
     return 1;
 #endif
   }
+  /// def_.threads (0: OpenMP's default), paid or not.
+  [[nodiscard]] int thread_capacity() const override {
+#if defined(_OPENMP)
+    return std::max(1, def_.threads > 0 ? def_.threads : omp_get_max_threads());
+#else
+    return 1;
+#endif
+  }
   /// (min_batches_per_thread = 0 threads every problem: no hold.)
   void hold_threads(bool serial) override { held_ = serial && def_.min_batches_per_thread > 0; }
+  void lead_threads(bool led) override { led_ = led; }
   [[nodiscard]] bool threads_forced() const override { return def_.min_batches_per_thread == 0 && threads() > 1; }
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
@@ -153,7 +162,7 @@ class PgsColoredSolver final : public LcpSolver {
                                         const SolverOptions& o) {
     // Threads only while they pay (ThreadPacer), unless min_batches_per_thread = 0 forces them.
     if (!(o.omega > 0 && o.omega < 2)) return colored::invalid_omega(p, Eigen::VectorXd(lambda0), o);
-    const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0;
+    const bool paced = def_.threads != 1 && def_.min_batches_per_thread > 0 && !led_;
     serial_solve_ = held_ || (paced && !pacer_.threaded_next());
     serial_setup_ = paced && !pacer_.proven();
     solved_ = Solved{};
@@ -190,10 +199,14 @@ class PgsColoredSolver final : public LcpSolver {
     const double coloring_before = coloring_s != nullptr ? *coloring_s : 0.0;
     colored::OrderedColorer* ordered = def_.ordered_colors ? &ordered_ : nullptr;
     if (why.empty()) {
-      // The locality order when the set-up runs on threads (so will the sweeps): on one thread
-      // it costs more than it saves (PgsColoredDef::locality_order).
-      const int threads = setup_threads(p.constraints.size() / W, ranges_before);
-      why = colored::layout(p, colorer_, ordered, threads, prep, coloring_s, def_.locality_order && threads > 1);
+      // The locality order when the sweeps are expected on threads, on the pacer's probes too
+      // (their set-up is serial): without it the threads' regions interleave over the pile and
+      // a threaded probe could never pay; on one thread it costs more than it saves
+      // (PgsColoredDef::locality_order).
+      const long batches = p.constraints.size() / W;
+      const int threads = setup_threads(batches, ranges_before);
+      const bool local = def_.locality_order && effective_threads(batches, ranges_before) > 1;
+      why = colored::layout(p, colorer_, ordered, threads, prep, coloring_s, local);
     }
     laps.lap(&PgsColoredProfile::ordering);  // the layout, less its colouring:
     if (coloring_s != nullptr) laps.profile()->ordering -= *coloring_s - coloring_before;
@@ -538,6 +551,7 @@ class PgsColoredSolver final : public LcpSolver {
   bool serial_solve_ = false;  // this solve runs on one thread (the pacer's choice)
   bool serial_setup_ = false;  // this solve's set-up runs on one thread (a probe, or serial)
   bool held_ = false;          // hold_threads(true): every solve serial
+  bool led_ = false;           // lead_threads(true): the caller paces (no pacing here)
 };
 
 }  // namespace
