@@ -294,6 +294,10 @@ class ProxRun {
     }
     if (degenerate() && def_.probe_sweeps > 0 && def_.probe_iterations > 0)
       ld.probe = [this](int sweeps) { return probe(sweeps); };
+    if (degenerate()) {
+      ld.drift_jumps = def_.degenerate_drift_jumps;
+      ld.drift_linearity = def_.degenerate_drift_linearity;
+    }
     SolverOptions so;
     forward_checkpoints(so, InFlightPart::lead());
     st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {

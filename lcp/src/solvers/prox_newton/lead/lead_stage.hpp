@@ -27,6 +27,11 @@ struct LeadStageDef {
   /// Called at every look after `consider`, with the sweeps so far (null: none); true ends the
   /// stage (prox-newton's probes, ProxNewtonDef::probe_sweeps). The run's momentum is untouched.
   std::function<bool(int sweeps)> probe;
+  /// Drift jumps at most (drift_jump.hpp; 0: none): at a look where the changes over the last
+  /// two chunks agree to `drift_linearity`, λ jumps to where the drift meets the first bound and
+  /// a fresh nncg run goes on from there (its momentum restarted, as the drift had it anyway).
+  int drift_jumps = 0;
+  double drift_linearity = 0.1;
 };
 
 /// The best hard residual [N] so far after the caller took λ into account.
