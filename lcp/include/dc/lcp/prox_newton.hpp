@@ -434,6 +434,7 @@ struct ProxNewtonDef {
 /// Work of one solve.
 struct ProxNewtonStats {
   int lead_sweeps = 0;      ///< nncg sweeps of the lead stage
+  int drift_jumps = 0;      ///< drift jumps of the lead stage (degenerate_drift_jumps)
   int outer = 0;            ///< outer passes
   int newton = 0;           ///< Newton iterations in subproblems
   int finish_newton = 0;    ///< newton-sparse iterations of the finishes (both kinds)

@@ -303,7 +303,7 @@ class ProxRun {
     st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {
       consider(x, hard_residual(p_, x), Finisher::Lead);
       return best_res_;
-    }, &lead_fall_);
+    }, &lead_fall_, &st_.drift_jumps);
     return true;
   }
 

@@ -29,7 +29,7 @@ SolverOptions run_options(const SolverOptions& options, int done, int cap) {
 }  // namespace
 
 int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const LeadStageDef& def, SolverOptions options,
-                   const LeadConsider& consider, double* fall) {
+                   const LeadConsider& consider, double* fall, int* jumps_made) {
   options.record_theta = false;
   options.tolerance = 0.0;
   options.max_sweeps = def.cap;
@@ -66,6 +66,7 @@ int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const Lea
       ++jumps;
       done = looked;
       start = std::move(*jumped);
+      if (jumps_made) *jumps_made = jumps;
       if (consider(start) > def.target) continue;
       if (fall) *fall = rate.window_fall();
       return done;

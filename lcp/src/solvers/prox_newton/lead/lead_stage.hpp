@@ -41,8 +41,8 @@ using LeadConsider = std::function<double(const Eigen::VectorXd& lambda)>;
 /// first sweep); its max_sweeps, tolerance and record_theta are set here. Every look, and the
 /// last iterate when the run ended between looks, goes through `consider`. Returns the sweeps
 /// made (at least 1, as a run that broke down in its first sweep still cost one). With `fall`,
-/// LeadRate::window_fall() at the end is written there.
+/// LeadRate::window_fall() at the end is written there; with `jumps`, the drift jumps made.
 int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const LeadStageDef& def, SolverOptions options,
-                   const LeadConsider& consider, double* fall = nullptr);
+                   const LeadConsider& consider, double* fall = nullptr, int* jumps = nullptr);
 
 }  // namespace dc::solvers::prox
