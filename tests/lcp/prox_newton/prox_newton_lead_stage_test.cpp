@@ -62,6 +62,7 @@ TEST(ProxNewtonLeadStage, IsPlainNncgToTheSweepItStopsAt) {
     o.tolerance = 1e-6 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
     ProxNewtonDef d;
     d.probe_sweeps = 0;  // 1.33 rows per velocity unknown: degenerate, where the probe would end the stage
+    d.degenerate_drift_jumps = 0;  // plain nncg: no drift jumps either
     ProxNewtonSolver s(d);
     const SolveResult r = s.solve(p, {}, o);
     ASSERT_EQ(r.message.rfind("finished by nncg lead stage", 0), 0u) << r.message;

@@ -139,6 +139,18 @@ struct ProxNewtonDef {
   /// analysis, GMRES for the coupled directions).
   int probe_sweeps = 150;
   int probe_iterations = 3;
+  /// Degenerate problems (degenerate_rows): drift jumps of the lead stage at most (default 16;
+  /// 0 = none). Where w has a part on the free rows outside A's range (closed contacts that
+  /// cannot all hold with the friction they stick with), nncg's sweeps drift along A's null
+  /// space: λ changes by the same vector d every sweep, w not at all, and the hard residual
+  /// sits on a plateau (a friction row at its bound lags its normal row's drift) until some row
+  /// meets a bound, after hundreds to thousands of sweeps on box piles. When the changes of
+  /// the last two sweeps before a look agree to `degenerate_drift_linearity` (default 10 %,
+  /// ‖d_k − d_{k−1}‖∞ ≤ 0.1‖d_k‖∞), λ jumps along d_k to the first row's bound (a contact
+  /// opens, a friction row meets or leaves ±μ λ_n) and nncg starts afresh from there. Only
+  /// where the lead sweeps in natural order (nncg; the drift is watched at every sweep).
+  int degenerate_drift_jumps = 16;
+  double degenerate_drift_linearity = 0.1;
   /// lead_window holds for problems of up to this many bodies (J's columns / 3; default 64);
   /// above, the window grows as √(bodies / lead_window_bodies) (0 = never): a Newton
   /// iteration's factorisation costs about √n nncg sweeps more on n bodies (nested dissection on
@@ -422,6 +434,7 @@ struct ProxNewtonDef {
 /// Work of one solve.
 struct ProxNewtonStats {
   int lead_sweeps = 0;      ///< nncg sweeps of the lead stage
+  int drift_jumps = 0;      ///< drift jumps of the lead stage (degenerate_drift_jumps)
   int outer = 0;            ///< outer passes
   int newton = 0;           ///< Newton iterations in subproblems
   int finish_newton = 0;    ///< newton-sparse iterations of the finishes (both kinds)

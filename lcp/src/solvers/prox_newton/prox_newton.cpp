@@ -294,12 +294,16 @@ class ProxRun {
     }
     if (degenerate() && def_.probe_sweeps > 0 && def_.probe_iterations > 0)
       ld.probe = [this](int sweeps) { return probe(sweeps); };
+    if (degenerate()) {
+      ld.drift_jumps = def_.degenerate_drift_jumps;
+      ld.drift_linearity = def_.degenerate_drift_linearity;
+    }
     SolverOptions so;
     forward_checkpoints(so, InFlightPart::lead());
     st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {
       consider(x, hard_residual(p_, x), Finisher::Lead);
       return best_res_;
-    }, &lead_fall_);
+    }, &lead_fall_, &st_.drift_jumps);
     return true;
   }
 

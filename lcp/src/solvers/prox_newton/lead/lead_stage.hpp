@@ -27,6 +27,11 @@ struct LeadStageDef {
   /// Called at every look after `consider`, with the sweeps so far (null: none); true ends the
   /// stage (prox-newton's probes, ProxNewtonDef::probe_sweeps). The run's momentum is untouched.
   std::function<bool(int sweeps)> probe;
+  /// Drift jumps at most (drift_jump.hpp; 0: none): at a look where the changes over the last
+  /// two chunks agree to `drift_linearity`, λ jumps to where the drift meets the first bound and
+  /// a fresh nncg run goes on from there (its momentum restarted, as the drift had it anyway).
+  int drift_jumps = 0;
+  double drift_linearity = 0.1;
 };
 
 /// The best hard residual [N] so far after the caller took λ into account.
@@ -36,8 +41,8 @@ using LeadConsider = std::function<double(const Eigen::VectorXd& lambda)>;
 /// first sweep); its max_sweeps, tolerance and record_theta are set here. Every look, and the
 /// last iterate when the run ended between looks, goes through `consider`. Returns the sweeps
 /// made (at least 1, as a run that broke down in its first sweep still cost one). With `fall`,
-/// LeadRate::window_fall() at the end is written there.
+/// LeadRate::window_fall() at the end is written there; with `jumps`, the drift jumps made.
 int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const LeadStageDef& def, SolverOptions options,
-                   const LeadConsider& consider, double* fall = nullptr);
+                   const LeadConsider& consider, double* fall = nullptr, int* jumps = nullptr);
 
 }  // namespace dc::solvers::prox

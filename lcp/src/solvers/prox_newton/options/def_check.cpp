@@ -36,6 +36,9 @@ void check_def(const ProxNewtonDef& d) {
                           "lead_fallback_doublings <= 20, lead_window_gain(_above) finite and > 1, lead_fallback_cap_fall in [0, 1]");
   if (!(d.guess_fallback_cap_fall >= 0 && d.guess_fallback_cap_fall <= 1) || d.guess_floor_stalls < 0)
     throw InvalidArgument("prox-newton: guess_fallback_cap_fall must be in [0, 1], guess_floor_stalls >= 0");
+  if (d.degenerate_drift_jumps < 0) throw InvalidArgument("prox-newton: degenerate_drift_jumps must be >= 0");
+  if (!(d.degenerate_drift_linearity >= 0 && d.degenerate_drift_linearity < 1))
+    throw InvalidArgument("prox-newton: degenerate_drift_linearity must be in [0, 1)");
   if (d.probe_sweeps < 0 || d.probe_iterations < 0)
     throw InvalidArgument("prox-newton: probe_sweeps and probe_iterations must be >= 0");
   if (d.lead_colored_rows < 0 || d.lead_stall_chunks < 0 || d.degenerate_stall_chunks < 0 || !(d.degenerate_rows > 0))
