@@ -101,8 +101,9 @@ struct NewtonSparseDef {
   /// direction when its relative residual is at most this multiple of η (dimensionless ≥ 1;
   /// default 1: only runs that met η). The run's iterate is an inexact Newton direction like
   /// the others, a little less accurate; the line search judges it. Refactorising instead costs
-  /// a factorisation and a GMRES run from zero with the fresh factor, which on contact problems
-  /// with many sliding rows (the coupling the factor leaves out) takes as many iterations again.
+  /// a factorisation and a GMRES run with the fresh factor (from the capped run's answer), which
+  /// on contact problems with many sliding rows (the coupling the factor leaves out) still takes
+  /// several iterations.
   double stale_accept = 1.0;
   /// GMRES's inner products as eight interleaved partial sums in a fixed order instead of one
   /// index-order sum (default false). Both give the same bits in every build; the lanes are

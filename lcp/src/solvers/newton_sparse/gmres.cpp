@@ -1,6 +1,7 @@
 #include "solvers/newton_sparse/gmres.hpp"
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace dc::solvers {
@@ -29,21 +30,24 @@ double dot_in_lanes(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return s;
 }
 
-KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                    int restart, int max_iterations, double tolerance, Dot dot) {
+namespace {
+
+/// The restart cycles from x with r = b − K x (beta = ‖r‖, bnorm = ‖b‖): GMRES on K e = r, x += e.
+KrylovOutcome gmres_cycles(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                           Eigen::VectorXd r, double beta, double bnorm, int restart, int max_iterations,
+                           double tolerance, Dot dot) {
   KrylovOutcome out;
   const Eigen::Index n = b.size();
-  x = Eigen::VectorXd::Zero(n);
-  const double bnorm = std::sqrt(dot(b, b));
-  if (!(bnorm > 0.0) || !std::isfinite(bnorm)) {
-    out.converged = bnorm == 0.0;
+  out.relative_residual = beta / bnorm;
+  if (beta <= tolerance * bnorm) {  // the start already meets the tolerance (x = 0 when b = 0)
+    out.converged = true;
     return out;
   }
   const int m = std::max(1, restart);
   std::vector<Eigen::VectorXd> V(static_cast<size_t>(m + 1)), Z(static_cast<size_t>(m));
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m + 1, m);
-  Eigen::VectorXd cs(m), sn(m), g(m + 1), w(n), r = b;
-  double beta = bnorm, previous_beta = bnorm;
+  Eigen::VectorXd cs(m), sn(m), g(m + 1), w(n);
+  double previous_beta = beta;
   while (out.iterations < max_iterations) {
     V[0] = r / beta;
     g.setZero();
@@ -98,6 +102,30 @@ KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen:
     previous_beta = beta;
   }
   return out;
+}
+
+}  // namespace
+
+KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                    int restart, int max_iterations, double tolerance, Dot dot) {
+  x = Eigen::VectorXd::Zero(b.size());
+  const double bnorm = std::sqrt(dot(b, b));
+  if (!(bnorm > 0.0) || !std::isfinite(bnorm)) return KrylovOutcome{0, 0.0, bnorm == 0.0};
+  return gmres_cycles(K, P_inverse, b, x, b, bnorm, bnorm, restart, max_iterations, tolerance, dot);
+}
+
+KrylovOutcome gmres_from(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                         int restart, int max_iterations, double tolerance, Dot dot) {
+  const double bnorm = std::sqrt(dot(b, b));
+  if (x.size() != b.size() || !x.allFinite() || !(bnorm > 0.0) || !std::isfinite(bnorm))
+    return gmres(K, P_inverse, b, x, restart, max_iterations, tolerance, dot);
+  Eigen::VectorXd r(b.size());
+  K(x, r);
+  r = b - r;
+  const double beta = std::sqrt(dot(r, r));
+  // A start worse than x = 0 (or not finite through K) is dropped: GMRES from zero then.
+  if (!std::isfinite(beta) || beta >= bnorm) return gmres(K, P_inverse, b, x, restart, max_iterations, tolerance, dot);
+  return gmres_cycles(K, P_inverse, b, x, std::move(r), beta, bnorm, restart, max_iterations, tolerance, dot);
 }
 
 }  // namespace dc::solvers

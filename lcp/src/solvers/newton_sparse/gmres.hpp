@@ -35,4 +35,13 @@ using Dot = double (*)(const Eigen::VectorXd& a, const Eigen::VectorXd& b);
 KrylovOutcome gmres(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                     int restart, int max_iterations, double tolerance, Dot dot = dot_in_order);
 
+/// gmres from the start x (the answer of an earlier run on the same K and b, e.g. one with a
+/// weaker preconditioner that ended at its cap): r0 = b − K x, and the same stopping rule
+/// ‖b − K x‖ ≤ tolerance·‖b‖ (relative to b, not r0), so a start within c·tolerance needs only
+/// the iterations that remove a factor c. A start not finite, of another size or with
+/// ‖r0‖ ≥ ‖b‖ is dropped (gmres from x = 0). A start that already meets the tolerance returns
+/// with 0 iterations.
+KrylovOutcome gmres_from(const LinearMap& K, const LinearMap& P_inverse, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                         int restart, int max_iterations, double tolerance, Dot dot = dot_in_order);
+
 }  // namespace dc::solvers

@@ -105,6 +105,7 @@ class NewtonStep {
   /// many iterations, or came within stale_accept·η_k (x is then the direction), false to
   /// refactorise.
   bool stale_solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
+    x.resize(0);  // no start for krylov_or_direct unless a stale run below leaves one
     if (def_.stale_factor_iterations <= 0 || !factor_.factored()) return false;
     const auto t0 = Clock::now();
     const LinearMap K = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_system(in, out); };
@@ -118,7 +119,10 @@ class NewtonStep {
     return true;
   }
 
-  /// With the CHOLMOD factor of P: P⁻¹ rhs when nothing is coupled (P is the system), else GMRES.
+  /// With the CHOLMOD factor of P: P⁻¹ rhs when nothing is coupled (P is the system), else GMRES
+  /// from x when x holds a failed stale run's answer (same K and rhs; its ‖rhs − K x‖ is within a
+  /// small multiple of η_k·‖rhs‖, so the fresh run only has to remove that multiple), from zero
+  /// when x is empty.
   void krylov_or_direct(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) {
     const auto t0 = Clock::now();
     if (lin_.couplings.empty()) {
@@ -126,7 +130,7 @@ class NewtonStep {
     } else {
       const LinearMap K = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply_system(in, out); };
       const LinearMap Pinv = [this](const Eigen::VectorXd& in, Eigen::VectorXd& out) { factor_.solve(in, out); };
-      st_.krylov_iterations += gmres(K, Pinv, rhs, x, def_.krylov_restart, def_.krylov_max, eta_, dot()).iterations;
+      st_.krylov_iterations += gmres_from(K, Pinv, rhs, x, def_.krylov_restart, def_.krylov_max, eta_, dot()).iterations;
     }
     st_.solve_ms += ms_since(t0);
   }
