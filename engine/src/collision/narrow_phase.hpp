@@ -71,14 +71,13 @@ inline void add_circle_circle(const CircleProbe& pa, const CircleProbe& pb, int 
   circle_pair(pa.centre, pa.radius, pb.centre, pb.radius, a, b, pa.spec + pb.spec, out.emplace_back());
 }
 
-/// add_circle_circle(probes[a], probes[b], a, b, out) for each candidate pair (a, b) of
-/// pairs[q0, q1) (sorted by body a), in pair order, adding |b − a| to `spread_sum` and 1 to
-/// `spread_pairs` per contact added. By blocks of pairs: first which pairs pass the reach test
-/// (the outcome written, not branched on: it follows no pattern a branch predictor learns),
-/// then the contacts of those, their records still in cache. Body b's record is fetched
-/// kAhead pairs early (a hint).
-inline void add_pair_contacts(const CircleProbe* probes, const std::pair<int, int>* pairs, long q0, long q1,
-                              std::vector<Contact>& out, std::int64_t& spread_sum, std::int64_t& spread_pairs) {
+/// Calls emit(a, b) for each candidate pair (a, b) of pairs[q0, q1) (sorted by body a) that
+/// passes add_circle_circle's reach test, in pair order. By blocks of pairs: first which pairs
+/// pass (the outcome written, not branched on: it follows no pattern a branch predictor learns),
+/// then emit on those, their records still in cache. Body b's record is fetched kAhead pairs
+/// early (a hint).
+template <class Emit>
+inline void for_pair_contacts(const CircleProbe* probes, const std::pair<int, int>* pairs, long q0, long q1, Emit&& emit) {
   constexpr long kBlock = 256, kAhead = 8;
   int pass[kBlock];
   for (long b0 = q0; b0 < q1; b0 += kBlock) {
@@ -93,15 +92,48 @@ inline void add_pair_contacts(const CircleProbe* probes, const std::pair<int, in
       pass[m] = static_cast<int>(q - b0);
       m += static_cast<int>(!(length_squared(d) >= reach * reach));  // add_circle_circle's reject, negated
     }
-    for (int h = 0; h < m; ++h) {
-      const auto [a, b] = pairs[b0 + pass[h]];
-      const std::size_t before = out.size();
-      add_circle_circle(probes[a], probes[b], a, b, out);
-      const auto added = static_cast<std::int64_t>(out.size() - before);
-      spread_sum += added * std::abs(b - a);
-      spread_pairs += added;
-    }
+    for (int h = 0; h < m; ++h) emit(pairs[b0 + pass[h]].first, pairs[b0 + pass[h]].second);
   }
+}
+
+/// add_circle_circle(probes[a], probes[b], a, b, out) for each candidate pair (a, b) of
+/// pairs[q0, q1) (for_pair_contacts), adding |b − a| to `spread_sum` and 1 to `spread_pairs` per
+/// contact added.
+inline void add_pair_contacts(const CircleProbe* probes, const std::pair<int, int>* pairs, long q0, long q1,
+                              std::vector<Contact>& out, std::int64_t& spread_sum, std::int64_t& spread_pairs) {
+  for_pair_contacts(probes, pairs, q0, q1, [&](int a, int b) {
+    add_circle_circle(probes[a], probes[b], a, b, out);
+    spread_sum += std::abs(b - a);
+    ++spread_pairs;
+  });
+}
+
+/// The number of contacts add_pair_contacts(probes, pairs, q0, q1, …) adds (its reach test
+/// alone: no contact is built).
+inline long count_pair_contacts(const CircleProbe* probes, const std::pair<int, int>* pairs, long q0, long q1) {
+  long count = 0;
+  for (long q = q0; q < q1; ++q) {
+    const CircleProbe& pa = probes[pairs[q].first];
+    const CircleProbe& pb = probes[pairs[q].second];
+    const Vec2 d = pb.centre - pa.centre;
+    const double reach = (pa.radius + pb.radius) + (pa.spec + pb.spec);
+    count += static_cast<long>(!(length_squared(d) >= reach * reach));
+  }
+  return count;
+}
+
+/// add_pair_contacts' contacts written to out[0, count_pair_contacts(…)) in place of appended
+/// (each element reset to Contact{} first, as emplace_back() builds it: the same bits).
+inline void write_pair_contacts(const CircleProbe* probes, const std::pair<int, int>* pairs, long q0, long q1,
+                                Contact* out, std::int64_t& spread_sum, std::int64_t& spread_pairs) {
+  for_pair_contacts(probes, pairs, q0, q1, [&](int a, int b) {
+    const CircleProbe &pa = probes[a], &pb = probes[b];
+    Contact& c = *out++;
+    c = Contact{};
+    circle_pair(pa.centre, pa.radius, pb.centre, pb.radius, a, b, pa.spec + pb.spec, c);
+    spread_sum += std::abs(b - a);
+    ++spread_pairs;
+  });
 }
 
 /// Contact between circle k and wall `w` of a box of the given size, when the gap is

@@ -15,7 +15,6 @@
 #include "assembly/assembly.hpp"
 #include "world/parts/contact_lambdas.hpp"
 #include "world/parts/integrate_keeping.hpp"
-#include "world/parts/merge_parts.hpp"
 #include "world/parts/relax_pass.hpp"
 #include "world/internal_order_choice.hpp"
 #include "world/restitution.hpp"
@@ -206,7 +205,6 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
   const int n = static_cast<int>(bodies.size());
   const double dt = def_.time.dt;
   const int threads = step_threads_;
-  out.clear();
 
   // Per job of bodies: the packed records the narrow phase reads (circle_probe.hpp) and the
   // reaches, then its wall contacts, wall by wall. Walls first (their keys sort first), body by
@@ -216,6 +214,9 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
   probes_.resize(static_cast<size_t>(n));
   reach_.resize(static_cast<size_t>(n));
   const int body_jobs = parts_for(threads, n, 2, 1024);
+  // With jobs of bodies `out` is resized (not cleared) once the counts are known: its elements
+  // are all overwritten, and only the growth is built.
+  if (body_jobs == 1) out.clear();
   if (part_walls_.size() < static_cast<size_t>(4 * body_jobs)) part_walls_.resize(static_cast<size_t>(4 * body_jobs));
   run_parts(threads, body_jobs, [&](int p) {
     const int lo = static_cast<int>(part_begin(n, body_jobs, p));
@@ -236,47 +237,63 @@ void World::collide_circles(const BodyState& bodies, std::vector<Contact>& out) 
   const auto t0 = Clock::now();
   const std::vector<std::pair<int, int>>& pairs = pair_cache_.pairs(bodies.position, reach_, broad_phase_, threads);
   broad_phase_ms_ = ms_since(t0);
-  // Per job of pairs: its contacts and their spread (integers: any order sums alike).
+  // The pair contacts and their spread (integers: any order sums alike).
   const long np = static_cast<long>(pairs.size());
-  const int pair_jobs = parts_for(threads, np, 4, 1024);
-  if (part_pairs_.size() < static_cast<size_t>(pair_jobs)) part_pairs_.resize(static_cast<size_t>(pair_jobs));
-  part_spread_.assign(static_cast<size_t>(pair_jobs), InternalBodyOrder::Spread{});
-  const bool pairs_direct = body_jobs == 1 && pair_jobs == 1;  // appended to `out` after its walls
-  run_parts(threads, pair_jobs, [&](int p) {
-    std::vector<Contact>& list = pairs_direct ? out : part_pairs_[static_cast<size_t>(p)];
-    if (!pairs_direct) clear_with_headroom(list);
-    InternalBodyOrder::Spread& spread = part_spread_[static_cast<size_t>(p)];
-    const long q_end = part_begin(np, pair_jobs, p + 1);
-    // The spread: the order's decay measure (pair_spread, on the fly).
-    add_pair_contacts(probes_.data(), pairs.data(), part_begin(np, pair_jobs, p), q_end, list, spread.sum, spread.pairs);
-  });
   spread_ = {};
-  for (const auto& sp : part_spread_) {
-    spread_.sum += sp.sum;
-    spread_.pairs += sp.pairs;
+  if (body_jobs == 1 && parts_for(threads, np, 4, 1024) == 1) {  // one thread: appended in place
+    add_pair_contacts(probes_.data(), pairs.data(), 0, np, out, spread_.sum, spread_.pairs);
+  } else {
+    place_pair_contacts(threads, body_jobs, pairs, out);
   }
-  if (!pairs_direct) merge_contact_lists(threads, body_jobs, pair_jobs, out);
-  // Wall contacts were appended in key order and pairs are sorted: `out` is sorted.
+  // Wall contacts come in key order and pairs are sorted: `out` is sorted.
 }
 
-void World::merge_contact_lists(int threads, int body_jobs, int pair_jobs, std::vector<Contact>& out) {
-  // The lists in key order: walls top..left, each in job order (or already in `out`), then the
-  // pairs in job order; copied to their places by jobs of ranges of `out`.
-  // The pointers and offsets are kept members: no allocation once they hold the most lists.
-  std::vector<const std::vector<Contact>*>& lists = merge_lists_;
-  lists.clear();
-  if (body_jobs > 1)
-    for (int w = 3; w >= 0; --w)
-      for (int p = 0; p < body_jobs; ++p) lists.push_back(&part_walls_[static_cast<size_t>(4 * p + w)]);
-  for (int p = 0; p < pair_jobs; ++p) lists.push_back(&part_pairs_[static_cast<size_t>(p)]);
-  std::vector<size_t>& at = merge_at_;
-  at.assign(lists.size() + 1, out.size());
-  for (size_t i = 0; i < lists.size(); ++i) at[i + 1] = at[i] + lists[i]->size();
+void World::place_pair_contacts(int threads, int body_jobs, const std::vector<std::pair<int, int>>& pairs,
+                                std::vector<Contact>& out) {
+  // Counts first (the reach test alone), then offsets, then each job writes its contacts into
+  // out[at[p], at[p + 1]): the same array as lists appended in job order, without the lists'
+  // writes and their copy. The offsets and spreads are kept members: no allocation once they
+  // hold the most jobs.
+  const long np = static_cast<long>(pairs.size());
+  const int jobs = parts_for(threads, np, 4, 1024);
+  std::vector<std::size_t>& at = pair_at_;
+  at.assign(static_cast<size_t>(jobs) + 1, 0);
+  run_parts(threads, jobs, [&](int p) {
+    at[static_cast<size_t>(p) + 1] = static_cast<std::size_t>(
+        count_pair_contacts(probes_.data(), pairs.data(), part_begin(np, jobs, p), part_begin(np, jobs, p + 1)));
+  });
+  // The wall contacts first: already in `out` from one job of bodies, else the jobs' lists wall
+  // by wall (top..left), each in job order.
+  std::size_t walls = 0;
+  if (body_jobs == 1) {
+    walls = out.size();
+  } else {
+    for (int p = 0; p < 4 * body_jobs; ++p) walls += part_walls_[static_cast<size_t>(p)].size();
+  }
+  at[0] = walls;
+  for (int p = 0; p < jobs; ++p) at[static_cast<size_t>(p) + 1] += at[static_cast<size_t>(p)];
   // Room to grow (resize of an empty vector would allocate the count exactly, again at each
   // step the contacts grow): the serial path's push_back grows geometrically alike.
   if (out.capacity() < at.back()) out.reserve(at.back() + at.back() / 2);
   out.resize(at.back());
-  copy_lists_by_ranges<Contact>(threads, lists, at, out);
+  if (body_jobs > 1) {
+    auto to = out.begin();
+    for (int w = 3; w >= 0; --w)
+      for (int p = 0; p < body_jobs; ++p) {
+        const std::vector<Contact>& list = part_walls_[static_cast<size_t>(4 * p + w)];
+        to = std::copy(list.begin(), list.end(), to);
+      }
+  }
+  part_spread_.assign(static_cast<size_t>(jobs), InternalBodyOrder::Spread{});
+  run_parts(threads, jobs, [&](int p) {
+    InternalBodyOrder::Spread& spread = part_spread_[static_cast<size_t>(p)];
+    write_pair_contacts(probes_.data(), pairs.data(), part_begin(np, jobs, p), part_begin(np, jobs, p + 1),
+                        out.data() + at[static_cast<size_t>(p)], spread.sum, spread.pairs);
+  });
+  for (const auto& sp : part_spread_) {
+    spread_.sum += sp.sum;
+    spread_.pairs += sp.pairs;
+  }
 }
 
 const LcpProblem& World::assemble() {

@@ -188,8 +188,10 @@ class World {
   static constexpr long kMinBodiesPerThread = 1024;
   /// Broad and narrow phase of a circle-only scene on `bodies` into `out` (sorted by key).
   void collide_circles(const BodyState& bodies, std::vector<Contact>& out);
-  /// collide_circles' job lists appended to `out` in key order (walls, then pairs).
-  void merge_contact_lists(int threads, int body_jobs, int pair_jobs, std::vector<Contact>& out);
+  /// collide_circles' pair contacts on threads > 1: the jobs count their contacts, then write
+  /// them straight into place in `out` after its wall contacts (no lists merged by a copy).
+  void place_pair_contacts(int threads, int body_jobs, const std::vector<std::pair<int, int>>& pairs,
+                           std::vector<Contact>& out);
   /// Threads of the stages of the step in progress (1 outside step(): the stages called one by
   /// one run serially), chosen by step() from the solver's threads while whole steps pay (pacer_).
   int step_threads_ = 1;
@@ -198,11 +200,10 @@ class World {
   /// the solve's alone, and a stricter ratio would drop threads that gain for a noisy step.
   static constexpr double kStepPays = 0.95;
   ThreadPacer pacer_{kStepPays};
-  /// collide_circles' contacts per job: 4 wall lists per job of bodies, one per job of pairs.
-  std::vector<std::vector<Contact>> part_walls_, part_pairs_;
-  std::vector<InternalBodyOrder::Spread> part_spread_;
-  std::vector<const std::vector<Contact>*> merge_lists_;  ///< merge_contact_lists' lists in key order
-  std::vector<std::size_t> merge_at_;                     ///< and their offsets in the merged list
+  /// collide_circles' wall contacts per job: 4 lists per job of bodies.
+  std::vector<std::vector<Contact>> part_walls_;
+  std::vector<InternalBodyOrder::Spread> part_spread_;  ///< the spread of each job of pairs
+  std::vector<std::size_t> pair_at_;  ///< place_pair_contacts' offsets of each job's contacts in `out`
   /// integrate() on the problem the stages solved (internal rows when there is an order).
   void integrate_solved(const Eigen::Ref<const Eigen::VectorXd>& lambda, const Eigen::VectorXd* position_lambda = nullptr);
   /// The relax pass (`[solver] relax_sweeps`, world/parts/relax_pass.hpp) after the solve in
