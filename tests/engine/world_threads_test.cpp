@@ -30,8 +30,32 @@ bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
 }
 
-/// Per step: the state hash, the λ and residual of the report, and the contacts' keys and λ.
+/// Every field of a step's public contacts, as bits: key, bodies, point, normal, gap, λ,
+/// restitution memory and witness anchors (a field left stale by a reused contact shows here).
+std::vector<std::uint64_t> contact_bits(const std::vector<Contact>& contacts) {
+  std::vector<std::uint64_t> bits;
+  const auto put = [&bits](double v) {
+    std::uint64_t u = 0;
+    std::memcpy(&u, &v, sizeof u);
+    bits.push_back(u);
+  };
+  for (const Contact& c : contacts) {
+    bits.push_back(c.key.packed());
+    bits.push_back(static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.key.feature)));
+    bits.push_back((static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.body_a)) << 32) |
+                   static_cast<std::uint32_t>(c.body_b));
+    for (const double v : {c.point.x, c.point.y, c.normal.x, c.normal.y, c.gap, c.lambda_n, c.lambda_t,
+                           c.approach_velocity, c.anchor_a.x, c.anchor_a.y, c.anchor_b.x, c.anchor_b.y})
+      put(v);
+    bits.push_back(c.restitution_due ? 1u : 0u);
+  }
+  return bits;
+}
+
+/// Per step: the state hash, the λ and residual of the report, every field of the contacts;
+/// after the last step the contacts' keys and λ.
 struct Steps {
+  std::vector<std::vector<std::uint64_t>> contacts;
   std::vector<std::uint64_t> hashes;
   std::vector<Eigen::VectorXd> lambdas;
   std::vector<double> residuals;
@@ -61,6 +85,7 @@ Steps run_steps(const WorldDef& def, const BodyState& bodies, int threads, int s
     r.hashes.push_back(state_hash(w.bodies()));
     r.lambdas.push_back(rep.solve.lambda);
     r.residuals.push_back(rep.solve.residual);
+    r.contacts.push_back(contact_bits(w.contacts()));
   }
   for (const Contact& c : w.contacts()) r.last_contacts.emplace_back(c.key, c.lambda_n + c.lambda_t);
   return r;
@@ -72,6 +97,7 @@ void expect_same_run(const Steps& one, const Steps& other, const std::string& wh
     EXPECT_EQ(one.hashes[k], other.hashes[k]) << what << ", step " << k;
     EXPECT_TRUE(same_bits(one.lambdas[k], other.lambdas[k])) << what << ", step " << k;
     EXPECT_EQ(0, std::memcmp(&one.residuals[k], &other.residuals[k], sizeof(double))) << what << ", step " << k;
+    EXPECT_TRUE(one.contacts[k] == other.contacts[k]) << what << ", contacts of step " << k;
   }
   EXPECT_EQ(one.last_contacts, other.last_contacts) << what;
 }
