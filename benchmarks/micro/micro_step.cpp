@@ -360,6 +360,14 @@ void BM_StepStages(benchmark::State& state) {
   }
 }
 
+/// Reads and writes one double per cache line of `data`, displacing from the caches what the
+/// timed code would otherwise find there (as a step's other stages do).
+void touch_lines(std::vector<double>& data) {
+  double sum = 0;
+  for (std::size_t k = 0; k < data.size(); k += 8) sum += data[k]++;
+  benchmark::DoNotOptimize(sum);
+}
+
 /// pgs-colored's solve alone on the settled pile's problem (args: bodies, morton), 20 sweeps from
 /// the builtin guess, with the caches evicted before each solve as the stages before it evict
 /// them in a step: counters ns_<part> per contact row (thread CPU time) as BM_StepStages's
@@ -378,9 +386,7 @@ void colored_solve_parts(benchmark::State& state, const Pile& p) {
   double solve_s = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    double sum = 0;
-    for (std::size_t k = 0; k < evict.size(); k += 8) sum += evict[k]++;
-    benchmark::DoNotOptimize(sum);
+    touch_lines(evict);
     state.ResumeTiming();
     const double t0 = thread_cpu_s();
     const dc::SolveResult r = solver->solve(problem, p.guess, o);
@@ -421,9 +427,7 @@ void BM_ColoredPack(benchmark::State& state) {
   prof = dc::PgsColoredProfile{};
   for (auto _ : state) {
     state.PauseTiming();
-    double sum = 0;
-    for (std::size_t k = 0; k < evict.size(); k += 8) sum += evict[k]++;
-    benchmark::DoNotOptimize(sum);
+    touch_lines(evict);
     state.ResumeTiming();
     const dc::SolveResult r = solver->solve(problem, p.guess, o);
     benchmark::DoNotOptimize(r.lambda.data());

@@ -13,6 +13,7 @@
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
+#include "box_pile_world.hpp"
 
 namespace dc {
 namespace {
@@ -48,15 +49,9 @@ DriftPileRun drift_pile_solve(const LcpProblem& p, int jumps, double r_n) {
 TEST(ProxNewtonDriftOnBoxPiles, JumpsChangeNothingUnlessMadeAndReachRSoonerWhereMade) {
   int jumped_steps = 0, with_jumps = 0, without_jumps = 0;
   for (const int seed : {5, 6}) {
-    WorldDef def = load_scene(std::string(DC_SOURCE_DIR) + "/scenes/box_pile.toml");
-    def.bodies.seed = static_cast<std::uint64_t>(seed);
+    const WorldDef def = test::box_pile_def(seed);
     World w(def);
-    const auto warm = make_solver("pgs-colored");
-    SolverOptions wo;
-    wo.max_sweeps = 1000;
-    wo.tolerance = 1e-2;
-    wo.record_theta = false;
-    for (int k = 0; k < 250; ++k) w.step(*warm, wo, World::WarmStart::PreviousLambda);
+    test::settle_box_pile(w, 250);
     for (int step = 0; step < 3; ++step) {
       w.collide();
       const LcpProblem p = w.assemble();

@@ -17,6 +17,7 @@
 #include "dc/engine/world.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
+#include "box_pile_world.hpp"
 
 namespace dc {
 namespace {
@@ -58,15 +59,9 @@ TEST(ProxNewtonProbeOnBoxPiles, AMissedProbeLeavesTheSolveAsWithoutIt) {
   int missed = 0;
   // Three missed probes on these two piles, where the lead then plateaus for 450-1000 sweeps.
   for (const int seed : {5, 6}) {
-    WorldDef def = load_scene(std::string(DC_SOURCE_DIR) + "/scenes/box_pile.toml");
-    def.bodies.seed = static_cast<std::uint64_t>(seed);
+    const WorldDef def = test::box_pile_def(seed);
     World w(def);
-    const auto warm = make_solver("pgs-colored");
-    SolverOptions wo;
-    wo.max_sweeps = 1000;
-    wo.tolerance = 1e-2;
-    wo.record_theta = false;
-    for (int k = 0; k < 250; ++k) w.step(*warm, wo, World::WarmStart::PreviousLambda);
+    test::settle_box_pile(w, 250);
     for (int step = 0; step < 2; ++step) {
       w.collide();
       const LcpProblem p = w.assemble();

@@ -51,7 +51,7 @@ struct PgsColoredDef {
   /// Default 16: a wait between two spinning threads costs about as much as a few batches'
   /// sweep with the AVX-512 kernel, so a thread's share of a range of 16 batches keeps the
   /// waits a small part of the sweep; ordered colours give a settled pile many short ranges
-  /// (a range a colour), and a larger threshold left piles that gain from two threads serial.
+  /// (a range a colour), and piles that gain from two threads have few batches per range.
   int min_batches_per_thread = 16;
   /// Which kernel sweeps (default Auto). make_pgs_colored throws InvalidArgument for a kernel
   /// this build or CPU cannot run (pgs_colored_kernel_available).

@@ -21,8 +21,8 @@ namespace dc::solvers::prox {
 /// d_{k−1}, d_k agree to `linearity` (‖d_k − d_{k−1}‖∞ ≤ linearity·‖d_k‖∞, d_k ≠ 0) and a row
 /// meets a bound along λ_k + s d_k at some finite s ≥ 2 sweeps (fewer: the sweeps get there
 /// themselves), λ_k + s d_k projected onto the bounds; nothing otherwise. w along the jump is
-/// not checked: on box piles a test s‖A d_k‖∞ ≤ the hard residual refused jumps that reached
-/// the target sooner.
+/// not checked: on box piles the jumps that reach the target soonest move w by more than the
+/// hard residual (s‖A d_k‖∞ above it), so a bound on that would forbid them.
 [[nodiscard]] std::optional<Eigen::VectorXd> drift_jump(const LcpProblem& p, const Eigen::VectorXd& before_last,
                                                         const Eigen::VectorXd& last, const Eigen::VectorXd& now,
                                                         double linearity);
