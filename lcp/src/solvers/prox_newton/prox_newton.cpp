@@ -494,6 +494,7 @@ class ProxRun {
   void forward_checkpoints(SolverOptions& fo, const InFlightPart& part) {
     if (!o_.on_checkpoint) return;
     const int base = mark();
+    fo.checkpoints.reserve(o_.checkpoints.size());
     for (const int k : o_.checkpoints)
       if (k > base) fo.checkpoints.push_back(k - base);
     fo.on_checkpoint = [this, base, part](int it, const Eigen::VectorXd& lambda) {
