@@ -313,6 +313,7 @@ class ProxRun {
   /// later sweeps follow them (probe_newton_).
   bool probe(int sweeps) {
     if (probed_ || sweeps < def_.probe_sweeps || reached(best_res_, target_) || budget_left() <= 0) return false;
+    if (def_.probe_reach > 0 && best_res_ > def_.probe_reach * target_) return false;  // a later look
     probed_ = true;  // one probe per solve
     st_.lead_sweeps = sweeps;  // mark() counts the lead's sweeps so far
     const int newton0 = st_.newton;
