@@ -128,9 +128,9 @@ struct ProxNewtonDef {
   bool degenerate_fallback_momentum = true;
   /// Degenerate problems (degenerate_rows): one probe during the lead stage. At the first look
   /// at or after `probe_sweeps` sweeps (default 150; 0 = none) within `probe_reach`, coupled
-  /// body-space passes (the hard proximal subproblem of `coupled_bounds`, δ from initial_shift, no newton-sparse
-  /// finish) run from the best iterate so far for at most `probe_iterations` Newton iterations
-  /// in all (default 3). When they reach the target the solve ends there; otherwise the lead's
+  /// body-space passes (the hard proximal subproblem of `coupled_bounds`, δ from initial_shift,
+  /// no newton-sparse finish) run from the best iterate so far for at most `probe_iterations`
+  /// Newton iterations in all (default 3). When they reach the target the solve ends there; otherwise the lead's
   /// nncg run goes on untouched (its momentum kept) and every later part sees the solve as
   /// without the probe, the probe's best iterate staying a candidate for the answer. On box
   /// piles nncg often sits on a plateau after a hundred sweeps from which the coupled passes
