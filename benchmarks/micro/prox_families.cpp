@@ -101,6 +101,7 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "degenerate_fallback_momentum") d.degenerate_fallback_momentum = x != 0;
   else if (key == "probe_sweeps") d.probe_sweeps = static_cast<int>(x);
   else if (key == "probe_iterations") d.probe_iterations = static_cast<int>(x);
+  else if (key == "probe_reach") d.probe_reach = x;
   else if (key == "degenerate_drift_jumps") d.degenerate_drift_jumps = static_cast<int>(x);
   else if (key == "degenerate_drift_linearity") d.degenerate_drift_linearity = x;
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);

@@ -228,8 +228,9 @@ TEST(SolverPgs, CheckpointsSeeTheIterateOfThatSweep) {
 }
 
 TEST(SolverPgs, CheckpointsInAnyOrderSeeTheSameIterates) {
-  // The cursor sorts only a list that is out of order (callers' lists usually are in order):
-  // a shuffled list with a duplicate sees what the sorted list sees, each checkpoint once.
+  // The cursor reads a strictly increasing list of positive checkpoints in place and copies,
+  // sorts and cleans any other: a shuffled list with a duplicate, or one with non-positive
+  // entries, sees what the increasing list sees, each checkpoint once.
   test::TestRng rng(7);
   const LcpProblem p = test::random_contact(20, 30, true, rng);
   const auto seen_with = [&](std::vector<int> ks) {
@@ -245,6 +246,20 @@ TEST(SolverPgs, CheckpointsInAnyOrderSeeTheSameIterates) {
   const auto sorted = seen_with({1, 7, 30, 50});
   ASSERT_EQ(sorted.size(), 4u);
   EXPECT_EQ(seen_with({30, 7, 50, 1, 7}), sorted);
+  EXPECT_EQ(seen_with({-2, 0, 1, 7, 30, 50}), sorted);
+  EXPECT_EQ(seen_with({1, 7, 7, 30, 50}), sorted);
+  // Past a stop at the tolerance the checkpoints left see the final λ (flush_final), a
+  // duplicate among them once too.
+  SolverOptions o;
+  o.max_sweeps = 200;
+  o.tolerance = 1e9;  // [N]: the first sweep stops
+  o.record_theta = false;
+  o.checkpoints = {1, 150, 150, 180};
+  std::vector<int> seen;
+  o.on_checkpoint = [&](int k, const Eigen::VectorXd&) { seen.push_back(k); };
+  const SolveResult r = make_solver("pgs")->solve(p, Eigen::VectorXd(), o);
+  ASSERT_LT(r.sweeps, 150) << r.message;
+  EXPECT_EQ(seen, (std::vector<int>{1, 150, 180}));
 }
 
 TEST(SolverPgs, WarmStartAtTheSolutionBarelyMoves) {

@@ -115,19 +115,26 @@ RowBounds::RowBounds(const LcpProblem& p) {
 
 CheckpointCursor::CheckpointCursor(const SolverOptions& o) : o_(o) {
   if (!o.on_checkpoint) return;
-  ks_.reserve(o.checkpoints.size());
-  for (int k : o.checkpoints)
-    if (k >= 1) ks_.push_back(k);
-  // Callers pass their checkpoints in order (the bench's trace: every iteration, thousands of
-  // them; prox-newton forwards them to each part it runs): checking costs one pass, sorting a
-  // sorted list costs n log n comparisons, as much as tens of sweeps on a small problem.
-  if (!std::is_sorted(ks_.begin(), ks_.end())) std::sort(ks_.begin(), ks_.end());
-  ks_.erase(std::unique(ks_.begin(), ks_.end()), ks_.end());
+  const std::vector<int>& given = o.checkpoints;
+  bool increasing = given.empty() || given.front() >= 1;
+  for (size_t i = 1; increasing && i < given.size(); ++i) increasing = given[i - 1] < given[i];
+  if (increasing) {
+    ks_ = given.data();
+    size_ = given.size();
+    return;
+  }
+  own_.reserve(given.size());
+  for (int k : given)
+    if (k >= 1) own_.push_back(k);
+  if (!std::is_sorted(own_.begin(), own_.end())) std::sort(own_.begin(), own_.end());
+  own_.erase(std::unique(own_.begin(), own_.end()), own_.end());
+  ks_ = own_.data();
+  size_ = own_.size();
 }
 
 void CheckpointCursor::after(int k, const Eigen::VectorXd& lambda) {
-  while (next_ < ks_.size() && ks_[next_] < k) ++next_;
-  if (next_ < ks_.size() && ks_[next_] == k) {
+  while (next_ < size() && at(next_) < k) ++next_;
+  if (next_ < size() && at(next_) == k) {
     o_.on_checkpoint(k, lambda);
     ++next_;
   }
@@ -135,14 +142,14 @@ void CheckpointCursor::after(int k, const Eigen::VectorXd& lambda) {
 
 void CheckpointCursor::reach(int k, const Eigen::VectorXd& lambda) {
   size_t last = next_;
-  while (last < ks_.size() && ks_[last] <= k) ++last;
+  while (last < size() && at(last) <= k) ++last;
   if (last == next_) return;
   next_ = last;
-  o_.on_checkpoint(ks_[last - 1], lambda);
+  o_.on_checkpoint(at(last - 1), lambda);
 }
 
 void CheckpointCursor::flush_final(const Eigen::VectorXd& lambda) {
-  for (; next_ < ks_.size(); ++next_) o_.on_checkpoint(ks_[next_], lambda);
+  for (; next_ < size(); ++next_) o_.on_checkpoint(at(next_), lambda);
 }
 
 void report_singular_rows(const LcpProblem& p, const std::vector<int>& singular, SolveResult& r) {

@@ -72,9 +72,15 @@ struct RowBounds {
 
 /// Calls options.on_checkpoint(k, λ) for every k in options.checkpoints, once each, in
 /// order; robust against unsorted, duplicate or non-positive entries (those are skipped).
+/// A list that is already strictly increasing from k ≥ 1 (the bench's trace: every iteration,
+/// thousands of them) is read in place: `options` outlives the cursor, and a copy per solve
+/// and per part (prox-newton forwards them to each part it runs) cost as much as tens of sweeps
+/// on a small problem.
 class CheckpointCursor {
  public:
   explicit CheckpointCursor(const SolverOptions& o);
+  CheckpointCursor(const CheckpointCursor&) = delete;  // ks_ may point into own_
+  CheckpointCursor& operator=(const CheckpointCursor&) = delete;
   /// After sweep k.
   void after(int k, const Eigen::VectorXd& lambda);
   /// For methods whose iterates come k at a time (an outer iteration of several inner ones):
@@ -85,7 +91,12 @@ class CheckpointCursor {
   void flush_final(const Eigen::VectorXd& lambda);
 
  private:
-  std::vector<int> ks_;
+  [[nodiscard]] size_t size() const { return size_; }
+  [[nodiscard]] int at(size_t i) const { return ks_[i]; }
+
+  std::vector<int> own_;     // the sorted, unique, positive copy when the caller's list is not so
+  const int* ks_ = nullptr;  // own_'s or the caller's entries
+  size_t size_ = 0;
   size_t next_ = 0;
   const SolverOptions& o_;
 };

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <map>
+#include <vector>
 #include <string>
 
 #include "dc/core/error.hpp"
@@ -34,7 +36,8 @@ Outcome solve(const LcpProblem& p, const ProxNewtonDef& d, double tolerance) {
 }
 
 /// A resting pile with friction, and settings that count it as degenerate (its rows per
-/// velocity unknown are above 1) with a probe at the first look (50 sweeps).
+/// velocity unknown are above 1) with a probe at the first look (50 sweeps), whatever the best
+/// hard residual there (probe_reach = 0).
 struct Pile {
   LcpProblem p = test::deep_pile(12, 6, 0.9);
   ProxNewtonDef def;
@@ -42,6 +45,7 @@ struct Pile {
   Pile() {
     def.degenerate_rows = 0.99 * static_cast<double>(p.rows()) / static_cast<double>(p.J.cols());
     def.probe_sweeps = 50;
+    def.probe_reach = 0;
   }
   [[nodiscard]] ProxNewtonDef without_probe() const {
     ProxNewtonDef d = def;
@@ -59,6 +63,7 @@ TEST(ProxNewtonProbe, AProbeAtTheTargetEndsTheSolve) {
     const LcpProblem p = test::random_contact(40, 80, true, rng);
     ProxNewtonDef def;
     def.degenerate_drift_jumps = 0;  // the jumps bring nncg there before the probe on these problems
+    def.probe_reach = 0;
     ASSERT_GE(static_cast<double>(p.rows()), def.degenerate_rows * static_cast<double>(p.J.cols()));
     const double tol = 1e-6 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
     ProxNewtonDef no_probe = def;
@@ -116,6 +121,7 @@ TEST(ProxNewtonProbe, AMissedProbeLeavesTheSolveAsWithoutIt) {
         ProxNewtonDef d;
         d.probe_iterations = iterations;
         d.initial_shift = shift;
+        d.probe_reach = 0;  // a probe at 150 sweeps however far from the tight target
         missed += missed_as_without(p, d, 1e-12 * std::max(1.0, p.b.cwiseAbs().maxCoeff()),
                                     "seed " + std::to_string(seed) + ", " + std::to_string(iterations) + " iterations");
       }
@@ -148,6 +154,61 @@ TEST(ProxNewtonProbe, TheLeadsLaterSweepsFollowTheProbesIterationsInTheCheckpoin
   for (int k = pile.def.probe_sweeps + 1; k <= pile.def.probe_sweeps + 40; ++k) EXPECT_EQ(on.at(k + n), off.at(k)) << k;
 }
 
+/// The look after which the first Newton iteration's checkpoint came (0: none) and the best
+/// hard residual at each look (every kLook sweeps) of a solve with checkpoints at every iteration.
+struct ProbeLooks {
+  int probe_look = 0;
+  std::vector<double> best;  // best[j]: the best hard residual after look j + 1 (the guess's included)
+};
+
+ProbeLooks probe_looks(const LcpProblem& p, const ProxNewtonDef& d, double tolerance) {
+  constexpr int kLook = 50;  // the lead stage's chunk
+  SolverOptions o;
+  o.max_sweeps = 500;
+  o.tolerance = tolerance;
+  for (int k = 1; k <= 3000; ++k) o.checkpoints.push_back(k);
+  ProxNewtonSolver s(d);
+  ProbeLooks out;
+  double best = natural_residual(p, Eigen::VectorXd::Zero(p.rows()));
+  o.on_checkpoint = [&](int k, const Eigen::VectorXd& lambda) {
+    const ProxNewtonStats st = s.checkpoint_stats();
+    if (st.newton > 0) {
+      if (out.probe_look == 0) out.probe_look = k - 1;
+      return;
+    }
+    best = std::min(best, natural_residual(p, lambda));
+    if (k % kLook == 0) out.best.push_back(best);
+  };
+  (void)s.solve(p, {}, o);
+  return out;
+}
+
+TEST(ProxNewtonProbe, AProbeWaitsForALookWithinReachOfTheTarget) {
+  // probe_reach: the probe runs at the first look at or after probe_sweeps whose best hard
+  // residual is within probe_reach × the target, not at an earlier one.
+  Pile pile;
+  pile.def.degenerate_drift_jumps = 0;  // looks at the lead's own iterates
+  pile.def.probe_iterations = 1;
+  const double tol = 1e-10 * pile.scale;
+  const ProbeLooks first = probe_looks(pile.p, pile.def, tol);  // probe_reach 0: at the first look
+  ASSERT_EQ(first.probe_look, pile.def.probe_sweeps);
+  const ProbeLooks off = probe_looks(pile.p, pile.without_probe(), tol);
+  ASSERT_GE(off.best.size(), 4u);
+  // A reach between the best at the first look and at a later one that fell 10-fold below it.
+  size_t later = 1;
+  while (later < off.best.size() && off.best[later] * 10 > off.best[0]) ++later;
+  ASSERT_LT(later, off.best.size()) << "the lead's best does not fall 10-fold";
+  ProxNewtonDef def = pile.def;
+  def.probe_reach = std::sqrt(off.best[0] * off.best[later]) / tol;
+  size_t expected = 0;
+  while (off.best[expected] > def.probe_reach * tol) ++expected;
+  ASSERT_GT(expected, 0u);
+  const ProbeLooks on = probe_looks(pile.p, def, tol);
+  EXPECT_EQ(on.probe_look, 50 * static_cast<int>(expected + 1));
+  // Up to there the lead's looks saw what they see without the probe.
+  for (size_t j = 0; j <= expected && j < on.best.size(); ++j) EXPECT_EQ(on.best[j], off.best[j]) << j;
+}
+
 TEST(ProxNewtonProbe, NoProbeBelowTheDegenerateRatio) {
   Pile pile;
   pile.def.degenerate_rows = 1e9;
@@ -165,6 +226,9 @@ TEST(ProxNewtonProbe, RefusesInvalidSettings) {
   EXPECT_THROW(ProxNewtonSolver{d}, InvalidArgument);
   d = {};
   d.probe_iterations = -1;
+  EXPECT_THROW(ProxNewtonSolver{d}, InvalidArgument);
+  d = {};
+  d.probe_reach = -1;
   EXPECT_THROW(ProxNewtonSolver{d}, InvalidArgument);
 }
 

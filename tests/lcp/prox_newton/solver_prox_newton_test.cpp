@@ -208,6 +208,22 @@ TEST(ProxNewton, RerunsAreBitEqualAndTheMessageNamesThePart) {
   EXPECT_EQ(make_solver("prox-newton")->name(), "prox-newton");
 }
 
+TEST(ProxNewton, ASolverObjectSolvesAnotherProblemAsAFreshOne) {
+  // The body-space subproblem binds to each solve's problem at its first use (J, W, max A_ii):
+  // after a solve of one pile, a solve of another is the fresh solver's bit for bit.
+  test::TestRng rng(910);
+  const LcpProblem first = test::random_contact(30, 50, true, rng), second = test::random_contact(25, 45, true, rng);
+  ProxNewtonDef def;
+  def.lead_sweeps = 0;  // the Newton passes factorise
+  ProxNewtonSolver reused(def), fresh(def);
+  (void)reused.solve(first, {}, options());
+  ASSERT_GE(reused.last_stats().factorizations, 1);
+  const SolveResult a = reused.solve(second, {}, options()), b = fresh.solve(second, {}, options());
+  EXPECT_EQ(a.lambda, b.lambda);
+  EXPECT_EQ(a.sweeps, b.sweeps);
+  EXPECT_EQ(reused.last_stats().factorizations, fresh.last_stats().factorizations);
+}
+
 TEST(ProxNewton, InvalidGuessIsInvalidInput) {
   test::TestRng rng(950);
   const LcpProblem p = test::random_contact(10, 15, true, rng);

@@ -127,10 +127,10 @@ struct ProxNewtonDef {
   int degenerate_stall_chunks = 6;
   bool degenerate_fallback_momentum = true;
   /// Degenerate problems (degenerate_rows): one probe during the lead stage. At the first look
-  /// at or after `probe_sweeps` sweeps (default 150; 0 = none), coupled body-space passes (the
-  /// hard proximal subproblem of `coupled_bounds`, δ from initial_shift, no newton-sparse
-  /// finish) run from the best iterate so far for at most `probe_iterations` Newton iterations
-  /// in all (default 3). When they reach the target the solve ends there; otherwise the lead's
+  /// at or after `probe_sweeps` sweeps (default 150; 0 = none) within `probe_reach`, coupled
+  /// body-space passes (the hard proximal subproblem of `coupled_bounds`, δ from initial_shift,
+  /// no newton-sparse finish) run from the best iterate so far for at most `probe_iterations`
+  /// Newton iterations in all (default 3). When they reach the target the solve ends there; otherwise the lead's
   /// nncg run goes on untouched (its momentum kept) and every later part sees the solve as
   /// without the probe, the probe's best iterate staying a candidate for the answer. On box
   /// piles nncg often sits on a plateau after a hundred sweeps from which the coupled passes
@@ -139,6 +139,13 @@ struct ProxNewtonDef {
   /// analysis, GMRES for the coupled directions).
   int probe_sweeps = 150;
   int probe_iterations = 3;
+  /// The probe runs only at a look whose best hard residual is within `probe_reach` times the
+  /// target (default 100; 0 = at the first look at or after probe_sweeps whatever the best):
+  /// the coupled passes converge locally, and in probe_iterations Newton iterations they reach
+  /// the target from an iterate whose row modes are nearly right, not from one of nncg's
+  /// plateaus far above it, where the probe costs its factorisation and GMRES directions and
+  /// misses. A look above the reach leaves the probe for a later look.
+  double probe_reach = 100;
   /// Degenerate problems (degenerate_rows): drift jumps of the lead stage at most (default 16;
   /// 0 = none). Where w has a part on the free rows outside A's range (closed contacts that
   /// cannot all hold with the friction they stick with), nncg's sweeps drift along A's null

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "dc/core/error.hpp"
 #include "dc/lcp/newton_sparse.hpp"
@@ -178,6 +179,16 @@ class ProxRun {
     return true;
   }
 
+  /// The body-space subproblem solver, bound to this problem at its first use: a solve that the
+  /// lead stage finishes never needs Jᵀ, W and W⁻¹ (bind_body_metric).
+  BodyNewton& body() {
+    if (!body_bound_) {
+      s_.body.bind(p_);
+      body_bound_ = true;
+    }
+    return s_.body;
+  }
+
   /// Body space with at least degenerate_rows rows per velocity unknown (ProxNewtonDef).
   [[nodiscard]] bool degenerate() const {
     return body_ && p_.rows() >= def_.degenerate_rows * static_cast<double>(p_.J.cols());
@@ -188,7 +199,7 @@ class ProxRun {
 
   /// A run of passes from λ steered by `ps` (passes.hpp); λ ends at the last usable iterate.
   void outer(Eigen::VectorXd& lambda, const Passes& ps) {
-    const double diag = body_ ? s_.body.max_diagonal() : (p_.rows() > 0 ? p_.A.diagonal().maxCoeff() : 0.0);
+    const double diag = body_ ? body().max_diagonal() : (p_.rows() > 0 ? p_.A.diagonal().maxCoeff() : 0.0);
     if (!(diag > 0)) return;
     double shift = ps.shift;
     const int newton0 = st_.newton;
@@ -208,7 +219,7 @@ class ProxRun {
       sub.tolerance = def_.inner_tolerance * std::max(target_, best_res_);
       sub.max_iterations = std::min({ps.inner, budget_left(), ps.iterations - (st_.newton - newton0)});
       Eigen::VectorXd next = lambda;
-      const SubproblemOutcome so = body_ ? s_.body.solve(sub, next) : s_.dual.solve(sub, next);
+      const SubproblemOutcome so = body_ ? body().solve(sub, next) : s_.dual.solve(sub, next);
       st_.newton += so.iterations;
       st_.factorizations += so.factorizations;
       st_.analyses += so.analyses;
@@ -300,7 +311,7 @@ class ProxRun {
     }
     SolverOptions so;
     forward_checkpoints(so, InFlightPart::lead());
-    st_.lead_sweeps = run_lead_stage(p_, lambda, ld, so, [this](const Eigen::VectorXd& x) {
+    st_.lead_sweeps = run_lead_stage(p_, lambda, ld, std::move(so), [this](const Eigen::VectorXd& x) {
       consider(x, hard_residual(p_, x), Finisher::Lead);
       return best_res_;
     }, &lead_fall_, &st_.drift_jumps);
@@ -313,6 +324,7 @@ class ProxRun {
   /// later sweeps follow them (probe_newton_).
   bool probe(int sweeps) {
     if (probed_ || sweeps < def_.probe_sweeps || reached(best_res_, target_) || budget_left() <= 0) return false;
+    if (def_.probe_reach > 0 && best_res_ > def_.probe_reach * target_) return false;  // a later look
     probed_ = true;  // one probe per solve
     st_.lead_sweeps = sweeps;  // mark() counts the lead's sweeps so far
     const int newton0 = st_.newton;
@@ -339,7 +351,7 @@ class ProxRun {
     }
     // The passes after the lead stage start as without the probe: no kept factor of the
     // coupled H to precondition their first direction with.
-    s_.body.forget_factor();
+    body().forget_factor();
     st_.lead_sweeps = 0;  // the lead's checkpoints add their own sweeps (CheckpointWork)
     return reached(best_res_, target_);
   }
@@ -494,6 +506,7 @@ class ProxRun {
   void forward_checkpoints(SolverOptions& fo, const InFlightPart& part) {
     if (!o_.on_checkpoint) return;
     const int base = mark();
+    fo.checkpoints.reserve(o_.checkpoints.size());
     for (const int k : o_.checkpoints)
       if (k > base) fo.checkpoints.push_back(k - base);
     fo.on_checkpoint = [this, base, part](int it, const Eigen::VectorXd& lambda) {
@@ -542,6 +555,7 @@ class ProxRun {
   bool from_guess_ = false;        // in the Newton part from the guess after the first part
   double lead_fall_ = 1.0;         // the lead stage's LeadRate::window_fall()
   bool probed_ = false;            // the lead stage's probe ran
+  bool body_bound_ = false;        // s_.body bound to p_ (body())
   Eigen::VectorXd probe_best_;     // the probe's best iterate when it missed the target
   double probe_best_res_ = INFINITY;
   int probe_newton_ = 0;           // Newton iterations of the probe during the lead stage
@@ -579,9 +593,7 @@ SolveResult ProxNewtonSolver::solve(const LcpProblem& problem, const Eigen::Vect
   // The dual form needs a symmetric A (a QP); a non-symmetric A (a general LCP from a file) has
   // no convex subproblem, and newton-sparse alone takes the whole budget.
   bool convex = body;
-  if (body) {
-    state_->parts.body.bind(*p);
-  } else {
+  if (!body) {
     if (!p->A.isCompressed()) {  // the factor's pattern key reads the compressed arrays
       if (!local) local.emplace(*p);
       local->A.makeCompressed();

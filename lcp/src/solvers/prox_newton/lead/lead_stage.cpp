@@ -58,7 +58,10 @@ int run_lead_stage(const LcpProblem& p, const Eigen::VectorXd& lambda, const Lea
       if (watch_drift && sweeps >= kLeadChunk) jumped = drift_jump(p, recent[0], recent[1], x, def.drift_linearity);
       return jumped.has_value();
     };
-    const SolverOptions o = run_options(options, done, def.cap);
+    // The first run takes the stage's options as they are (no copy of a long checkpoint list).
+    SolverOptions shifted;
+    if (done > 0) shifted = run_options(options, done, def.cap);
+    const SolverOptions& o = done > 0 ? shifted : options;
     const SolveResult r = def.colored != nullptr ? nncg_colored_solve(*def.colored, p, start, o, &watch)
                                                  : nncg_solve(p, start, o, &watch);
     if (jumped) {

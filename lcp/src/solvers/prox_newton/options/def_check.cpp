@@ -41,6 +41,8 @@ void check_def(const ProxNewtonDef& d) {
     throw InvalidArgument("prox-newton: degenerate_drift_linearity must be in [0, 1)");
   if (d.probe_sweeps < 0 || d.probe_iterations < 0)
     throw InvalidArgument("prox-newton: probe_sweeps and probe_iterations must be >= 0");
+  if (!(d.probe_reach >= 0))
+    throw InvalidArgument("prox-newton: probe_reach must be >= 0");
   if (d.lead_colored_rows < 0 || d.lead_stall_chunks < 0 || d.degenerate_stall_chunks < 0 || !(d.degenerate_rows > 0))
     throw InvalidArgument("prox-newton: lead_colored_rows, lead_stall_chunks, degenerate_stall_chunks must be >= 0, "
                           "degenerate_rows > 0");
