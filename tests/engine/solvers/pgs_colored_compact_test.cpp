@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dc/engine/stress_scenes.hpp"
@@ -18,6 +19,8 @@
 #include "lcp/solver_test_problems.hpp"
 #include "pgs_colored_kernels.hpp"
 #include "solvers/pgs_colored/compact/compact_batch.hpp"
+#include "solvers/pgs_colored/pgs_colored_layout.hpp"
+#include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 
 namespace dc {
 namespace {
@@ -199,6 +202,80 @@ TEST(PgsColoredCompact, CompressionChecksEveryBit) {
     colored::Batch m = B;
     mutate(m);
     EXPECT_FALSE(colored::compress(m, C));
+  }
+}
+
+/// Every single-contact batch of `laid` packed by fill_compact (ω, the AVX-512 pack when `wide`),
+/// the sources staged (stage_sources) from `from` ordered positions on.
+struct CompactFill {
+  colored::Prepared prep;
+  std::vector<double> lp, other;
+  std::vector<int> direct;  // per batch: 1 when it went to the compact layout
+};
+CompactFill fill_compact_all(const LcpProblem& p, const Eigen::VectorXd& l0, const colored::Prepared& laid, int from,
+                             bool wide, double omega) {
+  CompactFill f{laid, std::vector<double>(laid.row_of.size(), -7.0), std::vector<double>(laid.row_of.size(), -7.0), {}};
+  f.prep.wide_pack = wide;
+  f.prep.compact.resize(f.prep.batches.size());
+  colored::stage_sources(p, l0, f.prep, from);
+  for (int bi = 0; bi < static_cast<int>(f.prep.batches.size()); ++bi)
+    f.direct.push_back(colored::fill_compact(p, l0, f.prep, bi, f.lp.data(), f.other.data(), omega, false) ? 1 : 0);
+  return f;
+}
+
+template <class T>
+bool same_bytes(const T& a, const T& b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+TEST(PgsColoredCompact, StagedSourcesPackTheGatheredCompactBatchesBitForBit) {
+  // Problems past kStageFrom ordered positions stage their sources (stage_sources) and pack the
+  // compact batches straight from the staged records: the same batches, λ⁰, A_ii and rows as
+  // packed from J, b and λ⁰, on the AVX2 and the AVX-512 pack, with and without over-relaxation.
+  if (!colored::simd_pack_available()) GTEST_SKIP() << "no AVX2";
+  const std::pair<const char*, LcpProblem> problems[] = {
+      {"pile", test::settled_problem(stress::scaled_seed_pile(300), 100)},
+      {"mass ratio", test::settled_problem(stress::pyramid_mass_ratio(10.0, true), 30)},
+      {"frictionless", test::settled_problem(stress::friction_scene(0.0, 40), 60)}};
+  for (const auto& [what, p] : problems) {
+    const Eigen::VectorXd l0 = test::mixed_sign_start(p);
+    ContactColorer colorer;
+    colored::Prepared laid;
+    ASSERT_EQ(colored::layout(p, colorer, nullptr, 1, laid, nullptr, false), "") << what;
+    for (const bool wide : {false, true})
+      for (const double omega : {1.0, 1.5}) {
+        if (wide && !colored::cpu_has_avx512()) continue;
+        const std::string at = std::string(what) + (wide ? ", AVX-512" : ", AVX2") + ", ω " + std::to_string(omega);
+        const CompactFill g = fill_compact_all(p, l0, laid, 1 << 30, wide, omega);
+        const CompactFill s = fill_compact_all(p, l0, laid, 0, wide, omega);
+        ASSERT_FALSE(g.prep.staged_now);
+        ASSERT_TRUE(s.prep.staged_now);
+        ASSERT_EQ(g.direct, s.direct) << at;
+        for (size_t bi = 0; bi < g.direct.size(); ++bi) {
+          if (g.direct[bi] == 0) {
+            const colored::Batch &x = g.prep.batches[bi], &y = s.prep.batches[bi];
+            EXPECT_TRUE(same_bytes(x.jn, y.jn) && same_bytes(x.mjn, y.mjn) && same_bytes(x.jt, y.jt) &&
+                        same_bytes(x.mjt, y.mjt) && same_bytes(x.bn, y.bn) && same_bytes(x.bt, y.bt) &&
+                        same_bytes(x.mu, y.mu) && same_bytes(x.la, y.la) && same_bytes(x.lb, y.lb) && x.count == y.count)
+                << at << ", full batch " << bi;
+            continue;
+          }
+          const colored::CompactBatch &x = g.prep.compact[bi], &y = s.prep.compact[bi];
+          EXPECT_TRUE(same_bytes(x.jn, y.jn) && same_bytes(x.jt, y.jt) && same_bytes(x.mjn, y.mjn) &&
+                      same_bytes(x.mjt, y.mjt) && same_bytes(x.bn, y.bn) && same_bytes(x.bt, y.bt) &&
+                      same_bytes(x.mu, y.mu) && same_bytes(x.la, y.la) && same_bytes(x.lb, y.lb) &&
+                      same_bytes(x.ka, y.ka) && same_bytes(x.kb, y.kb) && x.two == y.two && x.fric == y.fric &&
+                      x.count == y.count)
+              << at << ", compact batch " << bi;
+        }
+        EXPECT_EQ(0, std::memcmp(g.lp.data(), s.lp.data(), g.lp.size() * sizeof(double))) << at;
+        EXPECT_EQ(0, std::memcmp(g.other.data(), s.other.data(), g.other.size() * sizeof(double))) << at;
+        EXPECT_EQ(0, std::memcmp(g.prep.diag.data(), s.prep.diag.data(), g.prep.diag.size() * sizeof(double))) << at;
+        EXPECT_EQ(g.prep.row_of, s.prep.row_of) << at;
+        EXPECT_EQ(g.prep.failed, s.prep.failed) << at;
+        if (std::string(what) != "frictionless")  // (lanes without friction are packed full)
+          EXPECT_GT(std::count(s.direct.begin(), s.direct.end(), 1), 0) << at;
+      }
   }
 }
 

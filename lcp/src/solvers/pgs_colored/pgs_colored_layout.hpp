@@ -113,13 +113,13 @@ std::string first_failure(const Prepared& out);
 /// gathering J, b and λ⁰ in colour order, which strides across arrays larger than the cache once
 /// per colour. fill_batch packs the same bits either way. Stages only problems of at least
 /// `from` ordered positions and only with AVX2 (pack_rows_staged); sets out.staged_now. Serial.
-/// The default stages none of the benchmark piles (up to 40,000 bodies, about 26,000
-/// positions): with locality each colour's contacts are in key order, so the gathered reads
-/// are already close to memory order, while the staging pass writes its 152-byte records at
-/// scattered positions (a read for ownership of ~3 lines each) and the pack reads them again;
-/// the pack measured cheaper without it there (`make results` has the figures). Larger problems,
-/// whose colours stride across more memory, keep it.
-constexpr int kStageFrom = 1 << 16;
+/// kStageFrom is about the count of positions whose J rows, b and λ⁰ outgrow a core's L2 cache:
+/// below it the gathered sources stay in cache from colour to colour, and a staging pass (its
+/// 152-byte records written at scattered positions, then read again) would only add traffic;
+/// above it each colour's gathers stride across memory once per colour, and the pack from the
+/// staged records in batch order (compact batches straight from them, pack_compact_staged) is
+/// the cheaper one (micro_step BM_ColoredPackSettled, BM_ColoredPack with evict 4).
+constexpr int kStageFrom = 1 << 14;
 void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from = kStageFrom);
 
 /// Lane count and first ordered lane of batch `local` of slot k (the overflow slots, the last

@@ -166,6 +166,33 @@ DC_PACK_AVX2 unsigned compact4(const double* value, const double* im, double dt,
   return singular4(sum, inv);
 }
 
+/// pack_compact_simd's rows on 4 lanes per AVX2 register: lane l's normal row entries at
+/// value + qn[l], its tangent row's at value + qt[l], b_i in bn[l], bt[l], M⁻¹ at im + a[l],
+/// im + bb[l]; compact4 on lanes 0–3, then 4–7.
+DC_PACK_AVX2 void compact_rows4x2(const double* value, const double* im, double dt, const int* qn, const int* qt,
+                                  const double* bn, const double* bt, const int* a, const int* bb, double omega,
+                                  CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular, unsigned& two,
+                                  unsigned& fric, bool& exact) {
+  unsigned nz_two = 0, nz_fric = 0, differ = 0;
+  singular = 0;
+  for (int h = 0; h < W; h += 4) {
+    Compare4 n, t;
+    // (the normal row first: the tangent's comparison reads its M⁻¹JᵀΔt)
+    const unsigned sn = compact4(value, im, dt, bn + h, qn, a, bb, omega, false, C.jn, C.mjn, C.mjn, C.bn, diag_n, h, n);
+    const unsigned st = compact4(value, im, dt, bt + h, qt, a, bb, omega, true, C.jt, C.mjt, C.mjn, C.bt, diag_t, h, t);
+    singular |= (sn | st) << h;
+    const unsigned tw = n.nz_j | t.nz_j;  // compress()'s bit of `two`: a derived j slot not +0
+    nz_two |= tw << h;
+    nz_fric |= t.nz_m << h;
+    // Where the bit is set, every derived slot must equal its derivation; where it is clear they
+    // are all +0, as the derivation's +0.
+    differ |= ((tw & ~(n.same_j & t.same_j)) | (t.nz_m & ~t.same_m)) << h;
+  }
+  two = nz_two;
+  fric = nz_fric;
+  exact = differ == 0;
+}
+
 // ---- AVX-512: all W = 8 lanes of a row in one register ------------------------------------
 #define DC_PACK_AVX512 __attribute__((target("avx512f,avx512dq,avx512vl")))
 
@@ -234,10 +261,10 @@ DC_PACK_AVX512 unsigned compact8(const double* value, __m512d ima[3], __m512d im
 
 /// pack_compact_simd's rows on all 8 lanes (compact8 for the normal, then the tangent row; the
 /// bodies' M⁻¹ gathered once for both). Same outputs as the AVX2 loop.
-DC_PACK_AVX512 void compact_rows8(const LcpProblem& p, const int* qn, const int* qt, const double* bn, const double* bt,
-                                  const int* a, const int* bb, double omega, CompactBatch& C, double* diag_n,
-                                  double* diag_t, unsigned& singular, unsigned& two, unsigned& fric, bool& exact) {
-  const double* im = p.inv_mass.data();
+DC_PACK_AVX512 void compact_rows8(const double* value, const double* im, double dt, const int* qn, const int* qt,
+                                  const double* bn, const double* bt, const int* a, const int* bb, double omega,
+                                  CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular, unsigned& two,
+                                  unsigned& fric, bool& exact) {
   const __m256i ia = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(a));
   const __m256i ib = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(bb));
   const __mmask8 two_b = _mm256_cmpge_epi32_mask(ib, _mm256_setzero_si256());
@@ -249,10 +276,8 @@ DC_PACK_AVX512 void compact_rows8(const LcpProblem& p, const int* qn, const int*
   }
   Compare4 n, t;
   // (the normal row first: the tangent's comparison reads its M⁻¹JᵀΔt)
-  const unsigned sn = compact8(p.J.valuePtr(), ima, imb, two_b, p.dt, bn, qn, omega, C.jn, C.mjn, nullptr, C.bn,
-                               diag_n, n);
-  const unsigned st = compact8(p.J.valuePtr(), ima, imb, two_b, p.dt, bt, qt, omega, C.jt, C.mjt, C.mjn, C.bt,
-                               diag_t, t);
+  const unsigned sn = compact8(value, ima, imb, two_b, dt, bn, qn, omega, C.jn, C.mjn, nullptr, C.bn, diag_n, n);
+  const unsigned st = compact8(value, ima, imb, two_b, dt, bt, qt, omega, C.jt, C.mjt, C.mjn, C.bt, diag_t, t);
   singular = sn | st;
   const unsigned tw = n.nz_j | t.nz_j;
   two = tw;
@@ -283,7 +308,8 @@ DC_PACK_AVX512 bool pack_compact_wide(const LcpProblem& p, const int* rn, const 
     bn[l] = p.b[rn[l]];
     bt[l] = p.b[rt[l]];
   }
-  compact_rows8(p, qn, qt, bn, bt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
+  compact_rows8(p.J.valuePtr(), p.inv_mass.data(), p.dt, qn, qt, bn, bt, a, bb, omega, C, diag_n, diag_t, singular,
+                two, fric, exact);
   return true;
 }
 
@@ -334,26 +360,20 @@ DC_PACK_AVX2 bool pack_compact_simd(const LcpProblem& p, const int* rn, const in
     bn[l] = p.b[rn[l]];
     bt[l] = p.b[rt[l]];
   }
-  const double* value = p.J.valuePtr();
-  const double* im = p.inv_mass.data();
-  unsigned nz_two = 0, nz_fric = 0, differ = 0;
-  singular = 0;
-  for (int h = 0; h < W; h += 4) {
-    Compare4 n, t;
-    // (the normal row first: the tangent's comparison reads its M⁻¹JᵀΔt)
-    const unsigned sn = compact4(value, im, p.dt, bn + h, qn, a, bb, omega, false, C.jn, C.mjn, C.mjn, C.bn, diag_n, h, n);
-    const unsigned st = compact4(value, im, p.dt, bt + h, qt, a, bb, omega, true, C.jt, C.mjt, C.mjn, C.bt, diag_t, h, t);
-    singular |= (sn | st) << h;
-    const unsigned tw = n.nz_j | t.nz_j;  // compress()'s bit of `two`: a derived j slot not +0
-    nz_two |= tw << h;
-    nz_fric |= t.nz_m << h;
-    // Where the bit is set, every derived slot must equal its derivation; where it is clear they
-    // are all +0, as the derivation's +0.
-    differ |= ((tw & ~(n.same_j & t.same_j)) | (t.nz_m & ~t.same_m)) << h;
-  }
-  two = nz_two;
-  fric = nz_fric;
-  exact = differ == 0;
+  compact_rows4x2(p.J.valuePtr(), p.inv_mass.data(), p.dt, qn, qt, bn, bt, a, bb, omega, C, diag_n, diag_t, singular,
+                  two, fric, exact);
+  return true;
+}
+
+DC_PACK_AVX2 bool pack_compact_staged(const double* base, const int* on, const int* ot, const double* bn,
+                                      const double* bt, const int* a, const int* bb, const double* im, double dt,
+                                      double omega, CompactBatch& C, double* diag_n, double* diag_t,
+                                      unsigned& singular, unsigned& two, unsigned& fric, bool& exact, bool wide) {
+  if (!simd_pack_available()) return false;
+  if (wide && avx512_pack_available())
+    compact_rows8(base, im, dt, on, ot, bn, bt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
+  else
+    compact_rows4x2(base, im, dt, on, ot, bn, bt, a, bb, omega, C, diag_n, diag_t, singular, two, fric, exact);
   return true;
 }
 
@@ -377,6 +397,11 @@ bool pack_rows_staged(const double*, const int*, const double*, const int*, cons
 }
 bool pack_compact_simd(const LcpProblem&, const int*, const int*, const int*, const int*, double, CompactBatch&,
                        double*, double*, unsigned&, unsigned&, unsigned&, bool&, bool) {
+  return false;
+}
+bool pack_compact_staged(const double*, const int*, const int*, const double*, const double*, const int*, const int*,
+                         const double*, double, double, CompactBatch&, double*, double*, unsigned&, unsigned&,
+                         unsigned&, bool&, bool) {
   return false;
 }
 bool simd_pack_available() { return false; }

@@ -43,6 +43,16 @@ bool pack_compact_simd(const LcpProblem& p, const int* rn, const int* rt, const 
                        CompactBatch& C, double* diag_n, double* diag_t, unsigned& singular, unsigned& two,
                        unsigned& fric, bool& exact, bool wide = false);
 
+/// pack_compact_simd on staged sources (stage_sources, pgs_colored_layout.hpp): lane k's normal
+/// row's 6 J entries at base + on[k], its tangent row's at base + ot[k] (slots 3–5 +0 when
+/// bb[k] < 0), b_i in bn[k] and bt[k], M⁻¹ at im (LcpProblem::inv_mass), Δt = dt; the same
+/// outputs, bit for bit, as pack_compact_simd on the rows they were copied from. False without
+/// AVX2.
+bool pack_compact_staged(const double* base, const int* on, const int* ot, const double* bn, const double* bt,
+                         const int* a, const int* bb, const double* im, double dt, double omega, CompactBatch& C,
+                         double* diag_n, double* diag_t, unsigned& singular, unsigned& two, unsigned& fric,
+                         bool& exact, bool wide = false);
+
 /// This build has pack_rows_simd's AVX2 code and this CPU runs it.
 bool simd_pack_available();
 

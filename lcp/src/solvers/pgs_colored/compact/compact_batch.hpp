@@ -93,9 +93,10 @@ bool compress(const Batch& B, CompactBatch& C);
 /// out.compact[bi]; when it does not compress exactly (or `full` is set), the full batch goes to
 /// out.batches[bi] instead and false is returned (true: out.batches[bi] not written). A batch of
 /// single contacts with friction and rows in the usual storage is packed straight into the
-/// compact batch (pack_compact_simd, pgs_colored_pack_simd.hpp: only the stored coefficients are
-/// written, the derived ones compared in registers with compress()'s derivation, the same
-/// verdict and bits); other batches are filled full in cache and compressed.
+/// compact batch (pack_compact_simd, pgs_colored_pack_simd.hpp, or pack_compact_staged from the
+/// records of a staged problem: only the stored coefficients are written, the derived ones
+/// compared in registers with compress()'s derivation, the same verdict and bits); other batches
+/// are filled full in cache and compressed.
 bool fill_compact(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int bi,
                   double* lp, double* other, double omega, bool full);
 
