@@ -61,11 +61,11 @@ void check_sizes(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& l
 /// Δt · Jᵀ λ into `impulse` after the size checks (integrate_bodies' contact impulse), then
 /// done(c0, c1) on ranges of whole bodies' columns as they become final (contact_impulse).
 void checked_contact_impulse(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, double dt, int n,
-                             Eigen::VectorXd& impulse, ColumnsDone done) {
+                             Eigen::VectorXd& impulse, ColumnsDone done, int threads = 1) {
   check_sizes(p, lambda, n);
   // Contact impulse per dof: Δt · Jᵀ λ  [N·s]
   if (p.rows() > 0) {
-    contact_impulse(p.J, lambda, dt, impulse, done);
+    contact_impulse(p.J, lambda, dt, impulse, done, threads);
   } else {
     impulse = Eigen::VectorXd::Zero(3 * n);
     done(0, 3 * n);
@@ -76,7 +76,7 @@ void checked_contact_impulse(const LcpProblem& p, const Eigen::Ref<const Eigen::
 
 void integrate_bodies_keeping(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 g, double dt, BodyState& s,
                               Eigen::VectorXd& impulse, std::vector<Vec2>& x0, std::vector<Vec2>& v0,
-                              std::vector<double>& w0) {
+                              std::vector<double>& w0, int threads) {
   if (!s.shapes.empty()) {
     x0 = s.position;
     v0 = s.velocity;
@@ -93,7 +93,7 @@ void integrate_bodies_keeping(const LcpProblem& p, const Eigen::Ref<const Eigen:
   s.velocity.resize(v0.size());
   s.omega.resize(w0.size());
   // integrate_bodies' updates with the old values read from the swapped arrays (a += b is a + b),
-  // body by body as the impulse's columns become final.
+  // body by body as the impulse's columns become final (on the thread that made them final).
   auto update = [&](int c0, int c1) {
     for (int k = c0 / 3; k < c1 / 3; ++k) {
       const auto i = static_cast<size_t>(k);
@@ -103,11 +103,16 @@ void integrate_bodies_keeping(const LcpProblem& p, const Eigen::Ref<const Eigen:
       s.angle[i] += dt * s.omega[i];
     }
   };
-  checked_contact_impulse(p, lambda, dt, n, impulse, update);
+  checked_contact_impulse(p, lambda, dt, n, impulse, update, threads);
 }
 
 void integrate_bodies(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 g, double dt, BodyState& s,
                       Eigen::VectorXd& impulse) {
+  integrate_bodies_on(p, lambda, g, dt, s, impulse, 1);
+}
+
+void integrate_bodies_on(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 g, double dt, BodyState& s,
+                         Eigen::VectorXd& impulse, int threads) {
   const int n = static_cast<int>(s.size());
   if (!s.shapes.empty()) {
     auto none = [](int, int) {};
@@ -124,7 +129,7 @@ void integrate_bodies(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorX
       s.angle[i] += dt * s.omega[i];
     }
   };
-  checked_contact_impulse(p, lambda, dt, n, impulse, update);
+  checked_contact_impulse(p, lambda, dt, n, impulse, update, threads);
 }
 
 double kinetic_energy(const BodyState& s) {

@@ -352,9 +352,9 @@ void World::integrate_solved(const Eigen::Ref<const Eigen::VectorXd>& lambda, co
   Eigen::VectorXd& impulse = impulse_;
   if (internal_ && problem_stale_)  // keeps what a later first read of problem() assembles on
     integrate_bodies_keeping(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse,
-                             pre_position_, pre_velocity_, pre_omega_);
+                             pre_position_, pre_velocity_, pre_omega_, step_threads_);
   else
-    integrate_bodies(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse);
+    integrate_bodies_on(solved, lambda, def_.world.gravity, def_.time.dt, working_bodies(), impulse, step_threads_);
   if (position_lambda != nullptr)
     shift_positions(solved, *position_lambda, lambda, def_.time.dt, working_bodies(), relax_dl_, impulse);
   if (internal_) {

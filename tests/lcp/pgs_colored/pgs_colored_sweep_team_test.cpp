@@ -1,11 +1,14 @@
 // pgs-colored's threaded sweeps (sweep_team.hpp): region_cuts gives each thread one region of
 // the bodies in every colour, and the SweepTeam's threads sweep every batch of every range
 // exactly once per sweep with those blocks (odd blocks from the back, thieves from the other
-// end).
+// end); a small colour is swept by thread 0 alone, after the colour before it and before the
+// colour after it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <atomic>
+#include <chrono>
 #include <thread>
 #include <vector>
 
@@ -90,6 +93,69 @@ TEST(PgsColoredSweepTeam, EveryBatchOncePerSweepOnTwoThreads) {
     team.stop();
     helper.join();
   }
+}
+
+TEST(PgsColoredSweepTeam, SmallColoursAreSweptByThreadZeroAloneInColourOrder) {
+  // Large colours around runs of small ones (fewer than kSoloChunks chunks a thread), the last
+  // one small. Thread 0 is slow in the small colours, so a helper that went on past one of them
+  // before it was done, or that claimed one, shows in the order or in the sweeping thread.
+  const int small = SweepTeam::kSoloChunks * SweepTeam::kChunk * 2 - 1;
+  std::vector<Range> ranges;
+  int at = 0;
+  for (const int n : {120, small, 3, 1, 90, 2, 64, small}) {
+    ranges.push_back({at, at + n, false, false});
+    at += n;
+  }
+  std::vector<int> keys;
+  for (int b = 0; b < at; ++b) keys.push_back((b * 7) % 200);
+  const Prepared p = with_keys(ranges, keys);
+  std::vector<int> range_of(static_cast<size_t>(at));
+  for (size_t k = 0; k < ranges.size(); ++k)
+    for (int b = ranges[k].begin; b < ranges[k].end; ++b) range_of[static_cast<size_t>(b)] = static_cast<int>(k);
+  std::vector<int> scratch, cuts;
+  region_cuts(p, 2, scratch, cuts);
+  SweepTeam team(p.ranges, 2, cuts);
+  std::vector<std::atomic<int>> swept(static_cast<size_t>(at)), by(static_cast<size_t>(at));
+  std::vector<std::atomic<long>> first(ranges.size()), last(ranges.size());  // sequence numbers in a sweep
+  std::atomic<long> seq{0};
+  const auto runner = [&](int tid) {
+    return [&, tid](int k, int lo, int hi, Acc&) {
+      const bool is_small = ranges[static_cast<size_t>(k)].end - ranges[static_cast<size_t>(k)].begin <= small;
+      if (is_small) std::this_thread::sleep_for(std::chrono::microseconds(200));
+      for (int b = lo; b < hi; ++b) {
+        const long t = seq.fetch_add(1);
+        long f = first[static_cast<size_t>(k)].load();
+        while (t < f && !first[static_cast<size_t>(k)].compare_exchange_weak(f, t)) {}
+        long l = last[static_cast<size_t>(k)].load();
+        while (t > l && !last[static_cast<size_t>(k)].compare_exchange_weak(l, t)) {}
+        swept[static_cast<size_t>(b)].fetch_add(1);
+        if (is_small) by[static_cast<size_t>(b)].fetch_or(1 << tid);
+      }
+    };
+  };
+  std::thread helper([&] {
+    int s = -1;
+    const double* in = nullptr;
+    double* out = nullptr;
+    for (int last_s = -1; team.next(last_s, s, in, out); last_s = s) team.share(s, 1, runner(1));
+  });
+  for (int s = 0; s < 20; ++s) {
+    for (size_t k = 0; k < ranges.size(); ++k) {
+      first[k] = std::numeric_limits<long>::max();
+      last[k] = -1;
+    }
+    team.start(s, nullptr, nullptr);
+    team.share(s, 0, runner(0));
+    (void)team.finish(s);
+    for (int b = 0; b < at; ++b) ASSERT_EQ(swept[static_cast<size_t>(b)].load(), s + 1) << "batch " << b << ", sweep " << s;
+    for (size_t k = 1; k < ranges.size(); ++k)
+      ASSERT_LT(last[k - 1].load(), first[k].load()) << "colour " << k << " began before colour " << k - 1 << " ended, sweep " << s;
+  }
+  team.stop();
+  helper.join();
+  for (int b = 0; b < at; ++b)
+    if (ranges[static_cast<size_t>(range_of[static_cast<size_t>(b)])].end - ranges[static_cast<size_t>(range_of[static_cast<size_t>(b)])].begin <= small)
+      EXPECT_EQ(by[static_cast<size_t>(b)].load(), 1) << "batch " << b << " of a small colour swept by a helper";
 }
 
 }  // namespace

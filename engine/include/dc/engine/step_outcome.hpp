@@ -20,9 +20,8 @@ namespace dc {
 /// Advances the kinematic fields of `bodies` by one step of length dt with the contact forces
 /// λ of `problem` (its J; A is not needed). `impulse` receives Δt Jᵀ λ per dof (3 per body:
 /// x, y, angular) [N·s]. Throws InvalidArgument when λ does not have problem.rows() entries or
-/// J does not have 3 columns per body. Runs on the calling thread: the impulse is a scatter whose
-/// split by blocks of bodies (the split that keeps every sum's order) reads each row once per
-/// block it reaches, which costs more than the serial pass.
+/// J does not have 3 columns per body. Runs on the calling thread (a World's step runs the same
+/// integration by jobs of bodies on its threads, with the same bits).
 void integrate_bodies(const LcpProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& lambda, Vec2 gravity, double dt,
                       BodyState& bodies, Eigen::VectorXd& impulse);
 

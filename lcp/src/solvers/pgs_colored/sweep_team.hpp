@@ -6,7 +6,8 @@
 // writes stay in its core's cache; an odd block from its back), then from the other end of the
 // other threads' blocks. A thief thus takes the chunks its owner would reach last (the two meet
 // once per block, next to the thief's own region), the same ones sweep after sweep while an
-// imbalance persists. A colour starts once every batch of the previous colour is done. No thread waits for
+// imbalance persists. A small colour is thread 0's alone (kSoloChunks). A colour starts once
+// every batch of the previous colour is done. No thread waits for
 // another to arrive: a thread that is descheduled (another program on its core) has its share
 // done by the others, and waits (spin, yield, sleep: dc/core/wake_word.hpp) happen only for a
 // chunk in progress or for the next sweep. Which thread runs a batch does not change the result
@@ -29,6 +30,13 @@ class SweepTeam {
   /// 16-bit counts); the owner claims several at once (claim), the serial overflow set is one.
   static constexpr int kChunk = 8;
   static constexpr int kMostChunks = 1024;
+  /// A colour of fewer than kSoloChunks · kChunk batches a thread is swept by thread 0 alone, in
+  /// one claim and never stolen: split, each thread would get a chunk or two, less work than the
+  /// colour's barrier (its done counts read across the cores, its Δu lines moved); alone, thread
+  /// 0 runs a tail of such colours back to back while the others go on to the next colour they
+  /// share (waiting for the one before it: thread 0 sweeps the colours in order). A colour's
+  /// batches touch disjoint bodies, so which thread sweeps them changes no bit.
+  static constexpr int kSoloChunks = 2;
 
   /// `cuts` (region_cuts: threads − 1 per range) bound the threads' blocks of each range that
   /// is not serial; empty: each range split evenly by batch count.
@@ -69,12 +77,15 @@ class SweepTeam {
         if (b == 0 || b == nt_) return b == 0 ? rg.begin : rg.end;
         return cut ? cuts[static_cast<size_t>(k * (nt_ - 1) + b - 1)] : rg.begin + static_cast<int>(n * b / nt_);
       };
+      const bool solo = !rg.serial && nt_ > 1 && n < static_cast<long>(kSoloChunks) * kChunk * nt_;
       for (int b = 0; b < nt_; ++b) {
         Block& bl = blocks_[static_cast<size_t>(k * nt_ + b)];
-        bl.lo = rg.serial ? (b == 0 ? rg.begin : rg.end) : bound(b);
-        bl.hi = rg.serial ? rg.end : bound(b + 1);
-        bl.chunk = rg.serial ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo + kMostChunks - 1) / kMostChunks);
+        const bool whole = rg.serial || solo;  // block 0 holds the range
+        bl.lo = whole ? (b == 0 ? rg.begin : rg.end) : bound(b);
+        bl.hi = whole ? rg.end : bound(b + 1);
+        bl.chunk = whole ? std::max(1, bl.hi - bl.lo) : std::max(kChunk, (bl.hi - bl.lo + kMostChunks - 1) / kMostChunks);
         bl.chunks = bl.lo < bl.hi ? (bl.hi - bl.lo + bl.chunk - 1) / bl.chunk : 0;
+        bl.solo = solo;
       }
       total_[static_cast<size_t>(k)] = n;
     }
@@ -104,6 +115,7 @@ class SweepTeam {
   void share(int s, int tid, Run&& run) {
     Slot& mine = slots_[static_cast<size_t>(tid)];
     for (int k = 0; k < nr_; ++k) {
+      if (tid != 0 && blocks_[static_cast<size_t>(k * nt_)].solo) continue;  // thread 0's alone
       if (k > 0) wait_done(k - 1, s);
       if (stopped_.load()) return;
       int swept = 0;  // batches of range k swept by this thread (published once: add_done)
@@ -142,6 +154,7 @@ class SweepTeam {
  private:
   struct Block {
     int lo = 0, hi = 0, chunk = kChunk, chunks = 0;  // chunks: ⌈(hi − lo) / chunk⌉ (at most kMostChunks)
+    bool solo = false;  // of a colour thread 0 sweeps alone (kSoloChunks): no thief claims it
   };
   /// A block's claimed chunks: sweep + 1 in the high half, the number taken from the front in
   /// bits 16–31 and from the back in bits 0–15 (a claim of an earlier sweep finds a later tag
@@ -165,7 +178,7 @@ class SweepTeam {
   bool claim(int k, int b, int s, bool thief, int& lo, int& hi) {
     const size_t i = static_cast<size_t>(k * nt_ + b);
     const Block& bl = blocks_[i];
-    if (bl.chunks == 0) return false;
+    if (bl.chunks == 0 || (thief && bl.solo)) return false;
     std::atomic<std::uint64_t>& cur = cursors_[i].next;
     const std::uint64_t tag = static_cast<std::uint64_t>(s + 1) << 32;
     std::uint64_t c = cur.load();
