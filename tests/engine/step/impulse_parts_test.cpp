@@ -20,7 +20,7 @@ namespace {
 /// A J of `n` bodies: `walls` one-body contacts (bodies spread over the pile), then for each body
 /// a its pair contacts with later bodies b (mostly within `near` of a, one in 40 anywhere later);
 /// two rows a contact (normal and tangent, the same columns). `shuffled`: the pair contacts in
-/// random order (rows no longer sorted by body a).
+/// random order (rows not sorted by body a).
 SparseRowMatrix impulse_j(int n, int walls, int near, bool shuffled, std::mt19937& rng) {
   std::vector<std::pair<int, int>> contacts;  // (a, b); a = −1 for a wall
   std::uniform_int_distribution<int> body(0, n - 1), step(1, near), pick(0, 39);

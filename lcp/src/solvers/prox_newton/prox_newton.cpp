@@ -61,22 +61,6 @@ std::string sci(double x) {
   return buf;
 }
 
-/// Which part produced the returned iterate.
-enum class Finisher { Guess, Lead, Prox, NewtonSparse, ProximalPoint, Pivot, Nncg };
-
-const char* to_string(Finisher f) {
-  switch (f) {
-    case Finisher::Guess: return "the guess";
-    case Finisher::Lead: return "nncg lead stage";
-    case Finisher::Prox: return "prox";
-    case Finisher::NewtonSparse: return "newton-sparse finish";
-    case Finisher::ProximalPoint: return "proximal newton-sparse finish";
-    case Finisher::Pivot: return "lemke pivoting finish";
-    case Finisher::Nncg: return "nncg safeguard";
-  }
-  return "?";
-}
-
 /// One solve: the outer loop over frozen subproblems, then finish and safeguard.
 class ProxRun {
  public:

@@ -2,7 +2,8 @@
 // The one place prox-newton decides whether an iterate is a solution: the natural-map residual
 // of the HARD problem (Coulomb bounds moving with λ_n, no proximal term, no regularisation)
 // against the target every exact solver uses. Every stop test goes through these functions;
-// the final status is then decided by the shared rule (solver_common.hpp, decide_status).
+// the final status is then decided by the shared rule (solver_common.hpp, decide_status), and
+// its message names the part that produced the returned iterate (Finisher).
 #include <Eigen/Core>
 
 #include "dc/lcp/lcp_problem.hpp"
@@ -27,6 +28,23 @@ inline bool reached(double residual, double target) { return residual <= target;
 inline SolveStatus final_status(double residual, double target, bool budget_exhausted) {
   if (reached(residual, target)) return SolveStatus::Converged;
   return budget_exhausted ? SolveStatus::SweepLimit : SolveStatus::Failed;
+}
+
+/// Which part produced the returned iterate.
+enum class Finisher { Guess, Lead, Prox, NewtonSparse, ProximalPoint, Pivot, Nncg };
+
+/// The part's name in the status message ("… by the nncg safeguard").
+inline const char* to_string(Finisher f) {
+  switch (f) {
+    case Finisher::Guess: return "the guess";
+    case Finisher::Lead: return "nncg lead stage";
+    case Finisher::Prox: return "prox";
+    case Finisher::NewtonSparse: return "newton-sparse finish";
+    case Finisher::ProximalPoint: return "proximal newton-sparse finish";
+    case Finisher::Pivot: return "lemke pivoting finish";
+    case Finisher::Nncg: return "nncg safeguard";
+  }
+  return "?";
 }
 
 }  // namespace dc::solvers::prox
