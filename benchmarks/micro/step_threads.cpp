@@ -3,12 +3,18 @@
 // stepping thread (the second is what a busy machine disturbs least). Reported per body count
 // and thread count: medians over all timed steps (and the wall clock's mean, which counts rare
 // slow steps), the wall time of each stage (StepProfile medians), the heap allocations per
-// timed step (of the whole process, helpers included: counting_malloc.hpp), and the load average
-// before and after.
+// timed step (of the whole process, helpers included: counting_malloc.hpp), the CPU model and
+// the load average before and after.
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
-//                          [--sweeps 20] [--min-batches -1] [--profile] [--handover]
+//                          [--sweeps 20] [--min-batches -1] [--load 0] [--profile] [--handover]
 //
+// --load K runs K competitor processes (busy_load.hpp: plain spinning arithmetic at this
+// program's nice level) through the rounds of each body count, warm-up included, so that 1 and
+// 2 threads are compared on a machine whose cores are taken: `--load 2` on 2 cores is the case
+// where a second thread can only pay if it never leaves member 0 waiting for a descheduled
+// helper. The header line gives K; each body count's "competitors" line the mean share of a
+// core each competitor got (what the machine's other programs left them shows there too).
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem and every large step: no pacing, LcpSolver::threads_forced). --profile adds the
 // solve's phases (PgsColoredProfile: CPU time of the stepping thread per solve). The pile and
@@ -24,11 +30,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include "dc/core/work_team.hpp"
@@ -36,6 +44,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/stress_scenes.hpp"
+#include "busy_load.hpp"
 #include "counting_malloc.hpp"
 #include "fixed_sweeps.hpp"
 
@@ -182,7 +191,7 @@ void add_stages(Series& s, const dc::StepProfile& p, bool helped, double wall_ms
 int main(int argc, char** argv) {
   CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
   std::string ns = "1000,10000", ts = "1,2";
-  int steps = 40, rounds = 5, sweeps = 20, min_batches = -1;
+  int steps = 40, rounds = 5, sweeps = 20, min_batches = -1, load = 0;
   bool profile = false, handover = false;
   std::string internal_order;
   app.add_option("--n", ns, "body counts, comma-separated");
@@ -193,13 +202,16 @@ int main(int argc, char** argv) {
   app.add_option("--min-batches", min_batches, "PgsColoredDef::min_batches_per_thread (-1: default)");
   app.add_option("--internal-order", internal_order, "[bodies] internal_order of the pile (auto, morton, none; "
                  "default: the scene's)");
+  app.add_option("--load", load, "competitor processes spinning through the rounds (0: none)")
+      ->check(CLI::Range(0, 64));
   app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
   app.add_flag("--handover", handover, "trace the team's runs: the hand-over per stage of the threaded steps");
   CLI11_PARSE(app, argc, argv);
   std::vector<dc::TeamRunTrace> trace;
   const dc::SolverOptions o = fixed_sweeps(sweeps);
-  std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; load %s\n", sweeps, steps, rounds,
-              load_average().c_str());
+  std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; %d competitor processes (--load); "
+              "CPU %s, %ld online; load %s\n", sweeps, steps, rounds, load, dc::bench::cpu_model().c_str(),
+              sysconf(_SC_NPROCESSORS_ONLN), load_average().c_str());
   std::printf("| bodies | threads | wall ms/step | wall mean | thread CPU ms/step | process CPU ms/step | "
               "wall 1/T |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -219,6 +231,8 @@ int main(int argc, char** argv) {
     }
     std::vector<std::vector<double>> proc(series.size());
     std::vector<Handover> handovers(series.size());
+    dc::bench::BusyLoad competitors;
+    competitors.start(load);
     for (int r = -1; r < rounds; ++r) {  // round −1: warm-up, not timed
       for (size_t j = 0; j < series.size(); ++j) {
         Series& s = series[r % 2 ? series.size() - 1 - j : j];  // alternate the order by round
@@ -243,15 +257,22 @@ int main(int argc, char** argv) {
           s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
           proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
           add_stages(s, rep.profile, proc[si].back() > (1 + kHelped) * s.cpu_ms.back(), s.wall_ms.back());
+          if (std::getenv("DC_TRACE_STEPS") && s.threads > 1)
+            std::printf("TRACE r%d k%d %s wall %.3f cpu %.3f\n", r, k,
+                        proc[si].back() > (1 + kHelped) * s.cpu_ms.back() ? "T" : "s", s.wall_ms.back(), s.cpu_ms.back());
         }
       }
     }
+    const double share = competitors.stop();
     const double base = median(series.front().wall_ms);
     for (size_t j = 0; j < series.size(); ++j) {
       const double wall = median(series[j].wall_ms);
       std::printf("| %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall,
                   mean(series[j].wall_ms), median(series[j].cpu_ms), median(proc[j]), base / wall);
     }
+    if (load > 0)
+      std::printf("#   %d bodies: competitors: %d, each got %.2f of a core (mean over the rounds); load %s\n", n, load,
+                  share, load_average().c_str());
     std::printf("#   stage wall ms/step (medians): collide, assemble, warm start, solve, integrate\n");
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),
