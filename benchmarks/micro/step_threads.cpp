@@ -8,6 +8,7 @@
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
 //                          [--sweeps 20] [--min-batches -1] [--load 0] [--profile] [--handover]
+//                          [--trace-steps]
 //
 // --load K runs K competitor processes (busy_load.hpp: plain spinning arithmetic at this
 // program's nice level) through the rounds of each body count, warm-up included, so that 1 and
@@ -15,6 +16,9 @@
 // where a second thread can only pay if it never leaves member 0 waiting for a descheduled
 // helper. The header line gives K; each body count's "competitors" line the mean share of a
 // core each competitor got (what the machine's other programs left them shows there too).
+// --trace-steps prints each timed step of the series on more than one thread: threaded (a
+// helper's CPU time above kHelped of the stepping thread's) or serial, its wall and thread CPU
+// time: the pacer's probes and the steps that stalled.
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem and every large step: no pacing, LcpSolver::threads_forced). --profile adds the
 // solve's phases (PgsColoredProfile: CPU time of the stepping thread per solve). The pile and
@@ -30,7 +34,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <memory>
@@ -192,7 +195,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
   std::string ns = "1000,10000", ts = "1,2";
   int steps = 40, rounds = 5, sweeps = 20, min_batches = -1, load = 0;
-  bool profile = false, handover = false;
+  bool profile = false, handover = false, trace_steps = false;
   std::string internal_order;
   app.add_option("--n", ns, "body counts, comma-separated");
   app.add_option("--threads", ts, "thread counts, comma-separated");
@@ -205,6 +208,8 @@ int main(int argc, char** argv) {
   app.add_option("--load", load, "competitor processes spinning through the rounds (0: none)")
       ->check(CLI::Range(0, 64));
   app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
+  app.add_flag("--trace-steps", trace_steps, "print every timed step of the threaded series (threaded or serial: "
+               "a helper's CPU share; wall and thread CPU ms)");
   app.add_flag("--handover", handover, "trace the team's runs: the hand-over per stage of the threaded steps");
   CLI11_PARSE(app, argc, argv);
   std::vector<dc::TeamRunTrace> trace;
@@ -257,9 +262,10 @@ int main(int argc, char** argv) {
           s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
           proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
           add_stages(s, rep.profile, proc[si].back() > (1 + kHelped) * s.cpu_ms.back(), s.wall_ms.back());
-          if (std::getenv("DC_TRACE_STEPS") && s.threads > 1)
-            std::printf("TRACE r%d k%d %s wall %.3f cpu %.3f\n", r, k,
-                        proc[si].back() > (1 + kHelped) * s.cpu_ms.back() ? "T" : "s", s.wall_ms.back(), s.cpu_ms.back());
+          if (trace_steps && s.threads > 1)
+            std::printf("# step %d bodies, %d threads, round %d, step %d: %s, wall %.3f ms, thread CPU %.3f ms\n", n,
+                        s.threads, r, k, proc[si].back() > (1 + kHelped) * s.cpu_ms.back() ? "threaded" : "serial",
+                        s.wall_ms.back(), s.cpu_ms.back());
         }
       }
     }
