@@ -383,7 +383,7 @@ def block_step_threads_load(ctx):
     """Whole steps on 1 and 2 threads with two competitor processes spinning through the rounds
     (`step_threads --load 2`): on 2 cores, the case where the second thread is worth something only
     if the step's pacer (World::kStepPays) keeps it off while it does not pay."""
-    args = ["--n", "10000", "--steps", "40", "--rounds", "5", "--load", "2"]
+    args = ["--n", "1000,10000", "--steps", "40", "--rounds", "5", "--load", "2"]
     block = {"name": "speed-step-threads-load", "title": "Threads under load: whole steps, 1 and 2 threads, 2 busy competitors",
              "columns": ["bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step", "process CPU ms/step",
                          "wall 1 / T", "competitors' core share"],
