@@ -8,7 +8,7 @@
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
 //                          [--sweeps 20] [--min-batches -1] [--load 0] [--profile] [--handover]
-//                          [--trace-steps]
+//                          [--trace-steps] [--interleave]
 //
 // --load K runs K competitor processes (busy_load.hpp: plain spinning arithmetic at this
 // program's nice level) through the rounds of each body count, warm-up included, so that 1 and
@@ -16,6 +16,10 @@
 // where a second thread can only pay if it never leaves member 0 waiting for a descheduled
 // helper. The header line gives K; each body count's "competitors" line the mean share of a
 // core each competitor got (what the machine's other programs left them shows there too).
+// --interleave steps the thread counts' Worlds in turn, step by step (the order alternating by
+// step), instead of one after the other in each round: on a busy machine each pair of steps
+// then meets the same background, where round-by-round alternation leaves whole rounds to the
+// luck of the scheduler; each step then finds the caches holding the other World's data.
 // --trace-steps prints each timed step of the series on more than one thread: threaded (a
 // helper's CPU time above kHelped of the stepping thread's) or serial, its wall and thread CPU
 // time: the pacer's probes and the steps that stalled.
@@ -195,7 +199,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
   std::string ns = "1000,10000", ts = "1,2";
   int steps = 40, rounds = 5, sweeps = 20, min_batches = -1, load = 0;
-  bool profile = false, handover = false, trace_steps = false;
+  bool profile = false, handover = false, trace_steps = false, interleave = false;
   std::string internal_order;
   app.add_option("--n", ns, "body counts, comma-separated");
   app.add_option("--threads", ts, "thread counts, comma-separated");
@@ -208,6 +212,8 @@ int main(int argc, char** argv) {
   app.add_option("--load", load, "competitor processes spinning through the rounds (0: none)")
       ->check(CLI::Range(0, 64));
   app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
+  app.add_flag("--interleave", interleave, "alternate the thread counts step by step (each on its own World) "
+               "instead of round by round");
   app.add_flag("--trace-steps", trace_steps, "print every timed step of the threaded series (threaded or serial: "
                "a helper's CPU share; wall and thread CPU ms)");
   app.add_flag("--handover", handover, "trace the team's runs: the hand-over per stage of the threaded steps");
@@ -238,35 +244,48 @@ int main(int argc, char** argv) {
     std::vector<Handover> handovers(series.size());
     dc::bench::BusyLoad competitors;
     competitors.start(load);
+    // One timed step of series si on world w in round r (r < 0: warm-up, not recorded).
+    auto one_step = [&](size_t si, dc::World& w, int r, int k) {
+      Series& s = series[si];
+      const bool traced = handover && r >= 0 && s.threads > 1;
+      if (traced) dc::calling_thread_team().set_trace(&trace);
+      const size_t from = trace.size();
+      const std::int64_t start_ns = steady_ns();
+      const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
+                   p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+      const long a0 = dc::bench::AllocationCounter::count();
+      dc::bench::AllocationCounter::start();
+      const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
+      dc::bench::AllocationCounter::stop();
+      if (r >= 0) s.allocations += dc::bench::AllocationCounter::count() - a0;
+      dc::calling_thread_team().set_trace(nullptr);
+      if (traced) handovers[si].add(trace, from, start_ns, rep.profile);
+      if (r < 0) return;
+      s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
+      s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
+      proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
+      const bool helped = proc[si].back() > (1 + kHelped) * s.cpu_ms.back();
+      add_stages(s, rep.profile, helped, s.wall_ms.back());
+      if (trace_steps && s.threads > 1)
+        std::printf("# step %d bodies, %d threads, round %d, step %d: %s, wall %.3f ms, thread CPU %.3f ms\n", n,
+                    s.threads, r, k, helped ? "threaded" : "serial", s.wall_ms.back(), s.cpu_ms.back());
+    };
+    const size_t configs = series.size();
     for (int r = -1; r < rounds; ++r) {  // round −1: warm-up, not timed
-      for (size_t j = 0; j < series.size(); ++j) {
-        Series& s = series[r % 2 ? series.size() - 1 - j : j];  // alternate the order by round
-        const size_t si = static_cast<size_t>(&s - series.data());
-        dc::World w = start;
-        for (int k = 0; k < steps; ++k) {
-          const bool traced = handover && r >= 0 && s.threads > 1;
-          if (traced) dc::calling_thread_team().set_trace(&trace);
-          const size_t from = trace.size();
-          const std::int64_t start = steady_ns();
-          const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
-                       p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
-          const long a0 = dc::bench::AllocationCounter::count();
-          dc::bench::AllocationCounter::start();
-          const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
-          dc::bench::AllocationCounter::stop();
-          if (r >= 0) s.allocations += dc::bench::AllocationCounter::count() - a0;
-          dc::calling_thread_team().set_trace(nullptr);
-          if (traced) handovers[si].add(trace, from, start, rep.profile);
-          if (r < 0) continue;
-          s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
-          s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
-          proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
-          add_stages(s, rep.profile, proc[si].back() > (1 + kHelped) * s.cpu_ms.back(), s.wall_ms.back());
-          if (trace_steps && s.threads > 1)
-            std::printf("# step %d bodies, %d threads, round %d, step %d: %s, wall %.3f ms, thread CPU %.3f ms\n", n,
-                        s.threads, r, k, proc[si].back() > (1 + kHelped) * s.cpu_ms.back() ? "threaded" : "serial",
-                        s.wall_ms.back(), s.cpu_ms.back());
-        }
+      std::vector<std::unique_ptr<dc::World>> worlds(configs);
+      if (interleave) {  // every series its own World, stepped in turn (the order alternates by step)
+        for (auto& w : worlds) w = std::make_unique<dc::World>(start);
+        for (int k = 0; k < steps; ++k)
+          for (size_t j = 0; j < configs; ++j) {
+            const size_t si = (r + k) % 2 != 0 ? configs - 1 - j : j;
+            one_step(si, *worlds[si], r, k);
+          }
+        continue;
+      }
+      for (size_t j = 0; j < configs; ++j) {
+        const size_t si = r % 2 != 0 ? configs - 1 - j : j;  // alternate the order by round
+        worlds[si] = std::make_unique<dc::World>(start);
+        for (int k = 0; k < steps; ++k) one_step(si, *worlds[si], r, k);
       }
     }
     const double share = competitors.stop();

@@ -81,6 +81,22 @@ TEST(ThreadPacer, PayingThreadsAreKeptAndComeBackAfterABusySpell) {
   EXPECT_TRUE(pacer.threaded_next());
 }
 
+/// The first run is threaded, and the first serial run judges it: threads slower than that
+/// serial run are not tried again at once (a fresh World on a busy machine probes less).
+TEST(ThreadPacer, TheFirstSerialRunJudgesTheFirstThreadedRun) {
+  ThreadPacer slow(0.95), fast(0.95);
+  ASSERT_TRUE(slow.threaded_next());
+  slow.record(true, 2.0, 1.0);
+  ASSERT_FALSE(slow.threaded_next());
+  slow.record(false, 1.0, 1.0);
+  EXPECT_FALSE(slow.threaded_next());
+  slow.record(false, 1.0, 1.0);
+  EXPECT_TRUE(slow.threaded_next());  // the probe after a backoff of one run
+  fast.record(true, 0.5, 1.0);
+  fast.record(false, 1.0, 1.0);
+  EXPECT_TRUE(fast.threaded_next());
+}
+
 /// proven(): threaded runs measured since the last backoff that pay against the serial median.
 TEST(ThreadPacer, ProvenOnlyAfterPayingThreadedRuns) {
   ThreadPacer pacer;

@@ -50,16 +50,14 @@ class ThreadPacer {
       serial_next_ = (serial_next_ + 1) % kSerialRuns;
       serial_count_ = std::min(serial_count_ + 1, kSerialRuns);
       if (skip_ > 0) --skip_;
+      // The first serial run judges the threaded runs before it (the very first run is threaded).
+      if (serial_count_ == 1 && threaded_ > pays_ * c) back_off();
       return;
     }
     threaded_ = threaded_ == 0.0 ? c : (1.0 - kWeight) * threaded_ + kWeight * c;
     const double serial = serial_figure();
     if (serial > 0.0 && threaded_ > pays_ * serial) {
-      skip_ = backoff_;
-      backoff_ = std::min(2 * backoff_, kMaxSkip);
-      threaded_ = 0.0;  // the next probe is judged on its own
-      since_serial_ = 0;
-      probing_ = true;
+      back_off();
     } else if (serial > 0.0) {
       if (!probing_) backoff_ = std::max(1, backoff_ / 2);
       probing_ = false;
@@ -71,6 +69,15 @@ class ThreadPacer {
   }
 
  private:
+  /// Threads that do not pay: the next `backoff_` runs serial, the backoff doubled.
+  void back_off() {
+    skip_ = std::max(skip_, backoff_);
+    backoff_ = std::min(2 * backoff_, kMaxSkip);
+    threaded_ = 0.0;  // the next probe is judged on its own
+    since_serial_ = 0;
+    probing_ = true;
+  }
+
   /// The median of the stored serial runs (s per unit of work; 0 = none yet).
   [[nodiscard]] double serial_figure() const {
     if (serial_count_ == 0) return 0.0;
