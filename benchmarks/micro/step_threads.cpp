@@ -3,12 +3,26 @@
 // stepping thread (the second is what a busy machine disturbs least). Reported per body count
 // and thread count: medians over all timed steps (and the wall clock's mean, which counts rare
 // slow steps), the wall time of each stage (StepProfile medians), the heap allocations per
-// timed step (of the whole process, helpers included: counting_malloc.hpp), and the load average
-// before and after.
+// timed step (of the whole process, helpers included: counting_malloc.hpp), the CPU model and
+// the load average before and after.
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
-//                          [--sweeps 20] [--min-batches -1] [--profile] [--handover]
+//                          [--sweeps 20] [--min-batches -1] [--load 0] [--profile] [--handover]
+//                          [--trace-steps] [--interleave]
 //
+// --load K runs K competitor processes (busy_load.hpp: plain spinning arithmetic at this
+// program's nice level) through the rounds of each body count, warm-up included, so that 1 and
+// 2 threads are compared on a machine whose cores are taken: `--load 2` on 2 cores is the case
+// where a second thread can only pay if it never leaves member 0 waiting for a descheduled
+// helper. The header line gives K; each body count's "competitors" line the mean share of a
+// core each competitor got (what the machine's other programs left them shows there too).
+// --interleave steps the thread counts' Worlds in turn, step by step (the order alternating by
+// step), instead of one after the other in each round: on a busy machine each pair of steps
+// then meets the same background, where round-by-round alternation leaves whole rounds to the
+// luck of the scheduler; each step then finds the caches holding the other World's data.
+// --trace-steps prints each timed step of the series on more than one thread: threaded (a
+// helper's CPU time above kHelped of the stepping thread's) or serial, its wall and thread CPU
+// time: the pacer's probes and the steps that stalled.
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem and every large step: no pacing, LcpSolver::threads_forced). --profile adds the
 // solve's phases (PgsColoredProfile: CPU time of the stepping thread per solve). The pile and
@@ -29,6 +43,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include "dc/core/work_team.hpp"
@@ -36,6 +51,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "dc/engine/stress_scenes.hpp"
+#include "busy_load.hpp"
 #include "counting_malloc.hpp"
 #include "fixed_sweeps.hpp"
 
@@ -182,8 +198,8 @@ void add_stages(Series& s, const dc::StepProfile& p, bool helped, double wall_ms
 int main(int argc, char** argv) {
   CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
   std::string ns = "1000,10000", ts = "1,2";
-  int steps = 40, rounds = 5, sweeps = 20, min_batches = -1;
-  bool profile = false, handover = false;
+  int steps = 40, rounds = 5, sweeps = 20, min_batches = -1, load = 0;
+  bool profile = false, handover = false, trace_steps = false, interleave = false;
   std::string internal_order;
   app.add_option("--n", ns, "body counts, comma-separated");
   app.add_option("--threads", ts, "thread counts, comma-separated");
@@ -193,13 +209,20 @@ int main(int argc, char** argv) {
   app.add_option("--min-batches", min_batches, "PgsColoredDef::min_batches_per_thread (-1: default)");
   app.add_option("--internal-order", internal_order, "[bodies] internal_order of the pile (auto, morton, none; "
                  "default: the scene's)");
+  app.add_option("--load", load, "competitor processes spinning through the rounds (0: none)")
+      ->check(CLI::Range(0, 64));
   app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
+  app.add_flag("--interleave", interleave, "alternate the thread counts step by step (each on its own World) "
+               "instead of round by round");
+  app.add_flag("--trace-steps", trace_steps, "print every timed step of the threaded series (threaded or serial: "
+               "a helper's CPU share; wall and thread CPU ms)");
   app.add_flag("--handover", handover, "trace the team's runs: the hand-over per stage of the threaded steps");
   CLI11_PARSE(app, argc, argv);
   std::vector<dc::TeamRunTrace> trace;
   const dc::SolverOptions o = fixed_sweeps(sweeps);
-  std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; load %s\n", sweeps, steps, rounds,
-              load_average().c_str());
+  std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; %d competitor processes (--load); "
+              "CPU %s, %ld online; load %s\n", sweeps, steps, rounds, load, dc::bench::cpu_model().c_str(),
+              sysconf(_SC_NPROCESSORS_ONLN), load_average().c_str());
   std::printf("| bodies | threads | wall ms/step | wall mean | thread CPU ms/step | process CPU ms/step | "
               "wall 1/T |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -219,39 +242,62 @@ int main(int argc, char** argv) {
     }
     std::vector<std::vector<double>> proc(series.size());
     std::vector<Handover> handovers(series.size());
+    dc::bench::BusyLoad competitors;
+    competitors.start(load);
+    // One timed step of series si on world w in round r (r < 0: warm-up, not recorded).
+    auto one_step = [&](size_t si, dc::World& w, int r, int k) {
+      Series& s = series[si];
+      const bool traced = handover && r >= 0 && s.threads > 1;
+      if (traced) dc::calling_thread_team().set_trace(&trace);
+      const size_t from = trace.size();
+      const std::int64_t start_ns = steady_ns();
+      const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
+                   p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
+      const long a0 = dc::bench::AllocationCounter::count();
+      dc::bench::AllocationCounter::start();
+      const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
+      dc::bench::AllocationCounter::stop();
+      if (r >= 0) s.allocations += dc::bench::AllocationCounter::count() - a0;
+      dc::calling_thread_team().set_trace(nullptr);
+      if (traced) handovers[si].add(trace, from, start_ns, rep.profile);
+      if (r < 0) return;
+      s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
+      s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
+      proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
+      const bool helped = proc[si].back() > (1 + kHelped) * s.cpu_ms.back();
+      add_stages(s, rep.profile, helped, s.wall_ms.back());
+      if (trace_steps && s.threads > 1)
+        std::printf("# step %d bodies, %d threads, round %d, step %d: %s, wall %.3f ms, thread CPU %.3f ms\n", n,
+                    s.threads, r, k, helped ? "threaded" : "serial", s.wall_ms.back(), s.cpu_ms.back());
+    };
+    const size_t configs = series.size();
     for (int r = -1; r < rounds; ++r) {  // round −1: warm-up, not timed
-      for (size_t j = 0; j < series.size(); ++j) {
-        Series& s = series[r % 2 ? series.size() - 1 - j : j];  // alternate the order by round
-        const size_t si = static_cast<size_t>(&s - series.data());
-        dc::World w = start;
-        for (int k = 0; k < steps; ++k) {
-          const bool traced = handover && r >= 0 && s.threads > 1;
-          if (traced) dc::calling_thread_team().set_trace(&trace);
-          const size_t from = trace.size();
-          const std::int64_t start = steady_ns();
-          const double w0 = clock_s(CLOCK_MONOTONIC), c0 = clock_s(CLOCK_THREAD_CPUTIME_ID),
-                       p0 = clock_s(CLOCK_PROCESS_CPUTIME_ID);
-          const long a0 = dc::bench::AllocationCounter::count();
-          dc::bench::AllocationCounter::start();
-          const dc::StepReport rep = w.step(*s.solver, o, dc::World::WarmStart::PreviousLambda);
-          dc::bench::AllocationCounter::stop();
-          if (r >= 0) s.allocations += dc::bench::AllocationCounter::count() - a0;
-          dc::calling_thread_team().set_trace(nullptr);
-          if (traced) handovers[si].add(trace, from, start, rep.profile);
-          if (r < 0) continue;
-          s.wall_ms.push_back(1e3 * (clock_s(CLOCK_MONOTONIC) - w0));
-          s.cpu_ms.push_back(1e3 * (clock_s(CLOCK_THREAD_CPUTIME_ID) - c0));
-          proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
-          add_stages(s, rep.profile, proc[si].back() > (1 + kHelped) * s.cpu_ms.back(), s.wall_ms.back());
-        }
+      std::vector<std::unique_ptr<dc::World>> worlds(configs);
+      if (interleave) {  // every series its own World, stepped in turn (the order alternates by step)
+        for (auto& w : worlds) w = std::make_unique<dc::World>(start);
+        for (int k = 0; k < steps; ++k)
+          for (size_t j = 0; j < configs; ++j) {
+            const size_t si = (r + k) % 2 != 0 ? configs - 1 - j : j;
+            one_step(si, *worlds[si], r, k);
+          }
+        continue;
+      }
+      for (size_t j = 0; j < configs; ++j) {
+        const size_t si = r % 2 != 0 ? configs - 1 - j : j;  // alternate the order by round
+        worlds[si] = std::make_unique<dc::World>(start);
+        for (int k = 0; k < steps; ++k) one_step(si, *worlds[si], r, k);
       }
     }
+    const double share = competitors.stop();
     const double base = median(series.front().wall_ms);
     for (size_t j = 0; j < series.size(); ++j) {
       const double wall = median(series[j].wall_ms);
       std::printf("| %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f× |\n", n, series[j].threads, wall,
                   mean(series[j].wall_ms), median(series[j].cpu_ms), median(proc[j]), base / wall);
     }
+    if (load > 0)
+      std::printf("#   %d bodies: competitors: %d, each got %.2f of a core (mean over the rounds); load %s\n", n, load,
+                  share, load_average().c_str());
     std::printf("#   stage wall ms/step (medians): collide, assemble, warm start, solve, integrate\n");
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, median(s.stage_ms[0]),

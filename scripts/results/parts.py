@@ -379,6 +379,33 @@ def block_step_threads(ctx):
     return block
 
 
+def block_step_threads_load(ctx):
+    """Whole steps on 1 and 2 threads with two competitor processes spinning through the rounds
+    (`step_threads --load 2`): on 2 cores, the case where the second thread is worth something only
+    if the step's pacer (World::kStepPays) keeps it off while it does not pay."""
+    args = ["--n", "1000,10000", "--steps", "40", "--rounds", "5", "--load", "2"]
+    block = {"name": "speed-step-threads-load", "title": "Threads under load: whole steps, 1 and 2 threads, 2 busy competitors",
+             "columns": ["bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step", "process CPU ms/step",
+                         "wall 1 / T", "competitors' core share"],
+             "rows": [], "skipped": "", "note": ""}
+    if not os.path.exists(ctx.bin("step_threads")):
+        block["skipped"] = "step_threads not built"
+        print(f"results: speed: {block['skipped']}: skipped")
+        return block
+    out = ctx.run([ctx.bin("step_threads"), *args])
+    share = {m.group(1): m.group(2) for m in re.finditer(r"#\s+(\d+) bodies: competitors: \d+, each got ([\d.]+)", out)}
+    block["rows"] = [cells + [share.get(cells[0], "–")]
+                     for cells in ([c.strip() for c in line.strip().strip("|").split("|")]
+                                   for line in out.splitlines() if re.match(r"\|\s*\d", line))]
+    block["note"] = (f"`step_threads {' '.join(args)}`: as the block above, with two processes spinning on arithmetic "
+                     "at the same nice level through the rounds (warm-up included), so that on 2 cores the step's "
+                     "threads compete with them; each round starts a fresh World (its pacer probes the threads anew). "
+                     "Medians over the timed steps; the mean counts the pacer's threaded probes. The competitors' "
+                     "share is the mean part of a core each got; the stamp's load includes them and whatever else "
+                     "ran on the machine.")
+    return block
+
+
 def box2d3_rows(out):
     """Rows [scene, configuration, ms/step, ns/row·pass, overlap mm, moving, mean height m, ÷ quality reference,
     last column] of box2d3_compare's Markdown tables (the overlap is the largest between touching bodies at the end
@@ -480,7 +507,7 @@ def part_speed(ctx):
     os.environ["OMP_WAIT_POLICY"] = "active"
     try:
         return [block_kernels(ctx), block_cnn(ctx), block_step(ctx), block_threads(ctx), block_step_threads(ctx),
-                block_peers(ctx),
+                block_step_threads_load(ctx), block_peers(ctx),
                 block_peers_v3(ctx, short=["--n", "1000", "--rounds", "1", "--pyramid", "20"],
                                why=" One round, 1,000 bodies (time budget)."),
                 block_peers_v3_eq(ctx), block_peers_v3_10k(ctx)], []
