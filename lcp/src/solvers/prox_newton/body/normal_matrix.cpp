@@ -42,7 +42,8 @@ void NormalMatrix::bind(const SparseRowMatrix& J, const SparseRowMatrix& Jt) {
           cols_.push_back(inner[l]);
         }
     std::sort(cols_.begin() + begin, cols_.end());
-    for (auto i = static_cast<size_t>(begin); i < cols_.size(); ++i) pos_[static_cast<size_t>(cols_[i])] = static_cast<int>(i);
+    for (auto i = static_cast<size_t>(begin); i < cols_.size(); ++i)
+      pos_[static_cast<size_t>(cols_[i])] = static_cast<int>(i);
     diag_slot_[static_cast<size_t>(a)] = pos_[static_cast<size_t>(a)];
     for (SparseRowMatrix::InnerIterator t(Jt, a); t; ++t) {
       const int r = static_cast<int>(t.index()), b0 = outer[r], e = row_end(J, r);

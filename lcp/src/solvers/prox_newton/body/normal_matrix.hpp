@@ -8,7 +8,7 @@
 // values and adds, row by row in increasing r, D_r J_ra J_rb into entry (a, b), and W⁻¹ on the
 // diagonal last: per entry the sums of Eigen's `Jt * (D.asDiagonal() * J) + diag(W⁻¹)` in the
 // same order, so the same bits (Eigen's product takes the terms of entry (a, b) in increasing r;
-// its first term is assigned, here added to +0, and a rows with D_r = 0 adds ±0: both change at
+// its first term is assigned, here added to +0, and a row with D_r = 0 would add ±0: both change at
 // most the sign of an exact zero, which the sparse sum's "+ 0" for entries diag(W⁻¹) lacks makes
 // +0 in Eigen's result as it is here). The pattern is structural (stored zeros of J and rows with
 // D_r = 0 keep their entries), so it is the same whatever D is and FreeBlockFactor keeps its
