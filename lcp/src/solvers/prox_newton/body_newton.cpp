@@ -32,6 +32,7 @@ constexpr double kPcgTolerance = 1e-6;
 void BodyNewton::bind(const LcpProblem& p) {
   p_ = &p;
   bind_body_metric(p, Jt_, w_, winv_, Winv_diag_, max_diag_);
+  normal_.bind(p.J, Jt_);
   all_free_.assign(static_cast<size_t>(w_.size()), 1);
   friction_.clear();
   other_.clear();
@@ -91,11 +92,8 @@ double BodyNewton::evaluate(const FrozenSubproblem& sub, Point& pt) {
 
 bool BodyNewton::factorize(const Point& pt, double delta, NewtonSparseStats& st) {
   if (factored_mask_.size() == pt.dmask.size() && factored_delta_ == delta && factored_mask_ == pt.dmask) return true;
-  const SparseRowMatrix DJ = pt.dmask.asDiagonal() * p_->J;
-  H_ = Jt_ * DJ;  // structural pattern of JᵀJ whatever D is: the analysis is reused
-  H_ += Winv_diag_;
-  H_.makeCompressed();
-  factor_.bind(H_, true);
+  normal_.assemble(p_->J, winv_, pt.dmask);  // pattern of JᵀJ whatever D is: the analysis is reused
+  factor_.bind(normal_.matrix(), true);
   factored_mask_.resize(0);
   if (!factor_.factorize(all_free_, 0.0, st)) return false;
   factored_mask_ = pt.dmask;

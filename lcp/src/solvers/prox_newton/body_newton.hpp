@@ -28,6 +28,7 @@
 
 #include "dc/lcp/lcp_problem.hpp"
 #include "solvers/newton_sparse/sparse_factor.hpp"
+#include "solvers/prox_newton/body/normal_matrix.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
 
 namespace dc::solvers::prox {
@@ -68,7 +69,8 @@ class BodyNewton {
   bool step_on_merit(const FrozenSubproblem& sub, SubproblemOutcome& out);
 
   const LcpProblem* p_ = nullptr;
-  SparseRowMatrix Jt_, H_, Winv_diag_;
+  SparseRowMatrix Jt_, Winv_diag_;
+  NormalMatrix normal_;  // H = W⁻¹ + Jᵀ D J in J's fixed pattern
   Eigen::VectorXd w_, winv_;  // W, W⁻¹ diagonals (3·bodies)
   double max_diag_ = 0.0;
   FreeBlockFactor factor_;
