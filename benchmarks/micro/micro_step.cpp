@@ -14,7 +14,8 @@
 // BM_ColoredStepOnlySettled are the same with the default solver, "pgs-colored". BM_StepStages: consecutive steps of the pile
 // with "pgs" or "pgs-colored", each stage (and pgs-colored's set-up parts) in thread CPU time
 // per contact row, and the heap allocations of each stage per step (counting_malloc.hpp);
-// benchmarks/scripts/step-stages.sh prints them as a table.
+// benchmarks/scripts/step-stages.sh prints them as a table. BM_ExternalOrder: the public
+// contact order of the internal order (InternalBodyOrder::external_order) on the pile.
 #include <benchmark/benchmark.h>
 #include <time.h>
 
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "collision/narrow_phase.hpp"
+#include "dc/engine/internal_body_order.hpp"
 #include "dc/engine/trajectory_recorder.hpp"
 #include "counting_malloc.hpp"
 #include "dc/lcp/lcp_solver.hpp"
@@ -164,6 +166,33 @@ void BM_Integrate(benchmark::State& state) {
     benchmark::DoNotOptimize(w.bodies().position.data());
   }
   report(state, *p.world);
+}
+
+/// The pile's contacts in an engine-internal order (the bodies Morton-sorted, the contacts
+/// rekeyed) and InternalBodyOrder::external_order on them, the public order World translates
+/// its contacts and rows by: keys read from the contacts (source 0) or from their assembled
+/// constraints (source 1, what a step reads).
+void BM_ExternalOrder(benchmark::State& state) {
+  const dc::World& w = *pile(bodies_of(state), 0).world;
+  dc::InternalBodyOrder order;
+  order.update_from(w.bodies(), true);
+  double max_radius = 0;
+  for (const double r : w.bodies().radius) max_radius = std::max(max_radius, r);
+  order.resort(2 * max_radius);
+  std::vector<dc::Contact> internal = w.contacts();
+  order.rekey(internal);
+  dc::ContactConstraints assembled;
+  for (const dc::Contact& c : internal) assembled.add(c.body_a < 0 ? -1 : c.body_a, c.body_b, 0.5, c.key.feature);
+  const int n = static_cast<int>(w.bodies().size());
+  std::vector<int> internal_of;
+  for (auto _ : state) {
+    if (state.range(1) == 1)
+      order.external_order(internal, assembled, n, internal_of);
+    else
+      order.external_order(internal, n, internal_of);
+    benchmark::DoNotOptimize(internal_of.data());
+  }
+  report(state, w);
 }
 
 void BM_Record(benchmark::State& state) {
@@ -493,6 +522,10 @@ BENCHMARK(BM_WarmStart)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Solve)->Apply(sizes_sweeps)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Integrate)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Record)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ExternalOrder)
+    ->ArgNames({"bodies", "source"})
+    ->ArgsProduct({{1000, 10000, 40000}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnly)->Apply(sizes_sweeps_orders)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepOnlySettled)->Apply(sizes_settled)->Unit(benchmark::kMicrosecond);

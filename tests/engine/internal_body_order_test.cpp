@@ -197,6 +197,43 @@ TEST(InternalBodyOrder, InflowBodiesJoinTheInternalOrder) {
   EXPECT_LT(dv, 1e-3);
 }
 
+TEST(InternalBodyOrder, ExternalOrderFromConstraintsIsTheContactsOrder) {
+  // 60 bodies on a line, backwards in x (the resort reverses them); internal contacts: every
+  // wall with a few bodies, pairs with several features, and body 0 paired with 40 bodies (a
+  // bucket beyond the insertion sort's), sorted by internal key as collide leaves them.
+  InternalBodyOrder order;
+  BodyState s;
+  constexpr int n = 60;
+  for (int k = 0; k < n; ++k) s.add({200.0 - 3.0 * k, 1.0 + (k % 3)}, 1.0, 1.0);
+  order.update_from(s, true);
+  order.resort(2.0);
+  std::vector<Contact> internal;
+  const auto add = [&](ContactKey key, int body_a) {
+    Contact c;
+    c.key = key;
+    c.body_a = body_a;
+    c.body_b = key.b;
+    internal.push_back(c);
+  };
+  for (const Wall w : {Wall::Left, Wall::Right, Wall::Bottom, Wall::Top})
+    for (int k = 0; k < n; k += 7) add(ContactKey::wall(w, k), static_cast<int>(w));
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < std::min(n, i + (i == 0 ? 41 : 4)); ++j)
+      for (int f = -1; f <= (j % 2); ++f) add(ContactKey::pair(i, j, f), i);
+  std::sort(internal.begin(), internal.end(), [](const Contact& x, const Contact& y) { return x.key < y.key; });
+  ContactConstraints assembled;
+  for (const Contact& c : internal) assembled.add(c.body_a < 0 ? -1 : c.body_a, c.body_b, 0.5, c.key.feature);
+  std::vector<int> by_contacts, by_constraints;
+  order.external_order(internal, n, by_contacts);
+  order.external_order(internal, assembled, n, by_constraints);
+  EXPECT_EQ(by_constraints, by_contacts);
+  std::vector<Contact> external;
+  order.contacts_to_external(internal, by_constraints, external);
+  for (std::size_t c = 1; c < external.size(); ++c) ASSERT_LT(external[c - 1].key, external[c].key) << c;
+  assembled.add(-1, 0, 0.5);
+  EXPECT_THROW(order.external_order(internal, assembled, n, by_constraints), InvalidArgument);
+}
+
 TEST(InternalBodyOrder, SceneKeysParseAndBadValuesAreConfigErrors) {
   const WorldDef d =
       parse_scene("[bodies]\ninternal_order = \"morton\"\nresort_every = 7\nresort_decay = 1.25\n");

@@ -120,26 +120,53 @@ void InternalBodyOrder::external_order(const std::vector<Contact>& internal, int
                                        std::vector<int>& internal_of) const {
   const std::size_t m = internal.size();
   keys_.resize(m);
-  // Keys' first index ranges over the walls (−4 … −1) and the bodies: bucket a + 4.
-  constexpr int kWallOffset = 4;
-  bucket_start_.assign(static_cast<std::size_t>(bodies + kWallOffset + 1), 0);
+  ContactKey* const keys = keys_.data();
+  const int* const ext = external_of_.data();
   for (std::size_t i = 0; i < m; ++i) {
     const Contact& c = internal[i];
-    const int b = external_of_[static_cast<std::size_t>(c.body_b)];
-    keys_[i] = c.body_a < 0 ? ContactKey{c.key.a, b, c.key.feature}
-                            : ContactKey::pair(external_of_[static_cast<std::size_t>(c.body_a)], b, c.key.feature);
-    ++bucket_start_[static_cast<std::size_t>(keys_[i].a + kWallOffset + 1)];
+    const int b = ext[c.body_b];
+    keys[i] = c.body_a < 0 ? ContactKey{c.key.a, b, c.key.feature} : ContactKey::pair(ext[c.body_a], b, c.key.feature);
   }
-  for (std::size_t k = 1; k < bucket_start_.size(); ++k) bucket_start_[k] += bucket_start_[k - 1];
+  sort_by_keys(bodies, internal_of);
+}
+
+void InternalBodyOrder::external_order(const std::vector<Contact>& internal, const ContactConstraints& assembled,
+                                       int bodies, std::vector<int>& internal_of) const {
+  if (assembled.size() != static_cast<int>(internal.size()))
+    throw InvalidArgument("InternalBodyOrder::external_order: " + std::to_string(assembled.size()) +
+                          " constraints for " + std::to_string(internal.size()) + " contacts");
+  // The constraints hold body_a (−1 for a wall), body_b and the feature of each contact in a
+  // quarter of a Contact's bytes: only a wall contact's record is read, for its wall id.
+  const std::size_t m = internal.size();
+  keys_.resize(m);
+  ContactKey* const keys = keys_.data();
+  const int* const ext = external_of_.data();
+  const ContactConstraint* const k = m > 0 ? &assembled[0] : nullptr;
+  for (std::size_t i = 0; i < m; ++i) {
+    const ContactConstraint& kc = k[i];
+    const int b = ext[kc.body_b];
+    keys[i] = kc.body_a < 0 ? ContactKey{internal[i].key.a, b, kc.feature} : ContactKey::pair(ext[kc.body_a], b, kc.feature);
+  }
+  sort_by_keys(bodies, internal_of);
+}
+
+void InternalBodyOrder::sort_by_keys(int bodies, std::vector<int>& internal_of) const {
+  const std::size_t m = keys_.size();
+  const ContactKey* const keys = keys_.data();
+  // Keys' first index ranges over the walls (−4 … −1) and the bodies: bucket a + 4.
+  constexpr int kWallOffset = 4;
+  bucket_start_.assign(static_cast<size_t>(bodies + kWallOffset + 1), 0);
+  int* const start = bucket_start_.data();
+  for (std::size_t i = 0; i < m; ++i) ++start[keys[i].a + kWallOffset + 1];
+  for (std::size_t k = 1; k < bucket_start_.size(); ++k) start[k] += start[k - 1];
   sorted_.resize(m);
-  for (std::size_t i = 0; i < m; ++i)
-    sorted_[static_cast<std::size_t>(bucket_start_[static_cast<std::size_t>(keys_[i].a + kWallOffset)]++)] =
-        static_cast<int>(i);
+  int* const sorted = sorted_.data();
+  for (std::size_t i = 0; i < m; ++i) sorted[start[keys[i].a + kWallOffset]++] = static_cast<int>(i);
   // bucket_start_[k] now holds the end of bucket k: sort each bucket by the whole key.
-  auto by_key = [&](int x, int y) { return keys_[static_cast<std::size_t>(x)] < keys_[static_cast<std::size_t>(y)]; };
+  auto by_key = [&](int x, int y) { return keys[x] < keys[y]; };
   int begin = 0;
   for (const int end : bucket_start_) {
-    if (end - begin > 1) std::sort(sorted_.begin() + begin, sorted_.begin() + end, by_key);
+    if (end - begin > 1) std::sort(sorted + begin, sorted + end, by_key);
     begin = end;
   }
   internal_of.swap(sorted_);  // the result, without a copy; the old vector is the next call's scratch

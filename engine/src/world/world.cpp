@@ -89,7 +89,11 @@ void World::gather_bodies() const {
 
 const std::vector<int>& World::public_order() const {
   if (order_stale_) {
-    order_.external_order(internal_contacts_, static_cast<int>(order_.external_of().size()), internal_of_contact_);
+    const int n = static_cast<int>(order_.external_of().size());
+    if (internal_assembled_)  // the keys from the constraints: a smaller stream than the contacts
+      order_.external_order(internal_contacts_, internal_problem_.constraints, n, internal_of_contact_);
+    else
+      order_.external_order(internal_contacts_, n, internal_of_contact_);
     order_stale_ = false;
   }
   return internal_of_contact_;
@@ -163,6 +167,7 @@ void World::collide_stage() {
   }
   if (internal_) {
     update_internal_order();
+    internal_assembled_ = false;
     collide_circles(order_.state(), internal_contacts_);
     contacts_stale_ = problem_stale_ = order_stale_ = true;
     // Decay: the mean |i − j| of the pairs in contact against its lowest value since the last
@@ -309,6 +314,7 @@ void World::assemble_stage() {
   // The public problem() is assembled on first read (a second assembly, of the public contacts).
   assemble_lcp(order_.state(), internal_contacts_, def_, internal_problem_, step_threads_);
   problem_stale_ = true;
+  internal_assembled_ = true;
 }
 
 const LcpProblem& World::ensure_assembled_matrix() {

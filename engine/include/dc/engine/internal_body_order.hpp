@@ -47,6 +47,12 @@ class InternalBodyOrder {
   /// key: a counting sort by the key's first index, then by the rest within each bucket) the
   /// internal contact it comes from: internal_of[c].
   void external_order(const std::vector<Contact>& internal, int bodies, std::vector<int>& internal_of) const;
+  /// external_order() reading the keys from `assembled`, the constraints assembled from
+  /// `internal` (same count, contact by contact; a circle-only state, whose constraints name
+  /// each contact's bodies and feature): the same internal_of from a smaller stream. Throws
+  /// InvalidArgument when the counts differ.
+  void external_order(const std::vector<Contact>& internal, const ContactConstraints& assembled, int bodies,
+                      std::vector<int>& internal_of) const;
   /// `external` ← the contacts `internal` with external body ids and keys, in the order
   /// `internal_of` of external_order().
   void contacts_to_external(const std::vector<Contact>& internal, const std::vector<int>& internal_of,
@@ -79,6 +85,9 @@ class InternalBodyOrder {
  private:
   /// External view of one internal contact (id, key, orientation).
   [[nodiscard]] Contact external_contact(const Contact& internal) const;
+  /// internal_of ← the contacts sorted by their external keys keys_ (a counting sort by the
+  /// key's first index, then by the rest within each bucket).
+  void sort_by_keys(int bodies, std::vector<int>& internal_of) const;
 
   BodyState state_;
   std::vector<int> external_of_;

@@ -242,6 +242,9 @@ class World {
   mutable bool bodies_stale_ = false, contacts_stale_ = false, previous_stale_ = false, problem_stale_ = false,
                order_stale_ = false;
   bool bodies_edited_ = true;  ///< bodies() was called mutably since the last copy
+  /// internal_problem_'s constraints are those of internal_contacts_ (assembled since the
+  /// last collide): public_order() reads the keys from them.
+  bool internal_assembled_ = false;
   int last_resort_step_ = -1;  ///< step_ of the last re-sort (−1: never)
   int resorts_ = 0;
   /// Decay of the internal order: Σ |i − j| and count of the pair contacts of the last
