@@ -8,7 +8,7 @@
 //
 //   build/bin/step_threads [--n 1000,10000] [--threads 1,2] [--steps 40] [--rounds 5]
 //                          [--sweeps 20] [--min-batches -1] [--load 0] [--profile] [--handover]
-//                          [--trace-steps] [--interleave]
+//                          [--trace-steps] [--interleave] [--at-rest]
 //
 // --load K runs K competitor processes (busy_load.hpp: plain spinning arithmetic at this
 // program's nice level) through the rounds of each body count, warm-up included, so that 1 and
@@ -26,7 +26,9 @@
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem and every large step: no pacing, LcpSolver::threads_forced). --profile adds the
 // solve's phases (PgsColoredProfile: CPU time of the stepping thread per solve). The pile and
-// its settling are those of micro_step (150 steps of pgs). --handover traces the team's runs
+// its settling are those of micro_step (150 steps of pgs); --at-rest takes micro_step's pile packed
+// on the floor (settled_pile.hpp), where nearly every contact carries load and the sweeps weigh
+// most, instead of the falling one (most rows free at 10,000 bodies). --handover traces the team's runs
 // (WorkTeam::set_trace) and prints, per stage of the threaded steps: runs per step, how many
 // helper 1 joined, how many had to wake it from its futex sleep, and the medians of the
 // hand-over (publish to the helper's start), of member 0's body and of its wait after it, the
@@ -54,6 +56,7 @@
 #include "busy_load.hpp"
 #include "counting_malloc.hpp"
 #include "fixed_sweeps.hpp"
+#include "settled_pile.hpp"
 
 namespace {
 
@@ -92,9 +95,11 @@ double mean(const std::vector<double>& v) {
 
 using dc::bench_micro::fixed_sweeps;
 
-/// micro_step's scaled seed pile of n circles after 150 steps of pgs.
-dc::World settled_pile(int n, const std::string& order) {
-  dc::WorldDef def = dc::stress::scaled_seed_pile(n);
+/// micro_step's scaled seed pile of n circles after 150 steps of pgs: falling (most rows free at
+/// 10,000 bodies), or with `at_rest` the same bodies packed on the floor (settled_pile.hpp,
+/// shuffled numbering as generated bodies have), where nearly every contact carries load.
+dc::World settled_pile(int n, const std::string& order, bool at_rest) {
+  dc::WorldDef def = at_rest ? dc::bench_micro::packed_pile(n, false) : dc::stress::scaled_seed_pile(n);
   if (!order.empty()) def.bodies.internal_order = dc::parse_internal_order(order, "--internal-order");
   def.solver.sweeps = 20;
   dc::World w(def);
@@ -199,7 +204,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Whole pgs-colored steps on 1 and 2 threads, alternated"};
   std::string ns = "1000,10000", ts = "1,2";
   int steps = 40, rounds = 5, sweeps = 20, min_batches = -1, load = 0;
-  bool profile = false, handover = false, trace_steps = false, interleave = false;
+  bool profile = false, handover = false, trace_steps = false, interleave = false, at_rest = false;
   std::string internal_order;
   app.add_option("--n", ns, "body counts, comma-separated");
   app.add_option("--threads", ts, "thread counts, comma-separated");
@@ -211,6 +216,8 @@ int main(int argc, char** argv) {
                  "default: the scene's)");
   app.add_option("--load", load, "competitor processes spinning through the rounds (0: none)")
       ->check(CLI::Range(0, 64));
+  app.add_flag("--at-rest", at_rest, "the pile packed on the floor and settled (micro_step's BM_StepOnlySettled "
+               "pile) instead of the falling one");
   app.add_flag("--profile", profile, "print the solve's phases (thread CPU ms per solve, all rounds)");
   app.add_flag("--interleave", interleave, "alternate the thread counts step by step (each on its own World) "
                "instead of round by round");
@@ -220,14 +227,14 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::vector<dc::TeamRunTrace> trace;
   const dc::SolverOptions o = fixed_sweeps(sweeps);
-  std::printf("# step_threads: pgs-colored, %d sweeps, %d steps x %d rounds; %d competitor processes (--load); "
-              "CPU %s, %ld online; load %s\n", sweeps, steps, rounds, load, dc::bench::cpu_model().c_str(),
+  std::printf("# step_threads: pgs-colored, %s pile, %d sweeps, %d steps x %d rounds; %d competitor processes (--load); "
+              "CPU %s, %ld online; load %s\n", at_rest ? "packed (at rest)" : "falling", sweeps, steps, rounds, load, dc::bench::cpu_model().c_str(),
               sysconf(_SC_NPROCESSORS_ONLN), load_average().c_str());
   std::printf("| bodies | threads | wall ms/step | wall mean | thread CPU ms/step | process CPU ms/step | "
               "wall 1/T |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const int n : parse_ints(ns)) {
-    const dc::World start = settled_pile(n, internal_order);
+    const dc::World start = settled_pile(n, internal_order, at_rest);
     std::vector<Series> series;
     std::vector<double> process_ms;
     for (const int t : parse_ints(ts)) {
