@@ -359,6 +359,21 @@ def block_threads(ctx):
             "columns": ["threads", "solve of 100 sweeps ms", "solve of 1 sweep ms", "per sweep µs"], "rows": rows}
 
 
+def step_threads_block(ctx, name, title, columns):
+    """An empty block of step_threads figures, marked skipped (and announced) when step_threads is not built."""
+    block = {"name": name, "title": title, "columns": columns, "rows": [], "skipped": "", "note": ""}
+    if not os.path.exists(ctx.bin("step_threads")):
+        block["skipped"] = "step_threads not built"
+        print(f"results: speed: {block['skipped']}: skipped")
+    return block
+
+
+def step_threads_rows(out):
+    """The cells of step_threads' table rows (those starting with a body count)."""
+    return [[c.strip() for c in line.strip().strip("|").split("|")]
+            for line in out.splitlines() if re.match(r"\|\s*\d", line)]
+
+
 def block_step_threads(ctx):
     """Whole pgs-colored steps on 1 and 2 threads (benchmarks/micro/step_threads.cpp), as users get them: the
     falling pile (1,000 and 10,000 bodies) and the 10,000 bodies packed at rest (`--at-rest`), where nearly every
@@ -366,18 +381,13 @@ def block_step_threads(ctx):
     rounds = "3" if not ctx.full else "7"
     runs = [("falling", ["--n", "1000,10000", "--steps", "20", "--rounds", rounds]),
             ("at rest", ["--n", "10000", "--steps", "20", "--rounds", rounds, "--at-rest"])]
-    block = {"name": "speed-step-threads", "title": "Threads: whole pgs-colored steps, 1 and 2 threads",
-             "columns": ["pile", "bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step",
-                         "process CPU ms/step", "wall 1 / T"],
-             "rows": [], "skipped": "", "note": ""}
-    if not os.path.exists(ctx.bin("step_threads")):
-        block["skipped"] = "step_threads not built"
-        print(f"results: speed: {block['skipped']}: skipped")
+    block = step_threads_block(ctx, "speed-step-threads", "Threads: whole pgs-colored steps, 1 and 2 threads",
+                               ["pile", "bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step",
+                                "process CPU ms/step", "wall 1 / T"])
+    if block["skipped"]:
         return block
     for pile, args in runs:
-        out = ctx.run([ctx.bin("step_threads"), *args])
-        block["rows"] += [[pile] + [c.strip() for c in line.strip().strip("|").split("|")]
-                          for line in out.splitlines() if re.match(r"\|\s*\d", line)]
+        block["rows"] += [[pile] + cells for cells in step_threads_rows(ctx.run([ctx.bin("step_threads"), *args]))]
     block["note"] = ("; ".join(f"`step_threads {' '.join(args)}`" for _, args in runs) +
                      ": micro_step's piles (falling: after 150 steps, most rows free at 10,000 bodies; at rest: "
                      "packed on the floor and settled), 20 sweeps per step, the solver's defaults "
@@ -391,19 +401,15 @@ def block_step_threads_load(ctx):
     (`step_threads --load 2`): on 2 cores, the case where the second thread is worth something only
     if the step's pacer (World::kStepPays) keeps it off while it does not pay."""
     args = ["--n", "1000,10000", "--steps", "40", "--rounds", "5", "--load", "2"]
-    block = {"name": "speed-step-threads-load", "title": "Threads under load: whole steps, 1 and 2 threads, 2 busy competitors",
-             "columns": ["bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step", "process CPU ms/step",
-                         "wall 1 / T", "competitors' core share"],
-             "rows": [], "skipped": "", "note": ""}
-    if not os.path.exists(ctx.bin("step_threads")):
-        block["skipped"] = "step_threads not built"
-        print(f"results: speed: {block['skipped']}: skipped")
+    block = step_threads_block(ctx, "speed-step-threads-load",
+                               "Threads under load: whole steps, 1 and 2 threads, 2 busy competitors",
+                               ["bodies", "threads", "wall ms/step", "wall mean", "thread CPU ms/step",
+                                "process CPU ms/step", "wall 1 / T", "competitors' core share"])
+    if block["skipped"]:
         return block
     out = ctx.run([ctx.bin("step_threads"), *args])
     share = {m.group(1): m.group(2) for m in re.finditer(r"#\s+(\d+) bodies: competitors: \d+, each got ([\d.]+)", out)}
-    block["rows"] = [cells + [share.get(cells[0], "–")]
-                     for cells in ([c.strip() for c in line.strip().strip("|").split("|")]
-                                   for line in out.splitlines() if re.match(r"\|\s*\d", line))]
+    block["rows"] = [cells + [share.get(cells[0], "–")] for cells in step_threads_rows(out)]
     block["note"] = (f"`step_threads {' '.join(args)}`: as the block above, with two processes spinning on arithmetic "
                      "at the same nice level through the rounds (warm-up included), so that on 2 cores the step's "
                      "threads compete with them; each round starts a fresh World (its pacer probes the threads anew). "

@@ -84,7 +84,7 @@ TEST(PgsColoredCompact, EngineProblemsSweepCompactBatchesWithTheIteratesOfPgs) {
 }
 
 TEST(PgsColoredCompact, NonIsotropicInverseMassKeepsTheFullLayout) {
-  // m⁻¹ of v_y ≠ m⁻¹ of v_x: the tangent's M⁻¹JᵀΔt is no longer the normal's turned, so no
+  // m⁻¹ of v_y ≠ m⁻¹ of v_x: the tangent's M⁻¹JᵀΔt is not the normal's turned, so no
   // batch with friction compresses exactly; a solve forced onto the compact layout would differ.
   LcpProblem p = test::settled_problem(stress::scaled_seed_pile(100), 100);
   for (Eigen::Index k = 1; k < p.inv_mass.size(); k += 3) p.inv_mass[k] *= 0.75;
@@ -94,9 +94,9 @@ TEST(PgsColoredCompact, NonIsotropicInverseMassKeepsTheFullLayout) {
 TEST(PgsColoredCompact, DirectPackingRefusesRowsWhoseBodyBEntriesAreNotDerivable) {
   // The pack writes the compact batches of single contacts with friction straight from J and
   // compares the derived coefficients in registers. Body b's J entry for v_x of one contact's
-  // normal row scaled by 1 + 1e-9: alone, the tangent's M⁻¹JᵀΔt is no longer the normal's
+  // normal row scaled by 1 + 1e-9: alone, the tangent's M⁻¹JᵀΔt is then not the normal's
   // turned; with the tangent's entry for v_y (equal to it in the engine's form) scaled alike, that
-  // still holds and only body b's J/A_ii, no longer body a's negated, tells. Either must send the
+  // still holds and only body b's J/A_ii, then not body a's negated, tells. Either must send the
   // whole solve to the full layout, with the iterates of "pgs".
   const LcpProblem settled = test::settled_problem(stress::scaled_seed_pile(100), 100);
   for (const bool both_rows : {false, true}) {
