@@ -46,7 +46,7 @@ SparseRowMatrix impulse_j(int n, int walls, int near, bool shuffled, std::mt1993
   return j;
 }
 
-bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+bool equal_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
 }
 
@@ -75,9 +75,9 @@ TEST(ContactImpulse, JobsOfBodiesGiveTheSerialBitsOnEveryThreadCount) {
       for (Eigen::Index r = 0; r < lambda.size(); ++r) lambda[r] = l(rng);
       std::vector<int> covered;
       const Eigen::VectorXd one = product(j, lambda, 1, covered);
-      ASSERT_TRUE(same_bits(one, Eigen::VectorXd(j.transpose() * lambda * 0.01)));  // Eigen's sums
+      ASSERT_TRUE(equal_bits(one, Eigen::VectorXd(j.transpose() * lambda * 0.01)));  // Eigen's sums
       for (const int threads : {2, 3, 8}) {
-        EXPECT_TRUE(same_bits(one, product(j, lambda, threads, covered)))
+        EXPECT_TRUE(equal_bits(one, product(j, lambda, threads, covered)))
             << threads << " threads, near " << near << (shuffled ? ", shuffled" : "");
         EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int c) { return c == 1; })) << threads << " threads";
       }
