@@ -102,6 +102,9 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "probe_sweeps") d.probe_sweeps = static_cast<int>(x);
   else if (key == "probe_iterations") d.probe_iterations = static_cast<int>(x);
   else if (key == "probe_reach") d.probe_reach = x;
+  else if (key == "probe_count") d.probe_count = static_cast<int>(x);
+  else if (key == "probe_refall") d.probe_refall = x;
+  else if (key == "probe_shift") d.probe_shift = x;
   else if (key == "degenerate_drift_jumps") d.degenerate_drift_jumps = static_cast<int>(x);
   else if (key == "degenerate_drift_linearity") d.degenerate_drift_linearity = x;
   else if (key == "lead_fallback_doublings") d.lead_fallback_doublings = static_cast<int>(x);

@@ -198,6 +198,7 @@ TEST(ProxNewtonLead, AStageThatReachesTheTargetLeavesNoNewtonPart) {
     o.tolerance = 1e-4 * std::max(1.0, p.b.cwiseAbs().maxCoeff());
     ProxNewtonDef d;
     d.degenerate_drift_jumps = 0;  // 1.33 rows per velocity unknown: degenerate; nncg's own sweeps
+    d.probe_sweeps = 0;            // and no probe, which can reach the loose target first
     ProxNewtonSolver s(d);
     const SolveResult r = s.solve(p, {}, o);
     const ProxNewtonStats st = s.last_stats();

@@ -103,7 +103,7 @@ bool missed_as_without(const LcpProblem& p, ProxNewtonDef def, double tol, const
 
 TEST(ProxNewtonProbe, AMissedProbeLeavesTheSolveAsWithoutIt) {
   // Probes of 1–3 iterations far from a tight target: on the pile at 50 or 100 sweeps, on
-  // random contact problems (degenerate by default) at the default 150.
+  // random contact problems (degenerate by default) at the default probe_sweeps.
   Pile pile;
   int missed = 0;
   for (const int sweeps : {50, 100})
@@ -121,7 +121,7 @@ TEST(ProxNewtonProbe, AMissedProbeLeavesTheSolveAsWithoutIt) {
         ProxNewtonDef d;
         d.probe_iterations = iterations;
         d.initial_shift = shift;
-        d.probe_reach = 0;  // a probe at 150 sweeps however far from the tight target
+        d.probe_reach = 0;  // a probe at probe_sweeps however far from the tight target
         missed += missed_as_without(p, d, 1e-12 * std::max(1.0, p.b.cwiseAbs().maxCoeff()),
                                     "seed " + std::to_string(seed) + ", " + std::to_string(iterations) + " iterations");
       }

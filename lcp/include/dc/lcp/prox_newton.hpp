@@ -126,19 +126,19 @@ struct ProxNewtonDef {
   double degenerate_rows = 1.3;
   int degenerate_stall_chunks = 6;
   bool degenerate_fallback_momentum = true;
-  /// Degenerate problems (degenerate_rows): one probe during the lead stage. At the first look
-  /// at or after `probe_sweeps` sweeps (default 150; 0 = none) within `probe_reach`, coupled
-  /// body-space passes (the hard proximal subproblem of `coupled_bounds`, δ from initial_shift,
-  /// no newton-sparse finish) run from the best iterate so far for at most `probe_iterations`
-  /// Newton iterations in all (default 3). When they reach the target the solve ends there; otherwise the lead's
+  /// Degenerate problems (degenerate_rows): one probe during the lead stage (probe_count). At
+  /// the first look at or after `probe_sweeps` sweeps (default 100; 0 = none) within
+  /// `probe_reach`, coupled body-space passes (the hard proximal subproblem of `coupled_bounds`,
+  /// δ from probe_shift, no newton-sparse finish) run from the best iterate so far for at most
+  /// `probe_iterations` Newton iterations in all (default 4). When they reach the target the solve ends there; otherwise the lead's
   /// nncg run goes on untouched (its momentum kept) and every later part sees the solve as
   /// without the probe, the probe's best iterate staying a candidate for the answer. On box
   /// piles nncg often sits on a plateau after a hundred sweeps from which the coupled passes
   /// reach the target in one or two iterations while the lead would sweep on until its window
   /// rule ends it; a missed probe costs its few iterations (one factorisation with its
   /// analysis, GMRES for the coupled directions).
-  int probe_sweeps = 150;
-  int probe_iterations = 3;
+  int probe_sweeps = 100;
+  int probe_iterations = 4;
   /// The probe runs only at a look whose best hard residual is within `probe_reach` times the
   /// target (default 100; 0 = at the first look at or after probe_sweeps whatever the best):
   /// the coupled passes converge locally, and in probe_iterations Newton iterations they reach
@@ -146,6 +146,21 @@ struct ProxNewtonDef {
   /// plateaus far above it, where the probe costs its factorisation and GMRES directions and
   /// misses. A look above the reach leaves the probe for a later look.
   double probe_reach = 100;
+  /// Probes per solve at most (default 1; with probe_sweeps > 0). A later probe runs at a look
+  /// whose best hard residual is at least `probe_refall`-fold below the best where the probe
+  /// before it ran (and within probe_reach): a missed probe leaves nncg's run going, and where
+  /// nncg falls on from there the coupled passes from its later iterate start nearer the row
+  /// modes of the answer, while a plateau (no such fall) makes no second probe.
+  int probe_count = 1;
+  double probe_refall = 10;
+  /// The probe's first δ relative to max A_ii (default 1e-3; 0 = initial_shift). The probe
+  /// starts within probe_reach of the target, where the row modes are nearly those of the
+  /// answer: a proximal step at the frozen passes' initial_shift (far from the solution, where
+  /// a large δ keeps the subproblem well posed) moves λ less than the probe's few iterations
+  /// need, and its passes end a factor above the target; a smaller δ reaches it from an
+  /// earlier look. Much smaller δ makes the coupled subproblem as hard as the hard problem
+  /// itself and its Newton iterations miss within the probe's count.
+  double probe_shift = 1e-3;
   /// Degenerate problems (degenerate_rows): drift jumps of the lead stage at most (default 16;
   /// 0 = none). Where w has a part on the free rows outside A's range (closed contacts that
   /// cannot all hold with the friction they stick with), nncg's sweeps drift along A's null

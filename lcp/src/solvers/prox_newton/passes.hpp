@@ -49,7 +49,7 @@ struct Passes {
 [[nodiscard]] inline Passes probe_passes(const ProxNewtonDef& def, int left) {
   Passes ps;
   ps.coupled = true;
-  ps.shift = def.initial_shift;
+  ps.shift = def.probe_shift > 0 ? def.probe_shift : def.initial_shift;
   ps.inner = def.inner_iterations;
   ps.max_stalls = def.max_stalls;
   ps.iterations = std::min(def.probe_iterations, left);

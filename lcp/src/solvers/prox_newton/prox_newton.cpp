@@ -307,9 +307,13 @@ class ProxRun {
   /// iterations follow the lead's sweeps so far in the caller's checkpoint count, and the lead's
   /// later sweeps follow them (probe_newton_).
   bool probe(int sweeps) {
-    if (probed_ || sweeps < def_.probe_sweeps || reached(best_res_, target_) || budget_left() <= 0) return false;
+    if (probes_ >= def_.probe_count || sweeps < def_.probe_sweeps || reached(best_res_, target_) || budget_left() <= 0)
+      return false;
     if (def_.probe_reach > 0 && best_res_ > def_.probe_reach * target_) return false;  // a later look
-    probed_ = true;  // one probe per solve
+    // A later probe only after nncg's best fell probe_refall-fold since the last one's start.
+    if (probes_ > 0 && best_res_ * def_.probe_refall > probed_at_) return false;
+    ++probes_;
+    probed_at_ = best_res_;
     st_.lead_sweeps = sweeps;  // mark() counts the lead's sweeps so far
     const int newton0 = st_.newton;
     // What the lead stage and the parts after it see stays as without the probe (a probe's
@@ -324,7 +328,7 @@ class ProxRun {
     outer(lambda, probe_passes(def_, budget_left()));
     probe_newton_ += st_.newton - newton0;
     if (!reached(best_res_, target_)) {
-      if (best_res_ < kept_res) {
+      if (best_res_ < kept_res && best_res_ < probe_best_res_) {
         probe_best_ = best_;
         probe_best_res_ = best_res_;
       }
@@ -538,7 +542,8 @@ class ProxRun {
   double lead_route_floor_ = 0.0;  // δ's failure floor the windowed proximal finish ended with
   bool from_guess_ = false;        // in the Newton part from the guess after the first part
   double lead_fall_ = 1.0;         // the lead stage's LeadRate::window_fall()
-  bool probed_ = false;            // the lead stage's probe ran
+  int probes_ = 0;                 // the lead stage's probes so far
+  double probed_at_ = INFINITY;    // best hard residual where the last probe started [N]
   bool body_bound_ = false;        // s_.body bound to p_ (body())
   Eigen::VectorXd probe_best_;     // the probe's best iterate when it missed the target
   double probe_best_res_ = INFINITY;

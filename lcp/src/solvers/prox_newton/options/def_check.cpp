@@ -43,6 +43,9 @@ void check_def(const ProxNewtonDef& d) {
     throw InvalidArgument("prox-newton: probe_sweeps and probe_iterations must be >= 0");
   if (!(d.probe_reach >= 0))
     throw InvalidArgument("prox-newton: probe_reach must be >= 0");
+  if (d.probe_count < 0 || !(d.probe_refall >= 1 && std::isfinite(d.probe_refall)) ||
+      !(d.probe_shift >= 0 && std::isfinite(d.probe_shift)))
+    throw InvalidArgument("prox-newton: probe_count must be >= 0, probe_refall finite and >= 1, probe_shift finite and >= 0");
   if (d.lead_colored_rows < 0 || d.lead_stall_chunks < 0 || d.degenerate_stall_chunks < 0 || !(d.degenerate_rows > 0))
     throw InvalidArgument("prox-newton: lead_colored_rows, lead_stall_chunks, degenerate_stall_chunks must be >= 0, "
                           "degenerate_rows > 0");
