@@ -275,10 +275,9 @@ class PgsColoredSolver final : public LcpSolver {
   static constexpr int kCompactFrom = 512;  // PgsColoredDef::compact_from_batches = −1 with AVX-512
 
   /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
-  /// M⁻¹Jᵀλ⁰Δt on the team (setup/team_pack.hpp): the sources staged by blocks of the contacts,
-  /// then one run in which one thread takes Δu⁰ (a serial pass over J, pgs_colored_products.hpp)
-  /// while the others start on their blocks of each colour's batches, handed out in parts as
-  /// threads come free. Each batch is written by one thread from its own inputs, so the result
+  /// M⁻¹Jᵀλ⁰Δt on the team (setup/team_pack.hpp): one run in which one thread takes Δu⁰ (a
+  /// serial pass over J, pgs_colored_products.hpp) while the others start on their blocks of
+  /// each colour's batches, handed out in parts as threads come free. Each batch is written by one thread from its own inputs, so the result
   /// depends neither on the thread count nor on the schedule. Each batch is
   /// over-relaxed by ω as it is filled (relax/over_relaxation.hpp). bad_start: Δu⁰ is not
   /// finite (an overflowing λ⁰). Δu⁰ leaves out the test that J is finite, which its skip of
@@ -309,9 +308,12 @@ class PgsColoredSolver final : public LcpSolver {
       delta_u0(0);
       laps.lap(&PgsColoredProfile::du0);
       colored::pack_batches(p, lambda, omega, compact, prep, lp, other, 1);
-    } else {  // Δu⁰ as one more part of the pack's run (setup/team_pack.hpp)
+    } else {
+      // Δu⁰ as one more part of the pack's run (setup/team_pack.hpp); the sources gathered from J
+      // in colour order, not staged: when a helper is kept off its core, member 0 alone would
+      // pay the staging pass on top of the pack (step_threads --min-batches 0 --profile).
       const PartJob side(delta_u0);
-      colored::pack_batches(p, lambda, omega, compact, prep, lp, other, threads, &side);
+      colored::pack_batches(p, lambda, omega, compact, prep, lp, other, threads, &side, std::numeric_limits<int>::max());
     }
     bad_start = bad;
     if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
