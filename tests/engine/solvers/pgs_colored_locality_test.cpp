@@ -230,5 +230,32 @@ TEST(PgsColoredLocality, BreadthFirstNumbersAChainFromAnEnd) {
   }
 }
 
+TEST(PgsColoredLocality, KeyOrderIsTheSameOnOneTwoAndThreeThreads) {
+  // Enough contacts for blocks on every thread (a few thousand each), keys with many repeats
+  // (few bodies) and bodies that are static: the stable key order on every thread count.
+  test::TestRng rng(29);
+  const LcpProblem p = test::random_contact(1500, 20000, true, rng, 0.5, 3);
+  const int bodies = static_cast<int>(p.J.cols() / 3);
+  std::vector<std::uint8_t> dynamic(static_cast<size_t>(bodies), 1);
+  for (int k = 0; k < bodies; k += 7) dynamic[static_cast<size_t>(k)] = 0;
+  colored::BodyNumbering one;
+  colored::number_bodies(p.constraints, dynamic, bodies, one);
+  colored::order_by_key(p.constraints, dynamic, bodies, one, 1);
+  for (size_t q = 0; q + 1 < one.order.size(); ++q) {
+    const int a = one.order[q], b = one.order[q + 1];
+    ASSERT_TRUE(one.key[static_cast<size_t>(a)] < one.key[static_cast<size_t>(b)] ||
+                (one.key[static_cast<size_t>(a)] == one.key[static_cast<size_t>(b)] && a < b))
+        << "position " << q;
+  }
+  for (const int threads : {2, 3}) {
+    colored::BodyNumbering n = one;
+    std::fill(n.order.begin(), n.order.end(), -1);
+    std::fill(n.key.begin(), n.key.end(), -1);
+    colored::order_by_key(p.constraints, dynamic, bodies, n, threads);
+    EXPECT_EQ(n.key, one.key) << threads << " threads";
+    EXPECT_EQ(n.order, one.order) << threads << " threads";
+  }
+}
+
 }  // namespace
 }  // namespace dc

@@ -43,6 +43,7 @@
 #include "solvers/pgs_colored/pgs_colored_residual.hpp"
 #include "solvers/pgs_colored/relax/over_relaxation.hpp"
 #include "solvers/pgs_colored/residual/packed_residual.hpp"
+#include "solvers/pgs_colored/setup/team_pack.hpp"
 #include "solvers/pgs_colored/sweep_plan.hpp"
 #include "solvers/pgs_colored/sweep_team.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
@@ -274,10 +275,10 @@ class PgsColoredSolver final : public LcpSolver {
   static constexpr int kCompactFrom = 512;  // PgsColoredDef::compact_from_batches = −1 with AVX-512
 
   /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
-  /// M⁻¹Jᵀλ⁰Δt, in one run of the team: one thread takes Δu⁰ (a serial pass over J,
-  /// pgs_colored_products.hpp) while the others start on the batches, which are handed out in
-  /// chunks as threads come free. Each batch is written by one thread from its own inputs, so
-  /// the result depends neither on the thread count nor on the schedule. Each batch is
+  /// M⁻¹Jᵀλ⁰Δt on the team (setup/team_pack.hpp): one run in which one thread takes Δu⁰ (a
+  /// serial pass over J, pgs_colored_products.hpp) while the others start on their blocks of
+  /// each colour's batches, handed out in parts as threads come free. Each batch is written by one thread from its own inputs, so the result
+  /// depends neither on the thread count nor on the schedule. Each batch is
   /// over-relaxed by ω as it is filled (relax/over_relaxation.hpp). bad_start: Δu⁰ is not
   /// finite (an overflowing λ⁰). Δu⁰ leaves out the test that J is finite, which its skip of
   /// the rows with λ_i = 0 needs: a packing that succeeds has verified it (every row's A_ii
@@ -292,46 +293,28 @@ class PgsColoredSolver final : public LcpSolver {
     const int bodies = prep.body_entries / kStride;
     prep.du.resize(static_cast<size_t>(prep.body_entries + kStride));
     bool bad = false;
-    auto delta_u0 = [&] {
+    auto delta_u0 = [&](int) {
       bool unchecked = false;
       bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, unchecked,
                                               prep.numbering.slot.data(), false);
     };
-    // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly;
-    // after the first that does not, the batches are packed full (and those packed compact
-    // before it again, below).
+    // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly.
     const int from = def_.compact_from_batches >= 0 ? def_.compact_from_batches
                      : kernel_.single == colored::sweep_avx512 ? kCompactFrom
                                                                : std::numeric_limits<int>::max();
     const bool compact = def_.compact_layout && nb > 0 && nb >= from;
-    if (compact) prep.compact.resize(static_cast<size_t>(nb));
     prep.wide_pack = kernel_.single == colored::sweep_avx512;
-    std::atomic<bool> inexact{!compact};
-    auto fill = [&](int bi) {
-      if (bi < nb) {
-        if (!colored::fill_compact(p, lambda, prep, bi, lp, other, omega, inexact.load(std::memory_order_relaxed)))
-          inexact.store(true, std::memory_order_relaxed);
-      } else {
-        colored::fill_pair(p, lambda, prep, bi - nb, lp, other);
-        if (omega != 1.0) colored::over_relax(prep.pairs[static_cast<size_t>(bi - nb)], omega);
-      }
-    };
-    if (threads <= 1) {  // (no parallel region: libgomp allocates a team even for a serial one)
-      delta_u0();
+    if (threads <= 1) {
+      delta_u0(0);
       laps.lap(&PgsColoredProfile::du0);
-      colored::stage_sources(p, lambda, prep);
-      for (int bi = 0; bi < jobs; ++bi) fill(bi);
+      colored::pack_batches(p, lambda, omega, compact, prep, lp, other, 1);
     } else {
-      constexpr int kChunk = 16;  // batches per part
-      const int chunks = (jobs + kChunk - 1) / kChunk;
-      calling_thread_team().for_parts(threads, 1 + chunks, [&](int part) {
-        if (part == 0) return delta_u0();
-        for (int bi = (part - 1) * kChunk; bi < std::min(jobs, part * kChunk); ++bi) fill(bi);
-      });
+      // Δu⁰ as one more part of the pack's run (setup/team_pack.hpp); the sources gathered from J
+      // in colour order, not staged: when a helper is kept off its core, member 0 alone would
+      // pay the staging pass on top of the pack (step_threads --min-batches 0 --profile).
+      const PartJob side(delta_u0);
+      colored::pack_batches(p, lambda, omega, compact, prep, lp, other, threads, &side, std::numeric_limits<int>::max());
     }
-    prep.compact_on = !inexact.load(std::memory_order_relaxed);
-    if (compact && !prep.compact_on)  // (a problem not of the engine's form: rare, serial)
-      for (int bi = 0; bi < nb; ++bi) (void)colored::fill_compact(p, lambda, prep, bi, lp, other, omega, true);
     bad_start = bad;
     if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
     std::string failure = colored::first_failure(prep);

@@ -301,11 +301,11 @@ void assign_grown(std::vector<int>& v, size_t n, int x) {
 
 /// out.numbering for a fresh layout of `bodies` bodies: with locality the bodies numbered again
 /// when their count changed, the numbering is the identity or BodyNumbering::kRenumberEvery
-/// layouts old, and the contacts' key order (returned; nullptr, contact order, while the body
-/// order was local already); without, the numbering of the last
+/// layouts old, and the contacts' key order (returned, sorted on `threads` threads; nullptr,
+/// contact order, while the body order was local already); without, the numbering of the last
 /// layout if it has as many bodies (any permutation gives the same bits: a serial probe between
 /// threaded solves does not undo it), else slot = body, and nullptr: contact order.
-const int* number(const ContactConstraints& cons, int bodies, bool locality, Prepared& out) {
+const int* number(const ContactConstraints& cons, int bodies, bool locality, int threads, Prepared& out) {
   BodyNumbering& n = out.numbering;
   if (!locality) {
     if (n.bodies != bodies) {
@@ -327,7 +327,7 @@ const int* number(const ContactConstraints& cons, int bodies, bool locality, Pre
       for (int k = 0; k < bodies; ++k) n.slot[static_cast<size_t>(k)] = k;
   }
   if (n.local_already) return nullptr;
-  order_by_key(cons, out.dynamic, bodies, n);
+  order_by_key(cons, out.dynamic, bodies, n, threads);
   return n.order.data();
 }
 
@@ -357,7 +357,7 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   }
   out.generation = col.generation;
   out.partner.swap(partner);
-  const int* by_key = number(cons, bodies, locality, out);
+  const int* by_key = number(cons, bodies, locality, threads, out);
   // Lead contacts (single contacts and first points of a pair) per slot: 2·colour for singles,
   // 2·colour + 1 for pairs (a pair takes its first point's colour: its second point has the same
   // bodies), overflow last; a counting sort keeping the key order (contact order without

@@ -33,6 +33,12 @@ struct Range {
   bool pairs;
 };
 
+/// Jobs [begin, end) of the pack (setup/team_pack.hpp): single batch bi is job bi, pair batch pi
+/// job batches + pi.
+struct PackPart {
+  int begin, end;
+};
+
 /// The sources of one single lead contact with friction whose rows have the usual storage
 /// (pack_rows_simd's), copied by stage_sources to its ordered position: the J entries of its
 /// normal and tangent rows (slots 3–5 +0 without a second body), b and λ⁰ of both rows, μ, its
@@ -69,6 +75,7 @@ struct Prepared {
   bool staged_now = false;           // staged and usable belong to this solve's problem and λ⁰
   std::vector<int> next_partner;  // scratch of layout(): this problem's pairs before they replace `partner`
   std::vector<int> count;         // scratch of layout()'s counting sort
+  std::vector<PackPart> pack_parts;  // scratch of pack_batches (setup/team_pack.hpp)
   std::vector<std::uint8_t> dynamic;
   std::vector<int> failed;    // per batch, then per pair batch: its first contact that cannot be packed, or −1
   std::vector<double, Eigen::aligned_allocator<double>> du;
@@ -112,15 +119,19 @@ std::string first_failure(const Prepared& out);
 /// pass in the contacts' own order, so that fill_batch reads them in batch order instead of
 /// gathering J, b and λ⁰ in colour order, which strides across arrays larger than the cache once
 /// per colour. fill_batch packs the same bits either way. Stages only problems of at least
-/// `from` ordered positions and only with AVX2 (pack_rows_staged); sets out.staged_now. Serial.
+/// `from` ordered positions and only with AVX2 (pack_rows_staged); sets out.staged_now.
 /// kStageFrom is about the count of positions whose J rows, b and λ⁰ outgrow a core's L2 cache:
 /// below it the gathered sources stay in cache from colour to colour, and a staging pass (its
 /// 152-byte records written at scattered positions, then read again) would only add traffic;
 /// above it each colour's gathers stride across memory once per colour, and the pack from the
 /// staged records in batch order (compact batches straight from them, pack_compact_staged) is
-/// the cheaper one (micro_step BM_ColoredPackSettled, BM_ColoredPack with evict 4).
+/// the cheaper one (micro_step BM_ColoredPackSettled, BM_ColoredPack with evict 4). On up to
+/// `threads` members of the calling thread's team: each member the positions of a block of the
+/// ordered contacts, then the records of a block of the contacts (each record written by one
+/// member: the same records on every thread count).
 constexpr int kStageFrom = 1 << 14;
-void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from = kStageFrom);
+void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out,
+                   int from = kStageFrom, int threads = 1);
 
 /// Lane count and first ordered lane of batch `local` of slot k (the overflow slots, the last
 /// two: one lane per batch).

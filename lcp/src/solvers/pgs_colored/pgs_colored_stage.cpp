@@ -1,13 +1,16 @@
 // pgs-colored's staging of the packing's sources (pgs_colored_layout.hpp, stage_sources): one
-// pass over the contacts in their own order, so J, b and λ⁰ are read as they lie in memory.
+// pass over the contacts in their own order, so J, b and λ⁰ are read as they lie in memory (on
+// the team: each member a block of the contacts).
 #include <algorithm>
 
+#include "dc/core/work_team.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 
 namespace dc::colored {
 
-void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from) {
+void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>& lambda, Prepared& out, int from,
+                   int threads) {
   const size_t positions = out.order.size();
   out.staged_now = false;
   if (positions < static_cast<size_t>(std::max(0, from)) || !simd_pack_available()) return;
@@ -16,7 +19,19 @@ void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>&
   const ContactConstraint* cons = p.constraints.contacts().data();
   const int nc = p.constraints.size();
   out.position.resize(static_cast<size_t>(nc));
-  for (size_t q = 0; q < positions; ++q) out.position[static_cast<size_t>(out.order[q])] = static_cast<int>(q);
+  // Blocks of the positions, then of the contacts: a few per member, so that one that comes free
+  // first takes over part of a late one's.
+  const int parts = threads > 1 ? 4 * threads : 1;
+  auto block = [parts](long n, int part, int& lo, int& hi) {
+    lo = static_cast<int>(n * part / parts);
+    hi = static_cast<int>(n * (part + 1) / parts);
+  };
+  WorkTeam& team = calling_thread_team();
+  team.for_parts(threads, parts, [&](int part) {
+    int lo = 0, hi = 0;
+    block(static_cast<long>(positions), part, lo, hi);
+    for (int q = lo; q < hi; ++q) out.position[static_cast<size_t>(out.order[static_cast<size_t>(q)])] = q;
+  });
   const int* outer = p.J.outerIndexPtr();
   const int* inner = p.J.innerIndexPtr();
   const int* nnz = p.J.isCompressed() ? nullptr : p.J.innerNonZeroPtr();
@@ -28,8 +43,8 @@ void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>&
     return n == (bb < 0 ? 3 : 6) && col[0] == a && col[1] == a + 1 && col[2] == a + 2 &&
            (bb < 0 || (col[3] == bb && col[4] == bb + 1 && col[5] == bb + 2));
   };
-  for (int c = 0; c < nc; ++c) {
-    if (out.partner[static_cast<size_t>(c)] != -1) continue;  // pairs are packed from J
+  auto stage = [&](int c) {
+    if (out.partner[static_cast<size_t>(c)] != -1) return;  // pairs are packed from J
     const ContactConstraint& k = cons[c];
     const size_t q = static_cast<size_t>(out.position[static_cast<size_t>(c)]);
     const int first = k.has_body_a() ? std::min(k.body_a, k.body_b) : k.body_b;
@@ -37,7 +52,7 @@ void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>&
     const int a = 3 * first, bb = second < 0 ? -1 : 3 * second;
     const bool ok = k.has_friction() && usual(k.normal_row, a, bb) && usual(k.tangent_row, a, bb);
     out.usable[q] = ok ? 1 : 0;
-    if (!ok) continue;
+    if (!ok) return;
     StagedRows& s = out.staged[q];
     const int n = bb < 0 ? 3 : 6;
     const double* vn = value + outer[k.normal_row];
@@ -55,7 +70,12 @@ void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>&
     s.rt = k.tangent_row;
     s.a = a;
     s.bb = bb;
-  }
+  };
+  team.for_parts(threads, parts, [&](int part) {
+    int lo = 0, hi = 0;
+    block(nc, part, lo, hi);
+    for (int c = lo; c < hi; ++c) stage(c);
+  });
   out.staged_now = true;
 }
 

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "dc/core/work_team.hpp"
+
 namespace dc::colored {
 namespace {
 
@@ -123,25 +125,53 @@ double cut_share(const ContactConstraints& cons, const std::vector<std::uint8_t>
 }
 
 void order_by_key(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
-                  BodyNumbering& n) {
+                  BodyNumbering& n, int threads) {
   const int nc = cons.size();
   room(n.key, nc);
   room(n.order, nc);
-  room(n.head, bodies + 2);
   n.key.resize(static_cast<size_t>(nc));
-  n.head.assign(static_cast<size_t>(bodies) + 2, 0);  // counts per key 0 … bodies, then their starts
-  for (int c = 0; c < nc; ++c) {
-    int a = 0, b = 0;
-    bodies_of(cons[c], a, b);
-    const int ka = dynamic[static_cast<size_t>(a)] != 0 ? n.slot[static_cast<size_t>(a)] : bodies;
-    const int kb = b >= 0 && dynamic[static_cast<size_t>(b)] != 0 ? n.slot[static_cast<size_t>(b)] : bodies;
-    const int k = std::min(ka, kb);
-    n.key[static_cast<size_t>(c)] = k;
-    ++n.head[static_cast<size_t>(k) + 1];
-  }
-  for (int k = 1; k <= bodies + 1; ++k) n.head[static_cast<size_t>(k)] += n.head[static_cast<size_t>(k) - 1];
+  // A counting sort over the keys 0 … bodies in blocks of the contacts: count[part·width + k] the
+  // contacts of key k in block `part`, then their first position (the blocks of a key in block
+  // order: the stable order on every thread count).
+  const int parts = std::max(1, std::min(threads, nc / 4096));
+  const size_t width = static_cast<size_t>(bodies) + 1;
+  room(n.head, static_cast<int>(width) * parts);
+  n.head.assign(width * static_cast<size_t>(parts), 0);
+  int* count = n.head.data();
+  auto block = [&](int part, int& lo, int& hi) {
+    lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
+    hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
+  };
+  WorkTeam& team = calling_thread_team();
+  team.for_parts(threads, parts, [&](int part) {
+    int lo = 0, hi = 0;
+    block(part, lo, hi);
+    int* mine = count + width * static_cast<size_t>(part);
+    for (int c = lo; c < hi; ++c) {
+      int a = 0, b = 0;
+      bodies_of(cons[c], a, b);
+      const int ka = dynamic[static_cast<size_t>(a)] != 0 ? n.slot[static_cast<size_t>(a)] : bodies;
+      const int kb = b >= 0 && dynamic[static_cast<size_t>(b)] != 0 ? n.slot[static_cast<size_t>(b)] : bodies;
+      const int k = std::min(ka, kb);
+      n.key[static_cast<size_t>(c)] = k;
+      ++mine[k];
+    }
+  });
+  int at = 0;
+  for (size_t k = 0; k < width; ++k)
+    for (int part = 0; part < parts; ++part) {
+      int& c = count[width * static_cast<size_t>(part) + k];
+      const int here = c;
+      c = at;
+      at += here;
+    }
   n.order.resize(static_cast<size_t>(nc));
-  for (int c = 0; c < nc; ++c) n.order[static_cast<size_t>(n.head[static_cast<size_t>(n.key[static_cast<size_t>(c)])]++)] = c;
+  team.for_parts(threads, parts, [&](int part) {
+    int lo = 0, hi = 0;
+    block(part, lo, hi);
+    int* mine = count + width * static_cast<size_t>(part);
+    for (int c = lo; c < hi; ++c) n.order[static_cast<size_t>(mine[n.key[static_cast<size_t>(c)]]++)] = c;
+  });
 }
 
 }  // namespace dc::colored

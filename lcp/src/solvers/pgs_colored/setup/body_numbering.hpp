@@ -52,8 +52,9 @@ double cut_share(const ContactConstraints& cons, const std::vector<std::uint8_t>
                  const int* slot, BodyNumbering& n);
 
 /// n.key per contact (from n.slot) and n.order: every contact, stably sorted by key (a counting
-/// sort over the slots). Serial, O(bodies + contacts).
+/// sort over the slots), O(bodies + contacts); on up to `threads` members of the calling thread's
+/// team (each a block of the contacts; serial below a few thousand contacts), the same order.
 void order_by_key(const ContactConstraints& cons, const std::vector<std::uint8_t>& dynamic, int bodies,
-                  BodyNumbering& n);
+                  BodyNumbering& n, int threads = 1);
 
 }  // namespace dc::colored
