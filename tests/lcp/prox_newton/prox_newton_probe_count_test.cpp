@@ -129,7 +129,7 @@ TEST(ProxNewtonProbeCount, MissedProbesLeaveTheAnswerAsWithoutThem) {
 TEST(ProxNewtonProbeCount, ProbeShiftIsTheProbesFirstShiftAlone) {
   // probe_shift = 0 takes initial_shift: the same solve as probe_shift = initial_shift. Another
   // probe_shift changes the probe's passes (and the solve where a probe ran), and initial_shift
-  // no longer reaches the probe once probe_shift is set.
+  // does not reach the probe once probe_shift is set.
   int changed = 0;
   for (uint64_t seed = 1; seed <= 6; ++seed) {
     test::TestRng rng(seed + 3400);
