@@ -97,7 +97,25 @@ TEST(ThreadPacer, TheFirstSerialRunJudgesTheFirstThreadedRun) {
   EXPECT_TRUE(fast.threaded_next());
 }
 
-/// proven(): threaded runs measured since the last backoff that pay against the serial median.
+/// A shared host whose speed drifts: serial runs cost 2 while threads cost 1.5 (they pay),
+/// then the machine turns faster, serial runs cost 1 and threads still 1.5 (they do not pay).
+/// The median of the serial runs still holds the slow spell; the first serial run after the
+/// change (at most a refresh away) must drop the threads at the next threaded run, and the
+/// serial runs after it keep them off but for the probes.
+TEST(ThreadPacer, ThreadsAreJudgedAgainstTheLatestSerialRunWhenTheMachineTurnsFaster) {
+  ThreadPacer pacer(0.9);
+  const int slow_runs = 10 * (ThreadPacer::kRefresh + 1);
+  const int slow_threaded = threaded_runs(pacer, slow_runs, [](bool t, int, bool) { return t ? 1.5 : 2.0; });
+  EXPECT_GE(slow_threaded, slow_runs - slow_runs / ThreadPacer::kRefresh - 4);  // paying threads kept
+  const int fast_runs = 40 * ThreadPacer::kRefresh;
+  const int fast_threaded = threaded_runs(pacer, fast_runs, [](bool t, int, bool) { return t ? 1.5 : 1.0; });
+  // At most one refresh interval of threaded runs before the first fresh serial run, then the
+  // probes of the backoff (1, 2, 4, …, kMaxSkip apart).
+  EXPECT_LE(fast_threaded, ThreadPacer::kRefresh + 2 * fast_runs / ThreadPacer::kMaxSkip + 16);
+}
+
+/// proven(): threaded runs measured since the last backoff that pay against the serial reference
+/// (the lesser of the serial median and the latest serial run).
 TEST(ThreadPacer, ProvenOnlyAfterPayingThreadedRuns) {
   ThreadPacer pacer;
   EXPECT_FALSE(pacer.proven());

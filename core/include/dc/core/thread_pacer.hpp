@@ -16,6 +16,13 @@
 // each paying threaded run after it halves the backoff. On a busy machine, where a probe is
 // often lucky and the runs after it stall, the probes thus stay up to kMaxSkip runs apart; on
 // a free machine a few paying runs bring the backoff back to 1.
+//
+// The serial runs' noise is one-sided (a descheduled run is slower, no run is faster than the
+// machine allows), but the machine's own speed may drift within minutes on a shared host (a
+// neighbour's load, frequency): a median of serial runs from a slower spell would make threads
+// that do not pay now look paying until fresher serial runs fill it. Threads are therefore
+// judged against the lesser of the median and the latest serial run: the refresh run after a
+// change of speed drops threads that stopped paying at the next threaded run.
 #include <algorithm>
 #include <array>
 
@@ -38,7 +45,7 @@ class ThreadPacer {
   /// set-up's parallel regions, whose waits cannot hand a descheduled thread's share to another,
   /// on the threads only then, not on probes).
   [[nodiscard]] bool proven() const {
-    const double serial = serial_figure();
+    const double serial = serial_reference();
     return serial > 0.0 && threaded_ > 0.0 && threaded_ <= pays_ * serial;
   }
 
@@ -49,13 +56,14 @@ class ThreadPacer {
       serial_[static_cast<size_t>(serial_next_)] = c;
       serial_next_ = (serial_next_ + 1) % kSerialRuns;
       serial_count_ = std::min(serial_count_ + 1, kSerialRuns);
+      last_serial_ = c;
       if (skip_ > 0) --skip_;
       // The first serial run judges the threaded runs before it (the very first run is threaded).
       if (serial_count_ == 1 && threaded_ > pays_ * c) back_off();
       return;
     }
     threaded_ = threaded_ == 0.0 ? c : (1.0 - kWeight) * threaded_ + kWeight * c;
-    const double serial = serial_figure();
+    const double serial = serial_reference();
     if (serial > 0.0 && threaded_ > pays_ * serial) {
       back_off();
     } else if (serial > 0.0) {
@@ -89,7 +97,13 @@ class ThreadPacer {
     return 0.5 * (*mid + *std::max_element(v.begin(), mid));
   }
 
+  /// What threaded runs are judged against: the lesser of the median and the latest serial run.
+  [[nodiscard]] double serial_reference() const {
+    return serial_count_ == 0 ? 0.0 : std::min(serial_figure(), last_serial_);
+  }
+
   double pays_;
+  double last_serial_ = 0.0;  // the latest serial run, s per unit of work
   std::array<double, kSerialRuns> serial_{};  // the last serial runs, s per unit of work (a ring)
   int serial_next_ = 0, serial_count_ = 0;
   double threaded_ = 0.0;  // s per unit of work; 0 = not measured since the last backoff
