@@ -11,6 +11,7 @@
 #include "dc/core/error.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
+#include "lcp/prox_newton/probe_trace.hpp"
 #include "lcp/solver_test_problems.hpp"
 
 namespace dc {
@@ -32,54 +33,14 @@ struct ProbeCountPile {
   }
 };
 
-/// What a solve with checkpoints at every iteration shows: the lead sweeps (in the lead's own
-/// count) after which a probe's Newton iterations began, and the best hard residual at each
-/// look of the lead (every 50 of its sweeps, the guess's residual included in the best).
-struct ProbeCountTrace {
-  std::vector<int> probes;   // lead sweeps before each probe before the lead's last look
-  std::vector<double> best;  // best[j]: after the lead's look j + 1
-  SolveResult r;
-  ProxNewtonStats st;
-};
-
-ProbeCountTrace probe_count_trace(const LcpProblem& p, const ProxNewtonDef& d, double tolerance) {
-  constexpr int kLook = 50;  // the lead stage's chunk
-  SolverOptions o;
-  o.max_sweeps = 1000;
-  o.tolerance = tolerance;
-  for (int k = 1; k <= 3000; ++k) o.checkpoints.push_back(k);
-  ProxNewtonSolver s(d);
-  ProbeCountTrace out;
-  double best = natural_residual(p, Eigen::VectorXd::Zero(p.rows()));
-  int newton = 0;  // Newton iterations seen so far
-  int sweeps = 0;  // lead sweeps seen so far
-  o.on_checkpoint = [&](int, const Eigen::VectorXd& lambda) {
-    const ProxNewtonStats at = s.checkpoint_stats();
-    if (at.newton > newton) {  // a probe's (during the lead) or a later Newton part's iteration
-      if (out.probes.empty() || out.probes.back() != sweeps) out.probes.push_back(sweeps);
-      newton = at.newton;
-    } else if (at.lead_sweeps > sweeps) {  // the lead's next sweep
-      sweeps = at.lead_sweeps;
-      best = std::min(best, natural_residual(p, lambda));
-      if (sweeps % kLook == 0) out.best.push_back(best);
-    }
-  };
-  out.r = s.solve(p, {}, o);
-  out.st = s.last_stats();
-  // Newton iterations after the lead's last sweep may be the Newton part's: only the probes
-  // before it count.
-  while (!out.probes.empty() && out.probes.back() >= out.st.lead_sweeps) out.probes.pop_back();
-  return out;
-}
-
 TEST(ProxNewtonProbeCount, ALaterProbeWaitsForTheRefallOfTheBest) {
   ProbeCountPile pile;
   pile.def.probe_count = 3;
   pile.def.probe_refall = 4;
   ProxNewtonDef off = pile.def;
   off.probe_sweeps = 0;
-  const ProbeCountTrace without = probe_count_trace(pile.p, off, pile.tol);
-  const ProbeCountTrace with = probe_count_trace(pile.p, pile.def, pile.tol);
+  const test::ProbeTrace without = test::probe_trace(pile.p, off, pile.tol, 1000);
+  const test::ProbeTrace with = test::probe_trace(pile.p, pile.def, pile.tol, 1000);
   ASSERT_TRUE(without.probes.empty());
   ASSERT_GE(with.probes.size(), 2u) << "the lead's best does not fall 4-fold twice";
   // The first probe at the first look; each later one at the first look whose best fell

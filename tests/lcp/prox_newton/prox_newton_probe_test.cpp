@@ -14,6 +14,7 @@
 #include "dc/core/error.hpp"
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/prox_newton.hpp"
+#include "lcp/prox_newton/probe_trace.hpp"
 #include "lcp/solver_test_problems.hpp"
 
 namespace dc {
@@ -154,35 +155,6 @@ TEST(ProxNewtonProbe, TheLeadsLaterSweepsFollowTheProbesIterationsInTheCheckpoin
   for (int k = pile.def.probe_sweeps + 1; k <= pile.def.probe_sweeps + 40; ++k) EXPECT_EQ(on.at(k + n), off.at(k)) << k;
 }
 
-/// The look after which the first Newton iteration's checkpoint came (0: none) and the best
-/// hard residual at each look (every kLook sweeps) of a solve with checkpoints at every iteration.
-struct ProbeLooks {
-  int probe_look = 0;
-  std::vector<double> best;  // best[j]: the best hard residual after look j + 1 (the guess's included)
-};
-
-ProbeLooks probe_looks(const LcpProblem& p, const ProxNewtonDef& d, double tolerance) {
-  constexpr int kLook = 50;  // the lead stage's chunk
-  SolverOptions o;
-  o.max_sweeps = 500;
-  o.tolerance = tolerance;
-  for (int k = 1; k <= 3000; ++k) o.checkpoints.push_back(k);
-  ProxNewtonSolver s(d);
-  ProbeLooks out;
-  double best = natural_residual(p, Eigen::VectorXd::Zero(p.rows()));
-  o.on_checkpoint = [&](int k, const Eigen::VectorXd& lambda) {
-    const ProxNewtonStats st = s.checkpoint_stats();
-    if (st.newton > 0) {
-      if (out.probe_look == 0) out.probe_look = k - 1;
-      return;
-    }
-    best = std::min(best, natural_residual(p, lambda));
-    if (k % kLook == 0) out.best.push_back(best);
-  };
-  (void)s.solve(p, {}, o);
-  return out;
-}
-
 TEST(ProxNewtonProbe, AProbeWaitsForALookWithinReachOfTheTarget) {
   // probe_reach: the probe runs at the first look at or after probe_sweeps whose best hard
   // residual is within probe_reach × the target, not at an earlier one.
@@ -190,9 +162,10 @@ TEST(ProxNewtonProbe, AProbeWaitsForALookWithinReachOfTheTarget) {
   pile.def.degenerate_drift_jumps = 0;  // looks at the lead's own iterates
   pile.def.probe_iterations = 1;
   const double tol = 1e-10 * pile.scale;
-  const ProbeLooks first = probe_looks(pile.p, pile.def, tol);  // probe_reach 0: at the first look
-  ASSERT_EQ(first.probe_look, pile.def.probe_sweeps);
-  const ProbeLooks off = probe_looks(pile.p, pile.without_probe(), tol);
+  const test::ProbeTrace first = test::probe_trace(pile.p, pile.def, tol, 500);  // probe_reach 0: at the first look
+  ASSERT_FALSE(first.probes.empty());
+  ASSERT_EQ(first.probes.front(), pile.def.probe_sweeps);
+  const test::ProbeTrace off = test::probe_trace(pile.p, pile.without_probe(), tol, 500);
   ASSERT_GE(off.best.size(), 4u);
   // A reach between the best at the first look and at a later one that fell 10-fold below it.
   size_t later = 1;
@@ -203,8 +176,9 @@ TEST(ProxNewtonProbe, AProbeWaitsForALookWithinReachOfTheTarget) {
   size_t expected = 0;
   while (off.best[expected] > def.probe_reach * tol) ++expected;
   ASSERT_GT(expected, 0u);
-  const ProbeLooks on = probe_looks(pile.p, def, tol);
-  EXPECT_EQ(on.probe_look, 50 * static_cast<int>(expected + 1));
+  const test::ProbeTrace on = test::probe_trace(pile.p, def, tol, 500);
+  ASSERT_FALSE(on.probes.empty());
+  EXPECT_EQ(on.probes.front(), 50 * static_cast<int>(expected + 1));
   // Up to there the lead's looks saw what they see without the probe.
   for (size_t j = 0; j <= expected && j < on.best.size(); ++j) EXPECT_EQ(on.best[j], off.best[j]) << j;
 }

@@ -101,4 +101,8 @@ class WorkTeam {
 /// The calling thread's team (its helpers start on first use and end with the thread).
 WorkTeam& calling_thread_team();
 
+/// First item of part p of `parts` even parts over `items` items (part p has items
+/// [part_begin(p), part_begin(p + 1))): the split of for_parts' callers that cut an array.
+inline long part_begin(long items, int parts, int p) { return items * p / parts; }
+
 }  // namespace dc

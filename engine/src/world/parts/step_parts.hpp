@@ -18,7 +18,4 @@ void run_parts(int threads, int parts, PartJob job);
 /// job, with no merge), else `per_thread` jobs per thread, each of at least `min_items` items.
 int parts_for(int threads, long items, int per_thread = 4, long min_items = 256);
 
-/// First item of job p of `parts` over `items` items (job p has items [begin(p), begin(p + 1))).
-inline long part_begin(long items, int parts, int p) { return items * p / parts; }
-
 }  // namespace dc

@@ -497,8 +497,8 @@ class PgsColoredSolver final : public LcpSolver {
     const int np = static_cast<int>(prep.row_of.size());
     const int parts = threads > 1 ? 2 * threads : 1;
     calling_thread_team().for_parts(threads, parts, [&](int part) {
-      const int end = static_cast<int>(static_cast<long>(np) * (part + 1) / parts);
-      for (int s = static_cast<int>(static_cast<long>(np) * part / parts); s < end; ++s)
+      const int end = static_cast<int>(part_begin(np, parts, part + 1));
+      for (int s = static_cast<int>(part_begin(np, parts, part)); s < end; ++s)
         if (const int row = prep.row_of[static_cast<size_t>(s)]; row >= 0) out[row] = v[s];
     });
     return out;

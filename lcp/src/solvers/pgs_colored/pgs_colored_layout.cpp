@@ -381,8 +381,8 @@ std::string layout(const LcpProblem& p, ContactColorer& colorer, OrderedColorer*
   assign_grown(out.batch_of, static_cast<size_t>(slots) + 1, 0);
   // The sort on the calling thread's team: counts by part, their prefix sums, the scatter.
   auto range = [&](int part, int& lo, int& hi) {
-    lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
-    hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
+    lo = static_cast<int>(part_begin(nc, parts, part));
+    hi = static_cast<int>(part_begin(nc, parts, part + 1));
   };
   WorkTeam& team = calling_thread_team();
   team.for_parts(threads, parts, [&](int part) {

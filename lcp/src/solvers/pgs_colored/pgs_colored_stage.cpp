@@ -23,8 +23,8 @@ void stage_sources(const LcpProblem& p, const Eigen::Ref<const Eigen::VectorXd>&
   // first takes over part of a late one's.
   const int parts = threads > 1 ? 4 * threads : 1;
   auto block = [parts](long n, int part, int& lo, int& hi) {
-    lo = static_cast<int>(n * part / parts);
-    hi = static_cast<int>(n * (part + 1) / parts);
+    lo = static_cast<int>(part_begin(n, parts, part));
+    hi = static_cast<int>(part_begin(n, parts, part + 1));
   };
   WorkTeam& team = calling_thread_team();
   team.for_parts(threads, parts, [&](int part) {

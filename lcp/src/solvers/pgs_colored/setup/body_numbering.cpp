@@ -139,8 +139,8 @@ void order_by_key(const ContactConstraints& cons, const std::vector<std::uint8_t
   n.head.assign(width * static_cast<size_t>(parts), 0);
   int* count = n.head.data();
   auto block = [&](int part, int& lo, int& hi) {
-    lo = static_cast<int>(static_cast<long long>(nc) * part / parts);
-    hi = static_cast<int>(static_cast<long long>(nc) * (part + 1) / parts);
+    lo = static_cast<int>(part_begin(nc, parts, part));
+    hi = static_cast<int>(part_begin(nc, parts, part + 1));
   };
   WorkTeam& team = calling_thread_team();
   team.for_parts(threads, parts, [&](int part) {
