@@ -47,7 +47,9 @@ SparseRowMatrix impulse_j(int n, int walls, int near, bool shuffled, std::mt1993
 }
 
 bool equal_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
+  // An empty vector's data() is null, which memcmp must not be given even for zero bytes.
+  return a.size() == b.size() &&
+         (a.size() == 0 || std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
 }
 
 /// Δt·Jᵀλ on `threads` threads; `covered` counts done()'s calls per column.
