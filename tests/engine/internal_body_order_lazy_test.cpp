@@ -18,6 +18,7 @@
 #include "assembly/assembly.hpp"
 #include "previous_lambda_by_key.hpp"
 #include "dc/engine/stress_scenes.hpp"
+#include "bytes_equal.hpp"
 
 namespace dc {
 namespace {
@@ -71,9 +72,9 @@ void expect_same_problem(const LcpProblem& p, const LcpProblem& q) {
   ASSERT_EQ(p.J.cols(), q.J.cols());
   ASSERT_EQ(p.J.nonZeros(), q.J.nonZeros());
   const auto nnz = static_cast<std::size_t>(p.J.nonZeros());
-  EXPECT_EQ(0, std::memcmp(p.J.outerIndexPtr(), q.J.outerIndexPtr(), sizeof(int) * static_cast<std::size_t>(p.rows() + 1)));
-  EXPECT_EQ(0, std::memcmp(p.J.innerIndexPtr(), q.J.innerIndexPtr(), sizeof(int) * nnz));
-  EXPECT_EQ(0, std::memcmp(p.J.valuePtr(), q.J.valuePtr(), sizeof(double) * nnz));
+  EXPECT_TRUE(test::bytes_equal(p.J.outerIndexPtr(), q.J.outerIndexPtr(), static_cast<std::size_t>(p.rows() + 1)));
+  EXPECT_TRUE(test::bytes_equal(p.J.innerIndexPtr(), q.J.innerIndexPtr(), nnz));
+  EXPECT_TRUE(test::bytes_equal(p.J.valuePtr(), q.J.valuePtr(), nnz));
   ASSERT_EQ(p.constraints.size(), q.constraints.size());
   for (int c = 0; c < p.constraints.size(); ++c) {
     const ContactConstraint &x = p.constraints[c], &y = q.constraints[c];

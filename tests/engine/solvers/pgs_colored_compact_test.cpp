@@ -21,6 +21,7 @@
 #include "solvers/pgs_colored/compact/compact_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
+#include "bytes_equal.hpp"
 
 namespace dc {
 namespace {
@@ -268,13 +269,14 @@ TEST(PgsColoredCompact, StagedSourcesPackTheGatheredCompactBatchesBitForBit) {
                       x.count == y.count)
               << at << ", compact batch " << bi;
         }
-        EXPECT_EQ(0, std::memcmp(g.lp.data(), s.lp.data(), g.lp.size() * sizeof(double))) << at;
-        EXPECT_EQ(0, std::memcmp(g.other.data(), s.other.data(), g.other.size() * sizeof(double))) << at;
-        EXPECT_EQ(0, std::memcmp(g.prep.diag.data(), s.prep.diag.data(), g.prep.diag.size() * sizeof(double))) << at;
+        EXPECT_TRUE(test::bytes_equal(g.lp, s.lp)) << at;
+        EXPECT_TRUE(test::bytes_equal(g.other, s.other)) << at;
+        EXPECT_TRUE(test::bytes_equal(g.prep.diag, s.prep.diag)) << at;
         EXPECT_EQ(g.prep.row_of, s.prep.row_of) << at;
         EXPECT_EQ(g.prep.failed, s.prep.failed) << at;
-        if (std::string(what) != "frictionless")  // (lanes without friction are packed full)
+        if (std::string(what) != "frictionless") {  // (lanes without friction are packed full)
           EXPECT_GT(std::count(s.direct.begin(), s.direct.end(), 1), 0) << at;
+        }
       }
   }
 }

@@ -15,6 +15,7 @@
 #include "dc/lcp/lcp_solver.hpp"
 #include "dc/lcp/pgs_colored.hpp"
 #include "engine/fixed_sweeps.hpp"
+#include "bytes_equal.hpp"
 
 namespace dc::test {
 
@@ -40,8 +41,7 @@ inline void expect_bit_equal(const SolveResult& a, const SolveResult& b, const s
 /// Bit-equal λ, θ, sweeps, status and residual (memcmp: the same bits, ±0 and NaN included).
 inline void expect_same_bits(const SolveResult& a, const SolveResult& b, const std::string& what) {
   ASSERT_EQ(a.lambda.size(), b.lambda.size()) << what;
-  EXPECT_EQ(0, std::memcmp(a.lambda.data(), b.lambda.data(), sizeof(double) * static_cast<size_t>(a.lambda.size())))
-      << what;
+  EXPECT_TRUE(test::bytes_equal(a.lambda, b.lambda)) << what;
   EXPECT_EQ(a.theta, b.theta) << what;
   EXPECT_EQ(a.sweeps, b.sweeps) << what;
   EXPECT_EQ(a.status, b.status) << what;

@@ -17,6 +17,7 @@
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 #include "solvers/pgs_colored/setup/team_pack.hpp"
+#include "bytes_equal.hpp"
 
 namespace dc {
 namespace {
@@ -96,20 +97,15 @@ TeamPacked team_pack_on(const LcpProblem& p, const Eigen::VectorXd& l0, const co
   return f;
 }
 
-template <class T>
-bool team_pack_same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
 void expect_team_packs_equal(const TeamPacked& a, const TeamPacked& b, const std::string& at) {
   EXPECT_EQ(a.prep.compact_on, b.prep.compact_on) << at;
   EXPECT_EQ(a.prep.staged_now, b.prep.staged_now) << at;
-  EXPECT_TRUE(team_pack_same_bytes(a.prep.batches, b.prep.batches)) << at << ": batches";
-  EXPECT_TRUE(team_pack_same_bytes(a.prep.compact, b.prep.compact)) << at << ": compact batches";
-  EXPECT_TRUE(team_pack_same_bytes(a.prep.pairs, b.prep.pairs)) << at << ": pair batches";
-  EXPECT_TRUE(team_pack_same_bytes(a.prep.diag, b.prep.diag)) << at << ": A_ii";
-  EXPECT_TRUE(team_pack_same_bytes(a.lp, b.lp)) << at << ": λ⁰";
-  EXPECT_TRUE(team_pack_same_bytes(a.other, b.other)) << at << ": λ⁰ (second buffer)";
+  EXPECT_TRUE(test::bytes_equal(a.prep.batches, b.prep.batches)) << at << ": batches";
+  EXPECT_TRUE(test::bytes_equal(a.prep.compact, b.prep.compact)) << at << ": compact batches";
+  EXPECT_TRUE(test::bytes_equal(a.prep.pairs, b.prep.pairs)) << at << ": pair batches";
+  EXPECT_TRUE(test::bytes_equal(a.prep.diag, b.prep.diag)) << at << ": A_ii";
+  EXPECT_TRUE(test::bytes_equal(a.lp, b.lp)) << at << ": λ⁰";
+  EXPECT_TRUE(test::bytes_equal(a.other, b.other)) << at << ": λ⁰ (second buffer)";
   EXPECT_EQ(a.prep.row_of, b.prep.row_of) << at;
   EXPECT_EQ(a.prep.failed, b.prep.failed) << at;
 }

@@ -19,6 +19,7 @@
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 #include "solvers/pgs_colored/pgs_colored_products.hpp"
 #include "solvers/pgs_colored/thread_pacer.hpp"
+#include "bytes_equal.hpp"
 
 namespace dc {
 namespace {
@@ -98,8 +99,7 @@ TEST(PgsColoredThreads, TransposeProductByBodyBlocksIsTheSerialOne) {
       Eigen::VectorXd du = Eigen::VectorXd::Constant(3, 5.0);
       colored::scaled_transpose_product(p, l, threads, du);
       ASSERT_EQ(du.size(), serial.size());
-      EXPECT_EQ(0, std::memcmp(du.data(), serial.data(), sizeof(double) * static_cast<size_t>(du.size())))
-          << threads << " threads, " << p.rows() << " rows";
+      EXPECT_TRUE(test::bytes_equal(du, serial)) << threads << " threads, " << p.rows() << " rows";
     }
   }
 }

@@ -16,6 +16,7 @@
 
 #include "assembly/assembly.hpp"
 #include "dc/core/error.hpp"
+#include "bytes_equal.hpp"
 
 namespace dc {
 namespace {
@@ -67,7 +68,7 @@ WorldDef def_with(double friction) {
 }
 
 bool same(const LcpProblem& p, const LcpProblem& q) {
-  auto eq = [](const auto* a, const auto* b, long n) { return std::memcmp(a, b, sizeof(*a) * static_cast<size_t>(n)) == 0; };
+  auto eq = [](const auto* a, const auto* b, long n) { return test::bytes_equal(a, b, static_cast<size_t>(n)); };
   if (p.rows() != q.rows() || p.J.cols() != q.J.cols() || p.J.nonZeros() != q.J.nonZeros()) return false;
   if (p.constraints.size() != q.constraints.size() || p.constraints.rows() != q.constraints.rows()) return false;
   for (int c = 0; c < p.constraints.size(); ++c) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "world/parts/impulse_parts.hpp"
+#include "bytes_equal.hpp"
 
 namespace dc {
 namespace {
@@ -47,9 +48,7 @@ SparseRowMatrix impulse_j(int n, int walls, int near, bool shuffled, std::mt1993
 }
 
 bool equal_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  // An empty vector's data() is null, which memcmp must not be given even for zero bytes.
-  return a.size() == b.size() &&
-         (a.size() == 0 || std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
+  return test::bytes_equal(a, b);
 }
 
 /// Δt·Jᵀλ on `threads` threads; `covered` counts done()'s calls per column.
