@@ -14,7 +14,9 @@
 // BM_ColoredStepOnlySettled are the same with the default solver, "pgs-colored". BM_StepStages: consecutive steps of the pile
 // with "pgs" or "pgs-colored", each stage (and pgs-colored's set-up parts) in thread CPU time
 // per contact row, and the heap allocations of each stage per step (counting_malloc.hpp);
-// benchmarks/scripts/step-stages.sh prints them as a table. BM_ExternalOrder: the public
+// benchmarks/scripts/step-stages.py prints them as a table; BM_StepStagesSettled the same with
+// pgs-colored on the pile built at rest, with sweep_mb, the bytes one sweep streams, and
+// BM_ReadRate this core's read rate over as many megabytes. BM_ExternalOrder: the public
 // contact order of the internal order (InternalBodyOrder::external_order) on the pile.
 #include <benchmark/benchmark.h>
 #include <time.h>
@@ -340,15 +342,13 @@ int whole_step(dc::World& w, dc::LcpSolver& solver, const dc::SolverOptions& o, 
   return r.rows;
 }
 
-/// Consecutive steps of the settled pile (args: bodies, solver 0 = "pgs" / 1 = "pgs-colored",
-/// order 0 creation / 1 Morton numbering / 2 internal order, stepped by whole_step): counters
-/// ns_<stage> and, for pgs-colored, ns_<part> of its solve per contact row (thread CPU time),
-/// allocs_<stage> per step (after kWarmSteps untimed steps: steady state).
-void BM_StepStages(benchmark::State& state) {
+/// Consecutive steps of `p`'s world with "pgs" or "pgs-colored" (`colored`), from kWarmSteps
+/// untimed steps on (steady state): counters ns_<stage> and, for pgs-colored, ns_solve_<part>
+/// per contact row (thread CPU time), allocs_<stage> per step, and sweep_mb = the bytes one
+/// sweep streams (PgsColoredProfile::sweep_bytes) in MB. `whole`: each step timed by whole_step
+/// (needed with an internal order), else by its public stages (timed_step).
+void step_stages(benchmark::State& state, const Pile& p, bool colored, bool whole) {
   constexpr int kWarmSteps = 3;
-  const Pile& p = pile_of(state, 2);
-  const bool colored = state.range(1) == 1;
-  const bool internal = state.range(2) == 2;
   dc::PgsColoredProfile prof;
   dc::PgsColoredDef def;
   def.profile = &prof;
@@ -359,7 +359,7 @@ void BM_StepStages(benchmark::State& state) {
   StageTally tally;
   KeptStep kept;
   const auto one_step = [&] {  // the step's rows
-    if (internal) return whole_step(w, *solver, o, tally);
+    if (whole) return whole_step(w, *solver, o, tally);
     timed_step(w, *solver, o, *builtin, kept, tally);
     return w.problem().rows();
   };
@@ -391,7 +391,38 @@ void BM_StepStages(benchmark::State& state) {
         {"du0", prof.du0},       {"sweeps", prof.sweeps},     {"unpermute", prof.unpermute},
         {"residual", prof.residual}};
     for (const auto& [name, sec] : parts) state.counters[std::string("ns_solve_") + name] = 1e9 * sec / rows;
+    state.counters["sweep_mb"] = 1e-6 * static_cast<double>(prof.sweep_bytes);
   }
+}
+
+/// step_stages on the falling pile (args: bodies, solver 0 = "pgs" / 1 = "pgs-colored", order 0
+/// creation / 1 Morton numbering / 2 internal order, stepped by whole_step).
+void BM_StepStages(benchmark::State& state) {
+  step_stages(state, pile_of(state, 2), state.range(1) == 1, state.range(2) == 2);
+}
+/// step_stages with "pgs-colored" on the pile built at rest (args: bodies, order as
+/// BM_StepOnlySettled's: 0 creation, timed by its public stages; 3 the default settings, timed
+/// by whole_step at every size): where BM_ColoredStepOnlySettled's cost per row grows.
+void BM_StepStagesSettled(benchmark::State& state) {
+  const int order = static_cast<int>(state.range(1));
+  step_stages(state, pile(bodies_of(state), order, true), true, order >= 2);
+}
+
+/// This core's read rate over `MB` megabytes (arg), read again and again as the sweeps read their
+/// packed batches (sweep_mb of BM_StepStages*): counter gb_per_s. Where the rate falls from
+/// the cache's to the memory's tells the size beyond which a sweep streams from memory.
+void BM_ReadRate(benchmark::State& state) {
+  std::vector<double> data(static_cast<std::size_t>(state.range(0)) << 17, 1.0);
+  for (auto _ : state) {
+    // Eight independent sums: the adds keep pace with the loads.
+    double s[8] = {};
+    for (std::size_t k = 0; k < data.size(); k += 8)
+      for (int q = 0; q < 8; ++q) s[q] += data[k + static_cast<std::size_t>(q)];
+    benchmark::DoNotOptimize(s);
+    benchmark::ClobberMemory();
+  }
+  const double bytes = static_cast<double>(data.size() * sizeof(double)) * static_cast<double>(state.iterations());
+  state.counters["gb_per_s"] = benchmark::Counter(1e-9 * bytes, benchmark::Counter::kIsRate);
 }
 
 /// Reads and writes one double per cache line of `data`, displacing from the caches what the
@@ -537,6 +568,12 @@ BENCHMARK(BM_StepOnlySettled)->Apply(sizes_settled)->Unit(benchmark::kMicrosecon
 BENCHMARK(BM_ColoredStepOnly)->Apply(sizes_colored)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredStepOnlySettled)->Apply(sizes_colored)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepStages)->Apply(sizes_solvers)->Iterations(30)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StepStagesSettled)
+    ->ArgNames({"bodies", "morton"})
+    ->ArgsProduct({{1000, 10000, 40000}, {0, 3}})
+    ->Iterations(30)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ReadRate)->ArgName("MB")->RangeMultiplier(2)->Range(1, 256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ColoredPack)
     ->ArgNames({"bodies", "morton", "evict"})
     ->ArgsProduct({{1000, 10000, 40000}, {3}, {0, 4}})

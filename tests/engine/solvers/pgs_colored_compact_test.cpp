@@ -19,6 +19,7 @@
 #include "lcp/solver_test_problems.hpp"
 #include "pgs_colored_kernels.hpp"
 #include "solvers/pgs_colored/compact/compact_batch.hpp"
+#include "solvers/pgs_colored/kernels/kernel_choice.hpp"
 #include "solvers/pgs_colored/pgs_colored_layout.hpp"
 #include "solvers/pgs_colored/pgs_colored_pack_simd.hpp"
 #include "bytes_equal.hpp"
@@ -164,6 +165,42 @@ TEST(PgsColoredCompact, SmallProblemsKeepTheFullLayoutByDefault) {
   d.compact_from_batches = 1;
   test::expect_same_bits(a, make_pgs_colored(d)->solve(p, test::mixed_sign_start(p), sweeps(5)), "compact from 1 batch");
   EXPECT_EQ(profile.compact_solves, 1);
+}
+
+/// A square grid of side × side circles (r = 1) 1 mm apart on the floor: about 2·side² contacts
+/// from one collision (no settling steps), the engine's rows.
+LcpProblem compact_grid_problem(int side) {
+  WorldDef d = stress::explicit_scene(2.001 * side + 1.0, 2.001 * side + 10.0);
+  for (int i = 0; i < side; ++i)
+    for (int j = 0; j < side; ++j) d.body.push_back(stress::circle(1.0005 + 2.001 * i, 1.0005 + 2.001 * j));
+  World world(d);
+  world.collide();
+  return world.assemble();
+}
+
+TEST(PgsColoredCompact, AutoTakesItsKernelForTheSizeOfEachSolveWithTheSameBits) {
+  // The Auto kernel is chosen per solve (pgs_colored_auto_kernel(batches)): where it is the
+  // AVX-512 one for large problems, they are swept in the compact layout (from 512 single
+  // batches by default), small ones not, by one solver object in turn; every solve gives the
+  // scalar kernel's bits.
+  const LcpProblem large = compact_grid_problem(48), small = test::settled_problem(stress::scaled_seed_pile(100), 100);
+  ASSERT_GE(large.constraints.size(), 8 * colored::kLargeFrom);
+  const bool wide = pgs_colored_auto_kernel(large.constraints.size() / 8) == PgsColoredKernel::Avx512;
+  PgsColoredProfile profile;
+  PgsColoredDef d;
+  d.profile = &profile;
+  const auto solver = make_pgs_colored(d);
+  PgsColoredDef scalar;
+  scalar.kernel = PgsColoredKernel::Scalar;
+  long compact = 0;
+  for (const LcpProblem* p : {&large, &small, &large, &small}) {
+    const Eigen::VectorXd l0 = test::mixed_sign_start(*p);
+    const SolveResult r = solver->solve(*p, l0, sweeps(7));
+    EXPECT_TRUE(r.message.empty()) << r.message;
+    test::expect_same_bits(r, make_pgs_colored(scalar)->solve(*p, l0, sweeps(7)), "auto vs scalar");
+    if (p == &large && wide) ++compact;
+    EXPECT_EQ(profile.compact_solves, compact) << (p == &large ? "large" : "small");
+  }
 }
 
 TEST(PgsColoredCompact, CompressionChecksEveryBit) {

@@ -38,6 +38,10 @@ struct PgsColoredProfile {
   /// Solves whose single-contact batches were swept in the compact layout
   /// (PgsColoredDef::compact_layout).
   long compact_solves = 0;
+  /// The bytes one sweep of the last solve streams: its packed batches (in the compact layout
+  /// when it was used), pair batches, the bodies' Δu and the two permuted λ buffers. Compare with
+  /// the core's caches to see whether the sweeps run from cache or from memory (docs/engine.md).
+  long sweep_bytes = 0;
 };
 
 struct PgsColoredDef {
@@ -53,8 +57,9 @@ struct PgsColoredDef {
   /// waits a small part of the sweep; ordered colours give a settled pile many short ranges
   /// (a range a colour), and piles that gain from two threads have few batches per range.
   int min_batches_per_thread = 16;
-  /// Which kernel sweeps (default Auto). make_pgs_colored throws InvalidArgument for a kernel
-  /// this build or CPU cannot run (pgs_colored_kernel_available).
+  /// Which kernel sweeps (default Auto: chosen per solve by the CPU and the problem's size,
+  /// pgs_colored_auto_kernel; every kernel gives the same bits). make_pgs_colored throws
+  /// InvalidArgument for a kernel this build or CPU cannot run (pgs_colored_kernel_available).
   PgsColoredKernel kernel = PgsColoredKernel::Auto;
   /// Colour in contact order (true, the default): each contact takes the colour after those of
   /// its bodies' earlier contacts, so the sweep visits every two contacts that share a body in
@@ -126,8 +131,10 @@ std::unique_ptr<LcpSolver> make_nncg_colored(const NncgColoredDef& def = {});
 /// True when this build and CPU can run `kernel` (Auto and Scalar: always).
 bool pgs_colored_kernel_available(PgsColoredKernel kernel);
 
-/// The kernel Auto resolves to on this CPU (never Auto).
-PgsColoredKernel pgs_colored_auto_kernel();
+/// The kernel Auto sweeps a problem of `single_batches` batches of 8 single contacts with on this
+/// CPU (never Auto): AVX-512 where it runs, but on AMD CPUs AVX2 before Zen 5 and, on Zen 5,
+/// below 512 batches (docs/lcp.md "pgs-colored").
+PgsColoredKernel pgs_colored_auto_kernel(long single_batches = 0);
 
 /// "auto", "avx512", "avx2" or "scalar".
 const char* to_string(PgsColoredKernel kernel);

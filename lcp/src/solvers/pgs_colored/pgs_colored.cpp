@@ -96,7 +96,11 @@ class Laps {
 class PgsColoredSolver final : public LcpSolver {
  public:
   explicit PgsColoredSolver(const PgsColoredDef& def, bool nncg = false, bool momentum = false)
-      : def_(def), kernel_(kernel_fn(resolve(def.kernel))), colorer_(def.reuse_colors, def.color_chunk),
+      : def_(def),
+        kernel_(kernel_fn(resolve(def.kernel))),
+        large_kernel_(def.kernel == PgsColoredKernel::Auto ? kernel_fn(pgs_colored_auto_kernel(colored::kLargeFrom))
+                                                           : kernel_),
+        colorer_(def.reuse_colors, def.color_chunk),
         nncg_(nncg), momentum_(nncg && momentum) {}
   [[nodiscard]] std::string name() const override { return nncg_ ? "nncg-colored" : "pgs-colored"; }
   [[nodiscard]] bool needs_jacobian() const override { return true; }
@@ -272,7 +276,6 @@ class PgsColoredSolver final : public LcpSolver {
     return cache_.ranges.empty() ? kNominalRanges : cache_.ranges.size();
   }
   static constexpr size_t kNominalRanges = 8;
-  static constexpr int kCompactFrom = 512;  // PgsColoredDef::compact_from_batches = −1 with AVX-512
 
   /// Packs every batch, writes the permuted λ⁰ into lp and other, and computes Δu⁰ =
   /// M⁻¹Jᵀλ⁰Δt on the team (setup/team_pack.hpp): one run in which one thread takes Δu⁰ (a
@@ -298,12 +301,13 @@ class PgsColoredSolver final : public LcpSolver {
       bad = !colored::velocity_change_checked(p, lambda, bodies, prep.du.data(), prep.jt, unchecked,
                                               prep.numbering.slot.data(), false);
     };
-    // The compact layout (PgsColoredDef::compact_layout) when every batch compresses exactly.
+    // This solve's kernels (kernels_of: Auto's for the size), then the compact layout
+    // (PgsColoredDef::compact_layout) when every batch compresses exactly.
+    prep.wide_pack = (nb >= colored::kLargeFrom ? large_kernel_ : kernel_).single == colored::sweep_avx512;
     const int from = def_.compact_from_batches >= 0 ? def_.compact_from_batches
-                     : kernel_.single == colored::sweep_avx512 ? kCompactFrom
-                                                               : std::numeric_limits<int>::max();
+                     : prep.wide_pack                ? colored::kLargeFrom
+                                                     : std::numeric_limits<int>::max();
     const bool compact = def_.compact_layout && nb > 0 && nb >= from;
-    prep.wide_pack = kernel_.single == colored::sweep_avx512;
     if (threads <= 1) {
       delta_u0(0);
       laps.lap(&PgsColoredProfile::du0);
@@ -316,7 +320,13 @@ class PgsColoredSolver final : public LcpSolver {
       colored::pack_batches(p, lambda, omega, compact, prep, lp, other, threads, &side, std::numeric_limits<int>::max());
     }
     bad_start = bad;
-    if (prep.compact_on && laps.profile() != nullptr) ++laps.profile()->compact_solves;
+    if (laps.profile() != nullptr) {
+      if (prep.compact_on) ++laps.profile()->compact_solves;
+      const std::size_t batch = prep.compact_on ? sizeof(colored::CompactBatch) : sizeof(colored::Batch);
+      laps.profile()->sweep_bytes = static_cast<long>(
+          static_cast<std::size_t>(nb) * batch + prep.pairs.size() * sizeof(colored::PairBatch) +
+          (prep.du.size() + 2 * prep.row_of.size()) * sizeof(double));
+    }
     std::string failure = colored::first_failure(prep);
     prep.j_finite = failure.empty();
     laps.lap(&PgsColoredProfile::pack);
@@ -383,7 +393,7 @@ class PgsColoredSolver final : public LcpSolver {
         r.lambda.resize(p.rows());
         out = r.lambda.data();
       }
-      const colored::ResidualAcc e = colored::packed_residual(prep, permuted.data(), o.omega, kernel_.residual, setup, out);
+      const colored::ResidualAcc e = colored::packed_residual(prep, permuted.data(), o.omega, kernels_of(prep).residual, setup, out);
       prep.lp = std::move(permuted);     // storage for the next solve's λ⁰
       if (!e.nan && std::isfinite(e.r)) {  // (a non-finite λ_i has a NaN or infinite error)
         r.residual = e.r;
@@ -413,7 +423,7 @@ class PgsColoredSolver final : public LcpSolver {
   [[nodiscard]] SolveResult sweeps_serial(Eigen::VectorXd lp, Eigen::VectorXd other, bool bad_start,
                                           const SolverOptions& o, Prepared& prep,
                                           std::vector<colored::SweepStep>& plan, const solvers::MomentumBetweenSweeps& between) const {
-    const Kernels sweep = kernel_, scalar = kernel_fn(PgsColoredKernel::Scalar);
+    const Kernels sweep = kernels_of(prep), scalar = kernel_fn(PgsColoredKernel::Scalar);
     colored::plan_sweep(prep, colored::kScalarLanes, plan);
     long sweep_index = 0;
     return solvers::run_sweeps_double_buffered(
@@ -450,7 +460,7 @@ class PgsColoredSolver final : public LcpSolver {
                                             const SolverOptions& o, Prepared& prep, int threads,
                                             const solvers::MomentumBetweenSweeps& between) {
     SolveResult r;
-    const Kernels sweep = kernel_;
+    const Kernels sweep = kernels_of(prep);
     colored::region_cuts(prep, threads, region_keys_, region_cuts_);  // each thread's region of the bodies
     team_.reset(prep.ranges, threads, region_cuts_);
     colored::SweepTeam& team = team_;
@@ -504,8 +514,14 @@ class PgsColoredSolver final : public LcpSolver {
     return out;
   }
 
+  /// The kernels of a solve packed by pack(): the AVX-512 ones exactly when it packed for them.
+  [[nodiscard]] const Kernels& kernels_of(const Prepared& prep) const {
+    return prep.wide_pack ? large_kernel_ : kernel_;
+  }
+
   PgsColoredDef def_;
-  Kernels kernel_;
+  Kernels kernel_;        // the chosen kernel (Auto: for problems below kLargeFrom batches)
+  Kernels large_kernel_;  // Auto's for kLargeFrom batches and more; else kernel_
   // The colouring of the last solve (reused where contacts persist) and its buffers: the
   // reason solve() is not const (one solver object per thread, lcp_solver.hpp).
   ContactColorer colorer_;

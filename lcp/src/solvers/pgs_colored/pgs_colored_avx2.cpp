@@ -12,6 +12,7 @@
 #include "solvers/pgs_colored/pgs_colored_batch.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
 #include <immintrin.h>
 
 #include <limits>
@@ -346,6 +347,11 @@ DC_AVX2 void sweep_compact_avx2(const CompactBatch* __restrict batches, int b0, 
 
 bool cpu_has_avx2() { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
 bool cpu_is_amd() { return __builtin_cpu_is("amd"); }
+int cpu_family() {
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  if (__get_cpuid(1, &a, &b, &c, &d) == 0) return 0;
+  return static_cast<int>(((a >> 8) & 0xFU) + ((a >> 20) & 0xFFU));
+}
 
 }  // namespace dc::colored
 
@@ -357,6 +363,7 @@ void sweep_pairs_avx2(const PairBatch*, int, int, const double*, double*, double
 void sweep_compact_avx2(const CompactBatch*, int, int, const double*, double*, double*, Acc&) {}
 bool cpu_has_avx2() { return false; }
 bool cpu_is_amd() { return false; }
+int cpu_family() { return 0; }
 }  // namespace dc::colored
 
 #endif

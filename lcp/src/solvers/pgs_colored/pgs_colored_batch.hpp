@@ -77,6 +77,9 @@ bool cpu_has_avx2();
 bool cpu_has_avx512();
 /// The CPU's vendor is AMD (x86-64 GCC/Clang builds; false elsewhere).
 bool cpu_is_amd();
+/// The CPU's family (CPUID leaf 1: base family + extended family; 0x19 Zen 3/4, 0x1A Zen 5;
+/// 0 where unknown).
+int cpu_family();
 
 // std::max(a, b) and std::min(a, b) as the vector kernels write them (compare + select).
 inline double max_of(double a, double b) { return (a < b) ? b : a; }

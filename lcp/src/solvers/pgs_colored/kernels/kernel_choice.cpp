@@ -15,7 +15,26 @@ PgsColoredKernel resolve(PgsColoredKernel k) {
       throw InvalidArgument(std::string("pgs-colored: the ") + to_string(k) + " kernel is not available on this CPU");
     return k;
   }
-  return pgs_colored_auto_kernel();
+  return pgs_colored_auto_kernel(0);
+}
+
+CpuTraits this_cpu() { return {cpu_has_avx512(), cpu_has_avx2(), cpu_is_amd(), cpu_family()}; }
+
+PgsColoredKernel auto_kernel_for(const CpuTraits& cpu, long single_batches) {
+  // AMD cores execute 512-bit operations as two 256-bit halves (Zen 4) or gain little from the
+  // width on problems that stay in cache (Zen 5): there the AVX2 kernel is at least as fast on
+  // small problems (it also skips the all-padding half of a colour's last batch; micro_pgs,
+  // docs/lcp.md "pgs-colored"). From kLargeFrom batches on, the AVX-512 kernel's compact layout
+  // streams 28 % fewer bytes per sweep, and a sweep that no longer fits in the caches is bound by
+  // those bytes: on Zen 5 it is the faster one there (docs/engine.md "One step per contact row").
+  // Elsewhere the AVX-512 kernel is preferred at every size.
+  constexpr int kZen5 = 0x1A;
+  if (cpu.avx512) {
+    const bool amd_small = cpu.avx2 && cpu.amd && (cpu.family < kZen5 || single_batches < kLargeFrom);
+    if (!amd_small) return PgsColoredKernel::Avx512;
+  }
+  if (cpu.avx2) return PgsColoredKernel::Avx2;
+  return PgsColoredKernel::Scalar;
 }
 
 Kernels kernel_fn(PgsColoredKernel k) {
@@ -40,13 +59,8 @@ bool pgs_colored_kernel_available(PgsColoredKernel kernel) {
   }
 }
 
-PgsColoredKernel pgs_colored_auto_kernel() {
-  // AMD cores (Zen 4) execute 512-bit operations as two 256-bit halves: there the AVX2 kernel
-  // is at least as fast (it also skips the all-padding half of a colour's last batch; micro_pgs,
-  // docs/lcp.md "pgs-colored"). Elsewhere the AVX-512 kernel is preferred.
-  if (colored::cpu_has_avx512() && !(colored::cpu_has_avx2() && colored::cpu_is_amd())) return PgsColoredKernel::Avx512;
-  if (colored::cpu_has_avx2()) return PgsColoredKernel::Avx2;
-  return PgsColoredKernel::Scalar;
+PgsColoredKernel pgs_colored_auto_kernel(long single_batches) {
+  return colored::auto_kernel_for(colored::this_cpu(), single_batches);
 }
 
 const char* to_string(PgsColoredKernel kernel) {

@@ -11,9 +11,26 @@
 
 namespace dc::colored {
 
-/// k, or the automatic choice for Auto; throws InvalidArgument when k is not available on this
-/// CPU (pgs_colored_kernel_available).
+/// k, or the automatic choice for Auto on small problems (pgs_colored_auto_kernel(0)); throws
+/// InvalidArgument when k is not available on this CPU (pgs_colored_kernel_available).
 PgsColoredKernel resolve(PgsColoredKernel k);
+
+/// The single-contact batches from which the compact layout applies with the AVX-512 kernel
+/// (PgsColoredDef::compact_from_batches = −1) and from which Auto takes that kernel on Zen 5.
+constexpr int kLargeFrom = 512;
+
+/// What the automatic choice reads of the CPU: its AVX-512 and AVX2 kernels run on it, its
+/// vendor is AMD, its family (cpu_family).
+struct CpuTraits {
+  bool avx512 = false, avx2 = false, amd = false;
+  int family = 0;
+};
+CpuTraits this_cpu();
+
+/// The kernel Auto sweeps a problem of `single_batches` single-contact batches with on `cpu`
+/// (never Auto): AVX-512 when it runs, except on AMD CPUs with AVX2 before Zen 5 (family 0x1A)
+/// and on Zen 5 below kLargeFrom batches, which take AVX2; else AVX2 when it runs, else scalar.
+PgsColoredKernel auto_kernel_for(const CpuTraits& cpu, long single_batches);
 
 /// The kernels of one ISA: single-contact batches and two-point manifold batches, and the
 /// closing residual's (residual/packed_residual.hpp).
