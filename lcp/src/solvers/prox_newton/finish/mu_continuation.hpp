@@ -5,10 +5,11 @@
 // factor above the target whose modes differ from a solution's on a few dozen contacts: the
 // contacts stick there that slide in the solution, with normal impulses tens of newtons apart
 // (docs/solvers.md "Impact steps that stop a few R short"). With μ scaled down the problem is
-// closer to the frictionless one (a convex QP: every local route reaches it), and raising μ in
-// stages from that solution follows a branch of solutions to one of the problem itself: each
-// stage's solve starts near its answer. Every solve is a whole prox-newton solve, and the last
-// is on the problem itself, so the answer is judged by the hard residual like any other part's.
+// closer to the frictionless one (a convex QP), and raising μ in stages from its solution
+// starts each stage near a solution of the next: on those impact steps every stage is reached
+// by the lead stage or a short proximal finish, and the last one ends on a solution of the
+// problem itself. Every solve is a whole prox-newton solve, and the last is of the problem
+// itself, so the answer is judged by the hard residual like any other part's.
 #include <Eigen/Core>
 
 #include "dc/lcp/lcp_problem.hpp"
