@@ -115,6 +115,8 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "safeguard_sweeps") d.safeguard_sweeps = static_cast<int>(x);
   else if (key == "newton_budget") d.newton_budget = static_cast<int>(x);
   else if (key == "pivot_rows") d.pivot_rows = static_cast<int>(x);
+  else if (key == "continuation_stages") d.continuation_stages = static_cast<int>(x);
+  else if (key == "continuation_first") d.continuation_first = x;
   else if (key == "local_pivot_rows") d.local_pivot_rows = static_cast<int>(x);
   else if (key == "local_pivot_rings") d.local_pivot_rings = static_cast<int>(x);
   else if (key == "local_pivot_threshold") d.local_pivot_threshold = x;

@@ -31,9 +31,11 @@
 // the proximal-point route from the best iterate (`proximal_finish`); then, on
 // small contact problems, Lemke's pivoting on the problem as a standard LCP (`pivot_rows`),
 // then nncg as the safeguard, then (opt-in, `local_pivot_rows`) Lemke on the worst rows'
-// contacts and their neighbours with the rest fixed. SolveResult::message names the part that finished ("prox",
-// "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish" or "nncg
-// safeguard") and the counts; `sweeps` counts
+// contacts and their neighbours with the rest fixed, then, on problems with friction, the
+// continuation in μ (`continuation_stages`: solves with μ scaled up in stages, then of the
+// problem itself). SolveResult::message names the part that finished ("prox",
+// "newton-sparse finish", "proximal newton-sparse finish", "lemke pivoting finish", "nncg
+// safeguard" or "mu continuation finish") and the counts; `sweeps` counts
 // Newton iterations (inner and both finishes; the safeguard's sweeps are in the message).
 // `factorizations` counts every numeric factorisation (passes and both finishes).
 //
@@ -451,6 +453,19 @@ struct ProxNewtonDef {
   double local_pivot_threshold = 0.9;  ///< violator: row residual above this × the worst row's
   int local_pivot_rounds = 3;          ///< rounds at most
   double local_pivot_shift = 0.0;      ///< proximal δ of the subproblem, relative to max A_ii
+
+  /// Last, when the target is still not reached on a problem with friction: continuation in μ
+  /// (finish/mu_continuation.hpp). Whole prox-newton solves (this definition, continuation off;
+  /// to the target, options.max_sweeps each, no checkpoints) of the problem with every μ scaled
+  /// by t_k = 1 − (1 − continuation_first)·2^−k, k = 0 … continuation_stages − 1, the first
+  /// from the guess and each from the last one's answer, then of the problem itself from the
+  /// last, ending at the first solve that misses its target. On resting piles where every
+  /// local route stops on a plateau of near-solutions a few
+  /// R above the target, the stages follow a branch of solutions from the nearly frictionless
+  /// problem to one of the problem itself (docs/solvers.md "Impact steps that stop a few R
+  /// short"). Only solves that missed the target pay for it. 0 = none.
+  int continuation_stages = 7;
+  double continuation_first = 0.25;  ///< t_0, the fraction of μ of the first stage, in (0, 1)
 };
 
 /// Work of one solve.
@@ -469,6 +484,7 @@ struct ProxNewtonStats {
   int krylov = 0;           ///< body space, coupled bounds: GMRES iterations of the directions
   int cg = 0;               ///< body space: CG iterations with a kept factor (stale_factor_iterations)
   int pivots = 0;           ///< Lemke pivots of the pivoting finish
+  int continuation_solves = 0;  ///< prox-newton solves of the continuation in μ (their work in the counts above)
 };
 
 class ProxNewtonSolver final : public LcpSolver {

@@ -19,6 +19,7 @@
 #include "solvers/prox_newton/checkpoint_work.hpp"
 #include "solvers/prox_newton/cone/cone_passes.hpp"
 #include "solvers/prox_newton/dual_newton.hpp"
+#include "solvers/prox_newton/finish/mu_continuation.hpp"
 #include "solvers/prox_newton/frozen_subproblem.hpp"
 #include "solvers/prox_newton/lead/lead_rate.hpp"
 #include "solvers/prox_newton/lead/lead_stage.hpp"
@@ -78,12 +79,12 @@ class ProxRun {
       best_ = lambda = Eigen::VectorXd::Zero(p_.rows());
       best_res_ = hard_residual(p_, lambda);
     }
+    const Eigen::VectorXd guess = best_;
     // After a lead stage that lowered the hard residual at least lead_gain-fold but stopped
     // short of the target, a first Newton part runs from its best iterate. Otherwise, or when
     // that part misses the target too, the Newton part runs from the guess as without the
     // stage, with the best so far set aside as a candidate (a partly converged nncg iterate is
     // usually the better start, but can hold row modes the finish does not recover from).
-    const Eigen::VectorXd guess = best_;
     const double guess_res = best_res_;
     if (body_ && lead(guess) && by_ == Finisher::Lead && !reached(best_res_, target_)) {
       if (best_res_ * def_.lead_gain <= guess_res) {
@@ -116,6 +117,14 @@ class ProxRun {
     }
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
     if (!reached(best_res_, target_) && def_.local_pivot_rows > 0) finish_by_local_pivoting();
+    if (!reached(best_res_, target_) && def_.continuation_stages > 0 && has_friction(p_)) {
+      const ContinuationOutcome co = continuation_solve(p_, guess, def_, target_, std::max(0, o_.max_sweeps));
+      st_.continuation_solves += co.solves;
+      st_.factorizations += co.work.factorizations;
+      st_.analyses += co.work.analyses;
+      st_.pivots += co.work.pivots;
+      consider(co.lambda, hard_residual(p_, co.lambda), Finisher::Continuation);
+    }
     if (probe_best_res_ < best_res_) {
       best_ = probe_best_;
       best_res_ = probe_best_res_;
@@ -133,7 +142,9 @@ class ProxRun {
                 std::to_string(st_.newton) + " Newton + " + std::to_string(st_.finish_newton) + " finish iterations, " +
                 std::to_string(st_.factorizations) + " factorisations, " + std::to_string(st_.safeguard_sweeps) +
                 " nncg sweeps" +
-                (st_.pivots > 0 ? ", " + std::to_string(st_.pivots) + " lemke pivots" : std::string());
+                (st_.pivots > 0 ? ", " + std::to_string(st_.pivots) + " lemke pivots" : std::string()) +
+                (st_.continuation_solves > 0 ? ", " + std::to_string(st_.continuation_solves) + " continuation solves"
+                                             : std::string());
     const bool claimed = r.status == SolveStatus::Converged;
     finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);
     if (r.status == SolveStatus::Converged) cp_.flush_final(r.lambda);

@@ -31,7 +31,7 @@ inline SolveStatus final_status(double residual, double target, bool budget_exha
 }
 
 /// Which part produced the returned iterate.
-enum class Finisher { Guess, Lead, Prox, NewtonSparse, ProximalPoint, Pivot, Nncg };
+enum class Finisher { Guess, Lead, Prox, NewtonSparse, ProximalPoint, Pivot, Nncg, Continuation };
 
 /// The part's name in the status message ("… by the nncg safeguard").
 inline const char* to_string(Finisher f) {
@@ -43,6 +43,7 @@ inline const char* to_string(Finisher f) {
     case Finisher::ProximalPoint: return "proximal newton-sparse finish";
     case Finisher::Pivot: return "lemke pivoting finish";
     case Finisher::Nncg: return "nncg safeguard";
+    case Finisher::Continuation: return "mu continuation finish";
   }
   return "?";
 }
