@@ -136,15 +136,7 @@ class ProxRun {
     // Provisional status from the hard residual; the shared rule (solver_common) then decides.
     r.status = final_status(hard_residual(p_, r.lambda), target_, budget_left() <= 0);
     // The message first: finish appends the shared rule's explanation when it demotes a claim.
-    r.message = std::string("finished by ") + to_string(by_) + ": " +
-                (st_.lead_sweeps > 0 ? std::to_string(st_.lead_sweeps) + " lead sweeps, " : std::string()) +
-                std::to_string(st_.outer) + " passes, " +
-                std::to_string(st_.newton) + " Newton + " + std::to_string(st_.finish_newton) + " finish iterations, " +
-                std::to_string(st_.factorizations) + " factorisations, " + std::to_string(st_.safeguard_sweeps) +
-                " nncg sweeps" +
-                (st_.pivots > 0 ? ", " + std::to_string(st_.pivots) + " lemke pivots" : std::string()) +
-                (st_.continuation_solves > 0 ? ", " + std::to_string(st_.continuation_solves) + " continuation solves"
-                                             : std::string());
+    r.message = work_message(by_, st_);
     const bool claimed = r.status == SolveStatus::Converged;
     finish(p_, r, o_, o_.tolerance > 0 ? StopRule::Tolerance : StopRule::Solution);
     if (r.status == SolveStatus::Converged) cp_.flush_final(r.lambda);

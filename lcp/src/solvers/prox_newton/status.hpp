@@ -5,9 +5,11 @@
 // the final status is then decided by the shared rule (solver_common.hpp, decide_status), and
 // its message names the part that produced the returned iterate (Finisher).
 #include <Eigen/Core>
+#include <string>
 
 #include "dc/lcp/lcp_problem.hpp"
 #include "dc/lcp/lcp_solver.hpp"
+#include "dc/lcp/prox_newton.hpp"
 #include "solvers/solver_common.hpp"
 
 namespace dc::solvers::prox {
@@ -46,6 +48,19 @@ inline const char* to_string(Finisher f) {
     case Finisher::Continuation: return "mu continuation finish";
   }
   return "?";
+}
+
+/// SolveResult::message of a finished solve: the part that produced the returned iterate and
+/// the work of every part ("finished by prox: 3 passes, 9 Newton + 0 finish iterations, …").
+inline std::string work_message(Finisher by, const ProxNewtonStats& st) {
+  const auto n = [](int k) { return std::to_string(k); };
+  std::string m = std::string("finished by ") + to_string(by) + ": ";
+  if (st.lead_sweeps > 0) m += n(st.lead_sweeps) + " lead sweeps, ";
+  m += n(st.outer) + " passes, " + n(st.newton) + " Newton + " + n(st.finish_newton) + " finish iterations, " +
+       n(st.factorizations) + " factorisations, " + n(st.safeguard_sweeps) + " nncg sweeps";
+  if (st.pivots > 0) m += ", " + n(st.pivots) + " lemke pivots";
+  if (st.continuation_solves > 0) m += ", " + n(st.continuation_solves) + " continuation solves";
+  return m;
 }
 
 }  // namespace dc::solvers::prox
