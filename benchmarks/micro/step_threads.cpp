@@ -22,7 +22,9 @@
 // luck of the scheduler; each step then finds the caches holding the other World's data.
 // --trace-steps prints each timed step of the series on more than one thread: threaded (a
 // helper's CPU time above kHelped of the stepping thread's) or serial, its wall and thread CPU
-// time: the pacer's probes and the steps that stalled.
+// time and its stages' wall times: the pacer's probes, the steps that stalled and the serial
+// steps after a threaded one (which find the step's data in the other core's cache). The
+// summary gives the serial steps (no helper worked) apart as well: their count and medians.
 // --min-batches sets PgsColoredDef::min_batches_per_thread (-1: the solver's default; 0 threads
 // every problem and every large step: no pacing, LcpSolver::threads_forced). --profile adds the
 // solve's phases (PgsColoredProfile: CPU time of the stepping thread per solve). The pile and
@@ -117,6 +119,7 @@ struct Series {
   /// The steps a helper worked in (process CPU above the stepping thread's by more than
   /// kHelped of it): their wall time and stages, apart from the serial steps of the pacing.
   std::vector<double> helped_wall_ms, helped_stage_ms[5];
+  std::vector<double> serial_wall_ms, serial_cpu_ms;  // the other steps (no helper worked): wall and thread CPU
   long allocations = 0;             // over the timed steps
   std::unique_ptr<dc::PgsColoredProfile> profile = std::make_unique<dc::PgsColoredProfile>();
 };
@@ -273,9 +276,15 @@ int main(int argc, char** argv) {
       proc[si].push_back(1e3 * (clock_s(CLOCK_PROCESS_CPUTIME_ID) - p0));
       const bool helped = proc[si].back() > (1 + kHelped) * s.cpu_ms.back();
       add_stages(s, rep.profile, helped, s.wall_ms.back());
+      if (!helped) {
+        s.serial_wall_ms.push_back(s.wall_ms.back());
+        s.serial_cpu_ms.push_back(s.cpu_ms.back());
+      }
       if (trace_steps && s.threads > 1)
-        std::printf("# step %d bodies, %d threads, round %d, step %d: %s, wall %.3f ms, thread CPU %.3f ms\n", n,
-                    s.threads, r, k, helped ? "threaded" : "serial", s.wall_ms.back(), s.cpu_ms.back());
+        std::printf("# step %d bodies, %d threads, round %d, step %d: %s, wall %.3f ms, thread CPU %.3f ms; stages "
+                    "%.3f, %.3f, %.3f, %.3f, %.3f\n", n, s.threads, r, k, helped ? "threaded" : "serial",
+                    s.wall_ms.back(), s.cpu_ms.back(), rep.profile.collide_ms, rep.profile.assemble_ms,
+                    rep.profile.warmstart_ms, rep.profile.solve_ms, rep.profile.integrate_ms);
     };
     const size_t configs = series.size();
     for (int r = -1; r < rounds; ++r) {  // round −1: warm-up, not timed
@@ -318,6 +327,10 @@ int main(int argc, char** argv) {
                   median(h[2]), median(h[3]), median(h[4]),
                   s.helped_wall_ms.empty() ? 0.0 : base / median(s.helped_wall_ms));
     }
+    std::printf("#   serial steps (no helper worked): count, wall ms/step and thread CPU ms/step (medians)\n");
+    for (const Series& s : series)
+      std::printf("#   %d bodies, %d threads: %zu of %zu, %.3f, %.3f\n", n, s.threads, s.serial_wall_ms.size(),
+                  s.wall_ms.size(), median(s.serial_wall_ms), median(s.serial_cpu_ms));
     std::printf("#   heap allocations per timed step (the report's λ is one while the rows change)\n");
     for (const Series& s : series)
       std::printf("#   %d bodies, %d threads: %.2f\n", n, s.threads,

@@ -412,7 +412,9 @@ def block_step_threads_load(ctx):
     block["rows"] = [cells + [share.get(cells[0], "–")] for cells in step_threads_rows(out)]
     block["note"] = (f"`step_threads {' '.join(args)}`: as the block above, with two processes spinning on arithmetic "
                      "at the same nice level through the rounds (warm-up included), so that on 2 cores the step's "
-                     "threads compete with them; each round starts a fresh World (its pacer probes the threads anew). "
+                     "threads compete with them; each round starts a fresh World, whose steps go on with the pacer "
+                     "the solver keeps (LcpSolver::step_pacer: warm-up included, it probes the threads 1, 2, 4, … "
+                     "up to 64 steps apart while they do not pay). "
                      "Medians over the timed steps; the mean counts the pacer's threaded probes. The competitors' "
                      "share is the mean part of a core each got; the stamp's load includes them and whatever else "
                      "ran on the machine.")

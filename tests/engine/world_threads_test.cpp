@@ -160,6 +160,37 @@ TEST(WorldThreads, PacedStepsLeadTheSolverFromTheFirstStep) {
   EXPECT_FALSE(solver.held_);
 }
 
+/// pgs-colored keeps the pacer of the steps it leads (LcpSolver::step_pacer), so a World made
+/// afresh goes on from the verdict of the steps before it: after one threaded step of a first
+/// World (the pacer then wants a serial step to judge it against), a second World's first step
+/// with the same solver is that serial step, not a fresh pacer's threaded first step. A solver
+/// that keeps no pacer (LedSolver) leaves each World its own, whose first step is threaded.
+TEST(WorldThreads, SolverKeepsTheStepPacerAcrossWorlds) {
+  PgsColoredDef d;
+  d.threads = 2;
+  const auto solver = make_pgs_colored(d);
+  ASSERT_FALSE(solver->threads_forced());
+  const WorldDef def = pile(InternalOrder::None, 0.0);
+  std::vector<TeamRunTrace> trace;
+  calling_thread_team().set_trace(&trace);
+  World first(def);
+  (void)first.step(*solver, fixed_sweeps(5), World::WarmStart::PreviousLambda);
+  const size_t first_runs = trace.size();
+  World second(def);
+  (void)second.step(*solver, fixed_sweeps(5), World::WarmStart::PreviousLambda);
+  const size_t second_runs = trace.size() - first_runs;
+  World own_first(def), own_second(def);
+  LedSolver led;
+  (void)own_first.step(led, fixed_sweeps(5), World::WarmStart::PreviousLambda);
+  (void)own_second.step(led, fixed_sweeps(5), World::WarmStart::PreviousLambda);
+  calling_thread_team().set_trace(nullptr);
+  EXPECT_GT(first_runs, 0u);   // the first World's first step ran on the team
+  EXPECT_EQ(0u, second_runs);  // the second World's first step did not: the solver's pacer went on
+  ASSERT_EQ(2u, led.solves.size());  // each World's own pacer: both first steps threaded, unheld
+  EXPECT_EQ(std::make_pair(true, false), led.solves[0]);
+  EXPECT_EQ(std::make_pair(true, false), led.solves[1]);
+}
+
 /// A pile of 9000 bodies: the broad phase's cell fill and pair sort run as several jobs of
 /// bodies (4096 bodies a job at least) and pgs-colored's layout scans as several parts.
 TEST(WorldThreads, LargePileGivesTheSameBitsOnEveryThreadCount) {

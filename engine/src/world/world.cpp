@@ -405,7 +405,11 @@ StepReport World::step_with(LcpSolver& solver, const SolverOptions& options, con
   const long bodies = static_cast<long>(working_bodies().size());
   const bool large = requested > 1 && bodies >= kMinBodiesPerThread * requested;
   const bool paced = large && !solver.threads_forced();
-  step_threads_ = large && (!paced || pacer_.threaded_next()) ? requested : 1;
+  // The solver's step pacer where it keeps one (LcpSolver::step_pacer: its verdict outlives
+  // this World), else this World's.
+  ThreadPacer* kept = paced ? solver.step_pacer(kStepPays) : nullptr;
+  ThreadPacer& pacer = kept != nullptr ? *kept : pacer_;
+  step_threads_ = large && (!paced || pacer.threaded_next()) ? requested : 1;
   if (paced) {
     solver.lead_threads(true);
     solver.hold_threads(step_threads_ == 1);
@@ -424,7 +428,7 @@ StepReport World::step_with(LcpSolver& solver, const SolverOptions& options, con
   StepReport rep = step_stages(solver, options, guess);
   if (paced) {
     const double work = static_cast<double>(bodies) + static_cast<double>(rep.rows) * (rep.solve.sweeps + 2);
-    pacer_.record(step_threads_ > 1, 1e-3 * rep.profile.total_ms(), work);
+    pacer.record(step_threads_ > 1, 1e-3 * rep.profile.total_ms(), work);
   }
   return rep;
 }

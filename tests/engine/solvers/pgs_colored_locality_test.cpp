@@ -257,5 +257,28 @@ TEST(PgsColoredLocality, KeyOrderIsTheSameOnOneTwoAndThreeThreads) {
   }
 }
 
+/// A serial layout (no locality: a serial step between threaded ones) sweeps with slot = body,
+/// which keeps the Δu reads of contact order in body order, and sets the locality numbering
+/// aside: the next locality layout takes it back instead of numbering the bodies again.
+TEST(PgsColoredLocality, ASerialLayoutUsesBodyOrderAndKeepsTheNumberingForTheNext) {
+  World pile = settled(2000, false, 150);
+  const LcpProblem p = problem_of(pile);
+  colored::Prepared prep;
+  auto lay_out_again = [&](bool locality) {  // a fresh colourer: a fresh layout, never the last one reused
+    ContactColorer colorer(true, 0);
+    colored::OrderedColorer ordered;
+    EXPECT_EQ(colored::layout(p, colorer, &ordered, 2, prep, nullptr, locality), "");
+  };
+  lay_out_again(true);
+  const std::vector<int> local = prep.numbering.slot;
+  ASSERT_FALSE(prep.numbering.local_already);
+  lay_out_again(false);
+  for (int k = 0; k < static_cast<int>(prep.numbering.slot.size()); ++k)
+    ASSERT_EQ(prep.numbering.slot[static_cast<size_t>(k)], k) << "the serial layout: slot = body";
+  lay_out_again(true);
+  EXPECT_EQ(local, prep.numbering.slot);  // taken back
+  EXPECT_EQ(1, prep.numbering.age);       // one layout older, not numbered again (age 0)
+}
+
 }  // namespace
 }  // namespace dc

@@ -193,7 +193,8 @@ class World {
   void place_pair_contacts(int threads, int body_jobs, const std::vector<std::pair<int, int>>& pairs,
                            std::vector<Contact>& out);
   /// Threads of the stages of the step in progress (1 outside step(): the stages called one by
-  /// one run serially), chosen by step() from the solver's threads while whole steps pay (pacer_).
+  /// one run serially), chosen by step() from the solver's threads while whole steps pay (the
+  /// solver's step pacer, LcpSolver::step_pacer, or pacer_ for a solver that keeps none).
   int step_threads_ = 1;
   /// Whole steps keep their threads while threaded steps take at most kStepPays of the serial
   /// steps' time per unit of work: a step's serial stages make its threaded gain smaller than

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "dc/core/thread_pacer.hpp"
 #include "dc/lcp/lcp_problem.hpp"
 
 namespace dc {
@@ -123,6 +124,17 @@ class LcpSolver {
   /// True when the solver's threads are forced rather than paced (pgs-colored with
   /// min_batches_per_thread = 0): World::step then runs every large enough step on them.
   [[nodiscard]] virtual bool threads_forced() const { return false; }
+  /// The pacer of the whole steps that lead this solver (World::step), made with ratio `pays`
+  /// on the first call and kept by the solver, so that what it learned outlives one World: a
+  /// World made afresh for a few steps (a short scene, a benchmark's round) starts from the
+  /// verdict and backoff of the steps before it instead of probing the threads again from its
+  /// first step (on a pile where threads do not pay, each probe is a slower step). The pacer
+  /// compares time per unit of work, so Worlds of other sizes stepped with this solver share
+  /// it. nullptr (the default): each World paces its steps with a pacer of its own.
+  [[nodiscard]] virtual ThreadPacer* step_pacer(double pays) {
+    (void)pays;
+    return nullptr;
+  }
 };
 
 /// The LCP solvers make_solver builds; each has one spelling (solver_names, SolverId::parse).

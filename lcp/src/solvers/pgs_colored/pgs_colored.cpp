@@ -128,6 +128,10 @@ class PgsColoredSolver final : public LcpSolver {
   void hold_threads(bool serial) override { held_ = serial && def_.min_batches_per_thread > 0; }
   void lead_threads(bool led) override { led_ = led; }
   [[nodiscard]] bool threads_forced() const override { return def_.min_batches_per_thread == 0 && threads() > 1; }
+  [[nodiscard]] ThreadPacer* step_pacer(double pays) override {
+    if (!step_pacer_) step_pacer_.emplace(pays);
+    return &*step_pacer_;
+  }
 
   [[nodiscard]] SolveResult solve(const LcpProblem& p, const Eigen::VectorXd& lambda0,
                                   const SolverOptions& o) override {
@@ -547,6 +551,7 @@ class PgsColoredSolver final : public LcpSolver {
   };
   Solved solved_;
   colored::ThreadPacer pacer_;
+  std::optional<ThreadPacer> step_pacer_;  // the pacer of the steps that lead this solver (step_pacer)
   bool serial_solve_ = false;  // this solve runs on one thread (the pacer's choice)
   bool serial_setup_ = false;  // this solve's set-up runs on one thread (a probe, or serial)
   bool held_ = false;          // hold_threads(true): every solve serial

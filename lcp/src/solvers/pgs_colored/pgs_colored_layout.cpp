@@ -302,19 +302,30 @@ void assign_grown(std::vector<int>& v, size_t n, int x) {
 /// out.numbering for a fresh layout of `bodies` bodies: with locality the bodies numbered again
 /// when their count changed, the numbering is the identity or BodyNumbering::kRenumberEvery
 /// layouts old, and the contacts' key order (returned, sorted on `threads` threads; nullptr,
-/// contact order, while the body order was local already); without, the numbering of the last
-/// layout if it has as many bodies (any permutation gives the same bits: a serial probe between
-/// threaded solves does not undo it), else slot = body, and nullptr: contact order.
+/// contact order, while the body order was local already); without, slot = body and nullptr:
+/// contact order, the last locality numbering set aside (BodyNumbering::kept) for the next
+/// locality layout when it has as many bodies (any permutation gives the same bits: a serial
+/// probe between threaded solves neither undoes it nor sweeps in its order).
 const int* number(const ContactConstraints& cons, int bodies, bool locality, int threads, Prepared& out) {
   BodyNumbering& n = out.numbering;
   if (!locality) {
-    if (n.bodies != bodies) {
+    // (slot is the identity already while age < 0, local_already or set_aside.)
+    const bool renew = n.bodies != bodies;
+    if (renew || (n.age >= 0 && !n.local_already && !n.set_aside)) {
+      if (!renew) n.kept.swap(n.slot);
+      n.set_aside = !renew;
       n.slot.resize(static_cast<size_t>(bodies));
       for (int k = 0; k < bodies; ++k) n.slot[static_cast<size_t>(k)] = k;
+    }
+    if (renew) {
       n.bodies = bodies;
       n.age = -1;  // (the identity)
     }
     return nullptr;
+  }
+  if (n.set_aside) {
+    n.slot.swap(n.kept);
+    n.set_aside = false;
   }
   if (n.bodies != bodies || n.age < 0 || ++n.age >= BodyNumbering::kRenumberEvery) {
     // Where the body order is local already (the Morton internal order: a cut in body index is
