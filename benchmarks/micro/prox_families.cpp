@@ -117,6 +117,7 @@ void apply(dc::ProxNewtonDef& d, const std::string& key, const std::string& valu
   else if (key == "pivot_rows") d.pivot_rows = static_cast<int>(x);
   else if (key == "continuation_stages") d.continuation_stages = static_cast<int>(x);
   else if (key == "continuation_first") d.continuation_first = x;
+  else if (key == "continuation_within") d.continuation_within = x;
   else if (key == "local_pivot_rows") d.local_pivot_rows = static_cast<int>(x);
   else if (key == "local_pivot_rings") d.local_pivot_rings = static_cast<int>(x);
   else if (key == "local_pivot_threshold") d.local_pivot_threshold = x;

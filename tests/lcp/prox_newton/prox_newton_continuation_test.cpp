@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <limits>
 #include <string>
 
 #include "dc/core/error.hpp"
@@ -37,6 +38,7 @@ ProxNewtonDef continuation_cut_def() {
   d.safeguard_sweeps = 0;
   d.pivot_rows = 0;
   d.local_pivot_rows = 0;
+  d.continuation_within = std::numeric_limits<double>::infinity();  // however far the cut parts end
   return d;
 }
 
@@ -112,6 +114,27 @@ TEST(ProxNewtonContinuation, RunsWhereThePartsMissTheTarget) {
     EXPECT_LE(natural_residual(c, r.lambda), natural_residual(c, cut.lambda)) << "seed " << seed;
   }
   EXPECT_GE(missed, 2);
+}
+
+// The continuation is for near misses: where the parts end farther above the target than
+// continuation_within times it, it does not run (continuation_within = 1: never).
+TEST(ProxNewtonContinuation, DoesNotRunWhereThePartsEndFarAboveTheTarget) {
+  ProxNewtonDef near = continuation_cut_def();
+  near.continuation_within = 1.0;
+  int missed = 0;
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    test::TestRng rng(seed + 4200);
+    const LcpProblem c = test::random_contact(20, 60, true, rng, 0.8);
+    ProxNewtonSolver s(near);
+    const SolveResult r = s.solve(c, {}, continuation_options());
+    if (r.status == SolveStatus::Converged) continue;
+    ++missed;
+    EXPECT_EQ(s.last_stats().continuation_solves, 0) << "seed " << seed;
+  }
+  EXPECT_GE(missed, 2);
+  ProxNewtonDef bad;
+  bad.continuation_within = 0.5;
+  EXPECT_THROW(ProxNewtonSolver{bad}, InvalidArgument);
 }
 
 // A stage that misses its target ends the continuation: one solve where the first stage's

@@ -466,6 +466,12 @@ struct ProxNewtonDef {
   /// short"). Only solves that missed the target pay for it. 0 = none.
   int continuation_stages = 7;
   double continuation_first = 0.25;  ///< t_0, the fraction of μ of the first stage, in (0, 1)
+  /// The continuation runs only when the best hard residual of the other parts is at most this
+  /// multiple of the target (≥ 1; infinity: whenever they miss it). It is the remedy for a
+  /// plateau of near-solutions a few R short; a solve that ends far above its target (a target
+  /// the problem's conditioning puts out of reach, as the solution test on a deep settled pile)
+  /// would pay up to continuation_stages + 1 further whole solves for nothing.
+  double continuation_within = 10.0;
 };
 
 /// Work of one solve.

@@ -117,7 +117,8 @@ class ProxRun {
     }
     if (!reached(best_res_, target_) && def_.safeguard_sweeps > 0) safeguard();
     if (!reached(best_res_, target_) && def_.local_pivot_rows > 0) finish_by_local_pivoting();
-    if (!reached(best_res_, target_) && def_.continuation_stages > 0 && has_friction(p_)) {
+    if (!reached(best_res_, target_) && best_res_ <= def_.continuation_within * target_ &&
+        def_.continuation_stages > 0 && has_friction(p_)) {
       const ContinuationOutcome co = continuation_solve(p_, guess, def_, target_, std::max(0, o_.max_sweeps));
       st_.continuation_solves += co.solves;
       st_.factorizations += co.work.factorizations;

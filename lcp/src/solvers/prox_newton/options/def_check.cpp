@@ -57,8 +57,10 @@ void check_def(const ProxNewtonDef& d) {
       d.body_finish_iterations < 0)
     throw InvalidArgument("prox-newton: finish_iterations, safeguard_sweeps, pivot_rows, stale_factor_iterations and "
                           "body_finish_iterations must be >= 0");
-  if (d.continuation_stages < 0 || !(d.continuation_first > 0 && d.continuation_first < 1))
-    throw InvalidArgument("prox-newton: continuation_stages must be >= 0 and continuation_first in (0, 1)");
+  if (d.continuation_stages < 0 || !(d.continuation_first > 0 && d.continuation_first < 1) ||
+      !(d.continuation_within >= 1))
+    throw InvalidArgument("prox-newton: continuation_stages must be >= 0, continuation_first in (0, 1) and "
+                          "continuation_within >= 1");
   if (d.local_pivot_rows < 0 || d.local_pivot_rings < 0 || d.local_pivot_rounds < 0 || !positive(d.local_pivot_threshold))
     throw InvalidArgument("prox-newton: local_pivot_rows, local_pivot_rings and local_pivot_rounds must be >= 0, "
                           "local_pivot_threshold finite and > 0");
