@@ -10,8 +10,17 @@
 #include <vector>
 
 #include "dc/lcp/lcp_problem.hpp"
+#include "dc/lcp/lcp_solver.hpp"
 
 namespace dc::test {
+
+/// Solver options with an iteration cap (max_sweeps: sweeps, or Newton iterations) and every
+/// other option at its default (tolerance 0: the solver's own solution test).
+inline SolverOptions capped_options(int iterations = 300) {
+  SolverOptions o;
+  o.max_sweeps = iterations;
+  return o;
+}
 
 /// splitmix64: tiny, portable, good enough for test data.
 class TestRng {

@@ -28,12 +28,6 @@ using solvers::prox::ShiftTrust;
 using solvers::prox::cone_jacobian;
 using solvers::prox::project_cone;
 
-SolverOptions options(int iterations = 300) {
-  SolverOptions o;
-  o.max_sweeps = iterations;
-  return o;
-}
-
 /// The exact-cone passes alone: no proximal, pivoting or nncg finish after them.
 ProxNewtonDef cone_only() {
   ProxNewtonDef d;
@@ -188,7 +182,7 @@ TEST(ProxNewtonCone, SameContactVelocitiesAsLemkeFromRandomStarts) {
           ProxNewtonDef def = cone_only();
           def.cone_follow_shift = follow;
           def.cone_trust_radius = mode == 2 ? 4 : 0;
-          const SolveResult r = ProxNewtonSolver(def).solve(p, guess, options());
+          const SolveResult r = ProxNewtonSolver(def).solve(p, guess, test::capped_options());
           const std::string what = std::to_string(cs.friction) + "/" + std::to_string(cs.frictionless_every) +
                                    " seed " + std::to_string(seed) + " start " + std::to_string(start) +
                                    (follow ? " following" : "") + (mode == 2 ? " in a trust region" : "");
@@ -236,7 +230,7 @@ TEST(ProxNewtonCone, NoPassAfterALeadStageThatReachedTheTarget) {
     ProxNewtonDef d = cone_only();
     d.lead_sweeps = 2000;
     ProxNewtonSolver s(d);
-    SolverOptions o = options(3000);
+    SolverOptions o = test::capped_options(3000);
     o.tolerance = 1e-6 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>());
     const SolveResult r = s.solve(p, {}, o);
     if (r.message.find("finished by nncg lead stage") == std::string::npos) continue;
@@ -340,7 +334,7 @@ TEST(ProxNewtonCone, TrustRegionPassesMatchLemkeWithMassRatio) {
       ProxNewtonDef def;
       def.exact_cone = true;
       def.cone_trust_radius = 4;
-      const SolveResult r = ProxNewtonSolver(def).solve(p, guess, options(3000));
+      const SolveResult r = ProxNewtonSolver(def).solve(p, guess, test::capped_options(3000));
       EXPECT_EQ(r.status, SolveStatus::Converged) << seed << ": " << r.message;
       EXPECT_LE(r.residual, bound(p)) << seed;
       EXPECT_LE(velocity_gap(p, ref, r.lambda), 1e-6) << seed << " start " << start;

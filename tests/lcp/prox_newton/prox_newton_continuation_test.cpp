@@ -20,12 +20,6 @@ namespace {
 using solvers::prox::continuation_fraction;
 using solvers::prox::with_scaled_friction;
 
-SolverOptions continuation_options(int sweeps = 300) {
-  SolverOptions o;
-  o.max_sweeps = sweeps;
-  return o;
-}
-
 /// Every part but the continuation cut to the lead stage's nncg sweeps (options.max_sweeps) and
 /// one frozen pass of one Newton iteration.
 ProxNewtonDef continuation_cut_def() {
@@ -60,7 +54,7 @@ TEST(ProxNewtonContinuation, ScalesEveryFrictionCoefficientAndNothingElse) {
     EXPECT_EQ(q.constraints[c].tangent_row, p.constraints[c].tangent_row);
   }
   // A valid problem: the solver takes it (its input checks compare rows and contacts).
-  const SolveResult r = ProxNewtonSolver().solve(q, {}, continuation_options());
+  const SolveResult r = ProxNewtonSolver().solve(q, {}, test::capped_options());
   EXPECT_EQ(r.status, SolveStatus::Converged) << r.message;
   EXPECT_THROW((void)with_scaled_friction(p, 0.0), InvalidArgument);
   EXPECT_THROW((void)with_scaled_friction(p, 1.5), InvalidArgument);
@@ -104,11 +98,11 @@ TEST(ProxNewtonContinuation, RunsWhereThePartsMissTheTarget) {
   for (uint64_t seed = 1; seed <= 8; ++seed) {
     test::TestRng rng(seed + 4200);
     const LcpProblem c = test::random_contact(20, 60, true, rng, 0.8);
-    const SolveResult cut = ProxNewtonSolver(without).solve(c, {}, continuation_options());
+    const SolveResult cut = ProxNewtonSolver(without).solve(c, {}, test::capped_options());
     if (cut.status == SolveStatus::Converged) continue;  // too easy for the cut parts
     ++missed;
     ProxNewtonSolver s(with);
-    const SolveResult r = s.solve(c, {}, continuation_options());
+    const SolveResult r = s.solve(c, {}, test::capped_options());
     EXPECT_GE(s.last_stats().continuation_solves, 1) << "seed " << seed;
     EXPECT_NE(r.message.find("continuation solves"), std::string::npos) << r.message;
     EXPECT_LE(natural_residual(c, r.lambda), natural_residual(c, cut.lambda)) << "seed " << seed;
@@ -126,7 +120,7 @@ TEST(ProxNewtonContinuation, DoesNotRunWhereThePartsEndFarAboveTheTarget) {
     test::TestRng rng(seed + 4200);
     const LcpProblem c = test::random_contact(20, 60, true, rng, 0.8);
     ProxNewtonSolver s(near);
-    const SolveResult r = s.solve(c, {}, continuation_options());
+    const SolveResult r = s.solve(c, {}, test::capped_options());
     if (r.status == SolveStatus::Converged) continue;
     ++missed;
     EXPECT_EQ(s.last_stats().continuation_solves, 0) << "seed " << seed;
@@ -156,10 +150,10 @@ TEST(ProxNewtonContinuation, DoesNotRunWhereThePartsReachTheTarget) {
     test::TestRng rng(seed + 4300);
     const LcpProblem c = test::random_contact(12, 30, true, rng);
     ProxNewtonSolver s;
-    const SolveResult r = s.solve(c, {}, continuation_options());
+    const SolveResult r = s.solve(c, {}, test::capped_options());
     ASSERT_EQ(r.status, SolveStatus::Converged) << r.message;
     EXPECT_EQ(s.last_stats().continuation_solves, 0);
-    const SolveResult r0 = ProxNewtonSolver(off).solve(c, {}, continuation_options());
+    const SolveResult r0 = ProxNewtonSolver(off).solve(c, {}, test::capped_options());
     EXPECT_TRUE(r.lambda == r0.lambda) << "seed " << seed;
   }
 }

@@ -17,12 +17,6 @@
 namespace dc {
 namespace {
 
-SolverOptions options(int iterations = 300) {
-  SolverOptions o;
-  o.max_sweeps = iterations;
-  return o;
-}
-
 double velocity_gap(const LcpProblem& p, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return (lcp_velocity(p, a) - lcp_velocity(p, b)).cwiseAbs().maxCoeff();
 }
@@ -43,7 +37,7 @@ TEST(ProxNewtonPivot, SameContactVelocitiesAsNewton) {
   for (uint64_t seed = 1; seed <= 4; ++seed) {
     test::TestRng rng(seed + 900);
     const LcpProblem c = test::without_jacobian(test::random_contact(12, 30, true, rng, 0.5, 4));
-    const SolveResult ref = make_solver("newton")->solve(c, {}, options(3000));
+    const SolveResult ref = make_solver("newton")->solve(c, {}, test::capped_options(3000));
     ASSERT_EQ(ref.status, SolveStatus::Converged) << ref.message;
     const solvers::prox::PivotOutcome po = solvers::prox::pivot_solve(c);
     ASSERT_TRUE(po.lambda.has_value()) << po.why;
@@ -70,11 +64,11 @@ TEST(ProxNewtonPivot, ReachesTheTargetWhenTheOtherPartsAreCutShort) {
   for (uint64_t seed = 1; seed <= 4; ++seed) {
     test::TestRng rng(seed + 950);
     const LcpProblem c = test::without_jacobian(test::random_contact(15, 40, true, rng));
-    const SolveResult cut = ProxNewtonSolver(without).solve(c, {}, options());
+    const SolveResult cut = ProxNewtonSolver(without).solve(c, {}, test::capped_options());
     ASSERT_NE(cut.status, SolveStatus::Converged) << "seed " << seed << ": too easy a problem";
     if (!solvers::prox::pivot_solve(c).lambda) continue;
     ++pivoted;
-    const SolveResult r = ProxNewtonSolver(d).solve(c, {}, options());
+    const SolveResult r = ProxNewtonSolver(d).solve(c, {}, test::capped_options());
     EXPECT_EQ(r.status, SolveStatus::Converged) << "seed " << seed << ": " << r.message;
     EXPECT_NE(r.message.find("lemke pivoting finish"), std::string::npos) << r.message;
   }
@@ -84,10 +78,10 @@ TEST(ProxNewtonPivot, ReachesTheTargetWhenTheOtherPartsAreCutShort) {
 TEST(ProxNewtonPivot, FromTheSolutionNeedsNoPivot) {
   test::TestRng rng(977);
   const LcpProblem c = test::without_jacobian(test::random_contact(12, 30, true, rng));
-  const SolveResult ref = make_solver("newton")->solve(c, {}, options(3000));
+  const SolveResult ref = make_solver("newton")->solve(c, {}, test::capped_options(3000));
   ASSERT_EQ(ref.status, SolveStatus::Converged) << ref.message;
   ProxNewtonSolver s;
-  const SolveResult r = s.solve(c, ref.lambda, options());
+  const SolveResult r = s.solve(c, ref.lambda, test::capped_options());
   EXPECT_EQ(r.status, SolveStatus::Converged) << r.message;
   EXPECT_EQ(s.last_stats().pivots, 0);
 }
@@ -97,11 +91,11 @@ TEST(ProximalPointStalls, NegativeLimitIsRejectedAndALargeOneChangesNothing) {
   const LcpProblem c = test::without_jacobian(test::random_contact(15, 30, true, rng));
   ProximalPointDef bad;
   bad.max_stalls = -1;
-  EXPECT_THROW((void)solve_proximal_point(c, {}, options(), bad), InvalidArgument);
+  EXPECT_THROW((void)solve_proximal_point(c, {}, test::capped_options(), bad), InvalidArgument);
   ProximalPointDef limited;
   limited.max_stalls = 1000;
-  const SolveResult a = solve_proximal_point(c, {}, options(), ProximalPointDef{});
-  const SolveResult b = solve_proximal_point(c, {}, options(), limited);
+  const SolveResult a = solve_proximal_point(c, {}, test::capped_options(), ProximalPointDef{});
+  const SolveResult b = solve_proximal_point(c, {}, test::capped_options(), limited);
   EXPECT_EQ(a.status, b.status);
   EXPECT_TRUE(a.lambda == b.lambda);
 }
@@ -113,7 +107,7 @@ TEST(ProximalPointStalls, StopsAfterTheLimitAndSaysSo) {
   ProximalPointDef d;
   d.max_stalls = 1;
   d.inner_iterations = 1;  // inner solves too short to improve every outer iteration
-  SolverOptions o = options();
+  SolverOptions o = test::capped_options();
   o.tolerance = 1e-300;  // unreachable: only the stall limit or max_outer stops the route
   const SolveResult r = solve_proximal_point(c, {}, o, d);
   EXPECT_NE(r.status, SolveStatus::Converged);

@@ -22,16 +22,10 @@
 namespace dc {
 namespace {
 
-SolverOptions options(int iterations = 300) {
-  SolverOptions o;
-  o.max_sweeps = iterations;
-  return o;
-}
-
 double bound(const LcpProblem& p) { return 1e-9 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()); }
 
 SolveResult prox(const LcpProblem& p, const Eigen::VectorXd& lambda0 = {}, const ProxNewtonDef& def = {}) {
-  return ProxNewtonSolver(def).solve(p, lambda0, options());
+  return ProxNewtonSolver(def).solve(p, lambda0, test::capped_options());
 }
 
 /// Without the nncg safeguard and the pivoting finish: the outer loop and the newton-sparse
@@ -67,7 +61,7 @@ TEST(ProxNewton, SameContactVelocitiesAsLemkeOnRankDeficientProblems) {
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     test::TestRng rng(seed);
     const LcpProblem c = test::random_contact(10, 60, false, rng);  // 60 rows, rank ≤ 30
-    const SolveResult a = make_solver("lemke")->solve(c, {}, options(3000));
+    const SolveResult a = make_solver("lemke")->solve(c, {}, test::capped_options(3000));
     ASSERT_EQ(a.status, SolveStatus::Converged) << a.message;
     for (const auto& [form, p] : both_forms(c)) {
       const SolveResult b = prox(p);
@@ -81,7 +75,7 @@ TEST(ProxNewton, SameContactVelocitiesAsNewtonOnFrictionProblems) {
   for (uint64_t seed = 1; seed <= 4; ++seed) {
     test::TestRng rng(seed + 400);
     const LcpProblem c = test::random_contact(30, 25, true, rng);
-    const SolveResult a = make_solver("newton")->solve(c, {}, options(3000));
+    const SolveResult a = make_solver("newton")->solve(c, {}, test::capped_options(3000));
     ASSERT_EQ(a.status, SolveStatus::Converged) << a.message;
     auto forms = both_forms(c);
     forms.emplace_back("body space, coupled bounds", c);
@@ -107,7 +101,7 @@ TEST(ProxNewton, SolvesTheHardProblemWithoutTheSafeguard) {
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     test::TestRng rng(seed + 500);
     const LcpProblem c = test::random_contact(40, 60, true, rng, 0.3);
-    const SolveResult ref = make_solver("newton-sparse")->solve(c, {}, options());
+    const SolveResult ref = make_solver("newton-sparse")->solve(c, {}, test::capped_options());
     ASSERT_EQ(ref.status, SolveStatus::Converged) << ref.message;
     for (const auto& [form, p] : both_forms(c)) {
       const SolveResult b = prox(p, {}, no_safeguard());
@@ -123,7 +117,7 @@ TEST(ProxNewton, CheckpointsFollowTheFinishesInOrderAndEndAtTheAnswer) {
   // it; the caller's checkpoints must see the finish's iterates, not only the passes' best.
   const LcpProblem p = fc2d_to_lcp(
       read_fc2d_dat(std::string(DC_SOURCE_DIR) + "/tests/data/fc2d/fc2d_granularflowonwall_02020_00213.dat").problem);
-  SolverOptions o = options();
+  SolverOptions o = test::capped_options();
   for (int k = 1; k <= o.max_sweeps; ++k) o.checkpoints.push_back(k);
   std::vector<int> seen;
   std::vector<Eigen::VectorXd> iterates;
@@ -181,7 +175,7 @@ TEST(ProxNewton, HardProblemsConvergeAgreeingWithNewtonSparse) {
   for (auto& [what, c] : cases) {
     c.ensure_assembled_matrix();
     c.A.makeCompressed();
-    const SolveResult ref = make_solver("newton-sparse")->solve(c, {}, options());
+    const SolveResult ref = make_solver("newton-sparse")->solve(c, {}, test::capped_options());
     for (const auto& [form, p] : both_forms(c)) {
       const SolveResult r = prox(p);
       EXPECT_EQ(r.status, SolveStatus::Converged) << what << ", " << form << ": " << r.message;
@@ -200,7 +194,7 @@ TEST(ProxNewton, RerunsAreBitEqualAndTheMessageNamesThePart) {
   ProxNewtonDef def;
   def.lead_sweeps = 0;  // the Newton passes factorise
   ProxNewtonSolver solver(def);
-  const SolveResult a = solver.solve(p, {}, options()), b = solver.solve(p, {}, options());
+  const SolveResult a = solver.solve(p, {}, test::capped_options()), b = solver.solve(p, {}, test::capped_options());
   EXPECT_EQ(a.lambda, b.lambda);
   EXPECT_EQ(a.sweeps, b.sweeps);
   EXPECT_NE(a.message.find("finished by "), std::string::npos) << a.message;
@@ -216,9 +210,9 @@ TEST(ProxNewton, ASolverObjectSolvesAnotherProblemAsAFreshOne) {
   ProxNewtonDef def;
   def.lead_sweeps = 0;  // the Newton passes factorise
   ProxNewtonSolver reused(def), fresh(def);
-  (void)reused.solve(first, {}, options());
+  (void)reused.solve(first, {}, test::capped_options());
   ASSERT_GE(reused.last_stats().factorizations, 1);
-  const SolveResult a = reused.solve(second, {}, options()), b = fresh.solve(second, {}, options());
+  const SolveResult a = reused.solve(second, {}, test::capped_options()), b = fresh.solve(second, {}, test::capped_options());
   EXPECT_EQ(a.lambda, b.lambda);
   EXPECT_EQ(a.sweeps, b.sweeps);
   EXPECT_EQ(reused.last_stats().factorizations, fresh.last_stats().factorizations);
@@ -301,7 +295,7 @@ TEST(ProxNewtonSubproblem, CoupledBodySpaceSolvesTheShiftedHardProblem) {
     shifted.A.makeCompressed();
     shifted.b = p.b - delta * centre;
     EXPECT_LE(natural_residual(shifted, a), 1e-9) << seed;
-    const SolveResult ref = make_solver("newton-sparse")->solve(shifted, centre, options());
+    const SolveResult ref = make_solver("newton-sparse")->solve(shifted, centre, test::capped_options());
     ASSERT_EQ(ref.status, SolveStatus::Converged) << ref.message;
     EXPECT_LE((lcp_velocity(shifted, a) - lcp_velocity(shifted, ref.lambda)).cwiseAbs().maxCoeff(), 1e-7) << seed;
   }

@@ -25,8 +25,9 @@ PgsColoredKernel auto_kernel_for(const CpuTraits& cpu, long single_batches) {
   // width on problems that stay in cache (Zen 5): there the AVX2 kernel is at least as fast on
   // small problems (it also skips the all-padding half of a colour's last batch; micro_pgs,
   // docs/lcp.md "pgs-colored"). From kLargeFrom batches on, the AVX-512 kernel's compact layout
-  // streams 28 % fewer bytes per sweep, and a sweep that no longer fits in the caches is bound by
-  // those bytes: on Zen 5 it is the faster one there (docs/engine.md "One step per contact row").
+  // streams fewer bytes per sweep (19 of the full layout's 27 doubles per lane), and a sweep
+  // whose data does not fit in the caches is bound by those bytes: on Zen 5 it is the faster
+  // one there (docs/engine.md "One step per contact row").
   // Elsewhere the AVX-512 kernel is preferred at every size.
   constexpr int kZen5 = 0x1A;
   if (cpu.avx512) {
